@@ -1,0 +1,88 @@
+"""Test-wide settings: no network, no windows, reproducible property tests."""
+
+from __future__ import annotations
+
+import ipaddress
+import os
+import socket
+
+os.environ.setdefault("MPLBACKEND", "Agg")  # no display, and no GUI warnings
+
+import pytest  # noqa: E402
+from hypothesis import HealthCheck, settings  # noqa: E402
+
+# Property tests: no deadlines (machines are shared; timing is not a test),
+# derandomized so CI runs are reproducible.
+settings.register_profile(
+    "wobble", deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.load_profile("wobble")
+
+_real_connect = socket.socket.connect
+
+
+def _is_loopback(address) -> bool:
+    if isinstance(address, (str, bytes)):  # AF_UNIX path
+        return True
+    host = address[0]
+    if host in ("localhost", ""):
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def _guarded_connect(self, address):
+    if self.family == getattr(socket, "AF_UNIX", None) or _is_loopback(address):
+        return _real_connect(self, address)
+    raise RuntimeError(f"test tried to reach the network: {address!r} (wobble must work offline)")
+
+
+@pytest.fixture(autouse=True)
+def _no_network(monkeypatch):
+    """Fail any test that opens a connection beyond loopback."""
+    monkeypatch.setattr(socket.socket, "connect", _guarded_connect)
+    yield
+
+
+def cf_problems(path) -> list[str]:
+    """Run the IOOS compliance checker (CF 1.10, lenient) offline; return its failures.
+
+    Lenient criteria: only real failures are returned; the checker's own
+    exceptions count as failures too, so a file that crashes it never passes.
+    """
+    import json
+    import tempfile
+
+    from compliance_checker.runner import CheckSuite, ComplianceChecker
+
+    CheckSuite().load_all_available_checkers()
+    with tempfile.TemporaryDirectory() as tmp:
+        report = os.path.join(tmp, "report.json")
+        passed, errors = ComplianceChecker.run_checker(
+            str(path), ["cf:1.10"], 0, "lenient", output_filename=report, output_format="json"
+        )
+        with open(report) as fh:
+            result = json.load(fh)["cf:1.10"]
+    problems = [
+        f"{item['name']}: {'; '.join(item['msgs'])}"
+        for item in result["all_priorities"]
+        if item["value"][0] < item["value"][1] and item["weight"] >= 2
+    ]
+    if errors:
+        problems.append("compliance-checker raised an exception while checking the file")
+    if not passed and not problems:
+        problems.append("compliance-checker did not pass the file")
+    return problems
+
+
+@pytest.fixture
+def assert_cf_compliant():
+    """Fixture: ``assert_cf_compliant(path)`` fails with the checker's messages."""
+
+    def check(path):
+        problems = cf_problems(path)
+        assert not problems, "CF compliance problems:\n" + "\n".join(problems)
+
+    return check

@@ -1,0 +1,35 @@
+"""wobble: planetary wobble and rigid-body rotation, with units.
+
+The public API is re-exported here; everything takes and returns
+:class:`astropy.units.Quantity` for dimensional values. See the README and
+``docs/`` for the physics and examples.
+"""
+
+from __future__ import annotations
+
+from importlib.metadata import PackageNotFoundError as _PackageNotFoundError
+from importlib.metadata import version as _version
+
+from wobble._offline import configure_astropy_offline as _configure_astropy_offline
+
+try:
+    __version__ = _version("wobble")
+except _PackageNotFoundError:  # a source tree that was never installed
+    __version__ = "0.0.0+unknown"
+
+# No network at run time: astropy must never try to download IERS tables.
+_configure_astropy_offline()
+
+from wobble.errors import FileFormatError, InputError, OutputExistsError, WobbleError  # noqa: E402
+from wobble.io.netcdf import open_wobble as load  # noqa: E402
+from wobble.io.netcdf import write_netcdf  # noqa: E402
+
+__all__ = [
+    "__version__",
+    "WobbleError",
+    "InputError",
+    "FileFormatError",
+    "OutputExistsError",
+    "load",
+    "write_netcdf",
+]

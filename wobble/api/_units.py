@@ -1,0 +1,187 @@
+"""Units at the boundary: the one place Quantities become SI floats.
+
+Public functions call :func:`to_si` once per dimensional argument on the way
+in and attach units once on the way out (``value << u.s``). A plain number
+where a dimension is required is an :class:`~wobble.errors.InputError`,
+never a guess.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from astropy import units as u
+
+from wobble.errors import InputError
+
+__all__ = ["to_si", "dimensionless", "parse_quantity", "describe_unit", "spin_rate_si"]
+
+# Examples shown in error messages, by physical type.
+_EXAMPLES = {
+    "time": "1 d, 86164.1 s",
+    "angular speed": "7.292115e-05 rad / s, 360 deg / d",
+    "angular frequency": "7.292115e-05 rad / s, 360 deg / d",
+    "moment of inertia": "8.0e37 kg m2, 1 g cm2",
+    "mass": "5.97e24 kg",
+    "length": "6378136.6 m, 1 au",
+    "angle": "0.5 rad, 30 deg",
+    "mass density": "5510 kg / m3, 5.5 g / cm3",
+    "acceleration": "9.81 m / s2",
+    "gravitational parameter": "3.986004418e14 m3 / s2",
+    "torque": "1 N m",
+}
+
+
+def describe_unit(unit: u.UnitBase) -> str:
+    """Name the physical type of ``unit`` with examples, for error messages."""
+    kind = str(unit.physical_type)
+    if unit.is_equivalent(u.m**3 / u.s**2):
+        kind = "gravitational parameter"
+    if unit.is_equivalent(u.rad / u.s):
+        kind = "angular speed"
+    if unit.is_equivalent(u.kg * u.m**2):
+        kind = "moment of inertia"
+    example = _EXAMPLES.get(kind, f"1 {unit.to_string()}")
+    return f"a Quantity with units of {kind} (e.g. {example})"
+
+
+def to_si(
+    value,
+    name: str,
+    unit: u.UnitBase,
+    *,
+    positive: bool = False,
+    nonnegative: bool = False,
+    finite: bool = True,
+    shape: tuple[int, ...] | None = None,
+    equivalencies=None,
+):
+    """Convert a Quantity to a float (or float64 array) in ``unit``, checking it.
+
+    Parameters
+    ----------
+    value : astropy.units.Quantity
+        The user's value. Plain numbers are refused for dimensional quantities.
+    name : str
+        Parameter name used in error messages.
+    unit : astropy.units.UnitBase
+        Target (SI) unit, e.g. ``u.s`` or ``u.kg * u.m**2``.
+    positive, nonnegative, finite : bool
+        Checks applied element-wise after conversion.
+    shape : tuple of int, optional
+        Required shape (``()`` for a scalar).
+    equivalencies : list, optional
+        Passed to :meth:`~astropy.units.Quantity.to_value`.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        A Python float for scalars, a float64 array otherwise.
+
+    Raises
+    ------
+    wobble.errors.InputError
+        Not a Quantity, incompatible unit, wrong shape, non-finite or out of range.
+    """
+    allowed = describe_unit(unit)
+    if not isinstance(value, u.Quantity):
+        raise InputError(name, value, allowed + "; a plain number has no unit")
+    try:
+        si = np.asarray(value.to_value(unit, equivalencies=equivalencies or []), dtype=float)
+    except u.UnitConversionError:
+        raise InputError(name, value, allowed) from None
+    if shape is not None and si.shape != shape:
+        want = "a scalar" if shape == () else f"shape {shape}"
+        raise InputError(name, value, f"{want} ({allowed})")
+    if finite and not np.all(np.isfinite(si)):
+        raise InputError(name, value, "finite values (no NaN or inf)")
+    if positive and not np.all(si > 0):
+        raise InputError(name, value, f"positive values ({allowed})")
+    if nonnegative and not np.all(si >= 0):
+        raise InputError(name, value, f"non-negative values ({allowed})")
+    return float(si) if si.ndim == 0 else si
+
+
+def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool = True):
+    """Check a plain dimensionless ratio (float or dimensionless Quantity).
+
+    Parameters
+    ----------
+    value : float or astropy.units.Quantity
+        The ratio. A Quantity must be dimensionless.
+    name : str
+        Parameter name for error messages.
+    low, high : float, optional
+        Bounds; open by default (e.g. a ratio in (-1, 1)).
+    open_interval : bool
+        Whether the bounds are excluded.
+
+    Returns
+    -------
+    float
+    """
+    if isinstance(value, u.Quantity):
+        try:
+            value = value.to_value(u.dimensionless_unscaled)
+        except u.UnitConversionError:
+            raise InputError(name, value, "a dimensionless number") from None
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, value, "a dimensionless number") from None
+    bounds = _interval_text(low, high, open_interval)
+    if not np.isfinite(x):
+        raise InputError(name, value, f"a finite number {bounds}".strip())
+    too_low = low is not None and (x <= low if open_interval else x < low)
+    too_high = high is not None and (x >= high if open_interval else x > high)
+    if too_low or too_high:
+        raise InputError(name, value, f"a number {bounds}")
+    return x
+
+
+def _interval_text(low, high, open_interval: bool) -> str:
+    if low is None and high is None:
+        return ""
+    left = "(" if open_interval else "["
+    right = ")" if open_interval else "]"
+    lo = "-inf" if low is None else f"{low:g}"
+    hi = "inf" if high is None else f"{high:g}"
+    return f"in {left}{lo}, {hi}{right}"
+
+
+def spin_rate_si(spin, name: str = "spin") -> float:
+    """Angular rate in rad/s from either a rate or a rotation period.
+
+    A time is read as the rotation period P (rate 2 pi / P); an angular speed
+    is used as it is. Signed rates are allowed (the sense of rotation matters
+    for the direction of the wobble); a period must be positive.
+    """
+    if isinstance(spin, u.Quantity) and spin.unit.is_equivalent(u.s):
+        period = to_si(spin, name, u.s, positive=True, shape=())
+        return 2.0 * np.pi / period
+    if isinstance(spin, u.Quantity) and spin.unit.is_equivalent(u.rad / u.s):
+        return to_si(spin, name, u.rad / u.s, shape=())
+    raise InputError(
+        name,
+        spin,
+        "an angular speed (e.g. 7.292115e-05 rad / s) or a rotation period (e.g. 1 sday, 24.6229 h)",
+    )
+
+
+def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity:
+    """Parse command-line text such as ``"1 d"`` or ``"3"`` into a Quantity.
+
+    A bare number takes ``default_unit`` (the CLI documents SI defaults); text
+    with a unit must be convertible to ``default_unit``.
+    """
+    text = text.strip()
+    try:
+        return float(text) * default_unit
+    except ValueError:
+        pass
+    try:
+        q = u.Quantity(text)
+    except (TypeError, ValueError):
+        raise InputError(name, text, f"a number with an optional unit ({describe_unit(default_unit)})") from None
+    if not q.unit.is_equivalent(default_unit):
+        raise InputError(name, text, describe_unit(default_unit))
+    return q

@@ -1,0 +1,89 @@
+"""The ``wobble`` command line.
+
+Each subcommand lives in its own module (``wobble/cli/<name>.py``) exposing
+``register(subparsers)``, which adds its parser and sets ``func`` to a
+function ``run(args) -> int``. This module only dispatches and turns expected
+failures into one line on stderr with exit status 2 (no traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from astropy import units as u
+
+from wobble.errors import WobbleError
+
+__all__ = ["main", "build_parser", "SUBCOMMANDS"]
+
+# Subcommand modules, in the order `wobble --help` lists them.
+SUBCOMMANDS = ("chandler",)
+
+EPILOG = """\
+examples:
+  wobble chandler earth mars            Chandler period budgets, as a table
+  wobble chandler mars --json           the same for scripts
+  wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
+
+Numbers without units are SI; days are days of 86400 s. Run
+'wobble COMMAND --help' for each command's options and an example.
+"""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with usage errors reported as one line and exit status 2."""
+
+    def error(self, message: str):  # noqa: D401 - argparse API
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full ``wobble`` argument parser with every subcommand registered."""
+    from wobble import __version__
+
+    parser = _Parser(
+        prog="wobble",
+        description="Planetary wobble and rigid-body rotation: Chandler periods with "
+        "their physics budget, exact torque-free and heavy-top motion.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"wobble {__version__}")
+    sub = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in SUBCOMMANDS:
+        importlib.import_module(f"wobble.cli.{name}").register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``wobble`` console script.
+
+    Returns the exit status: 0 on success, 2 on bad input or a failed output,
+    1 on an unexpected internal error (with its traceback, which is a bug).
+    """
+    from wobble._offline import configure_astropy_offline
+
+    configure_astropy_offline(forbid_all_downloads=True)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except (WobbleError, u.UnitsError) as exc:
+        print(f"wobble {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except OSError as exc:
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"wobble {args.command}: error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"wobble {args.command}: interrupted; no output was written", file=sys.stderr)
+        return 130
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())

@@ -1,0 +1,71 @@
+"""Exception types raised throughout wobble.
+
+Every error a user can provoke names what was wrong: the parameter (or file and
+key/line), the value received, and what is allowed. The command line turns any
+:class:`WobbleError` into one line on stderr and exit status 2.
+"""
+
+from __future__ import annotations
+
+__all__ = ["WobbleError", "InputError", "FileFormatError", "OutputExistsError"]
+
+
+class WobbleError(ValueError):
+    """Base class of wobble's own errors (a :class:`ValueError`)."""
+
+
+def _show(value: object) -> str:
+    text = str(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+class InputError(WobbleError):
+    """A parameter has a value outside what the computation allows.
+
+    Parameters
+    ----------
+    parameter : str
+        Name of the parameter as the user wrote it (``spin_period``, ``--model``).
+    value : object
+        The offending value, repeated in the message.
+    allowed : str
+        What would have been accepted.
+    """
+
+    def __init__(self, parameter: str, value: object, allowed: str):
+        self.parameter = parameter
+        self.value = value
+        self.allowed = allowed
+        super().__init__(f"{parameter}: got {_show(value)}; allowed: {allowed}")
+
+
+class FileFormatError(WobbleError):
+    """A file is missing, unreadable or does not follow its schema.
+
+    Parameters
+    ----------
+    path : str
+        The file.
+    where : str or None
+        Key (``parameters.k2.value``) or line (``line 12``) where the problem is.
+    problem : str
+        What is wrong and, where possible, what was expected.
+    """
+
+    def __init__(self, path: object, where: str | None, problem: str):
+        self.path = str(path)
+        self.where = where
+        self.problem = problem
+        location = f"{self.path}, {where}" if where else self.path
+        super().__init__(f"{location}: {problem}")
+
+
+class OutputExistsError(WobbleError):
+    """The output file exists and overwriting was not requested."""
+
+    def __init__(self, path: object):
+        self.path = str(path)
+        super().__init__(
+            f"{self.path}: file exists; allowed: a new path, or --overwrite (overwrite=True) "
+            "to replace it"
+        )

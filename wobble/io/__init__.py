@@ -1,0 +1,1 @@
+"""Files: the TOML body catalogue, CF netCDF output, Earth-orientation readers."""

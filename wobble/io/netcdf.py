@@ -1,0 +1,198 @@
+"""CF-1.10 netCDF files: atomic writes and wobble-aware reading.
+
+Layout rules every wobble file follows (see docs/netcdf.md):
+
+* global attributes ``Conventions``, ``title``, ``history``, ``source`` (wobble
+  and its version), ``references``, ``institution``;
+* every variable has ``units`` (UDUNITS syntax: ``day``, ``rad s-1``, ``1``) and
+  ``long_name``, and ``standard_name`` where the CF table has one;
+* time coordinates are float64 with CF units ``"<unit> since <epoch>"``
+  (``seconds since 2000-01-01 12:00:00`` for simulations, whose epoch is
+  nominal unless the scene gives one); :func:`open_wobble` keeps them as
+  numbers so round trips are exact (``xarray.decode_cf`` gives datetimes);
+* string-valued indexes such as ``body`` or ``step`` cannot be CF coordinate
+  variables (those must be numeric and monotonic), so they are stored as label
+  variables ``body_name(body)`` (CF section 6.1) and turned back into indexes
+  by :func:`open_wobble`.
+
+Writing is atomic: the file is written under a temporary name in the target
+folder and renamed into place, so a failed or interrupted run never leaves a
+half-written file and never destroys an existing one. An existing file is
+replaced only when ``overwrite=True``.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from wobble.errors import FileFormatError, InputError, OutputExistsError
+
+__all__ = ["CONVENTIONS", "SIMULATION_TIME_UNITS", "write_netcdf", "open_wobble", "to_cf", "from_cf"]
+
+CONVENTIONS = "CF-1.10"
+# CF time units for elapsed simulation time (the epoch is nominal: J2000.0).
+SIMULATION_TIME_UNITS = "seconds since 2000-01-01 12:00:00"
+_LABELS_ATTR = "wobble_label_indexes"
+# Variables larger than this many elements are compressed and chunked.
+_COMPRESS_MIN_SIZE = 4096
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("wobble")
+    except PackageNotFoundError:  # running from a source tree without install
+        return "unknown"
+
+
+def to_cf(ds: xr.Dataset, *, command: str | None = None) -> xr.Dataset:
+    """Return a copy of ``ds`` laid out for a CF netCDF file.
+
+    String indexes become label variables ``<dim>_name``; the global
+    attributes ``Conventions``, ``source`` and ``history`` are set (history
+    gains a timestamped line naming ``command``).
+    """
+    out = ds.copy()
+    label_dims = [
+        name for name in out.indexes if name in out.dims and is_label_index(out[name].values)
+    ]
+    if label_dims:
+        out = out.rename_vars({d: f"{d}_name" for d in label_dims})
+        out.attrs[_LABELS_ATTR] = " ".join(label_dims)
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    line = f"{stamp} wobble {_version()}" + (f": {command}" if command else "")
+    previous = out.attrs.get("history")
+    out.attrs["history"] = f"{previous}\n{line}" if previous else line
+    out.attrs["Conventions"] = CONVENTIONS
+    out.attrs["source"] = f"wobble {_version()}"
+    out.attrs.setdefault("institution", "wobble (https://example.org/wobble)")
+    return out
+
+
+def from_cf(ds: xr.Dataset) -> xr.Dataset:
+    """Undo :func:`to_cf`'s label layout: ``body_name(body)`` becomes index ``body``."""
+    dims = ds.attrs.get(_LABELS_ATTR, "").split()
+    if not dims:
+        return ds
+    out = ds.rename_vars({f"{d}_name": d for d in dims})
+    for d in dims:
+        out = out.set_xindex(d)
+    out.attrs = {k: v for k, v in out.attrs.items() if k != _LABELS_ATTR}
+    return out
+
+
+def _encoding(ds: xr.Dataset) -> dict:
+    """Compression and time chunking for large variables; no fill value on coordinates."""
+    encoding: dict = {}
+    for name, var in ds.variables.items():
+        enc: dict = {}
+        if var.dtype.kind == "f" and name in ds.coords:
+            enc["_FillValue"] = None
+        if var.size >= _COMPRESS_MIN_SIZE and var.dtype.kind in "fiu":
+            enc.update(zlib=True, complevel=4, shuffle=True)
+            if "time" in var.dims:
+                chunks = [min(n, 65536) if d == "time" else n for d, n in zip(var.dims, var.shape)]
+                enc["chunksizes"] = tuple(int(c) for c in chunks)
+        if enc:
+            encoding[name] = enc
+    return encoding
+
+
+def write_netcdf(
+    ds: xr.Dataset,
+    path: str | os.PathLike,
+    *,
+    overwrite: bool = False,
+    command: str | None = None,
+) -> Path:
+    """Write ``ds`` as a CF-1.10 netCDF-4 file, atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Data with ``units`` and ``long_name`` on every variable.
+    path : path-like
+        Output file. Its folder must exist.
+    overwrite : bool
+        Replace an existing file. Without it an existing file is an error and
+        is left untouched.
+    command : str, optional
+        Recorded in the ``history`` attribute.
+
+    Returns
+    -------
+    pathlib.Path
+        The written file.
+
+    Raises
+    ------
+    wobble.errors.OutputExistsError
+        ``path`` exists and ``overwrite`` is false.
+    wobble.errors.InputError
+        The folder does not exist or ``path`` is a folder.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise InputError("output", str(path), "a file path, not a folder")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError("output", str(path), "a path in an existing folder")
+    if path.exists() and not overwrite:
+        raise OutputExistsError(path)
+    cf = to_cf(ds, command=command)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf))
+        os.replace(tmp, path)
+    except BaseException:
+        # Whatever went wrong (bad data, full disk, Ctrl-C), the target is untouched.
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def open_wobble(path: str | os.PathLike) -> xr.Dataset:
+    """Read a netCDF file written by wobble, restoring its indexes.
+
+    Parameters
+    ----------
+    path : path-like
+        A file written by :func:`write_netcdf`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded into memory (the file is closed on return).
+
+    Raises
+    ------
+    wobble.errors.FileFormatError
+        Missing, unreadable, or not written by wobble.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileFormatError(path, None, "no such file")
+    try:
+        with xr.open_dataset(path, engine="netcdf4", decode_times=False, decode_timedelta=False) as ds:
+            ds = ds.load()
+    except (OSError, ValueError) as exc:
+        raise FileFormatError(path, None, f"not a readable netCDF file ({exc})") from None
+    source = str(ds.attrs.get("source", ""))
+    if not source.startswith("wobble"):
+        raise FileFormatError(
+            path, "global attribute 'source'", f"got {source!r}; allowed: a file written by wobble"
+        )
+    return from_cf(ds)
+
+
+def is_label_index(values: np.ndarray) -> bool:
+    """True for string-valued index arrays (stored as labels in CF files)."""
+    return np.asarray(values).dtype.kind in "OUS"
