@@ -23,6 +23,19 @@ _configure_astropy_offline()
 from wobble.errors import FileFormatError, InputError, OutputExistsError, WobbleError  # noqa: E402
 from wobble.io.netcdf import open_wobble as load  # noqa: E402
 from wobble.io.netcdf import write_netcdf  # noqa: E402
+from wobble.api.chandler import (  # noqa: E402
+    BudgetStep,
+    ChandlerBudget,
+    FreeWobble,
+    Planet,
+    chandler_budget,
+    chandler_dataset,
+    euler_period,
+    free_precession_rate,
+    known_planets,
+    load_planet,
+    rigid_wobble,
+)
 
 __all__ = [
     "__version__",
@@ -32,4 +45,15 @@ __all__ = [
     "OutputExistsError",
     "load",
     "write_netcdf",
+    "Planet",
+    "BudgetStep",
+    "ChandlerBudget",
+    "FreeWobble",
+    "known_planets",
+    "load_planet",
+    "chandler_budget",
+    "chandler_dataset",
+    "rigid_wobble",
+    "free_precession_rate",
+    "euler_period",
 ]

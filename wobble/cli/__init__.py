@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import shlex
 import sys
 
 from astropy import units as u
@@ -67,7 +68,9 @@ def main(argv: list[str] | None = None) -> int:
 
     configure_astropy_offline(forbid_all_downloads=True)
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
+    args.command_line = "wobble " + shlex.join(argv)  # for the files' history attribute
     if not getattr(args, "func", None):
         parser.print_help(sys.stderr)
         return 2

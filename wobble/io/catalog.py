@@ -1,0 +1,161 @@
+"""The planet catalogue (``data/bodies/*.toml``) and users' own planet files.
+
+Reads the ``wobble/1`` schema (:mod:`wobble.io.parameter_file`) with
+``kind = "planet"``, checks every parameter's unit against what it means, and
+converts once to SI into :class:`wobble.models.planet.PlanetParameters`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from importlib import resources
+from pathlib import Path
+
+from astropy import constants as const
+from astropy import units as u
+
+from wobble.errors import FileFormatError, InputError
+from wobble.io.parameter_file import ParameterFile, read_parameter_file
+from wobble.models.planet import Measured, PlanetParameters
+
+__all__ = ["PLANET_UNITS", "catalogue_names", "catalogue_file", "load_planet", "planet_from_file"]
+
+_ONE = u.dimensionless_unscaled
+# Every key a planet file may hold, with the SI unit it is converted to.
+PLANET_UNITS: dict[str, u.UnitBase] = {
+    "gm": u.m**3 / u.s**2,
+    "equatorial_radius": u.m,
+    "rotation_rate": u.rad / u.s,
+    "rotation_period": u.s,
+    "gravitational_constant": u.m**3 / (u.kg * u.s**2),
+    "dynamical_flattening": _ONE,
+    "j2": _ONE,
+    "c20": _ONE,
+    "polar_moment_factor": _ONE,
+    "c22": _ONE,
+    "s22": _ONE,
+    "love_number_k2": _ONE,
+    "love_number_k2_period": u.s,
+    "love_number_k2_imaginary": _ONE,
+    "love_number_k2_imaginary_period": u.s,
+    "anelastic_exponent": _ONE,
+    "ocean_pole_tide_love_number": _ONE,
+    "fluid_core_equatorial_moment": u.kg * u.m**2,
+    "fluid_core_radius": u.m,
+    "fluid_core_density": u.kg / u.m**3,
+    "observed_chandler_period": u.s,
+}
+_POSITIVE = {
+    "gm",
+    "equatorial_radius",
+    "rotation_period",
+    "gravitational_constant",
+    "polar_moment_factor",
+    "love_number_k2_period",
+    "love_number_k2_imaginary_period",
+    "fluid_core_equatorial_moment",
+    "fluid_core_radius",
+    "fluid_core_density",
+    "observed_chandler_period",
+}
+
+
+def _bodies_dir():
+    return resources.files("wobble._data") / "bodies"
+
+
+def catalogue_names() -> list[str]:
+    """Names of the catalogued planets (``earth``, ``mars``, ...), sorted."""
+    return sorted(p.name[:-5] for p in _bodies_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def catalogue_file(name: str):
+    """Path of the catalogue file of ``name`` (case-insensitive)."""
+    key = name.strip().lower()
+    if key not in catalogue_names():
+        raise InputError("body", name, f"one of {', '.join(catalogue_names())} (or a planet file: --body-file)")
+    return _bodies_dir() / f"{key}.toml"
+
+
+def _si(pf: ParameterFile, key: str) -> Measured | None:
+    param = pf.get(key)
+    if param is None:
+        return None
+    unit = PLANET_UNITS[key]
+    where = f"parameters.{key}"
+    if param.value.size != 1:
+        raise FileFormatError(pf.path, f"{where}.value", "must be a single number")
+    try:
+        value = float(param.value.to_value(unit))
+        sigma = float(param.uncertainty.to_value(unit))
+    except u.UnitConversionError:
+        want = unit.to_string() or "dimensionless"
+        raise FileFormatError(
+            pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
+        ) from None
+    if key in _POSITIVE and not value > 0:
+        raise FileFormatError(pf.path, f"{where}.value", f"got {value!r}; allowed: a positive number")
+    return Measured(value, sigma)
+
+
+def _either(pf: ParameterFile, first: str, second: str):
+    if pf.get(first) is not None and pf.get(second) is not None:
+        raise FileFormatError(pf.path, f"parameters.{second}", f"give either {first} or {second}, not both")
+
+
+def planet_from_file(pf: ParameterFile) -> PlanetParameters:
+    """Convert a parsed planet file to SI :class:`PlanetParameters`.
+
+    Raises
+    ------
+    wobble.errors.FileFormatError
+        A wrong unit or value, naming the file and key.
+    """
+    _either(pf, "rotation_rate", "rotation_period")
+    _either(pf, "j2", "c20")
+    rate = _si(pf, "rotation_rate")
+    if rate is None:
+        period = _si(pf, "rotation_period")
+        if period is None:
+            raise FileFormatError(pf.path, "parameters.rotation_rate", "missing; give rotation_rate or rotation_period")
+        rate = Measured(2 * math.pi / period.value, 2 * math.pi * period.sigma / period.value**2)
+    j2 = _si(pf, "j2")
+    c20 = _si(pf, "c20")
+    if c20 is not None:
+        # J2 = -sqrt(5) C20 for fully normalised coefficients.
+        j2 = Measured(-math.sqrt(5.0) * c20.value, math.sqrt(5.0) * c20.sigma)
+    g = _si(pf, "gravitational_constant") or Measured(const.G.si.value, const.G.si.uncertainty)
+    kwargs = {
+        key: _si(pf, key)
+        for key in PLANET_UNITS
+        if key not in ("rotation_rate", "rotation_period", "j2", "c20", "gravitational_constant")
+    }
+    try:
+        return PlanetParameters(name=pf.name, rotation_rate=rate, gravitational_constant=g, j2=j2, **kwargs)
+    except InputError as exc:
+        raise FileFormatError(pf.path, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}") from None
+
+
+def load_planet(body: str | os.PathLike) -> tuple[PlanetParameters, ParameterFile]:
+    """Load a catalogued planet by name, or a planet file by path.
+
+    Parameters
+    ----------
+    body : str or path-like
+        ``"earth"``, ``"Mars"``, or a path to a ``wobble/1`` planet file.
+
+    Returns
+    -------
+    (PlanetParameters, ParameterFile)
+        The SI description and the parsed file (values with sources).
+    """
+    text = os.fspath(body)
+    if text.strip().lower() in catalogue_names():
+        with resources.as_file(catalogue_file(text)) as path:
+            pf = read_parameter_file(path, kind="planet", known=set(PLANET_UNITS))
+    elif Path(text).is_file():
+        pf = read_parameter_file(text, kind="planet", known=set(PLANET_UNITS))
+    else:
+        raise InputError("body", text, f"one of {', '.join(catalogue_names())}, or the path of a planet file")
+    return planet_from_file(pf), pf

@@ -1,0 +1,203 @@
+"""A planet as the Chandler model sees it: SI numbers with standard uncertainties.
+
+Every field is a :class:`Measured` (value and one-sigma uncertainty, SI) or
+``None`` when the description does not give it; which model steps can run
+depends on which fields are present (see :mod:`wobble.models.chandler`).
+Field names are the catalogue's parameter names (``data/bodies/*.toml``).
+
+The figure is described by dimensionless numbers, so that the small
+differences (C - A)/C never come from subtracting two large moments:
+
+* ``dynamical_flattening`` H = (C - Abar)/C with Abar = (A + B)/2,
+* ``j2`` = (C - Abar)/(M a^2) (unnormalised),
+* ``polar_moment_factor`` C/(M a^2),
+* ``c22``, ``s22`` fully normalised; J22 = sqrt(5/12) sqrt(C22^2 + S22^2) and
+  B - A = 4 J22 M a^2 (principal axes of the equator).
+
+Any two of H, J2, C/(Ma^2) fix the third (H = J2 / (C/Ma^2)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+from wobble.errors import InputError
+
+__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS"]
+
+FIGURE_KEYS = ("dynamical_flattening", "j2", "polar_moment_factor")
+
+
+@dataclass(frozen=True)
+class Measured:
+    """A value with its standard (one-sigma) uncertainty, in SI units."""
+
+    value: float
+    sigma: float = 0.0
+
+    def __post_init__(self):
+        # Plain floats, whatever numeric type came in (NumPy scalars print badly).
+        object.__setattr__(self, "value", float(self.value))
+        object.__setattr__(self, "sigma", float(self.sigma))
+        if not math.isfinite(self.value):
+            raise ValueError(f"non-finite value {self.value!r}")
+        if not (math.isfinite(self.sigma) and self.sigma >= 0):
+            raise ValueError(f"uncertainty must be finite and >= 0, got {self.sigma!r}")
+
+
+@dataclass(frozen=True)
+class PlanetParameters:
+    """The physical description of a planet (SI: kg, m, s, rad).
+
+    Attributes
+    ----------
+    name : str
+        Identifier (``"earth"``).
+    rotation_rate : Measured
+        Sidereal spin rate Omega, rad/s (the sign gives the sense of rotation).
+    dynamical_flattening, j2, polar_moment_factor : Measured or None
+        The figure; see the module docstring. At least H, or two of the three.
+    c22, s22 : Measured or None
+        Fully normalised degree-2 sectoral coefficients (triaxiality).
+    gm : Measured or None
+        G M, m^3/s^2.
+    equatorial_radius : Measured or None
+        Reference radius a of J2 and the Love numbers, m.
+    gravitational_constant : Measured
+        G, m^3 kg^-1 s^-2 (turns G M into M for absolute moments).
+    love_number_k2, love_number_k2_period : Measured or None
+        Real part of the degree-2 potential Love number at the given period (s).
+    love_number_k2_imaginary, love_number_k2_imaginary_period : Measured or None
+        Its out-of-phase part (k2/Q for a small lag) at the given period (s).
+    anelastic_exponent : Measured or None
+        alpha of the power-law Q(frequency) ~ frequency^alpha.
+    ocean_pole_tide_love_number : Measured or None
+        The equilibrium ocean pole tide's increment of k2.
+    fluid_core_equatorial_moment : Measured or None
+        A_f of the liquid core, kg m^2; or else
+    fluid_core_radius, fluid_core_density : Measured or None
+        A uniform liquid core, m and kg/m^3: A_f = (8 pi/15) rho R^5.
+    observed_chandler_period : Measured or None
+        The observed period, s.
+    """
+
+    name: str
+    rotation_rate: Measured
+    gravitational_constant: Measured
+    dynamical_flattening: Measured | None = None
+    j2: Measured | None = None
+    polar_moment_factor: Measured | None = None
+    c22: Measured | None = None
+    s22: Measured | None = None
+    gm: Measured | None = None
+    equatorial_radius: Measured | None = None
+    love_number_k2: Measured | None = None
+    love_number_k2_period: Measured | None = None
+    love_number_k2_imaginary: Measured | None = None
+    love_number_k2_imaginary_period: Measured | None = None
+    anelastic_exponent: Measured | None = None
+    ocean_pole_tide_love_number: Measured | None = None
+    fluid_core_equatorial_moment: Measured | None = None
+    fluid_core_radius: Measured | None = None
+    fluid_core_density: Measured | None = None
+    observed_chandler_period: Measured | None = None
+
+    def __post_init__(self):
+        given = [k for k in FIGURE_KEYS if getattr(self, k) is not None]
+        if not given:
+            raise InputError(
+                "figure", "none given", "dynamical_flattening (H), or two of H, j2, polar_moment_factor"
+            )
+        if len(given) == 1 and given[0] != "dynamical_flattening":
+            raise InputError(
+                "figure", f"only {given[0]}", "dynamical_flattening (H), or two of H, j2, polar_moment_factor"
+            )
+        if self.rotation_rate.value == 0:
+            raise InputError("rotation_rate", 0.0, "a non-zero spin rate (a body at rest does not wobble)")
+        self._check_core()
+
+    def _check_core(self):
+        if self.fluid_core_equatorial_moment is not None and (
+            self.fluid_core_radius is not None or self.fluid_core_density is not None
+        ):
+            raise InputError(
+                "fluid_core",
+                "fluid_core_equatorial_moment and fluid_core_radius/density",
+                "either the core's equatorial moment or its radius and density, not both",
+            )
+        if (self.fluid_core_radius is None) != (self.fluid_core_density is None):
+            raise InputError(
+                "fluid_core", "only one of radius and density", "both fluid_core_radius and fluid_core_density"
+            )
+
+    # -- the figure, in units of C and of M a^2, without cancellation ---------------
+
+    def measured_fields(self) -> dict[str, Measured]:
+        """All given parameters with a non-zero uncertainty (for error propagation)."""
+        out = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, Measured) and v.sigma > 0:
+                out[f.name] = v
+        return out
+
+    @property
+    def flattening(self) -> float:
+        """H = (C - Abar)/C."""
+        if self.dynamical_flattening is not None:
+            return self.dynamical_flattening.value
+        return self.j2.value / self.polar_moment_factor.value
+
+    @property
+    def c_factor(self) -> float | None:
+        """C/(M a^2), or None when only H is known."""
+        if self.polar_moment_factor is not None:
+            return self.polar_moment_factor.value
+        if self.j2 is not None and self.dynamical_flattening is not None:
+            return self.j2.value / self.dynamical_flattening.value
+        return None
+
+    @property
+    def j22(self) -> float:
+        """Unnormalised J22 = (B - A)/(4 M a^2); 0 without c22/s22."""
+        if self.c22 is None and self.s22 is None:
+            return 0.0
+        c = self.c22.value if self.c22 is not None else 0.0
+        s = self.s22.value if self.s22 is not None else 0.0
+        return math.sqrt(5.0 / 12.0) * math.hypot(c, s)
+
+    def equatorial_excess(self) -> tuple[float, float]:
+        """((C - A)/C, (C - B)/C) with A <= B the equatorial principal moments.
+
+        Formed from H and J22/(C/Ma^2) directly, never as differences of moments.
+        Triaxiality needs C/(M a^2); without it the body is taken as symmetric.
+        """
+        h = self.flattening
+        c = self.c_factor
+        split = 2.0 * self.j22 / c if (c is not None and self.j22) else 0.0
+        return h + split, h - split
+
+    @property
+    def mass(self) -> float | None:
+        """M = GM/G in kg, or None without GM."""
+        if self.gm is None:
+            return None
+        return self.gm.value / self.gravitational_constant.value
+
+    @property
+    def polar_moment(self) -> float | None:
+        """C in kg m^2, or None when the absolute scale is unknown."""
+        c = self.c_factor
+        if c is None or self.gm is None or self.equatorial_radius is None:
+            return None
+        return c * self.mass * self.equatorial_radius.value**2
+
+    @property
+    def fluid_core_moment(self) -> float | None:
+        """A_f in kg m^2 (uniform sphere when given by radius and density)."""
+        if self.fluid_core_equatorial_moment is not None:
+            return self.fluid_core_equatorial_moment.value
+        if self.fluid_core_radius is not None:
+            return 8.0 * math.pi / 15.0 * self.fluid_core_density.value * self.fluid_core_radius.value**5
+        return None
