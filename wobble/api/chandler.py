@@ -385,7 +385,7 @@ class FreeWobble:
         Signed frequency Omega in rad/s: positive is prograde (same sense as
         the spin, oblate body), negative retrograde (prolate body).
     period : Quantity
-        |2 pi / Omega| in days; infinite for a sphere.
+        abs(2 pi / Omega) in days; infinite for a sphere.
     sense : str
         ``prograde``, ``retrograde`` or ``none``.
     message : str

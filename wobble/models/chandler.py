@@ -119,7 +119,7 @@ class Step:
 
     @property
     def period(self) -> float:
-        """|2 pi / sigma| in s; inf when there is no wobble."""
+        """abs(2 pi / sigma) in s; inf when there is no wobble."""
         return math.inf if self.rate == 0 else abs(2.0 * math.pi / self.rate)
 
 
@@ -138,7 +138,7 @@ class Budget:
     secular_love_number : float or None
         k_s of equation (1), when the scale of the body is known.
     quality_factor : float or None
-        Q = Re sigma / (2 |Im sigma|) from the out-of-phase k2 (anelastic step).
+        Q = Re sigma / (2 abs(Im sigma)) from the out-of-phase k2 (anelastic step).
     period_sigma : float
         Linearly propagated one-sigma uncertainty of the final period, s.
     contributions : dict
@@ -248,7 +248,7 @@ def _core_over_c(p: PlanetParameters) -> float:
 
 
 def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, float]:
-    """(Re k2, Im k2) at the wobble frequency |rate|/(2 pi) (IERS 2010 eq. 6.12 form).
+    """(Re k2, Im k2) at the wobble frequency abs(rate)/(2 pi) (IERS 2010 eq. 6.12 form).
 
     Parameters
     ----------
@@ -385,7 +385,7 @@ def _anelastic_fixed_point(p, omega, ca, cb, core, ocean, rate):
 
 
 def _quality_factor(p, omega, ca, cb, core, k_real, k_imag) -> float | None:
-    """Q = Re sigma / (2 |Im sigma|) with the complex k2 in equation (1)."""
+    """Q = Re sigma / (2 abs(Im sigma)) with the complex k2 in equation (1)."""
     if k_imag == 0:
         return None
     d = _deformation(p, complex(k_real, k_imag))
