@@ -431,6 +431,8 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     kdec = hp.agm_k(m1) if m1 > 0 else None
     K = hp.to_dd(kdec) if kdec is not None else (np.inf, 0.0)
     levels = ell.landen_levels(float(m), float(m1))
+    if kdec is not None:
+        levels.K = np.asarray(K[0])  # the fold K - |r| uses the same K as the reduction
     # Initial phase u0 from sn, cn, dn at t = 0 (all known from omega0 without
     # cancellation): |u0| <= K via Carlson's R_F, else through 2K - u.
     c0 = float(wf[a]) / amp[0]
