@@ -310,7 +310,8 @@ def _check(moments, omega0):
     if len(moments) != 3 or not all(np.isfinite(moments)) or min(moments) <= 0:
         raise InputError("moments", moments, "three positive, finite principal moments (kg m2)")
     srt = sorted(moments)
-    if srt[0] + srt[1] < srt[2]:
+    # A lamina has I1 + I2 = I3 exactly; allow the few ulps a unit conversion adds.
+    if srt[0] + srt[1] < srt[2] * (1 - 8 * _EPS):
         raise InputError(
             "moments", moments, "principal moments obeying the triangle inequality I1 + I2 >= I3 (a real body)"
         )
