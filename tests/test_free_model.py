@@ -75,6 +75,7 @@ def test_next_to_the_separatrix(name):
     assert abs(model.m1 / float(c["m1"]) - 1) < 1e-15
     norm, comp = _omega_error(c, model)
     assert norm < 1e-12 and comp < 1e-12, (norm, comp)
+    assert norm < model.error_estimate["omega_relative"]
     flips = model.flip_times(0.0, 200.0)
     want = np.array([float(x) for x in c["flip_times"]])
     assert flips.shape == want.shape and np.max(np.abs(flips - want)) < 1e-12
@@ -89,6 +90,7 @@ def test_long_span_phase_bound():
     model = _case(c)
     norm, comp = _omega_error(c, model)
     assert norm < 1e-13 and comp < 1e-13
+    assert norm < model.error_estimate["omega_relative"]
     assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
 
 
