@@ -31,7 +31,7 @@ Algorithms
 
 Accuracy (measured against mpmath at 40 digits with the very same float
 inputs, ``tests/test_elliptic.py``; max over the grids there): sn, cn, dn
-within 4e-16 absolute and, for cn and dn next to K, within 1e-14 relative for
+within 2e-15 absolute and, for cn and dn next to K, within 1e-11 relative for
 m in [0, 1 - 1e-16] and u up to 1e6 K beyond the error ``|u| eps`` that the
 float argument itself carries (for a scalar parameter the reduction uses K to
 ~30 digits, so sn, cn, dn stay within 2e-15 absolute up to u = 1e6 K); K within
