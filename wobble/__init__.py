@@ -36,6 +36,7 @@ from wobble.api.chandler import (  # noqa: E402
     load_planet,
     rigid_wobble,
 )
+from wobble.api.free import FreeRotation  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -56,4 +57,5 @@ __all__ = [
     "rigid_wobble",
     "free_precession_rate",
     "euler_period",
+    "FreeRotation",
 ]

@@ -20,13 +20,15 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler",)
+SUBCOMMANDS = ("chandler", "free")
 
 EPILOG = """\
 examples:
   wobble chandler earth mars            Chandler period budgets, as a table
   wobble chandler mars --json           the same for scripts
   wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
+  wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc
+                                        exact torque-free motion, to a CF netCDF file
 
 Numbers without units are SI; days are days of 86400 s. Run
 'wobble COMMAND --help' for each command's options and an example.

@@ -1,0 +1,240 @@
+"""Exact torque-free motion against mpmath (tests/references/free_rotation.json) and invariants."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from wobble.errors import InputError
+from wobble.models.free import free_rotation, symmetric_from_energy
+from wobble.numerics import quaternion as Q
+
+REF = json.loads((Path(__file__).parent / "references" / "free_rotation.json").read_text())
+ODE = {c["name"]: c for c in REF["ode"]}
+CLOSED = {c["name"]: c for c in REF["closed"]}
+
+
+def _case(c):
+    I = [float(x) for x in c["moments"]]  # noqa: E741
+    w = [float(x) for x in c["omega0"]]
+    return free_rotation(I, w)
+
+
+def _omega_error(c, model, key="t", values="omega"):
+    """Max over times of |omega - ref| / |omega_ref|, and per component relative to its amplitude."""
+    t = np.array([float(x) for x in c[key]])
+    want = np.array([[float(v) for v in row] for row in c[values]])
+    got = model.omega(t)
+    norm = np.max(np.linalg.norm(want - got, axis=1) / np.linalg.norm(want, axis=1))
+    amp = np.maximum(np.max(np.abs(want), axis=0), 1e-300)
+    comp = np.max(np.abs(want - got) / amp)
+    return norm, comp
+
+
+def _attitude_error(model, c, key, values):
+    t = np.array([float(x) for x in c[key]])
+    want = np.array([[float(v) for v in row] for row in c[values]])
+    got = model.attitude(t)
+    # Angle of the rotation got * want^-1 (rad); sign of the quaternion immaterial.
+    d = Q.multiply(got, Q.conjugate(want))
+    return np.max(2 * np.arctan2(np.linalg.norm(d[:, 1:], axis=1), np.abs(d[:, 0])))
+
+
+@pytest.mark.parametrize("name", sorted(ODE))
+def test_against_mpmath_taylor_integration(name):
+    """omega and attitude against an mpmath ODE integration (no elliptic functions in it)."""
+    c = ODE[name]
+    model = _case(c)
+    norm, comp = _omega_error(c, model)
+    assert norm < 1e-13 and comp < 1e-12, (norm, comp)
+    assert _attitude_error(model, c, "t", "attitude") < 1e-13
+
+
+def test_generic_case_relative_error():
+    c = CLOSED["generic 1000 s"]
+    model = _case(c)
+    norm, comp = _omega_error(c, model)
+    assert norm < 1e-13 and comp < 1e-13
+    assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+    assert abs(model.period / float(c["period"]) - 1) < 1e-15
+    flips = model.flip_times(0.0, 1000.0)
+    want = np.array([float(x) for x in c["flip_times"]])
+    assert flips.shape == want.shape and np.max(np.abs(flips - want)) < 1e-12
+
+
+@pytest.mark.parametrize("name", ["separatrix 2e-12", "separatrix 5e-13", "separatrix minor side"])
+def test_next_to_the_separatrix(name):
+    """1 - m = 2e-12, 5e-13, 6e-12: omega to 1e-9 (we reach ~1e-13), flip times to 1e-9 s."""
+    c = CLOSED[name]
+    model = _case(c)
+    assert abs(model.m1 / float(c["m1"]) - 1) < 1e-15
+    norm, comp = _omega_error(c, model)
+    assert norm < 1e-12 and comp < 1e-12, (norm, comp)
+    assert norm < model.error_estimate["omega_relative"]
+    flips = model.flip_times(0.0, 200.0)
+    want = np.array([float(x) for x in c["flip_times"]])
+    assert flips.shape == want.shape and np.max(np.abs(flips - want)) < 1e-12
+    assert abs(model.time_between_flips / float(c["time_between_flips"]) - 1) < 1e-15
+    if c["attitude"]:
+        assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+
+
+def test_long_span_phase_bound():
+    """10^6 periods of the generic body: no loss with t (double-double phase)."""
+    c = CLOSED["generic 1e6 periods"]
+    model = _case(c)
+    norm, comp = _omega_error(c, model)
+    assert norm < 1e-13 and comp < 1e-13
+    assert norm < model.error_estimate["omega_relative"]
+    assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+
+
+def test_earth_100_years_daily():
+    """Earth-like wobble (IERS A, B, C), 100 years: wobble phase error below 1e-12 rad."""
+    c = CLOSED["Earth 100 years"]
+    model = _case(c)
+    t = np.array([float(x) for x in c["t"]])
+    want = np.array([[float(v) for v in row] for row in c["omega"]])
+    got = model.omega(t)
+    amp = np.hypot(want[:, 0], want[:, 1])
+    # Wobble phase error = distance of the equatorial components over their amplitude.
+    phase = np.max(np.hypot(got[:, 0] - want[:, 0], got[:, 1] - want[:, 1]) / amp)
+    assert phase < 1e-12
+    assert np.max(np.abs(got[:, 2] / want[:, 2] - 1)) < 1e-15
+    assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+    days = model.omega(np.arange(36526) * 86400.0)
+    assert days.shape == (36526, 3)
+
+
+def test_nearly_symmetric_reduces_to_symmetric_closed_form():
+    """(I2 - I1)/I1 = 1e-12: matches mpmath, and the symmetric closed form within O(1e-12)."""
+    c = CLOSED["nearly symmetric 1e-12"]
+    model = _case(c)
+    norm, comp = _omega_error(c, model)
+    assert norm < 1e-13 and comp < 1e-13
+    assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+    assert model.m < 1e-11
+    sym = free_rotation([1.0, 1.0, 1.5], [float(x) for x in c["omega0"]])
+    t = np.linspace(0, 10, 11)
+    np.testing.assert_allclose(model.omega(t), sym.omega(t), atol=1e-11)
+    assert sym.regime == "symmetric"
+
+
+def test_minor_axis_permuted():
+    c = CLOSED["minor-axis permuted"]
+    model = _case(c)
+    assert model.regime == "minor-axis"
+    norm, comp = _omega_error(c, model)
+    assert norm < 1e-13 and comp < 1e-13
+    assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+
+
+def test_symmetric_closed_form_of_the_notes():
+    """Notes 5.6: omega1 = A cos(Omega t), omega2 = A sin(Omega t), Omega = (I3 - I1) omega3 / I1."""
+    I1, I3, A, w3 = 2.0, 3.0, 0.25, 1.5
+    model = free_rotation([I1, I1, I3], [A, 0.0, w3])
+    t = np.linspace(0, 100, 201)
+    Om = (I3 - I1) / I1 * w3
+    want = np.stack([A * np.cos(Om * t), A * np.sin(Om * t), np.full_like(t, w3)], -1)
+    np.testing.assert_allclose(model.omega(t), want, atol=1e-15 * 100)
+    # A and omega3 back from T and L^2 (notes p. 69).
+    L2 = (I1 * A) ** 2 + (I3 * w3) ** 2
+    a_back, w_back = symmetric_from_energy(I1, I3, model.energy, L2)
+    assert abs(a_back - A) < 1e-15 and abs(w_back - w3) < 1e-15
+    # Body cone on space cone: the figure axis precesses about L at L/I1.
+    q = model.attitude(t)
+    axis = Q.rotate(q, [0.0, 0.0, 1.0])
+    L = model.angular_momentum_inertial / model.angular_momentum
+    np.testing.assert_allclose(axis @ L, I3 * w3 / model.angular_momentum, atol=1e-14)
+    assert model.precession_rate == pytest.approx(model.angular_momentum / I1, rel=1e-15)
+
+
+def test_sphere_principal_axis_and_zero():
+    for I, w in [((2.0, 2.0, 2.0), (0.3, -1.0, 0.2)), ((1.0, 2.0, 3.0), (0.0, 0.0, 2.0)), ((1.0, 2.0, 3.0), (0.0, 1.0, 0.0)), ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0))]:
+        model = free_rotation(I, w)
+        assert model.regime == "steady"
+        t = np.linspace(0, 50, 11)
+        assert np.all(model.omega(t) == np.asarray(w))
+        q = model.attitude(t)
+        n = np.linalg.norm(w)
+        if n:
+            want = Q.from_axis_angle(np.asarray(w) / n, n * t)
+            np.testing.assert_allclose(q, want, atol=1e-14)
+        else:
+            assert np.all(q == [1.0, 0.0, 0.0, 0.0])
+
+
+def test_exactly_on_the_separatrix():
+    """L^2 = 2 E I2 exactly: I = (3, 4, 6), omega = (1, 0.3, 0.5): D2 = 3 (1) + 6 (0.25)(-2) = 0."""
+    model = free_rotation([3.0, 4.0, 6.0], [1.0, 0.3, 0.5])
+    assert model.regime == "separatrix" and model.m == 1.0 and model.m1 == 0.0
+    assert model.period == np.inf
+    t = np.linspace(0, 60, 13)
+    w = model.omega(t)
+    I = np.array([3.0, 4.0, 6.0])  # noqa: E741
+    np.testing.assert_allclose(0.5 * np.sum(I * w * w, -1), model.energy, rtol=1e-15)
+    # Approaches steady rotation about the intermediate axis.
+    assert abs(abs(w[-1, 1]) - model.angular_momentum / 4.0) < 1e-12
+    assert model.flip_times(-1e3, 1e3).size == 1
+
+
+moment = st.floats(0.5, 5.0)
+rate = st.floats(-2.0, 2.0)
+
+
+@settings(max_examples=60)
+@given(moment, moment, moment, rate, rate, rate, st.permutations([0, 1, 2]))
+def test_invariants_and_relabelling(i1, i2, i3, w1, w2, w3, perm):
+    I = np.array([i1, i2, i3])  # noqa: E741
+    if sorted(I)[0] + sorted(I)[1] < sorted(I)[2]:
+        return
+    w = np.array([w1, w2, w3])
+    model = free_rotation(I, w)
+    t = np.linspace(0.0, 37.0, 41)
+    om = model.omega(t)
+    q = model.attitude(t)
+    scale = max(np.linalg.norm(w), 1e-300)
+    # Conservation of T and |L| along the exact solution.
+    T = 0.5 * np.sum(I * om * om, -1)
+    Lm = np.linalg.norm(I * om, axis=-1)
+    assert np.max(np.abs(T - model.energy)) <= 1e-13 * max(model.energy, 1e-300) + 1e-300
+    assert np.max(np.abs(Lm - model.angular_momentum)) <= 1e-13 * max(model.angular_momentum, 1e-300) + 1e-300
+    # Unit quaternions, identity at t = 0.
+    assert np.max(np.abs(np.linalg.norm(q, axis=-1) - 1)) < 1e-14
+    np.testing.assert_allclose(q[0], [1, 0, 0, 0], atol=1e-14)
+    # Attitude consistency: q (I omega) q* is the constant inertial L.
+    L_in = Q.rotate(q, I * om)
+    assert np.max(np.abs(L_in - I * w)) <= 1e-12 * max(model.angular_momentum, 1e-300)
+    # Relabelling the axes: a cyclic relabelling permutes omega and the
+    # quaternion's vector part; a swap of two axes is a mirror image
+    # (P(a x b) = -Pa x Pb), whose motion runs backwards in time:
+    # omega~(t) = P omega(-t), q~(t) = (w(-t), -P v(-t)).
+    p = list(perm)
+    odd = np.linalg.det(np.eye(3)[p]) < 0
+    other = free_rotation(I[p], w[p])
+    ref_om = model.omega(-t) if odd else om
+    ref_q = model.attitude(-t) if odd else q
+    np.testing.assert_allclose(other.omega(t), ref_om[:, p], atol=1e-12 * scale)
+    q2 = other.attitude(t)
+    np.testing.assert_allclose(q2[:, 0], ref_q[:, 0], atol=1e-11)
+    np.testing.assert_allclose(q2[:, 1:], (-1.0 if odd else 1.0) * ref_q[:, 1:][:, p], atol=1e-11)
+
+
+@pytest.mark.parametrize(
+    "I, w, msg",
+    [
+        ((1.0, 2.0, 4.0), (1.0, 0.0, 0.0), "triangle"),
+        ((1.0, -2.0, 3.0), (1.0, 0.0, 0.0), "positive"),
+        ((1.0, np.nan, 3.0), (1.0, 0.0, 0.0), "finite"),
+        ((1.0, 2.0, 3.0), (1.0, np.inf, 0.0), "finite"),
+        ((1.0, 2.0), (1.0, 0.0, 0.0), "three"),
+    ],
+)
+def test_bad_input(I, w, msg):
+    with pytest.raises(InputError, match=msg):
+        free_rotation(I, w)

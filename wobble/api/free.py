@@ -1,0 +1,306 @@
+"""Torque-free rotation with units: :class:`FreeRotation` (Quantities in, xarray out).
+
+The physics is :mod:`wobble.models.free`; this module converts units once on
+the way in and once on the way out and lays the result out as a CF Dataset.
+
+Example
+-------
+>>> import astropy.units as u
+>>> from wobble import FreeRotation
+>>> body = FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
+>>> body.regime
+'major-axis'
+>>> ds = body.evaluate(t_end=100 * u.s, samples=1001)
+>>> sorted(ds.data_vars)[:3]
+['angular_momentum', 'angular_momentum_magnitude', 'angular_momentum_magnitude_drift']
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import xarray as xr
+from astropy import units as u
+
+from wobble.api._units import to_si
+from wobble.errors import InputError
+from wobble.io.netcdf import SIMULATION_TIME_UNITS
+from wobble.models import free as _free
+
+__all__ = ["FreeRotation", "MOMENT_UNIT", "BYTES_PER_SAMPLE"]
+
+MOMENT_UNIT = u.kg * u.m**2
+_RATE = u.rad / u.s
+_LMOM = u.kg * u.m**2 / u.s
+# Float64 values held per sample while a Dataset is built (time, omega, attitude,
+# energy and |L| with drifts, and the temporaries of the evaluation), in bytes.
+BYTES_PER_SAMPLE = 8 * 64
+AXES = ("1", "2", "3")
+COMPONENTS = ("w", "x", "y", "z")
+
+
+def _available_memory() -> int:
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        return 2**33
+
+
+def _human(nbytes: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
+        if nbytes < 1000:
+            return f"{nbytes:.3g} {unit}"
+        nbytes /= 1000
+    return f"{nbytes:.3g} EB"
+
+
+class FreeRotation:
+    """Exact torque-free motion of a rigid body.
+
+    Parameters
+    ----------
+    moments : astropy.units.Quantity or object with ``principal_moments``
+        The three principal moments of inertia in any order (e.g.
+        ``[1, 2, 3] * u.kg * u.m**2``), or a rigid body exposing a
+        ``principal_moments`` Quantity. Outputs keep this axis order.
+    omega0 : astropy.units.Quantity
+        Angular velocity at t = 0 in the body (principal) frame, 3 components
+        in rad/s or any angular-speed unit. Zero is allowed (no motion).
+
+    Raises
+    ------
+    wobble.errors.InputError
+        Wrong units or shape, non-finite values, non-positive moments, or
+        moments violating the triangle inequality.
+
+    Notes
+    -----
+    Exact closed forms (docs/free-rotation.md): the symmetric precession of the
+    course notes section 5.6, the Jacobi elliptic solution of Landau & Lifshitz
+    section 37 in both regimes, the separatrix, and the exact attitude.
+    """
+
+    def __init__(self, moments, omega0):
+        if not isinstance(moments, u.Quantity) and hasattr(moments, "principal_moments"):
+            moments = moments.principal_moments
+        I = to_si(moments, "moments", MOMENT_UNIT, positive=True, shape=(3,))  # noqa: E741
+        w = to_si(omega0, "omega0", _RATE, shape=(3,))
+        self._model = _free.free_rotation(I, w)
+
+    # -- summary quantities -------------------------------------------------
+    @property
+    def model(self) -> _free.FreeRotationModel:
+        """The SI model underneath (floats and arrays, no units)."""
+        return self._model
+
+    @property
+    def moments(self) -> u.Quantity:
+        """Principal moments (kg m2), in the order given."""
+        return np.asarray(self._model.moments) << MOMENT_UNIT
+
+    @property
+    def omega0(self) -> u.Quantity:
+        """Initial angular velocity in the body frame (rad/s)."""
+        return np.asarray(self._model.omega0) << _RATE
+
+    @property
+    def regime(self) -> str:
+        """'steady', 'symmetric', 'major-axis' (L^2 > 2EI2), 'minor-axis' (L^2 < 2EI2) or 'separatrix'."""
+        return self._model.regime
+
+    @property
+    def parameter(self) -> float:
+        """Parameter m = k^2 of the Jacobi functions (0 for steady or symmetric motion)."""
+        return self._model.m
+
+    @property
+    def complementary_parameter(self) -> float:
+        """1 - m, computed exactly from the invariants (not as 1 - m in floats)."""
+        return self._model.m1
+
+    @property
+    def modulus(self) -> float:
+        """Modulus k = sqrt(m)."""
+        return float(np.sqrt(self._model.m))
+
+    @property
+    def period(self) -> u.Quantity:
+        """Period of omega(t) (inf on the separatrix and for steady spin)."""
+        return self._model.period << u.s
+
+    @property
+    def time_between_flips(self) -> u.Quantity | None:
+        """Half period 2K/lambda between sign changes of the intermediate component, or None."""
+        t = self._model.time_between_flips
+        return None if t is None else t << u.s
+
+    def flip_times(self, t_end, t_start=0 * u.s) -> u.Quantity:
+        """Times at which the intermediate-axis component of omega changes sign."""
+        t1 = to_si(t_end, "t_end", u.s, shape=())
+        t0 = to_si(t_start, "t_start", u.s, shape=())
+        return self._model.flip_times(t0, t1) << u.s
+
+    @property
+    def energy(self) -> u.Quantity:
+        """Kinetic energy T (J)."""
+        return self._model.energy << u.J
+
+    @property
+    def angular_momentum(self) -> u.Quantity:
+        """|L| (kg m2 / s)."""
+        return self._model.angular_momentum << _LMOM
+
+    @property
+    def angular_momentum_inertial(self) -> u.Quantity:
+        """L in the inertial frame (kg m2 / s); the body frame at t = 0."""
+        return self._model.angular_momentum_inertial << _LMOM
+
+    @property
+    def error_estimate(self) -> dict:
+        """Error bounds of the solution: relative error of omega, attitude angle (rad)."""
+        return dict(self._model.error_estimate)
+
+    def summary(self) -> dict:
+        """Plain-number summary (SI) for ``--json`` and scripts."""
+        mdl = self._model
+        return {
+            "regime": mdl.regime,
+            "moments_kg_m2": list(mdl.moments),
+            "omega0_rad_s": list(mdl.omega0),
+            "parameter_m": mdl.m,
+            "complementary_parameter_1_minus_m": mdl.m1,
+            "modulus_k": self.modulus,
+            "period_s": mdl.period if np.isfinite(mdl.period) else None,
+            "time_between_flips_s": mdl.time_between_flips,
+            "energy_J": mdl.energy,
+            "angular_momentum_kg_m2_s": mdl.angular_momentum,
+            "precession_rate_rad_s": mdl.precession_rate,
+            "error_estimate": dict(mdl.error_estimate),
+        }
+
+    # -- evaluation ---------------------------------------------------------
+    def omega(self, t) -> u.Quantity:
+        """Body-frame angular velocity at times ``t`` (a time Quantity), shape t.shape + (3,)."""
+        ts = to_si(t, "t", u.s)
+        return self._model.omega(np.asarray(ts, dtype=float)) << _RATE
+
+    def attitude(self, t) -> np.ndarray:
+        """Unit quaternions (w, x, y, z) body -> inertial at times ``t``; identity at t = 0."""
+        ts = to_si(t, "t", u.s)
+        return self._model.attitude(np.asarray(ts, dtype=float))
+
+    def evaluate(self, t=None, *, t_end=None, samples: int | None = None) -> xr.Dataset:
+        """The motion as a CF Dataset at times ``t`` or at ``samples`` times in [0, t_end].
+
+        Parameters
+        ----------
+        t : astropy.units.Quantity, optional
+            Times (1-D).
+        t_end : astropy.units.Quantity, optional
+            End time, with ``samples`` evenly spaced outputs from 0 (inclusive).
+        samples : int, optional
+            Number of outputs (>= 1).
+
+        Returns
+        -------
+        xarray.Dataset
+            ``time`` (s, CF units ``seconds since 2000-01-01 12:00:00``),
+            ``omega(time, axis)``, ``angular_momentum(axis)`` (inertial),
+            ``attitude(time, component)``, ``kinetic_energy``,
+            ``kinetic_energy_drift``, ``angular_momentum_magnitude`` and
+            ``angular_momentum_magnitude_drift`` (time).
+
+        Raises
+        ------
+        wobble.errors.InputError
+            Neither or both of ``t`` and ``t_end``; bad ``samples``; a request
+            that would not fit in memory (the message gives the size needed).
+        """
+        ts = self._times(t, t_end, samples)
+        mdl = self._model
+        omega = mdl.omega(ts)
+        q = mdl.attitude(ts)
+        I = np.asarray(mdl.moments)  # noqa: E741
+        energy = 0.5 * np.sum(I * omega * omega, axis=-1)
+        lmag = np.linalg.norm(I * omega, axis=-1)
+        return self._dataset(ts, omega, q, energy, lmag)
+
+    def _times(self, t, t_end, samples):
+        if (t is None) == (t_end is None):
+            raise InputError("t, t_end", (t, t_end), "either times t or t_end with samples, not both or neither")
+        if t is not None:
+            ts = np.atleast_1d(to_si(t, "t", u.s))
+            if ts.ndim != 1:
+                raise InputError("t", t, "a 1-D array of times")
+            self._check_memory(ts.size)
+            return ts.astype(float)
+        end = to_si(t_end, "t_end", u.s, nonnegative=True, shape=())
+        if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
+            raise InputError("samples", samples, "a whole number of samples >= 1")
+        self._check_memory(int(samples))
+        return np.linspace(0.0, end, int(samples))
+
+    @staticmethod
+    def _check_memory(n: int):
+        need = n * BYTES_PER_SAMPLE
+        have = _available_memory() // 2
+        if need > have:
+            raise InputError(
+                "samples",
+                n,
+                f"at most {have // BYTES_PER_SAMPLE} samples here: {n} samples need about {_human(need)} "
+                f"of memory and {_human(have)} is usable (ask for fewer samples or a shorter span)",
+            )
+
+    def _dataset(self, ts, omega, q, energy, lmag) -> xr.Dataset:
+        mdl = self._model
+        e0, l0 = mdl.energy, mdl.angular_momentum
+        tcoord = xr.Variable(
+            "time", ts, {"units": SIMULATION_TIME_UNITS, "standard_name": "time", "long_name": "time", "axis": "T", "calendar": "standard"}
+        )
+        ds = xr.Dataset(
+            {
+                "omega": (("time", "axis"), omega, {"units": "rad s-1", "long_name": "angular velocity in the body (principal-axis) frame"}),
+                "angular_momentum": (
+                    ("axis",),
+                    mdl.angular_momentum_inertial,
+                    {"units": "kg m2 s-1", "long_name": "angular momentum in the inertial frame (the body frame at t = 0), constant"},
+                ),
+                "attitude": (
+                    ("time", "component"),
+                    q,
+                    {"units": "1", "long_name": "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"},
+                ),
+                "kinetic_energy": (("time",), energy, {"units": "J", "long_name": "kinetic energy from omega(t)"}),
+                "kinetic_energy_drift": (("time",), energy - e0, {"units": "J", "long_name": "kinetic energy minus its initial value"}),
+                "angular_momentum_magnitude": (("time",), lmag, {"units": "kg m2 s-1", "long_name": "magnitude of the angular momentum from omega(t)"}),
+                "angular_momentum_magnitude_drift": (
+                    ("time",),
+                    lmag - l0,
+                    {"units": "kg m2 s-1", "long_name": "magnitude of the angular momentum minus its initial value"},
+                ),
+            },
+            coords={
+                "time": tcoord,
+                "axis": ("axis", list(AXES), {"long_name": "principal axis, in the order the moments were given"}),
+                "component": ("component", list(COMPONENTS), {"long_name": "quaternion component, scalar first"}),
+                "moment_of_inertia": (("axis",), np.asarray(mdl.moments), {"units": "kg m2", "long_name": "principal moment of inertia"}),
+            },
+        )
+        ds.attrs.update(
+            {
+                "title": "Torque-free rigid-body rotation (exact solution)",
+                "references": "Landau & Lifshitz, Mechanics, section 37; course notes section 5.6; docs/free-rotation.md",
+                "regime": mdl.regime,
+                "elliptic_parameter_m": mdl.m,
+                "elliptic_complementary_parameter": mdl.m1,
+                "kinetic_energy_J": e0,
+                "angular_momentum_magnitude": l0,
+            }
+        )
+        if np.isfinite(mdl.period):
+            ds.attrs["period_s"] = mdl.period
+        if mdl.time_between_flips is not None:
+            ds.attrs["time_between_flips_s"] = mdl.time_between_flips
+        return ds

@@ -1,0 +1,103 @@
+"""Scalar constants to ~50 digits with the standard library (fractions, decimal).
+
+A solution's constants (rates, quarter periods, mean precession rates) are
+computed once per solution from the exact float64 inputs: products and sums
+of floats are exact as :class:`fractions.Fraction`, so differences such as
+``L^2 - 2 E I2`` near a separatrix carry no rounding at all; square roots,
+AGMs and complete elliptic integrals are then taken in :mod:`decimal` at
+``DIGITS`` digits and handed to the float64 kernels as double-double pairs
+``(hi, lo)`` (see :mod:`wobble.numerics.phase`). No third-party dependency.
+"""
+
+from __future__ import annotations
+
+import decimal
+from decimal import Decimal
+from fractions import Fraction
+
+__all__ = ["DIGITS", "PI", "context", "dec", "to_dd", "sqrt", "agm_k", "cel", "exact"]
+
+DIGITS = 50
+# pi to 60 digits (a constant: decimal has no trigonometry).
+PI = Decimal("3.14159265358979323846264338327950288419716939937510582097494")
+
+
+def context() -> decimal.Context:
+    """The decimal context used here (DIGITS significant digits)."""
+    return decimal.Context(prec=DIGITS)
+
+
+def exact(x) -> Fraction:
+    """The exact rational value of a float (or int, Fraction)."""
+    return x if isinstance(x, Fraction) else Fraction(x)
+
+
+def dec(x) -> Decimal:
+    """A Fraction, float or Decimal as a Decimal at DIGITS digits."""
+    ctx = context()
+    if isinstance(x, Decimal):
+        return ctx.plus(x)
+    if isinstance(x, int):
+        return ctx.plus(Decimal(x))
+    x = exact(x)
+    return ctx.divide(Decimal(x.numerator), Decimal(x.denominator))
+
+
+def sqrt(x) -> Decimal:
+    """Square root at DIGITS digits of a non-negative Fraction, float or Decimal."""
+    return context().sqrt(dec(x))
+
+
+def to_dd(x) -> tuple[float, float]:
+    """Double-double ``(hi, lo)`` with ``hi + lo`` equal to x to ~32 digits."""
+    d = dec(x)
+    if d.is_infinite():
+        return float(d), 0.0
+    hi = float(d)
+    lo = float(context().subtract(d, Decimal(hi))) if hi != 0.0 else 0.0
+    return hi, lo
+
+
+def agm_k(m1) -> Decimal:
+    """Complete K(m) = pi / (2 AGM(1, sqrt(m1))) from the exact complement m1 > 0 (A&S 17.6.1)."""
+    b = sqrt(m1)
+    with decimal.localcontext(context()):
+        a = Decimal(1)
+        tol = Decimal(10) ** (-DIGITS + 2)
+        while abs(a - b) > tol * a:
+            a, b = (a + b) / 2, (a * b).sqrt()
+        return PI / (2 * a)
+
+
+def cel(kc, p, a, b) -> Decimal:
+    """Bulirsch's general complete elliptic integral, for p > 0 and kc > 0.
+
+    cel(kc, p, a, b) = int_0^{pi/2} (a cos^2 + b sin^2) / ((cos^2 + p sin^2) sqrt(cos^2 + kc^2 sin^2)) dtheta,
+
+    so K = cel(k', 1, 1, 1) and Pi(n | m) = cel(k', 1 - n, 1, 1). Quadratically
+    convergent (R. Bulirsch, Numer. Math. 13, 305 (1969); Numerical Recipes 6.11).
+    """
+    qc, a, b, p = dec(kc), dec(a), dec(b), dec(p)
+    if p <= 0 or qc <= 0:
+        raise ValueError("cel here takes p > 0 and kc > 0")
+    with decimal.localcontext(context()):
+        ca = Decimal(10) ** (-DIGITS + 5)
+        e = qc
+        em = Decimal(1)
+        p = p.sqrt()
+        b = b / p
+        for _ in range(200):
+            f = a
+            a = a + b / p
+            g = e / p
+            b = b + f * g
+            b = b + b
+            p = g + p
+            g = em
+            em = em + qc
+            if abs(g - qc) <= g * ca:
+                break
+            qc = e.sqrt()
+            qc = qc + qc
+            e = qc * em
+        return (PI / 2) * (b + a * em) / (em * (em + p))
