@@ -310,3 +310,37 @@ def test_astropy_is_configured_offline():
     from astropy.utils import iers
 
     assert iers.conf.auto_download is False
+
+
+# -- the vectorised evaluation used by sweeps -------------------------------------------
+
+
+def test_samples_agree_member_by_member_with_the_scalar_model(mars):
+    from wobble.models.chandler import chandler_samples
+
+    k2 = np.array([0.160, 0.169, 0.178])
+    core_radius = np.array([1.79e6, 1.83e6, 1.87e6])
+    s = chandler_samples(mars, {"love_number_k2": k2, "fluid_core_radius": core_radius})
+    assert s.valid.all() and s.period.shape == (3,)
+    for i in range(3):
+        one = replace(mars, love_number_k2=Measured(k2[i], 0.0), fluid_core_radius=Measured(core_radius[i], 0.0))
+        assert s.period[i] == pytest.approx(chandler_budget(one).period, rel=1e-14)
+        assert s.step_periods[:, i] == pytest.approx([st.period for st in chandler_budget(one).steps], rel=1e-14)
+
+
+def test_samples_mark_unphysical_members_instead_of_raising(earth):
+    from wobble.models.chandler import INVALID_REASONS, chandler_samples
+
+    s = chandler_samples(earth, {"love_number_k2": np.array([0.29525, 1.5, -0.1]), "c22": np.array([2.4e-6, 2.4e-6, 2.4e-6])})
+    assert list(s.code) == [0, 3, 5]
+    assert np.isfinite(s.period[0]) and np.isnan(s.period[1:]).all()
+    assert "fluid" in INVALID_REASONS[3]
+    flip = chandler_samples(earth, {"dynamical_flattening": np.array([3.2e-3, 1e-6]), "c22": np.array([2.4e-6, 2e-3])}, "rigid")
+    assert list(flip.code) == [0, 1]  # C intermediate: no periodic wobble
+
+
+def test_samples_refuse_unknown_parameter_names(earth):
+    from wobble.models.chandler import chandler_samples
+
+    with pytest.raises(InputError, match="parameter: got love_number"):
+        chandler_samples(earth, {"love_number": np.array([0.3])})

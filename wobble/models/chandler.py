@@ -39,7 +39,10 @@ large moments.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
 
 from wobble.errors import InputError
 from wobble.models.planet import Measured, PlanetParameters
@@ -52,10 +55,14 @@ __all__ = [
     "Step",
     "Budget",
     "free_wobble_rate",
+    "free_wobble_rate_array",
     "secular_love_number",
     "anelastic_love_number",
     "resolve_model",
     "chandler_budget",
+    "Samples",
+    "chandler_samples",
+    "INVALID_REASONS",
 ]
 
 STEPS = ("rigid", "elastic", "fluid_core", "ocean_pole_tide", "anelastic")
@@ -175,6 +182,45 @@ class Budget:
         return "prograde" if (self.rate > 0) == (self.spin_rate > 0) else "retrograde"
 
 
+# Validity codes of the vectorised evaluation (0: valid), for sweeps that mark
+# unphysical members instead of stopping.
+INVALID_REASONS = {
+    0: "",
+    1: "C is the intermediate principal moment: rotation about it is unstable (no periodic wobble)",
+    2: "the liquid core is as large as the equatorial moment (A_f >= A)",
+    3: "k2 at or above the secular Love number k_s: the body would yield more than a fluid",
+    4: "k2(frequency) did not converge",
+    5: "a parameter is outside its physical range (e.g. a negative moment, density or Love number)",
+}
+
+
+def free_wobble_rate_array(spin, c_minus_a, c_minus_b, d=0.0, core=0.0):
+    """Vectorised equation (1): signed rates and validity codes.
+
+    Parameters
+    ----------
+    spin, c_minus_a, c_minus_b, d, core : float or array_like
+        As in :func:`free_wobble_rate`; broadcast together.
+
+    Returns
+    -------
+    rate : numpy.ndarray
+        sigma in rad/s (NaN where invalid).
+    code : numpy.ndarray of int8
+        0 valid, 1 intermediate-axis spin, 2 core too large (see :data:`INVALID_REASONS`).
+    """
+    ea = np.asarray(c_minus_a, dtype=float) - d
+    eb = np.asarray(c_minus_b, dtype=float) - d
+    den = (1.0 - np.asarray(c_minus_a) - core) * (1.0 - np.asarray(c_minus_b) - core)
+    num = ea * eb
+    code = np.where(~(den > 0), 2, np.where(num < 0, 1, 0)).astype(np.int8)
+    ok = code == 0
+    ratio = np.divide(num, den, out=np.full(np.broadcast(num, den).shape, np.nan), where=ok)
+    magnitude = np.sqrt(ratio, out=np.full_like(ratio, np.nan), where=ok & (ratio >= 0))
+    sign = np.where(ea > 0, 1.0, -1.0)  # ea == 0 means num == 0: the sign is irrelevant
+    return sign * spin * magnitude, code
+
+
 def free_wobble_rate(spin: float, c_minus_a: float, c_minus_b: float, d: float = 0.0, core: float = 0.0) -> float:
     """Signed free-wobble frequency of equation (1), everything in units of C.
 
@@ -202,26 +248,120 @@ def free_wobble_rate(spin: float, c_minus_a: float, c_minus_b: float, d: float =
         C is the intermediate moment (rotation about it is unstable, no
         periodic wobble), or the core is as large as the equatorial moment.
     """
-    ea, eb = c_minus_a - d, c_minus_b - d
-    den = (1.0 - c_minus_a - core) * (1.0 - c_minus_b - core)
-    if not den > 0:
-        raise InputError(
-            "fluid_core",
-            f"A_f/C = {core:.6g}",
-            "a liquid core smaller than the equatorial moment (A_f < A)",
-        )
-    num = ea * eb
-    if num < 0:
+    rate, code = free_wobble_rate_array(spin, c_minus_a, c_minus_b, d, core)
+    if code == 2:
+        raise InputError("fluid_core", f"A_f/C = {core:.6g}", "a liquid core smaller than the equatorial moment (A_f < A)")
+    if code == 1:
         raise InputError(
             "figure",
             f"(C-A)/C = {c_minus_a:.6g}, (C-B)/C = {c_minus_b:.6g}",
             "C the largest or the smallest principal moment: rotation about the intermediate "
             "axis is unstable (no periodic wobble)",
         )
-    if num == 0:
-        return 0.0
-    sign = 1.0 if ea > 0 else -1.0
-    return sign * spin * math.sqrt(num / den)
+    return float(rate)
+
+
+# -- the parameters as arrays ----------------------------------------------------------
+
+_POSITIVE_KEYS = (
+    "gm",
+    "equatorial_radius",
+    "gravitational_constant",
+    "polar_moment_factor",
+    "love_number_k2_period",
+    "love_number_k2_imaginary_period",
+    "fluid_core_equatorial_moment",
+    "fluid_core_radius",
+    "fluid_core_density",
+)
+
+
+class _Values:
+    """Parameter values as float64 arrays broadcast to one shape, with the derived figure."""
+
+    def __init__(self, base: Mapping[str, float | None], overrides: Mapping[str, object] | None = None):
+        merged = dict(base)
+        for key, val in (overrides or {}).items():
+            if key not in merged:
+                raise InputError("parameter", key, f"one of {', '.join(sorted(merged))}")
+            merged[key] = val
+        given = {k: v for k, v in merged.items() if v is not None}
+        arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in given.values()))
+        self.shape = arrays[0].shape if arrays else ()
+        self.v = {k: None for k in merged}
+        self.v.update(dict(zip(given, arrays)))
+        bad = np.zeros(self.shape, dtype=bool)
+        for key in _POSITIVE_KEYS:
+            if self.v[key] is not None:
+                bad |= ~(self.v[key] > 0)
+        for key in ("love_number_k2", "love_number_k2_imaginary", "ocean_pole_tide_love_number"):
+            if self.v[key] is not None:
+                bad |= self.v[key] < 0
+        if self.v["anelastic_exponent"] is not None:
+            alpha = self.v["anelastic_exponent"]
+            bad |= ~((alpha > 0) & (alpha < 1))
+        self.out_of_range = bad
+
+    def __getitem__(self, key):
+        return self.v[key]
+
+    @property
+    def flattening(self):
+        if self["dynamical_flattening"] is not None:
+            return self["dynamical_flattening"]
+        return self["j2"] / self["polar_moment_factor"]
+
+    @property
+    def c_factor(self):
+        if self["polar_moment_factor"] is not None:
+            return self["polar_moment_factor"]
+        if self["j2"] is not None and self["dynamical_flattening"] is not None:
+            return self["j2"] / self["dynamical_flattening"]
+        return None
+
+    def equatorial_excess(self):
+        """((C - A)/C, (C - B)/C) from H and J22 without cancellation."""
+        h = self.flattening
+        c = self.c_factor
+        if c is None or (self["c22"] is None and self["s22"] is None):
+            return h, h
+        c22 = self["c22"] if self["c22"] is not None else 0.0
+        s22 = self["s22"] if self["s22"] is not None else 0.0
+        split = 2.0 * math.sqrt(5.0 / 12.0) * np.hypot(c22, s22) / c
+        return h + split, h - split
+
+    def deformation(self, k):
+        """D/C = k a^3 Omega^2 / (3 GM C/(M a^2)) for the (possibly complex) Love number k."""
+        a = self["equatorial_radius"]
+        return k * a**3 * self["rotation_rate"] ** 2 / (3.0 * self["gm"] * self.c_factor)
+
+    def core_over_c(self):
+        """A_f/C, with A_f given or that of a uniform core (8 pi/15) rho R^5."""
+        if self["fluid_core_equatorial_moment"] is not None:
+            af = self["fluid_core_equatorial_moment"]
+        else:
+            af = 8.0 * math.pi / 15.0 * self["fluid_core_density"] * self["fluid_core_radius"] ** 5
+        mass = self["gm"] / self["gravitational_constant"]
+        return af / (self.c_factor * mass * self["equatorial_radius"] ** 2)
+
+    def secular_love_number(self):
+        c = self.c_factor
+        if c is None or self["gm"] is None or self["equatorial_radius"] is None:
+            return None
+        a = self["equatorial_radius"]
+        return 3.0 * self["gm"] * self.flattening * c / (a**3 * self["rotation_rate"] ** 2)
+
+    def anelastic_k(self, rate):
+        """(Re k2, Im k2) at the frequency abs(rate)/(2 pi), IERS 2010 eq. 6.12 form."""
+        alpha = self["anelastic_exponent"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = np.abs(rate) / (2.0 * math.pi)
+            f_ref = 1.0 / self["love_number_k2_period"]
+            f_im = 1.0 / self["love_number_k2_imaginary_period"]
+            im_ref = self["love_number_k2_imaginary"]
+            cot = 1.0 / np.tan(alpha * math.pi / 2.0)
+            real = self["love_number_k2"] + im_ref * cot * ((f_im / f) ** alpha - (f_im / f_ref) ** alpha)
+            return real, im_ref * (f_im / f) ** alpha
 
 
 def secular_love_number(p: PlanetParameters) -> float | None:
@@ -230,21 +370,8 @@ def secular_love_number(p: PlanetParameters) -> float | None:
     Uses the body's actual C - Abar (H C), so for a non-hydrostatic body it is
     the quantity equation (1) needs, not a fluid-body Love number.
     """
-    c = p.c_factor
-    if c is None or p.gm is None or p.equatorial_radius is None:
-        return None
-    a = p.equatorial_radius.value
-    return 3.0 * p.gm.value * p.flattening * c / (a**3 * p.rotation_rate.value**2)
-
-
-def _deformation(p: PlanetParameters, k: complex) -> complex:
-    """D/C = k a^3 Omega^2 / (3 GM C/(M a^2)) for the Love number k."""
-    a = p.equatorial_radius.value
-    return k * a**3 * p.rotation_rate.value**2 / (3.0 * p.gm.value * p.c_factor)
-
-
-def _core_over_c(p: PlanetParameters) -> float:
-    return p.fluid_core_moment / p.polar_moment
+    ks = _Values(p.values()).secular_love_number()
+    return None if ks is None else float(ks)
 
 
 def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, float]:
@@ -261,13 +388,8 @@ def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, floa
     alpha = p.anelastic_exponent.value
     if not 0 < alpha < 1:
         raise InputError("anelastic_exponent", alpha, "a number in (0, 1)")
-    f = abs(rate) / (2.0 * math.pi)
-    f_ref = 1.0 / p.love_number_k2_period.value
-    f_im = 1.0 / p.love_number_k2_imaginary_period.value
-    im_ref = p.love_number_k2_imaginary.value
-    cot = 1.0 / math.tan(alpha * math.pi / 2.0)
-    real = p.love_number_k2.value + im_ref * cot * ((f_im / f) ** alpha - (f_im / f_ref) ** alpha)
-    return real, im_ref * (f_im / f) ** alpha
+    real, imag = _Values(p.values()).anelastic_k(rate)
+    return float(real), float(imag)
 
 
 def _missing(p: PlanetParameters, step: str) -> list[str]:
@@ -318,97 +440,134 @@ def _rigid_uses(p: PlanetParameters) -> tuple[str, ...]:
     return tuple(keys)
 
 
-def _run_steps(p: PlanetParameters, steps: tuple[str, ...]) -> tuple[list[Step], float | None]:
-    """Evaluate equation (1) step by step; return the steps and the quality factor."""
-    omega = p.rotation_rate.value
-    ca, cb = p.equatorial_excess()
-    k, core, ocean = 0.0, 0.0, 0.0
-    quality = None
-    out: list[Step] = []
+_USES = {
+    "elastic": ("love_number_k2", "gm", "equatorial_radius"),
+    "fluid_core": ("fluid_core_equatorial_moment", "fluid_core_radius", "fluid_core_density", "gravitational_constant"),
+    "ocean_pole_tide": ("ocean_pole_tide_love_number",),
+    "anelastic": ("love_number_k2_period", "love_number_k2_imaginary", "love_number_k2_imaginary_period", "anelastic_exponent"),
+}
+
+
+@dataclass(frozen=True)
+class _StepArrays:
+    name: str
+    rate: np.ndarray
+    love_number: np.ndarray
+    love_number_imaginary: np.ndarray
+    core_fraction: np.ndarray
+
+
+def _evaluate(vals: _Values, steps: tuple[str, ...]):
+    """Equation (1) step by step on arrays; returns step arrays, validity code, Q."""
+    omega = vals["rotation_rate"]
+    ca, cb = vals.equatorial_excess()
+    zeros = np.zeros(vals.shape)
+    code = np.where(vals.out_of_range, 5, 0).astype(np.int8)
+    k, core, ocean = zeros, zeros, zeros
+    quality = np.full(vals.shape, np.nan)
+    ks = vals.secular_love_number()
+    out = []
+    rate = zeros
     for name in steps:
-        k_imag = 0.0
-        if name == "rigid":
-            uses = _rigid_uses(p)
-        elif name == "elastic":
-            k, uses = p.love_number_k2.value, ("love_number_k2", "gm", "equatorial_radius")
+        k_imag = zeros
+        if name == "elastic":
+            k = vals["love_number_k2"] + zeros
         elif name == "fluid_core":
-            core = _core_over_c(p)
-            uses = tuple(
-                key
-                for key in ("fluid_core_equatorial_moment", "fluid_core_radius", "fluid_core_density", "gravitational_constant")
-                if getattr(p, key) is not None
-            )
+            core = vals.core_over_c() + zeros
         elif name == "ocean_pole_tide":
-            ocean = p.ocean_pole_tide_love_number.value
-            k, uses = p.love_number_k2.value + ocean, ("ocean_pole_tide_love_number",)
-        else:  # anelastic: k2 at the wobble's own frequency, solved by fixed point
-            rate = out[-1].rate if out else free_wobble_rate(omega, ca, cb)
-            k, k_imag, rate = _anelastic_fixed_point(p, omega, ca, cb, core, ocean, rate)
-            quality = _quality_factor(p, omega, ca, cb, core, k, k_imag)
-            uses = (
-                "love_number_k2_period",
-                "love_number_k2_imaginary",
-                "love_number_k2_imaginary_period",
-                "anelastic_exponent",
-            )
-        d = _deformation(p, k).real if k else 0.0
-        _check_below_fluid_limit(p, k, d, ca, cb)
-        rate = free_wobble_rate(omega, ca, cb, d, core)
-        frac = core / (1.0 - 0.5 * (ca + cb)) if core else 0.0
-        out.append(Step(name, rate, k, k_imag, frac, uses))
-    return out, quality
+            ocean = vals["ocean_pole_tide_love_number"] + zeros
+            k = vals["love_number_k2"] + ocean
+        elif name == "anelastic":
+            k, k_imag, rate, step_code = _anelastic_fixed_point(vals, omega, ca, cb, core, ocean, rate)
+            code = np.where(code == 0, step_code, code)
+            quality = _quality_factor(vals, omega, ca, cb, core, k, k_imag)
+        d = vals.deformation(k) if name != "rigid" else zeros
+        if ks is not None and name != "rigid":
+            # k2 >= k_s: the body would yield more than a fluid (no restoring torque).
+            softer = (np.asarray(ca) > 0) & (np.asarray(cb) > 0) & (d >= np.minimum(ca, cb))
+            code = np.where((code == 0) & softer, 3, code)
+        rate, step_code = free_wobble_rate_array(omega, ca, cb, d, core)
+        code = np.where(code == 0, step_code, code)
+        frac = core / (1.0 - 0.5 * (np.asarray(ca) + np.asarray(cb)))
+        out.append(_StepArrays(name, rate, k + zeros, k_imag + zeros, frac + zeros))
+    return out, code, quality
 
 
-def _check_below_fluid_limit(p, k, d, ca, cb):
-    # k2 >= k_s would mean the body yields more than a fluid: no restoring torque.
-    if d and ca > 0 and cb > 0 and d >= min(ca, cb):
-        ks = secular_love_number(p)
+def _anelastic_fixed_point(vals, omega, ca, cb, core, ocean, rate):
+    """Solve rate = sigma(k(rate)) for every member (contraction factor ~1e-3)."""
+    code = np.zeros(vals.shape, dtype=np.int8)
+    for _ in range(_FIXED_POINT_MAX):
+        k_real, k_imag = vals.anelastic_k(rate)
+        k = k_real + ocean
+        new, step_code = free_wobble_rate_array(omega, ca, cb, vals.deformation(k), core)
+        code = np.where(code == 0, step_code, code)
+        with np.errstate(invalid="ignore"):
+            done = ~np.isfinite(new) | (np.abs(new - rate) <= _FIXED_POINT_TOL * np.abs(new))
+        rate = new
+        if np.all(done):
+            k_real, k_imag = vals.anelastic_k(rate)
+            return k_real + ocean, k_imag, rate, code
+    return k, k_imag, rate, np.where(code == 0, 4, code).astype(np.int8)
+
+
+def _quality_factor(vals, omega, ca, cb, core, k_real, k_imag):
+    """Q = Re sigma / (2 abs(Im sigma)) with the complex k2 in equation (1)."""
+    d = vals.deformation(k_real + 1j * k_imag)
+    den = (1.0 - ca - core) * (1.0 - cb - core)
+    sigma = omega * np.sqrt((ca - d) * (cb - d) / den + 0j)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.abs(sigma.real) / (2.0 * np.abs(sigma.imag))
+
+
+def _raise_for(p: PlanetParameters, code: int, steps, values: _Values):
+    if code == 1:
+        ca, cb = values.equatorial_excess()
+        raise InputError(
+            "figure",
+            f"(C-A)/C = {float(ca):.6g}, (C-B)/C = {float(cb):.6g}",
+            "C the largest or the smallest principal moment: rotation about the intermediate "
+            "axis is unstable (no periodic wobble)",
+        )
+    if code == 2:
+        raise InputError("fluid_core", f"A_f/C = {float(values.core_over_c()):.6g}", "a liquid core smaller than the equatorial moment (A_f < A)")
+    if code == 3:
+        ks = values.secular_love_number()
         raise InputError(
             "love_number_k2",
-            f"{k:.6g} (effective)",
-            f"below the secular Love number k_s = {ks:.6g} of this figure (a body cannot yield more than a fluid)",
+            f"{p.love_number_k2.value:.6g}",
+            f"below the secular Love number k_s = {float(ks):.6g} of this figure (a body cannot yield more than a fluid)",
         )
-
-
-def _anelastic_fixed_point(p, omega, ca, cb, core, ocean, rate):
-    """Solve rate = sigma(k(rate)) (the contraction factor is ~1e-3: a few iterations)."""
-    for _ in range(_FIXED_POINT_MAX):
-        k_real, k_imag = anelastic_love_number(p, rate)
-        k = k_real + ocean
-        d = _deformation(p, k).real
-        _check_below_fluid_limit(p, k, d, ca, cb)
-        new = free_wobble_rate(omega, ca, cb, d, core)
-        if abs(new - rate) <= _FIXED_POINT_TOL * abs(new):
-            return k, k_imag, new
-        rate = new
-    raise InputError("anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges")
-
-
-def _quality_factor(p, omega, ca, cb, core, k_real, k_imag) -> float | None:
-    """Q = Re sigma / (2 abs(Im sigma)) with the complex k2 in equation (1)."""
-    if k_imag == 0:
-        return None
-    d = _deformation(p, complex(k_real, k_imag))
-    den = (1.0 - ca - core) * (1.0 - cb - core)
-    sigma = omega * ((ca - d) * (cb - d) / den) ** 0.5
-    return abs(sigma.real) / (2.0 * abs(sigma.imag))
-
-
-def _period_of(p: PlanetParameters, steps: tuple[str, ...]) -> float:
-    return _run_steps(p, steps)[0][-1].period
+    if code == 4:
+        raise InputError("anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges")
+    if code == 5:
+        raise InputError("parameters", p.name, INVALID_REASONS[5])
 
 
 def _propagate(p: PlanetParameters, steps: tuple[str, ...]) -> tuple[float, dict[str, float]]:
-    """First-order propagation: central differences over +-1 sigma, parameters independent."""
+    """First-order propagation: central differences over +-1 sigma, parameters independent.
+
+    All 2n perturbed planets are evaluated in one vectorised call.
+    """
+    measured = {k: m for k, m in p.measured_fields().items() if k != "observed_chandler_period"}
+    if not measured:
+        return 0.0, {}
+    keys = list(measured)
+    n = len(keys)
+    base = p.values()
+    overrides = {}
+    for i, key in enumerate(keys):
+        col = np.full(2 * n, base[key])
+        col[2 * i] += measured[key].sigma
+        col[2 * i + 1] -= measured[key].sigma
+        overrides[key] = col
+    out, code, _ = _evaluate(_Values(base, overrides), steps)
+    with np.errstate(divide="ignore"):
+        period = np.where(code == 0, np.abs(2.0 * math.pi / out[-1].rate), np.nan)
     contributions = {}
-    for key, m in p.measured_fields().items():
-        if key == "observed_chandler_period":
-            continue
-        up = _period_of(replace(p, **{key: Measured(m.value + m.sigma, m.sigma)}), steps)
-        down = _period_of(replace(p, **{key: Measured(m.value - m.sigma, m.sigma)}), steps)
-        delta = 0.5 * (up - down)
+    for i, key in enumerate(keys):
+        delta = 0.5 * (period[2 * i] - period[2 * i + 1])
         if delta != 0 and math.isfinite(delta):
-            contributions[key] = delta
+            contributions[key] = float(delta)
     total = math.sqrt(sum(v * v for v in contributions.values()))
     return total, contributions
 
@@ -431,19 +590,92 @@ def chandler_budget(p: PlanetParameters, model: str = "full") -> Budget:
         The steps with their periods, the propagated uncertainty and Q.
     """
     name, steps = resolve_model(p, model)
-    out, quality = _run_steps(p, steps)
+    values = _Values(p.values())
+    arrays, code, quality = _evaluate(values, steps)
+    _raise_for(p, int(code), steps, values)
+    out = []
+    for s in arrays:
+        uses = _rigid_uses(p) if s.name == "rigid" else tuple(k for k in _USES[s.name] if getattr(p, k) is not None)
+        out.append(Step(s.name, float(s.rate), float(s.love_number), float(s.love_number_imaginary), float(s.core_fraction), uses))
     if out[-1].rate == 0:
         sigma, contributions = math.nan, {}
     else:
         sigma, contributions = _propagate(p, steps)
+    q = float(quality)
+    ks = values.secular_love_number()
     return Budget(
         name=p.name,
         model=name,
         steps=tuple(out),
         spin_rate=p.rotation_rate.value,
-        secular_love_number=secular_love_number(p),
-        quality_factor=quality,
+        secular_love_number=None if ks is None else float(ks),
+        quality_factor=q if math.isfinite(q) else None,
         period_sigma=sigma,
         contributions=contributions,
         observed=p.observed_chandler_period,
+    )
+
+
+@dataclass(frozen=True)
+class Samples:
+    """The Chandler model evaluated on many parameter sets at once (for sweeps).
+
+    Attributes
+    ----------
+    steps : tuple of str
+        The steps run, in order.
+    rate : numpy.ndarray
+        Final signed wobble frequency per member, rad/s (NaN where invalid).
+    period : numpy.ndarray
+        abs(2 pi / rate), s (NaN where invalid, inf for a sphere).
+    step_periods : numpy.ndarray
+        Shape (n_steps, *members): the period after each step, s.
+    code : numpy.ndarray of int8
+        0 for valid members, else a key of :data:`INVALID_REASONS`.
+    quality_factor : numpy.ndarray
+        Q per member (NaN without the anelastic step).
+    """
+
+    steps: tuple[str, ...]
+    rate: np.ndarray
+    period: np.ndarray
+    step_periods: np.ndarray
+    code: np.ndarray
+    quality_factor: np.ndarray
+
+    @property
+    def valid(self) -> np.ndarray:
+        return self.code == 0
+
+
+def chandler_samples(p: PlanetParameters, overrides: Mapping[str, object], model: str = "full") -> Samples:
+    """Evaluate the Chandler model with some parameters replaced by arrays.
+
+    Vectorised over members (no Python loop): this is what a Monte-Carlo sweep
+    over a planet's uncertain parameters calls, chunk by chunk. Members whose
+    parameters are unphysical are marked with a code, not raised.
+
+    Parameters
+    ----------
+    p : PlanetParameters
+        The nominal planet; its model steps decide which parameters matter.
+    overrides : mapping
+        Parameter name -> array of values (SI), broadcast together.
+    model : str
+        As for :func:`chandler_budget`.
+    """
+    _, steps = resolve_model(p, model)
+    arrays, code, quality = _evaluate(_Values(p.values(), overrides), steps)
+
+    def period_of(rate):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(code == 0, np.abs(2.0 * math.pi / rate), np.nan)
+
+    return Samples(
+        steps=steps,
+        rate=np.where(code == 0, arrays[-1].rate, np.nan),
+        period=period_of(arrays[-1].rate),
+        step_periods=np.stack([period_of(s.rate) for s in arrays]),
+        code=code,
+        quality_factor=np.where(code == 0, quality, np.nan),
     )

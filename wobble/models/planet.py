@@ -131,6 +131,17 @@ class PlanetParameters:
                 "fluid_core", "only one of radius and density", "both fluid_core_radius and fluid_core_density"
             )
 
+    def values(self) -> dict[str, float | None]:
+        """Every parameter's value (SI) by name, None where not given."""
+        out: dict[str, float | None] = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, Measured):
+                out[f.name] = v.value
+            elif f.name != "name":
+                out[f.name] = None
+        return out
+
     # -- the figure, in units of C and of M a^2, without cancellation ---------------
 
     def measured_fields(self) -> dict[str, Measured]:
@@ -141,6 +152,9 @@ class PlanetParameters:
             if isinstance(v, Measured) and v.sigma > 0:
                 out[f.name] = v
         return out
+
+    # Scalar views used to decide which model steps a planet supports; the
+    # vectorised evaluation lives in wobble.models.chandler.
 
     @property
     def flattening(self) -> float:
@@ -157,41 +171,6 @@ class PlanetParameters:
         if self.j2 is not None and self.dynamical_flattening is not None:
             return self.j2.value / self.dynamical_flattening.value
         return None
-
-    @property
-    def j22(self) -> float:
-        """Unnormalised J22 = (B - A)/(4 M a^2); 0 without c22/s22."""
-        if self.c22 is None and self.s22 is None:
-            return 0.0
-        c = self.c22.value if self.c22 is not None else 0.0
-        s = self.s22.value if self.s22 is not None else 0.0
-        return math.sqrt(5.0 / 12.0) * math.hypot(c, s)
-
-    def equatorial_excess(self) -> tuple[float, float]:
-        """((C - A)/C, (C - B)/C) with A <= B the equatorial principal moments.
-
-        Formed from H and J22/(C/Ma^2) directly, never as differences of moments.
-        Triaxiality needs C/(M a^2); without it the body is taken as symmetric.
-        """
-        h = self.flattening
-        c = self.c_factor
-        split = 2.0 * self.j22 / c if (c is not None and self.j22) else 0.0
-        return h + split, h - split
-
-    @property
-    def mass(self) -> float | None:
-        """M = GM/G in kg, or None without GM."""
-        if self.gm is None:
-            return None
-        return self.gm.value / self.gravitational_constant.value
-
-    @property
-    def polar_moment(self) -> float | None:
-        """C in kg m^2, or None when the absolute scale is unknown."""
-        c = self.c_factor
-        if c is None or self.gm is None or self.equatorial_radius is None:
-            return None
-        return c * self.mass * self.equatorial_radius.value**2
 
     @property
     def fluid_core_moment(self) -> float | None:
