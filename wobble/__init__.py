@@ -23,6 +23,7 @@ _configure_astropy_offline()
 from wobble.errors import FileFormatError, InputError, OutputExistsError, WobbleError  # noqa: E402
 from wobble.io.netcdf import open_wobble as load  # noqa: E402
 from wobble.io.netcdf import write_netcdf  # noqa: E402
+from wobble.api.bodies import PrincipalAxes, RigidBody  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -32,4 +33,6 @@ __all__ = [
     "OutputExistsError",
     "load",
     "write_netcdf",
+    "RigidBody",
+    "PrincipalAxes",
 ]
