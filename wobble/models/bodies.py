@@ -645,9 +645,14 @@ class GridAxis:
     stop: float
 
     @property
+    def step(self) -> float:
+        """(stop - start) / (n - 1) in m: signed, negative for a decreasing coordinate."""
+        return (self.stop - self.start) / (self.n - 1)
+
+    @property
     def spacing(self) -> float:
-        """|stop - start| / (n - 1) in m."""
-        return abs(self.stop - self.start) / (self.n - 1)
+        """|step| in m."""
+        return abs(self.step)
 
     @property
     def center(self) -> float:
@@ -708,7 +713,7 @@ def from_grid(
             raise InputError(f"{name}.{a.name}", f"{a.n} points", allowed)
         if not a.spacing > 0:
             raise InputError(f"{name}.{a.name}", f"spacing {a.spacing}", "a positive grid spacing")
-    rows = tuple(moment_rows(a.n, a.spacing, rule) for a in axes)
+    rows = tuple(moment_rows(a.n, a.step, rule) for a in axes)
     raw = accumulate_moments(_checked_slabs(slabs, names, float(density_scale), name), rows)
     xyz = [names.index(c) for c in "xyz"]  # array axis holding x, y, z
 

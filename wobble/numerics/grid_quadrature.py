@@ -77,14 +77,16 @@ def node_weights(n: int, h: float, rule: str) -> np.ndarray:
     return w
 
 
-def moment_rows(n: int, h: float, rule: str) -> np.ndarray:
+def moment_rows(n: int, step: float, rule: str) -> np.ndarray:
     """The 3 x n matrix whose rows integrate 1, u and u^2 along one axis.
 
-    ``u`` is measured from the centre of the axis, ``u_i = (i - (n-1)/2) h``, which
+    ``u`` is measured from the centre of the axis, ``u_i = (i - (n-1)/2) step``, which
     keeps the second moments free of cancellation for grids far from the origin.
+    ``step`` is signed: negative for a coordinate that decreases along the array.
     """
+    h = abs(step)
     w = node_weights(n, h, rule)
-    u = (np.arange(n) - 0.5 * (n - 1)) * h
+    u = (np.arange(n) - 0.5 * (n - 1)) * step
     second = u * u + (h * h / 12.0 if rule == "voxel" else 0.0)
     return np.array([w, w * u, w * second])
 
