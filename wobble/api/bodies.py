@@ -258,8 +258,8 @@ class RigidBody:
         rule : {"trapezoid", "simpson", "voxel"}
             Quadrature: trapezoidal (O(h^2)), Simpson (O(h^4), odd point counts),
             or voxel (each sample the mean over its cell; exact for piecewise-constant
-            density, O(h^2) for smooth). A density that jumps at the body's surface
-            converges at O(h) whatever the rule.
+            density, O(h^2) for smooth). For a density that jumps at the body's
+            surface no rule guarantees more than O(h).
         chunk_bytes : int
             Slab size for streaming (default 32 MiB): memory use is about this
             much beyond the array itself, whatever the grid size.

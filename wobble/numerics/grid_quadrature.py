@@ -26,8 +26,9 @@ Rules (per axis, nodes ``u_i = (i - (n-1)/2) h``):
     (a CT voxel). Exact for a piecewise-constant density: the cell integrals are
     ``h``, ``h u_i`` and ``h (u_i^2 + h^2/12)``. Error O(h^2) for a smooth density.
 
-For a density that jumps (the surface of a solid cutting through cells) every rule
-converges at first order only, O(h).
+For a density that jumps (the surface of a solid cutting through cells) no rule
+guarantees more than first order, O(h); for a smooth closed surface the cell errors
+partly cancel (an ellipsoid's moments: 1.8e-3 at 64^3, 2.4e-5 at 512^3, voxel rule).
 
 Pure float64 NumPy; no units.
 """

@@ -9,8 +9,9 @@ depend on rounding noise:
 
 * eigenvalues are returned in ascending order, eigenvectors as the **rows** of a
   proper rotation matrix (right-handed, determinant +1);
-* a non-degenerate axis points so that its component of largest magnitude is
-  positive (the first such component on a tie);
+* axes 1 and 3, when not degenerate, point so that their component of largest
+  magnitude is positive (the first such component on a tie); axis 2 completes the
+  right-handed frame;
 * when two eigenvalues agree to the relative tolerance ``rtol`` (measured against
   the larger of the two), the unique axis is kept and the pair is replaced by a
   canonical basis of its plane: the first member is the projection onto the plane
