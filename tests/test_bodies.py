@@ -476,6 +476,8 @@ def test_orders_and_rotation_between_frames():
         for lam, a in zip(frame.moments.to_value(KGM2), frame.axes):
             np.testing.assert_allclose(t @ a, lam * a, atol=1e-14)
     np.testing.assert_array_equal(body.principal("descending").moments.value, [3, 2, 1])
+    same = RigidBody.from_principal_moments([3.0, 1.0, 2.0] * KGM2, axes=rot.inv())  # a scipy Rotation works too
+    np.testing.assert_allclose(same.tensor.to_value(KGM2), body.tensor.to_value(KGM2), rtol=0, atol=1e-15)
     to_p = body.to_principal_rotation()
     v = np.array([0.3, -0.2, 0.9])
     np.testing.assert_allclose(to_p.apply(v), body.principal_axes @ v, atol=1e-15)
@@ -570,6 +572,8 @@ BAD = [
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).shifted_to("centre"), "point", "'com', 'origin'"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).angular_momentum([1, 2] * u.rad / u.s), "omega", "shape (..., 3)"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).principal(order="biggest"), "order", "ascending"),
+    (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).classify(rtol="loose"), "rtol", "relative tolerance"),
+    (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2, axes=np.ones((3, 3))), "axes", "proper rotation"),
     (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2).shifted_to([1, 0, 0] * u.m), "mass", "known mass"),
     (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2, mass=1 * u.kg, about=[0, 0, 2] * u.m), "moments", "parallel-axis"),
 ]

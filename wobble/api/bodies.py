@@ -116,13 +116,16 @@ def _length(value, name: str, *, allow_zero: bool = False) -> float:
     return to_si(value, name, u.m, positive=True, shape=())
 
 
-def _rotation(rotation) -> np.ndarray:
+def _rotation(rotation, name: str = "rotation"):
+    """A scipy Rotation as its matrix; anything else is passed on (the model checks it)."""
     from scipy.spatial.transform import Rotation
 
     if isinstance(rotation, Rotation):
         if not rotation.single:
-            raise InputError("rotation", rotation, "a single rotation (not a stack)")
+            raise InputError(name, rotation, "a single rotation (not a stack)")
         return rotation.as_matrix()
+    if isinstance(rotation, u.Quantity):
+        return _dimensionless_array(rotation, name)
     return rotation
 
 
@@ -169,8 +172,9 @@ class RigidBody:
             about the input x, y, z axes unless ``axes`` is given. Their
             differences are formed in your unit before conversion, so nearly
             equal moments keep their small differences exactly.
-        axes : array_like, shape (3, 3), optional
-            Row k is the direction (input frame) of the axis of ``moments[k]``.
+        axes : array_like, shape (3, 3), or scipy Rotation, optional
+            Row k is the direction (input frame) of the axis of ``moments[k]``
+            (a proper rotation matrix; a scipy ``Rotation`` gives its matrix).
         mass : Quantity, optional
             Needed to shift the reference point or combine bodies.
         center_of_mass : Quantity, shape (3,), optional
@@ -187,7 +191,7 @@ class RigidBody:
         body = _m.from_principal_moments(
             values,
             differences=diffs,
-            axes=axes,
+            axes=None if axes is None else _rotation(axes, "axes"),
             mass=None if mass is None else _mass(mass),
             center_of_mass=None if center_of_mass is None else _length_vector(center_of_mass, "center_of_mass"),
             about=_about(about),
@@ -544,7 +548,7 @@ class RigidBody:
     def moment_about(self, axis, frame: str = "input") -> u.Quantity:
         """n . I . n (kg m2), the moment about the direction ``axis`` (normalised; shape (..., 3))."""
         if isinstance(axis, u.Quantity):
-            axis = dimensionless_array(axis, "axis")
+            axis = _dimensionless_array(axis, "axis")
         return self._body.moment_about(axis, frame) << _MOI
 
     # ------------------------------------------------------------------
@@ -701,7 +705,7 @@ class RigidBody:
         try:
             common = dict(mass=get("mass"), center_of_mass=get("center_of_mass"), about=get("reference_point"), rtol=rtol)
             if "principal_moments" in p:
-                axes = None if "principal_axes" not in p else dimensionless_array(get("principal_axes"), "principal_axes")
+                axes = None if "principal_axes" not in p else _dimensionless_array(get("principal_axes"), "principal_axes")
                 body = cls.from_principal_moments(get("principal_moments"), axes=axes, name=pf.title, **common)
                 tensor = None
                 if "tensor" in p:
@@ -718,7 +722,7 @@ class RigidBody:
         return body
 
 
-def dimensionless_array(value, name: str) -> np.ndarray:
+def _dimensionless_array(value, name: str) -> np.ndarray:
     """A dimensionless Quantity (or array) as a float64 array."""
     if isinstance(value, u.Quantity):
         try:

@@ -236,7 +236,10 @@ def classify_moments(moments: np.ndarray, differences: np.ndarray, rtol: float) 
 
 
 def _check_rtol(rtol) -> float:
-    r = float(rtol)
+    try:
+        r = float(rtol)
+    except (TypeError, ValueError):
+        r = math.nan
     if not (0.0 <= r < 1.0):
         raise InputError("rtol", rtol, "a relative tolerance in [0, 1), e.g. 1e-9")
     return r
