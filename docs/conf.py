@@ -30,7 +30,8 @@ extensions = [
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
 myst_heading_anchors = 3
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "performance-*.md"]
+# Benchmark reports are generated files, included by the performance page.
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "performance-*.md", "benchmarks"]
 root_doc = "index"
 
 autodoc_typehints = "none"  # numpydoc renders the documented types

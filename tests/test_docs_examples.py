@@ -1,4 +1,7 @@
-"""Every ```python block in docs/*.md and README.md runs (no example may rot)."""
+"""Every ```python block in docs/*.md and README.md runs (no example may rot).
+
+A page's blocks run in order in one namespace, the way a reader runs them.
+"""
 
 from __future__ import annotations
 
@@ -8,15 +11,18 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGES = sorted((ROOT / "docs").glob("*.md")) + [ROOT / "README.md"]
-BLOCKS = [
-    pytest.param(code, id=f"{page.name}:{n}")
-    for page in PAGES
-    for n, code in enumerate(re.findall(r"```python\n(.*?)```", page.read_text(), re.S))
-]
+PAGES = sorted((ROOT / "docs").rglob("*.md")) + [ROOT / "README.md"]
 
 
-@pytest.mark.parametrize("code", BLOCKS)
-def test_documented_example_runs(code, tmp_path, monkeypatch):
+def run_page(page: Path) -> dict:
+    """Execute the page's python blocks in order; return the namespace."""
+    namespace: dict = {"__name__": "__docs__"}
+    for n, block in enumerate(re.findall(r"^```python\n(.*?)^```", page.read_text(), flags=re.S | re.M)):
+        exec(compile(block, f"{page.name}[block {n}]", "exec"), namespace)
+    return namespace
+
+
+@pytest.mark.parametrize("page", [p for p in PAGES if "```python" in p.read_text()], ids=lambda p: p.name)
+def test_documented_examples_run(page, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # examples that write files write them here
-    exec(compile(code, "<docs example>", "exec"), {"__name__": "__docs__"})
+    run_page(page)

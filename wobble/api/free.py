@@ -148,7 +148,7 @@ class FreeRotation:
 
     @property
     def angular_momentum(self) -> u.Quantity:
-        """|L| (kg m2 / s)."""
+        """The magnitude of the angular momentum, ``|L|`` (kg m2 / s)."""
         return self._model.angular_momentum << _LMOM
 
     @property

@@ -1,0 +1,201 @@
+"""Rigid bodies to and from files: CF netCDF, the wobble/1 parameter schema, point-mass CSV."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from astropy import units as u
+from scipy.spatial.transform import Rotation
+
+import wobble
+from wobble import FileFormatError, InputError, RigidBody
+from wobble.io.netcdf import open_wobble, write_netcdf
+from wobble.io.parameter_file import read_parameter_file
+from wobble.io.point_masses import read_point_masses
+
+KGM2 = u.kg * u.m**2
+
+
+def _bodies():
+    top = RigidBody.spinning_top(0.1 * u.kg, 3 * u.cm, 10 * u.g, 8 * u.cm, 5 * u.cm).shifted_to("origin")
+    turned = RigidBody.box(2 * u.kg, [1, 2, 3] * u.m).rotated(Rotation.from_euler("xyz", [0.1, 0.7, -0.3])).translated(
+        [1, 2, 3] * u.m
+    )
+    earth = RigidBody.oblate_planet(5.9722e24 * u.kg, 6378136.6 * u.m, 0.3307, dynamical_flattening=3273795e-9, name="Earth")
+    no_mass = RigidBody.from_principal_moments([1, 2, 2.5] * u.g * u.cm**2, name="moments only")
+    return {"top": top, "turned box": turned, "earth": earth, "no mass": no_mass}
+
+
+@pytest.mark.parametrize("key", list(_bodies()))
+def test_netcdf_round_trip_identical_and_cf_compliant(tmp_path, assert_cf_compliant, key):
+    body = _bodies()[key]
+    ds = body.to_dataset()
+    path = write_netcdf(ds, tmp_path / "body.nc", command="test")
+    back = open_wobble(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert_cf_compliant(path)
+    again = RigidBody.from_dataset(back)
+    np.testing.assert_array_equal(again.tensor, body.tensor)
+    np.testing.assert_array_equal(again.principal_moments, body.principal_moments)
+    np.testing.assert_allclose(again.principal_axes, body.principal_axes, rtol=0, atol=1e-15)  # re-normalised
+    np.testing.assert_array_equal(again.principal_differences, body.principal_differences)
+    np.testing.assert_array_equal(again.center_of_mass, body.center_of_mass)
+    assert again.classification == body.classification
+    assert (again.mass is None) == (body.mass is None)
+
+
+def test_dataset_contents_and_attributes():
+    ds = _bodies()["earth"].to_dataset()
+    for name, var in ds.variables.items():
+        assert "long_name" in var.attrs, name
+    for name in ("tensor", "principal_moments", "principal_moment_differences"):
+        assert ds[name].attrs["units"] == "kg m2"
+    assert ds.attrs["classification"] == "oblate"
+    assert ds.attrs["wobble_kind"] == "rigid_body"
+    assert ds["principal_moments"].dims == ("principal",)
+    assert ds["principal_axes"].dims == ("principal", "component")
+    np.testing.assert_array_equal(np.diff(ds["principal_moments"].values) >= 0, True)
+
+
+@pytest.mark.parametrize("key", list(_bodies()))
+def test_parameter_file_round_trip(tmp_path, key):
+    body = _bodies()[key]
+    path = body.to_parameter_file(tmp_path / "body.toml")
+    pf = read_parameter_file(path, kind="rigid_body")
+    assert pf.parameters["principal_moments"].status == "derived"
+    back = RigidBody.from_parameter_file(path)
+    np.testing.assert_array_equal(back.tensor, body.tensor)
+    np.testing.assert_array_equal(back.principal_moments, body.principal_moments)
+    np.testing.assert_array_equal(back.principal_differences, body.principal_differences)
+    np.testing.assert_allclose(back.principal_axes, body.principal_axes, atol=1e-15)
+    np.testing.assert_array_equal(back.reference_point, body.reference_point)
+    np.testing.assert_array_equal(back.center_of_mass, body.center_of_mass)
+    assert back.moment_ratio(3, 1) == body.moment_ratio(3, 1)
+
+
+def test_tiny_flattening_survives_the_parameter_file(tmp_path):
+    planet = RigidBody.oblate_planet(1e24 * u.kg, 1e6 * u.m, 0.33, dynamical_flattening=1e-13)
+    back = RigidBody.from_parameter_file(planet.to_parameter_file(tmp_path / "p.toml"))
+    assert back.moment_ratio(3, 1) == pytest.approx(1e-13 / (1 - 1e-13), rel=1e-15)
+
+
+HAND_WRITTEN = """
+schema = "wobble/1"
+kind = "rigid_body"
+name = "toy_top"
+title = "Toy top"
+
+[parameters.principal_moments]
+value = [2.9, 2.9, 0.45]
+uncertainty = 0.01
+unit = "g cm2"
+source = "measured on a torsion pendulum"
+status = "read"
+
+[parameters.mass]
+value = 110.0
+uncertainty = 0.1
+unit = "g"
+source = "kitchen scale"
+status = "read"
+
+[parameters.center_of_mass]
+value = [0.0, 0.0, 4.9]
+uncertainty = 0.0
+unit = "mm"
+source = "balance point"
+status = "read"
+"""
+
+
+def test_hand_written_file_in_cgs_units(tmp_path):
+    path = tmp_path / "top.toml"
+    path.write_text(HAND_WRITTEN)
+    top = RigidBody.from_parameter_file(path)
+    np.testing.assert_allclose(top.principal_moments.to_value(u.g * u.cm**2), [0.45, 2.9, 2.9], rtol=1e-15)
+    assert top.mass.to_value(u.g) == pytest.approx(110.0, rel=1e-15)
+    assert top.name == "Toy top" and top.classification == "prolate"
+    np.testing.assert_allclose(top.center_of_mass.to_value(u.mm), [0, 0, 4.9], rtol=1e-15)
+    tip = top.shifted_to("origin")
+    expected = (2.9 * u.g * u.cm**2 + 110 * u.g * (4.9 * u.mm) ** 2).to_value(KGM2)
+    assert tip.principal("symmetry").moments[0].to_value(KGM2) == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("edit", "where", "message"),
+    [
+        (("value = [2.9, 2.9, 0.45]", "value = [2.9, 2.9, 9.0]"), "parameters.moments", "triangle"),
+        (("value = [2.9, 2.9, 0.45]", "value = [2.9, -2.9, 0.45]"), "parameters.moments", "positive"),
+        (('unit = "g cm2"', 'unit = "g cm"'), "parameters.moments", "moment of inertia"),
+        (("[parameters.mass]", "[parameters.weight]"), "parameters.weight", "unknown parameter"),
+        (('kind = "rigid_body"', 'kind = "planet"'), "kind", "rigid_body"),
+    ],
+)
+def test_bad_parameter_files_name_the_key(tmp_path, edit, where, message):
+    path = tmp_path / "bad.toml"
+    path.write_text(HAND_WRITTEN.replace(*edit, 1))
+    with pytest.raises(FileFormatError) as info:
+        RigidBody.from_parameter_file(path)
+    assert info.value.where == where
+    assert message in str(info.value) and str(path) in str(info.value)
+
+
+def test_inconsistent_tensor_and_moments_are_refused(tmp_path):
+    path = tmp_path / "b.toml"
+    tensor = """
+[parameters.tensor]
+value = [[2.9, 0.0, 0.0], [0.0, 2.9, 0.0], [0.0, 0.0, 0.5]]
+uncertainty = 0.0
+unit = "g cm2"
+source = "a different measurement"
+status = "read"
+"""
+    path.write_text(HAND_WRITTEN + tensor)
+    with pytest.raises(FileFormatError, match="parameters.tensor"):
+        RigidBody.from_parameter_file(path)
+    path.write_text(HAND_WRITTEN + tensor.replace("0.5]]", "0.45]]"))
+    assert RigidBody.from_parameter_file(path).principal_moments[0].to_value(u.g * u.cm**2) == pytest.approx(0.45)
+
+
+def test_point_mass_csv_units_in_header_and_defaults(tmp_path):
+    path = tmp_path / "pts.csv"
+    path.write_text("# dumbbell\nx [cm], m [g], y [cm], z [mm]\n-5, 10, 0, 0\n\n5, 30, 0, 10\n")
+    masses, positions = read_point_masses(path)
+    np.testing.assert_allclose(masses.to_value(u.kg), [0.01, 0.03])
+    np.testing.assert_allclose(positions.to_value(u.m), [[-0.05, 0, 0], [0.05, 0, 0.01]])
+    bare = tmp_path / "bare.csv"
+    bare.write_text("1, 0, 0, 1\n1, 0, 0, -1\n")
+    masses, positions = read_point_masses(bare, mass_unit=u.g, length_unit=u.km)
+    assert masses.unit == u.g
+    np.testing.assert_allclose(positions.to_value(u.m), [[0, 0, 1000], [0, 0, -1000]])
+
+
+@pytest.mark.parametrize(
+    ("text", "where", "message"),
+    [
+        ("m, x, y\n1, 2, 3\n", "line 1", "missing column(s) z"),
+        ("m, x, y, z, colour\n1, 2, 3, 4, 5\n", "line 1", "allowed: columns m, x, y, z"),
+        ("m [g], x [s], y, z\n1, 2, 3, 4\n", "line 1", "unit of length"),
+        ("m, x, y, z\n1, 2, 3\n", "line 2", "3 fields"),
+        ("m, x, y, z\n1, 2, three, 4\n", "line 2", "numbers"),
+        ("# nothing\n", None, "no point masses"),
+    ],
+)
+def test_bad_csv_names_file_and_line(tmp_path, text, where, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(FileFormatError) as info:
+        read_point_masses(path)
+    assert info.value.where == where and message in str(info.value)
+
+
+def test_header_unit_and_a_different_default_conflict(tmp_path):
+    path = tmp_path / "pts.csv"
+    path.write_text("m [g], x [cm], y [cm], z [cm]\n1, 0, 0, 1\n")
+    with pytest.raises(InputError, match="--length-unit"):
+        read_point_masses(path, length_unit=u.m)
+
+
+def test_public_names_are_exported():
+    assert "RigidBody" in wobble.__all__ and wobble.RigidBody is RigidBody

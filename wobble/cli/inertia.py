@@ -1,0 +1,251 @@
+"""``wobble inertia``: inertia tensor, principal axes and classification of a body.
+
+For people with data rather than code: point masses from a CSV file, a density
+grid from a netCDF file, or a standard solid with its dimensions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api._units import parse_quantity
+from wobble.api.bodies import DEFAULT_RTOL, RigidBody
+from wobble.errors import InputError
+
+__all__ = ["register", "run", "SOLIDS"]
+
+EPILOG = """\
+examples:
+  wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
+  wobble inertia --solid cone --mass "250 g" --radius "3 cm" --height "8 cm" --about 0 0 -0.06
+  wobble inertia --solid top --disc-mass 0.1 --disc-radius 0.03 --axle-mass 0.01 \\
+                 --axle-length 0.08 --disc-height 0.05 --about origin --json
+  wobble inertia --points dumbbell.csv --length-unit cm --json
+  wobble inertia --density planet.nc --var rho --rule simpson -o inertia.nc
+
+--points FILE.csv has columns m, x, y, z; units may follow the names in the header
+(e.g. "m [g], x [cm], y [cm], z [cm]"), otherwise --mass-unit/--length-unit or SI.
+--density FILE.nc needs a variable on x, y, z with mass/volume units and length
+coordinates. Numbers without units are SI (kg, m), or the --mass-unit/--length-unit.
+--about com (default: the centre of mass), origin, or X Y Z.
+Solids (centre of mass at the origin, symmetry axis along z):
+  sphere (--mass --radius)        hollow-sphere (--mass --radius [--inner-radius])
+  ellipsoid (--mass --axes A B C, semi-axes)   box (--mass --edges A B C)
+  cylinder (--mass --radius --height [--inner-radius])   cone (--mass --radius --height)
+  disc (--mass --radius)          rod (--mass --length)
+  top (--disc-mass --disc-radius --axle-mass --axle-length --disc-height [--axle-radius]);
+      the tip of the axle is at the origin.
+"""
+
+# name: (constructor, required options, optional options); options are argparse dests.
+SOLIDS = {
+    "sphere": (RigidBody.solid_sphere, ("mass", "radius"), ()),
+    "hollow-sphere": (RigidBody.hollow_sphere, ("mass", "radius"), ("inner_radius",)),
+    "ellipsoid": (RigidBody.ellipsoid, ("mass", "axes"), ()),
+    "box": (RigidBody.box, ("mass", "edges"), ()),
+    "cylinder": (RigidBody.cylinder, ("mass", "radius", "height"), ("inner_radius",)),
+    "cone": (RigidBody.cone, ("mass", "radius", "height"), ()),
+    "disc": (RigidBody.thin_disc, ("mass", "radius"), ()),
+    "rod": (RigidBody.thin_rod, ("mass", "length"), ()),
+    "top": (
+        RigidBody.spinning_top,
+        ("disc_mass", "disc_radius", "axle_mass", "axle_length", "disc_height"),
+        ("axle_radius",),
+    ),
+}
+_MASS_OPTIONS = ("mass", "disc_mass", "axle_mass")
+_TRIPLE_OPTIONS = ("axes", "edges")
+_SOLID_OPTIONS = (
+    "mass", "radius", "inner_radius", "height", "length", "axes", "edges",
+    "disc_mass", "disc_radius", "axle_mass", "axle_length", "disc_height", "axle_radius",
+)  # fmt: skip
+# Keyword the constructor uses for an option, where it differs.
+_KEYWORD = {"axes": "semi_axes"}
+
+
+def register(subparsers) -> None:
+    """Add the ``inertia`` subcommand."""
+    p = subparsers.add_parser(
+        "inertia",
+        help="inertia tensor, principal moments and axes of masses, a density grid or a solid",
+        description="Inertia tensor I_jk = sum m (r^2 delta_jk - x_j x_k) about the centre of mass "
+        "(or --about), principal moments (ascending) and axes (right-handed), and the shape class.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--points", metavar="FILE.csv", help="point masses: CSV with columns m, x, y, z")
+    src.add_argument("--density", metavar="FILE.nc", help="density grid: netCDF variable on x, y, z")
+    src.add_argument("--solid", choices=tuple(SOLIDS), metavar="NAME", help=f"a solid: {', '.join(SOLIDS)}")
+    p.add_argument("--var", metavar="NAME", help="density variable in --density (default: the only one on x, y, z)")
+    p.add_argument("--rule", choices=("trapezoid", "simpson", "voxel"), help="grid quadrature (default trapezoid)")
+    p.add_argument("--mass-unit", metavar="UNIT", help="unit of masses given without one (default kg)")
+    p.add_argument("--length-unit", metavar="UNIT", help="unit of lengths given without one (default m)")
+    for dest in _SOLID_OPTIONS:
+        flag = "--" + dest.replace("_", "-")
+        if dest in _TRIPLE_OPTIONS:
+            p.add_argument(flag, nargs=3, metavar=("A", "B", "C"), help="three lengths along x, y, z")
+        else:
+            p.add_argument(flag, metavar="Q", help="mass" if dest in _MASS_OPTIONS else "length")
+    p.add_argument("--about", nargs="+", metavar="POINT", default=["com"], help="com (default), origin, or X Y Z")
+    p.add_argument("--tolerance", type=float, default=DEFAULT_RTOL, metavar="RTOL",
+                   help=f"relative tolerance for equal moments (default {DEFAULT_RTOL:g})")  # fmt: skip
+    p.add_argument("--json", action="store_true", help="machine-readable output on stdout")
+    p.add_argument("-o", "--output", metavar="FILE.nc", help="also write a CF netCDF file")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --output file")
+    p.set_defaults(func=run)
+
+
+def _unit_option(text: str | None, option: str, kind: u.UnitBase) -> u.UnitBase | None:
+    if text is None:
+        return None
+    try:
+        unit = u.Unit(text, parse_strict="raise")
+    except ValueError:
+        raise InputError(option, text, f"a unit astropy can parse (e.g. {'g, kg, Msun' if kind == u.kg else 'cm, m, au'})") from None
+    if not unit.is_equivalent(kind):
+        raise InputError(option, text, f"a unit of {kind.physical_type}")
+    return unit
+
+
+def _refuse_unused(args, allowed: set[str], what: str) -> None:
+    for dest in ("var", "rule", "mass_unit", "length_unit", *_SOLID_OPTIONS):
+        value = getattr(args, dest)
+        if value is not None and dest not in allowed:
+            shown = " ".join(value) if isinstance(value, list) else value
+            raise InputError("--" + dest.replace("_", "-"), shown, f"nothing: it is not used with {what}")
+
+
+def _about(args, length_unit: u.UnitBase):
+    tokens = args.about
+    if len(tokens) == 1 and tokens[0].lower() in ("com", "origin"):
+        return tokens[0].lower()
+    if len(tokens) == 3:
+        return u.Quantity([parse_quantity(t, "--about", length_unit) for t in tokens])
+    raise InputError("--about", " ".join(tokens), "com, origin, or three coordinates X Y Z (e.g. --about 0 0 -0.06)")
+
+
+def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
+    constructor, required, optional = SOLIDS[args.solid]
+    _refuse_unused(args, {"mass_unit", "length_unit", *required, *optional}, f"--solid {args.solid}")
+    kwargs = {}
+    for dest in (*required, *optional):
+        raw = getattr(args, dest)
+        flag = "--" + dest.replace("_", "-")
+        if raw is None:
+            if dest in required:
+                needs = ", ".join("--" + r.replace("_", "-") for r in required)
+                raise InputError(flag, "(missing)", f"a value; --solid {args.solid} needs {needs}")
+            continue
+        if dest in _TRIPLE_OPTIONS:
+            value = u.Quantity([parse_quantity(t, flag, length_unit) for t in raw])
+        else:
+            value = parse_quantity(raw, flag, mass_unit if dest in _MASS_OPTIONS else length_unit)
+        kwargs[_KEYWORD.get(dest, dest)] = value
+    return constructor(**kwargs)
+
+
+def build_body(args) -> tuple[RigidBody, str]:
+    """The body the arguments describe, about the requested point, and a one-line description."""
+    mass_unit = _unit_option(args.mass_unit, "--mass-unit", u.kg) or u.kg
+    length_unit = _unit_option(args.length_unit, "--length-unit", u.m) or u.m
+    about = _about(args, length_unit)
+    if args.points is not None:
+        from wobble.io.point_masses import read_point_masses
+
+        _refuse_unused(args, {"mass_unit", "length_unit"}, "--points")
+        masses, positions = read_point_masses(
+            args.points, mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
+            length_unit=_unit_option(args.length_unit, "--length-unit", u.m),
+        )  # fmt: skip
+        body = RigidBody.from_point_masses(masses, positions, name=str(args.points))
+        label = f"{masses.size} point masses from {args.points}"
+    elif args.density is not None:
+        from wobble.io.density_grid import open_density
+
+        _refuse_unused(args, {"var", "rule", "length_unit"}, "--density")
+        with open_density(args.density, args.var) as density:
+            body = RigidBody.from_density(density, rule=args.rule or "trapezoid", name=str(density.name))
+            label = f"density {density.name!r} from {args.density} ({'x'.join(map(str, density.shape))} grid, {args.rule or 'trapezoid'} rule)"
+    else:
+        body = _solid(args, mass_unit, length_unit)
+        label = f"solid {args.solid}"
+    return body.shifted_to(about), label
+
+
+def _report(body: RigidBody, rtol: float) -> dict:
+    f = body.principal("ascending", rtol)
+    cls = body.classify(rtol)
+    d = f.differences.to_value(u.kg * u.m**2)
+    return {
+        "mass": float(body.mass.to_value(u.kg)),
+        "center_of_mass": body.center_of_mass.to_value(u.m).tolist(),
+        "reference_point": body.reference_point.to_value(u.m).tolist(),
+        "tensor": body.tensor.to_value(u.kg * u.m**2).tolist(),
+        "principal_moments": f.moments.to_value(u.kg * u.m**2).tolist(),
+        "principal_axes": np.asarray(f.axes).tolist(),
+        "principal_moment_differences": [float(d[1, 0]), float(d[2, 1]), float(d[2, 0])],
+        "classification": cls.kind,
+        "asymmetry": cls.asymmetry,
+        "tolerance": cls.rtol,
+        "units": {
+            "mass": "kg",
+            "center_of_mass": "m",
+            "reference_point": "m",
+            "tensor": "kg m2",
+            "principal_moments": "kg m2",
+            "principal_axes": "1",
+            "principal_moment_differences": "kg m2",
+        },
+    }
+
+
+def _vec(v) -> str:
+    return "(" + ", ".join(f"{x:.10g}" for x in v) + ")"
+
+
+def _print_human(report: dict, label: str, out) -> None:
+    print(f"wobble inertia: {label}", file=out)
+    print(f"  mass                {report['mass']:.10g} kg", file=out)
+    print(f"  centre of mass      {_vec(report['center_of_mass'])} m", file=out)
+    same = report["reference_point"] == report["center_of_mass"]
+    print(f"  about               {'the centre of mass' if same else _vec(report['reference_point']) + ' m'}", file=out)
+    print("  inertia tensor (kg m2, input axes x, y, z)", file=out)
+    for row in report["tensor"]:
+        print("    " + "  ".join(f"{x:>17.10g}" for x in row), file=out)
+    print("  principal moments (kg m2, ascending)", file=out)
+    for k, (m, a) in enumerate(zip(report["principal_moments"], report["principal_axes"]), start=1):
+        print(f"    I{k} = {m:<17.10g} axis e{k} = {_vec(a)}", file=out)
+    print(
+        f"  classification      {report['classification']} (closest pair of moments differs by "
+        f"{report['asymmetry']:.3g} relative; tolerance {report['tolerance']:g})",
+        file=out,
+    )
+
+
+def run(args) -> int:
+    """Compute and print; exit status 0."""
+    rtol = args.tolerance
+    if not (0.0 <= rtol < 1.0):
+        raise InputError("--tolerance", rtol, "a relative tolerance in [0, 1), e.g. 1e-9")
+    body, label = build_body(args)
+    report = _report(body, rtol)
+    if args.output is not None:
+        from wobble.io.netcdf import write_netcdf
+
+        source = f"--solid {args.solid}" if args.solid else f"--points {args.points}" if args.points else f"--density {args.density}"
+        path = write_netcdf(body.to_dataset(rtol), args.output, overwrite=args.overwrite, command=f"wobble inertia {source}")
+        report["output"] = str(path)
+    if args.json:
+        json.dump(report, sys.stdout, allow_nan=False)
+        sys.stdout.write("\n")
+    else:
+        _print_human(report, label, sys.stdout)
+        if args.output is not None:
+            print(f"  wrote               {report['output']}", file=sys.stdout)
+    return 0

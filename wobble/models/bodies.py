@@ -1,0 +1,965 @@
+"""Rigid bodies in SI: inertia tensors, principal axes, L, T (course notes section 5.1).
+
+Everything here is float64 in SI units: masses in kg, lengths in m, moments of
+inertia in kg m^2, angular velocities in rad/s, energies in J. No units, no
+xarray, no files: :mod:`wobble.api.bodies` converts at the boundary.
+
+A :class:`Body` is an inertia tensor about a **reference point**, with its axes
+those of the **input frame** (the frame the user described the body in), plus the
+body's mass and centre of mass when known. The reference point is the centre of
+mass unless the body was built or shifted about another point (a top spins about
+its tip). The inertia tensor is (notes section 5.1, p. 67)
+
+    I_jk = sum_i m_i (r_i^2 delta_jk - x_ij x_ik)          (point masses)
+    I_jk = integral rho(r) (r^2 delta_jk - x_j x_k) dV     (a continuous body)
+
+with positions measured from the reference point; L = I omega, T = 1/2 omega . I . omega
+and the moment about a unit axis n is n . I . n (p. 67-68).
+
+Precision rules used throughout:
+
+* the diagonal I_xx is summed as ``S_yy + S_zz`` (never ``trace(S) - S_xx``), so a
+  needle's small moment keeps its relative precision;
+* positions are taken relative to the centre of mass (or the grid centre) before
+  squaring, so a body far from the origin loses nothing;
+* principal-moment differences given directly (a planet's H or J2, two nearly
+  equal semi-axes) are carried as an antisymmetric matrix ``D[i, j] = I_i - I_j``
+  and never recomputed by subtraction; ratios such as (I3 - I1)/I1 use them.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wobble.errors import InputError
+from wobble.numerics.grid_quadrature import RULES, accumulate_moments, moment_rows
+from wobble.numerics.symmetric_eigen import canonical_frame, degenerate_pairs, symmetric_eigen3
+
+__all__ = [
+    "DEFAULT_RTOL",
+    "ORDERS",
+    "CLASSES",
+    "Body",
+    "PrincipalFrame",
+    "Classification",
+    "GridAxis",
+    "steiner_term",
+    "from_principal_moments",
+    "from_tensor",
+    "from_point_masses",
+    "from_grid",
+    "composite",
+    "solid_sphere",
+    "hollow_sphere",
+    "ellipsoid",
+    "box",
+    "cylinder",
+    "cone",
+    "thin_disc",
+    "thin_rod",
+    "spinning_top",
+    "oblate_planet",
+]
+
+#: Default relative tolerance: for symmetry of a given tensor, the triangle
+#: inequalities, and for calling two principal moments equal (classification and
+#: the canonical frame). Rounding noise of float64 tensors is ~1e-15; Earth's two
+#: equatorial moments differ by 2.5e-5, so Earth is "asymmetric" at this tolerance.
+DEFAULT_RTOL = 1e-9
+
+#: Orders in which principal moments and axes can be listed.
+ORDERS = ("ascending", "descending", "input", "symmetry")
+#: Classification names.
+CLASSES = ("spherical", "oblate", "prolate", "asymmetric")
+
+_EPS = np.finfo(float).eps
+
+
+# ---------------------------------------------------------------------------
+# Small helpers
+# ---------------------------------------------------------------------------
+
+
+def _readonly(a) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+def _vector(value, name: str) -> np.ndarray:
+    v = np.asarray(value, dtype=float)
+    if v.shape != (3,):
+        raise InputError(name, value, "a 3-vector (x, y, z)")
+    if not np.all(np.isfinite(v)):
+        raise InputError(name, value, "finite values (no NaN or inf)")
+    return v
+
+
+def _positive(value, name: str, *, allow_zero: bool = False) -> float:
+    x = float(value)
+    if not math.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
+        want = "a non-negative" if allow_zero else "a positive"
+        raise InputError(name, value, f"{want}, finite number (SI)")
+    return x
+
+
+def steiner_term(mass: float, d: np.ndarray) -> np.ndarray:
+    """Parallel-axis (Steiner) term ``M (|d|^2 delta_jk - d_j d_k)`` in kg m^2.
+
+    Adding it to the tensor about the centre of mass gives the tensor about the
+    point at ``-d`` from the centre of mass (``d`` = centre of mass minus point, m).
+    The diagonal is formed as sums of squares, never as a difference.
+    """
+    d = np.asarray(d, dtype=float)
+    dd = d * d
+    out = 0.0 - mass * np.outer(d, d)  # 0.0 - x: no negative zeros off the diagonal
+    out[0, 0] = mass * (dd[1] + dd[2])
+    out[1, 1] = mass * (dd[0] + dd[2])
+    out[2, 2] = mass * (dd[0] + dd[1])
+    return out
+
+
+def _tensor_from_second_moments(s: np.ndarray) -> np.ndarray:
+    """I = tr(S) 1 - S for S_jk = sum m x_j x_k, with the diagonal as sums (no cancellation)."""
+    out = 0.0 - np.array(s, dtype=float)
+    out[0, 0] = s[1, 1] + s[2, 2]
+    out[1, 1] = s[0, 0] + s[2, 2]
+    out[2, 2] = s[0, 0] + s[1, 1]
+    return 0.5 * (out + out.T)
+
+
+def _differences(values: np.ndarray) -> np.ndarray:
+    return values[:, None] - values[None, :]
+
+
+# ---------------------------------------------------------------------------
+# Principal frame and classification
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class PrincipalFrame:
+    """Principal moments and axes of a body, in a stated order.
+
+    Attributes
+    ----------
+    moments : ndarray, shape (3,)
+        Principal moments I1, I2, I3 in kg m^2.
+    axes : ndarray, shape (3, 3)
+        Row ``k`` is the unit vector of principal axis ``k + 1`` in input-frame
+        components. The matrix is a proper rotation (right-handed, det +1) and
+        maps input-frame components to principal-frame components: ``v_p = axes @ v``.
+    differences : ndarray, shape (3, 3)
+        ``D[i, j] = I_(i+1) - I_(j+1)`` in kg m^2, exact where the user gave them.
+    order : str
+        One of :data:`ORDERS`.
+    """
+
+    moments: np.ndarray
+    axes: np.ndarray
+    differences: np.ndarray
+    order: str
+
+    def ratio(self, i: int, j: int, k: int | None = None) -> float:
+        """The dimensionless ratio (I_i - I_j)/I_k (1-based indices; ``k`` defaults to ``j``).
+
+        Computed from the stored differences, so (I3 - I1)/I1 of a planet built from
+        H keeps full relative precision. Division by a zero moment gives +-inf (or
+        0 when the difference is zero too).
+        """
+        for name, idx in (("i", i), ("j", j), ("k", k if k is not None else j)):
+            if idx not in (1, 2, 3):
+                raise InputError(name, idx, "a principal-axis number 1, 2 or 3")
+        k = j if k is None else k
+        num = float(self.differences[i - 1, j - 1])
+        den = float(self.moments[k - 1])
+        if den == 0.0:
+            return 0.0 if num == 0.0 else math.copysign(math.inf, num)
+        return num / den
+
+
+@dataclass(frozen=True)
+class Classification:
+    """Shape class of a body from its principal moments I1 <= I2 <= I3.
+
+    Attributes
+    ----------
+    kind : str
+        ``spherical`` (I1 = I2 = I3), ``oblate`` (I1 = I2 < I3, a disc or Earth),
+        ``prolate`` (I1 < I2 = I3, a rod or cigar) or ``asymmetric``; "=" means
+        equal to the relative tolerance ``rtol``.
+    rtol : float
+        The tolerance used.
+    splitting_12, splitting_23 : float
+        (I2 - I1)/I2 and (I3 - I2)/I3, from the exact differences where known.
+    """
+
+    kind: str
+    rtol: float
+    splitting_12: float
+    splitting_23: float
+
+    @property
+    def asymmetry(self) -> float:
+        """Relative difference of the closest pair of principal moments.
+
+        A body is symmetric (oblate, prolate or spherical) exactly when this is
+        <= ``rtol``; for a near-symmetric body it is the small number that the
+        classification rounded to zero (e.g. 1e-12 for a top made in a lathe).
+        """
+        return min(self.splitting_12, self.splitting_23)
+
+
+def _split(diff: float, larger: float) -> float:
+    return 0.0 if larger == 0.0 else abs(diff) / abs(larger)
+
+
+def classify_moments(moments: np.ndarray, differences: np.ndarray, rtol: float) -> Classification:
+    """Classify ascending principal moments (see :class:`Classification`)."""
+    s12 = _split(differences[1, 0], moments[1])
+    s23 = _split(differences[2, 1], moments[2])
+    deg12, deg23 = degenerate_pairs(differences, moments, rtol)
+    if deg12 and deg23:
+        kind = "spherical"
+    elif deg12:
+        kind = "oblate"
+    elif deg23:
+        kind = "prolate"
+    else:
+        kind = "asymmetric"
+    return Classification(kind, float(rtol), float(s12), float(s23))
+
+
+def _check_rtol(rtol) -> float:
+    try:
+        r = float(rtol)
+    except (TypeError, ValueError):
+        r = math.nan
+    if not (0.0 <= r < 1.0):
+        raise InputError("rtol", rtol, "a relative tolerance in [0, 1), e.g. 1e-9")
+    return r
+
+
+def _reorder(frame: PrincipalFrame, order: str, rtol: float) -> PrincipalFrame:
+    """Re-list an ascending frame in another order, keeping it right-handed."""
+    m, a, d = frame.moments, frame.axes, frame.differences
+    if order == "ascending":
+        return frame
+    if order == "descending":
+        perm = [2, 1, 0]
+        axes = a[perm].copy()
+        axes[1] = -axes[1]  # an odd permutation: flip the middle axis to stay right-handed
+    elif order == "symmetry":
+        kind = classify_moments(m, d, rtol).kind
+        perm = [1, 2, 0] if kind == "prolate" else [0, 1, 2]  # cyclic: handedness kept
+        axes = a[perm]
+    elif order == "input":
+        # The principal axis closest to input axis x first, then y, then z.
+        perm = list(max(itertools.permutations(range(3)), key=lambda p: sum(abs(a[p[i], i]) for i in range(3))))
+        axes = a[perm].copy()
+        for i in (0, 1):
+            if axes[i, i] < 0:
+                axes[i] = -axes[i]
+        axes[2] = np.cross(axes[0], axes[1])
+    else:
+        raise InputError("order", order, ", ".join(ORDERS))
+    return PrincipalFrame(m[perm], axes, d[np.ix_(perm, perm)], order)
+
+
+# ---------------------------------------------------------------------------
+# The body
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class _Eigenbasis:
+    """Exact principal data known at construction (ascending values, rows, differences)."""
+
+    values: np.ndarray
+    vectors: np.ndarray
+    differences: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """A rigid body in SI: inertia tensor about a reference point, input-frame axes.
+
+    Attributes
+    ----------
+    tensor : ndarray, shape (3, 3)
+        Inertia tensor in kg m^2 about ``reference_point`` (symmetric).
+    reference_point : ndarray, shape (3,)
+        The point (m, input frame) the tensor is taken about.
+    center_of_mass : ndarray, shape (3,)
+        Centre of mass (m, input frame).
+    mass : float or None
+        Total mass in kg; None when the body was given by its moments alone.
+    """
+
+    tensor: np.ndarray
+    reference_point: np.ndarray
+    center_of_mass: np.ndarray
+    mass: float | None = None
+    _exact: _Eigenbasis | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "tensor", _readonly(self.tensor))
+        object.__setattr__(self, "reference_point", _readonly(self.reference_point))
+        object.__setattr__(self, "center_of_mass", _readonly(self.center_of_mass))
+
+    # -- principal axes -----------------------------------------------------
+
+    def principal(self, order: str = "ascending", rtol: float = DEFAULT_RTOL) -> PrincipalFrame:
+        """Principal moments (kg m^2) and axes (rows, input frame) about the reference point.
+
+        Parameters
+        ----------
+        order : {"ascending", "descending", "input", "symmetry"}
+            ``ascending`` (I1 <= I2 <= I3, the default); ``descending``; ``input``
+            (the axis nearest input x first, then y, then z, each pointing along
+            its input axis); ``symmetry`` (ascending, except that a prolate body
+            lists its unique axis third, as a top's figure axis is x3).
+        rtol : float
+            Moments within this relative tolerance are treated as equal when
+            fixing the frame (see :mod:`wobble.numerics.symmetric_eigen`).
+        """
+        rtol = _check_rtol(rtol)
+        if order not in ORDERS:
+            raise InputError("order", order, ", ".join(ORDERS))
+        if self._exact is not None:
+            values, vectors, diffs = self._exact.values, self._exact.vectors, self._exact.differences
+            axes = canonical_frame(values, vectors, diffs, rtol)
+        else:
+            values, axes = symmetric_eigen3(self.tensor, rtol)
+            # A mass distribution's tensor is positive semi-definite: a negative
+            # eigenvalue can only be rounding (a line of point masses).
+            tiny = 8.0 * _EPS * float(np.max(np.abs(values)))
+            values = np.where((values < 0) & (values >= -tiny), 0.0, values)
+            diffs = _differences(values)
+        frame = PrincipalFrame(_readonly(values), _readonly(axes), _readonly(diffs), "ascending")
+        return _reorder(frame, order, rtol)
+
+    def classify(self, rtol: float = DEFAULT_RTOL) -> Classification:
+        """Spherical, oblate, prolate or asymmetric, to the relative tolerance ``rtol``."""
+        frame = self.principal("ascending", rtol)
+        return classify_moments(frame.moments, frame.differences, _check_rtol(rtol))
+
+    # -- dynamics (notes 5.1) -------------------------------------------------
+
+    def _frame_matrix(self, frame: str) -> np.ndarray | None:
+        if frame == "input":
+            return None
+        if frame == "principal":
+            return self.principal().axes
+        raise InputError("frame", frame, "'input' or 'principal' (ascending principal axes)")
+
+    def angular_momentum(self, omega, frame: str = "input") -> np.ndarray:
+        """L = I omega (kg m^2/s) for angular velocity ``omega`` (rad/s, shape (..., 3)).
+
+        ``frame`` says in which axes ``omega`` is given and ``L`` returned: the
+        input frame or the (ascending) principal frame, where L_j = I_j omega_j.
+        L is about the reference point (rotation about that fixed point).
+        """
+        w = _omega(omega)
+        a = self._frame_matrix(frame)
+        t = self.tensor if a is None else a @ self.tensor @ a.T
+        return np.einsum("jk,...k->...j", t, w)
+
+    def kinetic_energy(self, omega, frame: str = "input") -> np.ndarray:
+        """T = 1/2 omega . I . omega in J for ``omega`` in rad/s (shape (..., 3))."""
+        w = _omega(omega)
+        a = self._frame_matrix(frame)
+        t = self.tensor if a is None else a @ self.tensor @ a.T
+        return 0.5 * np.einsum("...j,jk,...k->...", w, t, w)
+
+    def moment_about(self, axis, frame: str = "input") -> np.ndarray:
+        """n . I . n in kg m^2 for the direction ``axis`` (normalised here; shape (..., 3))."""
+        n = np.asarray(axis, dtype=float)
+        if n.shape[-1:] != (3,) or not np.all(np.isfinite(n)):
+            raise InputError("axis", axis, "finite direction vectors of shape (..., 3)")
+        norm = np.linalg.norm(n, axis=-1, keepdims=True)
+        if np.any(norm == 0):
+            raise InputError("axis", axis, "non-zero direction vectors")
+        n = n / norm
+        a = self._frame_matrix(frame)
+        t = self.tensor if a is None else a @ self.tensor @ a.T
+        return np.einsum("...j,jk,...k->...", n, t, n)
+
+    # -- moving the body and the reference point -----------------------------
+
+    def _require_mass(self, why: str) -> float:
+        if self.mass is None:
+            raise InputError("mass", None, f"a body with a known mass (needed to {why}); pass mass= when building it")
+        return self.mass
+
+    def central_tensor(self) -> np.ndarray:
+        """Inertia tensor about the centre of mass (kg m^2), input-frame axes."""
+        d = self.center_of_mass - self.reference_point
+        if not np.any(d):
+            return np.array(self.tensor)
+        mass = self._require_mass("move the tensor to the centre of mass")
+        return self.tensor - steiner_term(mass, d)
+
+    def shifted_to(self, point) -> Body:
+        """The same body with its tensor taken about ``point`` (m, input frame): parallel axes."""
+        p = _vector(point, "point")
+        if np.array_equal(p, self.reference_point):
+            return self
+        mass = self._require_mass("shift the reference point")
+        tensor = self.central_tensor() + steiner_term(mass, self.center_of_mass - p)
+        return Body(0.5 * (tensor + tensor.T), p, self.center_of_mass, mass)
+
+    def translated(self, offset) -> Body:
+        """The body moved by ``offset`` (m); the tensor about the moved reference point is unchanged."""
+        d = _vector(offset, "offset")
+        return Body(self.tensor, self.reference_point + d, self.center_of_mass + d, self.mass, self._exact)
+
+    def rotated(self, rotation, about=None) -> Body:
+        """The body turned by the proper rotation matrix ``rotation`` about ``about`` (m; origin).
+
+        An active rotation: a point r of the body moves to R (r - p) + p, the
+        tensor becomes R I R^T. Principal moments (and their exact differences)
+        are unchanged.
+        """
+        r = _rotation_matrix(rotation)
+        p = np.zeros(3) if about is None else _vector(about, "about")
+        tensor = r @ self.tensor @ r.T
+        exact = None
+        if self._exact is not None:
+            exact = _Eigenbasis(self._exact.values, self._exact.vectors @ r.T, self._exact.differences)
+        return Body(
+            0.5 * (tensor + tensor.T),
+            r @ (self.reference_point - p) + p,
+            r @ (self.center_of_mass - p) + p,
+            self.mass,
+            exact,
+        )
+
+
+def _omega(omega) -> np.ndarray:
+    w = np.asarray(omega, dtype=float)
+    if w.shape[-1:] != (3,) or not np.all(np.isfinite(w)):
+        raise InputError("omega", omega, "finite angular velocities of shape (..., 3) in rad/s")
+    return w
+
+
+def _rotation_matrix(rotation, name: str = "rotation") -> np.ndarray:
+    r = np.asarray(rotation, dtype=float)
+    allowed = "a proper rotation matrix (3x3, orthonormal to 1e-10, determinant +1)"
+    if r.shape != (3, 3) or not np.all(np.isfinite(r)):
+        raise InputError(name, rotation, allowed)
+    if np.max(np.abs(r @ r.T - np.eye(3))) > 1e-10 or np.linalg.det(r) <= 0:
+        raise InputError(name, rotation, allowed)
+    # Remove the rounding-level non-orthogonality (nearest rotation, polar decomposition).
+    u_, _, vt = np.linalg.svd(r)
+    return u_ @ vt
+
+
+# ---------------------------------------------------------------------------
+# Checks on user-given tensors and moments
+# ---------------------------------------------------------------------------
+
+
+def _check_triangle(values: np.ndarray, diffs: np.ndarray, name: str, rtol: float, shown) -> None:
+    """I1 + I2 >= I3 (and cyclic): every mass distribution satisfies it (sum of two squares)."""
+    # With I1 <= I2 <= I3 only I1 + I2 >= I3 can fail; I1 - (I3 - I2) uses the exact difference.
+    excess = values[0] - diffs[2, 1]
+    if excess < -rtol * values[2]:
+        raise InputError(
+            name,
+            shown,
+            f"principal moments obeying the triangle inequality I1 + I2 >= I3 (and cyclic), "
+            f"as every mass distribution does; here I1 + I2 - I3 = {excess:.6g} kg m2",
+        )
+
+
+def _sorted_with_differences(values_xyz: np.ndarray, diffs_xyz: np.ndarray | None):
+    order = np.argsort(values_xyz, kind="stable")
+    values = values_xyz[order]
+    if diffs_xyz is None:
+        diffs = _differences(values)
+    else:
+        diffs = np.asarray(diffs_xyz, dtype=float)[np.ix_(order, order)]
+    return order, values, diffs
+
+
+def _placement(mass, center_of_mass, about) -> tuple[float | None, np.ndarray, np.ndarray]:
+    m = None if mass is None else _positive(mass, "mass")
+    com = np.zeros(3) if center_of_mass is None else _vector(center_of_mass, "center_of_mass")
+    ref = com if about is None else _vector(about, "about")
+    return m, com, ref
+
+
+def _check_central(tensor: np.ndarray, mass, com, ref, name: str, rtol: float, shown) -> None:
+    """A tensor about a point other than the centre of mass must leave a physical central tensor."""
+    d = com - ref
+    if mass is None or not np.any(d):
+        return
+    central = tensor - steiner_term(mass, d)
+    values, _ = symmetric_eigen3(central, rtol)
+    scale = max(float(np.max(np.abs(tensor))), 1e-300)
+    if values[0] < -rtol * scale:
+        raise InputError(
+            name,
+            shown,
+            "a tensor at least as large as the parallel-axis term M (d^2 1 - d d^T) of the "
+            "centre of mass offset (the tensor about the centre of mass would not be positive)",
+        )
+    _check_triangle(values, _differences(values), name, rtol, shown)
+
+
+def from_principal_moments(
+    moments,
+    *,
+    differences=None,
+    mass=None,
+    center_of_mass=None,
+    about=None,
+    axes=None,
+    rtol: float = DEFAULT_RTOL,
+    name: str = "moments",
+) -> Body:
+    """A body from its principal moments (kg m^2), along the input axes or given ``axes``.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,)
+        Positive principal moments, one per principal axis. Without ``axes`` they
+        are the moments about the input x, y, z axes (a diagonal tensor).
+    axes : array_like, shape (3, 3), optional
+        Row ``k`` is the unit vector (input-frame components) of the axis of
+        ``moments[k]``; a proper rotation matrix. The tensor is then
+        ``axes.T @ diag(moments) @ axes``.
+    differences : array_like, shape (3, 3), optional
+        ``D[i, j] = moments[i] - moments[j]`` when known without cancellation
+        (kg m^2); otherwise formed by subtraction.
+    mass : float, optional
+        Mass in kg (needed to shift the reference point or combine bodies).
+    center_of_mass : array_like, shape (3,), optional
+        Centre of mass in m (default: the origin).
+    about : array_like, shape (3,), optional
+        The point the moments are taken about (default: the centre of mass).
+    rtol : float
+        Tolerance for the triangle inequalities.
+    name : str
+        Parameter name used in error messages.
+    """
+    rtol = _check_rtol(rtol)
+    v = np.asarray(moments, dtype=float)
+    if v.shape != (3,):
+        raise InputError(name, moments, "three principal moments (I1, I2, I3)")
+    if not np.all(np.isfinite(v)):
+        raise InputError(name, moments, "finite moments (no NaN or inf)")
+    if not np.all(v > 0):
+        raise InputError(name, moments, "positive moments of inertia (every real body has I > 0)")
+    if differences is not None:
+        differences = np.asarray(differences, dtype=float)
+        if differences.shape != (3, 3) or not np.all(np.isfinite(differences)):
+            raise InputError("differences", differences, "a finite 3x3 matrix D[i, j] = I_i - I_j")
+    order, values, diffs = _sorted_with_differences(v, differences)
+    _check_triangle(values, diffs, name, rtol, moments)
+    m, com, ref = _placement(mass, center_of_mass, about)
+    if axes is None:
+        rows, tensor = np.eye(3), np.diag(v)
+    else:
+        rows = _rotation_matrix(axes, "axes")
+        tensor = rows.T @ np.diag(v) @ rows
+        tensor = 0.5 * (tensor + tensor.T)
+    _check_central(tensor, m, com, ref, name, rtol, moments)
+    return Body(tensor, ref, com, m, _Eigenbasis(values, rows[order], diffs))
+
+
+def from_tensor(tensor, *, mass=None, center_of_mass=None, about=None, rtol: float = DEFAULT_RTOL, name: str = "tensor") -> Body:
+    """A body from a full 3x3 inertia tensor (kg m^2), checked.
+
+    The tensor must be finite, symmetric to ``rtol`` (relative to its largest
+    entry; it is then symmetrised), positive definite, and its principal moments
+    must obey the triangle inequalities I1 + I2 >= I3 (and cyclic) to ``rtol``.
+    ``mass``, ``center_of_mass`` and ``about`` are as in :func:`from_principal_moments`.
+    """
+    rtol = _check_rtol(rtol)
+    t = np.asarray(tensor, dtype=float)
+    if t.shape != (3, 3):
+        raise InputError(name, tensor, "a 3x3 inertia tensor")
+    if not np.all(np.isfinite(t)):
+        raise InputError(name, tensor, "finite entries (no NaN or inf)")
+    scale = float(np.max(np.abs(t)))
+    asym = float(np.max(np.abs(t - t.T)))
+    if asym > rtol * scale:
+        raise InputError(
+            name, tensor, f"a symmetric tensor (I_jk = I_kj to a relative {rtol:g}); largest I_jk - I_kj = {asym:.6g}"
+        )
+    t = 0.5 * (t + t.T)
+    values, _ = symmetric_eigen3(t, rtol)
+    if not values[0] > 0:
+        raise InputError(
+            name, tensor, f"a positive-definite tensor (all principal moments > 0); smallest = {values[0]:.6g}"
+        )
+    _check_triangle(values, _differences(values), name, rtol, tensor)
+    m, com, ref = _placement(mass, center_of_mass, about)
+    _check_central(t, m, com, ref, name, rtol, tensor)
+    return Body(t, ref, com, m)
+
+
+def from_point_masses(masses, positions, *, about=None) -> Body:
+    """Point masses m_i (kg) at r_i (m): I_jk = sum_i m_i (r_i^2 delta_jk - x_ij x_ik).
+
+    Vectorised over the masses. Positions are taken relative to the centre of mass
+    before squaring (no cancellation for bodies far from the origin), then the
+    tensor is moved to ``about`` (m; default: the centre of mass) exactly as the
+    sum over (r_i - about) would give.
+    """
+    m = np.asarray(masses, dtype=float)
+    r = np.asarray(positions, dtype=float)
+    if m.ndim != 1 or m.size == 0:
+        raise InputError("masses", masses, "a non-empty 1-D array of masses")
+    if r.shape != (m.size, 3):
+        raise InputError("positions", f"array of shape {r.shape}", f"shape ({m.size}, 3): one (x, y, z) per mass")
+    if not np.all(np.isfinite(m)) or not np.all(m > 0):
+        bad = m[~(np.isfinite(m) & (m > 0))][0]
+        raise InputError("masses", bad, "positive, finite masses")
+    if not np.all(np.isfinite(r)):
+        raise InputError("positions", "NaN or inf", "finite positions")
+    total = float(np.sum(m))
+    com = (m @ r) / total
+    ref = com if about is None else _vector(about, "about")
+    d = r - ref
+    s = (m[:, None] * d).T @ d
+    return Body(_tensor_from_second_moments(s), ref, com, total)
+
+
+# ---------------------------------------------------------------------------
+# Density on a grid
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class GridAxis:
+    """One axis of a regular grid in SI: ``n`` nodes from ``start`` to ``stop`` (m)."""
+
+    name: str
+    n: int
+    start: float
+    stop: float
+
+    @property
+    def step(self) -> float:
+        """(stop - start) / (n - 1) in m: signed, negative for a decreasing coordinate."""
+        return (self.stop - self.start) / (self.n - 1)
+
+    @property
+    def spacing(self) -> float:
+        """|step| in m."""
+        return abs(self.step)
+
+    @property
+    def center(self) -> float:
+        """Mid-point of the axis in m."""
+        return 0.5 * (self.start + self.stop)
+
+
+def _checked_slabs(slabs, dims: tuple[str, ...], scale: float, name: str) -> Iterator[tuple[int, np.ndarray]]:
+    for start, block in slabs:
+        block = np.asarray(block, dtype=float)
+        ok = np.isfinite(block) & (block >= 0)
+        if not np.all(ok):
+            local = np.unravel_index(int(np.argmin(ok)), block.shape)
+            index = (int(local[0]) + start, int(local[1]), int(local[2]))
+            where = ", ".join(f"{d}={i}" for d, i in zip(dims, index))
+            raise InputError(name, f"{float(block[local])!r} at index [{where}]", "finite, non-negative densities")
+        yield start, block * scale if scale != 1.0 else block
+
+
+def from_grid(
+    slabs: Iterable[tuple[int, np.ndarray]],
+    axes: tuple[GridAxis, GridAxis, GridAxis],
+    *,
+    rule: str = "trapezoid",
+    density_scale: float = 1.0,
+    about=None,
+    name: str = "density",
+) -> Body:
+    """A body from a density sampled on a regular grid, streamed slab by slab.
+
+    I_jk = integral rho (r^2 delta_jk - x_j x_k) dV (notes 5.1, p. 67) by the
+    tensor-product rule ``rule`` (see :mod:`wobble.numerics.grid_quadrature` for
+    the rules and their orders).
+
+    Parameters
+    ----------
+    slabs : iterable of (int, ndarray)
+        ``(start, block)``: the densities ``rho[start:start + k, :, :]`` in the
+        array's own axis order (see ``axes``), in units that ``density_scale``
+        turns into kg/m^3. Every slab is checked (finite, >= 0).
+    axes : tuple of three GridAxis
+        The array axes in array order; their names must be x, y and z in some order.
+    rule : {"trapezoid", "simpson", "voxel"}
+    density_scale : float
+        Factor from the slabs' unit to kg/m^3.
+    about : array_like, shape (3,), optional
+        Reference point (m); default: the centre of mass.
+    """
+    if rule not in RULES:
+        raise InputError("rule", rule, ", ".join(RULES))
+    names = tuple(a.name for a in axes)
+    if sorted(names) != ["x", "y", "z"]:
+        raise InputError(name, f"dimensions {names}", "exactly the dimensions x, y and z")
+    for a in axes:
+        need = 3 if rule == "simpson" else 2
+        if a.n < need or (rule == "simpson" and a.n % 2 == 0):
+            allowed = "an odd number (>= 3) of points for Simpson's rule" if rule == "simpson" else "at least 2 points"
+            raise InputError(f"{name}.{a.name}", f"{a.n} points", allowed)
+        if not a.spacing > 0:
+            raise InputError(f"{name}.{a.name}", f"spacing {a.spacing}", "a positive grid spacing")
+    rows = tuple(moment_rows(a.n, a.step, rule) for a in axes)
+    raw = accumulate_moments(_checked_slabs(slabs, names, float(density_scale), name), rows)
+    xyz = [names.index(c) for c in "xyz"]  # array axis holding x, y, z
+
+    def moment(*powers_xyz: int) -> float:
+        idx = [0, 0, 0]
+        for c, p in enumerate(powers_xyz):
+            idx[xyz[c]] = p
+        return float(raw[tuple(idx)])
+
+    mass = moment(0, 0, 0)
+    if not mass > 0:
+        raise InputError(name, f"total mass {mass:g} kg", "a density with positive total mass")
+    first = np.array([moment(*np.eye(3, dtype=int)[c]) for c in range(3)])
+    second = np.empty((3, 3))
+    for j in range(3):
+        for k in range(3):
+            second[j, k] = moment(*(np.eye(3, dtype=int)[j] + np.eye(3, dtype=int)[k]))
+    center = np.array([axes[xyz[c]].center for c in range(3)])
+    offset = first / mass  # centre of mass from the grid centre
+    central = _tensor_from_second_moments(second - mass * np.outer(offset, offset))
+    com = center + offset
+    body = Body(central, com, com, mass)
+    return body if about is None else body.shifted_to(about)
+
+
+# ---------------------------------------------------------------------------
+# Composite bodies
+# ---------------------------------------------------------------------------
+
+
+def composite(parts: Iterable[Body], about=None) -> Body:
+    """The sum of bodies (each already placed and rotated), about ``about`` (default: the joint centre of mass).
+
+    Each part's tensor is moved to the common point with the parallel-axis theorem
+    from its own centre of mass: I = sum_parts [I_cm + m (d^2 1 - d d^T)].
+    """
+    parts = list(parts)
+    if not parts:
+        raise InputError("parts", parts, "at least one body")
+    for i, p in enumerate(parts):
+        if not isinstance(p, Body):
+            raise InputError(f"parts[{i}]", p, "a Body")
+        p._require_mass("combine bodies")
+    masses = np.array([p.mass for p in parts])
+    total = float(masses.sum())
+    coms = np.array([p.center_of_mass for p in parts])
+    com = (masses @ coms) / total
+    ref = com if about is None else _vector(about, "about")
+    tensor = np.zeros((3, 3))
+    for p in parts:
+        tensor = tensor + p.central_tensor() + steiner_term(p.mass, p.center_of_mass - ref)
+    return Body(0.5 * (tensor + tensor.T), ref, com, total)
+
+
+# ---------------------------------------------------------------------------
+# Solids in closed form (centre of mass at the origin, symmetry axis along z)
+# ---------------------------------------------------------------------------
+
+
+def _solid(mass: float, moments_xyz, differences=None) -> Body:
+    v = np.asarray(moments_xyz, dtype=float)
+    order, values, diffs = _sorted_with_differences(v, differences)
+    return Body(np.diag(v), np.zeros(3), np.zeros(3), mass, _Eigenbasis(values, np.eye(3)[order], diffs))
+
+
+def _two_square_differences(k: float, q: np.ndarray) -> np.ndarray:
+    """D[i, j] for I_i = k (s - q_i^2), s = sum q^2: I_i - I_j = k (q_j - q_i)(q_j + q_i), no cancellation."""
+    return k * (q[None, :] - q[:, None]) * (q[None, :] + q[:, None])
+
+
+def solid_sphere(mass: float, radius: float) -> Body:
+    """Uniform solid sphere: I = 2/5 M R^2 about every axis."""
+    m, r = _positive(mass, "mass"), _positive(radius, "radius")
+    i = 0.4 * m * r * r
+    return _solid(m, [i, i, i], np.zeros((3, 3)))
+
+
+def hollow_sphere(mass: float, radius: float, inner_radius: float | None = None) -> Body:
+    """Uniform spherical shell between ``inner_radius`` and ``radius`` (thin shell if None).
+
+    I = 2/5 M (R^5 - r^5)/(R^3 - r^3), evaluated as
+    2/5 M (R^4 + R^3 r + R^2 r^2 + R r^3 + r^4)/(R^2 + R r + r^2) (no cancellation
+    for a thin shell; r = R gives 2/3 M R^2).
+    """
+    m, big = _positive(mass, "mass"), _positive(radius, "radius")
+    small = big if inner_radius is None else _positive(inner_radius, "inner_radius", allow_zero=True)
+    if small > big:
+        raise InputError("inner_radius", inner_radius, f"at most the outer radius ({big:g} m)")
+    num = big**4 + big**3 * small + big**2 * small**2 + big * small**3 + small**4
+    den = big**2 + big * small + small**2
+    i = 0.4 * m * num / den
+    return _solid(m, [i, i, i], np.zeros((3, 3)))
+
+
+def ellipsoid(mass: float, semi_axes) -> Body:
+    """Uniform solid ellipsoid with semi-axes (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/5, ..."""
+    m = _positive(mass, "mass")
+    q = np.array([_positive(x, "semi_axes") for x in _triple(semi_axes, "semi_axes")])
+    s = q * q
+    moments = 0.2 * m * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
+    return _solid(m, moments, _two_square_differences(0.2 * m, q))
+
+
+def box(mass: float, edges) -> Body:
+    """Uniform rectangular box with edge lengths (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/12, ..."""
+    m = _positive(mass, "mass")
+    q = np.array([_positive(x, "edges") for x in _triple(edges, "edges")])
+    s = q * q
+    moments = m / 12.0 * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
+    return _solid(m, moments, _two_square_differences(m / 12.0, q))
+
+
+def _triple(value, name: str):
+    v = np.asarray(value, dtype=float)
+    if v.shape != (3,):
+        raise InputError(name, value, "three lengths (along x, y, z)")
+    return v
+
+
+def cylinder(mass: float, radius: float, height: float, inner_radius: float = 0.0) -> Body:
+    """Uniform cylinder (a tube if ``inner_radius`` > 0), axis along z.
+
+    I_3 = M (R^2 + r^2)/2; I_1 = I_2 = M (3 (R^2 + r^2) + h^2)/12.
+    """
+    m, big, h = _positive(mass, "mass"), _positive(radius, "radius"), _positive(height, "height")
+    small = _positive(inner_radius, "inner_radius", allow_zero=True)
+    if small > big:
+        raise InputError("inner_radius", inner_radius, f"at most the outer radius ({big:g} m)")
+    r2 = big * big + small * small
+    i1, i3 = m * (3.0 * r2 + h * h) / 12.0, 0.5 * m * r2
+    return _solid(m, [i1, i1, i3])
+
+
+def cone(mass: float, radius: float, height: float) -> Body:
+    """Uniform solid right circular cone, axis along z, about its centre of mass.
+
+    The apex is at z = -3h/4 and the base (radius R) at z = +h/4 (a cone standing
+    on its tip). I_3 = 3/10 M R^2; I_1 = I_2 = 3/80 M (4 R^2 + h^2).
+    """
+    m, r, h = _positive(mass, "mass"), _positive(radius, "radius"), _positive(height, "height")
+    i1, i3 = 3.0 / 80.0 * m * (4.0 * r * r + h * h), 0.3 * m * r * r
+    return _solid(m, [i1, i1, i3])
+
+
+def thin_disc(mass: float, radius: float) -> Body:
+    """Uniform thin disc in the x-y plane: I_1 = I_2 = M R^2/4, I_3 = M R^2/2."""
+    m, r = _positive(mass, "mass"), _positive(radius, "radius")
+    i = 0.25 * m * r * r
+    return _solid(m, [i, i, 2.0 * i])
+
+
+def thin_rod(mass: float, length: float) -> Body:
+    """Uniform thin rod along z: I_1 = I_2 = M L^2/12, I_3 = 0 (an idealised line)."""
+    m, ell = _positive(mass, "mass"), _positive(length, "length")
+    i = m * ell * ell / 12.0
+    return _solid(m, [i, i, 0.0])
+
+
+def spinning_top(
+    disc_mass: float,
+    disc_radius: float,
+    axle_mass: float,
+    axle_length: float,
+    disc_height: float,
+    axle_radius: float = 0.0,
+) -> Body:
+    """A top: a thin disc on an axle along z, with the tip of the axle at the origin.
+
+    The axle (a thin rod, or a solid cylinder of ``axle_radius``) runs from the tip
+    at z = 0 to z = ``axle_length``; the disc's centre is on the axle at
+    z = ``disc_height``. The result is about its centre of mass; shift it to the
+    tip (the origin) for the heavy-top engine (notes 5.7).
+    """
+    md = _positive(disc_mass, "disc_mass")
+    rd = _positive(disc_radius, "disc_radius")
+    ma = _positive(axle_mass, "axle_mass", allow_zero=True)
+    ell = _positive(axle_length, "axle_length")
+    h = _positive(disc_height, "disc_height", allow_zero=True)
+    if h > ell:
+        raise InputError("disc_height", disc_height, f"a height on the axle, 0 to axle_length ({ell:g} m)")
+    ra = _positive(axle_radius, "axle_radius", allow_zero=True)
+    parts = [thin_disc(md, rd).translated([0.0, 0.0, h])]
+    if ma > 0:
+        axle = thin_rod(ma, ell) if ra == 0 else cylinder(ma, ra, ell)
+        parts.append(axle.translated([0.0, 0.0, 0.5 * ell]))
+    return composite(parts)
+
+
+def oblate_planet(
+    mass: float,
+    radius: float,
+    polar_moment_factor: float,
+    *,
+    dynamical_flattening: float | None = None,
+    j2: float | None = None,
+    j22: float = 0.0,
+) -> Body:
+    """A planet from C/(M R^2) and either H = (C - A)/C or J2 = (C - A)/(M R^2).
+
+    C = c M R^2 about the polar z axis; the mean equatorial moment is
+    A = C (1 - H) or C - J2 M R^2 (MacCullagh's formula), and an optional
+    equatorial ellipticity J22 = (B - A)/(4 M R^2) (unnormalised) splits it into
+    A and B along x and y. The differences C - A, C - B, B - A are formed from H,
+    J2 and J22 directly, so (C - A)/A keeps full precision however small H is.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    radius : float
+        Reference (equatorial) radius R in m.
+    polar_moment_factor : float
+        C/(M R^2), in (0, 1).
+    dynamical_flattening, j2 : float
+        Exactly one: H in (0, 1) or J2 > 0.
+    j22 : float
+        Unnormalised degree-2 order-2 coefficient magnitude, >= 0.
+    """
+    m, r = _positive(mass, "mass"), _positive(radius, "radius")
+    c = float(polar_moment_factor)
+    if not (0.0 < c < 1.0):
+        raise InputError("polar_moment_factor", polar_moment_factor, "C/(M R^2) in (0, 1) (0.3307 for Earth)")
+    if (dynamical_flattening is None) == (j2 is None):
+        raise InputError("dynamical_flattening/j2", (dynamical_flattening, j2), "exactly one of H or J2")
+    mr2 = m * r * r
+    big_c = c * mr2
+    if dynamical_flattening is not None:
+        hh = float(dynamical_flattening)
+        if not (0.0 < hh < 1.0):
+            raise InputError("dynamical_flattening", dynamical_flattening, "H = (C - A)/C in (0, 1)")
+        c_minus_a = hh * big_c
+    else:
+        jj = float(j2)
+        if not (0.0 < jj < c):
+            raise InputError("j2", j2, f"J2 in (0, C/(M R^2) = {c:g})")
+        c_minus_a = jj * mr2
+    q = float(j22)
+    if not (math.isfinite(q) and q >= 0):
+        raise InputError("j22", j22, "a non-negative, finite J22")
+    half_split = 2.0 * q * mr2  # (B - A)/2
+    mean_a = big_c - c_minus_a
+    moments = np.array([mean_a - half_split, mean_a + half_split, big_c])
+    # D[i, j] = I_i - I_j from the small quantities, never by subtracting the large moments.
+    cma, cmb, bma = c_minus_a + half_split, c_minus_a - half_split, 2.0 * half_split
+    diffs = np.array([[0.0, -bma, -cma], [bma, 0.0, -cmb], [cma, cmb, 0.0]])
+    return from_principal_moments(moments, differences=diffs, mass=m, name="polar_moment_factor")
