@@ -344,3 +344,19 @@ def test_samples_refuse_unknown_parameter_names(earth):
 
     with pytest.raises(InputError, match="parameter: got love_number"):
         chandler_samples(earth, {"love_number": np.array([0.3])})
+
+
+def test_anelastic_solution_near_the_fluid_limit(mars):
+    from wobble.models.chandler import chandler_samples
+
+    k2 = np.array([0.169, 0.9, 1.05, 1.2, 1.27])
+    s = chandler_samples(mars, {"love_number_k2": k2})
+    ok = s.code == 0
+    assert ok[:3].all()  # solutions exist and are found (slow contraction near k_s)
+    assert (s.code[~ok] == 3).all()  # where k2(frequency) runs past k_s: no restoring torque left
+    for k, period in zip(k2[ok], s.period[ok]):
+        p = replace(mars, love_number_k2=Measured(k))
+        last = chandler_budget(p).steps[-1]
+        real, _ = anelastic_love_number(p, last.rate)
+        assert last.love_number == pytest.approx(real, rel=1e-12)  # self-consistent
+        assert last.period == pytest.approx(period, rel=1e-13)

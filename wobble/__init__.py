@@ -38,6 +38,7 @@ from wobble.api.chandler import (  # noqa: E402
 )
 from wobble.api.free import FreeRotation  # noqa: E402
 from wobble.api.bodies import PrincipalAxes, RigidBody  # noqa: E402
+from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep, sweep  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -61,4 +62,8 @@ __all__ = [
     "FreeRotation",
     "RigidBody",
     "PrincipalAxes",
+    "sweep",
+    "run_sweep",
+    "load_sweep",
+    "summarize_sweep",
 ]

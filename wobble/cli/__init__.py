@@ -20,7 +20,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "inertia", "free")
+SUBCOMMANDS = ("chandler", "inertia", "free", "sweep")
 
 EPILOG = """\
 examples:
@@ -31,6 +31,8 @@ examples:
                                         inertia tensor, principal axes, classification
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc
                                         exact torque-free motion, to a CF netCDF file
+
+  wobble sweep mars_chandler -o mars.nc Monte Carlo over Mars' uncertain parameters (dask)
 
 Numbers without units are SI; days are days of 86400 s. Run
 'wobble COMMAND --help' for each command's options and an example.

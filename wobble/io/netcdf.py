@@ -33,7 +33,15 @@ import xarray as xr
 
 from wobble.errors import FileFormatError, InputError, OutputExistsError
 
-__all__ = ["CONVENTIONS", "SIMULATION_TIME_UNITS", "write_netcdf", "open_wobble", "to_cf", "from_cf"]
+__all__ = [
+    "CONVENTIONS",
+    "SIMULATION_TIME_UNITS",
+    "write_netcdf",
+    "write_netcdf_blocks",
+    "open_wobble",
+    "to_cf",
+    "from_cf",
+]
 
 CONVENTIONS = "CF-1.10"
 # CF time units for elapsed simulation time (the epoch is nominal: J2000.0).
@@ -154,6 +162,63 @@ def write_netcdf(
         os.replace(tmp, path)
     except BaseException:
         # Whatever went wrong (bad data, full disk, Ctrl-C), the target is untouched.
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_netcdf_blocks(
+    template: xr.Dataset,
+    path: str | os.PathLike,
+    blocks,
+    *,
+    overwrite: bool = False,
+    command: str | None = None,
+) -> Path:
+    """Write a dataset whose data arrive in blocks, atomically and in bounded memory.
+
+    ``template`` gives the layout: its data variables that are filled by
+    ``blocks`` must be lazy (dask) arrays of the final shape, so writing the
+    structure costs no memory; coordinates and small variables are written
+    as they are. ``blocks`` yields ``(name, index, values)`` with ``index`` a
+    tuple of slices into variable ``name``; each block is written into the
+    temporary file as soon as it arrives (any dask scheduler can produce
+    them: the writes happen here, in one process). The file is renamed into
+    place only after the last block.
+
+    Parameters
+    ----------
+    template : xarray.Dataset
+        Layout with CF attributes; dask-backed variables are filled by blocks.
+    path : path-like
+        Output file (its folder must exist).
+    blocks : iterable of (str, tuple of slice, numpy.ndarray)
+        The data.
+    overwrite, command
+        As for :func:`write_netcdf`.
+    """
+    import netCDF4
+
+    path = Path(path)
+    if path.is_dir():
+        raise InputError("output", str(path), "a file path, not a folder")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError("output", str(path), "a path in an existing folder")
+    if path.exists() and not overwrite:
+        raise OutputExistsError(path)
+    cf = to_cf(template, command=command)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        # compute=False writes the structure and the in-memory variables only.
+        cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf), compute=False)
+        with netCDF4.Dataset(tmp, "a") as nc:
+            nc.set_auto_maskandscale(False)
+            for name, index, values in blocks:
+                nc.variables[name][index] = values
+        os.replace(tmp, path)
+    except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path

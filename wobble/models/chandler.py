@@ -93,7 +93,7 @@ _REQUIRES = {
         "anelastic_exponent",
     ),
 }
-_FIXED_POINT_TOL = 1e-15
+_FIXED_POINT_TOL = 1e-14
 _FIXED_POINT_MAX = 200
 
 
@@ -494,20 +494,46 @@ def _evaluate(vals: _Values, steps: tuple[str, ...]):
 
 
 def _anelastic_fixed_point(vals, omega, ca, cb, core, ocean, rate):
-    """Solve rate = sigma(k(rate)) for every member (contraction factor ~1e-3)."""
+    """Solve sigma = F(sigma) = rate with k2(sigma) for every member.
+
+    F is a contraction (factor ~1e-3 for Earth and Mars), but near k_s the
+    dispersion drives k2 up as the frequency falls; a safeguarded secant on
+    F(sigma) - sigma converges there too, and members whose k2 reaches k_s
+    (no restoring torque left) are flagged (code 3), as are members that do not
+    converge (code 4) -- only those.
+    """
+
+    def step(x):
+        k_real, _ = vals.anelastic_k(x)
+        d = vals.deformation(k_real + ocean)
+        softer = (np.asarray(ca) > 0) & (np.asarray(cb) > 0) & (d >= np.minimum(ca, cb))
+        new, c = free_wobble_rate_array(omega, ca, cb, d, core)
+        return new, np.where(softer & (c == 0), 3, c).astype(np.int8)
+
     code = np.zeros(vals.shape, dtype=np.int8)
+    x0 = rate
+    f0, c = step(x0)
+    code = np.where(code == 0, c, code)
+    x1 = np.where(code == 0, f0, x0)
+    done = code != 0
     for _ in range(_FIXED_POINT_MAX):
-        k_real, k_imag = vals.anelastic_k(rate)
-        k = k_real + ocean
-        new, step_code = free_wobble_rate_array(omega, ca, cb, vals.deformation(k), core)
-        code = np.where(code == 0, step_code, code)
-        with np.errstate(invalid="ignore"):
-            done = ~np.isfinite(new) | (np.abs(new - rate) <= _FIXED_POINT_TOL * np.abs(new))
-        rate = new
-        if np.all(done):
-            k_real, k_imag = vals.anelastic_k(rate)
-            return k_real + ocean, k_imag, rate, code
-    return k, k_imag, rate, np.where(code == 0, 4, code).astype(np.int8)
+        f1, c = step(x1)
+        code = np.where(code == 0, c, code)
+        g0, g1 = f0 - x0, f1 - x1
+        with np.errstate(invalid="ignore", divide="ignore"):
+            converged = np.abs(g1) <= _FIXED_POINT_TOL * np.abs(x1)
+            # Rounding floor: no further progress and already tiny.
+            stalled = (np.abs(g1) >= np.abs(g0)) & (np.abs(g1) <= 1e-12 * np.abs(x1))
+            done = (code != 0) | converged | stalled
+            if np.all(done):
+                break
+            secant = x1 - g1 * (x1 - x0) / (g1 - g0)
+        usable = np.isfinite(secant) & (np.sign(secant) == np.sign(x1))
+        x0, f0 = x1, f1
+        x1 = np.where(done, x1, np.where(usable, secant, f1))
+    code = np.where((code == 0) & ~done, 4, code).astype(np.int8)
+    k_real, k_imag = vals.anelastic_k(x1)
+    return k_real + ocean, k_imag, x1, code
 
 
 def _quality_factor(vals, omega, ca, cb, core, k_real, k_imag):

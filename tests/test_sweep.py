@@ -1,0 +1,177 @@
+"""Sweeps on dask: reproducible whatever the chunking and workers, streamed, validated early."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import wobble
+from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep, sweep
+from wobble.cli import main
+from wobble.errors import FileFormatError
+from wobble.io.catalog import load_planet
+from wobble.io.netcdf import open_wobble
+from wobble.models.chandler import chandler_budget
+from wobble.models.planet import Measured
+from wobble.numerics import draws
+
+MARS = {
+    "schema": "wobble-sweep/1",
+    "name": "mars_test",
+    "target": "chandler",
+    "body": "mars",
+    "members": 5000,
+    "seed": 7,
+    "outputs": ["chandler_period", "step_period"],
+    "vary": {
+        "love_number_k2": {"distribution": "normal"},
+        "polar_moment_factor": {"distribution": "normal"},
+        "anelastic_exponent": {"distribution": "uniform", "low": 0.1, "high": 0.3},
+    },
+}
+
+
+def test_draws_depend_only_on_seed_stream_and_member():
+    whole = draws.standard_normal(3, 11, 0, 10000)
+    pieces = np.concatenate([draws.standard_normal(3, 11, a, min(a + 777, 10000)) for a in range(0, 10000, 777)])
+    np.testing.assert_array_equal(whole, pieces)
+    assert abs(whole.mean()) < 0.05 and abs(whole.std() - 1) < 0.05
+    assert not np.array_equal(whole, draws.standard_normal(3, 12, 0, 10000))  # streams differ
+    u = draws.uniform(3, 11, 5, 9)
+    assert ((u >= 0) & (u < 1)).all() and u.shape == (4,)
+
+
+@pytest.mark.parametrize(
+    ("chunk", "scheduler"),
+    [(5000, "threads"), (1234, "threads"), (97, "threads"), (97, "synchronous"), (777, "processes")],
+)
+def test_same_seed_same_numbers_whatever_the_chunking_and_scheduler(chunk, scheduler):
+    reference = run_sweep(MARS, chunk_size=5000, scheduler="synchronous")
+    other = run_sweep(MARS, chunk_size=chunk, scheduler=scheduler)
+    xr.testing.assert_identical(reference, other)
+
+
+def test_distributed_cluster_matches_serial():
+    from distributed import Client, LocalCluster
+
+    reference = run_sweep(MARS, scheduler="synchronous")
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            on_cluster = run_sweep(MARS, chunk_size=600, scheduler=client)
+            by_address = run_sweep(MARS, chunk_size=2000, scheduler=cluster.scheduler_address)
+    xr.testing.assert_identical(reference, on_cluster)
+    xr.testing.assert_identical(reference, by_address)
+
+
+def test_streamed_file_equals_memory_and_is_cf(tmp_path, assert_cf_compliant):
+    path = tmp_path / "mars.nc"
+    in_memory = run_sweep(MARS, chunk_size=1000)
+    from_file = run_sweep(MARS, path, chunk_size=1000, scheduler="processes")
+    assert from_file.attrs["Conventions"] == "CF-1.10"
+    xr.testing.assert_identical(from_file, in_memory.assign_attrs(from_file.attrs))
+    assert_cf_compliant(path)
+    with pytest.raises(wobble.OutputExistsError):
+        run_sweep(MARS, path)
+
+
+def test_lazy_dataset_computes_the_same():
+    lazy = sweep(MARS, chunk_size=1000)
+    assert lazy["chandler_period"].chunks is not None
+    xr.testing.assert_identical(lazy.compute(), run_sweep(MARS, chunk_size=1000))
+
+
+def test_monte_carlo_spread_matches_linear_propagation():
+    # One parameter with a small uncertainty: the period is linear in it, so the Monte
+    # Carlo standard deviation must equal |dT/dk2| sigma (sampling error ~ 1/sqrt(2N)).
+    spec = {**MARS, "members": 40000, "vary": {"love_number_k2": {"distribution": "normal"}}}
+    summary = summarize_sweep(run_sweep(spec))
+    mars = load_planet("mars")[0]
+    only_k2 = replace(mars, **{k: Measured(v.value, 0.0) for k, v in mars.measured_fields().items() if k != "love_number_k2"})
+    linear = chandler_budget(only_k2)
+    assert summary.std == pytest.approx(linear.period_sigma / 86400, rel=0.02)
+    assert summary.mean == pytest.approx(linear.period / 86400, abs=3 * summary.std / np.sqrt(40000) + 1e-3)
+
+
+def test_grid_sweep_equals_the_scalar_model_point_by_point():
+    spec = {
+        "schema": "wobble-sweep/1",
+        "name": "grid",
+        "target": "chandler",
+        "body": "mars",
+        "outputs": ["chandler_period"],
+        "vary": {
+            "love_number_k2": {"distribution": "grid", "values": [0.15, 0.169, 0.19]},
+            "fluid_core_radius": {"distribution": "grid", "start": 1700, "stop": 1900, "num": 5, "unit": "km"},
+        },
+    }
+    ds = run_sweep(spec, chunk_size=4)
+    assert ds["chandler_period"].dims == ("love_number_k2", "fluid_core_radius")
+    mars = load_planet("mars")[0]
+    for k2 in ds.love_number_k2.values:
+        for rc in ds.fluid_core_radius.values:
+            p = replace(mars, love_number_k2=Measured(k2), fluid_core_radius=Measured(rc))
+            got = float(ds["chandler_period"].sel(love_number_k2=k2, fluid_core_radius=rc))
+            assert got == pytest.approx(chandler_budget(p).period / 86400, rel=1e-13)
+
+
+def test_unphysical_members_are_marked_and_the_sweep_goes_on():
+    spec = {**MARS, "members": 2000, "vary": {"love_number_k2": {"distribution": "normal", "mean": 0.5, "sd": 0.6}}}
+    ds = run_sweep(spec)
+    codes = ds["invalid_reason"].values
+    assert (codes == 5).any() and (codes == 3).any() and (codes == 0).any()  # k2 < 0 and k2 > k_s
+    assert np.isnan(ds["chandler_period"].values[codes != 0]).all()
+    assert np.isfinite(ds["chandler_period"].values[codes == 0]).all()
+    assert "softer_than_fluid" in ds["invalid_reason"].attrs["flag_meanings"]
+
+
+@pytest.mark.parametrize(
+    ("edit", "where", "fragment"),
+    [
+        ({"bogus": 1}, "bogus", "unknown key"),
+        ({"vary": {"love_number": {"distribution": "normal"}}}, "vary.love_number", "unknown parameter"),
+        ({"vary": {"love_number_k2": {"distribution": "poisson"}}}, "vary.love_number_k2.distribution", "allowed: normal"),
+        ({"vary": {"love_number_k2": {"distribution": "uniform", "low": 1}}}, "vary.love_number_k2", "low and high"),
+        ({"members": 0}, "members", "positive"),
+        ({"outputs": ["nope"]}, "outputs", "allowed: chandler_period"),
+        ({"target": "weather"}, "target", "allowed: chandler"),
+        ({"body": "pluto"}, "body", "pluto"),
+        ({"vary": {"love_number_k2": {"distribution": "grid", "values": [0.1]}, "j2": {"distribution": "normal"}}}, "vary", "mixing"),
+        ({"vary": {"love_number_k2": {"distribution": "normal", "unit": "m"}}}, "vary.love_number_k2.unit", "dimensionless"),
+    ],
+)
+def test_bad_sweeps_fail_before_any_work_naming_the_key(edit, where, fragment):
+    with pytest.raises(FileFormatError) as info:
+        sweep({**MARS, **edit})
+    assert info.value.where == where and fragment in str(info.value)
+
+
+def test_shipped_sweeps_load_and_run_small():
+    from importlib import resources
+
+    for name in ("mars_chandler", "earth_chandler"):
+        path = resources.files("wobble._data") / "sweeps" / f"{name}.toml"
+        spec = replace(load_sweep(str(path)), members=500)
+        summary = summarize_sweep(run_sweep(spec))
+        assert summary.valid >= 490
+        assert abs(summary.mean - summary.observed) / summary.observed < 0.02
+
+
+def test_cli_summary_json_plot_and_errors(tmp_path, capsys):
+    out = tmp_path / "m.nc"
+    status = main(["sweep", "mars_chandler", "--members", "300", "-o", str(out), "--json", "--plot", str(tmp_path / "h.png")])
+    captured = capsys.readouterr()
+    assert status == 0 and captured.err == ""  # no progress bar when stderr is not a terminal
+    data = json.loads(captured.out)
+    assert data["members"] == 300 and data["units"] == "day" and data["observed"] == pytest.approx(206.9)
+    assert open_wobble(out)["chandler_period"].shape == (300,)
+    assert (tmp_path / "h.png").stat().st_size > 1000
+    status = main(["sweep", "mars_chandler", "--members", "300", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert status == 2 and "--overwrite" in err and err.count("\n") == 1
+    status = main(["sweep", "no_such_sweep"])
+    err = capsys.readouterr().err
+    assert status == 2 and "SWEEP: got no_such_sweep; allowed: a sweep file or one of earth_chandler, mars_chandler" in err

@@ -1,0 +1,537 @@
+"""Parameter sweeps and ensembles on dask, in bounded memory.
+
+A sweep (``data/sweeps/*.toml``, schema in :mod:`wobble.io.sweep_file`)
+names a target, a base body, the parameters that vary (random draws or
+grids) and the outputs to keep. Members are evaluated chunk by chunk with the
+vectorised models (no Python loop over members):
+
+* :func:`sweep` returns a lazy, dask-backed :class:`xarray.Dataset`; compute it
+  with any dask scheduler;
+* :func:`run_sweep` streams the chunks to a CF netCDF file as they finish
+  (threads, processes or a ``dask.distributed`` cluster), writing under a
+  temporary name and renaming at the end, with a progress bar when asked.
+
+Random draws depend only on (seed, parameter, member index)
+(:mod:`wobble.numerics.draws`): the same seed gives the same numbers whatever
+the chunking and the number of workers.
+
+>>> import wobble
+>>> ds = wobble.sweep({"schema": "wobble-sweep/1", "name": "demo", "target": "chandler",
+...                    "body": "mars", "members": 1000, "seed": 1,
+...                    "vary": {"love_number_k2": {"distribution": "normal"}}}).compute()
+>>> bool(200 < float(ds.chandler_period.mean()) < 210)
+True
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import sys
+import time
+import zlib
+from dataclasses import dataclass
+
+import dask
+import dask.array as da
+import numpy as np
+import xarray as xr
+from astropy import units as u
+
+from wobble.api.chandler import load_planet
+from wobble.errors import FileFormatError, InputError
+from wobble.io.catalog import PLANET_UNITS
+from wobble.io.netcdf import write_netcdf_blocks
+from wobble.io.sweep_file import SweepSpec, Variation, read_sweep_file, sweep_spec_from_dict
+from wobble.models import chandler as chandler_model
+from wobble.numerics import draws
+
+__all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep"]
+
+DEFAULT_CHUNK = 20_000
+_LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
+
+
+def load_sweep(sweep) -> SweepSpec:
+    """A sweep from a path, a dict with the TOML structure, or a SweepSpec."""
+    if isinstance(sweep, SweepSpec):
+        return sweep
+    if isinstance(sweep, dict):
+        return sweep_spec_from_dict(sweep)
+    return read_sweep_file(sweep)
+
+
+def _where(spec: SweepSpec) -> str:
+    return spec.path or "<sweep>"
+
+
+def _stream_id(name: str) -> int:
+    # Stable per parameter name, so adding a parameter never changes another's draws.
+    return zlib.crc32(name.encode())
+
+
+# ---------------------------------------------------------------------------
+# Targets: what one member computes
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Resolved:
+    """A variation with its numbers in SI."""
+
+    name: str
+    distribution: str
+    mean: float = math.nan
+    sd: float = math.nan
+    low: float = math.nan
+    high: float = math.nan
+    values: tuple[float, ...] = ()
+    unit: str = ""
+
+    def member_values(self, seed: int, start: int, stop: int) -> np.ndarray:
+        if self.distribution == "normal":
+            return self.mean + self.sd * draws.standard_normal(seed, _stream_id(self.name), start, stop)
+        return self.low + (self.high - self.low) * draws.uniform(seed, _stream_id(self.name), start, stop)
+
+
+class ChandlerTarget:
+    """Chandler periods of a planet whose parameters vary (vectorised model)."""
+
+    name = "chandler"
+    outputs = {
+        "chandler_period": ("day", "modelled Chandler wobble period"),
+        "wobble_rate": ("rad s-1", "signed free wobble frequency (positive: prograde)"),
+        "quality_factor": ("1", "wobble quality factor implied by the out-of-phase Love number"),
+        "step_period": ("day", "Chandler period after each model step"),
+        "dynamical_flattening": ("1", "dynamical flattening H = (C - A)/C of the member"),
+    }
+    default_outputs = ("chandler_period",)
+
+    def __init__(self, spec: SweepSpec):
+        where = _where(spec)
+        if spec.body is None:
+            raise FileFormatError(where, "body", "missing; allowed: a catalogue name or a planet file")
+        try:
+            planet = load_planet(spec.body)
+        except InputError as exc:
+            raise FileFormatError(where, "body", f"got {spec.body!r}; allowed: {exc.allowed}") from None
+        self.planet = planet
+        self.params = planet.parameters
+        try:
+            self.model, self.steps = chandler_model.resolve_model(self.params, spec.model)
+        except InputError as exc:
+            raise FileFormatError(where, "model", f"got {spec.model!r}; allowed: {exc.allowed}") from None
+        self.variations = self._resolve(spec)
+        unknown = [o for o in spec.outputs if o not in self.outputs]
+        if unknown:
+            raise FileFormatError(where, "outputs", f"got {unknown[0]!r}; allowed: {', '.join(self.outputs)}")
+        self.selected = spec.outputs or self.default_outputs
+
+    def _resolve(self, spec: SweepSpec) -> tuple[_Resolved, ...]:
+        where = _where(spec)
+        allowed = sorted(k for k in self.params.values() if k not in ("observed_chandler_period",))
+        out = {}
+        for v in spec.variations:
+            if v.parameter not in allowed:
+                raise FileFormatError(where, f"vary.{v.parameter}", f"unknown parameter; allowed: {', '.join(allowed)}")
+            out[v.parameter] = self._si(spec, v)
+        if spec.vary_all_uncertain:
+            for key, m in self.params.measured_fields().items():
+                if key not in out and key != "observed_chandler_period":
+                    out[key] = _Resolved(key, "normal", mean=m.value, sd=m.sigma, unit=_unit_text(key))
+        return tuple(out.values())  # the file's order (grid dimensions follow it)
+
+    def _si(self, spec: SweepSpec, v: Variation) -> _Resolved:
+        where = f"vary.{v.parameter}"
+        si = PLANET_UNITS[v.parameter]
+        try:
+            unit = si if v.unit is None else u.Unit(v.unit or u.dimensionless_unscaled)
+            scale = (1.0 * unit).to_value(si)
+        except (ValueError, u.UnitConversionError):
+            raise FileFormatError(_where(spec), f"{where}.unit", f"got {v.unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}") from None
+        catalogued = getattr(self.params, v.parameter)
+        if v.distribution == "normal":
+            mean = v.mean * scale if v.mean is not None else (catalogued.value if catalogued else None)
+            sd = v.sd * scale if v.sd is not None else (catalogued.sigma if catalogued else None)
+            if mean is None or sd is None:
+                raise FileFormatError(_where(spec), where, f"{self.planet.name} does not catalogue {v.parameter}; give mean and sd")
+            return _Resolved(v.parameter, "normal", mean=mean, sd=sd, unit=_unit_text(v.parameter))
+        if v.distribution == "uniform":
+            return _Resolved(v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=_unit_text(v.parameter))
+        return _Resolved(v.parameter, "grid", values=tuple(x * scale for x in v.values), unit=_unit_text(v.parameter))
+
+    def evaluate(self, overrides: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Outputs for one chunk of members (plain arrays; SI except periods in days)."""
+        s = chandler_model.chandler_samples(self.params, overrides, self.model)
+        out = {"invalid_reason": s.code}
+        if "chandler_period" in self.selected:
+            out["chandler_period"] = s.period / 86400.0
+        if "wobble_rate" in self.selected:
+            out["wobble_rate"] = s.rate
+        if "quality_factor" in self.selected:
+            out["quality_factor"] = s.quality_factor
+        if "step_period" in self.selected:
+            out["step_period"] = np.moveaxis(s.step_periods, 0, -1) / 86400.0
+        if "dynamical_flattening" in self.selected:
+            vals = chandler_model._Values(self.params.values(), overrides)
+            out["dynamical_flattening"] = np.broadcast_to(vals.flattening, s.period.shape).copy()
+        return out
+
+    def extra_dims(self, name: str) -> tuple[tuple[str, np.ndarray], ...]:
+        return (("step", np.array(self.steps)),) if name == "step_period" else ()
+
+    def attrs(self) -> dict:
+        obs = self.planet.observed_chandler_period
+        return {
+            "body": self.planet.name,
+            "chandler_model": self.model,
+            "observed_chandler_period_days": float(obs.to_value(u.day)) if obs is not None else math.nan,
+        }
+
+
+def _unit_text(key: str) -> str:
+    text = PLANET_UNITS[key].to_string()
+    return text if text else "1"
+
+
+TARGETS = {"chandler": ChandlerTarget}
+
+
+def _target(spec: SweepSpec):
+    if spec.target not in TARGETS:
+        raise FileFormatError(_where(spec), "target", f"got {spec.target!r}; allowed: {', '.join(TARGETS)}")
+    return TARGETS[spec.target](spec)
+
+
+# ---------------------------------------------------------------------------
+# Members, chunks and the lazy dataset
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Plan:
+    spec: SweepSpec
+    target: object
+    dims: tuple[str, ...]
+    shape: tuple[int, ...]
+    chunk_rows: int  # along the first dimension
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    def row_chunks(self):
+        for start in range(0, self.shape[0], self.chunk_rows):
+            yield start, min(self.shape[0], start + self.chunk_rows)
+
+    def overrides(self, r0: int, r1: int) -> dict[str, np.ndarray]:
+        """Parameter values for rows r0..r1 of the first dimension (all members in them)."""
+        if self.spec.is_grid:
+            grids = [np.asarray(v.values) for v in self.target.variations]
+            grids[0] = grids[0][r0:r1]
+            mesh = np.meshgrid(*grids, indexing="ij")
+            return {v.name: m for v, m in zip(self.target.variations, mesh)}
+        return {v.name: v.member_values(self.spec.seed, r0, r1) for v in self.target.variations}
+
+
+def _plan(spec: SweepSpec, chunk_size: int | None) -> _Plan:
+    target = _target(spec)
+    chunk = chunk_size or spec.chunk_size or DEFAULT_CHUNK
+    if not isinstance(chunk, int) or isinstance(chunk, bool) or chunk <= 0:
+        raise InputError("chunk_size", chunk, "a positive integer")
+    if spec.is_grid:
+        dims = tuple(v.name for v in target.variations)
+        shape = tuple(len(v.values) for v in target.variations)
+        per_row = int(np.prod(shape[1:])) if len(shape) > 1 else 1
+        rows = max(1, chunk // per_row)
+    else:
+        dims, shape, rows = ("member",), (spec.members,), chunk
+    return _Plan(spec, target, dims, shape, rows)
+
+
+def _chunk(plan: _Plan, r0: int, r1: int) -> dict[str, np.ndarray]:
+    over = plan.overrides(r0, r1)
+    out = plan.target.evaluate(over)
+    if not plan.spec.is_grid:
+        out.update(over)  # keep each member's drawn values
+    return out
+
+
+def _var_attrs(plan: _Plan, name: str) -> dict:
+    target = plan.target
+    if name == "invalid_reason":
+        codes = sorted(chandler_model.INVALID_REASONS)
+        return {
+            "units": "1",
+            "long_name": "why the member is invalid (0: valid)",
+            "flag_values": np.array(codes, dtype=np.int8),
+            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged parameter_out_of_range",
+            "comment": "; ".join(f"{k}: {v}" for k, v in chandler_model.INVALID_REASONS.items() if k),
+        }
+    if name in target.outputs:
+        units, long_name = target.outputs[name]
+        return {"units": units, "long_name": long_name}
+    var = next(v for v in target.variations if v.name == name)
+    how = f"normal(mean={var.mean:.10g}, sd={var.sd:.6g})" if var.distribution == "normal" else f"uniform({var.low:.10g}, {var.high:.10g})"
+    return {"units": var.unit, "long_name": f"sampled {name}", "comment": f"drawn from {how} in SI units"}
+
+
+def _layout(plan: _Plan):
+    """Names, dims, shapes and dtypes of the output variables (from a 1-row probe)."""
+    probe = _chunk(plan, 0, min(plan.shape[0], 1))
+    layout = {}
+    for name, arr in probe.items():
+        extra = plan.target.extra_dims(name)
+        dims = plan.dims + tuple(d for d, _ in extra)
+        shape = plan.shape + tuple(len(c) for _, c in extra)
+        layout[name] = (dims, shape, arr.dtype)
+    return layout
+
+
+def _coords(plan: _Plan) -> dict:
+    coords = {}
+    if plan.spec.is_grid:
+        for v in plan.target.variations:
+            coords[v.name] = (v.name, np.asarray(v.values), {"units": v.unit, "long_name": f"grid of {v.name}"})
+    else:
+        coords["member"] = ("member", np.arange(plan.shape[0]), {"long_name": "member index", "units": "1"})
+    for name in plan.target.outputs:
+        for dim, values in plan.target.extra_dims(name):
+            coords[dim] = (dim, values, {"long_name": f"{dim} of the model"})
+    return coords
+
+
+def _attrs(plan: _Plan) -> dict:
+    spec = plan.spec
+    return {
+        "title": spec.title,
+        "references": "wobble sweep; see docs/sweeps.md",
+        "sweep_name": spec.name,
+        "sweep_target": spec.target,
+        "sweep_seed": spec.seed,
+        "sweep_file": spec.path or "",
+        "comment": "Periods in days of 86400 s. Random draws depend only on (seed, parameter, member).",
+        **plan.target.attrs(),
+    }
+
+
+def sweep(spec, *, chunk_size: int | None = None) -> xr.Dataset:
+    """A sweep as a lazy (dask-backed) Dataset; nothing is computed yet.
+
+    Parameters
+    ----------
+    spec : path, dict or SweepSpec
+        The sweep (see :mod:`wobble.io.sweep_file`).
+    chunk_size : int, optional
+        Members per chunk (default: the file's ``chunk_size`` or 20000).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``member`` (random sweeps) or one per grid parameter; the
+        outputs, each member's drawn values and ``invalid_reason``.
+    """
+    plan = _plan(load_sweep(spec), chunk_size)
+    layout = _layout(plan)
+    parts = {name: [] for name in layout}
+    for r0, r1 in plan.row_chunks():
+        result = dask.delayed(_chunk, pure=True)(plan, r0, r1)
+        for name, (dims, shape, dtype) in layout.items():
+            block_shape = (r1 - r0, *shape[1:])
+            parts[name].append(da.from_delayed(result[name], shape=block_shape, dtype=dtype))
+    data = {
+        name: (dims, da.concatenate(parts[name], axis=0), _var_attrs(plan, name))
+        for name, (dims, shape, dtype) in layout.items()
+    }
+    return xr.Dataset(data, coords=_coords(plan), attrs=_attrs(plan))
+
+
+# ---------------------------------------------------------------------------
+# Running to a file, on any scheduler
+# ---------------------------------------------------------------------------
+
+
+class _Progress:
+    """A one-line progress bar on stderr (only when asked: the CLI asks on a terminal)."""
+
+    def __init__(self, total: int, enabled: bool):
+        self.total, self.enabled, self.done, self.t0 = total, enabled, 0, time.perf_counter()
+
+    def advance(self, n: int):
+        self.done += n
+        if self.enabled:
+            frac = self.done / self.total
+            bar = "#" * int(30 * frac)
+            rate = self.done / max(time.perf_counter() - self.t0, 1e-9)
+            sys.stderr.write(f"\r[{bar:<30}] {100 * frac:5.1f}% {self.done}/{self.total} members, {rate:,.0f}/s")
+            sys.stderr.flush()
+
+    def close(self):
+        if self.enabled:
+            sys.stderr.write("\n")
+
+
+@contextlib.contextmanager
+def _pool(scheduler, n_chunks: int):
+    """One process pool for a whole run (dask would start a new one per compute call)."""
+    if scheduler != "processes" or n_chunks <= 1:
+        yield None
+        return
+    import concurrent.futures
+    import multiprocessing
+
+    workers = min(os.cpu_count() or 1, n_chunks)
+    with concurrent.futures.ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        yield pool
+
+
+def _compute_chunks(plan: _Plan, scheduler, batch: int):
+    """Yield (r0, r1, outputs) chunk by chunk, computed in parallel batches on dask."""
+    chunks = list(plan.row_chunks())
+    if scheduler is None or scheduler in _LOCAL_SCHEDULERS:
+        with _pool(scheduler, len(chunks)) as pool:
+            extra = {"pool": pool} if pool is not None else {}
+            for i in range(0, len(chunks), batch):
+                todo = chunks[i : i + batch]
+                delayed = [dask.delayed(_chunk, pure=True)(plan, a, b) for a, b in todo]
+                results = dask.compute(*delayed, scheduler=scheduler or "threads", **extra)
+                for (a, b), res in zip(todo, results):
+                    yield a, b, res
+        return
+    from distributed import Client, as_completed
+
+    own = isinstance(scheduler, str)
+    client = Client(scheduler) if own else scheduler
+    try:
+        pending = iter(chunks)
+        futures = {}
+        for a, b in [next(pending) for _ in range(min(batch, len(chunks)))]:
+            futures[client.submit(_chunk, plan, a, b, pure=True)] = (a, b)
+        queue = as_completed(list(futures))
+        for fut in queue:
+            a, b = futures.pop(fut)
+            yield a, b, fut.result()
+            nxt = next(pending, None)
+            if nxt is not None:
+                new = client.submit(_chunk, plan, *nxt, pure=True)
+                futures[new] = nxt
+                queue.add(new)
+    finally:
+        if own:
+            client.close()
+
+
+def run_sweep(
+    spec,
+    output: str | os.PathLike | None = None,
+    *,
+    overwrite: bool = False,
+    chunk_size: int | None = None,
+    scheduler=None,
+    progress: bool = False,
+    command: str | None = None,
+) -> xr.Dataset:
+    """Run a sweep; stream it to ``output`` (CF netCDF) if given, else compute it in memory.
+
+    Parameters
+    ----------
+    spec : path, dict or SweepSpec
+        The sweep.
+    output : path-like, optional
+        netCDF file, written chunk by chunk under a temporary name and renamed
+        at the end (memory stays bounded whatever the member count).
+    overwrite : bool
+        Replace an existing output file.
+    chunk_size : int, optional
+        Members per chunk.
+    scheduler : str or distributed.Client, optional
+        ``"threads"`` (default), ``"processes"``, ``"synchronous"``, a
+        ``dask.distributed`` scheduler address (``"tcp://..."``) or a Client.
+    progress : bool
+        Show a progress bar on stderr.
+    command : str, optional
+        Recorded in the file's history.
+
+    Returns
+    -------
+    xarray.Dataset
+        The results (read back from the file when ``output`` is given).
+    """
+    from wobble.io.netcdf import open_wobble
+
+    plan = _plan(load_sweep(spec), chunk_size)
+    if isinstance(scheduler, str) and scheduler not in _LOCAL_SCHEDULERS and "://" not in scheduler:
+        raise InputError("scheduler", scheduler, "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786")
+    template = sweep(plan.spec, chunk_size=chunk_size)
+    batch = 2 * (os.cpu_count() or 2)
+    bar = _Progress(plan.size, progress)
+
+    def blocks():
+        per_row = plan.size // plan.shape[0]
+        for r0, r1, res in _compute_chunks(plan, scheduler, batch):
+            for name, values in res.items():
+                index = (slice(r0, r1),) + (slice(None),) * (values.ndim - 1)
+                yield name, index, values
+            bar.advance((r1 - r0) * per_row)
+
+    try:
+        if output is None:
+            arrays = {name: np.empty(template[name].shape, dtype=template[name].dtype) for name in template.data_vars}
+            for name, index, values in blocks():
+                arrays[name][index] = values
+            data = {n: (template[n].dims, a, template[n].attrs) for n, a in arrays.items()}
+            return xr.Dataset(data, coords=template.coords, attrs=template.attrs)
+        write_netcdf_blocks(template, output, blocks(), overwrite=overwrite, command=command)
+    finally:
+        bar.close()
+    return open_wobble(output)
+
+
+# ---------------------------------------------------------------------------
+# Summaries
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SweepSummary:
+    """Distribution of a sweep's main output over its valid members."""
+
+    variable: str
+    units: str
+    members: int
+    valid: int
+    mean: float
+    std: float
+    percentiles: dict
+    observed: float
+    invalid_reasons: dict
+
+    def to_dict(self) -> dict:
+        d = self.__dict__.copy()
+        d["observed"] = None if math.isnan(self.observed) else self.observed
+        return d
+
+
+def summarize_sweep(ds: xr.Dataset, variable: str = "chandler_period") -> SweepSummary:
+    """Mean, spread and percentiles of ``variable`` over valid members, invalid counts by reason."""
+    if variable not in ds:
+        raise InputError("variable", variable, f"one of {', '.join(map(str, ds.data_vars))}")
+    values = np.asarray(ds[variable].values, dtype=float).ravel()
+    codes = np.asarray(ds["invalid_reason"].values).ravel()
+    ok = (codes == 0) & np.isfinite(values)
+    good = values[ok]
+    pct = {str(p): float(np.percentile(good, p)) if good.size else math.nan for p in (2.5, 16, 50, 84, 97.5)}
+    reasons = {chandler_model.INVALID_REASONS[int(c)]: int(n) for c, n in zip(*np.unique(codes[codes != 0], return_counts=True))}
+    return SweepSummary(
+        variable=variable,
+        units=str(ds[variable].attrs.get("units", "")),
+        members=int(values.size),
+        valid=int(ok.sum()),
+        mean=float(good.mean()) if good.size else math.nan,
+        std=float(good.std(ddof=1)) if good.size > 1 else math.nan,
+        percentiles=pct,
+        observed=float(ds.attrs.get("observed_chandler_period_days", math.nan)),
+        invalid_reasons=reasons,
+    )
+

@@ -1,0 +1,108 @@
+"""``wobble sweep``: parameter sweeps and Monte Carlo ensembles on dask."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+from wobble.errors import InputError
+
+EPILOG = """\
+examples:
+  wobble sweep mars_chandler                       a shipped sweep (data/sweeps/), summary only
+  wobble sweep mars_chandler -o mars.nc --plot mars.png
+  wobble sweep my_sweep.toml -o out.nc --scheduler processes
+  wobble sweep earth_chandler --members 10000 --json
+  wobble sweep big.toml -o big.nc --scheduler tcp://127.0.0.1:8786   a dask.distributed cluster
+
+Members are computed chunk by chunk with the vectorised models and streamed to
+the netCDF file as they finish (bounded memory). The same seed gives the same
+numbers whatever the chunking and the number of workers. A progress bar is shown
+on a terminal unless --quiet.
+"""
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "sweep",
+        help="parameter sweeps and Monte Carlo ensembles (dask, bounded memory)",
+        description="Run a sweep file: vary a body's parameters (random draws or grids), "
+        "evaluate every member with the vectorised models, keep the chosen outputs.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("sweep", metavar="SWEEP", help="a sweep file, or the name of one in data/sweeps")
+    p.add_argument("-o", "--output", metavar="FILE.nc", help="stream the results to a CF-1.10 netCDF file")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("--members", type=int, help="override the sweep's member count (random sweeps)")
+    p.add_argument("--chunk-size", type=int, help="members per dask chunk")
+    p.add_argument("--scheduler", help="threads (default), processes, synchronous, or a dask.distributed address")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--plot", metavar="FILE.png", help="histogram of the main output with the observed value")
+    p.set_defaults(func=run)
+
+
+def _resolve(name: str) -> str:
+    path = Path(name)
+    if path.suffix == ".toml" or path.exists():
+        return name
+    from importlib import resources
+
+    shipped = resources.files("wobble._data") / "sweeps" / f"{name}.toml"
+    if shipped.is_file():
+        return str(shipped)
+    known = sorted(p.name[:-5] for p in (resources.files("wobble._data") / "sweeps").iterdir() if p.name.endswith(".toml"))
+    raise InputError("SWEEP", name, f"a sweep file or one of {', '.join(known)}")
+
+
+def run(args) -> int:
+    from dataclasses import replace
+
+    from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep
+
+    spec = load_sweep(_resolve(args.sweep))
+    if args.members is not None:
+        if spec.is_grid:
+            raise InputError("--members", args.members, "only for random sweeps (a grid sets its own size)")
+        if args.members <= 0:
+            raise InputError("--members", args.members, "a positive integer")
+        spec = replace(spec, members=args.members)
+    if args.chunk_size is not None and args.chunk_size <= 0:
+        raise InputError("--chunk-size", args.chunk_size, "a positive integer")
+    progress = not args.quiet and sys.stderr.isatty()
+    ds = run_sweep(
+        spec,
+        args.output,
+        overwrite=args.overwrite,
+        chunk_size=args.chunk_size,
+        scheduler=args.scheduler,
+        progress=progress,
+        command=args.command_line,
+    )
+    summary = summarize_sweep(ds)
+    if args.plot:
+        from wobble.plot.sweep import histogram
+
+        histogram(ds, args.plot)
+    if args.json:
+        print(json.dumps({"sweep": spec.name, "output": args.output, **summary.to_dict()}, indent=2))
+        return 0
+    print(f"{spec.title}")
+    print(f"  members: {summary.members} ({summary.valid} valid)")
+    for reason, n in summary.invalid_reasons.items():
+        print(f"    invalid: {n} ({reason})")
+    p = summary.percentiles
+    print(f"  {summary.variable}: mean {summary.mean:.3f} {summary.units}, sd {summary.std:.3f}")
+    print(f"    2.5/16/50/84/97.5 %: {p['2.5']:.2f} / {p['16']:.2f} / {p['50']:.2f} / {p['84']:.2f} / {p['97.5']:.2f}")
+    if not math.isnan(summary.observed):
+        z = (summary.observed - summary.mean) / summary.std if summary.std > 0 else math.nan
+        print(f"  observed: {summary.observed:.2f} {summary.units} ({z:+.2f} sd from the mean)")
+    if args.output:
+        print(f"wrote {args.output}")
+    if args.plot:
+        print(f"wrote {args.plot}")
+    return 0
