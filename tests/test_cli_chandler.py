@@ -113,3 +113,9 @@ def test_help_has_an_example(capsys):
         main(["chandler", "--help"])
     assert info.value.code == 0
     assert "examples:" in capsys.readouterr().out
+
+
+def test_plot_option_draws_the_budget(tmp_path, capsys):
+    path = tmp_path / "budget.png"
+    assert main(["chandler", "earth", "mars", "--plot", str(path)]) == 0
+    assert path.stat().st_size > 10_000

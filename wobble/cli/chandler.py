@@ -15,6 +15,7 @@ examples:
   wobble chandler earth mars
   wobble chandler mars --model rigid --json
   wobble chandler earth mars -o chandler.nc --overwrite
+  wobble chandler earth mars --plot budget.png
   wobble chandler --body-file my_planet.toml
 
 models (each includes the steps before it; 'full' runs every step the body's
@@ -40,6 +41,7 @@ def register(sub) -> None:
     p.add_argument("--sources", action="store_true", help="also list every parameter with its value, uncertainty and source")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write a CF-1.10 netCDF file")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the budget, step by step, against the observed period")
     p.set_defaults(func=run)
 
 
@@ -56,6 +58,10 @@ def run(args) -> int:
     budgets = [chandler_budget(b, args.model) for b in bodies]
     if args.output:
         write_netcdf(chandler_dataset(budgets), args.output, overwrite=args.overwrite, command=args.command_line)
+    if args.plot:
+        from wobble.plot.chandler import budget_figure
+
+        budget_figure(budgets, args.plot)
     if args.json:
         print(json.dumps([b.to_dict() for b in budgets], indent=2))
     else:

@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+from astropy import units as u
 
-matplotlib.use("Agg", force=False)
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from astropy import units as u  # noqa: E402
-
-from wobble.api.free import FreeRotation  # noqa: E402
+from wobble.api.free import FreeRotation
 
 __all__ = ["polhode_figure", "flip_figure"]
 

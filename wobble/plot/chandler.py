@@ -1,0 +1,65 @@
+"""The Chandler budget as a picture: from the rigid period to the observed one, step by step."""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+from astropy import units as u
+
+__all__ = ["budget_figure"]
+
+_COLORS = {"rigid": "0.35", "lengthens": "C0", "shortens": "C3"}
+
+
+def budget_figure(budgets, path=None):
+    """A waterfall per planet: each step's change of the period, the model and the observation.
+
+    Parameters
+    ----------
+    budgets : list of wobble.ChandlerBudget
+        One panel each.
+    path : path-like, optional
+        Save the figure (PNG, 150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, axes = plt.subplots(len(budgets), 1, figsize=(7.2, 2.3 * len(budgets) + 0.6), squeeze=False)
+    for ax, b in zip(axes[:, 0], budgets):
+        steps = b.steps
+        names = [s.name.replace("_", " ") for s in steps]
+        previous = 0.0
+        for i, s in enumerate(steps):
+            value = s.period.to_value(u.day)
+            if s.name == "rigid":
+                ax.barh(i, value, color=_COLORS["rigid"], height=0.6)
+            else:
+                color = _COLORS["lengthens"] if value > previous else _COLORS["shortens"]
+                ax.barh(i, value - previous, left=previous, color=color, height=0.6)
+                # Changes in a column at the right edge, clear of the bars and lines.
+                ax.text(0.99, i, f"{value - previous:+.1f} d", va="center", ha="right", fontsize=8,
+                        transform=ax.get_yaxis_transform())
+            previous = value
+        model = b.period.to_value(u.day)
+        sigma = b.period_uncertainty.to_value(u.day)
+        ax.axvspan(model - sigma, model + sigma, color="C0", alpha=0.12, lw=0)
+        ax.axvline(model, color="C0", lw=1.2, label=f"model {model:.1f} ± {sigma:.1f} d")
+        if b.observed is not None:
+            obs = b.observed.to_value(u.day)
+            osig = b.observed_uncertainty.to_value(u.day)
+            ax.axvspan(obs - osig, obs + osig, color="k", alpha=0.15, lw=0)
+            ax.axvline(obs, color="k", lw=1.5, ls="--", label=f"observed {obs:.1f} ± {osig:.1f} d")
+        ax.set_yticks(range(len(names)), names)
+        ax.invert_yaxis()
+        first = steps[0].period.to_value(u.day)
+        top = max(s.period.to_value(u.day) for s in steps if math.isfinite(s.period.value))
+        ax.set_xlim(0.85 * first, 1.18 * top)
+        ax.set_title(f"{b.planet.title}: Chandler period, step by step (days of 86400 s)", fontsize=10)
+        ax.legend(loc="upper right", fontsize=8, frameon=True, framealpha=0.9, edgecolor="none")
+    axes[-1, 0].set_xlabel("period (d)")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=150)
+    return fig
