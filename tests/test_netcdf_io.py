@@ -82,3 +82,12 @@ def test_missing_folder_and_foreign_files_are_refused(tmp_path):
         open_wobble(foreign)
     with pytest.raises(FileFormatError, match="no such file"):
         open_wobble(tmp_path / "absent.nc")
+
+
+def test_written_files_get_the_usual_permissions(tmp_path):
+    old = os.umask(0o022)
+    try:
+        path = write_netcdf(_sample(), tmp_path / "out.nc")
+    finally:
+        os.umask(old)
+    assert (path.stat().st_mode & 0o777) == 0o644

@@ -17,7 +17,7 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.parameter_file import ParameterFile, read_parameter_file
-from wobble.models.planet import Measured, PlanetParameters
+from wobble.models.planet import POSITIVE_KEYS, Measured, PlanetParameters
 
 __all__ = ["PLANET_UNITS", "catalogue_names", "catalogue_file", "load_planet", "planet_from_file"]
 
@@ -45,19 +45,6 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
     "fluid_core_radius": u.m,
     "fluid_core_density": u.kg / u.m**3,
     "observed_chandler_period": u.s,
-}
-_POSITIVE = {
-    "gm",
-    "equatorial_radius",
-    "rotation_period",
-    "gravitational_constant",
-    "polar_moment_factor",
-    "love_number_k2_period",
-    "love_number_k2_imaginary_period",
-    "fluid_core_equatorial_moment",
-    "fluid_core_radius",
-    "fluid_core_density",
-    "observed_chandler_period",
 }
 
 
@@ -94,7 +81,7 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
         raise FileFormatError(
             pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
         ) from None
-    if key in _POSITIVE and not value > 0:
+    if key in (*POSITIVE_KEYS, "rotation_period") and not value > 0:
         raise FileFormatError(pf.path, f"{where}.value", f"got {value!r}; allowed: a positive number")
     return Measured(value, sigma)
 

@@ -25,13 +25,13 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from wobble.errors import FileFormatError, InputError, OutputExistsError
+from wobble.errors import FileFormatError
+from wobble.io.atomic import atomic_target
 
 __all__ = [
     "CONVENTIONS",
@@ -147,23 +147,9 @@ def write_netcdf(
         The folder does not exist or ``path`` is a folder.
     """
     path = Path(path)
-    if path.is_dir():
-        raise InputError("output", str(path), "a file path, not a folder")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError("output", str(path), "a path in an existing folder")
-    if path.exists() and not overwrite:
-        raise OutputExistsError(path)
-    cf = to_cf(ds, command=command)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_target(path, overwrite) as tmp:
+        cf = to_cf(ds, command=command)
         cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf))
-        os.replace(tmp, path)
-    except BaseException:
-        # Whatever went wrong (bad data, full disk, Ctrl-C), the target is untouched.
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 
@@ -200,27 +186,14 @@ def write_netcdf_blocks(
     import netCDF4
 
     path = Path(path)
-    if path.is_dir():
-        raise InputError("output", str(path), "a file path, not a folder")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError("output", str(path), "a path in an existing folder")
-    if path.exists() and not overwrite:
-        raise OutputExistsError(path)
-    cf = to_cf(template, command=command)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_target(path, overwrite) as tmp:
+        cf = to_cf(template, command=command)
         # compute=False writes the structure and the in-memory variables only.
         cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf), compute=False)
         with netCDF4.Dataset(tmp, "a") as nc:
             nc.set_auto_maskandscale(False)
             for name, index, values in blocks:
                 nc.variables[name][index] = values
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 import os
-import tempfile
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,9 +32,10 @@ from pathlib import Path
 import numpy as np
 from astropy import units as u
 
-from wobble.errors import FileFormatError, OutputExistsError
+from wobble.errors import FileFormatError
+from wobble.io.atomic import atomic_target
 
-__all__ = ["SCHEMA", "STATUSES", "Parameter", "ParameterFile", "read_parameter_file", "write_parameter_file"]
+__all__ = ["SCHEMA", "STATUSES", "Parameter", "ParameterFile", "read_toml", "read_parameter_file", "write_parameter_file"]
 
 SCHEMA = "wobble/1"
 STATUSES = ("read", "secondary", "derived", "assumed")
@@ -130,6 +130,17 @@ def _parse_entry(path, key: str, entry) -> Parameter:
     return Parameter(value * unit, np.broadcast_to(sigma, value.shape) * unit, source.strip(), status, str(note))
 
 
+def read_toml(path: str | os.PathLike) -> dict:
+    """Load a TOML file; a missing or malformed file is a FileFormatError naming it."""
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise FileFormatError(path, None, "no such file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise FileFormatError(path, None, f"not valid TOML ({exc})") from None
+
+
 def read_parameter_file(path: str | os.PathLike, *, kind: str | None = None, known: set[str] | None = None) -> ParameterFile:
     """Read and validate a wobble parameter file.
 
@@ -149,13 +160,7 @@ def read_parameter_file(path: str | os.PathLike, *, kind: str | None = None, kno
         Naming the file and the key: unreadable TOML, missing or malformed fields.
     """
     path = Path(path)
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError:
-        raise FileFormatError(path, None, "no such file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(path, None, f"not valid TOML ({exc})") from None
+    data = read_toml(path)
     missing = [k for k in _REQUIRED_TOP if k not in data]
     if missing:
         raise FileFormatError(path, None, f"missing top-level key(s) {', '.join(missing)}")
@@ -197,8 +202,6 @@ def _toml_value(x) -> str:
 def write_parameter_file(pf: ParameterFile, path: str | os.PathLike, *, overwrite: bool = False) -> Path:
     """Write ``pf`` in the wobble/1 schema, atomically (temporary file, then rename)."""
     path = Path(path)
-    if path.exists() and not overwrite:
-        raise OutputExistsError(path)
     lines = [
         f"schema = {_toml_value(SCHEMA)}",
         f"kind = {_toml_value(pf.kind)}",
@@ -219,13 +222,6 @@ def write_parameter_file(pf: ParameterFile, path: str | os.PathLike, *, overwrit
         ]
         if p.note:
             lines.append(f"note = {_toml_value(p.note)}")
-    folder = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write("\n".join(lines) + "\n")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_target(path, overwrite) as tmp:
+        Path(tmp).write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path

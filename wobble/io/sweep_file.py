@@ -39,13 +39,13 @@ API checks them (with the file and key in the message) before any work starts.
 from __future__ import annotations
 
 import os
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from wobble.errors import FileFormatError
+from wobble.io.parameter_file import read_toml
 
 __all__ = ["SCHEMA", "DISTRIBUTIONS", "Variation", "SweepSpec", "read_sweep_file", "sweep_spec_from_dict"]
 
@@ -216,11 +216,4 @@ def sweep_spec_from_dict(data: dict, path: str | os.PathLike | None = None) -> S
 def read_sweep_file(path: str | os.PathLike) -> SweepSpec:
     """Read and validate a sweep file; errors name the file and the key."""
     path = Path(path)
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError:
-        raise FileFormatError(path, None, "no such file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(path, None, f"not valid TOML ({exc})") from None
-    return sweep_spec_from_dict(data, path)
+    return sweep_spec_from_dict(read_toml(path), path)

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.planet import Measured, PlanetParameters
+from wobble.models.planet import POSITIVE_KEYS, Measured, PlanetParameters
 
 __all__ = [
     "STEPS",
@@ -263,17 +263,6 @@ def free_wobble_rate(spin: float, c_minus_a: float, c_minus_b: float, d: float =
 
 # -- the parameters as arrays ----------------------------------------------------------
 
-_POSITIVE_KEYS = (
-    "gm",
-    "equatorial_radius",
-    "gravitational_constant",
-    "polar_moment_factor",
-    "love_number_k2_period",
-    "love_number_k2_imaginary_period",
-    "fluid_core_equatorial_moment",
-    "fluid_core_radius",
-    "fluid_core_density",
-)
 
 
 class _Values:
@@ -291,7 +280,7 @@ class _Values:
         self.v = {k: None for k in merged}
         self.v.update(dict(zip(given, arrays)))
         bad = np.zeros(self.shape, dtype=bool)
-        for key in _POSITIVE_KEYS:
+        for key in POSITIVE_KEYS:
             if self.v[key] is not None:
                 bad |= ~(self.v[key] > 0)
         for key in ("love_number_k2", "love_number_k2_imaginary", "ocean_pole_tide_love_number"):

@@ -24,9 +24,22 @@ from dataclasses import dataclass, fields
 
 from wobble.errors import InputError
 
-__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS"]
+__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS", "POSITIVE_KEYS"]
 
 FIGURE_KEYS = ("dynamical_flattening", "j2", "polar_moment_factor")
+# Parameters that are positive by their nature (catalogue checks, sweep validity).
+POSITIVE_KEYS = (
+    "gm",
+    "equatorial_radius",
+    "gravitational_constant",
+    "polar_moment_factor",
+    "love_number_k2_period",
+    "love_number_k2_imaginary_period",
+    "fluid_core_equatorial_moment",
+    "fluid_core_radius",
+    "fluid_core_density",
+    "observed_chandler_period",
+)
 
 
 @dataclass(frozen=True)
