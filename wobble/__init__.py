@@ -36,6 +36,14 @@ from wobble.api.chandler import (  # noqa: E402
     load_planet,
     rigid_wobble,
 )
+from wobble.api.polar_motion import (  # noqa: E402
+    ChandlerEstimate,
+    PolarMotionAnalysis,
+    QualityFactorEstimate,
+    chandler_wobble,
+    load_polar_motion,
+    polar_motion_analysis,
+)
 
 __all__ = [
     "__version__",
@@ -56,4 +64,10 @@ __all__ = [
     "rigid_wobble",
     "free_precession_rate",
     "euler_period",
+    "load_polar_motion",
+    "chandler_wobble",
+    "polar_motion_analysis",
+    "ChandlerEstimate",
+    "PolarMotionAnalysis",
+    "QualityFactorEstimate",
 ]
