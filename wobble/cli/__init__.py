@@ -20,13 +20,14 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler",)
+SUBCOMMANDS = ("chandler", "polar_motion")
 
 EPILOG = """\
 examples:
   wobble chandler earth mars            Chandler period budgets, as a table
   wobble chandler mars --json           the same for scripts
   wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
+  wobble polar-motion --json            the Chandler wobble measured in the IERS record
 
 Numbers without units are SI; days are days of 86400 s. Run
 'wobble COMMAND --help' for each command's options and an example.

@@ -1,0 +1,1 @@
+"""Matplotlib figures (interface layer). Import submodules directly, e.g. ``wobble.plot.free``."""
