@@ -89,7 +89,9 @@ def _to_mjd(value, name: str) -> float:
             warnings.simplefilter("ignore", ErfaWarning)
             if isinstance(value, Time):
                 return float(value.utc.mjd)
-            if isinstance(value, (_dt.date, np.datetime64)):
+            if isinstance(value, _dt.date) and not isinstance(value, _dt.datetime):
+                value = _dt.datetime(value.year, value.month, value.day)
+            if isinstance(value, (_dt.datetime, np.datetime64)):
                 return float(Time(value, scale="utc").mjd)
             if isinstance(value, str):
                 text = value.strip()
@@ -621,7 +623,8 @@ def _windows_dataset(wf: _pm.WindowedFits) -> xr.Dataset:
     note = "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' autocorrelation and the drift model"
     return xr.Dataset(
         {
-            "window_time_bounds": (("window", "nv"), bounds, {"units": MJD_UNITS, "calendar": "standard", "long_name": "first and last day of each window"}),
+            # CF 7.1: a boundary variable takes its units and calendar from its coordinate.
+            "window_time_bounds": (("window", "nv"), bounds, {"long_name": "first and last day of each window"}),
             "chandler_amplitude": ("window", wf.amplitude * rad_mas, _attrs("milliarcsecond", "Chandler wobble amplitude in the window", comment=note)),
             "chandler_amplitude_uncertainty": ("window", wf.amplitude_sigma * rad_mas, _attrs("milliarcsecond", "one-sigma uncertainty of the windowed Chandler amplitude")),
             "chandler_period": ("window", wf.period * day, _attrs("day", "Chandler wobble period in the window", comment=note)),
@@ -700,11 +703,15 @@ def polar_motion_analysis(
 
     say = progress or (lambda message: None)
     ds = _resolve_data(data, None, start, end)
-    _, t, z = _series(ds)
+    mjd, t, z = _series(ds)
     window_s = to_si(window, "window", u.s, positive=True, shape=())
     step_s = to_si(step, "step", u.s, positive=True, shape=())
     q_arg = _q_arg(excitation_q)
     span = t[-1] - t[0]
+    if span < _pm.MIN_SPAN:
+        raise InputError(
+            "start/end", f"{_iso(mjd[0])} to {_iso(mjd[-1])}", f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)"
+        )
     if not _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9):
         raise InputError(
             "window",

@@ -110,6 +110,9 @@ MIN_SPAN = 2.0 * 365.25 * DAY
 _OVERSAMPLE = 8
 _PREWHITEN = 30
 _MC_BIN = 5.0 * DAY
+# Bartlett bandwidth: one beat period, at most a tenth of the span (a wider
+# window is biased low by the scores' zero sum; checked on synthetic records).
+_HAC_MAX_B = 0.1
 # Student-t factor turning a scatter over n sub-spans into a 68 % (1-sigma) error.
 _ONE_SIGMA = stats.norm.cdf(1.0)
 
@@ -497,6 +500,23 @@ def _hac_meat(t: np.ndarray, scores: np.ndarray, lag: float) -> np.ndarray:
     return 0.5 * (meat + meat.T)
 
 
+def _scaled_inverse(b: np.ndarray) -> np.ndarray:
+    """Inverse of a normal matrix after scaling it to unit diagonal.
+
+    The amplitude parameters (rad) and the frequency parameter (whose column
+    is proportional to the Chandler amplitude, ~1e-7 rad) differ in scale by
+    ~1e13; unscaled, the inverse loses every digit of the frequency's variance.
+    """
+    d = np.sqrt(np.diag(b))
+    d = np.where(d > 0, d, 1.0)
+    return np.linalg.inv(b / np.outer(d, d)) / np.outer(d, d)
+
+
+def _sqrt_var(v: float) -> float:
+    """sqrt of a variance; inf when the information matrix is singular (the parameter is not determined)."""
+    return math.sqrt(v) if math.isfinite(v) and v > 0 else math.inf
+
+
 def _scatter(values: list[float]) -> float:
     """sd / sqrt(n) times the Student-t factor: the 68 % error of the mean of n values."""
     v = np.asarray(values, dtype=float)
@@ -674,19 +694,22 @@ def fit_least_squares(
     details: dict = {"solver": "variable projection + scipy.optimize.least_squares (lm)"}
     if uncertainty:
         jc = _jacobian_complex(s, half, fixed, coeffs, rate)
-        bread = np.linalg.inv((jc.conj().T @ jc).real)
+        bread = _scaled_inverse((jc.conj().T @ jc).real)
         npar = jc.shape[1]
         s2 = float(np.sum(np.abs(resid) ** 2)) / max(2 * s.size - npar, 1)
         cov_formal = s2 * bread
         scores = (jc.conj() * resid[:, None]).real
-        lag = min(BEAT_PERIOD, (t[-1] - t[0]) / 3.0)
-        cov_hac = bread @ _hac_meat(t, scores, lag) @ bread
+        lag = min(BEAT_PERIOD, (t[-1] - t[0]) * _HAC_MAX_B)
+        b = lag / (t[-1] - t[0])
+        # Fixed-b bias of the Bartlett estimator, E = (1 - b + b^2/3) x the true
+        # long-run variance (Kiefer & Vogelsang 2005): divided out.
+        cov_hac = bread @ _hac_meat(t, scores, lag) @ bread / (1.0 - b + b * b / 3.0)
         details["hac_bandwidth_days"] = lag / DAY
         # period sigma from u = rate * half: sigma_P = 2 pi sigma_u / (half rate^2)
         to_period = 2 * math.pi / (half * rate**2)
         ic = 2 * (coeffs.size - 1)  # (Re, Im) of the Chandler amplitude
-        p_formal = math.sqrt(cov_formal[-1, -1]) * to_period
-        p_hac = math.sqrt(cov_hac[-1, -1]) * to_period
+        p_formal = _sqrt_var(cov_formal[-1, -1]) * to_period
+        p_hac = _sqrt_var(cov_hac[-1, -1]) * to_period
         a_formal = _amp_phase_sigma(coeffs[-1], cov_formal[ic : ic + 2, ic : ic + 2])[0]
         a_hac, sig_phase = _amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
         p_sub = a_sub = nan
@@ -902,21 +925,23 @@ def fit_spectrum(
 
 
 def _local_level(s, wr, w, rate, span, kind) -> float:
-    """Mean |F_w r|^2 / sum w^2 within 0.1 cycle per year of the peak, outside its main lobe.
+    """Mean |F_w r|^2 / sum w^2 in a ring 0.1 cycle per year wide just outside the peak's main lobe.
 
     For white noise of variance sigma^2 this is sigma^2; for coloured noise it
     is the noise spectral density near the Chandler frequency in the same
-    units (the "S" of the peak-location variance).
+    units (the "S" of the peak-location variance). The main lobes of the
+    Chandler and annual terms are left out: their fitted terms leave holes
+    in the residual spectrum there.
     """
     year_rate = 2 * math.pi / TROPICAL_YEAR
     lobe = (2.0 if kind == "hann" else 1.0) * 2 * math.pi / span
-    width = 0.1 * year_rate
+    reach = lobe + 0.1 * year_rate
     d = 2 * math.pi / (4 * span)
-    count = int(2 * math.ceil(width / d)) + 1
-    grid = rate - math.ceil(width / d) * d + d * np.arange(count)
+    count = int(2 * math.ceil(reach / d)) + 1
+    grid = rate - math.ceil(reach / d) * d + d * np.arange(count)
     p = np.abs(dtft(s, wr, grid[0], d, count)) ** 2 / np.sum(w**2)
-    side = np.abs(grid - rate) > lobe
-    return float(np.mean(p[side]) if side.sum() >= 4 else np.mean(p))
+    side = (np.abs(grid - rate) > lobe) & (np.abs(grid - ANNUAL_RATE) > lobe)
+    return float(np.mean(p[side]))
 
 
 # ---------------------------------------------------------------------------
