@@ -404,7 +404,7 @@ def chandler_wobble(
     drift_degree: int = 2,
     band: u.Quantity = [390, 500] * u.day,
     excitation_q: float | None = 100.0,
-    draws: int = 32,
+    draws: int = 64,
 ) -> ChandlerEstimate:
     """Measure the Chandler wobble in a polar-motion record.
 
@@ -535,7 +535,7 @@ class PolarMotionAnalysis:
         """
         obs = self.estimate
         rows = [
-            {"name": f"observed ({obs.method}, {obs.start.iso[:10]} to {obs.end.iso[:10]})", "kind": "observed", "period": obs.period, "uncertainty": obs.period_uncertainty, "residual": None, "sigma": None}
+            {"name": f"observed ({obs.method.replace('_', ' ')})", "kind": "observed", "period": obs.period, "uncertainty": obs.period_uncertainty, "residual": None, "sigma": None}
         ]
         for step in self.budget.steps:
             final = step is self.budget.steps[-1]
@@ -674,7 +674,7 @@ def polar_motion_analysis(
     step: u.Quantity = 1 * u.yr,
     drift_degree: int = 2,
     excitation_q: float | None = 100.0,
-    draws: int = 32,
+    draws: int = 64,
     quality_factor: bool = True,
     progress=None,
 ) -> PolarMotionAnalysis:

@@ -96,16 +96,23 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
     cpy = np.asarray(spectrum["frequency"].values) * 365.25
     amp = np.asarray(spectrum["amplitude_spectrum"].values)
     keep = np.abs(cpy) <= max_cpy
-    ax.plot(cpy[keep], amp[keep], lw=0.8, color="C0")
+    ax.plot(cpy[keep], amp[keep], lw=0.8, color="C0", zorder=2)
     if log:
         ax.set_yscale("log")
-    marks = {"Chandler (prograde)": _CHANDLER_CPY, "annual (prograde)": 365.25 / 365.24219, "annual (retrograde)": -365.25 / 365.24219}
-    top = amp[keep].max()
-    for label, f in marks.items():
-        ax.axvline(f, color="C3" if "Chandler" in label else "C2", lw=0.8, ls="--")
-        ax.annotate(label, (f, top), xytext=(3, -10), textcoords="offset points", fontsize="x-small", rotation=90, va="top")
+    # Label each peak at its height, staggered so the Chandler and prograde
+    # annual labels (0.16 cycle/yr apart) do not overlap.
+    marks = [("Chandler", _CHANDLER_CPY, (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
+    for label, f, offset in marks:
+        near = keep & (np.abs(cpy - f) < 0.03)
+        if not near.any():
+            continue
+        k = np.flatnonzero(near)[np.argmax(amp[near])]
+        ax.plot(cpy[k], amp[k], "o", ms=4, mfc="none", color="C3", zorder=3)
+        ax.annotate(f"{label}\n{cpy[k]:+.3f} cpy, {amp[k]:.0f} mas", (cpy[k], amp[k]), xytext=offset, textcoords="offset points", fontsize="x-small")
     ax.set_xlabel("frequency [cycles per year]  (negative: retrograde, positive: prograde)")
     ax.set_ylabel("amplitude [mas]")
+    if log:
+        ax.set_ylim(top=amp[keep].max() * 4)
     ax.set_title("two-sided spectrum of x_p - i y_p (drift removed)", fontsize="medium")
     ax.set_xlim(-max_cpy, max_cpy)
     return ax
