@@ -269,7 +269,8 @@ class ChandlerEstimate:
     amplitude, amplitude_uncertainty : Quantity
         Radius of the Chandler circle over the span, mas.
     phase, phase_uncertainty : Quantity
-        Argument of the Chandler term of p = x_p - i y_p at ``epoch``, deg.
+        Argument of the Chandler term of p = x_p - i y_p at ``epoch``, deg
+        (the uncertainty is the autocorrelation part only).
     annual_prograde_amplitude, annual_retrograde_amplitude (and ``_uncertainty``) : Quantity
         The annual terms, mas.
     mean_pole_x, mean_pole_y : Quantity
@@ -365,6 +366,7 @@ class ChandlerEstimate:
             "annual_amplitude_mas": _num(self.annual_prograde_amplitude),
             "annual_amplitude_uncertainty_mas": _num(self.annual_prograde_amplitude_uncertainty),
             "annual_retrograde_amplitude_mas": _num(self.annual_retrograde_amplitude),
+            "annual_retrograde_amplitude_uncertainty_mas": _num(self.annual_retrograde_amplitude_uncertainty),
             "mean_pole_x_arcsec": _num(self.mean_pole_x),
             "mean_pole_y_arcsec": _num(self.mean_pole_y),
             "drift_rate_mas_per_year": _num(self.drift_rate),
@@ -559,6 +561,7 @@ class PolarMotionAnalysis:
             "annual_amplitude_mas": _num(est.annual_prograde_amplitude),
             "annual_amplitude_uncertainty_mas": _num(est.annual_prograde_amplitude_uncertainty),
             "annual_retrograde_amplitude_mas": _num(est.annual_retrograde_amplitude),
+            "annual_retrograde_amplitude_uncertainty_mas": _num(est.annual_retrograde_amplitude_uncertainty),
             "start": est.start.iso[:10],
             "end": est.end.iso[:10],
             "method": est.method,
@@ -803,7 +806,9 @@ def _analysis_dataset(a: PolarMotionAnalysis) -> xr.Dataset:
         "chandler_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the Chandler amplitude", lambda e: e.amplitude_uncertainty.to_value(u.mas)),
         "chandler_phase": ("degree", "argument of the Chandler term of x_p - i y_p at the epoch", lambda e: e.phase.to_value(u.deg)),
         "annual_prograde_amplitude": ("milliarcsecond", "prograde annual wobble amplitude", lambda e: e.annual_prograde_amplitude.to_value(u.mas)),
+        "annual_prograde_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the prograde annual amplitude", lambda e: e.annual_prograde_amplitude_uncertainty.to_value(u.mas)),
         "annual_retrograde_amplitude": ("milliarcsecond", "retrograde annual wobble amplitude", lambda e: e.annual_retrograde_amplitude.to_value(u.mas)),
+        "annual_retrograde_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the retrograde annual amplitude", lambda e: e.annual_retrograde_amplitude_uncertainty.to_value(u.mas)),
     }
     for name, (unit, long_name, fn) in est.items():
         ds[name] = ("method", per_method(fn), _attrs(unit, long_name))
@@ -867,7 +872,7 @@ def _summary(a: PolarMotionAnalysis) -> str:
     lines.append(f"  the two methods differ by {a.agreement:.1f} sigma ({'agree' if a.methods_agree else 'DISAGREE'})")
     lines.append(
         f"  annual wobble: prograde {_fmt(e.annual_prograde_amplitude, 1)} +/- {_fmt(e.annual_prograde_amplitude_uncertainty, 1)} mas, "
-        f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} mas"
+        f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} +/- {_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
     )
     lines.append(
         f"  mean pole at {e.epoch.iso[:10]}: x {_fmt(e.mean_pole_x, 3)}\", y {_fmt(e.mean_pole_y, 3)}\", "

@@ -354,8 +354,8 @@ def _span_caveats(span: float) -> list[str]:
     if span < BEAT_PERIOD:
         notes.append(
             f"span {span / (365.25 * DAY):.1f} yr is shorter than the {BEAT_PERIOD / (365.25 * DAY):.1f}-yr beat of "
-            "the Chandler and annual terms: the two are barely separable and the uncertainty is widened "
-            "by the sensitivity to the drift model"
+            "the Chandler and annual terms: the two are barely separable, and the uncertainty is widened "
+            "by the drift-model and excitation terms"
         )
     return notes
 
@@ -536,14 +536,30 @@ def _scatter(values: list[float]) -> float:
     return float(np.std(v, ddof=1) / math.sqrt(n) * stats.t.ppf(_ONE_SIGMA, n - 1))
 
 
-def _subspans(t, z, estimator, **kwargs) -> tuple[float, float, int]:
-    """Scatter of ``estimator`` over n >= 3 disjoint sub-spans of >= 2 beat periods: (period, amplitude, n)."""
+_TRACKED = ("period", "amplitude", "annual", "retrograde")
+
+
+def _tracked(f: "ChandlerFit") -> dict[str, float]:
+    return {
+        "period": f.chandler.period,
+        "amplitude": f.chandler.amplitude,
+        "annual": f.annual_prograde.amplitude,
+        "retrograde": f.annual_retrograde.amplitude,
+    }
+
+
+def _subspans(t, z, estimator, **kwargs) -> tuple[dict[str, float], int]:
+    """Scatter of ``estimator`` over n >= 3 disjoint sub-spans of >= 2 beat periods.
+
+    Returns the 68 % error of the mean of each tracked quantity (Chandler
+    period and amplitude, annual amplitudes) and the number of sub-spans.
+    """
     span = t[-1] - t[0]
     n = int(span // (2.0 * BEAT_PERIOD))
     if n < 3:
-        return math.nan, math.nan, 0
+        return dict.fromkeys(_TRACKED, math.nan), 0
     edges = t[0] + span * np.arange(n + 1) / n
-    periods, amps = [], []
+    values: dict[str, list[float]] = {k: [] for k in _TRACKED}
     for a, b in zip(edges[:-1], edges[1:]):
         m = (t >= a) & (t <= b)
         if m.sum() < 10 or t[m][-1] - t[m][0] < 0.8 * (b - a):
@@ -552,19 +568,29 @@ def _subspans(t, z, estimator, **kwargs) -> tuple[float, float, int]:
             f = estimator(t[m], z[m], uncertainty=False, **kwargs)
         except InputError:
             continue
-        periods.append(f.chandler.period)
-        amps.append(f.chandler.amplitude)
-    return _scatter(periods), _scatter(amps), len(periods)
+        for k, v in _tracked(f).items():
+            values[k].append(v)
+    return {k: _scatter(v) for k, v in values.items()}, len(values["period"])
 
 
-def _model_sensitivity(t, z, estimator, degree, base: "ChandlerFit", **kwargs) -> tuple[float, float]:
-    """Largest change of the Chandler period and amplitude with drift degree -1/+1."""
-    dp = da = 0.0
+def _model_sensitivity(t, z, estimator, degree, base: "ChandlerFit", **kwargs) -> dict[str, float]:
+    """Largest change of each tracked quantity with drift degree -1/+1."""
+    ref = _tracked(base)
+    out = dict.fromkeys(_TRACKED, 0.0)
     for d in {max(degree - 1, 0), degree + 1} - {degree}:
         f = estimator(t, z, drift_degree=d, uncertainty=False, **kwargs)
-        dp = max(dp, abs(f.chandler.period - base.chandler.period))
-        da = max(da, abs(f.chandler.amplitude - base.chandler.amplitude))
-    return dp, da
+        for k, v in _tracked(f).items():
+            out[k] = max(out[k], abs(v - ref[k]))
+    return out
+
+
+def _annual_sigmas(auto: list[tuple[float, float]], sub: dict, mod: dict) -> list[tuple[float, float]]:
+    """Adopted (amplitude, phase) sigmas of the annual terms: autocorrelation, sub-spans and drift model."""
+    out = []
+    for (a_auto, p_auto), key in zip(auto, ("annual", "retrograde")):
+        main = max(x for x in (a_auto, sub[key], 0.0) if math.isfinite(x))
+        out.append((math.hypot(main, mod[key]), p_auto))
+    return out
 
 
 def _combine(formal, autocorrelation, subspans, model, excitation=math.nan) -> Uncertainty:
@@ -724,12 +750,13 @@ def fit_least_squares(
         p_hac = _sqrt_var(cov_hac[-1, -1]) * to_period
         a_formal = _amp_phase_sigma(coeffs[-1], cov_formal[ic : ic + 2, ic : ic + 2])[0]
         a_hac, sig_phase = _amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
-        p_sub = a_sub = nan
+        sub = dict.fromkeys(_TRACKED, nan)
         if subspans:
-            p_sub, a_sub, nsub = _subspans(t, z, fit_least_squares, band=band, drift_degree=degree)
+            sub, nsub = _subspans(t, z, fit_least_squares, band=band, drift_degree=degree)
             details["subspans"] = nsub
         base = _make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
-        p_mod, a_mod = _model_sensitivity(t, z, fit_least_squares, degree, base, band=band)
+        mod = _model_sensitivity(t, z, fit_least_squares, degree, base, band=band)
+        p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         p_exc = math.nan
         if excitation_q is not None:
             p_exc = _excitation_scatter(t, base, fit_least_squares, _check_q(excitation_q), draws, seed, band=band, drift_degree=degree)
@@ -738,10 +765,11 @@ def fit_least_squares(
         au = _combine(a_formal, a_hac, a_sub, a_mod)
         sig_rate = pu.adopted * rate**2 / (2 * math.pi)
         sig_amp = au.adopted
-        ann_sig = [
+        ann_auto = [
             _amp_phase_sigma(coeffs[degree + 1 + k], cov_hac[2 * (degree + 1 + k) : 2 * (degree + 2 + k), 2 * (degree + 1 + k) : 2 * (degree + 2 + k)])
             for k in (0, 1)
         ]
+        ann_sig = _annual_sigmas(ann_auto, sub, mod)
     fit = _make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
     return _with(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
 
@@ -904,7 +932,8 @@ def fit_spectrum(
     pu = au = Uncertainty(nan, nan, nan, nan, nan)
     details: dict = {"taper": kind}
     if uncertainty:
-        level = _local_level(s, w * resid, w, rate, span, kind)
+        fitted = (rate, ANNUAL_RATE, -ANNUAL_RATE)
+        level = _local_level(s, w * resid, w, rate, span, kind, fitted)
         sw, sw2 = w.sum(), np.sum(w**2)
         sc = s - np.sum(w * s) / sw
         amp = abs(f[0])
@@ -917,13 +946,18 @@ def fit_spectrum(
         p_auto = math.sqrt(var_rate) * to_period
         a_auto = math.sqrt(var_amp)
         sig_phase = a_auto / amp
-        ann_sig = [(a_auto, a_auto / max(abs(f[1]), 1e-300)), (a_auto, a_auto / max(abs(f[2]), 1e-300))]
-        p_sub = a_sub = nan
+        ann_auto = []
+        for k, sign in ((1, 1.0), (2, -1.0)):
+            a_k = math.sqrt(_local_level(s, w * resid, w, sign * ANNUAL_RATE, span, kind, fitted) * sw2 / (2 * sw**2))
+            ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
+        sub = dict.fromkeys(_TRACKED, nan)
         if subspans:
-            p_sub, a_sub, nsub = _subspans(t, z, fit_spectrum, band=band, drift_degree=degree, taper=kind)
+            sub, nsub = _subspans(t, z, fit_spectrum, band=band, drift_degree=degree, taper=kind)
             details["subspans"] = nsub
-        base = _make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
-        p_mod, a_mod = _model_sensitivity(t, z, fit_spectrum, degree, base, band=band, taper=kind)
+        base = _make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
+        mod = _model_sensitivity(t, z, fit_spectrum, degree, base, band=band, taper=kind)
+        p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
+        ann_sig = _annual_sigmas(ann_auto, sub, mod)
         p_exc = math.nan
         if excitation_q is not None:
             p_exc = _excitation_scatter(t, base, fit_spectrum, _check_q(excitation_q), draws, seed, band=band, drift_degree=degree, taper=kind)
@@ -936,14 +970,14 @@ def fit_spectrum(
     return _with(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
 
 
-def _local_level(s, wr, w, rate, span, kind) -> float:
+def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:
     """Mean |F_w r|^2 / sum w^2 in a ring 0.1 cycle per year wide just outside the peak's main lobe.
 
     For white noise of variance sigma^2 this is sigma^2; for coloured noise it
-    is the noise spectral density near the Chandler frequency in the same
-    units (the "S" of the peak-location variance). The main lobes of the
-    Chandler and annual terms are left out: their fitted terms leave holes
-    in the residual spectrum there.
+    is the noise spectral density near ``rate`` in the same units (the "S"
+    of the peak-location variance). The main lobes of the fitted terms
+    (``rate`` and ``fitted``) are left out: their removal leaves holes in
+    the residual spectrum there.
     """
     year_rate = 2 * math.pi / TROPICAL_YEAR
     lobe = (2.0 if kind == "hann" else 1.0) * 2 * math.pi / span
@@ -952,7 +986,9 @@ def _local_level(s, wr, w, rate, span, kind) -> float:
     count = int(2 * math.ceil(reach / d)) + 1
     grid = rate - math.ceil(reach / d) * d + d * np.arange(count)
     p = np.abs(dtft(s, wr, grid[0], d, count)) ** 2 / np.sum(w**2)
-    side = (np.abs(grid - rate) > lobe) & (np.abs(grid - ANNUAL_RATE) > lobe)
+    side = np.abs(grid - rate) > lobe
+    for other in fitted:
+        side &= np.abs(grid - other) > lobe
     return float(np.mean(p[side]))
 
 
