@@ -517,7 +517,7 @@ class PolarMotionAnalysis:
 
     @property
     def methods_agree(self) -> bool:
-        """Whether the two periods differ by less than their combined uncertainty (one sigma each, in quadrature) times 2."""
+        """Whether the two periods differ by less than twice their combined one-sigma uncertainty (in quadrature)."""
         return self.agreement <= 2.0
 
     @property
