@@ -39,6 +39,14 @@ from wobble.api.chandler import (  # noqa: E402
 from wobble.api.free import FreeRotation  # noqa: E402
 from wobble.api.bodies import PrincipalAxes, RigidBody  # noqa: E402
 from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep, sweep  # noqa: E402
+from wobble.api.polar_motion import (  # noqa: E402
+    ChandlerEstimate,
+    PolarMotionAnalysis,
+    QualityFactorEstimate,
+    chandler_wobble,
+    load_polar_motion,
+    polar_motion_analysis,
+)
 
 __all__ = [
     "__version__",
@@ -66,4 +74,10 @@ __all__ = [
     "run_sweep",
     "load_sweep",
     "summarize_sweep",
+    "load_polar_motion",
+    "chandler_wobble",
+    "polar_motion_analysis",
+    "ChandlerEstimate",
+    "PolarMotionAnalysis",
+    "QualityFactorEstimate",
 ]

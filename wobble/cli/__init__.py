@@ -20,18 +20,18 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "inertia", "free", "sweep")
+SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "sweep")
 
 EPILOG = """\
 examples:
   wobble chandler earth mars            Chandler period budgets, as a table
   wobble chandler mars --json           the same for scripts
   wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
+  wobble polar-motion --json            the Chandler wobble measured in the IERS record
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc
                                         exact torque-free motion, to a CF netCDF file
-
   wobble sweep mars_chandler -o mars.nc Monte Carlo over Mars' uncertain parameters (dask)
 
 Numbers without units are SI; days are days of 86400 s. Run

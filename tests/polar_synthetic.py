@@ -1,0 +1,72 @@
+"""Synthetic polar-motion records with known Chandler, annual and drift terms (ground truth for the tests).
+
+Units: seconds and radians, as the model layer. Every record is built from a
+``numpy.random.Generator`` the caller seeds, so tests are reproducible.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.signal import lfilter
+
+DAY = 86400.0
+YEAR = 365.25 * DAY
+MAS = math.pi / (180.0 * 3600.0 * 1000.0)
+TROPICAL_YEAR = 365.24219 * DAY
+
+TRUTH = {
+    "period": 433.0 * DAY,
+    "chandler_amplitude": 150.0 * MAS,
+    "chandler_phase": 0.7,
+    "annual_amplitude": 90.0 * MAS,
+    "annual_phase": 0.3,
+    "retrograde_amplitude": 5.0 * MAS,
+    "retrograde_phase": -1.0,
+}
+
+
+def coloured_noise(rng, n, rms, rho=0.995):
+    """Complex AR(1) noise of daily lag-one correlation ``rho`` (correlation time ~200 d) and given RMS."""
+    e = rng.standard_normal(n) + 1j * rng.standard_normal(n)
+    ar = lfilter([1.0], [1.0, -rho], e)
+    return ar / np.sqrt(np.mean(np.abs(ar) ** 2)) * rms
+
+
+def damped_wobble(rng, n, period, q, rms, burn=20000):
+    """A randomly excited damped free wobble (complex AR(1) with the mode's frequency and decay), daily."""
+    sigma = 2 * math.pi / period
+    lam = np.exp((1j * sigma - sigma / (2 * q)) * DAY)
+    e = rng.standard_normal(n + burn) + 1j * rng.standard_normal(n + burn)
+    m = lfilter([1.0], [1.0, -lam], e)[burn:]
+    return m / np.sqrt(np.mean(np.abs(m) ** 2)) * rms
+
+
+def record(rng, years, *, chandler="sinusoid", q=100.0, noise_rms=20 * MAS, gaps=True, start=0.0):
+    """(t, p): daily samples over ``years`` with gaps and dropped days; p = x - i y in rad.
+
+    ``chandler="sinusoid"`` is a constant circle (TRUTH); ``"damped"`` a randomly
+    excited wobble of quality ``q`` whose mode period is TRUTH["period"].
+    """
+    n = int(round(years * 365.25))
+    t = start + DAY * np.arange(n)
+    s = t - t.mean()
+    if chandler == "sinusoid":
+        ch = TRUTH["chandler_amplitude"] * np.exp(1j * (2 * math.pi / TRUTH["period"] * s + TRUTH["chandler_phase"]))
+    else:
+        ch = damped_wobble(rng, n, TRUTH["period"], q, TRUTH["chandler_amplitude"])
+    wa = 2 * math.pi / TROPICAL_YEAR
+    annual = TRUTH["annual_amplitude"] * np.exp(1j * (wa * s + TRUTH["annual_phase"]))
+    retro = TRUTH["retrograde_amplitude"] * np.exp(-1j * (wa * s - TRUTH["retrograde_phase"]))
+    tau = s / s.max()
+    drift = (40 + 300j + (20 - 60j) * tau + (5 + 8j) * tau**2) * MAS
+    p = drift + ch + annual + retro + coloured_noise(rng, n, noise_rms)
+    keep = np.ones(n, dtype=bool)
+    if gaps:
+        for _ in range(max(1, int(years))):  # about one gap of 1-30 days a year
+            a = rng.integers(0, n - 31)
+            keep[a : a + rng.integers(1, 31)] = False
+        keep &= rng.random(n) > 0.1  # and 10 % of the days dropped at random: uneven sampling
+        keep[[0, -1]] = True
+    return t[keep], p[keep]

@@ -1,0 +1,231 @@
+"""The IERS record itself: the published Chandler period, the methods' agreement, the post-2015 decline."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from astropy import units as u
+from astropy.time import Time
+from polar_synthetic import DAY, MAS, TRUTH, record
+
+import wobble
+from wobble.api.polar_motion import MJD_UNITS, published_chandler_period
+from wobble.errors import InputError
+from wobble.io.netcdf import open_wobble, write_netcdf
+
+
+@pytest.fixture(scope="module")
+def analysis():
+    """The whole IERS 20 C04 record, 1962 to the file's end (16 Monte-Carlo draws and 2-yr window steps: a fast suite)."""
+    return wobble.polar_motion_analysis(draws=16, step=2 * u.yr)
+
+
+# ---------------------------------------------------------------------------
+# Loading
+# ---------------------------------------------------------------------------
+
+
+def test_load_gives_a_cf_dataset_with_units():
+    ds = wobble.load_polar_motion(start="2010-01-01", end="2010-12-31")
+    assert ds.sizes["time"] == 365
+    assert ds["time"].attrs["units"] == MJD_UNITS and ds["time"].attrs["calendar"] == "standard"
+    assert ds["time"].values[0] == Time("2010-01-01", scale="utc").mjd
+    for name in ("x_p", "y_p", "x_p_error", "y_p_error"):
+        assert ds[name].attrs["units"] == "arcsec" and ds[name].attrs["long_name"]
+    assert ds["x_p"].attrs["ancillary_variables"] == "x_p_error"
+    assert "C04" in ds.attrs["references"] and "x_p - i y_p" in ds.attrs["comment"]
+
+
+def test_load_finals_file():
+    from wobble.io.eop import default_c04_path
+
+    ds = wobble.load_polar_motion(default_c04_path().parent / "finals2000A.all", start="2001-01-01", end="2001-03-01")
+    assert ds.attrs["source_format"] == "finals2000A" and ds.sizes["time"] == 60
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragment"),
+    [
+        ({"start": "1950-01-01"}, "start: got 1950-01-01; allowed: a date from 1962-01-01 to"),
+        ({"end": "2099-01-01"}, "end: got 2099-01-01; allowed: a date from 1962-01-01"),
+        ({"start": "2010-01-01", "end": "2009-01-01"}, "a date after start"),
+        ({"start": "yesterday"}, "start: got yesterday; allowed: a UTC date"),
+        ({"start": 2015}, "allowed: a UTC date"),
+    ],
+)
+def test_dates_outside_the_data_are_errors(kwargs, fragment):
+    with pytest.raises(InputError, match=fragment):
+        wobble.load_polar_motion(**kwargs)
+
+
+def test_date_forms():
+    a = wobble.load_polar_motion(start="2015", end="2015-06")
+    assert a["time"].values[0] == Time("2015-01-01").mjd and a["time"].values[-1] == Time("2015-06-01").mjd
+    b = wobble.load_polar_motion(start=Time("2015-01-01"), end="2015.5")
+    assert b["time"].values[0] == a["time"].values[0]
+    import datetime
+
+    c = wobble.load_polar_motion(start=datetime.date(2015, 1, 1), end=datetime.date(2015, 2, 1))
+    assert c.sizes["time"] == 32
+
+
+# ---------------------------------------------------------------------------
+# The real record
+# ---------------------------------------------------------------------------
+
+
+def test_full_record_period_is_in_the_published_range(analysis):
+    e = analysis.estimate
+    assert e.method == "least_squares"
+    assert e.start.iso[:10] == "1962-01-01"
+    # Vicente & Wilson (1997): 433.1 d (data/bodies/earth.toml); the published range is about 430-435 d.
+    published = published_chandler_period()
+    assert 430 * u.day < e.period < 435 * u.day
+    assert abs(e.period - published["period"]) < 2 * np.hypot(e.period_uncertainty, published["uncertainty"])
+    # Honest error: days, not the hundredths of a day of white noise.
+    parts = e.period_uncertainty_parts
+    assert parts["formal"] < 0.05 * u.day
+    assert 1 * u.day < e.period_uncertainty < 10 * u.day
+    assert e.period_uncertainty >= max(parts["autocorrelation"], parts["subspans"])
+    # Amplitude of about 0.12 arcsec over 1962-; the prograde annual term about 0.09 arcsec,
+    # the retrograde one a few mas (e.g. Gross 2007, Treatise on Geophysics 3, sec. 11).
+    assert 80 * u.mas < e.amplitude < 160 * u.mas
+    assert 70 * u.mas < e.annual_prograde_amplitude < 110 * u.mas
+    assert e.annual_retrograde_amplitude < 15 * u.mas
+
+
+def test_chandler_wobble_is_prograde_in_the_data(analysis):
+    spec = analysis.spectrum
+    cpy = spec["frequency"].values * 365.25
+    amp = spec["amplitude_spectrum"].values
+    band = (np.abs(cpy) > 0.75) & (np.abs(cpy) < 0.92)
+    pro = amp[band & (cpy > 0)].max()
+    retro = amp[band & (cpy < 0)].max()
+    assert pro > 20 * retro
+    assert cpy[band & (cpy > 0)][np.argmax(amp[band & (cpy > 0)])] == pytest.approx(365.25 / 433.0, abs=0.01)
+
+
+def test_the_two_methods_agree(analysis):
+    ls, sp = analysis.least_squares, analysis.spectral
+    assert ls.method == "least_squares" and sp.method == "spectrum"
+    assert analysis.methods_agree
+    assert abs(ls.period - sp.period) < np.hypot(ls.period_uncertainty, sp.period_uncertainty)
+    assert abs(ls.amplitude - sp.amplitude) < 2 * np.hypot(ls.amplitude_uncertainty, sp.amplitude_uncertainty)
+
+
+def test_the_amplitude_declines_after_2015(analysis):
+    w = analysis.windows
+    years = 2000 + (w["window_time"].values - 51544.5) / 365.25
+    amp = w["chandler_amplitude"].values
+    before = amp[(years > 1975) & (years < 2005)]
+    after = amp[years > 2016]
+    assert before.min() > 100 and after.max() < 50  # mas
+    assert after.mean() < 0.25 * before.mean()
+    # ... far beyond the windows' own uncertainties.
+    sig = w["chandler_amplitude_uncertainty"].values[years > 2016]
+    assert np.all(after + 3 * sig < before.min())
+
+
+def test_quality_factor_has_caveats(analysis):
+    q = analysis.quality_factor
+    assert q is not None and q.caveats
+    assert 10 < q.lower_bound_95 < q.low
+    assert any("flat excitation" in c for c in q.caveats)
+
+
+def test_side_by_side_with_the_model(analysis):
+    rows = analysis.comparison()
+    budget = wobble.chandler_budget("earth")
+    model_rows = [r for r in rows if r["kind"] == "model"]
+    assert [r["name"] for r in model_rows] == [f"model: {s.name}" for s in budget.steps]
+    obs = analysis.estimate.period
+    for row, step in zip(model_rows, budget.steps):
+        assert row["period"] == step.period
+        assert row["residual"].to_value(u.day) == pytest.approx((step.period - obs).to_value(u.day))
+    expected = np.hypot(budget.period_uncertainty, analysis.estimate.period_uncertainty)
+    assert model_rows[-1]["sigma"].to_value(u.day) == pytest.approx(expected.to_value(u.day))
+    assert rows[-1]["kind"] == "published"
+    text = analysis.summary()
+    for word in ("least squares", "spectrum", "rigid", "anelastic", "Vicente & Wilson 1997", "Windows"):
+        assert word in text
+
+
+# ---------------------------------------------------------------------------
+# Quantities in, errors out
+# ---------------------------------------------------------------------------
+
+
+def test_chandler_wobble_on_a_synthetic_dataset():
+    rng = np.random.default_rng(3)
+    t, p = record(rng, 20)
+    mjd = 51544.5 + t / DAY
+    ds = xr.Dataset(
+        {"x_p": ("time", p.real / MAS, {"units": "milliarcsecond"}), "y_p": ("time", -p.imag / MAS, {"units": "milliarcsecond"})},
+        coords={"time": ("time", mjd, {"units": MJD_UNITS})},
+    )
+    e = wobble.chandler_wobble(ds, excitation_q=None)
+    assert abs(e.period - TRUTH["period"] / DAY * u.day) < 3 * e.period_uncertainty
+    assert abs(e.amplitude - 150 * u.mas) < 3 * e.amplitude_uncertainty
+    s = wobble.chandler_wobble(ds, method="spectrum", excitation_q=None)
+    assert abs(s.period - e.period) < 2 * np.hypot(s.period_uncertainty, e.period_uncertainty)
+    d = e.to_dict()
+    assert d["chandler_period_days"] == pytest.approx(e.period.value) and d["start"] == e.start.iso[:10]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragment"),
+    [
+        ({"method": "wavelet"}, "method: got wavelet"),
+        ({"band": [390, 500]}, "band: got"),
+        ({"band": [1, 2, 3] * u.day}, "band"),
+        ({"draws": 2}, "draws"),
+        ({"excitation_q": "high"}, "excitation_q"),
+        ({"data": 42}, "data: got int"),
+    ],
+)
+def test_chandler_wobble_bad_arguments(kwargs, fragment):
+    ds = wobble.load_polar_motion(start="2000", end="2010")
+    kwargs.setdefault("data", ds)
+    with pytest.raises(InputError, match=fragment):
+        wobble.chandler_wobble(**kwargs)
+
+
+@pytest.mark.parametrize(
+    ("window", "fragment"),
+    [(1 * u.yr, "window: got 1.0 yr"), (30 * u.yr, "to the span analysed"), (8, "a plain number has no unit"), (-3 * u.yr, "positive")],
+)
+def test_bad_window_lengths(window, fragment):
+    with pytest.raises(InputError, match=fragment):
+        wobble.polar_motion_analysis(start="2000", end="2010", window=window, excitation_q=None, quality_factor=False)
+
+
+def test_short_span_analysis_says_so():
+    a = wobble.polar_motion_analysis(start="2018-01-01", end="2022-12-31", window=3 * u.yr, excitation_q=None, quality_factor=True)
+    joined = " ".join(a.caveats)
+    assert "beat" in joined and "no Q estimate" in joined
+    assert a.quality_factor is None
+    # A five-year span in the low-amplitude years: days of error even without the excitation term.
+    assert a.estimate.period_uncertainty > 5 * u.day
+    assert a.estimate.period_uncertainty_parts["model"] > 1 * u.day
+
+
+# ---------------------------------------------------------------------------
+# netCDF
+# ---------------------------------------------------------------------------
+
+
+def test_netcdf_round_trip_and_cf(analysis, tmp_path, assert_cf_compliant):
+    ds = analysis.to_dataset()
+    for name in ("x_p", "x_p_model", "x_p_residual", "chandler_amplitude", "amplitude_spectrum", "chandler_period", "model_period"):
+        assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
+    np.testing.assert_allclose(ds["x_p_model"] + ds["x_p_residual"], ds["x_p"], atol=1e-12)
+    assert ds["window_time"].attrs["bounds"] == "window_time_bounds"
+    path = write_netcdf(ds, tmp_path / "pm.nc", command="test")
+    back = open_wobble(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert list(back["method"].values) == ["least_squares", "spectrum"]
+    assert_cf_compliant(path)
+    assert math.isinf(float(back["quality_factor_high"])) or float(back["quality_factor_high"]) > 0

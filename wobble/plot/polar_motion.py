@@ -1,0 +1,220 @@
+"""Figures of observed polar motion: the pole's path, the two-sided spectrum, the windowed wobble.
+
+Every function draws on a Matplotlib ``Axes`` you pass (or a new figure) and
+returns it; nothing here opens a window (``matplotlib.figure.Figure``, no
+pyplot). :func:`save_overview` writes the four panels of
+``wobble polar-motion --plot``.
+
+The pole path is drawn as seen from above the north pole: x_p to the right
+(toward Greenwich), y_p downward (toward 90 deg W). In that view the complex
+pole p = x_p - i y_p is the ordinary complex plane and a prograde motion,
+like the Chandler wobble, turns counter-clockwise.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from wobble.errors import InputError, OutputExistsError
+
+__all__ = ["pole_path", "two_sided_spectrum", "windowed_wobble", "overview", "save_overview"]
+
+_MJD_J2000 = 51544.5
+_CHANDLER_CPY = 365.25 / 433.1  # published frequency, cycles per Julian year (for the label only)
+
+
+def _decimal_year(mjd) -> np.ndarray:
+    return 2000.0 + (np.asarray(mjd, dtype=float) - _MJD_J2000) / 365.25
+
+
+def _axes(ax, **kw):
+    if ax is not None:
+        return ax
+    return Figure(figsize=kw.get("figsize", (6, 5)), layout="constrained").add_subplot()
+
+
+def pole_path(data, *, start=None, end=None, ax=None, model=None):
+    """x_p against y_p over a span, seen from above the north pole.
+
+    Parameters
+    ----------
+    data : xarray.Dataset
+        With ``x_p``, ``y_p`` (any angle unit) and ``time`` (MJD), e.g. from
+        :func:`wobble.load_polar_motion` or ``PolarMotionAnalysis.data``.
+    start, end : date, optional
+        The span drawn (UTC dates as in :func:`wobble.load_polar_motion`).
+    ax : matplotlib Axes, optional
+    model : xarray.Dataset, optional
+        A dataset with ``x_p_mean_pole``/``y_p_mean_pole`` (from
+        ``PolarMotionAnalysis.to_dataset()``) to draw the mean pole.
+    """
+    from astropy import units as u
+
+    from wobble.api.polar_motion import _mjd_values, _select
+
+    ax = _axes(ax)
+    mjd = _mjd_values(data["time"])
+    keep = _select(mjd, start, end)
+    x = (np.asarray(data["x_p"].values) * u.Unit(data["x_p"].attrs["units"])).to_value(u.mas)[keep]
+    y = (np.asarray(data["y_p"].values) * u.Unit(data["y_p"].attrs["units"])).to_value(u.mas)[keep]
+    years = _decimal_year(mjd[keep])
+    points = ax.scatter(x, y, c=years, s=2, cmap="viridis", linewidths=0)
+    ax.plot(x, y, lw=0.3, color="0.6", zorder=0)
+    if model is not None and "x_p_mean_pole" in model:
+        mm = _mjd_values(model["time"])
+        mk = (mm >= mjd[keep][0]) & (mm <= mjd[keep][-1])
+        ax.plot(model["x_p_mean_pole"].values[mk] * 1e3, model["y_p_mean_pole"].values[mk] * 1e3, color="C3", lw=1.5, label="mean pole (fitted drift)")
+        ax.legend(loc="lower right", fontsize="small")
+    # Direction of motion at the middle of the span.
+    k = len(x) // 2
+    if len(x) > 20:
+        ax.annotate("", xy=(x[k + 5], y[k + 5]), xytext=(x[k], y[k]), arrowprops={"arrowstyle": "->", "color": "k"})
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.invert_yaxis()
+    ax.set_xlabel("x_p [mas] (toward Greenwich)")
+    ax.set_ylabel("y_p [mas] (toward 90° W), downward")
+    ax.set_title("pole path, seen from above the north pole\n(counter-clockwise = prograde)", fontsize="medium")
+    cbar = ax.figure.colorbar(points, ax=ax, shrink=0.8)
+    cbar.set_label("year")
+    return ax
+
+
+def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
+    """Amplitude against frequency in cycles per year, retrograde (negative) and prograde (positive).
+
+    Parameters
+    ----------
+    spectrum : xarray.Dataset
+        ``PolarMotionAnalysis.spectrum`` (``amplitude_spectrum`` on ``frequency`` in day-1).
+    """
+    ax = _axes(ax, figsize=(7, 4))
+    cpy = np.asarray(spectrum["frequency"].values) * 365.25
+    amp = np.asarray(spectrum["amplitude_spectrum"].values)
+    keep = np.abs(cpy) <= max_cpy
+    ax.plot(cpy[keep], amp[keep], lw=0.8, color="C0", zorder=2)
+    if log:
+        ax.set_yscale("log")
+    # Label each peak at its height, staggered so the Chandler and prograde
+    # annual labels (0.16 cycle/yr apart) do not overlap.
+    marks = [("Chandler", _CHANDLER_CPY, (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
+    for label, f, offset in marks:
+        near = keep & (np.abs(cpy - f) < 0.03)
+        if not near.any():
+            continue
+        k = np.flatnonzero(near)[np.argmax(amp[near])]
+        ax.plot(cpy[k], amp[k], "o", ms=4, mfc="none", color="C3", zorder=3)
+        ax.annotate(f"{label}\n{cpy[k]:+.3f} cpy, {amp[k]:.0f} mas", (cpy[k], amp[k]), xytext=offset, textcoords="offset points", fontsize="x-small")
+    ax.set_xlabel("frequency [cycles per year]  (negative: retrograde, positive: prograde)")
+    ax.set_ylabel("amplitude [mas]")
+    if log:
+        ax.set_ylim(top=amp[keep].max() * 4)
+    ax.set_title("two-sided spectrum of x_p - i y_p (drift removed)", fontsize="medium")
+    ax.set_xlim(-max_cpy, max_cpy)
+    return ax
+
+
+def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
+    """Chandler amplitude and period in sliding windows, against the windows' centres.
+
+    Parameters
+    ----------
+    windows : xarray.Dataset
+        ``PolarMotionAnalysis.windows``.
+    axes : (Axes, Axes), optional
+        For the amplitude and the period.
+    period : (float, float), optional
+        The full-record period and its uncertainty, days (a band on the period panel).
+    model_period : float, optional
+        The modelled period, days (a line on the period panel).
+    """
+    if axes is None:
+        fig = Figure(figsize=(7, 5), layout="constrained")
+        axes = fig.subplots(2, 1, sharex=True)
+    ax_a, ax_p = axes
+    years = _decimal_year(windows["window_time"].values)
+    width = float(windows.attrs.get("window_years", np.nan))
+    ax_a.errorbar(years, windows["chandler_amplitude"], yerr=windows["chandler_amplitude_uncertainty"], fmt="o-", ms=3, lw=1, label="Chandler")
+    ax_a.errorbar(years, windows["annual_amplitude"], yerr=windows["annual_amplitude_uncertainty"], fmt="s-", ms=2, lw=0.8, color="C2", alpha=0.7, label="annual (prograde)")
+    ax_a.axvline(2015.0, color="0.5", ls=":", lw=1)
+    ax_a.set_ylabel("amplitude [mas]")
+    ax_a.set_ylim(bottom=0)
+    ax_a.legend(fontsize="small")
+    ax_a.set_title(f"sliding windows of {width:g} years (plotted at their centres)", fontsize="medium")
+    ax_p.errorbar(years, windows["chandler_period"], yerr=windows["chandler_period_uncertainty"], fmt="o-", ms=3, lw=1)
+    if period is not None:
+        p, s = period
+        ax_p.axhspan(p - s, p + s, color="C0", alpha=0.15, label=f"whole span {p:.1f} ± {s:.1f} d")
+    if model_period is not None:
+        ax_p.axhline(model_period, color="C3", ls="--", lw=1, label=f"model {model_period:.1f} d")
+    if period is not None or model_period is not None:
+        ax_p.legend(fontsize="small")
+    ax_p.set_ylabel("Chandler period [d]")
+    ax_p.set_xlabel("year")
+    return ax_a, ax_p
+
+
+def overview(analysis, *, path_span=None) -> Figure:
+    """The four panels of ``wobble polar-motion --plot`` for a :class:`~wobble.PolarMotionAnalysis`.
+
+    ``path_span`` = (start, end) chooses the span of the pole path (default:
+    the last 6.4 years, one Chandler-annual beat, or the whole span if shorter).
+    """
+    from astropy import units as u
+
+    fig = Figure(figsize=(12, 9), layout="constrained")
+    grid = fig.add_gridspec(2, 2)
+    ax_path = fig.add_subplot(grid[0, 0])
+    ax_spec = fig.add_subplot(grid[0, 1])
+    sub = grid[1, :].subgridspec(2, 1)
+    ax_amp = fig.add_subplot(sub[0])
+    ax_per = fig.add_subplot(sub[1], sharex=ax_amp)
+    e = analysis.estimate
+    if path_span is None:
+        end_mjd = float(e.end.mjd)
+        start_mjd = max(float(e.start.mjd), end_mjd - 6.4 * 365.25)
+        from astropy.time import Time
+
+        path_span = (Time(start_mjd, format="mjd"), Time(end_mjd, format="mjd"))
+    pole_path(analysis.data, start=path_span[0], end=path_span[1], ax=ax_path)
+    two_sided_spectrum(analysis.spectrum, ax=ax_spec)
+    windowed_wobble(
+        analysis.windows,
+        axes=(ax_amp, ax_per),
+        period=(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day)),
+        model_period=analysis.budget.period.to_value(u.day),
+    )
+    fig.suptitle(
+        f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]}: {e.period.to_value(u.day):.1f} ± "
+        f"{e.period_uncertainty.to_value(u.day):.1f} d, {e.amplitude.to_value(u.mas):.0f} mas (least squares)"
+    )
+    return fig
+
+
+def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
+    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without ``overwrite``."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError("plot", str(path), "a file path, not a folder")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError("plot", str(path), "a path in an existing folder")
+    if path.exists() and not overwrite:
+        raise OutputExistsError(path)
+    suffix = path.suffix.lower().lstrip(".")
+    if suffix not in ("png", "pdf", "svg"):
+        raise InputError("plot", str(path), "a file name ending in .png, .pdf or .svg")
+    fig = overview(analysis)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=f".{suffix}")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=dpi, format=suffix)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
