@@ -37,6 +37,7 @@ from wobble.api.chandler import (  # noqa: E402
     rigid_wobble,
 )
 from wobble.api.free import FreeRotation  # noqa: E402
+from wobble.api.top import HeavyTop  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -58,4 +59,5 @@ __all__ = [
     "free_precession_rate",
     "euler_period",
     "FreeRotation",
+    "HeavyTop",
 ]
