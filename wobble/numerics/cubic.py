@@ -47,7 +47,7 @@ from decimal import Decimal
 __all__ = ["DIGITS", "TopCubic", "TopRoots", "top_roots", "quadratic_roots"]
 
 DIGITS = 60
-_MAX_ITER = 400
+_MAX_ITER = 600
 
 
 def _ctx() -> decimal.Context:
@@ -165,10 +165,28 @@ def quadratic_roots(p2: Decimal, p1: Decimal, p0: Decimal) -> tuple[Decimal, Dec
         return p0 / q, q / p2
 
 
-def _safe_newton(fn, dfn, lo: Decimal, hi: Decimal, start: Decimal | None = None) -> Decimal:
-    """A root of fn in [lo, hi] where fn(lo) and fn(hi) differ in sign (or one is 0)."""
+def _middle(lo: Decimal, hi: Decimal) -> Decimal:
+    """Bisection point: geometric when the bracket spans many decades (a root of 1e-400
+    next to the vertical is then reached in a few dozen steps, not a thousand)."""
+    a, b = (lo, hi) if lo <= hi else (hi, lo)
+    if a > 0 and b > 1000 * a:
+        return (a * b).sqrt()
+    if a == 0 and b > 0:
+        return b * Decimal("1e-12")
+    if b < 0 and a < 1000 * b:
+        return -(a * b).sqrt()
+    return (a + b) / 2
+
+
+def _safe_newton(fn, dfn, lo: Decimal, hi: Decimal, f_lo=None, f_hi=None) -> Decimal:
+    """A root of fn in [lo, hi] where fn(lo) and fn(hi) differ in sign (or one is 0).
+
+    ``f_lo``, ``f_hi``: the endpoint values when known exactly (g(x0) = sin^2 theta0
+    thetadot0^2 can be far below the rounding of the polynomial's terms).
+    """
     with decimal.localcontext(_ctx()):
-        f_lo, f_hi = fn(lo), fn(hi)
+        f_lo = fn(lo) if f_lo is None else f_lo
+        f_hi = fn(hi) if f_hi is None else f_hi
         if f_lo == 0:
             return lo
         if f_hi == 0:
@@ -177,22 +195,23 @@ def _safe_newton(fn, dfn, lo: Decimal, hi: Decimal, start: Decimal | None = None
             raise ValueError("root not bracketed")
         if f_lo > 0:  # orient so that fn(lo) < 0 < fn(hi)
             lo, hi = hi, lo
-        x = (lo + hi) / 2 if start is None else start
+        x = _middle(lo, hi)
         tol = Decimal(10) ** (-DIGITS + 3)
-        dx_old = abs(hi - lo)
-        dx = dx_old
         fx, dfx = fn(x), dfn(x)
+        width_old = abs(hi - lo)
         for _ in range(_MAX_ITER):
-            out = dfx == 0 or ((x - hi) * dfx - fx) * ((x - lo) * dfx - fx) > 0
-            if out or abs(2 * fx) > abs(dx_old * dfx):
-                dx_old = dx
-                dx = (hi - lo) / 2
-                x = lo + dx
-            else:
-                dx_old = dx
-                dx = fx / dfx
-                x = x - dx
-            if abs(dx) <= tol * max(abs(x), Decimal(10) ** -300):
+            left, right = (lo, hi) if lo <= hi else (hi, lo)
+            x_new = x - fx / dfx if dfx != 0 else None
+            # Newton only while it stays strictly inside the bracket and shrinks it fast
+            # enough; otherwise bisect (geometrically across decades).
+            newton = x_new is not None and left < x_new < right and abs(right - left) <= width_old / 2
+            if not newton:
+                x_new = _middle(lo, hi)
+            width_old = abs(right - left)
+            # Converged: a Newton step below tol, or a bracket narrower than tol.
+            size = abs(x_new - x) if newton else abs(right - left)
+            x = x_new
+            if size <= tol * abs(x) or size == 0:
                 return x
             fx, dfx = fn(x), dfn(x)
             if fx == 0:
@@ -205,63 +224,103 @@ def _safe_newton(fn, dfn, lo: Decimal, hi: Decimal, start: Decimal | None = None
 
 
 def _polish(fn, dfn, x: Decimal, steps: int = 3) -> Decimal:
+    """Newton steps that only refine the last digits of an already accurate root.
+
+    A step larger than 1e-20 |x| is refused: next to a (nearly) double root g' is
+    small and Newton would jump to the other root.
+    """
     with decimal.localcontext(_ctx()):
+        limit = Decimal(10) ** -20 * abs(x)
         for _ in range(steps):
             d = dfn(x)
             if d == 0:
                 break
             step = fn(x) / d
-            x = x - step
-            if step == 0:
+            if step == 0 or abs(step) > limit:
                 break
+            x = x - step
         return x
 
 
-def _with_y(cub: TopCubic, x: Decimal) -> tuple[Decimal, Decimal]:
-    """(x, y) of a root in [0, 2]: polished in y when it lies in the lower hemisphere."""
-    with decimal.localcontext(_ctx()):
-        if x <= 1:
-            return x, 2 - x
-        y = 2 - x
-        y = _polish(cub.G, cub.dG, y) if y > 0 and cub.dG(y) != 0 else y
-        y = max(y, Decimal(0))
-        return 2 - y, y
-
-
-def _with_x(cub: TopCubic, y: Decimal, x: Decimal) -> tuple[Decimal, Decimal]:
-    """(x, y) of a root in [0, 2] given both estimates: polished in x when next to u = +1."""
-    with decimal.localcontext(_ctx()):
-        if x > 1:
-            return _with_y(cub, x)
-        x = max(x, Decimal(0))
-        x = _polish(cub.g, cub.dg, x) if x > 0 and cub.dg(x) != 0 else x
-        x = max(x, Decimal(0))
-        return x, 2 - x
-
-
-def _root_between(cub: TopCubic, lo: Decimal, hi: Decimal) -> tuple[Decimal, Decimal]:
-    """The root of g in [lo, hi] (g changes sign there), as (x, y).
+def _root_between(cub: TopCubic, lo: Decimal, hi: Decimal, g_x0: Decimal, x0: Decimal) -> tuple[Decimal, Decimal]:
+    """The root of g in [lo, hi], one end of which is x0 with g(x0) = g_x0 > 0, as (x, y).
 
     The bracket is split at x = 1 (the horizontal); a root in the upper half is
     found in x, one in the lower half in y, so either keeps its relative digits.
+    g(0) = -B^2 < 0 and g(2) = -C^2 < 0 here (B, C != 0).
     """
     with decimal.localcontext(_ctx()):
-        g_lo = cub.g(lo)
-        if g_lo == 0:
-            return lo, 2 - lo
+
+        def val(x):
+            return g_x0 if x == x0 else cub.g(x)
+
         if lo < 1 < hi:
             g_one = cub.g(Decimal(1))
             if g_one == 0:
                 return Decimal(1), Decimal(1)
-            if (g_one > 0) != (g_lo > 0):
+            if (g_one > 0) != (val(lo) > 0):
                 hi = Decimal(1)
             else:
                 lo = Decimal(1)
         if hi <= 1:
-            x = _safe_newton(cub.g, cub.dg, lo, hi)
+            x = _safe_newton(cub.g, cub.dg, lo, hi, val(lo), val(hi))
             return x, 2 - x
-        y = _safe_newton(cub.G, cub.dG, 2 - hi, 2 - lo)
+        y = _safe_newton(cub.G, cub.dG, 2 - hi, 2 - lo, val(hi), val(lo))
         return 2 - y, y
+
+
+def _deflated(cub: TopCubic, xr: Decimal, yr: Decimal) -> list[tuple[Decimal, Decimal]]:
+    """The other roots, as (x, y), once the exact root (xr, yr) is divided out.
+
+    Taylor at the root: g(xr + d) = d (g'(xr) + (c2 - 3 beta xr) d - beta d^2), solved by
+    the cancellation-free quadratic formula. x = xr + d (y = yr - d) cancels when the
+    new root lies much nearer the pole than xr; such a root is recomputed from Vieta,
+    x1 x2 x3 = -B^2 / beta (y1 y2 y3 = C^2 / beta), which has no cancellation, then
+    polished by Newton in the coordinate of its hemisphere (x3 < 0 is left negative).
+    For beta = 0 the cubic is a quadratic: one finite root.
+    """
+    beta = cub.beta
+    with decimal.localcontext(_ctx()):
+        p2, p1, p0 = -beta, cub.c2 - 3 * beta * xr, cub.dg(xr)
+        if p2 == 0:
+            ds = [-p0 / p1] if p1 != 0 else [Decimal(0)]
+        else:
+            ds = list(quadratic_roots(p2, p1, p0))
+        roots = [[xr + d, yr - d] for d in ds]
+        if beta == 0 and len(roots) == 1:
+            # The cubic is the quadratic -(A + a^2) x^2 + 2 (A - a B) x - B^2: Vieta on the
+            # two finite roots, x xr = B^2 / (A + a^2), y yr = C^2 / (A + a^2).
+            lead = cub.A + cub.a * cub.a
+            if xr != 0 and roots[0][0] <= 1:
+                roots[0][0] = cub.B * cub.B / (lead * xr)
+                roots[0][1] = 2 - roots[0][0]
+            elif yr != 0 and roots[0][0] > 1:
+                roots[0][1] = cub.C * cub.C / (lead * yr)
+                roots[0][0] = 2 - roots[0][1]
+        if beta != 0 and len(roots) == 2:
+            if xr != 0:
+                i = 0 if abs(roots[0][0]) <= abs(roots[1][0]) else 1
+                other = roots[1 - i][0]
+                if abs(roots[i][0]) < abs(xr) and other != 0:
+                    roots[i][0] = -(cub.B * cub.B) / (beta * xr * other)
+                    roots[i][1] = 2 - roots[i][0]
+            if yr != 0:
+                i = 0 if abs(roots[0][1]) <= abs(roots[1][1]) else 1
+                other = roots[1 - i][1]
+                if abs(roots[i][1]) < abs(yr) and other != 0:
+                    roots[i][1] = (cub.C * cub.C) / (beta * yr * other)
+                    roots[i][0] = 2 - roots[i][1]
+        out = []
+        for x, y in roots:
+            if x <= 1:
+                if x != 0 and cub.dg(x) != 0:
+                    x = _polish(cub.g, cub.dg, x, steps=2)
+                out.append((x, 2 - x))
+            else:
+                if y != 0 and cub.dG(y) != 0:
+                    y = _polish(cub.G, cub.dG, y, steps=2)
+                out.append((2 - y, y))
+        return out
 
 
 def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
@@ -274,56 +333,76 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
     x0, y0 : Decimal
         1 - cos theta0 and 1 + cos theta0, each with full relative accuracy.
     g0 : Decimal
-        g(x0) = sin^2 theta0 thetadot0^2 >= 0. When it is 0 the top starts at a
-        turning point: x0 is an exact root and the cubic is deflated by it,
-        g(x0 + d) = d (g'(x0) + (c2 - 3 beta x0) d - beta d^2) (Taylor at x0).
+        g(x0) = sin^2 theta0 thetadot0^2 >= 0, known exactly (evaluating the
+        polynomial there would cancel).
 
     Returns
     -------
     TopRoots
+        With beta > 0 the roots sorted x3 <= x2 <= x1: g >= 0 only between x2 and x1
+        (g -> +inf as x -> -inf), so that interval is the motion's.
 
-    Raises
-    ------
-    ValueError
-        If the data admit no motion (g(x0) < 0).
+    Notes
+    -----
+    Roots known exactly are divided out first: x0 when the top starts at a turning
+    point (g0 = 0), x = 0 when b = a (the axis passes through the vertical, or a
+    planar pendulum), x = 2 when b = -a (through the bottom). Otherwise the two
+    physical roots are bracketed by [0, x0] and [x0, 2] (g(0) = -B^2 < 0 < g(x0) >
+    g(2) = -C^2) and x3 follows from Vieta and a Newton polish.
     """
     beta = cub.beta
     with decimal.localcontext(_ctx()):
         if g0 < 0:
             raise ValueError("g(x0) < 0: no physical motion")
-        x3 = None
-        if g0 == 0:
-            e0 = cub.dg(x0)
-            e1 = cub.c2 - 3 * beta * x0
+        if cub.B == 0 and cub.C == 0:
+            # b = a = 0 (no spin, no vertical momentum: a planar pendulum or a tumbling
+            # free body): g = x (2 - x)(A + beta x), roots 0, 2 and -A/beta = 2 - A_y/beta.
             if beta == 0:
-                d_phys = -e0 / e1 if e1 != 0 else Decimal(0)
+                x3, y3 = Decimal("-Infinity"), Decimal("Infinity")
+                span = gap = cub.A
             else:
-                d_a, d_b = quadratic_roots(-beta, e1, e0)
-                d_phys, d3 = (d_a, d_b) if d_a >= d_b else (d_b, d_a)
-                x3 = x0 + d3
-            if d_phys == 0:
-                x1, y1, x2, y2 = x0, y0, x0, y0
-            elif d_phys > 0:  # x0 is the upper turning point (smallest theta)
-                x2, y2 = x0, y0
-                x1, y1 = _with_y(cub, min(x0 + d_phys, Decimal(2)))
+                x3, y3 = -cub.A / beta, cub.A_y / beta
+            found = sorted([(Decimal(0), Decimal(2)), (Decimal(2), Decimal(0))] + ([] if beta == 0 else [(x3, y3)]),
+                           key=lambda r: r[0])
+            if beta == 0:
+                (x2, y2), (x1, y1) = found
             else:
-                x1, y1 = x0, y0
-                x2, y2 = _with_x(cub, y0 - d_phys, x0 + d_phys)
+                (x3, y3), (x2, y2), (x1, y1) = found
+                span, gap = beta * (x1 - x3), beta * (x2 - x3)
+            return TopRoots(x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=y3, beta_span=span, beta_gap=gap)
+        exact: list[tuple[Decimal, Decimal]] = []
+        if g0 == 0:
+            exact.append((x0, y0))
+        if cub.B == 0 and all(x != 0 for x, _ in exact):
+            exact.append((Decimal(0), Decimal(2)))
+        if cub.C == 0 and all(y != 0 for _, y in exact):
+            exact.append((Decimal(2), Decimal(0)))
+        if exact:
+            found = [exact[0]] + _deflated(cub, *exact[0])
+            # Snap the computed roots to the other exact ones.
+            for xe, ye in exact[1:]:
+                i = min(range(1, len(found)), key=lambda k: abs(found[k][0] - xe))
+                found[i] = (xe, ye)
         else:
-            x2, y2 = _root_between(cub, Decimal(0), x0)
-            x1, y1 = _root_between(cub, x0, Decimal(2))
-        # The unphysical root and the spans beta (x1 - x3), beta (x2 - x3).
-        if beta == 0:
-            x3 = Decimal("-Infinity")
-            span = 2 * beta * x1 + beta * x2 - cub.c2  # = A + a^2 for beta = 0
-            gap = span
-        else:
-            if x3 is None:
-                if x2 > 0 and cub.B != 0:
-                    x3 = -(cub.B * cub.B) / (beta * x1 * x2)  # Vieta: beta x1 x2 x3 = -B^2
-                else:
-                    x3 = cub.c2 / beta - x1 - x2  # Vieta: sum of the roots
+            found = [_root_between(cub, Decimal(0), x0, g0, x0), _root_between(cub, x0, Decimal(2), g0, x0)]
+            if beta != 0:
+                x1, x2 = max(found[0][0], found[1][0]), min(found[0][0], found[1][0])
+                x3 = -(cub.B * cub.B) / (beta * x1 * x2)  # Vieta: beta x1 x2 x3 = -B^2
                 x3 = _polish(cub.g, cub.dg, x3)
+                found.append((x3, 2 - x3))
+        found.sort(key=lambda r: r[0])
+        lo_x, hi_x = (found[0][0], found[-1][0]) if beta == 0 else (found[1][0], found[2][0])
+        slack = Decimal(10) ** (-DIGITS + 10)
+        if not (lo_x - slack * abs(x0) <= x0 <= hi_x + slack * abs(x0) + slack):
+            raise ValueError("internal: the motion's interval does not contain the initial point")
+        if beta == 0:
+            (x2, y2), (x1, y1) = found[0], found[-1]
+            x3 = Decimal("-Infinity")
+            span = cub.A + cub.a * cub.a  # beta (x1 - x3) -> A + a^2 as beta -> 0
+            gap = span
+            y3 = Decimal("Infinity")
+        else:
+            (x3, y3), (x2, y2), (x1, y1) = found
             span = beta * (x1 - x3)
             gap = beta * (x2 - x3)
-        return TopRoots(x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=2 - x3, beta_span=span, beta_gap=gap)
+        return TopRoots(x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=y3, beta_span=span, beta_gap=gap)
