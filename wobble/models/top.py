@@ -326,22 +326,17 @@ class _Elliptic:
         return np.sqrt(cn2 + self.rho_x * sn2), np.sqrt(self.rho_y * cn2 + sn2)
 
     def periodic_of_r(self, r):
-        """theta(r), k_- P_-(r), k_+ P_+(r) for a reduced phase |r| <= K (no sign folding).
+        """theta(r), k_- P_-(r), k_+ P_+(r) and dtheta/dr for a reduced phase |r| <= K.
 
-        The three 2K-periodic functions of the nutation phase that the spectral
-        evaluator expands (used only when the axis stays off the poles).
+        The 2K-periodic functions of the nutation phase that the Fourier evaluator
+        expands (used only when the axis stays off the poles, so no sign folding);
+        dtheta/dr = -W sn cn dn / (sx sy), thetadot = lambda dtheta/dr.
         """
         sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
         sx, sy = self._scaled(sn, cn)
         theta = 2.0 * np.arctan2(self.hx1 * sx, self.hy2 * sy)
         p_plus, p_minus = self._periodic(r, sn, cn, dn)
-        return theta, self.k_minus * p_minus, self.k_plus * p_plus
-
-    def dtheta_of_r(self, r):
-        """d theta / d r = -W sn cn dn / (sx sy) off the poles (thetadot = lambda dtheta/dr)."""
-        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
-        sx, sy = self._scaled(sn, cn)
-        return -self.W * sn * cn * dn / (sx * sy)
+        return theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy)
 
     def core(self, t):
         r, j = self.phase(t)
@@ -385,19 +380,22 @@ class _Elliptic:
                     phidot_sin=b_term + c_term)
 
 
+_TAYLOR_ORDER = 7
+
+
 @dataclass(frozen=True)
 class _Fourier:
-    """The periodic parts as short Fourier series in the nutation phase (fast evaluation).
+    """The periodic parts as Fourier series in the nutation phase (fast evaluation).
 
-    theta(r) (even), k_- P_-(r) and k_+ P_+(r) (odd) are analytic and 2K-periodic in
-    the reduced phase r while the axis stays off the poles; their Fourier
-    coefficients in vartheta = pi r / K decay geometrically, and are computed once
-    by an FFT of exact values (:meth:`_Elliptic.periodic_of_r`) at N equispaced
-    phases, N doubled until the upper half of the spectrum is below rounding.
-    Evaluation is Clenshaw's recurrence (stable) for all series at once: about
-    3 L flops per series and sample instead of Carlson's R_F, R_J, R_C per sample.
-    The series are accepted only after they agree with the direct evaluation at
-    phases between the FFT nodes to within the solution's error estimate
+    theta(r) (even), k_- P_-(r), k_+ P_+(r) and dtheta/dr (odd) are analytic and
+    2K-periodic in the reduced phase r while the axis stays off the poles; their
+    Fourier coefficients in vartheta = pi r / K decay geometrically and are computed
+    once by an FFT of exact values (:meth:`_Elliptic.periodic_of_r`). For evaluation
+    the series are tabulated with their derivatives up to order 7 at S equispaced
+    phases (an inverse FFT per order), and each output takes a degree-7 Taylor
+    polynomial from the nearest node: one gather and 7 Horner steps per series,
+    whatever the series' length. The table is accepted only after it agrees with the
+    direct evaluation between the nodes to within the solution's error estimate
     (:func:`_build_fourier`); otherwise the direct path is used.
     """
 
@@ -405,11 +403,13 @@ class _Fourier:
     coef: np.ndarray  # (4, L + 1): theta (cos), sigma_p (sin), delta_p (sin), dtheta/dr (sin)
     kinds: tuple  # "cos" or "sin" per row
     scale: float  # pi / K
+    table: np.ndarray  # (4, order + 1, S): f^(j)(node) / j! in units of r
+    h: float  # node spacing in r
     error_theta: float
     error_phase: float
 
-    def series(self, r, rows):
-        """Evaluate the selected series at reduced phases r (Clenshaw, vectorised)."""
+    def clenshaw(self, r, rows):
+        """The series summed directly (Clenshaw), for building and checking the table."""
         vt = r * self.scale
         c, s_ = np.cos(vt), np.sin(vt)
         alpha = 2.0 * c
@@ -425,10 +425,29 @@ class _Fourier:
             b1, b2, tmp = tmp, b1, b2
         out = []
         for i, row in enumerate(rows):
-            if self.kinds[row] == "cos":
-                out.append(coef[i, 0] + b1[i] * c - b2[i])
-            else:
-                out.append(b1[i] * s_)
+            out.append(coef[i, 0] + b1[i] * c - b2[i] if self.kinds[row] == "cos" else b1[i] * s_)
+        return out
+
+    def series(self, r, rows):
+        """The series at reduced phases r from the Taylor table (nearest node, Horner).
+
+        One contiguous 1-D table per series and order, gathered with np.take (the
+        tables stay in cache; fancy indexing of a 3-D table was three times slower).
+        """
+        u = (r + self.base.K[0]) * (1.0 / self.h)
+        idx = np.rint(u)
+        d = (u - idx) * self.h
+        ii = idx.astype(np.intp)
+        nodes = self.table.shape[2]
+        ii[ii >= nodes] -= nodes  # r = +K is the node of r = -K
+        out = []
+        for row in rows:
+            tab = self.table[row]
+            acc = np.take(tab[_TAYLOR_ORDER], ii)
+            for j in range(_TAYLOR_ORDER - 1, -1, -1):
+                acc *= d
+                acc += np.take(tab[j], ii)
+            out.append(acc)
         return out
 
     def angles_core(self, t):
@@ -459,6 +478,7 @@ class _Fourier:
 _FOURIER_MIN_SAMPLES = 1024
 _FOURIER_MAX_N = 512
 _FOURIER_MAX_TERMS = 96
+_TAYLOR_MAX_NODES = 1 << 15
 
 
 def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
@@ -477,9 +497,7 @@ def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
 
-    def sample(r):
-        th, sp, dp = e.periodic_of_r(r)
-        return th, sp, dp, e.dtheta_of_r(r)
+    sample = e.periodic_of_r
 
     for n in (64, 128, 256, _FOURIER_MAX_N):
         vt = 2 * np.pi * np.arange(n) / n
@@ -509,29 +527,55 @@ def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
         return None
     coef = np.stack([c[: last + 1] for c in rows])
     scale = np.pi / k
-    fo = _Fourier(base=e, coef=coef, kinds=kinds, scale=scale, error_theta=0.0, error_phase=0.0)
-    # Verify between the nodes (phases offset by an irrational fraction of the spacing).
     m = 97
     vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
     r = vt * (k / np.pi)
     want = sample(r)
-    got = fo.series(r, (0, 1, 2, 3))
-    err_t = float(np.max(np.abs(got[0] - want[0])))
-    err_p = max(float(np.max(np.abs(got[1] - want[1]))), float(np.max(np.abs(got[2] - want[2]))))
-    err_d = float(np.max(np.abs(got[3] - want[3]))) / scales[3]
-    if err_t > est["theta_rad"] or err_p > est["attitude_rad"] or err_d > 64 * _EPS * (1 + k):
-        return None
-    return _Fourier(base=e, coef=coef, kinds=kinds, scale=scale, error_theta=err_t, error_phase=err_p)
+    nodes = 1 << max(8, int(np.ceil(np.log2(32 * (last + 1)))))
+    while nodes <= _TAYLOR_MAX_NODES:
+        table = _taylor_table(coef, kinds, nodes, scale)
+        fo = _Fourier(base=e, coef=coef, kinds=kinds, scale=scale, table=table, h=2 * k / nodes,
+                      error_theta=0.0, error_phase=0.0)
+        # Verify between the nodes (phases offset by an irrational fraction of the spacing).
+        got = fo.series(r, (0, 1, 2, 3))
+        err_t = float(np.max(np.abs(got[0] - want[0])))
+        err_p = max(float(np.max(np.abs(got[1] - want[1]))), float(np.max(np.abs(got[2] - want[2]))))
+        err_d = float(np.max(np.abs(got[3] - want[3]))) / scales[3]
+        if err_t <= est["theta_rad"] and err_p <= est["attitude_rad"] and err_d <= 64 * _EPS * (1 + k):
+            return replace(fo, error_theta=err_t, error_phase=err_p)
+        nodes *= 2
+    return None
+
+
+def _taylor_table(coef, kinds, nodes, scale):
+    """f^(j)(r_i)/j! (j = 0.._TAYLOR_ORDER, r-units) of every series at the nodes r_i = -K + i h.
+
+    With vartheta_i = -pi + 2 pi i / S, e^{i k vartheta_i} = (-1)^k e^{2 pi i k i / S}, so
+    Re sum_k c_k (i k scale)^j e^{i k vartheta_i} for all rows and orders is one batched
+    real inverse FFT (cos series: c_k = a_k; sin series: c_k = -i b_k).
+    """
+    nrow, ncoef = coef.shape
+    kk = np.arange(ncoef)
+    sign = np.where(kk % 2 == 0, 1.0, -1.0)
+    orders = np.arange(_TAYLOR_ORDER + 1)
+    fact = np.cumprod(np.concatenate([[1.0], np.arange(1, _TAYLOR_ORDER + 1)]))
+    rot = np.array([1.0 if k == "cos" else -1j for k in kinds])[:, None, None]
+    power = (1j * kk[None, :] * scale) ** orders[:, None]  # (order + 1, ncoef)
+    c = coef[:, None, :] * sign * power[None] * rot / fact[None, :, None]  # (rows, order + 1, ncoef)
+    spec = np.zeros((nrow, _TAYLOR_ORDER + 1, nodes // 2 + 1), dtype=complex)
+    spec[..., :ncoef] = c
+    spec[..., 1:] *= 0.5  # irfft counts each k >= 1 twice (Hermitian extension)
+    return np.fft.irfft(spec, n=nodes, axis=-1) * nodes
 
 
 def _wrap(a):
     return np.remainder(a + np.pi, 2 * np.pi) - np.pi
 
 
-def _blocked_tuple(fn, t):
-    if t.size <= _BLOCK:
+def _blocked_tuple(fn, t, block=_BLOCK):
+    if t.size <= block:
         return fn(t)
-    parts = [fn(t[i : i + _BLOCK]) for i in range(0, t.size, _BLOCK)]
+    parts = [fn(t[i : i + block]) for i in range(0, t.size, block)]
     return tuple(np.concatenate([p[k] for p in parts]) for k in range(len(parts[0])))
 
 
@@ -737,7 +781,7 @@ class HeavyTopModel:
         t = np.asarray(t, dtype=float)
         impl = self.evaluator(t.size, method)
         if isinstance(impl, _Fourier):
-            theta, sig, dlt = _blocked_tuple(impl.angles_core, t.reshape(-1))
+            theta, sig, dlt = _blocked_tuple(impl.angles_core, t.reshape(-1), 1 << 16)
             shape = t.shape
             return theta.reshape(shape), _wrap(sig + dlt).reshape(shape), _wrap(sig - dlt).reshape(shape)
         mo = self.motion(t, method)
