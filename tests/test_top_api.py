@@ -264,3 +264,17 @@ def test_cli_table_output(capsys):
     assert main(["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60 deg", "--omega3", "10"]) == 0
     out = capsys.readouterr().out
     assert "cusps" in out and "nutation period (s)" in out and "steady precession" in out
+
+
+def test_plots_build_from_real_runs():
+    """The figures of docs/heavy-top.md build (scripts/figures_top.py writes them)."""
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.top import cubic_figure, effective_potential_figure, nutation_classes_figure
+
+    fig = nutation_classes_figure(1 * KGM2, 0.5 * KGM2, 1 * u.J, 50 * u.deg, 6 * RAD_S,
+                                  [0.2 * RAD_S, 0 * RAD_S, -0.3 * RAD_S], periods=2)
+    assert len(fig.axes) == 3 and [a.get_title().split(":")[0] for a in fig.axes] == ["undulating", "cusps", "loops"]
+    top = issue8_top()
+    for f in (fig, effective_potential_figure(top), cubic_figure(top)):
+        plt.close(f)
