@@ -54,8 +54,18 @@ def _available_memory() -> int:
         return 2**33
 
 
+def _as_quantity(value):
+    """A list of Quantities (e.g. [top.theta_min, top.theta_max]) as one Quantity array."""
+    if isinstance(value, (list, tuple)) and value and all(isinstance(v, u.Quantity) for v in value):
+        try:
+            return u.Quantity(value)
+        except u.UnitsError:
+            return value
+    return value
+
+
 def _angle(value, name):
-    return to_si(value, name, u.rad)
+    return to_si(_as_quantity(value), name, u.rad)
 
 
 def _rate(value, name):

@@ -76,7 +76,7 @@ def integrate_top(I1: float, I3: float, mgl: float, omega0, q0, t, *, rtol: floa
         Increasing output times (s), starting at or after 0.
     rtol : float
         Relative tolerance; the absolute tolerance is rtol times the size of
-        each component (|omega| for omega, 1 for q).
+        each component (the norm of omega for omega, 1 for q).
     method : str
         A scipy.integrate.solve_ivp method (DOP853, Radau, ...).
 
