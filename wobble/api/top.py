@@ -179,8 +179,7 @@ class HeavyTop:
         (tip to centre of mass), gravity along -z in space.
         """
         i1, i3, mgl_si, ml2 = cls._parameters(I1, I3, mgl, M, l, g, body)
-        w = _rate(omega0, "omega0") if isinstance(omega0, u.Quantity) else _rate(omega0, "omega0")
-        w = np.atleast_1d(w)
+        w = np.atleast_1d(_rate(omega0, "omega0"))
         self = cls.__new__(cls)
         self._model = _top.heavy_top_from_state(i1, i3, mgl_si, w, np.asarray(q0, dtype=float), ml2=ml2)
         return self
@@ -403,7 +402,7 @@ class HeavyTop:
         -------
         xarray.Dataset
             ``time`` (s, CF units ``seconds since 2000-01-01 12:00:00``); ``theta``,
-            ``phi``, ``psi`` (rad; phi and psi wrapped to (-pi, pi]), ``thetadot``,
+            ``phi``, ``psi`` (rad; phi and psi wrapped to [-pi, pi]), ``thetadot``,
             ``phidot``, ``psidot`` (rad s-1); ``omega(time, axis)`` in the body frame;
             ``attitude(time, component)`` (unit quaternion body -> space);
             ``symmetry_axis(time, space_axis)`` (the trace on the unit sphere);
@@ -460,8 +459,8 @@ class HeavyTop:
         e0, pphi0, ppsi0 = m.energy, m.p_phi, m.p_psi
         data = {
             "theta": (("time",), mo.theta, {"units": rad, "long_name": "nutation angle theta: tilt of the symmetry axis from the upward vertical"}),
-            "phi": (("time",), mo.phi, {"units": rad, "long_name": "precession angle phi (wrapped to (-pi, pi])"}),
-            "psi": (("time",), mo.psi, {"units": rad, "long_name": "spin angle psi (wrapped to (-pi, pi])"}),
+            "phi": (("time",), mo.phi, {"units": rad, "long_name": "precession angle phi (wrapped to [-pi, pi])"}),
+            "psi": (("time",), mo.psi, {"units": rad, "long_name": "spin angle psi (wrapped to [-pi, pi])"}),
             "thetadot": (("time",), mo.thetadot, {"units": rate, "long_name": "nutation rate dtheta/dt"}),
             "phidot": (("time",), mo.phidot, {"units": rate, "long_name": "precession rate dphi/dt"}),
             "psidot": (("time",), mo.psidot, {"units": rate, "long_name": "spin rate dpsi/dt"}),
