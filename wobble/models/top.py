@@ -925,8 +925,15 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
 
 
 def _theta_of(x: Decimal, y: Decimal) -> float:
-    """theta = 2 atan2(sqrt(x/2), sqrt(y/2)) from exact x = 1 - u and y = 1 + u."""
-    return float(2.0 * np.arctan2(np.sqrt(0.5 * float(x)), np.sqrt(0.5 * float(y))))
+    """theta = 2 atan2(sqrt(x/2), sqrt(y/2)) from exact x = 1 - u and y = 1 + u.
+
+    The square roots are taken in decimal: x itself underflows float64 for theta below
+    1e-154 rad, its root does not.
+    """
+    with decimal.localcontext(_ctx()):
+        sx = (max(x, Decimal(0)) / 2).sqrt()
+        sy = (max(y, Decimal(0)) / 2).sqrt()
+    return float(2.0 * np.arctan2(float(sx), float(sy)))
 
 
 def _build(I1, I3, mgl, theta0, sh, ch, thetadot0, v0, w3, phi0, psi0, phidot0_user):  # noqa: N803

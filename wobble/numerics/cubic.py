@@ -9,8 +9,10 @@ fails exactly where the physics is interesting:
 
 * next to the vertical (nearly sleeping top, a top passing near the vertical)
   u1, u2 and u3 crowd at u = 1 and the digits of theta = arccos u are the digits
-  of 1 - u that a float u does not have (np.roots loses *all* digits of theta at
-  theta = 1e-8); next to the bottom the same happens at u = -1;
+  of 1 - u that a float u does not have (np.roots on the cubic in u returns
+  theta_min = 0 and theta_max 2.4 times too large for a top released at
+  theta0 = 1e-4 rad, see docs/heavy-top.md); next to the bottom the same
+  happens at u = -1;
 * for regular precession u1 = u2 is a double root: a perturbation eps of the
   coefficients moves it by sqrt(eps);
 * for a nearly free top (beta -> 0) u3 runs to infinity.
@@ -23,16 +25,25 @@ from the initial state without cancellation (see :class:`TopCubic`):
 
 so a root next to u = +1 (-1) is found as a small x (y) with full *relative*
 accuracy. All arithmetic is :mod:`decimal` at ``DIGITS`` digits from the exact
-float inputs. The initial point x0 brackets the two physical roots (g(0) = -B^2
-<= 0 <= g(x0) = sin^2 theta0 thetadot0^2 >= 0 >= g(2) = -C^2); they are found
-by safeguarded Newton (Newton steps kept inside a shrinking bracket, bisection
-otherwise) and the root nearer u = -1 is polished in y. When the top starts at a
-turning point (thetadot0 = 0) x0 is an exact root and the cubic is *deflated*
-by it analytically, leaving a quadratic in d = x - x0 whose roots are taken by
-the cancellation-free formula (a double root then splits linearly, not as a
-square root, in the rounding of the inputs). The unphysical root x3 = 1 - u3 <= 0
-comes from Vieta (product of the roots) and a Newton polish; for beta = 0 it is
-at -infinity and is reported as such.
+float inputs (:func:`top_roots`):
+
+* roots known exactly are divided out first -- x0 when the top starts at a turning
+  point (thetadot0 = 0; a double root, regular precession, then splits linearly
+  in the rounding of the inputs, not as a square root), x = 0 when b = a (through
+  the vertical), x = 2 when b = -a (through the bottom) -- and the quadratic left
+  is solved by the cancellation-free formula, a root much nearer a pole than the
+  divided-out one being recomputed from Vieta's product;
+* otherwise the initial point brackets the two physical roots (g(0) = -B^2 < 0 <
+  g(x0) = sin^2 theta0 thetadot0^2 > 0 > g(2) = -C^2, the middle value known
+  exactly rather than evaluated); each is found by safeguarded Newton (an iterate
+  is kept only strictly inside the shrinking bracket; bisection otherwise,
+  geometric across decades, so a root of 1e-400 is reached in a few dozen steps),
+  in x or in y by its hemisphere; the unphysical root x3 = 1 - u3 <= 0 follows from
+  Vieta (x1 x2 x3 = -B^2 / beta) and a polish; for beta = 0 it is at -infinity.
+
+Found the hard way (fuzzing): non-spinning pendulums (b = a = 0), tops 1e-200 rad
+from the vertical, beta of 1e-170, roots that coincide to working precision; each
+has a test or a guard here.
 
 References: W. H. Press et al., Numerical Recipes, 3rd ed., sections 5.6 and 9.4
 (stable quadratic, safeguarded Newton); course notes section 5.7.
