@@ -617,6 +617,9 @@ class HeavyTopModel:
         2 E'/I1 and 2 M g l / I1 (1/s^2).
     u1, u2, u3 : float
         Roots of f(u), u1 <= u2 <= 1 <= u3 (u3 = inf for M g l = 0).
+    x1, x2, x3 : float
+        The same roots as 1 - u_i, each rounded from its 60-digit value (so they keep
+        the digits that u_i loses next to the vertical; x3 = -inf for M g l = 0).
     theta_min, theta_max : float
         Turning angles (rad) of the motion: arccos u2 and arccos u1.
     nutation : str
