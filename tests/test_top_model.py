@@ -3,7 +3,7 @@
 Issue 5's requirements: turning points and the nutation period to 1e-12 relative, the
 exact motion to 1e-10 over 1000 nutation periods, and the hard cases: nearly sleeping
 (theta0 = 1e-6, 1e-4 rad), sleeping (theta0 = 0), regular precession, next to the
-separatrix (1 - m ~ 1e-9, 1e-13), very fast spin (psidot/phidot ~ 1e4), slow spin below
+separatrix (1 - m = 2.8e-9, 2.8e-15), very fast spin (psidot/phidot ~ 1e4), slow spin below
 the sleeping threshold, the three nutation classes, a hanging top, a nearly free top.
 """
 

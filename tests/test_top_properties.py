@@ -10,6 +10,7 @@ import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from wobble.errors import InputError
 from wobble.models.top import heavy_top, heavy_top_from_state
 from wobble.models.top_ode import integrate_top
 from wobble.numerics import quaternion as Q
@@ -30,11 +31,17 @@ tops = st.fixed_dictionaries(
 
 
 def build(p, **over):
+    """The top, or skip the example if it is the one documented refusal: a state within
+    1e-150 of the separatrix (e.g. released 1e-300 rad from an unstable vertical)."""
     p = {**p, **over}
-    return heavy_top(
-        p["I1"], p["ratio"] * p["I1"], p["mgl"], p["theta0"], p["thetadot0"], p["phidot0"],
-        omega3=p["omega3"], phi0=p["phi0"], psi0=p["psi0"],
-    )
+    try:
+        return heavy_top(
+            p["I1"], p["ratio"] * p["I1"], p["mgl"], p["theta0"], p["thetadot0"], p["phidot0"],
+            omega3=p["omega3"], phi0=p["phi0"], psi0=p["psi0"],
+        )
+    except InputError as exc:
+        assume(not (exc.parameter == "thetadot0" and "separatrix" in str(exc)))
+        raise
 
 
 def angle(q1, q2):

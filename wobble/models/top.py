@@ -69,7 +69,7 @@ from wobble.errors import InputError
 from wobble.numerics import cubic
 from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
-from wobble.numerics.phase import reduce_phase
+from wobble.numerics.phase import reduce_phase, split_dd
 
 __all__ = [
     "NUTATION_CLASSES",
@@ -85,6 +85,8 @@ __all__ = [
 NUTATION_CLASSES = ("undulating", "cusps", "loops", "regular", "sleeping")
 _EPS = float(np.finfo(float).eps)
 _TWO_PI_DD = hp.to_dd(2 * hp.PI)
+_TWO_PI_PIECES = split_dd(*_TWO_PI_DD)
+_TWO_PI_PIECES_SUM = float(2 * hp.PI)
 _DIGITS = cubic.DIGITS
 _BLOCK = 8192
 
@@ -259,6 +261,43 @@ class _Uniform:
 
 
 @dataclass(frozen=True)
+class _Secular:
+    """A secular phase Omega t + offset from the reduced nutation phase (no second pass over t).
+
+    With lambda t + w0 = 2K j + r (j an exact integer, |r| <= K),
+    Omega t = j A + c (r - w0), A = (2K Omega / lambda) mod 2 pi (to ~30 digits, split in three
+    floats so that j a1 and j a2 are exact for |j| < 2^26) and c = Omega / lambda. The product
+    j a1 is reduced modulo 2 pi by Cody-Waite before the small terms are added, so the error
+    is a few ulps of 2 pi whatever t is -- the bound of :func:`wobble.numerics.phase.reduce_phase`
+    at a third of its cost.
+    """
+
+    a: tuple[float, float, float]
+    c: float
+    offset: float
+
+    def __call__(self, j, r, w0):
+        a1, a2, a3 = self.a
+        z = j * a1  # exact
+        k = np.rint(z * (1.0 / _TWO_PI_PIECES_SUM))
+        z = ((z - k * _TWO_PI_PIECES[0]) - k * _TWO_PI_PIECES[1]) - k * _TWO_PI_PIECES[2]
+        return z + (j * a2 + (j * a3 + (self.c * (r - w0) + self.offset)))
+
+
+def _secular(rate: Decimal, lam: Decimal, kdec: Decimal, offset) -> _Secular:
+    """The :class:`_Secular` of a phase rate (rad/s) for nutation rate lambda and quarter period K."""
+    with decimal.localcontext(_ctx()):
+        two_pi = 2 * hp.PI
+        adv = 2 * kdec * rate / lam
+        adv = adv - two_pi * (adv / two_pi).to_integral_value()
+        hi, lo = hp.to_dd(adv)
+        # split_dd cannot split below the normal range; j times such an advance is far
+        # below rounding anyway.
+        pieces = split_dd(hi, lo) if abs(hi) > 1e-280 else (0.0, 0.0, hi + lo)
+        return _Secular(a=pieces, c=_f(rate / lam), offset=float(offset))
+
+
+@dataclass(frozen=True)
 class _Elliptic:
     """Nutating top: u(t) by Jacobi functions, phi and psi by Pi(n; am w | m).
 
@@ -300,10 +339,8 @@ class _Elliptic:
     k_minus: float  # C / (2 lambda y1): sigma = ... + k_minus P_-(w)
     p_plus0: float
     p_minus0: float
-    sigma_rate: tuple[float, float]
-    delta_rate: tuple[float, float]
-    sigma0: float
-    delta0: float
+    sigma_sec: _Secular
+    delta_sec: _Secular
     levels: object = field(repr=False, compare=False)
 
     def phase(self, t):
@@ -369,10 +406,8 @@ class _Elliptic:
         phidot = 0.5 * (bx + cy)
         psidot = (self.omega3 - self.a) - 0.5 * (bx - cy)
         p_plus, p_minus = self._periodic(r, sn, cn, dn)
-        sig, _ = reduce_phase(t, self.sigma_rate, _TWO_PI_DD, self.sigma0)
-        dlt, _ = reduce_phase(t, self.delta_rate, _TWO_PI_DD, self.delta0)
-        sig = sig + self.k_minus * (p_minus - self.p_minus0)
-        dlt = dlt + self.k_plus * (p_plus - self.p_plus0)
+        sig = self.sigma_sec(j, r, self.w0) + self.k_minus * (p_minus - self.p_minus0)
+        dlt = self.delta_sec(j, r, self.w0) + self.k_plus * (p_plus - self.p_plus0)
         x = self.x1 * (sx * sx)
         y = self.y2 * (sy * sy)
         u = np.where(x <= 1.0, 1.0 - x, y - 1.0)
@@ -452,22 +487,22 @@ class _Fourier:
 
     def angles_core(self, t):
         e = self.base
-        r, _ = e.phase(t)
+        r, j = e.phase(t)
         theta, sp, dp = self.series(r, (0, 1, 2))
-        sig, _ = reduce_phase(t, e.sigma_rate, _TWO_PI_DD, e.sigma0)
-        dlt, _ = reduce_phase(t, e.delta_rate, _TWO_PI_DD, e.delta0)
+        sig = e.sigma_sec(j, r, e.w0)
+        dlt = e.delta_sec(j, r, e.w0)
         return theta, sig + (sp - e.k_minus * e.p_minus0), dlt + (dp - e.k_plus * e.p_plus0)
 
     def core(self, t):
         e = self.base
-        r, _ = e.phase(t)
+        r, j = e.phase(t)
         theta, sp, dp, dth = self.series(r, (0, 1, 2, 3))
         half = 0.5 * theta
         sh, ch = np.sin(half), np.cos(half)
         x, y = 2.0 * sh * sh, 2.0 * ch * ch
         bx, cy = e.B / x, e.C / y
-        sig, _ = reduce_phase(t, e.sigma_rate, _TWO_PI_DD, e.sigma0)
-        dlt, _ = reduce_phase(t, e.delta_rate, _TWO_PI_DD, e.delta0)
+        sig = e.sigma_sec(j, r, e.w0)
+        dlt = e.delta_sec(j, r, e.w0)
         return dict(
             sh=sh, ch=ch, sigma=sig + (sp - e.k_minus * e.p_minus0), delta=dlt + (dp - e.k_plus * e.p_plus0),
             thetadot=e.lam[0] * dth, phidot=0.5 * (bx + cy), psidot=(e.omega3 - e.a) - 0.5 * (bx - cy),
@@ -972,19 +1007,22 @@ def _build(I1, I3, mgl, theta0, sh, ch, thetadot0, v0, w3, phi0, psi0, phidot0_u
         e0 = 2 * u0 * v0 * v0 + beta * s0 * s0 - 2 * a * v0 * s0  # g'(x0) when thetadot0 = 0
         e0_scale = 2 * abs(u0) * v0 * v0 + beta * s0 * s0 + 2 * abs(a * v0 * s0)
         uniform = None
+        # Regular precession to rounding (the bracket of df/du vanishes within the rounding of
+        # the inputs): reported as such (u1 = u2 = u0, m = 0), but the motion keeps the
+        # exact, tiny nutation of the given floats, so the phases stay exact over long spans.
+        regular = thetadot0 == 0 and abs(e0) <= 16 * Decimal(_EPS) * e0_scale
         if thetadot0 == 0 and x0 == 0:
             uniform = "sleeping"
         elif thetadot0 == 0 and y0 == 0:
             uniform = "regular"  # hanging straight down, spinning
         elif roots.x1 - roots.x2 <= Decimal(10) ** (-_DIGITS + 8) * roots.x1:
             uniform = "regular"  # a nutation below the working precision of the roots
-        # Regular precession to rounding (the bracket of df/du vanishes within the rounding of
-        # the inputs): reported as such (u1 = u2 = u0, m = 0), but the motion keeps the
-        # exact, tiny nutation of the given floats, so the phases stay exact over long spans.
-        elif roots.beta_gap <= 0:
-            raise InputError("thetadot0", _f(thetadot0), "an initial state off the separatrix (the motion would "
-                             "approach an unstable equilibrium for ever; 1 - m = 0)")
-        regular = thetadot0 == 0 and abs(e0) <= 16 * Decimal(_EPS) * e0_scale
+        elif roots.beta_gap <= 0 or roots.beta_span <= 0 or roots.beta_gap < Decimal("1e-150") * roots.beta_span:
+            if regular:  # e.g. at rest without gravity (f vanishes identically): nothing moves
+                uniform = "regular"
+            elif roots.beta_gap <= 0:
+                raise InputError("thetadot0", _f(thetadot0), "an initial state off the separatrix (the motion "
+                                 "would approach an unstable equilibrium for ever; 1 - m = 0)")
         common = dict(
             I1=I1, I3=I3, mgl=mgl, theta0=theta0, thetadot0=_f(thetadot0), phi0=_f(phi0), psi0=_f(psi0),
             omega3=_f(w3), a=_f(a), b=_f(b), p_psi=_f(i3 * w3), p_phi=_f(i1 * b), energy=_f(energy),
@@ -1145,8 +1183,8 @@ def _elliptic_model(common, cub, roots, x0, y0, thetadot0, w3, a, sigma0, delta0
             nu_minus=_f(width / y1) if not bottom else 0.0, pi_plus_over_k=_f(pi_plus / kdec),
             pi_minus_over_k=_f(pi_minus / kdec),
             k_plus=_f(b_eff / (2 * lam * x1)), k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
-            sigma_rate=hp.to_dd(sigma_rate), delta_rate=hp.to_dd(delta_rate),
-            sigma0=_f(sigma0), delta0=_f(delta0), levels=levels,
+            sigma_sec=_secular(sigma_rate, lam, kdec, sigma0), delta_sec=_secular(delta_rate, lam, kdec, delta0),
+            levels=levels,
         )
         # The periodic parts at t = 0, through the very path the evaluation takes (so that
         # the attitude at t = 0 is q0 to the last bit).
