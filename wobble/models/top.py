@@ -531,9 +531,12 @@ def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
         return None
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
-
     sample = e.periodic_of_r
-
+    # Check points between the nodes (phases offset by an irrational fraction of the spacing).
+    m = 41
+    vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
+    r_check = vt * (k / np.pi)
+    want = sample(r_check)
     for n in (64, 128, 256, _FOURIER_MAX_N):
         vt = 2 * np.pi * np.arange(n) / n
         vt = np.where(vt > np.pi, vt - 2 * np.pi, vt)
@@ -541,10 +544,20 @@ def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
         spectra = [np.fft.rfft(v) / n for v in vals]
         scales = [max(float(np.max(np.abs(v))), 1e-300) for v in vals]
         scales[1] = scales[2] = max(1.0, scales[1], scales[2])  # phases: absolute (rad)
-        if all(np.max(np.abs(sp[n // 4 :])) <= noise * sc for sp, sc in zip(spectra, scales)):
-            break
-    else:
-        return None
+        # Aliasing folds c_{n-k} onto c_k: only the top of the band must be at rounding
+        # level; the check against the direct evaluation below decides.
+        if not all(np.max(np.abs(sp[7 * n // 16 :])) <= noise * sc for sp, sc in zip(spectra, scales)):
+            continue
+        fo = _fourier_from_spectra(e, spectra, scales, k)
+        if fo is None:
+            return None  # too long a series: the direct path is about as fast
+        checked = _check_fourier(fo, r_check, want, scales[3], est, k)
+        if checked is not None:
+            return checked
+    return None
+
+
+def _fourier_from_spectra(e, spectra, scales, k):
     kinds = ("cos", "sin", "sin", "sin")
     rows = []
     for sp, kind in zip(spectra, kinds):
@@ -558,27 +571,29 @@ def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
     big = np.maximum.reduce([np.abs(c) / sc for c, sc in zip(rows, scales)])
     keep = np.nonzero(big > 0.25 * _EPS)[0]
     last = int(keep.max()) if keep.size else 1
-    if last > _FOURIER_MAX_TERMS:  # the direct path is about as fast; keep its accuracy
+    if last > _FOURIER_MAX_TERMS:
         return None
     coef = np.stack([c[: last + 1] for c in rows])
     scale = np.pi / k
-    m = 97
-    vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
-    r = vt * (k / np.pi)
-    want = sample(r)
     nodes = 1 << max(8, int(np.ceil(np.log2(32 * (last + 1)))))
-    while nodes <= _TAYLOR_MAX_NODES:
-        table = _taylor_table(coef, kinds, nodes, scale)
-        fo = _Fourier(base=e, coef=coef, kinds=kinds, scale=scale, table=table, h=2 * k / nodes,
-                      error_theta=0.0, error_phase=0.0)
-        # Verify between the nodes (phases offset by an irrational fraction of the spacing).
+    return _Fourier(base=e, coef=coef, kinds=kinds, scale=scale, table=_taylor_table(coef, kinds, nodes, scale),
+                    h=2 * k / nodes, error_theta=0.0, error_phase=0.0)
+
+
+def _check_fourier(fo, r, want, dscale, est, k):
+    """The table if it reproduces the direct values within the error estimate (finer tables
+    are tried first); None otherwise."""
+    while fo.table.shape[2] <= _TAYLOR_MAX_NODES:
         got = fo.series(r, (0, 1, 2, 3))
         err_t = float(np.max(np.abs(got[0] - want[0])))
         err_p = max(float(np.max(np.abs(got[1] - want[1]))), float(np.max(np.abs(got[2] - want[2]))))
-        err_d = float(np.max(np.abs(got[3] - want[3]))) / scales[3]
+        err_d = float(np.max(np.abs(got[3] - want[3]))) / dscale
         if err_t <= est["theta_rad"] and err_p <= est["attitude_rad"] and err_d <= 64 * _EPS * (1 + k):
             return replace(fo, error_theta=err_t, error_phase=err_p)
-        nodes *= 2
+        nodes = 2 * fo.table.shape[2]
+        if nodes > _TAYLOR_MAX_NODES:
+            break
+        fo = replace(fo, table=_taylor_table(fo.coef, fo.kinds, nodes, fo.scale), h=fo.h / 2)
     return None
 
 
