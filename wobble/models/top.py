@@ -536,11 +536,16 @@ def _build_fourier(e: _Elliptic, est: dict) -> _Fourier | None:
     m = 41
     vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
     r_check = vt * (k / np.pi)
-    want = sample(r_check)
+    want = None
     for n in (64, 128, 256, _FOURIER_MAX_N):
         vt = 2 * np.pi * np.arange(n) / n
         vt = np.where(vt > np.pi, vt - 2 * np.pi, vt)
-        vals = sample(vt * (k / np.pi))
+        if want is None:  # nodes and check points in one pass of the direct path
+            both = sample(np.concatenate([vt * (k / np.pi), r_check]))
+            vals = [v[:n] for v in both]
+            want = [v[n:] for v in both]
+        else:
+            vals = sample(vt * (k / np.pi))
         spectra = [np.fft.rfft(v) / n for v in vals]
         scales = [max(float(np.max(np.abs(v))), 1e-300) for v in vals]
         scales[1] = scales[2] = max(1.0, scales[1], scales[2])  # phases: absolute (rad)
