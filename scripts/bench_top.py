@@ -180,6 +180,7 @@ def main(argv=None):
     reps_slow = 1 if args.quick else 3
     rows = []
     summary = []
+    split = []
     for label, refname, kw in CASES:
         ref = REF[refname]
         mdl = heavy_top(I1, I3, MGL, omega3=OMEGA3, **kw)
@@ -220,8 +221,9 @@ def main(argv=None):
         rows.append((label, "wobble exact: theta, phi, psi (model built)", fast["eval"], w_turn, w_traj, "-"))
         rows.append((label, "wobble exact: omega and quaternion (model built)", fast["state"], w_turn, w_traj, "-"))
         rows.append((label, f"solve_ivp DOP853 rtol 1e-12 ({kind} equations)", slow["dop853"], d_turn, d_traj, f"{d_dev:.1e}"))
-        summary.append((label, ratio, slow["dop853"][0] / fast["eval"][0], w_turn, d_turn, w_traj, d_traj,
-                        type(mdl.evaluator(t.size)).__name__.strip("_").lower()))
+        summary.append((label, ratio, slow["dop853"][1] / fast["angles"][1], slow["dop853"][0] / fast["eval"][0],
+                        w_turn, d_turn, w_traj, d_traj, type(mdl.evaluator(t.size)).__name__.strip("_").lower()))
+        split.append((fast["angles"][0], fast["eval"][0]))
         print(f"{label}: DOP853 {slow['dop853'][0]:.3g} s, wobble {fast['angles'][0] * 1e3:.3g} ms "
               f"(ratio {ratio:.0f}); turning points {w_turn:.1e} vs {d_turn:.1e}; attitude {w_traj:.1e} vs {d_traj:.1e}",
               flush=True)
@@ -269,18 +271,32 @@ def main(argv=None):
               "| case | class | turning points | period | attitude, ode (direct / fourier) | attitude, 1000 periods (direct / fourier) |",
               "|---|---|---|---|---|---|"]
     lines += accuracy_rows()
-    lines += ["", "## Speed ratios (DOP853 time / wobble time, minima)", "",
-              "| case | wobble path | incl. construction | evaluation only | wobble turning / attitude error | DOP853 turning / attitude error |",
-              "|---|---|---|---|---|---|"]
+    lines += ["", "## Speed ratios (DOP853 time / wobble time)", "",
+              "| case | wobble path | incl. construction (minima) | incl. construction (medians) | evaluation only (minima) "
+              "| wobble turning / attitude error | DOP853 turning / attitude error |",
+              "|---|---|---|---|---|---|---|"]
     met = True
-    for label, ratio, ratio_eval, wt, dt, wa, da, path in summary:
-        lines.append(f"| {label} | {path} | {ratio:.0f}x | {ratio_eval:.0f}x | {wt:.1e} / {wa:.1e} | {dt:.1e} / {da:.1e} |")
+    met_median = True
+    for label, ratio, ratio_med, ratio_eval, wt, dt, wa, da, path in summary:
+        lines.append(f"| {label} | {path} | {ratio:.0f}x | {ratio_med:.0f}x | {ratio_eval:.0f}x | {wt:.1e} / {wa:.1e} "
+                     f"| {dt:.1e} / {da:.1e} |")
         met = met and ratio >= 1000 and wt <= dt and wa <= da
+        met_median = met_median and ratio_med >= 1000
     lines += [
         "",
         "Issue-8 target: at least 1000 times faster than DOP853 at rtol 1e-12, at equal or better error. "
-        + ("Met on every case above (construction included)." if met else
-           "Not met on every case (see the ratios): the ratio is given above as measured."),
+        + ("Met on every case above on the minima (construction included)" if met else
+           "Not met on every case on the minima (see the ratios, as measured)")
+        + ("; also on the medians." if met_median else
+           "; on the medians, which the other jobs on this shared 2-core machine inflate (mostly "
+           "for the millisecond-long wobble runs), some cases fall short: see the column.")
+        + (" Why: of wobble's "
+           f"{1e3 * min(a for a, _ in split):.1f}-{1e3 * max(a for a, _ in split):.1f} ms, the evaluation of the "
+           f"20,001 outputs takes {1e3 * min(e for _, e in split):.1f}-{1e3 * max(e for _, e in split):.1f} ms "
+           "(evaluation alone is well above 1000x); the rest is the construction: the analysis in 60-digit "
+           "decimal arithmetic (roots, K, the complete Pi, the secular rates) and the Fourier table of the "
+           "periodic parts with its check against the direct evaluation, both fixed costs per top in "
+           "Python/NumPy." if not met else ""),
         "",
         "wobble's path: 'fourier' = the verified Fourier series of the periodic parts (used from 1024 "
         "outputs on, where it reproduces the direct evaluation to rounding); 'elliptic' = Jacobi "
