@@ -47,6 +47,7 @@ from wobble.api.polar_motion import (  # noqa: E402
     load_polar_motion,
     polar_motion_analysis,
 )
+from wobble.api.top import HeavyTop  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -80,4 +81,5 @@ __all__ = [
     "ChandlerEstimate",
     "PolarMotionAnalysis",
     "QualityFactorEstimate",
+    "HeavyTop",
 ]

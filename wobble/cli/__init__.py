@@ -20,7 +20,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "sweep")
+SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "sweep")
 
 EPILOG = """\
 examples:
@@ -32,6 +32,8 @@ examples:
                                         inertia tensor, principal axes, classification
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc
                                         exact torque-free motion, to a CF netCDF file
+  wobble top --I1 1 --I3 0.5 --mgl 1 --theta0 "60 deg" --omega3 10 --json
+                                        the heavy top: turning points, nutation class, period
   wobble sweep mars_chandler -o mars.nc Monte Carlo over Mars' uncertain parameters (dask)
 
 Numbers without units are SI; days are days of 86400 s. Run

@@ -59,6 +59,7 @@ __all__ = [
     "landen_levels",
     "LandenLevels",
     "pi_negative_scd",
+    "pi_positive_scd",
     "reduce_half_period",
 ]
 
@@ -208,6 +209,28 @@ def pi_negative_scd(nu, s, c, d2, m1):
             if np.any(m1 > 0):
                 rj = _sp.elliprj(c2, d2, 1.0, np.where(q > 0, q, 1.0))
                 out = out + np.where(m1 * s > 0, nu * m1 * s * s2 * rj, 0.0) / (3.0 * (1.0 + nu) ** 2)
+    return sign * out
+
+
+def pi_positive_scd(n, one_minus_n, s, c, d2):
+    """Pi(n; phi | m) for 0 <= n < 1 from s = sin phi, c = cos phi >= 0, d2 = 1 - m s^2.
+
+    DLMF 19.25.14 with positive terms only, ``s R_F(c^2, d2, 1) + (n/3) s^3
+    R_J(c^2, d2, 1, p)``, where the caller supplies ``1 - n`` exactly so that
+    ``p = 1 - n s^2 = c^2 + (1 - n) s^2`` is formed without cancellation: n next to
+    1 (a heavy top whose axis passes next to the vertical) keeps full relative
+    accuracy, the integrand's near-pole at phi = pi/2 included.
+    """
+    sign = np.sign(s)
+    s = np.abs(s)
+    c2 = c * c
+    s2 = s * s
+    p = c2 + one_minus_n * s2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = s * _sp.elliprf(c2, d2, 1.0)
+        if n > 0:
+            rj = _sp.elliprj(c2, d2, 1.0, np.where(p > 0, p, 1.0))
+            out = out + np.where(s > 0, (n / 3.0) * s * s2 * rj, 0.0)
     return sign * out
 
 

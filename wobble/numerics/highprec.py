@@ -15,7 +15,7 @@ import decimal
 from decimal import Decimal
 from fractions import Fraction
 
-__all__ = ["DIGITS", "PI", "context", "dec", "to_dd", "sqrt", "agm_k", "cel", "exact"]
+__all__ = ["DIGITS", "PI", "context", "dec", "to_dd", "sqrt", "agm_k", "cel", "exact", "sin_cos"]
 
 DIGITS = 50
 # pi to 60 digits (a constant: decimal has no trigonometry).
@@ -101,3 +101,49 @@ def cel(kc, p, a, b) -> Decimal:
             qc = qc + qc
             e = qc * em
         return (PI / 2) * (b + a * em) / (em * (em + p))
+
+
+def _sin_cos_series(x: Decimal, prec: int) -> tuple[Decimal, Decimal]:
+    """Taylor series of sin and cos for |x| <= pi/4 at ``prec`` digits."""
+    with decimal.localcontext(decimal.Context(prec=prec + 5)):
+        x2 = x * x
+        tol = Decimal(10) ** (-prec - 3)
+        s_term, c_term = x, Decimal(1)
+        s_sum, c_sum = x, Decimal(1)
+        k = 1
+        while abs(s_term) > tol or abs(c_term) > tol:
+            c_term = -c_term * x2 / ((2 * k - 1) * (2 * k))
+            s_term = -s_term * x2 / ((2 * k) * (2 * k + 1))
+            c_sum += c_term
+            s_sum += s_term
+            k += 1
+    return +s_sum, +c_sum
+
+
+def sin_cos(x, prec: int = DIGITS) -> tuple[Decimal, Decimal]:
+    """sin x and cos x of an exact float (or Decimal) x in [-pi, pi], to ``prec`` digits.
+
+    The argument is folded to |x| <= pi/4 with the 60-digit ``PI`` (sin(pi/2 - h) =
+    cos h, ...), so both results keep their *relative* accuracy near their zeros
+    (cos(pi/2 - 1e-17) = 1e-17 to ``prec`` digits), as needed for a top next to the
+    vertical or the horizontal. Taylor series; no third-party dependency.
+    """
+    with decimal.localcontext(decimal.Context(prec=prec + 10)):
+        d = x if isinstance(x, Decimal) else Decimal(exact(x).numerator) / Decimal(exact(x).denominator)
+        if abs(d) > PI * (1 + Decimal(10) ** -40):
+            raise ValueError("sin_cos takes |x| <= pi")
+        sign = -1 if d < 0 else 1
+        d = abs(d)
+        half_pi = PI / 2
+        quarter_pi = PI / 4
+        # Fold to [0, pi/2]: sin(pi - d) = sin d, cos(pi - d) = -cos d.
+        c_sign = 1
+        if d > half_pi:
+            d = PI - d
+            c_sign = -1
+        if d <= quarter_pi:
+            s, c = _sin_cos_series(d, prec)
+        else:
+            c, s = _sin_cos_series(half_pi - d, prec)
+    with decimal.localcontext(decimal.Context(prec=prec)):
+        return +(sign * s), +(c_sign * c)

@@ -95,4 +95,13 @@ def reduce_phase(t, rate, period, offset: float = 0.0):
     j = np.rint((x + lo) / period[0])
     p1, p2, p3 = split_dd(*period)
     r = ((x - j * p1) - j * p2) + (lo - j * p3)
+    # rint of the rounded quotient can miss by one near r = +-period/2 (by up to
+    # |j| eps period): step back inside, so that |r| <= period/2 holds as stated.
+    # (Callers such as Pi(n; am r | m) from sn and |cn| are not periodic beyond it.)
+    half = 0.5 * period[0]
+    over = r > half
+    under = r < -half
+    if np.any(over) or np.any(under):
+        r = np.where(over, ((r - p1) - p2) - p3, np.where(under, ((r + p1) + p2) + p3, r))
+        j = j + over - under
     return r, j

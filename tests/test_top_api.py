@@ -1,0 +1,297 @@
+"""HeavyTop (Quantities, duck-typed bodies, Dataset, netCDF) and `wobble top` on the command line."""
+
+from __future__ import annotations
+
+import json
+
+import astropy.units as u
+import numpy as np
+import pytest
+import xarray as xr
+
+import wobble
+from wobble import HeavyTop, InputError
+from wobble.cli import main
+from wobble.io.netcdf import SIMULATION_TIME_UNITS, open_wobble, write_netcdf
+from wobble.models.top import heavy_top
+
+KGM2 = u.kg * u.m**2
+RAD_S = u.rad / u.s
+
+
+def issue8_top(**kw):
+    base = dict(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
+    base.update(kw)
+    return HeavyTop(**base)
+
+
+def test_public_name():
+    assert "HeavyTop" in wobble.__all__
+
+
+def test_analysis_properties_carry_units():
+    top = issue8_top()
+    assert top.nutation == "cusps"
+    assert top.nutation_period.unit == u.s
+    assert top.theta_min.to_value(u.deg) == pytest.approx(60.0, rel=1e-15)
+    assert top.theta_max.unit == u.deg and top.theta_max > top.theta_min
+    assert top.a.to_value(1 / u.s) == 5.0 and top.beta.to_value(u.s**-2) == 2.0
+    assert top.p_psi.to(u.kg * u.m**2 / u.s).value == 5.0
+    assert top.energy_prime.to_value(u.J) == pytest.approx(0.5, rel=1e-15)
+    u1, u2, u3 = top.roots
+    assert u1 < u2 <= 1 < u3
+    assert top.f([u1, u2]).unit == u.s**-2
+    assert np.all(np.abs(top.f([u1, u2]).value) < 1e-14)
+    slow, fast = top.regular_precession_rates()
+    assert slow.unit == RAD_S and 0 < slow < fast
+    # The slow rate ~ M g l / (I3 omega3), the fast ~ I3 omega3 / (I1 cos theta) (notes p. 72).
+    assert slow.value == pytest.approx(1 / 5, rel=0.03) and fast.value == pytest.approx(10, rel=0.03)
+    assert top.sleeping_stable
+    v = top.effective_potential([30, 60, 90] * u.deg)
+    assert v.unit == u.J and np.all(np.isfinite(v.value))
+    # At the turning points V'(theta) = E' (thetadot = 0 there).
+    turning = top.effective_potential(u.Quantity([top.theta_min, top.theta_max]))
+    np.testing.assert_allclose(turning.to_value(u.J), top.energy_prime.to_value(u.J), rtol=1e-13)
+
+
+def test_units_and_spellings_give_the_same_top():
+    a = issue8_top()
+    b = HeavyTop(I1=1e7 * u.g * u.cm**2, I3=5e6 * u.g * u.cm**2, mgl=1 * u.N * u.m,
+                 theta0=(np.pi / 3) * u.rad, omega3=(10 * RAD_S).to(u.deg / u.s))
+    assert b.nutation_period.value == pytest.approx(a.nutation_period.value, rel=1e-14)
+    # psidot0 instead of omega3: omega3 = psidot0 + phidot0 cos theta0.
+    c = issue8_top(omega3=None, psidot0=10 * RAD_S - 0.3 * RAD_S * np.cos(np.pi / 3), phidot0=0.3 * RAD_S)
+    d = issue8_top(phidot0=0.3 * RAD_S)
+    assert c.nutation_period.value == pytest.approx(d.nutation_period.value, rel=1e-14)
+    # M, l, g instead of mgl (g defaults to standard gravity).
+    e = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, M=0.5 * u.kg, l=0.2 * u.m, theta0=60 * u.deg, omega3=10 * RAD_S)
+    assert e.mgl.to_value(u.J) == pytest.approx(0.5 * 9.80665 * 0.2, rel=1e-15)
+
+
+class _StandIn:
+    """A stand-in for the bodies library's RigidBody about its tip (duck typing)."""
+
+    def __init__(self, mass, com, ref, tensor):
+        self.mass = mass * u.kg
+        self.center_of_mass = np.asarray(com, dtype=float) * u.m
+        self.reference_point = np.asarray(ref, dtype=float) * u.m
+        self.tensor = np.asarray(tensor, dtype=float) * KGM2
+
+
+def test_body_by_duck_typing():
+    """A disc on an axle about its tip: I1, I3, M, l read from mass, com, reference point, tensor."""
+    m, l, i1, i3 = 0.3, 0.05, 2.0e-4, 1.5e-4  # noqa: E741
+    body = _StandIn(m, [0, 0, l], [0, 0, 0], np.diag([i1, i1, i3]))
+    top = HeavyTop(body=body, theta0=20 * u.deg, omega3=100 * RAD_S)
+    assert top.I1.value == pytest.approx(i1, rel=1e-15) and top.I3.value == pytest.approx(i3, rel=1e-15)
+    assert top.mgl.to_value(u.J) == pytest.approx(m * 9.80665 * l, rel=1e-15)
+    ref = HeavyTop(I1=i1 * KGM2, I3=i3 * KGM2, mgl=m * 9.80665 * l * u.J, theta0=20 * u.deg, omega3=100 * RAD_S)
+    assert top.nutation_period.value == pytest.approx(ref.nutation_period.value, rel=1e-14)
+    # The same body turned in its input frame (axis along x) and shifted: still the same top.
+    rot = np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0]], dtype=float)
+    turned = _StandIn(m, rot @ [0, 0, l] + 1.0, [1.0, 1.0, 1.0], rot @ np.diag([i1, i1, i3]) @ rot.T)
+    t2 = HeavyTop(body=turned, theta0=20 * u.deg, omega3=100 * RAD_S)
+    assert t2.nutation_period.value == pytest.approx(ref.nutation_period.value, rel=1e-13)
+
+
+def test_body_from_the_bodies_library():
+    """RigidBody.spinning_top about its tip: I1, I3, M, l match the hand-worked parallel axes."""
+    from wobble import RigidBody
+
+    md, rd, ma, la, h = 0.2, 0.03, 0.02, 0.06, 0.04
+    body = RigidBody.spinning_top(md * u.kg, rd * u.m, ma * u.kg, la * u.m, h * u.m).shifted_to("origin")
+    top = HeavyTop(body=body, g=9.81 * u.m / u.s**2, theta0=30 * u.deg, omega3=200 * RAD_S)
+    # Thin disc (I = m r^2/4 about a diameter) at height h; thin rod from 0 to la about its end.
+    i1 = md * rd**2 / 4 + md * h**2 + ma * la**2 / 3
+    i3 = md * rd**2 / 2
+    mass = md + ma
+    ell = (md * h + ma * la / 2) / mass
+    assert top.I1.to_value(KGM2) == pytest.approx(i1, rel=1e-14)
+    assert top.I3.to_value(KGM2) == pytest.approx(i3, rel=1e-14)
+    assert top.mgl.to_value(u.J) == pytest.approx(mass * 9.81 * ell, rel=1e-14)
+
+
+@pytest.mark.parametrize(
+    "body, match",
+    [
+        (_StandIn(1.0, [0, 0, 0.1], [0, 0, 0], np.diag([1.0, 2.0, 0.5])), "symmetric"),
+        (_StandIn(1.0, [0, 0, 0], [0, 0, 0], np.diag([1.0, 1.0, 0.5])), "off the fixed point"),
+        (object(), "rigid body with mass"),
+    ],
+)
+def test_bad_bodies(body, match):
+    with pytest.raises(InputError, match=match):
+        HeavyTop(body=body, theta0=10 * u.deg, omega3=1 * RAD_S)
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(I1=0 * KGM2), "I1"),
+        (dict(I1=-1 * KGM2), "I1"),
+        (dict(I3=0 * KGM2), "I3"),
+        (dict(I3=3 * KGM2), "I3"),
+        (dict(mgl=-1 * u.J), "mgl"),
+        (dict(theta0=200 * u.deg), "theta0"),
+        (dict(theta0=-1 * u.deg), "theta0"),
+        (dict(theta0=60), "theta0"),
+        (dict(thetadot0=np.nan * RAD_S), "thetadot0"),
+        (dict(phidot0=1 * u.m), "phidot0"),
+        (dict(psidot0=1 * RAD_S), "omega3, psidot0"),
+        (dict(omega3=None), "omega3, psidot0"),
+        (dict(mgl=None, M=1 * u.kg, l=2 * u.m), "I1"),  # I1 = 1 < M l^2 = 4: not about the tip
+        (dict(mgl=1 * u.J, M=1 * u.kg, l=1 * u.m), "mgl"),
+        (dict(I1=1 * u.kg), "I1"),
+    ],
+)
+def test_bad_input_names_the_parameter(kwargs, name):
+    with pytest.raises(InputError) as err:
+        issue8_top(**kwargs)
+    assert err.value.parameter == name
+    assert str(err.value).startswith(name)
+
+
+def test_dataset_layout_and_conservation():
+    top = issue8_top(phidot0=-0.3 * RAD_S, thetadot0=0.1 * RAD_S, phi0=10 * u.deg)
+    ds = top.to_dataset(t_end=20 * u.s, samples=2001)
+    assert {"theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "attitude", "symmetry_axis",
+            "energy", "energy_drift", "p_phi", "p_phi_drift", "p_psi", "p_psi_drift"} == set(ds.data_vars)
+    assert ds.omega.dims == ("time", "axis") and ds.symmetry_axis.dims == ("time", "space_axis")
+    assert ds.time.attrs["units"] == SIMULATION_TIME_UNITS and ds.time.dtype == np.float64
+    for name, var in ds.variables.items():
+        assert "long_name" in var.attrs, name
+        if name not in ("axis", "space_axis", "component"):
+            assert "units" in var.attrs, name
+    assert float(ds.theta[0]) == pytest.approx(np.pi / 3, rel=1e-15)
+    assert float(ds.phi[0]) == pytest.approx(np.radians(10), rel=1e-14)
+    e_scale = float(top.energy.to_value(u.J))
+    assert float(abs(ds.energy_drift).max()) < 1e-13 * e_scale
+    assert float(abs(ds.p_phi_drift).max()) < 1e-13 * float(top.p_psi.value)
+    assert float(abs(ds.p_psi_drift).max()) < 1e-14 * float(top.p_psi.value)
+    th = ds.theta.values
+    assert th.min() >= top.model.theta_min * (1 - 1e-13) and th.max() <= top.model.theta_max * (1 + 1e-13)
+    # The axis trace is on the unit sphere and makes the notes' angle with the vertical.
+    np.testing.assert_allclose(np.linalg.norm(ds.symmetry_axis, axis=1), 1, rtol=1e-14)
+    np.testing.assert_allclose(ds.symmetry_axis.sel(space_axis="z"), np.cos(th), atol=1e-15)
+    assert ds.attrs["nutation"] == "loops"
+    # Explicit times (motion) give the same values.
+    again = top.motion(ds.time.values * u.s)
+    xr.testing.assert_allclose(again.theta, ds.theta, rtol=1e-15, atol=0)
+
+
+def test_netcdf_round_trip(tmp_path, assert_cf_compliant):
+    top = issue8_top(theta0=1e-6 * u.rad)
+    ds = top.to_dataset(t_end=30 * u.s, samples=3001)
+    path = write_netcdf(ds, tmp_path / "top.nc")
+    back = open_wobble(path)
+    for key in ("history", "Conventions", "source", "institution"):
+        back.attrs.pop(key, None)
+    xr.testing.assert_identical(back, ds)
+    assert_cf_compliant(path)
+
+
+def test_from_state_matches_euler_angle_construction():
+    top = issue8_top(phidot0=0.3 * RAD_S, thetadot0=-0.2 * RAD_S)
+    w, q = top.model.evaluate(np.array([0.0]))
+    again = HeavyTop.from_state(w[0] * RAD_S, q[0], I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J)
+    assert again.nutation_period.value == pytest.approx(top.nutation_period.value, rel=1e-14)
+    assert again.nutation == top.nutation
+
+
+def test_summary_has_the_cli_keys():
+    s = issue8_top().summary()
+    for key in ("u1", "u2", "u3", "theta_min_deg", "theta_max_deg", "nutation", "nutation_period_s",
+                "mean_precession_rate_rad_s", "sleeping_stable"):
+        assert key in s
+    json.dumps(s)  # plain numbers only
+
+
+def test_memory_and_time_requests():
+    top = issue8_top()
+    with pytest.raises(InputError, match="samples"):
+        top.to_dataset(t_end=1 * u.s, samples=10**15)
+    with pytest.raises(InputError, match="samples"):
+        top.to_dataset(t_end=1 * u.s, samples=0)
+    with pytest.raises(InputError, match="either"):
+        top.to_dataset()
+
+
+# --- command line ------------------------------------------------------------
+def test_cli_json(capsys):
+    status = main(["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60 deg", "--omega3", "10", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert status == 0
+    mdl = heavy_top(1.0, 0.5, 1.0, np.radians(60.0), omega3=10.0)
+    assert out["nutation"] == "cusps" and out["sleeping_stable"] is True
+    assert out["u1"] == mdl.u1 and out["u2"] == mdl.u2 and out["u3"] == mdl.u3
+    assert out["theta_min_deg"] == pytest.approx(60.0, rel=1e-15)
+    assert out["nutation_period_s"] == mdl.nutation_period
+    assert out["mean_precession_rate_rad_s"] == mdl.mean_precession_rate
+
+
+def test_cli_sleeping_and_units(capsys):
+    assert main(["top", "--I1", "1 kg m2", "--I3", "0.5", "--mgl", "1 N m", "--theta0", "0", "--omega3", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["nutation"] == "sleeping" and out["sleeping_stable"] is False and out["nutation_period_s"] is None
+
+
+def test_cli_writes_netcdf(tmp_path, capsys):
+    path = tmp_path / "loops.nc"
+    args = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60 deg", "--phidot0", "-0.3",
+            "--omega3", "10", "-o", str(path), "--t-end", "20", "--samples", "201", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    ds = open_wobble(path)
+    assert ds.sizes["time"] == 201 and float(ds.time[-1]) == 20.0 and out["output"] == str(path)
+    assert "wobble top" in ds.attrs["history"]
+    assert main(args) == 2  # exists, no --overwrite
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--overwrite" in err
+    assert main(args + ["--overwrite"]) == 0
+
+
+@pytest.mark.parametrize(
+    "argv, match",
+    [
+        (["--I1", "1", "--I3", "3", "--mgl", "1", "--theta0", "1", "--omega3", "1"], "--I3"),
+        (["--I1", "0", "--I3", "0.5", "--mgl", "1", "--theta0", "1", "--omega3", "1"], "--I1"),
+        (["--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "200 deg", "--omega3", "1"], "--theta0"),
+        (["--I1", "1", "--I3", "0.5", "--mgl", "1 kg", "--theta0", "1", "--omega3", "1"], "--mgl"),
+        (["--I1", "1", "--I3", "0.5", "--mgl", "-1", "--theta0", "1", "--omega3", "1"], "--mgl"),
+        (["--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "1", "--omega3", "1", "-o", "x.nc", "--samples", "0"], "--samples"),
+    ],
+)
+def test_cli_bad_input_one_line_exit_2(argv, match, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["top", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and match in err and "Traceback" not in err
+
+
+def test_cli_usage_error_is_one_line_exit_2(capsys):
+    """argparse usage errors (both spins given) exit with status 2 and one line."""
+    with pytest.raises(SystemExit) as ex:
+        main(["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "1", "--omega3", "1", "--psidot0", "1"])
+    assert ex.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not allowed with" in err
+
+
+def test_cli_table_output(capsys):
+    assert main(["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60 deg", "--omega3", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "cusps" in out and "nutation period (s)" in out and "steady precession" in out
+
+
+def test_plots_build_from_real_runs():
+    """The figures of docs/heavy-top.md build (scripts/figures_top.py writes them)."""
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.top import cubic_figure, effective_potential_figure, nutation_classes_figure
+
+    fig = nutation_classes_figure(1 * KGM2, 0.5 * KGM2, 1 * u.J, 50 * u.deg, 6 * RAD_S,
+                                  [0.2 * RAD_S, 0 * RAD_S, -0.3 * RAD_S], periods=2)
+    assert len(fig.axes) == 3 and [a.get_title().split(":")[0] for a in fig.axes] == ["undulating", "cusps", "loops"]
+    top = issue8_top()
+    for f in (fig, effective_potential_figure(top), cubic_figure(top)):
+        plt.close(f)

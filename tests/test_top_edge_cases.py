@@ -1,0 +1,82 @@
+"""Degenerate and extreme tops found by fuzzing the exact solution (regressions).
+
+Each state once broke the root finder or the float evaluation: a non-spinning
+pendulum (b = a = 0: x = 0 and x = 2 are both roots), tops 1e-200 rad from the
+vertical, beta of 1e-174, free tops whose two turning points coincide to 1e-60,
+a top hanging within 1e-16 rad of the bottom. They must give a finite, unit
+quaternion, conserve E and p_phi, agree with the quaternion integration where
+that is affordable, and refuse only what float64 cannot represent.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from wobble.errors import InputError
+from wobble.models.top import heavy_top
+from wobble.models.top_ode import integrate_top
+from wobble.numerics import quaternion as Q
+
+CASES = {
+    "pendulum released at rest (b = a = 0)": (1.0, 0.5, 1.0, 0.7, 0.0, 0.0, 0.0),
+    "pendulum over the top (through both poles)": (1.0, 0.5, 1.0, 0.0, 3.0, 0.0, 0.0),
+    "1e-129 rad from the vertical, kicked": (1.2850847296619075, 2.570169459323815, 1.3421870589272098,
+                                             1.526628395667065e-129, 1.4262213918742717, -0.0014225430536045636, 2.625651008473973),
+    "1e-202 rad, stable spin, at rest": (1.7598120598066005, 3.519624119613201, 1.8570975657557427,
+                                         2.2668076975108654e-202, 4.0781588274140786e-268, 0.0, 5.522021220858619),
+    "beta 1e-173, nearly regular": (0.3362377248724901, 0.6724754497449802, 4.334619090657065e-174,
+                                    1.976127142769412, 0.0, -1.1194508951951661e-79, 29.766500895369433),
+    "free top, double root to 1e-60": (2.077592291776867, 2.028804697451651, 0.0, 0.6211569051511763, 0.0,
+                                       -9.287056233989217e-64, -15.713577916202082),
+    "hanging within 1e-16 rad of the bottom": (1.0, 0.5, 1.0, np.pi, -0.2, 0.0, 3.0),
+    "free, no spin, at the bottom": (1.650704371191778, 3.301408742383556, 3.188565765155668e-25, np.pi, 0.0,
+                                     0.30521485278958504, -3.007787721976763e-55),
+}
+
+
+def angle(q1, q2):
+    d = Q.multiply(q1, Q.conjugate(q2))
+    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_extreme_state_is_finite_and_conservative(name):
+    I1, I3, mgl, th, thd, phd, w3 = CASES[name]  # noqa: N806
+    mdl = heavy_top(I1, I3, mgl, th, thd, phd, omega3=w3)
+    t = np.array([0.0, 0.37, 1.3, 7.0, 77.0])
+    mo = mdl.motion(t)
+    assert np.all(np.isfinite(mo.quaternion)) and np.all(np.isfinite(mo.omega))
+    np.testing.assert_allclose(np.linalg.norm(mo.quaternion, axis=-1), 1.0, rtol=1e-14)
+    inv = mdl.invariants(mo)
+    kin = 0.5 * I1 * (thd**2 + (phd * np.sin(th)) ** 2) + 0.5 * I3 * w3**2
+    assert np.max(np.abs(inv["energy"] - mdl.energy)) <= 1e-12 * (kin + mgl + abs(mdl.energy))
+    assert mdl.u1 <= mdl.u2 <= 1.0 <= mdl.u3
+    assert mdl.theta_min <= th * (1 + 1e-15) + 1e-300 and th <= mdl.theta_max * (1 + 1e-15)
+
+
+@pytest.mark.parametrize("name", ["pendulum released at rest (b = a = 0)", "pendulum over the top (through both poles)",
+                                  "hanging within 1e-16 rad of the bottom", "beta 1e-173, nearly regular",
+                                  "free top, double root to 1e-60"])
+def test_extreme_state_agrees_with_the_quaternion_integration(name):
+    I1, I3, mgl, th, thd, phd, w3 = CASES[name]  # noqa: N806
+    mdl = heavy_top(I1, I3, mgl, th, thd, phd, omega3=w3)
+    t = np.linspace(0.0, 6.0, 31)
+    w, q = mdl.evaluate(t)
+    wn, qn = integrate_top(I1, I3, mgl, w[0], q[0], t, rtol=1e-12)
+    assert np.max(angle(q, qn)) < 1e-9
+    assert np.max(np.abs(w - wn)) < 1e-9 * max(1.0, np.max(np.abs(w)))
+
+
+def test_pendulum_roots_are_exact():
+    """b = a = 0: f(u) = (1 - u^2)(alpha - beta u), roots -1, u0 (released at rest) and +1."""
+    mdl = heavy_top(1.0, 0.5, 1.0, 0.7, 0.0, 0.0, omega3=0.0)
+    assert (mdl.u1, mdl.u2, mdl.u3) == (-1.0, pytest.approx(np.cos(0.7), rel=1e-15), 1.0)
+    assert mdl.nutation == "cusps"
+
+
+def test_a_state_beyond_float64_next_to_the_separatrix_is_refused():
+    """An unstable sleeping top nudged by 1e-200 rad/s: 1 - m ~ 1e-400, refused with the reason."""
+    with pytest.raises(InputError, match="separatrix") as err:
+        heavy_top(1.0, 0.5, 1.0, 0.0, 1e-200, 0.0, omega3=1.0)
+    assert err.value.parameter == "thetadot0"

@@ -1,0 +1,112 @@
+"""Figures of the heavy symmetric top (notes section 5.7): the axis on the sphere for the
+three nutation classes, the effective potential V'(theta) with the E' line, f(u) with its roots."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg", force=False)
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from astropy import units as u  # noqa: E402
+
+from wobble.api.top import HeavyTop  # noqa: E402
+
+__all__ = ["nutation_classes_figure", "axis_trace_axes", "effective_potential_figure", "cubic_figure"]
+
+
+def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None):
+    """Draw the trace of the symmetry axis on the unit sphere, seen from above, on ``ax``.
+
+    The trace (x, y) = sin(theta) (sin phi, -cos phi) runs between the turning circles
+    theta_min and theta_max (dashed), as in the notes' pictures of undulation, cusps
+    and loops (p. 72).
+    """
+    m = top.model
+    span = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
+    ds = top.to_dataset(t_end=span * u.s, samples=samples)
+    axis = ds.symmetry_axis.values
+    ring = np.linspace(0, 2 * np.pi, 400)
+    for th in (m.theta_min, m.theta_max):
+        ax.plot(np.sin(th) * np.cos(ring), np.sin(th) * np.sin(ring), color="0.6", lw=0.8, ls="--")
+    ax.plot(axis[:, 0], axis[:, 1], color="C0", lw=1.2)
+    ax.plot(axis[:1, 0], axis[:1, 1], "o", color="C3", ms=4)
+    r = np.sin(m.theta_max) * 1.08
+    ax.set_xlim(-r, r)
+    ax.set_ylim(-r, r)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (horizontal)")
+    ax.set_ylabel("y (horizontal)")
+    ax.set_title(title or m.nutation)
+    return ax
+
+
+def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: float = 6.0):  # noqa: N803
+    """Three panels: the axis trace for initial precession rates ``phidots`` (rad/s Quantities),
+    typically > 0 (undulating), 0 (released: cusps) and < 0 (loops)."""
+    fig, axes = plt.subplots(1, len(phidots), figsize=(4.2 * len(phidots), 4.4))
+    for ax, pd in zip(np.atleast_1d(axes), phidots):
+        top = HeavyTop(I1=I1, I3=I3, mgl=mgl, theta0=theta0, omega3=omega3, phidot0=pd)
+        pdv = pd.to_value(u.rad / u.s)
+        axis_trace_axes(ax, top, periods=periods, title=f"{top.nutation}: phidot0 = {pdv:g} rad/s")
+    fig.suptitle("The symmetry axis on the unit sphere seen from above, between the turning circles "
+                 "theta_min and theta_max (dashed); red dot: start", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def effective_potential_figure(top: HeavyTop):
+    """V'(theta) = M g l cos theta + (I1/2)((b - a cos theta)/sin theta)^2 with the E' line;
+    the motion is confined where V' <= E' (between the turning angles)."""
+    m = top.model
+    th = np.linspace(1e-3, np.pi - 1e-3, 2000)
+    v = m.effective_potential(th)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    ax.plot(np.degrees(th), v, color="C0", label="V'(theta)")
+    ax.axhline(m.energy_prime, color="C3", lw=1, label="E'")
+    for t_ in (m.theta_min, m.theta_max):
+        ax.axvline(np.degrees(t_), color="0.5", lw=0.8, ls=":")
+    top_ = max(m.energy_prime, m.mgl) + 3 * (abs(m.energy_prime) + m.mgl)
+    ax.set_ylim(min(np.min(v), m.energy_prime) - 0.2 * abs(top_), top_)
+    ax.set_xlabel("theta (deg)")
+    ax.set_ylabel("energy (J)")
+    ax.set_title(f"Effective potential; turning angles {np.degrees(m.theta_min):.2f} and {np.degrees(m.theta_max):.2f} deg")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def cubic_figure(top: HeavyTop):
+    """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where
+    f >= 0. Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so u3 > 1); right: the
+    physical interval enlarged."""
+    m = top.model
+    u3 = m.u3 if np.isfinite(m.u3) else 2.0
+    fig, (ax, az) = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    uu = np.linspace(-1.2, u3 + 0.3 * (u3 + 1.2), 3000)
+    f = m.f(uu)
+    ax.plot(uu, f, color="C0", label="f(u)")
+    roots = [r for r in (m.u1, m.u2, m.u3) if np.isfinite(r)]
+    ax.plot(roots, np.zeros(len(roots)), "o", color="C3", label="roots u1, u2, u3")
+    lim = np.max(np.abs(f)) * 1.05
+    ax.set_ylim(-lim, lim)
+    width = max(m.u2 - m.u1, 1e-12)
+    zz = np.linspace(m.u1 - 0.3 * width, min(m.u2 + 0.3 * width, 1.0), 1000)
+    fz = m.f(zz)
+    az.plot(zz, fz, color="C0")
+    inside = (zz >= m.u1) & (zz <= m.u2)
+    az.fill_between(zz, 0, fz, where=inside, color="C2", alpha=0.3, label="the motion: f >= 0")
+    az.plot([m.u1, m.u2], [0, 0], "o", color="C3")
+    for a_ in (ax, az):
+        a_.axhline(0, color="0.3", lw=0.8)
+        for x in (-1, 1):
+            a_.axvline(x, color="0.6", lw=0.8, ls="--")
+        a_.set_xlabel("u = cos(theta)")
+    az.set_xlim(zz[0], zz[-1])
+    ax.set_ylabel("f(u) (s$^{-2}$)")
+    ax.set_title(f"u1 = {m.u1:.6f}, u2 = {m.u2:.6f}, u3 = {u3:.4f}")
+    az.set_title("between the turning points")
+    ax.legend(loc="lower right", fontsize=8)
+    az.legend(loc="lower center", fontsize=8)
+    fig.tight_layout()
+    return fig
