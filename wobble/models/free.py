@@ -54,7 +54,7 @@ from wobble.numerics import highprec as hp
 from wobble.numerics import quaternion as quat
 from wobble.numerics.phase import reduce_phase, two_prod
 
-__all__ = ["FreeRotationModel", "free_rotation", "symmetric_from_energy", "REGIMES"]
+__all__ = ["FreeRotationModel", "free_rotation", "symmetric_from_energy", "free_flow", "proper_sort", "REGIMES"]
 
 REGIMES = ("steady", "symmetric", "major-axis", "minor-axis", "separatrix")
 _EPS = np.finfo(float).eps
@@ -188,7 +188,9 @@ class _Elliptic:
         pi_inc = ell.pi_negative_scd(self.nu, sn, cn, dn * dn, self.m1)
         g = np.arctan2(np.sqrt(1.0 + self.nu) * sn, cn)
         k = self.K[0]
-        lin = 0.0 if np.isinf(k) else r / k
+        if np.isinf(k):  # the separatrix: no period, no linear part (0 * inf would be NaN)
+            return self.c_pi * pi_inc - self.c_g * g
+        lin = r / k
         return self.c_pi * (pi_inc - self.pi_over_k * lin * k) - self.c_g * (g - 0.5 * np.pi * lin)
 
     def attitude_at(self, t):
@@ -517,3 +519,238 @@ def symmetric_from_energy(i_perp: float, i_axis: float, energy: float, l2: float
     if a2 < 0 or w2 < 0:
         raise InputError("energy, l2", (energy, l2), "2 T min(I1, I3) <= L^2 <= 2 T max(I1, I3)")
     return float(hp.sqrt(a2)), float(hp.sqrt(w2))
+
+
+# --------------------------------------------------------------------------
+# The exact flow as a map (omega, q) -> (omega, q) after h, vectorised over
+# bodies and states: the drift of the splitting integrators
+# (wobble.numerics.integrators, Touma & Wisdom 1994) and the free model of
+# ensembles. Float64 throughout: no exact rational set-up per member.
+# --------------------------------------------------------------------------
+def proper_sort(moments):
+    """Per body, the signed permutation (det +1) taking user axes to ascending moments.
+
+    Parameters
+    ----------
+    moments : array_like, shape (..., 3)
+        Principal moments (kg m^2) in the user's axis order.
+
+    Returns
+    -------
+    order : numpy.ndarray of int, shape (..., 3)
+        Model axis k is user axis ``order[..., k]``.
+    signs : numpy.ndarray, shape (..., 3)
+        ... times ``signs[..., k]`` (the last sign is -1 for odd permutations).
+    """
+    moments = np.asarray(moments, dtype=float)
+    order = np.argsort(moments, axis=-1, kind="stable")
+    inversions = (
+        (order[..., 0] > order[..., 1]).astype(int)
+        + (order[..., 0] > order[..., 2])
+        + (order[..., 1] > order[..., 2])
+    )
+    signs = np.ones(order.shape)
+    signs[..., 2] = np.where(inversions % 2 == 1, -1.0, 1.0)
+    return order, signs
+
+
+def _sorted_view(v, order, signs):
+    return signs * np.take_along_axis(v, np.broadcast_to(order, v.shape), axis=-1)
+
+
+def _user_view(v, order, signs):
+    out = np.empty_like(v)
+    np.put_along_axis(out, np.broadcast_to(order, v.shape), signs * v, axis=-1)
+    return out
+
+
+def free_flow(moments, omega, q=None, h=0.0):
+    """Exact torque-free flow of N rigid bodies over a step h, vectorised.
+
+    Maps the body-frame angular velocity ``omega`` and the attitude ``q``
+    (unit quaternion body -> inertial, scalar first) at some time to their
+    values a time ``h`` later, for each member independently: the same Jacobi
+    elliptic solution and exact attitude as :func:`free_rotation` (Landau &
+    Lifshitz section 37; docs/free-rotation.md), started from the state
+    itself instead of from t = 0:
+
+    * the phase u0 of the state comes from sn, cn, dn = omega_a / A_a,
+      s omega_b / A_b, |omega_c| / A_c through the quarter-period inverse
+      (:func:`wobble.numerics.elliptic.jacobi_quarter_inverse`, Carlson R_F);
+    * u1 = u0 + lambda h, evaluated with the exact quarter shifts
+      (:func:`wobble.numerics.elliptic.jacobi_quarter`);
+    * the attitude increment is ``S(l0)* R_z(dpsi) S(l1)`` with
+      ``dpsi = Omega_psi h + P(u1) - P(u0)`` (the mean precession rate and
+      the 2K-periodic part built on Pi(-nu; phi | m)), applied on the right:
+      ``q1 = q0 * dq``.
+
+    Symmetric bodies (two equal moments) come out of the same formulas with
+    m = 0; steady rotation (omega along a principal axis, a sphere, omega = 0)
+    is a uniform rotation; the exact separatrix uses tanh and sech.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3,) or (N, 3)
+        Principal moments (kg m^2), any order, per member or shared.
+    omega : array_like, shape (N, 3)
+        Body-frame angular velocities (rad/s), same axis order.
+    q : array_like, shape (N, 4), optional
+        Attitudes. Without it only omega is advanced (cheaper: no
+        integrals of the third kind).
+    h : float or array_like, shape (N,)
+        Step (s); any size and sign.
+
+    Returns
+    -------
+    omega1 : numpy.ndarray, shape (N, 3)
+    q1 : numpy.ndarray, shape (N, 4) or None
+        Renormalised to unit length.
+
+    Notes
+    -----
+    Float64 set-up per call, so unlike :func:`free_rotation` the phase
+    lambda h carries the rounding of a float product: the error of one call
+    is a few ulps of the phase advanced (checked against
+    :func:`free_rotation` in tests/test_free_flow.py: below 1e-14 for
+    |lambda h| up to 10 K, growing like eps |lambda h| beyond).
+    """
+    moments = np.asarray(moments, dtype=float)
+    omega = np.atleast_2d(np.asarray(omega, dtype=float))
+    order, signs = proper_sort(moments)
+    moments_sorted = np.take_along_axis(np.broadcast_to(moments, omega.shape), np.broadcast_to(order, omega.shape), -1)
+    w = _sorted_view(omega, order, signs)
+    h = np.broadcast_to(np.asarray(h, dtype=float), omega.shape[:-1])
+    w1, dq = flow_sorted(moments_sorted, w, h, attitude=q is not None)
+    w1 = _user_view(w1, order, signs)
+    if q is None:
+        return w1, None
+    dq = np.concatenate([dq[..., :1], _user_view(dq[..., 1:], order, signs)], axis=-1)
+    q1 = quat.multiply(np.asarray(q, dtype=float), dq)
+    return w1, quat.normalize(q1)
+
+
+def _abc(v, minor):
+    """Model (ascending) axes to the right-handed frame (a, b, c) of the solution:
+    (x0, x1, x2) for circulation about the largest axis, (x2, x1, -x0) about the smallest."""
+    return np.where(minor[..., None], np.stack([v[..., 2], v[..., 1], -v[..., 0]], -1), v)
+
+
+def _from_abc(v, minor):
+    return np.where(minor[..., None], np.stack([-v[..., 2], v[..., 1], v[..., 0]], -1), v)
+
+
+def flow_sorted(moments, omega, h, attitude=True):
+    """:func:`free_flow` in the ascending principal frame (moments sorted, proper).
+
+    Returns ``omega1`` (N, 3) and the body-frame increment ``dq`` (N, 4)
+    with ``q1 = q0 * dq`` (None without ``attitude``). The splitting
+    integrator calls this directly: its bodies are sorted once.
+    """
+    I = moments  # noqa: E741 - the notes' name
+    w = omega
+    i0, i1, i2 = I[..., 0], I[..., 1], I[..., 2]
+    iw = I * w
+    iw2 = iw * w
+    # D_j = 2 E I_j - L^2 = sum_i I_i w_i^2 (I_j - I_i): no cancellation between large terms.
+    d0 = iw2[..., 1] * (i0 - i1) + iw2[..., 2] * (i0 - i2)
+    d1 = iw2[..., 0] * (i1 - i0) + iw2[..., 2] * (i1 - i2)
+    d2 = iw2[..., 0] * (i2 - i0) + iw2[..., 1] * (i2 - i1)
+    cross = np.cross(w, iw)
+    steady = np.all(cross == 0.0, axis=-1)
+    minor = d1 > 0
+    ia, ib, ic = np.where(minor, i2, i0), i1, np.where(minor, i0, i2)
+    da, db, dc = np.where(minor, d2, d0), d1, np.where(minor, d0, d2)
+    wabc = _abc(w, minor)
+    # A rotation by pi about c is a symmetry of the free motion: use it to
+    # make omega_a >= 0 (cn u0 >= 0, |u0| <= K; on the separatrix cn = sech > 0).
+    flip = wabc[..., 0] < 0
+    fl = np.where(flip, -1.0, 1.0)
+    wa, wb, wc = fl * wabc[..., 0], fl * wabc[..., 1], wabc[..., 2]
+    s = np.where(wc < 0, -1.0, 1.0)
+    # omega_b = s_b A_b sn u: in the right-handed (a, b, c) = (x2, x1, -x0)
+    # frame of minor-axis motion the sign of omega_b relative to omega_c is reversed.
+    sb = np.where(minor, -s, s)
+    ok = ~steady
+    ica, icb, iba = ic - ia, ic - ib, ib - ia
+    with np.errstate(divide="ignore", invalid="ignore"):
+        neg_da = np.where(ok, -da, 1.0)
+        dc_ = np.where(ok, dc, 1.0)
+        den = np.where(ok, icb * neg_da, 1.0)
+        m_dir = np.where(ok, iba * dc_ / den, 0.0)
+        m1_dir = np.where(ok, ica * (-db) / den, 1.0)
+        m1 = np.clip(np.where(m1_dir < 0.5, m1_dir, 1.0 - m_dir), 0.0, 1.0)
+        m = np.clip(np.where(m1_dir < 0.5, 1.0 - m1_dir, m_dir), 0.0, 1.0)
+        sep = ok & (m1 == 0.0)
+        lam = np.where(ok, np.sqrt(np.abs(den) / (i0 * i1 * i2)), 0.0)
+        amp_a = np.where(ok, np.sqrt(np.abs(dc_ / (ia * ica))), 0.0)
+        amp_b = np.where(ok, np.sqrt(np.abs(dc_ / (ib * icb))), 0.0)
+        amp_c = np.where(ok, np.sqrt(np.abs(neg_da / (ic * ica))), 1.0)
+        cn0 = np.where(amp_a > 0, wa / amp_a, 1.0)
+        sn0 = np.where(amp_b > 0, sb * wb / amp_b, 0.0)
+    norm = np.hypot(cn0, sn0)
+    cn0, sn0 = cn0 / norm, sn0 / norm
+    # Landen levels with a placeholder parameter on the separatrix (handled by tanh/sech).
+    m_l = np.where(sep, 0.0, m)
+    m1_l = np.where(sep, 1.0, m1)
+    dn0 = np.sqrt(m1 + m * cn0 * cn0)
+    lv = ell.landen_levels(m_l, m1_l)
+    K = np.where(sep, np.inf, lv.K)
+    n0, x0, snx0, cnx0, dnx0 = ell.jacobi_quarter_inverse(sn0, cn0, dn0, m, m1)
+    y = x0 + lam * h
+    finite = np.isfinite(K)
+    with np.errstate(invalid="ignore"):
+        qn = np.where(finite, np.rint(y / np.where(finite, K, 1.0)), 0.0)
+    x1 = np.where(finite, y - qn * np.where(finite, K, 0.0), y)
+    n1 = n0 + qn
+    (sn1, cn1, dn1), (snx1, cnx1, dnx1) = ell.jacobi_quarter(n1, x1, lv, sep)
+    w1abc = np.stack([fl * amp_a * cn1, fl * sb * amp_b * sn1, s * amp_c * dn1], -1)
+    w1 = np.where(steady[..., None], w, _from_abc(w1abc, minor))
+    if not attitude:
+        return w1, None
+
+    # ---- attitude: psi(t1) - psi(t0) = Omega_psi h + P(u1) - P(u0) ------------
+    iabc = np.stack([ia, ib, ic], -1)
+    big_l = np.linalg.norm(iw, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        nu = np.where(ok, ic * iba / (ia * np.where(icb != 0, icb, 1.0)), 0.0)
+        nu = np.abs(nu)
+        sq = np.sqrt(1.0 + nu)
+        lam_ = np.where(lam > 0, lam, 1.0)
+        c_pi = ica * big_l / (ia * ic * lam_)
+        c_g = ica * amp_c / (ia * lam_ * sq)
+        kp = np.where(sep, 0.0, np.sqrt(m1_l))
+        one = np.ones_like(m)
+        pi_c = np.where(sep, 0.0, ell.pi_negative_scd(nu, one, 0.0 * one, m1_l, m1_l))
+        k_fin = np.where(finite, K, 1.0)
+        rate = big_l / ic + np.where(
+            sep, 0.0, (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * np.pi) / (ia * sq)) / k_fin
+        )
+
+        def periodic(n, x, snx, cnx, dnx):
+            odd = np.mod(n, 2.0) == 1.0
+            left = x <= 0
+            lin_x = np.where(finite, x / k_fin, 0.0)
+            s_r = np.where(odd, np.where(left, cnx, -cnx) / dnx, snx)
+            c_r = np.where(odd, np.where(left, -kp * snx, kp * snx) / dnx, cnx)
+            d_r = np.where(odd, kp / dnx, dnx)
+            lin = np.where(odd, np.where(left, 1.0 + lin_x, lin_x - 1.0), lin_x)
+            pi_inc = ell.pi_negative_scd(nu, s_r, c_r, d_r * d_r, m1)
+            g = np.arctan2(sq * s_r, c_r)
+            return c_pi * (pi_inc - pi_c * lin) - c_g * (g - 0.5 * np.pi * lin)
+
+        dpsi = rate * h + periodic(n1, x1, snx1, cnx1, dnx1) - periodic(n0, x0, snx0, cnx0, dnx0)
+    w0f = np.stack([wa, wb, wc], -1)
+    w1f = np.stack([amp_a * cn1, sb * amp_b * sn1, s * amp_c * dn1], -1)
+    safe_l = np.where(big_l > 0, big_l, 1.0)[..., None]
+    z = np.zeros(w0f.shape)
+    z[..., 2] = s
+    s0 = quat.shortest_arc(iabc * w0f / safe_l, z)
+    s1 = quat.shortest_arc(iabc * w1f / safe_l, z)
+    half = 0.5 * dpsi
+    twist = np.stack([np.cos(half), 0 * half, 0 * half, s * np.sin(half)], -1)
+    dq = quat.multiply(quat.conjugate(s0), quat.multiply(twist, s1))
+    vec = dq[..., 1:] * np.stack([fl, fl, np.ones_like(fl)], -1)  # undo the flip (an axial vector: same rule)
+    dq = np.concatenate([dq[..., :1], _from_abc(vec, minor)], -1)
+    spin = quat.exp(w * h[..., None])
+    dq = np.where(steady[..., None], spin, dq)
+    return w1, dq
