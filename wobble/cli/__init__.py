@@ -20,7 +20,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "free")
+SUBCOMMANDS = ("chandler", "free", "run")
 
 EPILOG = """\
 examples:
@@ -29,6 +29,8 @@ examples:
   wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc
                                         exact torque-free motion, to a CF netCDF file
+  wobble run tennis_racket -o racket.nc a scene (TOML file or example name): the cheapest
+                                        adequate model, streamed to CF netCDF
 
 Numbers without units are SI; days are days of 86400 s. Run
 'wobble COMMAND --help' for each command's options and an example.

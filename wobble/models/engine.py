@@ -92,12 +92,40 @@ _EPS = np.finfo(float).eps
 def _cross(a, b):
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    out = np.empty(a.shape if a.shape == b.shape else np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
+def _qmul(p, q):
+    """Hamilton product p * q, component by component (cheaper than the generic one for few members)."""
+    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(p.shape if p.shape == q.shape else np.broadcast_shapes(p.shape, q.shape))
+    out[..., 0] = pw * qw - px * qx - py * qy - pz * qz
+    out[..., 1] = pw * qx + px * qw + py * qz - pz * qy
+    out[..., 2] = pw * qy - px * qz + py * qw + pz * qx
+    out[..., 3] = pw * qz + px * qy - py * qx + pz * qw
+    return out
+
+
+def _normalize(q):
+    return q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
+
+
+def _rotate(q, v, inverse=False):
+    """R(q) v (or R(q)^T v): v + 2 w (u x v) + 2 u x (u x v), u the vector part (of q* if inverse)."""
+    w = q[..., :1]
+    u = -q[..., 1:] if inverse else q[..., 1:]
+    t = 2.0 * _cross(u, v)
+    return v + w * t + _cross(u, t)
 
 
 def _to_body(q, v):
     """R(q)^T v: inertial vectors into the body frame."""
-    return quat.rotate(quat.conjugate(q), v)
+    return _rotate(q, np.asarray(v, dtype=float), inverse=True)
 
 
 def _take(a, idx):
@@ -286,7 +314,7 @@ class UniformGravity:
         b = _Bound()
         b.conservative = True
         b.torque = lambda t, w, q, idx: _cross(_take(r, idx), _to_body(q, _take(mg, idx)))
-        b.potential = lambda t, q, idx: -np.sum(_take(mg, idx) * quat.rotate(q, _take(r, idx)), axis=-1)
+        b.potential = lambda t, q, idx: -np.sum(_take(mg, idx) * _rotate(q, _take(r, idx)), axis=-1)
         b.mgl = mass[:, 0] * np.linalg.norm(g, axis=-1) * np.linalg.norm(r, axis=-1)
         return b
 
@@ -601,8 +629,10 @@ class Engine:
     # -- physics in the internal frame -------------------------------------------
     def torque(self, t, w, q, idx=None):
         """Total torque (internal frame), shape of w."""
-        tau = np.zeros_like(w)
-        for b in self.torques:
+        if not self.torques:
+            return np.zeros_like(w)
+        tau = self.torques[0].torque(t, w, q, idx)
+        for b in self.torques[1:]:
             tau = tau + b.torque(t, w, q, idx)
         return tau
 
@@ -617,18 +647,20 @@ class Engine:
             return dw
         w0, w1, w2 = w[:, 0], w[:, 1], w[:, 2]
         qw, qx, qy, qz = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
-        dq = 0.5 * np.stack(
-            [-qx * w0 - qy * w1 - qz * w2, qw * w0 + qy * w2 - qz * w1, qw * w1 - qx * w2 + qz * w0, qw * w2 + qx * w1 - qy * w0],
-            -1,
-        )
-        return np.concatenate([dw, dq], axis=1)
+        out = np.empty(y.shape)
+        out[:, :3] = dw
+        out[:, 3] = -0.5 * (qx * w0 + qy * w1 + qz * w2)
+        out[:, 4] = 0.5 * (qw * w0 + qy * w2 - qz * w1)
+        out[:, 5] = 0.5 * (qw * w1 - qx * w2 + qz * w0)
+        out[:, 6] = 0.5 * (qw * w2 + qx * w1 - qy * w0)
+        return out
 
     def kick(self, state, t, h):
         """Exact flow of ``I domega/dt = tau(t, q) - D omega`` at frozen t and q over h."""
         w, q = state
         if not self.torques or h == 0:
             return state
-        tau = np.zeros_like(w)
+        tau = 0.0
         for b in self.kicked:
             tau = tau + b.torque(t, w, q, None)
         I = self.moments  # noqa: E741
@@ -646,7 +678,7 @@ class Engine:
         w1, dq = flow_sorted(I, w, np.full(w.shape[0], h), attitude=q is not None)
         if q is None:
             return w1, None
-        return w1, quat.normalize(quat.multiply(q, dq))
+        return w1, _normalize(_qmul(q, dq))
 
     def energy(self, t, w, q):
         """Kinetic + potential energy (J) in the internal frame; potential only where defined."""
