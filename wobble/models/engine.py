@@ -56,13 +56,14 @@ whose difference from the main run is the global error estimate reported
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.free import flow_sorted, proper_sort
+from wobble.models.free import flow_one, flow_sorted, proper_sort
 from wobble.numerics import quaternion as quat
 from wobble.numerics.integrators import DOP853, Splitting, StepLimitError
 
@@ -121,6 +122,31 @@ def _rotate(q, v, inverse=False):
     u = -q[..., 1:] if inverse else q[..., 1:]
     t = 2.0 * _cross(u, v)
     return v + w * t + _cross(u, t)
+
+
+def _cross_one(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _rotate_one(q, v, inverse=False):
+    """R(q) v (or R(q)^T v) in Python floats."""
+    w = q[0]
+    u = (-q[1], -q[2], -q[3]) if inverse else (q[1], q[2], q[3])
+    t = _cross_one(u, v)
+    t = (2.0 * t[0], 2.0 * t[1], 2.0 * t[2])
+    c = _cross_one(u, t)
+    return (v[0] + w * t[0] + c[0], v[1] + w * t[1] + c[1], v[2] + w * t[2] + c[2])
+
+
+def _qmul_one(p, q):
+    pw, px, py, pz = p
+    qw, qx, qy, qz = q
+    return (
+        pw * qw - px * qx - py * qy - pz * qz,
+        pw * qx + px * qw + py * qz - pz * qy,
+        pw * qy - px * qz + py * qw + pz * qx,
+        pw * qz + px * qy - py * qx + pz * qw,
+    )
 
 
 def _to_body(q, v):
@@ -278,8 +304,12 @@ class ConstantTorque:
             tau_int = frame.vec_in(tau)
             b.uses_attitude = False
             b.torque = lambda t, w, q, idx: np.broadcast_to(_take(tau_int, idx), w.shape)
+            one = tuple(float(x) for x in tau_int[0])
+            b.torque_one = lambda t, w, q: one
         else:
             b.torque = lambda t, w, q, idx: _to_body(q, _take(tau, idx))
+            one = tuple(float(x) for x in tau[0])
+            b.torque_one = lambda t, w, q: _rotate_one(q, one, inverse=True)
         return b
 
 
@@ -316,6 +346,9 @@ class UniformGravity:
         b.torque = lambda t, w, q, idx: _cross(_take(r, idx), _to_body(q, _take(mg, idx)))
         b.potential = lambda t, q, idx: -np.sum(_take(mg, idx) * _rotate(q, _take(r, idx)), axis=-1)
         b.mgl = mass[:, 0] * np.linalg.norm(g, axis=-1) * np.linalg.norm(r, axis=-1)
+        r1 = tuple(float(x) for x in r[0])
+        mg1 = tuple(float(x) for x in mg[0])
+        b.torque_one = lambda t, w, q: _cross_one(r1, _rotate_one(q, mg1, inverse=True))
         return b
 
 
@@ -407,6 +440,22 @@ class GravityGradient:
         b.torque = torque
         b.potential = potential
         b.stiffness = k * (moments[:, 2] - moments[:, 0])
+        m1 = tuple(float(x) for x in moments[0])
+        e1t = tuple(float(x) for x in e1)
+        e2t = None if e2 is None else tuple(float(x) for x in e2)
+
+        def torque_one(t, w, q):
+            if e2t is None:
+                rho1 = e1t
+            else:
+                ang = rate * float(t) + phase
+                c, s_ = math.cos(ang), math.sin(ang)
+                rho1 = (c * e1t[0] + s_ * e2t[0], c * e1t[1] + s_ * e2t[1], c * e1t[2] + s_ * e2t[2])
+            rb = _rotate_one(q, rho1, inverse=True)
+            tq = _cross_one(rb, (m1[0] * rb[0], m1[1] * rb[1], m1[2] * rb[2]))
+            return (k * tq[0], k * tq[1], k * tq[2])
+
+        b.torque_one = torque_one
         return b
 
 
@@ -596,6 +645,8 @@ class Engine:
             if b.damping is not None:
                 self.damping = b.damping if self.damping is None else self.damping + b.damping
         self.kicked = [b for b in self.torques if b.damping is None]
+        self._moments_one = tuple(float(x) for x in self.moments[0])
+        self._damping_one = None if self.damping is None else tuple(float(x) for x in np.reshape(self.damping, (-1, 3))[0])
 
     # -- what the torques need ---------------------------------------------------
     @property
@@ -679,6 +730,41 @@ class Engine:
         if q is None:
             return w1, None
         return w1, _normalize(_qmul(q, dq))
+
+    # -- one member in Python floats (NumPy's per-call cost dominates a single trajectory)
+    @property
+    def scalar(self) -> bool:
+        """Whether a single member can run in Python floats (every torque has a scalar form)."""
+        return self.n == 1 and self.moments.shape[0] == 1 and all(hasattr(b, "torque_one") or b.damping is not None for b in self.torques)
+
+    def kick_one(self, state, t, h):
+        """:meth:`kick` for one member, tuples in and out."""
+        w, q = state
+        if not self.torques or h == 0:
+            return state
+        tx = ty = tz = 0.0
+        for b in self.kicked:
+            a = b.torque_one(t, w, q)
+            tx, ty, tz = tx + a[0], ty + a[1], tz + a[2]
+        I = self._moments_one  # noqa: E741
+        if self.damping is None:
+            return (w[0] + h * tx / I[0], w[1] + h * ty / I[1], w[2] + h * tz / I[2]), q
+        out = []
+        for wi, ti, ii, di in zip(w, (tx, ty, tz), I, self._damping_one):
+            x = di * h / ii
+            phi1 = 1.0 if x == 0 else -math.expm1(-x) / x
+            out.append(wi + (h / ii) * (ti - di * wi) * phi1)
+        return tuple(out), q
+
+    def drift_one(self, state, t, h):
+        """:meth:`drift` for one member, tuples in and out."""
+        w, q = state
+        w1, dq = flow_one(self._moments_one, w, h, q is not None)
+        if q is None:
+            return w1, None
+        q1 = _qmul_one(q, dq)
+        n = 1.0 / math.sqrt(q1[0] * q1[0] + q1[1] * q1[1] + q1[2] * q1[2] + q1[3] * q1[3])
+        return w1, (q1[0] * n, q1[1] * n, q1[2] * n, q1[3] * n)
 
     def energy(self, t, w, q):
         """Kinetic + potential energy (J) in the internal frame; potential only where defined."""
@@ -840,12 +926,21 @@ class _SplitPropagator:
     def __init__(self, engine: Engine, w, q, t0, step, order, attitude, multiple=1):
         self.engine = engine
         self.attitude = attitude
-        self.solver = Splitting(engine.drift, engine.kick, t0, (w, q), order=order, step=step, multiple=multiple)
+        self.scalar = engine.scalar
+        if self.scalar:
+            state = (tuple(float(x) for x in w[0]), None if q is None else tuple(float(x) for x in q[0]))
+            self.solver = Splitting(engine.drift_one, engine.kick_one, t0, state, order=order, step=step, multiple=multiple)
+        else:
+            self.solver = Splitting(engine.drift, engine.kick, t0, (w, q), order=order, step=step, multiple=multiple)
 
     def advance(self, t_out):
         states = self.solver.advance(t_out)
-        w = np.stack([s[0] for s in states])
-        q = None if states[0][1] is None else np.stack([s[1] for s in states])
+        if self.scalar:
+            w = np.array([[s[0]] for s in states]).reshape(len(states), 1, 3)
+            q = None if states[0][1] is None else np.array([[s[1]] for s in states]).reshape(len(states), 1, 4)
+        else:
+            w = np.stack([s[0] for s in states])
+            q = None if states[0][1] is None else np.stack([s[1] for s in states])
         wo, qo = self.engine.state_out(w, q)
         return wo, (qo if self.attitude else None)
 

@@ -56,7 +56,16 @@ from wobble.numerics import highprec as hp
 from wobble.numerics import quaternion as quat
 from wobble.numerics.phase import reduce_phase, two_prod
 
-__all__ = ["FreeRotationModel", "free_rotation", "symmetric_from_energy", "free_flow", "proper_sort", "REGIMES"]
+__all__ = [
+    "FreeRotationModel",
+    "free_rotation",
+    "symmetric_from_energy",
+    "free_flow",
+    "flow_sorted",
+    "flow_one",
+    "proper_sort",
+    "REGIMES",
+]
 
 REGIMES = ("steady", "symmetric", "major-axis", "minor-axis", "separatrix")
 _EPS = np.finfo(float).eps
@@ -652,7 +661,8 @@ def flow_sorted(moments, omega, h, attitude=True):
     """
     I = np.broadcast_to(np.asarray(moments, dtype=float), np.shape(omega))  # noqa: E741 - the notes' name
     if omega.shape[0] == 1:
-        return _flow_one(I[0], omega[0], float(np.reshape(h, -1)[0]), attitude)
+        w1, dq = flow_one(tuple(I[0]), tuple(omega[0]), float(np.reshape(h, -1)[0]), attitude)
+        return np.array([w1]), (None if dq is None else np.array([dq]))
     with np.errstate(divide="ignore", invalid="ignore"):
         return _flow_many(I, omega, h, attitude)
 
@@ -858,9 +868,25 @@ def _pi_one(nu, s, c, d2, m1):
     return sign * out
 
 
-def _flow_one(I, omega, h, attitude):  # noqa: E741
-    i0, i1, i2 = (float(x) for x in I)
+def _exp_one(w0, w1, w2, h):
+    """Quaternion of the rotation by the vector omega h (a uniform spin)."""
+    x0, x1, x2 = w0 * h, w1 * h, w2 * h
+    angle = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    if angle == 0.0:
+        return (1.0, 0.0, 0.0, 0.0)
+    f = math.sin(0.5 * angle) / angle
+    return (math.cos(0.5 * angle), f * x0, f * x1, f * x2)
+
+
+def flow_one(moments, omega, h, attitude=True):
+    """:func:`flow_sorted` for one member in Python floats: tuples in, tuples out.
+
+    ``moments`` ascending (3 floats), ``omega`` (3 floats, that frame), step ``h``;
+    returns ``(omega1, dq)`` as tuples (``dq`` None without ``attitude``).
+    """
+    i0, i1, i2 = (float(x) for x in moments)
     w0, w1, w2 = (float(x) for x in omega)
+    h = float(h)
     l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
     e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
     d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
@@ -874,8 +900,7 @@ def _flow_one(I, omega, h, attitude):  # noqa: E741
         ia, ic, da, dc, wa, wc = i0, i2, big_d0, big_d2, w0, w2
     ib, wb = i1, w1
     if dc == 0 or da == 0 or (wa == 0 and wc == 0):  # steady rotation about a principal axis
-        w_arr = np.array([[w0, w1, w2]])
-        return w_arr, (quat.exp(w_arr * h) if attitude else None)
+        return (w0, w1, w2), (_exp_one(w0, w1, w2, h) if attitude else None)
     fl = -1.0 if wa < 0 else 1.0
     wa, wb = fl * wa, fl * wb
     s = -1.0 if wc < 0 else 1.0
@@ -937,7 +962,7 @@ def _flow_one(I, omega, h, attitude):  # noqa: E741
     if quarter >= 2.0:
         sn1, cn1 = -sn1, -cn1
     v_a, v_b, v_c = fl * amp_a * cn1, fl * sb * amp_b * sn1, s * amp_c * dn1
-    w_new = np.array([[-v_c, v_b, v_a]]) if minor else np.array([[v_a, v_b, v_c]])
+    w_new = (-v_c, v_b, v_a) if minor else (v_a, v_b, v_c)
     if not attitude:
         return w_new, None
     big_l = math.sqrt(l0 * l0 + l1 * l1 + l2 * l2)
@@ -978,5 +1003,5 @@ def _flow_one(I, omega, h, attitude):  # noqa: E741
     dq_a = fl * (p_w * r_x + p_x * r_w + p_y * r_z)
     dq_b = fl * (p_w * r_y - p_x * r_z + p_y * r_w)
     dq_c = p_w * r_z + p_x * r_y - p_y * r_x
-    dq = np.array([[dq_w, -dq_c, dq_b, dq_a]]) if minor else np.array([[dq_w, dq_a, dq_b, dq_c]])
+    dq = (dq_w, -dq_c, dq_b, dq_a) if minor else (dq_w, dq_a, dq_b, dq_c)
     return w_new, dq
