@@ -177,7 +177,9 @@ def _body(r: _Reader, data) -> tuple[eng.BodyModel, np.ndarray | None]:
         mass = float(r.quantity(data["mass"], "body.mass", u.kg, ndim=(0,), positive=True))
     try:
         if kind == "moments":
-            m = r.quantity(data["moments"], "body.moments", _MOI, ndim=(1, 2), width=3, positive=True)
+            m = r.quantity(data["moments"], "body.moments", _MOI, ndim=(0, 1, 2), width=3, positive=True)
+            if m.ndim == 0:  # one moment: a sphere (or any body with I1 = I2 = I3)
+                m = np.full(3, float(m))
             return eng.BodyModel.from_moments(m, mass), None
         if kind == "tensor":
             t = r.quantity(data["tensor"], "body.tensor", _MOI, ndim=(2, 3), width=3)

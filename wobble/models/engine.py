@@ -83,6 +83,10 @@ __all__ = [
 ]
 
 METHODS = ("dop853", "splitting")
+#: Each omega component's error is measured against its largest value, or against this
+#: fraction of |omega| if it stays smaller (float64 cannot resolve a component that is
+#: zero up to rounding relative to itself).
+COMPONENT_FLOOR = 1e-6
 STANDARD_GRAVITY = 9.80665  # m s^-2 (CGPM 1901, exact)
 _EPS = np.finfo(float).eps
 
@@ -548,7 +552,8 @@ class ErrorEstimate:
     omega_relative : numpy.ndarray (N,)
         max over time and components of ``|omega_i - omega_i,ref| / max_t |omega_i|``:
         each component relative to its own largest value (a planet's wobble
-        components relative to the wobble, not to the spin).
+        components relative to the wobble, not to the spin), or to
+        ``COMPONENT_FLOOR * max_t |omega|`` for a component that stays smaller.
     attitude : numpy.ndarray (N,)
         max over time of the rotation angle between the attitudes (rad).
     method : str
@@ -610,7 +615,7 @@ class _Accumulator:
             self.angle = np.maximum(self.angle, np.max(attitude_angle(q, qc), axis=0))
 
     def result(self, method):
-        floor = 1e-12 * np.max(self.size, axis=-1, keepdims=True)
+        floor = COMPONENT_FLOOR * np.max(self.size, axis=-1, keepdims=True)
         scale = np.maximum(self.size, floor)
         with np.errstate(invalid="ignore", divide="ignore"):
             rel = np.where(scale > 0, self.diff / scale, 0.0)
@@ -689,6 +694,8 @@ class Engine:
 
     def rhs(self, t, y, idx=None):
         """d(omega, q)/dt for states ``y`` (n, 7) (or (n, 3) when no torque needs q)."""
+        if y.shape[0] == 1 and self.scalar:
+            return self._rhs_one(float(np.reshape(t, -1)[0]), y)
         w = y[:, :3]
         q = y[:, 3:7] if y.shape[1] == 7 else None
         I = _take(self.moments, idx)  # noqa: E741
@@ -736,6 +743,35 @@ class Engine:
     def scalar(self) -> bool:
         """Whether a single member can run in Python floats (every torque has a scalar form)."""
         return self.n == 1 and self.moments.shape[0] == 1 and all(hasattr(b, "torque_one") or b.damping is not None for b in self.torques)
+
+    def _rhs_one(self, t, y):
+        """:meth:`rhs` for one member in Python floats."""
+        row = y[0].tolist()
+        w = (row[0], row[1], row[2])
+        q = (row[3], row[4], row[5], row[6]) if len(row) == 7 else None
+        tx = ty = tz = 0.0
+        for b in self.kicked:
+            a = b.torque_one(t, w, q)
+            tx, ty, tz = tx + a[0], ty + a[1], tz + a[2]
+        i0, i1, i2 = self._moments_one
+        if self._damping_one is not None:
+            d0, d1, d2 = self._damping_one
+            tx, ty, tz = tx - d0 * w[0], ty - d1 * w[1], tz - d2 * w[2]
+        w0, w1, w2 = w
+        out = [
+            (tx + (i1 - i2) * w1 * w2) / i0,
+            (ty + (i2 - i0) * w2 * w0) / i1,
+            (tz + (i0 - i1) * w0 * w1) / i2,
+        ]
+        if q is not None:
+            qw, qx, qy, qz = q
+            out += [
+                -0.5 * (qx * w0 + qy * w1 + qz * w2),
+                0.5 * (qw * w0 + qy * w2 - qz * w1),
+                0.5 * (qw * w1 - qx * w2 + qz * w0),
+                0.5 * (qw * w2 + qx * w1 - qy * w0),
+            ]
+        return np.array([out])
 
     def kick_one(self, state, t, h):
         """:meth:`kick` for one member, tuples in and out."""
@@ -883,11 +919,14 @@ class _RKPropagator:
         self.attitude = attitude
         y0 = w if q is None else np.concatenate([w, q], axis=1)
         scale_w = np.max(np.abs(w), axis=-1)
-        # omega floor: 1e-12 of the spin, or of what the torque can reach in a second if at rest.
+        # The scale of omega: the spin, or what the torque reaches in a second from rest.
+        # Components below COMPONENT_FLOOR of it are controlled at that level, never
+        # below rounding (32 eps): a component that is zero up to rounding must not
+        # drive the step to nothing.
         tau0 = np.linalg.norm(engine.torque(t0, w, q), axis=-1) / np.min(engine.moments, axis=-1)
-        floor = 1e-12 * np.maximum(np.maximum(scale_w, tau0), 1e-300)
+        char = np.maximum(np.maximum(scale_w, tau0), 1e-300)
         atol = np.empty_like(y0)
-        atol[:, :3] = rtol * floor[:, None]
+        atol[:, :3] = ((rtol * COMPONENT_FLOOR + 32 * _EPS) * char)[:, None]
         if q is not None:
             atol[:, 3:] = rtol
 

@@ -459,9 +459,11 @@ class _TopRun(_ModelRun):
 # Numerical models: settings from a pilot run, cost in work units
 # --------------------------------------------------------------------------
 # Work units: one evaluation of Euler's equations for all members = 1. A drift
-# (the exact free flow) costs about one evaluation for a single member and
-# about ten for large ensembles (measured: scripts/bench_engine.py); a kick half.
-_KICK_COST = 0.5
+# (the exact free flow) costs about half an evaluation for a single member (both
+# in Python floats) and about eleven for large ensembles; a kick 0.1 to 0.45
+# (measured with scripts/bench_engine.py's per-call timings).
+def _kick_cost(members: int) -> float:
+    return 0.1 + 0.35 * members / (members + 300.0)
 _PILOT_FRACTION = 1.0 / 16.0
 # Aim the full run at this fraction of the accuracy: errors may grow faster than linearly.
 _PILOT_SAFETY = 0.1
@@ -469,7 +471,7 @@ _C_SPLIT = {2: 5e-2, 4: 1e-2, 6: 2e-3}  # error ~ C (h nu)^p (1 + nu T): a first
 
 
 def _drift_cost(members: int) -> float:
-    return 1.0 + 10.0 * members / (members + 300.0)
+    return 0.5 + 10.5 * members / (members + 300.0)
 
 
 @dataclass
@@ -527,31 +529,31 @@ def _plan_splitting(scene) -> _Plan:
         h = (scene.accuracy / (_C_SPLIT[order] * (1.0 + nu * span))) ** (1.0 / order) / nu
         h = float(min(h, span))
         growth = span / tp if tp > 0 else 1.0
-        err = 0.0
-        # Pilot at h and h/2: trust the estimate only where the error falls like h^p
-        # (large steps that resonate with the spin do not); then aim at the accuracy.
-        for _ in range(10):
-            e1, _ = _pilot(scene, "splitting", {"order": order, "step_s": h})
-            e2, _ = _pilot(scene, "splitting", {"order": order, "step_s": 0.5 * h})
-            err = e2
-            if e2 <= 0 or e1 <= 0:
-                if h >= span:
-                    break
-                h = float(min(4.0 * h, span))  # no measurable error: try larger steps
-                continue
-            if e1 / e2 < 2.0 ** (order - 1):
-                h *= 0.5  # not yet in the asymptotic regime
-                continue
-            target = 0.5 * h * (_PILOT_SAFETY * scene.accuracy / (e2 * growth)) ** (1.0 / order)
-            if target > h and h < span:
-                h = float(min(2.0 * target, span))  # may grow: check the larger step first
-                continue
-            h = float(min(target, span))
-            break
+        goal = _PILOT_SAFETY * scene.accuracy / growth  # the pilot's share of the accuracy
+        h_ok, err = None, 0.0
+        # The rate nu is a rough guess (a spinning symmetric body feels its torque far
+        # less than nu says): pilot; grow the step while the estimate allows, shrink
+        # it (at least halving, so that a step that resonates with the spin is left
+        # behind) until it passes.
+        for _ in range(12):
+            e, _ = _pilot(scene, "splitting", {"order": order, "step_s": h})
+            if e <= goal:
+                h_ok, err = h, e
+                if e * 2.0**order < goal and h < span:
+                    h = float(min(2.0 * h, span))
+                    continue
+                break
+            if h_ok is not None:
+                break
+            factor = (goal / e) ** (1.0 / order)
+            h *= min(0.5, factor)
+            if h < 1e-7 * span:  # more than 10^7 steps: leave it to DOP853
+                break
+        h = h_ok if h_ok is not None else h
     gaps = np.diff(scene.times)
     steps = float(np.sum(2 * np.ceil(gaps[gaps > 0] / (2 * h) * (1 - 1e-12)))) if gaps.size else 0.0
     stages = len(_composition_stages(order))
-    work = 1.5 * steps * stages * (_drift_cost(scene.members) + _KICK_COST)
+    work = 1.5 * steps * stages * (_drift_cost(scene.members) + _kick_cost(scene.members))
     return _Plan("splitting", {"order": order, "step_s": h}, work, err)
 
 
@@ -651,6 +653,11 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
     best_floor = np.inf
     for cand in CANDIDATES:
         if force is not None and cand.name != force:
+            continue
+        if cand.kind == "numerical" and scene.accuracy < cand.floor(scene):
+            # (checked before the predicate: the splitting's predicate runs pilots)
+            best_floor = min(best_floor, cand.floor(scene))
+            passed.append(f"{cand.name}: cannot promise {scene.accuracy:.3g} (best {cand.floor(scene):.3g})")
             continue
         why = _applies_splitting(scene, forced=True) if (force and cand.name == "splitting") else cand.applies(scene)
         if why is not None:
