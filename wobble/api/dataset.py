@@ -31,12 +31,16 @@ from wobble.io.netcdf import open_wobble
 __all__ = ["load", "quantity", "WobbleAccessor"]
 
 _SINCE = re.compile(r"^\s*(\w+)\s+since\s+(.+?)\s*$")
+# UDUNITS time words astropy does not know by these names.
+_TIME_WORDS = {"second": "s", "seconds": "s", "sec": "s", "secs": "s", "minute": "min", "minutes": "min",
+               "hour": "h", "hours": "h", "day": "d", "days": "d"}
 
 
 def _unit(text: str, name: str) -> u.UnitBase:
     match = _SINCE.match(text)
     if match:
         text = match.group(1)
+    text = _TIME_WORDS.get(text.strip(), text)
     try:
         return u.Unit(text if text.strip() != "1" else "", parse_strict="raise")
     except ValueError:
