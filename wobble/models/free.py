@@ -585,8 +585,8 @@ def free_flow(moments, omega, q=None, h=0.0):
     Lifshitz section 37; docs/free-rotation.md), started from the state
     itself instead of from t = 0:
 
-    * the phase u0 of the state comes from sn, cn, dn = omega_a / A_a,
-      s omega_b / A_b, |omega_c| / A_c through the quarter-period inverse
+    * the phase u0 of the state comes from ``sn, cn, dn = omega_a / A_a,
+      s omega_b / A_b, |omega_c| / A_c`` through the quarter-period inverse
       (:func:`wobble.numerics.elliptic.jacobi_quarter_inverse`, Carlson R_F);
     * u1 = u0 + lambda h, evaluated with the exact quarter shifts
       (:func:`wobble.numerics.elliptic.jacobi_quarter`);
@@ -622,8 +622,8 @@ def free_flow(moments, omega, q=None, h=0.0):
     Float64 set-up per call, so unlike :func:`free_rotation` the phase
     lambda h carries the rounding of a float product: the error of one call
     is a few ulps of the phase advanced (checked against
-    :func:`free_rotation` in tests/test_free_flow.py: below 1e-14 for
-    |lambda h| up to 10 K, growing like eps |lambda h| beyond).
+    :func:`free_rotation` in tests/test_free_flow.py: within
+    ``64 eps (1 + |omega| |h|)`` of the exact solution).
     """
     moments = np.asarray(moments, dtype=float)
     omega = np.atleast_2d(np.asarray(omega, dtype=float))
