@@ -396,6 +396,7 @@ def _heavy_top_geometry(scene):
     grav = np.asarray(g.gravity, dtype=float).reshape(3)
     if grav[0] != 0 or grav[1] != 0:
         return None, "gravity is not along the inertial z axis"
+    # M g l with l the signed position of the centre of mass on axis 3 (negative: a hanging top)
     mgl = float(np.asarray(g.mass).reshape(-1)[0]) * (-grav[2]) * r[2]
     return (float(tensor[0, 0]), float(tensor[2, 2]), mgl), None
 
@@ -464,6 +465,8 @@ class _TopRun(_ModelRun):
 # (measured with scripts/bench_engine.py's per-call timings).
 def _kick_cost(members: int) -> float:
     return 0.1 + 0.35 * members / (members + 300.0)
+
+
 _PILOT_FRACTION = 1.0 / 16.0
 # Aim the full run at this fraction of the accuracy: errors may grow faster than linearly.
 _PILOT_SAFETY = 0.1
