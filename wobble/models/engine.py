@@ -153,6 +153,23 @@ def _qmul_one(p, q):
     )
 
 
+def _to_body_components(q, v0, v1, v2):
+    """R(q)^T v component by component (q (n, 4); v components broadcastable to (n,))."""
+    qw, ux, uy, uz = q[..., 0], -q[..., 1], -q[..., 2], -q[..., 3]
+    tx = 2.0 * (uy * v2 - uz * v1)
+    ty = 2.0 * (uz * v0 - ux * v2)
+    tz = 2.0 * (ux * v1 - uy * v0)
+    return (v0 + qw * tx + (uy * tz - uz * ty), v1 + qw * ty + (uz * tx - ux * tz), v2 + qw * tz + (ux * ty - uy * tx))
+
+
+def _stack3(a, b, c):
+    out = np.empty(np.broadcast(a, b, c).shape + (3,))
+    out[..., 0] = a
+    out[..., 1] = b
+    out[..., 2] = c
+    return out
+
+
 def _to_body(q, v):
     """R(q)^T v: inertial vectors into the body frame."""
     return _rotate(q, np.asarray(v, dtype=float), inverse=True)
@@ -347,7 +364,16 @@ class UniformGravity:
         mg = mass * g
         b = _Bound()
         b.conservative = True
-        b.torque = lambda t, w, q, idx: _cross(_take(r, idx), _to_body(q, _take(mg, idx)))
+        shared = r.shape[0] == 1 and mg.shape[0] == 1
+        r_s, mg_s = r[0], mg[0]
+
+        def torque(t, w, q, idx):
+            if not shared:
+                return _cross(_take(r, idx), _to_body(q, _take(mg, idx)))
+            g0, g1, g2 = _to_body_components(q, mg_s[0], mg_s[1], mg_s[2])
+            return _stack3(r_s[1] * g2 - r_s[2] * g1, r_s[2] * g0 - r_s[0] * g2, r_s[0] * g1 - r_s[1] * g0)
+
+        b.torque = torque
         b.potential = lambda t, q, idx: -np.sum(_take(mg, idx) * _rotate(q, _take(r, idx)), axis=-1)
         b.mgl = mass[:, 0] * np.linalg.norm(g, axis=-1) * np.linalg.norm(r, axis=-1)
         r1 = tuple(float(x) for x in r[0])
@@ -434,8 +460,18 @@ class GravityGradient:
         b.conservative = e2 is None
 
         def torque(t, w, q, idx):
-            rb = _to_body(q, rho(t))
-            return k * _cross(rb, _take(moments, idx) * rb)
+            if e2 is None:
+                v0, v1, v2 = e1[0], e1[1], e1[2]
+            else:
+                ang = rate * np.asarray(t, dtype=float) + phase
+                c, s_ = np.cos(ang), np.sin(ang)
+                v0, v1, v2 = c * e1[0] + s_ * e2[0], c * e1[1] + s_ * e2[1], c * e1[2] + s_ * e2[2]
+            r0, r1, r2 = _to_body_components(q, v0, v1, v2)
+            m = _take(moments, idx)
+            # rho x I rho = ((I3 - I2) r1 r2, (I1 - I3) r2 r0, (I2 - I1) r0 r1)
+            return _stack3(
+                k * (m[:, 2] - m[:, 1]) * r1 * r2, k * (m[:, 0] - m[:, 2]) * r2 * r0, k * (m[:, 1] - m[:, 0]) * r0 * r1
+            )
 
         def potential(t, q, idx):
             rb = _to_body(q, rho(t))
@@ -700,13 +736,16 @@ class Engine:
         q = y[:, 3:7] if y.shape[1] == 7 else None
         I = _take(self.moments, idx)  # noqa: E741
         tau = self.torque(t, w, q, idx)
-        dw = (tau + _cross(I * w, w)) / I
-        if q is None:
-            return dw
         w0, w1, w2 = w[:, 0], w[:, 1], w[:, 2]
-        qw, qx, qy, qz = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+        i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
         out = np.empty(y.shape)
-        out[:, :3] = dw
+        # (I w) x w = ((I2 - I3) w2 w3, (I3 - I1) w3 w1, (I1 - I2) w1 w2): Euler's equations, notes 5.5
+        out[:, 0] = (tau[:, 0] + (i1 - i2) * w1 * w2) / i0
+        out[:, 1] = (tau[:, 1] + (i2 - i0) * w2 * w0) / i1
+        out[:, 2] = (tau[:, 2] + (i0 - i1) * w0 * w1) / i2
+        if q is None:
+            return out
+        qw, qx, qy, qz = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
         out[:, 3] = -0.5 * (qx * w0 + qy * w1 + qz * w2)
         out[:, 4] = 0.5 * (qw * w0 + qy * w2 - qz * w1)
         out[:, 5] = 0.5 * (qw * w1 - qx * w2 + qz * w0)

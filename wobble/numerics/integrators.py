@@ -59,6 +59,11 @@ class StepLimitError(RuntimeError):
     """An integration needed more steps than allowed, or its step underflowed."""
 
 
+def _rows(a, rows):
+    """``a[rows]``, or ``a`` itself for rows None (all members: a view, no copy)."""
+    return a if rows is None else a[rows]
+
+
 def _rms(x):
     return np.sqrt(np.mean(x * x, axis=-1))
 
@@ -130,13 +135,15 @@ class DOP853:
 
     # -- step-size heuristics ---------------------------------------------------
     def _scale(self, idx, y_new=None):
-        ref = self.ymax[idx] if y_new is None else np.maximum(self.ymax[idx], np.abs(y_new))
-        return self.atol[idx] + self.rtol[idx, None] * ref
+        """atol + rtol * (largest |y| so far, and |y_new|), for the members ``idx`` (None: all)."""
+        ymax = _rows(self.ymax, idx)
+        ref = ymax if y_new is None else np.maximum(ymax, np.abs(y_new))
+        return _rows(self.atol, idx) + _rows(self.rtol, idx)[:, None] * ref
 
     def _initial_step(self, t_end):
         """Hairer's starting step (Solving ODEs I, II.4), per member; one extra evaluation."""
         span = np.abs(t_end - self.t)
-        scale = self._scale(slice(None))
+        scale = self._scale(None)
         d0 = _rms(self.y / scale)
         d1 = _rms(self.f / scale)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -230,20 +237,23 @@ class DOP853:
         self.h = np.where(self.h > 0, self.h, np.abs(t_end - self.t))
         rejected_before = np.zeros(n, dtype=bool)
         while True:
-            idx = np.flatnonzero(self.t < t_end)
-            if idx.size == 0:
+            active = self.t < t_end
+            if not active.any():
                 break
-            t, y, f = self.t[idx], self.y[idx], self.f[idx]
+            # All members active (the usual case): views, no gathers and scatters.
+            idx = None if active.all() else np.flatnonzero(active)
+            ids = self._all if idx is None else idx
+            t, y, f = _rows(self.t, idx), _rows(self.y, idx), _rows(self.f, idx)
+            h_now = _rows(self.h, idx)
             remaining = t_end - t
-            h = np.minimum(self.h[idx], remaining)
-            last = self.h[idx] * (1 + 1e-9) >= remaining  # no sliver of a last step
-            h = np.where(last, remaining, h)
+            last = h_now * (1 + 1e-9) >= remaining  # no sliver of a last step
+            h = np.where(last, remaining, np.minimum(h_now, remaining))
             if np.any(h <= 16 * np.finfo(float).eps * np.maximum(np.abs(t), 1e-300)):
                 raise StepLimitError(f"step size underflow at t = {t[np.argmin(h)]!r}")
-            K, y_new = self._stages(t, y, f, h, idx)
+            K, y_new = self._stages(t, y, f, h, ids)
             t_new = np.where(last, t_end, t + h)
-            K[-1] = self.fun(t_new, y_new, idx)
-            self.nfev += (_T.N_STAGES) * idx.size
+            K[-1] = self.fun(t_new, y_new, ids)
+            self.nfev += (_T.N_STAGES) * ids.size
             err = self._error_norm(K, h, self._scale(idx, y_new))
             ok = err <= 1.0
             if self.fixed_step is not None:
@@ -252,51 +262,70 @@ class DOP853:
             with np.errstate(divide="ignore"):
                 grow = np.where(err == 0, _MAX_FACTOR, np.minimum(_MAX_FACTOR, _SAFETY * err**_EXPONENT))
                 shrink = np.maximum(_MIN_FACTOR, _SAFETY * err**_EXPONENT)
-            grow = np.where(rejected_before[idx], np.minimum(1.0, grow), grow)
-            self.h[idx] = np.where(ok, h * grow, h * shrink)
+            grow = np.where(_rows(rejected_before, idx), np.minimum(1.0, grow), grow)
+            new_h = np.where(ok, h * grow, h * shrink)
             if self.fixed_step is not None:
-                self.h[idx] = self.fixed_step
+                new_h[:] = self.fixed_step
+            if idx is None:
+                self.h = new_h
+            else:
+                self.h[idx] = new_h
             # Rejected members retry; accepted members move on.
-            bad = idx[~ok]
-            rejected_before[bad] = True
-            self.n_rejected[bad] += 1
-            good = np.flatnonzero(ok)
-            if good.size == 0:
+            all_ok = bool(ok.all())
+            if not all_ok:
+                bad = ids[~ok]
+                rejected_before[bad] = True
+                self.n_rejected[bad] += 1
+            gsel = None if all_ok else np.flatnonzero(ok)
+            if gsel is not None and gsel.size == 0:
                 continue
-            gi = idx[good]
+            gi = ids if gsel is None else ids[gsel]
             rejected_before[gi] = False
-            yn = y_new[good]
+            yn = _rows(y_new, gsel)
             if self.project is not None:
                 yn = self.project(yn)
-            f_new = K[-1][good]
+            f_new = _rows(K[-1], gsel).copy()
             # Dense output for members with outputs in (t_old, t_new].
-            t_old = t[good]
-            tn = t_new[good]
+            t_old, tn, hg = _rows(t, gsel), _rows(t_new, gsel), _rows(h, gsel)
             first = ptr[gi]
             stop = np.searchsorted(t_out, tn, side="right")
             counts = stop - first
             has = counts > 0
             if np.any(has):
-                sel = np.flatnonzero(has)
+                ssel = None if has.all() else np.flatnonzero(has)
+                Kg = K if gsel is None else K[:, gsel]
                 F = self._dense(
-                    t_old[sel], y[good][sel], yn[sel], f[good][sel], f_new[sel], K[:, good][:, sel], h[good][sel], gi[sel]
+                    _rows(t_old, ssel), _rows(_rows(y, gsel), ssel), _rows(yn, ssel), _rows(_rows(f, gsel), ssel),
+                    _rows(f_new, ssel), Kg if ssel is None else Kg[:, ssel], _rows(hg, ssel), _rows(gi, ssel),
                 )
-                reps = counts[sel]
-                member = np.repeat(np.arange(sel.size), reps)
-                offsets = np.arange(reps.sum()) - np.repeat(np.cumsum(reps) - reps, reps)
-                k_out = np.repeat(first[sel], reps) + offsets
-                x = (t_out[k_out] - t_old[sel][member]) / h[good][sel][member]
-                vals = self._interpolate(F[:, member], y[good][sel][member], x)
-                at_end = t_out[k_out] == tn[sel][member]
-                vals = np.where(at_end[:, None], yn[sel][member], vals)
+                reps = _rows(counts, ssel)
+                y_sel, yn_sel, t_sel, h_sel, tn_sel = (_rows(a, ssel) for a in (_rows(y, gsel), yn, t_old, hg, tn))
+                g_sel, first_sel = _rows(gi, ssel), _rows(first, ssel)
+                if np.all(reps == 1):
+                    k_out, members = first_sel, g_sel
+                    vals = self._interpolate(F, y_sel, (t_out[k_out] - t_sel) / h_sel)
+                    at_end = t_out[k_out] == tn_sel
+                    vals = np.where(at_end[:, None], yn_sel, vals)
+                else:
+                    member = np.repeat(np.arange(reps.size), reps)
+                    offsets = np.arange(reps.sum()) - np.repeat(np.cumsum(reps) - reps, reps)
+                    k_out = np.repeat(first_sel, reps) + offsets
+                    members = g_sel[member]
+                    vals = self._interpolate(F[:, member], y_sel[member], (t_out[k_out] - t_sel[member]) / h_sel[member])
+                    at_end = t_out[k_out] == tn_sel[member]
+                    vals = np.where(at_end[:, None], yn_sel[member], vals)
                 if self.project is not None:
                     vals = self.project(vals)
-                out[k_out, gi[sel][member]] = vals
+                out[k_out, members] = vals
                 ptr[gi] = stop
-            self.t[gi] = tn
-            self.y[gi] = yn
-            self.f[gi] = f_new
-            self.ymax[gi] = np.maximum(self.ymax[gi], np.abs(yn))
+            if idx is None and gsel is None:
+                self.t, self.y, self.f = tn, yn, f_new
+                self.ymax = np.maximum(self.ymax, np.abs(yn))
+            else:
+                self.t[gi] = tn
+                self.y[gi] = yn
+                self.f[gi] = f_new
+                self.ymax[gi] = np.maximum(self.ymax[gi], np.abs(yn))
             self.n_steps[gi] += 1
             if self.n_steps.max() > self.max_steps:
                 raise StepLimitError(f"more than {self.max_steps} steps (tolerance too tight for the span?)")
