@@ -64,6 +64,7 @@ samples = 3
     "args, words",
     [
         (["run", "{bad}", "-o", "{out}"], ["bad.toml", "body.moments.unit"]),
+        (["run", "{tight}", "-o", "{out}"], ["tight.toml", "accuracy", "at least"]),
         (["run", "{missing}", "-o", "{out}"], ["nope.toml", "no such file"]),
         (["run", "tennis_racket", "-o", "{out}", "--model", "heavy-top"], ["model"]),
         (["run", "tennis_racket", "-o", "{out}", "--model", "rk4"], ["model", "rk4"]),
@@ -74,13 +75,16 @@ samples = 3
 )
 def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys, args, words):
     (tmp_path / "bad.toml").write_text(BAD_SCENE)
-    subs = {"bad": str(tmp_path / "bad.toml"), "missing": str(tmp_path / "nope.toml"), "out": str(tmp_path / "out.nc"), "folder": str(tmp_path)}
+    tight = BAD_SCENE.replace('unit = "kg" }', 'unit = "kg m2" }').replace("[body]", "accuracy = 1e-17\n[body]")
+    (tmp_path / "tight.toml").write_text(tight)
+    subs = {"bad": str(tmp_path / "bad.toml"), "tight": str(tmp_path / "tight.toml"), "missing": str(tmp_path / "nope.toml"),
+            "out": str(tmp_path / "out.nc"), "folder": str(tmp_path)}
     status, out, err = _run(capsys, *[a.format(**subs) for a in args])
     assert status == 2 and not out
     assert err.count("\n") == 1 and err.startswith("wobble run: error:")
     for w in words:
         assert w in err, err
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml", "tight.toml"]
 
 
 def test_existing_output_needs_overwrite(tmp_path, capsys):

@@ -254,8 +254,11 @@ class _Streamer:
 _MEMORY_LIMIT = 2 * 2**30
 
 
+_DIM_SIZES = {"axis": 3, "component": 4, "inertial_axis": 3}
+
+
 def _estimated_bytes(scene) -> int:
-    width = sum(int(np.prod([3 if d else 1 for d in OUTPUT_METADATA[o][0]] or [1])) for o in scene.outputs)
+    width = sum(int(np.prod([_DIM_SIZES[d] for d in OUTPUT_METADATA[o][0]])) for o in scene.outputs)
     return int(scene.times.size) * scene.members * max(width, 1) * 8
 
 

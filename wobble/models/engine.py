@@ -686,6 +686,11 @@ class Engine:
             if b.damping is not None:
                 self.damping = b.damping if self.damping is None else self.damping + b.damping
         self.kicked = [b for b in self.torques if b.damping is None]
+        self._scalar = (
+            self.n == 1
+            and self.moments.shape[0] == 1
+            and all(hasattr(b, "torque_one") or b.damping is not None for b in self.torques)
+        )
         self._moments_one = tuple(float(x) for x in self.moments[0])
         self._damping_one = None if self.damping is None else tuple(float(x) for x in np.reshape(self.damping, (-1, 3))[0])
 
@@ -730,8 +735,8 @@ class Engine:
 
     def rhs(self, t, y, idx=None):
         """d(omega, q)/dt for states ``y`` (n, 7) (or (n, 3) when no torque needs q)."""
-        if y.shape[0] == 1 and self.scalar:
-            return self._rhs_one(float(np.reshape(t, -1)[0]), y)
+        if self._scalar and y.shape[0] == 1:
+            return self._rhs_one(float(t[0]) if np.ndim(t) else float(t), y)
         w = y[:, :3]
         q = y[:, 3:7] if y.shape[1] == 7 else None
         I = _take(self.moments, idx)  # noqa: E741
@@ -781,7 +786,7 @@ class Engine:
     @property
     def scalar(self) -> bool:
         """Whether a single member can run in Python floats (every torque has a scalar form)."""
-        return self.n == 1 and self.moments.shape[0] == 1 and all(hasattr(b, "torque_one") or b.damping is not None for b in self.torques)
+        return self._scalar
 
     def _rhs_one(self, t, y):
         """:meth:`rhs` for one member in Python floats."""

@@ -569,19 +569,19 @@ def _composition_stages(order):
 _PLAN_CACHE: dict = {}
 
 
-def _plans(scene):
-    """Pilot both integrators where they apply (memoised on the scene object)."""
+def _plans(scene, only=None):
+    """Pilot both integrators where they apply, or ``only`` one (memoised per scene object)."""
     key = id(scene)
     if key not in _PLAN_CACHE or _PLAN_CACHE[key][0] is not scene:
         while len(_PLAN_CACHE) >= 8:
             _PLAN_CACHE.pop(next(iter(_PLAN_CACHE)))
         _PLAN_CACHE[key] = (scene, {})
     cache = _PLAN_CACHE[key][1]
-    if "dop853" not in cache:
+    if only in (None, "dop853") and "dop853" not in cache:
         cache["dop853"] = _plan_dop853(scene)
-    engine = eng.Engine(scene.body, scene.torques, members=scene.members)
-    if engine.splittable and "splitting" not in cache:
-        cache["splitting"] = _plan_splitting(scene)
+    if only in (None, "splitting") and "splitting" not in cache:
+        if eng.Engine(scene.body, scene.torques, members=scene.members).splittable:
+            cache["splitting"] = _plan_splitting(scene)
     return cache
 
 
@@ -604,13 +604,13 @@ def _integrator_floor(scene):
 
 def _build_splitting(scene, settings=None):
     if settings is None:
-        settings = _plans(scene)["splitting"].settings
+        settings = _plans(scene, "splitting")["splitting"].settings
     return _Numerical(scene, "splitting", settings)
 
 
 def _build_dop853(scene, settings=None):
     if settings is None:
-        settings = _plans(scene)["dop853"].settings
+        settings = _plans(scene, "dop853")["dop853"].settings
     return _Numerical(scene, "dop853", settings)
 
 
