@@ -22,7 +22,6 @@ from scipy.integrate import dblquad, tplquad
 from scipy.spatial.transform import Rotation
 
 from wobble import InputError, RigidBody
-from wobble.models import bodies as models
 
 KGM2 = u.kg * u.m**2
 

@@ -21,8 +21,8 @@ except _PackageNotFoundError:  # a source tree that was never installed
 _configure_astropy_offline()
 
 from wobble.errors import FileFormatError, InputError, OutputExistsError, WobbleError  # noqa: E402
-from wobble.io.netcdf import open_wobble as load  # noqa: E402
 from wobble.io.netcdf import write_netcdf  # noqa: E402
+from wobble.api.dataset import load, quantity  # noqa: E402  (registers the ds.wobble accessor)
 from wobble.api.chandler import (  # noqa: E402
     BudgetStep,
     ChandlerBudget,
@@ -48,6 +48,8 @@ from wobble.api.polar_motion import (  # noqa: E402
     polar_motion_analysis,
 )
 from wobble.api.top import HeavyTop  # noqa: E402
+from wobble.api.engine import Torque  # noqa: E402
+from wobble.api.scene import Scene, example_scenes, run, run_to_netcdf  # noqa: E402
 
 __all__ = [
     "__version__",
@@ -56,6 +58,7 @@ __all__ = [
     "FileFormatError",
     "OutputExistsError",
     "load",
+    "quantity",
     "write_netcdf",
     "Planet",
     "BudgetStep",
@@ -82,4 +85,9 @@ __all__ = [
     "PolarMotionAnalysis",
     "QualityFactorEstimate",
     "HeavyTop",
+    "Torque",
+    "Scene",
+    "run",
+    "run_to_netcdf",
+    "example_scenes",
 ]

@@ -863,7 +863,7 @@ def _summary(a: PolarMotionAnalysis) -> str:
     e, s = a.least_squares, a.spectral
     lines = [
         f"Polar motion {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; {os.path.basename(a.data.attrs.get('source_file', ''))})",
-        f"  p = x_p - i y_p: the Chandler term is at a positive (prograde) frequency",
+        "  p = x_p - i y_p: the Chandler term is at a positive (prograde) frequency",
         "",
         f"  Chandler wobble      {'period [d]':>18}  {'amplitude [mas]':>16}",
     ]
@@ -891,7 +891,7 @@ def _summary(a: PolarMotionAnalysis) -> str:
         value = "unresolved (inf)" if not math.isfinite(q.value) else f"{q.value:.0f}"
         hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
         lines.append(f"  Q (line shape; see caveats): ML {value}, 68 % {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
-    lines += ["", f"  Beside the model (wobble chandler earth) and the literature; days of 86400 s:"]
+    lines += ["", "  Beside the model (wobble chandler earth) and the literature; days of 86400 s:"]
     lines.append(f"  {'':<44}{'period [d]':>11}{'residual [d]':>14}")
     for r in a.comparison():
         unc = "" if r["uncertainty"] is None else f" +/- {_fmt(r['uncertainty'])}"

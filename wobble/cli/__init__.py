@@ -20,7 +20,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "sweep")
+SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep")
 
 EPILOG = """\
 examples:
@@ -35,6 +35,8 @@ examples:
   wobble top --I1 1 --I3 0.5 --mgl 1 --theta0 "60 deg" --omega3 10 --json
                                         the heavy top: turning points, nutation class, period
   wobble sweep mars_chandler -o mars.nc Monte Carlo over Mars' uncertain parameters (dask)
+  wobble run tennis_racket -o racket.nc a scene (TOML file or example name): the cheapest
+                                        adequate model, streamed to CF netCDF
 
 Numbers without units are SI; days are days of 86400 s. Run
 'wobble COMMAND --help' for each command's options and an example.

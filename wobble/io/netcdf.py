@@ -25,13 +25,14 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from wobble.errors import FileFormatError
-from wobble.io.atomic import atomic_target
+from wobble.errors import FileFormatError, InputError, OutputExistsError
+from wobble.io.atomic import _umask, atomic_target
 
 __all__ = [
     "CONVENTIONS",
@@ -41,6 +42,8 @@ __all__ = [
     "open_wobble",
     "to_cf",
     "from_cf",
+    "StreamingWriter",
+    "simulation_time_units",
 ]
 
 CONVENTIONS = "CF-1.10"
@@ -96,14 +99,44 @@ def from_cf(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
-def _encoding(ds: xr.Dataset) -> dict:
-    """Compression and time chunking for large variables; no fill value on coordinates."""
+def simulation_time_units(epoch: str | None = None) -> str:
+    """CF units of elapsed simulation time: seconds since ``epoch`` (UTC), or the nominal J2000.0."""
+    return f"seconds since {epoch}" if epoch else SIMULATION_TIME_UNITS
+
+
+_CHUNK_BYTES = 4 * 2**20
+
+
+def _time_chunks(dims, shape, itemsize, time_chunk) -> tuple:
+    """Chunks of at most ~4 MB: up to ``time_chunk`` times, splitting the largest other axis if needed."""
+    sizes = {d: max(1, int(n)) for d, n in zip(dims, shape)}
+    sizes["time"] = int(time_chunk)
+    others = [d for d in dims if d != "time"]
+    row = itemsize * int(np.prod([sizes[d] for d in others])) if others else itemsize
+    sizes["time"] = int(max(1, min(time_chunk, _CHUNK_BYTES // row)))
+    while others and itemsize * int(np.prod([sizes[d] for d in dims])) > _CHUNK_BYTES:
+        big = max(others, key=lambda d: sizes[d])
+        if sizes[big] == 1:
+            break
+        sizes[big] = (sizes[big] + 1) // 2
+    return tuple(sizes[d] for d in dims)
+
+
+def _encoding(ds: xr.Dataset, *, streaming: bool = False, time_chunk: int = 4096) -> dict:
+    """Compression and time chunking for large variables; no fill value on coordinates.
+
+    A streamed file compresses and chunks every numeric variable along time
+    (its final size is not known when it is created).
+    """
     encoding: dict = {}
     for name, var in ds.variables.items():
         enc: dict = {}
         if var.dtype.kind == "f" and name in ds.coords:
             enc["_FillValue"] = None
-        if var.size >= _COMPRESS_MIN_SIZE and var.dtype.kind in "fiu":
+        if streaming and "time" in var.dims and var.dtype.kind in "fiu":
+            enc.update(zlib=True, complevel=4, shuffle=True)
+            enc["chunksizes"] = _time_chunks(var.dims, var.shape, var.dtype.itemsize, time_chunk)
+        elif var.size >= _COMPRESS_MIN_SIZE and var.dtype.kind in "fiu":
             enc.update(zlib=True, complevel=4, shuffle=True)
             if "time" in var.dims:
                 chunks = [min(n, 65536) if d == "time" else n for d, n in zip(var.dims, var.shape)]
@@ -234,3 +267,105 @@ def open_wobble(path: str | os.PathLike) -> xr.Dataset:
 def is_label_index(values: np.ndarray) -> bool:
     """True for string-valued index arrays (stored as labels in CF files)."""
     return np.asarray(values).dtype.kind in "OUS"
+
+
+class StreamingWriter:
+    """Write a Dataset to CF netCDF block by block along ``time``, atomically.
+
+    The first block is written by xarray (the same layout as
+    :func:`write_netcdf`, with ``time`` unlimited, compressed and chunked
+    along time); later blocks are appended to the same temporary file in the
+    target folder; :meth:`close` sets the final global attributes and renames
+    the file into place. Until then the target is untouched: an error or an
+    interruption removes the temporary file (:meth:`discard`), and an
+    existing file is replaced only with ``overwrite=True``.
+
+    Parameters
+    ----------
+    path : path-like
+        Output file (its folder must exist).
+    overwrite : bool
+        Replace an existing file.
+    command : str, optional
+        Recorded in ``history``.
+    """
+
+    def __init__(self, path, *, overwrite: bool = False, command: str | None = None):
+        path = Path(path)
+        if path.is_dir():
+            raise InputError("output", str(path), "a file path, not a folder")
+        folder = path.parent if str(path.parent) else Path(".")
+        if not folder.is_dir():
+            raise InputError("output", str(path), "a path in an existing folder")
+        if path.exists() and not overwrite:
+            raise OutputExistsError(path)
+        self.path = path
+        self.folder = folder
+        self.command = command
+        self.tmp = None
+        self.rows = 0
+        self._nc = None
+
+    def begin(self) -> None:
+        """Start (or restart) the temporary file."""
+        self.discard()
+        fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=f".{self.path.name}.", suffix=".tmp")
+        os.close(fd)
+        self.tmp = Path(tmp)
+        self.rows = 0
+
+    def append(self, block: xr.Dataset) -> None:
+        """Append a block (a Dataset with a ``time`` dimension; the first one fixes the layout)."""
+        if self.tmp is None:
+            self.begin()
+        if self.rows == 0:
+            cf = to_cf(block, command=self.command)
+            cf.to_netcdf(
+                self.tmp, mode="w", format="NETCDF4", engine="netcdf4",
+                encoding=_encoding(cf, streaming=True), unlimited_dims=["time"],
+            )
+            import netCDF4
+
+            self._nc = netCDF4.Dataset(self.tmp, mode="a")
+            self.rows = block.sizes["time"]
+            return
+        n = block.sizes["time"]
+        sl = slice(self.rows, self.rows + n)
+        for name, var in block.variables.items():
+            if "time" not in var.dims:
+                continue
+            nc_var = self._nc.variables[name]
+            index = tuple(sl if d == "time" else slice(None) for d in var.dims)
+            nc_var[index] = np.asarray(var.values)
+        self.rows += n
+
+    def close(self, attrs: dict | None = None) -> Path:
+        """Set the final global attributes, close and move the file into place."""
+        if self.tmp is None or self._nc is None:
+            raise InputError("output", str(self.path), "at least one block of data before closing")
+        try:
+            for key, value in (attrs or {}).items():
+                self._nc.setncattr(key, value)
+            self._nc.close()
+            self._nc = None
+            # mkstemp makes the file private (0600); give it the permissions a plain open() would.
+            os.chmod(self.tmp, 0o666 & ~_umask())
+            os.replace(self.tmp, self.path)
+        except BaseException:
+            self.discard()
+            raise
+        self.tmp = None
+        return self.path
+
+    def discard(self) -> None:
+        """Remove the temporary file (the target is never touched)."""
+        if self._nc is not None:
+            try:
+                self._nc.close()
+            except Exception:  # noqa: BLE001 - closing a broken file must not mask the real error
+                pass
+            self._nc = None
+        if self.tmp is not None:
+            Path(self.tmp).unlink(missing_ok=True)
+            self.tmp = None
+        self.rows = 0

@@ -261,6 +261,23 @@ def free_wobble_rate(spin: float, c_minus_a: float, c_minus_b: float, d: float =
     return float(rate)
 
 
+def principal_moments(planet: PlanetParameters):
+    """Principal moments (A, B, C) in kg m^2 and the mass in kg of a catalogued planet.
+
+    C = (C/(M a^2)) M a^2 with M = GM/G; A and B from (C - A)/C and (C - B)/C formed
+    from H and J22 without cancellation (:meth:`_Values.equatorial_excess`). None when
+    the file does not give the absolute scale (GM, a and C/(M a^2), or J2 with H).
+    """
+    vals = _Values(planet.values())
+    c_factor = vals.c_factor
+    if c_factor is None or vals["gm"] is None or vals["equatorial_radius"] is None:
+        return None
+    mass = float(vals["gm"] / vals["gravitational_constant"])
+    c = float(c_factor) * mass * float(vals["equatorial_radius"]) ** 2
+    ca, cb = vals.equatorial_excess()
+    return (c * (1.0 - float(ca)), c * (1.0 - float(cb)), c), mass
+
+
 # -- the parameters as arrays ----------------------------------------------------------
 
 

@@ -61,6 +61,8 @@ __all__ = [
     "pi_negative_scd",
     "pi_positive_scd",
     "reduce_half_period",
+    "jacobi_quarter",
+    "jacobi_quarter_inverse",
 ]
 
 _EPS = np.finfo(float).eps
@@ -204,11 +206,13 @@ def pi_negative_scd(nu, s, c, d2, m1):
         p = 1.0 + nu * s2
         q = c2 + m1 * s2 / (1.0 + nu)
         out = s * rf / (1.0 + nu)
-        if nu > 0:
-            out = out + nu * s * c * _sp.elliprc(d2, p * q) / (1.0 + nu)
+        # nu and m1 may be arrays (one body per element): each term is added
+        # where it is non-zero, so a scalar nu = 0 still skips R_C and R_J.
+        if np.any(nu > 0):
+            out = out + np.where(nu > 0, nu * s * c * _sp.elliprc(d2, p * q), 0.0) / (1.0 + nu)
             if np.any(m1 > 0):
                 rj = _sp.elliprj(c2, d2, 1.0, np.where(q > 0, q, 1.0))
-                out = out + np.where(m1 * s > 0, nu * m1 * s * s2 * rj, 0.0) / (3.0 * (1.0 + nu) ** 2)
+                out = out + np.where(nu * m1 * s > 0, nu * m1 * s * s2 * rj, 0.0) / (3.0 * (1.0 + nu) ** 2)
     return sign * out
 
 
@@ -432,3 +436,90 @@ def jacobi_am(u, m, m1=None):
     sn, cn, _ = jacobi_reduced(r, lv, k_lo)
     am = j * np.pi + np.arctan2(sn, cn)
     return np.where(lv.m1 == 0, 2.0 * np.arctan(np.tanh(0.5 * u)), am)
+
+
+# --------------------------------------------------------------------------
+# Quarter-period representation u = n K + x, |x| <= K/2 (one parameter per
+# element): the flow map of the free rigid body (wobble.models.free.free_flow)
+# steps u by lambda h from a state, never from t = 0.
+# --------------------------------------------------------------------------
+def jacobi_quarter(n, x, lv: LandenLevels, separatrix=None):
+    """sn, cn, dn of ``u = n K + x`` for integer ``n`` and ``|x| <= K/2``.
+
+    ``x`` goes through the descending Landen recurrence; the quarter shifts
+    use the exact identities (A&S 16.8.1)
+    ``sn(x + K) = cn x / dn x``, ``cn(x + K) = -k' sn x / dn x``,
+    ``dn(x + K) = k' / dn x`` (k' = sqrt(m1)), so cn and dn keep their
+    relative accuracy next to u = K however small m1 is. The parameter may
+    differ per element (``lv`` built from arrays); where ``m1 == 0`` (K
+    infinite) ``n`` must be 0 and the functions are tanh, sech, sech of x.
+    ``separatrix`` (boolean array) marks those elements explicitly, so that a
+    caller can build ``lv`` with a harmless placeholder parameter there (the
+    Landen sequence of m = 1 never converges).
+
+    Returns
+    -------
+    sn, cn, dn : numpy.ndarray
+        Of u; also ``(snx, cnx, dnx)`` of x, as a second triple.
+    """
+    x = np.asarray(x, dtype=float)
+    phi = _landen_amplitude(x, lv)
+    s = np.sin(phi)
+    c = np.cos(phi)
+    d = np.sqrt(lv.m1 + lv.m * c * c)
+    sep = lv.m1 == 0 if separatrix is None else separatrix
+    if np.any(sep):
+        with np.errstate(over="ignore"):
+            sech = 1.0 / np.cosh(x)
+        s = np.where(sep, np.tanh(x), s)
+        c = np.where(sep, sech, c)
+        d = np.where(sep, sech, d)
+    kp = np.where(sep, 0.0, np.sqrt(lv.m1))
+    quarter = np.mod(np.asarray(n, dtype=float), 4.0)
+    odd = (quarter == 1.0) | (quarter == 3.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sn = np.where(odd, c / d, s)
+        cn = np.where(odd, -kp * s / d, c)
+        dn = np.where(odd, kp / d, d)
+    flip = quarter >= 2.0  # u + 2K: sn and cn change sign
+    sn = np.where(flip, -sn, sn)
+    cn = np.where(flip, -cn, cn)
+    return (sn, cn, dn), (s, c, d)
+
+
+def jacobi_quarter_inverse(sn, cn, dn, m, m1):
+    """The inverse of :func:`jacobi_quarter`: ``(n, x)`` with ``u = n K + x``.
+
+    Given sn, cn, dn of some u (dn > 0, one parameter per element), returns
+    ``n`` in {-1, 0, 1, 2} and ``x`` with ``|x| <= K/2`` (up to rounding)
+    by Carlson's R_F (DLMF 19.25.5): near an even multiple of K
+    (``dn^2 >= k'``) ``x = +-sn R_F(cn^2, dn^2, 1)``; near an odd one the
+    complementary amplitude of x is used, ``sn x = -+cn/dn``,
+    ``cn x = k' |sn| / dn``, ``dn x^2 = m1 / dn^2``, so that x keeps its
+    relative accuracy where ``u`` is next to K (the unstable axis of a
+    body near its separatrix). Where ``m1 == 0`` the result is ``n = 0``
+    and ``x = artanh(sn)`` through the same R_F.
+
+    Returns
+    -------
+    n : numpy.ndarray of float (integer values)
+    x : numpy.ndarray
+    snx, cnx, dnx : numpy.ndarray
+        sn, cn, dn of x (cnx >= 0).
+    """
+    sn = np.asarray(sn, dtype=float)
+    cn = np.asarray(cn, dtype=float)
+    dn = np.asarray(dn, dtype=float)
+    m = np.asarray(m, dtype=float)
+    m1 = np.asarray(m1, dtype=float)
+    kp = np.sqrt(m1)
+    even = dn * dn >= kp
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_d = 1.0 / dn
+        snx = np.where(even, np.where(cn >= 0, sn, -sn), np.where(sn > 0, -cn * inv_d, cn * inv_d))
+        cnx = np.where(even, np.abs(cn), kp * np.abs(sn) * inv_d)
+        dnx = np.where(even, dn, kp * inv_d)
+    n = np.where(even, np.where(cn >= 0, 0.0, 2.0), np.where(sn > 0, 1.0, -1.0))
+    d2 = np.where(even, cnx * cnx + m1 * snx * snx, m1 * inv_d * inv_d)
+    x = snx * _sp.elliprf(cnx * cnx, d2, 1.0)
+    return n, x, snx, cnx, dnx

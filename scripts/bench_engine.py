@@ -1,0 +1,492 @@
+"""Benchmark: the engine's integrators against SciPy at matched error; writes docs/performance-engine.md.
+
+Usage: python scripts/bench_engine.py [--quick] [--rebuild-reference]
+
+Torqued cases with no exact solution (issue 8):
+
+* ``satellite``: a spin-stabilised microsatellite (I = 0.90, 0.92, 1.20 kg m2) spinning at
+  1 rad/s under the gravity-gradient torque of Earth on a 500 km circular orbit, 300 s,
+  21 outputs. Reference: SciPy's Radau at rtol 1e-13 (computed once, cached in
+  scripts/bench_engine_reference.json; ``--rebuild-reference`` recomputes it).
+* ``asymmetric top``: I = (1, 1.5, 2) kg m2 about a pivot, centre of mass off every axis,
+  spin 8 rad/s, 5 s. Reference: the mpmath Taylor integration at 30 digits of
+  tests/references/engine_torqued.json.
+
+Error = max over the outputs of |omega - omega_ref| / |omega_ref| and of the attitude
+angle (rad). Methods: wobble's DOP853 (vectorised) and splitting of orders 2, 4, 6;
+scipy.integrate.solve_ivp with DOP853, RK45, LSODA and Radau on the same equations, written
+as a user would (NumPy, one trajectory). Times: one warm-up, then min and median of repeats,
+all methods in the same process. "At matched error" compares, at the target error, the
+log-log interpolation of each method's time-against-error curve.
+
+Also: ensembles of 10^2 to 10^4 satellites (per-member cost against a loop of SciPy's
+DOP853), and the energy error of the splitting over 10^6 steps of the heavy top.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy
+from scipy.integrate import solve_ivp
+
+import wobble
+from wobble.models.engine import BodyModel, Engine, GravityGradient, UniformGravity, attitude_angle
+from wobble.numerics import quaternion as Q
+
+ROOT = Path(__file__).resolve().parents[1]
+REFERENCE = ROOT / "scripts" / "bench_engine_reference.json"
+MPMATH = json.loads((ROOT / "tests" / "references" / "engine_torqued.json").read_text())
+GM_EARTH = 3.986004418e14  # data/bodies/earth.toml
+ORBIT_RADIUS = 6878137.0
+
+
+# --------------------------------------------------------------------------
+# Cases
+# --------------------------------------------------------------------------
+class Case:
+    def __init__(self, name, moments, torques, w0, q0, t):
+        self.name = name
+        self.moments = np.asarray(moments, dtype=float)
+        self.torques = torques
+        self.w0 = np.asarray(w0, dtype=float)
+        self.q0 = np.asarray(q0, dtype=float)
+        self.t = np.asarray(t, dtype=float)
+        self.engine = Engine(BodyModel.from_moments(self.moments), torques)
+        self.w_ref = self.q_ref = None
+
+    def scipy_rhs(self):
+        """Euler's equations as a SciPy user writes them (NumPy, one state vector)."""
+        raise NotImplementedError
+
+
+def _body_rhs(I, tau, w, q):
+    """d(omega, q)/dt from a body-frame torque, in Python floats (the fast way to feed solve_ivp)."""
+    i0, i1, i2 = I
+    w0, w1, w2 = w
+    qw, qx, qy, qz = q
+    return np.array([
+        (tau[0] + (i1 - i2) * w1 * w2) / i0,
+        (tau[1] + (i2 - i0) * w2 * w0) / i1,
+        (tau[2] + (i0 - i1) * w0 * w1) / i2,
+        -0.5 * (qx * w0 + qy * w1 + qz * w2),
+        0.5 * (qw * w0 + qy * w2 - qz * w1),
+        0.5 * (qw * w1 - qx * w2 + qz * w0),
+        0.5 * (qw * w2 + qx * w1 - qy * w0),
+    ])
+
+
+def _to_body(q, v):
+    """R(q)^T v for a (not necessarily unit) quaternion, in floats."""
+    n = math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
+    w, x, y, z = (c / n for c in q)
+    return (
+        (1 - 2 * (y * y + z * z)) * v[0] + 2 * (x * y + w * z) * v[1] + 2 * (x * z - w * y) * v[2],
+        2 * (x * y - w * z) * v[0] + (1 - 2 * (x * x + z * z)) * v[1] + 2 * (y * z + w * x) * v[2],
+        2 * (x * z + w * y) * v[0] + 2 * (y * z - w * x) * v[1] + (1 - 2 * (x * x + y * y)) * v[2],
+    )
+
+
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+class Satellite(Case):
+    def __init__(self, span=300.0, outputs=21):
+        self.k = 3 * GM_EARTH / ORBIT_RADIUS**3
+        self.n = math.sqrt(GM_EARTH / ORBIT_RADIUS**3)
+        super().__init__(
+            "satellite", [0.90, 0.92, 1.20],
+            [GravityGradient(GM_EARTH, ORBIT_RADIUS, orbit_normal=[0.0, 0.0, 1.0])],
+            [0.005, 0.0, 1.0], [1.0, 0.0, 0.0, 0.0], np.linspace(0.0, span, outputs),
+        )
+
+    def scipy_rhs(self):
+        I, k, n = tuple(self.moments), self.k, self.n  # noqa: E741
+
+        def f(t, y):
+            w, q = y[:3].tolist(), y[3:].tolist()
+            rb = _to_body(q, (math.cos(n * t), math.sin(n * t), 0.0))
+            tq = _cross(rb, (I[0] * rb[0], I[1] * rb[1], I[2] * rb[2]))
+            return _body_rhs(I, (k * tq[0], k * tq[1], k * tq[2]), w, q)
+
+        return f
+
+
+class Top(Case):
+    def __init__(self):
+        c = next(c for c in MPMATH["cases"] if c["name"] == "asymmetric top")
+        fl = lambda xs: [float(x) for x in xs]  # noqa: E731
+        self.r = np.array(fl(c["center_of_mass"]))
+        self.mg = float(c["mass"]) * np.array(fl(c["gravity"]))
+        super().__init__(
+            "asymmetric top", fl(c["moments"]), [UniformGravity(float(c["mass"]), self.r, np.array(fl(c["gravity"])))],
+            fl(c["omega0"]), fl(c["attitude0"]), [0.0] + fl(c["t"]),
+        )
+        self.w_ref = np.array([fl(r) for r in c["omega"]])
+        self.q_ref = np.array([fl(r) for r in c["attitude"]])
+
+    def scipy_rhs(self):
+        I, r, mg = tuple(self.moments), tuple(self.r), tuple(self.mg)  # noqa: E741
+
+        def f(t, y):
+            w, q = y[:3].tolist(), y[3:].tolist()
+            return _body_rhs(I, _cross(r, _to_body(q, mg)), w, q)
+
+        return f
+
+
+def load_reference(case: Satellite, rebuild: bool):
+    if REFERENCE.is_file() and not rebuild:
+        data = json.loads(REFERENCE.read_text())
+        if data["t"] == case.t.tolist() and data["omega0"] == case.w0.tolist():
+            case.w_ref, case.q_ref = np.array(data["omega"]), np.array(data["attitude"])
+            return data["seconds"]
+    t0 = time.perf_counter()
+    y0 = np.concatenate([case.w0, case.q0])
+    sol = solve_ivp(case.scipy_rhs(), (case.t[0], case.t[-1]), y0, method="Radau", rtol=1e-13, atol=1e-16, t_eval=case.t)
+    seconds = time.perf_counter() - t0
+    case.w_ref = sol.y[:3, 1:].T
+    case.q_ref = Q.normalize(sol.y[3:, 1:].T)
+    REFERENCE.write_text(json.dumps({
+        "what": "Radau rtol 1e-13 atol 1e-16 of the satellite case of scripts/bench_engine.py",
+        "t": case.t.tolist(), "omega0": case.w0.tolist(), "seconds": seconds,
+        "omega": case.w_ref.tolist(), "attitude": case.q_ref.tolist(),
+    }) + "\n")
+    return seconds
+
+
+# --------------------------------------------------------------------------
+# Methods
+# --------------------------------------------------------------------------
+def error(case, w, q):
+    """max over outputs (after t0) of |omega - ref| / |ref| and of the attitude angle."""
+    rel = np.linalg.norm(w - case.w_ref, axis=-1) / np.linalg.norm(case.w_ref, axis=-1)
+    return float(max(rel.max(), attitude_angle(q, case.q_ref).max()))
+
+
+def run_scipy(case, method, rtol):
+    f = case.scipy_rhs()
+    y0 = np.concatenate([case.w0, case.q0])
+
+    def go():
+        sol = solve_ivp(f, (case.t[0], case.t[-1]), y0, method=method, rtol=rtol, atol=rtol * 1e-3, t_eval=case.t)
+        return sol.y[:3, 1:].T, Q.normalize(sol.y[3:, 1:].T), sol.nfev
+
+    return go
+
+
+def run_wobble(case, method, setting, order=6):
+    def go():
+        if method == "dop853":
+            tr = case.engine.integrate(case.w0, case.q0, case.t, method="dop853", rtol=setting, estimate=False)
+            work = tr.stats["function_evaluations"]
+        else:
+            tr = case.engine.integrate(case.w0, case.q0, case.t, method="splitting", step=setting, order=order, estimate=False)
+            work = tr.stats["drifts"]
+        return tr.omega[1:, 0], tr.attitude[1:, 0], work
+
+    return go
+
+
+def timed(fn, repeats):
+    out = fn()  # warm-up
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return out, min(times), statistics.median(times)
+
+
+def sweep(case, repeats, quick):
+    """Rows (method, setting, error, t_min, t_median, work) for every method and setting."""
+    rows = []
+    scipy_rtols = {"DOP853": [1e-7, 1e-9, 1e-11, 1e-13], "RK45": [1e-6, 1e-8, 1e-10], "LSODA": [1e-7, 1e-9, 1e-11],
+                   "Radau": [1e-6, 1e-8]}
+    wobble_rtols = [1e-7, 1e-9, 1e-11, 1e-13]
+    span = case.t[-1] - case.t[0]
+    if case.name == "satellite":
+        steps = {2: [0.1, 0.05], 4: [0.4, 0.2, 0.1], 6: [0.8, 0.4, 0.2]}
+    else:
+        steps = {2: [0.002, 0.001], 4: [0.01, 0.005, 0.0025], 6: [0.02, 0.01, 0.005]}
+    if quick:
+        scipy_rtols = {k: v[:2] for k, v in scipy_rtols.items()}
+        wobble_rtols = wobble_rtols[:2]
+        steps = {k: v[:2] for k, v in steps.items()}
+    for method, rtols in scipy_rtols.items():
+        reps = 1 if method in ("Radau", "RK45") else repeats
+        for rtol in rtols:
+            (w, q, nfev), tmin, tmed = timed(run_scipy(case, method, rtol), reps)
+            rows.append((f"scipy {method}", f"rtol {rtol:g}", error(case, w, q), tmin, tmed, nfev))
+    for rtol in wobble_rtols:
+        (w, q, nfev), tmin, tmed = timed(run_wobble(case, "dop853", rtol), repeats)
+        rows.append(("wobble DOP853", f"rtol {rtol:g}", error(case, w, q), tmin, tmed, nfev))
+    for order, hs in steps.items():
+        for h in hs:
+            (w, q, drifts), tmin, tmed = timed(run_wobble(case, "splitting", h, order), repeats)
+            rows.append((f"wobble splitting-{order}", f"h {h:g} s ({span / h:.0f} steps)", error(case, w, q), tmin, tmed, drifts))
+    return rows
+
+
+def time_at(rows, method, target):
+    """Log-log interpolation of a method's min time at the target error (None outside its range)."""
+    pts = sorted((e, t) for m, _, e, t, _, _ in rows if m == method and e > 0)
+    for (e1, t1), (e2, t2) in zip(pts, pts[1:]):
+        if e1 <= target <= e2:
+            w = (math.log(target) - math.log(e1)) / (math.log(e2) - math.log(e1))
+            return math.exp(math.log(t1) + w * (math.log(t2) - math.log(t1)))
+    below = [t for e, t in pts if e <= target]
+    return min(below) if below else None
+
+
+# --------------------------------------------------------------------------
+# Ensembles
+# --------------------------------------------------------------------------
+def ensemble(sizes, repeats):
+    """Per-member cost of wobble (vectorised) against a loop of SciPy's DOP853, 30 s of the satellite.
+
+    Returns rows (members, method, setting, error, us/member min, median) and SciPy's points
+    (setting, error, us/member) for the matched-error ratio.
+    """
+    case = Satellite(span=30.0, outputs=7)
+    rng = np.random.default_rng(11)
+    f = case.scipy_rhs()
+    probe = 5
+    w_all = case.w0 + 0.002 * rng.normal(size=(max(sizes), 3))
+    refs = []
+    for i in range(probe):
+        y0 = np.concatenate([w_all[i], case.q0])
+        sol = solve_ivp(f, (0.0, case.t[-1]), y0, method="DOP853", rtol=2.3e-14, atol=1e-17, t_eval=case.t)
+        refs.append((sol.y[:3].T, Q.normalize(sol.y[3:].T)))
+
+    def member_error(w, q, i):
+        wr, qr = refs[i]
+        rel = np.linalg.norm(w - wr, axis=-1) / np.linalg.norm(wr, axis=-1)
+        return max(rel.max(), attitude_angle(q, qr).max())
+
+    scipy_points = []
+    for rtol in (1e-7, 1e-9, 1e-11):
+        def loop(rtol=rtol):
+            out = []
+            for i in range(probe):
+                y0 = np.concatenate([w_all[i], case.q0])
+                s_ = solve_ivp(f, (0.0, case.t[-1]), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-3, t_eval=case.t)
+                out.append((s_.y[:3].T, Q.normalize(s_.y[3:].T)))
+            return out
+
+        res, s_min, _ = timed(loop, repeats)
+        scipy_points.append((f"rtol {rtol:g}", max(member_error(w, q, i) for i, (w, q) in enumerate(res)), s_min / probe))
+    rows = []
+    settings = [("wobble DOP853", "rtol 1e-9", dict(method="dop853", rtol=1e-9)),
+                ("wobble DOP853", "rtol 1e-11", dict(method="dop853", rtol=1e-11)),
+                ("wobble splitting-6", "h 1.5 s", dict(method="splitting", step=1.5, order=6)),
+                ("wobble splitting-6", "h 0.75 s", dict(method="splitting", step=0.75, order=6))]
+    for n in sizes:
+        eng = Engine(BodyModel.from_moments(case.moments), case.torques, members=n)
+        for label, setting, kw in settings:
+            reps = 1 if n >= 10_000 else repeats
+            tr, t_min, t_med = timed(lambda: eng.integrate(w_all[:n], case.q0, case.t, estimate=False, **kw), reps)
+            err = max(member_error(tr.omega[:, i], tr.attitude[:, i], i) for i in range(probe))
+            evals = tr.stats.get("function_evaluations", tr.stats.get("drifts", 0)) / n
+            rows.append((n, label, setting, err, t_min / n, t_med / n, evals))
+    return rows, scipy_points
+
+
+def scipy_time_at(points, target):
+    """SciPy's per-member time at the target error (log-log interpolation, or its cheapest point below)."""
+    rows = [("scipy", s, e, t, t, 0) for s, e, t in points]
+    return time_at(rows, "scipy", target)
+
+
+# --------------------------------------------------------------------------
+# Energy over 10^6 steps
+# --------------------------------------------------------------------------
+def energy_drift(n_steps, orders):
+    """The heavy top of issue 8 (I1 = 1, I3 = 0.5, M g l = 1, 10 rad/s, 60 deg): relative energy error."""
+    moments = [1.0, 1.0, 0.5]
+    gravity = [UniformGravity(1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0])]
+    q0 = Q.from_axis_angle(np.array([1.0, 0, 0]), np.radians(60))
+    w0 = np.array([0.0, 0.0, 10.0])
+    eng = Engine(BodyModel.from_moments(moments), gravity)
+    rows = []
+    for order, h in orders:
+        t = np.linspace(0.0, n_steps * h, 1001)
+        t0 = time.perf_counter()
+        tr = eng.integrate(w0, q0, t, method="splitting", step=h, order=order, estimate=False)
+        seconds = time.perf_counter() - t0
+        w, q = tr.omega[:, 0], tr.attitude[:, 0]
+        energy = 0.5 * np.sum(np.array(moments) * w * w, axis=-1) + Q.rotate(q, np.array([0.0, 0, 1]))[:, 2]
+        lz = Q.rotate(q, np.array(moments) * w)[:, 2]
+        de = np.abs(energy - energy[0]) / abs(energy[0])
+        slope = np.polyfit(t, energy - energy[0], 1)[0] * t[-1] / abs(energy[0])
+        rows.append((order, h, tr.stats["steps"], de[1:101].max(), de[-100:].max(), slope,
+                     float(np.max(np.abs(lz - lz[0])) / abs(lz[0])), seconds))
+    return rows
+
+
+# --------------------------------------------------------------------------
+# Report
+# --------------------------------------------------------------------------
+def fmt(x, digits=3):
+    return "-" if x is None else f"{x:.{digits}g}"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer settings, 10^5 steps, small ensembles")
+    parser.add_argument("--rebuild-reference", action="store_true", help="recompute the Radau reference of the satellite")
+    parser.add_argument("--output", default=str(ROOT / "docs" / "performance-engine.md"))
+    args = parser.parse_args()
+    repeats = 2 if args.quick else 3
+    out = []
+    p = out.append
+    p("# Performance of the engine (torqued rigid bodies)")
+    p("")
+    p(f"Generated by `python scripts/bench_engine.py{' --quick' if args.quick else ''}` (do not edit by hand).")
+    p(f"Machine: {platform.machine()}, {platform.processor() or 'unknown CPU'}, Python {platform.python_version()}, "
+      f"NumPy {np.__version__}, SciPy {scipy.__version__}, wobble {wobble.__version__}. "
+      f"Timings: one warm-up, then min and median of {repeats} repeats, all methods in one process.")
+    p("")
+    p("Error = max over the outputs of |ω − ω_ref| / |ω_ref| and of the attitude angle (rad). SciPy runs")
+    p("`solve_ivp` on the same equations written as a user would (NumPy, one trajectory), atol = 1e-3 rtol.")
+    p("")
+    ratios = {}
+    all_rows = []
+    sat = Satellite()
+    ref_seconds = load_reference(sat, args.rebuild_reference)
+    top = Top()
+    for case, ref_text in ((sat, f"SciPy Radau at rtol 1e-13 (cached; it took {ref_seconds:.0f} s)"),
+                           (top, "mpmath Taylor integration at 30 digits (tests/references/engine_torqued.json)")):
+        print(f"case {case.name}", flush=True)
+        rows = sweep(case, repeats, args.quick)
+        all_rows.extend(rows)
+        span = case.t[-1] - case.t[0]
+        p(f"## {case.name}: {span:g} s, {case.t.size} outputs")
+        p("")
+        p(f"Reference: {ref_text}.")
+        p("")
+        p("| method | setting | error | min (s) | median (s) | evaluations / drifts |")
+        p("|---|---|---|---|---|---|")
+        for m, s, e, tmin, tmed, work in rows:
+            p(f"| {m} | {s} | {e:.2e} | {tmin:.4g} | {tmed:.4g} | {work} |")
+        p("")
+        targets = [1e-6, 1e-8, 1e-10]
+        methods = sorted({r[0] for r in rows})
+        p("Time (s) at matched error (log-log interpolation; '-' outside the method's range):")
+        p("")
+        p("| method | " + " | ".join(f"{t:g}" for t in targets) + " |")
+        p("|---|" + "---|" * len(targets))
+        at = {m: [time_at(rows, m, t) for t in targets] for m in methods}
+        for m in methods:
+            p(f"| {m} | " + " | ".join(fmt(x) for x in at[m]) + " |")
+        p("")
+        for i, target in enumerate(targets):
+            wob = [at[m][i] for m in methods if m.startswith("wobble") and at[m][i] is not None]
+            ref = at["scipy DOP853"][i]
+            if wob and ref:
+                best = min(wob)
+                name = next(m for m in methods if m.startswith("wobble") and at[m][i] == best)
+                ratios[(case.name, target)] = (ref / best, name)
+        p("Best wobble integrator against SciPy DOP853 at matched error: " + "; ".join(
+            f"{t:g}: {ratios[(case.name, t)][0]:.2f}x ({ratios[(case.name, t)][1]})" for t in targets if (case.name, t) in ratios) + ".")
+        p("")
+
+    print("ensembles", flush=True)
+    sizes = [100, 1000] if args.quick else [100, 1000, 10_000]
+    ens, scipy_points = ensemble(sizes, repeats)
+    p("## Ensembles: 30 s of the satellite, members with perturbed ω0")
+    p("")
+    p("wobble integrates all members in one vectorised call; SciPy's DOP853 loops over members (its per-member")
+    p("cost measured on 5 members). Errors on those 5 members against DOP853 at rtol 2.3e-14. The ratio compares")
+    p("wobble's per-member time with SciPy's at the same error (log-log interpolation of SciPy's points).")
+    p("")
+    p("SciPy DOP853 per member: " + "; ".join(f"{s} → error {e:.1e}, {t * 1e6:.0f} µs" for s, e, t in scipy_points) + ".")
+    p("")
+    p("| members | method | setting | error | wobble (µs / member, min) | wobble (median) | SciPy at that error (µs / member) | ratio |")
+    p("|---|---|---|---|---|---|---|---|")
+    best_ratio = {}
+    for n, label, setting, err, tmin, tmed, _ in ens:
+        # SciPy at wobble's error; where wobble is more accurate than SciPy's best point, SciPy's
+        # best point (cheaper than SciPy would really need: the ratio is then a lower bound)
+        ref = scipy_time_at(scipy_points, max(err, min(e for _, e, _ in scipy_points)))
+        ratio = None if ref is None else ref / tmin
+        if ratio is not None:
+            best_ratio[n] = max(best_ratio.get(n, 0.0), ratio)
+        p(f"| {n} | {label} | {setting} | {err:.1e} | {tmin * 1e6:.2f} | {tmed * 1e6:.2f} | {fmt(None if ref is None else ref * 1e6)} | {fmt(ratio)}x |")
+    p("")
+
+    print("energy", flush=True)
+    n_steps = 100_000 if args.quick else 1_000_000
+    orders = [(2, 0.01), (4, 0.02), (6, 0.03)]
+    drift = energy_drift(n_steps, orders)
+    p(f"## Energy over {n_steps:.0e} splitting steps: the heavy top of issue 8")
+    p("")
+    p("I1 = I2 = 1, I3 = 0.5 kg m2, M g l = 1 J, 10 rad/s, tilt 60 deg; relative energy error |E − E0| / |E0|")
+    p("over the first and the last tenth of the run, and the linear trend over the run (a secular drift would")
+    p("show as a trend comparable to the error and a last tenth larger than the first).")
+    p("")
+    p("| order | h (s) | steps | max error, first 10 % | max error, last 10 % | linear trend over the run | L_z error | seconds |")
+    p("|---|---|---|---|---|---|---|---|")
+    for order, h, steps, first, last, slope, lz, seconds in drift:
+        p(f"| {order} | {h:g} | {steps} | {first:.2e} | {last:.2e} | {slope:.1e} | {lz:.1e} | {seconds:.1f} |")
+    p("")
+
+    p("## Issue 8 targets (torqued case)")
+    p("")
+    lines = []
+    for name in (sat.name, top.name):
+        found = [(t, r, m) for (c, t), (r, m) in ratios.items() if c == name]
+        text = ", ".join(f"{r:.2f}x at {t:g} ({m})" for t, r, m in found)
+        met = bool(found) and all(r >= 5 for _, r, _ in found)
+        lines.append(f"* One trajectory, {name}, at least 5x faster than SciPy DOP853 at equal error: {text}. "
+                     + ("Met." if met else "**Missed**" + (" at some errors." if any(r >= 5 for _, r, _ in found) else ".")))
+    big = max(sizes)
+    lines.append(f"* {big} members, at least 100x faster per member than SciPy DOP853 at equal error: best "
+                 f"{best_ratio.get(big, 0):.0f}x. " + ("Met." if best_ratio.get(big, 0) >= 100 else "**Missed.**"))
+    bounded = all(last < 2 * first and abs(slope) < max(first, last) for _, _, _, first, last, slope, _, _ in drift)
+    lines.append(f"* Energy over {n_steps:.0e} splitting steps bounded, no secular drift: "
+                 + ("met for orders " + ", ".join(str(o) for o, *_ in drift) + "." if bounded else "**not shown** (see the table)."))
+    out.extend(lines)
+    p("")
+    per = {}
+    for m, _, _, tmin, _, work in all_rows:
+        per.setdefault(m, []).append(tmin / work)
+    cost = {m: 1e6 * min(v) for m, v in per.items()}
+    ens_dop = [r for r in ens if r[0] == max(sizes) and r[1] == "wobble DOP853"]
+    p("Why the targets are met or missed (costs measured in this run):")
+    p("")
+    p("* One trajectory. SciPy is fed the right-hand side in Python floats (the fastest a user can do without")
+    p(f"  compiling): its DOP853 costs {cost.get('scipy DOP853', float('nan')):.0f} µs per evaluation, mostly solve_ivp's own")
+    p(f"  overhead. wobble's DOP853 costs {cost.get('wobble DOP853', float('nan')):.0f} µs per evaluation (its step is built for")
+    p("  arrays of members, and one member pays NumPy's per-call cost), and a splitting drift with its kick costs")
+    p(f"  {cost.get('wobble splitting-6', float('nan')):.0f} µs (the exact elliptic flow in Python floats). The splitting needs")
+    p("  fewer evaluations where the free motion is fast and the torque slow against it (the satellite tables")
+    p("  above), but not five times fewer at equal cost per evaluation; on the")
+    p("  asymmetric top the torque changes the motion on the time scale of the spin and the splitting has no")
+    p("  advantage. A 5x gain for one trajectory needs a compiled kernel (the drift is ~300 floating-point")
+    p("  operations and three Carlson integrals: about a microsecond compiled), which wobble does not have.")
+    if ens_dop:
+        best = min(ens_dop, key=lambda r: r[4])
+        p(f"* {max(sizes)} members. The vectorised DOP853 costs {best[4] * 1e6:.0f} µs per member for this run,")
+        p(f"  {best[4] / best[6] * 1e6:.2f} µs per member and evaluation of Euler's equations: NumPy passes over the")
+        p("  member arrays (the torque, the rotation into the body frame, the stage sums), memory-bound on this")
+        p("  machine. SciPy's per-member cost is its whole single-trajectory cost, so the ratio is about the ratio")
+        p(f"  of per-evaluation costs ({best_ratio.get(max(sizes), 0):.0f}x here); 100x would need each evaluation fused")
+        p("  into one pass over the members (a compiled kernel).")
+    p("* Energy. Both parts of the splitting are exact Poisson flows, so for a conservative torque the method")
+    p("  is a Poisson map: the energy error oscillates at the level of the method's error and does not grow.")
+    text = "\n".join(out) + "\n"
+    Path(args.output).write_text(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

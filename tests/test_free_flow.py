@@ -1,0 +1,158 @@
+"""The exact free flow as a map (omega, q) -> (omega, q): against the exact solution free_rotation.
+
+free_rotation is itself checked against mpmath (tests/test_free_model.py); the flow
+map shares its formulas but starts from a state, in floats, vectorised.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from wobble.models.free import _flow_many, flow_sorted, free_flow, free_rotation
+from wobble.numerics import quaternion as Q
+
+EPS = np.finfo(float).eps
+
+
+def angle(a, b):
+    d = Q.multiply(a, Q.conjugate(b))
+    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+
+
+CASES = [
+    ("major axis", [1, 2, 3], [1, 0.1, 1]),
+    ("minor axis", [1, 2, 3], [1, 0.2, 0.1]),
+    ("axes permuted", [3, 1, 2], [0.3, 1, 0.2]),
+    ("another order", [2, 3, 1], [1, -1, 0.5]),
+    ("near separatrix", [1, 2, 3], [1e-6, 1, 1e-6]),
+    ("oblate symmetric", [1, 1, 2], [0.3, 0.1, 1]),
+    ("prolate symmetric", [2, 1, 1], [1, 0.2, 0.3]),
+    ("principal axis", [1, 2, 3], [0, 0, 1]),
+    ("intermediate axis exactly", [1, 2, 3], [0, 1, 0]),
+    ("sphere", [1, 1, 1], [1, 2, 3]),
+    ("at rest", [1, 2, 3], [0, 0, 0]),
+    ("exact separatrix", [2, 5, 6], [1, 0, 1]),
+    ("exact separatrix, other branch", [2, 5, 6], [1, 0.3, -1]),
+    ("negative components", [1, 2, 3], [-1, 0.1, -1]),
+]
+STEPS = np.array([1e-4, 0.1, 1.0, 7.3, 50.0, -3.0])
+
+
+@pytest.mark.parametrize("name, moments, omega", CASES, ids=[c[0] for c in CASES])
+def test_flow_from_t0_is_the_exact_solution(name, moments, omega):
+    exact = free_rotation(moments, omega)
+    n = STEPS.size
+    w1, q1 = free_flow(moments, np.tile(omega, (n, 1)), np.tile([1.0, 0, 0, 0], (n, 1)), STEPS)
+    scale = max(np.max(np.abs(omega)), 1e-300)
+    assert np.max(np.abs(w1 - exact.omega(STEPS))) <= 64 * EPS * scale
+    assert np.max(angle(q1, exact.attitude(STEPS))) < 1e-13
+
+
+@pytest.mark.parametrize("name, moments, omega", [c for c in CASES if "separatrix" not in c[0]], ids=lambda c: str(c))
+def test_chained_steps_follow_the_exact_solution(name, moments, omega):
+    """Steps started from the state at t0 = 5 s land on the exact solution at 5 s + h."""
+    exact = free_rotation(moments, omega)
+    t0 = np.array([5.0])
+    n = STEPS.size
+    w0 = np.tile(exact.omega(t0)[0], (n, 1))
+    q0 = np.tile(exact.attitude(t0)[0], (n, 1))
+    w1, q1 = free_flow(moments, w0, q0, STEPS)
+    scale = max(np.max(np.abs(omega)), 1e-300)
+    assert np.max(np.abs(w1 - exact.omega(t0 + STEPS))) <= 1e-13 * scale
+    assert np.max(angle(q1, exact.attitude(t0 + STEPS))) < 1e-13
+
+
+def test_many_small_steps_accumulate_only_rounding():
+    """1000 steps of 0.1 s reproduce the exact solution at 100 s (generic body)."""
+    moments, omega = [1.0, 2.0, 3.0], [1.0, 0.1, 1.0]
+    exact = free_rotation(moments, omega)
+    w, q = np.array([omega]), np.array([[1.0, 0, 0, 0]])
+    for _ in range(1000):
+        w, q = free_flow(moments, w, q, 0.1)
+    t = np.array([100.0])
+    assert np.max(np.abs(w - exact.omega(t))) < 1e-12
+    assert angle(q, exact.attitude(t))[0] < 1e-12
+
+
+def test_long_step_error_grows_like_the_float_phase():
+    """One step over many periods: the error stays within 64 eps (1 + |omega| t) (the ensemble bound)."""
+    moments, omega = [1.0, 2.0, 3.0], [1.0, 0.1, 1.0]
+    exact = free_rotation(moments, omega)
+    h = np.array([1e2, 1e3, 1e4])
+    w, q = free_flow(moments, np.tile(omega, (3, 1)), np.tile([1.0, 0, 0, 0], (3, 1)), h)
+    bound = 64 * EPS * (1 + np.linalg.norm(omega) * h)
+    amp = np.max(np.abs(exact.omega(np.linspace(0, 20, 2001))), axis=0)
+    assert np.all(np.max(np.abs(w - exact.omega(h)) / amp, axis=1) <= bound)
+    assert np.all(angle(q, exact.attitude(h)) <= bound)
+
+
+def test_one_member_path_equals_the_vectorised_path():
+    """Python-float single member and the NumPy path: the same formulas to rounding."""
+    rng = np.random.default_rng(5)
+    n = 400
+    moments = np.sort(rng.uniform(0.5, 2.0, (n, 3)), axis=1)
+    moments[:20] = [1.0, 1.0, 2.0]
+    moments[20:40] = [1.0, 2.0, 2.0]
+    omega = rng.normal(size=(n, 3))
+    omega[40] = [0, 0, 1]
+    omega[41] = [0, 1, 0]
+    h = rng.uniform(-20, 20, n)
+    with np.errstate(all="ignore"):
+        w_all, dq_all = _flow_many(moments, omega, h, True)
+    for k in range(n):
+        w1, dq1 = flow_sorted(moments[k : k + 1], omega[k : k + 1], h[k : k + 1], True)
+        assert np.max(np.abs(w1[0] - w_all[k])) <= 1e-13 * np.max(np.abs(omega[k]))
+        assert abs(abs(np.dot(dq1[0], dq_all[k])) - 1) < 1e-14
+
+
+def test_ensemble_of_bodies_equals_member_by_member():
+    rng = np.random.default_rng(2)
+    n = 50
+    moments = rng.uniform(1.0, 2.0, (n, 3))
+    omega = rng.normal(size=(n, 3))
+    q = Q.normalize(rng.normal(size=(n, 4)))
+    w_all, q_all = free_flow(moments, omega, q, 2.5)
+    for k in range(n):
+        w1, q1 = free_flow(moments[k], omega[k : k + 1], q[k : k + 1], 2.5)
+        assert np.allclose(w1[0], w_all[k], rtol=0, atol=1e-13 * np.max(np.abs(omega[k])))
+        assert angle(q1[0], q_all[k]) < 1e-13
+
+
+@settings(max_examples=60)
+@given(
+    st.lists(st.floats(0.5, 2.0), min_size=3, max_size=3),
+    st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=3),
+    st.floats(-30.0, 30.0),
+)
+def test_invariants_and_unit_quaternion(moments, omega, h):
+    """Energy and |L| are those of the initial state; the attitude is a unit quaternion; L is fixed in space."""
+    s = sorted(moments)
+    if s[0] + s[1] < s[2]:
+        moments = [s[0], s[1], s[0] + s[1]]
+    I = np.array(moments)  # noqa: E741
+    w0 = np.array([omega])
+    q0 = Q.normalize(np.array([[0.9, 0.1, -0.3, 0.2]]))
+    w1, q1 = free_flow(I, w0, q0, h)
+    e0, e1 = 0.5 * np.sum(I * w0**2), 0.5 * np.sum(I * w1**2)
+    l0, l1 = Q.rotate(q0, I * w0), Q.rotate(q1, I * w1)
+    big = max(np.linalg.norm(I * w0), 1e-300)
+    assert abs(e1 - e0) <= 1e-13 * max(e0, 1e-300) + 1e-300
+    assert np.max(np.abs(l1 - l0)) <= 1e-12 * big
+    assert abs(np.linalg.norm(q1) - 1) < 4 * EPS
+
+
+@settings(max_examples=40)
+@given(st.floats(-np.pi, np.pi), st.floats(0.1, 3.0), st.floats(-10.0, 10.0))
+def test_rotation_invariance(angle_z, spin, h):
+    """Turning the initial attitude turns the whole motion: omega unchanged, q rotated."""
+    I = [1.0, 1.7, 2.3]  # noqa: E741
+    w0 = np.array([[0.3, -0.2, spin]])
+    q0 = np.array([[1.0, 0, 0, 0]])
+    r = Q.from_axis_angle(np.array([0.0, 0.0, 1.0]), angle_z)[None]
+    w_a, q_a = free_flow(I, w0, q0, h)
+    w_b, q_b = free_flow(I, w0, Q.multiply(r, q0), h)
+    assert np.allclose(w_a, w_b, rtol=0, atol=1e-15)
+    assert angle(Q.multiply(r, q_a), q_b)[0] < 1e-14

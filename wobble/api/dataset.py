@@ -1,0 +1,108 @@
+"""Reading wobble's netCDF files back, with units: :func:`load` and the ``ds.wobble`` accessor.
+
+Files keep CF units as UDUNITS strings (``rad s-1``, ``kg m2 s-1``, ``J``,
+``1``); :func:`quantity` turns a variable into an :class:`astropy.units.Quantity`,
+and ``ds.wobble.quantity(name)`` / ``ds.wobble.quantities()`` do the same from a
+Dataset. Times stay numbers (seconds since the epoch in their units attribute):
+``ds.wobble.quantity("time")`` is elapsed time as a Quantity, and
+``ds.wobble.epoch`` the epoch.
+
+Example
+-------
+>>> import astropy.units as u
+>>> import wobble
+>>> ds = wobble.run(wobble.Scene(body=[1, 1, 2] * u.kg * u.m**2, omega0=[0.1, 0, 1] * u.rad / u.s,
+...                              t_end=10 * u.s, samples=11, outputs=["omega", "kinetic_energy"]))
+>>> ds.wobble.quantity("kinetic_energy")[0]
+<Quantity 1.005 J>
+"""
+
+from __future__ import annotations
+
+import os
+import re
+
+import xarray as xr
+from astropy import units as u
+
+from wobble.errors import FileFormatError, InputError
+from wobble.io.netcdf import open_wobble
+
+__all__ = ["load", "quantity", "WobbleAccessor"]
+
+_SINCE = re.compile(r"^\s*(\w+)\s+since\s+(.+?)\s*$")
+# UDUNITS time words astropy does not know by these names.
+_TIME_WORDS = {"second": "s", "seconds": "s", "sec": "s", "secs": "s", "minute": "min", "minutes": "min",
+               "hour": "h", "hours": "h", "day": "d", "days": "d"}
+
+
+def _unit(text: str, name: str) -> u.UnitBase:
+    match = _SINCE.match(text)
+    if match:
+        text = match.group(1)
+    text = _TIME_WORDS.get(text.strip(), text)
+    try:
+        return u.Unit(text if text.strip() != "1" else "", parse_strict="raise")
+    except ValueError:
+        raise InputError(name, text, "a variable whose units attribute astropy can parse (UDUNITS syntax)") from None
+
+
+def quantity(var: xr.DataArray) -> u.Quantity:
+    """The values of a variable as a Quantity in its ``units`` (time: elapsed, in its unit).
+
+    Raises
+    ------
+    wobble.errors.InputError
+        The variable has no ``units`` attribute, or one astropy cannot parse.
+    """
+    name = str(var.name)
+    units = var.attrs.get("units")
+    if units is None:
+        raise InputError(name, var.attrs, "a variable with a units attribute")
+    return var.values << _unit(str(units), name)
+
+
+@xr.register_dataset_accessor("wobble")
+class WobbleAccessor:
+    """``ds.wobble``: units for wobble Datasets (registered on ``import wobble``)."""
+
+    def __init__(self, ds: xr.Dataset):
+        self._ds = ds
+
+    def quantity(self, name: str) -> u.Quantity:
+        """Variable ``name`` as a Quantity."""
+        if name not in self._ds.variables:
+            raise InputError("name", name, "one of " + ", ".join(sorted(map(str, self._ds.variables))))
+        return quantity(self._ds[name])
+
+    def quantities(self) -> dict:
+        """Every data variable with units, as Quantities."""
+        return {str(k): quantity(v) for k, v in self._ds.data_vars.items() if "units" in v.attrs}
+
+    @property
+    def epoch(self) -> str | None:
+        """The epoch of the time coordinate (``"2000-01-01 12:00:00"``), or None."""
+        if "time" not in self._ds.variables:
+            return None
+        match = _SINCE.match(str(self._ds["time"].attrs.get("units", "")))
+        return match.group(2) if match else None
+
+    @property
+    def model(self) -> str | None:
+        """The model that produced the data (``free-elliptic``, ``splitting-6``, ...)."""
+        return self._ds.attrs.get("model")
+
+
+def load(path: str | os.PathLike) -> xr.Dataset:
+    """Read a netCDF file written by wobble (units via ``ds.wobble.quantity(name)``).
+
+    Raises
+    ------
+    wobble.errors.FileFormatError
+        Missing, unreadable, or not written by wobble (its ``source``
+        attribute does not name wobble).
+    """
+    ds = open_wobble(path)
+    if "Conventions" not in ds.attrs:
+        raise FileFormatError(path, "global attribute 'Conventions'", "missing; allowed: a CF file written by wobble")
+    return ds

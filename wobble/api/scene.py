@@ -1,0 +1,339 @@
+"""Scenes with units, :func:`run` to an xarray Dataset, :func:`run_to_netcdf` streamed to a file.
+
+A scene is a TOML file (docs/scenes.md), the same structure as a Python
+mapping, or a :class:`Scene` built from Quantities. :func:`run` chooses the
+cheapest model that meets the scene's accuracy (docs/engine.md) and records
+the choice, the reason and the error estimate in the Dataset's attributes.
+
+Example
+-------
+>>> import astropy.units as u
+>>> import wobble
+>>> scene = wobble.Scene(body=[1, 2, 3] * u.kg * u.m**2, omega0=[1e-3, 1, 1e-3] * u.rad / u.s,
+...                      t_end=30 * u.s, samples=301)
+>>> ds = wobble.run(scene)
+>>> ds.attrs["model"]
+'free-elliptic'
+>>> float(ds["omega"].sel(axis="2").min()) < -0.9     # the racket flipped
+True
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from astropy import units as u
+
+from wobble.api.engine import Torque
+from wobble.errors import InputError
+from wobble.io import scene_file as _sf
+from wobble.io.netcdf import StreamingWriter, simulation_time_units
+from wobble.models import scene as _scene
+
+__all__ = ["Scene", "run", "run_to_netcdf", "read_scene", "example_scenes", "OUTPUT_METADATA"]
+
+#: CF metadata of every output: (dims after time[, member], units, long_name).
+OUTPUT_METADATA = {
+    "omega": (("axis",), "rad s-1", "angular velocity in the body frame"),
+    "attitude": (("component",), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
+    "angular_momentum": (("inertial_axis",), "kg m2 s-1", "angular momentum in the inertial frame"),
+    "angular_momentum_magnitude": ((), "kg m2 s-1", "magnitude of the angular momentum"),
+    "kinetic_energy": ((), "J", "rotational kinetic energy"),
+    "potential_energy": ((), "J", "potential energy of the torques (gravity, gravity gradient)"),
+    "total_energy": ((), "J", "kinetic plus potential energy"),
+    "axis_direction": (("inertial_axis",), "1", "direction of body axis 3 in the inertial frame"),
+    "tilt": ((), "rad", "angle between body axis 3 and the inertial z axis"),
+    "wobble_angle": ((), "rad", "angle between the angular velocity and body axis 3"),
+}
+_LABELS = {
+    "axis": (["1", "2", "3"], "body axis (the scene's body frame)"),
+    "component": (["w", "x", "y", "z"], "quaternion component, scalar first"),
+    "inertial_axis": (["X", "Y", "Z"], "inertial axis"),
+}
+_MOI = u.kg * u.m**2
+
+
+class Scene:
+    """A simulation request built from Quantities (the same content as a scene file).
+
+    Parameters
+    ----------
+    body : Quantity, dict or rigid body
+        Principal moments along the body axes (``[1, 2, 3] * u.kg * u.m**2``,
+        or (N, 3) for N bodies); or a mapping ``{"tensor": ...}``,
+        ``{"planet": "earth"}``, ``{"moments": ..., "mass": ...}``; or an
+        object with ``tensor`` (and optionally ``mass`` and
+        ``center_of_mass_offset``) such as the rigid-bodies library's bodies.
+    omega0 : Quantity
+        Initial angular velocity, body frame, (3,) or (N, 3).
+    attitude0 : array_like, optional
+        Unit quaternion(s) (w, x, y, z) body -> inertial; default identity.
+    torques : sequence of Torque
+    t : Quantity, optional
+        Output times; or ``t_end`` with ``samples`` (from ``t_start``, default 0 s).
+    accuracy : float
+        Relative accuracy wanted (each omega component against its largest
+        value; attitude angle in rad).
+    outputs : sequence of str
+        From ``wobble.models.scene.OUTPUTS``.
+    name, title : str
+    epoch : str, optional
+        ISO date-time (UTC) of t = 0 for the CF time units.
+    """
+
+    def __init__(self, body, omega0, *, attitude0=None, torques=(), t=None, t_start=0 * u.s, t_end=None, samples=None,
+                 accuracy: float = 1e-9, outputs=("omega", "attitude"), name: str = "scene", title: str = "", epoch=None):
+        mapping: dict = {"name": name, "title": title or name, "accuracy": accuracy, "outputs": list(outputs)}
+        mapping["body"] = _body_mapping(body)
+        initial: dict = {"omega": omega0}
+        if attitude0 is not None:
+            initial["attitude"] = np.asarray(attitude0, dtype=float)
+        mapping["initial"] = initial
+        mapping["torques"] = [_torque_spec(tq, i) for i, tq in enumerate(torques)]
+        if (t is None) == (t_end is None):
+            raise InputError("t, t_end", (t, t_end), "either times t or t_end with samples")
+        if t is not None:
+            time = {"values": t}
+        else:
+            if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
+                raise InputError("samples", samples, "a whole number of output times with t_end")
+            time = {"start": t_start, "stop": t_end, "samples": int(samples)}
+        if epoch is not None:
+            time["epoch"] = epoch
+        mapping["time"] = time
+        self._scene = _sf.scene_from_mapping(mapping)
+
+    @property
+    def model(self) -> _scene.Scene:
+        """The SI scene underneath."""
+        return self._scene
+
+    def __repr__(self) -> str:
+        s = self._scene
+        return f"Scene({s.name!r}, members={s.members}, times={s.times.size}, torques={[t.kind for t in s.torques]})"
+
+
+def _body_mapping(body):
+    if isinstance(body, u.Quantity):
+        return {"moments": body}
+    if isinstance(body, dict):
+        return dict(body)
+    tensor = getattr(body, "tensor", None)
+    if isinstance(tensor, u.Quantity):
+        out = {"tensor": tensor}
+        if getattr(body, "mass", None) is not None:
+            out["mass"] = body.mass
+        return out
+    raise InputError("body", body, "moments (a Quantity in kg m2), a mapping, or a rigid body with a tensor")
+
+
+def _torque_spec(tq, i):
+    if isinstance(tq, Torque):
+        return tq.spec
+    if isinstance(tq, dict):
+        return tq
+    raise InputError(f"torques[{i}]", tq, "a wobble.Torque (Torque.gravity(...), ...) or a torque mapping")
+
+
+def read_scene(path) -> _scene.Scene:
+    """Read a scene file (TOML) into an SI scene; errors name the file and key."""
+    return _sf.read_scene(path)
+
+
+def example_scenes() -> list[str]:
+    """Names of the example scenes in data/scenes (``wobble.run("tennis_racket")`` runs one)."""
+    return _sf.example_scenes()
+
+
+def _as_scene(scene) -> _scene.Scene:
+    if isinstance(scene, Scene):
+        return scene.model
+    if isinstance(scene, _scene.Scene):
+        return scene
+    if isinstance(scene, dict):
+        return _sf.scene_from_mapping(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        text = os.fspath(scene)
+        if Path(text).is_file() or text.endswith(".toml") or os.sep in text:
+            return _sf.read_scene(text)
+        from importlib import resources
+
+        with resources.as_file(_sf.example_scene_path(text)) as path:
+            return _sf.read_scene(path)
+    raise InputError("scene", scene, "a wobble.Scene, a mapping, a scene file path or an example name")
+
+
+# --------------------------------------------------------------------------
+# Datasets
+# --------------------------------------------------------------------------
+def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
+    member = ("member",) if scene.ensemble else ()
+    data_vars = {}
+    for name, arr in outputs.items():
+        extra, units, long_name = OUTPUT_METADATA[name]
+        values = arr if scene.ensemble else arr[:, 0]
+        data_vars[name] = (("time",) + member + extra, values, {"units": units, "long_name": long_name})
+    coords = {
+        "time": xr.Variable(
+            "time", np.asarray(t, dtype=float),
+            {"units": simulation_time_units(scene.epoch), "standard_name": "time", "long_name": "time",
+             "axis": "T", "calendar": "standard"},
+        )
+    }
+    used = {d for v in data_vars.values() for d in v[0]}
+    for dim, (labels, long_name) in _LABELS.items():
+        if dim in used:
+            coords[dim] = (dim, labels, {"long_name": long_name})
+    if scene.ensemble:
+        coords["member"] = ("member", np.arange(scene.members, dtype=np.int64), {"long_name": "ensemble member", "units": "1"})
+    return xr.Dataset(data_vars, coords=coords)
+
+
+def _attributes(scene: _scene.Scene, record: _scene.RunRecord) -> dict:
+    est = record.error_estimate
+    worst = max(est["omega_relative"], est["attitude_rad"])
+    return {
+        "title": scene.title or scene.name,
+        "summary": scene.description or f"wobble scene {scene.name}",
+        "references": "course notes sections 5.5-5.7; Landau & Lifshitz, Mechanics, section 37; Touma & Wisdom 1994, "
+        "AJ 107, 1189; Hairer, Norsett & Wanner, Solving ODEs I (DOP853); docs/engine.md",
+        "scene_name": scene.name,
+        "scene": json.dumps(scene.mapping, sort_keys=True),
+        "model": record.model,
+        "model_reason": record.reason,
+        "model_settings": json.dumps(record.settings, sort_keys=True),
+        "error_estimate": worst,
+        "error_estimate_omega_relative": est["omega_relative"],
+        "error_estimate_attitude_rad": est["attitude_rad"],
+        "error_estimate_method": est["method"],
+        "accuracy_requested": scene.accuracy,
+        "attempts": record.attempts,
+    }
+
+
+class _Collector:
+    def __init__(self, scene):
+        self.scene = scene
+        self.begin()
+
+    def begin(self):
+        self.parts = []
+
+    def discard(self):
+        self.parts = []
+
+    def write(self, t, outputs):
+        self.parts.append((np.asarray(t), outputs))
+
+    def dataset(self):
+        t = np.concatenate([p[0] for p in self.parts])
+        names = self.parts[0][1].keys()
+        joined = {k: np.concatenate([p[1][k] for p in self.parts]) for k in names}
+        return _block_dataset(self.scene, t, joined)
+
+
+class _Streamer:
+    def __init__(self, scene, writer: StreamingWriter):
+        self.scene = scene
+        self.writer = writer
+
+    def begin(self):
+        self.writer.begin()
+
+    def discard(self):
+        self.writer.discard()
+
+    def write(self, t, outputs):
+        self.writer.append(_block_dataset(self.scene, t, outputs))
+
+
+_MEMORY_LIMIT = 2 * 2**30
+
+
+_DIM_SIZES = {"axis": 3, "component": 4, "inertial_axis": 3}
+
+
+def _estimated_bytes(scene) -> int:
+    width = sum(int(np.prod([_DIM_SIZES[d] for d in OUTPUT_METADATA[o][0]])) for o in scene.outputs)
+    return int(scene.times.size) * scene.members * max(width, 1) * 8
+
+
+def run(scene, *, model: str | None = None) -> xr.Dataset:
+    """Run a scene and return its outputs as an xarray Dataset (in memory).
+
+    Parameters
+    ----------
+    scene : Scene, dict, path or example name
+        What to simulate (``"tennis_racket"`` runs ``data/scenes/tennis_racket.toml``).
+    model : str, optional
+        Force a model (``free-symmetric``, ``free-elliptic``, ``heavy-top``,
+        ``splitting``, ``dop853``) instead of the automatic choice.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``time`` (CF seconds since the scene's epoch), the outputs asked for
+        (``omega(time[, member], axis)``, ``attitude(..., component)``, ...),
+        and global attributes ``model``, ``model_reason``,
+        ``error_estimate`` (with its parts and method), ``scene`` (JSON),
+        ``accuracy_requested``.
+
+    Raises
+    ------
+    wobble.errors.InputError, wobble.errors.FileFormatError
+        Bad scene (naming the key, and the file if any), a model that does not
+        apply, an accuracy no model can reach, or an output too large for
+        memory (then use :func:`run_to_netcdf`, which streams).
+    """
+    sc = _as_scene(scene)
+    need = _estimated_bytes(sc)
+    if need > _MEMORY_LIMIT:
+        raise InputError("scene", sc.name, f"an output that fits in memory ({need / 1e9:.3g} GB asked): use "
+                         "wobble.run_to_netcdf or `wobble run -o FILE`, which write as they go")
+    sink = _Collector(sc)
+    record = _scene.execute(sc, sink, model=model if model is not None else _forced(sc))
+    ds = sink.dataset()
+    ds.attrs.update(_attributes(sc, record))
+    return ds
+
+
+def _forced(sc):
+    m = sc.mapping.get("model", "auto")
+    return None if m == "auto" else m
+
+
+def run_to_netcdf(scene, path, *, model: str | None = None, overwrite: bool = False, command: str | None = None,
+                  block_bytes: int = 64 * 2**20) -> dict:
+    """Run a scene and stream its outputs to a CF netCDF file as they are computed.
+
+    The file is written under a temporary name in the target folder and
+    renamed when the run has finished and met its accuracy, so a failed or
+    interrupted run leaves nothing behind and never replaces an existing file;
+    an existing file is replaced only with ``overwrite=True``. Memory stays
+    bounded by ``block_bytes`` whatever the output size.
+
+    Returns
+    -------
+    dict
+        The run summary: ``model``, ``model_reason``, ``error_estimate`` (and
+        parts), ``output``, ``members``, ``times``.
+    """
+    sc = _as_scene(scene)
+    writer = StreamingWriter(path, overwrite=overwrite, command=command)
+    sink = _Streamer(sc, writer)
+    try:
+        record = _scene.execute(sc, sink, model=model if model is not None else _forced(sc), block_bytes=block_bytes)
+        attrs = _attributes(sc, record)
+        out = writer.close(attrs)
+    except BaseException:
+        writer.discard()
+        raise
+    summary = {k: attrs[k] for k in ("model", "model_reason", "error_estimate", "error_estimate_omega_relative",
+                                      "error_estimate_attitude_rad", "accuracy_requested", "attempts")}
+    summary.update({"scene": sc.name, "output": str(out), "members": sc.members, "times": int(sc.times.size),
+                    "settings": record.settings, "stats": record.stats})
+    return summary

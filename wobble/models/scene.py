@@ -1,0 +1,835 @@
+"""Scenes and the rule "model only what a scene needs" (SI float64).
+
+A :class:`Scene` says what is simulated: a body, initial states (one or an
+ensemble), torques, output times, the accuracy wanted and the outputs wanted.
+:func:`choose_model` walks the table :data:`CANDIDATES`, cheapest first, and
+takes the first model that applies to the scene and can reach its accuracy:
+
+1. ``free-symmetric`` -- no torque, two equal principal moments: the closed
+   form of notes section 5.6 (:func:`wobble.models.free.free_rotation`).
+2. ``free-elliptic`` -- no torque: Jacobi elliptic functions and the exact
+   attitude (Landau & Lifshitz section 37).
+3. ``heavy-top`` -- a symmetric body (I1 = I2 about body axis 3) under
+   uniform gravity about a pivot on that axis, and nothing else: the exact
+   heavy top of :mod:`wobble.models.top` (notes 5.7), a hanging top included
+   (body axes turned by pi about axis 1).
+4. ``splitting`` -- every torque kicks exactly (depends on time and attitude
+   only, or is linear damping) and the torques are slow against the free
+   motion: Touma & Wisdom's splitting (exact free flow between kicks).
+5. ``dop853`` -- anything: adaptive Runge-Kutta on Euler's equations.
+
+(An ensemble -- several members in one scene -- uses the vectorised flow map
+for the free candidates: :func:`wobble.models.free.free_flow` from t0 to every
+output time.)
+
+The choice, the reason and the error estimate are recorded in the
+:class:`RunRecord`. A forced model (``--model``) must apply to the scene.
+The numerical models pick their tolerance or step from the accuracy, run with
+a companion (see :mod:`wobble.models.engine`), and tighten and rerun when the
+estimate exceeds the accuracy; an accuracy that no model can reach is an
+:class:`~wobble.errors.InputError` naming the ``accuracy`` field.
+
+Outputs are computed block by block in time and handed to a *sink* (the
+caller's: an in-memory collector, or a streaming netCDF writer), so that a
+run whose output exceeds memory never holds it all.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from wobble.errors import FileFormatError, InputError
+from wobble.models import engine as eng
+from wobble.models import free as _free
+from wobble.numerics import quaternion as quat
+
+__all__ = [
+    "Scene",
+    "Candidate",
+    "Choice",
+    "RunRecord",
+    "CANDIDATES",
+    "OUTPUTS",
+    "ATTITUDE_OUTPUTS",
+    "ModelUnavailable",
+    "choose_model",
+    "execute",
+    "derived_outputs",
+    "MODEL_NAMES",
+]
+
+#: Every output a scene may ask for (names of the netCDF variables).
+OUTPUTS = (
+    "omega",
+    "attitude",
+    "angular_momentum",
+    "angular_momentum_magnitude",
+    "kinetic_energy",
+    "potential_energy",
+    "total_energy",
+    "axis_direction",
+    "tilt",
+    "wobble_angle",
+)
+#: Outputs that need the attitude.
+ATTITUDE_OUTPUTS = frozenset({"attitude", "angular_momentum", "axis_direction", "tilt", "potential_energy", "total_energy"})
+_EPS = np.finfo(float).eps
+# Integrators are not asked for less than this (relative): rounding over a run.
+_INTEGRATOR_FLOOR = 1e-13
+_MAX_ATTEMPTS = 5
+
+
+class ModelUnavailable(Exception):
+    """A candidate model applies to the scene but cannot be built here (e.g. missing module)."""
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A simulation request in SI (see docs/scenes.md for the file form).
+
+    Attributes
+    ----------
+    body : wobble.models.engine.BodyModel
+        One body, or one per member.
+    omega0 : numpy.ndarray (N, 3)
+        Initial body-frame angular velocities (rad/s).
+    attitude0 : numpy.ndarray (N, 4)
+        Initial attitudes, unit quaternions body -> inertial.
+    torques : tuple
+        Torque specifications (:mod:`wobble.models.engine`).
+    times : numpy.ndarray (T,)
+        Increasing output times (s); the run starts at ``times[0]``.
+    accuracy : float
+        Wanted bound on each omega component's error relative to that
+        component's largest value, and on the attitude angle (rad).
+    outputs : tuple of str
+        Names from :data:`OUTPUTS`.
+    ensemble : bool
+        Whether the outputs carry a ``member`` dimension.
+    name, title, description : str
+    epoch : str or None
+        ISO date-time of t = 0 (UTC) for the CF time units; None: nominal.
+    source : str or None
+        The scene file, for error messages naming it.
+    mapping : dict
+        The scene as a plain mapping (recorded in output files).
+    """
+
+    body: eng.BodyModel
+    omega0: np.ndarray
+    attitude0: np.ndarray
+    torques: tuple
+    times: np.ndarray
+    accuracy: float = 1e-9
+    outputs: tuple = ("omega", "attitude")
+    ensemble: bool = False
+    name: str = "scene"
+    title: str = ""
+    description: str = ""
+    epoch: str | None = None
+    source: str | None = None
+    mapping: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def members(self) -> int:
+        """N, the number of initial states."""
+        return int(self.omega0.shape[0])
+
+    @property
+    def needs_attitude(self) -> bool:
+        """Whether an output asked for needs the attitude."""
+        return bool(ATTITUDE_OUTPUTS & set(self.outputs))
+
+    def error(self, key: str, value, allowed: str) -> Exception:
+        """An error about field ``key``: FileFormatError for a scene file, else InputError."""
+        if self.source:
+            return FileFormatError(self.source, key, f"got {value!r}; allowed: {allowed}")
+        return InputError(key, value, allowed)
+
+
+# --------------------------------------------------------------------------
+# Model runs: what a chosen candidate produces
+# --------------------------------------------------------------------------
+class _ModelRun:
+    """Produces (omega, attitude) block by block; knows its error estimate."""
+
+    name = ""
+    settings: dict = {}
+
+    def blocks(self, times, block):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def error_estimate(self) -> dict:  # pragma: no cover - interface
+        raise NotImplementedError
+
+
+def _blocks_of(times, block):
+    for start in range(0, times.size, block):
+        yield times[start : start + block]
+
+
+class _FreeSingle(_ModelRun):
+    """One member, exact: :func:`wobble.models.free.free_rotation` composed with the initial attitude."""
+
+    def __init__(self, scene: Scene, name: str):
+        self.name = name
+        self.scene = scene
+        body = scene.body
+        self.axes = np.asarray(body.axes).reshape(3, 3)
+        w_principal = self.axes @ scene.omega0[0]
+        self.model = _free.free_rotation(np.asarray(body.moments).reshape(3), w_principal)
+        self.q_axes = quat.from_matrix(self.axes.T)  # principal -> body
+        self.settings = {"regime": self.model.regime}
+
+    def blocks(self, times, block):
+        t0 = self.scene.times[0]
+        q0 = self.scene.attitude0[0]
+        for tb in _blocks_of(times, block):
+            w_p = self.model.omega(tb - t0)
+            w = (w_p @ self.axes)[:, None, :]
+            q = None
+            if self.scene.needs_attitude:
+                # q(t) = q0 * Qa * A(t) * Qa^-1, A the principal-frame attitude with A(0) = 1.
+                a = self.model.attitude(tb - t0)
+                q = quat.multiply(q0, quat.multiply(self.q_axes, quat.multiply(a, quat.conjugate(self.q_axes))))
+                q = quat.normalize(q)[:, None, :]
+            yield tb, w, q
+
+    def error_estimate(self):
+        e = self.model.error_estimate
+        return {"omega_relative": float(e["omega_relative"]), "attitude_rad": float(e["attitude_rad"]), "method": "a priori bound of the exact solution (docs/free-rotation.md)"}
+
+
+class _FreeEnsemble(_ModelRun):
+    """N members, exact flow map from t0 to every output time (vectorised)."""
+
+    def __init__(self, scene: Scene, name: str):
+        self.name = name
+        self.scene = scene
+        self.engine = eng.Engine(scene.body, (), members=scene.members)
+        self.w0, self.q0 = self.engine.state_in(scene.omega0, scene.attitude0)
+        self.settings = {"evaluation": "exact flow map from t0, vectorised over members and times"}
+
+    def blocks(self, times, block):
+        n = self.scene.members
+        t0 = self.scene.times[0]
+        attitude = self.scene.needs_attitude
+        moments = np.broadcast_to(self.engine.moments, (n, 3))
+        for tb in _blocks_of(times, max(1, block)):
+            T = tb.size
+            I = np.broadcast_to(moments, (T, n, 3)).reshape(-1, 3)  # noqa: E741
+            w = np.broadcast_to(self.w0, (T, n, 3)).reshape(-1, 3)
+            h = np.repeat(tb - t0, n)
+            w1, dq = _free.flow_sorted(I, w, h, attitude=attitude)
+            w1 = w1.reshape(T, n, 3)
+            q = None
+            if attitude:
+                q = quat.normalize(quat.multiply(np.broadcast_to(self.q0, (T, n, 4)), dq.reshape(T, n, 4)))
+            wo, qo = self.engine.state_out(w1, q)
+            yield tb, wo, qo
+
+    def error_estimate(self):
+        bound = _free_ensemble_bound(self.scene)
+        return {"omega_relative": bound, "attitude_rad": bound, "method": "a priori bound of the exact flow map (float phase)"}
+
+
+class _Numerical(_ModelRun):
+    """DOP853 or the splitting, with a companion run for the error estimate."""
+
+    def __init__(self, scene: Scene, method: str, settings: dict):
+        self.scene = scene
+        self.method = method
+        self.name = method if method == "dop853" else f"splitting-{settings['order']}"
+        self.settings = dict(settings)
+        self.engine = eng.Engine(scene.body, scene.torques, members=scene.members)
+        self._acc = None
+        self._stats = {}
+
+    def blocks(self, times, block):
+        s = self.scene
+        kw = dict(attitude=s.needs_attitude)
+        if self.method == "dop853":
+            rtol = self.settings["rtol"]
+            prop = self.engine.propagator(s.omega0, s.attitude0, times[0], method="dop853", rtol=rtol, **kw)
+            comp = self.engine.propagator(s.omega0, s.attitude0, times[0], method="dop853", rtol=min(10 * rtol, 1e-3), **kw)
+            factor = 1.0
+        else:
+            step, order = self.settings["step_s"], self.settings["order"]
+            prop = self.engine.propagator(
+                s.omega0, s.attitude0, times[0], method="splitting", step=step, order=order, multiple=2, **kw
+            )
+            comp = self.engine.propagator(s.omega0, s.attitude0, times[0], method="splitting", step=2 * step, order=order, **kw)
+            factor = 1.0 / (2**order - 1)
+        self._acc = eng._Accumulator(s.members, factor)
+        self._method = eng._estimate_name(self.method, self.settings.get("order", 8))
+        for tb in _blocks_of(times, block):
+            w, q = prop.advance(tb)
+            wc, qc = comp.advance(tb)
+            self._acc.add(w, wc, q, qc)
+            yield tb, w, q
+        self._stats = prop.stats()
+
+    def error_estimate(self):
+        e = self._acc.result(self._method)
+        return {"omega_relative": float(np.max(e.omega_relative)), "attitude_rad": float(np.max(e.attitude)), "method": e.method}
+
+    def stats(self):
+        return dict(self._stats)
+
+
+# --------------------------------------------------------------------------
+# The candidate table
+# --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Candidate:
+    """A model the chooser may pick.
+
+    Attributes
+    ----------
+    name : str
+    kind : {"exact", "numerical"}
+    applies : callable
+        ``applies(scene) -> str | None``: None when the model applies, else
+        why not (recorded in the reason when a later model is chosen).
+    build : callable
+        ``build(scene) -> model run``; may raise :class:`ModelUnavailable`.
+    floor : callable
+        ``floor(scene) -> float``: the best accuracy the model can promise.
+    summary : str
+        One line for the reason and the docs.
+    """
+
+    name: str
+    kind: str
+    applies: Callable
+    build: Callable
+    floor: Callable
+    summary: str
+
+
+def _torque_free(scene: Scene) -> bool:
+    """No torque, or only torques that are exactly zero."""
+    for t in scene.torques:
+        if isinstance(t, eng.ConstantTorque) and not np.any(np.asarray(t.torque)):
+            continue
+        if isinstance(t, eng.LinearDamping) and not np.any(np.asarray(t.coefficient)):
+            continue
+        return False
+    return True
+
+
+def _symmetric(scene: Scene) -> bool:
+    m = np.asarray(scene.body.moments).reshape(-1, 3)
+    s = np.sort(m, axis=-1)
+    return bool(np.all((s[:, 0] == s[:, 1]) | (s[:, 1] == s[:, 2])))
+
+
+def _applies_free_symmetric(scene):
+    if not _torque_free(scene):
+        return "torques act"
+    if not _symmetric(scene):
+        return "no two principal moments are equal"
+    return None
+
+
+def _applies_free(scene):
+    return None if _torque_free(scene) else "torques act"
+
+
+def _build_free(name):
+    def build(scene):
+        if scene.members == 1 and not _separatrix_negative(scene):
+            return _FreeSingle(scene, name)
+        return _FreeEnsemble(scene, name)
+
+    return build
+
+
+def _separatrix_negative(scene) -> bool:
+    """The one input free_rotation cannot take: the exact separatrix entered with omega_a < 0."""
+    body = scene.body
+    w = np.asarray(body.axes).reshape(3, 3) @ scene.omega0[0]
+    I = np.asarray(body.moments).reshape(3)  # noqa: E741
+    order = np.argsort(I, kind="stable")
+    i0, i1, i2 = I[order]
+    w0, w1, w2 = w[order]
+    d1 = i0 * w0 * w0 * (i1 - i0) + i2 * w2 * w2 * (i1 - i2)
+    return bool(d1 == 0 and w0 * w2 != 0)
+
+
+def _free_ensemble_bound(scene) -> float:
+    """A float phase lambda t carries eps * lambda t (docs/engine.md; tests/test_free_flow.py)."""
+    span = float(np.max(np.abs(scene.times - scene.times[0])))
+    rate = float(np.max(np.linalg.norm(scene.omega0, axis=-1)))
+    return 64 * _EPS * (1.0 + rate * span)
+
+
+def _floor_free(scene):
+    if scene.members == 1 and not _separatrix_negative(scene):
+        e = _FreeSingle(scene, "free").error_estimate()
+        return max(e["omega_relative"], e["attitude_rad"])
+    return _free_ensemble_bound(scene)
+
+
+def _heavy_top_geometry(scene):
+    """(I1, I3, Mgl) when the scene is a symmetric top on a pivot under uniform gravity, else a reason."""
+    gravity = [t for t in scene.torques if isinstance(t, eng.UniformGravity)]
+    others = [t for t in scene.torques if not isinstance(t, eng.UniformGravity)]
+    if len(gravity) != 1 or any(not _zero_torque(t) for t in others):
+        return None, "not a single uniform-gravity torque"
+    if scene.members != 1:
+        return None, "an ensemble (the exact top is built per member; ensembles integrate)"
+    g = gravity[0]
+    axes = np.asarray(scene.body.axes).reshape(3, 3)
+    m = np.asarray(scene.body.moments).reshape(3)
+    tensor = axes.T @ np.diag(m) @ axes  # body frame
+    if not (tensor[0, 0] == tensor[1, 1] and tensor[0, 1] == 0 and tensor[0, 2] == 0 and tensor[1, 2] == 0):
+        return None, "the body is not symmetric about its axis 3 (I1 = I2, axis 3 principal)"
+    r = np.asarray(g.center_of_mass, dtype=float).reshape(3)
+    if r[0] != 0 or r[1] != 0:
+        return None, "the centre of mass is off the symmetry axis"
+    grav = np.asarray(g.gravity, dtype=float).reshape(3)
+    if grav[0] != 0 or grav[1] != 0:
+        return None, "gravity is not along the inertial z axis"
+    # M g l with l the signed position of the centre of mass on axis 3 (negative: a hanging top)
+    mgl = float(np.asarray(g.mass).reshape(-1)[0]) * (-grav[2]) * r[2]
+    return (float(tensor[0, 0]), float(tensor[2, 2]), mgl), None
+
+
+def _zero_torque(t):
+    return (isinstance(t, eng.ConstantTorque) and not np.any(np.asarray(t.torque))) or (
+        isinstance(t, eng.LinearDamping) and not np.any(np.asarray(t.coefficient))
+    )
+
+
+def _applies_heavy_top(scene):
+    _, why = _heavy_top_geometry(scene)
+    return why
+
+
+def _build_heavy_top(scene):
+    """The exact heavy top of ``wobble.models.top`` (notes 5.7) for this scene.
+
+    The engine's conventions are the top's: symmetry axis = body axis 3, pivot
+    at the origin, gravity along -z in space, q rotating body to inertial. A
+    hanging top (centre of mass at negative body z) is the same top seen with
+    body axes turned by pi about axis 1, so that axis 3 points to the centre of
+    mass: omega' = (w1, -w2, -w3), q' = q (x) (0, 1, 0, 0); :class:`_TopRun` turns back.
+    """
+    from wobble.models import top
+
+    (i1, i3, mgl), _ = _heavy_top_geometry(scene)
+    w0 = np.asarray(scene.omega0[0], dtype=float).reshape(3)
+    q0 = np.asarray(scene.attitude0[0], dtype=float).reshape(4)
+    flip = mgl < 0
+    if flip:
+        w0 = w0 * _FLIP_W
+        q0 = quat.multiply(q0, _FLIP_Q)
+    return _TopRun(top.heavy_top_from_state(i1, i3, abs(mgl), w0, q0), scene, flip)
+
+
+_FLIP_W = np.array([1.0, -1.0, -1.0])
+_FLIP_Q = np.array([0.0, 1.0, 0.0, 0.0])
+
+
+class _TopRun(_ModelRun):
+    """Adapter for the exact heavy top (:func:`wobble.models.top.heavy_top_from_state`)."""
+
+    name = "heavy-top"
+
+    def __init__(self, model, scene, flip=False):
+        self.model = model
+        self.scene = scene
+        self.flip = flip
+        self.settings = {}
+
+    def blocks(self, times, block):
+        t0 = self.scene.times[0]
+        for tb in _blocks_of(times, block):
+            w, q = self.model.evaluate(tb - t0)
+            w, q = np.asarray(w), np.asarray(q)
+            if self.flip:  # back to the scene's body axes (see _build_heavy_top)
+                w = w * _FLIP_W
+                q = quat.multiply(q, quat.conjugate(_FLIP_Q))
+            yield tb, w[:, None, :], q[:, None, :]
+
+    def error_estimate(self):
+        e = self.model.error_estimate
+        # The top bounds theta and the attitude angle; omega is built from the same angles
+        # and rates, so its relative error is of the larger of the two.
+        worst = max(float(e["theta_rad"]), float(e["attitude_rad"]))
+        return {"omega_relative": worst, "attitude_rad": float(e["attitude_rad"]), "method": "exact heavy top"}
+
+
+# --------------------------------------------------------------------------
+# Numerical models: settings from a pilot run, cost in work units
+# --------------------------------------------------------------------------
+# Work units: one evaluation of Euler's equations for all members = 1. A drift
+# (the exact free flow) costs about half an evaluation for a single member (both
+# in Python floats) and about eleven for large ensembles; a kick 0.1 to 0.45
+# (measured with scripts/bench_engine.py's per-call timings).
+def _kick_cost(members: int) -> float:
+    return 0.1 + 0.35 * members / (members + 300.0)
+
+
+_PILOT_FRACTION = 1.0 / 16.0
+# Aim the full run at this fraction of the accuracy: errors may grow faster than linearly.
+_PILOT_SAFETY = 0.1
+_C_SPLIT = {2: 5e-2, 4: 1e-2, 6: 2e-3}  # error ~ C (h nu)^p (1 + nu T): a first guess only
+
+
+def _drift_cost(members: int) -> float:
+    return 0.5 + 10.5 * members / (members + 300.0)
+
+
+@dataclass
+class _Plan:
+    """Settings for the whole run and the predicted work, from a pilot over part of the span."""
+
+    method: str
+    settings: dict
+    work: float
+    pilot_error: float
+
+
+def _pilot_times(scene):
+    t0, t1 = float(scene.times[0]), float(scene.times[-1])
+    span = t1 - t0
+    tp = span * _PILOT_FRACTION if scene.times.size > 16 else span
+    return np.linspace(t0, t0 + tp, 9), span, tp
+
+
+def _pilot(scene, method, settings):
+    """Run the model with a companion over the pilot span: (worst estimate, stats)."""
+    sub = Scene(
+        body=scene.body, omega0=scene.omega0, attitude0=scene.attitude0, torques=scene.torques,
+        times=_pilot_times(scene)[0], accuracy=scene.accuracy, outputs=scene.outputs, ensemble=scene.ensemble,
+    )
+    run = _Numerical(sub, method, settings)
+    for _ in run.blocks(sub.times, sub.times.size):
+        pass
+    e = run.error_estimate()
+    return max(e["omega_relative"], e["attitude_rad"]), run.stats()
+
+
+def _plan_dop853(scene) -> _Plan:
+    _, span, tp = _pilot_times(scene)
+    rtol0 = float(min(max(scene.accuracy / 100.0, 1e-13), 1e-4))
+    err, stats = _pilot(scene, "dop853", {"rtol": rtol0})
+    growth = span / tp if tp > 0 else 1.0
+    err_full = err * growth
+    rtol = rtol0 if err_full <= 0 else rtol0 * _PILOT_SAFETY * scene.accuracy / err_full
+    rtol = float(min(max(rtol, 1e-13), 1e-3, 100 * rtol0))
+    evals = stats.get("function_evaluations", 1) / max(scene.members, 1)
+    work = 1.75 * evals * growth * (rtol0 / rtol) ** (1.0 / 8.0)
+    return _Plan("dop853", {"rtol": rtol}, work, err)
+
+
+def _plan_splitting(scene) -> _Plan:
+    engine = eng.Engine(scene.body, scene.torques, members=scene.members)
+    order = 6 if scene.accuracy < 1e-6 else 4
+    _, span, tp = _pilot_times(scene)
+    nu = engine.torque_rate(scene.omega0, scene.attitude0, scene.times[0])
+    if nu <= 0 or span <= 0:
+        h = max(span, 1.0)
+        err = 0.0
+    else:
+        h = (scene.accuracy / (_C_SPLIT[order] * (1.0 + nu * span))) ** (1.0 / order) / nu
+        h = float(min(h, span))
+        growth = span / tp if tp > 0 else 1.0
+        goal = _PILOT_SAFETY * scene.accuracy / growth  # the pilot's share of the accuracy
+        h_ok, err = None, 0.0
+        # The rate nu is a rough guess (a spinning symmetric body feels its torque far
+        # less than nu says): pilot; grow the step while the estimate allows, shrink
+        # it (at least halving, so that a step that resonates with the spin is left
+        # behind) until it passes.
+        for _ in range(12):
+            e, _ = _pilot(scene, "splitting", {"order": order, "step_s": h})
+            if e <= goal:
+                h_ok, err = h, e
+                if e * 2.0**order < goal and h < span:
+                    h = float(min(2.0 * h, span))
+                    continue
+                break
+            if h_ok is not None:
+                break
+            factor = (goal / e) ** (1.0 / order)
+            h *= min(0.5, factor)
+            if h < 1e-7 * span:  # more than 10^7 steps: leave it to DOP853
+                break
+        h = h_ok if h_ok is not None else h
+    gaps = np.diff(scene.times)
+    steps = float(np.sum(2 * np.ceil(gaps[gaps > 0] / (2 * h) * (1 - 1e-12)))) if gaps.size else 0.0
+    stages = len(_composition_stages(order))
+    work = 1.5 * steps * stages * (_drift_cost(scene.members) + _kick_cost(scene.members))
+    return _Plan("splitting", {"order": order, "step_s": h}, work, err)
+
+
+def _composition_stages(order):
+    from wobble.numerics.integrators import COMPOSITIONS
+
+    return COMPOSITIONS[order]
+
+
+_PLAN_CACHE: dict = {}
+
+
+def _plans(scene, only=None):
+    """Pilot both integrators where they apply, or ``only`` one (memoised per scene object)."""
+    key = id(scene)
+    if key not in _PLAN_CACHE or _PLAN_CACHE[key][0] is not scene:
+        while len(_PLAN_CACHE) >= 8:
+            _PLAN_CACHE.pop(next(iter(_PLAN_CACHE)))
+        _PLAN_CACHE[key] = (scene, {})
+    cache = _PLAN_CACHE[key][1]
+    if only in (None, "dop853") and "dop853" not in cache:
+        cache["dop853"] = _plan_dop853(scene)
+    if only in (None, "splitting") and "splitting" not in cache:
+        if eng.Engine(scene.body, scene.torques, members=scene.members).splittable:
+            cache["splitting"] = _plan_splitting(scene)
+    return cache
+
+
+def _applies_splitting(scene, *, forced=False):
+    engine = eng.Engine(scene.body, scene.torques, members=scene.members)
+    if not engine.splittable:
+        return "a torque depends on omega (other than linear damping): its kick has no exact solution"
+    if forced:
+        return None
+    plans = _plans(scene)
+    split, rk = plans["splitting"], plans["dop853"]
+    if not split.work < rk.work:
+        return f"predicted work {split.work:.3g} against {rk.work:.3g} for dop853 (pilot runs)"
+    return None
+
+
+def _integrator_floor(scene):
+    return _INTEGRATOR_FLOOR
+
+
+def _build_splitting(scene, settings=None):
+    if settings is None:
+        settings = _plans(scene, "splitting")["splitting"].settings
+    return _Numerical(scene, "splitting", settings)
+
+
+def _build_dop853(scene, settings=None):
+    if settings is None:
+        settings = _plans(scene, "dop853")["dop853"].settings
+    return _Numerical(scene, "dop853", settings)
+
+
+CANDIDATES: tuple[Candidate, ...] = (
+    Candidate("free-symmetric", "exact", _applies_free_symmetric, _build_free("free-symmetric"), _floor_free,
+              "closed form for a torque-free symmetric body (notes section 5.6)"),
+    Candidate("free-elliptic", "exact", _applies_free, _build_free("free-elliptic"), _floor_free,
+              "Jacobi elliptic functions for a torque-free body (Landau & Lifshitz section 37)"),
+    Candidate("heavy-top", "exact", _applies_heavy_top, _build_heavy_top, lambda s: 1e-13,
+              "the exact heavy symmetric top (notes section 5.7)"),
+    Candidate("splitting", "numerical", _applies_splitting, _build_splitting, _integrator_floor,
+              "Touma-Wisdom splitting: exact free flow between torque kicks (predicted cheaper than dop853)"),
+    Candidate("dop853", "numerical", lambda s: None, _build_dop853, _integrator_floor,
+              "adaptive Dormand-Prince 8(5,3) on Euler's equations"),
+)
+MODEL_NAMES = tuple(c.name for c in CANDIDATES)
+
+
+@dataclass
+class Choice:
+    """The chosen candidate, why, and what was passed over."""
+
+    candidate: Candidate
+    reason: str
+    run: _ModelRun
+
+
+def choose_model(scene: Scene, force: str | None = None) -> Choice:
+    """Pick the cheapest model that applies and can reach the scene's accuracy.
+
+    Raises
+    ------
+    wobble.errors.InputError
+        ``force`` names no model, or one that does not apply (parameter
+        ``model``); the accuracy is below what every applicable model can
+        reach (the ``accuracy`` field, naming the scene file if any).
+    """
+    if force is not None and force not in MODEL_NAMES and force != "auto":
+        raise InputError("model", force, f"auto or one of {', '.join(MODEL_NAMES)}")
+    if force == "auto":
+        force = None
+    passed = []
+    best_floor = np.inf
+    for cand in CANDIDATES:
+        if force is not None and cand.name != force:
+            continue
+        if cand.kind == "numerical" and scene.accuracy < cand.floor(scene):
+            # (checked before the predicate: the splitting's predicate runs pilots)
+            best_floor = min(best_floor, cand.floor(scene))
+            passed.append(f"{cand.name}: cannot promise {scene.accuracy:.3g} (best {cand.floor(scene):.3g})")
+            continue
+        why = _applies_splitting(scene, forced=True) if (force and cand.name == "splitting") else cand.applies(scene)
+        if why is not None:
+            if force:
+                raise InputError("model", force, f"a model that applies to this scene ({cand.name}: {why})")
+            passed.append(f"{cand.name}: {why}")
+            continue
+        floor = cand.floor(scene)
+        best_floor = min(best_floor, floor)
+        if scene.accuracy < floor:
+            passed.append(f"{cand.name}: cannot promise {scene.accuracy:.3g} (best {floor:.3g})")
+            continue
+        try:
+            run = cand.build(scene)
+        except ModelUnavailable as exc:
+            if force:
+                raise InputError("model", force, f"a model available in this build ({exc})") from None
+            passed.append(f"{cand.name}: unavailable ({exc})")
+            continue
+        reason = cand.summary
+        if passed:
+            reason += "; passed over: " + "; ".join(passed)
+        if force:
+            reason = f"forced (--model {force}): " + reason
+        return Choice(cand, reason, run)
+    raise scene.error(
+        "accuracy",
+        scene.accuracy,
+        f"at least {best_floor:.3g} for this scene (the best any applicable model can promise in float64)",
+    )
+
+
+# --------------------------------------------------------------------------
+# Outputs
+# --------------------------------------------------------------------------
+def _body_tensor(body: eng.BodyModel, n: int):
+    axes = np.asarray(body.axes).reshape(-1, 3, 3)
+    m = np.asarray(body.moments).reshape(-1, 3)
+    return np.einsum("mki,mk,mkj->mij", axes, m, axes)  # (M, 3, 3) body frame
+
+
+def derived_outputs(scene: Scene, engine: eng.Engine, t, w, q) -> dict:
+    """The scene's outputs from omega (T, N, 3) and q (T, N, 4) in the body frame (SI)."""
+    tensor = _body_tensor(scene.body, scene.members)
+    L_body = np.einsum("mij,tmj->tmi", tensor, w)
+    out = {}
+    want = set(scene.outputs)
+    if "omega" in want:
+        out["omega"] = w
+    if "attitude" in want:
+        out["attitude"] = q
+    if "angular_momentum" in want:
+        out["angular_momentum"] = quat.rotate(q, L_body)
+    if "angular_momentum_magnitude" in want:
+        out["angular_momentum_magnitude"] = np.linalg.norm(L_body, axis=-1)
+    kinetic = 0.5 * np.sum(w * L_body, axis=-1)
+    if "kinetic_energy" in want:
+        out["kinetic_energy"] = kinetic
+    if want & {"potential_energy", "total_energy"}:
+        pot = np.zeros_like(kinetic)
+        tt = np.broadcast_to(np.asarray(t, dtype=float)[:, None], kinetic.shape)
+        qi = engine.frame.quat_in(q)
+        for b in engine.torques:
+            pot = pot + b.potential(tt, qi, None)
+        if "potential_energy" in want:
+            out["potential_energy"] = pot
+        if "total_energy" in want:
+            out["total_energy"] = kinetic + pot
+    if want & {"axis_direction", "tilt"}:
+        axis = quat.rotate(q, np.array([0.0, 0.0, 1.0]))
+        if "axis_direction" in want:
+            out["axis_direction"] = axis
+        if "tilt" in want:
+            out["tilt"] = np.arctan2(np.hypot(axis[..., 0], axis[..., 1]), axis[..., 2])
+    if "wobble_angle" in want:
+        out["wobble_angle"] = np.arctan2(np.hypot(w[..., 0], w[..., 1]), w[..., 2])
+    return out
+
+
+def check_outputs(scene: Scene, engine: eng.Engine):
+    """Refuse outputs the scene cannot define (energy with a non-conservative torque)."""
+    if {"potential_energy", "total_energy"} & set(scene.outputs):
+        bad = [t.kind for t, b in zip(engine.specs, engine.torques) if not b.conservative]
+        if bad:
+            raise scene.error(
+                "outputs", list(scene.outputs),
+                f"potential/total energy only with torques that have a potential (not {', '.join(bad)})",
+            )
+
+
+@dataclass
+class RunRecord:
+    """What a run did: the model, why, its error estimate and settings."""
+
+    model: str
+    reason: str
+    error_estimate: dict
+    settings: dict
+    attempts: int
+    stats: dict = field(default_factory=dict)
+
+
+def execute(scene: Scene, sink, *, model: str | None = None, block_bytes: int = 64 * 2**20) -> RunRecord:
+    """Run a scene: choose the model, compute the outputs block by block into ``sink``.
+
+    Parameters
+    ----------
+    scene : Scene
+    sink : object
+        ``sink.begin()`` before each attempt, ``sink.write(t, outputs)``
+        for each block (``outputs`` maps names to arrays (Tb, N, ...)),
+        ``sink.discard()`` when an attempt is rejected (its estimate above
+        the accuracy) and will be redone.
+    model : str, optional
+        Force a model by name (``--model``).
+    block_bytes : int
+        Memory budget of one block of outputs (and temporaries).
+
+    Returns
+    -------
+    RunRecord
+    """
+    choice = choose_model(scene, model)
+    engine = eng.Engine(scene.body, scene.torques, members=scene.members)
+    check_outputs(scene, engine)
+    per_time = max(1, scene.members) * 8 * 64
+    block = int(max(1, min(scene.times.size, block_bytes // per_time)))
+    run = choice.run
+    attempts = 0
+    previous = np.inf
+    while True:
+        attempts += 1
+        sink.begin()
+        for tb, w, q in run.blocks(scene.times, block):
+            sink.write(tb, derived_outputs(scene, engine, tb, w, q))
+        est = run.error_estimate()
+        worst = max(est["omega_relative"], est["attitude_rad"])
+        if choice.candidate.kind == "exact" or worst <= scene.accuracy:
+            break
+        if attempts >= _MAX_ATTEMPTS or not worst < previous:
+            raise scene.error(
+                "accuracy", scene.accuracy,
+                f"at least {worst:.3g} for this scene with {run.name} (estimate after {attempts} attempts)",
+            )
+        previous = worst
+        sink.discard()
+        run = _tighter(scene, run, worst)
+    stats = run.stats() if hasattr(run, "stats") else {}
+    return RunRecord(run.name, choice.reason, est, dict(run.settings), attempts, stats)
+
+
+def _tighter(scene, run, worst):
+    """The same numerical model with settings tightened from the measured estimate."""
+    ratio = scene.accuracy / worst
+    if run.method == "dop853":
+        rtol = run.settings["rtol"] * _PILOT_SAFETY * ratio
+        if rtol < 100 * _EPS:
+            raise scene.error(
+                "accuracy", scene.accuracy, f"at least {worst:.3g} for this scene with dop853 (tolerance floor reached)"
+            )
+        return _build_dop853(scene, {"rtol": rtol})
+    order = run.settings["order"]
+    step = run.settings["step_s"] * (_PILOT_SAFETY * ratio) ** (1.0 / order)
+    return _build_splitting(scene, {"order": order, "step_s": step})
