@@ -108,7 +108,45 @@ def test_earth_100_years_daily():
     assert np.max(np.abs(got[:, 2] / want[:, 2] - 1)) < 1e-15
     assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
     days = model.omega(np.arange(36526) * 86400.0)
-    assert days.shape == (36526, 3)
+    assert days.shape == (36526, 3) and days.flags.c_contiguous
+
+
+def test_earth_daily_grid_takes_the_nome_series_path_and_matches_mpmath():
+    """The uniform-grid path (DLMF 22.11 nome series, block rotation) at mpmath's days: 1e-15."""
+    c = CLOSED["Earth 100 years"]
+    model = _case(c)
+    assert model._impl.fourier is not None  # m ~ 8e-15: the near-circular path applies
+    days = model.omega(np.arange(36526) * 86400.0)
+    idx = [round(float(x) / 86400.0) for x in c["t"]]
+    want = np.array([[float(v) for v in row] for row in c["omega"]])
+    got = days[idx]
+    phase = np.max(np.hypot(got[:, 0] - want[:, 0], got[:, 1] - want[:, 1]) / np.hypot(want[:, 0], want[:, 1]))
+    assert phase < 1e-15
+    assert np.max(np.abs(got[:, 2] / want[:, 2] - 1)) < 1e-15
+
+
+@pytest.mark.parametrize("moments, omega0", [
+    ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # m ~ 1e-9: nome series with its 3v harmonic
+    ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: exp(i (Omega t + beta)) by block rotation
+])
+def test_grid_path_equals_the_per_sample_path(moments, omega0):
+    """Every sample of a 10^4-point grid (over ~300 wobble periods) against omega_at sample by sample."""
+    from wobble.models.free import _blocked, _to_user
+
+    model = free_rotation(moments, omega0)
+    # Exactly representable times (k/4 s): both paths see the same instants, so they agree to rounding.
+    t = np.arange(10_001) * 0.25
+    direct = _to_user(_blocked(model._impl.omega_at, t, 3), model._order, model._signs)
+    scale = np.max(np.abs(direct))
+    assert np.max(np.abs(model.omega(t) - direct)) <= 1e-15 * scale
+    # A linspace grid: its float samples are the exact grid rounded (half an ulp), and the grid path
+    # evaluates the exact grid: the two differ by at most rate * amplitude * a few ulps of t.
+    t = np.linspace(0.0, 2000.0, 10_001)
+    direct = _to_user(_blocked(model._impl.omega_at, t, 3), model._order, model._signs)
+    amp = np.max(np.hypot(direct[:, 0], direct[:, 1]))
+    rate = 0.5 * omega0[2]  # (I3 - I1)/I1 omega3 for these moments
+    bound = 1e-15 * scale + amp * rate * 4 * np.finfo(float).eps * t[-1]
+    assert np.max(np.abs(model.omega(t) - direct)) <= bound
 
 
 def test_nearly_symmetric_reduces_to_symmetric_closed_form():

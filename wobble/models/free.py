@@ -43,6 +43,7 @@ docs/free-rotation.md for the measured error budget).
 
 from __future__ import annotations
 
+import decimal
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -55,6 +56,7 @@ from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
 from wobble.numerics import quaternion as quat
 from wobble.numerics.phase import reduce_phase, two_prod
+from wobble.numerics.phasor import block_phasors, uniform_grid
 
 __all__ = [
     "FreeRotationModel",
@@ -93,7 +95,7 @@ def _to_model(v, order, signs):
 
 def _to_user(v, order, signs):
     v = np.asarray(v, dtype=float)
-    out = np.empty_like(v)
+    out = np.empty(v.shape)  # C order whatever the layout of v
     for k in range(3):
         out[..., order[k]] = signs[k] * v[..., k]
     return out
@@ -140,6 +142,23 @@ class _Symmetric:
             [self.amplitude * np.cos(ang), self.amplitude * np.sin(ang), np.full_like(ang, self.omega3)], -1
         )
 
+    def _phasor(self, t):
+        phase, _ = reduce_phase(t, self.rate, _TWO_PI_DD, 0.0)
+        ang = phase + self.beta
+        z = np.empty(t.shape, dtype=complex)
+        z.real = np.cos(ang)
+        z.imag = np.sin(ang)
+        return z
+
+    def omega_on_grid(self, t0, dt, n):
+        """omega at t0 + k dt (k < n): exp(i (Omega t + beta)) by block rotation."""
+        z = block_phasors(self._phasor, t0, dt, n)
+        out = np.empty((n, 3))
+        out[:, 0] = self.amplitude * z.real
+        out[:, 1] = self.amplitude * z.imag
+        out[:, 2] = self.omega3
+        return out
+
     def attitude_at(self, t):
         half_space, _ = reduce_phase(t, self.half_space_rate, _TWO_PI_DD)
         half_body, _ = reduce_phase(t, (-0.5 * self.rate[0], -0.5 * self.rate[1]), _TWO_PI_DD)
@@ -170,6 +189,9 @@ class _Elliptic:
     pi_over_k: float  # Pi(-nu | m) / K
     half_prec_rate: tuple[float, float]  # Omega_psi / 2, double-double
     levels: object = field(repr=False, compare=False)
+    # Near-circular motion (m <= _FOURIER_MAX_M): pi/(2K) and the nome-series
+    # coefficients (sn1, sn3, cn1, cn3, dn0, dn2) of DLMF 22.11.1-3, else None.
+    fourier: tuple | None = field(default=None, repr=False, compare=False)
 
     def phase(self, t):
         """u = lambda t + u0 reduced modulo 2K: returns (r, j) with |r| <= K."""
@@ -193,6 +215,43 @@ class _Elliptic:
         out[..., self.b] = self.sign_bc * self.amp[1] * sgn * sn
         out[..., self.c] = self.sign_bc * self.amp[2] * dn
         return out
+
+    def _phasor(self, t):
+        """exp(i v), v = pi u / (2K): the angle of the nome series, from the exact reduction."""
+        r, j = self.phase(t)
+        w = r * self.fourier[0]
+        sgn = np.where(np.floor(0.5 * j) != 0.5 * j, -1.0, 1.0)
+        z = np.empty(t.shape, dtype=complex)
+        z.real = sgn * np.cos(w)
+        z.imag = sgn * np.sin(w)
+        return z
+
+    def omega_on_grid(self, t0, dt, n):
+        """omega at t0 + k dt (k < n) for m <= _FOURIER_MAX_M, without per-sample sn, cn, dn.
+
+        DLMF 22.11.1-3 with v = pi u/(2K) and the nome q = exp(-pi K'/K) ~ m/16:
+        sn = a1 sin v + a3 sin 3v, cn = c1 cos v + c3 cos 3v, dn = d0 + d2 cos 2v,
+        dropping terms of relative size q^2 <= 4e-17; exp(i v) by block rotation
+        (:func:`wobble.numerics.phasor.block_phasors`).
+        """
+        _, a1, a3, c1, c3, d0, d2 = self.fourier
+        z = block_phasors(self._phasor, t0, dt, n)
+        out = np.empty((3, n))  # component-major: contiguous rows, one transpose at the end
+        # cos 3v = c (4c^2 - 3), sin 3v = s (3 - 4s^2), cos 2v = 2c^2 - 1, in place:
+        c2 = np.multiply(z.real, z.real)
+        row = out[self.c]
+        np.multiply(c2, 2.0 * d2 * self.sign_bc * self.amp[2], out=row)
+        row += (d0 - d2) * self.sign_bc * self.amp[2]
+        row = out[self.a]
+        np.multiply(c2, 4.0 * c3 * self.amp[0], out=row)
+        row += (c1 - 3.0 * c3) * self.amp[0]
+        row *= z.real
+        row = out[self.b]
+        np.multiply(z.imag, z.imag, out=row)
+        row *= -4.0 * a3 * self.sign_bc * self.amp[1]
+        row += (a1 + 3.0 * a3) * self.sign_bc * self.amp[1]
+        row *= z.imag
+        return out.T
 
     def _periodic(self, r, sn, cn, dn):
         """P(r): the 2K-periodic part of psi, from sn, cn, dn of |r| <= K."""
@@ -287,7 +346,17 @@ class FreeRotationModel:
     def omega(self, t) -> np.ndarray:
         """Body-frame angular velocity (rad/s) at times ``t`` (s), shape t.shape + (3,)."""
         t = np.asarray(t, dtype=float)
-        return _to_user(_blocked(self._impl.omega_at, t, 3), self._order, self._signs)
+        return _to_user(self._omega_model_frame(t), self._order, self._signs)
+
+    def _omega_model_frame(self, t):
+        # A long uniform grid of a near-circular wobble (Earth, Mars) takes the
+        # block-rotation path: no per-sample reduction, trigonometry or elliptic functions.
+        on_grid = getattr(self._impl, "omega_on_grid", None)
+        if on_grid is not None and getattr(self._impl, "fourier", True) is not None:
+            grid = uniform_grid(t)
+            if grid is not None:
+                return on_grid(grid[0], grid[1], t.size)
+        return _blocked(self._impl.omega_at, t, 3)
 
     def attitude(self, t) -> np.ndarray:
         """Unit quaternions (w, x, y, z) rotating body vectors into the inertial frame."""
@@ -431,6 +500,32 @@ def _symmetric_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E74
     )
 
 
+#: Largest parameter m for the nome-series grid path: q ~ m/16, so the dropped
+#: fifth harmonics and q^2 corrections are below 4e-17 of the amplitudes.
+_FOURIER_MAX_M = 1e-7
+
+
+def _nome_series(m, kdec):
+    """(pi/(2K), sn1, sn3, cn1, cn3, dn0, dn2): DLMF 22.11.1-3 to first order in q, at 50 digits.
+
+    q = exp(-pi K'/K) with K' = K(1 - m); sn = (2 pi/(K k)) sum q^(n+1/2) sin((2n+1)v)/(1 - q^(2n+1)),
+    cn likewise with cos and 1 + q^(2n+1), dn = pi/(2K) + (2 pi/K) sum_{n>=1} q^n cos(2nv)/(1 + q^(2n)).
+    """
+    with decimal.localcontext(hp.context()):
+        k_prime = hp.agm_k(m)  # K(1 - m): agm_k takes the complement of its parameter
+        q = (-hp.PI * k_prime / kdec).exp()
+        k = hp.sqrt(m)
+        lead = 2 * hp.PI / (kdec * k)
+        rq = q.sqrt()
+        coeffs = (
+            hp.PI / (2 * kdec),
+            lead * rq / (1 - q), lead * rq * q / (1 - q**3),
+            lead * rq / (1 + q), lead * rq * q / (1 + q**3),
+            hp.PI / (2 * kdec), 2 * hp.PI / kdec * q / (1 + q * q),
+        )
+    return tuple(float(x) for x in coeffs)
+
+
 def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     frame, signs = _proper_frame(order)
     w = _to_model(np.asarray(omega0), frame, signs)
@@ -497,6 +592,7 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
         a=a, b=b, c=c, amp=amp, sign_bc=sign_bc, m=float(m), m1=float(m1), lam=hp.to_dd(lam), K=K,
         u0=u0, moments=tuple(float(x) for x in I), L=float(big_l), nu=float(nu), c_pi=c_pi, c_g=c_g,
         pi_over_k=pi_over_k, half_prec_rate=hp.to_dd(mean / 2), levels=levels,
+        fourier=_nome_series(m, kdec) if (kdec is not None and 0 < m <= _FOURIER_MAX_M) else None,
     )
     kf = K[0] if np.isfinite(K[0]) else 1.0
     est = {"omega_relative": 16 * _EPS * (1 + kf), "attitude_rad": 64 * _EPS * (1 + kf)}
