@@ -21,13 +21,13 @@ Example
 
 from __future__ import annotations
 
-import os
 
 import numpy as np
 import xarray as xr
 from astropy import constants as const
 from astropy import units as u
 
+from wobble.api._sampling import sample_times
 from wobble.api._units import to_si
 from wobble.errors import InputError
 from wobble.io.netcdf import SIMULATION_TIME_UNITS
@@ -47,11 +47,6 @@ SPACE_AXES = ("x", "y", "z")
 COMPONENTS = ("w", "x", "y", "z")
 
 
-def _available_memory() -> int:
-    try:
-        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return 2**33
 
 
 def _as_quantity(value):
@@ -422,30 +417,7 @@ class HeavyTop:
         return self._dataset(ts, mo, inv)
 
     def _times(self, t, t_end, samples):
-        if (t is None) == (t_end is None):
-            raise InputError("t, t_end", (t, t_end), "either times t or t_end with samples, not both or neither")
-        if t is not None:
-            ts = np.atleast_1d(to_si(t, "t", u.s))
-            if ts.ndim != 1:
-                raise InputError("t", t, "a 1-D array of times")
-            self._check_memory(ts.size)
-            return ts.astype(float)
-        end = to_si(t_end, "t_end", u.s, nonnegative=True, shape=())
-        if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
-            raise InputError("samples", samples, "a whole number of samples >= 1")
-        self._check_memory(int(samples))
-        return np.linspace(0.0, end, int(samples))
-
-    @staticmethod
-    def _check_memory(n: int):
-        need = n * BYTES_PER_SAMPLE
-        have = _available_memory() // 2
-        if need > have:
-            raise InputError(
-                "samples", n,
-                f"at most {have // BYTES_PER_SAMPLE} samples here: {n} samples need about {need / 1e9:.3g} GB "
-                f"of memory and {have / 1e9:.3g} GB is usable (ask for fewer samples or a shorter span)",
-            )
+        return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)
 
     def _dataset(self, ts, mo, inv) -> xr.Dataset:
         m = self._model

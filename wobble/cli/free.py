@@ -9,6 +9,7 @@ import sys
 from astropy import units as u
 
 from wobble.api._units import parse_quantity
+from wobble.cli._table import print_rows
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -79,15 +80,6 @@ def run(args) -> int:
 
 
 def _print_table(summary: dict) -> None:
-    def fmt(v):
-        if v is None:
-            return "-"
-        if isinstance(v, float):
-            return f"{v:.15g}"
-        if isinstance(v, list):
-            return ", ".join(fmt(x) for x in v[:6]) + (" ..." if len(v) > 6 else "")
-        return str(v)
-
     rows = [
         ("regime", summary["regime"]),
         ("elliptic parameter m", summary["parameter_m"]),
@@ -101,6 +93,4 @@ def _print_table(summary: dict) -> None:
         rows.append(("flip times (s)", summary["flip_times_s"]))
     if "output" in summary:
         rows.append(("written", summary["output"]))
-    width = max(len(k) for k, _ in rows)
-    for k, v in rows:
-        print(f"{k:<{width}}  {fmt(v)}")
+    print_rows(rows)

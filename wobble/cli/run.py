@@ -42,6 +42,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     from wobble.api.scene import _as_scene, example_scenes, run_to_netcdf
+    from wobble.cli._table import print_rows
     from wobble.errors import InputError
 
     if args.list:
@@ -66,7 +67,5 @@ def run(args) -> int:
             ("members x times", f"{summary['members']} x {summary['times']}"),
             ("written", summary["output"]),
         ]
-        width = max(len(k) for k, _ in rows)
-        for k, v in rows:
-            print(f"{k:<{width}}  {v}")
+        print_rows(rows)
     return 0

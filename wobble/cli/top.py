@@ -8,6 +8,7 @@ import json
 from astropy import units as u
 
 from wobble.api._units import parse_quantity
+from wobble.cli._table import fmt, print_rows
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -107,15 +108,6 @@ def run(args) -> int:
 
 
 def _print_table(summary: dict) -> None:
-    def fmt(v):
-        if v is None:
-            return "-"
-        if isinstance(v, bool):
-            return "yes" if v else "no"
-        if isinstance(v, float):
-            return f"{v:.15g}"
-        return str(v)
-
     rows = [
         ("nutation", summary["nutation"]),
         ("roots u1, u2, u3", ", ".join(fmt(summary[k]) for k in ("u1", "u2", "u3"))),
@@ -133,6 +125,4 @@ def _print_table(summary: dict) -> None:
         rows.append(("steady precession at theta0 (rad/s)", f"slow {fmt(reg['slow_rad_s'])}, fast {fmt(reg['fast_rad_s'])}"))
     if "output" in summary:
         rows.append(("written", summary["output"]))
-    width = max(len(k) for k, _ in rows)
-    for k, v in rows:
-        print(f"{k:<{width}}  {fmt(v)}")
+    print_rows(rows)

@@ -1,0 +1,64 @@
+"""Sample times for the exact solutions' Datasets, refused up front when they would not fit in memory.
+
+Shared by :class:`wobble.FreeRotation` and :class:`wobble.HeavyTop`: either explicit times
+``t`` or ``t_end`` with ``samples`` (a linspace from 0), and a memory check that names the
+largest request this machine can take.
+"""
+
+from __future__ import annotations
+
+import os
+
+import astropy.units as u
+import numpy as np
+
+from wobble.api._units import to_si
+from wobble.errors import InputError
+
+__all__ = ["available_memory", "human_bytes", "sample_times"]
+
+
+def available_memory() -> int:
+    """Free physical memory in bytes (8 GiB where the platform cannot say)."""
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        return 2**33
+
+
+def human_bytes(nbytes: float) -> str:
+    """``1.5e9`` -> ``'1.5 GB'`` (decimal prefixes)."""
+    for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
+        if nbytes < 1000:
+            return f"{nbytes:.3g} {unit}"
+        nbytes /= 1000
+    return f"{nbytes:.3g} EB"
+
+
+def check_memory(n: int, bytes_per_sample: int) -> None:
+    """Refuse ``n`` samples when they need more than half the free memory, naming the limit."""
+    need = n * bytes_per_sample
+    have = available_memory() // 2
+    if need > have:
+        raise InputError(
+            "samples", n,
+            f"at most {have // bytes_per_sample} samples here: {n} samples need about {human_bytes(need)} "
+            f"of memory and {human_bytes(have)} is usable (ask for fewer samples or a shorter span)",
+        )
+
+
+def sample_times(t, t_end, samples, bytes_per_sample: int) -> np.ndarray:
+    """Times in s: ``t`` (a 1-D time Quantity) or ``samples`` points from 0 to ``t_end``."""
+    if (t is None) == (t_end is None):
+        raise InputError("t, t_end", (t, t_end), "either times t or t_end with samples, not both or neither")
+    if t is not None:
+        ts = np.atleast_1d(to_si(t, "t", u.s))
+        if ts.ndim != 1:
+            raise InputError("t", t, "a 1-D array of times")
+        check_memory(ts.size, bytes_per_sample)
+        return ts.astype(float)
+    end = to_si(t_end, "t_end", u.s, nonnegative=True, shape=())
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
+        raise InputError("samples", samples, "a whole number of samples >= 1")
+    check_memory(int(samples), bytes_per_sample)
+    return np.linspace(0.0, end, int(samples))
