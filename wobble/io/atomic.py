@@ -14,13 +14,41 @@ from pathlib import Path
 
 from wobble.errors import InputError, OutputExistsError
 
-__all__ = ["atomic_target"]
+__all__ = ["atomic_target", "check_target", "new_temporary", "publish"]
 
 
 def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+def check_target(path: str | os.PathLike, overwrite: bool) -> Path:
+    """``path`` as a Path after checking it can be written: a file in an existing folder,
+    not present unless ``overwrite``. Raises before any work is done."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError("output", str(path), "a file path, not a folder")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError("output", str(path), "a path in an existing folder")
+    if path.exists() and not overwrite:
+        raise OutputExistsError(path)
+    return path
+
+
+def new_temporary(path: Path) -> Path:
+    """An empty temporary file next to ``path`` (same folder, so the rename is atomic)."""
+    folder = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    return Path(tmp)
+
+
+def publish(tmp: str | os.PathLike, path: Path) -> None:
+    """Give ``tmp`` the mode open() would (mkstemp makes it 0600) and rename it onto ``path``."""
+    os.chmod(tmp, 0o666 & ~_umask())
+    os.replace(tmp, path)
 
 
 @contextlib.contextmanager
@@ -30,21 +58,11 @@ def atomic_target(path: str | os.PathLike, overwrite: bool):
     Whatever goes wrong (bad data, full disk, Ctrl-C), the temporary file is
     removed and an existing ``path`` is untouched.
     """
-    path = Path(path)
-    if path.is_dir():
-        raise InputError("output", str(path), "a file path, not a folder")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError("output", str(path), "a path in an existing folder")
-    if path.exists() and not overwrite:
-        raise OutputExistsError(path)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
+    path = check_target(path, overwrite)
+    tmp = new_temporary(path)
     try:
-        yield tmp
-        # mkstemp makes the file private (0600); give it the mode open() would.
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+        yield str(tmp)
+        publish(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise

@@ -25,14 +25,13 @@ from __future__ import annotations
 
 import datetime as _dt
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from wobble.errors import FileFormatError, InputError, OutputExistsError
-from wobble.io.atomic import _umask, atomic_target
+from wobble.errors import FileFormatError, InputError
+from wobble.io.atomic import atomic_target, check_target, new_temporary, publish
 
 __all__ = [
     "CONVENTIONS",
@@ -291,16 +290,7 @@ class StreamingWriter:
     """
 
     def __init__(self, path, *, overwrite: bool = False, command: str | None = None):
-        path = Path(path)
-        if path.is_dir():
-            raise InputError("output", str(path), "a file path, not a folder")
-        folder = path.parent if str(path.parent) else Path(".")
-        if not folder.is_dir():
-            raise InputError("output", str(path), "a path in an existing folder")
-        if path.exists() and not overwrite:
-            raise OutputExistsError(path)
-        self.path = path
-        self.folder = folder
+        self.path = check_target(path, overwrite)
         self.command = command
         self.tmp = None
         self.rows = 0
@@ -309,9 +299,7 @@ class StreamingWriter:
     def begin(self) -> None:
         """Start (or restart) the temporary file."""
         self.discard()
-        fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=f".{self.path.name}.", suffix=".tmp")
-        os.close(fd)
-        self.tmp = Path(tmp)
+        self.tmp = new_temporary(self.path)
         self.rows = 0
 
     def append(self, block: xr.Dataset) -> None:
@@ -348,9 +336,7 @@ class StreamingWriter:
                 self._nc.setncattr(key, value)
             self._nc.close()
             self._nc = None
-            # mkstemp makes the file private (0600); give it the permissions a plain open() would.
-            os.chmod(self.tmp, 0o666 & ~_umask())
-            os.replace(self.tmp, self.path)
+            publish(self.tmp, self.path)
         except BaseException:
             self.discard()
             raise
