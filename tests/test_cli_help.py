@@ -115,3 +115,13 @@ not an example: wobble free
         ["wobble", "top", "--I1", "1", "--I3", "0.5", "--mgl", "1"],
         ["wobble", "run", "x.toml", "-o", "my file.nc"],
     ]
+
+
+def test_readme_lists_every_command_and_the_docs_build():
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    commands = readme[readme.index("## Commands") :]
+    for name in COMMANDS:
+        assert f"| `wobble {name}` |" in commands, f"README's Commands table lacks wobble {name}"
+    assert "python -m sphinx -W docs docs/_build" in readme
