@@ -145,6 +145,18 @@ class RigidBody:
 
     Bodies are immutable: :meth:`shifted_to`, :meth:`translated`,
     :meth:`rotated` and ``+`` return new bodies.
+
+    Examples
+    --------
+    >>> import wobble
+    >>> from astropy import units as u
+    >>> box = wobble.RigidBody.box(2 * u.kg, [3, 2, 1] * u.m)  # edges along x, y, z
+    >>> print(box.principal_moments.to_value(u.kg * u.m**2).round(3), box.classify().kind)
+    [0.833 1.667 2.167] asymmetric
+    >>> spin = [0, 0, 2] * u.rad / u.s
+    >>> L, T = box.angular_momentum(spin), box.kinetic_energy(spin)
+    >>> print(L.to_value(u.kg * u.m**2 / u.s).round(3), f"{T.to_value(u.J):.3f} J")
+    [0.    0.    4.333] 4.333 J
     """
 
     __slots__ = ("_body", "name")

@@ -299,6 +299,15 @@ def chandler_budget(body: str | os.PathLike | Planet, model: str = "full") -> Ch
     -------
     ChandlerBudget
         Periods in days of 86400 s. The observed period is never an input.
+
+    Examples
+    --------
+    >>> import wobble
+    >>> budget = wobble.chandler_budget("earth")
+    >>> [step.name for step in budget.steps]
+    ['rigid', 'elastic', 'fluid_core', 'ocean_pole_tide', 'anelastic']
+    >>> print(f"{budget.steps[0].period:.1f} -> {budget.period:.1f}; observed {budget.observed:.1f}")
+    303.6 d -> 431.5 d; observed 433.1 d
     """
     planet = load_planet(body)
     if not isinstance(model, str):
@@ -449,6 +458,14 @@ def rigid_wobble(
     -------
     FreeWobble
         Signed rate, period (inf for a sphere) and the sense of the wobble.
+
+    Examples
+    --------
+    >>> import wobble
+    >>> from astropy import units as u
+    >>> wobble_ = wobble.rigid_wobble(dynamical_flattening=3.273795e-3, spin=1 * u.sday)
+    >>> print(f"{wobble_.period:.2f}", wobble_.sense)
+    303.62 d prograde
     """
     given = [x is not None for x in (moments, dynamical_flattening, inertia_ratio)]
     if sum(given) != 1:
@@ -485,5 +502,15 @@ def free_precession_rate(moments=None, *, spin, dynamical_flattening=None, inert
 
 
 def euler_period(moments=None, *, spin, dynamical_flattening=None, inertia_ratio=None) -> u.Quantity:
-    """Rigid (Euler) wobble period in days of 86400 s; inf for a sphere (see :func:`rigid_wobble`)."""
+    """Rigid (Euler) wobble period in days of 86400 s; inf for a sphere (see :func:`rigid_wobble`).
+
+    Examples
+    --------
+    Earth's Euler period from the IERS dynamical flattening H = (C - A)/C:
+
+    >>> import wobble
+    >>> from astropy import units as u
+    >>> print(f"{wobble.euler_period(dynamical_flattening=3.273795e-3, spin=1 * u.sday):.2f}")
+    303.62 d
+    """
     return rigid_wobble(moments, spin=spin, dynamical_flattening=dynamical_flattening, inertia_ratio=inertia_ratio).period

@@ -101,6 +101,17 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     wobble.errors.FileFormatError
         Missing, unreadable, or not written by wobble (its ``source``
         attribute does not name wobble).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import wobble
+    >>> path = wobble.write_netcdf(wobble.chandler_dataset([wobble.chandler_budget("mars")]),
+    ...                            Path(tempfile.mkdtemp()) / "mars.nc")
+    >>> ds = wobble.load(path)
+    >>> print(f"{ds.wobble.quantity('model_period')[0]:.1f} model, {ds.wobble.quantity('observed_period')[0]:.1f} observed")
+    205.4 d model, 206.9 d observed
     """
     ds = open_wobble(path)
     if "Conventions" not in ds.attrs:

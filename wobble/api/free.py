@@ -67,6 +67,20 @@ class FreeRotation:
     Exact closed forms (docs/free-rotation.md): the symmetric precession of the
     course notes section 5.6, the Jacobi elliptic solution of Landau & Lifshitz
     section 37 in both regimes, the separatrix, and the exact attitude.
+
+    Examples
+    --------
+    A body spun almost exactly about its intermediate axis flips over and over
+    (the tennis-racket, or Dzhanibekov, effect):
+
+    >>> import wobble
+    >>> from astropy import units as u
+    >>> spin = wobble.FreeRotation([1, 2, 3] * u.kg * u.m**2, [1e-6, 1, 1e-6] * u.rad / u.s)
+    >>> print(spin.regime, f"flip every {spin.time_between_flips:.2f}")
+    major-axis flip every 51.46 s
+    >>> ds = spin.evaluate(t_end=100 * u.s, samples=11)  # xarray Dataset, CF attributes
+    >>> ds["omega"].dims
+    ('time', 'axis')
     """
 
     def __init__(self, moments, omega0):

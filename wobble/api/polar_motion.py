@@ -168,6 +168,13 @@ def load_polar_motion(file: str | os.PathLike | None = None, *, start=None, end=
     xarray.Dataset
         ``x_p``, ``y_p``, ``x_p_error``, ``y_p_error`` (arcsec) on a ``time``
         coordinate in MJD (CF units ``days since 1858-11-17 00:00:00``).
+
+    Examples
+    --------
+    >>> import wobble
+    >>> pm = wobble.load_polar_motion(start="2020-01-01", end="2020-12-31")
+    >>> pm.sizes["time"], list(pm.data_vars), pm["x_p"].attrs["units"]
+    (366, ['x_p', 'y_p', 'x_p_error', 'y_p_error'], 'arcsec')
     """
     rec = read_pole_file(file)
     keep = _select(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")

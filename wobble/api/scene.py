@@ -288,6 +288,15 @@ def run(scene, *, model: str | None = None) -> xr.Dataset:
         Bad scene (naming the key, and the file if any), a model that does not
         apply, an accuracy no model can reach, or an output too large for
         memory (then use :func:`run_to_netcdf`, which streams).
+
+    Examples
+    --------
+    >>> import wobble
+    >>> ds = wobble.run("top_loops")  # data/scenes/top_loops.toml
+    >>> ds.attrs["model"], ds.attrs["error_estimate"] < ds.attrs["accuracy_requested"]
+    ('heavy-top', True)
+    >>> print(f"{ds.wobble.quantity('tilt').max().to('deg'):.1f}")
+    74.8 deg
     """
     sc = _as_scene(scene)
     need = _estimated_bytes(sc)

@@ -139,7 +139,19 @@ class HeavyTop:
     Notes section 5.7 and docs/heavy-top.md: the analysis (p_psi = I1 a, p_phi = I1 b,
     E', alpha, beta, V'(theta), the cubic f(u) and its roots, the nutation class,
     regular precession, the sleeping top) and the exact motion by Jacobi elliptic
-    functions and elliptic integrals of the third kind.
+
+    Examples
+    --------
+    Started precessing backwards, the top's axis traces loops:
+
+    >>> import wobble
+    >>> from astropy import units as u
+    >>> top = wobble.HeavyTop(I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J,
+    ...                       theta0=60 * u.deg, phidot0=-0.3 * u.rad / u.s, omega3=10 * u.rad / u.s)
+    >>> print(top.nutation, f"{top.theta_min.to(u.deg):.1f} to {top.theta_max.to(u.deg):.1f}")
+    loops 60.0 deg to 70.3 deg
+    >>> print(f"nutation period {top.nutation_period:.3f}")
+    nutation period 1.295 s
     """
 
     def __init__(

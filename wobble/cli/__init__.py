@@ -34,8 +34,10 @@ examples:
                                         exact torque-free motion, to a CF netCDF file
   wobble top --I1 1 --I3 0.5 --mgl 1 --theta0 "60 deg" --omega3 10 --json
                                         the heavy top: turning points, nutation class, period
-  wobble sweep mars_chandler -o mars.nc Monte Carlo over Mars' uncertain parameters (dask)
-  wobble run tennis_racket -o racket.nc a scene (TOML file or example name): the cheapest
+  wobble sweep mars_chandler -o mars.nc
+                                        Monte Carlo over Mars' uncertain parameters (dask)
+  wobble run tennis_racket -o racket.nc
+                                        a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF
 
 Numbers without units are SI; days are days of 86400 s. Run

@@ -13,10 +13,10 @@ from wobble.errors import InputError
 
 EPILOG = """\
 examples:
-  wobble polar-motion                         the whole IERS 20 C04 record (1962-)
+  wobble polar-motion                          the whole IERS 20 C04 record (1962-)
   wobble polar-motion --start 1980 --end 2010 --window 6 --json
   wobble polar-motion -o pm.nc --plot pm.png --overwrite
-  wobble polar-motion --file finals2000A.all  a C04 or finals2000A file of your own
+  wobble polar-motion --file finals2000A.all   a C04 or finals2000A file of your own
 
 Dates are UTC: 2015-01-01, 2015-06, 2015 or 2015.5. The pole is p = x_p - i y_p, so
 the Chandler wobble (prograde) is at a positive frequency. The period is found by

@@ -1,0 +1,127 @@
+"""`wobble --help` and every subcommand's help are complete, each with an example that parses.
+
+The subcommands are read from ``wobble.cli.SUBCOMMANDS``, so a new one is checked
+without touching this file. The examples are parsed (never run) by the real parser.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shlex
+
+import pytest
+
+from wobble.cli import SUBCOMMANDS, build_parser, main
+
+COMMANDS = [name.replace("_", "-") for name in SUBCOMMANDS]  # module polar_motion -> polar-motion
+
+
+def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    (action,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    return dict(action.choices)
+
+
+def _help(capsys, *argv: str) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        main([*argv, "--help"])
+    out, err = capsys.readouterr()
+    assert exit_info.value.code == 0, err
+    assert not err
+    return out
+
+
+def example_commands(text: str) -> list[list[str]]:
+    """The ``wobble ...`` command lines of a help text's examples, as argument lists.
+
+    A line ending in a backslash continues on the next; a description after a
+    command is separated from it by three or more spaces (or put on its own line).
+    """
+    lines = text.splitlines()
+    try:
+        start = next(i for i, line in enumerate(lines) if line.strip().lower().startswith("example"))
+    except StopIteration:
+        return []
+    commands, pending = [], None
+    for line in lines[start + 1 :]:
+        stripped = line.strip()
+        if pending is not None:
+            pending += " " + stripped
+        elif stripped.startswith("wobble "):
+            pending = stripped
+        else:
+            continue
+        if pending.endswith("\\"):
+            pending = pending[:-1].rstrip()
+            continue
+        command = re.split(r"\s{3,}", pending)[0]
+        commands.append(shlex.split(command))
+        pending = None
+    assert pending is None, f"unterminated example: {pending!r}"
+    return commands
+
+
+def test_the_command_list_is_read_from_the_cli():
+    assert set(_subparsers(build_parser())) == set(COMMANDS)
+
+
+def test_top_level_help_lists_every_command_with_examples(capsys):
+    out = _help(capsys)
+    assert out.startswith("usage: wobble")
+    for name in COMMANDS:
+        assert re.search(rf"^\s+{re.escape(name)}\b", out, flags=re.M), f"'wobble --help' does not list {name}"
+    examples = example_commands(out)
+    assert {argv[1] for argv in examples} == set(COMMANDS), "each command needs an example in 'wobble --help'"
+    parser = build_parser()
+    for argv in examples:
+        parser.parse_args(argv[1:])  # a bad example exits with status 2
+
+
+@pytest.mark.parametrize("name", COMMANDS)
+def test_subcommand_help_is_complete(name, capsys):
+    out = _help(capsys, name)
+    assert out.startswith(f"usage: wobble {name}")
+    sub = _subparsers(build_parser())[name]
+    assert sub.description, f"wobble {name} has no description"
+    for action in sub._actions:
+        label = "/".join(action.option_strings) or action.dest
+        assert action.help and action.help is not argparse.SUPPRESS and action.help.strip(), (
+            f"wobble {name}: {label} has no help text"
+        )
+        for option in action.option_strings:
+            assert option in out
+
+
+@pytest.mark.parametrize("name", COMMANDS)
+def test_subcommand_examples_parse(name, capsys):
+    examples = example_commands(_help(capsys, name))
+    assert examples, f"'wobble {name} --help' has no example"
+    parser = build_parser()
+    for argv in examples:
+        assert argv[:2] == ["wobble", name], argv
+        args = parser.parse_args(argv[1:])
+        assert args.command == name and callable(args.func)
+
+
+def test_example_parser_reads_continuations_and_descriptions():
+    text = """examples:
+  wobble top --I1 1 \\
+             --I3 0.5 --mgl 1
+                                  a description on its own line
+  wobble run x.toml -o "my file.nc"   a description
+not an example: wobble free
+"""
+    assert example_commands(text) == [
+        ["wobble", "top", "--I1", "1", "--I3", "0.5", "--mgl", "1"],
+        ["wobble", "run", "x.toml", "-o", "my file.nc"],
+    ]
+
+
+def test_readme_lists_every_command_and_the_docs_build():
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    commands = readme[readme.index("## Commands") :]
+    for name in COMMANDS:
+        assert f"| `wobble {name}` |" in commands, f"README's Commands table lacks wobble {name}"
+    assert "python -m sphinx -W docs docs/_build" in readme
