@@ -16,6 +16,7 @@ PAGE = ROOT / "docs" / "getting-started.md"
 
 def test_three_scripts_print_what_the_page_shows(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr("tempfile.tempdir", str(tmp_path))  # the scripts' mkdtemp() folders land here
     text = PAGE.read_text()
     shown = re.findall(r"^prints\n\n```text\n(.*?)^```", text, flags=re.S | re.M)
     assert len(shown) == 3 and text.count("```python") == 3

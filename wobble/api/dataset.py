@@ -107,11 +107,13 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     >>> import tempfile
     >>> from pathlib import Path
     >>> import wobble
+    >>> folder = tempfile.TemporaryDirectory()
     >>> path = wobble.write_netcdf(wobble.chandler_dataset([wobble.chandler_budget("mars")]),
-    ...                            Path(tempfile.mkdtemp()) / "mars.nc")
+    ...                            Path(folder.name) / "mars.nc")
     >>> ds = wobble.load(path)
     >>> print(f"{ds.wobble.quantity('model_period')[0]:.1f} model, {ds.wobble.quantity('observed_period')[0]:.1f} observed")
     205.4 d model, 206.9 d observed
+    >>> folder.cleanup()
     """
     ds = open_wobble(path)
     if "Conventions" not in ds.attrs:
