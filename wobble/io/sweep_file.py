@@ -63,9 +63,9 @@ _TOP = {
 }
 _BASE_FIELDS = {"value", "unit", "uncertainty", "source", "status", "note"}
 _FIELDS = {
-    "normal": {"mean", "sd", "unit"},
-    "uniform": {"low", "high", "unit"},
-    "grid": {"values", "start", "stop", "num", "unit"},
+    "normal": {"mean", "sd", "unit", "note"},
+    "uniform": {"low", "high", "unit", "note"},
+    "grid": {"values", "start", "stop", "num", "unit", "note"},
 }
 
 
@@ -139,6 +139,8 @@ def _variation(path, name: str, raw) -> Variation:
         allowed = ", ".join(sorted(_FIELDS[dist]))
         raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"not a field of a {dist} variation; allowed: {allowed}")
     num = {k: _number(path, f"{where}.{k}", raw[k]) for k in ("mean", "sd", "low", "high", "start", "stop") if k in raw}
+    if "note" in raw and not isinstance(raw["note"], str):
+        raise FileFormatError(path, f"{where}.note", f"got {raw['note']!r}; allowed: a string")
     unit = raw.get("unit")
     if unit is not None and not isinstance(unit, str):
         raise FileFormatError(path, f"{where}.unit", f"got {unit!r}; allowed: a unit string")
