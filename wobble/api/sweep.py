@@ -45,6 +45,7 @@ from wobble.io.catalog import PLANET_UNITS
 from wobble.io.netcdf import write_netcdf_blocks
 from wobble.io.sweep_file import SweepSpec, Variation, read_sweep_file, sweep_spec_from_dict
 from wobble.models import chandler as chandler_model
+from wobble.models import free_ensemble, top_phase
 from wobble.numerics import draws
 
 __all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep"]
@@ -181,9 +182,24 @@ class ChandlerTarget:
     def extra_dims(self, name: str) -> tuple[tuple[str, np.ndarray], ...]:
         return (("step", np.array(self.steps)),) if name == "step_period" else ()
 
+    def invalid_attrs(self) -> dict:
+        codes = sorted(chandler_model.INVALID_REASONS)
+        return {
+            "units": "1",
+            "long_name": "why the member is invalid (0: valid)",
+            "flag_values": np.array(codes, dtype=np.int8),
+            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged parameter_out_of_range",
+            "comment": "; ".join(f"{k}: {v}" for k, v in chandler_model.INVALID_REASONS.items() if k),
+        }
+
+    def output_attrs(self, name: str) -> dict:
+        units, long_name = self.outputs[name]
+        return {"units": units, "long_name": long_name}
+
     def attrs(self) -> dict:
         obs = self.planet.observed_chandler_period
         return {
+            "sweep_main_output": "chandler_period",
             "body": self.planet.name,
             "chandler_model": self.model,
             "observed_chandler_period_days": float(obs.to_value(u.day)) if obs is not None else math.nan,
@@ -195,7 +211,227 @@ def _unit_text(key: str) -> str:
     return text if text else "1"
 
 
-TARGETS = {"chandler": ChandlerTarget}
+class _BaseTarget:
+    """A target whose members are set by a fixed ``[base]`` table plus the varied parameters.
+
+    Subclasses give ``parameters`` (name -> (SI unit, long name, default in SI or
+    None when required)), ``outputs`` (name -> (units, long name)), ``flags``
+    (output name -> flag meanings, codes from ``flag_start``), the invalid
+    reasons and :meth:`compute`.
+    """
+
+    name = ""
+    parameters: dict = {}
+    outputs: dict = {}
+    flags: dict = {}
+    default_outputs: tuple = ()
+    invalid_reasons: dict = {}
+    invalid_meanings = ""
+    main_output = ""
+    class_output = ""
+
+    def __init__(self, spec: SweepSpec):
+        where = _where(spec)
+        if spec.body is not None:
+            raise FileFormatError(where, "body", f"not used by target {self.name}; give the fixed parameters in [base]")
+        if spec.vary_all_uncertain:
+            raise FileFormatError(where, "vary_all_uncertain", f"only for target chandler, not {self.name}")
+        allowed = ", ".join(self.parameters)
+        self.base = {}
+        for bv in spec.base:
+            if bv.parameter not in self.parameters:
+                raise FileFormatError(where, f"base.{bv.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}")
+            self.base[bv.parameter] = bv.value * self._scale(spec, f"base.{bv.parameter}.unit", bv.unit, bv.parameter)
+        out = {}
+        for v in spec.variations:
+            if v.parameter not in self.parameters:
+                raise FileFormatError(where, f"vary.{v.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}")
+            if v.parameter in self.base:
+                raise FileFormatError(where, f"vary.{v.parameter}", "also fixed in [base]; give it in one place")
+            out[v.parameter] = self._si(spec, v)
+        self.variations = tuple(out.values())
+        for name, (_, _, default) in self.parameters.items():
+            if default is None and name not in self.base and name not in out:
+                raise FileFormatError(where, "base", f"missing {name}; give it in [base] or [vary.{name}]")
+        unknown = [o for o in spec.outputs if o not in self.outputs]
+        if unknown:
+            raise FileFormatError(where, "outputs", f"got {unknown[0]!r}; allowed: {', '.join(self.outputs)}")
+        self.selected = spec.outputs or self.default_outputs
+
+    def _scale(self, spec, where, unit, name) -> float:
+        si = u.Unit(self.parameters[name][0])
+        try:
+            return float((1.0 * u.Unit(unit or u.dimensionless_unscaled)).to_value(si))
+        except (ValueError, TypeError, u.UnitConversionError):
+            raise FileFormatError(_where(spec), where, f"got {unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}") from None
+
+    def _si(self, spec: SweepSpec, v: Variation) -> _Resolved:
+        where = f"vary.{v.parameter}"
+        unit_text = self.parameters[v.parameter][0]
+        scale = 1.0 if v.unit is None else self._scale(spec, f"{where}.unit", v.unit, v.parameter)
+        if v.distribution == "normal":
+            if v.mean is None or v.sd is None:
+                raise FileFormatError(_where(spec), where, f"target {self.name} has no catalogue; give mean and sd")
+            return _Resolved(v.parameter, "normal", mean=v.mean * scale, sd=v.sd * scale, unit=unit_text)
+        if v.distribution == "uniform":
+            return _Resolved(v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=unit_text)
+        return _Resolved(v.parameter, "grid", values=tuple(x * scale for x in v.values), unit=unit_text)
+
+    def values(self, overrides: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Every parameter for the chunk's members (SI), broadcast to the chunk's shape."""
+        shape = np.broadcast_shapes(*(np.shape(a) for a in overrides.values()))
+        out = {}
+        for name, (_, _, default) in self.parameters.items():
+            value = overrides.get(name, self.base.get(name, default))
+            out[name] = np.broadcast_to(np.asarray(value, dtype=float), shape)
+        return out
+
+    def evaluate(self, overrides: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        res = self.compute(self.values(overrides))
+        out = {"invalid_reason": res["invalid_reason"]}
+        out.update({k: res[k] for k in self.selected})
+        return out
+
+    def extra_dims(self, name: str) -> tuple[tuple[str, np.ndarray], ...]:
+        return ()
+
+    def invalid_attrs(self) -> dict:
+        return {
+            "units": "1",
+            "long_name": "why the member is invalid (0: valid)",
+            "flag_values": np.array(sorted(self.invalid_reasons), dtype=np.int8),
+            "flag_meanings": self.invalid_meanings,
+            "comment": "; ".join(f"{k}: {v}" for k, v in self.invalid_reasons.items() if k),
+        }
+
+    def output_attrs(self, name: str) -> dict:
+        units, long_name = self.outputs[name]
+        attrs = {"units": units, "long_name": long_name}
+        if name in self.flags:  # a CF flag variable: integer codes with their meanings
+            start, meanings = self.flags[name]
+            attrs = {"long_name": long_name, "units": "1",
+                     "flag_values": np.arange(start, start + len(meanings.split()), dtype=np.int8),
+                     "flag_meanings": meanings}
+        return attrs
+
+    def attrs(self) -> dict:
+        base = "; ".join(f"{k} = {v:.10g} {self.parameters[k][0]}" for k, v in self.base.items())
+        return {
+            "sweep_main_output": self.main_output,
+            "sweep_class_output": self.class_output,
+            "sweep_base": base,
+            "comment": "SI units (angles in rad). Random draws depend only on (seed, parameter, member).",
+        }
+
+
+class HeavyTopTarget(_BaseTarget):
+    """The heavy symmetric top's nutation over a grid (or draws) of initial states (notes section 5.7).
+
+    Evaluated by :func:`wobble.models.top_phase.phase_analysis`: numpy over the
+    chunk, with the exact scalar model for members next to a class boundary.
+    """
+
+    name = "heavy_top"
+    parameters = {
+        "I1": ("kg m2", "transverse moment about the tip", None),
+        "I3": ("kg m2", "axial moment", None),
+        "mgl": ("J", "M g l", None),
+        "theta0": ("rad", "initial tilt from the upward vertical", None),
+        "omega3": ("rad s-1", "spin about the symmetry axis", None),
+        "phidot0": ("rad s-1", "initial precession rate", 0.0),
+        "thetadot0": ("rad s-1", "initial nutation rate", 0.0),
+    }
+    outputs = {
+        "nutation_class": ("1", "class of the nutation (notes section 5.7)"),
+        "nutation_period": ("s", "nutation period 4 K(m) / sqrt(beta (u3 - u1)) (small-nutation period for uniform motion)"),
+        "theta_min": ("rad", "smallest tilt of the symmetry axis (turning point u2)"),
+        "theta_max": ("rad", "largest tilt of the symmetry axis (turning point u1)"),
+        "mean_precession_rate": ("rad s-1", "mean of phidot over a nutation period"),
+        "sleeping_stable": ("1", "sleeping top with this spin is stable: I3^2 omega3^2 > 4 M g l I1"),
+        "scalar_fallback": ("1", "member analysed by the exact scalar model (next to a class boundary)"),
+    }
+    flags = {
+        "nutation_class": (-1, "invalid undulating cusps loops regular_precession sleeping"),
+        "sleeping_stable": (0, "unstable stable"),
+        "scalar_fallback": (0, "vectorised exact_scalar_model"),
+    }
+    default_outputs = tuple(outputs)
+    invalid_meanings = "valid bad_top_parameters bad_initial_state separatrix"
+    main_output = "nutation_period"
+    class_output = "nutation_class"
+
+    invalid_reasons = top_phase.INVALID_REASONS
+
+    def compute(self, p):
+        res = top_phase.phase_analysis(p["I1"], p["I3"], p["mgl"], p["theta0"], p["omega3"], p["phidot0"], p["thetadot0"])
+        for k in ("sleeping_stable", "scalar_fallback"):
+            res[k] = res[k].astype(np.int8)
+        return res
+
+
+class FreeRotationTarget(_BaseTarget):
+    """Torque-free tumbling bodies (asteroids): regime, periods, wobble angles, omega at a time.
+
+    Member j has moments (I_a, I_a r_b, I_a r_b r_c) along its body axes (a, b, c)
+    and omega0 of period P along the direction with cos(colatitude from c) and
+    longitude from a towards b; evaluated by
+    :func:`wobble.models.free_ensemble.free_ensemble` (numpy over the chunk).
+    """
+
+    name = "free_rotation"
+    parameters = {
+        "moment_a": ("kg m2", "principal moment about body axis a", None),
+        "moment_ratio_ba": ("1", "I_b / I_a", None),
+        "moment_ratio_cb": ("1", "I_c / I_b", None),
+        "spin_period": ("s", "2 pi / |omega0|", None),
+        "spin_cos_colatitude": ("1", "cosine of the angle between omega0 and body axis c", None),
+        "spin_longitude": ("rad", "azimuth of omega0 about c, from a towards b", 0.0),
+        "final_time": ("s", "time of omega_final", 0.0),
+    }
+    outputs = {
+        "regime": ("1", "rotation state"),
+        "nutation_period": ("s", "period of omega in the body frame, 4 K(m) / lambda"),
+        "precession_period": ("s", "2 pi / mean precession rate of the circulation axis about L"),
+        "precession_rate": ("rad s-1", "mean precession rate of the circulation axis about L"),
+        "wobble_angle_min": ("rad", "smallest angle between the circulation axis and L"),
+        "wobble_angle_max": ("rad", "largest angle between the circulation axis and L"),
+        "omega_final": ("rad s-1", "body-frame angular velocity at final_time (exact flow map)"),
+    }
+    flags = {"regime": (-1, "invalid steady short_axis_mode long_axis_mode separatrix")}
+    default_outputs = tuple(outputs)
+    invalid_meanings = "valid triangle_inequality_violated bad_moments_or_spin"
+    main_output = "precession_period"
+    class_output = "regime"
+
+    invalid_reasons = free_ensemble.INVALID_REASONS
+
+    coord_attrs = {"body_axis": {"long_name": "body axis (1: a, 2: b, 3: c)", "units": "1"}}
+
+    def extra_dims(self, name: str):
+        return (("body_axis", np.arange(1, 4, dtype=np.int8)),) if name == "omega_final" else ()
+
+    def compute(self, p):
+        shape = p["moment_a"].shape
+        ia = p["moment_a"].ravel()
+        ib = ia * p["moment_ratio_ba"].ravel()
+        ic = ib * p["moment_ratio_cb"].ravel()
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rate = 2.0 * np.pi / p["spin_period"].ravel()
+        cz = p["spin_cos_colatitude"].ravel()
+        with np.errstate(invalid="ignore"):
+            sz = np.sqrt(np.maximum(1.0 - cz * cz, 0.0))
+        lon = p["spin_longitude"].ravel()
+        omega0 = rate[:, None] * np.stack([sz * np.cos(lon), sz * np.sin(lon), cz], -1)
+        res = free_ensemble.free_ensemble(np.stack([ia, ib, ic], -1), omega0, p["final_time"].ravel())
+        bad_spin = ~((np.abs(cz) <= 1) & (p["spin_period"].ravel() > 0))
+        res["invalid_reason"] = np.where(bad_spin & (res["invalid_reason"] == 0), 2, res["invalid_reason"]).astype(np.int8)
+        for k, v in res.items():
+            if k != "invalid_reason":
+                v[bad_spin] = -1 if v.dtype == np.int8 else np.nan
+        return {k: v.reshape(shape + v.shape[1:]) for k, v in res.items()}
+
+
+TARGETS = {"chandler": ChandlerTarget, "heavy_top": HeavyTopTarget, "free_rotation": FreeRotationTarget}
 
 
 def _target(spec: SweepSpec):
@@ -261,17 +497,9 @@ def _chunk(plan: _Plan, r0: int, r1: int) -> dict[str, np.ndarray]:
 def _var_attrs(plan: _Plan, name: str) -> dict:
     target = plan.target
     if name == "invalid_reason":
-        codes = sorted(chandler_model.INVALID_REASONS)
-        return {
-            "units": "1",
-            "long_name": "why the member is invalid (0: valid)",
-            "flag_values": np.array(codes, dtype=np.int8),
-            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged parameter_out_of_range",
-            "comment": "; ".join(f"{k}: {v}" for k, v in chandler_model.INVALID_REASONS.items() if k),
-        }
+        return target.invalid_attrs()
     if name in target.outputs:
-        units, long_name = target.outputs[name]
-        return {"units": units, "long_name": long_name}
+        return target.output_attrs(name)
     var = next(v for v in target.variations if v.name == name)
     how = f"normal(mean={var.mean:.10g}, sd={var.sd:.6g})" if var.distribution == "normal" else f"uniform({var.low:.10g}, {var.high:.10g})"
     return {"units": var.unit, "long_name": f"sampled {name}", "comment": f"drawn from {how} in SI units"}
@@ -298,7 +526,8 @@ def _coords(plan: _Plan) -> dict:
         coords["member"] = ("member", np.arange(plan.shape[0]), {"long_name": "member index", "units": "1"})
     for name in plan.target.outputs:
         for dim, values in plan.target.extra_dims(name):
-            coords[dim] = (dim, values, {"long_name": f"{dim} of the model"})
+            attrs = getattr(plan.target, "coord_attrs", {}).get(dim, {"long_name": f"{dim} of the model"})
+            coords[dim] = (dim, values, attrs)
     return coords
 
 
@@ -506,6 +735,7 @@ class SweepSummary:
     percentiles: dict
     observed: float
     invalid_reasons: dict
+    classes: dict = None
 
     def to_dict(self) -> dict:
         d = self.__dict__.copy()
@@ -513,8 +743,15 @@ class SweepSummary:
         return d
 
 
-def summarize_sweep(ds: xr.Dataset, variable: str = "chandler_period") -> SweepSummary:
-    """Mean, spread and percentiles of ``variable`` over valid members, invalid counts by reason."""
+def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary:
+    """Mean, spread and percentiles of ``variable`` over valid finite members, invalid counts by reason.
+
+    ``variable`` defaults to the target's main output (``chandler_period``,
+    ``nutation_period`` or ``precession_period``); for targets with a class
+    output (``nutation_class``, ``regime``) ``classes`` counts the valid
+    members in each class.
+    """
+    variable = variable or ds.attrs.get("sweep_main_output", "chandler_period")
     if variable not in ds:
         raise InputError("variable", variable, f"one of {', '.join(map(str, ds.data_vars))}")
     values = np.asarray(ds[variable].values, dtype=float).ravel()
@@ -522,7 +759,17 @@ def summarize_sweep(ds: xr.Dataset, variable: str = "chandler_period") -> SweepS
     ok = (codes == 0) & np.isfinite(values)
     good = values[ok]
     pct = {str(p): float(np.percentile(good, p)) if good.size else math.nan for p in (2.5, 16, 50, 84, 97.5)}
-    reasons = {chandler_model.INVALID_REASONS[int(c)]: int(n) for c, n in zip(*np.unique(codes[codes != 0], return_counts=True))}
+    target = TARGETS.get(ds.attrs.get("sweep_target", "chandler"), ChandlerTarget)
+    texts = chandler_model.INVALID_REASONS if target is ChandlerTarget else target.invalid_reasons
+    reasons = {texts[int(c)]: int(n) for c, n in zip(*np.unique(codes[codes != 0], return_counts=True))}
+    classes = None
+    class_output = ds.attrs.get("sweep_class_output", "")
+    if class_output and class_output in ds:
+        flag = ds[class_output]
+        meanings = str(flag.attrs["flag_meanings"]).split()
+        flag_values = np.asarray(flag.attrs["flag_values"]).tolist()
+        cls = np.asarray(flag.values).ravel()[codes == 0]
+        classes = {meaning: int((cls == v).sum()) for v, meaning in zip(flag_values, meanings) if v >= 0}
     return SweepSummary(
         variable=variable,
         units=str(ds[variable].attrs.get("units", "")),
@@ -533,5 +780,6 @@ def summarize_sweep(ds: xr.Dataset, variable: str = "chandler_period") -> SweepS
         percentiles=pct,
         observed=float(ds.attrs.get("observed_chandler_period_days", math.nan)),
         invalid_reasons=reasons,
+        classes=classes,
     )
 

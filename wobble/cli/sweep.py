@@ -16,6 +16,8 @@ examples:
   wobble sweep mars_chandler -o mars.nc --plot mars.png
   wobble sweep my_sweep.toml -o out.nc --scheduler processes
   wobble sweep earth_chandler --members 10000 --json
+  wobble sweep top_phase_diagram -o top.nc --plot top.png   the heavy top's phase diagram
+  wobble sweep tumbling_asteroids -o ast.nc                 10^5 tumbling asteroids
   wobble sweep big.toml -o big.nc --scheduler tcp://127.0.0.1:8786   a dask.distributed cluster
 
 Members are computed chunk by chunk with the vectorised models and streamed to
@@ -42,7 +44,8 @@ def register(sub) -> None:
     p.add_argument("--scheduler", help="threads (default), processes, synchronous, or a dask.distributed address")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--plot", metavar="FILE.png", help="histogram of the main output with the observed value")
+    p.add_argument("--plot", metavar="FILE.png", help="histogram of the main output with the observed value "
+                   "(the phase diagram for heavy_top sweeps, periods and wobble angles for free_rotation)")
     p.set_defaults(func=run)
 
 
@@ -85,9 +88,15 @@ def run(args) -> int:
     )
     summary = summarize_sweep(ds)
     if args.plot:
-        from wobble.plot.sweep import histogram
+        from wobble.plot import sweep as sweep_plot
 
-        histogram(ds, args.plot)
+        target = ds.attrs.get("sweep_target", "chandler")
+        if target == "heavy_top":
+            sweep_plot.phase_diagram(ds, args.plot)
+        elif target == "free_rotation":
+            sweep_plot.ensemble(ds, args.plot)
+        else:
+            sweep_plot.histogram(ds, args.plot)
     if args.json:
         print(json.dumps({"sweep": spec.name, "output": args.output, **summary.to_dict()}, indent=2))
         return 0
@@ -95,6 +104,8 @@ def run(args) -> int:
     print(f"  members: {summary.members} ({summary.valid} valid)")
     for reason, n in summary.invalid_reasons.items():
         print(f"    invalid: {n} ({reason})")
+    if summary.classes:
+        print("  " + ", ".join(f"{name}: {n}" for name, n in summary.classes.items()))
     p = summary.percentiles
     print(f"  {summary.variable}: mean {summary.mean:.3f} {summary.units}, sd {summary.std:.3f}")
     print(f"    2.5/16/50/84/97.5 %: {p['2.5']:.2f} / {p['16']:.2f} / {p['50']:.2f} / {p['84']:.2f} / {p['97.5']:.2f}")

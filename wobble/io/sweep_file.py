@@ -32,6 +32,12 @@ Schema ``wobble-sweep/1``::
     num = 91                     # or: values = [...]
     unit = "deg"
 
+Targets ``heavy_top`` and ``free_rotation`` take their fixed parameters from a
+``[base]`` table instead of a body (every number with its unit and source)::
+
+    [base]
+    I1 = { value = 1.0, unit = "kg m2", uncertainty = 0, source = "illustrative top" }
+
 Which parameter names and outputs are valid depends on the target; the
 API checks them (with the file and key in the message) before any work starts.
 """
@@ -47,18 +53,19 @@ import numpy as np
 from wobble.errors import FileFormatError
 from wobble.io.parameter_file import read_toml
 
-__all__ = ["SCHEMA", "DISTRIBUTIONS", "Variation", "SweepSpec", "read_sweep_file", "sweep_spec_from_dict"]
+__all__ = ["SCHEMA", "DISTRIBUTIONS", "BaseValue", "Variation", "SweepSpec", "read_sweep_file", "sweep_spec_from_dict"]
 
 SCHEMA = "wobble-sweep/1"
 DISTRIBUTIONS = ("normal", "uniform", "grid")
 _TOP = {
     "schema", "name", "title", "description", "target", "body", "model", "members", "seed",
-    "chunk_size", "outputs", "vary", "vary_all_uncertain",
+    "chunk_size", "outputs", "vary", "vary_all_uncertain", "base",
 }
+_BASE_FIELDS = {"value", "unit", "uncertainty", "source", "status", "note"}
 _FIELDS = {
-    "normal": {"mean", "sd", "unit"},
-    "uniform": {"low", "high", "unit"},
-    "grid": {"values", "start", "stop", "num", "unit"},
+    "normal": {"mean", "sd", "unit", "note"},
+    "uniform": {"low", "high", "unit", "note"},
+    "grid": {"values", "start", "stop", "num", "unit", "note"},
 }
 
 
@@ -74,6 +81,17 @@ class Variation:
     high: float | None = None
     values: tuple[float, ...] | None = None
     unit: str | None = None
+
+
+@dataclass(frozen=True)
+class BaseValue:
+    """A fixed parameter of the base top or body (targets heavy_top, free_rotation)."""
+
+    parameter: str
+    value: float
+    unit: str
+    uncertainty: float | None = None
+    source: str = ""
 
 
 @dataclass(frozen=True)
@@ -93,6 +111,7 @@ class SweepSpec:
     variations: tuple[Variation, ...]
     vary_all_uncertain: bool = False
     path: str | None = None
+    base: tuple[BaseValue, ...] = ()
 
     @property
     def is_grid(self) -> bool:
@@ -120,6 +139,8 @@ def _variation(path, name: str, raw) -> Variation:
         allowed = ", ".join(sorted(_FIELDS[dist]))
         raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"not a field of a {dist} variation; allowed: {allowed}")
     num = {k: _number(path, f"{where}.{k}", raw[k]) for k in ("mean", "sd", "low", "high", "start", "stop") if k in raw}
+    if "note" in raw and not isinstance(raw["note"], str):
+        raise FileFormatError(path, f"{where}.note", f"got {raw['note']!r}; allowed: a string")
     unit = raw.get("unit")
     if unit is not None and not isinstance(unit, str):
         raise FileFormatError(path, f"{where}.unit", f"got {unit!r}; allowed: a unit string")
@@ -144,6 +165,34 @@ def _variation(path, name: str, raw) -> Variation:
     else:
         raise FileFormatError(path, where, "a grid needs values = [...] or start, stop and num")
     return Variation(name, dist, values=vals, unit=unit)
+
+
+def _base(path, raw) -> tuple[BaseValue, ...]:
+    if not isinstance(raw, dict):
+        raise FileFormatError(path, "base", "must be a table of parameters, e.g. I1 = { value = 1.0, unit = \"kg m2\" }")
+    out = []
+    for name, entry in raw.items():
+        where = f"base.{name}"
+        if not isinstance(entry, dict):
+            raise FileFormatError(path, where, f"got {entry!r}; allowed: a table {{ value = ..., unit = ..., source = ... }}")
+        unknown = set(entry) - _BASE_FIELDS
+        if unknown:
+            raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"unknown field; allowed: {', '.join(sorted(_BASE_FIELDS))}")
+        if "value" not in entry:
+            raise FileFormatError(path, f"{where}.value", "missing; allowed: a number")
+        value = _number(path, f"{where}.value", entry["value"])
+        unit = entry.get("unit")
+        if not isinstance(unit, str):
+            raise FileFormatError(path, f"{where}.unit", f"got {unit!r}; allowed: a unit string (\"\" for dimensionless)")
+        unc = entry.get("uncertainty")
+        if unc is not None and _number(path, f"{where}.uncertainty", unc) < 0:
+            raise FileFormatError(path, f"{where}.uncertainty", f"got {unc!r}; allowed: >= 0")
+        for key in ("source", "status", "note"):
+            if key in entry and not isinstance(entry[key], str):
+                raise FileFormatError(path, f"{where}.{key}", f"got {entry[key]!r}; allowed: a string")
+        source = "; ".join(str(entry[k]) for k in ("source", "note") if entry.get(k))
+        out.append(BaseValue(name, float(value), unit, None if unc is None else float(unc), source))
+    return tuple(out)
 
 
 def sweep_spec_from_dict(data: dict, path: str | os.PathLike | None = None) -> SweepSpec:
@@ -210,6 +259,7 @@ def sweep_spec_from_dict(data: dict, path: str | os.PathLike | None = None) -> S
         variations=variations,
         vary_all_uncertain=vary_all,
         path=None if path is None else str(path),
+        base=_base(where_path, data.get("base", {})),
     )
 
 

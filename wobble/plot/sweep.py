@@ -45,3 +45,126 @@ def histogram(ds, path=None, variable: str = "chandler_period", ax=None):
     if path is not None:
         fig.savefig(path, dpi=150)
     return fig
+
+
+_CLASS_COLOURS = {
+    "invalid": "white",
+    "undulating": "#4C72B0",
+    "cusps": "#C44E52",
+    "loops": "#55A868",
+    "regular_precession": "#8172B2",
+    "sleeping": "#E5AE38",
+}
+
+
+def phase_diagram(ds, path=None, fig=None):
+    """The heavy top's phase diagram: nutation class over tilt and spin, one panel per phidot0.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``heavy_top`` grid sweep with dimensions ``theta0`` and ``omega3``
+        (and optionally ``phidot0``) and the CF flag variable ``nutation_class``.
+    path : path-like, optional
+        Save the figure there (PNG, 150 dpi).
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Classes coloured (undulating, cusps, loops, regular precession,
+        sleeping); the dashed line is the sleeping-top stability limit
+        I3^2 omega3^2 = 4 M g l I1 (notes section 5.7).
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    cls = ds["nutation_class"]
+    if not {"theta0", "omega3"} <= set(cls.dims):
+        raise ValueError(f"a phase diagram needs grid dimensions theta0 and omega3; got {cls.dims}")
+    meanings = str(cls.attrs["flag_meanings"]).split()
+    values = np.asarray(cls.attrs["flag_values"]).tolist()
+    cmap = ListedColormap([_CLASS_COLOURS.get(m, "0.5") for m in meanings])
+    norm = BoundaryNorm(np.arange(min(values) - 0.5, max(values) + 1.0), cmap.N)
+    extra = [d for d in cls.dims if d not in ("theta0", "omega3")]
+    panels = [cls] if not extra else [cls.isel({extra[0]: i}) for i in range(cls.sizes[extra[0]])]
+    if fig is None:
+        fig = plt.figure(figsize=(3.0 * len(panels) + 1.6, 3.6), constrained_layout=True)
+    axes = fig.subplots(1, len(panels), sharey=True, squeeze=False)[0]
+    w = np.asarray(ds["omega3"].values)
+    th = np.degrees(np.asarray(ds["theta0"].values))
+    stable = ds.get("sleeping_stable")
+    for ax, panel in zip(axes, panels):
+        ax.pcolormesh(w, th, panel.transpose("theta0", "omega3").values, cmap=cmap, norm=norm, shading="nearest")
+        if stable is not None:
+            s = stable.isel({extra[0]: 0}) if extra else stable
+            limit = w[np.argmax(s.isel(theta0=0).values > 0)] if bool(s.isel(theta0=0).any()) else None
+            if limit is not None:
+                ax.axvline(limit, color="k", ls="--", lw=1)
+        title = ""
+        if extra:
+            val = float(panel[extra[0]])
+            units = ds[extra[0]].attrs.get("units", "")
+            title = f"{extra[0]} = {val:g} {units}"
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel("spin omega3 [rad/s]")
+    axes[0].set_ylabel("initial tilt theta0 [deg]")
+    handles = [Patch(color=_CLASS_COLOURS.get(m, "0.5"), label=m.replace("_", " ")) for m in meanings if m != "invalid"]
+    handles.append(plt.Line2D([], [], color="k", ls="--", label="sleeping top stable to the right"))
+    fig.legend(handles=handles, loc="outside right center", frameon=False, fontsize=8)
+    fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
+    if path is not None:
+        fig.savefig(path, dpi=150)
+    return fig
+
+
+def ensemble(ds, path=None, fig=None):
+    """A tumbling ensemble: precession periods and wobble-angle ranges, short- against long-axis modes.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``free_rotation`` sweep (``regime``, ``precession_period``,
+        ``wobble_angle_min``, ``wobble_angle_max``).
+    path : path-like, optional
+        Save the figure there (PNG, 150 dpi).
+    fig : matplotlib.figure.Figure, optional
+        Draw into this figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    if fig is None:
+        fig = plt.figure(figsize=(9.6, 3.8), constrained_layout=True)
+    ax1, ax2 = fig.subplots(1, 2)
+    regime = np.asarray(ds["regime"].values).ravel()
+    meanings = str(ds["regime"].attrs["flag_meanings"]).split()
+    codes = np.asarray(ds["regime"].attrs["flag_values"]).tolist()
+    period = np.asarray(ds["precession_period"].values).ravel() / 86400.0
+    lo = np.degrees(np.asarray(ds["wobble_angle_min"].values).ravel())
+    hi = np.degrees(np.asarray(ds["wobble_angle_max"].values).ravel())
+    ok = np.isfinite(period) & (period > 0)
+    bins = np.geomspace(np.nanpercentile(period[ok], 0.1), np.nanpercentile(period[ok], 99.9), 80)
+    for name, colour in (("short_axis_mode", "C0"), ("long_axis_mode", "C1")):
+        sel = ok & (regime == codes[meanings.index(name)])
+        label = f"{name.replace('_', ' ')} ({sel.sum():,})"
+        ax1.hist(period[sel], bins=bins, histtype="step", color=colour, lw=1.5, label=label)
+        ax2.scatter(lo[sel][:4000], hi[sel][:4000], s=2, alpha=0.4, color=colour, label=label)
+    invalid = int((np.asarray(ds["invalid_reason"].values) != 0).sum())
+    ax1.set_xscale("log")
+    ax1.set_xlabel("precession period about L [day]")
+    ax1.set_ylabel("members")
+    ax1.legend(frameon=False, fontsize=8, title=f"{invalid:,} invalid (triangle inequality)", title_fontsize=8)
+    ax2.plot([0, 90], [0, 90], color="0.6", lw=0.8)
+    ax2.set_xlabel("wobble angle min [deg]")
+    ax2.set_ylabel("wobble angle max [deg]")
+    ax2.set_title("angle between circulation axis and L (4000 members each)", fontsize=8)
+    fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
+    if path is not None:
+        fig.savefig(path, dpi=150)
+    return fig

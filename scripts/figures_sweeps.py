@@ -1,0 +1,34 @@
+"""Write the sweep figures of docs/sweeps.md into docs/figures/ from real runs of the shipped sweeps.
+
+Usage: python scripts/figures_sweeps.py
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import wobble  # noqa: E402
+from wobble.plot import sweep as sweep_plot  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "docs" / "figures"
+
+
+def main() -> None:
+    OUT.mkdir(parents=True, exist_ok=True)
+    top = wobble.run_sweep(ROOT / "data" / "sweeps" / "top_phase_diagram.toml")
+    path = OUT / "sweep_top_phase.png"
+    sweep_plot.phase_diagram(top, path)
+    print(f"wrote {path}")
+    asteroids = wobble.run_sweep(ROOT / "data" / "sweeps" / "tumbling_asteroids.toml")
+    path = OUT / "sweep_tumbling_asteroids.png"
+    sweep_plot.ensemble(asteroids, path)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
