@@ -10,7 +10,7 @@ reported, not hidden, and the others still run):
 * ``scripts/example_top_loops.py`` (the getting-started figure),
 * ``wobble sweep mars_chandler --plot docs/figures/sweep_mars_chandler.png``
   (the sweep histogram; 100,000 members), unless a ``figures_sweep*.py``
-  script now draws it.
+  script draws it (``scripts/figures_sweeps.py`` does).
 
 NAME restricts the run to the jobs whose name contains it (e.g. ``top``).
 No network is used. The exit status is the number of jobs that failed.

@@ -1,4 +1,5 @@
-"""Write the sweep figures of docs/sweeps.md into docs/figures/ from real runs of the shipped sweeps.
+"""Write the sweep figures (Mars histogram, top phase diagram, asteroid ensemble) into docs/figures/
+from real runs of the shipped sweeps.
 
 Usage: python scripts/figures_sweeps.py
 """
@@ -20,6 +21,10 @@ OUT = ROOT / "docs" / "figures"
 
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
+    mars = wobble.run_sweep(ROOT / "data" / "sweeps" / "mars_chandler.toml")
+    path = OUT / "sweep_mars_chandler.png"
+    sweep_plot.histogram(mars, path)
+    print(f"wrote {path}")
     top = wobble.run_sweep(ROOT / "data" / "sweeps" / "top_phase_diagram.toml")
     path = OUT / "sweep_top_phase.png"
     sweep_plot.phase_diagram(top, path)

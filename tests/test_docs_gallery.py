@@ -39,4 +39,6 @@ def test_figures_all_runs_every_figures_script():
     for script in (ROOT / "scripts").glob("figures_*.py"):
         if script.name != "figures_all.py":
             assert script.stem in names
-    assert {"example_top_loops", "sweep_mars_chandler"} <= names
+    assert "example_top_loops" in names
+    # The Mars histogram: drawn by a figures_sweep*.py script when there is one, else by the CLI job.
+    assert "sweep_mars_chandler" in names or any(n.startswith("figures_sweep") for n in names)
