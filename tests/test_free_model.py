@@ -276,3 +276,28 @@ def test_invariants_and_relabelling(i1, i2, i3, w1, w2, w3, perm):
 def test_bad_input(I, w, msg):
     with pytest.raises(InputError, match=msg):
         free_rotation(I, w)
+
+
+@pytest.mark.parametrize("omega0", [(1.0, 0.1, 1.0), (1.0, 0.3, 0.2), (0.2, 0.1, 1.0)])
+def test_precession_rate_is_the_mean_of_landau_lifshitz_phidot(omega0):
+    """Mean over a period of phidot = L (I_a w_a^2 + I_b w_b^2)/(I_a^2 w_a^2 + I_b^2 w_b^2) (L&L sec. 37),
+    with a, b the two axes other than the circulation axis, by Gauss-Legendre quadrature of the exact omega."""
+    moments = np.array([1.0, 2.0, 3.0])
+    model = free_rotation(moments, omega0)
+    c = 2 if model.regime == "major-axis" else 0  # the axis omega circulates about
+    a, b = [k for k in range(3) if k != c]
+    x, w = np.polynomial.legendre.leggauss(200)
+    t = 0.5 * model.period * (x + 1.0)
+    om = model.omega(t)
+    num = moments[a] * om[:, a] ** 2 + moments[b] * om[:, b] ** 2
+    den = moments[a] ** 2 * om[:, a] ** 2 + moments[b] ** 2 * om[:, b] ** 2
+    mean = 0.5 * np.sum(w * model.angular_momentum * num / den)
+    assert model.precession_rate == pytest.approx(mean, rel=1e-12)
+
+
+def test_precession_rate_is_continuous_in_the_symmetric_limit():
+    for moments in ((1.0, 1.0 + 1e-9, 1.5), (1.0, 1.5, 1.5 + 1e-9)):
+        near = free_rotation(moments, (0.1, 0.05, 1.0))
+        exact = free_rotation(np.round(moments, 6), (0.1, 0.05, 1.0))
+        assert exact.regime == "symmetric"
+        assert near.precession_rate == pytest.approx(exact.precession_rate, rel=1e-8)

@@ -320,6 +320,11 @@ class FreeRotationModel:
         Bounds on the relative error of omega and on the attitude angle (rad),
         from the error analysis in docs/free-rotation.md, checked against
         mpmath in tests/test_free_model.py.
+    precession_rate : float
+        Mean precession rate about L (rad/s): the mean over a period of Landau &
+        Lifshitz's Euler-angle rate phidot = L (I_a w_a^2 + I_b w_b^2)/(I_a^2 w_a^2 + I_b^2 w_b^2)
+        (section 37), L / I1 for a symmetric body (notes 5.6), ``|omega|`` for steady spin.
+        Continuous in the symmetric limit; undefined (the attitude angle's rate) on the separatrix.
     """
 
     moments: tuple[float, float, float]
@@ -596,9 +601,15 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     )
     kf = K[0] if np.isfinite(K[0]) else 1.0
     est = {"omega_relative": 16 * _EPS * (1 + kf), "attitude_rad": 64 * _EPS * (1 + kf)}
+    # Omega_psi is the mean rate of the attitude angle measured from the shortest-arc frame,
+    # which turns once per period 4K/lambda about L (forwards circulating about the major
+    # axis, backwards about the minor one): L&L's mean phidot is Omega_psi +- 2 pi / period.
+    circulation = 0
+    if kdec is not None:
+        circulation = (1 if regime == "major-axis" else -1) * hp.PI * lam / (2 * kdec)
     model = FreeRotationModel(
         regime=regime, m=float(m), m1=float(m1), period=period, time_between_flips=tbf,
-        error_estimate=est, precession_rate=float(mean),
+        error_estimate=est, precession_rate=float(mean + circulation),
         _order=frame, _signs=signs, _impl=impl, _flip=flip, **common,
     )
     return model
