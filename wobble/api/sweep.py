@@ -43,7 +43,13 @@ from wobble.api.chandler import load_planet
 from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS
 from wobble.io.netcdf import write_netcdf_blocks
-from wobble.io.sweep_file import SweepSpec, Variation, read_sweep_file, sweep_spec_from_dict
+from wobble.io.sweep_file import (
+    SweepSpec,
+    Variation,
+    read_sweep_file,
+    sweep_spec_from_dict,
+)
+from wobble.io.zarr_store import is_zarr_path, open_wobble_zarr, write_zarr_blocks
 from wobble.models import chandler as chandler_model
 from wobble.models import free_ensemble, top_phase
 from wobble.numerics import draws
@@ -668,8 +674,9 @@ def run_sweep(
     spec : path, dict or SweepSpec
         The sweep.
     output : path-like, optional
-        netCDF file, written chunk by chunk under a temporary name and renamed
-        at the end (memory stays bounded whatever the member count).
+        netCDF file, or a Zarr store when the name ends in ``.zarr`` (needs the
+        optional ``zarr`` package), written chunk by chunk under a temporary name
+        and renamed at the end (memory stays bounded whatever the member count).
     overwrite : bool
         Replace an existing output file.
     chunk_size : int, optional
@@ -711,10 +718,13 @@ def run_sweep(
                 arrays[name][index] = values
             data = {n: (template[n].dims, a, template[n].attrs) for n, a in arrays.items()}
             return xr.Dataset(data, coords=template.coords, attrs=template.attrs)
-        write_netcdf_blocks(template, output, blocks(), overwrite=overwrite, command=command)
+        if is_zarr_path(output):
+            write_zarr_blocks(template, output, blocks(), overwrite=overwrite, command=command)
+        else:
+            write_netcdf_blocks(template, output, blocks(), overwrite=overwrite, command=command)
     finally:
         bar.close()
-    return open_wobble(output)
+    return open_wobble_zarr(output) if is_zarr_path(output) else open_wobble(output)
 
 
 # ---------------------------------------------------------------------------

@@ -37,7 +37,8 @@ def register(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("sweep", metavar="SWEEP", help="a sweep file, or the name of one in data/sweeps")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="stream the results to a CF-1.10 netCDF file")
+    p.add_argument("-o", "--output", metavar="FILE.nc", help="stream the results to a CF-1.10 netCDF file "
+                   "(or a Zarr store when the name ends in .zarr; needs the zarr package)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     p.add_argument("--members", type=int, help="override the sweep's member count (random sweeps)")
     p.add_argument("--chunk-size", type=int, help="members per dask chunk")
