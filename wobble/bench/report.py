@@ -92,7 +92,7 @@ def markdown(res: dict, report: Path, figures: dict) -> str:
           + "min (s) | median (s) | timed runs | evaluations | peak memory (MiB) |")
         p("|---|---|---|" + "---|" * len(extra) + "---|---|---|---|---|")
         for r in c["rows"]:
-            mem = "-" if r.get("peak_memory_bytes") is None else f"{r['peak_memory_bytes'] / 2**20:.1f}"
+            mem = "-" if r.get("peak_memory_bytes") is None else f"{r['peak_memory_bytes'] / 2**20:.2f}"
             p(f"| {r['method']} | {r['setting']} | {_e(r['error'])} | " + "".join(f"{_e(r.get(k))} | " for k in extra)
               + f"{_s(r['t_min'])} | {_s(r['t_median'])} | {r['timed_runs']} | {r.get('work', '-')} | {mem} |")
         for n in c["notes"]:
