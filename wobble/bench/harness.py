@@ -26,6 +26,7 @@ from wobble.errors import InputError
 
 CASE_KEYS = ("free_generic", "free_separatrix", "free_earth", "top_undulating", "top_cusps", "top_loops",
              "top_sleeping", "torqued_satellite", "torqued_asymmetric_top", "ensemble_satellite", "ensemble_free")
+MEMORY_MAX_S = 3.0
 TOP = {"top_cusps": 0, "top_undulating": 1, "top_loops": 2, "top_sleeping": 3}
 
 
@@ -87,7 +88,8 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
                               "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
                               "(their warm-up); runs under 50 ms get three times the repeats",
                     "memory": "tracemalloc peak (Python and NumPy allocations) of one run of each method at its loosest "
-                              "setting, at the case's full output size"},
+                              "setting, at the case's full output size; not measured ('-') where that run takes "
+                              f"over {MEMORY_MAX_S:g} s (tracemalloc slows pure-Python loops several-fold)"},
            "cases": [], "ensembles": []}
     for key in keys:
         if key.startswith("ensemble_"):
@@ -104,9 +106,11 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
         say(f"{key}: {len(case.runs)} runs")
         rows = measure(case.runs, repeats, progress=say)
         memory = {}
-        for r in case.runs:
+        for r, row in zip(case.runs, rows):
+            # tracemalloc slows pure-Python loops several-fold: methods whose loosest setting
+            # runs longer than MEMORY_MAX_S are left out (the report says so)
             if r.method not in memory:
-                memory[r.method] = (r.setting, peak_memory(r.fn))
+                memory[r.method] = (r.setting, peak_memory(r.fn) if row["t_min"] <= MEMORY_MAX_S else None)
         for row in rows:
             m = memory.get(row["method"])
             row["peak_memory_bytes"] = m[1] if m and m[0] == row["setting"] else None
