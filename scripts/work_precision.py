@@ -17,8 +17,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 if __name__ == "__main__":
     argv = sys.argv[1:]
+    shown = list(argv)  # the report records what was typed, not the defaults added here
     if not any(a in ("-o", "--output") or a.startswith("--output=") for a in argv):
         argv += ["-o", str(ROOT / "docs" / "performance.md"), "--overwrite"]
     if not any(a == "--plot" or a.startswith("--plot=") for a in argv):
         argv += ["--plot", str(ROOT / "docs" / "figures")]
-    sys.exit(main(argv, prog="python scripts/work_precision.py"))
+    sys.exit(main(argv, prog="python scripts/work_precision.py", shown=shown))

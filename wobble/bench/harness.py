@@ -342,15 +342,18 @@ def clean(x):
     return x
 
 
-def main(argv=None, prog: str = "wobble bench") -> int:
-    """Parse ``argv`` and run; bad input: one line on stderr, exit status 2."""
+def main(argv=None, prog: str = "wobble bench", shown=None) -> int:
+    """Parse ``argv`` and run; bad input: one line on stderr, exit status 2.
+
+    ``shown``: the arguments to record as the command in the report (default ``argv``).
+    """
     from wobble.errors import WobbleError
 
     p = parser(prog)
     argv = sys.argv[1:] if argv is None else list(argv)
     args = p.parse_args(argv)
     try:
-        return run(args, f"{prog} {' '.join(argv)}".strip())
+        return run(args, f"{prog} {' '.join(argv if shown is None else shown)}".strip())
     except (WobbleError, OSError) as exc:
         print(f"{prog}: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
