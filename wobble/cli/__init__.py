@@ -20,7 +20,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep")
+SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "bench")
 
 EPILOG = """\
 examples:
@@ -39,6 +39,7 @@ examples:
   wobble run tennis_racket -o racket.nc
                                         a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF
+  wobble bench --quick                  work-precision benchmark: every solver, speed against error
 
 Numbers without units are SI; days are days of 86400 s. Run
 'wobble COMMAND --help' for each command's options and an example.

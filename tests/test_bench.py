@@ -1,0 +1,143 @@
+"""The work-precision harness (wobble.bench) measures the right error; wobble bench runs.
+
+No timing assertions: only that errors are computed against the right reference, that
+the runs are interleaved as documented, and that the command line behaves.
+"""
+
+from __future__ import annotations
+
+import json
+import types
+
+import numpy as np
+import pytest
+
+from wobble.bench import cases as C
+from wobble.bench.timing import Run, measure, peak_memory, time_at
+from wobble.cli import main
+from wobble.models.free import free_rotation
+
+
+def test_rel_and_phase_error_known_values():
+    want = np.array([[3.0, 4.0, 0.0], [0.0, 1.0, 0.0]])
+    got = want.copy()
+    got[0, 0] += 5e-7  # |d| / |want| = 5e-7 / 5 on the first row
+    assert C.rel_error(got, want) == pytest.approx(1e-7, rel=1e-9)
+    assert C.rel_error(got[:1], want) == np.inf  # a run that returned the wrong number of outputs
+    # a wobble vector rotated by 1e-9 rad about the figure axis: phase error 1e-9
+    ang = np.linspace(0.0, 6.0, 7)
+    w = np.stack([np.cos(ang), np.sin(ang), 10 * np.ones_like(ang)], axis=1) * 1e-6
+    wr = np.stack([np.cos(ang + 1e-9), np.sin(ang + 1e-9), 10 * np.ones_like(ang)], axis=1) * 1e-6
+    assert C.phase_error(wr, w) == pytest.approx(1e-9, rel=1e-5)
+    # wrapping: a phase of pi - 1e-3 against -pi + 1e-3 differs by 2e-3, not 2 pi - 2e-3
+    a = np.array([[np.cos(np.pi - 1e-3), np.sin(np.pi - 1e-3), 0.0]])
+    b = np.array([[np.cos(-np.pi + 1e-3), np.sin(-np.pi + 1e-3), 0.0]])
+    assert C.phase_error(a, b) == pytest.approx(2e-3, rel=1e-6)
+
+
+def test_injected_perturbation_is_reported():
+    """Feed a method's check a copy of the exact solution perturbed by a known amount."""
+    case = C.free_case("free_generic", quick=True)
+    ctx = case.context
+    w = ctx["w_exact"].copy()
+    delta = 3e-9
+    k = w.shape[0] // 3
+    w[k] *= 1 + delta  # one output off by a relative 3e-9
+    wob = next(r for r in case.runs if r.method == "wobble DOP853")
+    res = wob.check(types.SimpleNamespace(omega=w[:, None, :]))
+    assert res["error_vs_exact"] == pytest.approx(delta, rel=1e-6)
+    sc = next(r for r in case.runs if r.method == "scipy DOP853")
+    res = sc.check(types.SimpleNamespace(success=True, y=w.T))
+    assert res["error"] == pytest.approx(delta, rel=1e-6)
+    # the exact method's check reads the mpmath reference times: perturb one of them
+    ex = next(r for r in case.runs if r.method == "wobble exact")
+    w2 = ctx["w_exact"].copy()
+    assert ex.check(w2)["error"] < 1e-14
+    w2[ctx["iw"][5]] *= 1 + delta
+    assert ex.check(w2)["error"] == pytest.approx(delta, rel=1e-3)
+    # a failed SciPy run is an infinite error, not a crash
+    assert sc.check(types.SimpleNamespace(success=False, y=w.T[:, :5]))["error"] == np.inf
+
+
+def test_error_of_a_small_case_matches_an_independent_computation():
+    """Symmetric body I = (1, 1, 2), omega0 = (0.1, 0, 1): omega_perp turns at 1 rad/s exactly."""
+    I = np.array([1.0, 1.0, 2.0])  # noqa: E741
+    w0 = np.array([0.1, 0.0, 1.0])
+    t = np.linspace(0.0, 20.0, 41)
+    sol = C._solve(C.euler_rhs(I), t, w0, "RK45", 1e-5, 1e-8)
+    got = C._sol_omega(sol, t.size)
+    harness = C.rel_error(got, free_rotation(I, w0).omega(t))
+    by_hand = max(
+        float(np.sqrt((got[i, 0] - 0.1 * np.cos(ti)) ** 2 + (got[i, 1] - 0.1 * np.sin(ti)) ** 2 + (got[i, 2] - 1.0) ** 2))
+        / float(np.sqrt(0.01 + 1.0))
+        for i, ti in enumerate(t)
+    )
+    assert 1e-9 < harness < 1e-2
+    assert harness == pytest.approx(by_hand, rel=1e-6)
+
+
+def test_measure_interleaves_and_checks_the_warm_up_output():
+    calls = []
+
+    def maker(name):
+        def fn():
+            calls.append(name)
+            return name
+
+        return fn
+
+    runs = [Run("a", "1", maker("a"), lambda o: {"error": 1.0 if o == "a" else 0.0}),
+            Run("b", "1", maker("b"), lambda o: {"error": 2.0})]
+    rows = measure(runs, repeats=2, slow_s=10.0)
+    # warm-ups first, then rounds in which every run goes once (fast runs: 3 x repeats)
+    assert calls[:2] == ["a", "b"]
+    assert calls[2:] == ["a", "b"] * 6
+    assert [r["error"] for r in rows] == [1.0, 2.0]
+    assert all(r["timed_runs"] == 6 and r["t_min"] <= r["t_median"] for r in rows)
+
+
+def test_time_at_and_peak_memory():
+    pts = [(1e-4, 1.0), (1e-8, 100.0)]
+    assert time_at(pts, 1e-6) == pytest.approx(10.0)
+    assert time_at(pts, 1e-10) is None  # never reached
+    assert time_at(pts, 1e-2) == 1.0  # reached by its cheapest point
+    assert peak_memory(lambda: np.ones(10**6)) >= 8 * 10**6
+
+
+def test_wobble_bench_smoke_json(capsys, tmp_path):
+    report = tmp_path / "perf.md"
+    code = main(["bench", "--smoke", "--case", "torqued_asymmetric_top", "--json", "--plot", str(tmp_path / "figs"),
+                 "-o", str(report)])
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data) >= {"meta", "cases", "ensembles", "targets"}
+    assert data["meta"]["mode"] == "smoke" and data["meta"]["versions"]["numpy"] == np.__version__
+    (case,) = data["cases"]
+    assert case["key"] == "torqued_asymmetric_top"
+    methods = {r["method"] for r in case["rows"]}
+    assert {"scipy DOP853", "wobble DOP853", "wobble splitting-6"} <= methods
+    for r in case["rows"]:
+        assert {"method", "setting", "error", "t_min", "t_median", "timed_runs", "peak_memory_bytes"} <= set(r)
+        assert 0 < r["error"] < 1e-3
+    assert any(t["case"] == "Torqued: asymmetric top" for t in data["targets"])
+    assert (tmp_path / "figs" / "work_precision_torqued_asymmetric_top.png").stat().st_size > 1000
+    text = report.read_text()
+    assert "## Targets" in text and "figs/work_precision_torqued_asymmetric_top.png" in text
+
+
+@pytest.mark.parametrize("argv", [
+    ["bench", "--repeats", "0"],
+    ["bench", "--case", "no_such_case"],
+    ["bench", "--smoke", "-o", "/no/such/folder/report.md"],
+    ["bench", "--quick", "--smoke"],
+    ["bench", "--bogus"],
+])
+def test_wobble_bench_bad_input_exits_2_with_one_line(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as exc:
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2
+    # an unknown option is refused by the top-level parser ("wobble: error: ..."), as for every command
+    assert err.count("\n") == 1 and err.startswith(("wobble bench: error:", "wobble: error:"))

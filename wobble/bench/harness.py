@@ -1,0 +1,359 @@
+"""Run the work-precision benchmark of issue 8 and write its report.
+
+``main(argv)`` is ``wobble bench`` and ``scripts/work_precision.py``. Modes: the full run
+(every case, every setting: what docs/performance.md shows), ``--quick`` (fewer settings,
+ensembles up to 10^4 members) and ``--smoke`` (a few seconds: the harness's own test).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from wobble.bench import cases as C
+from wobble.bench import top as topcases
+from wobble.bench.ensemble import best_ratio, ensemble
+from wobble.bench.timing import measure, peak_memory, time_at
+from wobble.errors import InputError
+
+CASE_KEYS = ("free_generic", "free_separatrix", "free_earth", "top_undulating", "top_cusps", "top_loops",
+             "top_sleeping", "torqued_satellite", "torqued_asymmetric_top", "ensemble_satellite", "ensemble_free")
+MEMORY_MAX_S = 3.0
+TOP = {"top_cusps": 0, "top_undulating": 1, "top_loops": 2, "top_sleeping": 3}
+
+
+def _versions() -> dict:
+    import matplotlib
+    import scipy
+
+    import wobble
+
+    try:
+        import mujoco
+        mj = mujoco.__version__
+    except ImportError:
+        mj = None
+    return {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+            "matplotlib": matplotlib.__version__, "mujoco": mj, "wobble": wobble.__version__,
+            "machine": platform.machine(), "processor": platform.processor() or "unknown CPU",
+            "system": f"{platform.system()} {platform.release()}", "cpus": os.cpu_count()}
+
+
+def build_case(key: str, mode: str):
+    quick = mode != "full"
+    if key.startswith("free_"):
+        return C.free_case(key, quick)
+    if key in TOP:
+        label, refname, kw = topcases.CASES[TOP[key]]
+        dts = None
+        if mode == "full":
+            dts = {"RK4": [1e-2, 3e-3, 1e-3], "Euler": [1e-3, 1e-4]} if key == "top_cusps" else {"RK4": [1e-2, 3e-3]}
+        elif mode == "quick":
+            dts = {"RK4": [1e-2], "Euler": [1e-3]}
+        return C.top_case(key, label, refname, kw, quick, dts)
+    return C.torqued_case("satellite" if key == "torqued_satellite" else "asymmetric top", quick)
+
+
+def _smoke_trim(case):
+    """--smoke: one setting per method (the loosest); no Radau and only the 6th-order splitting
+    (seconds matter here: it is the harness's own test)."""
+    seen, keep = set(), []
+    for r in case.runs:
+        if r.method not in seen and r.method not in ("scipy Radau", "wobble splitting-2", "wobble splitting-4"):
+            seen.add(r.method)
+            keep.append(r)
+    case.runs = keep
+    return case
+
+
+def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, progress=None) -> dict:
+    """Run the cases and return the JSON-ready results (see ``wobble bench --json``)."""
+    if not keys:
+        keys = ["free_generic", "torqued_asymmetric_top", "ensemble_free"] if mode == "smoke" else CASE_KEYS
+    keys = list(keys)
+    repeats = repeats or {"full": 3, "quick": 2, "smoke": 1}[mode]
+    say = progress or (lambda s: None)
+    started = time.perf_counter()
+    out = {"meta": {"mode": mode, "repeats": repeats, "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+                    "versions": _versions(),
+                    "timing": "one warm-up run (its output is the one checked), then min and median of the repeats, "
+                              "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
+                              "(their warm-up); runs under 50 ms get three times the repeats",
+                    "memory": "tracemalloc peak (Python and NumPy allocations) of one run of each method at its loosest "
+                              "setting, at the case's full output size; not measured ('-') where that run takes "
+                              f"over {MEMORY_MAX_S:g} s (tracemalloc slows pure-Python loops several-fold)"},
+           "cases": [], "ensembles": []}
+    for key in keys:
+        if key.startswith("ensemble_"):
+            which = key.split("_", 1)[1]
+            sizes = {"full": [100, 1000, 10_000, 100_000, 1_000_000], "quick": [100, 1000, 10_000],
+                     "smoke": [100]}[mode]
+            say(f"{key}")
+            res = ensemble(which, sizes, repeats, cap_s=60.0 if mode == "full" else 10.0, progress=say)
+            out["ensembles"].append(res)
+            continue
+        case = build_case(key, mode)
+        if mode == "smoke":
+            _smoke_trim(case)
+        say(f"{key}: {len(case.runs)} runs")
+        rows = measure(case.runs, repeats, progress=say)
+        memory = {}
+        for r, row in zip(case.runs, rows):
+            # tracemalloc slows pure-Python loops several-fold: methods whose loosest setting
+            # runs longer than MEMORY_MAX_S are left out (the report says so)
+            if r.method not in memory:
+                memory[r.method] = (r.setting, peak_memory(r.fn) if row["t_min"] <= MEMORY_MAX_S else None)
+        for row in rows:
+            m = memory.get(row["method"])
+            row["peak_memory_bytes"] = m[1] if m and m[0] == row["setting"] else None
+        extra = {}
+        if key == "free_earth":
+            xs = case.context["t"] * 2.4e-7
+            extra["np_sin_same_size_s"] = min(_t(lambda: np.sin(xs)) for _ in range(20))
+        out["cases"].append({"key": key, "title": case.title, "description": case.description,
+                             "error_measure": case.error_measure, "reference": case.reference,
+                             "outputs": case.outputs, "notes": case.notes, "rows": rows, **extra})
+    out["meta"]["seconds"] = time.perf_counter() - started
+    out["targets"] = targets(out)
+    return out
+
+
+def _t(fn):
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+# ---------------------------------------------------------------------------
+# Targets
+# ---------------------------------------------------------------------------
+def _row(case, method, setting=None):
+    for r in case["rows"]:
+        if r["method"] == method and (setting is None or r["setting"].startswith(setting)):
+            return r
+    return None
+
+
+def targets(res: dict) -> list[dict]:
+    """Each issue-8 target: what was measured, and whether it is met (None: not measured in this run)."""
+    cases = {c["key"]: c for c in res["cases"]}
+    out = []
+
+    def add(name, target, measured, met, ratio=None):
+        out.append({"case": name, "target": target, "measured": measured, "met": met, "ratio": ratio})
+
+    c = cases.get("free_generic")
+    if c:
+        ex, dop = _row(c, "wobble exact"), _row(c, "scipy DOP853", "rtol 1e-12")
+        if dop:
+            ratio = dop["t_min"] / ex["t_min"]
+            add("generic free body", "exact error <= 1e-13 in >= 100x less time than SciPy DOP853 at rtol 1e-12",
+                f"exact {ex['error']:.1e} in {ex['t_min']:.3g} s; DOP853 rtol 1e-12 {dop['error']:.1e} in "
+                f"{dop['t_min']:.3g} s; {ratio:.0f}x", ex["error"] <= 1e-13 and ratio >= 100, ratio)
+        else:
+            add("generic free body", "exact error <= 1e-13, >= 100x faster than DOP853 at rtol 1e-12",
+                "DOP853 at rtol 1e-12 not run in this mode", None)
+    c = cases.get("free_separatrix")
+    if c:
+        ex = _row(c, "wobble exact")
+        sc = [r["error"] for r in c["rows"] if r["method"].startswith("scipy")]
+        add("near the separatrix", "exact error <= 1e-10 and flip times within 1e-9 s",
+            f"exact {ex['error']:.1e}, flip times {ex['flip_time_error_s']:.1e} s; best SciPy "
+            f"{min(sc) if sc else float('nan'):.1e}", ex["error"] <= 1e-10 and ex["flip_time_error_s"] <= 1e-9)
+    c = cases.get("free_earth")
+    if c:
+        ex = _row(c, "wobble exact")
+        add("Earth, 100 years daily", "exact phase error <= 1e-12 rad in under 1 ms for 36,526 outputs",
+            f"phase error {ex['error']:.1e} rad in {ex['t_min'] * 1e3:.2f} ms ({ex['t_min'] / 1e-3:.1f} x the 1 ms goal)",
+            ex["error"] <= 1e-12 and ex["t_min"] < 1e-3, ex["t_min"] / 1e-3)
+    for key in ("top_undulating", "top_cusps", "top_loops", "top_sleeping"):
+        c = cases.get(key)
+        if not c:
+            continue
+        ex, dop = _row(c, "wobble exact"), _row(c, "scipy DOP853", "rtol 1e-12")
+        if not dop:
+            add(c["title"], ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
+                "DOP853 at rtol 1e-12 not run in this mode", None)
+            continue
+        ratio = dop["t_min"] / ex["t_min"]
+        better = ex["error"] <= dop["error"] and ex.get("turning_error", 0) <= dop.get("turning_error", float("inf"))
+        add(c["title"], ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
+            f"{ratio:.0f}x (exact {ex['t_min'] * 1e3:.2f} ms incl. construction, DOP853 {dop['t_min']:.3g} s); attitude "
+            f"{ex['error']:.1e} vs {dop['error']:.1e} rad, turning points {ex.get('turning_error', 0):.1e} vs "
+            f"{dop.get('turning_error', float('nan')):.1e}", ratio >= 1000 and better, ratio)
+    for key in ("torqued_satellite", "torqued_asymmetric_top"):
+        c = cases.get(key)
+        if not c:
+            continue
+        parts, ok = [], []
+        for target in (1e-6, 1e-8, 1e-10):
+            pts = {}
+            for r in c["rows"]:
+                pts.setdefault(r["method"], []).append((r["error"], r["t_min"]))
+            ref = time_at(pts.get("scipy DOP853", []), target)
+            wob = {m: time_at(p, target) for m, p in pts.items() if m.startswith("wobble")}
+            wob = {m: v for m, v in wob.items() if v is not None}
+            if ref is None or not wob:
+                parts.append(f"{target:g}: not reached")
+                continue
+            best = min(wob, key=wob.get)
+            parts.append(f"{target:g}: {ref / wob[best]:.2f}x ({best})")
+            ok.append(ref / wob[best])
+        add(c["title"], "one trajectory: best wobble integrator >= 5x faster than DOP853 at equal error",
+            "; ".join(parts), bool(ok) and min(ok) >= 5, min(ok) if ok else None)
+    for e in res["ensembles"]:
+        if e["key"] != "ensemble_satellite":
+            continue
+        r = best_ratio(e, 10_000)
+        add("ensemble of 10^4 satellites", ">= 100x faster per member than SciPy DOP853 at equal error",
+            "10^4 members not run in this mode" if r is None else f"best {r:.0f}x per member",
+            None if r is None else r >= 100, r)
+    add("energy over 10^6 splitting steps", "bounded energy error (no secular drift) for orders 2, 4, 6",
+        "not re-measured here (a 10-minute run): see performance-engine.md, produced by scripts/bench_engine.py", None)
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Output
+# ---------------------------------------------------------------------------
+def text_table(res: dict) -> str:
+    lines = []
+    for c in res["cases"]:
+        lines.append(f"\n{c['title']} ({c['key']}), {c['outputs']} outputs; error: {c['error_measure']}")
+        lines.append(f"  {'method':<26} {'setting':<44} {'error':>9} {'min (s)':>10} {'median (s)':>10} {'peak MiB':>9}")
+        for r in c["rows"]:
+            mem = "-" if r.get("peak_memory_bytes") is None else f"{r['peak_memory_bytes'] / 2**20:.2f}"
+            lines.append(f"  {r['method']:<26} {r['setting'][:44]:<44} {r['error']:>9.2e} {r['t_min']:>10.4g} "
+                         f"{r['t_median']:>10.4g} {mem:>9}")
+    for e in res["ensembles"]:
+        lines.append(f"\n{e['title']}")
+        for r in e["scipy"]:
+            lines.append(f"  {r['method']:<26} {r['setting']:<14} {'':>9} {r['error']:>9.2e} {r['per_member_s'] * 1e6:>10.1f} us/member")
+        for r in e["rows"]:
+            ratio = "-" if r["ratio_vs_scipy"] is None else f"{r['ratio_vs_scipy']:.1f}x"
+            lines.append(f"  {r['method']:<26} {r['setting']:<14} {r['members']:>9} {r['error']:>9.2e} "
+                         f"{r['per_member_s'] * 1e6:>10.2f} us/member  {ratio}")
+    lines.append("\nTargets:")
+    for t in res["targets"]:
+        status = {True: "met", False: "MISSED", None: "not measured"}[t["met"]]
+        lines.append(f"  [{status}] {t['case']}: {t['target']} -- {t['measured']}")
+    return "\n".join(lines)
+
+
+def write_figures(res: dict, folder: Path) -> dict:
+    from wobble.io.atomic import atomic_target
+    from wobble.plot.bench import work_precision_figure
+
+    folder.mkdir(exist_ok=True)
+    written = {}
+    for c in res["cases"]:
+        fig = work_precision_figure(f"{c['title']}: {c['outputs']} outputs", c["rows"], xlabel=c["error_measure"].split(",")[0])
+        written[c["key"]] = _save(fig, folder / f"work_precision_{c['key']}.png", atomic_target)
+    for e in res["ensembles"]:
+        rows = [{**r, "method": f"{r['method']} ({r['members']})"} for r in e["rows"]]
+        rows += [{**r, "method": "scipy DOP853 (loop of members)"} for r in e["scipy"]]
+        fig = work_precision_figure(e["title"], rows, xlabel="error", per_member=True)
+        written[e["key"]] = _save(fig, folder / f"work_precision_{e['key']}.png", atomic_target)
+    return written
+
+
+def _save(fig, path: Path, atomic_target):
+    with atomic_target(path, overwrite=True) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    return path
+
+
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line on stderr, exit status 2 (as every wobble command)."""
+
+    def error(self, message: str):  # noqa: D401 - argparse API
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def parser(prog: str = "wobble bench") -> argparse.ArgumentParser:
+    p = _Parser(prog=prog, description="Work-precision benchmark of every solver (issue 8).")
+    add_arguments(p)
+    return p
+
+
+def add_arguments(p) -> None:
+    mode = p.add_mutually_exclusive_group()
+    mode.add_argument("--quick", action="store_true", help="fewer settings and repeats; ensembles up to 10^4 members")
+    mode.add_argument("--smoke", action="store_true", help="a few seconds: one setting per method on three cases (tests)")
+    p.add_argument("--case", action="append", metavar="NAME", help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}")
+    p.add_argument("--repeats", type=int, help="timed runs after the warm-up (default 3; --quick 2; --smoke 1)")
+    p.add_argument("--json", action="store_true", help="print the results as JSON instead of a table")
+    p.add_argument("--plot", metavar="DIR", help="write work_precision_<case>.png diagrams into DIR (replaced)")
+    p.add_argument("-o", "--output", metavar="REPORT.md", help="write the Markdown report (docs/performance.md)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing report")
+
+
+def run(args, command: str) -> int:
+    from wobble.bench.report import markdown
+    from wobble.io.atomic import atomic_target
+
+    if args.repeats is not None and args.repeats < 1:
+        raise InputError("--repeats", args.repeats, "a whole number >= 1")
+    for k in args.case or []:
+        if k not in CASE_KEYS:
+            raise InputError("--case", k, ", ".join(CASE_KEYS))
+    plot = Path(args.plot) if args.plot else None
+    if plot is not None and (plot.exists() and not plot.is_dir() or not plot.parent.is_dir()):
+        raise InputError("--plot", args.plot, "a folder, or a new folder in an existing one")
+    report = Path(args.output) if args.output else None
+    if report is not None:
+        if report.is_dir() or not report.parent.is_dir():
+            raise InputError("-o/--output", args.output, "a file path in an existing folder")
+        if report.exists() and not args.overwrite:
+            raise InputError("-o/--output", args.output, "a new file (or add --overwrite)")
+    mode = "smoke" if args.smoke else "quick" if args.quick else "full"
+    res = run_benchmark(mode, args.case, args.repeats, progress=lambda s: print(s, file=sys.stderr, flush=True))
+    res["meta"]["command"] = command
+    figures = write_figures(res, plot) if plot else {}
+    if report is not None:
+        text = markdown(res, report, figures)
+        with atomic_target(report, overwrite=args.overwrite) as tmp:
+            Path(tmp).write_text(text)
+    if args.json:
+        print(json.dumps(clean(res), indent=1, allow_nan=False))
+    else:
+        print(text_table(res))
+    return 0
+
+
+def clean(x):
+    """JSON-ready: NumPy scalars to Python, non-finite numbers (a failed run) to None."""
+    if isinstance(x, dict):
+        return {k: clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [clean(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        return float(x) if np.isfinite(x) else None
+    if isinstance(x, (np.integer, np.bool_)):
+        return x.item()
+    return x
+
+
+def main(argv=None, prog: str = "wobble bench", shown=None) -> int:
+    """Parse ``argv`` and run; bad input: one line on stderr, exit status 2.
+
+    ``shown``: the arguments to record as the command in the report (default ``argv``).
+    """
+    from wobble.errors import WobbleError
+
+    p = parser(prog)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = p.parse_args(argv)
+    try:
+        return run(args, f"{prog} {' '.join(argv if shown is None else shown)}".strip())
+    except (WobbleError, OSError) as exc:
+        print(f"{prog}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
