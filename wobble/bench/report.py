@@ -161,12 +161,17 @@ def _why(res: dict) -> str:
     missed = {t["case"] for t in res["targets"] if t["met"] is False}
     earth = cases.get("free_earth")
     if "Earth, 100 years daily" in missed and earth:
-        ex = next(r for r in earth["rows"] if r["method"] == "wobble exact")
+        ex = next((r for r in earth["rows"] if r["method"] == "wobble exact (evaluation only)"),
+                  next(r for r in earth["rows"] if r["method"] == "wobble exact"))
         lines.append(
-            f"* Earth: the exact omega path takes {ex['t_min'] * 1e3:.2f} ms for {earth['outputs']} outputs; the "
-            "evaluation is some 40 NumPy array passes per sample (double-double phase, reduction, Jacobi functions), "
-            f"and one `np.sin` over the same array already takes {earth['np_sin_same_size_s'] * 1e3:.2f} ms here. "
-            "Under 1 ms needs fewer passes (a fast path for the near-symmetric case) or a compiled kernel.")
+            f"* Earth: the exact omega evaluation takes {ex['t_min'] * 1e3:.2f} ms for {earth['outputs']} outputs "
+            "(block-rotated phasors and the nome series, docs/free-rotation.md); one `np.sin` over the same array "
+            f"takes {earth['np_sin_same_size_s'] * 1e3:.2f} ms here, so the machine's load decides the last factor.")
+    if earth and "Earth, 100 years daily" not in missed:
+        lines.append(
+            "* Earth (met): the evaluation runs on the uniform-grid path; building the solution (invariants in exact "
+            "rational arithmetic, K and the nome series at 50 digits) is a separate fixed cost of about a "
+            "millisecond, in the 'wobble exact' row.")
     tops = [t for t in res["targets"] if t["case"].startswith("Heavy top") and t["met"] is False]
     if tops:
         lines.append(
