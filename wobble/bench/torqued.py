@@ -179,10 +179,6 @@ def run_wobble(case, method, setting, order=6):
 
 def time_at(rows, method, target):
     """Log-log interpolation of a method's min time at the target error (None outside its range)."""
-    pts = sorted((e, t) for m, _, e, t, _, _ in rows if m == method and e > 0)
-    for (e1, t1), (e2, t2) in zip(pts, pts[1:]):
-        if e1 <= target <= e2:
-            w = (math.log(target) - math.log(e1)) / (math.log(e2) - math.log(e1))
-            return math.exp(math.log(t1) + w * (math.log(t2) - math.log(t1)))
-    below = [t for e, t in pts if e <= target]
-    return min(below) if below else None
+    from wobble.bench.timing import time_at as interpolate
+
+    return interpolate([(e, t) for m, _, e, t, _, _ in rows if m == method], target)
