@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shlex
 
 import astropy.units as u
 import numpy as np
@@ -131,6 +132,7 @@ def test_cli_writes_netcdf_with_units(tmp_path, capsys):
     ds = open_wobble(path)
     assert ds.sizes["time"] == 49 and float(ds.time[-1]) == 2 * 86400.0
     assert out["output"] == str(path)
+    assert ds.attrs["history"].endswith("wobble " + " ".join(shlex.quote(a) for a in args))  # the command as typed
     assert main(args) == 2  # exists, no --overwrite
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--overwrite" in err

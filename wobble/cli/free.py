@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 
 from astropy import units as u
 
@@ -68,8 +67,7 @@ def run(args) -> int:
         summary["flip_times_s"] = body.flip_times(t_end).to_value(u.s).tolist()[:1000]
     if args.output:
         ds = body.evaluate(t_end=t_end, samples=args.samples)
-        command = "wobble free " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "wobble free"
-        path = write_netcdf(ds, args.output, overwrite=args.overwrite, command=command)
+        path = write_netcdf(ds, args.output, overwrite=args.overwrite, command=args.command_line)
         summary["output"] = str(path)
         summary["samples"] = args.samples
     if args.json:

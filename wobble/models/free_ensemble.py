@@ -137,7 +137,6 @@ def _analyse(moments, omega):
     m_dir = iba * dc / den
     small = m1_dir < 0.5
     m1 = np.clip(np.where(small, m1_dir, 1.0 - m_dir), 0.0, 1.0)
-    m = np.clip(np.where(small, 1.0 - m1_dir, m_dir), 0.0, 1.0)
     lam = np.sqrt(np.abs(den) / (i0 * i1 * i2))
     amp_a = np.sqrt(np.abs(dc / (ia * ica)))
     amp_b = np.sqrt(np.abs(dc / (ib * icb)))

@@ -1186,7 +1186,6 @@ def _elliptic_model(common, cub, roots, x0, y0, thetadot0, w3, a, sigma0, delta0
         dn0_2 = cn0_2 + m1 * sn0_2  # = 1 - m sn0^2 without cancellation next to m = 1
         sgn = -1 if thetadot0 > 0 else 1
         sn0 = sgn * sn0_2.sqrt()
-        cn0 = cn0_2.sqrt()
         levels = ell.landen_levels(_f(m), _f(m1))
         levels.K = np.asarray(K[0])
         if cn0_2 == 0:
