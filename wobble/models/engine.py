@@ -41,8 +41,11 @@ Torques (all vectorised over members; parameters may be per member)
 
 Integration
 -----------
-``method="dop853"``: :class:`wobble.numerics.integrators.DOP853` on
-``(omega, q)`` (quaternion renormalised after each step).
+``method="dop853"``: Dormand & Prince 8(5,3) on ``(omega, q)`` (quaternion
+renormalised after each step), compiled (:mod:`wobble.numerics.rigid_dop853`,
+every built-in torque, ~200 ns per evaluation, ensembles on all CPUs) or, with
+a custom torque, in NumPy (:class:`wobble.numerics.integrators.DOP853`); the
+two are the same method, step for step (``backend=``).
 ``method="splitting"``: Touma & Wisdom (1994): exact free flow
 (:func:`wobble.models.free.flow_sorted`) between torque kicks; the kick
 ``domega/dt = I^-1 (tau(t, q) - D omega)`` at fixed attitude and time is
@@ -83,6 +86,7 @@ __all__ = [
 ]
 
 METHODS = ("dop853", "splitting")
+BACKENDS = ("auto", "compiled", "python")
 #: Each omega component's error is measured against its largest value, or against this
 #: fraction of |omega| if it stays smaller (float64 cannot resolve a component that is
 #: zero up to rounding relative to itself).
@@ -296,6 +300,9 @@ class _Bound:
     time_dependent = False
     conservative = False
     damping = None  # (M, 3) diagonal damping in the internal frame
+    # (kind, arrays) for the compiled integrator (wobble.numerics.rigid_dop853), None if
+    # the torque has no compiled form (a custom torque)
+    program = None
 
     def torque(self, t, w, q, idx):  # pragma: no cover - interface
         raise NotImplementedError
@@ -327,10 +334,12 @@ class ConstantTorque:
             b.torque = lambda t, w, q, idx: np.broadcast_to(_take(tau_int, idx), w.shape)
             one = tuple(float(x) for x in tau_int[0])
             b.torque_one = lambda t, w, q: one
+            b.program = ("body", tau_int)
         else:
             b.torque = lambda t, w, q, idx: _to_body(q, _take(tau, idx))
             one = tuple(float(x) for x in tau[0])
             b.torque_one = lambda t, w, q: _rotate_one(q, one, inverse=True)
+            b.program = ("inertial", tau)
         return b
 
 
@@ -379,6 +388,7 @@ class UniformGravity:
         r1 = tuple(float(x) for x in r[0])
         mg1 = tuple(float(x) for x in mg[0])
         b.torque_one = lambda t, w, q: _cross_one(r1, _rotate_one(q, mg1, inverse=True))
+        b.program = ("gravity", r, mg)
         return b
 
 
@@ -496,6 +506,10 @@ class GravityGradient:
             return (k * tq[0], k * tq[1], k * tq[2])
 
         b.torque_one = torque_one
+        moving = e2 is not None
+        b.program = ("gradient", np.concatenate([
+            [k], e1, e2 if moving else np.zeros(3), [rate if moving else 0.0, phase if moving else 0.0]
+        ]))
         return b
 
 
@@ -527,6 +541,7 @@ class LinearDamping:
         b.uses_attitude = False
         b.damping = diag
         b.torque = lambda t, w, q, idx: -_take(diag, idx) * w
+        b.program = ("damping", diag)
         return b
 
 
@@ -846,6 +861,30 @@ class Engine:
         n = 1.0 / math.sqrt(q1[0] * q1[0] + q1[1] * q1[1] + q1[2] * q1[2] + q1[3] * q1[3])
         return w1, (q1[0] * n, q1[1] * n, q1[2] * n, q1[3] * n)
 
+    # -- the compiled integrator ---------------------------------------------------
+    @property
+    def compilable(self) -> bool:
+        """Whether every torque has a compiled form (all built-in kinds; not a custom torque)."""
+        return all(b.program is not None for b in self.torques)
+
+    def program(self) -> tuple:
+        """The torque program of :mod:`wobble.numerics.rigid_dop853` (internal frame, float64)."""
+        if not self.compilable:
+            raise InputError("torques", [s.kind for s in self.specs], "built-in torques only for the compiled backend")
+
+        def summed(kind):
+            rows = [b.program[1] for b in self.torques if b.program[0] == kind]
+            return sum(rows[1:], rows[0]) if rows else np.zeros((1, 3))
+
+        grav = [b.program[1:] for b in self.torques if b.program[0] == "gravity"]
+        rows = max([1] + [max(r.shape[0], mg.shape[0]) for r, mg in grav])
+        grav_r = np.array([np.broadcast_to(r, (rows, 3)) for r, _ in grav]).reshape(-1, rows, 3)
+        grav_mg = np.array([np.broadcast_to(mg, (rows, 3)) for _, mg in grav]).reshape(-1, rows, 3)
+        gg = np.array([b.program[1] for b in self.torques if b.program[0] == "gradient"]).reshape(-1, 9)
+        damp = self.damping if self.damping is not None else np.zeros((0, 3))
+        parts = (self.moments, summed("body"), summed("inertial"), grav_r, grav_mg, gg, damp)
+        return tuple(np.ascontiguousarray(a, dtype=float) for a in parts)
+
     def energy(self, t, w, q):
         """Kinetic + potential energy (J) in the internal frame; potential only where defined."""
         T = 0.5 * np.sum(self.moments * w * w, axis=-1)
@@ -882,14 +921,20 @@ class Engine:
         return float(np.max(np.sqrt(stiff / imin) + turn) + damp)
 
     # -- integration ---------------------------------------------------------------
-    def propagator(self, omega0, q0, t0, *, method, rtol=None, step=None, order=6, attitude=True, multiple=1):
+    def propagator(self, omega0, q0, t0, *, method, rtol=None, step=None, order=6, attitude=True, multiple=1,
+                   backend="auto"):
         """A propagator with ``advance(t_out) -> (omega, q)`` in the body frame."""
         need_q = attitude or self.needs_attitude
         w, q = self.state_in(omega0, q0)
+        if backend not in BACKENDS:
+            raise InputError("backend", backend, f"one of {', '.join(BACKENDS)}")
         if method == "dop853":
             if rtol is None:
                 raise InputError("rtol", rtol, "a relative tolerance for dop853")
-            return _RKPropagator(self, w, q if need_q else None, t0, float(rtol), attitude)
+            if backend == "compiled" and not self.compilable:
+                raise InputError("backend", backend, "'auto' or 'python' with a custom torque (it has no compiled form)")
+            compiled = backend == "compiled" or (backend == "auto" and self.compilable and _numba_available())
+            return _RKPropagator(self, w, q if need_q else None, t0, float(rtol), attitude, compiled)
         if method == "splitting":
             if not self.splittable:
                 raise InputError(
@@ -900,7 +945,8 @@ class Engine:
             return _SplitPropagator(self, w, q if need_q else None, t0, float(step), int(order), attitude, multiple)
         raise InputError("method", method, f"one of {', '.join(METHODS)}")
 
-    def integrate(self, omega0, q0, t, *, method="dop853", rtol=1e-10, step=None, order=6, attitude=True, estimate=True):
+    def integrate(self, omega0, q0, t, *, method="dop853", rtol=1e-10, step=None, order=6, attitude=True, estimate=True,
+                  backend="auto"):
         """Integrate N members to the output times ``t`` (s), with a global error estimate.
 
         Parameters
@@ -925,6 +971,11 @@ class Engine:
             step, the main run then taking an even number of steps in each
             output interval) and report their difference (divided by
             2^order - 1 for the splitting, Richardson) as :class:`ErrorEstimate`.
+        backend : {"auto", "compiled", "python"}
+            DOP853 only: the compiled integrator (:mod:`wobble.numerics.rigid_dop853`,
+            the same method, every built-in torque) or the NumPy one (any torque,
+            :class:`wobble.numerics.integrators.DOP853`). "auto" compiles unless a
+            custom torque is present. The splitting always runs in Python.
 
         Returns
         -------
@@ -933,14 +984,15 @@ class Engine:
         t = np.asarray(t, dtype=float).reshape(-1)
         split_multiple = 2 if (estimate and method == "splitting") else 1
         prop = self.propagator(
-            omega0, q0, t[0], method=method, rtol=rtol, step=step, order=order, attitude=attitude, multiple=split_multiple
+            omega0, q0, t[0], method=method, rtol=rtol, step=step, order=order, attitude=attitude, multiple=split_multiple,
+            backend=backend,
         )
         comp = None
         if estimate:
             comp = self.propagator(
                 omega0, q0, t[0], method=method,
                 rtol=None if rtol is None else min(10 * rtol, 1e-3),
-                step=None if step is None else 2 * step, order=order, attitude=attitude,
+                step=None if step is None else 2 * step, order=order, attitude=attitude, backend=backend,
             )
         acc = _Accumulator(self.n, 1.0 if method == "dop853" else 1.0 / (2**order - 1))
         w, q = prop.advance(t)
@@ -957,8 +1009,16 @@ def _estimate_name(method, order):
     return f"Richardson: difference from a companion run at twice the step, / (2^{order} - 1)"
 
 
+def _numba_available() -> bool:
+    try:
+        import numba  # noqa: F401
+    except ImportError:  # pragma: no cover - numba is a dependency; a platform without it still runs
+        return False
+    return True
+
+
 class _RKPropagator:
-    def __init__(self, engine: Engine, w, q, t0, rtol, attitude):
+    def __init__(self, engine: Engine, w, q, t0, rtol, attitude, compiled=False):
         self.engine = engine
         self.attitude = attitude
         y0 = w if q is None else np.concatenate([w, q], axis=1)
@@ -981,7 +1041,13 @@ class _RKPropagator:
             return y
 
         self.rtol = rtol
-        self.solver = DOP853(engine.rhs, t0, y0, rtol=rtol, atol=atol, project=project)
+        self.backend = "compiled" if compiled else "python"
+        if compiled:
+            from wobble.numerics.rigid_dop853 import RigidDOP853
+
+            self.solver = RigidDOP853(engine.program(), t0, y0, rtol=rtol, atol=atol)
+        else:
+            self.solver = DOP853(engine.rhs, t0, y0, rtol=rtol, atol=atol, project=project)
 
     def advance(self, t_out):
         try:
@@ -997,6 +1063,7 @@ class _RKPropagator:
         s = self.solver
         return {
             "method": "dop853",
+            "backend": self.backend,
             "rtol": self.rtol,
             "steps": int(s.n_steps.sum()),
             "steps_max_member": int(s.n_steps.max()),
@@ -1038,7 +1105,8 @@ class _SplitPropagator:
         }
 
 
-def simulate(moments, omega0, q0, t, torques=(), *, method="dop853", rtol=1e-10, step=None, order=6, attitude=True, estimate=True):
+def simulate(moments, omega0, q0, t, torques=(), *, method="dop853", rtol=1e-10, step=None, order=6, attitude=True, estimate=True,
+             backend="auto"):
     """Array-in, array-out ensemble integration (SI): the engine for sweeps and scripts.
 
     Parameters
@@ -1053,6 +1121,8 @@ def simulate(moments, omega0, q0, t, torques=(), *, method="dop853", rtol=1e-10,
         Output times (s).
     torques : sequence
         Torque specifications.
+    method, rtol, step, order, attitude, estimate, backend
+        As :meth:`Engine.integrate`.
 
     Returns
     -------
@@ -1072,4 +1142,5 @@ def simulate(moments, omega0, q0, t, torques=(), *, method="dop853", rtol=1e-10,
     q0 = np.asarray(q0, dtype=float)
     n = max(omega0.reshape(-1, 3).shape[0], q0.reshape(-1, 4).shape[0], np.reshape(moments, (-1, 3)).shape[0])
     engine = Engine(BodyModel.from_moments(moments), torques, members=n)
-    return engine.integrate(omega0, q0, t, method=method, rtol=rtol, step=step, order=order, attitude=attitude, estimate=estimate)
+    return engine.integrate(omega0, q0, t, method=method, rtol=rtol, step=step, order=order, attitude=attitude, estimate=estimate,
+                            backend=backend)
