@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from test_engine import CASES, ID, errors, reference_case
+
 from wobble.errors import InputError
 from wobble.models.engine import (
     BodyModel,

@@ -43,7 +43,7 @@ import numpy as np
 from wobble.numerics import _dop853_tableau as _T
 from wobble.numerics.integrators import StepLimitError
 
-__all__ = ["RigidDOP853", "OK", "STEP_UNDERFLOW", "STEP_LIMIT"]
+__all__ = ["OK", "STEP_LIMIT", "STEP_UNDERFLOW", "RigidDOP853"]
 
 OK, STEP_UNDERFLOW, STEP_LIMIT = 0, 1, 2
 
@@ -73,7 +73,7 @@ def _cpus() -> int:
 
 # fastmath "contract" only: fused multiply-adds (one rounding instead of two, ~20 % faster);
 # no reassociation, no assumptions about NaN or infinity (the first-step test reads a NaN).
-_OPTIONS = dict(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
+_OPTIONS = {"cache": True, "nogil": True, "fastmath": {"contract"}, "error_model": "numpy"}
 _jit = nb.njit(**_OPTIONS)
 # The right-hand side is inlined into the stages (its ten parameter arrays are then not
 # passed, and reference-counted, at every evaluation): ~20 % faster, compiled once (~12 s)
@@ -189,7 +189,7 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
     rt = rtol[i]
     hi = h[i]
     if not hi > 0.0:
-        if hi != hi:  # first call: Hairer's starting step (Solving ODEs I, II.4)
+        if np.isnan(hi):  # first call: Hairer's starting step (Solving ODEs I, II.4)
             span = abs(t_end - ti)
             for c in range(d):
                 scale[c] = atol[i, c] + rt * ymax[i, c]
