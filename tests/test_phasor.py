@@ -4,19 +4,26 @@ from __future__ import annotations
 
 import mpmath
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from wobble.numerics import nome_grid
 from wobble.numerics.phasor import block_phasors, uniform_grid
 
+# The NumPy test and the compiled one (wobble.numerics.nome_grid) decide alike.
+GRID_TESTS = [uniform_grid, nome_grid.uniform_grid]
 
-def test_uniform_grids_are_recognised():
+
+@pytest.mark.parametrize("uniform_grid", GRID_TESTS)
+def test_uniform_grids_are_recognised(uniform_grid):
     assert uniform_grid(np.arange(36526) * 86400.0) == (0.0, 86400.0)
     t0, dt = uniform_grid(np.linspace(-3.0, 7.0, 1001))
     assert t0 == -3.0 and abs(dt - 0.01) < 1e-17
 
 
-def test_other_arrays_are_not_grids():
+@pytest.mark.parametrize("uniform_grid", GRID_TESTS)
+def test_other_arrays_are_not_grids(uniform_grid):
     t = np.linspace(0.0, 1.0, 1001)
     bumped = t.copy()
     bumped[500] += 1e-12
@@ -25,6 +32,9 @@ def test_other_arrays_are_not_grids():
     assert uniform_grid(t.reshape(7, 143)) is None
     assert uniform_grid(t[::-1]) is None  # decreasing
     assert uniform_grid(np.geomspace(1.0, 2.0, 1001)) is None
+    with_nan = t.copy()
+    with_nan[7] = np.nan
+    assert uniform_grid(with_nan) is None
 
 
 @settings(max_examples=30, deadline=None)

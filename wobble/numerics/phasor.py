@@ -20,10 +20,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["uniform_grid", "block_phasors"]
+__all__ = ["GRID_ULPS", "block_parts", "block_phasors", "uniform_grid"]
 
 #: A grid is taken as uniform when every t_k is within this many ulps of t0 + k dt.
-_GRID_ULPS = 4.0
+GRID_ULPS = 4.0
 
 
 def uniform_grid(t: np.ndarray, min_size: int = 256):
@@ -45,7 +45,7 @@ def uniform_grid(t: np.ndarray, min_size: int = 256):
     grid *= dt
     grid += t0
     grid -= t
-    if not np.all(np.abs(grid) <= _GRID_ULPS * np.finfo(float).eps * scale):
+    if not np.all(np.abs(grid) <= GRID_ULPS * np.finfo(float).eps * scale):
         return None
     return t0, dt
 
@@ -57,9 +57,9 @@ def block_phasors(phasor, t0: float, dt: float, n: int) -> np.ndarray:
     ----------
     phasor : callable
         ``phasor(times) -> complex ndarray``: the exact exp(i v(t)), with v linear
-        in t. Called twice: at the first block's B samples (the rotations
+        in t. Called once, at the first block's B samples (the rotations
         exp(i (v(t0 + k dt) - v(t0))) come from them, reduced exactly however
-        large the angle) and at the ~n/B block starts.
+        large the angle) and the ~n/B block starts.
     t0, dt : float
         The grid (s).
     n : int
@@ -70,8 +70,16 @@ def block_phasors(phasor, t0: float, dt: float, n: int) -> np.ndarray:
     numpy.ndarray
         Complex, shape (n,).
     """
-    block = max(16, int(np.sqrt(n)))
-    first = phasor(t0 + np.arange(block, dtype=float) * dt)
-    step = first * np.conj(first[0])
-    starts = phasor(t0 + np.arange(0, n, block, dtype=float) * dt)
+    starts, step = block_parts(phasor, t0, dt, n)
     return (starts[:, None] * step[None, :]).reshape(-1)[:n]
+
+
+def block_parts(phasor, t0: float, dt: float, n: int):
+    """The two factors of :func:`block_phasors`: ``exp(i v_{bB})`` at the ~n/B block starts
+    and the B rotations ``exp(i k rate dt)``; sample ``bB + k`` is ``starts[b] * step[k]``."""
+    block = max(16, int(np.sqrt(n)))
+    # One call for both sets of times (the phasor's exact reduction costs ~0.1 ms a call).
+    z = phasor(t0 + np.concatenate([np.arange(block, dtype=float), np.arange(0, n, block, dtype=float)]) * dt)
+    first, starts = z[:block], z[block:]
+    step = first * np.conj(first[0])
+    return starts, step
