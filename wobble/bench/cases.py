@@ -349,6 +349,10 @@ def torqued_case(which: str, quick: bool) -> Case:
     for rtol in wobble_rtols:
         case.runs.append(Run("wobble DOP853", f"rtol {rtol:g}", torqued.run_wobble(c, "dop853", rtol), chk,
                              work=lambda o: int(o[2])))
+    # The same method in NumPy: what a custom torque (a Python callable) runs on.
+    for rtol in wobble_rtols:
+        case.runs.append(Run("wobble DOP853 (NumPy)", f"rtol {rtol:g}",
+                             torqued.run_wobble(c, "dop853", rtol, backend="python"), chk, work=lambda o: int(o[2])))
     for order, hs in steps.items():
         for h in hs:
             case.runs.append(Run(f"wobble splitting-{order}", f"h {h:g} s", torqued.run_wobble(c, "splitting", h, order),

@@ -86,7 +86,8 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
                     "versions": _versions(),
                     "timing": "one warm-up run (its output is the one checked), then min and median of the repeats, "
                               "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
-                              "(their warm-up); runs under 50 ms get three times the repeats",
+                              "(their warm-up); runs under 50 ms get three times the repeats; Numba-compiled kernels "
+                              "are loaded from their disk cache (or compiled) in the warm-up, which is not timed",
                     "memory": "tracemalloc peak (Python and NumPy allocations) of one run of each method at its loosest "
                               "setting, at the case's full output size; not measured ('-') where that run takes "
                               f"over {MEMORY_MAX_S:g} s (tracemalloc slows pure-Python loops several-fold)"},

@@ -164,10 +164,11 @@ def run_scipy(case, method, rtol):
     return go
 
 
-def run_wobble(case, method, setting, order=6):
+def run_wobble(case, method, setting, order=6, backend="auto"):
     def go():
         if method == "dop853":
-            tr = case.engine.integrate(case.w0, case.q0, case.t, method="dop853", rtol=setting, estimate=False)
+            tr = case.engine.integrate(case.w0, case.q0, case.t, method="dop853", rtol=setting, estimate=False,
+                                       backend=backend)
             work = tr.stats["function_evaluations"]
         else:
             tr = case.engine.integrate(case.w0, case.q0, case.t, method="splitting", step=setting, order=order, estimate=False)

@@ -108,16 +108,7 @@ def _cross(a, b):
     return out
 
 
-def _qmul(p, q):
-    """Hamilton product p * q, component by component (cheaper than the generic one for few members)."""
-    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
-    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    out = np.empty(p.shape if p.shape == q.shape else np.broadcast_shapes(p.shape, q.shape))
-    out[..., 0] = pw * qw - px * qx - py * qy - pz * qz
-    out[..., 1] = pw * qx + px * qw + py * qz - pz * qy
-    out[..., 2] = pw * qy - px * qz + py * qw + pz * qx
-    out[..., 3] = pw * qz + px * qy - py * qx + pz * qw
-    return out
+_qmul = quat.multiply
 
 
 def _normalize(q):
@@ -706,6 +697,7 @@ class Engine:
             and self.moments.shape[0] == 1
             and all(hasattr(b, "torque_one") or b.damping is not None for b in self.torques)
         )
+        self._program = None
         self._moments_one = tuple(float(x) for x in self.moments[0])
         self._damping_one = None if self.damping is None else tuple(float(x) for x in np.reshape(self.damping, (-1, 3))[0])
 
@@ -868,7 +860,12 @@ class Engine:
         return all(b.program is not None for b in self.torques)
 
     def program(self) -> tuple:
-        """The torque program of :mod:`wobble.numerics.rigid_dop853` (internal frame, float64)."""
+        """The torque program of :mod:`wobble.numerics.rigid_dop853` (internal frame, float64; built once)."""
+        if self._program is None:
+            self._program = self._pack_program()
+        return self._program
+
+    def _pack_program(self) -> tuple:
         if not self.compilable:
             raise InputError("torques", [s.kind for s in self.specs], "built-in torques only for the compiled backend")
 
