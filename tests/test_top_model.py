@@ -192,6 +192,25 @@ def test_motion_over_1000_nutation_periods(name, method):
         assert np.max(np.abs(d) * np.minimum(th_ref, 1.0)) < 1e-11, key
 
 
+@pytest.mark.parametrize("name", LONG)
+def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
+    """>= 8192 samples are summed by wobble.numerics.taylor_table: the mpmath times inside a
+    long grid meet the reference as above, and every sample equals the NumPy sum bit for bit."""
+    from wobble.models import top as top_module
+
+    lg = CASES[name]["long"]
+    mdl = model_of(name)
+    t_ref = np.array([float(x) for x in lg["t"]])
+    t = np.concatenate([t_ref, np.linspace(0.0, t_ref[-1], 10_000)])
+    mo = mdl.motion(t, "fourier")
+    q_ref = np.array([[float(v) for v in row] for row in lg["quaternion"]])
+    assert np.max(attitude_angle(mo.quaternion[: t_ref.size], q_ref)) < 1e-10
+    monkeypatch.setattr(top_module, "_COMPILED_MIN", 10**9)
+    numpy_path = mdl.motion(t, "fourier")
+    for key in ("theta", "phi", "psi", "omega", "quaternion"):
+        np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
+
+
 def test_through_the_vertical_is_followed_through():
     """theta0 = 0 with thetadot0 != 0 (b = a): the axis passes through the vertical each
     period; theta stays >= 0 with phi, psi jumping by pi, and the quaternion is continuous."""

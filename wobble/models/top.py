@@ -416,6 +416,9 @@ class _Elliptic:
 
 
 _TAYLOR_ORDER = 5
+# From this many samples the series are summed by a compiled kernel (wobble.numerics.taylor_table,
+# one pass, bit for bit the NumPy sum); fewer stay in NumPy and do not load Numba.
+_COMPILED_MIN = 8192
 
 
 @dataclass(frozen=True)
@@ -467,8 +470,13 @@ class _Fourier:
         """The series at reduced phases r from the Taylor table (nearest node, Horner).
 
         One contiguous 1-D table per series and order, gathered with np.take (the
-        tables stay in cache; fancy indexing of a 3-D table was three times slower).
+        tables stay in cache; fancy indexing of a 3-D table was three times slower);
+        long arrays in one compiled pass instead (:mod:`wobble.numerics.taylor_table`).
         """
+        if r.size >= _COMPILED_MIN:
+            from wobble.numerics import taylor_table
+
+            return taylor_table.series(r, self.base.K[0], self.h, self.table, rows)
         u = (r + self.base.K[0]) * (1.0 / self.h)
         idx = np.rint(u)
         d = (u - idx) * self.h
