@@ -38,7 +38,7 @@ import numpy as np
 
 from wobble.numerics import _dop853_tableau as _T
 
-__all__ = ["DOP853", "Splitting", "composition", "StepLimitError", "COMPOSITIONS"]
+__all__ = ["DOP853", "Splitting", "composition", "StepLimitError", "COMPOSITIONS", "check_output_times"]
 
 _SAFETY = 0.9
 _MIN_FACTOR = 0.2
@@ -62,6 +62,12 @@ class StepLimitError(RuntimeError):
 def _rows(a, rows):
     """``a[rows]``, or ``a`` itself for rows None (all members: a view, no copy)."""
     return a if rows is None else a[rows]
+
+
+def check_output_times(t_out, t):
+    """Refuse output times that decrease or precede any member's current time ``t``."""
+    if np.any(np.diff(t_out) < 0) or t_out[0] < t.max():
+        raise ValueError("output times must increase and not precede the current time")
 
 
 def _rms(x):
@@ -224,8 +230,7 @@ class DOP853:
         out = np.empty((t_out.size, n, d))
         if t_out.size == 0:
             return out
-        if np.any(np.diff(t_out) < 0) or t_out[0] < self.t.max():
-            raise ValueError("output times must increase and not precede the current time")
+        check_output_times(t_out, self.t)
         t_end = t_out[-1]
         # Outputs at the current time come straight from the state.
         ptr = np.searchsorted(t_out, self.t, side="right")

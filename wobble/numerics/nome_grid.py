@@ -30,7 +30,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from wobble.numerics.phasor import GRID_ULPS
+from wobble.numerics.phasor import grid_candidate
 
 __all__ = ["polynomial_omega", "uniform_grid"]
 
@@ -48,13 +48,10 @@ def _grid_within(t, t0, dt, tol):
 
 def uniform_grid(t: np.ndarray, min_size: int = 256):
     """:func:`wobble.numerics.phasor.uniform_grid` without its three temporaries of len(t)."""
-    if t.ndim != 1 or t.size < min_size:
+    cand = grid_candidate(t, min_size)
+    if cand is None:
         return None
-    t0 = float(t[0])
-    dt = (float(t[-1]) - t0) / (t.size - 1)
-    if not (np.isfinite(dt) and dt > 0):
-        return None
-    tol = GRID_ULPS * np.finfo(float).eps * max(abs(t0), abs(float(t[-1])))
+    t0, dt, tol = cand
     return (t0, dt) if _grid_within(t, t0, dt, tol) else None
 
 

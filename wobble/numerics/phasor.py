@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["GRID_ULPS", "block_parts", "block_phasors", "uniform_grid"]
+__all__ = ["GRID_ULPS", "block_parts", "block_phasors", "grid_candidate", "uniform_grid"]
 
 #: A grid is taken as uniform when every t_k is within this many ulps of t0 + k dt.
 GRID_ULPS = 4.0
@@ -34,20 +34,29 @@ def uniform_grid(t: np.ndarray, min_size: int = 256):
     ``rate * ulps * eps * max|t|``, the rounding the samples already carry.
     Short or non-finite arrays return None (not worth it, or not a grid).
     """
+    cand = grid_candidate(t, min_size)
+    if cand is None:
+        return None
+    t0, dt, tol = cand
+    grid = np.arange(t.size, dtype=float)
+    grid *= dt
+    grid += t0
+    grid -= t
+    if not np.all(np.abs(grid) <= tol):
+        return None
+    return t0, dt
+
+
+def grid_candidate(t: np.ndarray, min_size: int):
+    """``(t0, dt, tol)`` of the grid ``t`` would be, tol = GRID_ULPS ulps of the largest ``|t|``;
+    None for arrays that cannot be one (not 1-D, shorter than ``min_size``, not increasing)."""
     if t.ndim != 1 or t.size < min_size:
         return None
     t0 = float(t[0])
     dt = (float(t[-1]) - t0) / (t.size - 1)
     if not (np.isfinite(dt) and dt > 0):
         return None
-    scale = max(abs(t0), abs(float(t[-1])))
-    grid = np.arange(t.size, dtype=float)
-    grid *= dt
-    grid += t0
-    grid -= t
-    if not np.all(np.abs(grid) <= GRID_ULPS * np.finfo(float).eps * scale):
-        return None
-    return t0, dt
+    return t0, dt, GRID_ULPS * np.finfo(float).eps * max(abs(t0), abs(float(t[-1])))
 
 
 def block_phasors(phasor, t0: float, dt: float, n: int) -> np.ndarray:

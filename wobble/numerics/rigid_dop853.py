@@ -41,7 +41,7 @@ import numba as nb
 import numpy as np
 
 from wobble.numerics import _dop853_tableau as _T
-from wobble.numerics.integrators import StepLimitError
+from wobble.numerics.integrators import StepLimitError, check_output_times
 
 __all__ = ["OK", "STEP_LIMIT", "STEP_UNDERFLOW", "RigidDOP853"]
 
@@ -82,6 +82,17 @@ _jit_inline = nb.njit(inline="always", **_OPTIONS)
 
 
 @_jit_inline
+def _to_body(qw, ux, uy, uz, v0, v1, v2):
+    """R(q)^T v = v + 2 w (u x v) + 2 u x (u x v), u = -(x, y, z) the vector part of q*:
+    the rotation into the body frame as wobble.models.engine does it (q need not be unit
+    within a step)."""
+    a0 = 2.0 * (uy * v2 - uz * v1)
+    a1 = 2.0 * (uz * v0 - ux * v2)
+    a2 = 2.0 * (ux * v1 - uy * v0)
+    return v0 + qw * a0 + (uy * a2 - uz * a1), v1 + qw * a1 + (uz * a0 - ux * a2), v2 + qw * a2 + (ux * a1 - uy * a0)
+
+
+@_jit_inline
 def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
     """Euler's equations with the torque program, for member i (notes 5.5)."""
     d = y.shape[0]
@@ -91,28 +102,18 @@ def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
     m = i if moments.shape[0] > 1 else 0
     i0, i1, i2 = moments[m, 0], moments[m, 1], moments[m, 2]
     if d == 7:
-        # R(q)^T v = v + 2 w (u x v) + 2 u x (u x v) with u = -(x, y, z): the rotation
-        # into the body frame, as wobble.models.engine does it (q need not be unit
-        # within a step).
+        # u = -(x, y, z): the vector part of q*, for the rotation into the body frame.
         qw, ux, uy, uz = y[3], -y[4], -y[5], -y[6]
         r = i if inertial.shape[0] > 1 else 0
         v0, v1, v2 = inertial[r, 0], inertial[r, 1], inertial[r, 2]
         if v0 != 0.0 or v1 != 0.0 or v2 != 0.0:
-            a0 = 2.0 * (uy * v2 - uz * v1)
-            a1 = 2.0 * (uz * v0 - ux * v2)
-            a2 = 2.0 * (ux * v1 - uy * v0)
-            tx += v0 + qw * a0 + (uy * a2 - uz * a1)
-            ty += v1 + qw * a1 + (uz * a0 - ux * a2)
-            tz += v2 + qw * a2 + (ux * a1 - uy * a0)
+            b0, b1, b2 = _to_body(qw, ux, uy, uz, v0, v1, v2)
+            tx += b0
+            ty += b1
+            tz += b2
         for g in range(grav_r.shape[0]):
             r = i if grav_r.shape[1] > 1 else 0
-            v0, v1, v2 = grav_mg[g, r, 0], grav_mg[g, r, 1], grav_mg[g, r, 2]
-            a0 = 2.0 * (uy * v2 - uz * v1)
-            a1 = 2.0 * (uz * v0 - ux * v2)
-            a2 = 2.0 * (ux * v1 - uy * v0)
-            b0 = v0 + qw * a0 + (uy * a2 - uz * a1)
-            b1 = v1 + qw * a1 + (uz * a0 - ux * a2)
-            b2 = v2 + qw * a2 + (ux * a1 - uy * a0)
+            b0, b1, b2 = _to_body(qw, ux, uy, uz, grav_mg[g, r, 0], grav_mg[g, r, 1], grav_mg[g, r, 2])
             c0, c1, c2 = grav_r[g, r, 0], grav_r[g, r, 1], grav_r[g, r, 2]
             tx += c1 * b2 - c2 * b1
             ty += c2 * b0 - c0 * b2
@@ -121,15 +122,8 @@ def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
             k = gg[j, 0]
             ang = gg[j, 7] * t + gg[j, 8]
             c, s = np.cos(ang), np.sin(ang)
-            v0 = c * gg[j, 1] + s * gg[j, 4]
-            v1 = c * gg[j, 2] + s * gg[j, 5]
-            v2 = c * gg[j, 3] + s * gg[j, 6]
-            a0 = 2.0 * (uy * v2 - uz * v1)
-            a1 = 2.0 * (uz * v0 - ux * v2)
-            a2 = 2.0 * (ux * v1 - uy * v0)
-            b0 = v0 + qw * a0 + (uy * a2 - uz * a1)
-            b1 = v1 + qw * a1 + (uz * a0 - ux * a2)
-            b2 = v2 + qw * a2 + (ux * a1 - uy * a0)
+            b0, b1, b2 = _to_body(qw, ux, uy, uz, c * gg[j, 1] + s * gg[j, 4], c * gg[j, 2] + s * gg[j, 5],
+                                  c * gg[j, 3] + s * gg[j, 6])
             # rho x I rho = ((I3 - I2) r1 r2, (I1 - I3) r2 r0, (I2 - I1) r0 r1)
             tx += k * (i2 - i1) * b1 * b2
             ty += k * (i0 - i2) * b2 * b0
@@ -422,8 +416,7 @@ class RigidDOP853:
         out = np.empty((t_out.size, n, d))
         if t_out.size == 0:
             return out
-        if np.any(np.diff(t_out) < 0) or t_out[0] < self.t.max():
-            raise ValueError("output times must increase and not precede the current time")
+        check_output_times(t_out, self.t)
         self._flags[:] = 0  # "rejected just before" does not carry over from an earlier call
         args = (t_out, self.t, self.y, self.f, self.h, self.ymax, self.n_steps, self.n_rejected,
                 self._nfev, self._flags, self.rtol, self.atol, self.max_steps, out, *self.program)
