@@ -144,6 +144,17 @@ def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
         out[6] = 0.5 * (qw * w2 + qx * w1 - qy * w0)
 
 
+@_jit_inline
+def _stage(s, ti, hs, yi, K, ytmp, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
+    """Stage s: K[s] = f(t + c_s h, y + h sum_j a_sj K[j]) (the main stages and the dense output's)."""
+    for c in range(yi.shape[0]):
+        acc = 0.0
+        for j in range(s):
+            acc += _A[s, j] * K[j, c]
+        ytmp[c] = yi[c] + hs * acc
+    _rhs(ti + _C[s] * hs, ytmp, K[s], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+
+
 @_jit
 def _project(y):
     """Back onto unit quaternions (the attitude part, when there is one)."""
@@ -222,12 +233,7 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
         for c in range(d):
             K[0, c] = fi[c]
         for s in range(1, _NS):
-            for c in range(d):
-                acc = 0.0
-                for j in range(s):
-                    acc += _A[s, j] * K[j, c]
-                ytmp[c] = yi[c] + hs * acc
-            _rhs(ti + _C[s] * hs, ytmp, K[s], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+            _stage(s, ti, hs, yi, K, ytmp, i, moments, body, inertial, grav_r, grav_mg, gg, damp)
         for c in range(d):
             acc = 0.0
             for j in range(_NS):
@@ -269,12 +275,7 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
         if ptr < n_out and t_out[ptr] <= t_new:
             # Dense output: three extra stages, then the 7th-order interpolant.
             for s in range(_NS + 1, _T_EXT):
-                for c in range(d):
-                    acc = 0.0
-                    for j in range(s):
-                        acc += _A[s, j] * K[j, c]
-                    ytmp[c] = yi[c] + hs * acc
-                _rhs(ti + _C[s] * hs, ytmp, K[s], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+                _stage(s, ti, hs, yi, K, ytmp, i, moments, body, inertial, grav_r, grav_mg, gg, damp)
             nfev[i] += 3
             for c in range(d):
                 delta = ynew[c] - yi[c]
