@@ -21,12 +21,11 @@ import numpy as np
 from wobble.bench import cases as C
 from wobble.bench import top as topcases
 from wobble.bench.ensemble import best_ratio, ensemble
-from wobble.bench.timing import measure, peak_memory, time_at
+from wobble.bench.timing import measure, measures_resident_memory, peak_memory, time_at
 from wobble.errors import InputError
 
 CASE_KEYS = ("free_generic", "free_separatrix", "free_earth", "top_undulating", "top_cusps", "top_loops",
              "top_sleeping", "torqued_satellite", "torqued_asymmetric_top", "ensemble_satellite", "ensemble_free")
-MEMORY_MAX_S = 3.0
 TOP = {"top_cusps": 0, "top_undulating": 1, "top_loops": 2, "top_sleeping": 3}
 
 
@@ -88,9 +87,12 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
                               "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
                               "(their warm-up); runs under 50 ms get three times the repeats; Numba-compiled kernels "
                               "are loaded from their disk cache (or compiled) in the warm-up, which is not timed",
-                    "memory": "tracemalloc peak (Python and NumPy allocations) of one run of each method at its loosest "
-                              "setting, at the case's full output size; not measured ('-') where that run takes "
-                              f"over {MEMORY_MAX_S:g} s (tracemalloc slows pure-Python loops several-fold)"},
+                    "memory": ("peak resident memory that one run of each method at its loosest setting adds to the "
+                               "process, at the case's full output size (Linux VmHWM - VmRSS in a forked child after "
+                               "returning free heap to the system; everything the run makes resident counts, C "
+                               "libraries included; '-' where it could not be measured)" if measures_resident_memory()
+                               else "tracemalloc peak (Python and NumPy allocations) of one run of each method at its "
+                               "loosest setting, at the case's full output size")},
            "cases": [], "ensembles": []}
     for key in keys:
         if key.startswith("ensemble_"):
@@ -107,11 +109,9 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
         say(f"{key}: {len(case.runs)} runs")
         rows = measure(case.runs, repeats, progress=say)
         memory = {}
-        for r, row in zip(case.runs, rows):
-            # tracemalloc slows pure-Python loops several-fold: methods whose loosest setting
-            # runs longer than MEMORY_MAX_S are left out (the report says so)
-            if r.method not in memory:
-                memory[r.method] = (r.setting, peak_memory(r.fn) if row["t_min"] <= MEMORY_MAX_S else None)
+        for r in case.runs:
+            if r.method not in memory:  # its loosest setting (the first), at the full output size
+                memory[r.method] = (r.setting, peak_memory(r.fn))
         for row in rows:
             m = memory.get(row["method"])
             row["peak_memory_bytes"] = m[1] if m and m[0] == row["setting"] else None
