@@ -125,7 +125,7 @@ def test_earth_daily_grid_takes_the_nome_series_path_and_matches_mpmath():
     assert np.max(np.abs(got[:, 2] / want[:, 2] - 1)) < 1e-15
 
 
-@pytest.mark.parametrize("n", [10_001, 4001])  # the compiled grid kernel (>= 8192 samples), NumPy's
+@pytest.mark.parametrize("n", [10_001, 4001])  # compiled (>= compiled.LONG_ARRAY samples), NumPy's
 @pytest.mark.parametrize("moments, omega0", [
     ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # m ~ 1e-9: nome series with its 3v harmonic
     ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: exp(i (Omega t + beta)) by block rotation

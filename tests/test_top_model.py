@@ -196,7 +196,7 @@ def test_motion_over_1000_nutation_periods(name, method):
 def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
     """>= 8192 samples are summed by wobble.numerics.taylor_table: the mpmath times inside a
     long grid meet the reference as above, and every sample equals the NumPy sum bit for bit."""
-    from wobble.models import top as top_module
+    from wobble.numerics import compiled
 
     lg = CASES[name]["long"]
     mdl = model_of(name)
@@ -205,7 +205,7 @@ def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
     mo = mdl.motion(t, "fourier")
     q_ref = np.array([[float(v) for v in row] for row in lg["quaternion"]])
     assert np.max(attitude_angle(mo.quaternion[: t_ref.size], q_ref)) < 1e-10
-    monkeypatch.setattr(top_module, "_COMPILED_MIN", 10**9)
+    monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
     numpy_path = mdl.motion(t, "fourier")
     for key in ("theta", "phi", "psi", "omega", "quaternion"):
         np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)

@@ -88,6 +88,14 @@ def _field(line: str, name: str, cols: tuple[int, int], path, lineno: int) -> fl
     return value
 
 
+def _require_length(line: str, need: int, path, lineno: int, fields: str) -> None:
+    """Refuse a data line shorter than the columns it must hold (a truncated download)."""
+    if len(line.rstrip()) < need:
+        raise FileFormatError(
+            path, f"line {lineno}", f"truncated: {len(line.rstrip())} characters, expected at least {need} ({fields})"
+        )
+
+
 def _columns(lines: list[tuple[int, str]], fields: dict, path) -> np.ndarray:
     """The fields of every line as floats, shape (n, len(fields)).
 
@@ -154,13 +162,7 @@ def read_c04(path=None) -> PoleRecord:
             continue
         if not line.strip():
             continue
-        if len(line.rstrip()) < need:
-            raise FileFormatError(
-                path,
-                f"line {lineno}",
-                f"truncated: {len(line.rstrip())} characters, expected at least {need} "
-                "(date, x_p, y_p and their errors; see ReadMe.eopc04)",
-            )
+        _require_length(line, need, path, lineno, "date, x_p, y_p and their errors; see ReadMe.eopc04")
         rows.append((lineno, line))
     data = _columns(rows, _C04_FIELDS, path)  # MJD, x, y, x error, y error
     return _finish(path, [r[0] for r in rows], data, "c04", title or "IERS C04 series")
@@ -193,13 +195,7 @@ def read_finals2000a(path) -> PoleRecord:
         if flag == " ":
             _field(line, "MJD", _FINALS_FIELDS["MJD"], path, lineno)  # a bare future date is fine; junk is not
             continue
-        if len(line.rstrip()) < need:
-            raise FileFormatError(
-                path,
-                f"line {lineno}",
-                f"truncated: {len(line.rstrip())} characters, expected at least {need} "
-                "(date, flag, x_p, y_p and their errors; see ReadMe.finals2000A)",
-            )
+        _require_length(line, need, path, lineno, "date, flag, x_p, y_p and their errors; see ReadMe.finals2000A")
         if flag == "I":
             rows.append((lineno, line))
         else:  # predictions are not used, but a malformed one is still a broken file

@@ -67,6 +67,7 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.models.free import flow_one, flow_sorted, proper_sort
+from wobble.numerics import compiled as compiled_kernels
 from wobble.numerics import quaternion as quat
 from wobble.numerics.integrators import DOP853, Splitting, StepLimitError
 
@@ -106,9 +107,6 @@ def _cross(a, b):
     out[..., 1] = a2 * b0 - a0 * b2
     out[..., 2] = a0 * b1 - a1 * b0
     return out
-
-
-_qmul = quat.multiply
 
 
 def _normalize(q):
@@ -787,7 +785,7 @@ class Engine:
         w1, dq = flow_sorted(I, w, np.full(w.shape[0], h), attitude=q is not None)
         if q is None:
             return w1, None
-        return w1, _normalize(_qmul(q, dq))
+        return w1, _normalize(quat.multiply(q, dq))
 
     # -- one member in Python floats (NumPy's per-call cost dominates a single trajectory)
     @property
@@ -930,7 +928,7 @@ class Engine:
                 raise InputError("rtol", rtol, "a relative tolerance for dop853")
             if backend == "compiled" and not self.compilable:
                 raise InputError("backend", backend, "'auto' or 'python' with a custom torque (it has no compiled form)")
-            compiled = backend == "compiled" or (backend == "auto" and self.compilable and _numba_available())
+            compiled = backend == "compiled" or (backend == "auto" and self.compilable and compiled_kernels.available())
             return _RKPropagator(self, w, q if need_q else None, t0, float(rtol), attitude, compiled)
         if method == "splitting":
             if not self.splittable:
@@ -1004,14 +1002,6 @@ def _estimate_name(method, order):
     if method == "dop853":
         return "difference from a companion run at 10 times the tolerance (an upper bound)"
     return f"Richardson: difference from a companion run at twice the step, / (2^{order} - 1)"
-
-
-def _numba_available() -> bool:
-    try:
-        import numba  # noqa: F401
-    except ImportError:  # pragma: no cover - numba is a dependency; a platform without it still runs
-        return False
-    return True
 
 
 class _RKPropagator:

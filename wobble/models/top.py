@@ -66,7 +66,7 @@ from decimal import Decimal
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.numerics import cubic
+from wobble.numerics import compiled, cubic
 from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
 from wobble.numerics.phase import reduce_phase, split_dd
@@ -416,9 +416,6 @@ class _Elliptic:
 
 
 _TAYLOR_ORDER = 5
-# From this many samples the series are summed by a compiled kernel (wobble.numerics.taylor_table,
-# one pass, bit for bit the NumPy sum); fewer stay in NumPy and do not load Numba.
-_COMPILED_MIN = 8192
 
 
 @dataclass(frozen=True)
@@ -473,7 +470,7 @@ class _Fourier:
         tables stay in cache; fancy indexing of a 3-D table was three times slower);
         long arrays in one compiled pass instead (:mod:`wobble.numerics.taylor_table`).
         """
-        if r.size >= _COMPILED_MIN:
+        if r.size >= compiled.LONG_ARRAY and compiled.available():  # one pass, bit for bit the sum below
             from wobble.numerics import taylor_table
 
             return taylor_table.series(r, self.base.K[0], self.h, self.table, rows)
