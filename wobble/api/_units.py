@@ -13,7 +13,7 @@ from astropy import units as u
 
 from wobble.errors import InputError
 
-__all__ = ["to_si", "dimensionless", "parse_quantity", "describe_unit", "spin_rate_si"]
+__all__ = ["to_si", "dimensionless", "parse_quantity", "parse_angle", "describe_unit", "spin_rate_si"]
 
 # Examples shown in error messages, by physical type.
 _EXAMPLES = {
@@ -185,3 +185,13 @@ def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity
     if not q.unit.is_equivalent(default_unit):
         raise InputError(name, text, describe_unit(default_unit))
     return q
+
+
+def parse_angle(text: str, name: str) -> u.Quantity:
+    """Parse a command-line angle: a bare number is degrees, as people write tilts.
+
+    ``"30"`` and ``"30 deg"`` are 30 degrees; ``"0.5 rad"`` is half a radian.
+    JSON output speaks degrees too (``theta_min_deg``), so one number means one
+    thing on the way in and on the way out.
+    """
+    return parse_quantity(text, name, u.deg)

@@ -21,8 +21,9 @@ import math
 import os
 from dataclasses import dataclass
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import xarray as xr
 from astropy import units as u
 
 from wobble.api._units import dimensionless, spin_rate_si, to_si
@@ -31,6 +32,9 @@ from wobble.io.catalog import catalogue_names, load_planet as _load_planet_si
 from wobble.io.parameter_file import Parameter, ParameterFile
 from wobble.models import chandler as _model
 from wobble.models.planet import PlanetParameters
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "Planet",
@@ -315,16 +319,16 @@ def chandler_budget(body: str | os.PathLike | Planet, model: str = "full") -> Ch
     return ChandlerBudget(planet, _model.chandler_budget(planet.parameters, model.strip().lower()))
 
 
-def _attrs(units: str, long_name: str, **extra) -> dict:
-    return {"units": units, "long_name": long_name, **extra}
-
-
 def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
     """Several budgets as one CF-ready Dataset with dimensions ``body`` and ``step``.
 
     Steps a body does not have (Mars has no ocean) are NaN with ``applied = 0``.
     Periods are in days of 86400 s.
     """
+    from wobble.api.dataset import xarray
+    from wobble.io.cf import flag_attrs, variable
+
+    xr = xarray()
     if not budgets:
         raise InputError("budgets", "[]", "at least one ChandlerBudget")
     steps = [s for s in _model.STEPS if any(s in [x.name for x in b.steps] for b in budgets)]
@@ -344,26 +348,25 @@ def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
     def per_body(fn):
         return np.array([np.nan if (v := fn(b)) is None else v for b in budgets], dtype=float)
 
+    def var(name, data, **extra):
+        return variable("chandler", name, data, **extra)
+
     refs = sorted({src for b in budgets for s in b.steps for src in s.sources.values()})
     step_refs = "; ".join(f"{s}: {_model.STEP_DESCRIPTIONS[s]}" for s in steps)
     ds = xr.Dataset(
         {
-            "period": (("body", "step"), period, _attrs("day", "Chandler wobble period after each model step", references=step_refs, comment=DAY_NOTE)),
-            "wobble_rate": (("body", "step"), rate, _attrs("rad s-1", "signed free wobble frequency (positive: prograde)")),
-            "love_number_k2_effective": (("body", "step"), k2, _attrs("1", "effective degree-2 Love number k2 used by the step")),
-            "applied": (
-                ("body", "step"),
-                applied,
-                _attrs("1", "whether the body's parameters support the step", flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="not_applied applied"),
-            ),
-            "model_period": (("body",), per_body(lambda b: b.period.to_value(u.day)), _attrs("day", "modelled Chandler period")),
-            "model_period_uncertainty": (("body",), per_body(lambda b: b.period_uncertainty.to_value(u.day)), _attrs("day", "one-sigma uncertainty of the modelled period (linear propagation)")),
-            "observed_period": (("body",), per_body(lambda b: _num(b.observed)), _attrs("day", "observed Chandler period")),
-            "observed_period_uncertainty": (("body",), per_body(lambda b: _num(b.observed_uncertainty)), _attrs("day", "one-sigma uncertainty of the observed period")),
-            "residual": (("body",), per_body(lambda b: _num(b.residual)), _attrs("day", "modelled minus observed Chandler period")),
-            "quality_factor": (("body",), per_body(lambda b: b.quality_factor), _attrs("1", "wobble quality factor implied by the out-of-phase Love number")),
-            "secular_love_number": (("body",), per_body(lambda b: b.secular_love_number), _attrs("1", "secular Love number k_s = 3G(C-A)/(a^5 Omega^2)")),
-            "spin_rate": (("body",), per_body(lambda b: b.planet.rotation_rate.to_value(u.rad / u.s)), _attrs("rad s-1", "sidereal spin rate")),
+            "period": var("period", period, references=step_refs, comment=DAY_NOTE),
+            "wobble_rate": var("wobble_rate", rate),
+            "love_number_k2_effective": var("love_number_k2_effective", k2),
+            "applied": var("applied", applied, **flag_attrs({0: "not_applied", 1: "applied"})),
+            "model_period": var("model_period", per_body(lambda b: b.period.to_value(u.day))),
+            "model_period_uncertainty": var("model_period_uncertainty", per_body(lambda b: b.period_uncertainty.to_value(u.day))),
+            "observed_period": var("observed_period", per_body(lambda b: _num(b.observed))),
+            "observed_period_uncertainty": var("observed_period_uncertainty", per_body(lambda b: _num(b.observed_uncertainty))),
+            "residual": var("residual", per_body(lambda b: _num(b.residual))),
+            "quality_factor": var("quality_factor", per_body(lambda b: b.quality_factor)),
+            "secular_love_number": var("secular_love_number", per_body(lambda b: b.secular_love_number)),
+            "spin_rate": var("spin_rate", per_body(lambda b: b.planet.rotation_rate.to_value(u.rad / u.s))),
         },
         coords={
             "body": ("body", [b.body for b in budgets], {"long_name": "body identifier"}),

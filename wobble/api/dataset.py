@@ -28,7 +28,7 @@ from astropy import units as u
 from wobble.errors import FileFormatError, InputError
 from wobble.io.netcdf import open_wobble
 
-__all__ = ["load", "quantity", "WobbleAccessor"]
+__all__ = ["load", "quantity", "WobbleAccessor", "xarray"]
 
 _SINCE = re.compile(r"^\s*(\w+)\s+since\s+(.+?)\s*$")
 # UDUNITS time words astropy does not know by these names.
@@ -91,6 +91,16 @@ class WobbleAccessor:
     def model(self) -> str | None:
         """The model that produced the data (``free-elliptic``, ``splitting-6``, ...)."""
         return self._ds.attrs.get("model")
+
+
+def xarray():
+    """The xarray module, with the ``ds.wobble`` accessor registered.
+
+    API modules import xarray through this function, inside the functions that
+    build Datasets: a command that prints a table never pays for xarray and
+    pandas (~0.4 s), and every Dataset wobble returns has its accessor.
+    """
+    return xr
 
 
 def load(path: str | os.PathLike) -> xr.Dataset:

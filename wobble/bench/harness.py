@@ -21,11 +21,10 @@ import numpy as np
 from wobble.bench import cases as C
 from wobble.bench import top as topcases
 from wobble.bench.ensemble import best_ratio, ensemble
+from wobble.bench.options import CASE_KEYS, add_arguments
 from wobble.bench.timing import measure, measures_resident_memory, peak_memory, time_at
 from wobble.errors import InputError
 
-CASE_KEYS = ("free_generic", "free_separatrix", "free_earth", "top_undulating", "top_cusps", "top_loops",
-             "top_sleeping", "torqued_satellite", "torqued_asymmetric_top", "ensemble_satellite", "ensemble_free")
 TOP = {"top_cusps": 0, "top_undulating": 1, "top_loops": 2, "top_sleeping": 3}
 
 
@@ -285,18 +284,6 @@ def parser(prog: str = "wobble bench") -> argparse.ArgumentParser:
     p = _Parser(prog=prog, description="Work-precision benchmark of every solver (issue 8).")
     add_arguments(p)
     return p
-
-
-def add_arguments(p) -> None:
-    mode = p.add_mutually_exclusive_group()
-    mode.add_argument("--quick", action="store_true", help="fewer settings and repeats; ensembles up to 10^4 members")
-    mode.add_argument("--smoke", action="store_true", help="a few seconds: one setting per method on three cases (tests)")
-    p.add_argument("--case", action="append", metavar="NAME", help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}")
-    p.add_argument("--repeats", type=int, help="timed runs after the warm-up (default 3; --quick 2; --smoke 1)")
-    p.add_argument("--json", action="store_true", help="print the results as JSON instead of a table")
-    p.add_argument("--plot", metavar="DIR", help="write work_precision_<case>.png diagrams into DIR (replaced)")
-    p.add_argument("-o", "--output", metavar="REPORT.md", help="write the Markdown report (docs/performance.md)")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing report")
 
 
 def run(args, command: str) -> int:

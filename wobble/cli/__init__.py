@@ -13,8 +13,6 @@ import importlib
 import shlex
 import sys
 
-from astropy import units as u
-
 from wobble.errors import WobbleError
 
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
@@ -77,9 +75,6 @@ def main(argv: list[str] | None = None) -> int:
     Returns the exit status: 0 on success, 2 on bad input or a failed output,
     1 on an unexpected internal error (with its traceback, which is a bug).
     """
-    from wobble._offline import configure_astropy_offline
-
-    configure_astropy_offline(forbid_all_downloads=True)
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
@@ -87,18 +82,32 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help(sys.stderr)
         return 2
+    from wobble._offline import configure_astropy_offline
+
+    configure_astropy_offline(forbid_all_downloads=True)
     try:
         return int(args.func(args) or 0)
-    except (WobbleError, u.UnitsError) as exc:
+    except WobbleError as exc:
         print(f"wobble {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except OSError as exc:
         where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
         print(f"wobble {args.command}: error: {exc.strerror or exc}{where}", file=sys.stderr)
         return 2
+    except Exception as exc:
+        if not _is_units_error(exc):
+            raise
+        print(f"wobble {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print(f"wobble {args.command}: interrupted; no output was written", file=sys.stderr)
         return 130
+
+
+def _is_units_error(exc: BaseException) -> bool:
+    # astropy.units is loaded only by commands that use it; its errors are bad input.
+    units = sys.modules.get("astropy.units")
+    return units is not None and isinstance(exc, units.UnitsError)
 
 
 def _one_line(exc: BaseException) -> str:

@@ -21,7 +21,7 @@ under tests/references and scripts/). MuJoCo runs only when installed
 
 
 def register(subparsers) -> None:
-    from wobble.bench.harness import add_arguments
+    from wobble.bench.options import add_arguments
 
     p = subparsers.add_parser(
         "bench",

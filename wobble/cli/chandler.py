@@ -6,8 +6,6 @@ import argparse
 import json
 import math
 
-from astropy import units as u
-
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -47,7 +45,6 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from wobble.api.chandler import chandler_budget, chandler_dataset, known_planets
-    from wobble.io.netcdf import write_netcdf
 
     bodies = list(args.bodies) + list(args.body_file)
     if not bodies:
@@ -57,6 +54,8 @@ def run(args) -> int:
             raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
     budgets = [chandler_budget(b, args.model) for b in bodies]
     if args.output:
+        from wobble.io.netcdf import write_netcdf
+
         write_netcdf(chandler_dataset(budgets), args.output, overwrite=args.overwrite, command=args.command_line)
     if args.plot:
         from wobble.plot.chandler import budget_figure
@@ -72,6 +71,8 @@ def run(args) -> int:
 
 
 def _fmt(q, digits=2, sign=False) -> str:
+    from astropy import units as u
+
     if q is None:
         return "-"
     x = q.to_value(u.day)

@@ -5,9 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 
-from astropy import units as u
-
-from wobble.api._units import parse_quantity
 from wobble.cli._table import print_rows
 from wobble.errors import InputError
 
@@ -44,11 +41,18 @@ def register(subparsers) -> None:
 
 
 def _quantity(values, name, unit):
+    from astropy import units as u
+
+    from wobble.api._units import parse_quantity
+
     qs = [parse_quantity(v, name, unit) for v in values]
     return u.Quantity([q.to_value(unit) for q in qs], unit)
 
 
 def run(args) -> int:
+    from astropy import units as u
+
+    from wobble.api._units import parse_quantity
     from wobble.api.free import FreeRotation
     from wobble.io.netcdf import write_netcdf
 

@@ -10,11 +10,6 @@ import argparse
 import json
 import sys
 
-import numpy as np
-from astropy import units as u
-
-from wobble.api._units import parse_quantity
-from wobble.api.bodies import DEFAULT_RTOL, RigidBody
 from wobble.errors import InputError
 
 __all__ = ["register", "run", "SOLIDS"]
@@ -42,22 +37,25 @@ Solids (centre of mass at the origin, symmetry axis along z):
       the tip of the axle is at the origin.
 """
 
-# name: (constructor, required options, optional options); options are argparse dests.
+# name: (RigidBody constructor, required options, optional options); options are argparse dests.
+# Constructors are named, not imported: `wobble --help` must not load the API.
 SOLIDS = {
-    "sphere": (RigidBody.solid_sphere, ("mass", "radius"), ()),
-    "hollow-sphere": (RigidBody.hollow_sphere, ("mass", "radius"), ("inner_radius",)),
-    "ellipsoid": (RigidBody.ellipsoid, ("mass", "axes"), ()),
-    "box": (RigidBody.box, ("mass", "edges"), ()),
-    "cylinder": (RigidBody.cylinder, ("mass", "radius", "height"), ("inner_radius",)),
-    "cone": (RigidBody.cone, ("mass", "radius", "height"), ()),
-    "disc": (RigidBody.thin_disc, ("mass", "radius"), ()),
-    "rod": (RigidBody.thin_rod, ("mass", "length"), ()),
+    "sphere": ("solid_sphere", ("mass", "radius"), ()),
+    "hollow-sphere": ("hollow_sphere", ("mass", "radius"), ("inner_radius",)),
+    "ellipsoid": ("ellipsoid", ("mass", "axes"), ()),
+    "box": ("box", ("mass", "edges"), ()),
+    "cylinder": ("cylinder", ("mass", "radius", "height"), ("inner_radius",)),
+    "cone": ("cone", ("mass", "radius", "height"), ()),
+    "disc": ("thin_disc", ("mass", "radius"), ()),
+    "rod": ("thin_rod", ("mass", "length"), ()),
     "top": (
-        RigidBody.spinning_top,
+        "spinning_top",
         ("disc_mass", "disc_radius", "axle_mass", "axle_length", "disc_height"),
         ("axle_radius",),
     ),
 }
+# Relative tolerance for equal principal moments (wobble.api.bodies.DEFAULT_RTOL; tested equal).
+DEFAULT_RTOL = 1e-9
 _MASS_OPTIONS = ("mass", "disc_mass", "axle_mass")
 _TRIPLE_OPTIONS = ("axes", "edges")
 _SOLID_OPTIONS = (
@@ -102,6 +100,8 @@ def register(subparsers) -> None:
 
 
 def _unit_option(text: str | None, option: str, kind: u.UnitBase) -> u.UnitBase | None:
+    from astropy import units as u
+
     if text is None:
         return None
     try:
@@ -122,6 +122,10 @@ def _refuse_unused(args, allowed: set[str], what: str) -> None:
 
 
 def _about(args, length_unit: u.UnitBase):
+    from astropy import units as u
+
+    from wobble.api._units import parse_quantity
+
     tokens = args.about
     if len(tokens) == 1 and tokens[0].lower() in ("com", "origin"):
         return tokens[0].lower()
@@ -131,7 +135,13 @@ def _about(args, length_unit: u.UnitBase):
 
 
 def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
-    constructor, required, optional = SOLIDS[args.solid]
+    from astropy import units as u
+
+    from wobble.api._units import parse_quantity
+    from wobble.api.bodies import RigidBody
+
+    constructor_name, required, optional = SOLIDS[args.solid]
+    constructor = getattr(RigidBody, constructor_name)
     _refuse_unused(args, {"mass_unit", "length_unit", *required, *optional}, f"--solid {args.solid}")
     kwargs = {}
     for dest in (*required, *optional):
@@ -152,6 +162,10 @@ def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
 
 def build_body(args) -> tuple[RigidBody, str]:
     """The body the arguments describe, about the requested point, and a one-line description."""
+    from astropy import units as u
+
+    from wobble.api.bodies import RigidBody
+
     mass_unit = _unit_option(args.mass_unit, "--mass-unit", u.kg) or u.kg
     length_unit = _unit_option(args.length_unit, "--length-unit", u.m) or u.m
     about = _about(args, length_unit)
@@ -179,6 +193,9 @@ def build_body(args) -> tuple[RigidBody, str]:
 
 
 def _report(body: RigidBody, rtol: float) -> dict:
+    import numpy as np
+    from astropy import units as u
+
     f = body.principal("ascending", rtol)
     cls = body.classify(rtol)
     d = f.differences.to_value(u.kg * u.m**2)

@@ -7,8 +7,6 @@ import json
 import sys
 import time
 
-from astropy import units as u
-
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -58,7 +56,9 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _years(text: str, name: str) -> u.Quantity:
+def _years(text: str, name: str):
+    from astropy import units as u
+
     try:
         value = float(text)
     except ValueError:

@@ -5,9 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 
-from astropy import units as u
-
-from wobble.api._units import parse_quantity
 from wobble.cli._table import fmt, print_rows
 from wobble.errors import InputError
 
@@ -60,6 +57,9 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     import numpy as np
+    from astropy import units as u
+
+    from wobble.api._units import parse_quantity
 
     from wobble.api.top import HeavyTop
     from wobble.io.netcdf import write_netcdf
