@@ -16,7 +16,7 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     path = OUT / "chandler_budget.png"
-    budget_figure([wobble.chandler_budget("earth"), wobble.chandler_budget("mars")], path)
+    budget_figure([wobble.chandler_budget("earth"), wobble.chandler_budget("mars")], path, overwrite=True)
     print(f"wrote {path}")
 
 

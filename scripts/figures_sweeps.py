@@ -23,15 +23,15 @@ def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     mars = wobble.run_sweep(ROOT / "data" / "sweeps" / "mars_chandler.toml")
     path = OUT / "sweep_mars_chandler.png"
-    sweep_plot.histogram(mars, path)
+    sweep_plot.histogram(mars, path, overwrite=True)
     print(f"wrote {path}")
     top = wobble.run_sweep(ROOT / "data" / "sweeps" / "top_phase_diagram.toml")
     path = OUT / "sweep_top_phase.png"
-    sweep_plot.phase_diagram(top, path)
+    sweep_plot.phase_diagram(top, path, overwrite=True)
     print(f"wrote {path}")
     asteroids = wobble.run_sweep(ROOT / "data" / "sweeps" / "tumbling_asteroids.toml")
     path = OUT / "sweep_tumbling_asteroids.png"
-    sweep_plot.ensemble(asteroids, path)
+    sweep_plot.ensemble(asteroids, path, overwrite=True)
     print(f"wrote {path}")
 
 

@@ -91,7 +91,7 @@ def test_existing_output_is_not_destroyed(tmp_path, capsys):
         (["chandler", "pluto"], "BODY: got pluto; allowed: one of earth, mars"),
         (["chandler", "earth", "--model", "bogus"], "model: got bogus"),
         (["chandler", "mars", "--model", "ocean"], "mars supports"),
-        (["chandler", "--body-file", "/nonexistent.toml"], "body: got /nonexistent.toml"),
+        (["chandler", "--body-file", "/nonexistent.toml"], "--body-file: got /nonexistent.toml"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, args, fragment):
@@ -119,3 +119,18 @@ def test_plot_option_draws_the_budget(tmp_path, capsys):
     path = tmp_path / "budget.png"
     assert main(["chandler", "earth", "mars", "--plot", str(path)]) == 0
     assert path.stat().st_size > 10_000
+
+
+def test_readme_and_docs_show_what_the_command_prints(capsys):
+    """The README's 'What the first line prints' and docs/chandler.md show the real output."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    assert main(["chandler", "earth", "mars"]) == 0
+    printed = capsys.readouterr().out.rstrip("\n")
+    for page, heading in ((root / "README.md", "## What the first line prints"),
+                          (root / "docs" / "chandler.md", "Output of `wobble chandler earth mars`:")):
+        text = page.read_text()
+        block = re.search(r"```text\n(.*?)\n```", text[text.index(heading):], flags=re.S).group(1)
+        assert block == printed, f"{page.name} shows an old output of 'wobble chandler earth mars'"

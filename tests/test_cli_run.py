@@ -20,7 +20,7 @@ def _run(capsys, *args):
 def test_run_an_example_by_name_with_json(tmp_path, capsys):
     out_file = tmp_path / "racket.nc"
     status, out, err = _run(capsys, "run", "tennis_racket", "-o", str(out_file), "--json")
-    assert status == 0 and not err
+    assert status == 0 and err == f"wrote {out_file}\n"  # stdout is the JSON; files written go to stderr
     summary = json.loads(out)
     assert summary["model"] == "free-elliptic" and summary["output"] == str(out_file)
     assert summary["error_estimate"] <= summary["accuracy_requested"]
@@ -46,7 +46,9 @@ def test_forcing_a_model_for_comparison(tmp_path, capsys):
 
 def test_list_examples(capsys):
     status, out, _ = _run(capsys, "run", "--list", "--json")
-    assert status == 0 and set(json.loads(out)) == set(wobble.example_scenes()) and len(json.loads(out)) >= 9
+    listed = json.loads(out)
+    assert status == 0 and {s["name"] for s in listed} == set(wobble.example_scenes()) and len(listed) >= 9
+    assert all(s["title"] for s in listed)  # one line each on what the scene shows
 
 
 BAD_SCENE = """schema = "wobble-scene/1"
@@ -68,7 +70,7 @@ samples = 3
         (["run", "{missing}", "-o", "{out}"], ["nope.toml", "no such file"]),
         (["run", "tennis_racket", "-o", "{out}", "--model", "heavy-top"], ["model"]),
         (["run", "tennis_racket", "-o", "{out}", "--model", "rk4"], ["model", "rk4"]),
-        (["run", "no_such_example", "-o", "{out}"], ["scene", "tennis_racket"]),
+        (["run", "no_such_example", "-o", "{out}"], ["SCENE", "tennis_racket"]),
         (["run", "tennis_racket"], ["-o/--output"]),
         (["run", "tennis_racket", "-o", "{folder}/deep/x.nc"], ["existing folder"]),
     ],

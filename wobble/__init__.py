@@ -53,6 +53,7 @@ _PUBLIC = {
     "api.top": ["HeavyTop"],
     "api.engine": ["Torque"],
     "api.scene": ["Scene", "run", "run_to_netcdf", "example_scenes"],
+    "api.examples": ["example_files", "example_path", "copy_example"],
 }
 
 __getattr__, __dir__, _names = _lazy.attach(__name__, submodules=["plot"], submod_attrs=_PUBLIC)

@@ -10,6 +10,16 @@ from __future__ import annotations
 __all__ = ["WobbleError", "InputError", "FileFormatError", "OutputExistsError"]
 
 
+class _Missing:
+    """The value of a parameter that was not given at all (shown as ``missing``)."""
+
+    def __repr__(self) -> str:
+        return "MISSING"
+
+
+MISSING = _Missing()
+
+
 class WobbleError(ValueError):
     """Base class of wobble's own errors (a :class:`ValueError`)."""
 
@@ -36,7 +46,13 @@ class InputError(WobbleError):
         self.parameter = parameter
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{parameter}: got {_show(value)}; allowed: {allowed}")
+        got = "missing" if value is MISSING else f"got {_show(value)}"
+        super().__init__(f"{parameter}: {got}; allowed: {allowed}")
+
+    @classmethod
+    def missing(cls, parameter: str, allowed: str) -> InputError:
+        """A required parameter that was not given: ``"-o/--output: missing; allowed: ..."``."""
+        return cls(parameter, MISSING, allowed)
 
 
 class FileFormatError(WobbleError):

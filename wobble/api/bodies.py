@@ -633,7 +633,7 @@ class RigidBody:
             "classification_rtol": cls.rtol,
             "asymmetry": cls.asymmetry,
             "references": "Inertia tensor I_jk = integral rho (r^2 delta_jk - x_j x_k) dV, L = I omega, "
-            "T = omega.I.omega/2: rigid-body course notes, section 5.1",
+            "T = omega.I.omega/2 (Goldstein, Poole & Safko 2002, Classical Mechanics, sections 5.1-5.4)",
         }
         return xr.Dataset(data, coords=coords, attrs=attrs)
 

@@ -10,7 +10,7 @@ Example
 >>> body = FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
 >>> body.regime
 'major-axis'
->>> ds = body.evaluate(t_end=100 * u.s, samples=1001)
+>>> ds = body.to_dataset(t_end=100 * u.s, samples=1001)
 >>> sorted(ds.data_vars)[:3]
 ['angular_momentum', 'angular_momentum_magnitude', 'angular_momentum_magnitude_drift']
 """
@@ -78,7 +78,7 @@ class FreeRotation:
     >>> spin = wobble.FreeRotation([1, 2, 3] * u.kg * u.m**2, [1e-6, 1, 1e-6] * u.rad / u.s)
     >>> print(spin.regime, f"flip every {spin.time_between_flips:.2f}")
     major-axis flip every 51.46 s
-    >>> ds = spin.evaluate(t_end=100 * u.s, samples=11)  # xarray Dataset, CF attributes
+    >>> ds = spin.to_dataset(t_end=100 * u.s, samples=11)  # xarray Dataset, CF attributes
     >>> ds["omega"].dims
     ('time', 'axis')
     """
@@ -137,6 +137,30 @@ class FreeRotation:
         t = self._model.time_between_flips
         return None if t is None else t << u.s
 
+    @property
+    def intermediate_axis_swing(self) -> u.Quantity | None:
+        """How far the intermediate principal axis swings about the plane normal to L (degrees).
+
+        The axis moves between arccos(c) and 180 deg - arccos(c) from L, a swing of
+        180 deg - 2 arccos(c) (see :func:`wobble.models.free.intermediate_axis_alignment`):
+        180 deg is a full tennis-racket flip, a few micro-degrees Earth's wobble.
+        None for a symmetric body or no rotation.
+        """
+        c = _free.intermediate_axis_alignment(self._model.moments, self._model.omega0)
+        if c is None:
+            return None
+        if self._model.regime == "steady":  # a steady spin (even about the intermediate axis) never moves
+            return 0.0 << u.deg
+        return (180.0 - 2.0 * np.degrees(np.arccos(c))) << u.deg
+
+    @property
+    def flips(self) -> bool:
+        """Whether the body turns over (tennis-racket flips): the intermediate axis swings by
+        more than 90 deg, so each sign change of its omega component is a flip of the body,
+        not a half-period of a small wobble."""
+        swing = self.intermediate_axis_swing
+        return swing is not None and swing.to_value(u.deg) > 90.0
+
     def flip_times(self, t_end, t_start=0 * u.s) -> u.Quantity:
         """Times at which the intermediate-axis component of omega changes sign."""
         t1 = to_si(t_end, "t_end", u.s, shape=())
@@ -163,23 +187,41 @@ class FreeRotation:
         """Error bounds of the solution: relative error of omega, attitude angle (rad)."""
         return dict(self._model.error_estimate)
 
-    def summary(self) -> dict:
-        """Plain-number summary (SI) for ``--json`` and scripts."""
+    def to_dict(self) -> dict:
+        """A JSON-ready summary in SI (keys end in their unit), as ``wobble free --json`` prints."""
         mdl = self._model
+        swing = self.intermediate_axis_swing
+        flips = self.flips
         return {
             "regime": mdl.regime,
             "moments_kg_m2": list(mdl.moments),
-            "omega0_rad_s": list(mdl.omega0),
+            "omega0_rad_per_s": list(mdl.omega0),
             "parameter_m": mdl.m,
             "complementary_parameter_1_minus_m": mdl.m1,
             "modulus_k": self.modulus,
             "period_s": mdl.period if np.isfinite(mdl.period) else None,
-            "time_between_flips_s": mdl.time_between_flips,
+            "flips": flips,
+            "intermediate_axis_swing_deg": None if swing is None else float(swing.to_value(u.deg)),
+            "time_between_flips_s": mdl.time_between_flips if flips else None,
             "energy_J": mdl.energy,
-            "angular_momentum_kg_m2_s": mdl.angular_momentum,
-            "precession_rate_rad_s": mdl.precession_rate,
+            "angular_momentum_kg_m2_per_s": mdl.angular_momentum,
+            "precession_rate_rad_per_s": mdl.precession_rate,
             "error_estimate": dict(mdl.error_estimate),
         }
+
+    def summary(self) -> str:
+        """The motion in words: regime, period, whether the body flips."""
+        from wobble.io.text import duration, number
+
+        d = self.to_dict()
+        text = f"{d['regime']} rotation, omega repeats every {duration(d['period_s'])}"
+        if d["flips"]:
+            return text + f"; the body flips every {duration(d['time_between_flips_s'])}"
+        swing = d["intermediate_axis_swing_deg"]
+        return text + ("" if swing is None else f"; no flips (the intermediate axis swings by {number(swing, 4)} deg)")
+
+    def __repr__(self) -> str:
+        return f"FreeRotation(moments={self.moments}, omega0={self.omega0}, regime={self.regime!r})"
 
     # -- evaluation ---------------------------------------------------------
     def omega(self, t) -> u.Quantity:
@@ -193,6 +235,13 @@ class FreeRotation:
         return self._model.attitude(np.asarray(ts, dtype=float))
 
     def evaluate(self, t=None, *, t_end=None, samples: int | None = None) -> xr.Dataset:
+        """Deprecated alias of :meth:`to_dataset` (one name per action across wobble)."""
+        import warnings
+
+        warnings.warn("FreeRotation.evaluate is deprecated; use FreeRotation.to_dataset", DeprecationWarning, stacklevel=2)
+        return self.to_dataset(t, t_end=t_end, samples=samples)
+
+    def to_dataset(self, t=None, *, t_end=None, samples: int | None = None) -> xr.Dataset:
         """The motion as a CF Dataset at times ``t`` or at ``samples`` times in [0, t_end].
 
         Parameters
@@ -269,7 +318,8 @@ class FreeRotation:
         ds.attrs.update(
             {
                 "title": "Torque-free rigid-body rotation (exact solution)",
-                "references": "Landau & Lifshitz, Mechanics, section 37; course notes section 5.6; docs/free-rotation.md",
+                "references": "Landau & Lifshitz, Mechanics, section 37; Goldstein, Poole & Safko 2002, Classical Mechanics, "
+                "section 5.6",
                 "regime": mdl.regime,
                 "elliptic_parameter_m": mdl.m,
                 "elliptic_complementary_parameter": mdl.m1,

@@ -199,8 +199,8 @@ def _attributes(scene: _scene.Scene, record: _scene.RunRecord) -> dict:
     return {
         "title": scene.title or scene.name,
         "summary": scene.description or f"wobble scene {scene.name}",
-        "references": "course notes sections 5.5-5.7; Landau & Lifshitz, Mechanics, section 37; Touma & Wisdom 1994, "
-        "AJ 107, 1189; Hairer, Norsett & Wanner, Solving ODEs I (DOP853); docs/engine.md",
+        "references": "Goldstein, Poole & Safko 2002, Classical Mechanics, sections 5.5-5.7; Landau & Lifshitz, "
+        "Mechanics, section 37; Touma & Wisdom 1994, AJ 107, 1189; Hairer, Norsett & Wanner, Solving ODEs I (DOP853)",
         "scene_name": scene.name,
         "scene": json.dumps(scene.mapping, sort_keys=True),
         "model": record.model,

@@ -541,7 +541,7 @@ def _attrs(plan: _Plan) -> dict:
     spec = plan.spec
     return {
         "title": spec.title,
-        "references": "wobble sweep; see docs/sweeps.md",
+        "references": "Monte Carlo propagation of the catalogue's uncertainties (JCGM 101:2008, GUM Supplement 1)",
         "sweep_name": spec.name,
         "sweep_target": spec.target,
         "sweep_seed": spec.seed,

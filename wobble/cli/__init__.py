@@ -18,13 +18,14 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "bench")
+SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "example", "bench")
 
 EPILOG = """\
 examples:
   wobble chandler earth mars            Chandler period budgets, as a table
   wobble chandler mars --json           the same for scripts
-  wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
+  wobble chandler --body-file my_planet.toml
+                                        a body you describe ('wobble example my_planet.toml' copies this one to edit)
   wobble polar-motion --json            the Chandler wobble measured in the IERS record
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification
@@ -37,6 +38,7 @@ examples:
   wobble run tennis_racket -o racket.nc
                                         a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF
+  wobble example --list                 the shipped example files (planets, inputs, scenes, sweeps)
   wobble bench --quick                  work-precision benchmark: every solver, speed against error
 
 Numbers without units are SI; days are days of 86400 s. Run
@@ -90,6 +92,10 @@ def main(argv: list[str] | None = None) -> int:
     except WobbleError as exc:
         print(f"wobble {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # The reader of our output went away (`wobble ... | head`): stop quietly, the shell's way.
+        _silence_stdout()
+        return 141
     except OSError as exc:
         where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
         print(f"wobble {args.command}: error: {exc.strerror or exc}{where}", file=sys.stderr)
@@ -102,6 +108,14 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"wobble {args.command}: interrupted; no output was written", file=sys.stderr)
         return 130
+
+
+def _silence_stdout() -> None:
+    import os
+
+    # Python flushes stdout at exit; point it at /dev/null so that flush cannot fail again.
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
 
 
 def _is_units_error(exc: BaseException) -> bool:

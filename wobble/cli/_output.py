@@ -1,60 +1,19 @@
 """How every subcommand speaks: JSON for scripts, "wrote PATH" lines, numbers for people.
 
-One style across commands:
-
-* ``--json`` prints one JSON document on stdout, indented by two spaces, with
-  non-finite numbers as ``null`` and floats rounded to 15 significant digits, so
-  that decimal data stay decimal (433.1, not 433.09999999999997: a catalogue
-  value converted to seconds and back) while computed values keep every digit a
-  double can promise;
-* every file written is announced by one line ``wrote PATH`` (on stdout, or on
-  stderr under ``--json`` so that stdout stays one JSON document);
-* text output shows a value with its uncertainty to the uncertainty's two
-  significant digits (:func:`with_uncertainty`), and exact results to seven
-  significant digits (:func:`number`).
+* ``--json`` prints one JSON document on stdout (:func:`print_json`; the format is
+  :func:`wobble.io.text.dumps`);
+* every file written is announced by one line ``wrote PATH`` (on stdout, or on stderr
+  under ``--json`` so that stdout stays one JSON document);
+* numbers in text go through :mod:`wobble.io.text` (re-exported here).
 """
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 
-__all__ = ["clean", "dumps", "print_json", "wrote", "number", "with_uncertainty", "decimals_for"]
+from wobble.io.text import clean, decimals_for, dumps, duration, number, with_uncertainty
 
-JSON_INDENT = 2
-_JSON_DIGITS = 15
-TEXT_DIGITS = 7
-
-
-def _round(x: float) -> float | None:
-    if not math.isfinite(x):
-        return None
-    return float(f"{x:.{_JSON_DIGITS}g}")
-
-
-def clean(obj):
-    """A JSON-ready copy of ``obj``: NumPy scalars and arrays as Python numbers and lists,
-    floats to 15 significant digits, NaN and infinities as None."""
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
-        return obj
-    if isinstance(obj, int):
-        return obj
-    if isinstance(obj, float):
-        return _round(obj)
-    if isinstance(obj, dict):
-        return {str(k): clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [clean(v) for v in obj]
-    tolist = getattr(obj, "tolist", None)  # NumPy scalars and arrays
-    if tolist is not None:
-        return clean(tolist())
-    return str(obj)
-
-
-def dumps(obj) -> str:
-    """``obj`` as wobble's JSON text (see the module docstring)."""
-    return json.dumps(clean(obj), indent=JSON_INDENT, allow_nan=False, ensure_ascii=False)
+__all__ = ["clean", "dumps", "print_json", "wrote", "number", "with_uncertainty", "decimals_for", "duration"]
 
 
 def print_json(obj) -> None:
@@ -65,35 +24,3 @@ def print_json(obj) -> None:
 def wrote(path, *, json_mode: bool = False) -> None:
     """Announce a written file: ``wrote PATH`` (stderr under --json, stdout otherwise)."""
     print(f"wrote {path}", file=sys.stderr if json_mode else sys.stdout)
-
-
-def number(x, digits: int = TEXT_DIGITS) -> str:
-    """A result for a person: ``digits`` significant digits, ``-`` for None, ``inf``/``nan`` as such."""
-    if x is None:
-        return "-"
-    x = float(x)
-    if not math.isfinite(x):
-        return "inf" if x > 0 else "-inf" if x < 0 else "nan"
-    return f"{x:.{digits}g}"
-
-
-def decimals_for(sigma: float, significant: int = 2) -> int:
-    """Decimal places that show ``sigma`` to ``significant`` significant digits (>= 0)."""
-    if not (math.isfinite(sigma) and sigma > 0):
-        return 2
-    return max(0, significant - 1 - math.floor(math.log10(sigma)))
-
-
-def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -> str:
-    """``value +/- sigma`` with both rounded to the uncertainty's two significant digits.
-
-    >>> with_uncertainty(431.4637, 5.5104)
-    '431.5 +/- 5.5'
-    >>> with_uncertainty(206.9, 0.5)
-    '206.90 +/- 0.50'
-    """
-    if sigma is None or not math.isfinite(value):
-        return number(value)
-    d = decimals_for(sigma)
-    fmt = f"{{:{'+' if sign else ''}.{d}f}}"
-    return f"{fmt.format(value)} +/- {sigma:.{d}f}"

@@ -14,6 +14,7 @@ examples:
   wobble chandler mars --model rigid --json
   wobble chandler earth mars -o chandler.nc --overwrite
   wobble chandler earth mars --plot budget.png
+  wobble example my_planet.toml                 a planet file to edit, copied here
   wobble chandler --body-file my_planet.toml
 
 models (each includes the steps before it; 'full' runs every step the body's
@@ -33,7 +34,8 @@ def register(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("bodies", nargs="*", metavar="BODY", help="catalogued planets (default: all of them)")
-    p.add_argument("--body-file", action="append", default=[], metavar="FILE", help="a planet file in the wobble/1 schema (repeatable)")
+    p.add_argument("--body-file", action="append", default=[], metavar="FILE",
+                   help="a planet file in the wobble/1 schema (repeatable; 'wobble example my_planet.toml' writes one to edit)")
     p.add_argument("--model", default="full", help="last step to include (default: full)")
     p.add_argument("--json", action="store_true", help="print a JSON list, one object per body")
     p.add_argument("--sources", action="store_true", help="also list every parameter with its value, uncertainty and source")
@@ -45,32 +47,42 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from wobble.api.chandler import chandler_budget, chandler_dataset, known_planets
+    from wobble.cli._output import print_json, wrote
+    from wobble.io.shipped import resolve
 
-    bodies = list(args.bodies) + list(args.body_file)
+    typed = [None] * len(args.bodies) + list(args.body_file)
+    bodies = list(args.bodies) + [resolve(f, ("examples", "bodies"), "--body-file", (".toml",)) for f in args.body_file]
     if not bodies:
         bodies = known_planets()
+        typed = [None] * len(bodies)
     for name in args.bodies:
         if name.lower() not in known_planets():
             raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
+    if args.plot:
+        from wobble.plot._save import check_plot_path
+
+        check_plot_path(args.plot, args.overwrite)
     budgets = [chandler_budget(b, args.model) for b in bodies]
+    written = []
     if args.output:
         from wobble.io.netcdf import write_netcdf
 
-        write_netcdf(chandler_dataset(budgets), args.output, overwrite=args.overwrite, command=args.command_line)
+        written.append(write_netcdf(chandler_dataset(budgets), args.output, overwrite=args.overwrite, command=args.command_line))
     if args.plot:
         from wobble.plot.chandler import budget_figure
 
-        budget_figure(budgets, args.plot)
+        budget_figure(budgets, args.plot, overwrite=args.overwrite)
+        written.append(args.plot)
     if args.json:
-        print(json.dumps([b.to_dict() for b in budgets], indent=2))
+        print_json([b.to_dict() for b in budgets])
     else:
-        print("\n\n".join(_table(b, sources=args.sources) for b in budgets))
-        if args.output:
-            print(f"\nwrote {args.output}")
+        print("\n\n".join(_table(b, sources=args.sources, typed=t) for b, t in zip(budgets, typed)))
+    for path in written:
+        wrote(path, json_mode=args.json)
     return 0
 
 
-def _fmt(q, digits=2, sign=False) -> str:
+def _days(q, decimals: int, sign: bool = False) -> str:
     from astropy import units as u
 
     if q is None:
@@ -78,25 +90,61 @@ def _fmt(q, digits=2, sign=False) -> str:
     x = q.to_value(u.day)
     if not math.isfinite(x):
         return "inf"
-    return f"{x:+.{digits}f}" if sign else f"{x:.{digits}f}"
+    return f"{x:+.{decimals}f}" if sign else f"{x:.{decimals}f}"
 
 
-def _table(b, sources: bool = False) -> str:
+def _draws() -> int:
+    from wobble.models.chandler import MC_DRAWS
+
+    return MC_DRAWS
+
+
+def _skipped_steps(b) -> list[str]:
+    """Steps after the last one run that the model could add, with what they need."""
+    from wobble.models.chandler import STEPS, missing_parameters
+
+    if b.model != "full":
+        return []
+    done = {s.name for s in b.steps}
+    return [f"{step} needs {', '.join(missing_parameters(b.planet.parameters, step))}"
+            for step in STEPS if step not in done]
+
+
+def _table(b, sources: bool = False, typed: str | None = None) -> str:
+    """The budget as text: periods to the decimals that the model's uncertainty supports."""
+    from astropy import units as u
+
+    from wobble.cli._output import decimals_for, with_uncertainty
     from wobble.models.chandler import STEP_LABELS
 
+    sigma = b.period_uncertainty.to_value(u.day)
+    d = decimals_for(sigma)
     lines = [f"{b.planet.title}: Chandler wobble budget (model '{b.model}'; days of 86400 s)"]
     lines.append(f"  {'step':<16}{'period [d]':>11}{'change [d]':>12}{'k2':>8}   physics (references)")
     for s in b.steps:
         label, refs = STEP_LABELS[s.name]
         k2 = f"{s.love_number:.4f}" if s.love_number else "-"
-        lines.append(f"  {s.name:<16}{_fmt(s.period):>11}{_fmt(s.change, sign=True):>12}{k2:>8}   {label} ({refs})")
-    lines.append(f"  {'model':<16}{_fmt(b.period):>11} +/- {_fmt(b.period_uncertainty)} ({b.sense} wobble)")
+        lines.append(f"  {s.name:<16}{_days(s.period, d):>11}{_days(s.change, d, sign=True):>12}{k2:>8}   {label} ({refs})")
+    def row(name: str, value: float, err: float | None, tail: str = "", sign: bool = False) -> str:
+        number, _, plus = with_uncertainty(value, err, sign=sign).partition(" +/- ")
+        return f"  {name:<16}{number:>11}" + (f" +/- {plus}" if plus else "") + tail
+
+    lines.append(row("model", b.period.to_value(u.day), sigma, f" ({b.sense} wobble)"))
     if b.observed is not None:
-        lines.append(f"  {'observed':<16}{_fmt(b.observed):>11} +/- {_fmt(b.observed_uncertainty)}")
-        pct = 100 * b.relative_residual
-        lines.append(f"  {'residual':<16}{_fmt(b.residual, sign=True):>11} ({pct:+.2f} %)")
+        obs, osig = b.observed.to_value(u.day), b.observed_uncertainty.to_value(u.day)
+        lines.append(row("observed", obs, osig))
+        resid, both = b.residual.to_value(u.day), math.hypot(sigma, osig)
+        tail = f" ({100 * b.relative_residual:+.2f} %" + (f"; {resid / both:+.1f} sigma)" if both > 0 else ")")
+        lines.append(row("residual", resid, both, tail, sign=True))
     else:
         lines.append(f"  {'observed':<16}{'unknown':>11}")
+    if math.isfinite(b.raw.valid_fraction):
+        dropped = 100 * (1 - b.raw.valid_fraction)
+        lines.append(f"  (+/- is one sigma over {_draws():,} Monte Carlo draws of the catalogued uncertainties"
+                     + (f"; {dropped:.1f} % unphysical draws dropped)" if dropped >= 0.05 else ")"))
+    skipped = _skipped_steps(b)
+    if skipped:
+        lines.append("  steps not run (parameters missing): " + "; ".join(skipped))
     if b.secular_love_number is not None:
         lines.append(f"  secular Love number k_s = {b.secular_love_number:.4f}")
     if b.quality_factor is not None:
@@ -108,5 +156,8 @@ def _table(b, sources: bool = False) -> str:
             value = f"{p.value.value:.10g} +/- {p.uncertainty.value:.3g} {unit}"
             lines.append(f"    {key}: {value}; {b.planet.source(key)}")
     else:
-        lines.append(f"  (sources of every number: wobble chandler {b.body} --sources)")
+        where = f"--body-file {typed}" if typed else b.body
+        lines.append(f"  (sources of every number: wobble chandler {where} --sources)")
     return "\n".join(lines)
+
+

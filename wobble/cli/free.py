@@ -1,24 +1,29 @@
-"""``wobble free``: exact torque-free rotation to a CF netCDF file and a summary."""
+"""``wobble free``: exact torque-free rotation: a summary, a CF netCDF file, a figure."""
 
 from __future__ import annotations
 
 import argparse
-import json
 
-from wobble.cli._table import print_rows
 from wobble.errors import InputError
 
 EPILOG = """\
 examples:
+  wobble free --inertia 1 2 3 --omega 1 0.1 1
+                                  the regime, period and wobble (three periods by default)
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 1000 --samples 10001 -o free.nc
   wobble free --inertia 1 2 3 --omega 1e-6 1 1e-6 --t-end 200 --json     tennis-racket flips
+  wobble free --inertia 1 2 3 --omega 1e-6 1 1e-6 --t-end 200 --plot flips.png
   wobble free --inertia "8.01012e37 kg m2" 8.01032e37 8.03652e37 \\
               --omega 7.292115e-11 0 7.292115e-5 --t-end "100 yr" --samples 36526 -o earth.nc
 
 Numbers without units are SI (kg m2, rad/s, s); a value may carry its unit in
-quotes ("2 d", "360 deg/d"). --json prints the regime, the elliptic parameter m
-and 1 - m, the period and the time between flips (where they apply).
+quotes ("2 d", "360 deg/d"). Without --t-end the span is three periods of omega.
+The body flips (the tennis-racket effect) when its intermediate axis swings by more
+than 90 deg; otherwise the sign changes of that axis's component are half periods of
+a wobble, and no flips are reported. --json prints SI numbers (keys end in their unit).
 """
+
+DEFAULT_PERIODS = 3
 
 
 def register(subparsers) -> None:
@@ -32,10 +37,11 @@ def register(subparsers) -> None:
     )
     p.add_argument("--inertia", nargs=3, required=True, metavar=("I1", "I2", "I3"), help="principal moments (kg m2), any order")
     p.add_argument("--omega", nargs=3, required=True, metavar=("W1", "W2", "W3"), help="initial body-frame angular velocity (rad/s)")
-    p.add_argument("--t-end", default="0", help="end of the output span (s unless a unit is given)")
+    p.add_argument("--t-end", help=f"end of the output span (s unless a unit is given; default {DEFAULT_PERIODS} periods)")
     p.add_argument("--samples", type=int, default=1001, help="number of output times from 0 to --t-end (default 1001)")
-    p.add_argument("-o", "--output", help="write the time series to this netCDF file")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("-o", "--output", metavar="FILE.nc", help="write the time series to this netCDF file")
+    p.add_argument("--plot", metavar="FILE.png", help="draw omega(t) and the polhode (the path of L in the body)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
@@ -49,50 +55,102 @@ def _quantity(values, name, unit):
     return u.Quantity([q.to_value(unit) for q in qs], unit)
 
 
-def run(args) -> int:
+def _span(body, text):
+    """(t_end in s, how it was chosen) from --t-end, or three periods of omega."""
+    import math
+
     from astropy import units as u
 
     from wobble.api._units import parse_quantity
-    from wobble.api.free import FreeRotation
-    from wobble.io.netcdf import write_netcdf
 
-    moments = _quantity(args.inertia, "--inertia", u.kg * u.m**2)
-    omega = _quantity(args.omega, "--omega", u.rad / u.s)
-    t_end = parse_quantity(args.t_end, "--t-end", u.s)
+    if text is not None:
+        t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
+        if not (math.isfinite(t1) and t1 >= 0):
+            raise InputError("--t-end", text, "a non-negative, finite time (e.g. 100 s, 2 d)")
+        return t1, "--t-end"
+    period = body.period.to_value(u.s)
+    if not math.isfinite(period):
+        why = "on the separatrix the motion never repeats" if body.regime == "separatrix" else "the spin is steady"
+        raise InputError.missing("--t-end", f"a time span (e.g. --t-end 100): {why}, so there is no period to default to")
+    return DEFAULT_PERIODS * period, f"{DEFAULT_PERIODS} periods, the default; --t-end to change"
+
+
+def run(args) -> int:
+    from astropy import units as u
+
+    from wobble.api.free import FreeRotation
+    from wobble.cli._output import print_json, wrote
+
     if args.samples < 1:
         raise InputError("--samples", args.samples, "a whole number >= 1")
+    if args.plot:
+        from wobble.plot._save import check_plot_path
+
+        check_plot_path(args.plot, args.overwrite)
+    moments = _quantity(args.inertia, "--inertia", u.kg * u.m**2)
+    omega = _quantity(args.omega, "--omega", u.rad / u.s)
     body = FreeRotation(moments, omega)
-    summary = body.summary()
-    t1 = t_end.to_value(u.s)
-    if not t1 >= 0:
-        raise InputError("--t-end", args.t_end, "a non-negative, finite time (e.g. 100 s, 2 d)")
-    summary["t_end_s"] = t1
-    if body.time_between_flips is not None or body.regime == "separatrix":
-        summary["flip_times_s"] = body.flip_times(t_end).to_value(u.s).tolist()[:1000]
+    summary = body.to_dict()
+    needs_span = args.output or args.plot or args.t_end is not None or body.flips
+    if needs_span:
+        t1, chosen = _span(body, args.t_end)
+        summary.update(t_end_s=t1, t_end_chosen_by=chosen, samples=args.samples)
+    if body.flips:
+        summary["flip_times_s"] = body.flip_times(t1 * u.s).to_value(u.s)[:1000].tolist()
+    written = []
     if args.output:
-        ds = body.evaluate(t_end=t_end, samples=args.samples)
-        path = write_netcdf(ds, args.output, overwrite=args.overwrite, command=args.command_line)
-        summary["output"] = str(path)
-        summary["samples"] = args.samples
+        from wobble.io.netcdf import write_netcdf
+
+        ds = body.to_dataset(t_end=t1 * u.s, samples=args.samples)
+        written.append(write_netcdf(ds, args.output, overwrite=args.overwrite, command=args.command_line))
+        summary["output"] = str(written[-1])
+    if args.plot:
+        from wobble.plot.free import motion_figure
+
+        written.append(motion_figure(body, t1 * u.s, path=args.plot, overwrite=args.overwrite))
+        summary["plot"] = str(args.plot)
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print_json(summary)
     else:
-        _print_table(summary)
+        _print_table(body, summary)
+    for path in written:
+        wrote(path, json_mode=args.json)
     return 0
 
 
-def _print_table(summary: dict) -> None:
-    rows = [
-        ("regime", summary["regime"]),
-        ("elliptic parameter m", summary["parameter_m"]),
-        ("1 - m", summary["complementary_parameter_1_minus_m"]),
-        ("period (s)", summary["period_s"]),
-        ("time between flips (s)", summary["time_between_flips_s"]),
-        ("kinetic energy (J)", summary["energy_J"]),
-        ("|L| (kg m2/s)", summary["angular_momentum_kg_m2_s"]),
+_REGIMES = {
+    "steady": "steady spin about a principal axis",
+    "symmetric": "symmetric body: uniform precession about L",
+    "major-axis": "about the axis of the largest moment (L^2 > 2 E I2)",
+    "minor-axis": "about the axis of the smallest moment (L^2 < 2 E I2)",
+    "separatrix": "on the separatrix (L^2 = 2 E I2): one flip, never repeating",
+}
+
+
+def _print_table(body, summary: dict) -> None:
+    from wobble.cli._output import duration, number
+    from wobble.cli._table import print_rows
+
+    regime = summary["regime"]
+    period = duration(summary["period_s"]) if summary["period_s"] else (
+        "none: omega is constant" if regime == "steady" else "none: omega never repeats")
+    rows = [("regime", f"{regime}: {_REGIMES[regime]}"), ("period of omega", period)]
+    swing = summary.get("intermediate_axis_swing_deg")
+    if regime == "steady":
+        pass
+    elif summary["flips"]:
+        rows.append(("flips", f"yes: the intermediate axis swings by {number(swing, 4)} deg"))
+        rows.append(("time between flips", duration(summary["time_between_flips_s"])))
+        times = summary.get("flip_times_s", [])
+        shown = ", ".join(number(t) for t in times[:6]) + (" ..." if len(times) > 6 else "")
+        rows.append(("flip times (s)", shown or "none in the span"))
+    elif swing is not None:
+        rows.append(("flips", f"no: the intermediate axis swings by {number(swing, 4)} deg (a wobble)"))
+    rows += [
+        ("elliptic parameter m, 1 - m", f"{number(summary['parameter_m'])}, {number(summary['complementary_parameter_1_minus_m'])}"),
+        ("kinetic energy", f"{number(summary['energy_J'])} J"),
+        ("|L|", f"{number(summary['angular_momentum_kg_m2_per_s'])} kg m2/s"),
     ]
-    if "flip_times_s" in summary:
-        rows.append(("flip times (s)", summary["flip_times_s"]))
-    if "output" in summary:
-        rows.append(("written", summary["output"]))
+    if "t_end_s" in summary:
+        rows.append(("span", f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples ({summary['t_end_chosen_by']})"))
     print_rows(rows)

@@ -7,7 +7,6 @@ grid from a netCDF file, or a standard solid with its dimensions.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from wobble.errors import InputError
@@ -22,6 +21,9 @@ examples:
                  --axle-length 0.08 --disc-height 0.05 --about origin --json
   wobble inertia --points dumbbell.csv --length-unit cm --json
   wobble inertia --density planet.nc --var rho --rule simpson -o inertia.nc
+
+dumbbell.csv and planet.nc are shipped examples, found by name from any folder
+(wobble example dumbbell.csv copies one to edit; a file of yours of the same name wins).
 
 --points FILE.csv has columns m, x, y, z; units may follow the names in the header
 (e.g. "m [g], x [cm], y [cm], z [cm]"), otherwise --mass-unit/--length-unit or SI.
@@ -150,7 +152,7 @@ def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
         if raw is None:
             if dest in required:
                 needs = ", ".join("--" + r.replace("_", "-") for r in required)
-                raise InputError(flag, "(missing)", f"a value; --solid {args.solid} needs {needs}")
+                raise InputError.missing(flag, f"a value; --solid {args.solid} needs {needs}")
             continue
         if dest in _TRIPLE_OPTIONS:
             value = u.Quantity([parse_quantity(t, flag, length_unit) for t in raw])
@@ -165,6 +167,7 @@ def build_body(args) -> tuple[RigidBody, str]:
     from astropy import units as u
 
     from wobble.api.bodies import RigidBody
+    from wobble.io.shipped import resolve
 
     mass_unit = _unit_option(args.mass_unit, "--mass-unit", u.kg) or u.kg
     length_unit = _unit_option(args.length_unit, "--length-unit", u.m) or u.m
@@ -174,7 +177,7 @@ def build_body(args) -> tuple[RigidBody, str]:
 
         _refuse_unused(args, {"mass_unit", "length_unit"}, "--points")
         masses, positions = read_point_masses(
-            args.points, mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
+            resolve(args.points, "examples", "--points", (".csv",)), mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
             length_unit=_unit_option(args.length_unit, "--length-unit", u.m),
         )  # fmt: skip
         body = RigidBody.from_point_masses(masses, positions, name=str(args.points))
@@ -183,7 +186,7 @@ def build_body(args) -> tuple[RigidBody, str]:
         from wobble.io.density_grid import open_density
 
         _refuse_unused(args, {"var", "rule", "length_unit"}, "--density")
-        with open_density(args.density, args.var) as density:
+        with open_density(resolve(args.density, "examples", "--density", (".nc",)), args.var) as density:
             body = RigidBody.from_density(density, rule=args.rule or "trapezoid", name=str(density.name))
             label = f"density {density.name!r} from {args.density} ({'x'.join(map(str, density.shape))} grid, {args.rule or 'trapezoid'} rule)"
     else:
@@ -223,21 +226,21 @@ def _report(body: RigidBody, rtol: float) -> dict:
 
 
 def _vec(v) -> str:
-    return "(" + ", ".join(f"{x:.10g}" for x in v) + ")"
+    return "(" + ", ".join(f"{x:.7g}" for x in v) + ")"
 
 
 def _print_human(report: dict, label: str, out) -> None:
     print(f"wobble inertia: {label}", file=out)
-    print(f"  mass                {report['mass']:.10g} kg", file=out)
+    print(f"  mass                {report['mass']:.7g} kg", file=out)
     print(f"  centre of mass      {_vec(report['center_of_mass'])} m", file=out)
     same = report["reference_point"] == report["center_of_mass"]
     print(f"  about               {'the centre of mass' if same else _vec(report['reference_point']) + ' m'}", file=out)
     print("  inertia tensor (kg m2, input axes x, y, z)", file=out)
     for row in report["tensor"]:
-        print("    " + "  ".join(f"{x:>17.10g}" for x in row), file=out)
+        print("    " + "  ".join(f"{x:>17.7g}" for x in row), file=out)
     print("  principal moments (kg m2, ascending)", file=out)
     for k, (m, a) in enumerate(zip(report["principal_moments"], report["principal_axes"]), start=1):
-        print(f"    I{k} = {m:<17.10g} axis e{k} = {_vec(a)}", file=out)
+        print(f"    I{k} = {m:<17.7g} axis e{k} = {_vec(a)}", file=out)
     print(
         f"  classification      {report['classification']} (closest pair of moments differs by "
         f"{report['asymmetry']:.3g} relative; tolerance {report['tolerance']:g})",
@@ -247,6 +250,8 @@ def _print_human(report: dict, label: str, out) -> None:
 
 def run(args) -> int:
     """Compute and print; exit status 0."""
+    from wobble.cli._output import print_json, wrote
+
     rtol = args.tolerance
     if not (0.0 <= rtol < 1.0):
         raise InputError("--tolerance", rtol, "a relative tolerance in [0, 1), e.g. 1e-9")
@@ -255,14 +260,12 @@ def run(args) -> int:
     if args.output is not None:
         from wobble.io.netcdf import write_netcdf
 
-        source = f"--solid {args.solid}" if args.solid else f"--points {args.points}" if args.points else f"--density {args.density}"
-        path = write_netcdf(body.to_dataset(rtol), args.output, overwrite=args.overwrite, command=f"wobble inertia {source}")
+        path = write_netcdf(body.to_dataset(rtol), args.output, overwrite=args.overwrite, command=args.command_line)
         report["output"] = str(path)
     if args.json:
-        json.dump(report, sys.stdout, allow_nan=False)
-        sys.stdout.write("\n")
+        print_json(report)
     else:
         _print_human(report, label, sys.stdout)
-        if args.output is not None:
-            print(f"  wrote               {report['output']}", file=sys.stdout)
+    if args.output is not None:
+        wrote(report["output"], json_mode=args.json)
     return 0

@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 import time
+from pathlib import Path
 
 from wobble.errors import InputError
 
@@ -14,7 +15,7 @@ examples:
   wobble polar-motion                          the whole IERS 20 C04 record (1962-)
   wobble polar-motion --start 1980 --end 2010 --window 6 --json
   wobble polar-motion -o pm.nc --plot pm.png --overwrite
-  wobble polar-motion --file finals2000A.all   a C04 or finals2000A file of your own
+  wobble polar-motion --file finals2000A.all   a C04 or finals2000A file (this name: the one astropy-iers-data ships)
 
 Dates are UTC: 2015-01-01, 2015-06, 2015 or 2015.5. The pole is p = x_p - i y_p, so
 the Chandler wobble (prograde) is at a positive frequency. The period is found by
@@ -91,9 +92,17 @@ class _Progress:
             print("\r" + " " * 60 + "\r", end="", file=sys.stderr, flush=True)
 
 
-def run(args) -> int:
-    from pathlib import Path
+def _eop_file(text):
+    """The user's file; or, when no such file exists, the IERS file of that name that astropy-iers-data ships."""
+    if text is None or Path(text).is_file():
+        return text
+    import astropy_iers_data
 
+    shipped = {Path(f).name: f for f in (astropy_iers_data.IERS_A_FILE, astropy_iers_data.IERS_B_FILE)}
+    return shipped.get(Path(text).name, text)
+
+
+def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
     from wobble.io.netcdf import write_netcdf
 
@@ -108,7 +117,7 @@ def run(args) -> int:
     progress = _Progress()
     try:
         analysis = polar_motion_analysis(
-            args.file,
+            _eop_file(args.file),
             start=args.start,
             end=args.end,
             window=window,

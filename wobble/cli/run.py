@@ -3,22 +3,23 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 EPILOG = """\
 examples:
-  wobble run data/scenes/tennis_racket.toml -o racket.nc
-  wobble run tennis_racket -o racket.nc --json          an example scene by name
+  wobble run --list                                      the example scenes, with what they show
+  wobble run tennis_racket -o racket.nc --plot racket.png
+  wobble run tennis_racket -o racket.nc --json --overwrite   an example scene by name
   wobble run earth_free_wobble -o earth.nc --overwrite
   wobble run satellite_gravity_gradient -o sat.nc --model dop853   force a model, to compare
+  wobble example tossed_book my_book.toml                copy a scene to edit, then:
+  wobble run my_book.toml -o book.nc
 
-The model is chosen from the scene (docs/engine.md): a closed form or elliptic
-functions for a free body, the exact heavy top, else the splitting integrator
-or DOP853; the choice, the reason and the error estimate are recorded in the
-file's global attributes (model, model_reason, error_estimate). The file is
-written as the run goes (memory stays bounded) under a temporary name, and
-renamed only when the run succeeded; an existing file is replaced only with
---overwrite. Example scenes: wobble run --list.
+The model is chosen from the scene: a closed form or elliptic functions for a free
+body, the exact heavy top, else the splitting integrator or DOP853; the choice, the
+reason and the error estimate are recorded in the file's global attributes (model,
+model_reason, error_estimate). The file is written as the run goes (memory stays
+bounded) under a temporary name, and renamed only when the run succeeded; an
+existing file is replaced only with --overwrite.
 """
 
 
@@ -31,41 +32,73 @@ def register(subparsers) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("scene", nargs="?", help="scene file (TOML), or the name of an example scene")
-    p.add_argument("-o", "--output", help="netCDF file to write")
+    p.add_argument("scene", nargs="?", metavar="SCENE", help="scene file (TOML), or the name of an example scene")
+    p.add_argument("-o", "--output", metavar="FILE.nc", help="netCDF file to write")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the scene's outputs against time (from the file written)")
     p.add_argument("--model", help="force a model: free-symmetric, free-elliptic, heavy-top, splitting, dop853")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
+    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--json", action="store_true", help="print the run summary as JSON")
-    p.add_argument("--list", action="store_true", help="list the example scenes and exit")
+    p.add_argument("--list", action="store_true", help="list the example scenes with one-line descriptions and exit")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from wobble.api.scene import _as_scene, example_scenes, run_to_netcdf
-    from wobble.cli._table import print_rows
+    from wobble.cli._output import print_json, wrote
     from wobble.errors import InputError
 
     if args.list:
-        names = example_scenes()
-        print(json.dumps(names) if args.json else "\n".join(names))
-        return 0
+        return _list(args.json)
     if not args.scene:
-        raise InputError("SCENE", None, "a scene file (TOML) or an example name (wobble run --list)")
+        raise InputError.missing("SCENE", "a scene file (TOML) or an example name (wobble run --list)")
     if not args.output:
-        raise InputError("-o/--output", None, "the netCDF file to write (e.g. -o out.nc)")
-    scene = _as_scene(args.scene)
+        raise InputError.missing("-o/--output", "the netCDF file to write (e.g. -o out.nc)")
+    if args.plot:
+        from wobble.plot._save import check_plot_path
+
+        check_plot_path(args.plot, args.overwrite)
+    from wobble.api.scene import read_scene, run_to_netcdf
+    from wobble.io.shipped import resolve
+
+    scene = read_scene(resolve(args.scene, "scenes", "SCENE"))
     summary = run_to_netcdf(scene, args.output, model=args.model, overwrite=args.overwrite,
                             command=getattr(args, "command_line", None))
+    written = [summary["output"]]
+    if args.plot:
+        from wobble.plot.scene import scene_figure
+
+        written.append(scene_figure(summary["output"], path=args.plot, overwrite=args.overwrite))
+        summary["plot"] = str(written[-1])
     if args.json:
-        print(json.dumps(summary, indent=2, default=str))
+        print_json(summary)
     else:
-        rows = [
-            ("scene", summary["scene"]),
-            ("model", summary["model"]),
-            ("why", summary["model_reason"]),
-            ("error estimate", f"{summary['error_estimate']:.3g} (asked {summary['accuracy_requested']:.3g})"),
-            ("members x times", f"{summary['members']} x {summary['times']}"),
-            ("written", summary["output"]),
-        ]
-        print_rows(rows)
+        _print_summary(summary)
+    for path in written:
+        wrote(path, json_mode=args.json)
     return 0
+
+
+def _list(as_json: bool) -> int:
+    from wobble.cli._output import print_json
+    from wobble.io.shipped import shipped_files
+
+    scenes = shipped_files("scenes")
+    if as_json:
+        print_json([{"name": f.stem, "title": f.description} for f in scenes])
+        return 0
+    width = max(len(f.stem) for f in scenes)
+    for f in scenes:
+        print(f"{f.stem:<{width}}  {f.description}")
+    return 0
+
+
+def _print_summary(summary: dict) -> None:
+    from wobble.cli._output import number
+    from wobble.cli._table import print_rows
+
+    print_rows([
+        ("scene", summary["scene"]),
+        ("model", summary["model"]),
+        ("why", summary["model_reason"]),
+        ("error estimate", f"{number(summary['error_estimate'], 3)} (asked {number(summary['accuracy_requested'], 3)})"),
+        ("members x times", f"{summary['members']} x {summary['times']}"),
+    ])

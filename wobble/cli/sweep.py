@@ -3,27 +3,28 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
-from pathlib import Path
 
 from wobble.errors import InputError
 
 EPILOG = """\
 examples:
-  wobble sweep mars_chandler                       a shipped sweep (data/sweeps/), summary only
+  wobble sweep mars_chandler                       a shipped sweep, summary only
   wobble sweep mars_chandler -o mars.nc --plot mars.png
+  wobble example mars_chandler my_sweep.toml       copy a sweep file to edit, then:
   wobble sweep my_sweep.toml -o out.nc --scheduler processes
   wobble sweep earth_chandler --members 10000 --json
   wobble sweep top_phase_diagram -o top.nc --plot top.png   the heavy top's phase diagram
   wobble sweep tumbling_asteroids -o ast.nc                 10^5 tumbling asteroids
-  wobble sweep big.toml -o big.nc --scheduler tcp://127.0.0.1:8786   a dask.distributed cluster
+  wobble sweep tumbling_asteroids -o ast.nc --overwrite --scheduler tcp://127.0.0.1:8786
+                                                   on a running dask.distributed cluster
 
 Members are computed chunk by chunk with the vectorised models and streamed to
 the netCDF file as they finish (bounded memory). The same seed gives the same
 numbers whatever the chunking and the number of workers. A progress bar is shown
-on a terminal unless --quiet.
+on a terminal unless --quiet. The Chandler sweeps draw every catalogued uncertainty,
+as 'wobble chandler' does for its +/-, so the two agree within sampling error.
 """
 
 
@@ -50,25 +51,18 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _resolve(name: str) -> str:
-    path = Path(name)
-    if path.suffix == ".toml" or path.exists():
-        return name
-    from importlib import resources
-
-    shipped = resources.files("wobble._data") / "sweeps" / f"{name}.toml"
-    if shipped.is_file():
-        return str(shipped)
-    known = sorted(p.name[:-5] for p in (resources.files("wobble._data") / "sweeps").iterdir() if p.name.endswith(".toml"))
-    raise InputError("SWEEP", name, f"a sweep file or one of {', '.join(known)}")
-
-
 def run(args) -> int:
     from dataclasses import replace
 
     from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep
+    from wobble.cli._output import print_json, wrote
+    from wobble.io.shipped import resolve
 
-    spec = load_sweep(_resolve(args.sweep))
+    if args.plot:
+        from wobble.plot._save import check_plot_path
+
+        check_plot_path(args.plot, args.overwrite)
+    spec = load_sweep(resolve(args.sweep, "sweeps", "SWEEP", (".toml",)))
     if args.members is not None:
         if spec.is_grid:
             raise InputError("--members", args.members, "only for random sweeps (a grid sets its own size)")
@@ -92,14 +86,13 @@ def run(args) -> int:
         from wobble.plot import sweep as sweep_plot
 
         target = ds.attrs.get("sweep_target", "chandler")
-        if target == "heavy_top":
-            sweep_plot.phase_diagram(ds, args.plot)
-        elif target == "free_rotation":
-            sweep_plot.ensemble(ds, args.plot)
-        else:
-            sweep_plot.histogram(ds, args.plot)
+        draw = {"heavy_top": sweep_plot.phase_diagram, "free_rotation": sweep_plot.ensemble}.get(target, sweep_plot.histogram)
+        draw(ds, args.plot, overwrite=args.overwrite)
+    written = [p for p in (args.output, args.plot) if p]
     if args.json:
-        print(json.dumps({"sweep": spec.name, "output": args.output, **summary.to_dict()}, indent=2))
+        print_json({"sweep": spec.name, "output": args.output, "plot": args.plot, **summary.to_dict()})
+        for path in written:
+            wrote(path, json_mode=True)
         return 0
     print(f"{spec.title}")
     print(f"  members: {summary.members} ({summary.valid} valid)")
@@ -113,8 +106,6 @@ def run(args) -> int:
     if not math.isnan(summary.observed):
         z = (summary.observed - summary.mean) / summary.std if summary.std > 0 else math.nan
         print(f"  observed: {summary.observed:.2f} {summary.units} ({z:+.2f} sd from the mean)")
-    if args.output:
-        print(f"wrote {args.output}")
-    if args.plot:
-        print(f"wrote {args.plot}")
+    for path in written:
+        wrote(path)
     return 0

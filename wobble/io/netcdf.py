@@ -3,7 +3,8 @@
 Layout rules every wobble file follows (see docs/netcdf.md):
 
 * global attributes ``Conventions``, ``title``, ``history``, ``source`` (wobble
-  and its version), ``references``, ``institution``;
+  and its version), ``references`` (the literature, never an internal document); no
+  ``institution``: wobble is not one, and the user's own is theirs to add;
 * every variable has ``units`` (UDUNITS syntax: ``day``, ``rad s-1``, ``1``) and
   ``long_name``, and ``standard_name`` where the CF table has one;
 * time coordinates are float64 with CF units ``"<unit> since <epoch>"``
@@ -82,7 +83,6 @@ def to_cf(ds: xr.Dataset, *, command: str | None = None) -> xr.Dataset:
     out.attrs["history"] = f"{previous}\n{line}" if previous else line
     out.attrs["Conventions"] = CONVENTIONS
     out.attrs["source"] = f"wobble {_version()}"
-    out.attrs.setdefault("institution", "wobble (https://example.org/wobble)")
     return out
 
 

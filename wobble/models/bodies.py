@@ -29,6 +29,7 @@ Precision rules used throughout:
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Iterable, Iterator
@@ -106,6 +107,26 @@ def _positive(value, name: str, *, allow_zero: bool = False) -> float:
         want = "a non-negative" if allow_zero else "a positive"
         raise InputError(name, value, f"{want}, finite number (SI)")
     return x
+
+
+def _finite(fn):
+    """Run a constructor with floating-point overflow as an InputError naming it.
+
+    Finite inputs can overflow (a 1e200 m ellipsoid has moments near 1e400 kg m^2):
+    that is bad input, not a bug, and must not surface as a NumPy warning or inf.
+    """
+
+    @functools.wraps(fn)
+    def checked(*args, **kwargs):
+        try:
+            with np.errstate(over="raise", invalid="raise"):
+                return fn(*args, **kwargs)
+        except (FloatingPointError, OverflowError):
+            raise InputError(fn.__name__, ", ".join(map(str, [*args, *kwargs.values()])),
+                             "sizes whose moments of inertia fit double precision (below about 1e308 in SI); "
+                             "give smaller numbers in larger units") from None
+
+    return checked
 
 
 def steiner_term(mass: float, d: np.ndarray) -> np.ndarray:
@@ -308,6 +329,14 @@ class Body:
     _exact: _Eigenbasis | None = field(default=None, repr=False)
 
     def __post_init__(self):
+        for name in ("tensor", "reference_point", "center_of_mass"):
+            value = np.asarray(getattr(self, name), dtype=float)
+            if not np.all(np.isfinite(value)):
+                # Finite inputs can still overflow (a 1e200 m ellipsoid has moments ~1e400).
+                raise InputError(name, value.tolist(), "finite values: the inputs overflow double precision "
+                                 "(about 1.8e308); use larger units or smaller numbers")
+        if self.mass is not None and not math.isfinite(self.mass):
+            raise InputError("mass", self.mass, "a finite mass: the inputs overflow double precision")
         object.__setattr__(self, "tensor", _readonly(self.tensor))
         object.__setattr__(self, "reference_point", _readonly(self.reference_point))
         object.__setattr__(self, "center_of_mass", _readonly(self.center_of_mass))
@@ -513,6 +542,7 @@ def _check_central(tensor: np.ndarray, mass, com, ref, name: str, rtol: float, s
     _check_triangle(values, _differences(values), name, rtol, shown)
 
 
+@_finite
 def from_principal_moments(
     moments,
     *,
@@ -574,6 +604,7 @@ def from_principal_moments(
     return Body(tensor, ref, com, m, _Eigenbasis(values, rows[order], diffs))
 
 
+@_finite
 def from_tensor(tensor, *, mass=None, center_of_mass=None, about=None, rtol: float = DEFAULT_RTOL, name: str = "tensor") -> Body:
     """A body from a full 3x3 inertia tensor (kg m^2), checked.
 
@@ -606,6 +637,7 @@ def from_tensor(tensor, *, mass=None, center_of_mass=None, about=None, rtol: flo
     return Body(t, ref, com, m)
 
 
+@_finite
 def from_point_masses(masses, positions, *, about=None) -> Body:
     """Point masses m_i (kg) at r_i (m): I_jk = sum_i m_i (r_i^2 delta_jk - x_ij x_ik).
 
@@ -787,6 +819,7 @@ def _two_square_differences(k: float, q: np.ndarray) -> np.ndarray:
     return k * (q[None, :] - q[:, None]) * (q[None, :] + q[:, None])
 
 
+@_finite
 def solid_sphere(mass: float, radius: float) -> Body:
     """Uniform solid sphere: I = 2/5 M R^2 about every axis."""
     m, r = _positive(mass, "mass"), _positive(radius, "radius")
@@ -794,6 +827,7 @@ def solid_sphere(mass: float, radius: float) -> Body:
     return _solid(m, [i, i, i], np.zeros((3, 3)))
 
 
+@_finite
 def hollow_sphere(mass: float, radius: float, inner_radius: float | None = None) -> Body:
     """Uniform spherical shell between ``inner_radius`` and ``radius`` (thin shell if None).
 
@@ -811,6 +845,7 @@ def hollow_sphere(mass: float, radius: float, inner_radius: float | None = None)
     return _solid(m, [i, i, i], np.zeros((3, 3)))
 
 
+@_finite
 def ellipsoid(mass: float, semi_axes) -> Body:
     """Uniform solid ellipsoid with semi-axes (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/5, ..."""
     m = _positive(mass, "mass")
@@ -820,6 +855,7 @@ def ellipsoid(mass: float, semi_axes) -> Body:
     return _solid(m, moments, _two_square_differences(0.2 * m, q))
 
 
+@_finite
 def box(mass: float, edges) -> Body:
     """Uniform rectangular box with edge lengths (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/12, ..."""
     m = _positive(mass, "mass")
@@ -836,6 +872,7 @@ def _triple(value, name: str):
     return v
 
 
+@_finite
 def cylinder(mass: float, radius: float, height: float, inner_radius: float = 0.0) -> Body:
     """Uniform cylinder (a tube if ``inner_radius`` > 0), axis along z.
 
@@ -850,6 +887,7 @@ def cylinder(mass: float, radius: float, height: float, inner_radius: float = 0.
     return _solid(m, [i1, i1, i3])
 
 
+@_finite
 def cone(mass: float, radius: float, height: float) -> Body:
     """Uniform solid right circular cone, axis along z, about its centre of mass.
 
@@ -861,6 +899,7 @@ def cone(mass: float, radius: float, height: float) -> Body:
     return _solid(m, [i1, i1, i3])
 
 
+@_finite
 def thin_disc(mass: float, radius: float) -> Body:
     """Uniform thin disc in the x-y plane: I_1 = I_2 = M R^2/4, I_3 = M R^2/2."""
     m, r = _positive(mass, "mass"), _positive(radius, "radius")
@@ -868,6 +907,7 @@ def thin_disc(mass: float, radius: float) -> Body:
     return _solid(m, [i, i, 2.0 * i])
 
 
+@_finite
 def thin_rod(mass: float, length: float) -> Body:
     """Uniform thin rod along z: I_1 = I_2 = M L^2/12, I_3 = 0 (an idealised line)."""
     m, ell = _positive(mass, "mass"), _positive(length, "length")
@@ -875,6 +915,7 @@ def thin_rod(mass: float, length: float) -> Body:
     return _solid(m, [i, i, 0.0])
 
 
+@_finite
 def spinning_top(
     disc_mass: float,
     disc_radius: float,
@@ -905,6 +946,7 @@ def spinning_top(
     return composite(parts)
 
 
+@_finite
 def oblate_planet(
     mass: float,
     radius: float,

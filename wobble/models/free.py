@@ -60,6 +60,7 @@ from wobble.numerics.phase import reduce_phase, two_prod
 from wobble.numerics.phasor import block_parts, block_phasors, uniform_grid
 
 __all__ = [
+    "intermediate_axis_alignment",
     "FreeRotationModel",
     "free_rotation",
     "symmetric_from_energy",
@@ -517,6 +518,47 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
     if I[0] == I[1] or I[1] == I[2]:
         return _symmetric_model(moments, omega0, I, order, common, two_e, l2)
     return _elliptic_model(moments, omega0, I, order, common, two_e, l2)
+
+
+def intermediate_axis_alignment(moments, omega0) -> float | None:
+    """Largest |cos| of the angle between the intermediate principal axis and L over the motion.
+
+    The intermediate axis e2 oscillates about the plane perpendicular to L, between
+    angles arccos(c) and pi - arccos(c) from L, where c = I2 max|omega2| / L and, with
+    D_k = sum_j I_j (I_j - I_k) omega_j^2 (Landau & Lifshitz section 37),
+
+    * L^2 > 2 E I2 (about the major axis): I2 omega2max^2 = -D_3 / (I3 - I2),
+    * L^2 < 2 E I2 (about the minor axis): I2 omega2max^2 = D_1 / (I2 - I1),
+    * L^2 = 2 E I2 (separatrix): c = 1.
+
+    The body turns over (a tennis-racket flip) when c is close to 1, and merely
+    wobbles when c is small (Earth: c ~ 1e-6). Exact rational arithmetic: the
+    D_k never suffer cancellation.
+
+    Returns
+    -------
+    float or None
+        c in [0, 1]; None for a symmetric body (no distinct intermediate axis) or no rotation.
+    """
+    moments, omega0 = _check(moments, omega0)
+    order = np.argsort(moments, kind="stable")
+    I = [Fraction(moments[i]) for i in order]  # noqa: E741 - the notes' name
+    w = [Fraction(omega0[i]) for i in order]
+    if I[0] == I[1] or I[1] == I[2] or not any(w):
+        return None
+    l2 = sum((i * x) ** 2 for i, x in zip(I, w))
+
+    def d(k):
+        return sum(i * (i - I[k]) * x * x for i, x in zip(I, w))
+
+    d2 = d(1)
+    if d2 > 0:
+        i2w2 = -d(2) / (I[2] - I[1])
+    elif d2 < 0:
+        i2w2 = d(0) / (I[1] - I[0])
+    else:
+        return 1.0
+    return min(1.0, float(hp.sqrt(I[1] * i2w2 / l2)))
 
 
 def _symmetric_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741

@@ -12,7 +12,7 @@ __all__ = ["budget_figure"]
 _COLORS = {"rigid": "0.35", "lengthens": "C0", "shortens": "C3"}
 
 
-def budget_figure(budgets, path=None):
+def budget_figure(budgets, path=None, *, overwrite: bool = False):
     """A waterfall per planet: each step's change of the period, the model and the observation.
 
     Parameters
@@ -20,7 +20,9 @@ def budget_figure(budgets, path=None):
     budgets : list of wobble.ChandlerBudget
         One panel each.
     path : path-like, optional
-        Save the figure (PNG, 150 dpi).
+        Save the figure (PNG, PDF or SVG by suffix; 150 dpi), atomically.
+    overwrite : bool
+        Replace an existing ``path``.
 
     Returns
     -------
@@ -61,5 +63,7 @@ def budget_figure(budgets, path=None):
     axes[-1, 0].set_xlabel("period (d)")
     fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=150)
+        from wobble.plot._save import save_figure
+
+        save_figure(fig, path, overwrite=overwrite)
     return fig

@@ -7,8 +7,9 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.free import FreeRotation
+from wobble.plot._style import time_axis
 
-__all__ = ["polhode_figure", "flip_figure"]
+__all__ = ["polhode_figure", "flip_figure", "motion_figure"]
 
 
 def polhode_figure(moments, omegas, *, samples: int = 2000):
@@ -59,7 +60,7 @@ def flip_figure(moments, omega0, t_end):
     """Components of omega through tennis-racket (Dzhanibekov) flips, flip times marked."""
     body = FreeRotation(moments, omega0)
     t_end_s = t_end.to_value(u.s)
-    ds = body.evaluate(t_end=t_end, samples=4001)
+    ds = body.to_dataset(t_end=t_end, samples=4001)
     fig, ax = plt.subplots(figsize=(7.0, 3.8))
     for k, label in enumerate(("$\\omega_1$", "$\\omega_2$", "$\\omega_3$")):
         ax.plot(ds.time, ds.omega[:, k], label=label)
@@ -73,3 +74,106 @@ def flip_figure(moments, omega0, t_end):
     ax.legend(loc="upper right")
     fig.tight_layout()
     return fig
+
+
+def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, overwrite: bool = False):
+    """omega(t) and the polhode of one body: what ``wobble free --plot`` draws.
+
+    Left: the angular velocity's components against time, the largest one on its own
+    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it). Right: the
+    polhode, the path of L/|L| in the body frame, on the unit sphere with the principal
+    axes (Goldstein, Poole & Safko 2002, sec. 5.6; Landau & Lifshitz section 37).
+
+    Parameters
+    ----------
+    body : FreeRotation
+    t_end : astropy.units.Quantity
+        End of the span drawn (from 0).
+    samples : int
+        Points along the span.
+    path : path-like, optional
+        Save the figure there (atomically); the function then returns the path.
+    overwrite : bool
+        Replace an existing ``path``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure, or the written path when ``path`` is given
+    """
+    from wobble.io.text import duration
+
+    t1 = t_end.to_value(u.s)
+    t = np.linspace(0.0, t1, samples)
+    w = body.omega(t * u.s).to_value(u.rad / u.s)
+    I = body.moments.to_value(u.kg * u.m**2)  # noqa: E741
+    scale, unit = time_axis(t1)
+    big = int(np.argmax(np.max(np.abs(w), axis=0)))
+    others = [k for k in range(3) if k != big]
+    fig = plt.figure(figsize=(10.5, 4.6))
+    top = fig.add_subplot(2, 2, 1)
+    bottom = fig.add_subplot(2, 2, 3, sharex=top)
+    for k in others:
+        top.plot(t / scale, w[:, k], label=f"$\\omega_{k + 1}$")
+    dominant = w[:, big]
+    if np.ptp(dominant) < 1e-3 * np.max(np.abs(dominant)):
+        # A planet's spin changes by 1e-12 of itself: show the change, not the spin.
+        bottom.plot(t / scale, dominant - dominant[0], color="C2", label=f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$")
+    else:
+        bottom.plot(t / scale, dominant, color="C2", label=f"$\\omega_{big + 1}$")
+    bottom.ticklabel_format(axis="y", useOffset=False)
+    if body.flips:
+        for tf in body.flip_times(t_end).to_value(u.s):
+            for ax in (top, bottom):
+                ax.axvline(tf / scale, color="0.6", lw=0.8, ls=":")
+    top.set_ylabel("rad s$^{-1}$")
+    bottom.set_ylabel("rad s$^{-1}$")
+    bottom.set_xlabel(f"time ({unit})")
+    top.legend(loc="upper right", fontsize=8)
+    bottom.legend(loc="upper right", fontsize=8)
+    top.set_title(f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}", fontsize=9)
+    L = I * w
+    L /= np.linalg.norm(L, axis=1, keepdims=True)
+    near = int(np.argmax(np.min(np.abs(L), axis=0)))
+    if np.min(np.abs(L[:, near])) > np.cos(np.radians(5.0)):
+        _polhode_from_above(fig.add_subplot(1, 2, 2), L, near)
+    else:
+        _polhode_on_sphere(fig.add_subplot(1, 2, 2, projection="3d"), L, I)
+    fig.tight_layout()
+    if path is None:
+        return fig
+    from wobble.plot._save import save_figure
+
+    return save_figure(fig, path, overwrite=overwrite)
+
+
+def _polhode_on_sphere(ax3, L, I) -> None:
+    uu, vv = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
+    ax3.plot_wireframe(np.cos(uu) * np.sin(vv), np.sin(uu) * np.sin(vv), np.cos(vv), color="0.85", lw=0.4)
+    ax3.plot(L[:, 0], L[:, 1], L[:, 2], color="C0", lw=1.4)
+    ax3.plot(L[:1, 0], L[:1, 1], L[:1, 2], "o", color="C3", ms=4)
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = 1.25
+        ax3.plot(*zip(-e, e), color="0.4", lw=0.8)
+        ax3.text(*e, f"$e_{k + 1}$ (I={I[k]:.3g})", fontsize=8)
+    ax3.set_box_aspect((1, 1, 1))
+    ax3.set_axis_off()
+    ax3.set_title("polhode: L/|L| in the body frame", fontsize=9)
+
+
+def _polhode_from_above(ax, L, axis: int) -> None:
+    """A polhode that stays within a few degrees of a principal axis, seen down that axis."""
+    a, b = [k for k in range(3) if k != axis]
+    sign = np.sign(L[0, axis])
+    x, y = L[:, a] * sign, L[:, b] * sign
+    extent = np.max(np.hypot(x, y))
+    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):
+        if extent >= 3 * size:
+            break
+    ax.plot(x / size, y / size, color="C0", lw=1.4)
+    ax.plot(x[:1] / size, y[:1] / size, "o", color="C3", ms=4)
+    ax.plot([0], [0], "+", color="0.3", ms=10)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(f"L along $e_{a + 1}$ ({name} from $e_{axis + 1}$)")
+    ax.set_ylabel(f"L along $e_{b + 1}$ ({name})")
+    ax.set_title(f"polhode: L/|L| in the body frame, seen down $e_{axis + 1}$", fontsize=9)

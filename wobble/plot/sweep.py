@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 
-def histogram(ds, path=None, variable: str = "chandler_period", ax=None):
+def histogram(ds, path=None, variable: str = "chandler_period", ax=None, *, overwrite: bool = False):
     """Histogram of ``variable`` over the valid members, with the observed value marked.
 
     Parameters
@@ -43,7 +43,9 @@ def histogram(ds, path=None, variable: str = "chandler_period", ax=None):
     ax.set_title(ds.attrs.get("title", ""), fontsize=9)
     ax.legend(frameon=False)
     if path is not None:
-        fig.savefig(path, dpi=150)
+        from wobble.plot._save import save_figure
+
+        save_figure(fig, path, overwrite=overwrite)
     return fig
 
 
@@ -57,7 +59,7 @@ _CLASS_COLOURS = {
 }
 
 
-def phase_diagram(ds, path=None, fig=None):
+def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
     """The heavy top's phase diagram: nutation class over tilt and spin, one panel per phidot0.
 
     Parameters
@@ -116,11 +118,13 @@ def phase_diagram(ds, path=None, fig=None):
     fig.legend(handles=handles, loc="outside right center", frameon=False, fontsize=8)
     fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
     if path is not None:
-        fig.savefig(path, dpi=150)
+        from wobble.plot._save import save_figure
+
+        save_figure(fig, path, overwrite=overwrite)
     return fig
 
 
-def ensemble(ds, path=None, fig=None):
+def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
     """A tumbling ensemble: precession periods and wobble-angle ranges, short- against long-axis modes.
 
     Parameters
@@ -166,5 +170,7 @@ def ensemble(ds, path=None, fig=None):
     ax2.set_title("angle between circulation axis and L (4000 members each)", fontsize=8)
     fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
     if path is not None:
-        fig.savefig(path, dpi=150)
+        from wobble.plot._save import save_figure
+
+        save_figure(fig, path, overwrite=overwrite)
     return fig

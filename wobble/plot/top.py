@@ -12,10 +12,11 @@ from astropy import units as u  # noqa: E402
 
 from wobble.api.top import HeavyTop  # noqa: E402
 
-__all__ = ["nutation_classes_figure", "axis_trace_axes", "effective_potential_figure", "cubic_figure"]
+__all__ = ["nutation_classes_figure", "axis_trace_axes", "axis_locus_figure", "effective_potential_figure", "cubic_figure"]
 
 
-def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None):
+def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None,
+                    t_end=None):
     """Draw the trace of the symmetry axis on the unit sphere, seen from above, on ``ax``.
 
     The trace (x, y) = sin(theta) (sin phi, -cos phi) runs between the turning circles
@@ -23,8 +24,9 @@ def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3
     and loops (p. 72).
     """
     m = top.model
-    span = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
-    ds = top.to_dataset(t_end=span * u.s, samples=samples)
+    if t_end is None:
+        t_end = (periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0) * u.s
+    ds = top.to_dataset(t_end=t_end, samples=samples)
     axis = ds.symmetry_axis.values
     ring = np.linspace(0, 2 * np.pi, 400)
     for th in (m.theta_min, m.theta_max):
@@ -39,6 +41,28 @@ def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3
     ax.set_ylabel("y (horizontal)")
     ax.set_title(title or m.nutation)
     return ax
+
+
+def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, overwrite: bool = False):
+    """The path of the figure (symmetry) axis seen from above, from 0 to ``t_end``:
+    what ``wobble top --plot`` draws (undulation, cusps or loops between the turning circles).
+
+    Returns the figure, or the written path when ``path`` is given (saved atomically).
+    """
+    from wobble.io.text import duration
+
+    fig, ax = plt.subplots(figsize=(5.6, 5.6))
+    m = top.model
+    title = (f"{m.nutation}: theta from {np.degrees(m.theta_min):.4g} to {np.degrees(m.theta_max):.4g} deg, "
+             f"0 to {duration(t_end.to_value(u.s), 4)}")
+    axis_trace_axes(ax, top, samples=samples, t_end=t_end, title=title)
+    ax.title.set_fontsize(9)
+    fig.tight_layout()
+    if path is None:
+        return fig
+    from wobble.plot._save import save_figure
+
+    return save_figure(fig, path, overwrite=overwrite)
 
 
 def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: float = 6.0):  # noqa: N803

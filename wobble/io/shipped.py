@@ -1,0 +1,162 @@
+"""Files shipped with wobble: the body catalogue, example scenes, sweeps and inputs.
+
+Everything under ``data/`` is installed as the package data ``wobble._data``,
+so a command finds a shipped file by its name from any folder
+(``wobble run tennis_racket``, ``wobble inertia --points dumbbell.csv``) and
+``wobble example NAME`` copies one into the user's folder to start from.
+
+A name given on the command line is looked up in this order: an existing file
+at that path (the user's own always wins), then a shipped file of the kinds the
+option accepts, by file name with or without its extension.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from wobble.errors import FileFormatError, InputError
+
+__all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "copy_shipped"]
+
+# Folder of data/ -> what its files are, as `wobble example --list` heads them (in this order).
+KINDS = {
+    "bodies": "planets of the catalogue (wobble chandler NAME)",
+    "examples": "example inputs",
+    "scenes": "scenes (wobble run NAME)",
+    "sweeps": "sweeps (wobble sweep NAME)",
+}
+_INDEX = "index.toml"  # descriptions of the examples/ files that cannot describe themselves
+
+
+@dataclass(frozen=True)
+class ShippedFile:
+    """One shipped file: its name, kind (a :data:`KINDS` key) and one-line description."""
+
+    name: str
+    kind: str
+    description: str
+
+    @property
+    def stem(self) -> str:
+        return self.name.rsplit(".", 1)[0]
+
+    def path(self):
+        """The file as an importlib Traversable (use :func:`importlib.resources.as_file`)."""
+        return resources.files("wobble._data") / self.kind / self.name
+
+
+def _first_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _describe_toml(entry) -> str:
+    try:
+        data = tomllib.loads(entry.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return ""
+    return _first_line(data.get("title") or data.get("description") or "")
+
+
+def _index() -> dict[str, str]:
+    entry = resources.files("wobble._data") / "examples" / _INDEX
+    if not entry.is_file():
+        return {}
+    data = tomllib.loads(entry.read_text(encoding="utf-8"))
+    return {name: _first_line(item.get("description", "")) for name, item in data.get("files", {}).items()}
+
+
+def shipped_files(kinds=None) -> list[ShippedFile]:
+    """Every shipped file of the given kinds (default: all), sorted by kind then name."""
+    wanted = list(KINDS) if kinds is None else [kinds] if isinstance(kinds, str) else list(kinds)
+    out = []
+    index = _index()
+    for kind in wanted:
+        folder = resources.files("wobble._data") / kind
+        if not folder.is_dir():
+            continue
+        for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+            name = entry.name
+            if not entry.is_file() or name.startswith(("_", ".")) or name == _INDEX or name.endswith(".py"):
+                continue
+            description = index.get(name) or (_describe_toml(entry) if name.endswith(".toml") else "")
+            out.append(ShippedFile(name, kind, description))
+    return out
+
+
+def find_shipped(name: str, kinds=None, suffixes=None) -> ShippedFile | None:
+    """The shipped file called ``name`` (with or without its extension), or None."""
+    key = os.fspath(name).strip()
+    for f in _candidates(kinds, suffixes):
+        if key in (f.name, f.stem):
+            return f
+    return None
+
+
+def _candidates(kinds, suffixes) -> list[ShippedFile]:
+    files = shipped_files(kinds)
+    return files if suffixes is None else [f for f in files if f.name.endswith(tuple(suffixes))]
+
+
+def _names(kinds, suffixes=None) -> str:
+    return ", ".join(f.name for f in _candidates(kinds, suffixes)) or "none"
+
+
+def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> str:
+    """A path to read for ``text``: the user's file if it exists, else the shipped one.
+
+    Parameters
+    ----------
+    text : str or path-like
+        What the user typed.
+    kinds : str or sequence of str
+        The :data:`KINDS` the option accepts.
+    parameter : str
+        The option, for the error message.
+    suffixes : sequence of str, optional
+        File name endings the option reads (``(".csv",)``); other shipped files are not offered.
+
+    Returns
+    -------
+    str
+        A file system path (shipped files live in the installed package).
+
+    Raises
+    ------
+    wobble.errors.InputError
+        Neither a file nor a shipped name; the message lists the shipped names.
+    """
+    path = Path(os.fspath(text))
+    if path.is_file():
+        return str(path)
+    found = find_shipped(str(text), kinds, suffixes)
+    if found is not None:
+        return str(found.path())
+    raise InputError(parameter, os.fspath(text),
+                     f"an existing file (there is no such file), or a shipped one: {_names(kinds, suffixes)}")
+
+
+def copy_shipped(name: str, dest: str | os.PathLike | None = None, *, overwrite: bool = False) -> Path:
+    """Copy the shipped file ``name`` to ``dest`` (a file or a folder; default ``./NAME``).
+
+    The copy is written under a temporary name and renamed, never replacing an
+    existing file unless ``overwrite``.
+    """
+    from wobble.io.atomic import atomic_target
+
+    found = find_shipped(name)
+    if found is None:
+        raise InputError("NAME", name, f"a shipped file: {_names(None)} (wobble example --list)")
+    target = Path(dest) if dest is not None else Path(found.name)
+    if target.is_dir():
+        target = target / found.name
+    with resources.as_file(found.path()) as source, atomic_target(target, overwrite) as tmp:
+        try:
+            shutil.copyfile(source, tmp)
+        except OSError as exc:  # pragma: no cover - a broken installation
+            raise FileFormatError(source, None, f"cannot be read ({exc.strerror})") from None
+    return target
