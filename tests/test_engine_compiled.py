@@ -20,6 +20,7 @@ from wobble.models.engine import (
     Engine,
     GravityGradient,
     LinearDamping,
+    MagneticDipole,
     UniformGravity,
     attitude_angle,
     simulate,
@@ -65,6 +66,7 @@ def _every_kind(n):
         UniformGravity(0.3, [0.0, 0.1, 0.0], gravity=[0.0, 1.0, -3.0]),
         GravityGradient(3.986004418e14, 6.9e6, orbit_normal=[0.1, 0.2, 1.0], phase=0.4),
         GravityGradient(4.0e13, 6.0e6, direction=[0.3, -0.5, 0.8]),
+        MagneticDipole(0.02 * rng.normal(size=(n, 3)), [1e-3, -2e-3, 0.5]),
         LinearDamping([0.001, 0.002, 0.003]),
     ]
 

@@ -74,7 +74,7 @@ def test_quantities_in_every_form_and_unit(tmp_path):
         (('outputs = ["omega"]', 'outputs = ["omega", "spin_angle"]'), "outputs[1]"),
         (('name = "test"', 'name = "test"\ncolour = "red"'), "colour"),
         (('accuracy = 1e-9', 'accuracy = 1e-9\nmodel = "rk4"'), "model"),
-        (("[time]", '[[torques]]\nkind = "magnetic"\n\n[time]'), "torques[0].kind"),
+        (("[time]", '[[torques]]\nkind = "electrostatic"\n\n[time]'), "torques[0].kind"),
         (("[time]", '[[torques]]\ntorque = { value = [0, 0, 1], unit = "N m" }\n\n[time]'), "torques[0].kind"),
         (("[time]", '[[torques]]\nkind = "constant"\ntorque = { value = [0, 0, 1], unit = "N" }\n\n[time]'), "torques[0].torque.unit"),
         (("[time]", '[[torques]]\nkind = "gravity"\ncenter_of_mass = { value = [0, 0, 1], unit = "m" }\n\n[time]'), "torques[0].mass"),

@@ -1,8 +1,9 @@
 """Torques with units: :class:`Torque` (Quantities in, engine specifications out).
 
-Each constructor converts its Quantities to SI once and returns a
-:class:`Torque` that scenes (:class:`wobble.Scene`) accept. See
-docs/engine.md for the equations.
+Each constructor hands its Quantities to the scene-file reader's torque table
+(:func:`wobble.io.scene_file.torque_from_mapping`), the one place a torque's parameters
+are checked and converted to SI, and returns a :class:`Torque` that scenes
+(:class:`wobble.Scene`) accept. See docs/engine.md for the equations.
 
 Example
 -------
@@ -20,9 +21,8 @@ from __future__ import annotations
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
-from wobble.errors import InputError
-from wobble.models import engine as _eng
+from wobble.io.scene_file import torque_from_mapping
+from wobble.models.torques import STANDARD_GRAVITY, CustomTorque
 
 __all__ = ["Torque"]
 
@@ -35,7 +35,7 @@ class Torque:
     Attributes
     ----------
     kind : str
-        ``constant``, ``gravity``, ``gravity_gradient``, ``damping`` or ``custom``.
+        ``constant``, ``gravity``, ``gravity_gradient``, ``magnetic``, ``damping`` or ``custom``.
     spec : object
         The SI specification in :mod:`wobble.models.engine`.
     """
@@ -59,16 +59,11 @@ class Torque:
 
         ``torque`` has shape (3,) or (N, 3) (one per ensemble member).
         """
-        tau = to_si(torque, "torque", _TORQUE)
-        if np.shape(tau)[-1:] != (3,):
-            raise InputError("torque", torque, "a 3-vector torque Quantity (e.g. [0, 0, 1] * u.N * u.m)")
-        if frame not in ("body", "inertial"):
-            raise InputError("frame", frame, "'body' or 'inertial'")
-        return cls(_eng.ConstantTorque(np.asarray(tau), frame))
+        return cls(torque_from_mapping({"kind": "constant", "torque": torque, "frame": frame}))
 
     @classmethod
-    def gravity(cls, mass, center_of_mass, g=_eng.STANDARD_GRAVITY * u.m / u.s**2) -> Torque:
-        """Uniform gravity about a fixed pivot: ``tau = r x m g`` (notes section 5.7).
+    def gravity(cls, mass, center_of_mass, g=STANDARD_GRAVITY * u.m / u.s**2) -> Torque:
+        """Uniform gravity about a fixed pivot: ``tau = r x m g`` (Goldstein, Poole & Safko 2002, sec. 5.7).
 
         Parameters
         ----------
@@ -81,15 +76,8 @@ class Torque:
             A magnitude (gravity along the inertial -z axis) or an inertial
             acceleration vector (3,).
         """
-        m = to_si(mass, "mass", u.kg, positive=True)
-        r = to_si(center_of_mass, "center_of_mass", u.m)
-        if np.shape(r)[-1:] != (3,):
-            raise InputError("center_of_mass", center_of_mass, "a 3-vector length Quantity (body frame)")
-        gv = to_si(g, "g", u.m / u.s**2)
-        gv = np.array([0.0, 0.0, -float(gv)]) if np.ndim(gv) == 0 else np.asarray(gv, dtype=float)
-        if gv.shape != (3,):
-            raise InputError("g", g, "a magnitude or an inertial 3-vector (m / s2)")
-        return cls(_eng.UniformGravity(m, np.asarray(r), gv))
+        key = "g" if isinstance(g, u.Quantity) and np.ndim(g) == 0 else "gravity"
+        return cls(torque_from_mapping({"kind": "gravity", "mass": mass, "center_of_mass": center_of_mass, key: g}))
 
     @classmethod
     def gravity_gradient(cls, gm, distance, *, direction=None, orbit_normal=None, phase=0 * u.rad, mean_motion=None) -> Torque:
@@ -110,22 +98,29 @@ class Torque:
         mean_motion : Quantity, optional
             Angular rate of the direction; default sqrt(GM / d^3).
         """
-        spec = _eng.GravityGradient(
-            to_si(gm, "gm", u.m**3 / u.s**2, positive=True, shape=()),
-            to_si(distance, "distance", u.m, positive=True, shape=()),
-            None if direction is None else np.asarray(direction, dtype=float),
-            None if orbit_normal is None else np.asarray(orbit_normal, dtype=float),
-            to_si(phase, "phase", u.rad, shape=()),
-            None if mean_motion is None else to_si(mean_motion, "mean_motion", u.rad / u.s, shape=()),
-        )
-        spec.unit_vectors()  # checks direction / orbit_normal now
-        return cls(spec)
+        mapping = {"kind": "gravity_gradient", "gm": gm, "distance": distance, "phase": phase}
+        for key, value in (("direction", direction), ("orbit_normal", orbit_normal), ("mean_motion", mean_motion)):
+            if value is not None:
+                mapping[key] = value
+        return cls(torque_from_mapping(mapping))
+
+    @classmethod
+    def magnetic(cls, dipole, field) -> Torque:
+        """A magnetic dipole fixed in the body in a uniform field: ``tau = mu x B``.
+
+        Parameters
+        ----------
+        dipole : Quantity, shape (3,) or (N, 3)
+            The body's magnetic dipole moment (A m2), body frame.
+        field : Quantity, shape (3,)
+            The magnetic flux density (T), inertial frame.
+        """
+        return cls(torque_from_mapping({"kind": "magnetic", "dipole": dipole, "field": field}))
 
     @classmethod
     def damping(cls, coefficient) -> Torque:
         """Linear damping ``tau = -c omega``; c in N m s, one value or one per principal body axis."""
-        c = to_si(coefficient, "coefficient", u.N * u.m * u.s, nonnegative=True)
-        return cls(_eng.LinearDamping(np.asarray(c)))
+        return cls(torque_from_mapping({"kind": "damping", "coefficient": coefficient}))
 
     @classmethod
     def custom(cls, function, *, frame: str = "body", uses_omega: bool = True, uses_attitude: bool = True, name: str = "custom") -> Torque:
@@ -136,4 +131,4 @@ class Torque:
         ``uses_omega=False`` when it does not depend on omega: the splitting
         integrator can then take it.
         """
-        return cls(_eng.CustomTorque(function, frame, uses_omega, uses_attitude, name))
+        return cls(CustomTorque(function, frame, uses_omega, uses_attitude, name))

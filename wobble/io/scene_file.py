@@ -24,15 +24,21 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
-from wobble.models import engine as eng
+from wobble.models import torques
+from wobble.models.rigid_frame import BodyModel, InternalFrame
 from wobble.models.scene import MODEL_NAMES, OUTPUTS, Scene
+from wobble.models.torques import TorqueSpec
 from wobble.numerics import quaternion as quat
 
-__all__ = ["SCHEMA", "read_scene", "scene_from_mapping", "example_scenes", "example_scene_path", "to_plain", "TORQUE_KINDS"]
+__all__ = [
+    "SCHEMA", "read_scene", "scene_from_mapping", "torque_from_mapping", "example_scenes", "example_scene_path", "to_plain",
+    "TORQUE_KINDS",
+]
 
 SCHEMA = "wobble-scene/1"
 TOP_KEYS = ("schema", "name", "title", "description", "body", "initial", "torques", "time", "accuracy", "outputs", "model")
-TORQUE_KINDS = ("constant", "gravity", "gravity_gradient", "damping")
+# The kinds a scene file names; "custom" (a Python function) comes only from Python.
+TORQUE_KINDS = ("constant", "gravity", "gravity_gradient", "magnetic", "damping")
 _SOLID_LENGTHS = {
     "solid_sphere": ("radius",),
     "hollow_sphere": ("radius", "inner_radius"),
@@ -61,7 +67,7 @@ class _Reader:
     def missing(self, where: str, what: str) -> Exception:
         if self.source:
             return FileFormatError(self.source, where, f"missing; {what}")
-        return InputError(where, "missing", what)
+        return InputError.missing(where, what)
 
     def table(self, data, where: str, known) -> dict:
         if not isinstance(data, dict):
@@ -161,7 +167,7 @@ def _example(unit):
 # --------------------------------------------------------------------------
 # Sections
 # --------------------------------------------------------------------------
-def _body(r: _Reader, data) -> tuple[eng.BodyModel, np.ndarray | None]:
+def _body(r: _Reader, data) -> tuple[BodyModel, np.ndarray | None]:
     """(BodyModel, centre of mass from the reference point or None)."""
     if data is None:
         raise r.missing("body", "give moments, tensor, planet or solid (docs/scenes.md)")
@@ -180,12 +186,12 @@ def _body(r: _Reader, data) -> tuple[eng.BodyModel, np.ndarray | None]:
             m = r.quantity(data["moments"], "body.moments", _MOI, ndim=(0, 1, 2), width=3, positive=True)
             if m.ndim == 0:  # one moment: a sphere (or any body with I1 = I2 = I3)
                 m = np.full(3, float(m))
-            return eng.BodyModel.from_moments(m, mass), None
+            return BodyModel.from_moments(m, mass), None
         if kind == "tensor":
             t = r.quantity(data["tensor"], "body.tensor", _MOI, ndim=(2, 3), width=3)
             if t.shape[-2:] != (3, 3):
                 raise r.error("body.tensor", data["tensor"], "a 3x3 tensor (or a list of them)")
-            return eng.BodyModel.from_tensor(t, mass), None
+            return BodyModel.from_tensor(t, mass), None
     except InputError as exc:
         raise r.error(f"body.{kind}", exc.value, exc.allowed) from None
     return _planet_body(r, data["planet"], mass), None
@@ -203,7 +209,7 @@ def _planet(r: _Reader, name, where):
     return params
 
 
-def _planet_body(r: _Reader, name, mass) -> eng.BodyModel:
+def _planet_body(r: _Reader, name, mass) -> BodyModel:
     """Principal moments A <= B <= C of a catalogued planet from its figure (H, J2 or C/Ma2, C22, S22)."""
     from wobble.models.chandler import principal_moments
 
@@ -212,7 +218,7 @@ def _planet_body(r: _Reader, name, mass) -> eng.BodyModel:
     if figure is None:
         raise r.error("body.planet", name, "a planet whose file gives gm, equatorial_radius and C/(M a^2) (or j2 with H)")
     moments, planet_mass = figure
-    return eng.BodyModel.from_moments(np.array(moments), mass if mass is not None else planet_mass)
+    return BodyModel.from_moments(np.array(moments), mass if mass is not None else planet_mass)
 
 
 def _solid(r: _Reader, data):
@@ -233,7 +239,7 @@ def _solid(r: _Reader, data):
     solid = getattr(bodies, name)(mass, **kwargs)
     if "about" in data:
         solid = solid.shifted_to(r.quantity(data["about"], "body.about", u.m, ndim=(1,), width=3))
-    body = eng.BodyModel.from_tensor(np.asarray(solid.tensor), mass)
+    body = BodyModel.from_tensor(np.asarray(solid.tensor), mass)
     return body, np.asarray(solid.center_of_mass) - np.asarray(solid.reference_point)
 
 
@@ -306,79 +312,130 @@ def _initial(r: _Reader, data, body_data):
     return w0, q0
 
 
-def _torque(r: _Reader, i: int, data, body: eng.BodyModel, com):
-    where = f"torques[{i}]"
-    if isinstance(data, (eng.ConstantTorque, eng.UniformGravity, eng.GravityGradient, eng.LinearDamping, eng.CustomTorque)):
+def _torque(r: _Reader, i: int, data, body, com):
+    if isinstance(data, TorqueSpec):
         return data
+    return _torque_spec(r, f"torques[{i}]", data, body, com)
+
+
+def torque_from_mapping(data) -> TorqueSpec:
+    """A torque from its scene-file table, with Quantities or unit strings as values.
+
+    The one place where a torque's parameters are checked and converted to SI: scene
+    files (``[[torques]]``) and the API's :class:`wobble.Torque` constructors both come here,
+    so a parameter means the same, in the same unit, everywhere. Errors name the key.
+    """
+    return _torque_spec(_Reader(None), "", data, None, None)
+
+
+def _key(where: str, name: str) -> str:
+    return f"{where}.{name}" if where else name
+
+
+def _torque_spec(r: _Reader, where: str, data, body, com) -> TorqueSpec:
     if not isinstance(data, dict):
-        raise r.error(where, data, "a table with a kind")
+        raise r.error(where or "torque", data, "a table with a kind")
     if "kind" not in data:
-        raise r.missing(f"{where}.kind", "one of " + ", ".join(TORQUE_KINDS))
-    kind = r.string(data["kind"], f"{where}.kind", TORQUE_KINDS)
-    if kind == "constant":
-        r.table(data, where, ("kind", "torque", "frame"))
-        if "torque" not in data:
-            raise r.missing(f"{where}.torque", "the torque vector, e.g. { value = [0, 0, 1], unit = \"N m\" }")
-        tau = r.quantity(data["torque"], f"{where}.torque", u.N * u.m, ndim=(1, 2), width=3)
-        frame = r.string(data.get("frame", "body"), f"{where}.frame", ("body", "inertial"))
-        return eng.ConstantTorque(tau, frame)
-    if kind == "gravity":
-        r.table(data, where, ("kind", "g", "gravity", "mass", "center_of_mass"))
-        if "g" in data and "gravity" in data:
-            raise r.error(f"{where}.gravity", "both g and gravity", "one of them")
-        if "gravity" in data:
-            grav = r.quantity(data["gravity"], f"{where}.gravity", u.m / u.s**2, ndim=(1,), width=3)
-        else:
-            g = float(r.quantity(data.get("g", f"{eng.STANDARD_GRAVITY} m/s2"), f"{where}.g", u.m / u.s**2, ndim=(0,), positive=True))
-            grav = np.array([0.0, 0.0, -g])
-        if "mass" in data:
-            mass = r.quantity(data["mass"], f"{where}.mass", u.kg, ndim=(0, 1), positive=True)
-        elif body.mass is not None:
-            mass = np.asarray(body.mass)
-        else:
-            raise r.missing(f"{where}.mass", "the mass (or body.mass)")
-        if "center_of_mass" in data:
-            r_cm = r.quantity(data["center_of_mass"], f"{where}.center_of_mass", u.m, ndim=(1, 2), width=3)
-        elif com is not None:
-            r_cm = com
-        else:
-            raise r.missing(f"{where}.center_of_mass", "the centre of mass from the pivot, body frame (m)")
-        return eng.UniformGravity(mass, r_cm, grav)
-    if kind == "gravity_gradient":
-        r.table(data, where, ("kind", "gm", "primary", "distance", "direction", "orbit_normal", "phase", "mean_motion"))
-        if ("gm" in data) == ("primary" in data):
-            raise r.error(f"{where}.gm", sorted(data), "exactly one of gm and primary (a catalogued planet)")
-        if "gm" in data:
-            gm = float(r.quantity(data["gm"], f"{where}.gm", u.m**3 / u.s**2, ndim=(0,), positive=True))
-        else:
-            p = _planet(r, data["primary"], f"{where}.primary")
-            if p.gm is None:
-                raise r.error(f"{where}.primary", data["primary"], "a planet whose file gives gm")
-            gm = p.gm.value
-        if "distance" not in data:
-            raise r.missing(f"{where}.distance", "the distance to the attracting mass")
-        dist = float(r.quantity(data["distance"], f"{where}.distance", u.m, ndim=(0,), positive=True))
-        if ("direction" in data) == ("orbit_normal" in data):
-            raise r.error(f"{where}.direction", sorted(data), "exactly one of direction (fixed) and orbit_normal (circular orbit)")
-        direction = normal = None
-        if "direction" in data:
-            direction = r.number(data["direction"], f"{where}.direction", ndim=(1,), width=3)
-            if not np.linalg.norm(direction) > 0:
-                raise r.error(f"{where}.direction", data["direction"], "a non-zero vector")
-        else:
-            normal = r.number(data["orbit_normal"], f"{where}.orbit_normal", ndim=(1,), width=3)
-            if not np.linalg.norm(normal) > 0:
-                raise r.error(f"{where}.orbit_normal", data["orbit_normal"], "a non-zero vector")
-        phase = float(r.quantity(data.get("phase", "0 rad"), f"{where}.phase", u.rad, ndim=(0,)))
-        n = None
-        if "mean_motion" in data:
-            n = float(r.quantity(data["mean_motion"], f"{where}.mean_motion", u.rad / u.s, ndim=(0,)))
-        return eng.GravityGradient(gm, dist, direction, normal, phase, n)
+        raise r.missing(_key(where, "kind"), "one of " + ", ".join(TORQUE_KINDS))
+    kind = r.string(data["kind"], _key(where, "kind"), TORQUE_KINDS)
+    return _TORQUE_READERS[kind](r, where, data, body, com)
+
+
+def _constant(r: _Reader, where, data, body, com) -> TorqueSpec:
+    r.table(data, where, ("kind", "torque", "frame"))
+    if "torque" not in data:
+        raise r.missing(_key(where, "torque"), "the torque vector, e.g. { value = [0, 0, 1], unit = \"N m\" }")
+    tau = r.quantity(data["torque"], _key(where, "torque"), u.N * u.m, ndim=(1, 2), width=3)
+    frame = r.string(data.get("frame", "body"), _key(where, "frame"), ("body", "inertial"))
+    return torques.ConstantTorque(tau, frame)
+
+
+def _gravity(r: _Reader, where, data, body, com) -> TorqueSpec:
+    r.table(data, where, ("kind", "g", "gravity", "mass", "center_of_mass"))
+    if "g" in data and "gravity" in data:
+        raise r.error(_key(where, "gravity"), "both g and gravity", "one of them")
+    if "gravity" in data:
+        grav = r.quantity(data["gravity"], _key(where, "gravity"), u.m / u.s**2, ndim=(1,), width=3)
+    else:
+        g = float(r.quantity(data.get("g", f"{torques.STANDARD_GRAVITY} m/s2"), _key(where, "g"), u.m / u.s**2,
+                             ndim=(0,), positive=True))
+        grav = np.array([0.0, 0.0, -g])
+    if "mass" in data:
+        mass = r.quantity(data["mass"], _key(where, "mass"), u.kg, ndim=(0, 1), positive=True)
+    elif body is not None and body.mass is not None:
+        mass = np.asarray(body.mass)
+    else:
+        raise r.missing(_key(where, "mass"), "the mass (or body.mass)")
+    if "center_of_mass" in data:
+        r_cm = r.quantity(data["center_of_mass"], _key(where, "center_of_mass"), u.m, ndim=(1, 2), width=3)
+    elif com is not None:
+        r_cm = com
+    else:
+        raise r.missing(_key(where, "center_of_mass"), "the centre of mass from the pivot, body frame (m)")
+    return torques.UniformGravity(mass, r_cm, grav)
+
+
+def _gravity_gradient(r: _Reader, where, data, body, com) -> TorqueSpec:
+    r.table(data, where, ("kind", "gm", "primary", "distance", "direction", "orbit_normal", "phase", "mean_motion"))
+    if ("gm" in data) == ("primary" in data):
+        raise r.error(_key(where, "gm"), sorted(data), "exactly one of gm and primary (a catalogued planet)")
+    if "gm" in data:
+        gm = float(r.quantity(data["gm"], _key(where, "gm"), u.m**3 / u.s**2, ndim=(0,), positive=True))
+    else:
+        p = _planet(r, data["primary"], _key(where, "primary"))
+        if p.gm is None:
+            raise r.error(_key(where, "primary"), data["primary"], "a planet whose file gives gm")
+        gm = p.gm.value
+    if "distance" not in data:
+        raise r.missing(_key(where, "distance"), "the distance to the attracting mass")
+    dist = float(r.quantity(data["distance"], _key(where, "distance"), u.m, ndim=(0,), positive=True))
+    if ("direction" in data) == ("orbit_normal" in data):
+        raise r.error(_key(where, "direction"), sorted(data), "exactly one of direction (fixed) and orbit_normal (circular orbit)")
+    direction = normal = None
+    if "direction" in data:
+        direction = _nonzero(r, data["direction"], _key(where, "direction"))
+    else:
+        normal = _nonzero(r, data["orbit_normal"], _key(where, "orbit_normal"))
+    phase = float(r.quantity(data.get("phase", "0 rad"), _key(where, "phase"), u.rad, ndim=(0,)))
+    n = None
+    if "mean_motion" in data:
+        n = float(r.quantity(data["mean_motion"], _key(where, "mean_motion"), u.rad / u.s, ndim=(0,)))
+    return torques.GravityGradient(gm, dist, direction, normal, phase, n)
+
+
+def _nonzero(r: _Reader, raw, where: str) -> np.ndarray:
+    vec = r.number(raw, where, ndim=(1,), width=3)
+    if not np.linalg.norm(vec) > 0:
+        raise r.error(where, raw, "a non-zero vector")
+    return vec
+
+
+def _magnetic(r: _Reader, where, data, body, com) -> TorqueSpec:
+    r.table(data, where, ("kind", "dipole", "field"))
+    for key, what in (("dipole", "the body's magnetic dipole moment, body frame, e.g. { value = [0, 0, 1], unit = \"A m2\" }"),
+                      ("field", "the uniform magnetic field, inertial frame, e.g. { value = [0, 0, -50], unit = \"uT\" }")):
+        if key not in data:
+            raise r.missing(_key(where, key), what)
+    mu = r.quantity(data["dipole"], _key(where, "dipole"), u.A * u.m**2, ndim=(1, 2), width=3)
+    field = r.quantity(data["field"], _key(where, "field"), u.T, ndim=(1, 2), width=3)
+    return torques.MagneticDipole(mu, field)
+
+
+def _damping(r: _Reader, where, data, body, com) -> TorqueSpec:
     r.table(data, where, ("kind", "coefficient"))
     if "coefficient" not in data:
-        raise r.missing(f"{where}.coefficient", "the damping coefficient c in tau = -c omega (N m s)")
-    c = r.quantity(data["coefficient"], f"{where}.coefficient", u.N * u.m * u.s, ndim=(0, 1), nonnegative=True)
-    return eng.LinearDamping(c)
+        raise r.missing(_key(where, "coefficient"), "the damping coefficient c in tau = -c omega (N m s)")
+    c = r.quantity(data["coefficient"], _key(where, "coefficient"), u.N * u.m * u.s, ndim=(0, 1), nonnegative=True)
+    return torques.LinearDamping(c)
+
+
+_TORQUE_READERS = {
+    "constant": _constant,
+    "gravity": _gravity,
+    "gravity_gradient": _gravity_gradient,
+    "magnetic": _magnetic,
+    "damping": _damping,
+}
 
 
 def _times(r: _Reader, data):
@@ -504,7 +561,7 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
         # Validate the torques against the body now, so that errors name their keys.
         for i, t in enumerate(torques):
             try:
-                t.bind(eng._Frame.of(body, n), n)
+                t.bind(InternalFrame.of(body, n), n)
             except InputError as exc:
                 raise r.error(f"torques[{i}].{exc.parameter}", exc.value, exc.allowed) from None
     except ValueError as exc:

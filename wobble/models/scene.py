@@ -200,7 +200,7 @@ class _FreeSingle(_ModelRun):
 
     def error_estimate(self):
         e = self.model.error_estimate
-        return {"omega_relative": float(e["omega_relative"]), "attitude_rad": float(e["attitude_rad"]), "method": "a priori bound of the exact solution (docs/free-rotation.md)"}
+        return {"omega_relative": float(e["omega_relative"]), "attitude_rad": float(e["attitude_rad"]), "method": "a priori bound of the exact solution (elliptic functions in double-double arithmetic)"}
 
 
 class _FreeEnsemble(_ModelRun):
@@ -263,8 +263,8 @@ class _Numerical(_ModelRun):
             )
             comp = self.engine.propagator(s.omega0, s.attitude0, times[0], method="splitting", step=2 * step, order=order, **kw)
             factor = 1.0 / (2**order - 1)
-        self._acc = eng._Accumulator(s.members, factor)
-        self._method = eng._estimate_name(self.method, self.settings.get("order", 8))
+        self._acc = eng.ErrorAccumulator(s.members, factor)
+        self._method = eng.error_estimate_method(self.method, self.settings.get("order", 8))
         for tb in _blocks_of(times, block):
             w, q = prop.advance(tb)
             wc, qc = comp.advance(tb)

@@ -14,19 +14,10 @@ while the arithmetic of a stage is ~100 floating-point operations; an ensemble
 in NumPy makes a memory-bound pass over the member arrays for every operation.
 Compiled, a stage costs tens of nanoseconds and each member stays in registers.
 
-The torque is a *program* of the engine's built-in kinds, packed in arrays by
-:func:`wobble.models.engine.Engine` (internal frame: principal axes sorted by
-increasing moment; parameter arrays have one row, shared, or one row per
-member):
-
-* ``body`` (Mb, 3): constant torque in the body frame;
-* ``inertial`` (Mi, 3): constant torque in the inertial frame, ``R(q)^T tau``;
-* ``grav_r``, ``grav_mg`` (G, Mg, 3): uniform gravity about a pivot,
-  ``r x (R(q)^T m g)`` (notes section 5.7);
-* ``gg`` (J, 9): gravity gradient (MacCullagh) ``k rho_b x (I rho_b)`` with the
-  row ``(k, e1, e2, rate, phase)``, ``rho(t) = cos(rate t + phase) e1 + sin(...) e2``
-  (``e2 = 0`` for a fixed direction ``e1``, then rate = phase = 0);
-* ``damp`` (Md, 3): linear damping ``-D omega``.
+The torque is a *program* of the engine's built-in kinds, one
+:class:`~wobble.numerics.torque_program.TorqueProgram` of arrays packed by the engine
+(:mod:`wobble.numerics.torque_program` lists its fields and the torque each computes;
+internal frame: principal axes sorted by increasing moment).
 
 Numba is imported by this module only: import it where a compiled run is wanted
 (the import costs ~0.4 s once per process; compiled code is cached on disk).
@@ -42,6 +33,7 @@ import numpy as np
 
 from wobble.numerics import _dop853_tableau as _T
 from wobble.numerics.integrators import StepLimitError, check_output_times
+from wobble.numerics.torque_program import TorqueProgram
 
 __all__ = ["OK", "STEP_LIMIT", "STEP_UNDERFLOW", "RigidDOP853"]
 
@@ -93,17 +85,35 @@ def _to_body(qw, ux, uy, uz, v0, v1, v2):
 
 
 @_jit_inline
-def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
+def _lever_torque(qw, ux, uy, uz, i, arms, forces):
+    """sum over terms of arm x R(q)^T force: gravity about a pivot (arm r, force m g) and a
+    body-fixed magnetic dipole in a uniform field (arm mu, force B) have the same form."""
+    tx = ty = tz = 0.0
+    for g in range(arms.shape[0]):
+        r = i if arms.shape[1] > 1 else 0
+        b0, b1, b2 = _to_body(qw, ux, uy, uz, forces[g, r, 0], forces[g, r, 1], forces[g, r, 2])
+        c0, c1, c2 = arms[g, r, 0], arms[g, r, 1], arms[g, r, 2]
+        tx += c1 * b2 - c2 * b1
+        ty += c2 * b0 - c0 * b2
+        tz += c0 * b1 - c1 * b0
+    return tx, ty, tz
+
+
+@_jit_inline
+def _rhs(t, y, out, i, prog):
     """Euler's equations with the torque program, for member i (notes 5.5)."""
     d = y.shape[0]
     w0, w1, w2 = y[0], y[1], y[2]
+    body = prog.body
     r = i if body.shape[0] > 1 else 0
     tx, ty, tz = body[r, 0], body[r, 1], body[r, 2]
+    moments = prog.moments
     m = i if moments.shape[0] > 1 else 0
     i0, i1, i2 = moments[m, 0], moments[m, 1], moments[m, 2]
     if d == 7:
         # u = -(x, y, z): the vector part of q*, for the rotation into the body frame.
         qw, ux, uy, uz = y[3], -y[4], -y[5], -y[6]
+        inertial = prog.inertial
         r = i if inertial.shape[0] > 1 else 0
         v0, v1, v2 = inertial[r, 0], inertial[r, 1], inertial[r, 2]
         if v0 != 0.0 or v1 != 0.0 or v2 != 0.0:
@@ -111,13 +121,15 @@ def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
             tx += b0
             ty += b1
             tz += b2
-        for g in range(grav_r.shape[0]):
-            r = i if grav_r.shape[1] > 1 else 0
-            b0, b1, b2 = _to_body(qw, ux, uy, uz, grav_mg[g, r, 0], grav_mg[g, r, 1], grav_mg[g, r, 2])
-            c0, c1, c2 = grav_r[g, r, 0], grav_r[g, r, 1], grav_r[g, r, 2]
-            tx += c1 * b2 - c2 * b1
-            ty += c2 * b0 - c0 * b2
-            tz += c0 * b1 - c1 * b0
+        c0, c1, c2 = _lever_torque(qw, ux, uy, uz, i, prog.grav_r, prog.grav_mg)
+        tx += c0
+        ty += c1
+        tz += c2
+        c0, c1, c2 = _lever_torque(qw, ux, uy, uz, i, prog.magnetic_dipole, prog.magnetic_field)
+        tx += c0
+        ty += c1
+        tz += c2
+        gg = prog.gradient
         for j in range(gg.shape[0]):
             k = gg[j, 0]
             ang = gg[j, 7] * t + gg[j, 8]
@@ -128,6 +140,7 @@ def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
             tx += k * (i2 - i1) * b1 * b2
             ty += k * (i0 - i2) * b2 * b0
             tz += k * (i1 - i0) * b0 * b1
+    damp = prog.damping
     if damp.shape[0] > 0:
         r = i if damp.shape[0] > 1 else 0
         tx -= damp[r, 0] * w0
@@ -145,14 +158,14 @@ def _rhs(t, y, out, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
 
 
 @_jit_inline
-def _stage(s, ti, hs, yi, K, ytmp, i, moments, body, inertial, grav_r, grav_mg, gg, damp):
+def _stage(s, ti, hs, yi, K, ytmp, i, prog):
     """Stage s: K[s] = f(t + c_s h, y + h sum_j a_sj K[j]) (the main stages and the dense output's)."""
     for c in range(yi.shape[0]):
         acc = 0.0
         for j in range(s):
             acc += _A[s, j] * K[j, c]
         ytmp[c] = yi[c] + hs * acc
-    _rhs(ti + _C[s] * hs, ytmp, K[s], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+    _rhs(ti + _C[s] * hs, ytmp, K[s], i, prog)
 
 
 @_jit
@@ -175,7 +188,7 @@ def _rms_scaled(x, scale):
 
 @_jit
 def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out,
-            moments, body, inertial, grav_r, grav_mg, gg, damp, K, ytmp, ynew, scale, F):
+            prog, K, ytmp, ynew, scale, F):
     """Advance member i to t_end, writing its outputs; returns an error code (OK, ...)."""
     d = y.shape[1]
     ti = t[i]
@@ -207,7 +220,7 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
             h0 = min(h0, span)
             for c in range(d):
                 ytmp[c] = yi[c] + h0 * fi[c]
-            _rhs(ti + h0, ytmp, K[1], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+            _rhs(ti + h0, ytmp, K[1], i, prog)
             nfev[i] += 1
             s = 0.0
             for c in range(d):
@@ -233,14 +246,14 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
         for c in range(d):
             K[0, c] = fi[c]
         for s in range(1, _NS):
-            _stage(s, ti, hs, yi, K, ytmp, i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+            _stage(s, ti, hs, yi, K, ytmp, i, prog)
         for c in range(d):
             acc = 0.0
             for j in range(_NS):
                 acc += _B[j] * K[j, c]
             ynew[c] = yi[c] + hs * acc
         t_new = t_end if last else ti + hs
-        _rhs(t_new, ynew, K[_NS], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+        _rhs(t_new, ynew, K[_NS], i, prog)
         nfev[i] += _NS
         # Error norm: 5th and 3rd order estimators, each component scaled by the largest
         # value it has reached (DOP853's docstring in wobble.numerics.integrators).
@@ -275,7 +288,7 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
         if ptr < n_out and t_out[ptr] <= t_new:
             # Dense output: three extra stages, then the 7th-order interpolant.
             for s in range(_NS + 1, _T_EXT):
-                _stage(s, ti, hs, yi, K, ytmp, i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+                _stage(s, ti, hs, yi, K, ytmp, i, prog)
             nfev[i] += 3
             for c in range(d):
                 delta = ynew[c] - yi[c]
@@ -318,8 +331,7 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
 
 
 @_jit
-def _advance(lo, hi, t_out, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out,
-             moments, body, inertial, grav_r, grav_mg, gg, damp):
+def _advance(lo, hi, t_out, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out, prog):
     """Members lo <= i < hi, one after the other; returns (code, member)."""
     d = y.shape[1]
     t_end = t_out[t_out.shape[0] - 1]
@@ -330,16 +342,16 @@ def _advance(lo, hi, t_out, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol
     F = np.empty((7, d))
     for i in range(lo, hi):
         code = _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out,
-                       moments, body, inertial, grav_r, grav_mg, gg, damp, K, ytmp, ynew, scale, F)
+                       prog, K, ytmp, ynew, scale, F)
         if code != OK:
             return code, i
     return OK, -1
 
 
 @_jit
-def _initial_f(t0, y, f, moments, body, inertial, grav_r, grav_mg, gg, damp):
+def _initial_f(t0, y, f, prog):
     for i in range(y.shape[0]):
-        _rhs(t0, y[i], f[i], i, moments, body, inertial, grav_r, grav_mg, gg, damp)
+        _rhs(t0, y[i], f[i], i, prog)
 
 
 class RigidDOP853:
@@ -347,9 +359,9 @@ class RigidDOP853:
 
     Parameters
     ----------
-    program : tuple
-        ``(moments, body, inertial, grav_r, grav_mg, gg, damp)`` (module docstring),
-        float64 arrays in the internal frame.
+    program : TorqueProgram
+        The torques and moments as arrays in the internal frame
+        (:mod:`wobble.numerics.torque_program`).
     t0 : float
         Start time (s), shared by all members.
     y0 : numpy.ndarray (N, 3) or (N, 7)
@@ -379,7 +391,8 @@ class RigidDOP853:
         if y.ndim != 2 or y.shape[1] not in (3, 7):
             raise ValueError("y0 must have shape (N, 3) or (N, 7)")
         n, d = y.shape
-        self.program = tuple(np.array(a, dtype=float, order="C") for a in program)
+        # Writable C-ordered float64 copies: Numba compiles (and caches) one version per array type.
+        self.program = TorqueProgram(*(np.array(a, dtype=float, order="C") for a in program))
         # Writable C-ordered copies: Numba compiles (and caches) one version per array
         # type, and a read-only broadcast view is another type.
         self.rtol = np.array(np.broadcast_to(np.asarray(rtol, dtype=float), (n,)), order="C")
@@ -391,7 +404,7 @@ class RigidDOP853:
         self.t = np.full(n, float(t0))
         self.y = y
         self.f = np.empty_like(y)
-        _initial_f(float(t0), y, self.f, *self.program)
+        _initial_f(float(t0), y, self.f, self.program)
         self.h = np.full(n, np.nan)  # chosen on the first call, when the end time is known
         self.ymax = np.abs(y)
         self.n_steps = np.zeros(n, dtype=np.int64)
@@ -420,7 +433,7 @@ class RigidDOP853:
         check_output_times(t_out, self.t)
         self._flags[:] = 0  # "rejected just before" does not carry over from an earlier call
         args = (t_out, self.t, self.y, self.f, self.h, self.ymax, self.n_steps, self.n_rejected,
-                self._nfev, self._flags, self.rtol, self.atol, self.max_steps, out, *self.program)
+                self._nfev, self._flags, self.rtol, self.atol, self.max_steps, out, self.program)
         workers = min(self.workers, n // _MEMBERS_PER_THREAD)
         if workers <= 1:
             code, member = _advance(0, n, *args)
