@@ -271,12 +271,6 @@ class PrecessionBudget:
         """This budget as a CF Dataset; see :func:`precession_dataset`."""
         return precession_dataset([self])
 
-    def plot(self, path=None):
-        """Draw the budget (see :func:`wobble.plot.precession.budget_figure`)."""
-        from wobble.plot.precession import budget_figure
-
-        return budget_figure([self], path)
-
     def __repr__(self) -> str:
         return f"PrecessionBudget({self.body!r}, rate={self.rate:.3f})"
 
@@ -566,9 +560,15 @@ def _fmt(q, digits=3, sign=True) -> str:
     return f"{x:+.{digits}f}" if sign else f"{x:.{digits}f}"
 
 
-def _summary(b: PrecessionBudget) -> str:
-    from wobble.cli._output import with_uncertainty
+def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -> str:
+    """``value +/- sigma`` to the uncertainty's two significant digits (the CLI's style)."""
+    if sigma is None or not (math.isfinite(sigma) and sigma > 0):
+        return f"{value:+.3f}" if sign else f"{value:.3f}"
+    d = max(0, 1 - math.floor(math.log10(sigma)))
+    return f"{value:{'+' if sign else ''}.{d}f} +/- {sigma:.{d}f}"
 
+
+def _summary(b: PrecessionBudget) -> str:
     lines = [f"{b.planet.title}: forced precession of the spin axis (arcsec per Julian century; negative = retrograde)"]
     lines.append(f"  {'term':<26}{'rate':>14}   physics (references)")
     for t in b.terms:
@@ -584,7 +584,8 @@ def _summary(b: PrecessionBudget) -> str:
         osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
         lines.append(f"  {'observed':<26}{with_uncertainty(obs, osig, sign=True):>14}"
                      f"   = {b.observed.to_value(u.mas / u.yr):+.1f} mas/yr; {b.observed_source}")
-        lines.append(f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma)")
+        why = "; the published higher-order terms below account for it" if b.literature_steps else ""
+        lines.append(f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed uncertainties{why})")
     if b.iau is not None:
         lines.append("  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its")
         lines.append("  psi_A = +5038.48\"/cy is -5038.48 here):")
@@ -598,7 +599,7 @@ def _summary(b: PrecessionBudget) -> str:
         lines.append(f"    {'= p_A (model)':<24}{_fmt(last):>14}   IAU 2006 p_A: {_fmt(b.iau['general_precession'])}"
                      f"  (difference {_fmt(last - b.iau['general_precession'], 4)})")
     for n in b.nutation:
-        lines.append(f"  principal nutation from the {n.perturber}'s node ({n.period.to_value(u.yr):.2f} yr), rigid body, first order:")
+        lines.append(f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), rigid body, first order:")
         line = f"    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}\" sin(Omega), Delta eps = {n.obliquity.to_value(u.arcsec):+.4f}\" cos(Omega)"
         lines.append(line)
         if n.reference_longitude is not None:
