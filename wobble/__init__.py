@@ -50,6 +50,7 @@ _PUBLIC = {
         "PolarMotionAnalysis",
         "QualityFactorEstimate",
     ],
+    "api.precession": ["PrecessionBudget", "PrincipalNutation", "precession_rate", "principal_nutation", "precession_dataset"],
     "api.top": ["HeavyTop"],
     "api.engine": ["Torque"],
     "api.scene": ["Scene", "run", "run_to_netcdf", "example_scenes"],

@@ -45,6 +45,12 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
     "fluid_core_radius": u.m,
     "fluid_core_density": u.kg / u.m**3,
     "observed_chandler_period": u.s,
+    # Forced precession (wobble precession).
+    "obliquity": u.rad,
+    "orbit_semi_major_axis": u.m,
+    "orbit_eccentricity": _ONE,
+    "observed_precession_rate": u.rad / u.s,
+    "observed_precession_includes_geodesic": _ONE,
 }
 
 

@@ -104,8 +104,18 @@ CHANDLER: dict[str, Spec] = {
 # Rotational normal modes of a layered planet (wobble modes).
 MODES: dict[str, Spec] = {}
 
-# Forced precession and nutation (wobble precession).
-PRECESSION: dict[str, Spec] = {}
+# Forced precession and nutation (wobble precession). Rates are of the node
+# longitude of the equator on the orbit plane, eastward (negative: retrograde).
+PRECESSION: dict[str, Spec] = {
+    "term_rate": Spec(("body", "term"), "rad s-1", "contribution of each term to the precession rate"),
+    "first_order_rate": Spec(("body",), "rad s-1", "first-order tidal precession rate of the spin axis"),
+    "precession_rate": Spec(("body",), "rad s-1", "modelled precession rate, defined as the observed one"),
+    "precession_rate_uncertainty": Spec(("body",), "rad s-1", "one-sigma uncertainty of the modelled precession rate (linear propagation)"),
+    "observed_precession_rate": Spec(("body",), "rad s-1", "observed precession rate"),
+    "observed_precession_rate_uncertainty": Spec(("body",), "rad s-1", "one-sigma uncertainty of the observed precession rate"),
+    "nutation_longitude": Spec(("body",), "rad", "amplitude of the principal nutation in longitude (coefficient of sin Omega, IAU sign)"),
+    "nutation_obliquity": Spec(("body",), "rad", "amplitude of the principal nutation in obliquity (coefficient of cos Omega)"),
+}
 
 # Geodetic excitation of polar motion (wobble excitation).
 EXCITATION: dict[str, Spec] = {}

@@ -39,6 +39,7 @@ POSITIVE_KEYS = (
     "fluid_core_radius",
     "fluid_core_density",
     "observed_chandler_period",
+    "orbit_semi_major_axis",
 )
 
 
@@ -93,6 +94,18 @@ class PlanetParameters:
         A uniform liquid core, m and kg/m^3: A_f = (8 pi/15) rho R^5.
     observed_chandler_period : Measured or None
         The observed period, s.
+    obliquity : Measured or None
+        Angle between the spin axis and the normal of the body's orbit, rad
+        (for the forced precession, :mod:`wobble.models.precession`).
+    orbit_semi_major_axis, orbit_eccentricity : Measured or None
+        The body's heliocentric orbit (m; dimensionless): the Sun's orbit as
+        the body sees it.
+    observed_precession_rate : Measured or None
+        The observed precession rate of the node of the equator, rad/s
+        (negative: retrograde).
+    observed_precession_includes_geodesic : Measured or None
+        1 when the observed rate includes geodesic precession (IAU psi_A),
+        0 when relativistic terms were modelled separately (default 1).
     """
 
     name: str
@@ -115,6 +128,11 @@ class PlanetParameters:
     fluid_core_radius: Measured | None = None
     fluid_core_density: Measured | None = None
     observed_chandler_period: Measured | None = None
+    obliquity: Measured | None = None
+    orbit_semi_major_axis: Measured | None = None
+    orbit_eccentricity: Measured | None = None
+    observed_precession_rate: Measured | None = None
+    observed_precession_includes_geodesic: Measured | None = None
 
     def __post_init__(self):
         given = [k for k in FIGURE_KEYS if getattr(self, k) is not None]

@@ -1,0 +1,159 @@
+"""`wobble precession`: table, JSON, netCDF round trip, CF, plot, and exit status 2 on bad input."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+import xarray as xr
+
+import wobble
+from wobble.cli import main
+from wobble.io.catalog import catalogue_names
+
+
+def _run(capsys, *args):
+    status = main(list(args))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_table_shows_each_term_and_the_steps_to_iau_2006(capsys):
+    status, out, err = _run(capsys, "precession", "earth", "mars")
+    assert status == 0 and not err
+    for word in ("sun_eccentricity", "moon_inclination", "moon_solar_perturbation", "geodesic", "psi_A", "p_A",
+                 "IAU 2000A", "Konopliv", "Circular"):
+        assert word in out
+
+
+def test_json_keys_scripts_rely_on(capsys):
+    status, out, _ = _run(capsys, "precession", "earth", "mars", "--json")
+    data = json.loads(out)
+    assert status == 0 and [d["body"] for d in data] == ["earth", "mars"]
+    for d in data:
+        for key in ("body", "rate_arcsec_per_century", "rate_uncertainty", "terms", "observed", "observed_uncertainty", "source"):
+            assert key in d
+        assert all({"name", "value"} <= set(t) for t in d["terms"])
+    assert abs(-data[0]["first_order_arcsec_per_century"] - 5040.70) < 0.05
+    assert abs(data[1]["rate_mas_per_year"] + 7608.3) < 10
+
+
+def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
+    path = tmp_path / "precession.nc"
+    status, out, _ = _run(capsys, "precession", "earth", "mars", "-o", str(path))
+    assert status == 0 and f"wrote {path}" in out
+    ds = wobble.load(path)
+    assert dict(ds.sizes)["body"] == 2
+    expected = wobble.precession_dataset([wobble.precession_rate("earth"), wobble.precession_rate("mars")])
+    xr.testing.assert_identical(ds, expected.assign_attrs(ds.attrs))
+    assert ds.wobble.quantity("precession_rate").unit == "rad / s"
+    assert_cf_compliant(path)
+
+
+def test_plot_is_written(tmp_path, capsys):
+    path = tmp_path / "p.png"
+    status, _, _ = _run(capsys, "precession", "mars", "--plot", str(path))
+    assert status == 0 and path.stat().st_size > 1000
+
+
+def test_chandler_still_lists_only_planets(capsys):
+    assert catalogue_names() == ["earth", "mars"]
+    status, out, _ = _run(capsys, "chandler", "--json")
+    assert status == 0 and [d["body"] for d in json.loads(out)] == ["earth", "mars"]
+
+
+_PLANET = """schema = "wobble/1"
+kind = "planet"
+name = "blob"
+[parameters.rotation_rate]
+value = 7e-5
+unit = "rad s-1"
+source = "test"
+status = "assumed"
+[parameters.dynamical_flattening]
+value = 0.003
+unit = ""
+source = "test"
+status = "assumed"
+[parameters.equatorial_radius]
+value = 6.4e6
+unit = "m"
+source = "test"
+status = "assumed"
+[parameters.obliquity]
+value = {obliquity}
+unit = "deg"
+source = "test"
+status = "assumed"
+[parameters.orbit_semi_major_axis]
+value = 1.0
+unit = "AU"
+source = "test"
+status = "assumed"
+[parameters.orbit_eccentricity]
+value = {eccentricity}
+unit = ""
+source = "test"
+status = "assumed"
+"""
+
+_MOON = """schema = "wobble/1"
+kind = "perturber"
+name = "pebble"
+primary = "blob"
+[parameters.gm]
+value = {gm}
+unit = "m3 s-2"
+source = "test"
+status = "assumed"
+[parameters.semi_major_axis]
+value = {a}
+unit = "km"
+source = "test"
+status = "assumed"
+[parameters.eccentricity]
+value = {e}
+unit = ""
+source = "test"
+status = "assumed"
+"""
+
+
+def test_a_body_file_with_a_satellite_runs(tmp_path, capsys):
+    body = tmp_path / "blob.toml"
+    body.write_text(_PLANET.format(obliquity=20.0, eccentricity=0.01))
+    moon = tmp_path / "pebble.toml"
+    moon.write_text(_MOON.format(gm=5e12, a=4e5, e=0.05))
+    status, out, _ = _run(capsys, "precession", "--body-file", str(body), "--perturber", str(moon), "--json")
+    d = json.loads(out)[0]
+    assert status == 0 and d["observed"] is None
+    assert [t["name"] for t in d["terms"]][:4] == ["sun", "sun_eccentricity", "pebble", "pebble_eccentricity"]
+
+
+@pytest.mark.parametrize(
+    ("planet", "moon", "fragment"),
+    [
+        ({"obliquity": 200.0, "eccentricity": 0.01}, None, "parameters.obliquity"),
+        ({"obliquity": -1.0, "eccentricity": 0.01}, None, "parameters.obliquity"),
+        ({"obliquity": 20.0, "eccentricity": 1.5}, None, "orbit_eccentricity"),
+        ({"obliquity": 20.0, "eccentricity": 0.01}, {"gm": -5e12, "a": 4e5, "e": 0.05}, "parameters.gm"),
+        ({"obliquity": 20.0, "eccentricity": 0.01}, {"gm": 5e12, "a": 4e5, "e": 1.2}, "parameters.eccentricity"),
+        ({"obliquity": 20.0, "eccentricity": 0.01}, {"gm": 5e12, "a": 6000.0, "e": 0.1}, "semi_major_axis"),
+    ],
+)
+def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, planet, moon, fragment):
+    body = tmp_path / "blob.toml"
+    body.write_text(_PLANET.format(**planet))
+    args = ["precession", "--body-file", str(body), "-o", str(tmp_path / "out.nc"), "--plot", str(tmp_path / "out.png")]
+    if moon is not None:
+        path = tmp_path / "pebble.toml"
+        path.write_text(_MOON.format(**moon))
+        args += ["--perturber", str(path)]
+    status, out, err = _run(capsys, *args)
+    assert status == 2 and fragment in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not (tmp_path / "out.nc").exists() and not (tmp_path / "out.png").exists()
+
+
+def test_unknown_body_is_refused(capsys):
+    status, _, err = _run(capsys, "precession", "pluto")
+    assert status == 2 and "BODY: got pluto" in err

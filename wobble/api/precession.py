@@ -1,0 +1,615 @@
+"""Forced precession and the principal nutation with units: the public API.
+
+>>> import wobble
+>>> budget = wobble.precession_rate("earth")
+>>> [t.name for t in budget.terms][:3]
+['sun', 'sun_eccentricity', 'moon']
+>>> print(f"{-budget.first_order:.2f}")      # IAU sign: 5494.062986" cos(eps_0) = 5040.70"/cy
+5040.69 arcsec / century
+
+Rates follow the sign of the node longitude of the equator (eastward; negative is
+retrograde, as the Mars literature writes it). IAU's psi_A and p_A count the other
+way, so Earth's -5040.69"/cy here is IAU's +5040.69"/cy. The physics is in
+:mod:`wobble.models.precession` and ``docs/precession.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api.chandler import Planet, load_planet
+from wobble.errors import FileFormatError, InputError
+from wobble.io.perturbers import PERTURBER_UNITS, REFERENCE_UNITS, load_perturber, load_precession_reference, measured, perturbers_of
+from wobble.io.parameter_file import ParameterFile
+from wobble.models import nutation as _nutation
+from wobble.models import precession as _model
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = [
+    "CENTURY",
+    "ARCSEC_PER_CENTURY",
+    "PrecessionTerm",
+    "LiteratureStep",
+    "PrincipalNutation",
+    "PrecessionBudget",
+    "precession_rate",
+    "principal_nutation",
+    "precession_dataset",
+]
+
+CENTURY = u.def_unit("century", 100 * u.yr, doc="Julian century, 36525 d")
+ARCSEC_PER_CENTURY = u.arcsec / CENTURY
+_RATE = u.rad / u.s
+_SIGN_NOTE = (
+    "rates are of the node longitude of the equator on the orbit plane, eastward (negative: retrograde); "
+    "IAU's psi_A and p_A count westward, with the opposite sign"
+)
+
+
+@dataclass(frozen=True)
+class PrecessionTerm:
+    """One term of the precession budget.
+
+    Attributes
+    ----------
+    name : str
+        ``sun``, ``sun_eccentricity``, ``moon``, ``moon_inclination``, ``geodesic``, ...
+    rate : Quantity
+        Its contribution, arcsec per Julian century (negative: retrograde).
+    description : str
+        The physics and its literature.
+    """
+
+    name: str
+    rate: u.Quantity
+    description: str
+
+
+@dataclass(frozen=True)
+class LiteratureStep:
+    """A published step towards IAU 2006 precession that this model does not compute.
+
+    Attributes
+    ----------
+    name : str
+    change : Quantity
+        What the step adds, arcsec per century (wobble's sign).
+    value : Quantity
+        The running total after the step, arcsec per century.
+    description : str
+    """
+
+    name: str
+    change: u.Quantity
+    value: u.Quantity
+    description: str
+
+
+@dataclass(frozen=True)
+class PrincipalNutation:
+    """The nutation driven by a perturber's node regression (the Moon: 18.6 years).
+
+    Amplitudes in the IAU convention: Delta psi = longitude sin(Omega),
+    Delta eps = obliquity cos(Omega).
+
+    Attributes
+    ----------
+    perturber : str
+    longitude, obliquity : Quantity
+        Rigid-body first-order amplitudes (Woolard 1953; Kinoshita 1977), arcsec.
+    period : Quantity
+        Period of the node, Julian years.
+    reference_longitude, reference_obliquity : Quantity or None
+        IAU 2000A (non-rigid Earth, Mathews, Herring & Buffett 2002), arcsec.
+    """
+
+    perturber: str
+    longitude: u.Quantity
+    obliquity: u.Quantity
+    period: u.Quantity
+    reference_longitude: u.Quantity | None = None
+    reference_obliquity: u.Quantity | None = None
+
+    def to_dict(self) -> dict:
+        """JSON-ready amplitudes (arcsec) and their differences from IAU 2000A."""
+        out = {
+            "perturber": self.perturber,
+            "period_years": float(self.period.to_value(u.yr)),
+            "longitude_arcsec": float(self.longitude.to_value(u.arcsec)),
+            "obliquity_arcsec": float(self.obliquity.to_value(u.arcsec)),
+        }
+        if self.reference_longitude is not None:
+            out["iau2000a_longitude_arcsec"] = float(self.reference_longitude.to_value(u.arcsec))
+            out["iau2000a_obliquity_arcsec"] = float(self.reference_obliquity.to_value(u.arcsec))
+            out["difference_longitude_percent"] = 100 * float(self.longitude / self.reference_longitude - 1)
+            out["difference_obliquity_percent"] = 100 * float(self.obliquity / self.reference_obliquity - 1)
+        return out
+
+
+def _arcsec_cy(rate_si: float) -> u.Quantity:
+    return (rate_si << _RATE).to(ARCSEC_PER_CENTURY)
+
+
+class PrecessionBudget:
+    """A body's forced precession, term by term, with units. Build with :func:`precession_rate`."""
+
+    def __init__(
+        self,
+        planet: Planet,
+        raw: _model.PrecessionBudget,
+        nutation: list[PrincipalNutation],
+        steps: list[LiteratureStep],
+        notes: list[str],
+        iau: dict[str, u.Quantity] | None = None,
+    ):
+        self.planet = planet
+        #: IAU 2006/2000A values to compare with (Earth only): first_order, psi_rate, general_precession.
+        self.iau = iau
+        self.raw = raw
+        self.terms = [PrecessionTerm(t.name, _arcsec_cy(t.rate), t.description) for t in raw.terms]
+        self.nutation = nutation
+        self.literature_steps = steps
+        self.notes = notes
+
+    @property
+    def body(self) -> str:
+        return self.planet.name
+
+    @property
+    def first_order(self) -> u.Quantity:
+        """First-order tidal precession from every perturber (no relativity), arcsec/century."""
+        return _arcsec_cy(self.raw.torque_rate)
+
+    @property
+    def includes_geodesic(self) -> bool:
+        """Whether the observed rate (and so :attr:`rate`) includes geodesic precession."""
+        flag = self.planet.parameters.observed_precession_includes_geodesic
+        return flag is None or flag.value != 0
+
+    @property
+    def rate(self) -> u.Quantity:
+        """The model's precession rate, defined as the observed one is, arcsec/century.
+
+        Tidal precession plus geodesic precession when the observation includes it
+        (Earth's psi_A), the tidal precession alone when relativistic terms were
+        modelled separately (the Mars tracking analyses).
+        """
+        return _arcsec_cy(self.raw.rate if self.includes_geodesic else self.raw.torque_rate)
+
+    @property
+    def inertial_rate(self) -> u.Quantity:
+        """Tidal plus geodesic precession: the axis' motion in a non-rotating (BCRS) frame."""
+        return _arcsec_cy(self.raw.rate)
+
+    @property
+    def rate_uncertainty(self) -> u.Quantity:
+        """One-sigma uncertainty propagated linearly from the catalogue's uncertainties."""
+        return _arcsec_cy(self.raw.rate_sigma)
+
+    @property
+    def observed(self) -> u.Quantity | None:
+        obs = self.planet.parameters.observed_precession_rate
+        return None if obs is None else _arcsec_cy(obs.value)
+
+    @property
+    def observed_uncertainty(self) -> u.Quantity | None:
+        obs = self.planet.parameters.observed_precession_rate
+        return None if obs is None else _arcsec_cy(obs.sigma)
+
+    @property
+    def observed_source(self) -> str | None:
+        return None if self.observed is None else self.planet.source("observed_precession_rate")
+
+    @property
+    def residual(self) -> u.Quantity | None:
+        """Model minus observed, arcsec/century."""
+        return None if self.observed is None else self.rate - self.observed
+
+    @property
+    def residual_sigma(self) -> float | None:
+        """The residual in units of the combined one-sigma uncertainty."""
+        if self.observed is None:
+            return None
+        total = math.hypot(self.rate_uncertainty.value, self.observed_uncertainty.value)
+        return float(self.residual.value / total) if total > 0 else math.inf
+
+    @property
+    def uncertainty_contributions(self) -> dict[str, u.Quantity]:
+        """Rate change for +1 sigma of each input, largest first."""
+        items = sorted(self.raw.contributions.items(), key=lambda kv: -abs(kv[1]))
+        return {k: _arcsec_cy(v) for k, v in items}
+
+    def to_dict(self) -> dict:
+        """A JSON-ready summary (arcsec per Julian century; wobble's sign convention)."""
+        def num(q):
+            return None if q is None else float(q.to_value(ARCSEC_PER_CENTURY))
+
+        return {
+            "body": self.body,
+            "title": self.planet.title,
+            "rate_arcsec_per_century": num(self.rate),
+            "rate_uncertainty": num(self.rate_uncertainty),
+            "rate_uncertainty_arcsec_per_century": num(self.rate_uncertainty),
+            "first_order_arcsec_per_century": num(self.first_order),
+            "with_geodesic_arcsec_per_century": num(self.inertial_rate),
+            "observed_includes_geodesic": self.includes_geodesic,
+            "rate_mas_per_year": float(self.rate.to_value(u.mas / u.yr)),
+            "terms": [
+                {"name": t.name, "value": num(t.rate), "value_arcsec_per_century": num(t.rate), "description": t.description}
+                for t in self.terms
+            ],
+            "observed": num(self.observed),
+            "observed_uncertainty": num(self.observed_uncertainty),
+            "observed_arcsec_per_century": num(self.observed),
+            "observed_uncertainty_arcsec_per_century": num(self.observed_uncertainty),
+            "residual_arcsec_per_century": num(self.residual),
+            "residual_sigma": self.residual_sigma,
+            "source": self.observed_source,
+            "sign_convention": _SIGN_NOTE,
+            "literature_steps": [
+                {"name": s.name, "change_arcsec_per_century": num(s.change), "value_arcsec_per_century": num(s.value), "description": s.description}
+                for s in self.literature_steps
+            ],
+            "nutation": [n.to_dict() for n in self.nutation],
+            "notes": self.notes,
+            "uncertainty_contributions_arcsec_per_century": {k: num(v) for k, v in self.uncertainty_contributions.items()},
+        }
+
+    def summary(self) -> str:
+        """The budget as text for a person."""
+        return _summary(self)
+
+    def to_dataset(self) -> xr.Dataset:
+        """This budget as a CF Dataset; see :func:`precession_dataset`."""
+        return precession_dataset([self])
+
+    def __repr__(self) -> str:
+        return f"PrecessionBudget({self.body!r}, rate={self.rate:.3f})"
+
+
+# ---------------------------------------------------------------------------
+# Building the model's inputs from the catalogue.
+# ---------------------------------------------------------------------------
+
+
+def _require(planet: Planet, key: str):
+    value = getattr(planet.parameters, key)
+    if value is None:
+        raise FileFormatError(planet.file.path or planet.name, f"parameters.{key}", "missing; needed for the precession rate")
+    return value
+
+
+def _planet_values(planet: Planet):
+    p = planet.parameters
+    values, sigmas = {}, {}
+    for key in ("rotation_rate", "obliquity", "orbit_semi_major_axis", "orbit_eccentricity"):
+        m = _require(planet, key)
+        values[key], sigmas[key] = m.value, m.sigma
+    for key in ("dynamical_flattening", "j2", "polar_moment_factor"):
+        m = getattr(p, key)
+        if m is not None:
+            values[key], sigmas[key] = m.value, m.sigma
+    eps = values["obliquity"]
+    if not 0.0 <= eps <= math.pi:
+        raise FileFormatError(
+            planet.file.path or planet.name, "parameters.obliquity.value", f"got {math.degrees(eps):.6g} deg; allowed: 0 to 180 deg"
+        )
+    e = values["orbit_eccentricity"]
+    if not 0.0 <= e < 1.0:
+        raise FileFormatError(
+            planet.file.path or planet.name, "parameters.orbit_eccentricity.value", f"got {e!r}; allowed: 0 <= e < 1 (a bound orbit)"
+        )
+    return values, sigmas
+
+
+def _perturber_values(pf: ParameterFile, values: dict, sigmas: dict) -> None:
+    for key, unit in PERTURBER_UNITS.items():
+        m = measured(pf, key, unit)
+        if m is not None:
+            values[f"{pf.name}.{key}"], sigmas[f"{pf.name}.{key}"] = m.value, m.sigma
+
+
+def _flattening(values) -> float:
+    if "dynamical_flattening" in values:
+        return values["dynamical_flattening"]
+    return values["j2"] / values["polar_moment_factor"]
+
+
+def _orbit(name: str, values) -> _model.PerturberOrbit:
+    def get(key, default=None):
+        return values.get(f"{name}.{key}", default)
+
+    return _model.PerturberOrbit(
+        name=name,
+        gm=get("gm"),
+        semi_major_axis=get("semi_major_axis"),
+        eccentricity=get("eccentricity", 0.0),
+        inclination=get("inclination", 0.0),
+        perturbation_factor=get("solar_perturbation_factor", 1.0),
+        node_rate=get("node_rate"),
+    )
+
+
+def _prepare(satellites: list[str]):
+    def prepare(values) -> _model.Inputs:
+        sun = _model.PerturberOrbit(
+            "sun",
+            values["sun.gm"],
+            values["orbit_semi_major_axis"],
+            values["orbit_eccentricity"],
+        )
+        orbits = (sun, *(_orbit(name, values) for name in satellites))
+        return _model.Inputs(_flattening(values), values["rotation_rate"], values["obliquity"], orbits, sun)
+
+    return prepare
+
+
+def _satellite_files(planet: Planet, perturbers) -> list[ParameterFile]:
+    if perturbers is None:
+        return perturbers_of(planet.name)
+    files = [load_perturber(p) for p in perturbers]
+    return [pf for pf in files if pf.name != "sun"]
+
+
+def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
+    radius = planet.parameters.equatorial_radius
+    for pf in files:
+        try:
+            orbit = _orbit(pf.name, values)
+            _model.check_inside(orbit, None if radius is None else radius.value)
+        except InputError as exc:
+            raise FileFormatError(pf.path, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}") from None
+
+
+def _literature_steps(first_order_si: float, geodesic_si: float) -> tuple[list[LiteratureStep], ParameterFile]:
+    """From this model's first-order rate to psi_A and p_A, with the published terms (wobble's sign)."""
+    ref = load_precession_reference()
+
+    def si(key):
+        return measured(ref, key, REFERENCE_UNITS[key]).value
+
+    steps = []
+    running = first_order_si
+
+    def add(name, change_si, description):
+        nonlocal running
+        running += change_si
+        steps.append(LiteratureStep(name, _arcsec_cy(change_si), _arcsec_cy(running), description))
+
+    add("geodesic", geodesic_si, "geodesic precession, computed here (IAU 2006: -1.919883\"/cy in psi_A)")
+    others = ("planetary_first_order", "lunisolar_second_order", "j4_term", "j2_planetary_tilt", "nonlinear_term")
+    labels = {
+        "planetary_first_order": "planets' torque on the bulge, first order",
+        "lunisolar_second_order": "lunisolar torque, second order in H",
+        "j4_term": "lunisolar torque on J4",
+        "j2_planetary_tilt": "J2 with the planets' tilting of the lunar and solar orbits",
+        "nonlinear_term": "non-linear effect of the nutation on the precession",
+    }
+    for key in others:
+        # IAU rates count westward: a published +x"/cy is -x here.
+        add(key, -si(key), f"{labels[key]} ({ref.get(key).source})")
+    chi = si("chi_rate")
+    eps0 = si("obliquity")
+    add("ecliptic_motion", chi * math.cos(eps0), "the ecliptic's own motion: p_A = psi_A - chi_A cos(eps_0) (Lieske et al. 1977; Capitaine et al. 2003)")
+    return steps, ref
+
+
+def _iau_references(ref: ParameterFile) -> dict[str, u.Quantity]:
+    def q(key):
+        return measured(ref, key, REFERENCE_UNITS[key]).value
+
+    return {
+        "first_order": _arcsec_cy(-q("first_order_lunisolar_coefficient") * math.cos(q("obliquity"))),
+        "psi_rate": _arcsec_cy(-q("psi_rate")),
+        "general_precession": _arcsec_cy(-q("general_precession")),
+        "nutation_longitude": (q("nutation_longitude_iau2000a") << u.rad).to(u.arcsec),
+        "nutation_obliquity": (q("nutation_obliquity_iau2000a") << u.rad).to(u.arcsec),
+    }
+
+
+def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> PrecessionBudget:
+    """The forced precession rate of a planet's spin axis, term by term, from its physical parameters.
+
+    Parameters
+    ----------
+    body : str, path-like or Planet
+        A catalogue name (``"earth"``, ``"mars"``), a planet file with
+        ``obliquity``, ``orbit_semi_major_axis`` and ``orbit_eccentricity``,
+        or a :class:`~wobble.Planet`.
+    perturbers : list of str or path-like, optional
+        Satellites to include (catalogue names or perturber files). Default:
+        the catalogued perturbers whose ``primary`` is the body (the Moon for
+        Earth). The Sun is always included, on the body's own orbit.
+
+    Returns
+    -------
+    PrecessionBudget
+        Rates in arcsec per Julian century, negative when retrograde. The
+        observed rate is shown for comparison and is never an input.
+
+    Examples
+    --------
+    >>> import wobble
+    >>> mars = wobble.precession_rate("mars")
+    >>> print(f"{mars.rate.to('mas / yr'):.1f}")   # observed: -7608.3 +- 2.1 mas/yr
+    -7603.2 mas / yr
+    """
+    planet = load_planet(body)
+    values, sigmas = _planet_values(planet)
+    sun = load_perturber("sun")
+    _perturber_values(sun, values, sigmas)
+    satellites = _satellite_files(planet, perturbers)
+    for pf in satellites:
+        _perturber_values(pf, values, sigmas)
+    _check_orbits(planet, satellites, values)
+    try:
+        raw = _model.precession_budget(planet.name, values, _prepare([pf.name for pf in satellites]), sigmas)
+    except InputError as exc:
+        raise FileFormatError(planet.file.path or planet.name, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}") from None
+    inputs = _prepare([pf.name for pf in satellites])(values)
+    nutation = []
+    refs = None
+    steps: list[LiteratureStep] = []
+    notes = []
+    if planet.name == "earth":
+        geodesic = next(t.rate for t in raw.terms if t.name == "geodesic")
+        steps, ref_file = _literature_steps(raw.torque_rate, geodesic)
+        refs = _iau_references(ref_file)
+    for orbit in inputs.orbits:
+        if orbit.node_rate:
+            n = _nutation.nodal_nutation(inputs.dynamical_flattening, inputs.spin_rate, inputs.obliquity, orbit)
+            nutation.append(
+                PrincipalNutation(
+                    orbit.name,
+                    (n.longitude << u.rad).to(u.arcsec),
+                    (n.obliquity << u.rad).to(u.arcsec),
+                    (n.period << u.s).to(u.yr),
+                    None if refs is None else refs["nutation_longitude"],
+                    None if refs is None else refs["nutation_obliquity"],
+                )
+            )
+    obs = planet.file.get("observed_precession_rate")
+    if obs is not None and "circular" in obs.note.lower():
+        notes.append(" ".join(obs.note.split()))
+    return PrecessionBudget(planet, raw, nutation, steps, notes, refs)
+
+
+def principal_nutation(body: str | os.PathLike | Planet = "earth", perturbers=None) -> list[PrincipalNutation]:
+    """The rigid-body principal nutation of ``body`` from each perturber with a node rate (the Moon)."""
+    return precession_rate(body, perturbers).nutation
+
+
+def precession_dataset(budgets: list[PrecessionBudget]) -> xr.Dataset:
+    """Several precession budgets as one CF Dataset (dimensions ``body`` and ``term``), rates in rad/s."""
+    from wobble.api.dataset import xarray
+    from wobble.io.cf import variable
+
+    xr = xarray()
+    if not budgets:
+        raise InputError("budgets", "[]", "at least one PrecessionBudget")
+    names = []
+    for b in budgets:
+        for t in b.terms:
+            if t.name not in names:
+                names.append(t.name)
+    rate = np.full((len(budgets), len(names)), np.nan)
+    for i, b in enumerate(budgets):
+        for t in b.terms:
+            rate[i, names.index(t.name)] = t.rate.to_value(_RATE)
+
+    def per_body(fn):
+        return np.array([np.nan if (v := fn(b)) is None else v.to_value(_RATE) for b in budgets], dtype=float)
+
+    def nut(b, key):
+        return (b.nutation[0].longitude if key == "lon" else b.nutation[0].obliquity) if b.nutation else None
+
+    def per_body_angle(fn):
+        return np.array([np.nan if (v := fn(b)) is None else v.to_value(u.rad) for b in budgets], dtype=float)
+
+    def var(name, data, **extra):
+        return variable("precession", name, data, **extra)
+
+    refs = sorted({b.planet.source(k) for b in budgets for k in ("dynamical_flattening", "obliquity", "orbit_semi_major_axis")})
+    descriptions = {}
+    for b in budgets:
+        for t in b.terms:
+            descriptions.setdefault(t.name, t.description)
+    ds = xr.Dataset(
+        {
+            "term_rate": var("term_rate", rate, comment="; ".join(f"{k}: {v}" for k, v in descriptions.items())),
+            "first_order_rate": var("first_order_rate", per_body(lambda b: b.first_order)),
+            "precession_rate": var("precession_rate", per_body(lambda b: b.rate), comment=_SIGN_NOTE),
+            "precession_rate_uncertainty": var("precession_rate_uncertainty", per_body(lambda b: b.rate_uncertainty)),
+            "observed_precession_rate": var("observed_precession_rate", per_body(lambda b: b.observed)),
+            "observed_precession_rate_uncertainty": var(
+                "observed_precession_rate_uncertainty", per_body(lambda b: b.observed_uncertainty)
+            ),
+            "nutation_longitude": var("nutation_longitude", per_body_angle(lambda b: nut(b, "lon"))),
+            "nutation_obliquity": var("nutation_obliquity", per_body_angle(lambda b: nut(b, "obl"))),
+            "spin_rate": var("spin_rate", np.array([b.planet.rotation_rate.to_value(_RATE) for b in budgets])),
+        },
+        coords={
+            "body": ("body", [b.body for b in budgets], {"long_name": "body identifier"}),
+            "term": ("term", names, {"long_name": "term of the precession budget"}),
+        },
+        attrs={
+            "title": "Forced precession budget",
+            "references": "; ".join(refs),
+            "comment": "Rates from physical parameters only (the observed rate is never an input); " + _SIGN_NOTE
+            + ". " + " ".join(n for b in budgets for n in b.notes),
+        },
+    )
+    return ds
+
+
+# ---------------------------------------------------------------------------
+# Text for a person.
+# ---------------------------------------------------------------------------
+
+
+def _fmt(q, digits=3, sign=True) -> str:
+    x = float(q.to_value(ARCSEC_PER_CENTURY))
+    return f"{x:+.{digits}f}" if sign else f"{x:.{digits}f}"
+
+
+def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -> str:
+    """``value +/- sigma`` to the uncertainty's two significant digits (the CLI's style)."""
+    if sigma is None or not (math.isfinite(sigma) and sigma > 0):
+        return f"{value:+.3f}" if sign else f"{value:.3f}"
+    d = max(0, 1 - math.floor(math.log10(sigma)))
+    return f"{value:{'+' if sign else ''}.{d}f} +/- {sigma:.{d}f}"
+
+
+def _summary(b: PrecessionBudget) -> str:
+    lines = [f"{b.planet.title}: forced precession of the spin axis (arcsec per Julian century; negative = retrograde)"]
+    lines.append(f"  {'term':<26}{'rate':>14}   physics (references)")
+    for t in b.terms:
+        lines.append(f"  {t.name:<26}{_fmt(t.rate):>14}   {t.description}")
+    lines.append(f"  {'first order (torques)':<26}{_fmt(b.first_order):>14}")
+    rate = b.rate.to_value(ARCSEC_PER_CENTURY)
+    sigma = b.rate_uncertainty.to_value(ARCSEC_PER_CENTURY)
+    label = "model (with geodesic)" if b.includes_geodesic else "model (tidal; see note)"
+    lines.append(f"  {label:<26}{with_uncertainty(rate, sigma if sigma > 0 else None, sign=True):>14}"
+                 f"   = {b.rate.to_value(u.mas / u.yr):+.1f} mas/yr")
+    if b.observed is not None:
+        obs = b.observed.to_value(ARCSEC_PER_CENTURY)
+        osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
+        lines.append(f"  {'observed':<26}{with_uncertainty(obs, osig, sign=True):>14}"
+                     f"   = {b.observed.to_value(u.mas / u.yr):+.1f} mas/yr; {b.observed_source}")
+        why = "; the published higher-order terms below account for it" if b.literature_steps else ""
+        lines.append(f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed uncertainties{why})")
+    if b.iau is not None:
+        lines.append("  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its")
+        lines.append("  psi_A = +5038.48\"/cy is -5038.48 here):")
+        lines.append(f"    {'first order (model)':<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986\" cos(eps_0) = {_fmt(b.iau['first_order'])}")
+        for s in b.literature_steps:
+            lines.append(f"    + {s.name:<22}{_fmt(s.change, 6):>14}  -> {_fmt(s.value)}   {s.description}")
+            if s.name == "nonlinear_term":
+                lines.append(f"    {'= psi_A (model)':<24}{_fmt(s.value):>14}   IAU 2006 psi_A: {_fmt(b.iau['psi_rate'])}"
+                             f"  (difference {_fmt(s.value - b.iau['psi_rate'], 4)})")
+        last = b.literature_steps[-1].value
+        lines.append(f"    {'= p_A (model)':<24}{_fmt(last):>14}   IAU 2006 p_A: {_fmt(b.iau['general_precession'])}"
+                     f"  (difference {_fmt(last - b.iau['general_precession'], 4)})")
+    for n in b.nutation:
+        lines.append(f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), rigid body, first order:")
+        line = f"    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}\" sin(Omega), Delta eps = {n.obliquity.to_value(u.arcsec):+.4f}\" cos(Omega)"
+        lines.append(line)
+        if n.reference_longitude is not None:
+            dl = 100 * float(n.longitude / n.reference_longitude - 1)
+            de = 100 * float(n.obliquity / n.reference_obliquity - 1)
+            lines.append(f"    IAU 2000A (non-rigid Earth): {n.reference_longitude.to_value(u.arcsec):+.4f}\", "
+                         f"{n.reference_obliquity.to_value(u.arcsec):+.4f}\"; model - IAU 2000A: {dl:+.2f} %, {de:+.2f} %")
+    if not b.includes_geodesic:
+        lines.append("  note: the observed rate excludes geodesic precession (relativistic terms modelled separately),")
+        lines.append(f"  so the comparison uses the tidal rate; with geodesic precession the model is {_fmt(b.inertial_rate)}.")
+    for note in b.notes:
+        lines.append(f"  note: {note}")
+    return "\n".join(lines)

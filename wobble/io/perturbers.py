@@ -1,0 +1,154 @@
+"""Perturbers of spin axes (``data/precession/*.toml``) and the published precession steps.
+
+A perturber file (``kind = "perturber"``) gives a body's mass and its mean
+orbit about the body it perturbs, named by the top-level key ``primary``
+(``"earth"`` for the Moon; ``"*"`` for the Sun, whose orbit relative to each
+planet is that planet's own heliocentric orbit, catalogued in
+``data/bodies/<planet>.toml``). The Sun is always a perturber of a planet;
+other perturbers are those whose ``primary`` is the planet's name.
+
+``data/precession/iau2006.toml`` (``kind = "precession_reference"``) holds
+the published steps from the first-order lunisolar rate to IAU 2006's psi_A
+and p_A, shown next to Earth's budget.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from importlib import resources
+from pathlib import Path
+
+from astropy import units as u
+
+from wobble.errors import FileFormatError, InputError
+from wobble.io.parameter_file import ParameterFile, read_parameter_file
+from wobble.models.planet import Measured
+
+__all__ = [
+    "PERTURBER_UNITS",
+    "REFERENCE_UNITS",
+    "perturber_names",
+    "load_perturber",
+    "perturbers_of",
+    "load_precession_reference",
+    "measured",
+]
+
+_ONE = u.dimensionless_unscaled
+PERTURBER_UNITS: dict[str, u.UnitBase] = {
+    "gm": u.m**3 / u.s**2,
+    "semi_major_axis": u.m,
+    "eccentricity": _ONE,
+    "inclination": u.rad,
+    "node_rate": u.rad / u.s,
+    "solar_perturbation_factor": _ONE,
+}
+REFERENCE_UNITS: dict[str, u.UnitBase] = {
+    "dynamical_flattening": _ONE,
+    "obliquity": u.rad,
+    "first_order_lunisolar_coefficient": u.rad / u.s,
+    "planetary_first_order": u.rad / u.s,
+    "lunisolar_second_order": u.rad / u.s,
+    "j4_term": u.rad / u.s,
+    "j2_planetary_tilt": u.rad / u.s,
+    "nonlinear_term": u.rad / u.s,
+    "geodesic_precession": u.rad / u.s,
+    "psi_rate": u.rad / u.s,
+    "chi_rate": u.rad / u.s,
+    "general_precession": u.rad / u.s,
+    "nutation_longitude_iau2000a": u.rad,
+    "nutation_obliquity_iau2000a": u.rad,
+}
+
+
+def _dir():
+    return resources.files("wobble._data") / "precession"
+
+
+def _read(path, kind, known):
+    return read_parameter_file(path, kind=kind, known=set(known))
+
+
+def perturber_names() -> list[str]:
+    """Names of the catalogued perturbers (``moon``, ``sun``), sorted."""
+    out = []
+    for entry in _dir().iterdir():
+        if entry.name.endswith(".toml"):
+            with resources.as_file(entry) as path:
+                if _read_kind(path) == "perturber":
+                    out.append(entry.name[:-5])
+    return sorted(out)
+
+
+def _read_kind(path) -> str:
+    from wobble.io.parameter_file import read_toml
+
+    return str(read_toml(path).get("kind", ""))
+
+
+def measured(pf: ParameterFile, key: str, unit: u.UnitBase) -> Measured | None:
+    """Parameter ``key`` of ``pf`` as a :class:`Measured` in ``unit`` (None when absent)."""
+    param = pf.get(key)
+    if param is None:
+        return None
+    where = f"parameters.{key}"
+    if param.value.size != 1:
+        raise FileFormatError(pf.path, f"{where}.value", "must be a single number")
+    try:
+        return Measured(float(param.value.to_value(unit)), float(param.uncertainty.to_value(unit)))
+    except u.UnitConversionError:
+        want = unit.to_string() or "dimensionless"
+        raise FileFormatError(pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}") from None
+
+
+def _check(pf: ParameterFile) -> ParameterFile:
+    """Physical ranges of a perturber: positive mass and distance, bound orbit, inclination in [0, 180] deg."""
+    pf.require("gm", "a perturber's tidal torque")
+    if pf.extra.get("primary") != "*":
+        pf.require("semi_major_axis", "a perturber's tidal torque")
+    gm = measured(pf, "gm", PERTURBER_UNITS["gm"])
+    if gm is not None and not gm.value > 0:
+        raise FileFormatError(pf.path, "parameters.gm.value", f"got {gm.value!r}; allowed: a positive G M (a negative mass is unphysical)")
+    a = measured(pf, "semi_major_axis", u.m)
+    if a is not None and not a.value > 0:
+        raise FileFormatError(pf.path, "parameters.semi_major_axis.value", f"got {a.value!r}; allowed: a positive length")
+    e = measured(pf, "eccentricity", _ONE)
+    if e is not None and not 0 <= e.value < 1:
+        raise FileFormatError(
+            pf.path, "parameters.eccentricity.value", f"got {e.value!r}; allowed: 0 <= e < 1 (a bound orbit; e >= 1 is hyperbolic)"
+        )
+    i = measured(pf, "inclination", u.rad)
+    if i is not None and not 0 <= i.value <= math.pi:
+        raise FileFormatError(pf.path, "parameters.inclination.value", f"got {math.degrees(i.value):.6g} deg; allowed: 0 to 180 deg")
+    if not isinstance(pf.extra.get("primary", ""), str) or not pf.extra.get("primary"):
+        raise FileFormatError(pf.path, "primary", "missing; the name of the body this perturber orbits (or \"*\" for every planet)")
+    return pf
+
+
+def load_perturber(name: str | os.PathLike) -> ParameterFile:
+    """A catalogued perturber by name (``"moon"``) or a perturber file by path."""
+    text = os.fspath(name)
+    key = text.strip().lower()
+    if key in perturber_names():
+        with resources.as_file(_dir() / f"{key}.toml") as path:
+            return _check(_read(path, "perturber", PERTURBER_UNITS))
+    if Path(text).is_file():
+        return _check(_read(text, "perturber", PERTURBER_UNITS))
+    raise InputError("perturber", text, f"one of {', '.join(perturber_names())}, or the path of a perturber file")
+
+
+def perturbers_of(body: str) -> list[ParameterFile]:
+    """The catalogued perturbers whose ``primary`` is ``body`` (the Sun's ``*`` excluded), by name."""
+    out = []
+    for name in perturber_names():
+        pf = load_perturber(name)
+        if str(pf.extra.get("primary", "")).lower() == body.strip().lower():
+            out.append(pf)
+    return out
+
+
+def load_precession_reference(name: str = "iau2006") -> ParameterFile:
+    """The published precession steps (``iau2006``)."""
+    with resources.as_file(_dir() / f"{name}.toml") as path:
+        return _read(path, "precession_reference", REFERENCE_UNITS)
