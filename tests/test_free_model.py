@@ -133,18 +133,19 @@ def test_earth_daily_grid_takes_the_nome_series_path_and_matches_mpmath():
 ])
 def test_grid_path_equals_the_per_sample_path(moments, omega0, n):
     """Every sample of a grid (over ~300 wobble periods) against omega_at sample by sample."""
-    from wobble.models.free import _blocked, _to_user
+    from wobble.models.free import _blocked
+    from wobble.models.principal_axes import to_user
 
     model = free_rotation(moments, omega0)
     # Exactly representable times (k/4 s): both paths see the same instants, so they agree to rounding.
     t = np.arange(n) * 0.25
-    direct = _to_user(_blocked(model._impl.omega_at, t, 3), model._order, model._signs)
+    direct = to_user(_blocked(model._impl.omega_at, t, 3), model._order, model._signs)
     scale = np.max(np.abs(direct))
     assert np.max(np.abs(model.omega(t) - direct)) <= 1e-15 * scale
     # A linspace grid: its float samples are the exact grid rounded (half an ulp), and the grid path
     # evaluates the exact grid: the two differ by at most rate * amplitude * a few ulps of t.
     t = np.linspace(0.0, (n - 1) / 5, n)
-    direct = _to_user(_blocked(model._impl.omega_at, t, 3), model._order, model._signs)
+    direct = to_user(_blocked(model._impl.omega_at, t, 3), model._order, model._signs)
     fig = int(np.argmax(moments))  # the figure axis; the wobble is in the other two components
     amp = np.max(np.linalg.norm(np.delete(direct, fig, axis=1), axis=1))
     rate = 0.5 * omega0[fig]  # (I3 - I1)/I1 omega3 for these moments

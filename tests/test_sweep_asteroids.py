@@ -97,7 +97,7 @@ def test_triangle_violations_are_flagged_and_others_unaffected(ens):
     assert np.isfinite(ds.precession_period.values[~violates]).all()
     summary = wobble.summarize_sweep(ds)
     assert summary.variable == "precession_period" and summary.valid == int((~violates).sum())
-    assert set(summary.classes) == {"steady", "short_axis_mode", "long_axis_mode", "separatrix"}
+    assert set(summary.classes) == {"steady", "major-axis", "minor-axis", "separatrix"}
 
 
 def test_reproducible_whatever_the_chunking_and_scheduler(ens):

@@ -59,7 +59,7 @@ def test_every_grid_point_agrees_with_the_exact_model(grid):
     codes = grid.nutation_class.attrs["flag_values"].tolist()
     meanings = grid.nutation_class.attrs["flag_meanings"].split()
     names = dict(zip(codes, meanings))
-    assert names[1] == "cusps" and names[3] == "regular_precession"
+    assert names[1] == "cusps" and names[3] == "regular"
     vectorised = 0
     for idx in np.ndindex(grid.nutation_class.shape):
         th = float(grid.theta0[idx[0]])
@@ -72,7 +72,7 @@ def test_every_grid_point_agrees_with_the_exact_model(grid):
             assert int(pt.invalid_reason) == 3
             continue
         assert int(pt.invalid_reason) == 0
-        expected = "regular_precession" if model.nutation == "regular" else model.nutation
+        expected = model.nutation
         assert names[int(pt.nutation_class)] == expected, (th, w, pd)
         assert int(pt.sleeping_stable) == int(model.sleeping_stable)
         vectorised += int(pt.scalar_fallback) == 0
@@ -159,7 +159,7 @@ def test_cli_writes_a_file_that_round_trips(tmp_path, capsys, assert_cf_complian
     text = capsys.readouterr().out
     assert "cusps:" in text and "sleeping:" in text
     back = wobble.load(out)
-    assert back.nutation_class.attrs["flag_meanings"] == "invalid undulating cusps loops regular_precession sleeping"
+    assert back.nutation_class.attrs["flag_meanings"] == "invalid undulating cusps loops regular sleeping"
     assert_cf_compliant(out)
     again = tmp_path / "again.nc"
     write_netcdf(back, again)

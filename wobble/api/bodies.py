@@ -24,6 +24,7 @@ from astropy import units as u
 
 from wobble.api._units import dimensionless, to_si
 from wobble.errors import FileFormatError, InputError
+from wobble.io import cf
 from wobble.models import bodies as _m
 
 __all__ = ["RigidBody", "PrincipalAxes", "Classification", "DEFAULT_RTOL"]
@@ -578,46 +579,27 @@ class RigidBody:
 
         Write it with :func:`wobble.write_netcdf`; :meth:`from_dataset` reads it back.
         """
-        import xarray as xr
+        from wobble.api.dataset import xarray
 
+        xr = xarray()
         f = self._body.principal("ascending", rtol)
         cls = self._body.classify(rtol)
         comp = ["x", "y", "z"]
+
+        def var(name, data):
+            return cf.variable("bodies", name, data)
+
         d = f.differences
         data = {
-            "tensor": (
-                ("row", "column"),
-                np.array(self._body.tensor),
-                {"units": _CF_MOI, "long_name": "inertia tensor about the reference point, input-frame axes"},
-            ),
-            "principal_moments": (
-                ("principal",),
-                np.array(f.moments),
-                {"units": _CF_MOI, "long_name": "principal moments of inertia about the reference point, ascending"},
-            ),
-            "principal_axes": (
-                ("principal", "component"),
-                np.array(f.axes),
-                {"units": "1", "long_name": "principal axis unit vectors (one per row) in input-frame components"},
-            ),
-            "principal_moment_differences": (
-                ("pair",),
-                np.array([d[1, 0], d[2, 1], d[2, 0]]),
-                {"units": _CF_MOI, "long_name": "differences of principal moments I2-I1, I3-I2, I3-I1"},
-            ),
-            "center_of_mass": (
-                ("component",),
-                np.array(self._body.center_of_mass),
-                {"units": "m", "long_name": "centre of mass, input frame"},
-            ),
-            "reference_point": (
-                ("component",),
-                np.array(self._body.reference_point),
-                {"units": "m", "long_name": "point the inertia tensor is taken about, input frame"},
-            ),
+            "tensor": var("tensor", np.array(self._body.tensor)),
+            "principal_moments": var("principal_moments", np.array(f.moments)),
+            "principal_axes": var("principal_axes", np.array(f.axes)),
+            "principal_moment_differences": var("principal_moment_differences", np.array([d[1, 0], d[2, 1], d[2, 0]])),
+            "center_of_mass": var("center_of_mass", np.array(self._body.center_of_mass)),
+            "reference_point": var("reference_point", np.array(self._body.reference_point)),
         }
         if self._body.mass is not None:
-            data["mass"] = ((), self._body.mass, {"units": "kg", "long_name": "total mass"})
+            data["mass"] = var("mass", self._body.mass)
         coords = {
             "row": ("row", comp, {"long_name": "tensor row (input-frame axis)"}),
             "column": ("column", comp, {"long_name": "tensor column (input-frame axis)"}),

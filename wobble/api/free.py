@@ -18,14 +18,18 @@ Example
 from __future__ import annotations
 
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import xarray as xr
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
 from wobble.api._units import to_si
-from wobble.io.netcdf import SIMULATION_TIME_UNITS
+from wobble.io import cf
 from wobble.models import free as _free
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["FreeRotation", "MOMENT_UNIT", "BYTES_PER_SAMPLE"]
 
@@ -35,8 +39,6 @@ _LMOM = u.kg * u.m**2 / u.s
 # Float64 values held per sample while a Dataset is built (time, omega, attitude,
 # energy and |L| with drifts, and the temporaries of the evaluation), in bytes.
 BYTES_PER_SAMPLE = 8 * 64
-AXES = ("1", "2", "3")
-COMPONENTS = ("w", "x", "y", "z")
 
 
 
@@ -257,7 +259,7 @@ class FreeRotation:
         -------
         xarray.Dataset
             ``time`` (s, CF units ``seconds since 2000-01-01 12:00:00``),
-            ``omega(time, axis)``, ``angular_momentum(axis)`` (inertial),
+            ``omega(time, axis)``, ``angular_momentum(inertial_axis)`` (X, Y, Z: the body axes at t = 0),
             ``attitude(time, component)``, ``kinetic_energy``,
             ``kinetic_energy_drift``, ``angular_momentum_magnitude`` and
             ``angular_momentum_magnitude_drift`` (time).
@@ -281,38 +283,30 @@ class FreeRotation:
         return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)
 
     def _dataset(self, ts, omega, q, energy, lmag) -> xr.Dataset:
+        from wobble.api.dataset import xarray
+
+        xr = xarray()
         mdl = self._model
         e0, l0 = mdl.energy, mdl.angular_momentum
-        tcoord = xr.Variable(
-            "time", ts, {"units": SIMULATION_TIME_UNITS, "standard_name": "time", "long_name": "time", "axis": "T", "calendar": "standard"}
-        )
+        def var(name, data):
+            return cf.variable("free", name, data)
+
         ds = xr.Dataset(
             {
-                "omega": (("time", "axis"), omega, {"units": "rad s-1", "long_name": "angular velocity in the body (principal-axis) frame"}),
-                "angular_momentum": (
-                    ("axis",),
-                    mdl.angular_momentum_inertial,
-                    {"units": "kg m2 s-1", "long_name": "angular momentum in the inertial frame (the body frame at t = 0), constant"},
-                ),
-                "attitude": (
-                    ("time", "component"),
-                    q,
-                    {"units": "1", "long_name": "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"},
-                ),
-                "kinetic_energy": (("time",), energy, {"units": "J", "long_name": "kinetic energy from omega(t)"}),
-                "kinetic_energy_drift": (("time",), energy - e0, {"units": "J", "long_name": "kinetic energy minus its initial value"}),
-                "angular_momentum_magnitude": (("time",), lmag, {"units": "kg m2 s-1", "long_name": "magnitude of the angular momentum from omega(t)"}),
-                "angular_momentum_magnitude_drift": (
-                    ("time",),
-                    lmag - l0,
-                    {"units": "kg m2 s-1", "long_name": "magnitude of the angular momentum minus its initial value"},
-                ),
+                "omega": var("omega", omega),
+                "angular_momentum": var("angular_momentum", mdl.angular_momentum_inertial),
+                "attitude": var("attitude", q),
+                "kinetic_energy": var("kinetic_energy", energy),
+                "kinetic_energy_drift": var("kinetic_energy_drift", energy - e0),
+                "angular_momentum_magnitude": var("angular_momentum_magnitude", lmag),
+                "angular_momentum_magnitude_drift": var("angular_momentum_magnitude_drift", lmag - l0),
             },
             coords={
-                "time": tcoord,
-                "axis": ("axis", list(AXES), {"long_name": "principal axis, in the order the moments were given"}),
-                "component": ("component", list(COMPONENTS), {"long_name": "quaternion component, scalar first"}),
-                "moment_of_inertia": (("axis",), np.asarray(mdl.moments), {"units": "kg m2", "long_name": "principal moment of inertia"}),
+                "time": cf.time_coordinate(ts),
+                "axis": cf.label_coordinate("axis"),
+                "inertial_axis": cf.label_coordinate("inertial_axis"),
+                "component": cf.label_coordinate("component"),
+                "moment_of_inertia": var("moment_of_inertia", np.asarray(mdl.moments)),
             },
         )
         ds.attrs.update(

@@ -30,30 +30,13 @@ from astropy import units as u
 
 from wobble.api.engine import Torque
 from wobble.errors import InputError
+from wobble.io import cf
 from wobble.io import scene_file as _sf
 from wobble.io.netcdf import StreamingWriter, simulation_time_units
 from wobble.models import scene as _scene
 
-__all__ = ["Scene", "run", "run_to_netcdf", "read_scene", "example_scenes", "OUTPUT_METADATA"]
+__all__ = ["Scene", "run", "run_to_netcdf", "read_scene", "example_scenes"]
 
-#: CF metadata of every output: (dims after time[, member], units, long_name).
-OUTPUT_METADATA = {
-    "omega": (("axis",), "rad s-1", "angular velocity in the body frame"),
-    "attitude": (("component",), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
-    "angular_momentum": (("inertial_axis",), "kg m2 s-1", "angular momentum in the inertial frame"),
-    "angular_momentum_magnitude": ((), "kg m2 s-1", "magnitude of the angular momentum"),
-    "kinetic_energy": ((), "J", "rotational kinetic energy"),
-    "potential_energy": ((), "J", "potential energy of the torques (gravity, gravity gradient)"),
-    "total_energy": ((), "J", "kinetic plus potential energy"),
-    "axis_direction": (("inertial_axis",), "1", "direction of body axis 3 in the inertial frame"),
-    "tilt": ((), "rad", "angle between body axis 3 and the inertial z axis"),
-    "wobble_angle": ((), "rad", "angle between the angular velocity and body axis 3"),
-}
-_LABELS = {
-    "axis": (["1", "2", "3"], "body axis (the scene's body frame)"),
-    "component": (["w", "x", "y", "z"], "quaternion component, scalar first"),
-    "inertial_axis": (["X", "Y", "Z"], "inertial axis"),
-}
 _MOI = u.kg * u.m**2
 
 
@@ -171,23 +154,15 @@ def _as_scene(scene) -> _scene.Scene:
 # Datasets
 # --------------------------------------------------------------------------
 def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
-    member = ("member",) if scene.ensemble else ()
     data_vars = {}
     for name, arr in outputs.items():
-        extra, units, long_name = OUTPUT_METADATA[name]
-        values = arr if scene.ensemble else arr[:, 0]
-        data_vars[name] = (("time",) + member + extra, values, {"units": units, "long_name": long_name})
-    coords = {
-        "time": xr.Variable(
-            "time", np.asarray(t, dtype=float),
-            {"units": simulation_time_units(scene.epoch), "standard_name": "time", "long_name": "time",
-             "axis": "T", "calendar": "standard"},
-        )
-    }
+        dims, values, attrs = cf.variable("scene", name, arr if scene.ensemble else arr[:, 0])
+        data_vars[name] = (cf.with_member(dims) if scene.ensemble else dims, values, attrs)
+    coords = {"time": cf.time_coordinate(np.asarray(t, dtype=float), simulation_time_units(scene.epoch))}
     used = {d for v in data_vars.values() for d in v[0]}
-    for dim, (labels, long_name) in _LABELS.items():
+    for dim in cf.LABELS:
         if dim in used:
-            coords[dim] = (dim, labels, {"long_name": long_name})
+            coords[dim] = cf.label_coordinate(dim)
     if scene.ensemble:
         coords["member"] = ("member", np.arange(scene.members, dtype=np.int64), {"long_name": "ensemble member", "units": "1"})
     return xr.Dataset(data_vars, coords=coords)
@@ -254,11 +229,8 @@ class _Streamer:
 _MEMORY_LIMIT = 2 * 2**30
 
 
-_DIM_SIZES = {"axis": 3, "component": 4, "inertial_axis": 3}
-
-
 def _estimated_bytes(scene) -> int:
-    width = sum(int(np.prod([_DIM_SIZES[d] for d in OUTPUT_METADATA[o][0]])) for o in scene.outputs)
+    width = sum(int(np.prod([len(cf.LABELS[d][0]) for d in cf.spec("scene", o).dims[1:]])) for o in scene.outputs)
     return int(scene.times.size) * scene.members * max(width, 1) * 8
 
 

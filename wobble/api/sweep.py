@@ -52,6 +52,7 @@ from wobble.io.sweep_file import (
 from wobble.io.zarr_store import is_zarr_path, open_wobble_zarr, write_zarr_blocks
 from wobble.models import chandler as chandler_model
 from wobble.models import free_ensemble, top_phase
+from wobble.models.vocabulary import flag_meanings
 from wobble.numerics import draws
 
 __all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep"]
@@ -348,7 +349,7 @@ class HeavyTopTarget(_BaseTarget):
         "thetadot0": ("rad s-1", "initial nutation rate", 0.0),
     }
     outputs = {
-        "nutation_class": ("1", "class of the nutation (notes section 5.7)"),
+        "nutation_class": ("1", "class of the nutation (Goldstein, Poole & Safko 2002, sec. 5.7)"),
         "nutation_period": ("s", "nutation period 4 K(m) / sqrt(beta (u3 - u1)) (small-nutation period for uniform motion)"),
         "theta_min": ("rad", "smallest tilt of the symmetry axis (turning point u2)"),
         "theta_max": ("rad", "largest tilt of the symmetry axis (turning point u1)"),
@@ -357,7 +358,7 @@ class HeavyTopTarget(_BaseTarget):
         "scalar_fallback": ("1", "member analysed by the exact scalar model (next to a class boundary)"),
     }
     flags = {
-        "nutation_class": (-1, "invalid undulating cusps loops regular_precession sleeping"),
+        "nutation_class": (-1, flag_meanings(top_phase.NUTATION_CLASSES, "invalid")),
         "sleeping_stable": (0, "unstable stable"),
         "scalar_fallback": (0, "vectorised exact_scalar_model"),
     }
@@ -403,7 +404,7 @@ class FreeRotationTarget(_BaseTarget):
         "wobble_angle_max": ("rad", "largest angle between the circulation axis and L"),
         "omega_final": ("rad s-1", "body-frame angular velocity at final_time (exact flow map)"),
     }
-    flags = {"regime": (-1, "invalid steady short_axis_mode long_axis_mode separatrix")}
+    flags = {"regime": (-1, flag_meanings(free_ensemble.REGIMES, "invalid"))}
     default_outputs = tuple(outputs)
     invalid_meanings = "valid triangle_inequality_violated bad_moments_or_spin"
     main_output = "precession_period"

@@ -9,7 +9,7 @@ Two ensembles, members with perturbed initial angular velocity:
   Errors on the probes against SciPy's LSODA at rtol 1e-13, atol 1e-16 (a method
   different from every one measured).
 * ``free``: 30 s of the generic free body, 7 outputs. wobble's exact flow
-  (:func:`wobble.models.free.free_flow`, vectorised) against wobble's DOP853 and a loop
+  (:func:`wobble.models.free_flow.free_flow`, vectorised) against wobble's DOP853 and a loop
   of SciPy's DOP853; errors on the probes against wobble's exact solution per member
   (:func:`wobble.models.free.free_rotation`, checked against mpmath in the tests).
 
@@ -26,7 +26,8 @@ from wobble.bench import torqued
 from wobble.bench.cases import euler_rhs, rel_error
 from wobble.bench.timing import Run, measure, time_at
 from wobble.models.engine import BodyModel, Engine, attitude_angle
-from wobble.models.free import free_flow, free_rotation
+from wobble.models.free import free_rotation
+from wobble.models.free_flow import free_flow
 from wobble.numerics import quaternion as Q
 
 PROBES = 5

@@ -24,10 +24,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from wobble.errors import InputError
+from wobble.models.vocabulary import BODY_AXES, INERTIAL_AXES, QUATERNION_COMPONENTS
 
 __all__ = [
     "Spec",
     "COMMON",
+    "LABELS",
     "TABLES",
     "SIMULATION_TIME_UNITS",
     "MJD_UNITS",
@@ -35,6 +37,8 @@ __all__ = [
     "attrs",
     "variable",
     "time_coordinate",
+    "label_coordinate",
+    "with_member",
     "flag_attrs",
 ]
 
@@ -84,6 +88,13 @@ COMMON: dict[str, Spec] = {
     "spin_rate": Spec(("body",), "rad s-1", "sidereal spin rate"),
 }
 
+#: String-labelled dimensions: (labels, long name). Stored as label variables in files.
+LABELS: dict[str, tuple[tuple[str, ...], str]] = {
+    "axis": (BODY_AXES, "body axis (the body frame the moments were given in)"),
+    "inertial_axis": (INERTIAL_AXES, "inertial axis"),
+    "component": (QUATERNION_COMPONENTS, "quaternion component, scalar first"),
+}
+
 # ---------------------------------------------------------------------------
 # One table per kind of file. Add a kind as a new table below and in TABLES.
 # ---------------------------------------------------------------------------
@@ -99,6 +110,45 @@ CHANDLER: dict[str, Spec] = {
     "residual": Spec(("body",), "day", "modelled minus observed Chandler period"),
     "quality_factor": Spec(("body",), "1", "wobble quality factor implied by the out-of-phase Love number"),
     "secular_love_number": Spec(("body",), "1", "secular Love number k_s = 3G(C-A)/(a^5 Omega^2)"),
+}
+
+# Torque-free rotation, exact (wobble free, FreeRotation.to_dataset).
+FREE: dict[str, Spec] = {
+    "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body (principal-axis) frame"),
+    "angular_momentum": Spec(("inertial_axis",), "kg m2 s-1",
+                             "angular momentum in the inertial frame (the body frame at t = 0), constant"),
+    "attitude": Spec(("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
+    "kinetic_energy": Spec(("time",), "J", "kinetic energy from omega(t)"),
+    "kinetic_energy_drift": Spec(("time",), "J", "kinetic energy minus its initial value"),
+    "angular_momentum_magnitude": Spec(("time",), "kg m2 s-1", "magnitude of the angular momentum from omega(t)"),
+    "angular_momentum_magnitude_drift": Spec(("time",), "kg m2 s-1", "magnitude of the angular momentum minus its initial value"),
+    "moment_of_inertia": Spec(("axis",), "kg m2", "principal moment of inertia"),
+}
+
+# The outputs of a scene run (wobble run, wobble.run): a "member" dimension follows
+# "time" for ensembles (with_member).
+SCENE: dict[str, Spec] = {
+    "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body frame"),
+    "attitude": Spec(("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
+    "angular_momentum": Spec(("time", "inertial_axis"), "kg m2 s-1", "angular momentum in the inertial frame"),
+    "angular_momentum_magnitude": Spec(("time",), "kg m2 s-1", "magnitude of the angular momentum"),
+    "kinetic_energy": Spec(("time",), "J", "rotational kinetic energy"),
+    "potential_energy": Spec(("time",), "J", "potential energy of the torques (gravity, gravity gradient, magnetic)"),
+    "total_energy": Spec(("time",), "J", "kinetic plus potential energy"),
+    "axis_direction": Spec(("time", "inertial_axis"), "1", "direction of body axis 3 in the inertial frame"),
+    "tilt": Spec(("time",), "rad", "angle between body axis 3 and the inertial z axis"),
+    "wobble_angle": Spec(("time",), "rad", "angle between the angular velocity and body axis 3"),
+}
+
+# A rigid body's inertia (wobble inertia -o, RigidBody.to_dataset).
+BODIES: dict[str, Spec] = {
+    "tensor": Spec(("row", "column"), "kg m2", "inertia tensor about the reference point, input-frame axes"),
+    "principal_moments": Spec(("principal",), "kg m2", "principal moments of inertia about the reference point, ascending"),
+    "principal_axes": Spec(("principal", "component"), "1", "principal axis unit vectors (one per row) in input-frame components"),
+    "principal_moment_differences": Spec(("pair",), "kg m2", "differences of principal moments I2-I1, I3-I2, I3-I1"),
+    "center_of_mass": Spec(("component",), "m", "centre of mass, input frame"),
+    "reference_point": Spec(("component",), "m", "point the inertia tensor is taken about, input frame"),
+    "mass": Spec((), "kg", "total mass"),
 }
 
 # Rotational normal modes of a layered planet (wobble modes).
@@ -125,6 +175,9 @@ FORECAST: dict[str, Spec] = {}
 
 TABLES: dict[str, Mapping[str, Spec]] = {
     "chandler": CHANDLER,
+    "free": FREE,
+    "scene": SCENE,
+    "bodies": BODIES,
     "modes": MODES,
     "precession": PRECESSION,
     "excitation": EXCITATION,
@@ -164,6 +217,18 @@ def time_coordinate(values, units: str = SIMULATION_TIME_UNITS, *, long_name: st
     out = {"units": units, "standard_name": "time", "long_name": long_name, "axis": "T", "calendar": "standard"}
     out.update({k: v for k, v in extra.items() if v is not None})
     return ("time",), values, out
+
+
+def label_coordinate(dim: str) -> tuple:
+    """``(dim, labels, attrs)`` of a string-labelled dimension from :data:`LABELS`."""
+    labels, long_name = LABELS[dim]
+    return dim, list(labels), {"long_name": long_name}
+
+
+def with_member(dims: tuple[str, ...]) -> tuple[str, ...]:
+    """``dims`` with the ensemble dimension ``member`` after ``time`` (or first)."""
+    at = 1 if dims[:1] == ("time",) else 0
+    return dims[:at] + ("member",) + dims[at:]
 
 
 def flag_attrs(meanings: Mapping[int, str]) -> dict:

@@ -34,7 +34,7 @@ every built-in torque, ~200 ns per evaluation, ensembles on all CPUs) or, with
 a custom torque, in NumPy (:class:`wobble.numerics.integrators.DOP853`); the
 two are the same method, step for step (``backend=``).
 ``method="splitting"``: Touma & Wisdom (1994): exact free flow
-(:func:`wobble.models.free.flow_sorted`) between torque kicks; the kick
+(:func:`wobble.models.free_flow.flow_sorted`) between torque kicks; the kick
 ``domega/dt = I^-1 (tau(t, q) - D omega)`` at fixed attitude and time is
 solved exactly (torques that depend on omega other than linear damping are
 refused: their kick has no exact solution). Orders 2, 4, 6.
@@ -52,7 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.free import flow_one, flow_sorted
+from wobble.models.free_flow import flow_one, flow_sorted
 from wobble.models.rigid_frame import BodyModel, InternalFrame, normalize, qmul_one, take_rows
 from wobble.models.torques import (
     STANDARD_GRAVITY,

@@ -29,7 +29,7 @@ sum_i I_i omega_i^2 (I_j - I_i) (formed without cancellation):
   once per nutation period T); for a symmetric body it is L / I1, the notes'
   free precession. ``precession_period`` = 2 pi / rate.
 * omega at a later time t comes from the exact flow map
-  :func:`wobble.models.free.free_flow`.
+  :func:`wobble.models.free_flow.free_flow`.
 
 Members whose moments violate the triangle inequality I0 + I1 >= I2 (no real
 body) or are not positive and finite are marked invalid (codes
@@ -41,12 +41,16 @@ from __future__ import annotations
 import numpy as np
 from scipy import special as _sp
 
-from wobble.models import free
+from wobble.models.free_flow import free_flow
+from wobble.models.vocabulary import Regime
+from wobble.models.principal_axes import proper_sort
 from wobble.numerics import elliptic as ell
 
 __all__ = ["REGIMES", "INVALID_REASONS", "free_ensemble"]
 
-REGIMES = ("steady", "short_axis_mode", "long_axis_mode", "separatrix")
+# The torque-free regimes an ensemble member can be in (no exactly symmetric bodies: their
+# circulation is counted with the axis it goes round).
+REGIMES = (Regime.STEADY.value, Regime.MAJOR_AXIS.value, Regime.MINOR_AXIS.value, Regime.SEPARATRIX.value)
 INVALID_REASONS = {
     0: "",
     1: "principal moments violate the triangle inequality I1 + I2 >= I3 (no real body)",
@@ -108,14 +112,14 @@ def free_ensemble(moments, omega0, t=None) -> dict[str, np.ndarray]:
         w_final = np.full((n, 3), np.nan)
         if idx.size:
             h = np.broadcast_to(np.asarray(t, dtype=float), (n,))[idx]
-            w_final[idx], _ = free.free_flow(moments[idx], omega0[idx], None, h)
+            w_final[idx], _ = free_flow(moments[idx], omega0[idx], None, h)
         out["omega_final"] = w_final
     out["invalid_reason"] = reason
     return out
 
 
 def _analyse(moments, omega):
-    order, signs = free.proper_sort(moments)
+    order, signs = proper_sort(moments)
     I = np.take_along_axis(moments, order, -1)  # noqa: E741 - the notes' name
     w = np.take_along_axis(omega, order, -1)  # signs do not matter for what follows
     i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]

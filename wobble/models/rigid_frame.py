@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.free import proper_sort
+from wobble.models.principal_axes import proper_sort
 from wobble.numerics import quaternion as quat
 
 __all__ = [

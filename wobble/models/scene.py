@@ -19,7 +19,7 @@ takes the first model that applies to the scene and can reach its accuracy:
 5. ``dop853`` -- anything: adaptive Runge-Kutta on Euler's equations.
 
 (An ensemble -- several members in one scene -- uses the vectorised flow map
-for the free candidates: :func:`wobble.models.free.free_flow` from t0 to every
+for the free candidates: :func:`wobble.models.free_flow.free_flow` from t0 to every
 output time.)
 
 The choice, the reason and the error estimate are recorded in the
@@ -44,6 +44,7 @@ import numpy as np
 from wobble.errors import FileFormatError, InputError
 from wobble.models import engine as eng
 from wobble.models import free as _free
+from wobble.models.free_flow import flow_sorted
 from wobble.numerics import quaternion as quat
 
 __all__ = [
@@ -223,7 +224,7 @@ class _FreeEnsemble(_ModelRun):
             I = np.broadcast_to(moments, (T, n, 3)).reshape(-1, 3)  # noqa: E741
             w = np.broadcast_to(self.w0, (T, n, 3)).reshape(-1, 3)
             h = np.repeat(tb - t0, n)
-            w1, dq = _free.flow_sorted(I, w, h, attitude=attitude)
+            w1, dq = flow_sorted(I, w, h, attitude=attitude)
             w1 = w1.reshape(T, n, 3)
             q = None
             if attitude:

@@ -440,7 +440,7 @@ def jacobi_am(u, m, m1=None):
 
 # --------------------------------------------------------------------------
 # Quarter-period representation u = n K + x, |x| <= K/2 (one parameter per
-# element): the flow map of the free rigid body (wobble.models.free.free_flow)
+# element): the flow map of the free rigid body (wobble.models.free_flow.free_flow)
 # steps u by lambda h from a state, never from t = 0.
 # --------------------------------------------------------------------------
 def jacobi_quarter(n, x, lv: LandenLevels, separatrix=None):

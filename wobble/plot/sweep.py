@@ -54,7 +54,7 @@ _CLASS_COLOURS = {
     "undulating": "#4C72B0",
     "cusps": "#C44E52",
     "loops": "#55A868",
-    "regular_precession": "#8172B2",
+    "regular": "#8172B2",
     "sleeping": "#E5AE38",
 }
 
@@ -154,7 +154,7 @@ def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
     hi = np.degrees(np.asarray(ds["wobble_angle_max"].values).ravel())
     ok = np.isfinite(period) & (period > 0)
     bins = np.geomspace(np.nanpercentile(period[ok], 0.1), np.nanpercentile(period[ok], 99.9), 80)
-    for name, colour in (("short_axis_mode", "C0"), ("long_axis_mode", "C1")):
+    for name, colour in (("major-axis", "C0"), ("minor-axis", "C1")):
         sel = ok & (regime == codes[meanings.index(name)])
         label = f"{name.replace('_', ' ')} ({sel.sum():,})"
         ax1.hist(period[sel], bins=bins, histtype="step", color=colour, lw=1.5, label=label)
