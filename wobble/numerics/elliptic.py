@@ -40,13 +40,32 @@ Algorithms
 * Complete Pi(n | m): Bulirsch's ``cel`` in double-double arithmetic
   (:func:`ellippi`).
 
-Accuracy (measured against mpmath at 40 digits with the very same float
-inputs, ``tests/test_elliptic.py``; max over the grids there): sn, cn, dn
-within 2e-15 absolute and, for cn and dn next to K, within 1e-11 relative for
-m in [0, 1 - 1e-16] and u up to 1e6 K beyond the error ``|u| eps`` that the
-float argument itself carries (for a scalar parameter the reduction uses K to
-~30 digits, so sn, cn, dn stay within 2e-15 absolute up to u = 1e6 K); K within
-4e-16, E within 8e-16, F and E(phi) within 1e-15 and Pi within 3e-15 relative.
+Accuracy
+--------
+Relative errors against mpmath (40+ digits) at the very same float inputs, in
+eps = 2^-52 = 2.2e-16; each bound is checked on the worst rows of Boost.Math's
+elliptic tables and on grids over m1 from 2.2e-308 to 1
+(``tests/test_elliptic_bounds.py``; the peer comparison itself is
+``scripts/check_reference_tables.py``, docs/accuracy.md):
+
+* K, E, Pi(n | m) complete: half an ulp (1.2e-16), for any m1 in [2.2e-308, 1]
+  and n < 1; :func:`ellipk_dd` within 1e-31.
+* F(phi | m), E(phi | m): 1e-15 (Boost's worst row 1.9 eps), any phi through
+  :func:`reduce_amplitude`.
+* Pi(n; phi | m), :func:`pi_positive_scd`, :func:`pi_negative_scd`: 3e-15 (Boost's
+  worst row 3.9 eps), except in a corner where ``cos^2 phi``, m1 and 1 - n are all
+  tiny (below 1e-20, 1e-10 and 1e-4) and SciPy's R_J loses digits: 2e-14 there
+  (75 eps at n = 0.999999, phi = 1.5707963267948966, m1 = 1e-16).
+* sn, cn, dn of :func:`jacobi`: each within 4 eps (Boost's worst row 2.2 eps), next to
+  the zeros of cn and dn included, for m1 in [2.2e-308, 1] and |u| up to 2^25 K;
+  within 1e-30 |q| K absolute where u is within 1e-15 |q| K of a multiple q K of the
+  quarter period (the double-double K's floor: u = float(q K) itself). am within
+  4 eps. A vectorised call returns the very floats of per-row calls.
+* :func:`jacobi_quarter` and :func:`jacobi_reduced` (after an exact reduction):
+  within 4e-16 absolute; cn and dn within about ``eps (2 + m1^(-1/4))`` relative
+  (cos of a rounded amplitude near pi/2: 17 eps at m1 = 7e-6, 8e3 eps at
+  m1 = 1e-16). :func:`jacobi_reduced` takes a float argument ``|r| <= K``, whose
+  own rounding next to ``|r| = K`` reaches cn (34 eps on Boost's large-argument table).
 """
 
 from __future__ import annotations
@@ -152,10 +171,12 @@ def ellipk(m, m1=None):
     Returns
     -------
     numpy.ndarray
-        K(m), by the AGM of 1 and sqrt(m1) (A&S 17.6.1); ``inf`` for m1 = 0.
-        Relative error below 4e-16 against mpmath for m1 from 1e-300 to 1.
+        K(m), by the AGM of 1 and sqrt(m1) (A&S 17.6.1) in double-double
+        arithmetic (:func:`ellipk_dd`), rounded once: relative error below
+        1.2e-16 (half an ulp) against mpmath for m1 from 2.2e-308 to 1; ``inf``
+        for m1 = 0. (The float64 AGM of :class:`LandenLevels` is within 6e-16.)
     """
-    return LandenLevels(m, m1).K
+    return ellipk_dd(m, m1)[0]
 
 
 def ellipk_dd(m, m1=None):
@@ -177,10 +198,17 @@ def ellipk_dd(m, m1=None):
 
 
 def ellipe(m, m1=None):
-    """Complete elliptic integral of the second kind E(m) = 2 R_G(0, m1, 1) (DLMF 19.25.1)."""
+    """Complete elliptic integral of the second kind E(m), with m1 = 1 - m given.
+
+    The AGM with Gauss's sum, ``E = K (1 - sum 2^(n-1) c_n^2)`` (A&S 17.6.3-4), in
+    double-double arithmetic from the exact ``m1``
+    (:func:`wobble.numerics.double_double.agm_ke`), rounded once: relative error
+    below 1.2e-16 (half an ulp) for m1 from 2.2e-308 to 1; E = 1 for m1 = 0.
+    (SciPy's ``2 R_G(0, m1, 1)``, DLMF 19.25.1, is off by up to 15 eps for m1 < 1e-30.)
+    """
     m, m1 = _params(m, m1)
     m, m1 = np.broadcast_arrays(m, m1)
-    return 2.0 * _sp.elliprg(0.0, m1, 1.0)
+    return dd.agm_ke(m1)[1][0]
 
 
 def _carlson_args(phi, m, m1):
@@ -189,7 +217,10 @@ def _carlson_args(phi, m, m1):
         raise ValueError("incomplete integrals take |phi| <= pi/2; add multiples of the complete one")
     s = np.sin(phi)
     c = np.cos(phi)
-    c = np.where(np.abs(phi) >= 0.5 * np.pi, 0.0, c)
+    # The float nearest pi/2 lies 6.1e-17 below it: its cosine (exact to an ulp) matters
+    # when m1 is tiny (F has a log singularity there); the few ulps allowed beyond pi/2
+    # are taken as pi/2.
+    c = np.where(np.abs(phi) > 0.5 * np.pi, 0.0, c)
     c2 = c * c
     s2 = s * s
     d2 = c2 + m1 * s2  # = 1 - m sin^2(phi), without cancellation
@@ -227,6 +258,7 @@ def pi_negative_scd(nu, s, c, d2, m1):
 
     The three positive terms of :func:`ellippi_inc`; callers that already have
     sn, cn, dn of a reduced argument (so s, c, dn^2) skip the trigonometry.
+    Relative error below 3e-15 (module docstring).
     """
     sign = np.sign(s)
     s = np.abs(s)
@@ -254,7 +286,8 @@ def pi_positive_scd(n, one_minus_n, s, c, d2):
     R_J(c^2, d2, 1, p)``, where the caller supplies ``1 - n`` exactly so that
     ``p = 1 - n s^2 = c^2 + (1 - n) s^2`` is formed without cancellation: n next to
     1 (a heavy top whose axis passes next to the vertical) keeps full relative
-    accuracy, the integrand's near-pole at phi = pi/2 included.
+    accuracy, the integrand's near-pole at phi = pi/2 included: below 3e-15, except
+    in SciPy's R_J corner (module docstring: 2e-14 there).
     """
     sign = np.sign(s)
     s = np.abs(s)
@@ -287,7 +320,8 @@ def ellippi_inc(n, phi, m, m1=None):
     F + (n/3) s^3 R_J(c^2, D^2, 1, p) has positive terms, with
     ``p = 1 - n s^2`` formed as ``c^2 + (1 - n) s^2`` so that it keeps its digits
     as ``n sin^2 phi -> 1`` (the integrand's near-pole; as :func:`pi_positive_scd`).
-    Relative error below 3e-15 against mpmath (module docstring).
+    Relative error below 3e-15 against mpmath, except in SciPy's R_J corner (module
+    docstring: 2e-14 there). For |phi| > pi/2 see :func:`reduce_amplitude`.
     """
     m, m1 = _params(m, m1)
     n = np.asarray(n, dtype=float)
@@ -342,8 +376,8 @@ def ellippi(n, m, m1=None):
 
 
 def _cel_pi(n, m1):
-    """cel(sqrt(m1), 1 - n, 1, 1) in double-double (Bulirsch 1969, the p > 0 branch)."""
-    kc = dd.sqrt(m1, 0.0 * m1)
+    """cel(sqrt(m1), 1 - n, 1, 1) in double-double (Bulirsch 1969, the p > 0 branch: all terms positive)."""
+    kc = dd.sqrt_float(m1)
     p = dd.sqrt(*dd.two_sum(1.0, -n))
     e = kc
     em = (1.0 + 0.0 * m1, 0.0 * m1)
@@ -351,21 +385,21 @@ def _cel_pi(n, m1):
     b = dd.div(1.0, 0.0, *p)
     for _ in range(40):
         f = a
-        a = dd.add(*a, *dd.div(*b, *p))
+        a = dd.add_same_sign(*a, *dd.div(*b, *p))
         g = dd.div(*e, *p)
-        b = dd.add(*b, *dd.mul(*f, *g))
+        b = dd.add_same_sign(*b, *dd.mul(*f, *g))
         b = (2.0 * b[0], 2.0 * b[1])
-        p = dd.add(*g, *p)
+        p = dd.add_same_sign(*g, *p)
         g = em
-        em = dd.add(*kc, *em)
+        em = dd.add_same_sign(*kc, *em)
         # Quadratic convergence: |g - kc| ~ 1e-16 g leaves an error ~1e-32.
         if np.all(np.abs(g[0] - kc[0]) <= 2.0**-50 * g[0]):
             break
         kc = dd.sqrt(*e)
         kc = (2.0 * kc[0], 2.0 * kc[1])
         e = dd.mul(*kc, *em)
-    num = dd.add(*b, *dd.mul(*a, *em))
-    den = dd.mul(*em, *dd.add(*em, *p))
+    num = dd.add_same_sign(*b, *dd.mul(*a, *em))
+    den = dd.mul(*em, *dd.add_same_sign(*em, *p))
     r = dd.mul(*dd.div(*num, *den), 0.5 * dd.PI[0], 0.5 * dd.PI[1])
     return r[0] + r[1]
 
@@ -513,14 +547,21 @@ def reduce_quarter_period(u, k_hi, k_lo=0.0):
     x : numpy.ndarray
     q : numpy.ndarray of float (integer values)
     """
+    x, _, q = _reduce_dd(u, k_hi, k_lo)
+    return x, q
+
+
+def _reduce_dd(u, k_hi, k_lo):
+    """:func:`reduce_quarter_period` with the rounding error of x: ``x + x_lo`` to ~|q| K 1e-31."""
     u = np.asarray(u, dtype=float)
     k_hi = np.asarray(k_hi, dtype=float)
     finite = np.isfinite(k_hi)
     p1, p2, p3 = dd.split3(np.where(finite, k_hi, 0.0), np.where(finite, k_lo, 0.0))
     with np.errstate(invalid="ignore", divide="ignore"):
         q = np.where(finite, np.rint(u / np.where(finite, k_hi, 1.0)), 0.0)
-    x = ((u - q * p1) - q * p2) - q * p3
-    return x, q
+    # u - q p1 and its difference with q p2 are exact (Cody & Waite); the last step rounds.
+    x, x_lo = dd.two_sum((u - q * p1) - q * p2, -(q * p3))
+    return x, x_lo, q
 
 
 def reduce_amplitude(phi):
@@ -581,16 +622,18 @@ class _Levels:
         self.a = a
 
 
-def _direct(x, lev: _Levels):
-    """sn, cn, dn of ``|x| <= K/2`` for m <= 1/2: descending Landen (A&S 16.4.3), ratios <= 0.18."""
+def _direct(x, x_lo, m, lev: _Levels):
+    """sn, cn of ``x + x_lo``, ``|x| <= K/2``, m <= 1/2: descending Landen (A&S 16.4.3), ratios <= 0.18."""
     phi = np.ldexp(x - x * lev.csum, len(lev.ratios))  # 2^N a_N x, with a_N = 1 - sum c_n
     for ratio in reversed(lev.ratios):
         phi = 0.5 * (phi + np.arcsin(ratio * np.sin(phi)))
+    s = np.sin(phi)
+    phi = phi + x_lo * np.sqrt(1.0 - m * s * s)  # d am / dx = dn
     return np.sin(phi), np.cos(phi)
 
 
-def _imaginary(x, lev: _Levels):
-    """sn, cn of ``|x| <= K/2`` for m > 1/2, by Jacobi's imaginary transformation.
+def _imaginary(x, x_lo, m1, lev: _Levels):
+    """sn, cn of ``x + x_lo``, ``|x| <= K/2``, m > 1/2, by Jacobi's imaginary transformation.
 
     ``sn(x | m) = -i sc(i x | m1)``, ``cn(x | m) = nc(i x | m1)`` (A&S 16.20.1-3): the
     descending Landen recurrence of the *complementary* parameter m1 (``lev``) at the
@@ -600,7 +643,9 @@ def _imaginary(x, lev: _Levels):
     relative accuracy where it is small (``sqrt(k')`` at K/2, and ``sech x`` for m
     next to 1), which ``cos(am x)`` of a rounded amplitude cannot. The recurrence
     runs on ``delta_n = psi_n - 2^n x`` (``delta_N = -2^N x sum c_n``), so that
-    ``psi = x + delta`` is never rounded: ``cosh psi = cosh x cosh delta + sinh x sinh delta``.
+    ``psi = x + delta`` is never rounded: ``cosh psi = cosh x cosh delta + sinh x sinh delta``;
+    the low part of the reduced argument enters as ``x_lo dpsi/dx = x_lo dn/cn``, since
+    ``sech psi`` amplifies an error of psi by psi (up to K/2 ~ 170 for m1 = 1e-300).
     """
     levels = len(lev.ratios)
     # sinh overflows only on levels an element does not use (ratio 0: the slowest element's
@@ -612,6 +657,7 @@ def _imaginary(x, lev: _Levels):
             ratio = lev.ratios[n - 1]
             term = np.arcsinh(ratio * np.sinh(np.ldexp(x, n) + delta))
             delta = 0.5 * (delta + np.where(ratio > 0, term, 0.0))
+        delta = delta + x_lo * np.sqrt(1.0 + m1 * np.sinh(x + delta) ** 2)
         chx, shx, chd, shd = np.cosh(x), np.sinh(x), np.cosh(delta), np.sinh(delta)
         ch = chx * chd + shx * shd
         return (shx * chd + chx * shd) / ch, 1.0 / ch
@@ -629,12 +675,14 @@ def _jacobi_parts(u, m, m1):
     direct = _Levels(np.sqrt(m1), np.where(sep, 0.0, np.sqrt(m)), 0.5 * _EPS)
     with np.errstate(divide="ignore"):
         k = np.where(sep, np.inf, 0.5 * np.pi / direct.a)
-    x, q = _quarter_reduce(u, m, m1, k)
-    s, c = _direct(x, direct)
-    d = np.sqrt(m1 + m * c * c)  # = sqrt(1 - m s^2), positive terms (1 exactly for m = 0)
+    x, x_lo, q = _quarter_reduce(u, m, m1, k)
+    s = c = d = 0.0
+    if not np.all(imag):
+        s, c = _direct(x, x_lo, m, direct)
+        d = np.sqrt(m1 + m * c * c)  # = sqrt(1 - m s^2), positive terms (1 exactly for m = 0)
     if np.any(imag):
         # Stop at c < 1e-35 a: the neglected level's term grows like sinh, not sin.
-        s_i, c_i = _imaginary(x, _Levels(np.sqrt(m), np.where(imag, np.sqrt(m1), 0.0), 1e-35))
+        s_i, c_i = _imaginary(x, x_lo, m1, _Levels(np.sqrt(m), np.where(imag, np.sqrt(m1), 0.0), 1e-35))
         # sqrt(c^2 + m1 s^2): relative accuracy where cn and dn are both small (m next to 1).
         s, c, d = np.where(imag, s_i, s), np.where(imag, c_i, c), np.where(imag, np.sqrt(c_i * c_i + m1 * s_i * s_i), d)
     of_u, of_x = _quarter_shift(q, s, c, d, m, m1, sep, x)
@@ -642,14 +690,14 @@ def _jacobi_parts(u, m, m1):
 
 
 def _quarter_reduce(u, m, m1, k):
-    """``u = q K + x`` for :func:`jacobi` and :func:`jacobi_am`, with K to ~32 digits
-    (:func:`ellipk_dd`). Where every ``|u| <= K/2`` (``k``: K in float64) nothing
-    needs reducing.
+    """``u = q K + x + x_lo`` for :func:`jacobi` and :func:`jacobi_am`, with K to ~32
+    digits (:func:`ellipk_dd`). Where every ``|u| <= K/2`` (``k``: K in float64)
+    nothing needs reducing.
     """
     if np.all(np.abs(u) <= 0.5 * k * (1.0 - 4.0 * _EPS)):
         shape = np.broadcast_shapes(u.shape, k.shape)
-        return np.broadcast_to(u, shape).copy(), np.zeros(shape)
-    return reduce_quarter_period(u, *ellipk_dd(m, m1))
+        return np.broadcast_to(u, shape).copy(), np.zeros(shape), np.zeros(shape)
+    return _reduce_dd(u, *ellipk_dd(m, m1))
 
 
 def jacobi_am(u, m, m1=None):
