@@ -15,8 +15,8 @@ in ``tests/references/build_elliptic_references.py``, with mpmath values).
 Every row is evaluated **one call per row** (the per-row comparison), and each table again
 in **one vectorised call** (the array path, reported as its largest difference from the
 per-row results). Inputs are Boost's doubles, taken exactly: the modulus k becomes
-``m = k^2`` and ``m1 = 1 - k^2`` rounded once from exact rationals (exact here, since the
-tables' k carry 24 bits). Reductions are those wobble documents:
+``m = k^2`` and ``m1 = 1 - k^2``, each rounded once from exact rationals (the tables' k carry
+24 bits, so m is exact, and m1 too for |k| >= 1/4). Reductions are those wobble documents:
 
 * ``|phi| > pi/2``: ``phi = j pi + r`` (:func:`wobble.numerics.elliptic.reduce_amplitude`),
   F = 2 j K + F(r), E = 2 j E + E(r), Pi = 2 j Pi(n) + Pi(n; r);

@@ -9,9 +9,11 @@ them. When ``m1`` is omitted it is taken as ``1 - m`` (exact for m >= 1/2).
 
 Algorithms
 ----------
-* Complete K(m): the arithmetic-geometric mean started from ``sqrt(m1)``
-  (Abramowitz & Stegun 17.6), so K keeps full relative accuracy down to
-  ``m1 = 1e-300`` and for ``m`` near 0.
+* Complete K(m) and E(m): the arithmetic-geometric mean started from ``sqrt(m1)``
+  (Abramowitz & Stegun 17.6.1), with Gauss's sum for E (17.6.3-4), in double-double
+  arithmetic (:mod:`wobble.numerics.double_double`) and rounded once, so both keep
+  full relative accuracy down to ``m1 = 2.2e-308`` and for ``m`` near 0.
+  :class:`LandenLevels` keeps the float64 AGM (within 6e-16) for the models' evaluators.
 * sn, cn, dn, am (:func:`jacobi`, :func:`jacobi_am`): ``u = q K + x`` with
   ``|x| <= K/2``, K as a double-double from the AGM in double-double arithmetic
   (:func:`ellipk_dd`) and split in three pieces (Cody & Waite), so that x
