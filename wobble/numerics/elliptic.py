@@ -52,7 +52,7 @@ elliptic tables and on grids over m1 from 2.2e-308 to 1
 
 * K, E, Pi(n | m) complete: half an ulp (1.2e-16), for any m1 in [2.2e-308, 1]
   and n < 1; :func:`ellipk_dd` within 1e-31.
-* F(phi | m), E(phi | m): 1e-15 (Boost's worst row 1.9 eps), any phi through
+* F(phi | m), E(phi | m): 1e-15 (Boost's worst row 1.8 eps), any phi through
   :func:`reduce_amplitude`.
 * Pi(n; phi | m), :func:`pi_positive_scd`, :func:`pi_negative_scd`: 3e-15 (Boost's
   worst row 3.9 eps), except in a corner where ``cos^2 phi``, m1 and 1 - n are all
