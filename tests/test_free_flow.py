@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given, reject, settings
 from hypothesis import strategies as st
 
+from wobble.errors import InputError
 from wobble.models.free import free_rotation
 from wobble.models.free_flow import flow_many, flow_one, flow_sorted, free_flow
 from wobble.numerics import quaternion as Q
@@ -136,7 +137,10 @@ def test_invariants_and_unit_quaternion(moments, omega, h):
     I = np.array(moments)  # noqa: E741
     w0 = np.array([omega])
     q0 = Q.normalize(np.array([[0.9, 0.1, -0.3, 0.2]]))
-    w1, q1 = free_flow(I, w0, q0, h)
+    try:
+        w1, q1 = free_flow(I, w0, q0, h)
+    except InputError:
+        reject()  # within ~1e-75 of the separatrix: refused by design (test_the_float64_limit_...)
     e0, e1 = 0.5 * np.sum(I * w0**2), 0.5 * np.sum(I * w1**2)
     l0, l1 = Q.rotate(q0, I * w0), Q.rotate(q1, I * w1)
     big = max(np.linalg.norm(I * w0), 1e-300)
@@ -191,12 +195,46 @@ def _states(draw):
 def test_one_member_flow_equals_the_vectorised_flow_in_every_regime(state, h, attitude):
     moments, omega = state
     I, w = np.array([moments]), np.array([omega])  # noqa: E741
-    with np.errstate(all="ignore"):
-        w_many, dq_many = flow_many(I, w, np.array([h]), attitude)
-    w_one, dq_one = flow_one(tuple(moments), tuple(omega), h, attitude)
+    outcomes = []
+    for run in (lambda: flow_many(I, w, np.array([h]), attitude), lambda: flow_one(tuple(moments), tuple(omega), h, attitude)):
+        try:
+            with np.errstate(all="ignore"):
+                outcomes.append(run())
+        except InputError as exc:
+            outcomes.append(exc)
+    refused = [isinstance(o, InputError) for o in outcomes]
+    assert refused[0] == refused[1], outcomes  # both refuse a state beyond float64, or neither
+    if refused[0]:
+        return
+    (w_many, dq_many), (w_one, dq_one) = outcomes
     scale = max(np.max(np.abs(omega)), 1e-300)
     assert np.max(np.abs(np.array(w_one) - w_many[0])) <= 1e-13 * scale
     if attitude:
         assert abs(abs(np.dot(dq_one, dq_many[0])) - 1) < 1e-13
     else:
         assert dq_one is None and dq_many is None
+
+
+@pytest.mark.parametrize("tiny", [1e-80, 1e-100, 5.9e-155, 4e-177])
+def test_the_float64_limit_next_to_the_separatrix_is_a_clear_error(tiny):
+    """A spin within ~1e-75 of the intermediate axis has 1 - m below 1e-150 (or below the
+    float range): the integrals of the third kind leave double precision there. Refused with
+    the reason, by the exact solution and by both flow implementations, never NaN or a crash."""
+    state = [0.0, 1.0, tiny]
+    with pytest.raises(InputError, match="separatrix"):
+        free_rotation([1.0, 1.5, 2.0], state)
+    with pytest.raises(InputError, match="omega"):
+        free_flow([1.0, 1.5, 2.0], np.array([state]), np.array([[1.0, 0, 0, 0]]), np.array([3.0]))
+    with pytest.raises(InputError, match="omega"):
+        flow_one((1.0, 1.5, 2.0), tuple(state), 3.0)
+
+
+def test_the_nearest_computed_state_to_the_separatrix_is_exact():
+    """1 - m = 2.7e-140, just inside the limit: the flow is the exact solution, to rounding."""
+    moments, state = [1.0, 1.5, 2.0], [0.0, 1.0, 1e-70]
+    exact = free_rotation(moments, state)
+    t = np.array([0.5, 3.0, 300.0])
+    w1, q1 = free_flow(moments, np.tile(state, (3, 1)), np.tile([1.0, 0, 0, 0], (3, 1)), t)
+    assert np.all(np.isfinite(exact.attitude(t))) and np.all(np.isfinite(q1))
+    assert np.max(np.abs(w1 - exact.omega(t))) < 1e-13
+    assert np.max(angle(q1, exact.attitude(t))) < 1e-12

@@ -89,7 +89,12 @@ def run(args) -> int:
         check_plot_path(args.plot, args.overwrite)
     moments = _quantity(args.inertia, "--inertia", u.kg * u.m**2)
     omega = _quantity(args.omega, "--omega", u.rad / u.s)
-    body = FreeRotation(moments, omega)
+    try:
+        body = FreeRotation(moments, omega)
+    except InputError as exc:
+        # Name the option as the user typed it.
+        option = {"moments": "--inertia", "omega0": "--omega"}.get(exc.parameter, exc.parameter)
+        raise InputError(option, exc.value, exc.allowed) from None
     summary = body.to_dict()
     needs_span = args.output or args.plot or args.t_end is not None or body.flips
     if needs_span:

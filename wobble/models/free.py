@@ -592,6 +592,22 @@ def _nome_series(m, kdec):
     return tuple(float(x) for x in coeffs)
 
 
+def _check_separatrix_distance(name: str, value, m1) -> None:
+    """Refuse a state so near the separatrix that 1 - m leaves double precision.
+
+    On the separatrix itself (1 - m = 0) the motion is tanh/sech and exact; between 0 and
+    :data:`wobble.numerics.elliptic.M1_MIN` the period and the attitude integrals are out
+    of the float range (the state is within ~1e-75 of the intermediate axis's separatrix).
+    """
+    if 0 < m1 < ell.M1_MIN:  # m1 exact (a Fraction): an underflowing 1 - m is caught too
+        raise InputError(
+            name, value,
+            f"a state farther from the separatrix: 1 - m = {hp.dec(m1):.3g} is below {ell.M1_MIN:g} (a state within "
+            "~1e-75 of the separatrix), where the elliptic integrals leave double precision; the exact "
+            "separatrix (1 - m = 0) and anything farther than 1e-75 are computed",
+        )
+
+
 def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     frame, signs = _proper_frame(order)
     w = to_sorted(np.asarray(omega0), frame, signs)
@@ -613,6 +629,7 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     m = (I[b] - I[a]) * d[c] / ((I[c] - I[b]) * (-d[a]))
     m1 = (I[c] - I[a]) * (-d[b]) / ((I[c] - I[b]) * (-d[a]))
     assert m + m1 == 1
+    _check_separatrix_distance("omega0", omega0, m1)
     nu = I[c] * (I[b] - I[a]) / (I[a] * (I[c] - I[b]))
     amp = tuple(float(hp.sqrt(x)) for x in amp2)
     sign_bc = 1.0 if wf[c] > 0 else -1.0
@@ -620,9 +637,8 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     big_l = hp.sqrt(l2)
     kdec = hp.agm_k(m1) if m1 > 0 else None
     K = hp.to_dd(kdec) if kdec is not None else (np.inf, 0.0)
-    levels = ell.landen_levels(float(m), float(m1))
-    if kdec is not None:
-        levels.K = np.asarray(K[0])  # the fold K - |r| uses the same K as the reduction
+    # The fold K - |r| uses the same K as the reduction of the phase.
+    levels = ell.landen_levels(float(m), float(m1), K=K[0] if kdec is not None else None)
     # Initial phase u0 from sn, cn, dn at t = 0 (all known from omega0 without
     # cancellation): |u0| <= K via Carlson's R_F, else through 2K - u.
     c0 = float(wf[a]) / amp[0]

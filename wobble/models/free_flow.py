@@ -21,6 +21,7 @@ import math
 import numpy as np
 from scipy import special as _sp
 
+from wobble.errors import InputError
 from wobble.models.principal_axes import proper_sort, to_sorted, to_user
 from wobble.numerics import elliptic as ell
 from wobble.numerics import quaternion as quat
@@ -95,6 +96,30 @@ def free_flow(moments, omega, q=None, h=0.0):
     return w1, quat.normalize(q1)
 
 
+_TINY = np.finfo(float).tiny
+
+
+def _check_representable(omega, energies, m1, steady) -> None:
+    """Refuse states the float64 formulas cannot carry (an InputError naming the member).
+
+    * a non-zero component whose I w^2 underflows (below 2.2e-308): the invariants D_j
+      lose it, and a state next to the intermediate axis would pass for the separatrix;
+    * 1 - m between 0 and :data:`wobble.numerics.elliptic.M1_MIN`: within ~1e-75 of the
+      separatrix, where the integrals of the third kind leave double precision (the exact
+      separatrix, 1 - m = 0, is computed).
+    """
+    e = np.stack([np.abs(x) for x in energies], axis=-1)
+    lost = np.any((omega != 0) & (e < _TINY), axis=-1)
+    near = (~steady) & (m1 > 0) & (m1 < ell.M1_MIN)
+    bad = np.flatnonzero(lost | near)
+    if bad.size:
+        k = int(bad[0])
+        why = ("components whose squares underflow double precision (|omega_k| below ~1e-154 beside a "
+               "non-zero one)" if lost[k] else f"1 - m = {float(m1[k]):.3g}, below {ell.M1_MIN:g}: within ~1e-75 of "
+               "the separatrix, where the elliptic integrals leave double precision")
+        raise InputError(f"omega[{k}]", omega[k].tolist(), f"a state the free flow can carry in float64; this one has {why}")
+
+
 def flow_sorted(moments, omega, h, attitude=True):
     """:func:`free_flow` in the ascending principal frame (moments sorted, proper).
 
@@ -158,6 +183,7 @@ def flow_many(I, omega, h, attitude):  # noqa: E741
     m1 = np.clip(np.where(small, m1_dir, 1.0 - m_dir), 0.0, 1.0)
     m = np.clip(np.where(small, 1.0 - m1_dir, m_dir), 0.0, 1.0)
     sep = m1 == 0.0
+    _check_representable(omega, (e0, e1, e2), m1, steady)
     any_sep = bool(sep.any())
     lam = np.sqrt(np.abs(den) / (i0 * i1 * i2))
     amp_a = np.sqrt(np.abs(dc / (ia * ica)))
@@ -362,6 +388,8 @@ def flow_one(moments, omega, h, attitude=True):
         m1, m = 1.0 - m_dir, m_dir
     m1, m = min(max(m1, 0.0), 1.0), min(max(m, 0.0), 1.0)
     sep = m1 == 0.0
+    _check_representable(np.array([[w0, w1, w2]]), (np.array([e0]), np.array([e1]), np.array([e2])), np.array([m1]),
+                         np.array([False]))
     lam = math.sqrt(abs(den) / (i0 * i1 * i2))
     amp_a = math.sqrt(abs(dc / (ia * ica)))
     amp_b = math.sqrt(abs(dc / (ib * icb)))
