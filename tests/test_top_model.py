@@ -248,3 +248,25 @@ def test_engine_constructor_at_the_vertical():
     w, q = mdl.evaluate(np.array([0.0]))
     np.testing.assert_allclose(w[0], w0, atol=1e-15)
     np.testing.assert_allclose(q[0], q0, atol=1e-16)
+
+
+def test_frozen_model_holds_no_cache_and_its_series_table_goes_with_it():
+    """The verified series table is built on first use and kept outside the frozen model
+    (wobble.models.top_series), for as long as the model lives."""
+    import dataclasses
+    import gc
+
+    from wobble.models import top_series
+
+    mdl = model_of("issue8 loops")
+    assert all(not isinstance(getattr(mdl, f.name), (list, set)) and f.name != "_cache" for f in dataclasses.fields(mdl))
+    before = len(top_series._TABLES)
+    t = np.linspace(0.0, 10 * mdl.nutation_period, 2001)
+    first = mdl.evaluator(t.size)
+    assert isinstance(first, top_series.Fourier) and mdl.evaluator(t.size) is first  # built once
+    assert len(top_series._TABLES) == before + 1
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        mdl.nutation = "loops"  # type: ignore[misc]
+    del mdl, first
+    gc.collect()
+    assert len(top_series._TABLES) == before

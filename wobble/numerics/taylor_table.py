@@ -3,7 +3,7 @@
 The heavy top's periodic parts (theta and the two phase corrections, docs/heavy-top.md)
 are tabulated at S nodes over one nutation period as Taylor coefficients
 ``f^(j)(node) / j!``; a sample at reduced phase r takes the nearest node and sums the
-polynomial in ``d = r - node`` by Horner. :meth:`wobble.models.top._Table.series` does it
+polynomial in ``d = r - node`` by Horner. :meth:`wobble.models.top_series.Fourier.series` does it
 in NumPy with one gather per coefficient (``np.take``: 3 series x 6 coefficients over the
 samples); here one pass over the samples computes every series, the table staying in
 cache. The operations are NumPy's, in the same order and without fused multiply-adds,
