@@ -210,7 +210,12 @@ def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, th
 # --------------------------------------------------------------------------
 @dataclass(frozen=True)
 class TopMotion:
-    """The top's state at many times (SI: rad, rad/s), arrays of shape (N,) or (N, k)."""
+    """The top's state at many times (SI: rad, rad/s, J, kg m^2/s), arrays of shape (N,) or (N, k).
+
+    ``energy``, ``p_phi`` and ``p_psi`` are recomputed from omega and the attitude
+    (:meth:`HeavyTopModel.invariants`): their drift from the initial values measures the
+    error of the motion.
+    """
 
     t: np.ndarray
     theta: np.ndarray
@@ -223,18 +228,14 @@ class TopMotion:
     quaternion: np.ndarray  # body -> space (N, 4)
     axis: np.ndarray  # symmetry axis in space (N, 3)
     u: np.ndarray  # cos theta
+    energy: np.ndarray
+    p_phi: np.ndarray
+    p_psi: np.ndarray
 
 
 def _wrap(a):
     """Angles to [-pi, pi] (a few times faster than np.remainder; |a| here is < 10 pi)."""
     return a - (2 * np.pi) * np.rint(a * (0.5 / np.pi))
-
-
-def _blocked_tuple(fn, t, block=_BLOCK):
-    if t.size <= block:
-        return fn(t)
-    parts = [fn(t[i : i + block]) for i in range(0, t.size, block)]
-    return tuple(np.concatenate([p[k] for p in parts]) for k in range(len(parts[0])))
 
 
 def _blocked(fn, t):
@@ -379,12 +380,6 @@ class HeavyTopModel:
         # The table lives in top_series' cache (keyed by this model), not in the frozen model.
         return top_series.series_of(self, self._impl, self.error_estimate) or self._impl
 
-    def _core(self, t, method):
-        t = np.asarray(t, dtype=float)
-        flat = t.reshape(-1)
-        impl = self.evaluator(flat.size, method)
-        return t.shape, _blocked(impl.core, flat)
-
     def motion(self, t, method: str = "auto") -> TopMotion:
         """theta, phi, psi, their rates, omega (body), the quaternion and the axis at times t (s).
 
@@ -392,7 +387,18 @@ class HeavyTopModel:
         (+ (3,) or (4,)). Vectorised; the error does not grow with t. ``method``:
         see :meth:`evaluator`.
         """
-        shape, c = self._core(t, method)
+        t = np.asarray(t, dtype=float)
+        flat = t.reshape(-1)
+        impl = self.evaluator(flat.size, method)
+        shape = t.shape
+
+        def r(a, extra=()):
+            return a.reshape(shape + extra)
+
+        if isinstance(impl, top_series.Fourier):  # every output from the verified series, in one pass
+            c = impl.motion(flat, (self.I1, self.I3, self.mgl))
+            return TopMotion(t=t, **{k: r(v, v.shape[1:]) for k, v in c.items()})
+        c = _blocked(impl.core, flat)
         sh, ch, sig, dlt = c["sh"], c["ch"], c["sigma"], c["delta"]
         flip = (sh < 0) != (ch < 0)
         theta = 2.0 * np.arctan2(np.abs(sh), np.abs(ch))
@@ -409,14 +415,11 @@ class HeavyTopModel:
         tdc = c["thetadot"]
         spsi, cpsi = np.sin(psic), np.cos(psic)
         omega = np.stack([ps * spsi + tdc * cpsi, ps * cpsi - tdc * spsi, np.full_like(ps, self.omega3)], axis=-1)
-        t = np.asarray(t, dtype=float)
-
-        def r(a, extra=()):
-            return a.reshape(shape + extra)
-
+        inv = self._invariants(omega, q, c["u"])
         return TopMotion(
             t=t, theta=r(theta), phi=r(phi), psi=r(psi), thetadot=r(thetadot), phidot=r(c["phidot"]),
             psidot=r(c["psidot"]), omega=r(omega, (3,)), quaternion=r(q, (4,)), axis=r(axis, (3,)), u=r(c["u"]),
+            **{k: r(v) for k, v in inv.items()},
         )
 
     def evaluate(self, t, method: str = "auto") -> tuple[np.ndarray, np.ndarray]:
@@ -440,9 +443,7 @@ class HeavyTopModel:
         t = np.asarray(t, dtype=float)
         impl = self.evaluator(t.size, method)
         if isinstance(impl, top_series.Fourier):
-            theta, sig, dlt = _blocked_tuple(impl.angles_core, t.reshape(-1), 1 << 16)
-            shape = t.shape
-            return theta.reshape(shape), _wrap(sig + dlt).reshape(shape), _wrap(sig - dlt).reshape(shape)
+            return tuple(a.reshape(t.shape) for a in impl.angles(t.reshape(-1)))
         mo = self.motion(t, method)
         return mo.theta, mo.phi, mo.psi
 
@@ -453,12 +454,13 @@ class HeavyTopModel:
         so no loss next to the poles): E = I1 (w1^2 + w2^2)/2 + I3 w3^2/2 + M g l gamma3,
         p_phi = L . e_z = I1 (w1 gamma1 + w2 gamma2) + I3 w3 gamma3, p_psi = I3 w3.
         """
-        w = mo.omega
-        q = mo.quaternion
+        return self._invariants(mo.omega, mo.quaternion, mo.u)
+
+    def _invariants(self, w, q, g3) -> dict:
+        # The series path computes the same in one pass (wobble.numerics.taylor_table.motion).
         qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
         g1 = 2 * (qx * qz - qw * qy)
         g2 = 2 * (qy * qz + qw * qx)
-        g3 = mo.u
         e = 0.5 * self.I1 * (w[..., 0] ** 2 + w[..., 1] ** 2) + 0.5 * self.I3 * w[..., 2] ** 2 + self.mgl * g3
         p_phi = self.I1 * (w[..., 0] * g1 + w[..., 1] * g2) + self.I3 * w[..., 2] * g3
         return {"energy": e, "p_phi": p_phi, "p_psi": self.I3 * w[..., 2]}

@@ -32,12 +32,14 @@ from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
 from wobble.numerics.phase import reduce_phase, split_dd
 
-__all__ = ["Uniform", "Secular", "Elliptic", "TWO_PI_DD"]
+__all__ = ["Uniform", "Secular", "Elliptic", "TWO_PI_DD", "TWO_PI_PIECES", "TWO_PI"]
 
 #: 2 pi as a double-double pair (the period of the secular phases).
 TWO_PI_DD = hp.to_dd(2 * hp.PI)
-_TWO_PI_PIECES = split_dd(*TWO_PI_DD)
-_TWO_PI_PIECES_SUM = float(2 * hp.PI)
+#: 2 pi in three floats of 26, 26 and the rest bits (Cody-Waite reduction: k * piece exact).
+TWO_PI_PIECES = split_dd(*TWO_PI_DD)
+#: 2 pi rounded to float64.
+TWO_PI = float(2 * hp.PI)
 
 
 @dataclass(frozen=True)
@@ -86,9 +88,17 @@ class Secular:
     def __call__(self, j, r, w0):
         a1, a2, a3 = self.a
         z = j * a1  # exact
-        k = np.rint(z * (1.0 / _TWO_PI_PIECES_SUM))
-        z = ((z - k * _TWO_PI_PIECES[0]) - k * _TWO_PI_PIECES[1]) - k * _TWO_PI_PIECES[2]
+        k = np.rint(z * (1.0 / TWO_PI))
+        z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
         return z + (j * a2 + (j * a3 + (self.c * (r - w0) + self.offset)))
+
+    def whole_periods(self, j):
+        """j A modulo 2 pi (up to a few ulps of 2 pi): the advance over j whole nutation periods."""
+        a1, a2, a3 = self.a
+        z = j * a1  # exact
+        k = np.rint(z * (1.0 / TWO_PI))
+        z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
+        return z + (j * a2 + j * a3)
 
 
 
@@ -169,6 +179,15 @@ class Elliptic:
         theta = 2.0 * np.arctan2(self.hx1 * sx, self.hy2 * sy)
         p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
         return theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy)
+
+    def periodic_with_half_angles(self, r):
+        """:meth:`periodic_of_r` and sin(theta/2), cos(theta/2) at the same phases (|r| <= K)."""
+        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
+        sx, sy = self._scaled(sn, cn)
+        sh, ch = self.hx1 * sx, self.hy2 * sy
+        theta = 2.0 * np.arctan2(sh, ch)
+        p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
+        return (theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy), sh, ch)
 
     def core(self, t):
         r, j = self.phase(t)
