@@ -80,7 +80,8 @@ def markdown(res: dict, report: Path, figures: dict) -> str:
         p("")
         p("## What a user gets: the public API against plain SciPy")
         p("")
-        p(f"Written by the same run to {USER_REPORT} (`python scripts/bench_user.py` refreshes it alone), included here.")
+        p(f"{USER_REPORT}, included here, is written by the full run and by `python scripts/bench_user.py` alone; "
+          "its header says which, when and under what load.")
         p("")
         p(f"```{{include}} {USER_REPORT}")
         p(":heading-offset: 2")

@@ -48,10 +48,9 @@ BYTES_PER_SAMPLE = 8 * 120
 BODY_AXES = ("1", "2", "3")
 SPACE_AXES = ("x", "y", "z")
 COMPONENTS = ("w", "x", "y", "z")
-# The defaults of the optional initial state, and their SI values (converted once, not per top).
+# The defaults of the optional initial state: zero, so not converted again for every top.
 _ZERO_RATE = 0 * _RATE
 _ZERO_ANGLE = 0 * u.rad
-_DEFAULTS_SI = {id(_ZERO_RATE): 0.0, id(_ZERO_ANGLE): 0.0}
 
 
 def _as_quantity(value):
@@ -66,13 +65,13 @@ def _as_quantity(value):
 
 def _angle(value, name):
     if value is _ZERO_ANGLE:
-        return _DEFAULTS_SI[id(value)]
+        return 0.0
     return to_si(_as_quantity(value), name, u.rad)
 
 
 def _rate(value, name):
     if value is _ZERO_RATE:
-        return _DEFAULTS_SI[id(value)]
+        return 0.0
     return to_si(value, name, _RATE, equivalencies=_ANGLES)
 
 

@@ -164,6 +164,8 @@ class Fourier:
         """exp(i j A) of sigma and delta for the half-periods ``j``, as (2, 2, M) and the index
         base: one value per distinct j of a dense range (``j - base``), else per sample (-1)."""
         e = self.base
+        if j.size == 0:
+            return np.empty((2, 2, 0)), 0
         lo, hi = float(np.min(j)), float(np.max(j))
         if hi - lo < max(2 * j.size, 64):
             jj, base = np.arange(lo, hi + 1.0), int(lo)
