@@ -170,9 +170,11 @@ def _load_text(meta: dict) -> str:
     start, end = meta.get("load_start"), meta.get("load_end")
     if not start:
         return ""
-    fmt = ", ".join
-    return (f" Load average (1, 5, 15 min) on the {meta['versions']['cpus']} CPUs: {fmt(map(str, start))} at the start, "
-            f"{fmt(map(str, end or []))} at the end of the run.")
+    def fmt(xs):
+        return ", ".join(f"{x:.2f}" for x in xs or [])
+
+    return (f" Load average (1, 5, 15 min) on the {meta['versions']['cpus']} CPUs: {fmt(start)} at the start, "
+            f"{fmt(end)} at the end of the run.")
 
 
 def user_report(res: dict) -> str:

@@ -22,7 +22,7 @@ CASE_KEYS = ("free_generic", "free_separatrix", "free_earth", "top_undulating", 
 EPILOG = """\
 examples:
   wobble bench --smoke --json                       a few seconds: the harness itself, as JSON
-  wobble bench --quick                              fewer settings, ensembles up to 10^4 (minutes)
+  wobble bench --quick                              fewer settings, ensembles up to 10^4 (5-8 minutes)
   wobble bench --case user_top                      HeavyTop(...).motion(t) against plain SciPy DOP853
   wobble bench --case free_generic --plot figs      one case, with its work-precision diagram
   wobble bench -o docs/performance.md --plot docs/figures --overwrite
@@ -42,7 +42,7 @@ def add_arguments(p) -> None:
     mode = p.add_mutually_exclusive_group()
     mode.add_argument("--quick", action="store_true",
                       help="fewer settings and repeats (targets judged only where their methods ran as in the full "
-                           "run); ensembles up to 10^4 members; about 5 minutes")
+                           "run); ensembles up to 10^4 members; 5-8 minutes")
     mode.add_argument("--smoke", action="store_true",
                       help="a few seconds (3-5 s): one setting per method on two short cases, the harness's own "
                            "test (targets not judged)")
