@@ -273,13 +273,15 @@ def targets(res: dict) -> list[dict]:
     if c:
         parts, ratios, better = [], [], True
         for api in (r for r in c["rows"] if r["method"] == user_level.API_TOP):
-            plain = next(r for r in c["rows"] if r["method"] == user_level.PLAIN and r["setting"].startswith(api["setting"]))
+            plain = next(r for r in c["rows"]
+                         if r["method"] == user_level.PLAIN and r["setting"].startswith(api["setting"]))
             ratios.append(plain["t_min"] / api["t_min"])
             better = better and api["error"] <= plain["error"]
             parts.append(f"{api['setting']} {ratios[-1]:.0f}x ({api['t_min'] * 1e3:.2f} ms vs {plain['t_min']:.3g} s; "
                          f"{api['error']:.1e} vs {plain['error']:.1e} rad)")
         add("Heavy top through the public API",
-            "HeavyTop(...).motion(t) >= 1000x faster than plain SciPy DOP853 (rtol 1e-12, no events), equal or better error",
+            "HeavyTop(...).motion(t) >= 1000x faster than plain SciPy DOP853 (rtol 1e-12, no events), "
+            "equal or better error",
             "; ".join(parts), min(ratios) >= 1000 and better, min(ratios), c)
     add("energy over 10^6 splitting steps", "bounded energy error (no secular drift) for orders 2, 4, 6",
         "not re-measured here (a 10-minute run): see performance-engine.md, produced by scripts/bench_engine.py", None)

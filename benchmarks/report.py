@@ -11,6 +11,11 @@ from pathlib import Path
 
 from benchmarks.paths import ROOT
 
+#: Why the benchmark is a folder of the checkout (said in every report).
+WHERE = ("The benchmark is the folder `benchmarks/` of the source checkout, beside `wobble/` and `scripts/`, not part "
+         "of the installed package: it reads the committed references (tests/references/, "
+         "benchmarks/engine_reference.json) and writes these pages and docs/figures/, so it only ever runs from a "
+         "checkout (`wobble bench` finds it next to an editable install and otherwise says so in one line).")
 #: The user-level rows' own report, beside docs/performance.md (which includes it).
 USER_REPORT = "performance-user.md"
 PER_ISSUE = [
@@ -47,6 +52,8 @@ def markdown(res: dict, report: Path, figures: dict) -> str:
     p("")
     p("(do not edit by hand; rerun the command after a solver changes). "
       f"Mode: {meta['mode']}, {meta['repeats']} repeats; the run took {meta['seconds'] / 60:.1f} min on {meta['date']}.")
+    p("")
+    p(WHERE)
     p("")
     p(f"Machine: {v['machine']}, {v['processor']}, {v['cpus']} CPUs, {v['system']}; Python {v['python']}, "
       f"NumPy {v['numpy']}, SciPy {v['scipy']}, matplotlib {v['matplotlib']}, "

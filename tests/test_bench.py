@@ -165,7 +165,9 @@ def test_quick_judges_targets_only_with_the_full_runs_methods():
     from benchmarks.torqued import torqued_case
 
     full, quick = torqued_case("asymmetric top", False), torqued_case("asymmetric top", True)
-    kept = lambda case: {(r.method, r.setting) for r in case.runs if r.method == "scipy DOP853" or r.method.startswith("wobble")}  # noqa: E731
+    def kept(case):
+        return {(r.method, r.setting) for r in case.runs if r.method == "scipy DOP853" or r.method.startswith("wobble")}
+
     assert kept(quick) == kept(full) and quick.complete
     assert len(quick.runs) < len(full.runs)
     row = {"method": "wobble exact", "setting": "omega", "error": 1e-16, "t_min": 1e-3}

@@ -46,7 +46,8 @@ def add_arguments(p) -> None:
     mode.add_argument("--smoke", action="store_true",
                       help="a few seconds (3-5 s): one setting per method on two short cases, the harness's own "
                            "test (targets not judged)")
-    p.add_argument("--case", action="append", metavar="NAME", help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}")
+    p.add_argument("--case", action="append", metavar="NAME",
+                   help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}")
     p.add_argument("--repeats", type=int, help="timed runs after the warm-up (default 3; --quick 2; --smoke 1)")
     p.add_argument("--json", action="store_true", help="print the results as JSON instead of a table")
     p.add_argument("--plot", metavar="DIR", help="write work_precision_<case>.png diagrams into DIR (replaced)")
