@@ -7,7 +7,7 @@ Torqued cases with no exact solution (issue 8):
 * ``satellite``: a spin-stabilised microsatellite (I = 0.90, 0.92, 1.20 kg m2) spinning at
   1 rad/s under the gravity-gradient torque of Earth on a 500 km circular orbit, 300 s,
   21 outputs. Reference: SciPy's Radau at rtol 1e-13 (computed once, cached in
-  scripts/bench_engine_reference.json; ``--rebuild-reference`` recomputes it).
+  benchmarks/engine_reference.json; ``--rebuild-reference`` recomputes it).
 * ``asymmetric top``: I = (1, 1.5, 2) kg m2 about a pivot, centre of mass off every axis,
   spin 8 rad/s, 5 s. Reference: the mpmath Taylor integration at 30 digits of
   tests/references/engine_torqued.json.
@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import platform
 import statistics
+import sys
 import time
 from pathlib import Path
 
@@ -37,10 +38,11 @@ import scipy
 from scipy.integrate import solve_ivp
 
 import wobble
-# The cases, the SciPy right-hand sides, the runners and the reference loader live in the
-# package, shared with the work-precision harness (wobble bench, scripts/work_precision.py).
-from wobble.bench.torqued import (  # noqa: F401
-    Satellite, Top, error, load_reference, run_scipy, run_wobble, time_at,
+# The cases, the SciPy right-hand sides, the runners and the reference loader live in
+# benchmarks/, shared with the work-precision harness (wobble bench, scripts/work_precision.py).
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ is a folder of the checkout
+from benchmarks.torqued import (  # noqa: E402, F401
+    AsymmetricTop, Satellite, error, load_reference, method_time_at, run_scipy, run_wobble,
 )
 from wobble.models.engine import BodyModel, Engine, UniformGravity, attitude_angle
 from wobble.numerics import quaternion as Q
@@ -151,7 +153,7 @@ def ensemble(sizes, repeats):
 def scipy_time_at(points, target):
     """SciPy's per-member time at the target error (log-log interpolation, or its cheapest point below)."""
     rows = [("scipy", s, e, t, t, 0) for s, e, t in points]
-    return time_at(rows, "scipy", target)
+    return method_time_at(rows, "scipy", target)
 
 
 # --------------------------------------------------------------------------
@@ -210,7 +212,7 @@ def main():
     all_rows = []
     sat = Satellite()
     ref_seconds = load_reference(sat, args.rebuild_reference)
-    top = Top()
+    top = AsymmetricTop()
     for case, ref_text in ((sat, f"SciPy Radau at rtol 1e-13 (cached; it took {ref_seconds:.0f} s)"),
                            (top, "mpmath Taylor integration at 30 digits (tests/references/engine_torqued.json)")):
         print(f"case {case.name}", flush=True)
@@ -232,7 +234,7 @@ def main():
         p("")
         p("| method | " + " | ".join(f"{t:g}" for t in targets) + " |")
         p("|---|" + "---|" * len(targets))
-        at = {m: [time_at(rows, m, t) for t in targets] for m in methods}
+        at = {m: [method_time_at(rows, m, t) for t in targets] for m in methods}
         for m in methods:
             p(f"| {m} | " + " | ".join(fmt(x) for x in at[m]) + " |")
         p("")

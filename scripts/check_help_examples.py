@@ -22,7 +22,8 @@ from wobble.cli._examples import help_examples
 LONG = {
     ("bench", "--quick"),
     ("bench", "--case", "free_generic", "--plot", "figs"),
-    ("bench", "-o", "docs/performance.md", "--plot", "docs/figures", "--overwrite"),
+    ("bench", "--case", "user_top"),
+    ("bench", "-o", "performance.md", "--plot", "figures", "--overwrite"),
 }
 
 

@@ -1,9 +1,12 @@
-"""Work-precision benchmark of every solver (issue 8); writes docs/performance.md and its figures.
+"""Work-precision benchmark of every solver (issues 8 and 15); writes docs/performance.md and its figures.
 
 Usage: python scripts/work_precision.py [--quick] [--json] [--case NAME ...]
 
-A thin wrapper: the harness is the package wobble.bench (also ``wobble bench``). Without
+A thin wrapper around the harness in benchmarks/ (also ``wobble bench``). Without
 -o/--plot it writes docs/performance.md (replacing it) and docs/figures/work_precision_<case>.png.
+Re-runnable at any time; the report records the machine's load average at the start and
+the end of the run (the timings of a shared machine are noisy; ratios within one run are
+what the targets compare).
 """
 
 from __future__ import annotations
@@ -11,9 +14,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from wobble.bench.harness import main
-
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # benchmarks/ is a folder of the checkout, not installed
+
+from benchmarks.harness import main  # noqa: E402
 
 if __name__ == "__main__":
     argv = sys.argv[1:]

@@ -1,4 +1,4 @@
-"""The work-precision harness (wobble.bench) measures the right error; wobble bench runs.
+"""The work-precision harness (benchmarks/) measures the right error; wobble bench runs.
 
 No timing assertions: only that errors are computed against the right reference, that
 the runs are interleaved as documented, and that the command line behaves.
@@ -12,10 +12,15 @@ import types
 import numpy as np
 import pytest
 
-from wobble.bench import cases as C
-from wobble.bench.timing import Run, measure, measures_resident_memory, peak_memory, time_at, traced_peak
+from wobble.cli import bench as cli_bench
 from wobble.cli import main
 from wobble.models.free import free_rotation
+
+cli_bench.harness()  # puts this checkout's benchmarks/ on the path, as `wobble bench` does
+
+from benchmarks import cases as C  # noqa: E402
+from benchmarks import free as F  # noqa: E402
+from benchmarks.timing import Run, measure, measures_resident_memory, peak_memory, time_at, traced_peak  # noqa: E402
 
 
 def test_rel_and_phase_error_known_values():
@@ -37,7 +42,7 @@ def test_rel_and_phase_error_known_values():
 
 def test_injected_perturbation_is_reported():
     """Feed a method's check a copy of the exact solution perturbed by a known amount."""
-    case = C.free_case("free_generic", quick=True)
+    case = F.free_case("free_generic", quick=True)
     ctx = case.context
     w = ctx["w_exact"].copy()
     delta = 3e-9
@@ -64,8 +69,8 @@ def test_error_of_a_small_case_matches_an_independent_computation():
     I = np.array([1.0, 1.0, 2.0])  # noqa: E741
     w0 = np.array([0.1, 0.0, 1.0])
     t = np.linspace(0.0, 20.0, 41)
-    sol = C._solve(C.euler_rhs(I), t, w0, "RK45", 1e-5, 1e-8)
-    got = C._sol_omega(sol, t.size)
+    sol = F.solve(F.free_euler_rhs(I), t, w0, "RK45", 1e-5, 1e-8)
+    got = F.sol_omega(sol, t.size)
     harness = C.rel_error(got, free_rotation(I, w0).omega(t))
     by_hand = max(
         float(np.sqrt((got[i, 0] - 0.1 * np.cos(ti)) ** 2 + (got[i, 1] - 0.1 * np.sin(ti)) ** 2 + (got[i, 2] - 1.0) ** 2))
@@ -126,7 +131,9 @@ def test_wobble_bench_smoke_json(capsys, tmp_path):
     for r in case["rows"]:
         assert {"method", "setting", "error", "t_min", "t_median", "timed_runs", "peak_memory_bytes"} <= set(r)
         assert 0 < r["error"] < 1e-3
-    assert any(t["case"] == "Torqued: asymmetric top" for t in data["targets"])
+    # a smoke run judges no target: it runs fewer settings than the full run
+    (target,) = [t for t in data["targets"] if t["case"] == "Torqued: asymmetric top"]
+    assert target["met"] is None and target["status"] == "not judged"
     assert (tmp_path / "figs" / "work_precision_torqued_asymmetric_top.png").stat().st_size > 1000
     text = report.read_text()
     assert "## Targets" in text and "figs/work_precision_torqued_asymmetric_top.png" in text
@@ -148,3 +155,56 @@ def test_wobble_bench_bad_input_exits_2_with_one_line(argv, capsys):
     assert code == 2
     # an unknown option is refused by the top-level parser ("wobble: error: ..."), as for every command
     assert err.count("\n") == 1 and err.startswith(("wobble bench: error:", "wobble: error:"))
+
+
+def test_quick_judges_targets_only_with_the_full_runs_methods():
+    """--quick keeps every setting of the methods a torqued target compares (SciPy's DOP853 and
+    every wobble integrator), so it judges that target as the full run does; a case built with
+    fewer settings (the free body's DOP853 stops at rtol 1e-8) is not judged."""
+    from benchmarks import harness
+    from benchmarks.torqued import torqued_case
+
+    full, quick = torqued_case("asymmetric top", False), torqued_case("asymmetric top", True)
+    def kept(case):
+        return {(r.method, r.setting) for r in case.runs if r.method == "scipy DOP853" or r.method.startswith("wobble")}
+
+    assert kept(quick) == kept(full) and quick.complete
+    assert len(quick.runs) < len(full.runs)
+    row = {"method": "wobble exact", "setting": "omega", "error": 1e-16, "t_min": 1e-3}
+    res = {"meta": {"mode": "quick"}, "ensembles": [],
+           "cases": [{"key": "free_generic", "complete": False,
+                      "rows": [row, {"method": "scipy DOP853", "setting": "rtol 1e-12", "error": 1e-9, "t_min": 1.0}]}]}
+    (t,) = [t for t in harness.targets(res) if t["case"] == "generic free body"]
+    assert t["met"] is None and t["status"] == "not judged" and "fewer settings" in t["measured"]
+    res["cases"][0]["complete"] = True
+    (t,) = [t for t in harness.targets(res) if t["case"] == "generic free body"]
+    assert t["met"] is True
+
+
+def test_user_level_rows_measure_what_the_api_returns():
+    """The user-level top case checks the Dataset's attitude against mpmath (perturbing one
+    reference sample shows up as that error) and times the plain DOP853 without events."""
+    from benchmarks import user_level as U
+
+    case = U.user_top_case(quick=True)
+    api = next(r for r in case.runs if r.method == U.API_TOP)
+    ds = api.fn()
+    assert set(ds.data_vars) >= {"theta", "omega", "attitude", "energy_drift"}
+    assert api.check(ds)["error"] < 1e-13
+    q = ds["attitude"].values.copy()
+    q[-1] = [0.0, 1.0, 0.0, 0.0]  # the last output (a reference time: 1000.25 periods) turned by pi
+    assert api.check({"attitude": types.SimpleNamespace(values=q)})["error"] > 1.0
+    plain = next(r for r in case.runs if r.method == U.PLAIN)
+    assert "no events" in plain.method and "rtol 1e-12" in plain.setting
+
+
+def test_wobble_bench_from_an_installed_copy_is_one_line(monkeypatch, tmp_path, capsys):
+    """Installed without the source tree, `wobble bench` refuses in one line (exit 2)."""
+    import wobble
+
+    fake = tmp_path / "site-packages" / "wobble"
+    fake.mkdir(parents=True)
+    monkeypatch.setattr(wobble, "__file__", str(fake / "__init__.py"))
+    code = main(["bench", "--smoke"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "source checkout" in err

@@ -156,11 +156,11 @@ def test_dataset_layout_and_conservation():
     ds = top.to_dataset(t_end=20 * u.s, samples=2001)
     assert {"theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "attitude", "symmetry_axis",
             "energy", "energy_drift", "p_phi", "p_phi_drift", "p_psi", "p_psi_drift"} == set(ds.data_vars)
-    assert ds.omega.dims == ("time", "axis") and ds.symmetry_axis.dims == ("time", "space_axis")
+    assert ds.omega.dims == ("time", "axis") and ds.symmetry_axis.dims == ("time", "inertial_axis")
     assert ds.time.attrs["units"] == SIMULATION_TIME_UNITS and ds.time.dtype == np.float64
     for name, var in ds.variables.items():
         assert "long_name" in var.attrs, name
-        if name not in ("axis", "space_axis", "component"):
+        if name not in ("axis", "inertial_axis", "component"):
             assert "units" in var.attrs, name
     assert float(ds.theta[0]) == pytest.approx(np.pi / 3, rel=1e-15)
     assert float(ds.phi[0]) == pytest.approx(np.radians(10), rel=1e-14)
@@ -172,7 +172,7 @@ def test_dataset_layout_and_conservation():
     assert th.min() >= top.model.theta_min * (1 - 1e-13) and th.max() <= top.model.theta_max * (1 + 1e-13)
     # The axis trace is on the unit sphere and makes the notes' angle with the vertical.
     np.testing.assert_allclose(np.linalg.norm(ds.symmetry_axis, axis=1), 1, rtol=1e-14)
-    np.testing.assert_allclose(ds.symmetry_axis.sel(space_axis="z"), np.cos(th), atol=1e-15)
+    np.testing.assert_allclose(ds.symmetry_axis.sel(inertial_axis="Z"), np.cos(th), atol=1e-15)
     assert ds.attrs["nutation"] == "loops"
     # Explicit times (motion) give the same values.
     again = top.motion(ds.time.values * u.s)
@@ -198,12 +198,14 @@ def test_from_state_matches_euler_angle_construction():
     assert again.nutation == top.nutation
 
 
-def test_summary_has_the_cli_keys():
-    s = issue8_top().summary()
+def test_to_dict_has_the_cli_keys_and_summary_is_text():
+    top = issue8_top()
+    s = top.to_dict()
     for key in ("u1", "u2", "u3", "theta_min_deg", "theta_max_deg", "nutation", "nutation_period_s",
-                "mean_precession_rate_rad_s", "sleeping_stable"):
+                "mean_precession_rate_rad_per_s", "sleeping_stable"):
         assert key in s
     json.dumps(s)  # plain numbers only
+    assert top.summary().startswith(s["nutation"]) and "deg" in top.summary()
 
 
 def test_memory_and_time_requests():
@@ -227,7 +229,7 @@ def test_cli_json(capsys):
     assert [out[k] for k in ("u1", "u2", "u3")] == pytest.approx([mdl.u1, mdl.u2, mdl.u3], rel=1e-14)
     assert out["theta_min_deg"] == pytest.approx(60.0, rel=1e-15)
     assert out["nutation_period_s"] == pytest.approx(mdl.nutation_period, rel=1e-14)
-    assert out["mean_precession_rate_rad_s"] == pytest.approx(mdl.mean_precession_rate, rel=1e-14)
+    assert out["mean_precession_rate_rad_per_s"] == pytest.approx(mdl.mean_precession_rate, rel=1e-14)
 
 
 def test_cli_sleeping_and_units(capsys):

@@ -194,8 +194,9 @@ def test_motion_over_1000_nutation_periods(name, method):
 
 @pytest.mark.parametrize("name", LONG)
 def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
-    """>= 8192 samples are summed by wobble.numerics.taylor_table: the mpmath times inside a
-    long grid meet the reference as above, and every sample equals the NumPy sum bit for bit."""
+    """>= 8192 samples are evaluated in one compiled pass (wobble.numerics.taylor_table): the
+    mpmath times inside a long grid meet the reference as above, and every output of every
+    sample equals the NumPy path's bit for bit."""
     from wobble.numerics import compiled
 
     lg = CASES[name]["long"]
@@ -205,10 +206,17 @@ def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
     mo = mdl.motion(t, "fourier")
     q_ref = np.array([[float(v) for v in row] for row in lg["quaternion"]])
     assert np.max(attitude_angle(mo.quaternion[: t_ref.size], q_ref)) < 1e-10
+    angles = mdl.angles(t, "fourier")
     monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
     numpy_path = mdl.motion(t, "fourier")
-    for key in ("theta", "phi", "psi", "omega", "quaternion"):
+    for key in ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "quaternion", "axis", "u",
+                "energy", "p_phi", "p_psi"):
         np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
+    for got, want in zip(angles, mdl.angles(t, "fourier")):
+        np.testing.assert_array_equal(got, want)
+    # The one-pass invariants are HeavyTopModel.invariants of the same motion, to the bit.
+    for key, value in mdl.invariants(mo).items():
+        np.testing.assert_array_equal(getattr(mo, key), value, err_msg=key)
 
 
 def test_through_the_vertical_is_followed_through():
@@ -248,3 +256,48 @@ def test_engine_constructor_at_the_vertical():
     w, q = mdl.evaluate(np.array([0.0]))
     np.testing.assert_allclose(w[0], w0, atol=1e-15)
     np.testing.assert_allclose(q[0], q0, atol=1e-16)
+
+
+def test_frozen_model_holds_no_cache_and_its_series_table_goes_with_it():
+    """The verified series table is built on first use and kept outside the frozen model
+    (wobble.models.top_series), for as long as the model lives."""
+    import dataclasses
+    import gc
+
+    from wobble.models import top_series
+
+    mdl = model_of("issue8 loops")
+    assert all(not isinstance(getattr(mdl, f.name), (list, set)) and f.name != "_cache" for f in dataclasses.fields(mdl))
+    before = len(top_series._TABLES)
+    t = np.linspace(0.0, 10 * mdl.nutation_period, 2001)
+    first = mdl.evaluator(t.size)
+    assert isinstance(first, top_series.Fourier) and mdl.evaluator(t.size) is first  # built once
+    assert len(top_series._TABLES) == before + 1
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        mdl.nutation = "loops"  # type: ignore[misc]
+    del mdl, first
+    gc.collect()
+    assert len(top_series._TABLES) == before
+
+
+@pytest.mark.parametrize("name", ["issue8 loops", "nearly sleeping 1e-4"])
+def test_sparse_times_over_a_million_periods(name, monkeypatch):
+    """Few times spread over 10^6 nutation periods (one exp(i j A) per sample instead of one per
+    period): the series agree with the direct path (Jacobi + Carlson per output, an independent
+    evaluation), meet mpmath at the reference times, and compiled equals NumPy bit for bit."""
+    from wobble.numerics import compiled
+
+    lg = CASES[name]["long"]
+    mdl = model_of(name)
+    t_ref = np.array([float(x) for x in lg["t"]])
+    t = np.concatenate([t_ref, np.linspace(0.0, 1e6 * mdl.nutation_period, 9000)])
+    mo = mdl.motion(t, "fourier")
+    q_ref = np.array([[float(v) for v in row] for row in lg["quaternion"]])
+    assert np.max(attitude_angle(mo.quaternion[: t_ref.size], q_ref)) < 1e-10
+    direct = mdl.motion(t, "direct")
+    assert np.max(attitude_angle(mo.quaternion, direct.quaternion)) < 1e-12
+    np.testing.assert_allclose(mo.omega, direct.omega, rtol=0, atol=1e-12 * np.max(np.abs(direct.omega)))
+    monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
+    numpy_path = mdl.motion(t, "fourier")
+    for key in ("theta", "phi", "psi", "omega", "quaternion", "energy"):
+        np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)

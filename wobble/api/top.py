@@ -21,17 +21,20 @@ Example
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
-from astropy import constants as const
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
 from wobble.api._units import to_si
 from wobble.errors import InputError
-from wobble.io.netcdf import SIMULATION_TIME_UNITS
+from wobble.io import cf
 from wobble.models import top as _top
+from wobble.models.torques import STANDARD_GRAVITY as _STANDARD_GRAVITY
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["HeavyTop", "STANDARD_GRAVITY", "BYTES_PER_SAMPLE"]
 
@@ -39,14 +42,12 @@ MOMENT_UNIT = u.kg * u.m**2
 _RATE = u.rad / u.s
 _LMOM = u.kg * u.m**2 / u.s
 _ANGLES = u.dimensionless_angles()
-STANDARD_GRAVITY = const.g0  # 9.80665 m / s2
+STANDARD_GRAVITY = _STANDARD_GRAVITY * u.m / u.s**2  # 9.80665 m / s2 (CGPM 1901), the models' one number
 # Float64 values held per sample while a Dataset is built (outputs and temporaries), bytes.
 BYTES_PER_SAMPLE = 8 * 120
-BODY_AXES = ("1", "2", "3")
-SPACE_AXES = ("x", "y", "z")
-COMPONENTS = ("w", "x", "y", "z")
-
-
+# The defaults of the optional initial state: zero, so not converted again for every top.
+_ZERO_RATE = 0 * _RATE
+_ZERO_ANGLE = 0 * u.rad
 
 
 def _as_quantity(value):
@@ -60,10 +61,14 @@ def _as_quantity(value):
 
 
 def _angle(value, name):
+    if value is _ZERO_ANGLE:
+        return 0.0
     return to_si(_as_quantity(value), name, u.rad)
 
 
 def _rate(value, name):
+    if value is _ZERO_RATE:
+        return 0.0
     return to_si(value, name, _RATE, equivalencies=_ANGLES)
 
 
@@ -156,8 +161,8 @@ class HeavyTop:
 
     def __init__(
         self, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None,  # noqa: N803, E741
-        theta0=None, thetadot0=0 * _RATE, phidot0=0 * _RATE, psidot0=None, omega3=None,
-        phi0=0 * u.rad, psi0=0 * u.rad,
+        theta0=None, thetadot0=_ZERO_RATE, phidot0=_ZERO_RATE, psidot0=None, omega3=None,
+        phi0=_ZERO_ANGLE, psi0=_ZERO_ANGLE,
     ):
         i1, i3, mgl_si, ml2 = self._parameters(I1, I3, mgl, M, l, g, body)
         if theta0 is None:
@@ -365,8 +370,8 @@ class HeavyTop:
         slow, fast = self._model.regular_precession_rates(th)
         return slow << _RATE, fast << _RATE
 
-    def summary(self) -> dict:
-        """Plain-number summary (SI, angles of the turning points also in degrees) for ``--json``."""
+    def to_dict(self) -> dict:
+        """A JSON-ready summary in SI (keys end in their unit; turning angles also in degrees)."""
         m = self._model
 
         def fin(x):
@@ -374,7 +379,7 @@ class HeavyTop:
 
         try:
             slow, fast = m.regular_precession_rates()
-            reg = {"slow_rad_s": fin(slow), "fast_rad_s": fin(fast)}
+            reg = {"slow_rad_per_s": fin(slow), "fast_rad_per_s": fin(fast)}
         except InputError:
             reg = None
         return {
@@ -383,23 +388,40 @@ class HeavyTop:
             "theta_min_deg": float(np.degrees(m.theta_min)), "theta_max_deg": float(np.degrees(m.theta_max)),
             "theta_min_rad": m.theta_min, "theta_max_rad": m.theta_max,
             "nutation_period_s": fin(m.nutation_period),
-            "mean_precession_rate_rad_s": m.mean_precession_rate,
-            "mean_spin_rate_rad_s": m.mean_spin_rate,
+            "mean_precession_rate_rad_per_s": m.mean_precession_rate,
+            "mean_spin_rate_rad_per_s": m.mean_spin_rate,
             "sleeping_stable": bool(m.sleeping_stable),
             "parameter_m": m.m, "complementary_parameter_1_minus_m": m.m1,
             "a_per_s": m.a, "b_per_s": m.b, "alpha_per_s2": m.alpha, "beta_per_s2": m.beta,
             "energy_J": m.energy, "energy_prime_J": m.energy_prime,
-            "p_phi_kg_m2_s": m.p_phi, "p_psi_kg_m2_s": m.p_psi,
-            "omega3_rad_s": m.omega3, "psidot0_rad_s": m.psidot0,
+            "p_phi_kg_m2_per_s": m.p_phi, "p_psi_kg_m2_per_s": m.p_psi,
+            "omega3_rad_per_s": m.omega3, "psidot0_rad_per_s": m.psidot0,
             "I1_kg_m2": m.I1, "I3_kg_m2": m.I3, "mgl_J": m.mgl, "theta0_rad": m.theta0,
-            "thetadot0_rad_s": m.thetadot0, "phidot0_rad_s": m.phidot0,
+            "thetadot0_rad_per_s": m.thetadot0, "phidot0_rad_per_s": m.phidot0,
             "regular_precession_at_theta0": reg,
             "error_estimate": dict(m.error_estimate),
         }
 
+    def summary(self) -> str:
+        """The motion in words: the nutation class, the turning angles and the periods."""
+        from wobble.io.text import duration, number
+
+        m = self._model
+        return (f"{m.nutation} nutation between theta = {number(np.degrees(m.theta_min))} and "
+                f"{number(np.degrees(m.theta_max))} deg, period {duration(m.nutation_period)}; mean precession "
+                f"{number(m.mean_precession_rate)} rad/s")
+
+    def __repr__(self) -> str:
+        return f"HeavyTop(nutation={self._model.nutation!r}, I1={self.I1}, I3={self.I3}, mgl={self.mgl})"
+
     # -- the motion --------------------------------------------------------------
     def motion(self, t) -> xr.Dataset:
-        """The exact motion at times ``t`` (a time Quantity, 1-D) as a CF Dataset (see :meth:`to_dataset`)."""
+        """The exact motion at times ``t`` (a time Quantity, 1-D) as a CF Dataset (see :meth:`to_dataset`).
+
+        From 1024 times on every output comes from the verified Fourier series of the motion
+        in one pass (compiled from 8192 on); the first call builds the series (about a
+        millisecond), later calls reuse it.
+        """
         return self.to_dataset(t)
 
     def to_dataset(self, t=None, *, t_end=None, samples: int | None = None) -> xr.Dataset:
@@ -412,7 +434,7 @@ class HeavyTop:
             ``phi``, ``psi`` (rad; phi and psi wrapped to [-pi, pi]), ``thetadot``,
             ``phidot``, ``psidot`` (rad s-1); ``omega(time, axis)`` in the body frame;
             ``attitude(time, component)`` (unit quaternion body -> space);
-            ``symmetry_axis(time, space_axis)`` (the trace on the unit sphere);
+            ``symmetry_axis(time, inertial_axis)`` (X, Y, Z with Z up: the trace on the unit sphere);
             ``energy``, ``p_phi``, ``p_psi`` recomputed from the motion and their
             drifts from the initial values.
 
@@ -423,50 +445,48 @@ class HeavyTop:
             would not fit in memory.
         """
         ts = self._times(t, t_end, samples)
-        mdl = self._model
-        mo = mdl.motion(ts)
-        inv = mdl.invariants(mo)
-        return self._dataset(ts, mo, inv)
+        return self._dataset(ts, self._model.motion(ts))
 
     def _times(self, t, t_end, samples):
         return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)
 
-    def _dataset(self, ts, mo, inv) -> xr.Dataset:
+    def _dataset(self, ts, mo) -> xr.Dataset:
+        from wobble.api.dataset import xarray
+
+        xr = xarray()
         m = self._model
-        tcoord = xr.Variable(
-            "time", ts,
-            {"units": SIMULATION_TIME_UNITS, "standard_name": "time", "long_name": "time", "axis": "T", "calendar": "standard"},
-        )
-        rad = "rad"
-        rate = "rad s-1"
-        lm = "kg m2 s-1"
-        e0, pphi0, ppsi0 = m.energy, m.p_phi, m.p_psi
+        inv = {"energy": mo.energy, "p_phi": mo.p_phi, "p_psi": mo.p_psi}  # recomputed from omega and q
+        # The drifts in one allocation (a fresh array per drift costs page faults at this size).
+        drift = np.empty((3,) + np.shape(mo.energy))
+        for row, (key, start) in enumerate((("energy", m.energy), ("p_phi", m.p_phi), ("p_psi", m.p_psi))):
+            np.subtract(inv[key], start, out=drift[row])
+        def var(name, data):
+            return cf.variable("top", name, data)
+
         data = {
-            "theta": (("time",), mo.theta, {"units": rad, "long_name": "nutation angle theta: tilt of the symmetry axis from the upward vertical"}),
-            "phi": (("time",), mo.phi, {"units": rad, "long_name": "precession angle phi (wrapped to [-pi, pi])"}),
-            "psi": (("time",), mo.psi, {"units": rad, "long_name": "spin angle psi (wrapped to [-pi, pi])"}),
-            "thetadot": (("time",), mo.thetadot, {"units": rate, "long_name": "nutation rate dtheta/dt"}),
-            "phidot": (("time",), mo.phidot, {"units": rate, "long_name": "precession rate dphi/dt"}),
-            "psidot": (("time",), mo.psidot, {"units": rate, "long_name": "spin rate dpsi/dt"}),
-            "omega": (("time", "axis"), mo.omega, {"units": rate, "long_name": "angular velocity in the body frame (axis 3 = symmetry axis)"}),
-            "attitude": (("time", "component"), mo.quaternion,
-                         {"units": "1", "long_name": "unit quaternion (w, x, y, z) rotating body vectors into space"}),
-            "symmetry_axis": (("time", "space_axis"), mo.axis,
-                              {"units": "1", "long_name": "unit vector of the symmetry axis in space (z up): its trace on the unit sphere"}),
-            "energy": (("time",), inv["energy"], {"units": "J", "long_name": "total energy recomputed from the motion"}),
-            "energy_drift": (("time",), inv["energy"] - e0, {"units": "J", "long_name": "total energy minus its initial value"}),
-            "p_phi": (("time",), inv["p_phi"], {"units": lm, "long_name": "vertical angular momentum p_phi recomputed from the motion"}),
-            "p_phi_drift": (("time",), inv["p_phi"] - pphi0, {"units": lm, "long_name": "p_phi minus its initial value"}),
-            "p_psi": (("time",), inv["p_psi"], {"units": lm, "long_name": "axial angular momentum p_psi recomputed from the motion"}),
-            "p_psi_drift": (("time",), inv["p_psi"] - ppsi0, {"units": lm, "long_name": "p_psi minus its initial value"}),
+            "theta": var("theta", mo.theta),
+            "phi": var("phi", mo.phi),
+            "psi": var("psi", mo.psi),
+            "thetadot": var("thetadot", mo.thetadot),
+            "phidot": var("phidot", mo.phidot),
+            "psidot": var("psidot", mo.psidot),
+            "omega": var("omega", mo.omega),
+            "attitude": var("attitude", mo.quaternion),
+            "symmetry_axis": var("symmetry_axis", mo.axis),
+            "energy": var("energy", inv["energy"]),
+            "energy_drift": var("energy_drift", drift[0]),
+            "p_phi": var("p_phi", inv["p_phi"]),
+            "p_phi_drift": var("p_phi_drift", drift[1]),
+            "p_psi": var("p_psi", inv["p_psi"]),
+            "p_psi_drift": var("p_psi_drift", drift[2]),
         }
         ds = xr.Dataset(
             data,
             coords={
-                "time": tcoord,
-                "axis": ("axis", list(BODY_AXES), {"long_name": "body principal axis (3 = symmetry axis)"}),
-                "space_axis": ("space_axis", list(SPACE_AXES), {"long_name": "space axis (z upward vertical)"}),
-                "component": ("component", list(COMPONENTS), {"long_name": "quaternion component, scalar first"}),
+                "time": cf.time_coordinate(ts),
+                "axis": cf.label_coordinate("axis"),
+                "inertial_axis": cf.label_coordinate("inertial_axis"),
+                "component": cf.label_coordinate("component"),
             },
         )
 
@@ -476,15 +496,16 @@ class HeavyTop:
         ds.attrs.update(
             {
                 "title": "Heavy symmetric top with one point fixed (exact solution)",
-                "references": "Course notes section 5.7; Goldstein, Classical Mechanics, section 5.7; docs/heavy-top.md",
+                "references": "Goldstein, Poole & Safko 2002, Classical Mechanics, section 5.7; Landau & Lifshitz, "
+                "Mechanics, section 35",
                 "nutation": m.nutation,
                 "I1_kg_m2": m.I1, "I3_kg_m2": m.I3, "mgl_J": m.mgl,
                 "u1": m.u1, "u2": m.u2, "u3": fin(m.u3),
                 "theta_min_rad": m.theta_min, "theta_max_rad": m.theta_max,
                 "nutation_period_s": fin(m.nutation_period),
-                "mean_precession_rate_rad_s": m.mean_precession_rate,
+                "mean_precession_rate_rad_per_s": m.mean_precession_rate,
                 "elliptic_parameter_m": m.m, "elliptic_complementary_parameter": m.m1,
-                "energy_J": m.energy, "p_phi_kg_m2_s": m.p_phi, "p_psi_kg_m2_s": m.p_psi,
+                "energy_J": m.energy, "p_phi_kg_m2_per_s": m.p_phi, "p_psi_kg_m2_per_s": m.p_psi,
                 "sleeping_stable": int(m.sleeping_stable),
             }
         )

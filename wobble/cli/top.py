@@ -93,7 +93,7 @@ def run(args) -> int:
     except InputError as exc:
         # Name the option as the user typed it.
         raise InputError(f"--{exc.parameter}", exc.value, exc.allowed) from None
-    summary = top.summary()
+    summary = top.to_dict()
     written = []
     if args.output or args.plot:
         t1 = _span(top, args.t_end)
@@ -146,16 +146,16 @@ def _print_table(summary: dict) -> None:
         ("roots u1, u2, u3", ", ".join(number(summary[k]) for k in ("u1", "u2", "u3"))),
         ("theta min, max", pair(summary["theta_min_deg"], summary["theta_max_deg"], " deg")),
         ("nutation period", duration(summary["nutation_period_s"])),
-        ("mean precession rate", f"{number(summary['mean_precession_rate_rad_s'])} rad/s"),
-        ("mean spin rate", f"{number(summary['mean_spin_rate_rad_s'])} rad/s"),
+        ("mean precession rate", f"{number(summary['mean_precession_rate_rad_per_s'])} rad/s"),
+        ("mean spin rate", f"{number(summary['mean_spin_rate_rad_per_s'])} rad/s"),
         ("elliptic parameter m, 1 - m", pair(summary["parameter_m"], summary["complementary_parameter_1_minus_m"])),
         ("energy E, E'", pair(summary["energy_J"], summary["energy_prime_J"], " J")),
-        ("p_phi, p_psi", pair(summary["p_phi_kg_m2_s"], summary["p_psi_kg_m2_s"], " kg m2/s")),
+        ("p_phi, p_psi", pair(summary["p_phi_kg_m2_per_s"], summary["p_psi_kg_m2_per_s"], " kg m2/s")),
         ("sleeping top stable", "yes" if summary["sleeping_stable"] else "no"),
     ]
     reg = summary.get("regular_precession_at_theta0")
     if reg:
-        rows.append(("steady precession at theta0", f"slow {number(reg['slow_rad_s'])}, fast {number(reg['fast_rad_s'])} rad/s"))
+        rows.append(("steady precession at theta0", f"slow {number(reg['slow_rad_per_s'])}, fast {number(reg['fast_rad_per_s'])} rad/s"))
     if "t_end_s" in summary:
         rows.append(("span", f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples"))
     print_rows(rows)

@@ -140,6 +140,26 @@ SCENE: dict[str, Spec] = {
     "wobble_angle": Spec(("time",), "rad", "angle between the angular velocity and body axis 3"),
 }
 
+# The heavy symmetric top, exact (wobble top -o, HeavyTop.to_dataset).
+TOP: dict[str, Spec] = {
+    "theta": Spec(("time",), "rad", "nutation angle theta: tilt of the symmetry axis from the upward vertical"),
+    "phi": Spec(("time",), "rad", "precession angle phi (wrapped to [-pi, pi])"),
+    "psi": Spec(("time",), "rad", "spin angle psi (wrapped to [-pi, pi])"),
+    "thetadot": Spec(("time",), "rad s-1", "nutation rate dtheta/dt"),
+    "phidot": Spec(("time",), "rad s-1", "precession rate dphi/dt"),
+    "psidot": Spec(("time",), "rad s-1", "spin rate dpsi/dt"),
+    "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body frame (axis 3 = symmetry axis)"),
+    "attitude": Spec(("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
+    "symmetry_axis": Spec(("time", "inertial_axis"), "1",
+                          "unit vector of the symmetry axis in the inertial frame (Z up): its trace on the unit sphere"),
+    "energy": Spec(("time",), "J", "total energy recomputed from the motion"),
+    "energy_drift": Spec(("time",), "J", "total energy minus its initial value"),
+    "p_phi": Spec(("time",), "kg m2 s-1", "vertical angular momentum p_phi recomputed from the motion"),
+    "p_phi_drift": Spec(("time",), "kg m2 s-1", "p_phi minus its initial value"),
+    "p_psi": Spec(("time",), "kg m2 s-1", "axial angular momentum p_psi recomputed from the motion"),
+    "p_psi_drift": Spec(("time",), "kg m2 s-1", "p_psi minus its initial value"),
+}
+
 # A rigid body's inertia (wobble inertia -o, RigidBody.to_dataset).
 BODIES: dict[str, Spec] = {
     "tensor": Spec(("row", "column"), "kg m2", "inertia tensor about the reference point, input-frame axes"),
@@ -177,6 +197,7 @@ TABLES: dict[str, Mapping[str, Spec]] = {
     "chandler": CHANDLER,
     "free": FREE,
     "scene": SCENE,
+    "top": TOP,
     "bodies": BODIES,
     "modes": MODES,
     "precession": PRECESSION,

@@ -3,8 +3,8 @@
 * ``Satellite``: a spin-stabilised microsatellite (I = 0.90, 0.92, 1.20 kg m2) spinning at
   1 rad/s under the gravity-gradient torque of Earth on a 500 km circular orbit, 300 s,
   21 outputs. Reference: SciPy's Radau at rtol 1e-13, cached in
-  scripts/bench_engine_reference.json.
-* ``Top``: the asymmetric top of tests/references/engine_torqued.json (mpmath Taylor
+  benchmarks/engine_reference.json.
+* ``AsymmetricTop``: the asymmetric top of tests/references/engine_torqued.json (mpmath Taylor
   integration at 30 digits).
 
 SciPy is given the right-hand side in Python floats, the fastest a user gets without
@@ -20,11 +20,14 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from wobble.bench._paths import ROOT, load_json
+from benchmarks.cases import SCIPY, Case
+from benchmarks.paths import ROOT, load_json
+from benchmarks.timing import Run
+from benchmarks.timing import time_at as interpolate
 from wobble.models.engine import BodyModel, Engine, GravityGradient, UniformGravity, attitude_angle
 from wobble.numerics import quaternion as Q
 
-REFERENCE = ROOT / "scripts" / "bench_engine_reference.json"
+REFERENCE = ROOT / "benchmarks" / "engine_reference.json"
 GM_EARTH = 3.986004418e14  # data/bodies/earth.toml
 ORBIT_RADIUS = 6878137.0
 
@@ -32,7 +35,9 @@ ORBIT_RADIUS = 6878137.0
 # --------------------------------------------------------------------------
 # Cases
 # --------------------------------------------------------------------------
-class Case:
+class TorquedSystem:
+    """A body, its torques, its initial state and output times, with SciPy's right-hand side."""
+
     def __init__(self, name, moments, torques, w0, q0, t):
         self.name = name
         self.moments = np.asarray(moments, dtype=float)
@@ -79,7 +84,7 @@ def _cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-class Satellite(Case):
+class Satellite(TorquedSystem):
     def __init__(self, span=300.0, outputs=21):
         self.k = 3 * GM_EARTH / ORBIT_RADIUS**3
         self.n = math.sqrt(GM_EARTH / ORBIT_RADIUS**3)
@@ -101,7 +106,7 @@ class Satellite(Case):
         return f
 
 
-class Top(Case):
+class AsymmetricTop(TorquedSystem):
     def __init__(self):
         c = next(c for c in load_json("tests", "references", "engine_torqued.json")["cases"] if c["name"] == "asymmetric top")
         fl = lambda xs: [float(x) for x in xs]  # noqa: E731
@@ -178,8 +183,53 @@ def run_wobble(case, method, setting, order=6, backend="auto"):
     return go
 
 
-def time_at(rows, method, target):
+def method_time_at(rows, method, target):
     """Log-log interpolation of a method's min time at the target error (None outside its range)."""
-    from wobble.bench.timing import time_at as interpolate
-
     return interpolate([(e, t) for m, _, e, t, _, _ in rows if m == method], target)
+
+
+def torqued_case(which: str, quick: bool) -> Case:
+    """The satellite or the asymmetric top. ``quick`` trims RK45, LSODA and Radau only: the
+    one-trajectory target compares SciPy's DOP853 with every wobble integrator, so those run
+    at the full run's settings in every mode and the target is judged the same way."""
+    if which == "satellite":
+        c = Satellite()
+        seconds = load_reference(c, False)
+        ref = f"SciPy Radau at rtol 1e-13, atol 1e-16 (benchmarks/engine_reference.json; it took {seconds:.0f} s)"
+        desc = ("Spin-stabilised microsatellite, I = (0.90, 0.92, 1.20) kg m2, 1 rad/s, gravity-gradient torque "
+                "of Earth on a 500 km circular orbit; 300 s, 21 outputs.")
+        steps = {2: [0.1, 0.05], 4: [0.4, 0.2, 0.1], 6: [0.8, 0.4, 0.2]}
+    else:
+        c = AsymmetricTop()
+        ref = "mpmath Taylor integration at 30 digits (tests/references/engine_torqued.json, case 'asymmetric top')"
+        desc = ("Asymmetric top under gravity: I = (1, 1.5, 2) kg m2 about the pivot, centre of mass off every "
+                "axis, 8 rad/s; 5 s, 7 outputs.")
+        steps = {2: [0.002, 0.001], 4: [0.01, 0.005, 0.0025], 6: [0.02, 0.01, 0.005]}
+    scipy_rtols = {"DOP853": [1e-7, 1e-9, 1e-11, 1e-13], "RK45": [1e-6, 1e-8, 1e-10], "LSODA": [1e-7, 1e-9, 1e-11],
+                   "Radau": [1e-6, 1e-8]}
+    wobble_rtols = [1e-7, 1e-9, 1e-11, 1e-13]
+    if quick:
+        scipy_rtols = {k: (v if k == "DOP853" else v[:1]) for k, v in scipy_rtols.items()}
+    case = Case(f"torqued_{which.replace(' ', '_')}", f"Torqued: {c.name}", desc,
+                "max over the outputs of ``|omega - omega_ref| / |omega_ref|`` and of the attitude angle (rad)",
+                ref, c.t.size)
+
+    def chk(o):
+        return {"error": error(c, o[0], o[1])}
+
+    for method in SCIPY:
+        for rtol in scipy_rtols[method]:
+            case.runs.append(Run(f"scipy {method}", f"rtol {rtol:g}", run_scipy(c, method, rtol), chk,
+                                 work=lambda o: int(o[2])))
+    for rtol in wobble_rtols:
+        case.runs.append(Run("wobble DOP853", f"rtol {rtol:g}", run_wobble(c, "dop853", rtol), chk,
+                             work=lambda o: int(o[2])))
+    # The same method in NumPy: what a custom torque (a Python callable) runs on.
+    for rtol in wobble_rtols:
+        case.runs.append(Run("wobble DOP853 (NumPy)", f"rtol {rtol:g}",
+                             run_wobble(c, "dop853", rtol, backend="python"), chk, work=lambda o: int(o[2])))
+    for order, hs in steps.items():
+        for h in hs:
+            case.runs.append(Run(f"wobble splitting-{order}", f"h {h:g} s", run_wobble(c, "splitting", h, order),
+                                 chk, work=lambda o: int(o[2])))
+    return case

@@ -1,0 +1,230 @@
+"""The heavy top's exact motion evaluated from its constants (SI, float64; notes section 5.7).
+
+The evaluators the model (:mod:`wobble.models.top`) hands the times to. Their
+constants come from the 60-digit set-up (:mod:`wobble.models.top_setup`); here
+everything is float64 and vectorised over the times.
+
+* :class:`Uniform`: theta constant (the sleeping top, regular precession, a top
+  hanging at rest): phi and psi advance at constant rates.
+* :class:`Elliptic`: the nutating top. With w = lambda t + w0,
+  lambda = sqrt(beta (u3 - u1))/2 and m = (u2 - u1)/(u3 - u1) (notes p. 72;
+  Goldstein, Poole & Safko 2002, sec. 5.7),
+
+      x = 1 - u = x1 cn^2(w|m) + x2 sn^2(w|m),
+
+  and the half angles sigma = (phi + psi)/2, delta = (phi - psi)/2 are a secular
+  part (:class:`Secular`) plus 2K-periodic parts Pi(n; am w | m) - (Pi(n|m)/K) w,
+  elliptic integrals of the third kind in Carlson's forms with positive terms
+  (:func:`wobble.numerics.elliptic.pi_positive_scd`, ``pi_negative_scd``).
+
+Each evaluator's ``core(t)`` returns the pieces the model assembles into the
+motion: sin and cos of theta/2 (signed through a pole), sigma, delta, the rates,
+u = cos theta and phidot sin theta.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wobble.numerics import elliptic as ell
+from wobble.numerics import highprec as hp
+from wobble.numerics.phase import reduce_phase, split_dd
+
+__all__ = ["Uniform", "Secular", "Elliptic", "TWO_PI_DD", "TWO_PI_PIECES", "TWO_PI"]
+
+#: 2 pi as a double-double pair (the period of the secular phases).
+TWO_PI_DD = hp.to_dd(2 * hp.PI)
+#: 2 pi in three floats of 26, 26 and the rest bits (Cody-Waite reduction: k * piece exact).
+TWO_PI_PIECES = split_dd(*TWO_PI_DD)
+#: 2 pi rounded to float64.
+TWO_PI = float(2 * hp.PI)
+
+
+@dataclass(frozen=True)
+class Uniform:
+    """theta constant (sleeping top, regular precession, hanging at rest)."""
+
+    sh: float
+    ch: float
+    u: float
+    sigma_rate: tuple[float, float]
+    delta_rate: tuple[float, float]
+    sigma0: float
+    delta0: float
+    phidot: float
+    psidot: float
+
+    def core(self, t):
+        n = t.shape
+        sig, _ = reduce_phase(t, self.sigma_rate, TWO_PI_DD, self.sigma0)
+        dlt, _ = reduce_phase(t, self.delta_rate, TWO_PI_DD, self.delta0)
+        sh = np.full(n, self.sh)
+        ch = np.full(n, self.ch)
+        zero = np.zeros(n)
+        return dict(
+            sh=sh, ch=ch, sigma=sig, delta=dlt, thetadot=zero, phidot=np.full(n, self.phidot),
+            psidot=np.full(n, self.psidot), u=np.full(n, self.u), phidot_sin=np.full(n, self.phidot * 2 * self.sh * self.ch),
+        )
+
+
+@dataclass(frozen=True)
+class Secular:
+    """A secular phase Omega t + offset from the reduced nutation phase (no second pass over t).
+
+    With lambda t + w0 = 2K j + r (j an exact integer, |r| <= K),
+    Omega t = j A + c (r - w0), A = (2K Omega / lambda) mod 2 pi (to ~30 digits, split in three
+    floats so that j a1 and j a2 are exact for |j| < 2^26) and c = Omega / lambda. The product
+    j a1 is reduced modulo 2 pi by Cody-Waite before the small terms are added, so the error
+    is a few ulps of 2 pi whatever t is -- the bound of :func:`wobble.numerics.phase.reduce_phase`
+    at a third of its cost.
+    """
+
+    a: tuple[float, float, float]
+    c: float
+    offset: float
+
+    def __call__(self, j, r, w0):
+        a1, a2, a3 = self.a
+        z = j * a1  # exact
+        k = np.rint(z * (1.0 / TWO_PI))
+        z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
+        return z + (j * a2 + (j * a3 + (self.c * (r - w0) + self.offset)))
+
+    def whole_periods(self, j):
+        """j A modulo 2 pi (up to a few ulps of 2 pi): the advance over j whole nutation periods."""
+        a1, a2, a3 = self.a
+        z = j * a1  # exact
+        k = np.rint(z * (1.0 / TWO_PI))
+        z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
+        return z + (j * a2 + j * a3)
+
+
+
+@dataclass(frozen=True)
+class Elliptic:
+    """Nutating top: u(t) by Jacobi functions, phi and psi by Pi(n; am w | m).
+
+    Scaled so that nothing underflows next to the poles: with sx^2 = cn^2 + rho_x sn^2
+    (rho_x = x2/x1) and sy^2 = rho_y cn^2 + sn^2 (rho_y = y1/y2),
+    sin(theta/2) = hx1 sx, cos(theta/2) = hy2 sy (hx1 = sqrt(x1/2), hy2 = sqrt(y2/2)),
+    B/x = (B/x1)/sx^2, C/y = (C/y2)/sy^2. A motion through the vertical (x2 = 0)
+    has sin(theta/2) = hx1 cn(w), signed; through the bottom (y1 = 0), cos(theta/2) = hy2 sn(w).
+    """
+
+    hx1: float
+    hy2: float
+    rho_x: float
+    rho_y: float
+    x1: float
+    y2: float
+    B: float
+    C: float
+    B_x1: float  # B / x1
+    C_y2: float  # C / y2
+    Bp: float  # (B / x1) hx1 hy2: phidot sin(theta) = Bp sy/sx + Cp sx/sy
+    Cp: float
+    W: float  # (x1 - x2) / (hx1 hy2): thetadot = -lambda W sn cn dn / (sx sy)
+    through_top: bool
+    through_bottom: bool
+    a: float
+    omega3: float
+    lam: tuple[float, float]
+    K: tuple[float, float]
+    w0: float
+    m: float
+    m1: float
+    n_plus: float
+    one_minus_n_plus: float
+    nu_minus: float
+    pi_plus_over_k: float
+    pi_minus_over_k: float
+    k_plus: float  # B / (2 lambda x1): delta = ... + k_plus P_+(w)
+    k_minus: float  # C / (2 lambda y1): sigma = ... + k_minus P_-(w)
+    p_plus0: float
+    p_minus0: float
+    sigma_sec: Secular
+    delta_sec: Secular
+    levels: object = field(repr=False, compare=False)
+
+    def phase(self, t):
+        return reduce_phase(t, self.lam, (2 * self.K[0], 2 * self.K[1]), self.w0)
+
+    def periodic_parts(self, r, sn, cn, dn):
+        """P_+(r) and P_-(r): the 2K-periodic parts Pi(n; am r | m) - (Pi(n|m)/K) r, |r| <= K."""
+        d2 = dn * dn
+        p_plus = p_minus = np.zeros_like(r)
+        if self.k_plus != 0.0:
+            pi = ell.pi_positive_scd(self.n_plus, self.one_minus_n_plus, sn, cn, d2)
+            p_plus = pi - self.pi_plus_over_k * r
+        if self.k_minus != 0.0:
+            pi = ell.pi_negative_scd(self.nu_minus, sn, cn, d2, self.m1)
+            p_minus = pi - self.pi_minus_over_k * r
+        return p_plus, p_minus
+
+    def _scaled(self, sn, cn):
+        sn2, cn2 = sn * sn, cn * cn
+        return np.sqrt(cn2 + self.rho_x * sn2), np.sqrt(self.rho_y * cn2 + sn2)
+
+    def periodic_of_r(self, r):
+        """theta(r), k_- P_-(r), k_+ P_+(r) and dtheta/dr for a reduced phase |r| <= K.
+
+        The 2K-periodic functions of the nutation phase that the series accelerator
+        expands (used only when the axis stays off the poles, so no sign folding);
+        dtheta/dr = -W sn cn dn / (sx sy), thetadot = lambda dtheta/dr.
+        """
+        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
+        sx, sy = self._scaled(sn, cn)
+        theta = 2.0 * np.arctan2(self.hx1 * sx, self.hy2 * sy)
+        p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
+        return theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy)
+
+    def periodic_with_half_angles(self, r):
+        """:meth:`periodic_of_r` and sin(theta/2), cos(theta/2) at the same phases (|r| <= K)."""
+        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
+        sx, sy = self._scaled(sn, cn)
+        sh, ch = self.hx1 * sx, self.hy2 * sy
+        theta = 2.0 * np.arctan2(sh, ch)
+        p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
+        return (theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy), sh, ch)
+
+    def core(self, t):
+        r, j = self.phase(t)
+        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
+        odd = np.floor(0.5 * j) != 0.5 * j
+        par = np.where(odd, -1.0, 1.0)  # sn(w) = par sn(r), cn(w) = par cn(r)
+        sx, sy = self._scaled(sn, cn)
+        lam = self.lam[0]
+        scd = sn * cn * dn
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # The signed forms through a pole cancel the vanishing factor analytically.
+            if self.through_top and self.through_bottom:
+                sx, sy = par * cn, par * sn
+                thetadot = -lam * self.W * dn
+            elif self.through_top:
+                sx = par * cn
+                thetadot = -lam * self.W * par * sn * dn / sy
+            elif self.through_bottom:
+                sy = par * sn
+                thetadot = -lam * self.W * par * cn * dn / sx
+            else:
+                thetadot = -lam * self.W * scd / (sx * sy)
+            zero = np.zeros_like(sx)
+            bx = self.B_x1 / (sx * sx) if self.B_x1 != 0.0 else zero
+            cy = self.C_y2 / (sy * sy) if self.C_y2 != 0.0 else zero
+            b_term = self.Bp * sy / sx if self.Bp != 0.0 else zero
+            c_term = self.Cp * sx / sy if self.Cp != 0.0 else zero
+        sh = self.hx1 * sx
+        ch = self.hy2 * sy
+        phidot = 0.5 * (bx + cy)
+        psidot = (self.omega3 - self.a) - 0.5 * (bx - cy)
+        p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
+        sig = self.sigma_sec(j, r, self.w0) + self.k_minus * (p_minus - self.p_minus0)
+        dlt = self.delta_sec(j, r, self.w0) + self.k_plus * (p_plus - self.p_plus0)
+        x = self.x1 * (sx * sx)
+        y = self.y2 * (sy * sy)
+        u = np.where(x <= 1.0, 1.0 - x, y - 1.0)
+        return dict(sh=sh, ch=ch, sigma=sig, delta=dlt, thetadot=thetadot, phidot=phidot, psidot=psidot, u=u,
+                    phidot_sin=b_term + c_term)
+

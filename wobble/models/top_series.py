@@ -1,0 +1,475 @@
+"""The heavy top's series accelerator: its periodic parts as Fourier series (SI, float64; notes 5.7).
+
+The nutating top's theta(r), the periodic parts of its half angles and dtheta/dr are
+analytic and 2K-periodic in the reduced nutation phase r while the axis stays off the
+poles (:meth:`wobble.models.top_closed_form.Elliptic.periodic_of_r`). Their Fourier
+coefficients decay geometrically; :func:`build` computes them once per top by an FFT
+of exact values and tabulates the series with their derivatives as Taylor expansions
+at equispaced nodes, so that each output costs a degree-5 polynomial instead of
+Jacobi functions and Carlson integrals (~3 us). The table is used only after it
+reproduces the direct evaluation between the nodes within the solution's error
+estimate; otherwise the model keeps the direct path.
+
+The table of a top is built on first use and kept in :func:`series_of`'s cache, keyed
+by the model and released with it: the frozen model itself holds no mutable state.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from wobble.models.top_closed_form import TWO_PI, TWO_PI_PIECES
+from wobble.numerics import compiled
+from wobble.numerics.phase import split_dd, two_prod, two_sum
+
+__all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of"]
+
+_EPS = float(np.finfo(float).eps)
+_ORDER = 5  # degree of the Taylor polynomials
+# The tabulated rows: theta (even), the periodic parts k_- P_- of sigma and k_+ P_+ of delta
+# (odd), dtheta/dr (odd), sin(theta/2) and cos(theta/2) (even).
+_KINDS = ("cos", "sin", "sin", "sin", "cos", "cos")
+_SIGMA, _DELTA = 1, 2
+_ROT = np.array([1.0 if k == "cos" else -1j for k in _KINDS])  # cos series: c_k = a_k; sin: c_k = -i b_k
+_ORDERS = np.arange(_ORDER + 1)
+_FACT = np.cumprod(np.concatenate([[1.0], np.arange(1.0, _ORDER + 1)]))
+# exp(i x) for |x| <= 1/32 by its Taylor polynomials in x^2: the first terms left out,
+# x^8/8! and x^9/9!, are below 3e-17 and 1e-19 there.
+_CIS_MAX = 1 / 32
+_COS = np.array([1.0, -1 / 2, 1 / 24, -1 / 720])
+_SIN = np.array([1.0, -1 / 6, 1 / 120, -1 / 5040])
+_BLOCK = 8192
+
+
+@dataclass(frozen=True)
+class Fourier:
+    """The periodic parts as Fourier series in the nutation phase, tabulated (fast evaluation).
+
+    theta(r) (even), k_- P_-(r), k_+ P_+(r), dtheta/dr (odd), sin(theta/2) and cos(theta/2)
+    (even) are analytic and 2K-periodic in the reduced phase r while the axis stays off
+    the poles; their Fourier coefficients in vartheta = pi r / K decay geometrically and are
+    computed once by an FFT of exact values
+    (:meth:`~wobble.models.top_closed_form.Elliptic.periodic_with_half_angles`). For
+    evaluation the series are tabulated with their derivatives up to order 5 at S equispaced
+    phases (one batched inverse FFT), and each output takes a degree-5 Taylor polynomial from
+    the nearest node: 5 Horner steps per series, whatever the series' length.
+
+    The unit phasors exp(i sigma) and exp(i delta) of the half angles need no trigonometric
+    call per output: with lambda t + w0 = 2K j + r and r = node + d,
+
+        sigma = j A + [c node + P(node) + const] + [c d + P(r) - P(node)],
+
+    the first factor exp(i j A) is computed once per whole period, the second once per node
+    (``phasor``), and the third is the Taylor polynomial of cos and sin of a small argument
+    (|x| <= 1/32: the nodes are dense enough for that). The node parts are formed in
+    double-double arithmetic and d = r - node exactly, so the phasors carry a few ulps of
+    error whatever the size of the secular term c node. The table is accepted only
+    after it agrees with the direct evaluation between the nodes to within the solution's
+    error estimate (:func:`build`); otherwise the direct path is used.
+    """
+
+    base: object  # the Elliptic evaluator (wobble.models.top_closed_form)
+    coef: np.ndarray  # (6, L + 1) Fourier coefficients of the rows (_KINDS)
+    scale: float  # pi / K
+    table: np.ndarray  # (S, order + 1, 6): f^(j)(node) / j! in units of r, node-major
+    h: float  # node spacing in r
+    phasor: np.ndarray | None = None  # (2, 2, S + 1): cos, sin of sigma's and delta's node parts
+    node_r: np.ndarray | None = None  # (S + 1,) the nodes -K + i h, as the phasors take them
+    error_theta: float = 0.0
+    error_phase: float = 0.0
+
+    # -- building and checking -------------------------------------------------
+    def clenshaw(self, r, rows):
+        """The series summed directly (Clenshaw), for building and checking the table."""
+        vt = r * self.scale
+        c, s_ = np.cos(vt), np.sin(vt)
+        alpha = 2.0 * c
+        coef = self.coef[list(rows)]
+        nrow, ncoef = coef.shape
+        b1 = np.zeros((nrow,) + r.shape)
+        b2 = np.zeros_like(b1)
+        tmp = np.empty_like(b1)
+        for k in range(ncoef - 1, 0, -1):
+            np.multiply(alpha, b1, out=tmp)
+            tmp -= b2
+            tmp += coef[:, k, None]
+            b1, b2, tmp = tmp, b1, b2
+        out = []
+        for i, row in enumerate(rows):
+            out.append(coef[i, 0] + b1[i] * c - b2[i] if _KINDS[row] == "cos" else b1[i] * s_)
+        return out
+
+    def _nodes(self, r):
+        """Nearest node of each reduced phase: series index (wrapped), phasor index, offset d."""
+        u = (r + self.base.K[0]) * (1.0 / self.h)
+        idx = np.rint(u)
+        d = (u - idx) * self.h
+        iu = idx.astype(np.intp)
+        ii = iu.copy()
+        ii[ii >= self.table.shape[0]] -= self.table.shape[0]  # r = +K is the node of r = -K
+        return ii, iu, d
+
+    @staticmethod
+    def _horner(coef, row, d, split=False):
+        """Row ``row`` from the gathered coefficients ``coef`` (N, order + 1, rows) at offsets ``d``.
+        ``split``: also its change from the node, v = f(r) - f(node)."""
+        acc = coef[:, _ORDER, row].copy()
+        for j in range(_ORDER - 1, 0, -1):
+            acc *= d
+            acc += coef[:, j, row]
+        acc *= d
+        if split:
+            return acc + coef[:, 0, row], acc
+        acc += coef[:, 0, row]
+        return acc
+
+    def series(self, r, rows):
+        """The series ``rows`` at reduced phases r from the Taylor table (nearest node, Horner)."""
+        ii, _, d = self._nodes(r)
+        coef = self.table[ii]  # one gather: a node's coefficients are contiguous
+        return [self._horner(coef, row, d) for row in rows]
+
+    def constants(self, inertia=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """The constants of the compiled pass (:data:`wobble.numerics.taylor_table.CONSTANTS`)."""
+        e = self.base
+        i1, i3, mgl = inertia
+        s_, d_ = e.sigma_sec, e.delta_sec
+        return np.array([
+            e.K[0], self.h, 1.0 / self.h, e.w0, e.lam[0], e.B, e.C, e.omega3, e.omega3 - e.a,
+            *s_.a, s_.c, s_.offset, e.k_minus * e.p_minus0, *d_.a, d_.c, d_.offset, e.k_plus * e.p_plus0,
+            *TWO_PI_PIECES, 1.0 / TWO_PI, 2 * np.pi, 0.5 / np.pi,
+            0.5 * i1, 0.5 * i3, i1, i3, mgl,
+        ])
+
+    @staticmethod
+    def _cis(x):
+        """cos and sin of a small x (|x| <= 1/32) by their Taylor polynomials in x^2."""
+        z = x * x
+        c = _COS[3] * z
+        s = _SIN[3] * z
+        for n in (2, 1):
+            c += _COS[n]
+            c *= z
+            s += _SIN[n]
+            s *= z
+        c += _COS[0]
+        s += _SIN[0]
+        s *= x
+        return c, s
+
+    def whole_periods(self, j):
+        """exp(i j A) of sigma and delta for the half-periods ``j``, as (2, 2, M) and the index
+        base: one value per distinct j of a dense range (``j - base``), else per sample (-1)."""
+        e = self.base
+        if j.size == 0:
+            return np.empty((2, 2, 0)), 0
+        lo, hi = float(np.min(j)), float(np.max(j))
+        if hi - lo < max(2 * j.size, 64):
+            jj, base = np.arange(lo, hi + 1.0), int(lo)
+        else:  # a few times spread over very many periods
+            jj, base = j, -1
+        out = np.empty((2, 2, jj.size))
+        for p, sec in enumerate((e.sigma_sec, e.delta_sec)):
+            a = sec.whole_periods(jj)
+            out[p, 0] = np.cos(a)
+            out[p, 1] = np.sin(a)
+        return out, base
+
+    # -- evaluation -------------------------------------------------------------
+    def _phase(self, t):
+        e = self.base
+        if t.size >= compiled.LONG_ARRAY and compiled.available():
+            from wobble.numerics import taylor_table
+
+            return taylor_table.phase(t, e.lam, (2 * e.K[0], 2 * e.K[1]), e.w0, self._period_pieces())
+        return e.phase(t)
+
+    def _period_pieces(self):
+        e = self.base
+        return split_dd(2 * e.K[0], 2 * e.K[1])
+
+    def angles(self, t):
+        """theta, phi and psi (rad; phi and psi wrapped to [-pi, pi]) at times t (1-D)."""
+        if t.size >= compiled.LONG_ARRAY and compiled.available():  # one pass, bit for bit the NumPy path
+            from wobble.numerics import taylor_table
+
+            r, j = self._phase(t)
+            return tuple(taylor_table.angles(r, j, self.table, self.constants()))
+        return _blocked(self._angles_numpy, t)
+
+    def _angles_numpy(self, t):
+        e = self.base
+        r, j = e.phase(t)
+        ii, _, d = self._nodes(r)
+        coef = self.table[ii]
+        theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
+        sig = e.sigma_sec(j, r, e.w0) + (sp - e.k_minus * e.p_minus0)
+        dlt = e.delta_sec(j, r, e.w0) + (dp - e.k_plus * e.p_plus0)
+        return theta, _wrap(sig + dlt), _wrap(sig - dlt)
+
+    def motion(self, t, inertia) -> dict:
+        """The motion at times t (1-D): theta, phi, psi, their rates, u = cos theta, omega (body),
+        the quaternion, the symmetry axis, and E, p_phi, p_psi for ``inertia`` = (I1, I3, M g l)."""
+        if t.size >= compiled.LONG_ARRAY and compiled.available():  # one pass, bit for bit the NumPy path
+            from wobble.numerics import taylor_table
+
+            r, j = self._phase(t)
+            jtab, base = self.whole_periods(j)
+            out, omega, quat, axis = taylor_table.motion(r, j, base, self.table, self.node_r, self.phasor, jtab,
+                                                         _COS, _SIN, self.constants(inertia))
+            names = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi")
+            return {**dict(zip(names, out)), "omega": omega, "quaternion": quat, "axis": axis}
+        return _blocked(lambda tb: self._motion_numpy(tb, inertia), t)
+
+    def _motion_numpy(self, t, inertia) -> dict:
+        """:func:`wobble.numerics.taylor_table.motion` in NumPy, operation for operation."""
+        e = self.base
+        i1, i3, mgl = inertia
+        r, j = e.phase(t)
+        jtab, base = self.whole_periods(j)
+        jj = np.arange(j.size) if base < 0 else j.astype(np.intp) - base
+        ii, iu, d = self._nodes(r)
+        coef = self.table[ii]
+        theta = self._horner(coef, 0, d)
+        sp, v1 = self._horner(coef, _SIGMA, d, split=True)
+        dp, v2 = self._horner(coef, _DELTA, d, split=True)
+        dth, sh, ch = (self._horner(coef, row, d) for row in (3, 4, 5))
+        phases = []
+        dn = r - np.take(self.node_r, iu)  # exact: r is within h/2 of its node
+        for p, (sec, v) in enumerate(((e.sigma_sec, v1), (e.delta_sec, v2))):
+            ec, es = self._cis(sec.c * dn + v)
+            pc, ps_ = np.take(self.phasor[p, 0], iu), np.take(self.phasor[p, 1], iu)
+            nc = pc * ec - ps_ * es
+            ns = pc * es + ps_ * ec
+            jc, js = np.take(jtab[p, 0], jj), np.take(jtab[p, 1], jj)
+            phases.append((jc * nc - js * ns, jc * ns + js * nc))
+        (cs, ss), (cd, sd) = phases
+        sig = e.sigma_sec(j, r, e.w0) + (sp - e.k_minus * e.p_minus0)
+        dlt = e.delta_sec(j, r, e.w0) + (dp - e.k_plus * e.p_plus0)
+        x = 2.0 * sh * sh
+        y = 2.0 * ch * ch
+        bx = e.B / x
+        cy = e.C / y
+        thetadot = e.lam[0] * dth
+        u = np.where(x <= 1.0, 1.0 - x, y - 1.0)
+        ps = 0.5 * (e.B * ch / sh + e.C * sh / ch)
+        qw, qx, qy, qz = ch * cs, sh * cd, sh * sd, ch * ss
+        sin_t = 2.0 * sh * ch
+        spsi = ss * cd - cs * sd
+        cpsi = cs * cd + ss * sd
+        w1 = ps * spsi + thetadot * cpsi
+        w2 = ps * cpsi - thetadot * spsi
+        w3 = np.full_like(w1, e.omega3)
+        g1 = 2.0 * (qx * qz - qw * qy)
+        g2 = 2.0 * (qy * qz + qw * qx)
+        return dict(
+            theta=theta, phi=_wrap(sig + dlt), psi=_wrap(sig - dlt), thetadot=thetadot, phidot=0.5 * (bx + cy),
+            psidot=(e.omega3 - e.a) - 0.5 * (bx - cy), u=u,
+            energy=((0.5 * i1) * (w1 * w1 + w2 * w2) + (0.5 * i3) * (w3 * w3)) + mgl * u,
+            p_phi=i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * u, p_psi=i3 * w3,
+            omega=np.stack([w1, w2, w3], axis=-1), quaternion=np.stack([qw, qx, qy, qz], axis=-1),
+            axis=np.stack([sin_t * (ss * cd + cs * sd), -(sin_t * (cs * cd - ss * sd)), u], axis=-1),
+        )
+
+
+def _wrap(a):
+    """Angles to [-pi, pi] (a few times faster than np.remainder; |a| here is < 10 pi)."""
+    return a - (2 * np.pi) * np.rint(a * (0.5 / np.pi))
+
+
+def _blocked(fn, t):
+    """Evaluate fn on cache-sized blocks of t and concatenate the outputs (tuple or dict)."""
+    if t.size <= _BLOCK:
+        return fn(t)
+    parts = [fn(t[i : i + _BLOCK]) for i in range(0, t.size, _BLOCK)]
+    if isinstance(parts[0], dict):
+        return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    return tuple(np.concatenate([p[k] for p in parts]) for k in range(len(parts[0])))
+
+
+#: From this many samples on, the model evaluates through the series (where verified).
+MIN_SAMPLES = 1024
+_FOURIER_MAX_N = 512
+_FOURIER_MAX_TERMS = 96
+_TAYLOR_MAX_NODES = 1 << 15
+
+
+def build(e, est: dict) -> Fourier | None:
+    """Fourier series of the periodic parts of ``e``, tabulated and verified; None where not worth it.
+
+    Six 2K-periodic functions of the reduced phase are sampled exactly at N equispaced
+    phases: theta, sin(theta/2), cos(theta/2) (even), k_- P_- and k_+ P_+ and dtheta/dr (odd,
+    sampled from its closed form rather than by differentiating the theta series, which
+    would amplify the rounding of theta's samples). N doubles until the upper half of every
+    spectrum is at rounding level; the table must then reproduce the direct evaluation
+    between the nodes within the solution's error estimate, the phasors of the half angles
+    included. Used only off the poles (x, y > 0 on the orbit).
+    """
+    if e.through_top or e.through_bottom:
+        return None
+    k = e.K[0]
+    noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
+    sample = e.periodic_with_half_angles
+    # Check points between the nodes (phases offset by an irrational fraction of the spacing).
+    m = 41
+    vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
+    r_check = vt * (k / np.pi)
+    want = None
+    for n in (64, 128, 256, _FOURIER_MAX_N):
+        vt = 2 * np.pi * np.arange(n) / n
+        vt = np.where(vt > np.pi, vt - 2 * np.pi, vt)
+        if want is None:  # nodes and check points in one pass of the direct path
+            both = sample(np.concatenate([vt * (k / np.pi), r_check]))
+            vals = [v[:n] for v in both]
+            want = [v[n:] for v in both]
+        else:
+            vals = sample(vt * (k / np.pi))
+        spectra = np.fft.rfft(np.stack(vals), axis=-1) / n
+        scales = [max(float(np.max(np.abs(v))), 1e-300) for v in vals]
+        scales[_SIGMA] = scales[_DELTA] = max(1.0, scales[_SIGMA], scales[_DELTA])  # phases: absolute (rad)
+        # Aliasing folds c_{n-k} onto c_k: only the top of the band must be at rounding
+        # level; the check against the direct evaluation below decides.
+        top = np.max(np.abs(spectra[:, 7 * n // 16 :]), axis=1)
+        if not np.all(top <= noise * np.array(scales)):
+            continue
+        fo = _fourier_from_spectra(e, spectra, scales, k)
+        if fo is None:
+            return None  # too long a series: the direct path is about as fast
+        checked = _check_fourier(fo, r_check, want, scales, est, k)
+        if checked is not None:
+            return checked
+    return None
+
+
+def _fourier_from_spectra(e, spectra, scales, k):
+    cos_rows = np.array([kind == "cos" for kind in _KINDS])
+    coef = np.where(cos_rows[:, None], 2 * spectra.real, -2 * spectra.imag)
+    coef[:, 0] = np.where(cos_rows, spectra[:, 0].real, 0.0)
+    big = np.max(np.abs(coef) / np.array(scales)[:, None], axis=0)
+    keep = np.nonzero(big > 0.25 * _EPS)[0]
+    last = int(keep.max()) if keep.size else 1
+    if last > _FOURIER_MAX_TERMS:
+        return None
+    coef = np.ascontiguousarray(coef[:, : last + 1])
+    scale = np.pi / k
+    nodes = 1 << max(8, int(np.ceil(np.log2(32 * (last + 1)))))
+    return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0), nodes)
+
+
+def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
+    """The Taylor table of ``fo``'s series at ``nodes`` nodes (more where the half angles turn
+    faster than 1/32 rad between a node and the next midpoint) and the node phasors of the
+    half angles; None when that would take more than the cap of nodes."""
+    e = fo.base
+    k = e.K[0]
+    # Bounds of |d/dr| of sigma's and delta's arguments: their secular rate plus the sum of
+    # |k b_k| (pi / K) of their periodic parts.
+    kk = np.arange(fo.coef.shape[1]) * fo.scale
+    slopes = [abs(sec.c) + float(np.sum(kk * np.abs(fo.coef[row])))
+              for sec, row in ((e.sigma_sec, _SIGMA), (e.delta_sec, _DELTA))]
+    while max(slopes) * k / nodes > _CIS_MAX:
+        nodes *= 2
+    if nodes > _TAYLOR_MAX_NODES:
+        return None
+    h = 2 * k / nodes
+    table = _taylor_table(fo.coef, nodes, fo.scale)
+    node_r = -k + h * np.arange(nodes + 1)
+    # g = c (node - w0) + offset + (P(node) - P0) of sigma and delta in double-double: |c (node - w0)|
+    # reaches several radians, whose rounding would otherwise be the phasors' largest error.
+    c = np.array([[e.sigma_sec.c], [e.delta_sec.c]])
+    offset = np.array([[e.sigma_sec.offset], [e.delta_sec.offset]])
+    p0 = np.array([[e.k_minus * e.p_minus0], [e.k_plus * e.p_plus0]])
+    at_node = np.empty((2, nodes + 1))
+    at_node[:, :nodes] = table[:, 0, _SIGMA : _DELTA + 1].T
+    at_node[:, nodes] = at_node[:, 0]  # r = +K is the node of r = -K
+    dh, dl = two_sum(node_r, -e.w0)
+    gh, gl = two_prod(c, dh)
+    gl = gl + c * dl
+    gh, e1 = two_sum(gh, offset)
+    ph, pl = two_sum(at_node, -p0)
+    gh, e2 = two_sum(gh, ph)
+    gl = gl + (e1 + (e2 + pl))
+    cos_h, sin_h = np.cos(gh), np.sin(gh)
+    phasor = np.empty((2, 2, nodes + 1))  # (sigma, delta) x (cos, sin) x node
+    phasor[:, 0] = cos_h - sin_h * gl
+    phasor[:, 1] = sin_h + cos_h * gl
+    return replace(fo, table=table, h=h, phasor=phasor, node_r=node_r)
+
+
+def _check_fourier(fo, r, want, scales, est, k):
+    """The table if it reproduces the direct values within the error estimate (finer tables
+    are tried first); None otherwise."""
+    theta, sp, dp, dth, sh, ch = want
+    e = fo.base
+    rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
+    while fo is not None:
+        got = fo.series(r, range(6))
+        err_t = float(np.max(np.abs(got[0] - theta)))
+        err_p = max(float(np.max(np.abs(got[_SIGMA] - sp))), float(np.max(np.abs(got[_DELTA] - dp))))
+        err_d = float(np.max(np.abs(got[3] - dth))) / scales[3]
+        half_ok = (float(np.max(np.abs(got[4] - sh))) <= rel * scales[4]
+                   and float(np.max(np.abs(got[5] - ch))) <= rel * scales[5])
+        # The phasors of the half angles (at j = 0) against cos and sin of the direct phases.
+        ii, iu, d = fo._nodes(r)
+        coef = fo.table[ii]
+        for p, (sec, row, p0, direct) in enumerate(((e.sigma_sec, _SIGMA, e.k_minus * e.p_minus0, sp),
+                                                    (e.delta_sec, _DELTA, e.k_plus * e.p_plus0, dp))):
+            _, v = fo._horner(coef, row, d, split=True)
+            ec, es = fo._cis(sec.c * (r - fo.node_r[iu]) + v)
+            pc, ps_ = fo.phasor[p, 0, iu], fo.phasor[p, 1, iu]
+            g = (sec.c * (r - e.w0) + sec.offset) + (direct - p0)
+            miss = np.hypot(pc * ec - ps_ * es - np.cos(g), pc * es + ps_ * ec - np.sin(g))
+            err_p = max(err_p, float(np.max(miss)))
+        if (err_t <= est["theta_rad"] and err_p <= est["attitude_rad"] and err_d <= 64 * _EPS * (1 + k)
+                and half_ok):
+            return replace(fo, error_theta=err_t, error_phase=err_p)
+        nodes = 2 * fo.table.shape[0]
+        if nodes > _TAYLOR_MAX_NODES:
+            return None
+        fo = _tabulate(fo, nodes)
+    return None
+
+
+def _taylor_table(coef, nodes, scale):
+    """f^(j)(r_i)/j! (j = 0.._ORDER, r-units) of every series at the nodes r_i = -K + i h, as
+    (nodes, order + 1, rows): the coefficients an output needs are contiguous.
+
+    With vartheta_i = -pi + 2 pi i / S, e^{i k vartheta_i} = (-1)^k e^{2 pi i k i / S}, so
+    Re sum_k c_k (i k scale)^j e^{i k vartheta_i} for all rows and orders is one batched
+    real inverse FFT (cos series: c_k = a_k; sin series: c_k = -i b_k).
+    """
+    nrow, ncoef = coef.shape
+    kk = np.arange(ncoef)
+    # (-1)^k, halved for k >= 1 (irfft counts each k >= 1 twice: the Hermitian extension)
+    sign = np.where(kk % 2 == 0, 0.5, -0.5)
+    sign[0] = 1.0
+    power = (1j * kk[:, None] * scale) ** _ORDERS  # (ncoef, order + 1)
+    spec = np.zeros((nodes // 2 + 1, _ORDER + 1, nrow), dtype=complex)
+    spec[:ncoef] = (coef.T * sign[:, None])[:, None, :] * (power / _FACT)[:, :, None] * _ROT  # (ncoef, order + 1, rows)
+    return np.fft.irfft(spec, n=nodes, axis=0) * nodes
+
+
+# The table of each model, built on first use: keyed by id(model), dropped when the model is
+# collected (weakref.finalize), so a frozen model stays immutable and the cache never grows
+# with models that are gone.
+_TABLES: dict[int, Fourier | None] = {}
+
+
+def series_of(owner, e, est: dict) -> Fourier | None:
+    """The verified series of the evaluator ``e`` of model ``owner`` (built once), or None.
+
+    ``owner`` is the object the table belongs to (the frozen model): the table lives
+    here, not in it, for as long as ``owner`` does.
+    """
+    key = id(owner)
+    try:
+        return _TABLES[key]
+    except KeyError:
+        pass
+    table = build(e, est)
+    _TABLES[key] = table
+    weakref.finalize(owner, _TABLES.pop, key, None)
+    return table

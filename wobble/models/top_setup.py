@@ -1,0 +1,394 @@
+"""The heavy top's set-up in 60-digit decimal arithmetic (SI; notes section 5.7, pp. 71-72).
+
+From the exact float inputs (moments about the tip, M g l and the initial state,
+gathered in a :class:`TopSetup`) :func:`analyse` computes, once per top, what the
+model reports and what its evaluators (:mod:`wobble.models.top_closed_form`) need:
+
+* the conserved quantities p_psi = I3 omega3 = I1 a, p_phi = I1 b, E and
+  E' = E - I3 omega3^2 / 2, alpha = 2 E'/I1, beta = 2 M g l / I1 (notes p. 71);
+* the roots of f(u) = beta (u - u1)(u - u2)(u - u3), found in x = 1 - u and
+  y = 1 + u (:mod:`wobble.numerics.cubic`), so the turning angles keep their
+  relative digits next to both poles and at double roots;
+* the nutation class from the sign of phidot = (b - a u)/(1 - u^2) at the turning
+  points (notes p. 72), the parameter m and 1 - m without cancellation, K(m), the
+  nutation period 4 K / sqrt(beta (u3 - u1)), the complete Pi(n|m) and the mean
+  precession and spin rates (Goldstein, Poole & Safko 2002, sec. 5.7), the initial
+  nutation phase and the secular phase rates as double-double pairs.
+
+Everything is decimal at :data:`DIGITS` digits until it is rounded once to float64;
+Decimal(float) is exact, so the inputs enter without rounding.
+"""
+
+from __future__ import annotations
+
+import decimal
+from dataclasses import dataclass
+from decimal import Decimal
+
+import numpy as np
+
+from wobble.errors import InputError
+from wobble.models.top_closed_form import Elliptic, Secular, Uniform
+from wobble.numerics import cubic
+from wobble.numerics import elliptic as ell
+from wobble.numerics import highprec as hp
+from wobble.numerics.phase import split_dd
+
+__all__ = ["DIGITS", "TopSetup", "analyse", "context", "to_decimal"]
+
+#: Working precision of the set-up (significant digits).
+DIGITS = cubic.DIGITS
+_EPS = float(np.finfo(float).eps)
+# x2/x1 (or y1/y2) below this: the axis passes the pole closer than sqrt(_POLE) theta_max,
+# i.e. below the rounding of theta_max, and the motion is followed as a pass through it.
+_POLE = Decimal("1e-32")
+
+
+def context() -> decimal.Context:
+    """The decimal context of the set-up (:data:`DIGITS` significant digits)."""
+    return decimal.Context(prec=DIGITS)
+
+
+def to_decimal(x) -> Decimal:
+    """The exact Decimal of a float (Decimal(float) is exact; arithmetic rounds to the context)."""
+    return x if isinstance(x, Decimal) else Decimal(float(x))
+
+
+def _f(x: Decimal) -> float:
+    return float(x)
+
+
+@dataclass(frozen=True)
+class TopSetup:
+    """A top and its initial state, exact, as the analysis takes them (SI).
+
+    Attributes
+    ----------
+    I1, I3, mgl : float
+        Moments about the tip (kg m^2) and M g l (J), already checked.
+    theta0 : float
+        Initial tilt (rad), in [0, pi].
+    sin_half, cos_half : Decimal
+        sin and cos of theta0 / 2 to :data:`DIGITS` digits (full relative accuracy
+        next to both poles).
+    thetadot0 : Decimal
+        Initial nutation rate (rad/s).
+    v0 : Decimal
+        phidot0 sin theta0 (rad/s): finite at the poles, where phidot0 is not defined.
+    omega3 : Decimal
+        Spin about the symmetry axis (rad/s).
+    phi0, psi0 : Decimal
+        Initial precession and spin angles (rad).
+    phidot0 : float
+        The precession rate as given, reported for a top started exactly upright
+        (where phidot0 sin theta0 = 0 says nothing about it).
+    """
+
+    I1: float
+    I3: float
+    mgl: float
+    theta0: float
+    sin_half: Decimal
+    cos_half: Decimal
+    thetadot0: Decimal
+    v0: Decimal
+    omega3: Decimal
+    phi0: Decimal
+    psi0: Decimal
+    phidot0: float
+
+
+@dataclass(frozen=True)
+class _Start:
+    """The initial state in the variables of the analysis (decimal)."""
+
+    x0: Decimal  # 1 - cos theta0
+    y0: Decimal  # 1 + cos theta0
+    s0: Decimal  # sin theta0
+    u0: Decimal  # cos theta0
+    thetadot0: Decimal  # signed so that theta stays in [0, pi]
+    a: Decimal
+    beta: Decimal
+    sigma0: Decimal  # (phi0 + psi0)/2 (+ pi for a start across a pole)
+    delta0: Decimal  # (phi0 - psi0)/2
+
+
+def theta_of(x: Decimal, y: Decimal) -> float:
+    """theta = 2 atan2(sqrt(x/2), sqrt(y/2)) from exact x = 1 - u and y = 1 + u.
+
+    The square roots are taken in decimal: x itself underflows float64 for theta below
+    1e-154 rad, its root does not.
+    """
+    with decimal.localcontext(context()):
+        sx = (max(x, Decimal(0)) / 2).sqrt()
+        sy = (max(y, Decimal(0)) / 2).sqrt()
+    return float(2.0 * np.arctan2(float(sx), float(sy)))
+
+
+def secular_phase(rate: Decimal, lam: Decimal, kdec: Decimal, offset) -> Secular:
+    """The :class:`~wobble.models.top_closed_form.Secular` of a phase rate (rad/s) for nutation
+    rate lambda and quarter period K: its advance 2 K rate / lambda over a nutation period,
+    reduced modulo 2 pi at :data:`DIGITS` digits."""
+    with decimal.localcontext(context()):
+        two_pi = 2 * hp.PI
+        adv = 2 * kdec * rate / lam
+        adv = adv - two_pi * (adv / two_pi).to_integral_value()
+        hi, lo = hp.to_dd(adv)
+        # split_dd cannot split below the normal range; j times such an advance is far
+        # below rounding anyway.
+        pieces = split_dd(hi, lo) if abs(hi) > 1e-280 else (0.0, 0.0, hi + lo)
+        return Secular(a=pieces, c=_f(rate / lam), offset=float(offset))
+
+
+def analyse(setup: TopSetup) -> dict:
+    """The analysis and the evaluator of a top: the fields of :class:`wobble.models.top.HeavyTopModel`.
+
+    Returns
+    -------
+    dict
+        Every field of the model, the evaluator under ``"_impl"``.
+
+    Raises
+    ------
+    wobble.errors.InputError
+        A state on the separatrix (1 - m = 0) or within 1e-150 of it.
+    """
+    s = setup
+    sh, ch, thetadot0 = s.sin_half, s.cos_half, s.thetadot0
+    v0, w3 = s.v0, s.omega3
+    with decimal.localcontext(context()):
+        i1, i3, mg = to_decimal(s.I1), to_decimal(s.I3), to_decimal(s.mgl)
+        x0, y0 = 2 * sh * sh, 2 * ch * ch
+        s0 = 2 * sh * ch
+        u0 = ch * ch - sh * sh
+        # A top started exactly at a pole moving "outwards" across it: the same motion
+        # with (theta, phi, psi) -> (-theta, phi + pi, psi + pi) keeps theta in [0, pi].
+        sigma_shift = Decimal(0)
+        if (x0 == 0 and thetadot0 < 0) or (y0 == 0 and thetadot0 > 0):
+            thetadot0 = -thetadot0
+            sigma_shift = hp.PI
+        a = i3 * w3 / i1
+        beta = 2 * mg / i1
+        b = v0 * s0 + a * u0
+        kin = thetadot0 * thetadot0 + v0 * v0  # thetadot^2 + phidot^2 sin^2 theta
+        alpha = kin + beta * u0
+        A = kin - beta * x0  # alpha - beta  # noqa: N806
+        B = v0 * s0 - a * x0  # b - a  # noqa: N806
+        C = v0 * s0 + a * y0  # b + a  # noqa: N806
+        g0 = s0 * s0 * thetadot0 * thetadot0
+        energy = i1 * kin / 2 + i3 * w3 * w3 / 2 + mg * u0
+        e_prime = i1 * kin / 2 + mg * u0
+        cub = cubic.TopCubic(A=A, B=B, C=C, a=a, beta=beta)
+        roots = cubic.top_roots(cub, x0, y0, g0)
+        stable = bool(i3 * i3 * w3 * w3 > 4 * mg * i1)
+        start = _Start(x0=x0, y0=y0, s0=s0, u0=u0, thetadot0=thetadot0, a=a, beta=beta,
+                       sigma0=(s.phi0 + s.psi0) / 2 + sigma_shift, delta0=(s.phi0 - s.psi0) / 2)
+        # Uniform motions: at rest on a pole, or regular precession to rounding.
+        e0 = 2 * u0 * v0 * v0 + beta * s0 * s0 - 2 * a * v0 * s0  # g'(x0) when thetadot0 = 0
+        e0_scale = 2 * abs(u0) * v0 * v0 + beta * s0 * s0 + 2 * abs(a * v0 * s0)
+        uniform = None
+        # Regular precession to rounding (the bracket of df/du vanishes within the rounding of
+        # the inputs): reported as such (u1 = u2 = u0, m = 0), but the motion keeps the
+        # exact, tiny nutation of the given floats, so the phases stay exact over long spans.
+        regular = thetadot0 == 0 and abs(e0) <= 16 * Decimal(_EPS) * e0_scale
+        if thetadot0 == 0 and x0 == 0:
+            uniform = "sleeping"
+        elif thetadot0 == 0 and y0 == 0:
+            uniform = "regular"  # hanging straight down, spinning
+        elif roots.x1 - roots.x2 <= Decimal(10) ** (-DIGITS + 8) * roots.x1:
+            uniform = "regular"  # a nutation below the working precision of the roots
+        elif roots.beta_gap <= 0 or roots.beta_span <= 0 or roots.beta_gap < Decimal("1e-150") * roots.beta_span:
+            if regular:  # e.g. at rest without gravity (f vanishes identically): nothing moves
+                uniform = "regular"
+            elif roots.beta_gap <= 0:
+                raise InputError("thetadot0", _f(thetadot0), "an initial state off the separatrix (the motion "
+                                 "would approach an unstable equilibrium for ever; 1 - m = 0)")
+        common = dict(
+            I1=s.I1, I3=s.I3, mgl=s.mgl, theta0=s.theta0, thetadot0=_f(thetadot0), phi0=_f(s.phi0), psi0=_f(s.psi0),
+            omega3=_f(w3), a=_f(a), b=_f(b), p_psi=_f(i3 * w3), p_phi=_f(i1 * b), energy=_f(energy),
+            energy_prime=_f(e_prime), alpha=_f(alpha), beta=_f(beta), sleeping_stable=stable,
+        )
+        if uniform is not None:
+            return {**common, **_uniform(uniform, s, start, roots)}
+        fields = {**common, **_elliptic(s, start, cub, roots)}
+        if regular:
+            u_0 = _f(u0) if x0 <= 1 else _f(y0 - 1)
+            fields.update(nutation="regular", u1=u_0, u2=u_0, x1=_f(x0), x2=_f(x0), m=0.0, m1=1.0,
+                          theta_min=s.theta0, theta_max=s.theta0)
+        return fields
+
+
+def _report_roots(roots: cubic.TopRoots):
+    x1, x2 = roots.x1, roots.x2
+    y1, y2 = 2 - x1, 2 - x2
+    u1 = _f(1 - x1) if x1 <= 1 else _f(y1 - 1)
+    u2 = _f(1 - x2) if x2 <= 1 else _f(y2 - 1)
+    u3 = float("inf") if roots.x3.is_infinite() else _f(1 - roots.x3)
+    return u1, u2, u3
+
+
+def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
+    """Fields of a motion with theta constant: the sleeping top, regular precession, hanging."""
+    with decimal.localcontext(context()):
+        if st.s0 != 0:
+            phidot = s.v0 / st.s0
+        else:
+            phidot = to_decimal(s.phidot0) if kind == "sleeping" else Decimal(0)
+        psidot = s.omega3 - st.u0 * phidot
+        if kind == "sleeping" and not roots.x3.is_infinite() and roots.x3 >= 0:
+            # Unstable sleeping top: an equilibrium; the roots are 1 - c2/beta, 1, 1.
+            u1, u2, u3 = _f(1 - roots.x1), 1.0, 1.0
+            period = float("inf")
+            m, m1 = 1.0, 0.0
+        else:
+            # Regular precession (or a stable sleeping top): u1 = u2 = u0, m = 0, and the
+            # period of small nutations about it, 2 pi / sqrt(beta (u3 - u0)).
+            u1 = u2 = _f(st.u0) if st.x0 <= 1 else _f(st.y0 - 1)
+            if roots.x3.is_infinite():
+                span = roots.beta_span
+                u3 = float("inf")
+            else:
+                span = roots.beta_span * (st.x0 - roots.x3) / (roots.x1 - roots.x3)
+                u3 = _f(1 - roots.x3)
+            period = _f(2 * hp.PI / span.sqrt()) if span > 0 else float("inf")
+            m, m1 = 0.0, 1.0
+        theta0 = s.theta0
+        impl = Uniform(
+            sh=_f(s.sin_half), ch=_f(s.cos_half), u=_f(st.u0), sigma_rate=hp.to_dd((phidot + psidot) / 2),
+            delta_rate=hp.to_dd((phidot - psidot) / 2), sigma0=_f(st.sigma0), delta0=_f(st.delta0),
+            phidot=_f(phidot), psidot=_f(psidot),
+        )
+        est = {"theta_rad": 4 * _EPS * max(theta0, _EPS), "attitude_rad": 8 * _EPS, "turning_points_relative": 2 * _EPS,
+               "period_relative": 4 * _EPS}
+        return dict(
+            phidot0=_f(phidot), psidot0=_f(psidot), u1=u1, u2=u2, u3=u3, x1=_f(st.x0), x2=_f(st.x0),
+            x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3), theta_min=theta0, theta_max=theta0,
+            nutation=kind, m=m, m1=m1, nutation_period=period, mean_precession_rate=_f(phidot),
+            mean_spin_rate=_f(psidot), error_estimate=est, _impl=impl,
+        )
+
+
+def nutation_class(B, a, x1, x2, y1, y2, C) -> str:  # noqa: N803
+    """'undulating', 'cusps' or 'loops' from the sign of phidot at the two turning points (notes p. 72)."""
+
+    def sign_at(x, y):
+        if x == 0 and B == 0:  # through the vertical: phidot = a/(1 + u) = a/2
+            n, scale = a, abs(a)
+        elif y == 0 and C == 0:  # through the bottom: phidot = -a/(1 - u) = -a/2
+            n, scale = -a, abs(a)
+        elif x <= 1:  # b - a u in the form without cancellation next to u = +1 ...
+            n = B + a * x
+            scale = abs(B) + abs(a * x)
+        else:  # ... and next to u = -1
+            n = C - a * y
+            scale = abs(C) + abs(a * y)
+        if abs(n) <= 64 * Decimal(_EPS) * scale:
+            return 0
+        return 1 if n > 0 else -1
+
+    s1, s2 = sign_at(x1, y1), sign_at(x2, y2)
+    if s1 == 0 or s2 == 0:
+        return "cusps"
+    return "undulating" if s1 == s2 else "loops"
+
+
+def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots) -> dict:
+    """Fields of a nutating top: Jacobi functions for u(t), Pi(n; am w | m) for phi and psi."""
+    from scipy.special import elliprf
+
+    w3, a, thetadot0 = s.omega3, st.a, st.thetadot0
+    with decimal.localcontext(context()):
+        x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
+        span, gap = roots.beta_span, roots.beta_gap
+        beta = cub.beta
+        B, C = cub.B, cub.C  # noqa: N806
+        m = beta * (x1 - x2) / span
+        m1 = gap / span
+        if m1 < Decimal("1e-150"):
+            raise InputError(
+                "thetadot0", _f(thetadot0),
+                f"a state farther from the separatrix: 1 - m = {_f(m1):.3g} is below what float64 "
+                "Carlson integrals resolve (1e-150); the top would creep away from an unstable "
+                "equilibrium for a time of order ln(1/(1 - m)) nutation periods",
+            )
+        lam = span.sqrt() / 2
+        kdec = hp.agm_k(m1)
+        K = hp.to_dd(kdec)  # noqa: N806
+        period = 2 * kdec / lam
+        # Mean rates of J_+ = int dt/x and J_- = int dt/y (complete Pi by Bulirsch's cel).
+        kc = m1.sqrt()
+        pi_plus = hp.cel(kc, x2 / x1, 1, 1) if B != 0 else Decimal(0)
+        pi_minus = hp.cel(kc, y2 / y1, 1, 1) if C != 0 else Decimal(0)
+        mean_inv_x = pi_plus / (kdec * x1)
+        mean_inv_y = pi_minus / (kdec * y1) if C != 0 else Decimal(0)
+        w3ma = w3 - a
+        mean_phidot = (B * mean_inv_x + C * mean_inv_y) / 2
+        mean_psidot = w3ma - (B * mean_inv_x - C * mean_inv_y) / 2
+        # A pass closer to a pole than sqrt(x2/x1) = 1e-16 of theta_max (below the rounding
+        # of theta) is followed as a pass through it (signed theta; the pi jumps of phi
+        # and psi come from the fold): the difference is O(sqrt(x2/x1)) theta_max, and the
+        # floats stay far from overflow.
+        rho_x = x2 / x1
+        rho_y = y1 / y2
+        top = x2 == 0 or rho_x < _POLE
+        bottom = y1 == 0 or rho_y < _POLE
+        b_eff = Decimal(0) if top else B
+        c_eff = Decimal(0) if bottom else C
+        sigma_rate = (w3ma + c_eff * mean_inv_y) / 2
+        delta_rate = (b_eff * mean_inv_x - w3ma) / 2
+        # Initial nutation phase w0 in (-K, K]: x0 = x1 cn^2 + x2 sn^2, sn w0 of the sign of -thetadot0.
+        width = x1 - x2
+        sn0_2 = min(max((x1 - st.x0) / width, Decimal(0)), Decimal(1))
+        cn0_2 = min(max((st.x0 - x2) / width, Decimal(0)), Decimal(1))
+        dn0_2 = cn0_2 + m1 * sn0_2  # = 1 - m sn0^2 without cancellation next to m = 1
+        sgn = -1 if thetadot0 > 0 else 1
+        sn0 = sgn * sn0_2.sqrt()
+        # The fold K - |r| uses the 60-digit K of the reduction, given at construction.
+        levels = ell.landen_levels(_f(m), _f(m1), K=K[0])
+        if cn0_2 == 0:
+            w0 = sgn * K[0]
+        else:
+            w0 = _f(sn0) * float(elliprf(_f(cn0_2), _f(dn0_2), 1.0))
+        hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
+        impl0 = dict(
+            hx1=_f(hx1), hy2=_f(hy2), rho_x=0.0 if top else _f(rho_x), rho_y=0.0 if bottom else _f(rho_y),
+            x1=_f(x1), y2=_f(y2), B=_f(b_eff), C=_f(c_eff), B_x1=_f(b_eff / x1), C_y2=_f(c_eff / y2),
+            Bp=_f(b_eff / x1 * hx1 * hy2), Cp=_f(c_eff / y2 * hx1 * hy2), W=_f(width / (hx1 * hy2)),
+            through_top=bool(top), through_bottom=bool(bottom), a=_f(a), omega3=_f(w3),
+            lam=hp.to_dd(lam), K=K, w0=w0, m=_f(m), m1=_f(m1), n_plus=_f(width / x1), one_minus_n_plus=_f(rho_x),
+            nu_minus=_f(width / y1) if not bottom else 0.0, pi_plus_over_k=_f(pi_plus / kdec),
+            pi_minus_over_k=_f(pi_minus / kdec),
+            k_plus=_f(b_eff / (2 * lam * x1)), k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
+            sigma_sec=secular_phase(sigma_rate, lam, kdec, st.sigma0),
+            delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
+            levels=levels,
+        )
+        # The periodic parts at t = 0, through the very path the evaluation takes (so that
+        # the attitude at t = 0 is q0 to the last bit).
+        probe = Elliptic(p_plus0=0.0, p_minus0=0.0, **impl0)
+        r0, _ = probe.phase(np.zeros(1))
+        s_, c_, d_ = ell.jacobi_reduced(r0, levels, K[1])
+        p_plus0, p_minus0 = probe.periodic_parts(r0, s_, c_, d_)
+        impl = Elliptic(p_plus0=float(p_plus0[0]), p_minus0=float(p_minus0[0]), **impl0)
+        u1, u2, u3 = _report_roots(roots)
+        nut = nutation_class(B, a, x1, x2, y1, y2, C)
+        if st.s0 != 0:
+            phidot0 = s.v0 / st.s0
+        else:
+            phidot0 = to_decimal(s.phidot0) if st.x0 == 0 else Decimal(0)
+        psidot0 = w3 - st.u0 * phidot0
+        kf = float(K[0])
+        swing = abs(_f(b_eff * pi_plus / (lam * x1))) + (abs(_f(c_eff * pi_minus / (lam * y1))) if not bottom else 0.0)
+        est = {
+            "theta_rad": 32 * _EPS * (1 + kf) * max(theta_of(x1, y1), _EPS),
+            "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing),
+            "turning_points_relative": 4 * _EPS,
+            "period_relative": 4 * _EPS,
+        }
+        return dict(
+            phidot0=_f(phidot0), psidot0=_f(psidot0), u1=u1, u2=u2, u3=u3, x1=_f(x1), x2=_f(x2),
+            x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
+            theta_min=theta_of(x2, y2), theta_max=theta_of(x1, y1), nutation=nut, m=_f(m), m1=_f(m1),
+            nutation_period=_f(period), mean_precession_rate=_f(mean_phidot), mean_spin_rate=_f(mean_psidot),
+            error_estimate=est, _impl=impl,
+        )
