@@ -45,6 +45,10 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
     "fluid_core_radius": u.m,
     "fluid_core_density": u.kg / u.m**3,
     "observed_chandler_period": u.s,
+    # interior and free core nutation (wobble modes)
+    "core_compliance_beta": _ONE,
+    "core_compliance_gamma": _ONE,
+    "observed_fcn_period": u.s,
 }
 
 

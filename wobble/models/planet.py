@@ -93,6 +93,12 @@ class PlanetParameters:
         A uniform liquid core, m and kg/m^3: A_f = (8 pi/15) rho R^5.
     observed_chandler_period : Measured or None
         The observed period, s.
+    core_compliance_beta, core_compliance_gamma : Measured or None
+        Deformability of the liquid core (Sasao, Okubo & Saito 1980): the core's
+        products of inertia per unit differential rotation (beta) and per unit
+        mantle wobble (gamma), in units of A_f (:mod:`wobble.models.modes`).
+    observed_fcn_period : Measured or None
+        The observed free core nutation period in space, s (negative: retrograde).
     """
 
     name: str
@@ -115,6 +121,9 @@ class PlanetParameters:
     fluid_core_radius: Measured | None = None
     fluid_core_density: Measured | None = None
     observed_chandler_period: Measured | None = None
+    core_compliance_beta: Measured | None = None
+    core_compliance_gamma: Measured | None = None
+    observed_fcn_period: Measured | None = None
 
     def __post_init__(self):
         given = [k for k in FIGURE_KEYS if getattr(self, k) is not None]
