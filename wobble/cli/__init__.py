@@ -18,13 +18,14 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "bench")
+SUBCOMMANDS = ("chandler", "modes", "polar_motion", "inertia", "free", "top", "run", "sweep", "bench")
 
 EPILOG = """\
 examples:
   wobble chandler earth mars            Chandler period budgets, as a table
   wobble chandler mars --json           the same for scripts
   wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
+  wobble modes earth mars               every free mode: Chandler wobble, free core nutation
   wobble polar-motion --json            the Chandler wobble measured in the IERS record
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification
