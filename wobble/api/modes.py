@@ -457,12 +457,6 @@ class NormalModes:
         """This body as an xarray Dataset (see :func:`modes_dataset`)."""
         return modes_dataset([self])
 
-    def plot(self, path=None):
-        """Mode frequencies against the core flattening, with the observed FCN (see wobble.plot.modes)."""
-        from wobble.plot.modes import modes_figure
-
-        return modes_figure([self], path)
-
     def __repr__(self) -> str:
         return "NormalModes({!r}, {})".format(self.body, ", ".join(f"{m.label}={m.period:.2f}" for m in self.modes))
 
