@@ -408,7 +408,7 @@ class NormalModes:
             fcn = self.mode("FCN", "celestial")
             lines.append(
                 f"  core flattening e_f: hydrostatic {self.core_flattening_hydrostatic:.7f} ({source}, Clairaut) "
-                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d in space)"
+                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} sidereal days in space)"
             )
             if self.core_flattening_required is not None:
                 lines.append(
