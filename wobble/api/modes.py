@@ -3,8 +3,8 @@
 >>> import wobble
 >>> from astropy import units as u
 >>> figure = wobble.hydrostatic_figure("prem", spin=1 * u.sday)
->>> print(f"1/{1 / figure.surface_flattening:.1f}")     # Clairaut, first order, a = 6371 km
-1/299.9
+>>> print(f"1/{1 / figure.surface_flattening:.2f}")    # Clairaut, first order, a = 6371 km
+1/299.96
 >>> modes = wobble.normal_modes("earth")
 >>> fcn = modes.mode("FCN", "celestial")
 >>> print(f"{fcn.period.to(u.day):.0f} {fcn.sense}")    # from the hydrostatic core
