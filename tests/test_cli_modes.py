@@ -116,3 +116,16 @@ def test_dataset_marks_absent_modes():
     ds = wobble.modes_dataset([only_cw, wobble.normal_modes("mars")])
     assert np.isnan(ds["period"].sel(body="earth", mode="FCN_celestial"))
     assert int(ds["sense"].sel(body="earth", mode="FCN_celestial")) == 0
+
+
+def test_bad_profile_file_exit_2_one_line_nothing_written(tmp_path, capsys):
+    from wobble.io.density_profile import load_profile
+
+    text = Path(load_profile("mars_layered")[1].path).read_text()
+    bad = tmp_path / "heavy_mantle.toml"
+    bad.write_text(text.replace("[[6.0, 0.0], [5.035803, -1.826654]]", "[[3.0, 0.0], [5.035803, -1.826654]]"))
+    out_file = tmp_path / "modes.nc"
+    status, _, err = _run(capsys, "modes", "mars", "--profile", str(bad), "-o", str(out_file))
+    assert status == 2 and err.count("\n") == 1
+    assert "heavy_mantle.toml" in err and "density" in err and "increase outward" in err
+    assert not out_file.exists()

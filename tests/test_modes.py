@@ -195,3 +195,14 @@ def test_periods_against_core_flattening_cross_the_observation(earth_modes):
     assert np.all(np.diff(periods) > 0)  # flatter core: faster retrograde nutation
     exact = earth_modes.periods_against_core_flattening([earth_modes.core_flattening_required])["FCN_celestial"]
     assert exact[0].to_value(u.day) == pytest.approx(earth_modes.mode("FCN", "celestial").observed.to_value(u.day), rel=1e-12)
+
+
+def test_a_planet_spinning_the_other_way_is_the_mirror_image():
+    p, _ = load_planet("mars")
+    mirrored = replace(p, rotation_rate=replace(p.rotation_rate, value=-p.rotation_rate.value))
+    a, b = normal_modes(p, 4.3e-3), normal_modes(mirrored, 4.3e-3)
+    for m, n in zip(a.modes, b.modes):
+        assert n.rate == pytest.approx(-m.rate, rel=1e-12)
+        assert n.period == pytest.approx(m.period, rel=1e-12) and n.sense == m.sense
+        assert n.observed_period == pytest.approx(m.observed_period, rel=1e-12)
+    assert b.core_ellipticity_required == pytest.approx(a.core_ellipticity_required, rel=1e-10)

@@ -229,9 +229,9 @@ class FreeMode:
     frame : str
         ``terrestrial`` (seen from the planet) or ``celestial`` (seen from space).
     period, period_uncertainty : Quantity
-        Signed period (negative: retrograde) and its one-sigma uncertainty, days.
+        Period signed relative to the spin (negative: retrograde) and its one-sigma uncertainty, days.
     rate : Quantity
-        Signed frequency, rad/s.
+        Frequency about the planet's axis, rad/s (the spin's sign when prograde).
     sense : str
         ``prograde`` or ``retrograde``.
     love_number : float
@@ -330,12 +330,12 @@ class NormalModes:
     @property
     def chandler_coupling_off(self) -> u.Quantity:
         """Chandler period with the core-mantle coupling off (same Liouville equations), days."""
-        return _days(2 * math.pi / self.raw.cw_rate_uncoupled)
+        return _days(abs(2 * math.pi / self.raw.cw_rate_uncoupled))
 
     @property
     def chandler_first_order(self) -> u.Quantity:
         """Chandler period with the coupling off and the budget's first-order truncation, days."""
-        return _days(2 * math.pi / self.raw.cw_rate_first_order)
+        return _days(abs(2 * math.pi / self.raw.cw_rate_first_order))
 
     @property
     def fcn_effect_on_chandler(self) -> u.Quantity:
@@ -445,12 +445,13 @@ class NormalModes:
         if self.core_flattening_hydrostatic is None:
             raise InputError("core_flattening", self.body, "a body whose free core nutation is modelled (a liquid core)")
         spin = self.raw.spin_rate
+        turn = 2 * math.pi * math.copysign(1.0, spin)  # periods signed relative to the spin
         out = {"CW": [], "FCN_terrestrial": [], "FCN_celestial": []}
         for e in values:
             rates = _modes.mode_rates(self.planet.parameters, float(e))
-            out["CW"].append(2 * math.pi / rates["CW"][0])
-            out["FCN_terrestrial"].append(2 * math.pi / rates["FCN"][0])
-            out["FCN_celestial"].append(2 * math.pi / (rates["FCN"][0] + spin))
+            out["CW"].append(turn / rates["CW"][0])
+            out["FCN_terrestrial"].append(turn / rates["FCN"][0])
+            out["FCN_celestial"].append(turn / (rates["FCN"][0] + spin))
         return {k: (np.array(v) << u.s).to(u.day) for k, v in out.items()}
 
     def to_dataset(self) -> xr.Dataset:

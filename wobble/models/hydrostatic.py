@@ -114,8 +114,7 @@ def check_profile(profile: DensityProfile) -> None:
     inner = np.concatenate([np.linspace(a, b, _SAMPLES_PER_LAYER) for a, b in zip(edges[:-1], edges[1:])])
     rho = np.concatenate([lo_side, hi_side, profile.density(inner)])
     if not np.all(rho > 0):
-        bad = float(inner[np.argmin(profile.density(inner))]) if np.min(profile.density(inner)) <= 0 else float("nan")
-        raise InputError("density", f"{np.min(rho):.6g} kg/m3 (near r = {bad / 1e3:.6g} km)", "a positive density everywhere")
+        raise InputError("density", f"{np.min(rho):.6g} kg/m3", "a positive density everywhere")
     jumps = lo_side[1:] - hi_side[:-1]
     worst = int(np.argmax(jumps)) if jumps.size else 0
     if jumps.size and jumps[worst] > _JUMP_TOLERANCE * hi_side[worst]:

@@ -149,10 +149,12 @@ def mode_rates(
     -------
     dict
         ``{"CW": (rate, k2), "FCN": (rate, k2)}``; the FCN only with a liquid core
-        and only when coupled.
+        and only when coupled. Rates have the sign of the spin when prograde.
     """
     ratios = chandler.inertia_ratios(p)
-    spin = p.rotation_rate.value
+    # A planet spinning the other way is the mirror image: solve for |Omega|, flip the rates.
+    sign = 1.0 if p.rotation_rate.value > 0 else -1.0
+    spin = abs(p.rotation_rate.value)
     beta = p.core_compliance_beta.value if p.core_compliance_beta else 0.0
     gamma = p.core_compliance_gamma.value if p.core_compliance_gamma else 0.0
     guesses = {"CW": _cw_guess(ratios, spin)} if "CW" in which else {}
@@ -173,7 +175,7 @@ def mode_rates(
                 break
         else:  # pragma: no cover - the contraction factor is ~1e-3
             raise InputError("anelastic_exponent", p.anelastic_exponent, f"parameters for which the {name} frequency converges")
-        out[name] = (rate, love_number_at(p, rate))
+        out[name] = (sign * rate, love_number_at(p, rate))
     return out
 
 
@@ -216,7 +218,7 @@ class Mode:
     frame : str
         ``terrestrial`` (seen from the mantle) or ``celestial`` (seen from space).
     rate : float
-        Signed frequency, rad/s (positive: prograde, with the spin).
+        Frequency about the planet's axis, rad/s (the spin's sign when prograde).
     rate_sigma : float
         One-sigma uncertainty of ``rate`` (linear propagation), rad/s.
     love_number : float
@@ -232,11 +234,12 @@ class Mode:
     love_number: float
     observed_period: float | None = None
     observed_sigma: float | None = None
+    spin_sign: float = 1.0
 
     @property
     def period(self) -> float:
-        """Signed period 2 pi/rate, s (negative: retrograde)."""
-        return 2.0 * math.pi / self.rate
+        """Period in s, signed relative to the spin (negative: retrograde)."""
+        return self.spin_sign * 2.0 * math.pi / self.rate
 
     @property
     def period_sigma(self) -> float:
@@ -245,7 +248,8 @@ class Mode:
 
     @property
     def sense(self) -> str:
-        return "prograde" if self.rate > 0 else "retrograde"
+        """``prograde`` (with the spin) or ``retrograde``."""
+        return "prograde" if self.rate * self.spin_sign > 0 else "retrograde"
 
 
 @dataclass(frozen=True)
@@ -359,17 +363,23 @@ def normal_modes(p: PlanetParameters, core_ellipticity: float | None, modes: tup
     e_f = core_ellipticity if with_fcn else 0.0
     spin = p.rotation_rate.value
     rates = mode_rates(p, e_f, coupled=with_fcn)
+    sign = 1.0 if spin > 0 else -1.0
     obs_fcn = p.observed_fcn_period if with_fcn else None
+    if obs_fcn is not None:
+        # Catalogued periods are signed relative to the spin (negative: retrograde); rates are absolute.
+        obs_fcn = replace(obs_fcn, value=sign * obs_fcn.value)
     required = required_core_ellipticity(p, 2 * math.pi / obs_fcn.value, e_f) if obs_fcn is not None else None
     contributions = _contributions(p, e_f, with_fcn, obs_fcn, required)
     sig = {k: math.sqrt(sum(v[k] ** 2 for v in contributions.values())) for k in ("CW", "FCN", "e_f")}
     cw_obs = p.observed_chandler_period
-    out = [Mode("CW", "terrestrial", rates["CW"][0], sig["CW"], rates["CW"][1], *(_obs(cw_obs)))]
+    # Observed periods are catalogued relative to the spin (the Chandler period unsigned, prograde).
+    shown = p.observed_fcn_period if with_fcn else None
+    out = [Mode("CW", "terrestrial", rates["CW"][0], sig["CW"], rates["CW"][1], *_obs(cw_obs), spin_sign=sign)]
     if with_fcn:
         fcn, k_fcn = rates["FCN"]
-        out.append(Mode("FCN", "terrestrial", fcn, sig["FCN"], k_fcn, *(_terrestrial(obs_fcn, spin))))
-        out.append(Mode("FCN", "celestial", fcn + spin, sig["FCN"], k_fcn, *(_obs(obs_fcn))))
-    round_trip = 2 * math.pi / _fcn_space_rate(p, required) if required is not None else None
+        out.append(Mode("FCN", "terrestrial", fcn, sig["FCN"], k_fcn, *_terrestrial(shown, spin), spin_sign=sign))
+        out.append(Mode("FCN", "celestial", fcn + spin, sig["FCN"], k_fcn, *_obs(shown), spin_sign=sign))
+    round_trip = sign * 2 * math.pi / _fcn_space_rate(p, required) if required is not None else None
     return NormalModes(
         name=p.name,
         spin_rate=spin,
@@ -389,12 +399,13 @@ def _obs(m):
 
 
 def _terrestrial(m, spin):
-    """An observed space-frame period seen from the planet: rate - Omega."""
+    """An observed space-frame period (signed relative to the spin) seen from the planet: rate - Omega."""
     if m is None:
         return None, None
-    rate = 2 * math.pi / m.value - spin
+    sign = 1.0 if spin > 0 else -1.0
+    rate = sign * 2 * math.pi / m.value - spin
     rate_sigma = 2 * math.pi * m.sigma / m.value**2
-    return 2 * math.pi / rate, 2 * math.pi * rate_sigma / rate**2
+    return sign * 2 * math.pi / rate, 2 * math.pi * rate_sigma / rate**2
 
 
 def _contributions(p, e_f, with_fcn, obs_fcn, required):
@@ -422,6 +433,6 @@ def _contributions(p, e_f, with_fcn, obs_fcn, required):
             out[key] = row
     if slope is not None and obs_fcn.sigma > 0:
         # The observation's own uncertainty moves only the required e_f.
-        d_obs = 0.5 * (2 * math.pi / (obs_fcn.value + obs_fcn.sigma) - 2 * math.pi / (obs_fcn.value - obs_fcn.sigma))
+        d_obs = 0.5 * abs(2 * math.pi / (obs_fcn.value + obs_fcn.sigma) - 2 * math.pi / (obs_fcn.value - obs_fcn.sigma))
         out["observed_fcn_period"] = {"CW": 0.0, "FCN": 0.0, "e_f": d_obs / slope}
     return out

@@ -167,10 +167,17 @@ class PlanetParameters:
     # -- the figure, in units of C and of M a^2, without cancellation ---------------
 
     def measured_fields(self) -> dict[str, Measured]:
-        """All given parameters with a non-zero uncertainty (for error propagation)."""
+        """All given parameters with a non-zero uncertainty (for error propagation).
+
+        Observations other than the Chandler period (``observed_fcn_period``, ...)
+        are left out: they are never model inputs, so nothing propagates or draws
+        them. (``observed_chandler_period`` stays, as its callers expect.)
+        """
         out = {}
         for f in fields(self):
             v = getattr(self, f.name)
+            if f.name.startswith("observed_") and f.name != "observed_chandler_period":
+                continue
             if isinstance(v, Measured) and v.sigma > 0:
                 out[f.name] = v
         return out
