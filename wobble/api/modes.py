@@ -49,7 +49,7 @@ MODE_REFERENCES = {
 _OBSERVED_KEY = {"CW": "observed_chandler_period", "FCN": "observed_fcn_period"}
 
 
-def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -> str:
+def _with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -> str:
     """``value +/- sigma`` rounded to the uncertainty's two significant digits (as the CLI prints)."""
     if sigma is None or not math.isfinite(value):
         return f"{value:.7g}"
@@ -390,7 +390,7 @@ class NormalModes:
         def fmt(q, sigma=None):
             if q is None:
                 return "-"
-            return with_uncertainty(q.to_value(u.day), None if sigma is None else sigma.to_value(u.day))
+            return _with_uncertainty(q.to_value(u.day), None if sigma is None else sigma.to_value(u.day))
 
         lines = [f"{self.planet.title}: free rotational modes (days of 86400 s; negative: retrograde)"]
         lines.append(f"  {'mode':<5}{'frame':<13}{'period [d]':>22}  {'sense':<11}{'observed [d]':>22}")
@@ -412,8 +412,8 @@ class NormalModes:
             )
             if self.core_flattening_required is not None:
                 lines.append(
-                    f"  the observed FCN requires e_f = {with_uncertainty(self.core_flattening_required, self.core_flattening_required_uncertainty)}"
-                    f": {with_uncertainty(100 * self.core_flattening_excess, 100 * self.core_flattening_excess_uncertainty, sign=True)} % "
+                    f"  the observed FCN requires e_f = {_with_uncertainty(self.core_flattening_required, self.core_flattening_required_uncertainty)}"
+                    f": {_with_uncertainty(100 * self.core_flattening_excess, 100 * self.core_flattening_excess_uncertainty, sign=True)} % "
                     f"against hydrostatic (put back, it gives {self.fcn_period_required.to_value(u.day):.4f} d)"
                 )
         cw = self.mode("CW")
