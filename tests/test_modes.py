@@ -206,3 +206,20 @@ def test_a_planet_spinning_the_other_way_is_the_mirror_image():
         assert n.period == pytest.approx(m.period, rel=1e-12) and n.sense == m.sense
         assert n.observed_period == pytest.approx(m.observed_period, rel=1e-12)
     assert b.core_ellipticity_required == pytest.approx(a.core_ellipticity_required, rel=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("f", "exact", "lo", "hi"),
+    [
+        (lambda x: math.cos(x) - x, lambda: mp.findroot(lambda x: mp.cos(x) - x, 0.7), 0.0, 1.0),
+        (lambda x: x**3 - 2, lambda: mp.cbrt(2), 0.0, 10.0),
+        (lambda x: math.exp(x) - 1e-3, lambda: mp.log(mp.mpf("1e-3")), -20.0, 5.0),
+        (lambda x: math.atan(1e4 * (x - 0.3)), lambda: mp.mpf("0.3"), -1.0, 2.0),
+    ],
+)
+def test_bracketed_root_to_the_last_bits(f, exact, lo, hi):
+    from wobble.numerics.roots import bracketed_root
+
+    assert bracketed_root(f, lo, hi) == pytest.approx(float(exact()), rel=4e-16)
+    with pytest.raises(ValueError, match="bracket"):
+        bracketed_root(f, hi, hi + 1.0)

@@ -44,11 +44,11 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import brentq
 
 from wobble.errors import InputError
 from wobble.models import chandler
 from wobble.models.planet import PlanetParameters
+from wobble.numerics.roots import bracketed_root
 
 __all__ = [
     "MODES",
@@ -191,9 +191,9 @@ def _fcn_space_rate(p, e_f):
 def required_core_ellipticity(p: PlanetParameters, observed_space_rate: float, guess: float) -> float:
     """The e_f for which the FCN turns in space at ``observed_space_rate`` (rad/s, signed).
 
-    An output, never an input: the root of FCN(e_f) = observed, found by
-    Brent's method to the last bits (so putting it back gives the observed
-    period exactly).
+    An output, never an input: the root of FCN(e_f) = observed, bracketed
+    and found to the last bits (:func:`wobble.numerics.roots.bracketed_root`),
+    so that putting it back gives the observed period exactly.
     """
     lo, hi = 0.2 * guess, 5.0 * guess
     f_lo = _fcn_space_rate(p, lo) - observed_space_rate
@@ -204,7 +204,7 @@ def required_core_ellipticity(p: PlanetParameters, observed_space_rate: float, g
             f"{2 * math.pi / observed_space_rate / 86400:.6g} d",
             f"a period this model reaches with e_f between {lo:.3g} and {hi:.3g}",
         )
-    return float(brentq(lambda e: _fcn_space_rate(p, e) - observed_space_rate, lo, hi, xtol=1e-20, rtol=4 * np.finfo(float).eps, maxiter=200))
+    return bracketed_root(lambda e: _fcn_space_rate(p, e) - observed_space_rate, lo, hi, f_lo=f_lo, f_hi=f_hi)
 
 
 @dataclass(frozen=True)
