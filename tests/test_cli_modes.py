@@ -129,3 +129,16 @@ def test_bad_profile_file_exit_2_one_line_nothing_written(tmp_path, capsys):
     assert status == 2 and err.count("\n") == 1
     assert "heavy_mantle.toml" in err and "density" in err and "increase outward" in err
     assert not out_file.exists()
+
+
+def test_hydrostatic_figure_netcdf_round_trip_and_cf(tmp_path, assert_cf_compliant):
+    from astropy import units as u
+
+    figure = wobble.hydrostatic_figure("prem", spin=1 * u.sday)
+    ds = figure.to_dataset()
+    assert ds["radius"].attrs["units"] == "km" and float(ds["radius"][-1]) == pytest.approx(6371.0)
+    path = wobble.write_netcdf(ds, tmp_path / "prem_figure.nc")
+    back = wobble.load(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert back.attrs["hydrostatic_core_dynamical_ellipticity"] == pytest.approx(figure.core_dynamical_ellipticity, rel=1e-15)
+    assert_cf_compliant(path)

@@ -77,10 +77,11 @@ class HydrostaticFigure:
         ``reference_hydrostatic_flattening``) as ``(value, uncertainty, source)``.
     """
 
-    def __init__(self, profile: str, raw: _hydro.HydrostaticFigure, anchors: dict | None = None):
+    def __init__(self, profile: str, raw: _hydro.HydrostaticFigure, anchors: dict | None = None, density_profile=None):
         self.profile = profile
         self.raw = raw
         self.anchors = anchors or {}
+        self._profile = density_profile
 
     @property
     def radius(self) -> u.Quantity:
@@ -149,6 +150,36 @@ class HydrostaticFigure:
             out[key] = {"value": value, "uncertainty": sigma, "source": source}
         return out
 
+    def to_dataset(self) -> xr.Dataset:
+        """eps(r), Radau's eta and the density on the sample radii, CF-ready (dimension ``radius``, km).
+
+        The scalar results (surface flattening, J2, H, C/(Ma^2), q, e_f) are global attributes.
+        """
+        from wobble.api.dataset import xarray
+        from wobble.io.cf import variable
+
+        xr = xarray()
+        radius = self.raw.radius
+        density = self._density(radius)
+        scalars = {k: v for k, v in self.to_dict().items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+        ds = xr.Dataset(
+            {
+                "level_surface_flattening": variable("modes", "level_surface_flattening", self.raw.flattening),
+                "radau_parameter": variable("modes", "radau_parameter", self.raw.eta),
+                "density": variable("modes", "density", density),
+            },
+            coords={"radius": variable("modes", "radius", radius / 1e3)},
+            attrs={
+                "title": f"Hydrostatic figure of the density profile {self.profile} (Clairaut's equation, first order)",
+                "references": "Jeffreys 1976, The Earth, ch. 4 (Clairaut's and Radau's equations)",
+                **{f"hydrostatic_{k}": float(v) for k, v in scalars.items()},
+            },
+        )
+        return ds
+
+    def _density(self, radius):
+        return np.asarray(self._profile.density(radius), dtype=float) if self._profile is not None else np.full(radius.shape, np.nan)
+
     def summary(self) -> str:
         """One paragraph for a person."""
         lines = [
@@ -215,7 +246,7 @@ def hydrostatic_figure(profile, spin: u.Quantity, *, gravitational_constant: u.Q
         gravitational_constant, "gravitational_constant", u.m**3 / (u.kg * u.s**2), positive=True, shape=()
     )
     prof, pf = _profile(profile)
-    return HydrostaticFigure(prof.name, _hydro.hydrostatic_figure(prof, omega, g), _anchors(pf))
+    return HydrostaticFigure(prof.name, _hydro.hydrostatic_figure(prof, omega, g), _anchors(pf), prof)
 
 
 @dataclass(frozen=True)
@@ -518,6 +549,7 @@ def normal_modes(body: str | os.PathLike | Planet, *, profile=None, modes: tuple
             prof.name,
             _hydro.hydrostatic_figure(prof, planet.parameters.rotation_rate.value, planet.parameters.gravitational_constant.value),
             _anchors(pf),
+            prof,
         )
         e_f = figure.core_dynamical_ellipticity
     if modes is not None:

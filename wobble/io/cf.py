@@ -119,6 +119,11 @@ MODES: dict[str, Spec] = {
     "chandler_period_coupling_off": Spec(("body",), "day", "Chandler period with the core-mantle coupling off"),
     "surface_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic surface flattening from Clairaut's equation"),
     "dynamical_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic dynamical flattening H = (C - A)/C"),
+    # The hydrostatic figure of one body (HydrostaticFigure.to_dataset).
+    "radius": Spec(("radius",), "km", "radius of the level surface (its mean radius)"),
+    "level_surface_flattening": Spec(("radius",), "1", "flattening of the hydrostatic level surface (Clairaut's equation)"),
+    "radau_parameter": Spec(("radius",), "1", "Radau's eta = r d(ln flattening)/dr"),
+    "density": Spec(("radius",), "kg m-3", "density of the profile (the layer above at an interface)"),
 }
 
 # Forced precession and nutation (wobble precession).
