@@ -216,3 +216,17 @@ def test_negative_density_in_a_file_is_one_clear_error(tmp_path):
         load_profile(path)
     with pytest.raises(InputError, match="increasing"):
         check_profile(replace(load_profile("prem")[0], edges=(0.0,)))
+
+
+def test_core_under_linear_mantle_reproduces_mass_and_moment():
+    from wobble.models.hydrostatic import core_under_linear_mantle
+
+    mass, radius = 6.4e23, 3.3895e6
+    moment = 0.365 * mass * radius**2
+    prof = core_under_linear_mantle("x", mass, moment, radius, 1.83e6, 6000.0)
+    assert prof.mass() == pytest.approx(mass, rel=1e-13)
+    assert prof.moment() == pytest.approx(moment, rel=1e-13)
+    with pytest.raises(InputError, match="fluid_core_radius"):
+        core_under_linear_mantle("x", mass, moment, radius, 4.0e6, 6000.0)
+    with pytest.raises(InputError, match="density"):
+        core_under_linear_mantle("x", mass, 0.2 * mass * radius**2, radius, 1.83e6, 6000.0)  # mantle denser than the core

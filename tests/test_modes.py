@@ -223,3 +223,18 @@ def test_bracketed_root_to_the_last_bits(f, exact, lo, hi):
     assert bracketed_root(f, lo, hi) == pytest.approx(float(exact()), rel=4e-16)
     with pytest.raises(ValueError, match="bracket"):
         bracketed_root(f, hi, hi + 1.0)
+
+
+def test_hydrostatic_core_flattening_uncertainty_reaches_mars_but_not_prem(earth_modes, mars_modes):
+    """PREM is a fixed profile; Mars' is rebuilt from its catalogued core, so its uncertainties propagate."""
+    from wobble.io.density_profile import load_profile
+    from wobble.models.hydrostatic import hydrostatic_figure
+
+    assert earth_modes.core_flattening_hydrostatic_uncertainty == 0.0
+    sigma = mars_modes.core_flattening_hydrostatic_uncertainty
+    assert 0 < sigma < 0.1 * mars_modes.core_flattening_hydrostatic
+    assert "fluid_core_density" in mars_modes.raw.contributions
+    # The rebuilt profile is the shipped file's (whose coefficients are rounded to 7 digits).
+    p, _ = load_planet("mars")
+    shipped = hydrostatic_figure(load_profile("mars_layered")[0], p.rotation_rate.value, p.gravitational_constant.value)
+    assert mars_modes.core_flattening_hydrostatic == pytest.approx(shipped.core_dynamical_ellipticity, rel=1e-6)

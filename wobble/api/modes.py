@@ -349,9 +349,14 @@ class NormalModes:
         return self.raw.core_flattening_excess
 
     @property
+    def core_flattening_hydrostatic_uncertainty(self) -> float | None:
+        """One-sigma uncertainty of the hydrostatic e_f (0 for a fixed profile such as PREM)."""
+        return self.raw.core_ellipticity_hydrostatic_sigma
+
+    @property
     def core_flattening_excess_uncertainty(self) -> float | None:
-        sigma, hyd = self.raw.core_ellipticity_required_sigma, self.raw.core_ellipticity_hydrostatic
-        return None if sigma is None or not hyd else sigma / hyd
+        """One-sigma uncertainty of the excess (required and hydrostatic e_f propagated together)."""
+        return self.raw.core_flattening_excess_sigma
 
     @property
     def fcn_period_required(self) -> u.Quantity | None:
@@ -403,7 +408,7 @@ class NormalModes:
                 for m in self.modes
             ],
             "core_flattening_hydrostatic": self.core_flattening_hydrostatic,
-            "core_flattening_hydrostatic_uncertainty": 0.0 if self.core_flattening_hydrostatic is not None else None,
+            "core_flattening_hydrostatic_uncertainty": self.core_flattening_hydrostatic_uncertainty,
             "core_flattening_required": self.core_flattening_required,
             "core_flattening_required_uncertainty": self.core_flattening_required_uncertainty,
             "core_flattening_excess_percent": pct(self.core_flattening_excess),
@@ -437,8 +442,10 @@ class NormalModes:
         if self.core_flattening_hydrostatic is not None:
             source = self.figure.profile if self.figure is not None else "given"
             fcn = self.mode("FCN", "celestial")
+            hyd = self.core_flattening_hydrostatic
+            hyd_text = f"{hyd:.7f}" if not self.core_flattening_hydrostatic_uncertainty else _with_uncertainty(hyd, self.core_flattening_hydrostatic_uncertainty)
             lines.append(
-                f"  core flattening e_f: hydrostatic {self.core_flattening_hydrostatic:.7f} ({source}, Clairaut) "
+                f"  core flattening e_f: hydrostatic {hyd_text} ({source}, Clairaut) "
                 f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} sidereal days in space)"
             )
             if self.core_flattening_required is not None:
@@ -508,6 +515,58 @@ def _check_mass(planet: Planet, prof: _hydro.DensityProfile, pf: ParameterFile |
         )
 
 
+#: Profiles whose layers are re-derived from the body's catalogue when used with it
+#: (top-level ``construction`` of the profile file).
+CONSTRUCTIONS = ("core_under_linear_mantle",)
+
+
+def _rebuilder(prof: _hydro.DensityProfile, pf: ParameterFile | None):
+    """A function planet -> DensityProfile for a profile built from its body's catalogue, else None.
+
+    ``construction = "core_under_linear_mantle"`` (``mars_layered``): the uniform
+    liquid core of the body's ``fluid_core_radius`` and ``fluid_core_density`` under
+    a linear mantle fitted to its GM/G and polar moment, at the profile's radius.
+    """
+    construction = None if pf is None else pf.extra.get("construction")
+    if construction is None:
+        return None
+    if construction not in CONSTRUCTIONS:
+        raise InputError("construction", construction, f"one of {', '.join(CONSTRUCTIONS)}")
+
+    def rebuild(p):
+        missing = [k for k in ("gm", "equatorial_radius", "fluid_core_radius", "fluid_core_density") if getattr(p, k) is None]
+        if p.c_factor is None:
+            missing.append("polar_moment_factor")
+        if missing:
+            raise InputError(missing[0], "not given", f"the profile {prof.name} is built from the body's {', '.join(missing)}")
+        mass = p.gm.value / p.gravitational_constant.value
+        moment = p.c_factor * mass * p.equatorial_radius.value**2
+        return _hydro.core_under_linear_mantle(prof.name, mass, moment, prof.radius, p.fluid_core_radius.value, p.fluid_core_density.value)
+
+    return rebuild
+
+
+def _hydrostatic_core_ellipticity(rebuild, nominal: float, nominal_planet):
+    """e_f as a function of the planet, memoised on the profile it rebuilds (a +-1 sigma
+    step of the spin, G, M, C or the core re-solves Clairaut's equation, to 1e-9)."""
+    cache = {}
+
+    def signature(p):
+        prof = rebuild(p)
+        return prof, (prof.edges, prof.coeffs, abs(p.rotation_rate.value), p.gravitational_constant.value)
+
+    cache[signature(nominal_planet)[1]] = nominal
+
+    def e_of(p):
+        prof, sig = signature(p)
+        if sig not in cache:
+            fig = _hydro.hydrostatic_figure(prof, p.rotation_rate.value, p.gravitational_constant.value, samples=2, rtol=1e-9)
+            cache[sig] = fig.core_dynamical_ellipticity
+        return cache[sig]
+
+    return e_of
+
+
 def normal_modes(body: str | os.PathLike | Planet, *, profile=None, modes: tuple[str, ...] | None = None) -> NormalModes:
     """The free modes of a planet: Chandler wobble and free core nutation, from one body file.
 
@@ -544,7 +603,11 @@ def normal_modes(body: str | os.PathLike | Planet, *, profile=None, modes: tuple
         profile = profile_for_body(planet.name)
     if profile is not None:
         prof, pf = _profile(profile)
-        _check_mass(planet, prof, pf)
+        rebuild = _rebuilder(prof, pf)
+        if rebuild is not None:
+            prof = rebuild(planet.parameters)
+        else:
+            _check_mass(planet, prof, pf)
         figure = HydrostaticFigure(
             prof.name,
             _hydro.hydrostatic_figure(prof, planet.parameters.rotation_rate.value, planet.parameters.gravitational_constant.value),
@@ -552,6 +615,8 @@ def normal_modes(body: str | os.PathLike | Planet, *, profile=None, modes: tuple
             prof,
         )
         e_f = figure.core_dynamical_ellipticity
+        if rebuild is not None and e_f is not None:
+            e_f = _hydrostatic_core_ellipticity(rebuild, e_f, planet.parameters)
     if modes is not None:
         modes = tuple(str(m).strip().upper() for m in modes)
     raw = _modes.normal_modes(planet.parameters, e_f, modes)

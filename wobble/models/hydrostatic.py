@@ -27,7 +27,7 @@ import numpy as np
 from wobble.errors import InputError
 from wobble.numerics import clairaut
 
-__all__ = ["DensityProfile", "HydrostaticFigure", "hydrostatic_figure", "check_profile"]
+__all__ = ["DensityProfile", "HydrostaticFigure", "hydrostatic_figure", "check_profile", "core_under_linear_mantle"]
 
 _SAMPLES_PER_LAYER = 24
 # A density jump outward smaller than this (relative) is rounding, not inversion.
@@ -201,8 +201,52 @@ class HydrostaticFigure:
     radau_darwin_flattening: float
 
 
+def core_under_linear_mantle(
+    name: str, mass: float, polar_moment: float, radius: float, core_radius: float, core_density: float
+) -> DensityProfile:
+    """A uniform liquid core under a mantle whose density falls linearly with radius (SI).
+
+    The mantle's rho = a0 + a1 r/R has the two coefficients that give the body
+    its mass M and polar moment C (spherical, first order):
+    4 pi int rho r^2 dr = M - M_core and (8 pi/3) int rho r^4 dr = C - C_core
+    over core_radius < r < R, a 2 x 2 linear system. This is how
+    ``data/profiles/mars_layered.toml`` was built; rebuilding it from a planet's
+    catalogue lets the uncertainties of M, C and the core reach the hydrostatic e_f.
+
+    Raises
+    ------
+    wobble.errors.InputError
+        A core outside the body; the mantle comes out non-positive or denser
+        than the core (checked by :func:`check_profile`).
+    """
+    if not 0 < core_radius < radius:
+        raise InputError("fluid_core_radius", f"{core_radius / 1e3:.6g} km", f"a core inside the planet (radius {radius / 1e3:.6g} km)")
+    m_core = 4.0 / 3.0 * math.pi * core_density * core_radius**3
+    c_core = 8.0 / 15.0 * math.pi * core_density * core_radius**5
+
+    def shell(n, j):  # int (r/R)^j r^n dr over the mantle
+        return (radius ** (n + j + 1) - core_radius ** (n + j + 1)) / ((n + j + 1) * radius**j)
+
+    a11, a12 = 4.0 * math.pi * shell(2, 0), 4.0 * math.pi * shell(2, 1)
+    a21, a22 = 8.0 * math.pi / 3.0 * shell(4, 0), 8.0 * math.pi / 3.0 * shell(4, 1)
+    b1, b2 = mass - m_core, polar_moment - c_core
+    det = a11 * a22 - a12 * a21
+    a0 = (b1 * a22 - a12 * b2) / det
+    a1 = (a11 * b2 - a21 * b1) / det
+    profile = DensityProfile(
+        name, (0.0, core_radius, radius), ((float(core_density),), (float(a0), float(a1))), radius, fluid_core=(0.0, core_radius)
+    )
+    check_profile(profile)
+    return profile
+
+
 def hydrostatic_figure(
-    profile: DensityProfile, spin_rate: float, gravitational_constant: float, *, samples: int = _SAMPLES_PER_LAYER
+    profile: DensityProfile,
+    spin_rate: float,
+    gravitational_constant: float,
+    *,
+    samples: int = _SAMPLES_PER_LAYER,
+    rtol: float = clairaut.RTOL,
 ) -> HydrostaticFigure:
     """Solve Clairaut's equation for ``profile`` spinning at ``spin_rate`` (rad/s).
 
@@ -216,6 +260,8 @@ def hydrostatic_figure(
         G, m^3 kg^-1 s^-2.
     samples : int
         Radii sampled per layer for eps(r).
+    rtol : float
+        Relative tolerance of the integration.
     """
     check_profile(profile)
     if not (math.isfinite(spin_rate) and spin_rate != 0):
@@ -229,7 +275,7 @@ def hydrostatic_figure(
     c_hat = coeffs / rho_mean
     s_hat = profile.scale / a
     grid = np.unique(np.concatenate([np.linspace(lo, hi, samples) for lo, hi in zip(e_hat[:-1], e_hat[1:])]))[1:]
-    sol = clairaut.radau_profile(e_hat, c_hat, s_hat, grid)
+    sol = clairaut.radau_profile(e_hat, c_hat, s_hat, grid, rtol=rtol)
     q = spin_rate**2 * a**3 / (gravitational_constant * mass)
     eta_a = float(sol["eta_edges"][-1])
     eps_a = 2.5 * q / (eta_a + 2.0)

@@ -266,6 +266,9 @@ class NormalModes:
         from the hydrostatic core flattening (a forward prediction).
     core_ellipticity_hydrostatic : float or None
         e_f used for the forward prediction.
+    core_ellipticity_hydrostatic_sigma : float or None
+        Its one-sigma uncertainty, when it is computed from the planet's own
+        uncertain parameters (0 for a fixed profile such as PREM).
     core_ellipticity_required, core_ellipticity_required_sigma : float or None
         The e_f the observed FCN period requires, and its one-sigma uncertainty
         (observed period and model parameters, linear propagation).
@@ -275,19 +278,24 @@ class NormalModes:
         CW rate with the core-mantle coupling off (same Liouville equations), rad/s.
     cw_rate_first_order : float
         CW rate with the coupling off and D m' dropped: the Chandler budget's equation (1).
+    core_flattening_excess_sigma : float or None
+        One-sigma uncertainty of required/hydrostatic - 1 (shared parameters correlated).
     contributions : dict
-        Signed change of each mode period (s) and of the required e_f for +1 sigma of each parameter.
+        Signed change, for +1 sigma of each parameter, of each mode's rate (rad/s),
+        of the required e_f, the hydrostatic e_f and the excess.
     """
 
     name: str
     spin_rate: float
     modes: tuple[Mode, ...]
     core_ellipticity_hydrostatic: float | None
+    core_ellipticity_hydrostatic_sigma: float | None
     core_ellipticity_required: float | None
     core_ellipticity_required_sigma: float | None
     fcn_period_required: float | None
     cw_rate_uncoupled: float
     cw_rate_first_order: float
+    core_flattening_excess_sigma: float | None
     contributions: dict
 
     def mode(self, name: str, frame: str = "terrestrial") -> Mode:
@@ -337,19 +345,25 @@ def _perturbed(p: PlanetParameters):
             continue
 
 
-def normal_modes(p: PlanetParameters, core_ellipticity: float | None, modes: tuple[str, ...] | None = None) -> NormalModes:
+def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] | None = None) -> NormalModes:
     """The free modes of a planet, the FCN both ways, and the budget tie.
 
     Parameters
     ----------
     p : PlanetParameters
         The planet.
-    core_ellipticity : float or None
-        The hydrostatic e_f of the liquid core (:mod:`wobble.models.hydrostatic`).
+    core_ellipticity : float, callable or None
+        The hydrostatic e_f of the liquid core (:mod:`wobble.models.hydrostatic`),
+        or a function of the planet that computes it, so that the planet's
+        uncertainties propagate into it (e.g. a profile rebuilt from the
+        catalogued core).
     modes : tuple of str, optional
         ``("CW",)``, ``("CW", "FCN")``; default: every mode the parameters support.
         A requested mode whose parameters are missing is an InputError naming them.
     """
+    e_of = core_ellipticity if callable(core_ellipticity) else None
+    if e_of is not None:
+        core_ellipticity = e_of(p)
     if modes is None:
         modes = supported_modes(p, core_ellipticity)
     for name in modes:
@@ -369,8 +383,8 @@ def normal_modes(p: PlanetParameters, core_ellipticity: float | None, modes: tup
         # Catalogued periods are signed relative to the spin (negative: retrograde); rates are absolute.
         obs_fcn = replace(obs_fcn, value=sign * obs_fcn.value)
     required = required_core_ellipticity(p, 2 * math.pi / obs_fcn.value, e_f) if obs_fcn is not None else None
-    contributions = _contributions(p, e_f, with_fcn, obs_fcn, required)
-    sig = {k: math.sqrt(sum(v[k] ** 2 for v in contributions.values())) for k in ("CW", "FCN", "e_f")}
+    contributions = _contributions(p, e_f, with_fcn, obs_fcn, required, e_of if with_fcn else None)
+    sig = {k: math.sqrt(sum(v[k] ** 2 for v in contributions.values())) for k in ("CW", "FCN", "e_f", "e_hyd", "excess")}
     cw_obs = p.observed_chandler_period
     # Observed periods are catalogued relative to the spin (the Chandler period unsigned, prograde).
     shown = p.observed_fcn_period if with_fcn else None
@@ -385,11 +399,13 @@ def normal_modes(p: PlanetParameters, core_ellipticity: float | None, modes: tup
         spin_rate=spin,
         modes=tuple(out),
         core_ellipticity_hydrostatic=core_ellipticity if with_fcn else None,
+        core_ellipticity_hydrostatic_sigma=sig["e_hyd"] if with_fcn else None,
         core_ellipticity_required=required,
         core_ellipticity_required_sigma=sig["e_f"] if required is not None else None,
         fcn_period_required=round_trip,
         cw_rate_uncoupled=mode_rates(p, 0.0, coupled=False)["CW"][0],
         cw_rate_first_order=mode_rates(p, 0.0, coupled=False, second_order=False)["CW"][0],
+        core_flattening_excess_sigma=sig["excess"] if required is not None else None,
         contributions=contributions,
     )
 
@@ -408,11 +424,13 @@ def _terrestrial(m, spin):
     return sign * 2 * math.pi / rate, 2 * math.pi * rate_sigma / rate**2
 
 
-def _contributions(p, e_f, with_fcn, obs_fcn, required):
-    """Rate change of each mode (rad/s) and change of the required e_f for +1 sigma of each parameter.
+def _contributions(p, e_f, with_fcn, obs_fcn, required, e_of=None):
+    """Changes for +1 sigma of each parameter: mode rates (rad/s), required and hydrostatic e_f, excess.
 
     The required e_f moves by -dF/dF_e (implicit function theorem), F the FCN's
-    space rate at the required e_f: linear propagation, as for the periods.
+    space rate at the required e_f: linear propagation, as for the periods. A
+    parameter that moves the hydrostatic e_f too (``e_of``) moves the FCN, the
+    hydrostatic e_f and the excess together (their correlation is kept).
     """
     out = {}
     slope = None
@@ -421,18 +439,20 @@ def _contributions(p, e_f, with_fcn, obs_fcn, required):
         slope = (_fcn_space_rate(p, required + h) - _fcn_space_rate(p, required - h)) / (2 * h)
     which = MODES if with_fcn else ("CW",)
     for key, plus, minus in _perturbed(p):
-        r_plus = mode_rates(plus, e_f, coupled=with_fcn, which=which)
-        r_minus = mode_rates(minus, e_f, coupled=with_fcn, which=which)
-        row = {"CW": 0.5 * (r_plus["CW"][0] - r_minus["CW"][0]), "FCN": 0.0, "e_f": 0.0}
+        e_plus, e_minus = (e_of(plus), e_of(minus)) if e_of is not None else (e_f, e_f)
+        r_plus = mode_rates(plus, e_plus, coupled=with_fcn, which=which)
+        r_minus = mode_rates(minus, e_minus, coupled=with_fcn, which=which)
+        row = {"CW": 0.5 * (r_plus["CW"][0] - r_minus["CW"][0]), "FCN": 0.0, "e_f": 0.0, "e_hyd": 0.5 * (e_plus - e_minus), "excess": 0.0}
         if with_fcn:
             row["FCN"] = 0.5 * (r_plus["FCN"][0] - r_minus["FCN"][0])
             if slope is not None:
                 dfdp = 0.5 * (_fcn_space_rate(plus, required) - _fcn_space_rate(minus, required))
                 row["e_f"] = -dfdp / slope
+                row["excess"] = 0.5 * ((required + row["e_f"]) / e_plus - (required - row["e_f"]) / e_minus)
         if any(row.values()):
             out[key] = row
     if slope is not None and obs_fcn.sigma > 0:
         # The observation's own uncertainty moves only the required e_f.
         d_obs = 0.5 * abs(2 * math.pi / (obs_fcn.value + obs_fcn.sigma) - 2 * math.pi / (obs_fcn.value - obs_fcn.sigma))
-        out["observed_fcn_period"] = {"CW": 0.0, "FCN": 0.0, "e_f": d_obs / slope}
+        out["observed_fcn_period"] = {"CW": 0.0, "FCN": 0.0, "e_f": d_obs / slope, "e_hyd": 0.0, "excess": d_obs / slope / e_f}
     return out

@@ -82,40 +82,50 @@ def layer_integrals(edges: np.ndarray, coeffs: np.ndarray, scale: float, n: int)
     return np.sum(c * (hi - lo) / p, axis=1)
 
 
-def _rhs_factory(edges, coeffs, scale, layer):
-    c = _powers(coeffs, scale)[layer][::-1]  # highest power first, for np.polyval
-    lo = edges[layer]
-    below = float(np.sum(layer_integrals(edges[: layer + 1], coeffs[:layer], scale, 2))) if layer else 0.0
-    k = np.arange(c.size)[::-1]
-    # m(r) - m(lo) = sum c_j (r^{j+3} - lo^{j+3})/(j+3): a polynomial in r.
-    mass_poly = np.zeros(c.size + 3)
-    mass_poly[: c.size] = c / (k + 3.0)
-    mass_lo = float(np.polyval(mass_poly, lo))
-    if lo == 0.0:
-        mean_poly = 3.0 * c / (k + 3.0)  # rhobar = 3 m/r^3, a polynomial when the layer holds the centre
+def _horner(coeffs: tuple, x: float) -> float:
+    """sum coeffs[i] x^(n-1-i) (highest power first) in plain floats: the right-hand
+    side is called thousands of times on scalars, where np.polyval costs ten times more."""
+    out = 0.0
+    for c in coeffs:
+        out = out * x + c
+    return out
 
-        def ratio(r):
-            return np.polyval(c, r) / np.polyval(mean_poly, r)
+
+def _rhs_factory(edges, coeffs, scale, layer):
+    c_arr = _powers(coeffs, scale)[layer][::-1]  # highest power first
+    lo = float(edges[layer])
+    below = float(np.sum(layer_integrals(edges[: layer + 1], coeffs[:layer], scale, 2))) if layer else 0.0
+    k = np.arange(c_arr.size)[::-1]
+    c = tuple(map(float, c_arr))
+    # m(r) - m(lo) = sum c_j (r^{j+3} - lo^{j+3})/(j+3): a polynomial in r.
+    mass_poly = tuple(map(float, c_arr / (k + 3.0))) + (0.0, 0.0, 0.0)
+    mass_lo = _horner(mass_poly, lo)
+    if lo == 0.0:
+        mean_poly = tuple(map(float, 3.0 * c_arr / (k + 3.0)))  # rhobar = 3 m/r^3, a polynomial here
+
+        def ratio(r, rho):
+            return rho / _horner(mean_poly, r)
 
     else:
 
-        def ratio(r):
-            m = below + np.polyval(mass_poly, r) - mass_lo
-            return np.polyval(c, r) * r**3 / (3.0 * m)
+        def ratio(r, rho):
+            m = below + _horner(mass_poly, r) - mass_lo
+            return rho * r**3 / (3.0 * m)
 
     def rhs(t, y):
         r = math.exp(t)
-        eta, _, _ = y
-        rr = ratio(r)
+        eta, log_eps = float(y[0]), float(y[1])
+        rho = _horner(c, r)
+        rr = ratio(r, rho)
         deta = 6.0 - 6.0 * rr * (eta + 1.0) - eta * (eta - 1.0)
         # d(ln eps)/dt = eta; the moment integrand rho r^5 e^L (5 + eta) dt.
-        dmom = np.polyval(c, r) * r**5 * math.exp(y[1]) * (5.0 + eta)
+        dmom = rho * r**5 * math.exp(log_eps) * (5.0 + eta)
         return [deta, eta, dmom]
 
     return rhs
 
 
-def radau_profile(edges, coeffs, scale, sample_radii=()):
+def radau_profile(edges, coeffs, scale, sample_radii=(), rtol: float = RTOL):
     """Integrate Radau's equation (R) outward through every layer.
 
     Parameters
@@ -125,6 +135,8 @@ def radau_profile(edges, coeffs, scale, sample_radii=()):
         any density unit).
     sample_radii : array_like
         Radii (in (0, edges[-1]]) where eta and L are wanted.
+    rtol : float
+        Relative tolerance (default :data:`RTOL`; error propagation uses looser ones).
 
     Returns
     -------
@@ -150,7 +162,7 @@ def radau_profile(edges, coeffs, scale, sample_radii=()):
         inside = (samples > lo) & (samples <= hi) if i else (samples <= hi)
         pts = np.log(np.maximum(samples[inside], lo))
         rhs = _rhs_factory(edges, coeffs, scale, i)
-        solver = DOP853(lambda t, yy, idx, rhs=rhs: np.array([rhs(float(t[0]), yy[0])]), math.log(lo), y, rtol=RTOL, atol=_ATOL)
+        solver = DOP853(lambda t, yy, idx, rhs=rhs: np.array([rhs(float(t[0]), yy[0])]), math.log(lo), y, rtol=rtol, atol=_ATOL)
         order = np.argsort(pts)
         out = solver.advance(np.concatenate([pts[order], [math.log(hi)]]))
         y = out[-1].copy()
