@@ -39,6 +39,7 @@ _PUBLIC = {
         "free_precession_rate",
         "euler_period",
     ],
+    "api.modes": ["HydrostaticFigure", "FreeMode", "NormalModes", "hydrostatic_figure", "normal_modes", "modes_dataset"],
     "api.free": ["FreeRotation"],
     "api.bodies": ["RigidBody", "PrincipalAxes"],
     "api.sweep": ["sweep", "run_sweep", "load_sweep", "summarize_sweep"],

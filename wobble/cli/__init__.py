@@ -18,7 +18,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "precession", "polar_motion", "inertia", "free", "top", "run", "sweep", "example", "bench")
+SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "inertia", "free", "top", "run", "sweep", "example", "bench")
 
 EPILOG = """\
 examples:
@@ -27,6 +27,7 @@ examples:
   wobble chandler --body-file my_planet.toml
                                         a body you describe ('wobble example my_planet.toml' copies this one to edit)
   wobble precession earth mars          forced precession of the spin axis, term by term
+  wobble modes earth mars               every free mode: Chandler wobble, free core nutation
   wobble polar-motion --json            the Chandler wobble measured in the IERS record
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification

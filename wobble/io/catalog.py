@@ -51,6 +51,10 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
     "orbit_eccentricity": _ONE,
     "observed_precession_rate": u.rad / u.s,
     "observed_precession_includes_geodesic": _ONE,
+    # interior and free core nutation (wobble modes)
+    "core_compliance_beta": _ONE,
+    "core_compliance_gamma": _ONE,
+    "observed_fcn_period": u.s,
 }
 
 

@@ -172,7 +172,29 @@ BODIES: dict[str, Spec] = {
 }
 
 # Rotational normal modes of a layered planet (wobble modes).
-MODES: dict[str, Spec] = {}
+MODES: dict[str, Spec] = {
+    "period": Spec(("body", "mode"), "day", "signed period of the free mode (negative: retrograde)"),
+    "period_uncertainty": Spec(("body", "mode"), "day", "one-sigma uncertainty of the period (linear propagation)"),
+    "rate": Spec(("body", "mode"), "rad s-1", "signed frequency of the free mode (positive: prograde)"),
+    "observed_period": Spec(("body", "mode"), "day", "observed signed period of the mode"),
+    "observed_period_uncertainty": Spec(("body", "mode"), "day", "one-sigma uncertainty of the observed period"),
+    "love_number_k2": Spec(("body", "mode"), "1", "degree-2 Love number k2 at the mode's frequency in the planet's frame"),
+    "sense": Spec(("body", "mode"), "1", "sense of the mode relative to the spin"),
+    "core_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic dynamical ellipticity of the liquid core (C_f - A_f)/A_f"),
+    "core_flattening_required": Spec(("body",), "1", "dynamical ellipticity of the liquid core that the observed FCN period requires"),
+    "core_flattening_required_uncertainty": Spec(("body",), "1", "one-sigma uncertainty of the required core dynamical ellipticity"),
+    "core_flattening_excess": Spec(("body",), "percent", "required over hydrostatic core dynamical ellipticity, minus one"),
+    "fcn_period_required": Spec(("body",), "day", "FCN period in space with the required core ellipticity put back"),
+    "chandler_budget_period": Spec(("body",), "day", "Chandler period of the first-order budget"),
+    "chandler_period_coupling_off": Spec(("body",), "day", "Chandler period with the core-mantle coupling off"),
+    "surface_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic surface flattening from Clairaut's equation"),
+    "dynamical_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic dynamical flattening H = (C - A)/C"),
+    # The hydrostatic figure of one body (HydrostaticFigure.to_dataset).
+    "radius": Spec(("radius",), "km", "radius of the level surface (its mean radius)"),
+    "level_surface_flattening": Spec(("radius",), "1", "flattening of the hydrostatic level surface (Clairaut's equation)"),
+    "radau_parameter": Spec(("radius",), "1", "Radau's eta = r d(ln flattening)/dr"),
+    "density": Spec(("radius",), "kg m-3", "density of the profile (the layer above at an interface)"),
+}
 
 # Forced precession and nutation (wobble precession). Rates are of the node
 # longitude of the equator on the orbit plane, eastward (negative: retrograde).

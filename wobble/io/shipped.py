@@ -26,6 +26,7 @@ __all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "
 # Folder of data/ -> what its files are, as `wobble example --list` heads them (in this order).
 KINDS = {
     "bodies": "planets of the catalogue (wobble chandler NAME)",
+    "profiles": "radial density profiles (wobble modes --profile NAME)",
     "precession": "perturbers and the IAU 2006 steps (wobble precession --perturber NAME)",
     "examples": "example inputs",
     "scenes": "scenes (wobble run NAME)",

@@ -58,6 +58,7 @@ __all__ = [
     "free_wobble_rate_array",
     "secular_love_number",
     "anelastic_love_number",
+    "inertia_ratios",
     "resolve_model",
     "missing_parameters",
     "chandler_budget",
@@ -387,6 +388,31 @@ def secular_love_number(p: PlanetParameters) -> float | None:
     """
     ks = _Values(p.values()).secular_love_number()
     return None if ks is None else float(ks)
+
+
+def inertia_ratios(p: PlanetParameters) -> dict[str, float | None]:
+    """The figure in units of C, as equation (1) uses it (for other models of the same planet).
+
+    Returns
+    -------
+    dict
+        ``c_minus_a`` and ``c_minus_b``: (C - A)/C and (C - B)/C (from H and J22,
+        without cancellation); ``core``: A_f/C (None without a liquid core or the
+        absolute scale); ``deformation_per_k``: D/C for k2 = 1, i.e.
+        a^3 Omega^2/(3 GM C/(M a^2)) (None without the scale).
+    """
+    values = _Values(p.values())
+    ca, cb = values.equatorial_excess()
+    scaled = values.c_factor is not None and values["gm"] is not None and values["equatorial_radius"] is not None
+    core = None
+    if scaled and p.fluid_core_moment is not None:
+        core = float(values.core_over_c())
+    return {
+        "c_minus_a": float(ca),
+        "c_minus_b": float(cb),
+        "core": core,
+        "deformation_per_k": float(values.deformation(1.0)) if scaled else None,
+    }
 
 
 def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, float]:

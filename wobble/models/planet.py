@@ -106,6 +106,12 @@ class PlanetParameters:
     observed_precession_includes_geodesic : Measured or None
         1 when the observed rate includes geodesic precession (IAU psi_A),
         0 when relativistic terms were modelled separately (default 1).
+    core_compliance_beta, core_compliance_gamma : Measured or None
+        Deformability of the liquid core (Sasao, Okubo & Saito 1980): the core's
+        products of inertia per unit differential rotation (beta) and per unit
+        mantle wobble (gamma), in units of A_f (:mod:`wobble.models.modes`).
+    observed_fcn_period : Measured or None
+        The observed free core nutation period in space, s (negative: retrograde).
     """
 
     name: str
@@ -133,6 +139,9 @@ class PlanetParameters:
     orbit_eccentricity: Measured | None = None
     observed_precession_rate: Measured | None = None
     observed_precession_includes_geodesic: Measured | None = None
+    core_compliance_beta: Measured | None = None
+    core_compliance_gamma: Measured | None = None
+    observed_fcn_period: Measured | None = None
 
     def __post_init__(self):
         given = [k for k in FIGURE_KEYS if getattr(self, k) is not None]
@@ -176,10 +185,17 @@ class PlanetParameters:
     # -- the figure, in units of C and of M a^2, without cancellation ---------------
 
     def measured_fields(self) -> dict[str, Measured]:
-        """All given parameters with a non-zero uncertainty (for error propagation)."""
+        """All given parameters with a non-zero uncertainty (for error propagation).
+
+        Observations other than the Chandler period (``observed_fcn_period``, ...)
+        are left out: they are never model inputs, so nothing propagates or draws
+        them. (``observed_chandler_period`` stays, as its callers expect.)
+        """
         out = {}
         for f in fields(self):
             v = getattr(self, f.name)
+            if f.name.startswith("observed_") and f.name != "observed_chandler_period":
+                continue
             if isinstance(v, Measured) and v.sigma > 0:
                 out[f.name] = v
         return out

@@ -1,0 +1,144 @@
+"""`wobble modes`: table, JSON, CF netCDF round trip, plot, and exit status 2 on bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import wobble
+from wobble.cli import main
+from wobble.io.catalog import catalogue_file
+
+JSON_MODE_KEYS = {"mode", "period_days", "period_uncertainty_days", "frame", "sense", "observed_days", "observed_uncertainty_days"}
+
+
+def _run(capsys, *args):
+    status = main(list(args))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_table_lists_every_mode_with_its_observation(capsys):
+    status, out, err = _run(capsys, "modes", "earth", "mars")
+    assert status == 0 and not err
+    for word in ("Earth: free rotational modes", "Mars: free rotational modes", "CW", "FCN", "terrestrial", "celestial", "prograde", "retrograde"):
+        assert word in out
+    assert "Krasna, Boehm & Schuh 2013" in out and "Le Maistre et al. 2023" in out
+    assert "the observed FCN requires e_f" in out and "Chandler budget" in out
+
+
+def test_json_schema_scripts_rely_on(capsys):
+    status, out, _ = _run(capsys, "modes", "earth", "mars", "--json")
+    assert status == 0
+    data = json.loads(out)
+    assert [d["body"] for d in data] == ["earth", "mars"]
+    for d in data:
+        assert [(m["mode"], m["frame"]) for m in d["modes"]] == [("CW", "terrestrial"), ("FCN", "terrestrial"), ("FCN", "celestial")]
+        for m in d["modes"]:
+            assert JSON_MODE_KEYS <= set(m)
+        for key in ("core_flattening_hydrostatic", "core_flattening_hydrostatic_uncertainty", "core_flattening_required", "core_flattening_required_uncertainty"):
+            assert d[key] is not None
+    earth = data[0]
+    assert earth["modes"][2]["period_days"] < -450 and earth["modes"][2]["sense"] == "retrograde"
+    assert 4 < earth["core_flattening_excess_percent"] < 6
+
+
+def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
+    path = tmp_path / "modes.nc"
+    status, out, _ = _run(capsys, "modes", "earth", "mars", "-o", str(path))
+    assert status == 0 and f"wrote {path}" in out
+    ds = wobble.load(path)
+    assert dict(ds.sizes) == {"body": 2, "mode": 3}
+    assert ds["period"].attrs["units"] == "day"
+    expected = wobble.modes_dataset([wobble.normal_modes("earth"), wobble.normal_modes("mars")])
+    xr.testing.assert_identical(ds, expected.assign_attrs(ds.attrs))
+    assert_cf_compliant(path)
+
+
+def test_body_file_runs_like_the_catalogue(tmp_path, capsys):
+    path = tmp_path / "my_mars.toml"
+    path.write_text(Path(str(catalogue_file("mars"))).read_text().replace('name = "mars"', 'name = "my_mars"'))
+    status, out, _ = _run(capsys, "modes", "--body-file", str(path), "--profile", "mars_layered", "--json")
+    assert status == 0
+    mine = json.loads(out)[0]
+    status, out, _ = _run(capsys, "modes", "mars", "--json")
+    ref = json.loads(out)[0]
+    assert [m["period_days"] for m in mine["modes"]] == [m["period_days"] for m in ref["modes"]]
+
+
+def test_plot_option_draws_the_figure(tmp_path, capsys):
+    path = tmp_path / "modes.png"
+    status, out, _ = _run(capsys, "modes", "earth", "mars", "--plot", str(path))
+    assert status == 0 and path.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["modes", "pluto"], "BODY: got pluto"),
+        (["modes", "mars", "--profile", "prem"], "density profile mass"),
+        (["modes", "earth", "--profile", "/nonexistent.toml"], "profile: got /nonexistent.toml"),
+    ],
+)
+def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, args, fragment):
+    out_file = tmp_path / "modes.nc"
+    status, out, err = _run(capsys, *args, "-o", str(out_file))
+    assert status == 2
+    assert fragment in err and err.count("\n") == 1 and "Traceback" not in err
+    assert not out_file.exists()
+
+
+def test_missing_parameter_for_a_requested_mode(tmp_path, capsys):
+    text = Path(str(catalogue_file("mars"))).read_text()
+    start = text.index("[parameters.core_compliance_beta]")
+    end = text.index("[parameters.core_compliance_gamma]")
+    path = tmp_path / "no_beta.toml"
+    path.write_text(text[:start] + text[end:])
+    status, _, err = _run(capsys, "modes", "--body-file", str(path), "--mode", "FCN")
+    assert status == 2 and "core_compliance_beta" in err and err.count("\n") == 1
+    status, out, _ = _run(capsys, "modes", "--body-file", str(path), "--json")
+    assert status == 0 and [m["mode"] for m in json.loads(out)[0]["modes"]] == ["CW"]
+
+
+def test_help_has_examples(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["modes", "--help"])
+    assert info.value.code == 0
+    assert "examples:" in capsys.readouterr().out
+
+
+def test_dataset_marks_absent_modes():
+    only_cw = wobble.normal_modes("earth", modes=("CW",))
+    ds = wobble.modes_dataset([only_cw, wobble.normal_modes("mars")])
+    assert np.isnan(ds["period"].sel(body="earth", mode="FCN_celestial"))
+    assert int(ds["sense"].sel(body="earth", mode="FCN_celestial")) == 0
+
+
+def test_bad_profile_file_exit_2_one_line_nothing_written(tmp_path, capsys):
+    from wobble.io.density_profile import load_profile
+
+    text = Path(load_profile("mars_layered")[1].path).read_text()
+    bad = tmp_path / "heavy_mantle.toml"
+    bad.write_text(text.replace("[[6.0, 0.0], [5.035803, -1.826654]]", "[[3.0, 0.0], [5.035803, -1.826654]]"))
+    out_file = tmp_path / "modes.nc"
+    status, _, err = _run(capsys, "modes", "mars", "--profile", str(bad), "-o", str(out_file))
+    assert status == 2 and err.count("\n") == 1
+    assert "heavy_mantle.toml" in err and "density" in err and "increase outward" in err
+    assert not out_file.exists()
+
+
+def test_hydrostatic_figure_netcdf_round_trip_and_cf(tmp_path, assert_cf_compliant):
+    from astropy import units as u
+
+    figure = wobble.hydrostatic_figure("prem", spin=1 * u.sday)
+    ds = figure.to_dataset()
+    assert ds["radius"].attrs["units"] == "km" and float(ds["radius"][-1]) == pytest.approx(6371.0)
+    path = wobble.write_netcdf(ds, tmp_path / "prem_figure.nc")
+    back = wobble.load(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert back.attrs["hydrostatic_core_dynamical_ellipticity"] == pytest.approx(figure.core_dynamical_ellipticity, rel=1e-15)
+    assert_cf_compliant(path)

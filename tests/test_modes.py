@@ -1,0 +1,241 @@
+"""Rotational normal modes against closed forms, the Chandler budget and published values.
+
+Ground truth used here, independent of the 4 x 4 real eigenproblem:
+
+* for an axisymmetric planet with a frequency-independent k2 the modes are the
+  roots of the 2 x 2 complex determinant of Sasao, Okubo & Saito (1980),
+  (sigma - e + (1 + sigma) kappa)(1 + e_f + sigma (1 + beta))
+    - sigma (1 + gamma)(1 + sigma)(A_f/A + xi) = 0,
+  a quadratic in sigma, solved with mpmath at 40 digits;
+* with the core-mantle coupling off and the first-order truncation, the
+  Chandler budget's equation (1) (:mod:`wobble.models.chandler`, its own
+  closed form and fixed point);
+* published values computed from physical inputs: a hydrostatic core gives an
+  FCN near -460 sidereal days (Gwinn, Herring & Shapiro 1986; Mathews, Herring &
+  Buffett 2002), and the observed -431.18 sd (Krasna et al. 2013) needs a core
+  about 5 % flatter (published range 4-6 %); Mars' FCN -243 +- 3.3 d (Le Maistre
+  et al. 2023).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import mpmath as mp
+import numpy as np
+import pytest
+from astropy import units as u
+
+import wobble
+from wobble.errors import InputError
+from wobble.io.catalog import load_planet
+from wobble.models import chandler
+from wobble.models.modes import mode_rates, normal_modes, required_core_ellipticity
+
+mp.mp.dps = 40
+SIDEREAL_DAY = 86164.09053
+DAY = 86400.0
+
+
+@pytest.fixture(scope="module")
+def earth_modes():
+    return wobble.normal_modes("earth")
+
+
+@pytest.fixture(scope="module")
+def mars_modes():
+    return wobble.normal_modes("mars")
+
+
+def _symmetric_elastic(name):
+    """The catalogued planet made axisymmetric, with k2 independent of frequency."""
+    p, _ = load_planet(name)
+    return replace(
+        p,
+        c22=None,
+        s22=None,
+        love_number_k2_period=None,
+        love_number_k2_imaginary=None,
+        love_number_k2_imaginary_period=None,
+        anelastic_exponent=None,
+        ocean_pole_tide_love_number=None,
+    )
+
+
+def _sos_roots(p, e_f):
+    """Roots sigma (cycles per sidereal day of the planet) of the SOS 2 x 2 determinant."""
+    h = mp.mpf(p.flattening)
+    e = h / (1 - h)
+    ratios = chandler.inertia_ratios(p)
+    a_over_c = 1 - h
+    k2 = mp.mpf(p.love_number_k2.value) if p.love_number_k2 is not None else 0
+    kappa = k2 * mp.mpf(ratios["deformation_per_k"]) / a_over_c
+    af = mp.mpf(ratios["core"]) / a_over_c  # A_f/A
+    beta, gamma = mp.mpf(p.core_compliance_beta.value), mp.mpf(p.core_compliance_gamma.value)
+    xi = gamma * af
+    ef = mp.mpf(e_f)
+    # (s - e + (1+s) k)(1 + ef + s(1+b)) - s (1+g)(1+s)(af + xi) = c2 s^2 + c1 s + c0
+    c2 = (1 + kappa) * (1 + beta) - (1 + gamma) * (af + xi)
+    c1 = (1 + kappa) * (1 + ef) + (kappa - e) * (1 + beta) - (1 + gamma) * (af + xi)
+    c0 = (kappa - e) * (1 + ef)
+    disc = mp.sqrt(c1**2 - 4 * c2 * c0)
+    return sorted([(-c1 + disc) / (2 * c2), (-c1 - disc) / (2 * c2)], key=abs)
+
+
+@pytest.mark.parametrize("name", ["earth", "mars"])
+def test_axisymmetric_modes_are_the_roots_of_the_sos_determinant(name):
+    p = _symmetric_elastic(name)
+    e_f = 2.6e-3 if name == "earth" else 4.3e-3
+    cw, fcn = _sos_roots(p, e_f)
+    rates = mode_rates(p, e_f)
+    spin = p.rotation_rate.value
+    assert rates["CW"][0] / spin == pytest.approx(float(cw), rel=1e-11)
+    assert rates["FCN"][0] / spin == pytest.approx(float(fcn), rel=1e-13)
+    # Signs: the CW is prograde, the FCN retrograde and nearly diurnal.
+    assert cw > 0 and -1.01 < fcn < -1
+
+
+def test_rigid_mantle_fcn_is_the_poincare_frequency():
+    # No deformation: sigma_FCN = -1 - (A/A_m) e_f to first order (Sasao et al. 1980).
+    p = _symmetric_elastic("earth")
+    p = replace(
+        p,
+        love_number_k2=None,
+        core_compliance_beta=replace(p.core_compliance_beta, value=0.0),
+        core_compliance_gamma=replace(p.core_compliance_gamma, value=0.0),
+    )
+    e_f = 2.5e-3
+    ratios = chandler.inertia_ratios(p)
+    a_over_am = (1 - p.flattening) / (1 - p.flattening - ratios["core"])
+    sigma = mode_rates(p, e_f)["FCN"][0] / p.rotation_rate.value
+    assert sigma + 1 == pytest.approx(-a_over_am * e_f, rel=2e-2)
+    assert float(_sos_roots(p, e_f)[1]) == pytest.approx(sigma, rel=1e-13)
+
+
+@pytest.mark.parametrize("name", ["earth", "mars"])
+def test_coupling_off_gives_todays_chandler_budget(name):
+    """Same physics, other code path: the first-order, uncoupled mode equals equation (1), triaxial and anelastic."""
+    modes = wobble.normal_modes(name)
+    budget = wobble.chandler_budget(name)
+    assert abs((modes.chandler_first_order - budget.period).to_value(u.day)) < 1e-6
+    # The full Liouville equations keep D m' (second order): about +0.1 %; the coupling itself is smaller still.
+    assert abs((modes.chandler_coupling_off - budget.period).to_value(u.day)) < 0.002 * budget.period.to_value(u.day)
+    assert abs(modes.fcn_effect_on_chandler.to_value(u.day)) < 0.2
+
+
+def test_earth_fcn_from_the_hydrostatic_core_is_near_minus_460_sidereal_days(earth_modes):
+    fcn = earth_modes.mode("FCN", "celestial")
+    period_sd = fcn.period.to_value(u.s) / SIDEREAL_DAY
+    assert -470 < period_sd < -450
+    assert fcn.sense == "retrograde" and earth_modes.mode("FCN", "terrestrial").sense == "retrograde"
+    assert earth_modes.mode("CW").sense == "prograde"
+    # The terrestrial FCN is the celestial one less one turn of the planet.
+    spin = earth_modes.raw.spin_rate
+    assert (fcn.rate - earth_modes.mode("FCN").rate).to_value(u.rad / u.s) == pytest.approx(spin, rel=1e-15)
+
+
+def test_earth_core_must_be_about_five_percent_flatter_than_hydrostatic(earth_modes):
+    excess = earth_modes.core_flattening_excess
+    assert 0.04 < excess < 0.06
+    sigma = earth_modes.core_flattening_excess_uncertainty
+    assert 0 < sigma < 0.02
+
+
+@pytest.mark.parametrize("name", ["earth", "mars"])
+def test_required_core_flattening_round_trip_gives_the_observed_period(name):
+    p, _ = load_planet(name)
+    target = 2 * math.pi / p.observed_fcn_period.value
+    e_req = required_core_ellipticity(p, target, 3e-3)
+    space = mode_rates(p, e_req, which=("FCN",))["FCN"][0] + p.rotation_rate.value
+    assert 2 * math.pi / space == pytest.approx(p.observed_fcn_period.value, rel=1e-12)
+    modes = wobble.normal_modes(name)
+    assert modes.fcn_period_required.to_value(u.s) == pytest.approx(p.observed_fcn_period.value, rel=1e-12)
+
+
+def test_mars_fcn_against_rise(mars_modes):
+    fcn = mars_modes.mode("FCN", "celestial")
+    model, sigma = fcn.period.to_value(u.day), fcn.period_uncertainty.to_value(u.day)
+    observed, obs_sigma = fcn.observed.to_value(u.day), fcn.observed_uncertainty.to_value(u.day)
+    assert observed == pytest.approx(-243.0) and obs_sigma == pytest.approx(3.3)
+    assert abs(model - observed) < 2 * math.hypot(sigma, obs_sigma)
+
+
+def test_required_flattening_is_an_output_not_an_input():
+    """Changing the observed period moves the required e_f and nothing else."""
+    p, _ = load_planet("earth")
+    shifted = replace(p, observed_fcn_period=replace(p.observed_fcn_period, value=p.observed_fcn_period.value * 1.01))
+    a, b = normal_modes(p, 2.545e-3), normal_modes(shifted, 2.545e-3)
+    assert [m.rate for m in a.modes] == [m.rate for m in b.modes]
+    assert b.core_ellipticity_required < a.core_ellipticity_required
+
+
+def test_uncertainty_is_propagated_like_the_budget(earth_modes):
+    """The modes propagate linearly; the budget's first-order propagation is the same sum."""
+    budget = wobble.chandler_budget("earth")
+    cw = earth_modes.mode("CW")
+    assert cw.period_uncertainty.to_value(u.day) == pytest.approx(budget.period_uncertainty_linear.to_value(u.day), rel=0.05)
+    assert "observed_fcn_period" in earth_modes.raw.contributions
+    assert earth_modes.mode("FCN", "celestial").period_uncertainty > 0 * u.day
+
+
+def test_missing_parameter_for_a_requested_mode_names_it():
+    p, _ = load_planet("earth")
+    with pytest.raises(InputError, match="core_compliance_beta"):
+        normal_modes(replace(p, core_compliance_beta=None), 2.5e-3, ("CW", "FCN"))
+    # Without a request, only the modes the parameters support are computed.
+    only = normal_modes(replace(p, core_compliance_beta=None), 2.5e-3)
+    assert [m.name for m in only.modes] == ["CW"]
+    with pytest.raises(InputError, match="mode"):
+        normal_modes(p, 2.5e-3, ("FICN",))
+
+
+def test_periods_against_core_flattening_cross_the_observation(earth_modes):
+    grid = np.array([0.9, 1.0, 1.1]) * earth_modes.core_flattening_hydrostatic
+    periods = earth_modes.periods_against_core_flattening(grid)["FCN_celestial"].to_value(u.day)
+    assert np.all(np.diff(periods) > 0)  # flatter core: faster retrograde nutation
+    exact = earth_modes.periods_against_core_flattening([earth_modes.core_flattening_required])["FCN_celestial"]
+    assert exact[0].to_value(u.day) == pytest.approx(earth_modes.mode("FCN", "celestial").observed.to_value(u.day), rel=1e-12)
+
+
+def test_a_planet_spinning_the_other_way_is_the_mirror_image():
+    p, _ = load_planet("mars")
+    mirrored = replace(p, rotation_rate=replace(p.rotation_rate, value=-p.rotation_rate.value))
+    a, b = normal_modes(p, 4.3e-3), normal_modes(mirrored, 4.3e-3)
+    for m, n in zip(a.modes, b.modes):
+        assert n.rate == pytest.approx(-m.rate, rel=1e-12)
+        assert n.period == pytest.approx(m.period, rel=1e-12) and n.sense == m.sense
+        assert n.observed_period == pytest.approx(m.observed_period, rel=1e-12)
+    assert b.core_ellipticity_required == pytest.approx(a.core_ellipticity_required, rel=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("f", "exact", "lo", "hi"),
+    [
+        (lambda x: math.cos(x) - x, lambda: mp.findroot(lambda x: mp.cos(x) - x, 0.7), 0.0, 1.0),
+        (lambda x: x**3 - 2, lambda: mp.cbrt(2), 0.0, 10.0),
+        (lambda x: math.exp(x) - 1e-3, lambda: mp.log(mp.mpf("1e-3")), -20.0, 5.0),
+        (lambda x: math.atan(1e4 * (x - 0.3)), lambda: mp.mpf("0.3"), -1.0, 2.0),
+    ],
+)
+def test_bracketed_root_to_the_last_bits(f, exact, lo, hi):
+    from wobble.numerics.roots import bracketed_root
+
+    assert bracketed_root(f, lo, hi) == pytest.approx(float(exact()), rel=4e-16)
+    with pytest.raises(ValueError, match="bracket"):
+        bracketed_root(f, hi, hi + 1.0)
+
+
+def test_hydrostatic_core_flattening_uncertainty_reaches_mars_but_not_prem(earth_modes, mars_modes):
+    """PREM is a fixed profile; Mars' is rebuilt from its catalogued core, so its uncertainties propagate."""
+    from wobble.io.density_profile import load_profile
+    from wobble.models.hydrostatic import hydrostatic_figure
+
+    assert earth_modes.core_flattening_hydrostatic_uncertainty == 0.0
+    sigma = mars_modes.core_flattening_hydrostatic_uncertainty
+    assert 0 < sigma < 0.1 * mars_modes.core_flattening_hydrostatic
+    assert "fluid_core_density" in mars_modes.raw.contributions
+    # The rebuilt profile is the shipped file's (whose coefficients are rounded to 7 digits).
+    p, _ = load_planet("mars")
+    shipped = hydrostatic_figure(load_profile("mars_layered")[0], p.rotation_rate.value, p.gravitational_constant.value)
+    assert mars_modes.core_flattening_hydrostatic == pytest.approx(shipped.core_dynamical_ellipticity, rel=1e-6)

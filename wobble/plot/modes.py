@@ -1,0 +1,91 @@
+"""Free modes against the core's flattening: the FCN lesson in one picture, with the Clairaut profile."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from astropy import units as u
+
+__all__ = ["modes_figure"]
+
+
+def _band(ax, value, sigma, color, label):
+    ax.axhspan(value - sigma, value + sigma, color=color, alpha=0.25, lw=0)
+    ax.axhline(value, color=color, lw=1, label=label)
+
+
+def modes_figure(results, path=None, *, overwrite: bool = False):
+    """One row per planet: Clairaut's eps(r), the FCN in space and the CW against e_f.
+
+    Parameters
+    ----------
+    results : list of wobble.NormalModes
+        Bodies whose FCN is modelled get all three panels; others only the CW.
+    path : path-like, optional
+        Save the figure (PNG, 150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, axes = plt.subplots(len(results), 3, figsize=(11.0, 3.1 * len(results) + 0.4), squeeze=False)
+    for row, r in zip(axes, results):
+        _profile_panel(row[0], r)
+        if r.core_flattening_hydrostatic is None:
+            row[1].set_axis_off()
+            row[2].set_axis_off()
+            continue
+        hyd = r.core_flattening_hydrostatic
+        grid = np.linspace(0.85 * hyd, 1.15 * hyd, 61)
+        periods = r.periods_against_core_flattening(grid)
+        _fcn_panel(row[1], r, grid, periods["FCN_celestial"].to_value(u.day))
+        _cw_panel(row[2], r, grid, periods["CW"].to_value(u.day))
+    fig.tight_layout()
+    if path is not None:
+        from wobble.plot._save import save_figure
+
+        save_figure(fig, path, overwrite=overwrite)
+        plt.close(fig)
+    return fig
+
+
+def _profile_panel(ax, r):
+    ax.set_title(f"{r.planet.title}: hydrostatic level surfaces", fontsize=9)
+    if r.figure is None:
+        ax.text(0.5, 0.5, "no density profile", ha="center", va="center", transform=ax.transAxes)
+        return
+    radius = r.figure.radius.to_value(u.km)
+    ax.plot(radius, 1.0 / r.figure.flattening, color="C0")
+    ax.set_xlabel("radius [km]")
+    ax.set_ylabel("1 / flattening (Clairaut)")
+    anchors = r.figure.anchors
+    if "observed_flattening" in anchors:
+        ax.axhline(1.0 / anchors["observed_flattening"][0], color="0.4", ls=":", lw=1, label="observed surface")
+        ax.legend(fontsize=7, loc="upper right")
+
+
+def _fcn_panel(ax, r, grid, period):
+    fcn = r.mode("FCN", "celestial")
+    ax.plot(grid * 1e3, period, color="C3", label="FCN in space (model)")
+    if fcn.observed is not None:
+        _band(ax, fcn.observed.to_value(u.day), fcn.observed_uncertainty.to_value(u.day), "0.3", "observed")
+    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1, label="hydrostatic e_f")
+    if r.core_flattening_required is not None:
+        ax.axvline(r.core_flattening_required * 1e3, color="C2", ls="-.", lw=1, label="required e_f")
+    ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
+    ax.set_ylabel("FCN period in space [d]")
+    ax.set_title("free core nutation (retrograde)", fontsize=9)
+    ax.legend(fontsize=7, loc="lower right")
+
+
+def _cw_panel(ax, r, grid, period):
+    cw = r.mode("CW")
+    ax.plot(grid * 1e3, period, color="C1", label="CW (model, coupled)")
+    if cw.observed is not None:
+        _band(ax, cw.observed.to_value(u.day), cw.observed_uncertainty.to_value(u.day), "0.3", "observed")
+    ax.axhline(r.chandler_budget_period.to_value(u.day), color="C1", ls=":", lw=1, label="Chandler budget (first order)")
+    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1)
+    ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
+    ax.set_ylabel("Chandler period [d]")
+    ax.set_title("Chandler wobble (prograde)", fontsize=9)
+    ax.legend(fontsize=7, loc="best")
