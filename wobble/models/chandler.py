@@ -62,6 +62,7 @@ __all__ = [
     "chandler_budget",
     "Samples",
     "chandler_samples",
+    "love_number_samples",
     "INVALID_REASONS",
 ]
 
@@ -711,3 +712,39 @@ def chandler_samples(p: PlanetParameters, overrides: Mapping[str, object], model
         code=code,
         quality_factor=np.where(code == 0, quality, np.nan),
     )
+
+
+def love_number_samples(p: PlanetParameters, overrides: Mapping[str, object], period) -> tuple[np.ndarray, np.ndarray]:
+    """(Re k2, Im k2) at the forcing period ``period`` (s), vectorised like :func:`chandler_samples`.
+
+    The catalogue's ``love_number_k2`` is k2 at ``love_number_k2_period``; at any other
+    period the absorption-band model of IERS Conventions (2010) eq. 6.12 (Wahr & Bergen
+    1986; Mathews et al. 2002) gives
+
+        Re k2(f) = k2_ref + I cot(alpha pi/2) [(f_I/f)^alpha - (f_I/f_ref)^alpha],
+        Im k2(f) = I (f_I/f)^alpha,
+
+    which reduces to k2_ref at f = f_ref. A planet without the anelastic parameters is
+    elastic: Re k2 = k2_ref and Im k2 = 0 at every period. Members whose parameters are
+    out of range give NaN.
+
+    Parameters
+    ----------
+    p : PlanetParameters
+        The nominal planet (must give ``love_number_k2``).
+    overrides : mapping
+        Parameter name -> array of values (SI), broadcast together.
+    period : float or array_like
+        Forcing period, s (positive).
+    """
+    if p.love_number_k2 is None and "love_number_k2" not in overrides:
+        raise InputError("love_number_k2", "not given", "a planet with a Love number k2")
+    vals = _Values(p.values(), overrides)
+    period = np.asarray(period, dtype=float)
+    if "anelastic" in available_steps(p):
+        real, imag = vals.anelastic_k(2.0 * math.pi / period)
+    else:
+        real = vals["love_number_k2"] + np.zeros(np.broadcast_shapes(vals.shape, period.shape))
+        imag = np.zeros_like(real)
+    bad = vals.out_of_range | ~(period > 0)
+    return np.where(bad, np.nan, real), np.where(bad, np.nan, imag)
