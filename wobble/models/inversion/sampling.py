@@ -1,11 +1,17 @@
 """Sampling the posterior with emcee, the affine-invariant ensemble sampler.
 
-emcee (Foreman-Mackey et al. 2013, PASP 125, 306) moves an ensemble of walkers with
-the stretch move of Goodman & Weare (2010, Comm. App. Math. Comp. Sci. 5, 65); it is
-invariant under linear maps of the parameters, so correlated and badly scaled
-parameters (a core radius in metres beside a Love number) cost nothing extra. The
-ensemble's half-steps evaluate the posterior for half the walkers at once
-(``vectorize=True``): one call of the vectorised forward model per half-step.
+emcee (Foreman-Mackey et al. 2013, PASP 125, 306) moves an ensemble of walkers. The
+moves are a mixture (:data:`MOVES`): half the steps the stretch move of Goodman & Weare
+(2010, Comm. App. Math. Comp. Sci. 5, 65), 40 % differential evolution (ter Braak 2006,
+Stat. Comput. 16, 239; Nelson, Ford & Payne 2014, ApJS 210, 11) and 10 % its snooker
+variant (ter Braak & Vrugt 2008, Stat. Comput. 18, 435). All are invariant under linear
+maps of the parameters, so correlated and badly scaled parameters (a core radius in
+metres beside a Love number) cost nothing extra; the mixture roughly halves the
+autocorrelation time of the stretch move alone on the shipped setups (measured: 30
+instead of 52 steps for Mars), while the stretch part keeps stragglers from the broad
+starting draws moving. The ensemble's half-steps evaluate the posterior for half the
+walkers at once (``vectorize=True``): one call of the vectorised forward model per
+half-step.
 
 Walkers start from independent draws of the prior (only where the posterior is
 positive), so a run never starts at the answer it is meant to find; the first
@@ -25,7 +31,10 @@ import numpy as np
 from wobble.errors import InputError
 from wobble.models.inversion.likelihood import Posterior
 
-__all__ = ["SamplerSettings", "Chains", "run_emcee", "draw_prior", "start_positions"]
+__all__ = ["SamplerSettings", "Chains", "run_emcee", "draw_prior", "start_positions", "MOVES"]
+
+# (move, weight): see the module docstring.
+MOVES = (("stretch", 0.5), ("de", 0.4), ("de_snooker", 0.1))
 
 _START_ATTEMPTS = 100
 
@@ -52,7 +61,7 @@ class SamplerSettings:
     """
 
     walkers: int = 32
-    steps: int = 3000
+    steps: int = 6000
     burn: int = 1000
     thin: int = 1
     ensembles: int = 1
@@ -150,7 +159,10 @@ def run_emcee(
     settings.check(posterior.ndim)
     rng = _rng(seed)
     start = start_positions(posterior, settings.walkers, rng)
-    sampler = emcee.EnsembleSampler(settings.walkers, posterior.ndim, posterior, vectorize=True)
+    moves = {"stretch": emcee.moves.StretchMove, "de": emcee.moves.DEMove, "de_snooker": emcee.moves.DESnookerMove}
+    sampler = emcee.EnsembleSampler(
+        settings.walkers, posterior.ndim, posterior, vectorize=True, moves=[(moves[m](), w) for m, w in MOVES]
+    )
     sampler.random_state = np.random.RandomState(int(rng.integers(2**32))).get_state()
     total = settings.burn + settings.steps
     t0 = time.perf_counter()
