@@ -53,6 +53,7 @@ _PUBLIC = {
     "api.top": ["HeavyTop"],
     "api.engine": ["Torque"],
     "api.scene": ["Scene", "run", "run_to_netcdf", "example_scenes"],
+    "api.inversion": ["invert", "Inversion", "injection_recovery", "Calibration", "inversion_setups", "load_inversion_setup"],
 }
 
 __getattr__, __dir__, _names = _lazy.attach(__name__, submodules=["plot"], submod_attrs=_PUBLIC)

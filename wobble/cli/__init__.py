@@ -18,7 +18,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "bench")
+SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "invert", "bench")
 
 EPILOG = """\
 examples:
@@ -34,6 +34,8 @@ examples:
                                         the heavy top: turning points, nutation class, period
   wobble sweep mars_chandler -o mars.nc
                                         Monte Carlo over Mars' uncertain parameters (dask)
+  wobble invert mars --plot corner.png  Bayesian inversion: Mars' core radius from its
+                                        Chandler period and k2 (emcee; ArviZ output)
   wobble run tennis_racket -o racket.nc
                                         a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF
