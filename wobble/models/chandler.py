@@ -212,9 +212,12 @@ def free_wobble_rate_array(spin, c_minus_a, c_minus_b, d=0.0, core=0.0):
     """
     ea = np.asarray(c_minus_a, dtype=float) - d
     eb = np.asarray(c_minus_b, dtype=float) - d
-    den = (1.0 - np.asarray(c_minus_a) - core) * (1.0 - np.asarray(c_minus_b) - core)
+    mantle_a = 1.0 - np.asarray(c_minus_a) - core  # (A - A_f)/C
+    mantle_b = 1.0 - np.asarray(c_minus_b) - core  # (B - A_f)/C
+    den = mantle_a * mantle_b
     num = ea * eb
-    code = np.where(~(den > 0), 2, np.where(num < 0, 1, 0)).astype(np.int8)
+    # Each factor must be positive: a core larger than both A and B makes den > 0 too.
+    code = np.where(~((mantle_a > 0) & (mantle_b > 0)), 2, np.where(num < 0, 1, 0)).astype(np.int8)
     ok = code == 0
     ratio = np.divide(num, den, out=np.full(np.broadcast(num, den).shape, np.nan), where=ok)
     magnitude = np.sqrt(ratio, out=np.full_like(ratio, np.nan), where=ok & (ratio >= 0))
