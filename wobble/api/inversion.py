@@ -479,18 +479,20 @@ class Inversion:
             posterior=post,
             prior=prior,
             sample_stats={"lp": self.log_posterior},
-            observed_data={m.name: np.asarray(m.value / m.scale) for m in measured},
-            constant_data={f"{m.name}_uncertainty": np.asarray(m.sigma / m.scale) for m in measured},
+            observed_data={m.name: np.array([m.value / m.scale]) for m in measured},
+            constant_data={f"{m.name}_uncertainty": np.array([m.sigma / m.scale]) for m in measured},
         )
         if measured:
-            groups["posterior_predictive"] = {m.name: rep[m.name] / m.scale for m in measured}
+            # One observation each, shaped like observed_data (dimension <name>_dim_0), as ArviZ's
+            # posterior-predictive checks (az.plot_ppc) expect.
+            groups["posterior_predictive"] = {m.name: rep[m.name][..., None] / m.scale for m in measured}
             groups["prior_predictive"] = {
-                m.name: (prior_pred[m.name] + m.sigma * rng.standard_normal(prior_pred[m.name].shape))[None, :] / m.scale
+                m.name: (prior_pred[m.name] + m.sigma * rng.standard_normal(prior_pred[m.name].shape))[None, :, None] / m.scale
                 for m in measured
             }
             z = {m.name: (pred[m.name] - m.value) / m.sigma for m in measured}
             groups["log_likelihood"] = {
-                m.name: -0.5 * z[m.name] ** 2 - math.log(m.sigma / m.scale * math.sqrt(2 * math.pi)) for m in measured
+                m.name: (-0.5 * z[m.name] ** 2 - math.log(m.sigma / m.scale * math.sqrt(2 * math.pi)))[..., None] for m in measured
             }
         with np.errstate(invalid="ignore"):
             idata = az.from_dict(**groups)
