@@ -34,8 +34,9 @@ examples:
                                         the heavy top: turning points, nutation class, period
   wobble sweep mars_chandler -o mars.nc
                                         Monte Carlo over Mars' uncertain parameters (dask)
-  wobble invert mars --plot corner.png  Bayesian inversion: Mars' core radius from its
-                                        Chandler period and k2 (emcee; ArviZ output)
+  wobble invert mars --plot corner.png
+                                        Bayesian inversion: the core radius of Mars from
+                                        its Chandler period and k2 (emcee; ArviZ output)
   wobble run tennis_racket -o racket.nc
                                         a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF
