@@ -132,7 +132,7 @@ def calibration(lines: list[str], draws: int, scheduler, seed: int):
                 f"| {name} | {pname} | {100 * c['68']:.1f} +/- {100 * c['se_68']:.1f} % | {100 * c['95']:.1f} +/- {100 * c['se_95']:.1f} % | "
                 f"{' '.join(str(int(x)) for x in counts)} | {p:.2f} |"
             )
-        ess = np.nanmedian([r.min_ess for r in cal.recoveries])
+        ess = cal.to_dict()["min_ess_median"]
         lines.append(f"| {name} | (all) | {draws} draws in {wall:.0f} s | median smallest ESS {ess:.0f} | | |")
         print(f"calibration {name}: {wall:.0f} s", file=sys.stderr)
     lines.append("")
@@ -155,7 +155,8 @@ def main(argv=None) -> int:
         f"Written by `python scripts/calibrate_inversion.py{' --quick' if args.quick else ''}"
         f"{f' --draws {args.draws}' if args.draws != 200 and not args.quick else ''}` on {started}: "
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, load average "
-        f"{load[0]:.1f} at the start (a shared machine: timings are noisy; re-run on a quiet one).",
+        f"{load[0]:.1f} at the start (a shared machine: timings are noisy; re-run on a quiet one). "
+        "Do not edit by hand.",
         "",
     ]
     t0 = time.perf_counter()

@@ -225,7 +225,7 @@ class Inversion:
         self.samples = np.concatenate([c.samples for c in chains], axis=0)
         self.log_posterior = np.concatenate([c.log_posterior for c in chains], axis=0)
         self.acceptance = np.concatenate([c.acceptance for c in chains])
-        self.autocorr = np.nanmax(np.stack([c.autocorr for c in chains]), axis=0)
+        self.autocorr = _nanmax(np.stack([c.autocorr for c in chains]), axis=0)
         self.prior_samples = prior_samples
         self.settings = settings
         self.seed = seed
@@ -282,7 +282,7 @@ class Inversion:
         if not lo <= acc <= hi:
             self.warnings.append(f"mean acceptance fraction {acc:.2f} outside [{lo}, {hi}]: the ensemble moves poorly")
         draws = self.samples.shape[1] * self.settings.thin
-        tau = float(np.nanmax(self.autocorr)) * self.settings.thin
+        tau = float(_nanmax(self.autocorr)) * self.settings.thin
         if math.isfinite(tau) and draws < 50 * tau:
             self.warnings.append(
                 f"{draws} steps per walker are fewer than 50 autocorrelation times ({tau:.0f} steps): "
@@ -552,14 +552,27 @@ class Inversion:
 
         return Path(path)
 
-    def plot(self, path, *, overwrite: bool = True):
-        """Corner plot of the posterior (with the published values) to ``path``."""
+    def plot(self, path, *, overwrite: bool = False):
+        """Corner plot of the posterior (priors dashed, published values as bands) to ``path``,
+        atomically (PNG, PDF or SVG; an existing file is replaced only with ``overwrite=True``)."""
         from wobble.plot.inversion import corner_plot
 
         return corner_plot(self, path, overwrite=overwrite)
 
     def __repr__(self) -> str:
         return f"Inversion({self.setup.name!r}, {self.samples.shape[0]} chains x {self.samples.shape[1]} draws)"
+
+
+def _median_finite(values) -> float:
+    finite = [v for v in values if math.isfinite(v)]
+    return float(np.median(finite)) if finite else math.nan
+
+
+def _nanmax(a, axis=None):
+    """Largest finite-or-inf value, NaN where every entry is NaN (without NumPy's warning)."""
+    a = np.asarray(a, dtype=float)
+    top = np.max(np.where(np.isnan(a), -np.inf, a), axis=axis)
+    return np.where(np.isneginf(top) & np.all(np.isnan(a), axis=axis), np.nan, top)
 
 
 def _model_name(m) -> str:
@@ -716,7 +729,7 @@ class Calibration:
             "coverage": self.coverage,
             "rank_histogram": self.rank_histogram(),
             "seconds": self.seconds,
-            "min_ess_median": float(np.nanmedian([r.min_ess for r in self.recoveries])),
+            "min_ess_median": _median_finite([r.min_ess for r in self.recoveries]),
         }
 
     def summary(self) -> str:
