@@ -56,6 +56,7 @@ _PUBLIC = {
     "api.engine": ["Torque"],
     "api.scene": ["Scene", "run", "run_to_netcdf", "example_scenes"],
     "api.examples": ["example_files", "example_path", "copy_example"],
+    "api.inversion": ["invert", "Inversion", "injection_recovery", "Calibration", "inversion_setups", "load_inversion_setup"],
 }
 
 __getattr__, __dir__, _names = _lazy.attach(__name__, submodules=["plot"], submod_attrs=_PUBLIC)

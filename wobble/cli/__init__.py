@@ -18,7 +18,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "inertia", "free", "top", "run", "sweep", "example", "bench")
+SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "inertia", "free", "top", "run", "sweep", "invert", "example", "bench")
 
 EPILOG = """\
 examples:
@@ -37,6 +37,9 @@ examples:
                                         the heavy top: turning points, nutation class, period
   wobble sweep mars_chandler -o mars.nc
                                         Monte Carlo over Mars' uncertain parameters (dask)
+  wobble invert mars --plot corner.png
+                                        Bayesian inversion: the core radius of Mars from
+                                        its Chandler period and k2 (emcee; ArviZ output)
   wobble run tennis_racket -o racket.nc
                                         a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF

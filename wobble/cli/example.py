@@ -44,15 +44,23 @@ def run(args) -> int:
             raise InputError.missing("NAME", "a shipped file to copy, or --list to see them")
         files = shipped_files()
         if args.json:
-            print_json([{"name": f.name, "kind": f.kind, "description": f.description} for f in files])
+            print_json([{"name": f.name, "kind": f.kind, "qualified_name": f.qualified, "description": f.description}
+                        for f in files])
             return 0
-        width = max(len(f.name) for f in files)
+        counts = {}
+        for f in files:
+            counts[f.name] = counts.get(f.name, 0) + 1
+
+        def shown(f):  # a name several folders ship is given with its folder
+            return f.qualified if counts[f.name] > 1 else f.name
+
+        width = max(len(shown(f)) for f in files)
         for kind, label in KINDS.items():
             group = [f for f in files if f.kind == kind]
             if group:
                 print(f"{label}:")
                 for f in group:
-                    print(f"  {f.name:<{width}}  {f.description}")
+                    print(f"  {shown(f):<{width}}  {f.description}")
         return 0
     path = copy_shipped(args.name, args.dest, overwrite=args.overwrite)
     if args.json:

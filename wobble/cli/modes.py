@@ -13,7 +13,7 @@ examples:
   wobble modes earth mars -o modes.nc --overwrite
   wobble modes earth mars --plot modes.png
   wobble modes earth --mode FCN --profile prem
-  wobble example mars.toml my_mars.toml           a planet file to edit (a profile too: wobble example prem.toml), then:
+  wobble example bodies/mars.toml my_mars.toml    a planet file to edit (a profile too: wobble example prem.toml), then:
   wobble modes --body-file my_mars.toml
 
 Each mode is shown in the frame where it is observed: the Chandler wobble (CW)

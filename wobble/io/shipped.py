@@ -27,6 +27,7 @@ __all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "
 KINDS = {
     "bodies": "planets of the catalogue (wobble chandler NAME)",
     "profiles": "radial density profiles (wobble modes --profile NAME)",
+    "inversions": "inversion set-ups (wobble invert NAME)",
     "precession": "perturbers and the IAU 2006 steps (wobble precession --perturber NAME)",
     "examples": "example inputs",
     "scenes": "scenes (wobble run NAME)",
@@ -46,6 +47,11 @@ class ShippedFile:
     @property
     def stem(self) -> str:
         return self.name.rsplit(".", 1)[0]
+
+    @property
+    def qualified(self) -> str:
+        """``kind/name``: unique among every shipped file."""
+        return f"{self.kind}/{self.name}"
 
     def path(self):
         """The file as an importlib Traversable (use :func:`importlib.resources.as_file`)."""
@@ -91,12 +97,18 @@ def shipped_files(kinds=None) -> list[ShippedFile]:
 
 
 def find_shipped(name: str, kinds=None, suffixes=None) -> ShippedFile | None:
-    """The shipped file called ``name`` (with or without its extension), or None."""
+    """The shipped file called ``name`` (with or without its extension), or None.
+
+    ``name`` may carry its folder (``inversions/mars``) where the same file name ships in
+    several folders; an unqualified name that several folders hold is an error listing them.
+    """
     key = os.fspath(name).strip()
-    for f in _candidates(kinds, suffixes):
-        if key in (f.name, f.stem):
-            return f
-    return None
+    folder, _, base = key.rpartition("/")
+    found = [f for f in _candidates(kinds, suffixes) if base in (f.name, f.stem) and folder in ("", f.kind)]
+    if len(found) > 1:
+        choices = ", ".join(f.qualified for f in found)
+        raise InputError("NAME", key, f"one of {choices} (the same name ships in several folders)")
+    return found[0] if found else None
 
 
 def _candidates(kinds, suffixes) -> list[ShippedFile]:

@@ -64,6 +64,7 @@ __all__ = [
     "chandler_budget",
     "Samples",
     "chandler_samples",
+    "love_number_samples",
     "INVALID_REASONS",
 ]
 
@@ -221,9 +222,12 @@ def free_wobble_rate_array(spin, c_minus_a, c_minus_b, d=0.0, core=0.0):
     """
     ea = np.asarray(c_minus_a, dtype=float) - d
     eb = np.asarray(c_minus_b, dtype=float) - d
-    den = (1.0 - np.asarray(c_minus_a) - core) * (1.0 - np.asarray(c_minus_b) - core)
+    mantle_a = 1.0 - np.asarray(c_minus_a) - core  # (A - A_f)/C
+    mantle_b = 1.0 - np.asarray(c_minus_b) - core  # (B - A_f)/C
+    den = mantle_a * mantle_b
     num = ea * eb
-    code = np.where(~(den > 0), 2, np.where(num < 0, 1, 0)).astype(np.int8)
+    # Each factor must be positive: a core larger than both A and B makes den > 0 too.
+    code = np.where(~((mantle_a > 0) & (mantle_b > 0)), 2, np.where(num < 0, 1, 0)).astype(np.int8)
     ok = code == 0
     ratio = np.divide(num, den, out=np.full(np.broadcast(num, den).shape, np.nan), where=ok)
     magnitude = np.sqrt(ratio, out=np.full_like(ratio, np.nan), where=ok & (ratio >= 0))
@@ -783,3 +787,39 @@ def chandler_samples(p: PlanetParameters, overrides: Mapping[str, object], model
         code=code,
         quality_factor=np.where(code == 0, quality, np.nan),
     )
+
+
+def love_number_samples(p: PlanetParameters, overrides: Mapping[str, object], period) -> tuple[np.ndarray, np.ndarray]:
+    """(Re k2, Im k2) at the forcing period ``period`` (s), vectorised like :func:`chandler_samples`.
+
+    The catalogue's ``love_number_k2`` is k2 at ``love_number_k2_period``; at any other
+    period the absorption-band model of IERS Conventions (2010) eq. 6.12 (Wahr & Bergen
+    1986; Mathews et al. 2002) gives
+
+        Re k2(f) = k2_ref + I cot(alpha pi/2) [(f_I/f)^alpha - (f_I/f_ref)^alpha],
+        Im k2(f) = I (f_I/f)^alpha,
+
+    which reduces to k2_ref at f = f_ref. A planet without the anelastic parameters is
+    elastic: Re k2 = k2_ref and Im k2 = 0 at every period. Members whose parameters are
+    out of range give NaN.
+
+    Parameters
+    ----------
+    p : PlanetParameters
+        The nominal planet (must give ``love_number_k2``).
+    overrides : mapping
+        Parameter name -> array of values (SI), broadcast together.
+    period : float or array_like
+        Forcing period, s (positive).
+    """
+    if p.love_number_k2 is None and "love_number_k2" not in overrides:
+        raise InputError("love_number_k2", "not given", "a planet with a Love number k2")
+    vals = _Values(p.values(), overrides)
+    period = np.asarray(period, dtype=float)
+    if "anelastic" in available_steps(p):
+        real, imag = vals.anelastic_k(2.0 * math.pi / period)
+    else:
+        real = vals["love_number_k2"] + np.zeros(np.broadcast_shapes(vals.shape, period.shape))
+        imag = np.zeros_like(real)
+    bad = vals.out_of_range | ~(period > 0)
+    return np.where(bad, np.nan, real), np.where(bad, np.nan, imag)

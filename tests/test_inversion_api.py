@@ -1,0 +1,199 @@
+"""wobble.invert, its InferenceData file, the setups, and ``wobble invert`` on the command line.
+
+Short runs (a few hundred steps) keep these fast; they are meant to test the plumbing,
+the file round trip, the diagnostics' warnings and the refusals, not the science
+(scripts/calibrate_inversion.py and docs/inversion.md do that at full size).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import tomllib
+from importlib import resources
+
+import numpy as np
+import pytest
+
+import wobble
+from wobble.cli import main
+from wobble.errors import FileFormatError, InputError, OutputExistsError
+
+SHORT = dict(steps=200, burn=100, walkers=12)
+
+
+@pytest.fixture(scope="module")
+def mars():
+    return wobble.invert("mars", seed=5, **SHORT)
+
+
+def _setup(name="mars") -> dict:
+    text = (resources.files("wobble._data") / "inversions" / f"{name}.toml").read_text()
+    return tomllib.loads(text)
+
+
+def test_shipped_setups_are_found_by_name():
+    assert {"earth", "mars", "mars_chandler_only"} <= set(wobble.inversion_setups())
+
+
+def test_result_speaks_the_vocabulary(mars):
+    d = mars.to_dict()
+    names = [p["name"] for p in d["parameters"]]
+    assert names == ["fluid_core_radius", "fluid_core_density", "love_number_k2", "anelastic_exponent", "love_number_k2_imaginary"]
+    for p in d["parameters"]:
+        assert {"name", "unit", "median", "lower_68", "upper_68", "lower_95", "upper_95", "r_hat", "ess"} <= set(p)
+        assert p["lower_95"] <= p["lower_68"] <= p["median"] <= p["upper_68"] <= p["upper_95"]
+    assert d["parameters"][0]["unit"] == "km"
+    assert d["sampler"] == "emcee" and d["settings"]["steps"] == 200 and d["settings"]["seed"] == 5
+    obs = {o["name"]: o for o in d["observables"]}
+    assert obs["chandler_period"]["observed"] == pytest.approx(206.9)
+    assert obs["chandler_period"]["unit"] == "d"
+    assert obs["tidal_k2"]["measured"] and not obs["chandler_quality_factor"]["measured"]
+    text = mars.summary()
+    assert isinstance(text, str) and "fluid_core_radius" in text and "Staehler et al. 2021" in text
+
+
+def test_short_runs_warn_about_convergence_in_text_and_json(mars):
+    """200 steps cannot converge: the warnings must say so, never stay silent."""
+    assert any("R-hat above 1.01" in w for w in mars.warnings)
+    assert mars.to_dict()["warnings"] == mars.warnings
+    assert "WARNING: R-hat above 1.01" in mars.summary()
+
+
+def test_inference_data_round_trip_with_arviz_and_xarray(mars, tmp_path):
+    from wobble.api.dataset import xarray
+    from wobble.api.inversion import arviz
+
+    az, xr = arviz(), xarray()
+    idata = mars.to_inference_data()
+    for group in ("posterior", "prior", "posterior_predictive", "prior_predictive", "log_likelihood",
+                  "observed_data", "constant_data", "sample_stats"):
+        assert hasattr(idata, group), group
+    path = mars.write(tmp_path / "mars.nc")
+    back = az.from_netcdf(path)
+    xr.testing.assert_identical(back.posterior, idata.posterior)
+    xr.testing.assert_identical(back.observed_data, idata.observed_data)
+    post = xr.open_dataset(path, group="posterior")
+    assert post["fluid_core_radius"].attrs["units"] == "km"
+    np.testing.assert_array_equal(post["fluid_core_radius"].values, mars.samples[..., 0] / 1e3)
+    post.close()
+    summary = az.summary(back, var_names=["fluid_core_radius"], kind="diagnostics")
+    assert summary.loc["fluid_core_radius", "r_hat"] == pytest.approx(mars.to_dict()["parameters"][0]["r_hat"], abs=0.011)
+    assert back.observed_data["chandler_period"].values.tolist() == pytest.approx([206.9])
+    assert back.posterior_predictive["chandler_period"].dims == ("chain", "draw", "chandler_period_dim_0")
+
+
+def test_write_refuses_to_replace_and_leaves_no_temporary(mars, tmp_path):
+    target = tmp_path / "out.nc"
+    target.write_text("keep me")
+    with pytest.raises(OutputExistsError):
+        mars.write(target)
+    assert target.read_text() == "keep me"
+    mars.write(target, overwrite=True)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]
+
+
+def test_corner_plot_is_written(mars, tmp_path):
+    path = mars.plot(tmp_path / "corner.png")
+    assert path.stat().st_size > 10_000
+
+
+def test_same_seed_same_numbers_and_dask_gives_the_same_ensembles():
+    a = wobble.invert("earth", seed=3, ensembles=2, **SHORT)
+    b = wobble.invert("earth", seed=3, ensembles=2, scheduler="threads", **SHORT)
+    np.testing.assert_array_equal(a.samples, b.samples)
+    assert a.samples.shape[0] == 2 * SHORT["walkers"]
+    assert a.to_dict()["parameters"] == b.to_dict()["parameters"]
+
+
+def test_prior_only_run_is_wider_than_the_posterior(mars):
+    prior = wobble.invert("mars", seed=5, prior_only=True, **SHORT)
+    p68 = {r["name"]: r["upper_68"] - r["lower_68"] for r in prior.to_dict()["parameters"]}
+    q68 = {r["name"]: r["upper_68"] - r["lower_68"] for r in mars.to_dict()["parameters"]}
+    # The k2 measurement and the period cut k2 and the core radius well below their flat priors.
+    assert q68["love_number_k2"] < 0.3 * p68["love_number_k2"]
+    assert q68["fluid_core_radius"] < 0.5 * p68["fluid_core_radius"]
+    assert "PRIOR ONLY" in prior.summary()
+
+
+def test_injection_recovery_runs_on_a_real_setup():
+    cal = wobble.injection_recovery("mars", draws=2, seed=1, steps=100, burn=50, walkers=12)
+    d = cal.to_dict()
+    assert d["draws"] == 2 and set(d["coverage"]) == set(cal.names)
+    assert "coverage" in cal.summary()
+
+
+# ---------------------------------------------------------------------------
+# Bad input: one line naming the problem, nothing written
+# ---------------------------------------------------------------------------
+
+
+def _broken(path_to_key, value, delete=False):
+    data = copy.deepcopy(_setup())
+    node = data
+    for key in path_to_key[:-1]:
+        node = node[key]
+    if delete:
+        del node[path_to_key[-1]]
+    else:
+        node[path_to_key[-1]] = value
+    return data
+
+
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        ((["parameters", "fluid_core_radius", "low"], 2500), "low < high"),
+        ((["parameters", "fluid_core_density"], {"prior": "normal", "mean": 6000, "sd": -300}), "positive standard deviation"),
+        ((["parameters", "anelastic_exponent"], {"prior": "uniform", "low": 0.5, "high": 1.5}), "physical range"),
+        ((["parameters", "core_radius"], {}), "parameters.core_radius: unknown parameter"),
+        ((["observables", "fcn_period"], {"value": -243, "uncertainty": 3.3}), "observables.fcn_period: unknown observable"),
+        ((["observables", "tidal_k2", "uncertainty"], None, True), "observables.tidal_k2.uncertainty: missing"),
+        ((["observables", "tidal_k2", "uncertainty"], 0.0), "positive one-sigma uncertainty"),
+        ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 3000, "high": 3300, "unit": "km"}),
+         "no prediction at the priors' centre"),
+        ((["parameters", "gm"], {}), None),  # catalogued with an uncertainty: allowed
+        ((["parameters", "equatorial_radius"], {}), "does not catalogue an uncertainty"),
+        ((["sampler", "walkers"], 7), "walkers"),
+    ],
+)
+def test_bad_setups_are_refused_naming_the_key(edit, message):
+    data = _broken(*edit)
+    if message is None:
+        wobble.load_inversion_setup(data)
+        return
+    with pytest.raises(FileFormatError) as err:
+        wobble.load_inversion_setup(data)
+    assert message in str(err.value)
+
+
+def test_unknown_setup_name_is_an_input_error():
+    with pytest.raises(InputError, match="setup: got venus"):
+        wobble.invert("venus")
+
+
+def test_cli_bad_setup_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    bad = tmp_path / "bad.toml"
+    text = (resources.files("wobble._data") / "inversions" / "mars.toml").read_text()
+    bad.write_text(text.replace("uncertainty = 0.006\n", ""))
+    status = main(["invert", str(bad), "-o", "out.nc", "--plot", "c.png", "--quiet"])
+    out, err = capsys.readouterr()
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and "observables.tidal_k2.uncertainty" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+
+
+def test_cli_json_and_files(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status = main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "12", "--seed", "2",
+                   "--json", "-o", "e.nc", "--plot", "e.png", "--quiet"])
+    out, err = capsys.readouterr()
+    assert status == 0
+    d = json.loads(out)
+    assert d["setup"] == "earth" and d["settings"]["seed"] == 2 and d["output"] == "e.nc"
+    assert [p["name"] for p in d["parameters"]][0] == "anelastic_exponent"
+    assert d["warnings"]
+    assert err.splitlines() == ["wrote e.nc", "wrote e.png"]
+    # The same command again refuses to replace the files, before sampling.
+    assert main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "12", "-o", "e.nc", "--quiet"]) == 2

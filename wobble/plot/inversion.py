@@ -1,0 +1,94 @@
+"""The corner plot of an inversion: every pair of parameters, the priors and the published values.
+
+Drawn with ``corner`` (Foreman-Mackey 2016, JOSS 1, 24). The diagonal shows each
+parameter's posterior (filled) over its prior (dashed), with the published values of
+the setup (``[[compare.<name>]]``) as bands; the off-diagonal panels show the 2-D
+posteriors (contours at 0.5, 1, 1.5 and 2 sigma of a 2-D Gaussian).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from wobble.errors import InputError
+
+__all__ = ["corner_figure", "corner_plot"]
+
+_FORMATS = ("png", "pdf", "svg")
+
+
+def corner_figure(result):
+    """The corner plot of ``result`` (a :class:`wobble.api.inversion.Inversion`) as a Figure."""
+    import corner
+    import matplotlib.pyplot as plt
+
+    params = result.posterior.parameters
+    ndim = len(params)
+    samples = np.stack([result.samples[..., i].ravel() / p.scale for i, p in enumerate(params)], axis=-1)
+    prior = np.stack([result.prior_samples[:, i] / p.scale for i, p in enumerate(params)], axis=-1)
+    labels = [f"{p.name}\n[{p.unit}]" if p.unit else p.name for p in params]
+    fig = plt.figure(figsize=(2.1 * ndim + 1.0, 2.1 * ndim + 1.0))
+    corner.corner(
+        samples,
+        fig=fig,
+        labels=labels,
+        quantiles=[0.16, 0.5, 0.84],
+        show_titles=False,
+        label_kwargs={"fontsize": 8},
+        hist_kwargs={"density": True, "color": "C0"},
+        color="C0",
+        bins=40,
+        smooth=1.0,
+        plot_datapoints=False,
+        fill_contours=True,
+        levels=tuple(1.0 - np.exp(-0.5 * np.array([0.5, 1.0, 1.5, 2.0]) ** 2)),
+    )
+    axes = np.array(fig.axes).reshape(ndim, ndim)
+    for i, p in enumerate(params):
+        ax = axes[i, i]
+        lo, hi = ax.get_xlim()
+        inside = prior[:, i][(prior[:, i] >= lo) & (prior[:, i] <= hi)]
+        if inside.size:
+            weights = np.full(inside.size, 1.0 / prior.shape[0])
+            ax.hist(inside, bins=40, range=(lo, hi), weights=weights / ((hi - lo) / 40), histtype="step",
+                    color="0.45", ls="--", label="prior")
+        for k, c in enumerate(x for x in result.setup.comparisons if x.name == p.name):
+            colour = f"C{k + 1}"
+            if c.value is not None:
+                ax.axvline(c.value / p.scale, color=colour, lw=1.2, label=c.source.split("(")[0].strip())
+                if c.uncertainty is not None:
+                    ax.axvspan((c.value - c.uncertainty) / p.scale, (c.value + c.uncertainty) / p.scale, color=colour, alpha=0.15)
+            else:
+                ax.axvspan(c.low / p.scale, c.high / p.scale, color=colour, alpha=0.15, label=c.source.split("(")[0].strip())
+        ax.set_xlim(lo, hi)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6, frameon=False, loc="upper left")
+    kind = "prior only" if result.prior_only else "posterior"
+    fig.suptitle(f"{result.setup.title} ({kind})", fontsize=10)
+    return fig
+
+
+def corner_plot(result, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
+    """Write :func:`corner_figure` to ``path`` (PNG, PDF or SVG by its suffix), atomically.
+
+    The figure is saved under a temporary name in the target folder and renamed; an
+    existing file is replaced only with ``overwrite=True``.
+    """
+    from wobble.io.atomic import atomic_target, check_target
+
+    path = Path(path)
+    suffix = path.suffix.lower().lstrip(".")
+    if suffix not in _FORMATS:
+        raise InputError("plot", str(path), "a file name ending in .png, .pdf or .svg")
+    check_target(path, overwrite)
+    import matplotlib.pyplot as plt
+
+    fig = corner_figure(result)
+    try:
+        with atomic_target(path, overwrite) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=suffix)
+    finally:
+        plt.close(fig)
+    return path
