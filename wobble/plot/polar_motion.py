@@ -55,18 +55,19 @@ def pole_path(data, *, start=None, end=None, ax=None, model=None):
     """
     from astropy import units as u
 
-    from wobble.api.polar_motion import _mjd_values, _select
+    from wobble.api.polar_motion.record import mjd_values
+    from wobble.io.dates import select_dates
 
     ax = _axes(ax)
-    mjd = _mjd_values(data["time"])
-    keep = _select(mjd, start, end)
+    mjd = mjd_values(data["time"])
+    keep = select_dates(mjd, start, end)
     x = (np.asarray(data["x_p"].values) * u.Unit(data["x_p"].attrs["units"])).to_value(u.mas)[keep]
     y = (np.asarray(data["y_p"].values) * u.Unit(data["y_p"].attrs["units"])).to_value(u.mas)[keep]
     years = _decimal_year(mjd[keep])
     points = ax.scatter(x, y, c=years, s=2, cmap="viridis", linewidths=0)
     ax.plot(x, y, lw=0.3, color="0.6", zorder=0)
     if model is not None and "x_p_mean_pole" in model:
-        mm = _mjd_values(model["time"])
+        mm = mjd_values(model["time"])
         mk = (mm >= mjd[keep][0]) & (mm <= mjd[keep][-1])
         ax.plot(model["x_p_mean_pole"].values[mk] * 1e3, model["y_p_mean_pole"].values[mk] * 1e3, color="C3", lw=1.5, label="mean pole (fitted drift)")
         ax.legend(loc="lower right", fontsize="small")
