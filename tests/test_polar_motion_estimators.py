@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from polar_synthetic import DAY, MAS, TRUTH, record
+from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, record
 
 from wobble.errors import InputError
 from wobble.models import polar_motion as pm
@@ -19,8 +19,8 @@ def deterministic_fits():
     out = []
     for _ in range(6):
         t, p = record(rng, 30)
-        ls = pm.fit_least_squares(t, p, excitation_q=None)
-        sp = pm.fit_spectrum(t, p, excitation_q=None)
+        ls = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
+        sp = pm.fit_spectrum(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
         out.append((ls, sp))
     return out
 
@@ -65,8 +65,8 @@ def test_the_two_methods_agree_within_their_uncertainties(deterministic_fits):
 def test_least_squares_polish_confirms_the_profile_optimum():
     rng = np.random.default_rng(5)
     t, p = record(rng, 12, gaps=False)
-    full = pm.fit_least_squares(t, p, excitation_q=None)
-    bare = pm.fit_least_squares(t, p, uncertainty=False)  # variable projection alone
+    full = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
+    bare = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, uncertainty=False)  # variable projection alone
     assert full.chandler.rate == pytest.approx(bare.chandler.rate, rel=1e-8)
     assert full.details["solver"].startswith("variable projection")
 
@@ -74,7 +74,7 @@ def test_least_squares_polish_confirms_the_profile_optimum():
 def test_mean_pole_drift_is_removed():
     rng = np.random.default_rng(6)
     t, p = record(rng, 20, noise_rms=0.1 * MAS, gaps=False)
-    f = pm.fit_least_squares(t, p, excitation_q=None)
+    f = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
     s = t - t.mean()
     tau = s / s.max()
     drift = (40 + 300j + (20 - 60j) * tau + (5 + 8j) * tau**2) * MAS
@@ -86,8 +86,8 @@ def test_short_span_says_so_and_widens_the_uncertainty():
     rng = np.random.default_rng(8)
     t, p = record(rng, 4)
     long_t, long_p = record(np.random.default_rng(8), 30)
-    short = pm.fit_least_squares(t, p, excitation_q=None)
-    long = pm.fit_least_squares(long_t, long_p, excitation_q=None)
+    short = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
+    long = pm.fit_least_squares(long_t, long_p, reference_period=REFERENCE_PERIOD, excitation_q=None)
     assert any("beat" in c for c in short.caveats)
     assert not long.caveats
     # 7.5 times shorter: a white-noise error would grow 7.5^1.5 = 20 times; the
@@ -96,9 +96,9 @@ def test_short_span_says_so_and_widens_the_uncertainty():
     assert short.period_uncertainty.model > 0.3 * short.period_uncertainty.autocorrelation
     assert abs(short.chandler.period - TRUTH["period"]) < 2 * short.chandler.period_sigma
     # With the default excitation term (Q = 100) the error is wider still.
-    default = pm.fit_least_squares(t, p, draws=16)
+    default = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, draws=16)
     assert default.chandler.period_sigma > 2 * short.chandler.period_sigma
-    spec = pm.fit_spectrum(t, p, draws=16)
+    spec = pm.fit_spectrum(t, p, reference_period=REFERENCE_PERIOD, draws=16)
     assert spec.details["taper"] == "none"
     assert any("beat" in c for c in spec.caveats)
     assert abs(spec.chandler.period - TRUTH["period"]) < 2 * spec.chandler.period_sigma
@@ -110,7 +110,7 @@ def test_no_chandler_term_is_reported_as_unresolved():
     t = DAY * np.arange(n)
     s = t - t.mean()
     p = 90 * MAS * np.exp(1j * pm.ANNUAL_RATE * s) + rng.standard_normal(n) * 0.2 * MAS
-    f = pm.fit_least_squares(t, p, excitation_q=None)
+    f = pm.fit_least_squares(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
     assert f.chandler.amplitude < 1 * MAS
     # A period found in pure noise is not a measurement: it is either flagged
     # at the band's edge or uncertain by far more than a real one.
@@ -127,10 +127,13 @@ def test_no_chandler_term_is_reported_as_unresolved():
         ({"drift_degree": 9}, "drift_degree"),
         ({"drift_degree": 1.5}, "drift_degree"),
         ({"excitation_q": 0.5}, "excitation_q"),
+        ({"reference_period": 300 * DAY}, "reference_period: got 300 d"),
+        ({"reference_period": math.nan}, "reference_period"),
     ],
 )
 def test_bad_input_is_an_input_error(kwargs, fragment):
     t = kwargs.pop("t", np.arange(1000) * DAY)
     p = kwargs.pop("p", np.exp(1j * 2 * math.pi * t / TRUTH["period"]))
+    kwargs.setdefault("reference_period", REFERENCE_PERIOD)
     with pytest.raises(InputError, match=fragment):
         pm.fit_least_squares(t, p[: t.size], **kwargs)

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from polar_synthetic import DAY, MAS, TRUTH, YEAR
+from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR
 
 from wobble.models import polar_motion as pm
 from wobble.numerics.spectral import dtft, dtft_at
@@ -44,6 +44,6 @@ def test_prograde_circle_is_at_positive_frequency():
     p = pm.complex_pole(x, y)
     np.testing.assert_allclose(p, np.exp(1j * w * t), atol=1e-12)
     np.testing.assert_allclose(pm.pole_xy(p), (x, y), atol=1e-15)
-    spec = pm.two_sided_spectrum(t, p * MAS, drift_degree=0)
+    spec = pm.two_sided_spectrum(t, p * MAS, reference_period=REFERENCE_PERIOD, drift_degree=0)
     assert spec.rate[np.argmax(spec.amplitude)] > 0
     assert spec.amplitude.max() == pytest.approx(MAS, rel=0.01)  # a circle of radius 1 mas

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from polar_synthetic import DAY, MAS, TRUTH, YEAR, record
+from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR, record
 
 from wobble.errors import InputError
 from wobble.models import polar_motion as pm
@@ -17,7 +17,7 @@ def test_bad_window_lengths(window, fragment):
     rng = np.random.default_rng(10)
     t, p = record(rng, 10)
     with pytest.raises(InputError, match=fragment):
-        pm.sliding_windows(t, p, window)
+        pm.sliding_windows(t, p, window, reference_period=REFERENCE_PERIOD)
 
 
 def test_windows_follow_a_decaying_amplitude():
@@ -29,7 +29,7 @@ def test_windows_follow_a_decaying_amplitude():
     amp = 150 * MAS * np.exp(-np.log(2) * t / (5 * YEAR))
     p = amp * np.exp(1j * 2 * math.pi / TRUTH["period"] * s) + 90 * MAS * np.exp(1j * pm.ANNUAL_RATE * s)
     p = p + rng.standard_normal(n) * 0.5 * MAS
-    w = pm.sliding_windows(t, p, 6 * YEAR, 2 * YEAR)
+    w = pm.sliding_windows(t, p, 6 * YEAR, 2 * YEAR, reference_period=REFERENCE_PERIOD)
     expected = 150 * MAS * np.exp(-np.log(2) * w.centre / (5 * YEAR))
     # The window sees the mean of an exponential over +/- 3 yr: cosh-like factor, under 10 %.
     np.testing.assert_allclose(w.amplitude, expected, rtol=0.1)

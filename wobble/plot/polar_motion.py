@@ -25,7 +25,15 @@ from wobble.errors import InputError, OutputExistsError
 __all__ = ["pole_path", "two_sided_spectrum", "windowed_wobble", "overview", "save_overview"]
 
 _MJD_J2000 = 51544.5
-_CHANDLER_CPY = 365.25 / 433.1  # published frequency, cycles per Julian year (for the label only)
+
+
+def _published_chandler_cpy() -> float:
+    """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak to label."""
+    from astropy import units as u
+
+    from wobble.api.polar_motion import published_chandler_period
+
+    return 365.25 / published_chandler_period()["period"].to_value(u.day)
 
 
 def _decimal_year(mjd) -> np.ndarray:
@@ -102,7 +110,7 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
         ax.set_yscale("log")
     # Label each peak at its height, staggered so the Chandler and prograde
     # annual labels (0.16 cycle/yr apart) do not overlap.
-    marks = [("Chandler", _CHANDLER_CPY, (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
+    marks = [("Chandler", _published_chandler_cpy(), (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
     for label, f, offset in marks:
         near = keep & (np.abs(cpy - f) < 0.03)
         if not near.any():

@@ -244,18 +244,19 @@ def polar_motion_analysis(
             f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed ({span / (365.25 * _pm.DAY):.2f} yr)",
         )
     say("least-squares fit")
-    ls = _pm.fit_least_squares(t, z, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    reference = published_chandler_period()["period"].to_value(u.s)
+    ls = _pm.fit_least_squares(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
     say("spectral estimate")
-    sp = _pm.fit_spectrum(t, z, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
-    spectrum = _pm.two_sided_spectrum(t, z, drift_degree=drift_degree)
+    sp = _pm.fit_spectrum(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    spectrum = _pm.two_sided_spectrum(t, z, reference_period=reference, drift_degree=drift_degree)
 
     def window_progress(done, total):
         if done % 5 == 0 or done == total:
             say(f"windows {done}/{total}")
 
-    wf = _pm.sliding_windows(t, z, window_s, step_s, drift_degree=drift_degree, progress=window_progress)
+    wf = _pm.sliding_windows(t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress)
     caveats = list(ls.caveats)
-    if window_s < _pm.BEAT_PERIOD:
+    if window_s < _pm.beat_period(reference):
         caveats.append(
             f"windows of {window_s / (365.25 * _pm.DAY):.1f} yr are shorter than the 6.4-yr Chandler-annual beat: "
             "the windowed terms are barely separable"

@@ -240,6 +240,9 @@ def chandler_wobble(
         raise InputError("method", method, "'least_squares' or 'spectrum'")
     if isinstance(draws, bool) or not isinstance(draws, (int, np.integer)) or not 4 <= draws <= 10000:
         raise InputError("draws", draws, "an integer from 4 to 10000")
-    fit = estimator(t, z, drift_degree=drift_degree, band=_band_si(band), excitation_q=q_arg(excitation_q), draws=int(draws))
+    reference = published_chandler_period()["period"].to_value(u.s)
+    fit = estimator(
+        t, z, reference_period=reference, drift_degree=drift_degree, band=_band_si(band), excitation_q=q_arg(excitation_q), draws=int(draws)
+    )
     return ChandlerEstimate.from_fit(fit)
 

@@ -87,12 +87,11 @@ from wobble.models.polar_motion.least_squares import fit_least_squares
 from wobble.models.polar_motion.quality_factor import MIN_Q_SPAN, QualityFactor, quality_factor
 from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
-    BEAT_PERIOD,
     CHANDLER_BAND,
     DAY,
     MIN_SPAN,
-    REFERENCE_CHANDLER_PERIOD,
     TROPICAL_YEAR,
+    beat_period,
     complex_pole,
     pole_xy,
 )
@@ -103,8 +102,7 @@ __all__ = [
     "DAY",
     "TROPICAL_YEAR",
     "ANNUAL_RATE",
-    "REFERENCE_CHANDLER_PERIOD",
-    "BEAT_PERIOD",
+    "beat_period",
     "CHANDLER_BAND",
     "MIN_SPAN",
     "complex_pole",

@@ -18,10 +18,10 @@ from scipy import optimize
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty, make_fit, with_changes
 from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
-    BEAT_PERIOD,
     CHANDLER_BAND,
     DAY,
     as_series,
+    beat_period,
     check_band,
     check_degree,
     check_q,
@@ -157,6 +157,7 @@ def fit_least_squares(
     t,
     z,
     *,
+    reference_period: float,
     drift_degree: int = 2,
     band: tuple[float, float] = CHANDLER_BAND,
     uncertainty: bool = True,
@@ -173,6 +174,12 @@ def fit_least_squares(
         Sample times, s, strictly increasing; gaps and uneven spacing are fine.
     z : ndarray, complex
         The pole p = x_p - i y_p (equation 1), rad.
+    reference_period : float
+        A published Chandler period, s (the Earth catalogue's
+        ``observed_chandler_period``; :mod:`wobble.api` passes it). It only
+        places the Chandler-annual beat period that decides what a short span
+        is (:func:`~wobble.models.polar_motion.record.beat_period`); it is
+        never a prior on the estimate.
     drift_degree : int
         Degree of the mean-pole polynomial (default 2: the pole's drift turned
         toward the east after about 2005, which a line cannot follow).
@@ -208,13 +215,14 @@ def fit_least_squares(
     t, z = as_series(t, z)
     degree = check_degree(drift_degree)
     band = check_band(band)
+    beat = beat_period(reference_period)
     epoch = 0.5 * (t[0] + t[-1])
     half = 0.5 * (t[-1] - t[0])
     s = t - epoch
     coeffs, rate, at_edge = _ls_solve(s, z, half, degree, band, polish=uncertainty)
     fixed = _fixed_columns(s, half, degree)
     resid = z - fixed @ coeffs[:-1] - coeffs[-1] * np.exp(1j * rate * s)
-    caveats = span_caveats(t[-1] - t[0])
+    caveats = span_caveats(t[-1] - t[0], beat)
     if at_edge:
         caveats.append(
             f"the best period lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
@@ -232,7 +240,7 @@ def fit_least_squares(
         s2 = float(np.sum(np.abs(resid) ** 2)) / max(2 * s.size - npar, 1)
         cov_formal = s2 * bread
         scores = (jc.conj() * resid[:, None]).real
-        lag = min(BEAT_PERIOD, (t[-1] - t[0]) * HAC_MAX_B)
+        lag = min(beat, (t[-1] - t[0]) * HAC_MAX_B)
         b = lag / (t[-1] - t[0])
         # Fixed-b bias of the Bartlett estimator, E = (1 - b + b^2/3) x the true
         # long-run variance (Kiefer & Vogelsang 2005): divided out.
@@ -247,14 +255,16 @@ def fit_least_squares(
         a_hac, sig_phase = amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
-            sub, nsub = subspan_scatter(t, z, fit_least_squares, band=band, drift_degree=degree)
+            sub, nsub = subspan_scatter(t, z, fit_least_squares, beat, reference_period=reference_period, band=band, drift_degree=degree)
             details["subspans"] = nsub
         base = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
-        mod = model_sensitivity(t, z, fit_least_squares, degree, base, band=band)
+        mod = model_sensitivity(t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band)
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         p_exc = math.nan
         if excitation_q is not None:
-            p_exc = excitation_scatter(t, base, fit_least_squares, check_q(excitation_q), draws, seed, band=band, drift_degree=degree)
+            p_exc = excitation_scatter(
+                t, base, fit_least_squares, check_q(excitation_q), draws, seed, reference_period=reference_period, band=band, drift_degree=degree
+            )
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_hac, p_sub, p_mod, p_exc)
         au = combine(a_formal, a_hac, a_sub, a_mod)

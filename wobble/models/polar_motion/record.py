@@ -25,8 +25,8 @@ __all__ = [
     "DAY",
     "TROPICAL_YEAR",
     "ANNUAL_RATE",
-    "REFERENCE_CHANDLER_PERIOD",
-    "BEAT_PERIOD",
+    "beat_period",
+    "check_reference_period",
     "CHANDLER_BAND",
     "MIN_SPAN",
     "complex_pole",
@@ -43,11 +43,6 @@ DAY = 86400.0
 #: Mean tropical year (s): the period of the seasonal forcing of the annual wobble.
 TROPICAL_YEAR = 365.24219 * DAY
 ANNUAL_RATE = 2.0 * math.pi / TROPICAL_YEAR
-#: Published Chandler period (Vicente & Wilson 1997: 433.1 d; data/bodies/earth.toml). Used only
-#: to place the beat period that decides what a "short" span is; never a prior.
-REFERENCE_CHANDLER_PERIOD = 433.1 * DAY
-#: Beat of the Chandler and annual terms, 1/(1/T_a - 1/T_c): about 6.4 years.
-BEAT_PERIOD = 1.0 / (1.0 / TROPICAL_YEAR - 1.0 / REFERENCE_CHANDLER_PERIOD)
 #: Default search band for the Chandler period, s (390 to 500 days).
 CHANDLER_BAND = (390.0 * DAY, 500.0 * DAY)
 #: Shortest span analysed: two years (fewer than two Chandler cycles is not a period).
@@ -111,12 +106,33 @@ def check_q(q) -> float:
     return value
 
 
-def span_caveats(span: float) -> list[str]:
-    """What a span shorter than one Chandler-annual beat period means for the estimate."""
+def check_reference_period(reference_period) -> float:
+    """A published Chandler period, s: finite and longer than 1.02 tropical years."""
+    try:
+        value = float(reference_period)
+    except (TypeError, ValueError):
+        raise InputError("reference_period", reference_period, "a Chandler period in seconds, longer than a year") from None
+    if not (math.isfinite(value) and value > 1.02 * TROPICAL_YEAR):
+        raise InputError("reference_period", f"{value / DAY:g} d", "a finite Chandler period longer than 1.02 tropical years")
+    return value
+
+
+def beat_period(reference_period: float) -> float:
+    """Beat of the Chandler and annual terms, 1/(1/T_a - 1/T_c), s: about 6.4 years for 433 d.
+
+    ``reference_period`` is a *published* Chandler period (the Earth catalogue's
+    ``observed_chandler_period``, passed in by :mod:`wobble.api`): it only places
+    the beat that decides what a "short" span is, and is never a prior.
+    """
+    return 1.0 / (1.0 / TROPICAL_YEAR - 1.0 / check_reference_period(reference_period))
+
+
+def span_caveats(span: float, beat: float) -> list[str]:
+    """What a span shorter than one Chandler-annual beat period (``beat``, s) means for the estimate."""
     notes = []
-    if span < BEAT_PERIOD:
+    if span < beat:
         notes.append(
-            f"span {span / (365.25 * DAY):.1f} yr is shorter than the {BEAT_PERIOD / (365.25 * DAY):.1f}-yr beat of "
+            f"span {span / (365.25 * DAY):.1f} yr is shorter than the {beat / (365.25 * DAY):.1f}-yr beat of "
             "the Chandler and annual terms: the two are barely separable, and the uncertainty is widened "
             "by the drift-model and excitation terms"
         )

@@ -16,11 +16,11 @@ from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty, make_fit, with_changes
 from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
-    BEAT_PERIOD,
     CHANDLER_BAND,
     DAY,
     TROPICAL_YEAR,
     as_series,
+    beat_period,
     check_band,
     check_degree,
     check_q,
@@ -70,28 +70,38 @@ def _taper(t, kind: str) -> np.ndarray:
     return np.ones_like(t)
 
 
-def _auto_taper(span: float, taper: str) -> str:
+def _auto_taper(span: float, taper: str, beat: float) -> str:
     if taper not in ("auto", "hann", "none"):
         raise InputError("taper", taper, "'auto', 'hann' or 'none'")
     if taper == "auto":
         # With the annual terms prewhitened, the Hann main lobe (half-width 2/T)
         # may overlap the annual peak; under one beat period it is too wide.
-        return "hann" if span >= BEAT_PERIOD else "none"
+        return "hann" if span >= beat else "none"
     return taper
 
 
 def two_sided_spectrum(
-    t, z, *, max_rate: float = 3.0 * 2 * math.pi / TROPICAL_YEAR, drift_degree: int = 2, taper: str = "auto", oversample: int = 4
+    t,
+    z,
+    *,
+    reference_period: float,
+    max_rate: float = 3.0 * 2 * math.pi / TROPICAL_YEAR,
+    drift_degree: int = 2,
+    taper: str = "auto",
+    oversample: int = 4,
 ) -> Spectrum:
     """Amplitude spectrum |sum w y e^{-i sigma s}| / sum w of the detrended series, for -max_rate..max_rate.
 
     Negative rates are retrograde terms, positive prograde (equation 1). The
     grid is ``oversample`` times finer than the Rayleigh resolution 2 pi / T.
+    ``taper="auto"`` is Hann when the span is at least one Chandler-annual beat
+    period (from ``reference_period``, a published Chandler period in s, as in
+    :func:`fit_spectrum`), otherwise none.
     """
     t, z = as_series(t, z)
     degree = check_degree(drift_degree)
     span = t[-1] - t[0]
-    kind = _auto_taper(span, taper)
+    kind = _auto_taper(span, taper, beat_period(reference_period))
     epoch = 0.5 * (t[0] + t[-1])
     s = t - epoch
     y, _ = _detrend(s, z, 0.5 * span, degree)
@@ -107,6 +117,7 @@ def fit_spectrum(
     t,
     z,
     *,
+    reference_period: float,
     drift_degree: int = 2,
     band: tuple[float, float] = CHANDLER_BAND,
     taper: str = "auto",
@@ -132,13 +143,15 @@ def fit_spectrum(
     noise, var(sigma) = S sum(w^2 s^2) / (2 |A|^2 (sum w s^2)^2), with S the
     level of the residual spectrum (the three terms removed) beside the peak
     (Whittle 1952; Hannan 1973); ``subspans``, ``excitation`` and ``model`` as
-    in :func:`fit_least_squares`.
+    in :func:`~wobble.models.polar_motion.least_squares.fit_least_squares`,
+    which also describes the parameters (``reference_period`` included).
     """
     t, z = as_series(t, z)
     degree = check_degree(drift_degree)
     band = check_band(band)
+    beat = beat_period(reference_period)
     span = t[-1] - t[0]
-    kind = _auto_taper(span, taper)
+    kind = _auto_taper(span, taper, beat)
     epoch = 0.5 * (t[0] + t[-1])
     half = 0.5 * span
     s = t - epoch
@@ -165,7 +178,7 @@ def fit_spectrum(
     f = np.array([chandler, ann[0], ann[1]])
     coeffs = np.concatenate([drift, [f[1], f[2], f[0]]])
     resid = y - f[0] * np.exp(1j * rate * s) - annual_cols @ ann
-    caveats = span_caveats(span)
+    caveats = span_caveats(span, beat)
     if kind == "none" and taper == "auto":
         caveats.append("span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak")
     if not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d):
@@ -199,15 +212,17 @@ def fit_spectrum(
             ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
-            sub, nsub = subspan_scatter(t, z, fit_spectrum, band=band, drift_degree=degree, taper=kind)
+            sub, nsub = subspan_scatter(t, z, fit_spectrum, beat, reference_period=reference_period, band=band, drift_degree=degree, taper=kind)
             details["subspans"] = nsub
         base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
-        mod = model_sensitivity(t, z, fit_spectrum, degree, base, band=band, taper=kind)
+        mod = model_sensitivity(t, z, fit_spectrum, degree, base, reference_period=reference_period, band=band, taper=kind)
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         ann_sig = annual_sigmas(ann_auto, sub, mod)
         p_exc = math.nan
         if excitation_q is not None:
-            p_exc = excitation_scatter(t, base, fit_spectrum, check_q(excitation_q), draws, seed, band=band, drift_degree=degree, taper=kind)
+            p_exc = excitation_scatter(
+                t, base, fit_spectrum, check_q(excitation_q), draws, seed, reference_period=reference_period, band=band, drift_degree=degree, taper=kind
+            )
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_auto, p_sub, p_mod, p_exc)
         au = combine(a_formal, a_auto, a_sub, a_mod)

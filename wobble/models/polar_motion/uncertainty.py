@@ -32,7 +32,7 @@ from scipy import stats
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty
-from wobble.models.polar_motion.record import BEAT_PERIOD, DAY, bin_means
+from wobble.models.polar_motion.record import DAY, bin_means
 
 __all__ = [
     "HAC_MAX_B",
@@ -121,14 +121,14 @@ def tracked(f: ChandlerFit) -> dict[str, float]:
     }
 
 
-def subspan_scatter(t, z, estimator, **kwargs) -> tuple[dict[str, float], int]:
+def subspan_scatter(t, z, estimator, beat: float, **kwargs) -> tuple[dict[str, float], int]:
     """Scatter of ``estimator`` over n >= 3 disjoint sub-spans of >= 2 beat periods.
 
     Returns the 68 % error of the mean of each tracked quantity (Chandler
     period and amplitude, annual amplitudes) and the number of sub-spans.
     """
     span = t[-1] - t[0]
-    n = int(span // (2.0 * BEAT_PERIOD))
+    n = int(span // (2.0 * beat))
     if n < 3:
         return dict.fromkeys(TRACKED, math.nan), 0
     edges = t[0] + span * np.arange(n + 1) / n

@@ -48,6 +48,7 @@ def sliding_windows(
     window: float,
     step: float | None = None,
     *,
+    reference_period: float,
     drift_degree: int = 2,
     band: tuple[float, float] = CHANDLER_BAND,
     progress=None,
@@ -57,7 +58,9 @@ def sliding_windows(
     Each window gets its own drift, annual terms and Chandler period,
     amplitude and phase, with the autocorrelation and drift-model
     uncertainty (a window is too short for the sub-span check). ``progress``
-    (optional) is called as ``progress(done, total)``.
+    (optional) is called as ``progress(done, total)``; ``reference_period``
+    (a published Chandler period, s) as in
+    :func:`~wobble.models.polar_motion.least_squares.fit_least_squares`.
     """
     t, z = as_series(t, z)
     span = t[-1] - t[0]
@@ -85,7 +88,9 @@ def sliding_windows(
         if counts[i] < 10 or t[m][-1] - t[m][0] < 0.8 * window:
             continue
         try:
-            f = fit_least_squares(t[m], z[m], drift_degree=drift_degree, band=band, subspans=False, excitation_q=None)
+            f = fit_least_squares(
+                t[m], z[m], reference_period=reference_period, drift_degree=drift_degree, band=band, subspans=False, excitation_q=None
+            )
         except InputError:
             continue
         out["period"][i] = f.chandler.period
