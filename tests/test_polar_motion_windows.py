@@ -35,3 +35,13 @@ def test_windows_follow_a_decaying_amplitude():
     np.testing.assert_allclose(w.amplitude, expected, rtol=0.1)
     assert np.all(np.diff(w.amplitude) < 0)
     np.testing.assert_allclose(w.period, TRUTH["period"], atol=2 * DAY)
+
+
+def test_old_annual_names_are_deprecated_aliases():
+    rng = np.random.default_rng(10)
+    t, p = record(rng, 10)
+    w = pm.sliding_windows(t, p, 6 * YEAR, 2 * YEAR, reference_period=REFERENCE_PERIOD)
+    with pytest.warns(DeprecationWarning, match="annual_prograde_amplitude"):
+        np.testing.assert_array_equal(w.annual_amplitude, w.annual_prograde_amplitude)
+    with pytest.warns(DeprecationWarning, match="annual_retrograde_amplitude"):
+        np.testing.assert_array_equal(w.retrograde_annual_amplitude, w.annual_retrograde_amplitude)

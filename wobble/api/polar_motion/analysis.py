@@ -9,7 +9,14 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api._units import to_si
-from wobble.api.polar_motion.estimate import ChandlerEstimate, num, published_chandler_period, q_arg
+from wobble.api.polar_motion.estimate import (
+    DEPRECATED_KEYS,
+    ChandlerEstimate,
+    num,
+    published_chandler_period,
+    q_arg,
+    with_deprecated_keys,
+)
 from wobble.api.polar_motion.record import SIGN_NOTE, resolve_data, series
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
@@ -125,8 +132,8 @@ class PolarMotionAnalysis:
             "chandler_period_uncertainty_days": num(est.period_uncertainty),
             "chandler_amplitude_mas": num(est.amplitude),
             "chandler_amplitude_uncertainty_mas": num(est.amplitude_uncertainty),
-            "annual_amplitude_mas": num(est.annual_prograde_amplitude),
-            "annual_amplitude_uncertainty_mas": num(est.annual_prograde_amplitude_uncertainty),
+            "annual_prograde_amplitude_mas": num(est.annual_prograde_amplitude),
+            "annual_prograde_amplitude_uncertainty_mas": num(est.annual_prograde_amplitude_uncertainty),
             "annual_retrograde_amplitude_mas": num(est.annual_retrograde_amplitude),
             "annual_retrograde_amplitude_uncertainty_mas": num(est.annual_retrograde_amplitude_uncertainty),
             "start": est.start.iso[:10],
@@ -153,8 +160,9 @@ class PolarMotionAnalysis:
             ],
             "published": {k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()},
             "caveats": list(self.caveats),
+            "deprecated_keys": dict(DEPRECATED_KEYS),
         }
-        return out
+        return with_deprecated_keys(out)
 
     def to_dataset(self):
         """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready (xarray.Dataset)."""
@@ -163,10 +171,36 @@ class PolarMotionAnalysis:
         return analysis_dataset(self)
 
     def summary(self) -> str:
-        """The human-readable report of ``wobble polar-motion``."""
-        from wobble.api.polar_motion.report import summary
+        """A few lines for a person: both estimates, the annual terms, Q, the model and the published value.
 
-        return summary(self)
+        ``wobble polar-motion`` prints a longer report (uncertainty parts, the
+        model step by step, the windows).
+        """
+        e, s = self.least_squares, self.spectral
+
+        def pm(q, sigma, digits):
+            x, dx = q.value, sigma.value
+            return f"{x:.{digits}f} +/- {dx:.{digits}f}" if math.isfinite(dx) else f"{x:.{digits}f}"
+
+        lines = [
+            f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; p = x_p - i y_p, prograde):",
+            f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, {pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
+            f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, {pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
+            f" ({'agree' if self.methods_agree else 'DISAGREE'}: {self.agreement:.1f} sigma apart)",
+            f"  annual wobble: prograde {pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
+            f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas",
+        ]
+        if self.quality_factor is not None:
+            q = self.quality_factor
+            hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
+            lines.append(f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
+        pub = published_chandler_period()
+        lines.append(
+            f"  model (wobble.chandler_budget('earth')) {pm(self.budget.period, self.budget.period_uncertainty, 1)} d; "
+            f"published {pm(pub['period'], pub['uncertainty'], 1)} d (Vicente & Wilson 1997)"
+        )
+        lines += [f"  caveat: {c}" for c in self.caveats]
+        return "\n".join(lines)
 
     def __repr__(self) -> str:
         e = self.estimate
@@ -185,7 +219,9 @@ def _windows_dict(w) -> dict:
         "chandler_amplitude_uncertainty_mas": [num(v) for v in w["chandler_amplitude_uncertainty"].values],
         "chandler_period_days": [num(v) for v in w["chandler_period"].values],
         "chandler_period_uncertainty_days": [num(v) for v in w["chandler_period_uncertainty"].values],
-        "annual_amplitude_mas": [num(v) for v in w["annual_amplitude"].values],
+        "annual_prograde_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"].values],
+        # Deprecated alias (one release).
+        "annual_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"].values],
     }
 
 

@@ -42,9 +42,9 @@ def windows_dataset(wf: _pm.WindowedFits):
             "chandler_period": ("window", wf.period * day, attrs("day", "Chandler wobble period in the window", comment=note)),
             "chandler_period_uncertainty": ("window", wf.period_sigma * day, attrs("day", "one-sigma uncertainty of the windowed Chandler period")),
             "chandler_phase": ("window", np.degrees(wf.phase), attrs("degree", "argument of the Chandler term of x_p - i y_p at the window's centre")),
-            "annual_amplitude": ("window", wf.annual_amplitude * rad_mas, attrs("milliarcsecond", "prograde annual wobble amplitude in the window")),
-            "annual_amplitude_uncertainty": ("window", wf.annual_amplitude_sigma * rad_mas, attrs("milliarcsecond", "one-sigma uncertainty of the windowed prograde annual amplitude")),
-            "retrograde_annual_amplitude": ("window", wf.retrograde_annual_amplitude * rad_mas, attrs("milliarcsecond", "retrograde annual wobble amplitude in the window")),
+            "annual_prograde_amplitude": ("window", wf.annual_prograde_amplitude * rad_mas, attrs("milliarcsecond", "prograde annual wobble amplitude in the window")),
+            "annual_prograde_amplitude_uncertainty": ("window", wf.annual_prograde_amplitude_sigma * rad_mas, attrs("milliarcsecond", "one-sigma uncertainty of the windowed prograde annual amplitude")),
+            "annual_retrograde_amplitude": ("window", wf.annual_retrograde_amplitude * rad_mas, attrs("milliarcsecond", "retrograde annual wobble amplitude in the window")),
             "window_samples": ("window", wf.n_samples.astype(np.int32), attrs("1", "number of daily samples in the window")),
         },
         coords={
@@ -110,7 +110,10 @@ def analysis_dataset(a):
         x_p_mean_pole=("time", px, attrs("arcsec", "x_p of the fitted mean-pole drift")),
         y_p_mean_pole=("time", py, attrs("arcsec", "y_p of the fitted mean-pole drift")),
     )
-    ds = xr.merge([ds, a.windows, a.spectrum], combine_attrs="drop_conflicts")
+    # The windowed estimates share names with the whole-span ones (on "method"):
+    # in the file they carry a window_ prefix, so neither hides the other.
+    windows = a.windows.rename({v: f"window_{v}" for v in a.windows.data_vars if not v.startswith("window_")})
+    ds = xr.merge([ds, windows, a.spectrum], combine_attrs="drop_conflicts")
     methods = [a.least_squares, a.spectral]
 
     def per_method(fn):

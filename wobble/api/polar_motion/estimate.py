@@ -15,7 +15,23 @@ from wobble.errors import InputError
 from wobble.io.dates import mjd_time
 from wobble.models import polar_motion as _pm
 
-__all__ = ["published_chandler_period", "ChandlerEstimate", "chandler_wobble", "num", "q_arg"]
+__all__ = ["published_chandler_period", "ChandlerEstimate", "chandler_wobble", "num", "q_arg", "DEPRECATED_KEYS", "with_deprecated_keys"]
+
+#: JSON keys renamed for one vocabulary (the annual terms are annual_prograde_* and
+#: annual_retrograde_*), kept as aliases for one release: old name -> new name.
+DEPRECATED_KEYS = {
+    "annual_amplitude_mas": "annual_prograde_amplitude_mas",
+    "annual_amplitude_uncertainty_mas": "annual_prograde_amplitude_uncertainty_mas",
+}
+
+
+def with_deprecated_keys(d: dict) -> dict:
+    """``d`` with the deprecated alias of every renamed key it holds (same value), for one release."""
+    out = dict(d)
+    for old, new in DEPRECATED_KEYS.items():
+        if new in d:
+            out[old] = d[new]
+    return out
 
 
 def published_chandler_period() -> dict:
@@ -145,8 +161,12 @@ class ChandlerEstimate:
         )
 
     def to_dict(self) -> dict:
-        """A JSON-ready summary (days of 86400 s, mas, deg; null where not computed)."""
-        return {
+        """A JSON-ready summary (days of 86400 s, mas, deg; null where not computed).
+
+        ``annual_amplitude_mas`` and ``annual_amplitude_uncertainty_mas`` are
+        deprecated aliases of the ``annual_prograde_*`` keys (one release).
+        """
+        return with_deprecated_keys({
             "method": self.method,
             "start": self.start.iso[:10],
             "end": self.end.iso[:10],
@@ -159,8 +179,8 @@ class ChandlerEstimate:
             "chandler_amplitude_uncertainty_mas": num(self.amplitude_uncertainty),
             "chandler_phase_deg": num(self.phase),
             "chandler_phase_uncertainty_deg": num(self.phase_uncertainty),
-            "annual_amplitude_mas": num(self.annual_prograde_amplitude),
-            "annual_amplitude_uncertainty_mas": num(self.annual_prograde_amplitude_uncertainty),
+            "annual_prograde_amplitude_mas": num(self.annual_prograde_amplitude),
+            "annual_prograde_amplitude_uncertainty_mas": num(self.annual_prograde_amplitude_uncertainty),
             "annual_retrograde_amplitude_mas": num(self.annual_retrograde_amplitude),
             "annual_retrograde_amplitude_uncertainty_mas": num(self.annual_retrograde_amplitude_uncertainty),
             "mean_pole_x_arcsec": num(self.mean_pole_x),
@@ -169,7 +189,7 @@ class ChandlerEstimate:
             "drift_direction_deg_west": num(self.drift_direction),
             "residual_rms_mas": num(self.residual_rms),
             "caveats": list(self.caveats),
-        }
+        })
 
 
 def num(q) -> float | None:

@@ -6,6 +6,7 @@ Times and lengths in s, angles in rad, rates in rad/s.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,12 +34,35 @@ class WindowedFits:
     amplitude: np.ndarray
     amplitude_sigma: np.ndarray
     phase: np.ndarray
-    annual_amplitude: np.ndarray
-    annual_amplitude_sigma: np.ndarray
-    retrograde_annual_amplitude: np.ndarray
+    annual_prograde_amplitude: np.ndarray
+    annual_prograde_amplitude_sigma: np.ndarray
+    annual_retrograde_amplitude: np.ndarray
     window: float
     step: float
     drift_degree: int
+
+    # Deprecated names (one release): the annual terms are annual_prograde_* and annual_retrograde_*.
+    @property
+    def annual_amplitude(self) -> np.ndarray:
+        """Deprecated alias of :attr:`annual_prograde_amplitude`."""
+        _deprecated("annual_amplitude", "annual_prograde_amplitude")
+        return self.annual_prograde_amplitude
+
+    @property
+    def annual_amplitude_sigma(self) -> np.ndarray:
+        """Deprecated alias of :attr:`annual_prograde_amplitude_sigma`."""
+        _deprecated("annual_amplitude_sigma", "annual_prograde_amplitude_sigma")
+        return self.annual_prograde_amplitude_sigma
+
+    @property
+    def retrograde_annual_amplitude(self) -> np.ndarray:
+        """Deprecated alias of :attr:`annual_retrograde_amplitude`."""
+        _deprecated("retrograde_annual_amplitude", "annual_retrograde_amplitude")
+        return self.annual_retrograde_amplitude
+
+
+def _deprecated(old: str, new: str) -> None:
+    warnings.warn(f"WindowedFits.{old} is deprecated; use {new} (the old name goes in the next release)", DeprecationWarning, stacklevel=3)
 
 
 
@@ -113,9 +137,9 @@ def sliding_windows(
         amplitude=out["amplitude"],
         amplitude_sigma=out["amplitude_sigma"],
         phase=out["phase"],
-        annual_amplitude=out["annual"],
-        annual_amplitude_sigma=out["annual_sigma"],
-        retrograde_annual_amplitude=out["retro"],
+        annual_prograde_amplitude=out["annual"],
+        annual_prograde_amplitude_sigma=out["annual_sigma"],
+        annual_retrograde_amplitude=out["retro"],
         window=window,
         step=step,
         drift_degree=check_degree(drift_degree),

@@ -1,4 +1,8 @@
-"""The text report of a polar-motion analysis (``PolarMotionAnalysis.summary()``, what ``wobble polar-motion`` prints)."""
+"""The text report ``wobble polar-motion`` prints: both estimates, their uncertainty, Q, the model beside them, the windows.
+
+Imported by :mod:`wobble.cli.polar_motion` inside ``run()`` (so ``wobble --help``
+stays light); the numbers come from a :class:`wobble.PolarMotionAnalysis`.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +13,7 @@ from astropy import units as u
 
 from wobble.io.dates import iso_date
 
-__all__ = ["summary"]
+__all__ = ["report"]
 
 
 def _fmt(q, digits=1, unit=None) -> str:
@@ -19,8 +23,8 @@ def _fmt(q, digits=1, unit=None) -> str:
     return f"{x:.{digits}f}" if math.isfinite(x) else "-"
 
 
-def summary(a) -> str:
-    """The report: both estimates, their uncertainty, the annual wobble, the mean pole, Q, the model and the windows."""
+def report(a) -> str:
+    """The report of a :class:`wobble.PolarMotionAnalysis`: estimates, uncertainty, annual wobble, mean pole, Q, model, windows."""
     e, s = a.least_squares, a.spectral
     lines = [
         f"Polar motion {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; {os.path.basename(a.data.attrs.get('source_file', ''))})",
