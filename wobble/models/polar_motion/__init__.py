@@ -9,7 +9,7 @@ angular frequencies in rad/s. Nothing here knows about files or units.
   Chandler term, sharing the frequency search of :mod:`.search`;
 * :mod:`.uncertainty`: the pieces of their uncertainty;
 * :mod:`.windows`: sliding-window fits;
-* :mod:`.quality_factor`: Q from the line shape.
+* :mod:`.quality`: Q from the line shape (:func:`quality_factor`).
 
 **Sign convention.** The pole is the complex number
 
@@ -84,7 +84,7 @@ from __future__ import annotations
 
 from wobble.models.polar_motion.fit import ChandlerFit, Harmonic, Uncertainty
 from wobble.models.polar_motion.least_squares import fit_least_squares
-from wobble.models.polar_motion.quality_factor import MIN_Q_SPAN, QualityFactor, quality_factor
+from wobble.models.polar_motion.quality import MIN_Q_SPAN, QualityFactor, quality_factor
 from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
     CHANDLER_BAND,

@@ -10,6 +10,7 @@ angles in rad, rates in rad/s.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -42,6 +43,7 @@ from wobble.models.polar_motion.uncertainty import (
     subspan_scatter,
 )
 from wobble.numerics.spectral import dtft, dtft_at
+from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["fit_least_squares"]
 
@@ -81,6 +83,32 @@ def _grid_gain(s, q, r0, lo_rate, hi_rate, span):
     gain = np.abs(f[:, 0]) ** 2 / np.maximum(denom, 1e-12 * s.size)
     return rates, gain, d
 
+
+
+def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
+    """Chandler periods (s) of many series on the same times by variable projection (no polish).
+
+    Column k of ``zs`` gives the period ``fit_least_squares(t, zs[:, k],
+    uncertainty=False)`` would: the drift and annual columns, their QR and their
+    Fourier sums are shared, and the grid search is one matrix product for all
+    columns (the Monte Carlo of :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`).
+    """
+    epoch = 0.5 * (t[0] + t[-1])
+    half = 0.5 * (t[-1] - t[0])
+    s = t - epoch
+    lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
+    fixed = _fixed_columns(s, half, drift_degree)
+    q, r0 = _profile(s, zs, fixed)
+    rates, d = band_grid(lo_rate, hi_rate, s[-1] - s[0])
+    m = zs.shape[1]
+    f = dtft(s, np.column_stack([r0, q]), rates[0], d, rates.size)
+    denom = np.maximum(s.size - np.sum(np.abs(f[:, m:]) ** 2, axis=1), 1e-12 * s.size)
+    gains = np.abs(f[:, :m]) ** 2 / denom[:, None]
+    out = np.empty(m)
+    for k in range(m):
+        rate = refine_peak(lambda r, k=k: float(_gain(s, q, r0[:, k], r)), rates, gains[:, k], d, lo_rate, hi_rate)
+        out[k] = 2 * math.pi / abs(rate)
+    return out
 
 
 def _ls_solve(s, z, half, degree, band, polish=True):
@@ -153,6 +181,7 @@ def _jacobian_complex(s, half, fixed, c, rate) -> np.ndarray:
 
 
 
+@one_blas_thread
 def fit_least_squares(
     t,
     z,
@@ -262,9 +291,8 @@ def fit_least_squares(
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         p_exc = math.nan
         if excitation_q is not None:
-            p_exc = excitation_scatter(
-                t, base, fit_least_squares, check_q(excitation_q), draws, seed, reference_period=reference_period, band=band, drift_degree=degree
-            )
+            batch = functools.partial(vp_periods, drift_degree=degree, band=band)
+            p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed, batch=True)
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_hac, p_sub, p_mod, p_exc)
         au = combine(a_formal, a_hac, a_sub, a_mod)

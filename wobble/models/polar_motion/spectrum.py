@@ -36,6 +36,7 @@ from wobble.models.polar_motion.uncertainty import (
     subspan_scatter,
 )
 from wobble.numerics.spectral import dtft, dtft_at
+from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum"]
 
@@ -80,6 +81,7 @@ def _auto_taper(span: float, taper: str, beat: float) -> str:
     return taper
 
 
+@one_blas_thread
 def two_sided_spectrum(
     t,
     z,
@@ -113,6 +115,7 @@ def two_sided_spectrum(
     return Spectrum(rates, amp, kind, degree)
 
 
+@one_blas_thread
 def fit_spectrum(
     t,
     z,

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats
+from scipy import special
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty
@@ -56,7 +56,8 @@ __all__ = [
 HAC_MAX_B = 0.1
 _MC_BIN = 5.0 * DAY
 # Student-t factor turning a scatter over n sub-spans into a 68 % (1-sigma) error.
-_ONE_SIGMA = stats.norm.cdf(1.0)
+# (scipy.special, not scipy.stats: the same numbers, without the 0.3-0.6 s import.)
+_ONE_SIGMA = float(special.ndtr(1.0))
 
 
 def hac_meat(t: np.ndarray, scores: np.ndarray, lag: float) -> np.ndarray:
@@ -78,7 +79,8 @@ def hac_meat(t: np.ndarray, scores: np.ndarray, lag: float) -> np.ndarray:
     weights[nfft - nlag :] = weights[1 : nlag + 1][::-1]
     w_hat = np.fft.fft(weights).real
     g = np.fft.fft(grid, nfft, axis=0)
-    meat = np.einsum("f,fi,fj->ij", w_hat, g, g.conj()).real / nfft
+    # sum_f w_f g_fi conj(g_fj): one matrix product (a three-operand einsum was 20 times slower).
+    meat = ((g.T * w_hat) @ g.conj()).real / nfft
     return 0.5 * (meat + meat.T)
 
 
@@ -106,7 +108,7 @@ def scatter(values: list[float]) -> float:
     n = v.size
     if n < 3:
         return math.nan
-    return float(np.std(v, ddof=1) / math.sqrt(n) * stats.t.ppf(_ONE_SIGMA, n - 1))
+    return float(np.std(v, ddof=1) / math.sqrt(n) * special.stdtrit(n - 1, _ONE_SIGMA))
 
 
 TRACKED = ("period", "amplitude", "annual", "retrograde")
@@ -190,7 +192,7 @@ def damped_oscillator(t, rate, q, power, draws, rng) -> np.ndarray:
     return out
 
 
-def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, **kwargs) -> float:
+def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, batch: bool = False, **kwargs) -> float:
     """RMS error of the period when the wobble is a randomly excited damped mode of quality ``q``.
 
     Parametric Monte Carlo: the fitted drift and annual terms plus ``draws``
@@ -203,6 +205,9 @@ def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, **kwargs)
     their central 68 % is some 30 % smaller), so the 68 % level is covered
     with room and a 2-sigma interval stays near 95 %. With the default 64
     draws the RMS itself is uncertain by about 15 %.
+
+    With ``batch``, ``estimator(t, zs)`` returns the periods of all the columns
+    of ``zs`` at once (the least squares' shared variable projection).
     """
     rng = np.random.default_rng(seed)
     if np.median(np.diff(t)) < _MC_BIN:
@@ -211,13 +216,17 @@ def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, **kwargs)
         t, _ = bin_means(t, np.zeros(t.size, dtype=complex), _MC_BIN)
     base = fit.model(t, terms=("drift", "annual_prograde", "annual_retrograde"))
     sims = damped_oscillator(t, fit.chandler.rate, q, fit.chandler.amplitude**2, draws, rng)
-    errors = []
-    for k in range(draws):
-        try:
-            f = estimator(t, base + sims[:, k], uncertainty=False, **kwargs)
-        except InputError:
-            continue
-        errors.append(f.chandler.period - fit.chandler.period)
+    if batch:
+        # ``estimator(t, zs)`` gives the periods of all the realisations at once.
+        errors = list(estimator(t, base[:, None] + sims) - fit.chandler.period)
+    else:
+        errors = []
+        for k in range(draws):
+            try:
+                f = estimator(t, base + sims[:, k], uncertainty=False, **kwargs)
+            except InputError:
+                continue
+            errors.append(f.chandler.period - fit.chandler.period)
     return float(np.sqrt(np.mean(np.square(errors)))) if errors else math.nan
 
 

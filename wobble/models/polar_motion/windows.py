@@ -14,6 +14,7 @@ import numpy as np
 from wobble.errors import InputError
 from wobble.models.polar_motion.least_squares import fit_least_squares
 from wobble.models.polar_motion.record import CHANDLER_BAND, DAY, MIN_SPAN, as_series, check_degree
+from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["WindowedFits", "sliding_windows"]
 
@@ -66,6 +67,7 @@ def _deprecated(old: str, new: str) -> None:
 
 
 
+@one_blas_thread
 def sliding_windows(
     t,
     z,
