@@ -18,7 +18,7 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "polar_motion", "inertia", "free", "top", "run", "sweep", "bench")
+SUBCOMMANDS = ("chandler", "polar_motion", "excitation", "forecast", "inertia", "free", "top", "run", "sweep", "bench")
 
 EPILOG = """\
 examples:
@@ -26,6 +26,8 @@ examples:
   wobble chandler mars --json           the same for scripts
   wobble chandler --body-file my.toml   a body you describe (same schema as data/bodies)
   wobble polar-motion --json            the Chandler wobble measured in the IERS record
+  wobble excitation --json              the geodetic excitation of the pole (Liouville equation)
+  wobble forecast --horizon 90d         the pole 90 days ahead, with 68 % and 95 % intervals
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc

@@ -16,13 +16,18 @@ pole), at a positive frequency of the two-sided spectrum. The estimation is
 * :mod:`.record`: the IERS record as a Dataset (:func:`load_polar_motion`);
 * :mod:`.estimate`: one estimate with units (:func:`chandler_wobble`);
 * :mod:`.analysis`: the whole analysis (:func:`polar_motion_analysis`);
-* :mod:`.dataset`: its CF Datasets.
+* :mod:`.dataset`: its CF Datasets;
+* :mod:`.excitation`: the geodetic excitation (:func:`geodetic_excitation`);
+* :mod:`.forecast` and :mod:`.hindcast`: forecasts and their scores.
 """
 
 from __future__ import annotations
 
 from wobble.api.polar_motion.analysis import PolarMotionAnalysis, QualityFactorEstimate, polar_motion_analysis
 from wobble.api.polar_motion.estimate import ChandlerEstimate, chandler_wobble, published_chandler_period
+from wobble.api.polar_motion.excitation import GeodeticExcitation, geodetic_excitation
+from wobble.api.polar_motion.forecast import PolarMotionForecast, forecast_polar_motion
+from wobble.api.polar_motion.hindcast import PolarMotionHindcast, hindcast_polar_motion
 from wobble.api.polar_motion.record import MJD_UNITS, load_polar_motion
 
 __all__ = [
@@ -34,4 +39,10 @@ __all__ = [
     "load_polar_motion",
     "chandler_wobble",
     "polar_motion_analysis",
+    "GeodeticExcitation",
+    "geodetic_excitation",
+    "PolarMotionForecast",
+    "forecast_polar_motion",
+    "PolarMotionHindcast",
+    "hindcast_polar_motion",
 ]
