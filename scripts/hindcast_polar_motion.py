@@ -43,7 +43,9 @@ def main() -> None:
     f = wobble.forecast_polar_motion(issued="2019-01-01", horizon=365 * u.day, latency=1 * u.day)
     save_forecast_figure(f, OUT / "forecast_example.png", overwrite=True)
     numbers["example_forecast"] = {k: v for k, v in f.to_dict().items() if k != "forecast"}
-    (OUT / "forecast_hindcast.json").write_text(json.dumps(clean(numbers), indent=1) + "\n")
+    text = json.dumps(clean(numbers), indent=1) + "\n"
+    source = str(f.source)
+    (OUT / "forecast_hindcast.json").write_text(text.replace(json.dumps(source)[1:-1], Path(source).name))
 
 
 if __name__ == "__main__":

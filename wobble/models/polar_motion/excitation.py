@@ -2,7 +2,7 @@
 
 The pole p = x_p - i y_p (:mod:`.record`) and the excitation chi = chi_1 + i chi_2
 are related by the linearised Liouville equation (Munk & MacDonald 1960;
-Gross 1992, Geophys. J. Int. 109, 107; Brzezinski 1992, manuscripta geodaetica
+Gross 1992, Geophys. J. Int. 109, 162; Brzezinski 1992, manuscripta geodaetica
 17, 3):
 
     p + (i / sigma_c) dp/dt = chi,   sigma_c = (2 pi / T_c) (1 + i / (2 Q)),       (1)
