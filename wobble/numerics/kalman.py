@@ -28,7 +28,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import linalg, signal
+from scipy import linalg
 
 __all__ = ["SteadyState", "steady_state", "filter_steady", "filter_exact", "forecast", "log_likelihood"]
 
@@ -91,8 +91,10 @@ def filter_steady(F, ss: SteadyState, h, y, x0) -> tuple[np.ndarray, np.ndarray]
         z0 = Vinv @ first
         z = np.empty((y.size, m), dtype=complex)
         z[0] = z0
+        from scipy.signal import lfilter  # (imported here: scipy.signal costs ~0.3 s to import)
+
         for j in range(m):
-            z[1:, j], _ = signal.lfilter([1.0], [1.0, -lam[j]], u[:, j], zi=[lam[j] * z0[j]])
+            z[1:, j], _ = lfilter([1.0], [1.0, -lam[j]], u[:, j], zi=[lam[j] * z0[j]])
         xs = z @ V.T
     else:
         xs = np.empty((y.size, m), dtype=complex)

@@ -23,26 +23,35 @@ pole), at a positive frequency of the two-sided spectrum. The estimation is
 
 from __future__ import annotations
 
-from wobble.api.polar_motion.analysis import PolarMotionAnalysis, QualityFactorEstimate, polar_motion_analysis
-from wobble.api.polar_motion.estimate import ChandlerEstimate, chandler_wobble, published_chandler_period
-from wobble.api.polar_motion.excitation import GeodeticExcitation, geodetic_excitation
-from wobble.api.polar_motion.forecast import PolarMotionForecast, forecast_polar_motion
-from wobble.api.polar_motion.hindcast import PolarMotionHindcast, hindcast_polar_motion
-from wobble.api.polar_motion.record import MJD_UNITS, load_polar_motion
+import importlib
 
-__all__ = [
-    "MJD_UNITS",
-    "published_chandler_period",
-    "ChandlerEstimate",
-    "QualityFactorEstimate",
-    "PolarMotionAnalysis",
-    "load_polar_motion",
-    "chandler_wobble",
-    "polar_motion_analysis",
-    "GeodeticExcitation",
-    "geodetic_excitation",
-    "PolarMotionForecast",
-    "forecast_polar_motion",
-    "PolarMotionHindcast",
-    "hindcast_polar_motion",
-]
+# Public name -> the submodule that defines it, imported on first use: `wobble polar-motion`
+# never loads the forecasts' modules (SciPy's signal and linear-algebra solvers).
+_WHERE = {
+    "MJD_UNITS": "record",
+    "load_polar_motion": "record",
+    "published_chandler_period": "estimate",
+    "ChandlerEstimate": "estimate",
+    "chandler_wobble": "estimate",
+    "QualityFactorEstimate": "analysis",
+    "PolarMotionAnalysis": "analysis",
+    "polar_motion_analysis": "analysis",
+    "GeodeticExcitation": "excitation",
+    "geodetic_excitation": "excitation",
+    "PolarMotionForecast": "forecast",
+    "forecast_polar_motion": "forecast",
+    "PolarMotionHindcast": "hindcast",
+    "hindcast_polar_motion": "hindcast",
+}
+__all__ = list(_WHERE)
+
+
+def __getattr__(name: str):
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{module}"), name)
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WHERE))
