@@ -54,6 +54,8 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
         assert 0 < rms["1"] < rms["30"] < 100  # mas: errors grow with lead time
         assert 0 <= d["methods"][m]["coverage_68"]["10"] <= 1
     assert d["anchors"][0]["values_mas"]["10"] == 2.32
+    text = h.summary()  # leads beyond the 30-day horizon are left out
+    assert "10 d" in text and "40 d" not in text and "Dill et al. 2023" in text
     path = write_netcdf(h.to_dataset(), tmp_path / "h.nc", command="test")
     back = open_wobble(path)
     assert back["rms_2d"].dims == ("method", "lead") and back["x_p_forecast"].shape == (2, 3, 30)

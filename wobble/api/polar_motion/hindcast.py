@@ -177,7 +177,7 @@ class PolarMotionHindcast:
 
     def summary(self) -> str:
         """The 2-D RMS, x_p mean absolute error and coverage at a few lead times, beside the published anchors."""
-        leads = (5, 10, 40, 90, 365)
+        leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
         lines = [
             f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: {len(self.issued_mjd)} issues, "
             f"latency {self.latency.value:g} d",
