@@ -11,10 +11,15 @@ import math
 import numpy as np
 from scipy.signal import lfilter
 
+from wobble.io.catalog import load_planet
+
 DAY = 86400.0
 YEAR = 365.25 * DAY
 MAS = math.pi / (180.0 * 3600.0 * 1000.0)
 TROPICAL_YEAR = 365.24219 * DAY
+#: The published Chandler period of the Earth catalogue (data/bodies/earth.toml), s: the
+#: estimators take it to place the Chandler-annual beat period, as wobble.api passes it.
+REFERENCE_PERIOD = load_planet("earth")[0].observed_chandler_period.value
 
 TRUTH = {
     "period": 433.0 * DAY,

@@ -22,13 +22,15 @@ def _run(capsys, *args):
 def test_json_outputs_and_files(tmp_path, capsys):
     nc, png = tmp_path / "pm.nc", tmp_path / "pm.png"
     status, out, err = _run(capsys, *FAST, "--json", "-o", str(nc), "--plot", str(png))
-    assert status == 0 and err == ""  # no progress text when stderr is not a terminal
+    # No progress text when stderr is not a terminal; under --json the files are announced there.
+    assert status == 0 and err.splitlines() == [f"wrote {nc}", f"wrote {png}"]
     d = json.loads(out)
     for key in (
         "chandler_period_days",
         "chandler_period_uncertainty_days",
         "chandler_amplitude_mas",
-        "annual_amplitude_mas",
+        "annual_prograde_amplitude_mas",
+        "annual_amplitude_mas",  # deprecated alias, one release
         "start",
         "end",
         "method",
@@ -39,14 +41,47 @@ def test_json_outputs_and_files(tmp_path, capsys):
         assert key in d
     assert d["start"] == "2000-01-01" and d["end"] == "2012-12-31" and d["method"] == "least_squares"
     assert 420 < d["chandler_period_days"] < 445
+    assert d["annual_amplitude_mas"] == d["annual_prograde_amplitude_mas"]
+    assert d["deprecated_keys"] == {
+        "annual_amplitude_mas": "annual_prograde_amplitude_mas",
+        "annual_amplitude_uncertainty_mas": "annual_prograde_amplitude_uncertainty_mas",
+    }
     assert set(d["estimates"]) == {"least_squares", "spectrum"}
     assert d["estimates"]["least_squares"]["chandler_period_uncertainty_parts_days"]["excitation"] is None
     assert [r["kind"] for r in d["comparison"]][0] == "observed" and d["comparison"][-1]["kind"] == "published"
     ds = open_wobble(nc)
     assert "polar-motion" in ds.attrs["history"]
     assert {"x_p", "x_p_model", "x_p_residual", "chandler_amplitude", "amplitude_spectrum"} <= set(ds.variables)
+    # The windowed estimates are in the file beside the whole-span ones, not hidden by them.
+    assert ds["window_chandler_amplitude"].dims == ("window",) and ds["chandler_amplitude"].dims == ("method",)
+    assert ds["window_annual_prograde_amplitude"].attrs["units"] == "milliarcsecond"
     # (CF compliance of this layout: tests/test_polar_motion_api.py, on the whole record.)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # Every output gets the umask's mode: the figure like the netCDF file (0644 under umask 022).
+    assert (png.stat().st_mode & 0o777) == (nc.stat().st_mode & 0o777)
+
+
+def test_outputs_respect_the_umask(tmp_path, capsys):
+    import os
+
+    old = os.umask(0o022)
+    try:
+        png = tmp_path / "pm.png"
+        status, out, _ = _run(capsys, *FAST, "--plot", str(png))
+    finally:
+        os.umask(old)
+    assert status == 0 and out.rstrip().endswith(f"wrote {png}")
+    assert (png.stat().st_mode & 0o777) == 0o644
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary file left behind
+
+
+def test_help_example_with_a_shipped_file_runs_from_any_folder(tmp_path, monkeypatch, capsys):
+    """`--file finals2000A.all` names the copy of astropy-iers-data when there is none in the working folder."""
+    monkeypatch.chdir(tmp_path)
+    status, out, err = _run(capsys, "--file", "finals2000A.all", *FAST, "--json")
+    assert status == 0, err
+    d = json.loads(out)
+    assert d["source_file"].endswith("finals2000A.all") and d["start"] == "2000-01-01"
 
 
 def test_table_shows_the_estimate_beside_the_model(capsys):
@@ -54,6 +89,12 @@ def test_table_shows_the_estimate_beside_the_model(capsys):
     assert status == 0
     for word in ("least squares", "spectrum", "period [d]", "model: rigid", "model: anelastic", "Vicente & Wilson 1997", "Windows of 6 yr"):
         assert word in out
+    assert "wrote" not in out
+
+
+def test_bad_plot_name_refused_before_the_work(tmp_path, capsys):
+    status, out, err = _run(capsys, *FAST, "--plot", str(tmp_path / "pm.txt"))
+    assert status == 2 and ".png, .pdf or .svg" in err and out == ""
 
 
 @pytest.mark.parametrize(

@@ -136,3 +136,17 @@ def test_missing_and_binary_files(tmp_path):
     path.write_bytes(b"\x00\xff\xfe" * 10)
     with pytest.raises(FileFormatError, match="not a text"):
         read_pole_file(path)
+
+
+def test_shipped_files_are_found_by_name_from_any_folder(tmp_path, monkeypatch):
+    from wobble.io.eop import resolve_eop_path
+
+    monkeypatch.chdir(tmp_path)
+    assert resolve_eop_path("finals2000A.all") == FINALS
+    assert read_pole_file("eopc04.1962-now").mjd.size == read_c04().mjd.size
+    # A file of that name in the working folder wins; a path with a folder is taken as given.
+    (tmp_path / "finals2000A.all").write_text(FINALS.read_text()[:2000])
+    assert resolve_eop_path("finals2000A.all").resolve() == (tmp_path / "finals2000A.all").resolve()
+    assert str(resolve_eop_path("sub/finals2000A.all")) == "sub/finals2000A.all"
+    with pytest.raises(FileFormatError, match="no such file .*finals2000A.all"):
+        read_pole_file("sub/finals2000A.all")

@@ -18,7 +18,8 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "inertia", "free", "top", "run", "sweep", "invert", "example", "bench")
+SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "excitation", "forecast", "inertia", "free", "top", "run", "sweep",
+               "invert", "example", "bench")
 
 EPILOG = """\
 examples:
@@ -29,6 +30,8 @@ examples:
   wobble precession earth mars          forced precession of the spin axis, term by term
   wobble modes earth mars               every free mode: Chandler wobble, free core nutation
   wobble polar-motion --json            the Chandler wobble measured in the IERS record
+  wobble excitation --json              the geodetic excitation of the pole (Liouville equation)
+  wobble forecast --horizon 90d         the pole 90 days ahead, with 68 % and 95 % intervals
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification
   wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc

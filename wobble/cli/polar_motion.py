@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
-from pathlib import Path
 
 from wobble.errors import InputError
 
@@ -15,15 +13,17 @@ examples:
   wobble polar-motion                          the whole IERS 20 C04 record (1962-)
   wobble polar-motion --start 1980 --end 2010 --window 6 --json
   wobble polar-motion -o pm.nc --plot pm.png --overwrite
-  wobble polar-motion --file finals2000A.all   a C04 or finals2000A file (this name: the one astropy-iers-data ships)
+  wobble polar-motion --file finals2000A.all   IERS Bulletin A (finals2000A) instead of C04
 
-Dates are UTC: 2015-01-01, 2015-06, 2015 or 2015.5. The pole is p = x_p - i y_p, so
-the Chandler wobble (prograde) is at a positive frequency. The period is found by
-nonlinear least squares and, independently, from the peak of the two-sided spectrum;
-its uncertainty allows for the strongly autocorrelated residuals, the scatter over
+--file takes a C04 or finals2000A file of your own; the names finals2000A.all and
+eopc04.1962-now, when no such file is in the working folder, are the copies shipped
+with the astropy-iers-data package. Dates are UTC: 2015-01-01, 2015-06, 2015 or
+2015.5. The pole is p = x_p - i y_p, so the Chandler wobble (prograde) is at a
+positive frequency. The period is found by nonlinear least squares and,
+independently, from the peak of the two-sided spectrum; its uncertainty allows for
+the strongly autocorrelated residuals (Newey & West 1987), the scatter over
 sub-spans and a randomly excited wobble of Q = 100 (--excitation-q). Days are days
-of 86400 s; amplitudes are in milliarcseconds (mas). No network is used: the data
-ship with the astropy-iers-data package.
+of 86400 s; amplitudes are in milliarcseconds (mas). No network is used.
 """
 
 
@@ -76,7 +76,20 @@ def _q(text: str) -> float | None:
         raise InputError("--excitation-q", text, "a quality factor above 1, or 'none'") from None
 
 
-class _Progress:
+def check_outputs(args, names=("output", "plot")) -> None:
+    """Refuse an output that exists (without --overwrite) or a bad figure name before any work."""
+    from wobble.io.atomic import check_target
+
+    for name in names:
+        path = getattr(args, name, None)
+        if not path:
+            continue
+        check_target(path, args.overwrite)
+        if name == "plot" and not str(path).lower().endswith((".png", ".pdf", ".svg")):
+            raise InputError("--plot", path, "a file name ending in .png, .pdf or .svg")
+
+
+class Progress:
     """Stage messages on stderr, only when stderr is a terminal."""
 
     def __init__(self):
@@ -92,32 +105,18 @@ class _Progress:
             print("\r" + " " * 60 + "\r", end="", file=sys.stderr, flush=True)
 
 
-def _eop_file(text):
-    """The user's file; or, when no such file exists, the IERS file of that name that astropy-iers-data ships."""
-    if text is None or Path(text).is_file():
-        return text
-    import astropy_iers_data
-
-    shipped = {Path(f).name: f for f in (astropy_iers_data.IERS_A_FILE, astropy_iers_data.IERS_B_FILE)}
-    return shipped.get(Path(text).name, text)
-
-
 def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
+    from wobble.cli._output import print_json, wrote
     from wobble.io.netcdf import write_netcdf
 
     window = _years(args.window, "--window")
     step = _years(args.step, "--step")
-    for path in (args.output, args.plot):
-        # Refuse before the long computation, not after it.
-        if path and Path(path).exists() and not args.overwrite:
-            from wobble.errors import OutputExistsError
-
-            raise OutputExistsError(path)
-    progress = _Progress()
+    check_outputs(args)
+    progress = Progress()
     try:
         analysis = polar_motion_analysis(
-            _eop_file(args.file),
+            args.file,
             start=args.start,
             end=args.end,
             window=window,
@@ -129,17 +128,21 @@ def run(args) -> int:
         )
     finally:
         progress.done()
+    written = []
     if args.output:
-        write_netcdf(analysis.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
+        written.append(write_netcdf(analysis.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line))
     if args.plot:
         from wobble.plot.polar_motion import save_overview
 
-        save_overview(analysis, args.plot, overwrite=args.overwrite)
+        written.append(save_overview(analysis, args.plot, overwrite=args.overwrite))
     if args.json:
-        print(json.dumps(analysis.to_dict(), indent=2, allow_nan=False))
+        print_json(analysis.to_dict())
     else:
-        print(analysis.summary())
-        for path in (args.output, args.plot):
-            if path:
-                print(f"\nwrote {path}")
+        from wobble.cli._polar_motion_report import report
+
+        print(report(analysis))
+        if written:
+            print()
+    for path in written:
+        wrote(path, json_mode=args.json)
     return 0

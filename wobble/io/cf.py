@@ -210,10 +210,53 @@ PRECESSION: dict[str, Spec] = {
 }
 
 # Geodetic excitation of polar motion (wobble excitation).
-EXCITATION: dict[str, Spec] = {}
+EXCITATION: dict[str, Spec] = {
+    "x_p": Spec(("time",), "milliarcsecond", "pole coordinate x_p (toward the Greenwich meridian)"),
+    "y_p": Spec(("time",), "milliarcsecond", "pole coordinate y_p (toward 90 deg W longitude)"),
+    "chi_1": Spec(("time",), "milliarcsecond", "geodetic excitation chi_1 (real part of chi, from the pole by the Liouville equation)"),
+    "chi_2": Spec(("time",), "milliarcsecond", "geodetic excitation chi_2 (imaginary part of chi; chi = chi_1 + i chi_2)"),
+    "x_p_round_trip": Spec(("time",), "milliarcsecond", "x_p rebuilt from the excitation (forward Liouville equation)"),
+    "y_p_round_trip": Spec(("time",), "milliarcsecond", "y_p rebuilt from the excitation (forward Liouville equation)"),
+    "chandler_band_chi": Spec(("time",), "milliarcsecond", "amplitude of the excitation in the prograde Chandler band"),
+    "chandler_band_pole": Spec(("time",), "milliarcsecond", "amplitude of the pole in the prograde Chandler band"),
+    "excitation_spectrum": Spec(("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the excitation chi_1 + i chi_2"),
+    "pole_spectrum": Spec(("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the pole x_p - i y_p"),
+    "frequency": Spec(("frequency",), "year-1", "frequency in cycles per Julian year (positive: prograde)"),
+    "chandler_period": Spec((), "day", "Chandler period T_c of the complex frequency sigma_c"),
+    "quality_factor": Spec((), "1", "quality factor Q of the Chandler wobble"),
+    "round_trip_rms": Spec((), "milliarcsecond", "RMS distance between the record and the pole rebuilt from its excitation"),
+}
 
 # Polar-motion forecasts and hindcasts (wobble forecast).
-FORECAST: dict[str, Spec] = {}
+FORECAST: dict[str, Spec] = {
+    "lead_time": Spec(("lead",), "day", "lead time from the issue time", "forecast_period"),
+    "issue_time": Spec(("issue",), "days since 1858-11-17 00:00:00", "issue time of the forecast (UTC)", "forecast_reference_time"),
+    "x_p": Spec(("lead",), "milliarcsecond", "forecast of the pole coordinate x_p"),
+    "y_p": Spec(("lead",), "milliarcsecond", "forecast of the pole coordinate y_p"),
+    "x_p_bounds_68": Spec(("lead", "bounds"), "milliarcsecond", "68 % interval of the x_p forecast"),
+    "y_p_bounds_68": Spec(("lead", "bounds"), "milliarcsecond", "68 % interval of the y_p forecast"),
+    "x_p_bounds_95": Spec(("lead", "bounds"), "milliarcsecond", "95 % interval of the x_p forecast"),
+    "y_p_bounds_95": Spec(("lead", "bounds"), "milliarcsecond", "95 % interval of the y_p forecast"),
+    "x_p_forecast": Spec(("method", "issue", "lead"), "milliarcsecond", "hindcast of x_p"),
+    "y_p_forecast": Spec(("method", "issue", "lead"), "milliarcsecond", "hindcast of y_p"),
+    "x_p_sigma": Spec(("method", "issue", "lead"), "milliarcsecond", "stated one-sigma error of the x_p hindcast"),
+    "y_p_sigma": Spec(("method", "issue", "lead"), "milliarcsecond", "stated one-sigma error of the y_p hindcast"),
+    "x_p_observed": Spec(("issue", "lead"), "milliarcsecond", "x_p of the record at the forecast time"),
+    "y_p_observed": Spec(("issue", "lead"), "milliarcsecond", "y_p of the record at the forecast time"),
+    "mae_x": Spec(("method", "lead"), "milliarcsecond", "mean absolute error of x_p"),
+    "mae_y": Spec(("method", "lead"), "milliarcsecond", "mean absolute error of y_p"),
+    "rms_x": Spec(("method", "lead"), "milliarcsecond", "RMS error of x_p"),
+    "rms_y": Spec(("method", "lead"), "milliarcsecond", "RMS error of y_p"),
+    "mae_2d": Spec(("method", "lead"), "milliarcsecond", "mean absolute error of the 2-D pole |p - p_forecast|"),
+    "rms_2d": Spec(("method", "lead"), "milliarcsecond", "RMS error of the 2-D pole"),
+    "coverage_68": Spec(("method", "lead"), "1", "fraction of x_p and y_p outcomes inside the 68 % interval"),
+    "coverage_95": Spec(("method", "lead"), "1", "fraction of x_p and y_p outcomes inside the 95 % interval"),
+    "rms_2d_persistence": Spec(("lead",), "milliarcsecond", "RMS error of the 2-D pole of persistence (the last value used)"),
+    "rms_2d_ls": Spec(("lead",), "milliarcsecond", "RMS error of the 2-D pole of the least-squares extrapolation alone"),
+    "skill_persistence": Spec(("method", "lead"), "1", "skill against persistence, 1 - RMS_2d / RMS_2d(persistence)"),
+    "skill_ls": Spec(("method", "lead"), "1", "skill against the least-squares extrapolation, 1 - RMS_2d / RMS_2d(LS)"),
+    "latency": Spec((), "day", "publication delay assumed: the data used end this long before the issue time"),
+}
 
 TABLES: dict[str, Mapping[str, Spec]] = {
     "chandler": CHANDLER,

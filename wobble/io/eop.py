@@ -30,7 +30,10 @@ import numpy as np
 
 from wobble.errors import FileFormatError
 
-__all__ = ["PoleRecord", "default_c04_path", "read_c04", "read_finals2000a", "read_pole_file"]
+__all__ = ["PoleRecord", "SHIPPED_FILES", "default_c04_path", "resolve_eop_path", "read_c04", "read_finals2000a", "read_pole_file"]
+
+#: The Earth-orientation files the astropy-iers-data package ships, found by name from any folder.
+SHIPPED_FILES = ("eopc04.1962-now", "finals2000A.all")
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,6 +71,22 @@ def default_c04_path() -> Path:
     import astropy_iers_data
 
     return Path(os.path.dirname(astropy_iers_data.__file__)) / "data" / "eopc04.1962-now"
+
+
+def resolve_eop_path(path) -> Path:
+    """``path`` itself if it exists or names a folder; else, for a bare name of a shipped file, that file.
+
+    ``finals2000A.all`` or ``eopc04.1962-now`` given without a folder, and not
+    present in the working folder, mean the copies shipped with
+    astropy-iers-data (:data:`SHIPPED_FILES`), so examples run as printed from
+    any folder. Anything else is returned unchanged (and a missing file is
+    reported by the reader).
+    """
+    path = Path(path)
+    if path.exists() or path.name != str(path) or path.name not in SHIPPED_FILES:
+        return path
+    shipped = default_c04_path().parent / path.name
+    return shipped if shipped.is_file() else path
 
 
 # (first, last) columns, 1-based inclusive as in the ReadMe files.
@@ -118,7 +137,9 @@ def _columns(lines: list[tuple[int, str]], fields: dict, path) -> np.ndarray:
 def _read_lines(path) -> list[str]:
     path = Path(path)
     if not path.is_file():
-        raise FileFormatError(path, None, "no such file")
+        raise FileFormatError(
+            path, None, f"no such file (the files of astropy-iers-data are found by name: {', '.join(SHIPPED_FILES)})"
+        )
     try:
         with open(path, encoding="ascii") as fh:
             return fh.read().splitlines()
@@ -207,13 +228,16 @@ def read_finals2000a(path) -> PoleRecord:
 def read_pole_file(path=None) -> PoleRecord:
     """Read ``path`` in whichever format it is (C04 or finals2000A); default: the shipped C04 file.
 
+    A bare ``finals2000A.all`` or ``eopc04.1962-now`` not in the working folder
+    is the copy shipped with astropy-iers-data (:func:`resolve_eop_path`).
+
     The format is recognised from the first data line: a four-digit year in
     columns 1-4 and at least 146 columns is C04; a flag I or P in column 17
     with the MJD in columns 8-15 is finals2000A.
     """
     if path is None:
         return read_c04()
-    path = Path(path)
+    path = resolve_eop_path(path)
     for lineno, line in enumerate(_read_lines(path), start=1):
         if line.startswith("#") or not line.strip():
             continue

@@ -12,6 +12,10 @@ that exist. For a complex series the least-squares fit of one complex
 exponential ``a exp(i omega t)`` has a single basis function, so ``|F|^2``
 *is* the least-squares (Lomb-Scargle) spectrum; no time shift is needed.
 
+Sums are matrix products (BLAS); callers run them with one BLAS thread
+(:func:`wobble.numerics.threads.single_blas_thread`): a threaded product of
+this shape is 10-100 times slower on a loaded machine, for the threads' start-up.
+
 The grid is walked by the recurrence ``exp(-i omega_{k+1} t) = exp(-i omega_k t)
 exp(-i d t)`` (one complex multiplication per sample and frequency instead of an
 ``exp``), re-seeded with exact exponentials every :data:`RESEED` steps so the
@@ -46,33 +50,28 @@ def dtft(t: np.ndarray, z: np.ndarray, omega0: float, domega: float, count: int)
     Returns
     -------
     ndarray, complex, shape (count,) or (count, m)
+
+    Notes
+    -----
+    The exponentials of :data:`RESEED` consecutive frequencies are built by the
+    recurrence into one block and multiplied with all the columns at once (one
+    matrix product per block instead of one dot product per frequency and
+    column: the Python loop was the cost for short records and many columns).
     """
     t = np.asarray(t, dtype=float)
     z = np.asarray(z)
     vector = z.ndim == 1
-    rows = _rows(z, len(t))
-    out = np.empty((count, len(rows)), dtype=complex)
+    cols = np.ascontiguousarray(z.reshape(len(t), -1), dtype=complex)
+    out = np.empty((count, cols.shape[1]), dtype=complex)
     step = np.exp(-1j * domega * t)
-    current = None
-    for k in range(count):
-        if k % RESEED == 0:
-            current = np.exp(-1j * (omega0 + k * domega) * t)
-        else:
-            current *= step
-        for j, row in enumerate(rows):
-            out[k, j] = np.dot(row, current)
+    block = np.empty((min(RESEED, count), len(t)), dtype=complex)
+    for k0 in range(0, count, RESEED):
+        rows = min(RESEED, count - k0)
+        block[0] = np.exp(-1j * (omega0 + k0 * domega) * t)
+        for j in range(1, rows):
+            np.multiply(block[j - 1], step, out=block[j])
+        np.matmul(block[:rows], cols, out=out[k0 : k0 + rows])
     return out[:, 0] if vector else out
-
-
-def _rows(z: np.ndarray, n: int) -> list[np.ndarray]:
-    """The columns of ``z`` as contiguous complex rows.
-
-    Sums are taken one row at a time with 1-D ``np.dot`` (a single-threaded
-    BLAS dot): a threaded matrix-vector product of this shape is 10-100
-    times slower on a loaded machine, for the threads' start-up.
-    """
-    zt = np.ascontiguousarray(np.asarray(z).reshape(n, -1).T, dtype=complex)
-    return list(zt)
 
 
 def dtft_at(t: np.ndarray, z: np.ndarray, omega) -> np.ndarray:
@@ -83,12 +82,11 @@ def dtft_at(t: np.ndarray, z: np.ndarray, omega) -> np.ndarray:
     t = np.asarray(t, dtype=float)
     omega = np.asarray(omega, dtype=float)
     z = np.asarray(z)
-    rows = _rows(z, len(t))
+    cols = np.ascontiguousarray(z.reshape(len(t), -1), dtype=complex)
     flat = omega.ravel()
-    out = np.empty((flat.size, len(rows)), dtype=complex)
-    for k, w in enumerate(flat):
-        phase = np.exp(-1j * w * t)
-        for j, row in enumerate(rows):
-            out[k, j] = np.dot(row, phase)
+    out = np.empty((flat.size, cols.shape[1]), dtype=complex)
+    for k0 in range(0, flat.size, RESEED):  # blocks bound the memory of the exponentials
+        phase = np.exp(-1j * np.multiply.outer(flat[k0 : k0 + RESEED], t))
+        np.matmul(phase, cols, out=out[k0 : k0 + RESEED])
     shape = omega.shape + (() if z.ndim == 1 else (z.shape[1],))
     return out.reshape(shape)

@@ -13,19 +13,25 @@ like the Chandler wobble, turns counter-clockwise.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
 
-from wobble.errors import InputError, OutputExistsError
+from wobble.errors import InputError
 
-__all__ = ["pole_path", "two_sided_spectrum", "windowed_wobble", "overview", "save_overview"]
+__all__ = ["pole_path", "two_sided_spectrum", "windowed_wobble", "overview", "save_figure", "save_overview"]
 
 _MJD_J2000 = 51544.5
-_CHANDLER_CPY = 365.25 / 433.1  # published frequency, cycles per Julian year (for the label only)
+
+
+def _published_chandler_cpy() -> float:
+    """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak to label."""
+    from astropy import units as u
+
+    from wobble.api.polar_motion import published_chandler_period
+
+    return 365.25 / published_chandler_period()["period"].to_value(u.day)
 
 
 def _decimal_year(mjd) -> np.ndarray:
@@ -55,18 +61,19 @@ def pole_path(data, *, start=None, end=None, ax=None, model=None):
     """
     from astropy import units as u
 
-    from wobble.api.polar_motion import _mjd_values, _select
+    from wobble.api.polar_motion.record import mjd_values
+    from wobble.io.dates import select_dates
 
     ax = _axes(ax)
-    mjd = _mjd_values(data["time"])
-    keep = _select(mjd, start, end)
+    mjd = mjd_values(data["time"])
+    keep = select_dates(mjd, start, end)
     x = (np.asarray(data["x_p"].values) * u.Unit(data["x_p"].attrs["units"])).to_value(u.mas)[keep]
     y = (np.asarray(data["y_p"].values) * u.Unit(data["y_p"].attrs["units"])).to_value(u.mas)[keep]
     years = _decimal_year(mjd[keep])
     points = ax.scatter(x, y, c=years, s=2, cmap="viridis", linewidths=0)
     ax.plot(x, y, lw=0.3, color="0.6", zorder=0)
     if model is not None and "x_p_mean_pole" in model:
-        mm = _mjd_values(model["time"])
+        mm = mjd_values(model["time"])
         mk = (mm >= mjd[keep][0]) & (mm <= mjd[keep][-1])
         ax.plot(model["x_p_mean_pole"].values[mk] * 1e3, model["y_p_mean_pole"].values[mk] * 1e3, color="C3", lw=1.5, label="mean pole (fitted drift)")
         ax.legend(loc="lower right", fontsize="small")
@@ -101,7 +108,7 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
         ax.set_yscale("log")
     # Label each peak at its height, staggered so the Chandler and prograde
     # annual labels (0.16 cycle/yr apart) do not overlap.
-    marks = [("Chandler", _CHANDLER_CPY, (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
+    marks = [("Chandler", _published_chandler_cpy(), (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
     for label, f, offset in marks:
         near = keep & (np.abs(cpy - f) < 0.03)
         if not near.any():
@@ -139,7 +146,7 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
     years = _decimal_year(windows["window_time"].values)
     width = float(windows.attrs.get("window_years", np.nan))
     ax_a.errorbar(years, windows["chandler_amplitude"], yerr=windows["chandler_amplitude_uncertainty"], fmt="o-", ms=3, lw=1, label="Chandler")
-    ax_a.errorbar(years, windows["annual_amplitude"], yerr=windows["annual_amplitude_uncertainty"], fmt="s-", ms=2, lw=0.8, color="C2", alpha=0.7, label="annual (prograde)")
+    ax_a.errorbar(years, windows["annual_prograde_amplitude"], yerr=windows["annual_prograde_amplitude_uncertainty"], fmt="s-", ms=2, lw=0.8, color="C2", alpha=0.7, label="annual (prograde)")
     ax_a.axvline(2015.0, color="0.5", ls=":", lw=1)
     ax_a.set_ylabel("amplitude [mas]")
     ax_a.set_ylim(bottom=0)
@@ -195,26 +202,25 @@ def overview(analysis, *, path_span=None) -> Figure:
     return fig
 
 
-def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
-    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without ``overwrite``."""
-    path = Path(path)
-    if path.is_dir():
-        raise InputError("plot", str(path), "a file path, not a folder")
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError("plot", str(path), "a path in an existing folder")
-    if path.exists() and not overwrite:
-        raise OutputExistsError(path)
+def save_figure(fig: Figure, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
+    """Write ``fig`` to ``path`` (png, pdf or svg, from the suffix) atomically, with the mode any output gets.
+
+    The figure is drawn into a temporary file beside ``path`` and renamed onto
+    it (:func:`wobble.io.atomic.atomic_target`), so the file gets the umask's
+    mode like every other output (0644 under umask 022), a failed draw leaves
+    nothing behind, and an existing file is replaced only with ``overwrite``.
+    """
+    from wobble.io.atomic import atomic_target, check_target
+
+    path = check_target(path, overwrite)
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in ("png", "pdf", "svg"):
         raise InputError("plot", str(path), "a file name ending in .png, .pdf or .svg")
-    fig = overview(analysis)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=f".{suffix}")
-    os.close(fd)
-    try:
+    with atomic_target(path, overwrite) as tmp:
         fig.savefig(tmp, dpi=dpi, format=suffix)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
+
+
+def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
+    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without ``overwrite``."""
+    return save_figure(overview(analysis), path, overwrite=overwrite, dpi=dpi)

@@ -1,0 +1,112 @@
+"""wobble.forecast_polar_motion, hindcasts and `wobble forecast`: JSON, CF netCDF, bad input with exit 2 and nothing written."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+from astropy import units as u
+
+import wobble
+from wobble.cli import main
+from wobble.errors import InputError
+from wobble.io.netcdf import open_wobble, write_netcdf
+
+
+@pytest.fixture(scope="module")
+def forecast():
+    return wobble.forecast_polar_motion(issued="2018-03-01", horizon=60 * u.day, method="ls_ar", latency=1 * u.day)
+
+
+def test_json_layout(forecast):
+    d = forecast.to_dict()
+    assert (d["issued"], d["horizon_days"], d["method"], d["latency_days"]) == ("2018-03-01", 60, "ls_ar", 1.0)
+    assert d["last_data"] == "2018-02-28"
+    first = d["forecast"][0]
+    assert set(first) >= {"lead_days", "x_mas", "y_mas", "x_68_mas", "y_68_mas", "x_95_mas", "y_95_mas"}
+    assert [r["lead_days"] for r in d["forecast"]] == list(range(1, 61))
+    for r in d["forecast"]:
+        assert r["x_95_mas"][0] < r["x_68_mas"][0] < r["x_mas"] < r["x_68_mas"][1] < r["x_95_mas"][1]
+    # The pole moves a few mas a day: the first day's forecast is within 5 mas of the record.
+    obs = wobble.load_polar_motion(start="2018-03-02", end="2018-03-03")
+    assert abs(first["x_mas"] - float(obs["x_p"][0]) * 1e3) < 5
+
+
+def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
+    ds = forecast.to_dataset()
+    assert ds["lead_time"].attrs["standard_name"] == "forecast_period"
+    assert ds["forecast_reference_time"].attrs["standard_name"] == "forecast_reference_time"
+    assert ds["x_p_bounds_68"].dims == ("lead", "bounds")
+    path = write_netcdf(ds, tmp_path / "f.nc", command="test")
+    back = open_wobble(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert_cf_compliant(path)
+
+
+def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
+    h = wobble.hindcast_polar_motion(start="2019-01-01", end="2019-02-01", every=14 * u.day, horizon=30 * u.day, latency=1 * u.day, workers=1)
+    d = h.to_dict()
+    assert d["issues"] == 3 and set(d["methods"]) == {"ls_ar", "kalman"}
+    for m in ("ls_ar", "kalman"):
+        rms = d["methods"][m]["rms_2d"]
+        assert 0 < rms["1"] < rms["30"] < 100  # mas: errors grow with lead time
+        assert 0 <= d["methods"][m]["coverage_68"]["10"] <= 1
+    assert d["anchors"][0]["values_mas"]["10"] == 2.32
+    text = h.summary()  # leads beyond the 30-day horizon are left out
+    assert "10 d" in text and "40 d" not in text and "Dill et al. 2023" in text
+    path = write_netcdf(h.to_dataset(), tmp_path / "h.nc", command="test")
+    back = open_wobble(path)
+    assert back["rms_2d"].dims == ("method", "lead") and back["x_p_forecast"].shape == (2, 3, 30)
+    assert_cf_compliant(path)
+    k = list(back["method"].values).index("kalman")
+    np.testing.assert_allclose(back["rms_2d"].values[k, 9], d["methods"]["kalman"]["rms_2d"]["10"], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "fragment"),
+    [
+        ({"issued": "1950-01-01"}, "issued: got 1950-01-01"),
+        ({"issued": "2099-01-01"}, "issued: got 2099-01-01"),
+        ({"issued": "1965-01-01"}, "fitting span"),
+        ({"horizon": 0 * u.day}, "horizon: got 0 d"),
+        ({"horizon": 10 * u.yr}, "horizon: got"),
+        ({"horizon": 30}, "horizon"),
+        ({"method": "arima"}, "method: got arima"),
+        ({"q": 0.0}, "q: got 0.0"),
+    ],
+)
+def test_bad_input(kwargs, fragment):
+    with pytest.raises(InputError, match=fragment):
+        wobble.forecast_polar_motion(**kwargs)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["--issued", "1950-01-01"], "issued: got 1950-01-01"),
+        (["--issued", "1966-01-01"], "fitting span"),
+        (["--horizon", "0"], "horizon: got 0 d"),
+        (["--horizon", "20yr"], "horizon: got"),
+        (["--method", "arima"], "--method: got arima"),
+        (["--q", "0"], "--q: got 0"),
+        (["--hindcast", "1970-01-01:1971-01-01"], "start: got 1970-01-01"),
+        (["--hindcast", "2016-01-01"], "--hindcast: got 2016-01-01"),
+    ],
+)
+def test_cli_bad_input_exit_2_nothing_written(args, fragment, tmp_path, capsys):
+    out_file = tmp_path / "f.nc"
+    status = main(["forecast", *args, "-o", str(out_file)])
+    out, err = capsys.readouterr()
+    assert status == 2 and fragment in err and err.count("\n") == 1 and err.startswith("wobble forecast: error: ")
+    assert not out_file.exists() and out == ""
+
+
+def test_cli_json(tmp_path, capsys):
+    png = tmp_path / "f.png"
+    status = main(["forecast", "--issued", "2020-06-01", "--horizon", "30d", "--latency", "1d", "--json", "--plot", str(png)])
+    out, err = capsys.readouterr()
+    d = json.loads(out)
+    assert status == 0 and d["method"] == "kalman" and d["horizon_days"] == 30 and d["latency_days"] == 1
+    assert err == f"wrote {png}\n" and png.read_bytes()[:4] == b"\x89PNG"

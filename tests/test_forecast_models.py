@@ -1,0 +1,275 @@
+"""Forecast models against ground truth: AR against statsmodels and by hand, LS+AR on an exact case,
+the complex Kalman filter against statsmodels, and a simulated damped oscillator whose forecast errors
+match the stated intervals."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from polar_synthetic import DAY, MAS
+
+from wobble.errors import InputError
+from wobble.models.polar_motion import forecast as fc
+from wobble.models.polar_motion import state_space as ssm
+from wobble.models.polar_motion.excitation import chandler_frequency, excitation_from_pole
+from wobble.models.polar_motion.ls_ar import forecast_ls_ar, harmonic_columns
+from wobble.numerics import kalman
+from wobble.numerics.autoregression import ar_forecast, fit_ar, select_ar
+
+# ---------------------------------------------------------------------------
+# Autoregression
+# ---------------------------------------------------------------------------
+
+
+def _ar2(n, rng):
+    y = np.zeros(n)
+    e = rng.standard_normal(n)
+    for k in range(2, n):
+        y[k] = 0.3 + 0.5 * y[k - 1] + 0.3 * y[k - 2] + e[k]
+    return y
+
+
+def test_ar_fit_equals_statsmodels_autoreg():
+    from statsmodels.tsa.ar_model import AutoReg
+
+    y = _ar2(2000, np.random.default_rng(3))
+    ours = fit_ar(y, 4)
+    theirs = AutoReg(y, lags=4, trend="c").fit()
+    np.testing.assert_allclose(np.r_[ours.const, ours.coeffs], theirs.params, rtol=1e-10)
+    assert ours.sigma2 == pytest.approx(theirs.sigma2, rel=1e-10)
+    # Forecasts 1..20 ahead, as statsmodels computes them.
+    np.testing.assert_allclose(ar_forecast(ours, y, 20)[0], theirs.forecast(20), rtol=1e-10)
+    assert select_ar(y, 8).order in (2, 3, 4)
+
+
+def test_ar_forecast_and_variance_by_hand():
+    # AR(2) with c = 1, a = (0.5, 0.3), sigma^2 = 2, last values 4 (t-1) and 2 (t-2):
+    # y1 = 1 + 0.5*4 + 0.3*2 = 3.6, y2 = 1 + 0.5*3.6 + 0.3*4 = 4.0; psi = 1, 0.5, 0.55.
+    from wobble.numerics.autoregression import ARFit
+
+    fit = ARFit(1.0, np.array([0.5, 0.3]), 2.0, 100, 0.0)
+    mean, var = ar_forecast(fit, [1.0, 2.0, 4.0], 3)
+    np.testing.assert_allclose(mean[:2], [3.6, 4.0], rtol=1e-14)
+    np.testing.assert_allclose(var, 2.0 * np.cumsum([1.0, 0.25, 0.3025]), rtol=1e-14)
+
+
+# ---------------------------------------------------------------------------
+# LS+AR on an exact case
+# ---------------------------------------------------------------------------
+
+
+def test_ls_ar_continues_an_exact_harmonic_model():
+    """A record that is exactly trend + Chandler + annual + semi-annual terms: the forecast is their continuation."""
+    period = 433.0 * DAY
+    t = DAY * np.arange(8 * 365)
+    coeffs = np.array([40 + 300j, 5 - 3j, 150 * np.exp(0.7j), 90 * np.exp(0.3j), 5 * np.exp(-1j), 4 * np.exp(2j), 1 * np.exp(0.1j)]) * MAS
+    record = harmonic_columns(t - t[-1], 2 * math.pi / period) @ coeffs
+    rng = np.random.default_rng(0)
+    record = record + 1e-6 * MAS * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size))  # a whisper of noise for the AR
+    issued = t[-1] + DAY
+    f = forecast_ls_ar(t, record, issued, 90, chandler_period=period, latency=DAY)
+    truth = harmonic_columns(issued + f.lead - t[-1], 2 * math.pi / period) @ coeffs
+    assert np.max(np.abs(f.mean - truth)) < 1e-4 * MAS
+    assert np.max(f.sigma_x) < 1e-4 * MAS
+    assert f.last_data == t[-1] and f.lead[0] == DAY
+
+
+# ---------------------------------------------------------------------------
+# The complex Kalman filter against statsmodels' (real) one
+# ---------------------------------------------------------------------------
+
+
+def _real(F, Q, h, r):
+    """The real form of the complex model: states (Re x, Im x), observations (Re y, Im y), circular noise."""
+    Fr = np.block([[F.real, -F.imag], [F.imag, F.real]])
+    Qr = 0.5 * np.block([[Q.real, -Q.imag], [Q.imag, Q.real]])
+    Hr = np.block([[h.real[None, :], -h.imag[None, :]], [h.imag[None, :], h.real[None, :]]])
+    return Fr, Qr, Hr, 0.5 * r * np.eye(2)
+
+
+def test_complex_filter_equals_statsmodels():
+    from statsmodels.tsa.statespace.kalman_filter import KalmanFilter
+
+    sigma = chandler_frequency(433.0 * DAY, 80.0)
+    noise = ssm.DEFAULT_NOISE
+    F, Q, h, r = ssm.system(sigma, noise)
+    rng = np.random.default_rng(5)
+    y = np.cumsum(rng.standard_normal(300) + 1j * rng.standard_normal(300)) * MAS
+    x0 = np.zeros(8, dtype=complex)
+    x0[6] = y[0]
+    P0 = np.diag([1e2, 1e2, 10, 10, 10, 10, 1e2, 1e-2]).astype(complex) * noise.excitation
+    xs, Ps, innov, svar = kalman.filter_exact(F, Q, h, r, y, x0, P0)
+    Fr, Qr, Hr, Rr = _real(F, Q, h, r)
+    # tolerance 0: statsmodels would otherwise declare convergence once P changes by less than
+    # 1e-19 in absolute terms, which covariances in rad^2 (1e-16) do from the start.
+    kf = KalmanFilter(k_endog=2, k_states=16, tolerance=0)
+    kf.bind(np.column_stack([y.real, y.imag]))
+    kf.design, kf.transition, kf.selection, kf.state_cov, kf.obs_cov = Hr, Fr, np.eye(16), Qr, Rr
+    # Both priors are of the first observed state (x0, P0), in the real form.
+    kf.initialize_known(np.r_[x0.real, x0.imag], 0.5 * np.block([[P0.real, -P0.imag], [P0.imag, P0.real]]))
+    res = kf.filter()
+    np.testing.assert_allclose(kalman.log_likelihood(innov, svar), res.llf, rtol=1e-9)
+    np.testing.assert_allclose(xs.real, res.filtered_state[:8].T, rtol=1e-7, atol=1e-9 * MAS)
+    np.testing.assert_allclose(xs.imag, res.filtered_state[8:].T, rtol=1e-7, atol=1e-9 * MAS)
+
+
+def test_steady_state_filter_agrees_with_the_exact_one_after_convergence():
+    sigma = chandler_frequency(433.0 * DAY, 80.0)
+    F, Q, h, r = ssm.system(sigma, ssm.DEFAULT_NOISE)
+    rng = np.random.default_rng(6)
+    y = np.cumsum(rng.standard_normal(3000) + 1j * rng.standard_normal(3000)) * MAS
+    x0 = np.zeros(8, dtype=complex)
+    x0[6] = y[0]
+    ss = kalman.steady_state(F, Q, h, r)
+    xs_s, innov_s = kalman.filter_steady(F, ss, h, y, x0)
+    xs_e, Ps, innov_e, svar = kalman.filter_exact(F, Q, h, r, y, x0, ss.prior)
+    # Started from the steady prior, the exact filter is the steady one at every step.
+    np.testing.assert_allclose(innov_s, innov_e, rtol=1e-6, atol=1e-12 * MAS)  # eigenmodes vs. steps: rounding
+    np.testing.assert_allclose(svar, ss.innovation_variance, rtol=1e-8)
+    np.testing.assert_allclose(xs_s[-1], xs_e[-1], rtol=1e-6, atol=1e-12 * MAS)
+
+
+# ---------------------------------------------------------------------------
+# A simulated damped oscillator with known excitation
+# ---------------------------------------------------------------------------
+
+
+def _root(Q):
+    """A square root L of the (rank-deficient) process covariance, L L^H = Q."""
+    lam, V = np.linalg.eigh(Q)
+    return V * np.sqrt(np.clip(lam, 0.0, None))
+
+
+def _simulate(noise, sigma, years, rng):
+    """Daily record of the state-space model itself (wobble + coloured excitation + seasonal + drift), and its excitation."""
+    F, Q, h, r = ssm.system(sigma, noise)
+    n = int(years * 365.25)
+    x = np.zeros(8, dtype=complex)
+    x[2:6] = np.array([90, 5, 4, 1]) * MAS
+    x[6], x[7] = (40 + 300j) * MAS, (0.005 + 0.01j) * MAS
+    L = _root(Q)
+    out, chi = np.empty(n, dtype=complex), np.empty(n, dtype=complex)
+    for k in range(n):
+        w = L @ (rng.standard_normal(8) + 1j * rng.standard_normal(8)) / math.sqrt(2)
+        x = F @ x + w
+        out[k] = h @ x + math.sqrt(r / 2) * (rng.standard_normal() + 1j * rng.standard_normal())
+        chi[k] = x[1]
+    return DAY * np.arange(n), out, chi, None
+
+
+def test_the_excitation_of_the_simulated_wobble_is_recovered():
+    """The model's wobble is the Liouville response to its excitation state: the inverse gives the excitation back."""
+    sigma = chandler_frequency(433.0 * DAY, 80.0)
+    noise = ssm.DEFAULT_NOISE
+    F, Q, h, r = ssm.system(sigma, noise)
+    lam, phi = F[0, 0], F[1, 1].real
+    assert F[0, 1] == pytest.approx((1 - lam) * phi, rel=1e-15)  # w_k = lambda w_{k-1} + (1 - lambda) chi_k
+    rng = np.random.default_rng(8)
+    n = 4000
+    eta = (rng.standard_normal(n) + 1j * rng.standard_normal(n)) * math.sqrt(noise.excitation / 2)
+    w, chi = np.zeros(n, dtype=complex), np.zeros(n, dtype=complex)
+    for k in range(1, n):
+        chi[k] = phi * chi[k - 1] + eta[k]
+        w[k] = lam * w[k - 1] + (1 - lam) * chi[k]
+    t = DAY * np.arange(n)
+    rms = np.sqrt(np.mean(np.abs(chi) ** 2))
+    np.testing.assert_allclose(excitation_from_pole(t, w, sigma), chi[1:], rtol=0, atol=1e-10 * rms)
+
+
+@pytest.fixture(scope="module")
+def simulated():
+    sigma = chandler_frequency(433.0 * DAY, 80.0)
+    t, p, chi, _ = _simulate(ssm.DEFAULT_NOISE, sigma, 40, np.random.default_rng(11))
+    return t, p, sigma
+
+
+def test_kalman_errors_match_their_intervals(simulated):
+    """Forecasts of the simulated record with its true noise: errors / stated sigma are unit normal at short leads.
+
+    (At 90 days the errors are 1.3 times the stated sigma on this record, a known shortfall of the
+    steady-state forecast variance that the hindcast's coverage also shows: the bound there is loose.)
+    """
+    t, p, sigma = simulated
+    issues = t[0] + DAY * (math.ceil(ssm.FIT_SPAN / DAY) + 1 + 45 * np.arange(240))  # whole days, as the record
+    z = {1: [], 10: [], 90: []}
+    for issued in issues:
+        if issued + 90 * DAY > t[-1]:
+            break
+        f = ssm.forecast_kalman(t, p, issued, 90, chandler_period=433.0 * DAY, q=80.0, latency=DAY, noise=ssm.DEFAULT_NOISE)
+        for lead in z:
+            truth = p[int(round((issued + lead * DAY - t[0]) / DAY))]
+            d = f.mean[lead - 1] - truth
+            z[lead] += [d.real / f.sigma_x[lead - 1], -d.imag / f.sigma_y[lead - 1]]
+    for lead in (1, 10):
+        v = np.array(z[lead])
+        assert 0.62 < np.mean(np.abs(v) <= 1.0) < 0.74, lead  # 480 values: 68 % +/- 2.8 standard errors
+        assert 0.9 < np.std(v) < 1.1, (lead, np.std(v))
+    assert np.std(z[90]) < 1.5
+
+
+def test_maximum_likelihood_finds_the_simulated_noise(simulated):
+    t, p, sigma = simulated
+    use = t >= t[-1] - ssm.FIT_SPAN
+    noise, _ = ssm.fit_noise(t[use], p[use], sigma)
+    truth = ssm.DEFAULT_NOISE
+    assert noise.excitation == pytest.approx(truth.excitation, rel=0.1)
+    assert noise.correlation_time == pytest.approx(truth.correlation_time, rel=0.3)
+
+
+# ---------------------------------------------------------------------------
+# No forecast uses its future
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", fc.METHODS)
+def test_forecasts_never_read_data_after_the_information_set(simulated, method):
+    """Replace everything after issue - latency by garbage: the forecast must not change by a bit."""
+    t, p, sigma = simulated
+    issued, latency = t[-1] - 2 * 365 * DAY, 5 * DAY
+    spoiled = p.copy()
+    spoiled[t > issued - latency] = 1e3 + 1e3j
+    kwargs = {"chandler_period": 433.0 * DAY, "latency": latency}
+    run = (lambda z: fc_run(method, t, z, issued, kwargs))
+    a, b = run(p), run(spoiled)
+    np.testing.assert_array_equal(a.mean, b.mean)
+    np.testing.assert_array_equal(a.sigma_x, b.sigma_x)
+    assert a.last_data <= issued - latency
+
+
+def fc_run(method, t, z, issued, kwargs):
+    if method == "ls_ar":
+        return forecast_ls_ar(t, z, issued, 60, **kwargs)
+    return ssm.forecast_kalman(t, z, issued, 60, q=80.0, **kwargs)
+
+
+def test_hindcast_blocks_never_read_the_future(simulated):
+    from wobble.models.polar_motion import hindcast as hc
+
+    t, p, _ = simulated
+    issues = t[-1] - 3 * 365 * DAY + 14 * DAY * np.arange(3)
+    block = hc.blocks(issues, 30, ("ls_ar", "kalman"), DAY, 80.0, 433.1 * DAY, refit=3)[0]
+    spoiled = p.copy()
+    spoiled[t > issues[0] - DAY] = 1e3 + 1e3j  # after the first issue's information set
+    first_a = hc.run_block(t, p, block)[0]
+    first_b = hc.run_block(t, spoiled, block)[0]
+    for fa, fb in zip(first_a, first_b):
+        np.testing.assert_array_equal(fa.mean, fb.mean)
+
+
+@pytest.mark.parametrize(
+    ("call", "fragment"),
+    [
+        (lambda t, p: forecast_ls_ar(t, p, t[0] + 2 * 365 * DAY, 30, chandler_period=433 * DAY), "LS\\+AR fitting span"),
+        (lambda t, p: ssm.forecast_kalman(t, p, t[-1] + 40 * DAY, 30, chandler_period=433 * DAY, q=80.0), "after the record's last day"),
+        (lambda t, p: fc.check_horizon(0.0), "horizon: got 0 d"),
+        (lambda t, p: fc.check_horizon(5000 * DAY), "horizon: got 5000 d"),
+        (lambda t, p: fc.check_method("arima"), "method: got arima"),
+        (lambda t, p: ssm.forecast_kalman(t, p, t[-1], 30, chandler_period=433 * DAY, q=-1.0), "q: got -1"),
+    ],
+)
+def test_bad_input_is_named(simulated, call, fragment):
+    t, p, _ = simulated
+    with pytest.raises(InputError, match=fragment):
+        call(t, p)

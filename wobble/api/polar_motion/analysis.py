@@ -1,0 +1,320 @@
+"""Everything ``wobble polar-motion`` reports: both estimates, sliding windows, the spectrum, Q, the model beside them."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api._units import to_si
+from wobble.api.polar_motion.estimate import (
+    DEPRECATED_KEYS,
+    ChandlerEstimate,
+    num,
+    published_chandler_period,
+    q_arg,
+    with_deprecated_keys,
+)
+from wobble.api.polar_motion.record import SIGN_NOTE, resolve_data, series
+from wobble.errors import InputError
+from wobble.io.dates import iso_date
+from wobble.models import polar_motion as _pm
+
+__all__ = ["QualityFactorEstimate", "PolarMotionAnalysis", "polar_motion_analysis"]
+
+
+@dataclass(frozen=True)
+class QualityFactorEstimate:
+    """Q of the Chandler wobble from its line shape (see :func:`wobble.models.polar_motion.quality_factor`).
+
+    ``value`` is inf when the line is not wider than the record's resolution;
+    ``low``-``high`` is the 68 % interval, ``lower_bound_95`` the one-sided 95 % limit.
+    """
+
+    value: float
+    low: float
+    high: float
+    lower_bound_95: float
+    resolved: bool
+    caveats: tuple
+
+    def to_dict(self) -> dict:
+        return {
+            "value": num(self.value),
+            "interval_68": [num(self.low), num(self.high)],
+            "lower_bound_95": num(self.lower_bound_95),
+            "resolved": self.resolved,
+            "method": "Whittle likelihood of a randomly excited damped oscillator (Lorentzian line) near the Chandler peak",
+            "caveats": list(self.caveats),
+        }
+
+
+class PolarMotionAnalysis:
+    """Everything ``wobble polar-motion`` reports: both estimates, windows, spectrum, Q, the model beside it.
+
+    Build with :func:`polar_motion_analysis`.
+
+    Attributes
+    ----------
+    data : xarray.Dataset
+        The record analysed.
+    least_squares, spectral : ChandlerEstimate
+        The two independent estimates.
+    method : str
+        Which of them is the headline (``least_squares``).
+    windows : xarray.Dataset
+        Sliding-window estimates (dimension ``window``).
+    spectrum : xarray.Dataset
+        Two-sided amplitude spectrum (dimension ``frequency``).
+    quality_factor : QualityFactorEstimate or None
+    budget : wobble.ChandlerBudget
+        The model of ``wobble.chandler_budget("earth")``.
+    """
+
+    def __init__(self, data, least_squares, spectral, windows, spectrum, quality_factor, budget, caveats):
+        self.data = data
+        self.least_squares = least_squares
+        self.spectral = spectral
+        self.windows = windows
+        self.spectrum = spectrum
+        self.quality_factor = quality_factor
+        self.budget = budget
+        self.method = "least_squares"
+        self.caveats = tuple(caveats)
+
+    @property
+    def estimate(self) -> ChandlerEstimate:
+        """The headline estimate (least squares)."""
+        return self.least_squares
+
+    @property
+    def methods_agree(self) -> bool:
+        """Whether the two periods differ by less than twice their combined one-sigma uncertainty (in quadrature)."""
+        return self.agreement <= 2.0
+
+    @property
+    def agreement(self) -> float:
+        """``|P_ls - P_spectrum|`` / sqrt(sigma_ls^2 + sigma_spectrum^2)."""
+        a, b = self.least_squares, self.spectral
+        diff = abs((a.period - b.period).to_value(u.day))
+        return diff / math.hypot(a.period_uncertainty.to_value(u.day), b.period_uncertainty.to_value(u.day))
+
+    def comparison(self) -> list[dict]:
+        """The observed period beside every step of the model and the published value.
+
+        Each row: ``name``, ``period`` (Quantity, d), ``uncertainty`` (or None),
+        ``residual`` = period - observed (Quantity, d, or None for the
+        observed row) and ``sigma`` (the combined one-sigma of the residual
+        where both sides have one).
+        """
+        obs = self.estimate
+        rows = [
+            {"name": f"observed ({obs.method.replace('_', ' ')})", "kind": "observed", "period": obs.period, "uncertainty": obs.period_uncertainty, "residual": None, "sigma": None}
+        ]
+        for step in self.budget.steps:
+            final = step is self.budget.steps[-1]
+            unc = self.budget.period_uncertainty if final else None
+            sigma = np.hypot(unc, obs.period_uncertainty) if final else None
+            rows.append({"name": f"model: {step.name}", "kind": "model", "period": step.period, "uncertainty": unc, "residual": step.period - obs.period, "sigma": sigma})
+        pub = published_chandler_period()
+        rows.append(
+            {"name": "published (Vicente & Wilson 1997)", "kind": "published", "period": pub["period"], "uncertainty": pub["uncertainty"], "residual": pub["period"] - obs.period, "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty)}
+        )
+        return rows
+
+    def to_dict(self) -> dict:
+        """The JSON of ``wobble polar-motion --json``."""
+        est = self.estimate
+        out = {
+            "chandler_period_days": num(est.period),
+            "chandler_period_uncertainty_days": num(est.period_uncertainty),
+            "chandler_amplitude_mas": num(est.amplitude),
+            "chandler_amplitude_uncertainty_mas": num(est.amplitude_uncertainty),
+            "annual_prograde_amplitude_mas": num(est.annual_prograde_amplitude),
+            "annual_prograde_amplitude_uncertainty_mas": num(est.annual_prograde_amplitude_uncertainty),
+            "annual_retrograde_amplitude_mas": num(est.annual_retrograde_amplitude),
+            "annual_retrograde_amplitude_uncertainty_mas": num(est.annual_retrograde_amplitude_uncertainty),
+            "start": est.start.iso[:10],
+            "end": est.end.iso[:10],
+            "method": est.method,
+            "source_file": self.data.attrs.get("source_file"),
+            "sign_convention": SIGN_NOTE,
+            "day": "days of 86400 s",
+            "estimates": {e.method: e.to_dict() for e in (self.least_squares, self.spectral)},
+            "methods_agree": bool(self.methods_agree),
+            "agreement_sigma": num(self.agreement),
+            "quality_factor": None if self.quality_factor is None else self.quality_factor.to_dict(),
+            "windows": _windows_dict(self.windows),
+            "comparison": [
+                {
+                    "name": r["name"],
+                    "kind": r["kind"],
+                    "period_days": num(r["period"]),
+                    "uncertainty_days": num(r["uncertainty"]),
+                    "residual_days": num(r["residual"]),
+                    "residual_sigma_days": num(r["sigma"]),
+                }
+                for r in self.comparison()
+            ],
+            "published": {k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()},
+            "caveats": list(self.caveats),
+            "deprecated_keys": dict(DEPRECATED_KEYS),
+        }
+        return with_deprecated_keys(out)
+
+    def to_dataset(self):
+        """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready (xarray.Dataset)."""
+        from wobble.api.polar_motion.dataset import analysis_dataset
+
+        return analysis_dataset(self)
+
+    def summary(self) -> str:
+        """A few lines for a person: both estimates, the annual terms, Q, the model and the published value.
+
+        ``wobble polar-motion`` prints a longer report (uncertainty parts, the
+        model step by step, the windows).
+        """
+        e, s = self.least_squares, self.spectral
+
+        def pm(q, sigma, digits):
+            x, dx = q.value, sigma.value
+            return f"{x:.{digits}f} +/- {dx:.{digits}f}" if math.isfinite(dx) else f"{x:.{digits}f}"
+
+        lines = [
+            f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; p = x_p - i y_p, prograde):",
+            f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, {pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
+            f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, {pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
+            f" ({'agree' if self.methods_agree else 'DISAGREE'}: {self.agreement:.1f} sigma apart)",
+            f"  annual wobble: prograde {pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
+            f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas",
+        ]
+        if self.quality_factor is not None:
+            q = self.quality_factor
+            hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
+            lines.append(f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
+        pub = published_chandler_period()
+        lines.append(
+            f"  model (wobble.chandler_budget('earth')) {pm(self.budget.period, self.budget.period_uncertainty, 1)} d; "
+            f"published {pm(pub['period'], pub['uncertainty'], 1)} d (Vicente & Wilson 1997)"
+        )
+        lines += [f"  caveat: {c}" for c in self.caveats]
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        e = self.estimate
+        return (
+            f"PolarMotionAnalysis({e.start.iso[:10]} to {e.end.iso[:10]}, "
+            f"period={e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d)"
+        )
+
+
+def _windows_dict(w) -> dict:
+    return {
+        "window_years": float(w.attrs["window_years"]),
+        "step_years": float(w.attrs["step_years"]),
+        "centre": [iso_date(float(m)) for m in w["window_time"].values],
+        "chandler_amplitude_mas": [num(v) for v in w["chandler_amplitude"].values],
+        "chandler_amplitude_uncertainty_mas": [num(v) for v in w["chandler_amplitude_uncertainty"].values],
+        "chandler_period_days": [num(v) for v in w["chandler_period"].values],
+        "chandler_period_uncertainty_days": [num(v) for v in w["chandler_period_uncertainty"].values],
+        "annual_prograde_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"].values],
+        # Deprecated alias (one release).
+        "annual_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"].values],
+    }
+
+
+def polar_motion_analysis(
+    data=None,
+    *,
+    start=None,
+    end=None,
+    window: u.Quantity = 8 * u.yr,
+    step: u.Quantity = 1 * u.yr,
+    drift_degree: int = 2,
+    excitation_q: float | None = 100.0,
+    draws: int = 64,
+    quality_factor: bool = True,
+    progress=None,
+) -> PolarMotionAnalysis:
+    """Both estimates of the Chandler wobble, sliding windows, the spectrum, Q, and the model beside them.
+
+    Parameters
+    ----------
+    data, start, end, drift_degree, excitation_q, draws
+        As in :func:`chandler_wobble`.
+    window : Quantity
+        Length of the sliding windows (default 8 Julian years; at least 2
+        years and at most the span; under the 6.4-yr Chandler-annual beat
+        the windows barely separate the two terms).
+    step : Quantity
+        Spacing of the windows (default 1 year).
+    quality_factor : bool
+        Also estimate Q from the line shape (spans of 20 years or more).
+    progress : callable, optional
+        ``progress(message)`` is called at each stage (the CLI prints it).
+
+    Returns
+    -------
+    PolarMotionAnalysis
+    """
+    from wobble.api.chandler import chandler_budget
+    from wobble.api.polar_motion.dataset import spectrum_dataset, windows_dataset
+
+    say = progress or (lambda message: None)
+    ds = resolve_data(data, None, start, end)
+    mjd, t, z = series(ds)
+    window_s = to_si(window, "window", u.s, positive=True, shape=())
+    step_s = to_si(step, "step", u.s, positive=True, shape=())
+    q_value = q_arg(excitation_q)
+    span = t[-1] - t[0]
+    if span < _pm.MIN_SPAN:
+        raise InputError(
+            "start/end", f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}", f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)"
+        )
+    if not _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9):
+        raise InputError(
+            "window",
+            window,
+            f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed ({span / (365.25 * _pm.DAY):.2f} yr)",
+        )
+    say("least-squares fit")
+    reference = published_chandler_period()["period"].to_value(u.s)
+    ls = _pm.fit_least_squares(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    say("spectral estimate")
+    sp = _pm.fit_spectrum(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    spectrum = _pm.two_sided_spectrum(t, z, reference_period=reference, drift_degree=drift_degree)
+
+    def window_progress(done, total):
+        if done % 5 == 0 or done == total:
+            say(f"windows {done}/{total}")
+
+    wf = _pm.sliding_windows(t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress)
+    caveats = list(ls.caveats)
+    if window_s < _pm.beat_period(reference):
+        caveats.append(
+            f"windows of {window_s / (365.25 * _pm.DAY):.1f} yr are shorter than the 6.4-yr Chandler-annual beat: "
+            "the windowed terms are barely separable"
+        )
+    qf = None
+    if quality_factor:
+        if span >= _pm.MIN_Q_SPAN:
+            say("quality factor")
+            chandler_only = z - ls.model(t, terms=("drift", "annual_prograde", "annual_retrograde"))
+            q = _pm.quality_factor(t, chandler_only, ls.chandler.rate)
+            qf = QualityFactorEstimate(q.value, q.low, q.high, q.lower_bound_95, q.resolved, q.caveats)
+        else:
+            caveats.append("no Q estimate: the span is shorter than 20 years")
+    return PolarMotionAnalysis(
+        data=ds,
+        least_squares=ChandlerEstimate.from_fit(ls),
+        spectral=ChandlerEstimate.from_fit(sp),
+        windows=windows_dataset(wf),
+        spectrum=spectrum_dataset(spectrum),
+        quality_factor=qf,
+        budget=chandler_budget("earth"),
+        caveats=caveats,
+    )
+
+

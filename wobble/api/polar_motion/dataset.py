@@ -1,0 +1,172 @@
+"""The CF Datasets of a polar-motion analysis: the record with its model, the windows, the spectrum, the estimates."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api.polar_motion.estimate import published_chandler_period
+from wobble.api.polar_motion.record import (
+    C04_REFERENCE,
+    MJD_J2000,
+    MJD_UNITS,
+    RAD_PER_ARCSEC,
+    SIGN_NOTE,
+    attrs,
+    mjd_values,
+    series,
+)
+from wobble.models import polar_motion as _pm
+
+__all__ = ["analysis_dataset", "windows_dataset", "spectrum_dataset"]
+
+
+def windows_dataset(wf: _pm.WindowedFits):
+    """The sliding-window fits as a Dataset on the ``window`` dimension."""
+    from wobble.api.dataset import xarray
+
+    xr = xarray()
+    rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
+    centre = MJD_J2000 + wf.centre / _pm.DAY
+    bounds = np.stack([MJD_J2000 + wf.start / _pm.DAY, MJD_J2000 + wf.end / _pm.DAY], axis=1)
+    day = 1.0 / _pm.DAY
+    note = "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' autocorrelation and the drift model"
+    return xr.Dataset(
+        {
+            # CF 7.1: a boundary variable takes its units and calendar from its coordinate.
+            "window_time_bounds": (("window", "nv"), bounds, {"long_name": "first and last day of each window"}),
+            "chandler_amplitude": ("window", wf.amplitude * rad_mas, attrs("milliarcsecond", "Chandler wobble amplitude in the window", comment=note)),
+            "chandler_amplitude_uncertainty": ("window", wf.amplitude_sigma * rad_mas, attrs("milliarcsecond", "one-sigma uncertainty of the windowed Chandler amplitude")),
+            "chandler_period": ("window", wf.period * day, attrs("day", "Chandler wobble period in the window", comment=note)),
+            "chandler_period_uncertainty": ("window", wf.period_sigma * day, attrs("day", "one-sigma uncertainty of the windowed Chandler period")),
+            "chandler_phase": ("window", np.degrees(wf.phase), attrs("degree", "argument of the Chandler term of x_p - i y_p at the window's centre")),
+            "annual_prograde_amplitude": ("window", wf.annual_prograde_amplitude * rad_mas, attrs("milliarcsecond", "prograde annual wobble amplitude in the window")),
+            "annual_prograde_amplitude_uncertainty": ("window", wf.annual_prograde_amplitude_sigma * rad_mas, attrs("milliarcsecond", "one-sigma uncertainty of the windowed prograde annual amplitude")),
+            "annual_retrograde_amplitude": ("window", wf.annual_retrograde_amplitude * rad_mas, attrs("milliarcsecond", "retrograde annual wobble amplitude in the window")),
+            "window_samples": ("window", wf.n_samples.astype(np.int32), attrs("1", "number of daily samples in the window")),
+        },
+        coords={
+            "window_time": (
+                "window",
+                centre,
+                {"units": MJD_UNITS, "calendar": "standard", "standard_name": "time", "long_name": "centre of the window (UTC)", "bounds": "window_time_bounds"},
+            ),
+        },
+        attrs={"window_years": wf.window / (365.25 * _pm.DAY), "step_years": wf.step / (365.25 * _pm.DAY)},
+    )
+
+
+def spectrum_dataset(sp: _pm.Spectrum):
+    """The two-sided amplitude spectrum as a Dataset on the ``frequency`` dimension."""
+    from wobble.api.dataset import xarray
+
+    xr = xarray()
+    rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
+    freq = sp.rate / (2 * math.pi) * _pm.DAY  # cycles per day
+    return xr.Dataset(
+        {
+            "amplitude_spectrum": (
+                "frequency",
+                sp.amplitude * rad_mas,
+                attrs(
+                    "milliarcsecond",
+                    "two-sided amplitude spectrum of the detrended complex pole x_p - i y_p",
+                    comment=f"radius of a circular term at each frequency; taper: {sp.taper}; drift polynomial degree {sp.drift_degree} removed",
+                ),
+            )
+        },
+        coords={"frequency": ("frequency", freq, attrs("day-1", "frequency in cycles per day (positive: prograde, negative: retrograde)"))},
+    )
+
+
+
+def analysis_dataset(a):
+    """The Dataset of ``PolarMotionAnalysis.to_dataset()``."""
+    from wobble.api.dataset import xarray
+
+    xr = xarray()
+    mjd, t, z = series(a.data)
+    fit = a.least_squares.raw
+    model = fit.model(t)
+    mean = fit.mean_pole(t)
+    arcsec = 1.0 / RAD_PER_ARCSEC
+
+    def xy(p):
+        x, y = _pm.pole_xy(p)
+        return x * arcsec, y * arcsec
+
+    mx, my = xy(model)
+    rx, ry = xy(z - model)
+    px, py = xy(mean)
+    observed = a.data.isel(time=np.nonzero(np.isin(mjd_values(a.data["time"]), mjd))[0])[["x_p", "y_p", "x_p_error", "y_p_error"]]
+    ls_note = "nonlinear least-squares fit of drift, Chandler and annual terms (wobble.models.polar_motion)"
+    ds = observed.assign(
+        x_p_model=("time", mx, attrs("arcsec", "fitted model of x_p", comment=ls_note)),
+        y_p_model=("time", my, attrs("arcsec", "fitted model of y_p", comment=ls_note)),
+        x_p_residual=("time", rx, attrs("arcsec", "x_p minus its fitted model")),
+        y_p_residual=("time", ry, attrs("arcsec", "y_p minus its fitted model")),
+        x_p_mean_pole=("time", px, attrs("arcsec", "x_p of the fitted mean-pole drift")),
+        y_p_mean_pole=("time", py, attrs("arcsec", "y_p of the fitted mean-pole drift")),
+    )
+    # The windowed estimates share names with the whole-span ones (on "method"):
+    # in the file they carry a window_ prefix, so neither hides the other.
+    windows = a.windows.rename({v: f"window_{v}" for v in a.windows.data_vars if not v.startswith("window_")})
+    ds = xr.merge([ds, windows, a.spectrum], combine_attrs="drop_conflicts")
+    methods = [a.least_squares, a.spectral]
+
+    def per_method(fn):
+        return np.array([fn(e) for e in methods], dtype=float)
+
+    est = {
+        "chandler_period": ("day", "Chandler wobble period", lambda e: e.period.to_value(u.day)),
+        "chandler_period_uncertainty": ("day", "adopted one-sigma uncertainty of the Chandler period", lambda e: e.period_uncertainty.to_value(u.day)),
+        "chandler_period_uncertainty_formal": ("day", "white-noise (formal) uncertainty of the period, far too small", lambda e: e.period_uncertainty_parts["formal"].to_value(u.day)),
+        "chandler_period_uncertainty_autocorrelation": ("day", "period uncertainty from the residuals' autocorrelation", lambda e: e.period_uncertainty_parts["autocorrelation"].to_value(u.day)),
+        "chandler_period_uncertainty_subspans": ("day", "period uncertainty from the scatter over sub-spans", lambda e: e.period_uncertainty_parts["subspans"].to_value(u.day)),
+        "chandler_period_uncertainty_excitation": ("day", "period uncertainty of a randomly excited wobble (Monte Carlo)", lambda e: e.period_uncertainty_parts["excitation"].to_value(u.day)),
+        "chandler_period_uncertainty_model": ("day", "period uncertainty from the drift model", lambda e: e.period_uncertainty_parts["model"].to_value(u.day)),
+        "chandler_amplitude": ("milliarcsecond", "Chandler wobble amplitude over the span", lambda e: e.amplitude.to_value(u.mas)),
+        "chandler_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the Chandler amplitude", lambda e: e.amplitude_uncertainty.to_value(u.mas)),
+        "chandler_phase": ("degree", "argument of the Chandler term of x_p - i y_p at the epoch", lambda e: e.phase.to_value(u.deg)),
+        "annual_prograde_amplitude": ("milliarcsecond", "prograde annual wobble amplitude", lambda e: e.annual_prograde_amplitude.to_value(u.mas)),
+        "annual_prograde_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the prograde annual amplitude", lambda e: e.annual_prograde_amplitude_uncertainty.to_value(u.mas)),
+        "annual_retrograde_amplitude": ("milliarcsecond", "retrograde annual wobble amplitude", lambda e: e.annual_retrograde_amplitude.to_value(u.mas)),
+        "annual_retrograde_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the retrograde annual amplitude", lambda e: e.annual_retrograde_amplitude_uncertainty.to_value(u.mas)),
+    }
+    for name, (unit, long_name, fn) in est.items():
+        ds[name] = ("method", per_method(fn), attrs(unit, long_name))
+    ds = ds.assign_coords(method=("method", [e.method for e in methods], {"long_name": "estimation method"}))
+    ds["epoch"] = ((), float(a.least_squares.epoch.mjd), {"units": MJD_UNITS, "calendar": "standard", "long_name": "epoch of the phases (mid-span)"})
+    rows = a.comparison()
+    model_rows = [r for r in rows if r["kind"] == "model"]
+    ds = ds.assign_coords(model_step=("model_step", [r["name"].removeprefix("model: ") for r in model_rows], {"long_name": "step of the Chandler model of wobble.chandler_budget('earth')"}))
+    ds["model_period"] = ("model_step", np.array([r["period"].to_value(u.day) for r in model_rows]), attrs("day", "modelled Chandler period after each model step"))
+    ds["model_minus_observed"] = ("model_step", np.array([r["residual"].to_value(u.day) for r in model_rows]), attrs("day", "modelled minus observed (least-squares) Chandler period"))
+    ds["model_period_uncertainty"] = ((), a.budget.period_uncertainty.to_value(u.day), attrs("day", "one-sigma uncertainty of the full model's period"))
+    pub = published_chandler_period()
+    ds["published_period"] = ((), pub["period"].to_value(u.day), attrs("day", "published Chandler period", references=pub["reference"]))
+    ds["published_period_uncertainty"] = ((), pub["uncertainty"].to_value(u.day), attrs("day", "one-sigma uncertainty of the published Chandler period"))
+    if a.quality_factor is not None:
+        q = a.quality_factor
+        ds["quality_factor"] = ((), q.value, attrs("1", "maximum-likelihood Q of the Chandler line (inf: unresolved)", comment="; ".join(q.caveats)))
+        ds["quality_factor_low"] = ((), q.low, attrs("1", "lower end of the 68 % interval of Q"))
+        ds["quality_factor_high"] = ((), q.high, attrs("1", "upper end of the 68 % interval of Q (inf: unbounded)"))
+        ds["quality_factor_lower_bound_95"] = ((), q.lower_bound_95, attrs("1", "one-sided 95 % lower bound of Q"))
+    e = a.least_squares
+    ds.attrs = {
+        "title": "Observed polar motion and the Chandler wobble",
+        "summary": (
+            f"Chandler period {e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d and amplitude "
+            f"{e.amplitude.value:.0f} +/- {e.amplitude_uncertainty.value:.0f} mas (least squares), "
+            f"{a.spectral.period.value:.1f} +/- {a.spectral.period_uncertainty.value:.1f} d (spectrum), "
+            f"{e.start.iso[:10]} to {e.end.iso[:10]}"
+        ),
+        "references": "; ".join([a.data.attrs.get("references", C04_REFERENCE), published_chandler_period()["reference"]]),
+        "source_file": a.data.attrs.get("source_file", ""),
+        "comment": SIGN_NOTE + ". Days are days of 86400 s. Windows: " + f"{a.windows.attrs['window_years']:g} yr every {a.windows.attrs['step_years']:g} yr.",
+    }
+    return ds
+
+

@@ -1,0 +1,237 @@
+"""The geodetic excitation of polar motion with units (:func:`geodetic_excitation`).
+
+>>> import wobble
+>>> ex = wobble.geodetic_excitation(start="2000-01-01", end="2009-12-31")
+>>> ex.to_dict()["round_trip_rms_mas"] < 1e-6
+True
+
+The excitation chi = chi_1 + i chi_2 is what drives the pole through the
+Liouville equation with the complex Chandler frequency
+sigma_c = 2 pi / T_c (1 + i / (2Q)) (:mod:`wobble.models.polar_motion.excitation`).
+T_c and Q are wobble's own: the least-squares period of the whole record and
+the Q of the Chandler budget's anelastic step, unless given.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api._units import to_si
+from wobble.api.polar_motion.estimate import published_chandler_period
+from wobble.api.polar_motion.forecast import check_q, default_q
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.errors import InputError
+from wobble.io.dates import MJD_UNITS, iso_date
+from wobble.models.polar_motion import excitation as _ex
+from wobble.models.polar_motion.least_squares import fit_least_squares
+from wobble.models.polar_motion.record import DAY, MIN_SPAN, pole_xy
+from wobble.models.polar_motion.spectrum import two_sided_spectrum
+
+__all__ = ["GeodeticExcitation", "geodetic_excitation"]
+
+#: The prograde Chandler band of the band-passed amplitudes: +/- 0.1 cycle per year around 1/T_c.
+_BAND = 0.1 * 2 * math.pi / (365.25 * DAY)
+_YEAR = 365.25 * DAY
+
+
+class GeodeticExcitation:
+    """The excitation of a polar-motion record (build with :func:`geodetic_excitation`).
+
+    Attributes
+    ----------
+    time_mjd : ndarray
+        MJD (UTC) of the pole samples; the excitation of step k belongs to the
+        step ending at ``time_mjd[k]`` (k >= 1).
+    chi_1, chi_2 : Quantity
+        The excitation, mas (NaN at the first sample, which starts the record).
+    chandler_period : Quantity
+    quality_factor : float
+    round_trip_rms : Quantity
+        RMS distance between the record and the pole rebuilt by running the
+        excitation forward (a check of the pair of equations; rounding only).
+    """
+
+    def __init__(self, mjd, p, chi, p_back, period, q, source):
+        self.time_mjd = mjd
+        self._p, self._chi, self._back = p, chi, p_back
+        self.chandler_period = (period / DAY) << u.day
+        self.quality_factor = q
+        self.source = source
+        c = np.concatenate([[np.nan + 0j], chi])
+        self.chi_1 = (c.real / RAD_PER_MAS) << u.mas
+        self.chi_2 = (c.imag / RAD_PER_MAS) << u.mas
+        self.round_trip_rms = (float(np.sqrt(np.mean(np.abs(p_back - p) ** 2))) / RAD_PER_MAS) << u.mas
+        t = (mjd - MJD_J2000) * DAY
+        sigma = 2 * math.pi / period
+        uniform = np.allclose(np.diff(t), DAY, rtol=0, atol=1e-3)
+        self.band_chi = self.band_pole = None
+        if uniform and t.size > 3 * 365:
+            self.band_chi = _ex.band_amplitude(t[1:], chi, sigma, _BAND) / RAD_PER_MAS
+            self.band_pole = _ex.band_amplitude(t, p, sigma, _BAND) / RAD_PER_MAS
+
+    def collapse(self, split="2015-01-01") -> dict | None:
+        """RMS of the Chandler-band excitation and pole before and after ``split`` (mas; None if not computed)."""
+        if self.band_chi is None:
+            return None
+        from wobble.io.dates import to_mjd
+
+        cut = to_mjd(split, "split")
+        mjd_chi = self.time_mjd[1:]
+        # Leave a year at each end of the record out (the band-pass wraps around).
+        inner = (mjd_chi > mjd_chi[0] + 365) & (mjd_chi < mjd_chi[-1] - 365)
+        before, after = inner & (mjd_chi < cut), inner & (mjd_chi >= cut)
+        if before.sum() < 365 or after.sum() < 365:
+            return None
+        pole_inner = np.concatenate([[False], inner])
+        pb = pole_inner & (self.time_mjd < cut)
+        pa = pole_inner & (self.time_mjd >= cut)
+
+        def rms(v):
+            return float(np.sqrt(np.mean(v**2)))
+
+        return {
+            "split": iso_date(cut),
+            "excitation_before_mas": rms(self.band_chi[before]),
+            "excitation_after_mas": rms(self.band_chi[after]),
+            "pole_before_mas": rms(self.band_pole[pb]),
+            "pole_after_mas": rms(self.band_pole[pa]),
+            "band_cycles_per_year": [
+                (1 / self.chandler_period.to_value(u.yr)) - 0.1,
+                (1 / self.chandler_period.to_value(u.yr)) + 0.1,
+            ],
+        }
+
+    def spectra(self, max_cpy: float = 3.0):
+        """(frequency in cycles per year, excitation amplitude spectrum, pole amplitude spectrum), mas."""
+        t = (self.time_mjd - MJD_J2000) * DAY
+        reference = published_chandler_period()["period"].to_value(u.s)
+        rate = max_cpy * 2 * math.pi / _YEAR
+        sp_p = two_sided_spectrum(t, self._p, reference_period=reference, max_rate=rate, drift_degree=2)
+        sp_c = two_sided_spectrum(t[1:], self._chi, reference_period=reference, max_rate=rate, drift_degree=2)
+        f = sp_p.rate / (2 * math.pi) * _YEAR
+        amp_c = np.interp(sp_p.rate, sp_c.rate, sp_c.amplitude)
+        return f, amp_c / RAD_PER_MAS, sp_p.amplitude / RAD_PER_MAS
+
+    def to_dict(self) -> dict:
+        """The JSON of ``wobble excitation --json``."""
+        f, ac, ap = self.spectra()
+        pc = 1 / self.chandler_period.to_value(u.yr)
+        near = np.abs(f - pc) < 0.05
+        ring = (np.abs(f - pc) > 0.1) & (np.abs(f - pc) < 0.3) & (np.abs(np.abs(f) - 1.0) > 0.05)
+        return {
+            "start": iso_date(float(self.time_mjd[0])),
+            "end": iso_date(float(self.time_mjd[-1])),
+            "n_samples": int(self.time_mjd.size),
+            "chandler_period_days": float(self.chandler_period.value),
+            "quality_factor": self.quality_factor,
+            "round_trip_rms_mas": float(self.round_trip_rms.value),
+            "chi_1_rms_mas": float(np.sqrt(np.nanmean(self.chi_1.value**2))),
+            "chi_2_rms_mas": float(np.sqrt(np.nanmean(self.chi_2.value**2))),
+            "chandler_peak_over_neighbours": {
+                "pole": float(np.mean(ap[near]) / np.mean(ap[ring])),
+                "excitation": float(np.mean(ac[near]) / np.mean(ac[ring])),
+            },
+            "chandler_band_collapse": self.collapse(),
+            "source_file": self.source,
+            "method": "exact discrete inverse of the Liouville equation, excitation constant over each step (Wilson 1985; Gross 1992; Brzezinski 1992)",
+        }
+
+    def to_dataset(self):
+        """The record, its excitation, the rebuilt pole, the Chandler-band amplitudes and both spectra (CF)."""
+        from wobble.api.dataset import xarray
+        from wobble.io import cf
+
+        xr = xarray()
+        mas = 1.0 / RAD_PER_MAS
+        x, y = pole_xy(self._p)
+        xb, yb = pole_xy(self._back)
+        data = {
+            "x_p": cf.variable("excitation", "x_p", x * mas),
+            "y_p": cf.variable("excitation", "y_p", y * mas),
+            "chi_1": cf.variable("excitation", "chi_1", self.chi_1.value, comment="excitation of the step ending at each time; NaN at the first"),
+            "chi_2": cf.variable("excitation", "chi_2", self.chi_2.value),
+            "x_p_round_trip": cf.variable("excitation", "x_p_round_trip", xb * mas),
+            "y_p_round_trip": cf.variable("excitation", "y_p_round_trip", yb * mas),
+            "chandler_period": cf.variable("excitation", "chandler_period", float(self.chandler_period.value)),
+            "quality_factor": cf.variable("excitation", "quality_factor", float(self.quality_factor)),
+            "round_trip_rms": cf.variable("excitation", "round_trip_rms", float(self.round_trip_rms.value)),
+        }
+        if self.band_chi is not None:
+            data["chandler_band_chi"] = cf.variable("excitation", "chandler_band_chi", np.concatenate([[np.nan], self.band_chi]))
+            data["chandler_band_pole"] = cf.variable("excitation", "chandler_band_pole", self.band_pole)
+        f, ac, ap = self.spectra()
+        data["excitation_spectrum"] = cf.variable("excitation", "excitation_spectrum", ac)
+        data["pole_spectrum"] = cf.variable("excitation", "pole_spectrum", ap)
+        coords = {"time": cf.time_coordinate(self.time_mjd, MJD_UNITS, long_name="time (UTC)"), "frequency": cf.variable("excitation", "frequency", f)}
+        ds = xr.Dataset(data, coords=coords)
+        ds.attrs = {
+            "title": "Geodetic excitation of polar motion",
+            "summary": f"chi = chi_1 + i chi_2 from the pole {iso_date(float(self.time_mjd[0]))} to {iso_date(float(self.time_mjd[-1]))}, "
+            f"T_c = {self.chandler_period.value:.2f} d, Q = {self.quality_factor:.1f}",
+            "references": "Munk & MacDonald 1960; Wilson 1985, J. Geophys. Res. 90; Gross 1992, Geophys. J. Int. 109, 107; "
+            "Brzezinski 1992, manuscripta geodaetica 17, 3",
+            "source_file": self.source,
+            "comment": "p = x_p - i y_p; p + (i/sigma_c) dp/dt = chi with sigma_c = 2 pi/T_c (1 + i/(2Q)); chi constant over each step",
+        }
+        return ds
+
+    def summary(self) -> str:
+        """A few lines: sigma_c, the round trip, the excitation's size, the Chandler band before and after 2015."""
+        d = self.to_dict()
+        lines = [
+            f"Geodetic excitation {d['start']} to {d['end']} ({d['n_samples']} samples): T_c = {d['chandler_period_days']:.2f} d, Q = {d['quality_factor']:.1f}",
+            f"  chi_1 RMS {d['chi_1_rms_mas']:.1f} mas, chi_2 RMS {d['chi_2_rms_mas']:.1f} mas; round trip (inverse then forward) RMS {d['round_trip_rms_mas']:.2e} mas",
+            f"  Chandler peak over its neighbourhood: pole {d['chandler_peak_over_neighbours']['pole']:.1f}x, "
+            f"excitation {d['chandler_peak_over_neighbours']['excitation']:.2f}x (broadband: no peak)",
+        ]
+        c = d["chandler_band_collapse"]
+        if c:
+            lines.append(
+                f"  Chandler band (+/- 0.1 cycle/yr), RMS before/after {c['split']}: excitation {c['excitation_before_mas']:.1f} / "
+                f"{c['excitation_after_mas']:.1f} mas, pole {c['pole_before_mas']:.1f} / {c['pole_after_mas']:.1f} mas"
+            )
+        return "\n".join(lines)
+
+
+
+def geodetic_excitation(
+    data=None, *, file=None, start=None, end=None, chandler_period: u.Quantity | None = None, q: float | None = None
+) -> GeodeticExcitation:
+    """The excitation chi = chi_1 + i chi_2 of the pole, by the exact discrete Liouville equation, and its round trip.
+
+    Parameters
+    ----------
+    data, file : Dataset, path or None
+        The record (default: the shipped IERS 20 C04 series).
+    start, end : date, optional
+        The span (UTC dates).
+    chandler_period : Quantity, optional
+        T_c (default: wobble's least-squares period of the whole record given).
+    q : float, optional
+        Q (default: the anelastic step of ``wobble.chandler_budget('earth')``, about 82; inf: undamped).
+
+    Returns
+    -------
+    GeodeticExcitation
+    """
+    q_value = default_q() if q is None else check_q(q)
+    full = resolve_data(data, file, None, None)
+    mjd_all, t_all, z_all = series(full)
+    if chandler_period is None:
+        reference = published_chandler_period()["period"].to_value(u.s)
+        if t_all[-1] - t_all[0] < MIN_SPAN:
+            raise InputError("data", "a record shorter than two years", "two years or more to measure the Chandler period, or chandler_period=")
+        period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
+    else:
+        period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
+    ds = resolve_data(full, None, start, end) if (start is not None or end is not None) else full
+    mjd, t, z = series(ds)
+    if t.size < 3:
+        raise InputError("start/end", f"{start} to {end}", "a span of at least three samples")
+    sigma = _ex.chandler_frequency(period, q_value)
+    chi = _ex.excitation_from_pole(t, z, sigma)
+    back = _ex.pole_from_excitation(t, chi, sigma, z[0])
+    return GeodeticExcitation(mjd, z, chi, back, period, q_value, full.attrs.get("source_file", ""))

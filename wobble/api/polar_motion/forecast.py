@@ -1,0 +1,324 @@
+"""Forecasts of the pole with 68 % and 95 % intervals (:func:`forecast_polar_motion`).
+
+>>> import wobble
+>>> from astropy import units as u
+>>> f = wobble.forecast_polar_motion(issued="2019-01-01", horizon=30 * u.day, method="ls_ar", latency=1 * u.day)
+>>> f.to_dict()["horizon_days"], len(f.to_dict()["forecast"]), f.method
+(30, 30, 'ls_ar')
+
+Two methods (:mod:`wobble.models.polar_motion`): ``ls_ar``, least squares of
+trend, Chandler, annual and semi-annual terms plus an autoregressive model of
+the residuals (the operational baseline), and ``kalman``, a damped Chandler
+oscillator driven by coloured excitation with seasonal terms and a mean-pole
+drift, filtered with maximum-likelihood noise (the physical model). Both take
+the Chandler period wobble measures in the record before the issue date; the
+Kalman model takes Q from wobble's Chandler budget (the anelastic Love number)
+unless given.
+
+**Latency.** A forecast issued on a date uses the record only up to that date
+minus the record's publication delay: the IERS 20 C04 series appears about 30
+days after the fact, the IERS Rapid Service's finals2000A values about a day.
+Those are the defaults (``latency``); lead times count from the issue date.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api._units import to_si
+from wobble.api.polar_motion.estimate import published_chandler_period
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.errors import InputError
+from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
+from wobble.models.polar_motion import forecast as _fc
+from wobble.models.polar_motion.least_squares import fit_least_squares
+from wobble.models.polar_motion.ls_ar import LS_SPAN, forecast_ls_ar
+from wobble.models.polar_motion.record import DAY
+from wobble.models.polar_motion.state_space import FIT_SPAN, forecast_kalman
+
+__all__ = ["LATENCY", "PolarMotionForecast", "forecast_polar_motion", "default_latency", "default_q", "chandler_period_before", "record_of"]
+
+#: Publication delay of each kind of record, days: C04 about a month (the shipped file ends 34 days
+#: before its package date), the Rapid Service's finals2000A about a day.
+LATENCY = {"c04": 30.0, "finals2000A": 1.0}
+_PERIOD_SPAN = 30.0 * 365.25 * DAY
+
+
+def record_of(data, file):
+    """(Dataset, mjd, t, p) of the record given (Dataset, file or None for the shipped C04 series)."""
+    ds = resolve_data(data, file, None, None)
+    mjd, t, z = series(ds)
+    return ds, mjd, t, z
+
+
+def default_latency(ds) -> float:
+    """The publication delay of the record's kind, s (C04: 30 d; finals2000A: 1 d; other Datasets: 1 d)."""
+    return LATENCY.get(ds.attrs.get("source_format", ""), 1.0) * DAY
+
+
+def default_q() -> float:
+    """Q of the Chandler wobble from wobble's own model: the anelastic step of ``chandler_budget('earth')``."""
+    from wobble.api.chandler import chandler_budget
+
+    return float(chandler_budget("earth").quality_factor)
+
+
+def check_q(q) -> float:
+    """Q > 0 (inf allowed: undamped)."""
+    try:
+        value = float(q)
+    except (TypeError, ValueError):
+        raise InputError("q", q, "a quality factor Q > 0") from None
+    if not value > 0:
+        raise InputError("q", q, "a quality factor Q > 0")
+    return value
+
+
+def chandler_period_before(t, z, cutoff: float) -> float:
+    """The Chandler period (s) wobble measures (least squares) in the 30 years of record before ``cutoff``."""
+    use = (t <= cutoff + 1e-6) & (t >= cutoff - _PERIOD_SPAN)
+    reference = published_chandler_period()["period"].to_value(u.s)
+    return fit_least_squares(t[use], z[use], reference_period=reference, uncertainty=False).chandler.period
+
+
+def _latency_si(latency, ds) -> float:
+    if latency is None:
+        return default_latency(ds)
+    value = float(to_si(latency, "latency", u.s, shape=()))
+    if not (math.isfinite(value) and 0 <= value <= 365.25 * DAY):
+        raise InputError("latency", latency, "a delay from 0 d to 1 yr")
+    return value
+
+
+class PolarMotionForecast:
+    """One forecast of the pole (build with :func:`forecast_polar_motion`).
+
+    Attributes
+    ----------
+    method : str
+        ``ls_ar`` or ``kalman``.
+    issued : astropy.time.Time
+        Issue date (UTC).
+    last_data : astropy.time.Time
+        Date of the last sample used.
+    latency : Quantity
+        The publication delay assumed, days.
+    lead : Quantity
+        Lead times, days (1 .. horizon).
+    x, y : Quantity
+        The forecast pole coordinates, mas.
+    sigma_x, sigma_y : Quantity
+        Their one-sigma errors, mas (68 % interval: +/- 1 sigma; 95 %: +/- 1.96 sigma).
+    chandler_period : Quantity
+        The Chandler period the forecast used, days.
+    raw : wobble.models.polar_motion.forecast.Forecast
+        The SI result of the model layer.
+    """
+
+    def __init__(self, raw: _fc.Forecast, latency: float, source: str, q: float | None):
+        self.raw = raw
+        self.method = raw.method
+        self.issued = mjd_time(MJD_J2000 + raw.issued / DAY)
+        self.last_data = mjd_time(MJD_J2000 + raw.last_data / DAY)
+        self.latency = (latency / DAY) << u.day
+        self.lead = (raw.lead / DAY) << u.day
+        x, y = raw.xy()
+        self.x = (x / RAD_PER_MAS) << u.mas
+        self.y = (y / RAD_PER_MAS) << u.mas
+        self.sigma_x = (raw.sigma_x / RAD_PER_MAS) << u.mas
+        self.sigma_y = (raw.sigma_y / RAD_PER_MAS) << u.mas
+        self.chandler_period = raw.details["chandler_period_days"] << u.day
+        self.q = q
+        self.source = source
+
+    @property
+    def time_mjd(self) -> np.ndarray:
+        """MJD (UTC) of each forecast value."""
+        return MJD_J2000 + (self.raw.issued + self.raw.lead) / DAY
+
+    def bounds(self, level: int) -> dict:
+        """``{"x": (low, high), "y": (low, high)}`` of the ``level`` % interval (68 or 95), mas."""
+        xl, xh, yl, yh = (v / RAD_PER_MAS for v in self.raw.bounds(level))
+        return {"x": (xl << u.mas, xh << u.mas), "y": (yl << u.mas, yh << u.mas)}
+
+    def to_dict(self) -> dict:
+        """The JSON of ``wobble forecast --json``: issue, horizon, method, latency and one record per lead day."""
+        b68, b95 = self.bounds(68), self.bounds(95)
+        rows = []
+        for k in range(len(self.lead)):
+            rows.append(
+                {
+                    "lead_days": int(round(self.lead[k].value)),
+                    "date": iso_date(float(self.time_mjd[k])),
+                    "x_mas": float(self.x[k].value),
+                    "y_mas": float(self.y[k].value),
+                    "x_68_mas": [float(b68["x"][0][k].value), float(b68["x"][1][k].value)],
+                    "y_68_mas": [float(b68["y"][0][k].value), float(b68["y"][1][k].value)],
+                    "x_95_mas": [float(b95["x"][0][k].value), float(b95["x"][1][k].value)],
+                    "y_95_mas": [float(b95["y"][0][k].value), float(b95["y"][1][k].value)],
+                }
+            )
+        details = {k: v for k, v in self.raw.details.items() if k != "noise"}
+        noise = self.raw.details.get("noise")
+        if noise is not None:
+            details["noise"] = {
+                "excitation_mas": math.sqrt(noise.excitation) / RAD_PER_MAS,
+                "correlation_time_days": noise.correlation_time / DAY,
+                "seasonal_mas": math.sqrt(noise.seasonal) / RAD_PER_MAS,
+                "mean_pole_mas": math.sqrt(noise.mean_pole) / RAD_PER_MAS,
+                "mean_pole_rate_mas_per_day": math.sqrt(noise.mean_pole_rate) / RAD_PER_MAS,
+                "observation_mas": math.sqrt(noise.observation) / RAD_PER_MAS,
+            }
+        return {
+            "issued": self.issued.iso[:10],
+            "horizon_days": len(self.lead),
+            "method": self.method,
+            "latency_days": float(self.latency.value),
+            "last_data": self.last_data.iso[:10],
+            "chandler_period_days": float(self.chandler_period.value),
+            "quality_factor": self.q,
+            "source_file": self.source,
+            "intervals": "68 % = mean +/- 1 sigma, 95 % = mean +/- 1.96 sigma (Gaussian errors)",
+            "details": details,
+            "forecast": rows,
+        }
+
+    def to_dataset(self):
+        """The forecast as a CF Dataset: lead time, forecast time and issue time, intervals as bounds variables."""
+        from wobble.api.dataset import xarray
+        from wobble.io import cf
+
+        xr = xarray()
+        b68, b95 = self.bounds(68), self.bounds(95)
+
+        def pair(b, axis):
+            return np.stack([b[axis][0].value, b[axis][1].value], axis=1)
+
+        data = {
+            "x_p": cf.variable("forecast", "x_p", self.x.value, ancillary_variables="x_p_bounds_68 x_p_bounds_95"),
+            "y_p": cf.variable("forecast", "y_p", self.y.value, ancillary_variables="y_p_bounds_68 y_p_bounds_95"),
+            "x_p_bounds_68": cf.variable("forecast", "x_p_bounds_68", pair(b68, "x")),
+            "y_p_bounds_68": cf.variable("forecast", "y_p_bounds_68", pair(b68, "y")),
+            "x_p_bounds_95": cf.variable("forecast", "x_p_bounds_95", pair(b95, "x")),
+            "y_p_bounds_95": cf.variable("forecast", "y_p_bounds_95", pair(b95, "y")),
+            "latency": cf.variable("forecast", "latency", float(self.latency.value)),
+        }
+        coords = {
+            "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
+            "time": (("lead",), self.time_mjd, {"units": MJD_UNITS, "calendar": "standard", "standard_name": "time", "long_name": "time the forecast is for (UTC)", "axis": "T"}),
+            "forecast_reference_time": ((), float(MJD_J2000 + self.raw.issued / DAY), {"units": MJD_UNITS, "calendar": "standard", "standard_name": "forecast_reference_time", "long_name": "issue time of the forecast (UTC)"}),
+        }
+        ds = xr.Dataset(data, coords=coords)
+        ds.attrs = {
+            "title": f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}",
+            "summary": self.summary().splitlines()[0],
+            "references": _REFERENCES[self.method],
+            "source_file": self.source,
+            "comment": (
+                f"Data used up to {self.last_data.iso[:10]} (latency {self.latency.value:g} d before the issue date). "
+                "Intervals: mean +/- 1 sigma (68 %) and +/- 1.96 sigma (95 %), Gaussian. The pole is x_p toward Greenwich, "
+                "y_p toward 90 deg W."
+            ),
+        }
+        return ds
+
+    def summary(self) -> str:
+        """A few lines for a person: the forecast at a few lead times with its 68 % interval."""
+        lines = [
+            f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}, data to {self.last_data.iso[:10]} "
+            f"(latency {self.latency.value:g} d); Chandler period {self.chandler_period.value:.1f} d",
+            f"  {'lead [d]':>8}  {'date':>10}  {'x_p [mas]':>16}  {'y_p [mas]':>16}",
+        ]
+        n = len(self.lead)
+        for k in sorted({0, 4, 9, 29, 89, 179, 364, n - 1}):
+            if k < n:
+                lines.append(
+                    f"  {int(self.lead[k].value):8d}  {iso_date(float(self.time_mjd[k]))}  "
+                    f"{self.x[k].value:8.2f} +/- {self.sigma_x[k].value:5.2f}  {self.y[k].value:8.2f} +/- {self.sigma_y[k].value:5.2f}"
+                )
+        lines.append("  (+/- one sigma: the 68 % interval; the 95 % interval is 1.96 times wider)")
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"PolarMotionForecast({self.method!r}, issued={self.issued.iso[:10]}, horizon={len(self.lead)} d)"
+
+
+_REFERENCES = {
+    "ls_ar": "Least squares + autoregression (Kosek et al. 1998; Kalarus, Schuh, Kosek et al. 2010, J. Geod. 84, 587)",
+    "kalman": (
+        "Damped Chandler oscillator (Liouville equation; Munk & MacDonald 1960; Gross 1992) driven by coloured excitation, "
+        "Kalman filter with maximum-likelihood noise (Durbin & Koopman 2012)"
+    ),
+}
+
+
+def forecast_polar_motion(
+    data=None,
+    *,
+    file=None,
+    issued=None,
+    horizon: u.Quantity = 365 * u.day,
+    method: str = "kalman",
+    latency: u.Quantity | None = None,
+    q: float | None = None,
+    chandler_period: u.Quantity | None = None,
+) -> PolarMotionForecast:
+    """Forecast the pole from the record available at an issue date.
+
+    Parameters
+    ----------
+    data : Dataset, path or None
+        The record (as in :func:`wobble.chandler_wobble`; default: the shipped IERS 20 C04 series).
+    file : path, optional
+        A C04 or finals2000A file instead of ``data``.
+    issued : date, optional
+        Issue date (UTC; default: the last day of the record plus the latency, the day its
+        last value became available).
+    horizon : Quantity
+        How far ahead, from 1 d to 3 years (default 365 d), in daily steps.
+    method : str
+        ``kalman`` (default) or ``ls_ar``.
+    latency : Quantity, optional
+        Publication delay of the record (default: 30 d for C04, 1 d for finals2000A).
+    q : float, optional
+        Q of the Chandler wobble for the Kalman model (default: wobble's Chandler budget, about 82).
+    chandler_period : Quantity, optional
+        The Chandler period (default: wobble's least-squares estimate from the 30 years before the
+        issue date minus the latency).
+
+    Returns
+    -------
+    PolarMotionForecast
+    """
+    method = _fc.check_method(method)
+    horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
+    q_value = default_q() if q is None else check_q(q)
+    ds = resolve_data(data, file, None, None)
+    mjd, t, z = series(ds)
+    lat = _latency_si(latency, ds)
+    if issued is None:
+        issued_s = t[-1] + lat
+    else:
+        issued_mjd = to_mjd(issued, "issued")
+        if not (mjd[0] <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
+            raise InputError(
+                "issued", issued, f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)"
+            )
+        issued_s = (issued_mjd - MJD_J2000) * DAY
+    if chandler_period is None:
+        # The span check of the method comes first (information_set), so a too-early issue date is named as such.
+        span = {"ls_ar": LS_SPAN, "kalman": FIT_SPAN}[method]
+        _fc.information_set(t, z, issued_s, lat, span, {"ls_ar": "LS+AR", "kalman": "Kalman"}[method])
+        period = chandler_period_before(t, z, issued_s - lat)
+    else:
+        period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
+    if method == "ls_ar":
+        raw = forecast_ls_ar(t, z, issued_s, horizon_days, chandler_period=period, latency=lat)
+        q_out = None
+    else:
+        raw = forecast_kalman(t, z, issued_s, horizon_days, chandler_period=period, q=q_value, latency=lat)
+        q_out = q_value
+    return PolarMotionForecast(raw, lat, ds.attrs.get("source_file", ""), q_out)

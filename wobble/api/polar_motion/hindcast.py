@@ -1,0 +1,264 @@
+"""Hindcasts: forecasts issued every week (or any step) over a span of the past, scored against the record.
+
+Each forecast uses only what was available at its issue date (the record up
+to the issue date minus the latency; the Chandler period and the Kalman noise
+re-estimated every 13 issues from those data alone). The issues are cut into
+blocks of 13 that run in parallel: on a local process pool by default, or on
+the dask scheduler given (``"threads"``, ``"processes"``, ``"synchronous"``, a
+``tcp://`` address or a ``distributed.Client``), as the sweeps do.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import math
+import multiprocessing
+import os
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api._units import to_si
+from wobble.api.polar_motion.estimate import published_chandler_period
+from wobble.api.polar_motion.forecast import _latency_si, check_q, default_q
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.errors import InputError
+from wobble.io.dates import iso_date, to_mjd
+from wobble.models.polar_motion import forecast as _fc
+from wobble.models.polar_motion import hindcast as _hc
+from wobble.models.polar_motion.ls_ar import LS_SPAN
+from wobble.models.polar_motion.record import DAY
+from wobble.models.polar_motion.state_space import FIT_SPAN
+
+__all__ = ["PolarMotionHindcast", "hindcast_polar_motion", "ANCHORS"]
+
+_LOCAL = ("threads", "processes", "synchronous")
+
+#: Published results to set beside ours: (label, metric, {lead days: mas}).
+ANCHORS = (
+    ("Dill et al. 2023, LS+AR with angular-momentum forecasts, 2016-2020", "rms_2d", {5: 1.13, 10: 2.32, 40: 10.05, 90: 19.13}),
+    ("Dill et al. 2023, x_p", "rms_x", {5: 0.93, 10: 1.92, 40: 8.65, 90: 15.76}),
+    ("Dill et al. 2023, y_p", "rms_y", {5: 0.65, 10: 1.30, 40: 5.14, 90: 10.85}),
+    ("Lei, Zhao & Guo 2023, weighted LS + vector AR, x_p", "mae_x", {10: 2.87, 30: 7.03, 150: 13.97, 270: 18.47, 365: 20.52}),
+    ("Lei, Zhao & Guo 2023, weighted LS + vector AR, y_p", "mae_y", {10: 1.81, 30: 4.41, 150: 15.41, 270: 21.17, 365: 21.82}),
+)
+
+
+def _run_blocks(t, z, blocks, scheduler, workers):
+    """Every block's forecasts, in order, computed in parallel."""
+    if scheduler is None:
+        workers = min(workers or (os.cpu_count() or 1), len(blocks))
+        if workers <= 1:
+            return [_hc.run_block(t, z, b) for b in blocks]
+        context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
+        with concurrent.futures.ProcessPoolExecutor(workers, mp_context=context) as pool:
+            return list(pool.map(_hc.run_block, [t] * len(blocks), [z] * len(blocks), blocks))
+    if isinstance(scheduler, str) and scheduler in _LOCAL:
+        import dask
+
+        tasks = [dask.delayed(_hc.run_block, pure=True)(t, z, b) for b in blocks]
+        return list(dask.compute(*tasks, scheduler=scheduler))
+    from distributed import Client
+
+    own = isinstance(scheduler, str)
+    client = Client(scheduler) if own else scheduler
+    try:
+        tt, zz = client.scatter(t, broadcast=True), client.scatter(z, broadcast=True)
+        futures = [client.submit(_hc.run_block, tt, zz, b, pure=True) for b in blocks]
+        return client.gather(futures)
+    finally:
+        if own:
+            client.close()
+
+
+class PolarMotionHindcast:
+    """Forecasts issued over a past span and their scores (build with :func:`hindcast_polar_motion`).
+
+    Attributes
+    ----------
+    methods : tuple of str
+    issued_mjd : ndarray
+        Issue dates, MJD (UTC).
+    lead : Quantity
+        Lead times, days.
+    latency : Quantity
+    scores : dict
+        Per method, a :class:`wobble.models.polar_motion.hindcast.Scores` (rad; see :meth:`to_dataset` for mas).
+    """
+
+    def __init__(self, methods, forecasts, truth, persistence, ls_only, latency, q, source):
+        self.methods = tuple(methods)
+        self.forecasts = forecasts  # [issue][method] -> Forecast
+        first = forecasts[0][0]
+        self.issued_mjd = np.array([MJD_J2000 + row[0].issued / DAY for row in forecasts])
+        self.lead = (first.lead / DAY) << u.day
+        self.latency = (latency / DAY) << u.day
+        self.q = q
+        self.source = source
+        self.truth = truth
+        self.scores = {}
+        for k, m in enumerate(self.methods):
+            mean = np.array([row[k].mean for row in forecasts])
+            sx = np.array([row[k].sigma_x for row in forecasts])
+            sy = np.array([row[k].sigma_y for row in forecasts])
+            self.scores[m] = _hc.score(truth, mean, sx, sy, persistence, ls_only)
+
+    def at(self, metric: str, method: str, leads=(5, 10, 40, 90, 365)) -> dict:
+        """``{lead days: value}`` of a score (mas for errors, fractions otherwise) at the given lead times."""
+        values = getattr(self.scores[method], metric)
+        scale = 1.0 if metric.startswith(("coverage", "skill")) else 1.0 / RAD_PER_MAS
+        return {int(d): float(values[d - 1] * scale) for d in leads if d <= len(self.lead)}
+
+    def to_dict(self) -> dict:
+        """Scores at 5, 10, 40, 90 and 365 days (and every lead's 2-D RMS), with the published anchors."""
+        leads = (1, 5, 10, 30, 40, 90, 150, 270, 365)
+        out = {
+            "issued_first": iso_date(float(self.issued_mjd[0])),
+            "issued_last": iso_date(float(self.issued_mjd[-1])),
+            "issues": len(self.issued_mjd),
+            "horizon_days": len(self.lead),
+            "latency_days": float(self.latency.value),
+            "quality_factor": self.q,
+            "source_file": self.source,
+            "methods": {},
+            "anchors": [{"label": a, "metric": m, "values_mas": {str(k): v for k, v in vals.items()}} for a, m, vals in ANCHORS],
+        }
+        for m in self.methods:
+            out["methods"][m] = {
+                metric: {str(k): v for k, v in self.at(metric, m, leads).items()}
+                for metric in ("rms_2d", "mae_2d", "rms_x", "rms_y", "mae_x", "mae_y", "coverage_68", "coverage_95", "skill_persistence", "skill_ls")
+            }
+        return out
+
+    def to_dataset(self):
+        """The hindcasts, the outcomes and the scores as a CF Dataset (dimensions method, issue, lead)."""
+        from wobble.api.dataset import xarray
+        from wobble.io import cf
+
+        xr = xarray()
+        mas = 1.0 / RAD_PER_MAS
+        x = np.array([[f.xy()[0] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+        y = np.array([[f.xy()[1] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+        sx = np.array([[f.sigma_x for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+        sy = np.array([[f.sigma_y for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+        data = {
+            "x_p_forecast": cf.variable("forecast", "x_p_forecast", x),
+            "y_p_forecast": cf.variable("forecast", "y_p_forecast", y),
+            "x_p_sigma": cf.variable("forecast", "x_p_sigma", sx),
+            "y_p_sigma": cf.variable("forecast", "y_p_sigma", sy),
+            "x_p_observed": cf.variable("forecast", "x_p_observed", self.truth.real * mas),
+            "y_p_observed": cf.variable("forecast", "y_p_observed", -self.truth.imag * mas),
+            "latency": cf.variable("forecast", "latency", float(self.latency.value)),
+        }
+        first = self.methods[0]
+        data["rms_2d_persistence"] = cf.variable("forecast", "rms_2d_persistence", self.scores[first].rms_2d_persistence * mas)
+        data["rms_2d_ls"] = cf.variable("forecast", "rms_2d_ls", self.scores[first].rms_2d_ls * mas)
+        for name in ("mae_x", "mae_y", "rms_x", "rms_y", "mae_2d", "rms_2d", "coverage_68", "coverage_95", "skill_persistence", "skill_ls"):
+            scale = 1.0 if name.startswith(("coverage", "skill")) else mas
+            data[name] = cf.variable("forecast", name, np.array([getattr(self.scores[m], name) for m in self.methods]) * scale)
+        issue_attrs = cf.attrs("forecast", "issue_time", calendar="standard")
+        coords = {
+            "method": ("method", list(self.methods), {"long_name": "forecast method (ls_ar: least squares + autoregression; kalman: state-space model)"}),
+            "issue_time": (("issue",), self.issued_mjd, issue_attrs),
+            "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
+        }
+        ds = xr.Dataset(data, coords=coords)
+        ds.attrs = {
+            "title": f"Polar-motion hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}",
+            "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods {', '.join(self.methods)}, latency {self.latency.value:g} d",
+            "references": "; ".join(a for a, _, _ in ANCHORS[:1] + ANCHORS[3:4]) + "; IERS EOP 20 C04 series (Paris Observatory)",
+            "source_file": self.source,
+            "comment": (
+                "Each forecast uses the record up to its issue time minus the latency; the Chandler period and the state-space "
+                "noise are re-estimated every 13 issues from those data. Coverage pools x_p and y_p."
+            ),
+        }
+        return ds
+
+    def summary(self) -> str:
+        """The 2-D RMS, x_p mean absolute error and coverage at a few lead times, beside the published anchors."""
+        leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
+        lines = [
+            f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: {len(self.issued_mjd)} issues, "
+            f"latency {self.latency.value:g} d",
+            f"  {'':<34}" + "".join(f"{d:>8} d" for d in leads),
+        ]
+        for m in self.methods:
+            for metric, label in (("rms_2d", "2-D RMS [mas]"), ("mae_x", "x_p MAE [mas]"), ("coverage_68", "68 % coverage"), ("skill_persistence", "skill vs persistence")):
+                vals = self.at(metric, m, leads)
+                lines.append(f"  {m + ' ' + label:<34}" + "".join(f"{vals.get(d, math.nan):>10.2f}" for d in leads))
+        lines.append(f"  {'LS extrapolation 2-D RMS':<34}" + "".join(f"{self.scores[self.methods[0]].rms_2d_ls[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads))
+        lines.append(f"  {'persistence 2-D RMS':<34}" + "".join(f"{self.scores[self.methods[0]].rms_2d_persistence[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads))
+        label, _, vals = ANCHORS[0]
+        lines.append(f"  {'Dill et al. 2023 2-D RMS (with AAM)':<34}" + "".join(f"{vals[d]:>10.2f}" if d in vals else f"{'-':>10}" for d in leads))
+        return "\n".join(lines)
+
+
+
+def hindcast_polar_motion(
+    data=None,
+    *,
+    file=None,
+    start="2016-01-01",
+    end="2021-01-01",
+    every: u.Quantity = 7 * u.day,
+    horizon: u.Quantity = 365 * u.day,
+    methods=("ls_ar", "kalman"),
+    latency: u.Quantity | None = None,
+    q: float | None = None,
+    scheduler=None,
+    workers: int | None = None,
+) -> PolarMotionHindcast:
+    """Forecasts issued every ``every`` from ``start`` up to (not including) ``end``, scored against the record.
+
+    Parameters
+    ----------
+    data, file, latency, q
+        As in :func:`wobble.forecast_polar_motion`.
+    start, end : date
+        The span of issue dates (UTC); every forecast's outcome must be in the record.
+    every : Quantity
+        Spacing of the issue dates (default 7 d).
+    horizon : Quantity
+        Lead times 1 .. horizon days (default 365 d).
+    methods : sequence of str
+        ``ls_ar`` and/or ``kalman``; the LS+AR's least-squares extrapolation is the skill reference.
+    scheduler : str or distributed.Client, optional
+        A dask scheduler; default: a local process pool of ``workers`` (default: the CPU count).
+    """
+    methods = tuple(_fc.check_method(m) for m in methods)
+    if not methods:
+        raise InputError("methods", methods, "one or more of 'ls_ar', 'kalman'")
+    if isinstance(scheduler, str) and scheduler not in _LOCAL and "://" not in scheduler:
+        raise InputError("scheduler", scheduler, "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786")
+    horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
+    step = float(to_si(every, "every", u.s, positive=True, shape=()))
+    if step < DAY - 1e-6:
+        raise InputError("every", every, "at least 1 d")
+    q_value = default_q() if q is None else check_q(q)
+    ds = resolve_data(data, file, None, None)
+    mjd, t, z = series(ds)
+    lat = _latency_si(latency, ds)
+    a, b = to_mjd(start, "start"), to_mjd(end, "end")
+    if b <= a:
+        raise InputError("end", end, f"a date after start ({iso_date(a)})")
+    issues = (a - MJD_J2000) * DAY + step * np.arange(math.ceil((b - a) * DAY / step - 1e-9))
+    need = max(LS_SPAN if "ls_ar" in methods else 0.0, FIT_SPAN if "kalman" in methods else 0.0)
+    if issues[0] - lat - t[0] < need - 0.5 * DAY:
+        raise InputError("start", start, f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the record's start ({iso_date(mjd[0])})")
+    last_needed = issues[-1] + horizon_days * DAY
+    if last_needed > t[-1] + 1e-6:
+        raise InputError(
+            "end", end, f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or before {iso_date(mjd[-1])}"
+        )
+    reference = published_chandler_period()["period"].to_value(u.s)
+    blocks = _hc.blocks(issues, horizon_days, ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"), lat, q_value, reference)
+    rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers) for row in block]
+    order = ["ls_ar"] + [m for m in methods if m != "ls_ar"]
+    lead = DAY * np.arange(1, horizon_days + 1)
+    truth = np.array([_hc.truth_at(t, z, row[0].issued + lead) for row in rows])
+    persistence = np.array([_hc.truth_at(t, z, np.array([row[0].last_data]))[0] for row in rows])
+    ls_only = np.array([row[0].baseline for row in rows])
+    keep = [order.index(m) for m in methods]
+    forecasts = [[row[k] for k in keep] for row in rows]
+    return PolarMotionHindcast(methods, forecasts, truth, persistence, ls_only, lat, q_value, ds.attrs.get("source_file", ""))

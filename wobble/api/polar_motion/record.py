@@ -1,0 +1,165 @@
+"""The IERS polar-motion record as an xarray Dataset with units, and the series the estimators take from it.
+
+>>> import wobble
+>>> data = wobble.load_polar_motion(start="2000-01-01", end="2004-12-31")
+>>> data["x_p"].attrs["units"], data.sizes["time"]
+('arcsec', 1827)
+>>> data["time"].attrs["units"]
+'days since 1858-11-17 00:00:00'
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+from astropy import units as u
+
+from wobble.api._units import to_si
+from wobble.errors import InputError
+from wobble.io.dates import MJD_UNITS, cf_time_to_mjd, select_dates
+from wobble.io.eop import read_pole_file
+from wobble.models.polar_motion.record import DAY, complex_pole
+
+__all__ = [
+    "MJD_UNITS",
+    "MJD_J2000",
+    "RAD_PER_ARCSEC",
+    "RAD_PER_MAS",
+    "C04_REFERENCE",
+    "FINALS_REFERENCE",
+    "SIGN_NOTE",
+    "attrs",
+    "time_coord",
+    "load_polar_motion",
+    "series",
+    "mjd_values",
+    "resolve_data",
+]
+
+#: MJD of 2000-01-01 12:00; the origin of the models' seconds.
+MJD_J2000 = 51544.5
+RAD_PER_ARCSEC = math.pi / (180.0 * 3600.0)
+RAD_PER_MAS = RAD_PER_ARCSEC * 1e-3
+
+C04_REFERENCE = (
+    "IERS EOP 20 C04 series (IERS Earth Orientation Centre, Paris Observatory; consistent with ITRF 2020), "
+    "https://hpiers.obspm.fr/eoppc/eop/eopc04/, as shipped by the astropy-iers-data package"
+)
+FINALS_REFERENCE = "IERS Rapid Service/Prediction Centre, Bulletin A (finals2000A), observed (I) rows only"
+SIGN_NOTE = (
+    "complex pole p = x_p - i y_p (x_p toward Greenwich, y_p toward 90 deg W); terms exp(+i sigma t) with "
+    "sigma > 0 are prograde (counter-clockwise seen from above the north pole)"
+)
+
+
+def attrs(units: str, long_name: str, **extra) -> dict:
+    """``units`` and ``long_name`` (and any extra) attributes of a variable."""
+    return {"units": units, "long_name": long_name, **extra}
+
+
+def time_coord(mjd, long_name="time (UTC)") -> tuple:
+    """The CF time coordinate of a dated series, in MJD."""
+    return (
+        "time",
+        np.asarray(mjd, dtype=float),
+        {"units": MJD_UNITS, "calendar": "standard", "standard_name": "time", "axis": "T", "long_name": long_name},
+    )
+
+
+def load_polar_motion(file: str | os.PathLike | None = None, *, start=None, end=None):
+    """The pole coordinates of an IERS file as an xarray Dataset.
+
+    Parameters
+    ----------
+    file : path-like, optional
+        An IERS C04 or finals2000A file (recognised from its lines). Default:
+        the IERS 20 C04 series shipped with astropy-iers-data (no download).
+    start, end : str, astropy.time.Time or datetime, optional
+        Keep the days from ``start`` to ``end`` inclusive (UTC; default: all).
+        Dates outside the file are an error, not a silently shorter series.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``x_p``, ``y_p``, ``x_p_error``, ``y_p_error`` (arcsec) on a ``time``
+        coordinate in MJD (CF units ``days since 1858-11-17 00:00:00``).
+
+    Examples
+    --------
+    >>> import wobble
+    >>> pm = wobble.load_polar_motion(start="2020-01-01", end="2020-12-31")
+    >>> pm.sizes["time"], list(pm.data_vars), pm["x_p"].attrs["units"]
+    (366, ['x_p', 'y_p', 'x_p_error', 'y_p_error'], 'arcsec')
+    """
+    from wobble.api.dataset import xarray
+
+    xr = xarray()
+    rec = read_pole_file(file)
+    keep = select_dates(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")
+    if keep.sum() < 2:
+        raise InputError("start/end", f"{start} to {end}", "an interval holding at least two days of data")
+    c04 = rec.format == "c04"
+    ds = xr.Dataset(
+        {
+            "x_p": ("time", rec.x[keep], attrs("arcsec", "pole coordinate x_p (toward the Greenwich meridian)")),
+            "y_p": ("time", rec.y[keep], attrs("arcsec", "pole coordinate y_p (toward 90 deg W longitude)")),
+            "x_p_error": ("time", rec.x_error[keep], attrs("arcsec", "one-sigma error of x_p given in the file")),
+            "y_p_error": ("time", rec.y_error[keep], attrs("arcsec", "one-sigma error of y_p given in the file")),
+        },
+        coords={"time": time_coord(rec.mjd[keep])},
+        attrs={
+            "title": f"Polar motion: {rec.title}",
+            "source_file": rec.path,
+            "source_format": rec.format,
+            "references": C04_REFERENCE if c04 else FINALS_REFERENCE,
+            "comment": "Times are UTC (C04: 0 h UTC each day). " + SIGN_NOTE,
+        },
+    )
+    ds["x_p"].attrs["ancillary_variables"] = "x_p_error"
+    ds["y_p"].attrs["ancillary_variables"] = "y_p_error"
+    return ds
+
+
+def series(data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(MJD, t in s since J2000, p = x - i y in rad) from a Dataset, checked."""
+    for name in ("x_p", "y_p", "time"):
+        if name not in data.variables:
+            raise InputError("data", f"a Dataset without {name!r}", "a Dataset from load_polar_motion (time, x_p, y_p)")
+    mjd = mjd_values(data["time"])
+    xy = []
+    for name in ("x_p", "y_p"):
+        unit = data[name].attrs.get("units")
+        try:
+            xy.append(to_si(np.asarray(data[name].values, dtype=float) * u.Unit(unit), name, u.rad, finite=False))
+        except (ValueError, TypeError):
+            raise InputError(name, f"units {unit!r}", "angle units such as 'arcsec' or 'milliarcsecond'") from None
+    ok = np.isfinite(mjd) & np.isfinite(xy[0]) & np.isfinite(xy[1])
+    mjd = mjd[ok]
+    if mjd.size > 1 and not np.all(np.diff(mjd) > 0):
+        raise InputError("data", "times not increasing", "a Dataset with strictly increasing times")
+    t = (mjd - MJD_J2000) * DAY
+    return mjd, t, complex_pole(xy[0][ok], xy[1][ok])
+
+
+def mjd_values(time) -> np.ndarray:
+    """MJD (UTC) of a time coordinate (a DataArray with CF units, or datetime64)."""
+    return cf_time_to_mjd(time.values, time.attrs.get("units", ""))
+
+
+def resolve_data(data, file, start, end):
+    """The record a function was given: a Dataset (cut to start/end), a file, or None for the shipped C04 series."""
+    from wobble.api.dataset import xarray
+
+    xr = xarray()
+    if data is None:
+        return load_polar_motion(file, start=start, end=end)
+    if isinstance(data, (str, os.PathLike)):
+        return load_polar_motion(data, start=start, end=end)
+    if not isinstance(data, xr.Dataset):
+        raise InputError("data", type(data).__name__, "an xarray Dataset from load_polar_motion, a file path, or None")
+    if start is None and end is None:
+        return data
+    keep = select_dates(mjd_values(data["time"]), start, end)
+    return data.isel(time=np.nonzero(keep)[0])

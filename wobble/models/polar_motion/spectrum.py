@@ -1,0 +1,258 @@
+"""The two-sided spectrum of the pole and the Chandler term from its peak (independent of the least squares).
+
+Negative rates are retrograde terms, positive prograde (equation 1 of
+:mod:`wobble.models.polar_motion.record`). Times in s, angles in rad, rates
+in rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from wobble.errors import InputError
+from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty, make_fit, with_changes
+from wobble.models.polar_motion.record import (
+    ANNUAL_RATE,
+    CHANDLER_BAND,
+    DAY,
+    TROPICAL_YEAR,
+    as_series,
+    beat_period,
+    check_band,
+    check_degree,
+    check_q,
+    span_caveats,
+)
+from wobble.models.polar_motion.search import band_grid, refine_peak
+from wobble.models.polar_motion.uncertainty import (
+    TRACKED,
+    annual_sigmas,
+    combine,
+    excitation_scatter,
+    model_sensitivity,
+    subspan_scatter,
+)
+from wobble.numerics.spectral import dtft, dtft_at
+from wobble.numerics.threads import one_blas_thread
+
+__all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum"]
+
+_PREWHITEN = 30
+
+
+@dataclass(frozen=True, eq=False)
+class Spectrum:
+    """Two-sided amplitude spectrum of a detrended pole series.
+
+    ``amplitude[k]`` is |sum w z exp(-i rate_k s)| / sum w: the radius (rad) of
+    a circular term at ``rate[k]`` (rad/s; negative = retrograde).
+    """
+
+    rate: np.ndarray
+    amplitude: np.ndarray
+    taper: str
+    drift_degree: int
+
+
+
+def _detrend(s, z, half, degree):
+    tau = s / half
+    v = np.stack([tau**j for j in range(degree + 1)], axis=1).astype(complex)
+    c = np.linalg.lstsq(v, z, rcond=None)[0]
+    return z - v @ c, c
+
+
+def _taper(t, kind: str) -> np.ndarray:
+    if kind == "hann":
+        return np.sin(np.pi * (t - t[0]) / (t[-1] - t[0])) ** 2
+    return np.ones_like(t)
+
+
+def _auto_taper(span: float, taper: str, beat: float) -> str:
+    if taper not in ("auto", "hann", "none"):
+        raise InputError("taper", taper, "'auto', 'hann' or 'none'")
+    if taper == "auto":
+        # With the annual terms prewhitened, the Hann main lobe (half-width 2/T)
+        # may overlap the annual peak; under one beat period it is too wide.
+        return "hann" if span >= beat else "none"
+    return taper
+
+
+@one_blas_thread
+def two_sided_spectrum(
+    t,
+    z,
+    *,
+    reference_period: float,
+    max_rate: float = 3.0 * 2 * math.pi / TROPICAL_YEAR,
+    drift_degree: int = 2,
+    taper: str = "auto",
+    oversample: int = 4,
+) -> Spectrum:
+    """Amplitude spectrum |sum w y e^{-i sigma s}| / sum w of the detrended series, for -max_rate..max_rate.
+
+    Negative rates are retrograde terms, positive prograde (equation 1). The
+    grid is ``oversample`` times finer than the Rayleigh resolution 2 pi / T.
+    ``taper="auto"`` is Hann when the span is at least one Chandler-annual beat
+    period (from ``reference_period``, a published Chandler period in s, as in
+    :func:`fit_spectrum`), otherwise none.
+    """
+    t, z = as_series(t, z)
+    degree = check_degree(drift_degree)
+    span = t[-1] - t[0]
+    kind = _auto_taper(span, taper, beat_period(reference_period))
+    epoch = 0.5 * (t[0] + t[-1])
+    s = t - epoch
+    y, _ = _detrend(s, z, 0.5 * span, degree)
+    w = _taper(t, kind)
+    d = 2 * math.pi / (oversample * span)
+    count = int(2 * math.ceil(max_rate / d)) + 1
+    rates = -math.ceil(max_rate / d) * d + d * np.arange(count)
+    amp = np.abs(dtft(s, w * y, rates[0], d, count)) / w.sum()
+    return Spectrum(rates, amp, kind, degree)
+
+
+@one_blas_thread
+def fit_spectrum(
+    t,
+    z,
+    *,
+    reference_period: float,
+    drift_degree: int = 2,
+    band: tuple[float, float] = CHANDLER_BAND,
+    taper: str = "auto",
+    uncertainty: bool = True,
+    subspans: bool = True,
+    excitation_q: float | None = 100.0,
+    draws: int = 64,
+    seed: int = 0,
+) -> ChandlerFit:
+    """The Chandler term from the peak of the two-sided spectrum (independent of the least squares).
+
+    The series is detrended with a polynomial of ``drift_degree``, tapered
+    (Hann when the span is at least one beat period, otherwise none) and
+    Fourier-summed at its own sample times (gaps need no filling). The peak in
+    the prograde band is refined by bounded Brent on the exact sum; the
+    amplitude is |F|/sum w. The annual terms are read at +/- one cycle per
+    tropical year and removed before the peak is sought again (prewhitening,
+    repeated until the peak stops moving), so the annual peak's main lobe does not pull the Chandler
+    peak in short spans. Nothing is fitted jointly: this is a spectral
+    estimator, independent of :func:`fit_least_squares`.
+
+    The ``autocorrelation`` error is the peak-location variance in coloured
+    noise, var(sigma) = S sum(w^2 s^2) / (2 |A|^2 (sum w s^2)^2), with S the
+    level of the residual spectrum (the three terms removed) beside the peak
+    (Whittle 1952; Hannan 1973); ``subspans``, ``excitation`` and ``model`` as
+    in :func:`~wobble.models.polar_motion.least_squares.fit_least_squares`,
+    which also describes the parameters (``reference_period`` included).
+    """
+    t, z = as_series(t, z)
+    degree = check_degree(drift_degree)
+    band = check_band(band)
+    beat = beat_period(reference_period)
+    span = t[-1] - t[0]
+    kind = _auto_taper(span, taper, beat)
+    epoch = 0.5 * (t[0] + t[-1])
+    half = 0.5 * span
+    s = t - epoch
+    y, drift = _detrend(s, z, half, degree)
+    w = _taper(t, kind)
+    lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
+    rates, d = band_grid(lo_rate, hi_rate, span)
+    annual_cols = np.exp(1j * ANNUAL_RATE * np.outer(s, [1.0, -1.0]))
+    ann = np.zeros(2, dtype=complex)
+    rate = math.nan
+    for _ in range(_PREWHITEN):
+        # Prewhitening (CLEAN-like): remove the current annual terms, find the
+        # Chandler peak, remove it, read the annual terms again; repeat until the
+        # peak stops moving (block relaxation, which converges however much the
+        # main lobes overlap, only more slowly).
+        wy = w * (y - annual_cols @ ann)
+        power = np.abs(dtft(s, wy, rates[0], d, rates.size)) ** 2
+        previous = rate
+        rate = refine_peak(lambda r: float(np.abs(dtft_at(s, wy, r)) ** 2), rates, power, d, lo_rate, hi_rate)
+        chandler = complex(dtft_at(s, wy, rate)) / w.sum()
+        ann = dtft_at(s, w * (y - chandler * np.exp(1j * rate * s)), np.array([ANNUAL_RATE, -ANNUAL_RATE])) / w.sum()
+        if abs(rate - previous) < 1e-3 * d:
+            break
+    f = np.array([chandler, ann[0], ann[1]])
+    coeffs = np.concatenate([drift, [f[1], f[2], f[0]]])
+    resid = y - f[0] * np.exp(1j * rate * s) - annual_cols @ ann
+    caveats = span_caveats(span, beat)
+    if kind == "none" and taper == "auto":
+        caveats.append("span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak")
+    if not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d):
+        caveats.append(
+            f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
+            "no Chandler peak is resolved in this span"
+        )
+    nan = math.nan
+    ann_sig = [(nan, nan), (nan, nan)]
+    sig_rate = sig_amp = sig_phase = nan
+    pu = au = Uncertainty(nan, nan, nan, nan, nan)
+    details: dict = {"taper": kind}
+    if uncertainty:
+        fitted = (rate, ANNUAL_RATE, -ANNUAL_RATE)
+        level = _local_level(s, w * resid, w, rate, span, kind, fitted)
+        sw, sw2 = w.sum(), np.sum(w**2)
+        sc = s - np.sum(w * s) / sw
+        amp = abs(f[0])
+        var_rate = level * np.sum(w**2 * sc**2) / (2 * amp**2 * np.sum(w * sc**2) ** 2)
+        var_amp = level * sw2 / (2 * sw**2)
+        to_period = 2 * math.pi / rate**2
+        white = np.mean(np.abs(resid) ** 2)
+        p_formal = math.sqrt(white * np.sum(w**2 * sc**2) / (2 * amp**2 * np.sum(w * sc**2) ** 2)) * to_period
+        a_formal = math.sqrt(white * sw2 / (2 * sw**2))
+        p_auto = math.sqrt(var_rate) * to_period
+        a_auto = math.sqrt(var_amp)
+        sig_phase = a_auto / amp
+        ann_auto = []
+        for k, sign in ((1, 1.0), (2, -1.0)):
+            a_k = math.sqrt(_local_level(s, w * resid, w, sign * ANNUAL_RATE, span, kind, fitted) * sw2 / (2 * sw**2))
+            ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
+        sub = dict.fromkeys(TRACKED, nan)
+        if subspans:
+            sub, nsub = subspan_scatter(t, z, fit_spectrum, beat, reference_period=reference_period, band=band, drift_degree=degree, taper=kind)
+            details["subspans"] = nsub
+        base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
+        mod = model_sensitivity(t, z, fit_spectrum, degree, base, reference_period=reference_period, band=band, taper=kind)
+        p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
+        ann_sig = annual_sigmas(ann_auto, sub, mod)
+        p_exc = math.nan
+        if excitation_q is not None:
+            p_exc = excitation_scatter(
+                t, base, fit_spectrum, check_q(excitation_q), draws, seed, reference_period=reference_period, band=band, drift_degree=degree, taper=kind
+            )
+            details["excitation_q"] = float(excitation_q)
+        pu = combine(p_formal, p_auto, p_sub, p_mod, p_exc)
+        au = combine(a_formal, a_auto, a_sub, a_mod)
+        sig_rate = pu.adopted * rate**2 / (2 * math.pi)
+        sig_amp = au.adopted
+    fit = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
+    return with_changes(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
+
+
+def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:
+    """Mean |F_w r|^2 / sum w^2 in a ring 0.1 cycle per year wide just outside the peak's main lobe.
+
+    For white noise of variance sigma^2 this is sigma^2; for coloured noise it
+    is the noise spectral density near ``rate`` in the same units (the "S"
+    of the peak-location variance). The main lobes of the fitted terms
+    (``rate`` and ``fitted``) are left out: their removal leaves holes in
+    the residual spectrum there.
+    """
+    year_rate = 2 * math.pi / TROPICAL_YEAR
+    lobe = (2.0 if kind == "hann" else 1.0) * 2 * math.pi / span
+    reach = lobe + 0.1 * year_rate
+    d = 2 * math.pi / (4 * span)
+    count = int(2 * math.ceil(reach / d)) + 1
+    grid = rate - math.ceil(reach / d) * d + d * np.arange(count)
+    p = np.abs(dtft(s, wr, grid[0], d, count)) ** 2 / np.sum(w**2)
+    side = np.abs(grid - rate) > lobe
+    for other in fitted:
+        side &= np.abs(grid - other) > lobe
+    return float(np.mean(p[side]))
+

@@ -1,0 +1,256 @@
+"""A physical forecast: the damped Chandler oscillator driven by coloured excitation, in a Kalman filter.
+
+The pole is the sum of four parts, each a state of a linear Gaussian model
+stepped once a day (Delta = 1 d):
+
+* the **free wobble** w, the solution of the Liouville equation
+  w + (i / sigma_c) dw/dt = chi (Munk & MacDonald 1960; Gross 1992) with the
+  complex Chandler frequency sigma_c = 2 pi / T_c (1 + i / (2Q)); over a step
+  with the excitation held constant (:mod:`.excitation`, exact)
+
+      w_k = lambda w_{k-1} + (1 - lambda) chi_k,   lambda = exp(i sigma_c Delta);
+
+* its **stochastic excitation** chi, coloured: a complex AR(1) process
+  chi_k = phi chi_{k-1} + eta_k, phi = exp(-Delta / tau) with correlation
+  time tau (atmospheric, oceanic and hydrological excitation is red);
+* the **seasonal terms**, the response to deterministic annual and
+  semi-annual excitation: four circles a_j exp(i n_j Omega_a t), n_j = +/-1,
+  +/-2, whose amplitudes may drift slowly (a random walk);
+* the **mean pole** (a level and a slope, each a random walk).
+
+The observation is their sum plus white noise. The noise variances (of eta,
+the seasonal amplitudes, level, slope and the observation) and tau are
+estimated by maximum likelihood on the fitting span (the innovations of the
+steady-state filter, :mod:`wobble.numerics.kalman`; the overall scale in
+closed form), T_c and Q are physics given to the model (wobble's own
+estimates), not fitted. Noise is circular (equal in x_p and y_p). Times in s,
+angles in rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+from wobble.errors import InputError
+from wobble.models.polar_motion.excitation import chandler_frequency
+from wobble.models.polar_motion.forecast import Forecast, daily, information_set
+from wobble.models.polar_motion.ls_ar import harmonic_columns
+from wobble.models.polar_motion.record import ANNUAL_RATE, DAY
+from wobble.numerics import kalman
+from wobble.numerics.threads import one_blas_thread
+
+__all__ = [
+    "FIT_SPAN",
+    "BURN_IN",
+    "STATES",
+    "NoiseParameters",
+    "DEFAULT_NOISE",
+    "system",
+    "initial_state",
+    "fit_noise",
+    "forecast_kalman",
+]
+
+#: Default fitting span: ten years of daily values before the information set's end.
+FIT_SPAN = 10.0 * 365.25 * DAY
+#: Days at the start of the fitting span that initialise the filter and are left out of the likelihood.
+BURN_IN = 365
+#: The states, in order.
+STATES = ("wobble", "excitation", "annual_prograde", "annual_retrograde", "semiannual_prograde", "semiannual_retrograde", "mean_pole", "mean_pole_rate")
+_H = np.array([1, 0, 1, 1, 1, 1, 1, 0], dtype=complex)
+_MAS = math.pi / 648e6
+
+
+@dataclass(frozen=True)
+class NoiseParameters:
+    """The model's noise, per daily step (rad^2; the correlation time in s).
+
+    Attributes
+    ----------
+    excitation : float
+        Variance of the excitation's innovation eta (the scale of the rest).
+    correlation_time : float
+        Correlation time tau of the coloured excitation, s.
+    seasonal, mean_pole, mean_pole_rate, observation : float
+        Variances of the daily changes of each seasonal amplitude, the mean
+        pole, its rate (per day), and of the observation noise.
+    """
+
+    excitation: float
+    correlation_time: float
+    seasonal: float
+    mean_pole: float
+    mean_pole_rate: float
+    observation: float
+
+    def ratios(self) -> np.ndarray:
+        """The MLE's free parameters: ln(tau / 1 d) and the logs of the other variances over the excitation's."""
+        q = self.excitation
+        return np.array(
+            [
+                math.log(self.correlation_time / DAY),
+                math.log(self.seasonal / q),
+                math.log(self.mean_pole / q),
+                math.log(self.mean_pole_rate / q),
+                math.log(self.observation / q),
+            ]
+        )
+
+    @classmethod
+    def from_ratios(cls, theta, scale: float = 1.0) -> "NoiseParameters":
+        """The inverse of :meth:`ratios` with excitation variance ``scale``."""
+        lt, ls, lm, lr, lo = (float(v) for v in theta)
+        return cls(scale, math.exp(lt) * DAY, scale * math.exp(ls), scale * math.exp(lm), scale * math.exp(lr), scale * math.exp(lo))
+
+
+#: The starting point of the maximum likelihood: the optimum for the IERS 20 C04 record 2006-2015 (ten years
+#: before the first hindcast issue, 2016-01-01), rounded. From a poor start L-BFGS-B can stop in a corner where
+#: random-walk seasonal terms mimic the wobble (likelihood lower by ~5000 on ten years of data).
+DEFAULT_NOISE = NoiseParameters(
+    excitation=(23.0 * _MAS) ** 2,
+    correlation_time=6.7 * DAY,
+    seasonal=(0.0025 * _MAS) ** 2,
+    mean_pole=(0.0015 * _MAS) ** 2,
+    mean_pole_rate=(0.0005 * _MAS) ** 2,
+    observation=(0.0015 * _MAS) ** 2,
+)
+# Bounds of the free parameters of the likelihood (ln tau in days, ln variance ratios).
+_BOUNDS = [(math.log(1.0), math.log(3650.0)), (-30.0, 5.0), (-30.0, 5.0), (-40.0, 0.0), (-20.0, 10.0)]
+
+
+def system(sigma_c: complex, noise: NoiseParameters, dt: float = DAY):
+    """(F, Q, h, r) of the daily model: transition, process covariance, observation vector, observation variance."""
+    lam = np.exp(1j * sigma_c * dt)
+    phi = math.exp(-dt / noise.correlation_time)
+    F = np.zeros((8, 8), dtype=complex)
+    F[0, 0], F[0, 1], F[1, 1] = lam, (1 - lam) * phi, phi
+    for j, n in enumerate((1, -1, 2, -2)):
+        F[2 + j, 2 + j] = np.exp(1j * n * ANNUAL_RATE * dt)
+    F[6, 6], F[6, 7], F[7, 7] = 1.0, 1.0, 1.0
+    g = np.zeros(8, dtype=complex)
+    g[0], g[1] = 1 - lam, 1.0
+    Q = noise.excitation * np.outer(g, g.conj())
+    Q[2:6, 2:6] += noise.seasonal * np.eye(4)
+    Q[6, 6] += noise.mean_pole
+    Q[7, 7] += noise.mean_pole_rate
+    return F, Q, _H.copy(), float(noise.observation)
+
+
+def initial_state(t, z, sigma_c: complex) -> np.ndarray:
+    """A prior mean at the first sample from a least-squares fit of trend and harmonics to the first two years."""
+    first = t <= t[0] + 2 * 365.25 * DAY
+    s = t[first] - t[0]
+    cols = harmonic_columns(s, sigma_c.real)
+    c, *_ = np.linalg.lstsq(cols, z[first], rcond=None)
+    # Columns: 1, s/yr, Chandler, annual +, annual -, semi-annual +, semi-annual -; at s = 0 each is its coefficient.
+    return np.array([c[2], 0.0, c[3], c[4], c[5], c[6], c[0], c[1] * DAY / (365.25 * DAY)], dtype=complex)
+
+
+def _concentrated(theta, sigma_c, y, x0, burn):
+    """-log-likelihood at the free parameters theta with the excitation variance in closed form, and its parts."""
+    noise = NoiseParameters.from_ratios(theta)
+    F, Q, h, r = system(sigma_c, noise)
+    try:
+        ss = kalman.steady_state(F, Q, h, r)
+    except (np.linalg.LinAlgError, ValueError):
+        return math.inf, None, None
+    xs, innov = kalman.filter_steady(F, ss, h, y, x0)
+    e = innov[burn:]
+    scale = float(np.mean(np.abs(e) ** 2)) / ss.innovation_variance
+    if not (math.isfinite(scale) and scale > 0):
+        return math.inf, None, None
+    nll = e.size * (math.log(math.pi * scale * ss.innovation_variance) + 1.0)
+    return nll, scale, (ss, xs)
+
+
+def fit_noise(t, z, sigma_c: complex, start: NoiseParameters = DEFAULT_NOISE, burn: int = BURN_IN) -> tuple[NoiseParameters, float]:
+    """Maximum-likelihood noise parameters on the daily series (t, z); returns them and the log-likelihood.
+
+    The excitation variance (the overall scale) is concentrated out; the five
+    ratios are found by L-BFGS-B from ``start`` (a previous fit, when there is one).
+    """
+    y = np.asarray(z, dtype=complex)
+    x0 = initial_state(t, y, sigma_c)
+    theta0 = np.clip(start.ratios(), [b[0] for b in _BOUNDS], [b[1] for b in _BOUNDS])
+    res = optimize.minimize(
+        lambda th: _concentrated(th, sigma_c, y, x0, burn)[0], theta0, method="L-BFGS-B", bounds=_BOUNDS,
+        options={"maxiter": 60, "ftol": 1e-9},
+    )
+    nll, scale, _ = _concentrated(res.x, sigma_c, y, x0, burn)
+    if not math.isfinite(nll):
+        raise InputError("data", "a span where the state-space likelihood cannot be evaluated", "a daily record of the pole")
+    return NoiseParameters.from_ratios(res.x, scale), -nll
+
+
+@one_blas_thread
+def forecast_kalman(
+    t,
+    z,
+    issued: float,
+    horizon_days: int,
+    *,
+    chandler_period: float,
+    q: float,
+    latency: float = DAY,
+    fit_span: float = FIT_SPAN,
+    noise: NoiseParameters | None = None,
+) -> Forecast:
+    """Forecast the pole 1 .. ``horizon_days`` days after ``issued`` with the state-space model.
+
+    Parameters
+    ----------
+    t, z : ndarray
+        The record: times (s) and the pole p = x_p - i y_p (rad), daily.
+    issued : float
+        Issue time, s; only samples up to ``issued - latency`` are used.
+    horizon_days : int
+        Number of daily lead times.
+    chandler_period, q : float
+        T_c (s) and Q of the free wobble.
+    latency, fit_span : float
+        Publication delay and the fitting span, s.
+    noise : NoiseParameters, optional
+        Use these instead of fitting them (the hindcast refits them now and then,
+        always on data before the issue date).
+    """
+    ti, zi = information_set(t, z, issued, latency, fit_span, "Kalman")
+    daily(ti, "Kalman")
+    sigma_c = chandler_frequency(chandler_period, q)
+    refit = noise is None
+    loglike = math.nan
+    if refit:
+        noise, loglike = fit_noise(ti, zi, sigma_c)
+    F, Q, h, r = system(sigma_c, noise)
+    ss = kalman.steady_state(F, Q, h, r)
+    xs, innov = kalman.filter_steady(F, ss, h, zi, initial_state(ti, zi, sigma_c))
+    lead = DAY * np.arange(1, horizon_days + 1)
+    ahead = np.rint((issued + lead - ti[-1]) / DAY).astype(int)
+    mean, var = kalman.forecast(F, Q, h, r, xs[-1], ss.posterior, int(ahead[-1]))
+    x_last = xs[-1].copy()
+    x_last[:2] = 0.0  # without the free wobble: the seasonal terms and the mean pole only
+    base, _ = kalman.forecast(F, Q, h, r, x_last, ss.posterior, int(ahead[-1]))
+    sigma = np.sqrt(var[ahead - 1] / 2.0)
+    return Forecast(
+        method="kalman",
+        issued=float(issued),
+        last_data=float(ti[-1]),
+        lead=lead,
+        mean=mean[ahead - 1],
+        sigma_x=sigma,
+        sigma_y=sigma.copy(),
+        baseline=base[ahead - 1],
+        details={
+            "fit_span_days": fit_span / DAY,
+            "chandler_period_days": chandler_period / DAY,
+            "q": q,
+            "noise_refitted": refit,
+            "log_likelihood": loglike,
+            "noise": noise,
+            "innovation_rms_mas": float(np.sqrt(np.mean(np.abs(innov[BURN_IN:]) ** 2))) / _MAS,
+        },
+    )
+

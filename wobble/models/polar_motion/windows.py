@@ -1,0 +1,149 @@
+"""Least-squares fits of equation (2) on sliding windows: how the wobble changes over the decades.
+
+Times and lengths in s, angles in rad, rates in rad/s.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from wobble.errors import InputError
+from wobble.models.polar_motion.least_squares import fit_least_squares
+from wobble.models.polar_motion.record import CHANDLER_BAND, DAY, MIN_SPAN, as_series, check_degree
+from wobble.numerics.threads import one_blas_thread
+
+__all__ = ["WindowedFits", "sliding_windows"]
+
+
+@dataclass(frozen=True, eq=False)
+class WindowedFits:
+    """Least-squares fits of equation (2) on sliding windows (arrays over windows).
+
+    Windows whose data cover less than 80 % of their length are NaN.
+    """
+
+    centre: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    n_samples: np.ndarray
+    period: np.ndarray
+    period_sigma: np.ndarray
+    amplitude: np.ndarray
+    amplitude_sigma: np.ndarray
+    phase: np.ndarray
+    annual_prograde_amplitude: np.ndarray
+    annual_prograde_amplitude_sigma: np.ndarray
+    annual_retrograde_amplitude: np.ndarray
+    window: float
+    step: float
+    drift_degree: int
+
+    # Deprecated names (one release): the annual terms are annual_prograde_* and annual_retrograde_*.
+    @property
+    def annual_amplitude(self) -> np.ndarray:
+        """Deprecated alias of :attr:`annual_prograde_amplitude`."""
+        _deprecated("annual_amplitude", "annual_prograde_amplitude")
+        return self.annual_prograde_amplitude
+
+    @property
+    def annual_amplitude_sigma(self) -> np.ndarray:
+        """Deprecated alias of :attr:`annual_prograde_amplitude_sigma`."""
+        _deprecated("annual_amplitude_sigma", "annual_prograde_amplitude_sigma")
+        return self.annual_prograde_amplitude_sigma
+
+    @property
+    def retrograde_annual_amplitude(self) -> np.ndarray:
+        """Deprecated alias of :attr:`annual_retrograde_amplitude`."""
+        _deprecated("retrograde_annual_amplitude", "annual_retrograde_amplitude")
+        return self.annual_retrograde_amplitude
+
+
+def _deprecated(old: str, new: str) -> None:
+    warnings.warn(f"WindowedFits.{old} is deprecated; use {new} (the old name goes in the next release)", DeprecationWarning, stacklevel=3)
+
+
+
+@one_blas_thread
+def sliding_windows(
+    t,
+    z,
+    window: float,
+    step: float | None = None,
+    *,
+    reference_period: float,
+    drift_degree: int = 2,
+    band: tuple[float, float] = CHANDLER_BAND,
+    progress=None,
+) -> WindowedFits:
+    """Least-squares fits of equation (2) on windows of length ``window`` moved by ``step`` (s).
+
+    Each window gets its own drift, annual terms and Chandler period,
+    amplitude and phase, with the autocorrelation and drift-model
+    uncertainty (a window is too short for the sub-span check). ``progress``
+    (optional) is called as ``progress(done, total)``; ``reference_period``
+    (a published Chandler period, s) as in
+    :func:`~wobble.models.polar_motion.least_squares.fit_least_squares`.
+    """
+    t, z = as_series(t, z)
+    span = t[-1] - t[0]
+    window = float(window)
+    if not (math.isfinite(window) and MIN_SPAN <= window <= span * (1 + 1e-9)):
+        raise InputError(
+            "window",
+            f"{window / (365.25 * DAY):g} yr",
+            f"a length from {MIN_SPAN / (365.25 * DAY):g} yr to the span of the data ({span / (365.25 * DAY):.2f} yr)",
+        )
+    step = 365.25 * DAY if step is None else float(step)
+    if not (math.isfinite(step) and step > 0):
+        raise InputError("step", f"{step / DAY:g} d", "a positive, finite time")
+    n = int(math.floor((span - window) / step + 1e-9)) + 1
+    starts = t[0] + step * np.arange(n)
+    # Centre the set of windows in the span.
+    starts += 0.5 * (span - window - (starts[-1] - t[0]))
+    out = {k: np.full(n, np.nan) for k in ("period", "period_sigma", "amplitude", "amplitude_sigma", "phase", "annual", "annual_sigma", "retro")}
+    counts = np.zeros(n, dtype=int)
+    for i, a in enumerate(starts):
+        m = (t >= a) & (t <= a + window)
+        counts[i] = int(m.sum())
+        if progress is not None:
+            progress(i, n)
+        if counts[i] < 10 or t[m][-1] - t[m][0] < 0.8 * window:
+            continue
+        try:
+            f = fit_least_squares(
+                t[m], z[m], reference_period=reference_period, drift_degree=drift_degree, band=band, subspans=False, excitation_q=None
+            )
+        except InputError:
+            continue
+        out["period"][i] = f.chandler.period
+        out["period_sigma"][i] = f.chandler.period_sigma
+        out["amplitude"][i] = f.chandler.amplitude
+        out["amplitude_sigma"][i] = f.chandler.amplitude_sigma
+        out["phase"][i] = f.chandler.phase
+        out["annual"][i] = f.annual_prograde.amplitude
+        out["annual_sigma"][i] = f.annual_prograde.amplitude_sigma
+        out["retro"][i] = f.annual_retrograde.amplitude
+    if progress is not None:
+        progress(n, n)
+    return WindowedFits(
+        centre=starts + 0.5 * window,
+        start=starts,
+        end=starts + window,
+        n_samples=counts,
+        period=out["period"],
+        period_sigma=out["period_sigma"],
+        amplitude=out["amplitude"],
+        amplitude_sigma=out["amplitude_sigma"],
+        phase=out["phase"],
+        annual_prograde_amplitude=out["annual"],
+        annual_prograde_amplitude_sigma=out["annual_sigma"],
+        annual_retrograde_amplitude=out["retro"],
+        window=window,
+        step=step,
+        drift_degree=check_degree(drift_degree),
+    )
+

@@ -1,0 +1,48 @@
+"""Figures of the geodetic excitation: spectra of the pole and of its excitation, the Chandler band against time.
+
+The pole's spectrum has a sharp Chandler peak; the excitation's is broadband
+there (the resonance, not the excitation, makes the peak). The band amplitudes
+against time show the post-2015 decline of the wobble beside its excitation.
+"""
+
+from __future__ import annotations
+
+from matplotlib.figure import Figure
+
+from wobble.plot.polar_motion import save_figure
+
+__all__ = ["excitation_figure", "save_excitation_figure"]
+
+
+def excitation_figure(ex) -> Figure:
+    """Two panels: two-sided amplitude spectra (pole and excitation), and Chandler-band amplitudes against time."""
+    fig = Figure(figsize=(10, 8), layout="constrained")
+    ax_s, ax_t = fig.subplots(2, 1)
+    f, ac, ap = ex.spectra()
+    ax_s.plot(f, ap, lw=0.8, color="C0", label="pole x_p - i y_p")
+    ax_s.plot(f, ac, lw=0.8, color="C3", label="excitation chi_1 + i chi_2")
+    pc = 1 / ex.chandler_period.to_value("yr")
+    ax_s.axvspan(pc - 0.1, pc + 0.1, color="0.8", alpha=0.5, label="Chandler band")
+    ax_s.set_yscale("log")
+    ax_s.set_xlim(-3, 3)
+    ax_s.set_xlabel("frequency [cycles per year] (negative: retrograde)")
+    ax_s.set_ylabel("amplitude [mas]")
+    ax_s.set_title(f"spectra: the Chandler peak of the pole, no peak in its excitation (T_c = {ex.chandler_period.value:.1f} d, Q = {ex.quality_factor:.0f})", fontsize="medium")
+    ax_s.legend(fontsize="small")
+    if ex.band_chi is not None:
+        years = 2000.0 + (ex.time_mjd - 51544.5) / 365.25
+        edge = (years > years[0] + 1) & (years < years[-1] - 1)
+        ax_t.plot(years[edge], ex.band_pole[edge], color="C0", label="pole, Chandler band")
+        ax_t.plot(years[1:][edge[1:]], ex.band_chi[edge[1:]], color="C3", label="excitation, Chandler band")
+        ax_t.axvline(2015.0, color="0.5", ls=":")
+        ax_t.set_yscale("log")
+        ax_t.set_xlabel("year")
+        ax_t.set_ylabel("band amplitude [mas]")
+        ax_t.legend(fontsize="small")
+        ax_t.set_title("amplitude within +/- 0.1 cycle per year of the Chandler frequency", fontsize="medium")
+    return fig
+
+
+def save_excitation_figure(ex, path, *, overwrite: bool = False):
+    """Write :func:`excitation_figure` to ``path`` (png, pdf or svg)."""
+    return save_figure(excitation_figure(ex), path, overwrite=overwrite)

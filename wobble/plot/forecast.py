@@ -1,0 +1,116 @@
+"""Figures of forecasts: the pole ahead with its intervals, and a hindcast's error against lead time beside published curves.
+
+Matplotlib ``Figure`` objects (no pyplot); files are written atomically with
+the umask's mode (:func:`wobble.plot.polar_motion.save_figure`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from wobble.plot.polar_motion import save_figure
+
+__all__ = ["forecast_figure", "save_forecast_figure", "hindcast_figure", "save_hindcast_figure"]
+
+
+def _years(mjd):
+    return 2000.0 + (np.asarray(mjd, dtype=float) - 51544.5) / 365.25
+
+
+def forecast_figure(forecast, data=None) -> Figure:
+    """x_p and y_p against time: the record's last two years, the forecast, its 68 % and 95 % bands."""
+    from astropy import units as u
+
+    from wobble.api.polar_motion.record import load_polar_motion, mjd_values
+
+    fig = Figure(figsize=(9, 6), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
+    if data is None:
+        data = load_polar_motion(forecast.source or None)
+    mjd = mjd_values(data["time"])
+    last = float(forecast.last_data.mjd)
+    keep = (mjd > last - 730) & (mjd <= float(forecast.time_mjd[-1]))
+    tf = _years(forecast.time_mjd)
+    b68, b95 = forecast.bounds(68), forecast.bounds(95)
+    for ax, name, value, key in ((axes[0], "x_p", forecast.x, "x"), (axes[1], "y_p", forecast.y, "y")):
+        obs = (np.asarray(data[name].values) * u.Unit(data[name].attrs["units"])).to_value(u.mas)
+        used = keep & (mjd <= last)
+        later = keep & (mjd > last)
+        ax.plot(_years(mjd[used]), obs[used], color="k", lw=1, label="record used")
+        if later.any():
+            ax.plot(_years(mjd[later]), obs[later], color="0.5", lw=1, ls=":", label="record after (not used)")
+        ax.fill_between(tf, b95[key][0].value, b95[key][1].value, color="C0", alpha=0.15, lw=0, label="95 %")
+        ax.fill_between(tf, b68[key][0].value, b68[key][1].value, color="C0", alpha=0.3, lw=0, label="68 %")
+        ax.plot(tf, value.value, color="C0", lw=1.5, label=f"forecast ({forecast.method})")
+        ax.axvline(_years(float(forecast.issued.mjd)), color="C3", lw=0.8, ls="--")
+        ax.set_ylabel(f"{name} [mas]")
+    axes[0].legend(fontsize="small", ncol=3)
+    axes[1].set_xlabel("year")
+    axes[0].set_title(
+        f"forecast issued {forecast.issued.iso[:10]} (dashed), data to {forecast.last_data.iso[:10]} (latency {forecast.latency.value:g} d)",
+        fontsize="medium",
+    )
+    return fig
+
+
+def save_forecast_figure(forecast, path, *, overwrite: bool = False, data=None):
+    """Write :func:`forecast_figure` to ``path`` (png, pdf or svg)."""
+    return save_figure(forecast_figure(forecast, data), path, overwrite=overwrite)
+
+
+def hindcast_figure(hindcast) -> Figure:
+    """2-D RMS and x_p mean absolute error against lead time for each method, persistence and LS alone, with the anchors;
+    and the 68 % and 95 % interval coverage."""
+    from wobble.api.polar_motion.hindcast import ANCHORS
+    from wobble.api.polar_motion.record import RAD_PER_MAS
+
+    fig = Figure(figsize=(11, 8), layout="constrained")
+    (ax_rms, ax_mae), (ax_cov, ax_skill) = fig.subplots(2, 2)
+    lead = hindcast.lead.value
+    first = hindcast.scores[hindcast.methods[0]]
+    for m in hindcast.methods:
+        s = hindcast.scores[m]
+        ax_rms.plot(lead, s.rms_2d / RAD_PER_MAS, lw=1.5, label=m)
+        ax_mae.plot(lead, s.mae_x / RAD_PER_MAS, lw=1.5, label=f"{m} x_p")
+        ax_mae.plot(lead, s.mae_y / RAD_PER_MAS, lw=1, ls="--", label=f"{m} y_p")
+        ax_cov.plot(lead, 100 * s.coverage_68, lw=1.5, label=f"{m} 68 %")
+        ax_cov.plot(lead, 100 * s.coverage_95, lw=1, ls="--", label=f"{m} 95 %")
+        ax_skill.plot(lead, s.skill_persistence, lw=1.5, label=f"{m} vs persistence")
+        ax_skill.plot(lead, s.skill_ls, lw=1, ls="--", label=f"{m} vs LS alone")
+    ax_rms.plot(lead, first.rms_2d_persistence / RAD_PER_MAS, color="0.5", lw=1, label="persistence")
+    ax_rms.plot(lead, first.rms_2d_ls / RAD_PER_MAS, color="0.5", lw=1, ls=":", label="LS extrapolation alone")
+    markers = {"rms_2d": (ax_rms, "o"), "mae_x": (ax_mae, "s"), "mae_y": (ax_mae, "^")}
+    for label, metric, values in ANCHORS:
+        if metric not in markers:
+            continue
+        ax, mk = markers[metric]
+        d = np.array(sorted(values))
+        ax.plot(d, [values[k] for k in d], mk, color="k", mfc="none", ms=6, label=label)
+    for ax in (ax_rms, ax_mae):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("lead time [d]")
+        ax.legend(fontsize="x-small")
+    ax_rms.set_ylabel("2-D RMS error [mas]")
+    ax_mae.set_ylabel("mean absolute error [mas]")
+    ax_cov.axhspan(63, 73, color="C2", alpha=0.15, label="goal for 68 %: 63-73 %")
+    ax_cov.axhline(95, color="0.5", lw=0.8)
+    ax_cov.set_ylim(0, 100)
+    ax_cov.set_xlabel("lead time [d]")
+    ax_cov.set_ylabel("outcomes inside the interval [%]")
+    ax_cov.legend(fontsize="x-small")
+    ax_skill.axhline(0, color="0.5", lw=0.8)
+    ax_skill.set_xlabel("lead time [d]")
+    ax_skill.set_ylabel("skill, 1 - RMS / RMS(reference)")
+    ax_skill.legend(fontsize="x-small")
+    fig.suptitle(
+        f"hindcast: {len(hindcast.issued_mjd)} forecasts issued {_years(hindcast.issued_mjd[0]):.1f}-{_years(hindcast.issued_mjd[-1]):.1f}, "
+        f"latency {hindcast.latency.value:g} d (anchors: published, with angular-momentum forecasts where marked)"
+    )
+    return fig
+
+
+def save_hindcast_figure(hindcast, path, *, overwrite: bool = False):
+    """Write :func:`hindcast_figure` to ``path`` (png, pdf or svg)."""
+    return save_figure(hindcast_figure(hindcast), path, overwrite=overwrite)
