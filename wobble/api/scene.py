@@ -48,6 +48,8 @@ OUTPUT_METADATA = {
     "axis_direction": (("inertial_axis",), "1", "direction of body axis 3 in the inertial frame"),
     "tilt": ((), "rad", "angle between body axis 3 and the inertial z axis"),
     "wobble_angle": ((), "rad", "angle between the angular velocity and body axis 3"),
+    "mean_precession_rate": ((), "rad s-1", "mean precession rate of the node of the body's equator on the inertial "
+                             "x-y plane over the run (negative: retrograde), first-order averaged model"),
 }
 _LABELS = {
     "axis": (["1", "2", "3"], "body axis (the scene's body frame)"),
@@ -184,10 +186,17 @@ def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
              "axis": "T", "calendar": "standard"},
         )
     }
+    if _scene.SUMMARY_OUTPUTS & set(outputs):
+        # One value for the whole run: a time mean over the cell [start, stop] (CF 1.10 sec. 7.1, 7.3).
+        for name in _scene.SUMMARY_OUTPUTS & set(outputs):
+            data_vars[name][2]["cell_methods"] = "time: mean"
+        data_vars["time_bounds"] = (("time", "bounds"), np.array([[scene.times[0], scene.times[-1]]], dtype=float), {})
     used = {d for v in data_vars.values() for d in v[0]}
     for dim, (labels, long_name) in _LABELS.items():
         if dim in used:
             coords[dim] = (dim, labels, {"long_name": long_name})
+    if "time_bounds" in data_vars:
+        coords["time"].attrs["bounds"] = "time_bounds"
     if scene.ensemble:
         coords["member"] = ("member", np.arange(scene.members, dtype=np.int64), {"long_name": "ensemble member", "units": "1"})
     return xr.Dataset(data_vars, coords=coords)

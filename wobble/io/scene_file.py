@@ -27,7 +27,7 @@ from wobble.errors import FileFormatError, InputError
 from wobble.models import torques
 from wobble.models.orbit import EphemerisTable, KeplerOrbit
 from wobble.models.rigid_frame import BodyModel, InternalFrame
-from wobble.models.scene import MODEL_NAMES, OUTPUTS, Scene
+from wobble.models.scene import ALL_OUTPUTS, MODEL_NAMES, Scene
 from wobble.models.torques import TorqueSpec
 from wobble.numerics import quaternion as quat
 
@@ -630,9 +630,9 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
         raise r.error("accuracy", accuracy, "a relative accuracy in (0, 1), e.g. 1e-9")
     outputs = data.get("outputs", ["omega", "attitude"])
     if isinstance(outputs, str) or not isinstance(outputs, (list, tuple)) or not outputs:
-        raise r.error("outputs", outputs, "a non-empty list of " + ", ".join(OUTPUTS))
+        raise r.error("outputs", outputs, "a non-empty list of " + ", ".join(ALL_OUTPUTS))
     for i, o in enumerate(outputs):
-        r.string(o, f"outputs[{i}]", OUTPUTS)
+        r.string(o, f"outputs[{i}]", ALL_OUTPUTS)
     model = data.get("model", "auto")
     r.string(model, "model", ("auto",) + MODEL_NAMES)
     moments = np.asarray(body.moments)
