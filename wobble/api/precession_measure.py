@@ -275,6 +275,10 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None):
             taken.append(rate)
 
     eq0 = psi0 + math.pi  # the equinox: the descending node of the equator
+    if principal is not None:  # first, so that a term the span cannot tell from it is left out
+        o = principal.orbit
+        node = (o.node_rate - psi_rate, o.longitude_of_node - eq0)
+        taken.append(node[0])
     for spec in perturbers:
         o = spec.orbit
         lam_rate = o.mean_motion + o.periapsis_rate + o.node_rate - psi_rate
@@ -284,10 +288,7 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None):
         m_rate, m0 = o.mean_motion, o.mean_anomaly
         k = spec.name
         inclined = o.inclination != 0 and o.node_rate != 0
-        if inclined and spec is principal:
-            node = (om_rate, om0)
-            taken.append(om_rate)
-        elif inclined:
+        if inclined and spec is not principal:
             add(f"Omega_{k}", om_rate, om0)
         if inclined:
             add(f"2Omega_{k}", 2 * om_rate, 2 * om0)
