@@ -30,7 +30,11 @@ and may implement
   kernel's :class:`~wobble.numerics.torque_program.TorqueProgram` (None: no compiled
   form, the run takes the NumPy DOP853);
 
-and sets the flags ``uses_omega`` (only torques that do not depend on omega, or linear
+A spec may also implement ``check_scene(moments, mass, radius, start, stop)`` for checks that
+need the body or the run's span (:class:`ThirdBody`: a perturber inside the body, an
+ephemeris table that does not cover the run); the scene reader calls it.
+
+The bound torque sets the flags ``uses_omega`` (only torques that do not depend on omega, or linear
 damping, have an exact splitting kick), ``uses_attitude``, ``time_dependent``,
 ``conservative`` and ``damping`` ((M, 3) diagonal in the internal frame, for the exact
 damped kick; None otherwise).
