@@ -277,6 +277,24 @@ def test_cli_refuses_bad_scenes_with_exit_2_and_writes_nothing(tmp_path, capsys,
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
 
 
+@pytest.mark.parametrize("times, problem", [("[0, 1, 3, 2]", "monotone"), ("[0, 0.2, 0.4, 0.6]", "covering")])
+def test_cli_refuses_a_bad_ephemeris_table_with_exit_2(tmp_path, capsys, times, problem):
+    from wobble.cli import main
+
+    scene = tmp_path / "table.toml"
+    scene.write_text(
+        '[body]\nplanet = "earth"\n[initial]\nspin_rate = "catalogue"\nobliquity = "23.44 deg"\n'
+        '[[torques]]\nkind = "third_body"\nname = "moon"\ngm = "4.9e12 m3 s-2"\n'
+        f'ephemeris = {{ times = {{ value = {times}, unit = "d" }}, positions = {{ value = [[4e5, 0, 0], [0, 4e5, 0], '
+        '[-4e5, 0, 0], [0, -4e5, 0]], unit = "km" } }\n[time]\nstop = "1 d"\nstep = "0.5 d"\n'
+    )
+    out = tmp_path / "out.nc"
+    assert main(["run", str(scene), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "table.toml, torques[0].ephemeris.times" in err[0] and problem in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["table.toml"]
+
+
 def test_a_scene_file_cannot_hold_a_callable_and_elements_need_an_orbit(tmp_path):
     with pytest.raises(InputError, match="position"):
         scene_from_mapping(_earth_scene({"kind": "third_body", "gm": "1 m3 s-2", "position": "moon.csv"}))
