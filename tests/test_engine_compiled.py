@@ -21,10 +21,12 @@ from wobble.models.engine import (
     GravityGradient,
     LinearDamping,
     MagneticDipole,
+    ThirdBody,
     UniformGravity,
     attitude_angle,
     simulate,
 )
+from wobble.models.orbit import KeplerOrbit
 from wobble.numerics import quaternion as Q
 from wobble.numerics.integrators import StepLimitError
 from wobble.numerics.rigid_dop853 import RigidDOP853
@@ -67,6 +69,7 @@ def _every_kind(n):
         GravityGradient(3.986004418e14, 6.9e6, orbit_normal=[0.1, 0.2, 1.0], phase=0.4),
         GravityGradient(4.0e13, 6.0e6, direction=[0.3, -0.5, 0.8]),
         MagneticDipole(0.02 * rng.normal(size=(n, 3)), [1e-3, -2e-3, 0.5]),
+        ThirdBody(3.0e14, orbit=KeplerOrbit(6.5e6, 0.4, 0.6, 0.3, 1.2, 0.1, 0.5, 0.02, -0.03)),
         LinearDamping([0.001, 0.002, 0.003]),
     ]
 

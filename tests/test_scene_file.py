@@ -188,4 +188,5 @@ def test_example_scenes_parse(name):
 
     scene = read_scene(example_scene_path(name))
     assert scene.description and scene.title
-    assert all(isinstance(t, (eng.ConstantTorque, eng.UniformGravity, eng.GravityGradient, eng.LinearDamping)) for t in scene.torques)
+    assert all(isinstance(t, (eng.ConstantTorque, eng.UniformGravity, eng.GravityGradient, eng.ThirdBody, eng.LinearDamping))
+               for t in scene.torques)

@@ -58,6 +58,7 @@ _PUBLIC = {
         "PolarMotionHindcast",
     ],
     "api.precession": ["PrecessionBudget", "PrincipalNutation", "precession_rate", "principal_nutation", "precession_dataset"],
+    "api.precession_measure": ["PrecessionMeasurement", "measure_precession"],
     "api.top": ["HeavyTop"],
     "api.engine": ["Torque"],
     "api.scene": ["Scene", "run", "run_to_netcdf", "example_scenes"],

@@ -35,7 +35,7 @@ class Torque:
     Attributes
     ----------
     kind : str
-        ``constant``, ``gravity``, ``gravity_gradient``, ``magnetic``, ``damping`` or ``custom``.
+        ``constant``, ``gravity``, ``gravity_gradient``, ``third_body``, ``magnetic``, ``damping`` or ``custom``.
     spec : object
         The SI specification in :mod:`wobble.models.engine`.
     """
@@ -102,6 +102,60 @@ class Torque:
         for key, value in (("direction", direction), ("orbit_normal", orbit_normal), ("mean_motion", mean_motion)):
             if value is not None:
                 mapping[key] = value
+        return cls(torque_from_mapping(mapping))
+
+    @classmethod
+    def third_body(cls, gm, *, semi_major_axis=None, eccentricity: float = 0.0, inclination=None, longitude_of_node=None,
+                   argument_of_periapsis=None, mean_anomaly=None, mean_motion=None, node_rate=None, periapsis_rate=None,
+                   ephemeris_times=None, ephemeris_positions=None, position=None, name: str = "third_body") -> Torque:
+        """The tidal torque of a third body moving on a given orbit: ``tau = (3 GM / r^5) r_b x I r_b``.
+
+        MacCullagh's formula (Goldstein, Poole & Safko 2002, sec. 5.8) with the perturber's
+        position r from one of
+
+        * its Keplerian orbit: ``semi_major_axis`` and optionally ``eccentricity``,
+          ``inclination``, ``longitude_of_node``, ``argument_of_periapsis``, ``mean_anomaly``
+          (angles at t = 0 in the inertial frame: x-y the reference plane, x the origin of
+          longitudes), ``mean_motion`` (the rate of the mean anomaly; default sqrt(GM/a^3),
+          right when the perturber is the heavy partner, as the Sun is: give it for the
+          Moon), ``node_rate`` and ``periapsis_rate`` (secular rates); Kepler's equation is
+          solved at each evaluation, compiled; or
+        * an ephemeris table: ``ephemeris_times`` (increasing, covering the run) and
+          ``ephemeris_positions`` (one inertial position per time), cubic splines; or
+        * ``position``: your function ``f(t) -> (n, 3)``, t (n,) in s, positions in m
+          (no compiled form: the NumPy DOP853 or the splitting).
+
+        Parameters
+        ----------
+        gm : Quantity
+            G M of the perturber (m3 / s2).
+        name : str
+            For messages (``"moon"``).
+
+        Examples
+        --------
+        >>> import astropy.units as u
+        >>> from wobble import Torque
+        >>> moon = Torque.third_body(4.9028e12 * u.m**3 / u.s**2, semi_major_axis=384399 * u.km, eccentricity=0.0549,
+        ...                          inclination=5.145 * u.deg, mean_motion=13.065 * u.deg / u.day,
+        ...                          node_rate=-19.355 * u.deg / u.yr, name="moon")
+        >>> moon.kind, round(moon.spec.orbit.semi_major_axis)
+        ('third_body', 384399000)
+        """
+        mapping: dict = {"kind": "third_body", "gm": gm, "name": name}
+        if semi_major_axis is not None:
+            mapping["semi_major_axis"] = semi_major_axis
+            mapping["eccentricity"] = eccentricity
+        for key, value in (("inclination", inclination), ("longitude_of_node", longitude_of_node),
+                           ("argument_of_periapsis", argument_of_periapsis), ("mean_anomaly", mean_anomaly),
+                           ("mean_motion", mean_motion), ("node_rate", node_rate), ("periapsis_rate", periapsis_rate)):
+            if value is not None:
+                mapping[key] = value
+        if ephemeris_times is not None or ephemeris_positions is not None:
+            mapping["ephemeris"] = {k: v for k, v in (("times", ephemeris_times), ("positions", ephemeris_positions))
+                                    if v is not None}
+        if position is not None:
+            mapping["position"] = position
         return cls(torque_from_mapping(mapping))
 
     @classmethod

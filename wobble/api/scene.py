@@ -159,10 +159,17 @@ def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
         dims, values, attrs = cf.variable("scene", name, arr if scene.ensemble else arr[:, 0])
         data_vars[name] = (cf.with_member(dims) if scene.ensemble else dims, values, attrs)
     coords = {"time": cf.time_coordinate(np.asarray(t, dtype=float), simulation_time_units(scene.epoch))}
+    if _scene.SUMMARY_OUTPUTS & set(outputs):
+        # One value for the whole run: a time mean over the cell [start, stop] (CF 1.10 sec. 7.1, 7.3).
+        for name in _scene.SUMMARY_OUTPUTS & set(outputs):
+            data_vars[name][2]["cell_methods"] = "time: mean"
+        data_vars["time_bounds"] = (("time", "bounds"), np.array([[scene.times[0], scene.times[-1]]], dtype=float), {})
     used = {d for v in data_vars.values() for d in v[0]}
     for dim in cf.LABELS:
         if dim in used:
             coords[dim] = cf.label_coordinate(dim)
+    if "time_bounds" in data_vars:
+        coords["time"][2]["bounds"] = "time_bounds"
     if scene.ensemble:
         coords["member"] = ("member", np.arange(scene.members, dtype=np.int64), {"long_name": "ensemble member", "units": "1"})
     return xr.Dataset(data_vars, coords=coords)

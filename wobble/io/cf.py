@@ -138,6 +138,8 @@ SCENE: dict[str, Spec] = {
     "axis_direction": Spec(("time", "inertial_axis"), "1", "direction of body axis 3 in the inertial frame"),
     "tilt": Spec(("time",), "rad", "angle between body axis 3 and the inertial z axis"),
     "wobble_angle": Spec(("time",), "rad", "angle between the angular velocity and body axis 3"),
+    "mean_precession_rate": Spec(("time",), "rad s-1", "mean precession rate of the node of the body's equator on the "
+                                 "inertial x-y plane over the run (negative: retrograde), first-order averaged model"),
 }
 
 # The heavy symmetric top, exact (wobble top -o, HeavyTop.to_dataset).

@@ -25,8 +25,9 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.models import torques
+from wobble.models.orbit import EphemerisTable, KeplerOrbit
 from wobble.models.rigid_frame import BodyModel, InternalFrame
-from wobble.models.scene import MODEL_NAMES, OUTPUTS, Scene
+from wobble.models.scene import ALL_OUTPUTS, MODEL_NAMES, Scene
 from wobble.models.torques import TorqueSpec
 from wobble.numerics import quaternion as quat
 
@@ -38,7 +39,7 @@ __all__ = [
 SCHEMA = "wobble-scene/1"
 TOP_KEYS = ("schema", "name", "title", "description", "body", "initial", "torques", "time", "accuracy", "outputs", "model")
 # The kinds a scene file names; "custom" (a Python function) comes only from Python.
-TORQUE_KINDS = ("constant", "gravity", "gravity_gradient", "magnetic", "damping")
+TORQUE_KINDS = ("constant", "gravity", "gravity_gradient", "third_body", "magnetic", "damping")
 _SOLID_LENGTHS = {
     "solid_sphere": ("radius",),
     "hollow_sphere": ("radius", "inner_radius"),
@@ -177,7 +178,7 @@ def _body(r: _Reader, data) -> tuple[BodyModel, np.ndarray | None]:
     kind = given[0]
     if kind == "solid":
         return _solid(r, data)
-    r.table(data, "body", (kind, "mass"))
+    r.table(data, "body", (kind, "mass", "symmetric") if kind == "planet" else (kind, "mass"))
     mass = None
     if "mass" in data:
         mass = float(r.quantity(data["mass"], "body.mass", u.kg, ndim=(0,), positive=True))
@@ -194,7 +195,10 @@ def _body(r: _Reader, data) -> tuple[BodyModel, np.ndarray | None]:
             return BodyModel.from_tensor(t, mass), None
     except InputError as exc:
         raise r.error(f"body.{kind}", exc.value, exc.allowed) from None
-    return _planet_body(r, data["planet"], mass), None
+    symmetric = data.get("symmetric", False)
+    if not isinstance(symmetric, bool):
+        raise r.error("body.symmetric", symmetric, "true or false")
+    return _planet_body(r, data["planet"], mass, symmetric), None
 
 
 def _planet(r: _Reader, name, where):
@@ -209,8 +213,14 @@ def _planet(r: _Reader, name, where):
     return params
 
 
-def _planet_body(r: _Reader, name, mass) -> BodyModel:
-    """Principal moments A <= B <= C of a catalogued planet from its figure (H, J2 or C/Ma2, C22, S22)."""
+def _planet_body(r: _Reader, name, mass, symmetric=False) -> BodyModel:
+    """Principal moments A <= B <= C of a catalogued planet from its figure (H, J2 or C/Ma2, C22, S22).
+
+    ``symmetric``: both equatorial moments set to their mean (A + B)/2, the A of H = (C - A)/C,
+    so H and C are kept and the triaxiality (C22, S22) is dropped.
+    """
+    from dataclasses import replace
+
     from wobble.models.chandler import principal_moments
 
     p = _planet(r, name, "body.planet")
@@ -218,7 +228,12 @@ def _planet_body(r: _Reader, name, mass) -> BodyModel:
     if figure is None:
         raise r.error("body.planet", name, "a planet whose file gives gm, equatorial_radius and C/(M a^2) (or j2 with H)")
     moments, planet_mass = figure
-    return BodyModel.from_moments(np.array(moments), mass if mass is not None else planet_mass)
+    moments = np.array(moments)
+    if symmetric:
+        moments[:2] = 0.5 * (moments[0] + moments[1])
+    radius = None if p.equatorial_radius is None else float(p.equatorial_radius.value)
+    body = BodyModel.from_moments(moments, mass if mass is not None else planet_mass)
+    return replace(body, radius=radius)
 
 
 def _solid(r: _Reader, data):
@@ -268,15 +283,25 @@ def _euler_omega(angles, rates):
 def _initial(r: _Reader, data, body_data):
     if data is None:
         raise r.missing("initial", "give omega (or euler_rates, or spin_rate)")
-    keys = ("omega", "euler_rates", "spin_rate", "wobble_angle", "wobble_phase", "attitude", "euler_angles")
+    keys = ("omega", "euler_rates", "spin_rate", "wobble_angle", "wobble_phase", "attitude", "euler_angles", "obliquity")
     r.table(data, "initial", keys)
     rate_keys = [k for k in ("omega", "euler_rates", "spin_rate") if k in data]
     if len(rate_keys) != 1:
         raise r.error("initial", sorted(data), "exactly one of omega, euler_rates, spin_rate")
-    if "attitude" in data and "euler_angles" in data:
-        raise r.error("initial.euler_angles", "both attitude and euler_angles", "one of them")
+    given = [k for k in ("attitude", "euler_angles", "obliquity") if k in data]
+    if len(given) > 1:
+        raise r.error(f"initial.{given[1]}", f"both {given[0]} and {given[1]}", "one of attitude, euler_angles, obliquity")
     angles = None
-    if "euler_angles" in data:
+    if "obliquity" in data:
+        # Body axis 3 at (0, sin eps, cos eps): tilted towards +y, so that the inertial x axis
+        # is the vernal equinox (the ascending node of the x-y plane on the body's equator).
+        eps = r.quantity(data["obliquity"], "initial.obliquity", u.rad, ndim=(0, 1))
+        if np.any(eps < 0) or np.any(eps > np.pi):
+            shown = np.degrees(eps).round(6).tolist()
+            raise r.error("initial.obliquity", f"{shown} deg", "an angle in [0, 180] deg")
+        angles = np.stack(np.broadcast_arrays(np.pi, eps, 0.0), axis=-1)
+        q0 = _euler_quaternion(angles)
+    elif "euler_angles" in data:
         angles = r.quantity(data["euler_angles"], "initial.euler_angles", u.rad, ndim=(1, 2), width=3)
         q0 = _euler_quaternion(angles)
     elif "attitude" in data:
@@ -410,6 +435,63 @@ def _nonzero(r: _Reader, raw, where: str) -> np.ndarray:
     return vec
 
 
+_ORBIT_ANGLES = ("inclination", "longitude_of_node", "argument_of_periapsis", "mean_anomaly")
+_ORBIT_RATES = ("mean_motion", "node_rate", "periapsis_rate")
+_THIRD_BODY_KEYS = ("kind", "name", "gm", "semi_major_axis", "eccentricity", *_ORBIT_ANGLES, *_ORBIT_RATES,
+                    "ephemeris", "position")
+
+
+def _third_body(r: _Reader, where, data, body, com) -> TorqueSpec:
+    """A third body on a Keplerian orbit, an ephemeris table, or (Python) a position callable."""
+    r.table(data, where, _THIRD_BODY_KEYS)
+    name = data.get("name", "third_body")
+    if not isinstance(name, str) or not name:
+        raise r.error(_key(where, "name"), name, "a non-empty string (the perturber's name)")
+    if "gm" not in data:
+        raise r.missing(_key(where, "gm"), "the perturber's G M, e.g. \"4.9028e12 m3/s2\" (the Moon)")
+    gm_si = r.quantity(data["gm"], _key(where, "gm"), u.m**3 / u.s**2, ndim=(0,))
+    if not gm_si > 0:
+        raise r.error(_key(where, "gm"), data["gm"], "a positive G M (a negative mass is unphysical)")
+    sources = [k for k in ("semi_major_axis", "ephemeris", "position") if k in data]
+    if len(sources) != 1:
+        raise r.error(_key(where, "semi_major_axis"), sorted(data),
+                      "exactly one of semi_major_axis (with the other orbital elements), ephemeris (a table) "
+                      "and position (a Python callable)")
+    orbit_keys = ("eccentricity", *_ORBIT_ANGLES, *_ORBIT_RATES)
+    if sources[0] != "semi_major_axis" and any(k in data for k in orbit_keys):
+        extra = next(k for k in orbit_keys if k in data)
+        raise r.error(_key(where, extra), data[extra], f"orbital elements only with semi_major_axis (not with {sources[0]})")
+    if sources[0] == "semi_major_axis":
+        a = float(r.quantity(data["semi_major_axis"], _key(where, "semi_major_axis"), u.m, ndim=(0,)))
+        e = float(r.number(data.get("eccentricity", 0.0), _key(where, "eccentricity"), ndim=(0,)))
+        angles = {k: float(r.quantity(data.get(k, "0 deg"), _key(where, k), u.rad, ndim=(0,))) for k in _ORBIT_ANGLES}
+        rates = {k: float(r.quantity(data[k], _key(where, k), u.rad / u.s, ndim=(0,))) for k in _ORBIT_RATES if k in data}
+        if "mean_motion" not in rates and a > 0:
+            rates["mean_motion"] = float(np.sqrt(float(gm_si) / a**3))  # the perturber as the heavy partner
+        return _checked(r, where, lambda: torques.ThirdBody(float(gm_si), orbit=KeplerOrbit(a, e, **angles, **rates), name=name))
+    if sources[0] == "ephemeris":
+        table = r.table(data["ephemeris"], _key(where, "ephemeris"), ("times", "positions"))
+        for key in ("times", "positions"):
+            if key not in table:
+                raise r.missing(_key(where, f"ephemeris.{key}"),
+                                "times (e.g. { value = [0, 1, 2, 3], unit = \"d\" }) and positions (m, one triple per time)")
+        t = r.quantity(table["times"], _key(where, "ephemeris.times"), u.s, ndim=(1,))
+        pos = r.quantity(table["positions"], _key(where, "ephemeris.positions"), u.m, ndim=(2,), width=3)
+        return _checked(r, where, lambda: torques.ThirdBody(float(gm_si), ephemeris=EphemerisTable(t, pos), name=name))
+    if not callable(data["position"]):
+        raise r.error(_key(where, "position"), data["position"],
+                      "a Python callable f(t) -> positions (n, 3) in m (scene files use semi_major_axis or ephemeris)")
+    return _checked(r, where, lambda: torques.ThirdBody(float(gm_si), position=data["position"], name=name))
+
+
+def _checked(r: _Reader, where: str, build):
+    """Build a model object, naming its key (and the file) in the error of a parameter it refuses."""
+    try:
+        return build()
+    except InputError as exc:
+        raise r.error(_key(where, exc.parameter), exc.value, exc.allowed) from None
+
+
 def _magnetic(r: _Reader, where, data, body, com) -> TorqueSpec:
     r.table(data, where, ("kind", "dipole", "field"))
     for key, what in (("dipole", "the body's magnetic dipole moment, body frame, e.g. { value = [0, 0, 1], unit = \"A m2\" }"),
@@ -433,6 +515,7 @@ _TORQUE_READERS = {
     "constant": _constant,
     "gravity": _gravity,
     "gravity_gradient": _gravity_gradient,
+    "third_body": _third_body,
     "magnetic": _magnetic,
     "damping": _damping,
 }
@@ -547,9 +630,9 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
         raise r.error("accuracy", accuracy, "a relative accuracy in (0, 1), e.g. 1e-9")
     outputs = data.get("outputs", ["omega", "attitude"])
     if isinstance(outputs, str) or not isinstance(outputs, (list, tuple)) or not outputs:
-        raise r.error("outputs", outputs, "a non-empty list of " + ", ".join(OUTPUTS))
+        raise r.error("outputs", outputs, "a non-empty list of " + ", ".join(ALL_OUTPUTS))
     for i, o in enumerate(outputs):
-        r.string(o, f"outputs[{i}]", OUTPUTS)
+        r.string(o, f"outputs[{i}]", ALL_OUTPUTS)
     model = data.get("model", "auto")
     r.string(model, "model", ("auto",) + MODEL_NAMES)
     moments = np.asarray(body.moments)
@@ -562,6 +645,9 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
         for i, t in enumerate(torques):
             try:
                 t.bind(InternalFrame.of(body, n), n)
+                check = getattr(t, "check_scene", None)
+                if check is not None:  # a perturber inside the body, an ephemeris short of the run
+                    check(moments, body.mass, body.radius, float(times[0]), float(times[-1]))
             except InputError as exc:
                 raise r.error(f"torques[{i}].{exc.parameter}", exc.value, exc.allowed) from None
     except ValueError as exc:

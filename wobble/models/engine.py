@@ -23,8 +23,8 @@ Torques
 -------
 Every torque follows the contract of :mod:`wobble.models.torques` (a specification that
 binds to the internal frame; vectorised, scalar and compiled forms; its potential where
-conservative): constant, uniform gravity about a pivot, gravity gradient, a magnetic
-dipole in a uniform field, linear damping, or any vectorised callable.
+conservative): constant, uniform gravity about a pivot, gravity gradient, a third body on an
+orbit, a magnetic dipole in a uniform field, linear damping, or any vectorised callable.
 
 Integration
 -----------
@@ -62,6 +62,7 @@ from wobble.models.torques import (
     GravityGradient,
     LinearDamping,
     MagneticDipole,
+    ThirdBody,
     TorqueSpec,
     UniformGravity,
 )
@@ -79,6 +80,7 @@ __all__ = [
     "ConstantTorque",
     "UniformGravity",
     "GravityGradient",
+    "ThirdBody",
     "MagneticDipole",
     "LinearDamping",
     "CustomTorque",

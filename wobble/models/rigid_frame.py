@@ -144,11 +144,15 @@ class BodyModel:
         principal frame).
     mass : float or None
         kg; needed by :class:`UniformGravity` when it does not give its own.
+    radius : float or None
+        m, the body's outer (equatorial) radius when known (a catalogued planet): a
+        perturber must stay outside it.
     """
 
     moments: np.ndarray
     axes: np.ndarray
     mass: float | None = None
+    radius: float | None = None
 
     @classmethod
     def from_moments(cls, moments, mass=None) -> BodyModel:

@@ -5,6 +5,10 @@ ensemble), torques, output times, the accuracy wanted and the outputs wanted.
 :func:`choose_model` walks the table :data:`CANDIDATES`, cheapest first, and
 takes the first model that applies to the scene and can reach its accuracy:
 
+0. ``averaged-precession`` -- the scene asks only for ``mean_precession_rate``
+   and every torque is a third body on a Keplerian orbit: the first-order
+   averaged rate of :mod:`wobble.models.precession_averaged` (no integration;
+   model only what the scene needs).
 1. ``free-symmetric`` -- no torque, two equal principal moments: the closed
    form of notes section 5.6 (:func:`wobble.models.free.free_rotation`).
 2. ``free-elliptic`` -- no torque: Jacobi elliptic functions and the exact
@@ -54,6 +58,8 @@ __all__ = [
     "RunRecord",
     "CANDIDATES",
     "OUTPUTS",
+    "SUMMARY_OUTPUTS",
+    "ALL_OUTPUTS",
     "ATTITUDE_OUTPUTS",
     "ModelUnavailable",
     "choose_model",
@@ -62,7 +68,7 @@ __all__ = [
     "MODEL_NAMES",
 ]
 
-#: Every output a scene may ask for (names of the netCDF variables).
+#: Every time-series output a scene may ask for (names of the netCDF variables).
 OUTPUTS = (
     "omega",
     "attitude",
@@ -75,6 +81,11 @@ OUTPUTS = (
     "tilt",
     "wobble_angle",
 )
+#: Outputs that summarise the whole run (one value per member, no time series): they come
+#: from the averaged model, alone.
+SUMMARY_OUTPUTS = frozenset({"mean_precession_rate"})
+#: Every name a scene's ``outputs`` may hold.
+ALL_OUTPUTS = OUTPUTS + tuple(sorted(SUMMARY_OUTPUTS))
 #: Outputs that need the attitude.
 ATTITUDE_OUTPUTS = frozenset({"attitude", "angular_momentum", "axis_direction", "tilt", "potential_energy", "total_energy"})
 _EPS = np.finfo(float).eps
@@ -107,7 +118,7 @@ class Scene:
         Wanted bound on each omega component's error relative to that
         component's largest value, and on the attitude angle (rad).
     outputs : tuple of str
-        Names from :data:`OUTPUTS`.
+        Names from :data:`ALL_OUTPUTS`.
     ensemble : bool
         Whether the outputs carry a ``member`` dimension.
     name, title, description : str
@@ -281,6 +292,74 @@ class _Numerical(_ModelRun):
         return dict(self._stats)
 
 
+class _AveragedRun(_ModelRun):
+    """The first-order averaged precession (:mod:`wobble.models.precession_averaged`): no time series."""
+
+    name = "averaged-precession"
+
+    def __init__(self, scene: Scene):
+        from wobble.models.precession_averaged import averaged_precession
+
+        self.scene = scene
+        self.model = averaged_precession(scene.body, scene.omega0, scene.attitude0, scene.torques)
+        self.settings = {
+            "dynamical_flattening": [float(x) for x in self.model.dynamical_flattening],
+            "obliquity_rad": [float(x) for x in self.model.obliquity],
+            "perturbers": [p.name for p in self.model.perturbers],
+        }
+
+    def summary(self):
+        """(time (1,): the middle of the span, outputs {name: (1, N)})."""
+        t = self.scene.times
+        return np.array([0.5 * (t[0] + t[-1])]), {"mean_precession_rate": self.model.rate[None, :]}
+
+    def error_estimate(self):
+        return {"omega_relative": self.model.error, "attitude_rad": 0.0,
+                "method": "a priori: the precession rate over the fastest motion averaged over (first-order averaging)"}
+
+
+def _applies_averaged(scene):
+    from wobble.models.precession_averaged import averaging_applies
+
+    if not set(scene.outputs) <= SUMMARY_OUTPUTS:
+        return "the scene asks for the motion (" + ", ".join(o for o in scene.outputs if o not in SUMMARY_OUTPUTS) + ")"
+    return averaging_applies(scene.body, scene.omega0, scene.attitude0, scene.torques)
+
+
+def _floor_averaged(scene):
+    from wobble.models.precession_averaged import averaging_applies
+
+    if averaging_applies(scene.body, scene.omega0, scene.attitude0, scene.torques) is not None:
+        return np.inf
+    return _AveragedRun(scene).model.error
+
+
+def _check_summary_outputs(scene, force):
+    """A scene asking for the mean precession rate gets the averaged model, alone, or an error saying why."""
+    summary = SUMMARY_OUTPUTS & set(scene.outputs)
+    if not summary:
+        return
+    name = sorted(summary)[0]
+    if set(scene.outputs) - SUMMARY_OUTPUTS:
+        raise scene.error("outputs", list(scene.outputs),
+                          f"{name} alone (the averaged model), or the motion (axis_direction, angular_momentum) "
+                          "without it: measure the rate from the motion with wobble.measure_precession")
+    if force not in (None, "averaged-precession"):
+        raise InputError("model", force, f"averaged-precession for a scene whose only output is {name}")
+    from wobble.models.precession_averaged import averaging_applies
+
+    why = averaging_applies(scene.body, scene.omega0, scene.attitude0, scene.torques)
+    if why is not None:
+        raise scene.error("outputs", list(scene.outputs),
+                          f"{name} from the averaged model, which does not apply here ({why}); ask for "
+                          "angular_momentum and measure it with wobble.measure_precession")
+    floor = _floor_averaged(scene)
+    if scene.accuracy < floor:
+        raise scene.error("accuracy", scene.accuracy,
+                          f"at least {floor:.3g} for {name} from first-order averaging (integrate the motion and "
+                          "measure it with wobble.measure_precession for more)")
+
+
 # --------------------------------------------------------------------------
 # The candidate table
 # --------------------------------------------------------------------------
@@ -291,7 +370,7 @@ class Candidate:
     Attributes
     ----------
     name : str
-    kind : {"exact", "numerical"}
+    kind : {"averaged", "exact", "numerical"}
     applies : callable
         ``applies(scene) -> str | None``: None when the model applies, else
         why not (recorded in the reason when a later model is chosen).
@@ -624,6 +703,9 @@ def _build_dop853(scene, settings=None):
 
 
 CANDIDATES: tuple[Candidate, ...] = (
+    Candidate("averaged-precession", "averaged", _applies_averaged, _AveragedRun, _floor_averaged,
+              "the scene asks only for the mean precession rate: the first-order averaged torque of the third bodies "
+              "(Goldstein, Poole & Safko 2002 sec. 5.8; Woolard 1953; Kinoshita 1977), no integration"),
     Candidate("free-symmetric", "exact", _applies_free_symmetric, _build_free("free-symmetric"), _floor_free,
               "closed form for a torque-free symmetric body (notes section 5.6)"),
     Candidate("free-elliptic", "exact", _applies_free, _build_free("free-elliptic"), _floor_free,
@@ -661,11 +743,14 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
         raise InputError("model", force, f"auto or one of {', '.join(MODEL_NAMES)}")
     if force == "auto":
         force = None
+    _check_summary_outputs(scene, force)
     passed = []
     best_floor = np.inf
     for cand in CANDIDATES:
         if force is not None and cand.name != force:
             continue
+        if cand.kind == "averaged" and not (SUMMARY_OUTPUTS & set(scene.outputs)) and force is None:
+            continue  # a scene that asks for the motion is never answered by an average
         if cand.kind == "numerical" and scene.accuracy < cand.floor(scene):
             # (checked before the predicate: the splitting's predicate runs pilots)
             best_floor = min(best_floor, cand.floor(scene))
@@ -793,6 +878,11 @@ def execute(scene: Scene, sink, *, model: str | None = None, block_bytes: int = 
     RunRecord
     """
     choice = choose_model(scene, model)
+    if isinstance(choice.run, _AveragedRun):
+        sink.begin()
+        t, outputs = choice.run.summary()
+        sink.write(t, outputs)
+        return RunRecord(choice.run.name, choice.reason, choice.run.error_estimate(), dict(choice.run.settings), 1)
     engine = eng.Engine(scene.body, scene.torques, members=scene.members)
     check_outputs(scene, engine)
     per_time = max(1, scene.members) * 8 * 64

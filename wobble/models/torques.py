@@ -30,7 +30,11 @@ and may implement
   kernel's :class:`~wobble.numerics.torque_program.TorqueProgram` (None: no compiled
   form, the run takes the NumPy DOP853);
 
-and sets the flags ``uses_omega`` (only torques that do not depend on omega, or linear
+A spec may also implement ``check_scene(moments, mass, radius, start, stop)`` for checks that
+need the body or the run's span (:class:`ThirdBody`: a perturber inside the body, an
+ephemeris table that does not cover the run); the scene reader calls it.
+
+The bound torque sets the flags ``uses_omega`` (only torques that do not depend on omega, or linear
 damping, have an exact splitting kick), ``uses_attitude``, ``time_dependent``,
 ``conservative`` and ``damping`` ((M, 3) diagonal in the internal frame, for the exact
 damped kick; None otherwise).
@@ -44,6 +48,8 @@ The kinds
 ---------
 :class:`ConstantTorque`, :class:`UniformGravity` (about a pivot: the heavy top, Goldstein,
 Poole & Safko 2002 sec. 5.7), :class:`GravityGradient` (MacCullagh's tidal torque),
+:class:`ThirdBody` (the same torque from a body moving on a Keplerian orbit, an
+ephemeris table or a callable: the Sun and the Moon on Earth's bulge),
 :class:`MagneticDipole` (a body-fixed dipole in a uniform field), :class:`LinearDamping`
 and :class:`CustomTorque` (any vectorised callable).
 """
@@ -70,7 +76,9 @@ from wobble.models.rigid_frame import (
     to_body,
     to_body_components,
 )
+from wobble.models.orbit import EphemerisTable, KeplerOrbit, rms_radius
 from wobble.numerics import quaternion as quat
+from wobble.numerics.kepler import position_one as kepler_position_one
 
 __all__ = [
     "STANDARD_GRAVITY",
@@ -79,6 +87,7 @@ __all__ = [
     "ConstantTorque",
     "UniformGravity",
     "GravityGradient",
+    "ThirdBody",
     "MagneticDipole",
     "LinearDamping",
     "CustomTorque",
@@ -396,6 +405,150 @@ class GravityGradient(TorqueSpec):
 
 
 # --------------------------------------------------------------------------
+# A third body on an orbit: Kepler, a table, or a callable
+# --------------------------------------------------------------------------
+class _ThirdBody(BoundTorque):
+    """``(3 GM / r^3) u_b x (I u_b)``, u the unit vector to the perturber at r(t); V = (3 GM / 2 r^3) u_b . I u_b."""
+
+    def __init__(self, spec: ThirdBody, moments):
+        self.spec = spec
+        self.gm = float(spec.gm)
+        self.moments = moments  # (M, 3) ascending
+        self.m_one = tuple(float(x) for x in moments[0])
+        self.orbit, self.table, self.function = spec.orbit, spec.ephemeris, spec.position
+        self.elements_one = None if self.orbit is None else tuple(float(x) for x in self.orbit.elements)
+        fixed = self.orbit is not None and not self.orbit.moving
+        self.time_dependent = not fixed
+        self.conservative = fixed
+
+    def _positions(self, t):
+        """(r (n, 3) inertial, |r| (n,)) at times t (any shape)."""
+        if self.orbit is not None:
+            return self.orbit.position(t)
+        if self.table is not None:
+            return self.table.position(t)
+        tt = np.atleast_1d(np.asarray(t, dtype=float))
+        r = np.asarray(self.function(tt), dtype=float)
+        if r.shape != tt.shape + (3,):
+            raise InputError(f"{self.spec.name}.position", r.shape, f"a callable returning positions of shape {tt.shape + (3,)} (m)")
+        r = r.reshape(np.shape(t) + (3,))
+        return r, np.sqrt(np.sum(r * r, axis=-1))
+
+    def _unit_and_strength(self, t):
+        r, d = self._positions(t)
+        k = 3.0 * self.gm / (d * d * d)
+        return r[..., 0] / d, r[..., 1] / d, r[..., 2] / d, k
+
+    def torque(self, t, w, q, idx):
+        u0, u1, u2, k = self._unit_and_strength(t)
+        r0, r1, r2 = to_body_components(q, u0, u1, u2)
+        m = take_rows(self.moments, idx)
+        # u x I u = ((I3 - I2) u1 u2, (I1 - I3) u2 u0, (I2 - I1) u0 u1), MacCullagh
+        return stack3(k * (m[:, 2] - m[:, 1]) * r1 * r2, k * (m[:, 0] - m[:, 2]) * r2 * r0, k * (m[:, 1] - m[:, 0]) * r0 * r1)
+
+    def torque_one(self, t, w, q):
+        if self.elements_one is not None:
+            x, y, z, d = kepler_position_one(float(t), self.elements_one)
+        elif self.table is not None:
+            x, y, z, d = self.table.position_one(float(t))
+        else:
+            r, dist = self._positions(np.array([float(t)]))
+            x, y, z, d = float(r[0, 0]), float(r[0, 1]), float(r[0, 2]), float(dist[0])
+        k = 3.0 * self.gm / (d * d * d)
+        ub = rotate_one(q, (x / d, y / d, z / d), inverse=True)
+        m = self.m_one
+        tq = cross_one(ub, (m[0] * ub[0], m[1] * ub[1], m[2] * ub[2]))
+        return (k * tq[0], k * tq[1], k * tq[2])
+
+    def potential(self, t, q, idx):
+        """The attitude-dependent part of the tidal potential, J: time-dependent unless the perturber is fixed."""
+        u0, u1, u2, k = self._unit_and_strength(t)
+        ub = to_body(q, np.stack(np.broadcast_arrays(u0, u1, u2), -1))
+        return 0.5 * k * np.sum(ub * take_rows(self.moments, idx) * ub, axis=-1)
+
+    def program_terms(self):
+        if self.orbit is None:
+            return None  # a table or a callable: the NumPy integrators
+        return [("third_body", np.concatenate([[self.gm], self.orbit.elements]))]
+
+
+@dataclass(frozen=True)
+class ThirdBody(TorqueSpec):
+    """The tidal torque of a third body moving on a given orbit: the Sun and the Moon on Earth's bulge.
+
+    ``tau = (3 GM / r^5) r_b x (I r_b)`` (MacCullagh's formula; Goldstein, Poole & Safko
+    2002, sec. 5.8), with r_b the perturber's position in the body frame, from
+
+    * a Keplerian ``orbit`` (:class:`wobble.models.orbit.KeplerOrbit`: elements at t = 0,
+      mean motion, secular node and periapsis rates; Kepler's equation at each evaluation:
+      Murray & Dermott 1999, sec. 2.4), compiled; or
+    * an ``ephemeris`` table (:class:`wobble.models.orbit.EphemerisTable`, cubic splines),
+      which must cover the run; or
+    * a ``position`` callable ``f(t) -> (n, 3)`` (t (n,) in s, positions in m).
+
+    The last two have no compiled form (the run takes the NumPy DOP853 or the splitting).
+    The torque does not depend on omega, so the splitting's kick is exact. Its potential
+    ``V = (3 GM / 2 r^3) u_b . I u_b`` (up to terms independent of the attitude) is
+    time-dependent unless the perturber stands still (``mean_motion`` and rates zero:
+    then the energy is conserved).
+
+    Attributes
+    ----------
+    gm : float
+        G M of the perturber, m^3 s^-2 (positive).
+    orbit, ephemeris, position
+        Exactly one of them (see above); positions relative to the body's centre in the
+        inertial frame.
+    name : str
+        For messages and outputs (``"moon"``).
+    """
+
+    gm: float
+    orbit: KeplerOrbit | None = None
+    ephemeris: EphemerisTable | None = None
+    position: Callable | None = None
+    name: str = "third_body"
+    kind: ClassVar[str] = "third_body"
+
+    def __post_init__(self):
+        if not (np.ndim(self.gm) == 0 and math.isfinite(float(self.gm)) and float(self.gm) > 0):
+            raise InputError("gm", self.gm, "a positive G M (m3 s-2; a negative mass is unphysical)")
+        given = [k for k in ("orbit", "ephemeris", "position") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise InputError("orbit, ephemeris, position", given or "none", "exactly one of them")
+        if self.position is not None and not callable(self.position):
+            raise InputError("position", self.position, "a callable f(t) -> positions (n, 3) in m")
+
+    @property
+    def closest_approach(self) -> float | None:
+        """The smallest distance of the perturber (m), when known in advance (an orbit, a table)."""
+        if self.orbit is not None:
+            return self.orbit.periapsis
+        if self.ephemeris is not None:
+            return self.ephemeris.closest
+        return None
+
+    def check_scene(self, moments, mass, radius, start: float, stop: float) -> None:
+        """Refuse a perturber inside the body, or a table that does not cover [start, stop] s.
+
+        ``radius`` (m) is the body's radius when known; otherwise, with its ``mass``, the
+        RMS radius of its mass (:func:`wobble.models.orbit.rms_radius`), which some of the
+        body's mass certainly exceeds.
+        """
+        size = radius if radius is not None else (rms_radius(moments, mass) if mass else None)
+        near = self.closest_approach
+        if size is not None and near is not None and not near > size:
+            key = "semi_major_axis" if self.orbit is not None else "ephemeris.positions"
+            raise InputError(key, f"closest approach {near:.6g} m",
+                             f"an orbit outside the body (closest approach above its radius {size:.6g} m)")
+        if self.ephemeris is not None:
+            self.ephemeris.check_covers(start, stop)
+
+    def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
+        return _ThirdBody(self, frame.moments)
+
+
+# --------------------------------------------------------------------------
 # Linear damping
 # --------------------------------------------------------------------------
 class _Damping(BoundTorque):
@@ -493,5 +646,5 @@ class CustomTorque(TorqueSpec):
 
 
 #: Every built-in kind by its name (scene files, the API).
-KINDS = {cls.kind: cls for cls in (ConstantTorque, UniformGravity, GravityGradient, MagneticDipole, LinearDamping,
-                                   CustomTorque)}
+KINDS = {cls.kind: cls for cls in (ConstantTorque, UniformGravity, GravityGradient, ThirdBody, MagneticDipole,
+                                   LinearDamping, CustomTorque)}

@@ -32,6 +32,7 @@ import numba as nb
 import numpy as np
 
 from wobble.numerics import _dop853_tableau as _T
+from wobble.numerics import kepler as _kepler
 from wobble.numerics.integrators import StepLimitError, check_output_times
 from wobble.numerics.torque_program import TorqueProgram
 
@@ -52,6 +53,9 @@ _MIN_FACTOR = 0.2
 _MAX_FACTOR = 10.0
 _EXPONENT = -1.0 / 8.0
 _EPS = float(np.finfo(float).eps)
+_TWO_PI = 2.0 * np.pi
+_KEPLER_ITERATIONS = _kepler.MAX_ITERATIONS
+_KEPLER_TOL = 4.0 * _EPS
 
 _MEMBERS_PER_THREAD = 256
 
@@ -100,6 +104,34 @@ def _lever_torque(qw, ux, uy, uz, i, arms, forces):
 
 
 @_jit_inline
+def _kepler_position(t, row):
+    """Position and distance on the Keplerian orbit of a ``third_body`` row at time t:
+    :func:`wobble.numerics.kepler.position_one` step for step (Danby's start, Newton until
+    the correction is below 4 eps)."""
+    a, e, inc = row[1], row[2], row[3]
+    m = row[6] + row[7] * t
+    m = m - _TWO_PI * np.round(m / _TWO_PI)
+    s = np.sin(m)
+    E = m + 0.85 * e * (1.0 if s > 0.0 else (-1.0 if s < 0.0 else 0.0))
+    for _ in range(_KEPLER_ITERATIONS):
+        d = (E - e * np.sin(E) - m) / (1.0 - e * np.cos(E))
+        E -= d
+        if abs(d) <= _KEPLER_TOL:
+            break
+    cE, sE = np.cos(E), np.sin(E)
+    x = a * (cE - e)
+    yy = a * np.sqrt(1.0 - e * e) * sE
+    node = row[4] + row[8] * t
+    peri = row[5] + row[9] * t
+    cO, sO, cw, sw = np.cos(node), np.sin(node), np.cos(peri), np.sin(peri)
+    ci, si = np.cos(inc), np.sin(inc)
+    return (x * (cO * cw - sO * sw * ci) - yy * (cO * sw + sO * cw * ci),
+            x * (sO * cw + cO * sw * ci) - yy * (sO * sw - cO * cw * ci),
+            (x * sw + yy * cw) * si,
+            a * (1.0 - e * cE))
+
+
+@_jit_inline
 def _rhs(t, y, out, i, prog):
     """Euler's equations with the torque program, for member i (notes 5.5)."""
     d = y.shape[0]
@@ -137,6 +169,14 @@ def _rhs(t, y, out, i, prog):
             b0, b1, b2 = _to_body(qw, ux, uy, uz, c * gg[j, 1] + s * gg[j, 4], c * gg[j, 2] + s * gg[j, 5],
                                   c * gg[j, 3] + s * gg[j, 6])
             # rho x I rho = ((I3 - I2) r1 r2, (I1 - I3) r2 r0, (I2 - I1) r0 r1)
+            tx += k * (i2 - i1) * b1 * b2
+            ty += k * (i0 - i2) * b2 * b0
+            tz += k * (i1 - i0) * b0 * b1
+        tb = prog.third_body
+        for j in range(tb.shape[0]):
+            p0, p1, p2, dist = _kepler_position(t, tb[j])
+            k = 3.0 * tb[j, 0] / (dist * dist * dist)
+            b0, b1, b2 = _to_body(qw, ux, uy, uz, p0 / dist, p1 / dist, p2 / dist)
             tx += k * (i2 - i1) * b1 * b2
             ty += k * (i0 - i2) * b2 * b0
             tz += k * (i1 - i0) * b0 * b1

@@ -18,6 +18,9 @@ field                     shape            torque (body frame components)
                                            + sin(rate t + phase) e2`` (``e2 = 0``: fixed ``e1``)
 ``magnetic_dipole``,      (B, M, 3) each   a body-fixed magnetic dipole in a uniform inertial field:
 ``magnetic_field``                         ``mu x R(q)^T B``
+``third_body``            (P, 10)          a third body on a Keplerian orbit: ``(3 GM / r^3) u_b x (I u_b)``,
+                                           row ``(GM, a, e, i, node, periapsis, M0, n, node rate,
+                                           periapsis rate)`` (:mod:`wobble.numerics.kepler`)
 ``damping``               (D, 3), D <= M   linear damping ``-D omega`` (no rows: none)
 ========================  ===============  ==========================================================
 
@@ -47,6 +50,7 @@ class TorqueProgram(NamedTuple):
     gradient: np.ndarray
     magnetic_dipole: np.ndarray
     magnetic_field: np.ndarray
+    third_body: np.ndarray
     damping: np.ndarray
 
 
@@ -68,13 +72,13 @@ def pack(moments, terms) -> TorqueProgram:
     """A program from the moments (M, 3) and the torques' terms ``[(kind, arrays), ...]``.
 
     ``kind`` is ``body``, ``inertial`` (one (M, 3) array each, summed), ``gravity`` or
-    ``magnetic`` (a pair of (M, 3) arrays), ``gradient`` (one row of 9) or ``damping``
-    (one (M, 3) array, summed).
+    ``magnetic`` (a pair of (M, 3) arrays), ``gradient`` (one row of 9), ``third_body`` (one
+    row of 10) or ``damping`` (one (M, 3) array, summed).
     """
     by_kind: dict[str, list] = {}
     for kind, arrays in terms:
         by_kind.setdefault(kind, []).append(arrays)
-    unknown = set(by_kind) - {"body", "inertial", "gravity", "magnetic", "gradient", "damping"}
+    unknown = set(by_kind) - {"body", "inertial", "gravity", "magnetic", "gradient", "third_body", "damping"}
     if unknown:
         raise ValueError(f"unknown torque program kinds {sorted(unknown)}")
     grav_r, grav_mg = _stacked(by_kind.get("gravity", []))
@@ -89,6 +93,7 @@ def pack(moments, terms) -> TorqueProgram:
         gradient=np.array(by_kind.get("gradient", []), dtype=float).reshape(-1, 9),
         magnetic_dipole=dipole,
         magnetic_field=field,
+        third_body=np.array(by_kind.get("third_body", []), dtype=float).reshape(-1, 10),
         damping=_summed(damping) if damping else np.zeros((0, 3)),
     )
     return TorqueProgram(**{k: np.ascontiguousarray(v, dtype=float) for k, v in fields.items()})

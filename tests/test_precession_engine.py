@@ -1,0 +1,247 @@
+"""Precession by brute force: the engine's third bodies against the averaged model (issue 18, phase 2).
+
+Ground truth: the first-order averaged rate written out here from its formula
+(-(3/2) sum G M/a^3 (1 - e^2)^(-3/2) P2(cos i) (H/omega) cos eps; Goldstein, Poole & Safko
+2002, sec. 5.8; Woolard 1953) and the first-order nodal nutation (Woolard 1953; Kinoshita
+1977); the shipped scene's numbers against the catalogue; its Sun and Moon against ERFA's
+epv00 (VSOP87) and moon98 (ELP-2000/82, abridged). The 20-year run itself is
+scripts/bench_precession.py's (docs/performance-precession.md); here a 4-year run with the
+Moon's node turning in 0.72 years (so that nutation and precession separate in a short span).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+
+import astropy.units as u
+import erfa
+import numpy as np
+import pytest
+import xarray as xr
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import wobble
+from wobble.errors import FileFormatError, InputError
+from wobble.io.perturbers import load_perturber, measured
+from wobble.io.scene_file import example_scene_path, scene_from_mapping
+from wobble.models.precession_averaged import averaged_precession, averaging_applies
+
+ARCSEC = math.pi / 180 / 3600
+CENTURY = 36525 * 86400.0
+YEAR = 365.25 * 86400.0
+
+
+def _shipped() -> dict:
+    with open(example_scene_path("earth_precession"), "rb") as fh:
+        return tomllib.load(fh)
+
+
+def _formula(scene) -> float:
+    """The first-order averaged rate of a scene, written out (rad/s)."""
+    m = np.asarray(scene.body.moments).reshape(3)
+    h = (m[2] - 0.5 * (m[0] + m[1])) / m[2]
+    spin = float(np.linalg.norm(scene.omega0[0]))
+    axis = wobble.numerics.quaternion.rotate(scene.attitude0[0], np.array([0.0, 0.0, 1.0]))
+    total = sum(t.gm / t.orbit.semi_major_axis**3 * (1 - t.orbit.eccentricity**2) ** -1.5
+                * (1 - 1.5 * math.sin(t.orbit.inclination) ** 2) for t in scene.torques)
+    return -1.5 * total * h / spin * axis[2]
+
+
+# --------------------------------------------------------------------------
+# The shipped scene
+# --------------------------------------------------------------------------
+def test_the_shipped_scene_takes_its_numbers_from_the_catalogue():
+    scene = scene_from_mapping(_shipped())
+    sun, moon = scene.torques
+    earth = wobble.load_planet("earth").parameters
+    for spec, name in ((sun, "sun"), (moon, "moon")):
+        pf = load_perturber(name)
+        assert spec.name == name and spec.gm == measured(pf, "gm", u.m**3 / u.s**2).value
+    pf = load_perturber("moon")
+    assert moon.orbit.semi_major_axis == pytest.approx(measured(pf, "semi_major_axis", u.m).value, rel=1e-15)
+    assert moon.orbit.eccentricity == measured(pf, "eccentricity", u.one).value
+    assert moon.orbit.inclination == pytest.approx(measured(pf, "inclination", u.rad).value, rel=1e-15)
+    assert sun.orbit.semi_major_axis == pytest.approx(earth.orbit_semi_major_axis.value, rel=1e-15)
+    assert sun.orbit.eccentricity == earth.orbit_eccentricity.value
+    # the Moon's node: the catalogued rate from the moving equinox plus the equinox's motion in
+    # this frame, the Keplerian model's analytic rate (the budget without the solar perturbation)
+    budget = wobble.precession_rate("earth")
+    keplerian = budget.raw.torque_rate - next(t.rate for t in budget.raw.terms if t.name == "moon_solar_perturbation")
+    assert moon.orbit.node_rate == pytest.approx(measured(pf, "node_rate", u.rad / u.s).value + keplerian, rel=1e-10)
+    assert keplerian == pytest.approx(_formula(scene), rel=1e-12)
+    # a symmetric Earth with the catalogue's H and spin, at the J2000 obliquity
+    m = np.asarray(scene.body.moments)
+    assert m[0] == m[1] and (m[2] - m[0]) / m[2] == pytest.approx(earth.dynamical_flattening.value, rel=1e-12)
+    assert np.linalg.norm(scene.omega0[0]) == earth.rotation_rate.value
+    axis = wobble.numerics.quaternion.rotate(scene.attitude0[0], np.array([0.0, 0.0, 1.0]))
+    np.testing.assert_allclose(axis, [0, math.sin(earth.obliquity.value), math.cos(earth.obliquity.value)], atol=1e-15)
+    assert scene.times[-1] >= 20 * YEAR
+
+
+def _ecliptic(v):
+    """ICRS (equatorial) axes to the ecliptic of J2000 (IAU 2006 obliquity; frame bias < 0.03 arcsec)."""
+    eps = 84381.406 * ARCSEC
+    c, s = math.cos(eps), math.sin(eps)
+    return np.stack([v[..., 0], c * v[..., 1] + s * v[..., 2], -s * v[..., 1] + c * v[..., 2]], axis=-1)
+
+
+def _angle(a, b):
+    return np.degrees(np.arccos(np.clip(np.sum(a * b, -1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(b, axis=-1), -1, 1)))
+
+
+def test_the_scene_s_sun_and_moon_are_where_erfa_puts_them():
+    """The Keplerian Sun within 0.02 deg of VSOP87 (erfa.epv00) over a year; the Keplerian Moon within
+    the size of the Sun's perturbations of the lunar orbit (evection 1.27 deg, variation 0.66 deg, ...)
+    of ELP-2000/82 (erfa.moon98) over a month: the epochs, angles, rates and frames are the catalogue's."""
+    sun, moon = scene_from_mapping(_shipped()).torques
+    au = u.au.to(u.m)
+    t = np.linspace(0.0, YEAR, 25)
+    ref = np.array([-_ecliptic(erfa.epv00(2451545.0, tk / 86400)[0][0]) for tk in t]) * au
+    assert np.max(_angle(sun.orbit.position(t)[0], ref)) < 0.02
+    t = np.linspace(0.0, 27.3 * 86400, 55)
+    ref = np.array([_ecliptic(erfa.moon98(2451545.0, tk / 86400)[0]) for tk in t]) * au
+    r = moon.orbit.position(t)[0]
+    assert np.max(_angle(r, ref)) < 2.5
+    np.testing.assert_allclose(np.linalg.norm(r, axis=-1), np.linalg.norm(ref, axis=-1), rtol=0.02)
+
+
+# --------------------------------------------------------------------------
+# Averaged and integrated
+# --------------------------------------------------------------------------
+def _short_case() -> dict:
+    """Earth, Sun and Moon for 4 years with the Moon's node turning in 0.72 years."""
+    data = copy.deepcopy(_shipped())
+    data["torques"][1]["node_rate"] = "-500 deg / yr"  # 0.72 yr: apart from the Sun's annual and semi-annual terms
+    data["time"] = {"stop": "4 yr", "step": "1 d", "epoch": "2000-01-01 12:00:00"}
+    return data
+
+
+def test_averaged_and_integrated_models_agree_on_a_short_case():
+    ds = wobble.run(_short_case())
+    assert ds.attrs["model"] == "dop853" and ds.attrs["error_estimate"] <= ds.attrs["accuracy_requested"]
+    m = wobble.measure_precession(ds)
+    assert m.axis == "angular_momentum" and m.perturber == "moon"
+    scene = scene_from_mapping(_short_case())
+    assert m.analytic_rate.to_value(u.rad / u.s) == pytest.approx(_formula(scene), rel=1e-12)
+    assert abs(m.rate_difference) < 1e-3
+    # first-order nodal nutation, written out, with the node from the moving equinox
+    moon = scene.torques[1].orbit
+    nu = moon.node_rate - _formula(scene)
+    mm = np.asarray(scene.body.moments)
+    h, spin = (mm[2] - mm[0]) / mm[2], float(np.linalg.norm(scene.omega0[0]))
+    eps = 84381.406 * ARCSEC
+    p = 1.5 * scene.torques[1].gm / moon.semi_major_axis**3 * (1 - moon.eccentricity**2) ** -1.5 * h / spin
+    tilt = math.sin(moon.inclination) * math.cos(moon.inclination)
+    lon, obl = -p / abs(nu) * tilt * math.cos(2 * eps) / math.sin(eps), p / abs(nu) * tilt * math.cos(eps)
+    assert m.analytic_nutation_longitude.to_value(u.rad) == pytest.approx(lon, rel=1e-12)
+    assert m.analytic_nutation_obliquity.to_value(u.rad) == pytest.approx(obl, rel=1e-12)
+    assert m.nutation_longitude.to_value(u.rad) == pytest.approx(lon, rel=0.01)
+    assert m.nutation_obliquity.to_value(u.rad) == pytest.approx(obl, rel=0.01)
+    assert m.nutation_period.to_value(u.yr) == pytest.approx(360 / 500, rel=1e-3)
+    # the figure axis gives the same precession; a path and the Dataset give the same measurement
+    fig = wobble.measure_precession(ds, axis="axis_direction")
+    assert fig.rate.value == pytest.approx(m.rate.value, rel=1e-4)
+
+
+def test_a_scene_asking_only_for_the_mean_rate_gets_the_averaged_model():
+    data = _shipped()
+    data.update(outputs=["mean_precession_rate"], accuracy=1e-3)
+    data.pop("model")
+    ds = wobble.run(data)
+    assert ds.attrs["model"] == "averaged-precession" and "only for the mean precession rate" in ds.attrs["model_reason"]
+    assert ds["mean_precession_rate"].attrs["cell_methods"] == "time: mean"
+    np.testing.assert_allclose(ds["time_bounds"].values, [[0.0, 7305 * 86400.0]])
+    assert float(ds["mean_precession_rate"].values[0]) == pytest.approx(_formula(scene_from_mapping(data)), rel=1e-12)
+    assert ds.attrs["error_estimate"] < 1e-3
+    # the triaxial Earth has the same mean rate (H counts the mean equatorial moment)
+    data["body"] = {"planet": "earth"}
+    tri = wobble.run(data)
+    assert float(tri["mean_precession_rate"].values[0]) == pytest.approx(float(ds["mean_precession_rate"].values[0]), rel=1e-9)
+
+
+@pytest.mark.parametrize("change, key, match", [
+    ({"outputs": ["mean_precession_rate", "angular_momentum"]}, "outputs", "alone"),
+    ({"accuracy": 1e-9}, "accuracy", "first-order averaging"),
+    ({"torques": "table"}, "outputs", "Keplerian orbits only"),
+    ({"model": "dop853"}, "model", "averaged-precession"),
+])
+def test_the_mean_rate_is_refused_where_the_averaged_model_cannot_give_it(change, key, match):
+    data = _shipped()
+    data.update(outputs=["mean_precession_rate"], accuracy=1e-3)
+    data.pop("model")
+    if change.get("torques") == "table":
+        t = np.linspace(0.0, 7306 * 86400.0, 8)
+        pos = np.stack([np.cos(t * 1e-7), np.sin(t * 1e-7), 0 * t], -1) * 1.5e11
+        data["torques"] = [data["torques"][1], {"kind": "third_body", "name": "sun", "gm": "1.327e20 m3 s-2",
+                                                "ephemeris": {"times": t * u.s, "positions": pos * u.m}}]
+    else:
+        data.update(change)
+    with pytest.raises(InputError, match=f"{key}: .*{match}"):
+        wobble.run(data)
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(0.0, 2 * math.pi), st.floats(0.05, 1.5))
+def test_the_averaged_rate_does_not_depend_on_where_longitudes_start(turn, obliquity):
+    """Turning the inertial frame about z (every node and the body's equator) leaves the rate alone."""
+    data = _shipped()
+    data["initial"] = {"spin_rate": "catalogue", "euler_angles": {"value": [math.pi + turn, obliquity, 0.0], "unit": "rad"}}
+    base = scene_from_mapping(data)
+    for t in data["torques"]:
+        t["longitude_of_node"] = f"{float(u.Quantity(t['longitude_of_node']).to_value(u.rad)) + turn} rad"
+    turned = scene_from_mapping(data)
+    a = averaged_precession(base.body, base.omega0, base.attitude0, base.torques)
+    b = averaged_precession(turned.body, turned.omega0, turned.attitude0, turned.torques)
+    assert averaging_applies(turned.body, turned.omega0, turned.attitude0, turned.torques) is None
+    assert b.rate[0] == pytest.approx(a.rate[0], rel=1e-13)
+    assert b.obliquity[0] == pytest.approx(obliquity, rel=1e-12)
+
+
+# --------------------------------------------------------------------------
+# Files
+# --------------------------------------------------------------------------
+def _month() -> dict:
+    data = _shipped()
+    data["time"] = {"stop": "30 d", "step": "1 d", "epoch": "2000-01-01 12:00:00"}
+    return data
+
+
+@pytest.mark.parametrize("outputs", [["axis_direction", "angular_momentum"], ["mean_precession_rate"]])
+def test_runs_round_trip_through_netcdf_and_are_cf_compliant(outputs, tmp_path, assert_cf_compliant):
+    data = _month()
+    data["outputs"] = outputs
+    if outputs == ["mean_precession_rate"]:
+        data.update(accuracy=1e-3)
+        data.pop("model")
+    ds = wobble.run(data)
+    path = wobble.write_netcdf(ds, tmp_path / "a.nc")
+    back = wobble.load(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert_cf_compliant(path)
+    wobble.run_to_netcdf(data, tmp_path / "b.nc")
+    streamed = wobble.load(tmp_path / "b.nc")
+    xr.testing.assert_allclose(streamed, ds, rtol=1e-12)
+    assert_cf_compliant(tmp_path / "b.nc")
+
+
+def test_the_measurement_reads_files_and_speaks_the_result_vocabulary(tmp_path, assert_cf_compliant):
+    data = _short_case()
+    data["time"]["stop"] = "2 yr"
+    path = tmp_path / "run.nc"
+    wobble.run_to_netcdf(data, path)
+    m = wobble.measure_precession(path)
+    d = m.to_dict()
+    assert d["axis"] == "angular_momentum" and d["samples"] == 732 and d["perturber"] == "moon"
+    assert abs(d["rate_difference"]) < 2e-3 and d["rate_arcsec_per_century"] < 0
+    assert "averaged model" in m.summary() and "principal nutation" in m.summary()
+    out = wobble.write_netcdf(m.to_dataset(), tmp_path / "m.nc")
+    assert_cf_compliant(out)
+    back = wobble.load(out)
+    assert float(back["precession_rate"]) == pytest.approx(m.rate.to_value(u.rad / u.s), rel=1e-15)
+    with pytest.raises(InputError, match="node_rate: .*no Keplerian perturber"):
+        wobble.measure_precession(wobble.run("tennis_racket"))
+    with pytest.raises(FileFormatError):
+        wobble.measure_precession(tmp_path / "missing.nc")
