@@ -115,12 +115,14 @@ def test_rigid_mantle_fcn_is_the_poincare_frequency():
 
 @pytest.mark.parametrize("name", ["earth", "mars"])
 def test_coupling_off_gives_todays_chandler_budget(name):
-    """Same physics, other code path: the first-order, uncoupled mode equals equation (1), triaxial and anelastic."""
+    """Same physics, other code path: the uncoupled mode (a 4x4 eigenproblem) equals the budget's
+    equation (1), triaxial and anelastic, to rounding (the issue asks 0.05 d)."""
     modes = wobble.normal_modes(name)
     budget = wobble.chandler_budget(name)
-    assert abs((modes.chandler_first_order - budget.period).to_value(u.day)) < 1e-6
-    # The full Liouville equations keep D m' (second order): about +0.1 %; the coupling itself is smaller still.
-    assert abs((modes.chandler_coupling_off - budget.period).to_value(u.day)) < 0.002 * budget.period.to_value(u.day)
+    assert abs((modes.chandler_coupling_off - budget.period).to_value(u.day)) < 1e-6
+    # The classic first-order formula drops the deformation's angular momentum D m': about -0.1 %.
+    drop = (budget.period - modes.chandler_first_order).to_value(u.day) / budget.period.to_value(u.day)
+    assert 3e-4 < drop < 2e-3
     assert abs(modes.fcn_effect_on_chandler.to_value(u.day)) < 0.2
 
 

@@ -324,7 +324,7 @@ def chandler_budget(body: str | os.PathLike | Planet, model: str = "full") -> Ch
     >>> [step.name for step in budget.steps]
     ['rigid', 'elastic', 'fluid_core', 'ocean_pole_tide', 'anelastic']
     >>> print(f"{budget.steps[0].period:.1f} -> {budget.period:.1f}; observed {budget.observed:.1f}")
-    303.6 d -> 431.5 d; observed 433.1 d
+    303.6 d -> 432.1 d; observed 433.1 d
     """
     planet = load_planet(body)
     if not isinstance(model, str):

@@ -122,7 +122,7 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     ...                            Path(folder.name) / "mars.nc")
     >>> ds = wobble.load(path)
     >>> print(f"{ds.wobble.quantity('model_period')[0]:.1f} model, {ds.wobble.quantity('observed_period')[0]:.1f} observed")
-    205.4 d model, 206.9 d observed
+    205.6 d model, 206.9 d observed
     >>> folder.cleanup()
     """
     ds = open_wobble(path)

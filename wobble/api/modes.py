@@ -363,7 +363,7 @@ class NormalModes:
 
     @property
     def chandler_first_order(self) -> u.Quantity:
-        """Chandler period with the coupling off and the budget's first-order truncation, days."""
+        """Chandler period with the coupling off and the deformation's own angular momentum dropped (the classic first-order formula), days."""
         return _days(abs(2 * math.pi / self.raw.cw_rate_first_order))
 
     @property
@@ -450,8 +450,9 @@ class NormalModes:
         cw = self.mode("CW")
         lines.append(
             f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off {self.chandler_coupling_off.to_value(u.day):.2f} d "
-            f"(FCN effect {self.fcn_effect_on_chandler.to_value(u.day):+.2f} d); first order, coupling off "
-            f"{self.chandler_first_order.to_value(u.day):.2f} d = the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d"
+            f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d (FCN effect "
+            f"{self.fcn_effect_on_chandler.to_value(u.day):+.2f} d; the classic first-order formula would give "
+            f"{self.chandler_first_order.to_value(u.day):.2f} d)"
         )
         if self.figure is not None:
             lines.append("  " + self.figure.summary().replace("\n", "\n  "))

@@ -4,15 +4,20 @@ One formula carries every step. For a body spinning at Omega about the axis
 of its largest (or smallest) principal moment C, with equatorial moments
 A <= B, the free wobble frequency is
 
-    sigma = Omega * sqrt( (C - A - D)(C - B - D) / ((A - A_f)(B - A_f)) )     (1)
+    sigma = Omega * sqrt( (C - A - D)(C - B - D) / ((A - A_f + D)(B - A_f + D)) )     (1)
 
-* rigid body (notes, sec. 5.6): D = A_f = 0, giving Euler's
+* rigid body (notes, sec. 5.6; Goldstein, Poole & Safko 2002, sec. 5.6): D = A_f = 0, giving Euler's
   sigma = Omega sqrt((C - A)(C - B)/(AB)), which for A = B is the notes'
   Omega (I3 - I1)/I1;
 * elastic yielding: the centrifugal potential of the wobble deforms the body
   and adds D = k2 a^5 Omega^2/(3 G) to the products of inertia, i.e.
   sigma = sigma_E (1 - k2/k_s) with the secular Love number
   k_s = 3 G (C - A)/(a^5 Omega^2) (Munk & MacDonald 1960; Smith & Dahlen 1981);
+  the D in the denominator is the angular momentum the deformation itself carries
+  as it turns with the wobble, the (1 + sigma) kappa term of the linearised Liouville
+  equations (Sasao, Okubo & Saito 1980): a factor 1/(1 + D/A_m) on sigma, about 1e-3,
+  which the classic first-order formula drops. With it this budget is exactly the
+  Chandler mode of :mod:`wobble.models.modes` with the core-mantle coupling off;
 * a liquid core does not follow the mantle's wobble: the equatorial moment
   that carries it is the mantle's, A_m = A - A_f (Smith & Dahlen 1981;
   Sasao, Okubo & Saito 1980: sigma = Omega (A/A_m)(e - kappa));
@@ -224,7 +229,8 @@ def free_wobble_rate_array(spin, c_minus_a, c_minus_b, d=0.0, core=0.0):
     eb = np.asarray(c_minus_b, dtype=float) - d
     mantle_a = 1.0 - np.asarray(c_minus_a) - core  # (A - A_f)/C
     mantle_b = 1.0 - np.asarray(c_minus_b) - core  # (B - A_f)/C
-    den = mantle_a * mantle_b
+    # The deformation's own angular momentum, D, rides with the mantle's (equation (1)).
+    den = (mantle_a + d) * (mantle_b + d)
     num = ea * eb
     # Each factor must be positive: a core larger than both A and B makes den > 0 too.
     code = np.where(~((mantle_a > 0) & (mantle_b > 0)), 2, np.where(num < 0, 1, 0)).astype(np.int8)
@@ -585,9 +591,9 @@ def _anelastic_fixed_point(vals, omega, ca, cb, core, ocean, rate):
 def _quality_factor(vals, omega, ca, cb, core, k_real, k_imag):
     """Q = Re sigma / (2 abs(Im sigma)) with the complex k2 in equation (1)."""
     d = vals.deformation(k_real + 1j * k_imag)
-    den = (1.0 - ca - core) * (1.0 - cb - core)
-    sigma = omega * np.sqrt((ca - d) * (cb - d) / den + 0j)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # members already marked invalid carry NaN
+        den = (1.0 - ca - core + d) * (1.0 - cb - core + d)
+        sigma = omega * np.sqrt((ca - d) * (cb - d) / den + 0j)
         return np.abs(sigma.real) / (2.0 * np.abs(sigma.imag))
 
 

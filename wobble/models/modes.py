@@ -30,12 +30,12 @@ The equations are solved as a 4 x 4 real eigenproblem, so a triaxial mantle
 mode is solved with k2 at its own frequency (the Chandler budget's model,
 IERS Conventions 2010 eq. 6.12), by iteration.
 
-Two reductions tie this to the Chandler budget (:mod:`wobble.models.chandler`):
-with the coupling off (e_f = beta = gamma = 0) the core rows give
-m + m_f fixed in space, and the mantle rows decouple *exactly* to
-sigma^2 = (C - A - D)(C - B - D)/((A_m + D)(B_m + D)); dropping the deformation's
-own angular momentum D m' (a product of two small quantities, omitted by the
-budget's equation (1)) leaves equation (1) itself.
+The tie to the Chandler budget (:mod:`wobble.models.chandler`): with the
+coupling off (e_f = beta = gamma = 0) the core rows give m + m_f fixed in
+space, and the mantle rows decouple *exactly* to
+sigma^2 = (C - A - D)(C - B - D)/((A_m + D)(B_m + D)), the budget's equation (1).
+Dropping the deformation's own angular momentum D m' as well (a product of two
+small quantities) gives the classic first-order formula, reported beside it.
 """
 
 from __future__ import annotations
@@ -140,8 +140,8 @@ def mode_rates(
         False turns the core-mantle coupling off (e_f = beta = gamma = 0): the
         core keeps its orientation in space and only the mantle wobbles.
     second_order : bool
-        False drops the deformation's own angular momentum D m' (the budget's
-        first-order equation (1)).
+        False drops the deformation's own angular momentum D m' (the classic
+        first-order formula; equation (1) of the budget keeps it).
     which : tuple of str
         The modes wanted.
 
@@ -277,7 +277,7 @@ class NormalModes:
     cw_rate_uncoupled : float
         CW rate with the core-mantle coupling off (same Liouville equations), rad/s.
     cw_rate_first_order : float
-        CW rate with the coupling off and D m' dropped: the Chandler budget's equation (1).
+        CW rate with the coupling off and D m' dropped: the classic first-order formula.
     core_flattening_excess_sigma : float or None
         One-sigma uncertainty of required/hydrostatic - 1 (shared parameters correlated).
     contributions : dict
