@@ -170,15 +170,22 @@ def load_precession_reference(name: str = "iau2006") -> ParameterFile:
         return _read(path, "precession_reference", REFERENCE_UNITS)
 
 
-def load_nutation_reference(name: str = "rigid_earth_nutation") -> ParameterFile:
-    """A published rigid-Earth principal nutation (``rigid_earth_nutation``: REN-2000's 18.6-year term).
+def load_nutation_reference(name: str | os.PathLike = "rigid_earth_nutation") -> ParameterFile:
+    """A published rigid-Earth principal nutation: ``rigid_earth_nutation`` (REN-2000's 18.6-year term) or a file.
 
     Its ``nutation_longitude``, ``nutation_obliquity`` and ``dynamical_flattening``
     are required; a file without them, or with a flattening outside (0, 1), is a
     FileFormatError naming the key.
     """
-    with resources.as_file(_dir() / f"{name}.toml") as path:
-        pf = _read(path, "nutation_reference", NUTATION_REFERENCE_UNITS)
+    text = os.fspath(name)
+    if Path(text).is_file():
+        pf = _read(text, "nutation_reference", NUTATION_REFERENCE_UNITS)
+    else:
+        entry = _dir() / f"{text.strip().lower()}.toml"
+        if not entry.is_file():
+            raise InputError("nutation reference", text, "rigid_earth_nutation, or the path of a nutation_reference file")
+        with resources.as_file(entry) as path:
+            pf = _read(path, "nutation_reference", NUTATION_REFERENCE_UNITS)
     for key in ("nutation_longitude", "nutation_obliquity", "dynamical_flattening"):
         pf.require(key, "the comparison of the principal nutation with a rigid-Earth series")
     h = measured(pf, "dynamical_flattening", _ONE)
