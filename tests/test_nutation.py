@@ -9,7 +9,7 @@
   amplitudes must be the first-order formulas' (Woolard 1953).
 * REN-2000 (Souchay, Loysel, Kinoshita & Folgueira 1999), a rigid-Earth series
   computed from physical inputs: the first-order amplitudes from its own H are
-  within 0.1 % of its 18.6-year term (the issue's criterion: 1 %).
+  within 0.1 % of its 18.6-year term (the criterion asked: 1 %).
 * IAU 2000A (Mathews, Herring & Buffett 2002): the rigid-body amplitudes are
   larger than the non-rigid Earth's, by less than 0.5 %.
 """
@@ -164,8 +164,8 @@ def test_first_order_amplitudes_from_the_series_h_are_ren_2000s():
     """The first-order formula with REN-2000's own H_D against REN-2000's 18.6-year term.
 
     REN-2000 is computed from physical inputs (H_D, the lunar and solar theories) and adds
-    the second-order, crossed-nutation and planetary-tilt terms; the issue's criterion is
-    1 %, the first-order model is within 0.03 %.
+    the second-order, crossed-nutation and planetary-tilt terms; the criterion asked of the
+    model is 1 %, the first-order model is within 0.03 %.
     """
     from wobble.io.perturbers import NUTATION_REFERENCE_UNITS, load_nutation_reference
 
