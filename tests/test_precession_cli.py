@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import pytest
 import xarray as xr
@@ -36,6 +37,24 @@ def test_json_keys_scripts_rely_on(capsys):
         assert all({"name", "value"} <= set(t) for t in d["terms"])
     assert abs(-data[0]["first_order_arcsec_per_century"] - 5040.70) < 0.05
     assert abs(data[1]["rate_mas_per_year"] + 7608.3) < 10
+
+
+def test_the_principal_nutation_is_shown_beside_the_rigid_earth_series_and_iau_2000a(capsys):
+    status, out, _ = _run(capsys, "precession", "earth")
+    assert status == 0
+    assert "rigid Earth, REN-2000 (Souchay et al. 1999; H = 0.0032737548): -17.2806\", +9.2279\"" in out
+    shown = re.search(r"model - REN-2000: ([+-][0-9.]+) %, ([+-][0-9.]+) %", out)
+    assert shown and "model - IAU 2000A:" in out
+    status, out, _ = _run(capsys, "precession", "earth", "--json")
+    (nut,) = json.loads(out)[0]["nutation"]
+    assert float(shown[1]) == pytest.approx(nut["difference_rigid_longitude_percent"], abs=5e-4)
+    assert float(shown[2]) == pytest.approx(nut["difference_rigid_obliquity_percent"], abs=5e-4)
+    assert nut["rigid_earth_series"] == "REN-2000"
+    assert nut["rigid_earth_longitude_arcsec"] == -17.2805921 and nut["rigid_earth_obliquity_arcsec"] == 9.22791
+    assert nut["rigid_earth_dynamical_flattening"] == 3.2737548e-3
+    assert abs(nut["difference_rigid_longitude_percent"]) < 1 and abs(nut["difference_rigid_obliquity_percent"]) < 1
+    assert nut["iau2000a_longitude_arcsec"] == -17.2064161
+    assert "Souchay" in nut["rigid_earth_source"]
 
 
 def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):

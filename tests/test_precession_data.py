@@ -59,3 +59,55 @@ def test_moon_solar_perturbation_factor(lunar_averages):
 def test_moon_node_rate_is_18_6_years():
     node = measured(load_perturber("moon"), "node_rate", PERTURBER_UNITS["node_rate"]).value
     assert 2 * math.pi / abs(node) / (365.25 * 86400) == pytest.approx(18.61, abs=0.01)
+
+
+# -- the rigid-Earth series (data/precession/rigid_earth_nutation.toml) -----------------
+
+ARCSEC = math.pi / 180 / 3600
+
+
+def test_rigid_earth_series_is_read_with_its_units():
+    from wobble.io.perturbers import NUTATION_REFERENCE_UNITS, load_nutation_reference
+
+    ref = load_nutation_reference()
+    assert ref.kind == "nutation_reference"
+
+    def si(key):
+        return measured(ref, key, NUTATION_REFERENCE_UNITS[key]).value
+
+    # The file's own units: picoradians, arcseconds, radians, arcsec per century.
+    assert si("retrograde_amplitude") == pytest.approx(39031706.5e-12, rel=1e-12)
+    assert si("prograde_amplitude") == pytest.approx(5706463.6e-12, rel=1e-12)
+    assert si("nutation_longitude") == pytest.approx(-17.2805921 * ARCSEC, rel=1e-12)
+    assert si("nutation_obliquity") == pytest.approx(9.2279100 * ARCSEC, rel=1e-12)
+    assert si("dynamical_flattening") == 3.2737548e-3
+    assert si("general_precession") == pytest.approx(5028.77 * ARCSEC / (36525 * 86400), rel=1e-12)
+    assert {ref.get(k).status for k in ("nutation_longitude", "nutation_obliquity")} == {"derived"}
+    assert all("REN-2000" in ref.get(k).source for k in ("retrograde_amplitude", "nutation_longitude"))
+
+
+def test_rigid_earth_coefficients_follow_from_the_circular_components():
+    """Delta eps = P_retro + P_pro, Delta psi sin(eps_0) = P_pro - P_retro: the sum the carrying code performs."""
+    from wobble.io.perturbers import NUTATION_REFERENCE_UNITS, load_nutation_reference
+
+    ref = load_nutation_reference()
+
+    def si(key):
+        return measured(ref, key, NUTATION_REFERENCE_UNITS[key]).value
+
+    retro, pro, eps0 = si("retrograde_amplitude"), si("prograde_amplitude"), si("conversion_obliquity")
+    assert (pro - retro) / math.sin(eps0) / ARCSEC == pytest.approx(si("nutation_longitude") / ARCSEC, abs=1e-7)
+    assert (pro + retro) / ARCSEC == pytest.approx(si("nutation_obliquity") / ARCSEC, abs=1e-7)
+
+
+def test_a_nutation_reference_without_its_coefficient_is_refused(tmp_path):
+    from wobble.errors import FileFormatError, InputError
+    from wobble.io.perturbers import load_nutation_reference
+
+    path = tmp_path / "series.toml"
+    path.write_text('schema = "wobble/1"\nkind = "nutation_reference"\nname = "x"\n'
+                    '[parameters.dynamical_flattening]\nvalue = 3.27e-3\nunit = ""\nsource = "test"\nstatus = "assumed"\n')
+    with pytest.raises(FileFormatError, match="nutation_longitude"):
+        load_nutation_reference(path)
+    with pytest.raises(InputError, match="rigid_earth_nutation"):
+        load_nutation_reference("no_such_series")

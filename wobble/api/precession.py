@@ -25,7 +25,16 @@ from astropy import units as u
 
 from wobble.api.chandler import Planet, load_planet
 from wobble.errors import FileFormatError, InputError
-from wobble.io.perturbers import PERTURBER_UNITS, REFERENCE_UNITS, load_perturber, load_precession_reference, measured, perturbers_of
+from wobble.io.perturbers import (
+    NUTATION_REFERENCE_UNITS,
+    PERTURBER_UNITS,
+    REFERENCE_UNITS,
+    load_nutation_reference,
+    load_perturber,
+    load_precession_reference,
+    measured,
+    perturbers_of,
+)
 from wobble.io.parameter_file import ParameterFile
 from wobble.models import nutation as _nutation
 from wobble.models import precession as _model
@@ -38,6 +47,7 @@ __all__ = [
     "ARCSEC_PER_CENTURY",
     "PrecessionTerm",
     "LiteratureStep",
+    "RigidEarthNutation",
     "PrincipalNutation",
     "PrecessionBudget",
     "precession_rate",
@@ -94,6 +104,44 @@ class LiteratureStep:
 
 
 @dataclass(frozen=True)
+class RigidEarthNutation:
+    """A published rigid-Earth series' 18.6-year term, to compare the rigid model with like for like.
+
+    Attributes
+    ----------
+    name : str
+        The series (``REN-2000``).
+    longitude, obliquity : Quantity
+        Its coefficients of sin(Omega) in Delta psi and cos(Omega) in Delta eps, as
+        published (IAU sign), arcsec.
+    dynamical_flattening : float
+        The H the series was computed with.
+    scale : float
+        The model's H over the series' H: a first-order amplitude is proportional
+        to H, so ``scale * longitude`` is the series brought to the model's H.
+    source : str
+        Where the numbers come from.
+    """
+
+    name: str
+    longitude: u.Quantity
+    obliquity: u.Quantity
+    dynamical_flattening: float
+    scale: float
+    source: str
+
+    @property
+    def scaled_longitude(self) -> u.Quantity:
+        """The longitude coefficient at the model's H (``scale * longitude``), arcsec."""
+        return self.scale * self.longitude
+
+    @property
+    def scaled_obliquity(self) -> u.Quantity:
+        """The obliquity coefficient at the model's H (``scale * obliquity``), arcsec."""
+        return self.scale * self.obliquity
+
+
+@dataclass(frozen=True)
 class PrincipalNutation:
     """The nutation driven by a perturber's node regression (the Moon: 18.6 years).
 
@@ -109,6 +157,9 @@ class PrincipalNutation:
         Period of the node, Julian years.
     reference_longitude, reference_obliquity : Quantity or None
         IAU 2000A (non-rigid Earth, Mathews, Herring & Buffett 2002), arcsec.
+    rigid : RigidEarthNutation or None
+        A rigid-Earth series' 18.6-year term (REN-2000, Souchay et al. 1999), for
+        Earth's Moon; the like-for-like comparison of a rigid model.
     """
 
     perturber: str
@@ -117,15 +168,40 @@ class PrincipalNutation:
     period: u.Quantity
     reference_longitude: u.Quantity | None = None
     reference_obliquity: u.Quantity | None = None
+    rigid: RigidEarthNutation | None = None
+
+    @property
+    def rigid_difference(self) -> tuple[float, float] | None:
+        """(longitude, obliquity): model over the rigid-Earth series at the model's H, minus 1 (None without one)."""
+        if self.rigid is None:
+            return None
+        return (float(self.longitude / self.rigid.scaled_longitude - 1), float(self.obliquity / self.rigid.scaled_obliquity - 1))
 
     def to_dict(self) -> dict:
-        """JSON-ready amplitudes (arcsec) and their differences from IAU 2000A."""
+        """JSON-ready amplitudes (arcsec) and their differences from the rigid-Earth series and from IAU 2000A."""
         out = {
             "perturber": self.perturber,
             "period_years": float(self.period.to_value(u.yr)),
             "longitude_arcsec": float(self.longitude.to_value(u.arcsec)),
             "obliquity_arcsec": float(self.obliquity.to_value(u.arcsec)),
         }
+        if self.rigid is not None:
+            r = self.rigid
+            dl, de = self.rigid_difference
+            out.update(
+                {
+                    "rigid_earth_series": r.name,
+                    "rigid_earth_longitude_arcsec": float(r.longitude.to_value(u.arcsec)),
+                    "rigid_earth_obliquity_arcsec": float(r.obliquity.to_value(u.arcsec)),
+                    "rigid_earth_dynamical_flattening": r.dynamical_flattening,
+                    "rigid_earth_scale_to_model_h": r.scale,
+                    "rigid_earth_longitude_scaled_arcsec": float(r.scaled_longitude.to_value(u.arcsec)),
+                    "rigid_earth_obliquity_scaled_arcsec": float(r.scaled_obliquity.to_value(u.arcsec)),
+                    "difference_rigid_longitude_percent": 100 * dl,
+                    "difference_rigid_obliquity_percent": 100 * de,
+                    "rigid_earth_source": r.source,
+                }
+            )
         if self.reference_longitude is not None:
             out["iau2000a_longitude_arcsec"] = float(self.reference_longitude.to_value(u.arcsec))
             out["iau2000a_obliquity_arcsec"] = float(self.reference_obliquity.to_value(u.arcsec))
@@ -415,6 +491,24 @@ def _iau_references(ref: ParameterFile) -> dict[str, u.Quantity]:
     }
 
 
+def _rigid_reference(model_flattening: float) -> RigidEarthNutation:
+    """REN-2000's 18.6-year term from the catalogue, with the ratio of the model's H to the series'."""
+    ref = load_nutation_reference()
+
+    def q(key):
+        return measured(ref, key, NUTATION_REFERENCE_UNITS[key]).value
+
+    h = q("dynamical_flattening")
+    return RigidEarthNutation(
+        "REN-2000",
+        (q("nutation_longitude") << u.rad).to(u.arcsec),
+        (q("nutation_obliquity") << u.rad).to(u.arcsec),
+        h,
+        model_flattening / h,
+        ref.get("nutation_longitude").source,
+    )
+
+
 def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> PrecessionBudget:
     """The forced precession rate of a planet's spin axis, term by term, from its physical parameters.
 
@@ -457,12 +551,14 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     inputs = _prepare([pf.name for pf in satellites])(values)
     nutation = []
     refs = None
+    rigid = None
     steps: list[LiteratureStep] = []
     notes = []
     if planet.name == "earth":
         geodesic = next(t.rate for t in raw.terms if t.name == "geodesic")
         steps, ref_file = _literature_steps(raw.torque_rate, geodesic)
         refs = _iau_references(ref_file)
+        rigid = _rigid_reference(inputs.dynamical_flattening)
     for orbit in inputs.orbits:
         if orbit.node_rate:
             n = _nutation.nodal_nutation(inputs.dynamical_flattening, inputs.spin_rate, inputs.obliquity, orbit)
@@ -474,6 +570,7 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
                     (n.period << u.s).to(u.yr),
                     None if refs is None else refs["nutation_longitude"],
                     None if refs is None else refs["nutation_obliquity"],
+                    rigid if orbit.name == "moon" else None,
                 )
             )
     obs = planet.file.get("observed_precession_rate")
@@ -483,7 +580,19 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
 
 
 def principal_nutation(body: str | os.PathLike | Planet = "earth", perturbers=None) -> list[PrincipalNutation]:
-    """The rigid-body principal nutation of ``body`` from each perturber with a node rate (the Moon)."""
+    """The rigid-body principal nutation of ``body`` from each perturber with a node rate (the Moon).
+
+    For Earth's Moon each result carries the rigid-Earth series REN-2000's 18.6-year
+    term (``rigid``; Souchay et al. 1999), the like-for-like comparison, and IAU 2000A's
+    (``reference_longitude``, ``reference_obliquity``; non-rigid Earth).
+
+    Examples
+    --------
+    >>> import wobble
+    >>> (n,) = wobble.principal_nutation("earth")
+    >>> print(f"{n.longitude:.4f} vs REN-2000 {n.rigid.scaled_longitude:.4f}")
+    -17.2857 arcsec vs REN-2000 -17.2808 arcsec
+    """
     return precession_rate(body, perturbers).nutation
 
 
@@ -602,6 +711,15 @@ def _summary(b: PrecessionBudget) -> str:
         lines.append(f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), rigid body, first order:")
         line = f"    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}\" sin(Omega), Delta eps = {n.obliquity.to_value(u.arcsec):+.4f}\" cos(Omega)"
         lines.append(line)
+        if n.rigid is not None:
+            r = n.rigid
+            dl, de = n.rigid_difference
+            lines.append(f"    rigid Earth, {r.name} (Souchay et al. 1999; H = {r.dynamical_flattening:.8g}): "
+                         f"{r.longitude.to_value(u.arcsec):+.4f}\", {r.obliquity.to_value(u.arcsec):+.4f}\"; "
+                         f"at the catalogue's H (x {r.scale:.7f}): {r.scaled_longitude.to_value(u.arcsec):+.4f}\", "
+                         f"{r.scaled_obliquity.to_value(u.arcsec):+.4f}\"")
+            lines.append(f"    model - {r.name}: {100 * dl:+.3f} %, {100 * de:+.3f} % (the series adds the second-order and "
+                         "planetary-tilt terms a first-order model leaves out)")
         if n.reference_longitude is not None:
             dl = 100 * float(n.longitude / n.reference_longitude - 1)
             de = 100 * float(n.obliquity / n.reference_obliquity - 1)

@@ -30,7 +30,8 @@ def register(sub) -> None:
         description="The precession rate of a planet's spin axis from its dynamical flattening, spin, obliquity "
         "and its perturbers' orbits, each term shown (Sun, Moon, eccentricity, inclination, the Sun's perturbation "
         "of the lunar orbit, geodesic precession), the published steps to IAU 2006 for Earth, and the rigid-body "
-        "principal nutation from the Moon's node.",
+        "principal nutation from the Moon's node beside the rigid-Earth series REN-2000 (Souchay et al. 1999) and "
+        "the non-rigid IAU 2000A.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

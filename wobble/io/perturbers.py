@@ -10,6 +10,11 @@ other perturbers are those whose ``primary`` is the planet's name.
 ``data/precession/iau2006.toml`` (``kind = "precession_reference"``) holds
 the published steps from the first-order lunisolar rate to IAU 2006's psi_A
 and p_A, shown next to Earth's budget.
+
+``data/precession/rigid_earth_nutation.toml`` (``kind = "nutation_reference"``)
+holds a rigid-Earth series' 18.6-year term (REN-2000, Souchay et al. 1999) and
+the dynamical flattening it was computed with, shown next to the model's
+principal nutation.
 """
 
 from __future__ import annotations
@@ -32,6 +37,8 @@ __all__ = [
     "load_perturber",
     "perturbers_of",
     "load_precession_reference",
+    "NUTATION_REFERENCE_UNITS",
+    "load_nutation_reference",
     "measured",
 ]
 
@@ -59,6 +66,15 @@ REFERENCE_UNITS: dict[str, u.UnitBase] = {
     "general_precession": u.rad / u.s,
     "nutation_longitude_iau2000a": u.rad,
     "nutation_obliquity_iau2000a": u.rad,
+}
+NUTATION_REFERENCE_UNITS: dict[str, u.UnitBase] = {
+    "retrograde_amplitude": u.rad,
+    "prograde_amplitude": u.rad,
+    "conversion_obliquity": u.rad,
+    "nutation_longitude": u.rad,
+    "nutation_obliquity": u.rad,
+    "dynamical_flattening": _ONE,
+    "general_precession": u.rad / u.s,
 }
 
 
@@ -152,3 +168,27 @@ def load_precession_reference(name: str = "iau2006") -> ParameterFile:
     """The published precession steps (``iau2006``)."""
     with resources.as_file(_dir() / f"{name}.toml") as path:
         return _read(path, "precession_reference", REFERENCE_UNITS)
+
+
+def load_nutation_reference(name: str | os.PathLike = "rigid_earth_nutation") -> ParameterFile:
+    """A published rigid-Earth principal nutation: ``rigid_earth_nutation`` (REN-2000's 18.6-year term) or a file.
+
+    Its ``nutation_longitude``, ``nutation_obliquity`` and ``dynamical_flattening``
+    are required; a file without them, or with a flattening outside (0, 1), is a
+    FileFormatError naming the key.
+    """
+    text = os.fspath(name)
+    if Path(text).is_file():
+        pf = _read(text, "nutation_reference", NUTATION_REFERENCE_UNITS)
+    else:
+        entry = _dir() / f"{text.strip().lower()}.toml"
+        if not entry.is_file():
+            raise InputError("nutation reference", text, "rigid_earth_nutation, or the path of a nutation_reference file")
+        with resources.as_file(entry) as path:
+            pf = _read(path, "nutation_reference", NUTATION_REFERENCE_UNITS)
+    for key in ("nutation_longitude", "nutation_obliquity", "dynamical_flattening"):
+        pf.require(key, "the comparison of the principal nutation with a rigid-Earth series")
+    h = measured(pf, "dynamical_flattening", _ONE)
+    if not 0.0 < h.value < 1.0:
+        raise FileFormatError(pf.path, "parameters.dynamical_flattening.value", f"got {h.value!r}; allowed: 0 < H < 1")
+    return pf

@@ -19,7 +19,11 @@ Pap. Amer. Ephem. XV, part I; Kinoshita 1977, Celest. Mech. 15, 277):
 
 in the IAU convention (Delta psi positive westward along the ecliptic, as
 IAU 2000A: -17.2064" sin Omega, +9.2052" cos Omega). The ratio of the two
-amplitudes, 2 cot(2 eps), depends on the obliquity only.
+amplitudes, 2 cot(2 eps), depends on the obliquity only. For Earth the formula
+with the rigid-Earth series REN-2000's own H (Souchay, Loysel, Kinoshita &
+Folgueira 1999; -17.2806", +9.2279") is within 0.03 % of that series, which
+adds the second-order and planetary-tilt terms; the non-rigid Earth's
+IAU 2000A term is 0.4 % smaller.
 
 Everything in SI (rad, s).
 """
