@@ -24,8 +24,9 @@ import json
 import os
 from pathlib import Path
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import xarray as xr
 from astropy import units as u
 
 from wobble.api.engine import Torque
@@ -34,6 +35,9 @@ from wobble.io import cf
 from wobble.io import scene_file as _sf
 from wobble.io.netcdf import StreamingWriter, simulation_time_units
 from wobble.models import scene as _scene
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["Scene", "run", "run_to_netcdf", "read_scene", "example_scenes"]
 
@@ -172,7 +176,10 @@ def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
         coords["time"][2]["bounds"] = "time_bounds"
     if scene.ensemble:
         coords["member"] = ("member", np.arange(scene.members, dtype=np.int64), {"long_name": "ensemble member", "units": "1"})
-    return xr.Dataset(data_vars, coords=coords)
+    from wobble.api.dataset import xarray
+
+    # Through wobble.api.dataset: every Dataset wobble returns carries the ds.wobble accessor.
+    return xarray().Dataset(data_vars, coords=coords)
 
 
 def _attributes(scene: _scene.Scene, record: _scene.RunRecord) -> dict:
