@@ -1025,11 +1025,11 @@ def example_cases(draw):
 
 
 @st.composite
-def bench_cases(draw):
+def bench_cases(draw, real: bool = True):
     from wobble.cli.bench import CASE_KEYS
 
     argv: list[str] = []
-    if draw(st.integers(0, 3)) == 0:  # a real (short) run
+    if real and draw(st.integers(0, 3)) == 0:  # a real (short) run
         argv += ["--smoke", "--case", draw(st.sampled_from(["free_generic", "top_cusps", "user_free"]))]
     else:  # refusals: unknown cases, bad repeats, bad outputs, conflicting modes
         argv += draw(st.sampled_from([["--case", "bogus"], ["--repeats", "0"], ["--repeats", "-1"], ["--repeats", "x"],
@@ -1060,6 +1060,8 @@ _BUILDERS = {
 }
 
 
-def case_strategy(command: str):
-    """Generated inputs for ``wobble COMMAND``."""
+def case_strategy(command: str, real_bench: bool = True):
+    """Generated inputs for ``wobble COMMAND`` (``real_bench=False``: no benchmark runs, its refusals only)."""
+    if command == "bench":
+        return bench_cases(real_bench)
     return _BUILDERS[command]()
