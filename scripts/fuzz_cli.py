@@ -162,6 +162,8 @@ def main(argv=None) -> int:
             row["status"].update(statuses)
             row["seconds"] += seconds
             for f in found:
+                if f["signature"] not in failures and not f.get("warning"):
+                    print(f"  new failure: {f['problem']}\n    {f['case'].show().splitlines()[0]}", flush=True)
                 entry = failures.setdefault(f["signature"], {"count": 0, **f, "command": command})
                 entry["count"] += 1
             elapsed = time.perf_counter() - started

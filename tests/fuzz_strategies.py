@@ -272,7 +272,8 @@ def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | N
             problems.append(f"failure printed {len(lines)} lines on stderr (one expected)")
         if lines and "error" not in lines[-1]:
             problems.append(f"failure's last stderr line is not an error: {lines[-1][:120]!r}")
-    if status == 0 and "--json" in case.argv and "--help" not in case.argv and "-h" not in case.argv:
+    options = case.argv[: case.argv.index("--")] if "--" in case.argv else case.argv  # after "--", all positional
+    if status == 0 and "--json" in options and "--help" not in options and "-h" not in options:
         try:
             _strict_json(stdout)
         except ValueError as exc:
@@ -286,7 +287,7 @@ def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | N
 def _file_problems(case: Case, folder: Path, before: dict, status) -> list[str]:
     after = _snapshot(folder)
     roles = output_roles(case)
-    overwrite = "--overwrite" in case.argv
+    overwrite = "--overwrite" in (case.argv[: case.argv.index("--")] if "--" in case.argv else case.argv)
     problems = []
     for name in before:
         if name not in after:
@@ -336,11 +337,21 @@ def signature(problem: str) -> str:
     return problem.split(":", 1)[0] + ": " + problem.split(":", 1)[-1].split("(")[0].strip()[:80] if ":" in problem else problem
 
 
-def minimize(case: Case, problem_signature: str, base=None) -> Case:
-    """Drop arguments (an option with its values) while the failure with ``problem_signature`` persists."""
+def minimize(case: Case, problem_signature: str, base=None, trials: int = 60) -> Case:
+    """Drop arguments (an option with its values) while the failure with ``problem_signature`` persists.
+
+    At most ``trials`` reruns; a hang is reported as generated (each rerun would take its whole bound).
+    """
+    if problem_signature.startswith("hang"):
+        return case
+    budget = [trials]
 
     def fails(c: Case) -> bool:
-        return any(signature(p) == problem_signature for p in run_case(c, base).problems)
+        if budget[0] <= 0:
+            return False
+        budget[0] -= 1
+        outcome = run_case(c, base)
+        return any(signature(p) == problem_signature for p in outcome.problems + outcome.warnings)
 
     argv = list(case.argv)
     i = 1
