@@ -69,6 +69,15 @@ def test_top_plot_of_a_sleeping_top_draws_without_warnings(tmp_path, capsys):
     assert (tmp_path / "sleep.png").read_bytes().startswith(b"\x89PNG")
 
 
+def test_invert_seed_too_large_for_the_file_is_refused_before_sampling(capsys):
+    # Was: TypeError traceback writing the InferenceData file (the seed attribute is a 64-bit integer),
+    # after the whole run.
+    code, out, err = _run(["invert", "mars", "--seed", "99999999999999999999", "-o", "idata.nc"], capsys)
+    assert code == 2
+    assert err == ("wobble invert: error: --seed: got 99999999999999999999; allowed: a non-negative integer below "
+                   "2**63 (9223372036854775808)\n")
+
+
 @pytest.mark.slow
 def test_invert_with_more_walkers_than_steps_prints_no_warning(tmp_path, capsys):
     # Was: ArviZ's "More chains (32) than draws (20)" and emcee's "invalid value encountered in divide"
