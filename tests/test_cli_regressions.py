@@ -69,6 +69,18 @@ def test_top_plot_of_a_sleeping_top_draws_without_warnings(tmp_path, capsys):
     assert (tmp_path / "sleep.png").read_bytes().startswith(b"\x89PNG")
 
 
+def test_scene_whose_body_is_not_a_table_is_a_file_error(tmp_path, capsys):
+    # Was: TypeError traceback ("argument of type 'float' is not iterable") reading [body].
+    scene = tmp_path / "scene.toml"
+    scene.write_text('body = 1.5\n[initial]\nomega = { value = [0, 0, 1], unit = "rad/s" }\n'
+                     '[time]\nstop = "1 s"\nsamples = 3\n')
+    code, out, err = _run(["run", str(scene), "-o", str(tmp_path / "out.nc")], capsys)
+    assert code == 2
+    assert err == (f"wobble run: error: {scene}, body: got 1.5; allowed: a table with one of moments, tensor, "
+                   "planet, solid\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
+
+
 def test_invert_seed_too_large_for_the_file_is_refused_before_sampling(capsys):
     # Was: TypeError traceback writing the InferenceData file (the seed attribute is a 64-bit integer),
     # after the whole run.
