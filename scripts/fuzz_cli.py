@@ -152,8 +152,10 @@ def main(argv=None) -> int:
     done = 0
     # Each chunk runs in a fresh interpreter (threads here only wait for them).
     folder = tempfile.mkdtemp(prefix="wobble-fuzz-results-")
-    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        futures = [pool.submit(spawn_chunk, chunk, folder) for chunk in chunks]
+    pool = concurrent.futures.ThreadPoolExecutor(args.jobs)
+    futures = [pool.submit(spawn_chunk, chunk, folder) for chunk in chunks]
+    interrupted = False
+    try:
         for future in concurrent.futures.as_completed(futures):
             command, n, statuses, seconds, found = future.result()
             done += n
@@ -170,6 +172,10 @@ def main(argv=None) -> int:
             broken = sum(not f.get("warning") for f in failures.values())
             print(f"[{elapsed:7.1f} s] {done}/{args.count} inputs; {broken} distinct failures "
                   f"(last chunk: {command}, {n} inputs)", flush=True)
+    except KeyboardInterrupt:  # Ctrl-C: summarise the chunks that finished (their subprocesses got it too)
+        interrupted = True
+        print("interrupted: the summary covers the chunks that finished", flush=True)
+    pool.shutdown(wait=not interrupted, cancel_futures=True)
     wall = time.perf_counter() - started
     warned = {s: f for s, f in failures.items() if f.get("warning")}
     failures = {s: f for s, f in failures.items() if not f.get("warning")}

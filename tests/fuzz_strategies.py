@@ -514,6 +514,13 @@ TOML_EDGES = [0, -1, 1, 2, 3, 10**30, -(10**30), 0.0, -0.0, 1e-300, 1e300, -1e30
               [1e300, 1.0, 1.0], ["a"], {}, {"value": 1.0}, {"value": 1.0, "unit": "kg"}, 2**63, 1e-12, 100]
 
 
+#: Keys whose value sets how much work a run does (time spans, sample and member counts, grid sizes).
+_WORK_KEYS = {"start", "stop", "step", "samples", "values", "members", "num", "steps", "walkers", "burn", "prior_draws",
+              "ensembles", "chunk_size", "thin"}
+_WORK_EDGES = [0, -1, 1, 2, 0.0, -0.0, 0.5, float("nan"), float("inf"), float("-inf"), "", "x", "kg", True, [], {},
+               10**30, -(10**30)]
+
+
 def _paths(data, prefix=()):
     """Every (container, key, path) in a nested TOML mapping."""
     if isinstance(data, dict):
@@ -546,6 +553,10 @@ def mutated_toml(draw, base_text: str, mode: str = "wild"):
             break
         container, key, _path = places[draw(st.integers(0, len(places) - 1))]
         op = draw(st.sampled_from(ops))
+        if key in _WORK_KEYS:  # keep runs short: values that refuse or shorten, never lengthen
+            if op in ("edge", "number"):
+                container[key] = draw(st.sampled_from(_WORK_EDGES))
+                continue
         if op == "delete" and isinstance(container, dict):
             del container[key]
         elif op == "unknown" and isinstance(container, dict):
