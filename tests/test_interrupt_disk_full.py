@@ -4,9 +4,10 @@ Two ways, for every writer (netCDF written whole, streamed by ``wobble run`` and
 Zarr, PNG, the InferenceData file of ``wobble invert``, the copies of ``wobble example``, the TOML files of
 ``RigidBody.to_parameter_file``), each writer at least one way:
 
-* simulated in-process: the lowest layer each writer goes through is made to fail the way it fails
-  on a full disk (netCDF4 raises ``RuntimeError("NetCDF: HDF error")`` and the file system reports
-  no free space; zarr's, Pillow's and shutil's writes raise ``OSError(ENOSPC)``);
+* simulated in-process: the write path of each writer is made to fail the way it fails on a full
+  disk (xarray's netCDF write leaves part of the file and raises netCDF4's bare
+  ``RuntimeError("NetCDF: HDF error")`` while the file system reports no free space; zarr's chunk
+  writes, Pillow's PNG encoder and shutil's copy raise ``OSError(ENOSPC)``);
 * for real, in a child process under a file-size limit (``RLIMIT_FSIZE`` with SIGXFSZ ignored): the
   operating system refuses every write past the limit with EFBIG, as a full disk refuses with
   ENOSPC (no loop device or size-limited file system is needed).
@@ -53,18 +54,17 @@ def _full_statvfs(real):
 
 @pytest.fixture
 def full_netcdf(monkeypatch):
-    """netCDF4 fails as on a full disk: HDF5 cannot flush, netCDF4 raises a bare RuntimeError."""
-    import netCDF4
+    """xarray's netCDF writes fail as netCDF4 does on a full disk: part of the file, then a bare
+    RuntimeError("NetCDF: HDF error"), with the file system reporting no free space. (A Python
+    subclass of netCDF4.Dataset cannot stand in: the library cannot free its instances.)"""
+    import xarray as xr
 
-    class FullDisk(netCDF4.Dataset):
-        def close(self):
-            super().close()
-            raise RuntimeError("NetCDF: HDF error")
+    def to_netcdf(self, path=None, *args, **kwargs):
+        with open(path, "wb") as fh:
+            fh.write(b"\x89HDF\r\n\x1a\n partial")
+        raise RuntimeError("NetCDF: HDF error")
 
-        def sync(self):
-            raise RuntimeError("NetCDF: HDF error")
-
-    monkeypatch.setattr(netCDF4, "Dataset", FullDisk)
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", to_netcdf)
     monkeypatch.setattr(os, "statvfs", _full_statvfs(os.statvfs))
 
 
