@@ -29,6 +29,12 @@ def _env():
     return env
 
 
+def _default_sigint():
+    # As a shell starts a foreground job: Ctrl-C at its default, whatever this process inherited
+    # (an ignored SIGINT is inherited across exec, and Python then never raises KeyboardInterrupt).
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start(argv, cwd, tty=False):
     """``python -m wobble ARGV`` in a new session; stderr on a pseudo-terminal when ``tty`` (for progress lines)."""
     master = None
@@ -37,7 +43,7 @@ def _start(argv, cwd, tty=False):
         master, slave = pty.openpty()
         stderr = slave
     proc = subprocess.Popen([sys.executable, "-m", "wobble", *argv], cwd=cwd, stdout=subprocess.PIPE, stderr=stderr,
-                            stdin=subprocess.DEVNULL, env=_env(), start_new_session=True)
+                            stdin=subprocess.DEVNULL, env=_env(), start_new_session=True, preexec_fn=_default_sigint)
     if tty:
         os.close(slave)
     proc.master = master
