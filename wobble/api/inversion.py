@@ -494,7 +494,10 @@ class Inversion:
             groups["log_likelihood"] = {
                 m.name: (-0.5 * z[m.name] ** 2 - math.log(m.sigma / m.scale * math.sqrt(2 * math.pi)))[..., None] for m in measured
             }
-        with np.errstate(invalid="ignore"):
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            # ArviZ guesses the layout when there are more walkers (chains) than steps (draws); ours is
+            # (chain, draw) by construction, so its "More chains than draws" warning is noise on stderr.
+            warnings.filterwarnings("ignore", message="More chains", category=UserWarning)
             idata = az.from_dict(**groups)
         self._annotate(idata)
         self._idata = idata
@@ -547,7 +550,9 @@ class Inversion:
 
         idata = self.to_inference_data()
         with atomic_target(path, overwrite) as tmp:
-            idata.to_netcdf(tmp)
+            # netCDF4, as every wobble file: h5netcdf (ArviZ's default) leaves HDF5 objects open
+            # after a failed write (a full disk), and the interpreter then crashes closing them.
+            idata.to_netcdf(tmp, engine="netcdf4")
         from pathlib import Path
 
         return Path(path)

@@ -58,7 +58,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse with usage errors reported as one line and exit status 2."""
 
     def error(self, message: str):  # noqa: D401 - argparse API
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, f"{self.prog}: error: {_one_line(message)}\n")  # a value may hold a newline
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -32,7 +32,7 @@ import numpy as np
 import xarray as xr
 
 from wobble.errors import FileFormatError, InputError
-from wobble.io.atomic import atomic_target, check_target, new_temporary, publish
+from wobble.io.atomic import atomic_target, check_target, new_temporary, publish, write_error
 
 __all__ = [
     "CONVENTIONS",
@@ -304,6 +304,15 @@ class StreamingWriter:
 
     def append(self, block: xr.Dataset) -> None:
         """Append a block (a Dataset with a ``time`` dimension; the first one fixes the layout)."""
+        try:
+            self._append(block)
+        except RuntimeError as exc:  # netCDF4's report of a refused write (a full disk)
+            translated = write_error(exc, self.path)
+            if translated is None:
+                raise
+            raise translated from exc
+
+    def _append(self, block: xr.Dataset) -> None:
         if self.tmp is None:
             self.begin()
         if self.rows == 0:
@@ -337,9 +346,12 @@ class StreamingWriter:
             self._nc.close()
             self._nc = None
             publish(self.tmp, self.path)
-        except BaseException:
+        except BaseException as exc:
             self.discard()
-            raise
+            translated = write_error(exc, self.path)
+            if translated is None:
+                raise
+            raise translated from exc
         self.tmp = None
         return self.path
 

@@ -172,6 +172,8 @@ def _body(r: _Reader, data) -> tuple[BodyModel, np.ndarray | None]:
     """(BodyModel, centre of mass from the reference point or None)."""
     if data is None:
         raise r.missing("body", "give moments, tensor, planet or solid (docs/scenes.md)")
+    if not isinstance(data, dict):
+        raise r.error("body", data, "a table with one of moments, tensor, planet, solid")
     given = [k for k in ("moments", "tensor", "planet", "solid") if k in data]
     if len(given) != 1:
         raise r.error("body", sorted(data), "exactly one of moments, tensor, planet, solid")

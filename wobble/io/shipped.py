@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
-from wobble.errors import FileFormatError, InputError
+from wobble.errors import InputError
 
 __all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "copy_shipped"]
 
@@ -169,8 +169,6 @@ def copy_shipped(name: str, dest: str | os.PathLike | None = None, *, overwrite:
     if target.is_dir():
         target = target / found.name
     with resources.as_file(found.path()) as source, atomic_target(target, overwrite) as tmp:
-        try:
-            shutil.copyfile(source, tmp)
-        except OSError as exc:  # pragma: no cover - a broken installation
-            raise FileFormatError(source, None, f"cannot be read ({exc.strerror})") from None
+        # A failure names its file: the source for a broken installation, the target for a full disk.
+        shutil.copyfile(source, tmp)
     return target

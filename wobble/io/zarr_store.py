@@ -14,12 +14,13 @@ from __future__ import annotations
 
 import os
 import shutil
-import tempfile
+import time
 from pathlib import Path
 
 import xarray as xr
 
 from wobble.errors import FileFormatError, InputError, OutputExistsError
+from wobble.io.atomic import new_temporary_folder
 from wobble.io.netcdf import from_cf, to_cf
 
 __all__ = ["is_zarr_path", "open_wobble_zarr", "write_zarr_blocks"]
@@ -56,7 +57,7 @@ def write_zarr_blocks(template: xr.Dataset, path, blocks, *, overwrite: bool = F
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise InputError("output", str(path), "a path in an existing folder")
-    tmp = Path(tempfile.mkdtemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp"))
+    tmp = new_temporary_folder(path)
     try:
         cf = to_cf(template, command=command)
         # compute=False writes the metadata and the in-memory variables only.
@@ -66,17 +67,30 @@ def write_zarr_blocks(template: xr.Dataset, path, blocks, *, overwrite: bool = F
             group[name][index] = values
         zarr.consolidate_metadata(str(tmp), zarr_format=ZARR_FORMAT)
         _replace(tmp, path)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+    except BaseException as exc:
+        _remove(tmp)
+        if isinstance(exc, OSError) and exc.errno and not exc.filename:  # zarr's writes do not name the store
+            raise OSError(exc.errno, exc.strerror or os.strerror(exc.errno), str(path)) from exc
         raise
     return path
+
+
+def _remove(tmp: Path, settle: float = 2.0) -> None:
+    """Remove the temporary store, again if needed: after Ctrl-C, zarr's own I/O thread may still
+    finish a chunk it was writing (and recreate its folder) just after the first removal."""
+    deadline = time.monotonic() + settle
+    while True:
+        shutil.rmtree(tmp, ignore_errors=True)
+        time.sleep(0.05)
+        if not tmp.exists() or time.monotonic() > deadline:
+            return
 
 
 def _replace(tmp: Path, path: Path) -> None:
     """Rename the finished store onto ``path``; an old store is moved aside, then removed."""
     old = None
     if path.exists():
-        old = Path(tempfile.mkdtemp(dir=path.parent, prefix=f".{path.name}.", suffix=".old"))
+        old = new_temporary_folder(path, ".old")
         os.rmdir(old)
         os.replace(path, old)
     os.replace(tmp, path)

@@ -440,7 +440,12 @@ class Body:
         if np.array_equal(p, self.reference_point):
             return self
         mass = self._require_mass("shift the reference point")
-        tensor = self.central_tensor() + steiner_term(mass, self.center_of_mass - p)
+        try:
+            with np.errstate(over="raise", invalid="raise"):
+                tensor = self.central_tensor() + steiner_term(mass, self.center_of_mass - p)
+        except FloatingPointError:
+            raise InputError("point", tuple(float(x) for x in p), "a point whose parallel-axis term M |d|^2 fits "
+                             "double precision (below about 1e308 kg m2), d its distance from the centre of mass") from None
         return Body(0.5 * (tensor + tensor.T), p, self.center_of_mass, mass)
 
     def translated(self, offset) -> Body:

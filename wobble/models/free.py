@@ -44,6 +44,8 @@ docs/free-rotation.md for the measured error budget).
 from __future__ import annotations
 
 import decimal
+import math
+import sys
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -442,6 +444,14 @@ def _check(moments, omega0):
     return moments, omega0
 
 
+def _fits_double(x: Fraction) -> bool:
+    """Whether the exact ``x`` rounds to a finite float64 (``float`` raises past the largest)."""
+    try:
+        return math.isfinite(float(x))
+    except OverflowError:
+        return False
+
+
 def free_rotation(moments, omega0) -> FreeRotationModel:
     """The exact torque-free motion for principal ``moments`` (kg m^2) and ``omega0`` (rad/s).
 
@@ -470,6 +480,11 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
     w_user = [Fraction(x) for x in omega0]
     two_e = sum(Fraction(moments[i]) * w_user[i] ** 2 for i in range(3))
     l2 = sum((Fraction(moments[i]) * w_user[i]) ** 2 for i in range(3))
+    if not (_fits_double(two_e) and _fits_double(l2)):
+        raise InputError(
+            "omega0", omega0, f"rates whose energy fits double precision: 2E = sum I w^2 and L^2 = sum (I w)^2 "
+            f"below {sys.float_info.max:.4g} in SI"
+        )
     energy = float(two_e / 2)
     big_l = float(hp.sqrt(l2)) if l2 > 0 else 0.0
     lw = [Fraction(moments[i]) * w_user[i] for i in range(3)]

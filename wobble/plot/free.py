@@ -132,7 +132,8 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     bottom.legend(loc="upper right", fontsize=8)
     top.set_title(f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}", fontsize=9)
     L = I * w
-    L /= np.linalg.norm(L, axis=1, keepdims=True)
+    norm = np.linalg.norm(L, axis=1, keepdims=True)
+    L = np.divide(L, norm, out=np.zeros_like(L), where=norm > 0)  # a body at rest: L = 0, drawn at the centre
     near = int(np.argmax(np.min(np.abs(L), axis=0)))
     if np.min(np.abs(L[:, near])) > np.cos(np.radians(5.0)):
         _polhode_from_above(fig.add_subplot(1, 2, 2), L, near)

@@ -33,7 +33,7 @@ def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3
         ax.plot(np.sin(th) * np.cos(ring), np.sin(th) * np.sin(ring), color="0.6", lw=0.8, ls="--")
     ax.plot(axis[:, 0], axis[:, 1], color="C0", lw=1.2)
     ax.plot(axis[:1, 0], axis[:1, 1], "o", color="C3", ms=4)
-    r = np.sin(m.theta_max) * 1.08
+    r = np.sin(m.theta_max) * 1.08 or 1.0  # a sleeping top (theta = 0): a unit frame, not an empty one
     ax.set_xlim(-r, r)
     ax.set_ylim(-r, r)
     ax.set_aspect("equal")

@@ -187,4 +187,5 @@ def _autocorr(chain: np.ndarray) -> np.ndarray:
 
     if chain.shape[0] < 4:
         return np.full(chain.shape[-1], math.nan)
-    return np.asarray(emcee.autocorr.integrated_time(chain, tol=0), dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):  # a parameter that never moved: NaN, not a warning
+        return np.asarray(emcee.autocorr.integrated_time(chain, tol=0), dtype=float)

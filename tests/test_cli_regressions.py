@@ -1,0 +1,138 @@
+"""Regressions: every failure the command-line fuzzer (scripts/fuzz_cli.py) found, as a named test.
+
+Each was fixed where it began (the input's validation, the writer); the full-disk and interrupt
+findings are tested with real processes in tests/test_interrupt*.py.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from wobble.cli import main
+
+
+def _run(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_free_omega_whose_energy_overflows_is_an_input_error(capsys):
+    # Was: OverflowError traceback in free_rotation (energy = float(2E / 2)), exit status 1.
+    code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "1e300", "0.1", "1", "--json"], capsys)
+    assert code == 2 and out == ""
+    assert err == ("wobble free: error: --omega: got (1e+300, 0.1, 1.0); allowed: rates whose energy fits double "
+                   "precision: 2E = sum I w^2 and L^2 = sum (I w)^2 below 1.798e+308 in SI\n")
+
+
+def test_free_omega_just_inside_double_precision_still_runs(capsys):
+    code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "1e150", "1e149", "1e150", "--json"], capsys)
+    assert code == 0, err
+
+
+def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
+    # Was: argparse repeated the value with its newline: two lines on stderr.
+    code, out, err = _run(["forecast", "--start", "a\nb"], capsys)
+    assert code == 2
+    assert err == "wobble: error: unrecognized arguments: --start a b\n"
+
+
+def test_inertia_about_a_point_whose_shift_overflows_is_an_input_error(capsys):
+    # Was: "overflow encountered in multiply" warnings and an infinite tensor, exit status 0.
+    code, out, err = _run(["inertia", "--solid", "sphere", "--mass", "1", "--radius", "80", "--about", "1e300", "0", "0"],
+                          capsys)
+    assert code == 2
+    assert err.startswith("wobble inertia: error: point: got (1e+300, 0.0, 0.0); allowed: a point whose parallel-axis")
+
+
+def test_free_plot_of_a_body_at_rest_draws_without_warnings(tmp_path, capsys):
+    # Was: "invalid value encountered in divide" normalising L = 0 for the polhode (warnings are errors here).
+    code, out, err = _run(["free", "--inertia", "1", "1", "1", "--omega", "0", "0", "0", "--t-end", "10",
+                           "--plot", str(tmp_path / "rest.png")], capsys)
+    assert code == 0, err
+    assert (tmp_path / "rest.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_top_plot_of_a_sleeping_top_draws_without_warnings(tmp_path, capsys):
+    # Was: matplotlib's "identical low and high xlims" warnings for theta = 0 throughout.
+    code, out, err = _run(["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "0", "--omega3", "10",
+                           "--t-end", "1", "--plot", str(tmp_path / "sleep.png")], capsys)
+    assert code == 0, err
+    assert (tmp_path / "sleep.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_scene_whose_body_is_not_a_table_is_a_file_error(tmp_path, capsys):
+    # Was: TypeError traceback ("argument of type 'float' is not iterable") reading [body].
+    scene = tmp_path / "scene.toml"
+    scene.write_text('body = 1.5\n[initial]\nomega = { value = [0, 0, 1], unit = "rad/s" }\n'
+                     '[time]\nstop = "1 s"\nsamples = 3\n')
+    code, out, err = _run(["run", str(scene), "-o", str(tmp_path / "out.nc")], capsys)
+    assert code == 2
+    assert err == (f"wobble run: error: {scene}, body: got 1.5; allowed: a table with one of moments, tensor, "
+                   "planet, solid\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
+
+
+def test_invert_seed_too_large_for_the_file_is_refused_before_sampling(capsys):
+    # Was: TypeError traceback writing the InferenceData file (the seed attribute is a 64-bit integer),
+    # after the whole run.
+    code, out, err = _run(["invert", "mars", "--seed", "99999999999999999999", "-o", "idata.nc"], capsys)
+    assert code == 2
+    assert err == ("wobble invert: error: --seed: got 99999999999999999999; allowed: a non-negative integer below "
+                   "2**63 (9223372036854775808)\n")
+
+
+@pytest.mark.slow
+def test_invert_with_more_walkers_than_steps_prints_no_warning(tmp_path, capsys):
+    # Was: ArviZ's "More chains (32) than draws (20)" and emcee's "invalid value encountered in divide"
+    # (a parameter that never moved) on stderr of a successful run.
+    code, out, err = _run(["invert", "earth", "--steps", "20", "--burn", "5", "--quiet", "--json",
+                           "-o", str(tmp_path / "idata.nc")], capsys)
+    assert code == 0, err
+    assert "Warning" not in err
+    import netCDF4
+
+    with netCDF4.Dataset(tmp_path / "idata.nc") as nc:
+        assert "posterior" in nc.groups
+
+
+def test_a_stale_temporary_of_a_killed_run_is_removed_by_the_next_write(tmp_path):
+    from wobble.io import atomic
+
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    pid = int(dead.stdout)
+    target = tmp_path / "out.nc"
+    stale = tmp_path / f".out.nc.{pid}.abcdefgh.tmp"
+    stale_store = tmp_path / f".out.nc.{pid}.abcd_123.old"
+    stale.write_bytes(b"half")
+    stale_store.mkdir()
+    (stale_store / "chunk").write_bytes(b"x")
+    keep = {
+        "another target's": tmp_path / f".other.nc.{pid}.abcdefgh.tmp",
+        "a live process's": tmp_path / f".out.nc.{os.getppid()}.abcdefgh.tmp",
+        "not our pattern": tmp_path / ".out.nc.abcdefgh.tmp",
+        "a user's file": tmp_path / f"out.nc.{pid}.abcdefgh.tmp",
+    }
+    for path in keep.values():
+        path.write_bytes(b"keep")
+    past = atomic._STARTED - 60
+    for path in [stale, stale_store, *keep.values()]:
+        os.utime(path, (past, past))
+    fresh = tmp_path / f".out.nc.{pid}.zzzzzzzz.tmp"  # written after this process started: not provably stale
+    fresh.write_bytes(b"new")
+    os.utime(fresh, (time.time() + 5, time.time() + 5))
+    with atomic.atomic_target(target, overwrite=False) as tmp:
+        with open(tmp, "wb") as fh:
+            fh.write(b"result")
+    assert target.read_bytes() == b"result"
+    assert not stale.exists() and not stale_store.exists()
+    assert all(path.exists() for path in keep.values()), keep
+    assert fresh.exists()
