@@ -13,7 +13,7 @@ import sys
 
 from wobble.io.text import clean, decimals_for, dumps, duration, number, with_uncertainty
 
-__all__ = ["clean", "dumps", "print_json", "wrote", "number", "with_uncertainty", "decimals_for", "duration"]
+__all__ = ["clean", "dumps", "print_json", "wrote", "check_outputs", "number", "with_uncertainty", "decimals_for", "duration"]
 
 
 def print_json(obj) -> None:
@@ -24,3 +24,33 @@ def print_json(obj) -> None:
 def wrote(path, *, json_mode: bool = False) -> None:
     """Announce a written file: ``wrote PATH`` (stderr under --json, stdout otherwise)."""
     print(f"wrote {path}", file=sys.stderr if json_mode else sys.stdout)
+
+
+def check_outputs(args, names=("output", "plot")) -> None:
+    """Refuse, before any work, an output that exists (without --overwrite), is in a missing
+    folder, or a figure whose name says no format we write: a long run must not end in an error
+    a glance at its arguments could have given."""
+    from pathlib import Path
+
+    from wobble.errors import InputError, OutputExistsError
+
+    overwrite = getattr(args, "overwrite", False)
+    for name in names:
+        path = getattr(args, name, None)
+        if not path:
+            continue
+        if name == "plot":
+            from wobble.plot._save import check_plot_path
+
+            check_plot_path(path, overwrite)
+        elif str(path).rstrip("/").endswith(".zarr"):
+            # A Zarr store is a folder; an existing one is replaced as a whole with --overwrite.
+            store = Path(path)
+            if not (store.parent if str(store.parent) else Path(".")).is_dir():
+                raise InputError("output", str(store), "a path in an existing folder")
+            if store.exists() and not overwrite:
+                raise OutputExistsError(store)
+        else:
+            from wobble.io.atomic import check_target
+
+            check_target(path, overwrite)

@@ -47,7 +47,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from wobble.api.chandler import chandler_budget, chandler_dataset, known_planets
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.io.shipped import resolve
 
     typed = [None] * len(args.bodies) + list(args.body_file)
@@ -58,10 +58,7 @@ def run(args) -> int:
     for name in args.bodies:
         if name.lower() not in known_planets():
             raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
-    if args.plot:
-        from wobble.plot._save import check_plot_path
-
-        check_plot_path(args.plot, args.overwrite)
+    check_outputs(args)
     budgets = [chandler_budget(b, args.model) for b in bodies]
     written = []
     if args.output:

@@ -69,7 +69,7 @@ def _methods(text, hindcast: bool):
 def run(args) -> int:
     from wobble.cli._output import print_json, wrote
     from wobble.cli.excitation import parse_days, parse_q
-    from wobble.cli.polar_motion import check_outputs
+    from wobble.cli._output import check_outputs
 
     horizon = parse_days(args.horizon, "--horizon")
     latency = parse_days(args.latency, "--latency")

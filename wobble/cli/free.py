@@ -79,14 +79,11 @@ def run(args) -> int:
     from astropy import units as u
 
     from wobble.api.free import FreeRotation
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
 
     if args.samples < 1:
         raise InputError("--samples", args.samples, "a whole number >= 1")
-    if args.plot:
-        from wobble.plot._save import check_plot_path
-
-        check_plot_path(args.plot, args.overwrite)
+    check_outputs(args)
     moments = _quantity(args.inertia, "--inertia", u.kg * u.m**2)
     omega = _quantity(args.omega, "--omega", u.rad / u.s)
     try:

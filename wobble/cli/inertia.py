@@ -250,11 +250,12 @@ def _print_human(report: dict, label: str, out) -> None:
 
 def run(args) -> int:
     """Compute and print; exit status 0."""
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
 
     rtol = args.tolerance
     if not (0.0 <= rtol < 1.0):
         raise InputError("--tolerance", rtol, "a relative tolerance in [0, 1), e.g. 1e-9")
+    check_outputs(args)
     body, label = build_body(args)
     report = _report(body, rtol)
     if args.output is not None:

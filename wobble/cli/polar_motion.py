@@ -76,19 +76,6 @@ def _q(text: str) -> float | None:
         raise InputError("--excitation-q", text, "a quality factor above 1, or 'none'") from None
 
 
-def check_outputs(args, names=("output", "plot")) -> None:
-    """Refuse an output that exists (without --overwrite) or a bad figure name before any work."""
-    from wobble.io.atomic import check_target
-
-    for name in names:
-        path = getattr(args, name, None)
-        if not path:
-            continue
-        check_target(path, args.overwrite)
-        if name == "plot" and not str(path).lower().endswith((".png", ".pdf", ".svg")):
-            raise InputError("--plot", path, "a file name ending in .png, .pdf or .svg")
-
-
 class Progress:
     """Stage messages on stderr, only when stderr is a terminal."""
 
@@ -107,7 +94,7 @@ class Progress:
 
 def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.io.netcdf import write_netcdf
 
     window = _years(args.window, "--window")

@@ -54,17 +54,14 @@ def register(sub) -> None:
 def run(args) -> int:
     from wobble.api.chandler import known_planets
     from wobble.api.precession import precession_dataset, precession_rate
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
 
     from wobble.io.shipped import resolve
 
     for name in args.bodies:
         if name.lower() not in known_planets():
             raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
-    if args.plot:
-        from wobble.plot._save import check_plot_path
-
-        check_plot_path(args.plot, args.overwrite)
+    check_outputs(args)
     bodies = list(args.bodies) + [resolve(f, ("examples", "bodies"), "--body-file", (".toml",)) for f in args.body_file]
     if not bodies:
         bodies = known_planets()

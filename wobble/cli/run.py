@@ -43,7 +43,7 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.errors import InputError
 
     if args.list:
@@ -52,10 +52,7 @@ def run(args) -> int:
         raise InputError.missing("SCENE", "a scene file (TOML) or an example name (wobble run --list)")
     if not args.output:
         raise InputError.missing("-o/--output", "the netCDF file to write (e.g. -o out.nc)")
-    if args.plot:
-        from wobble.plot._save import check_plot_path
-
-        check_plot_path(args.plot, args.overwrite)
+    check_outputs(args)
     from wobble.api.scene import read_scene, run_to_netcdf
     from wobble.io.shipped import resolve
 

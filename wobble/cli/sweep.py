@@ -55,13 +55,10 @@ def run(args) -> int:
     from dataclasses import replace
 
     from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.io.shipped import resolve
 
-    if args.plot:
-        from wobble.plot._save import check_plot_path
-
-        check_plot_path(args.plot, args.overwrite)
+    check_outputs(args)
     spec = load_sweep(resolve(args.sweep, "sweeps", "SWEEP", (".toml",)))
     if args.members is not None:
         if spec.is_grid:

@@ -65,12 +65,9 @@ def run(args) -> int:
 
     from wobble.api._units import parse_angle, parse_quantity
     from wobble.api.top import HeavyTop
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
 
-    if args.plot:
-        from wobble.plot._save import check_plot_path
-
-        check_plot_path(args.plot, args.overwrite)
+    check_outputs(args)
     if args.samples < 1:
         raise InputError("--samples", args.samples, "a whole number >= 1")
     rate = u.rad / u.s
