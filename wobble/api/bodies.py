@@ -26,6 +26,8 @@ from wobble.api._units import dimensionless, to_si
 from wobble.errors import FileFormatError, InputError
 from wobble.io import cf
 from wobble.models import bodies as _m
+from wobble.models import density_grid as _grid
+from wobble.models import solids as _solids
 
 __all__ = ["RigidBody", "PrincipalAxes", "Classification", "DEFAULT_RTOL"]
 
@@ -285,13 +287,13 @@ class RigidBody:
         if not (isinstance(chunk_bytes, int) and chunk_bytes > 0):
             raise InputError("chunk_bytes", chunk_bytes, "a positive number of bytes")
         slabs = _slabs(density, dims, chunk_bytes)
-        body = _m.from_grid(slabs, axes, rule=rule, density_scale=scale, about=_about(about))
+        body = _grid.from_grid(slabs, axes, rule=rule, density_scale=scale, about=_about(about))
         return cls(body, name)
 
     @classmethod
     def solid_sphere(cls, mass, radius, *, name: str = "solid sphere") -> RigidBody:
         """Uniform solid sphere, centred at the origin: I = 2/5 M R^2."""
-        return cls(_m.solid_sphere(_mass(mass), _length(radius, "radius")), name)
+        return cls(_solids.solid_sphere(_mass(mass), _length(radius, "radius")), name)
 
     @classmethod
     def hollow_sphere(cls, mass, radius, inner_radius=None, *, name: str = "hollow sphere") -> RigidBody:
@@ -300,38 +302,38 @@ class RigidBody:
         Thick shell: I = 2/5 M (R^5 - r^5)/(R^3 - r^3).
         """
         inner = None if inner_radius is None else _length(inner_radius, "inner_radius", allow_zero=True)
-        return cls(_m.hollow_sphere(_mass(mass), _length(radius, "radius"), inner), name)
+        return cls(_solids.hollow_sphere(_mass(mass), _length(radius, "radius"), inner), name)
 
     @classmethod
     def ellipsoid(cls, mass, semi_axes, *, name: str = "ellipsoid") -> RigidBody:
         """Uniform ellipsoid, semi-axes (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/5, ..."""
-        return cls(_m.ellipsoid(_mass(mass), to_si(semi_axes, "semi_axes", u.m, positive=True, shape=(3,))), name)
+        return cls(_solids.ellipsoid(_mass(mass), to_si(semi_axes, "semi_axes", u.m, positive=True, shape=(3,))), name)
 
     @classmethod
     def box(cls, mass, edges, *, name: str = "box") -> RigidBody:
         """Uniform box with edge lengths (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/12, ..."""
-        return cls(_m.box(_mass(mass), to_si(edges, "edges", u.m, positive=True, shape=(3,))), name)
+        return cls(_solids.box(_mass(mass), to_si(edges, "edges", u.m, positive=True, shape=(3,))), name)
 
     @classmethod
     def cylinder(cls, mass, radius, height, inner_radius=None, *, name: str = "cylinder") -> RigidBody:
         """Uniform cylinder (tube if ``inner_radius``), axis z: I3 = M (R^2 + r^2)/2, I1 = M (3 (R^2 + r^2) + h^2)/12."""
         inner = 0.0 if inner_radius is None else _length(inner_radius, "inner_radius", allow_zero=True)
-        return cls(_m.cylinder(_mass(mass), _length(radius, "radius"), _length(height, "height"), inner), name)
+        return cls(_solids.cylinder(_mass(mass), _length(radius, "radius"), _length(height, "height"), inner), name)
 
     @classmethod
     def cone(cls, mass, radius, height, *, name: str = "cone") -> RigidBody:
         """Uniform cone, axis z, apex at z = -3h/4: I3 = 3/10 M R^2, I1 = 3/80 M (4 R^2 + h^2)."""
-        return cls(_m.cone(_mass(mass), _length(radius, "radius"), _length(height, "height")), name)
+        return cls(_solids.cone(_mass(mass), _length(radius, "radius"), _length(height, "height")), name)
 
     @classmethod
     def thin_disc(cls, mass, radius, *, name: str = "thin disc") -> RigidBody:
         """Uniform thin disc in the x-y plane: I1 = I2 = M R^2/4, I3 = M R^2/2."""
-        return cls(_m.thin_disc(_mass(mass), _length(radius, "radius")), name)
+        return cls(_solids.thin_disc(_mass(mass), _length(radius, "radius")), name)
 
     @classmethod
     def thin_rod(cls, mass, length, *, name: str = "thin rod") -> RigidBody:
         """Uniform thin rod along z: I1 = I2 = M L^2/12, I3 = 0."""
-        return cls(_m.thin_rod(_mass(mass), _length(length, "length")), name)
+        return cls(_solids.thin_rod(_mass(mass), _length(length, "length")), name)
 
     @classmethod
     def spinning_top(
@@ -345,7 +347,7 @@ class RigidBody:
         """
         axle_mass_si = to_si(axle_mass, "axle_mass", u.kg, nonnegative=True, shape=())
         ra = 0.0 if axle_radius is None else _length(axle_radius, "axle_radius", allow_zero=True)
-        body = _m.spinning_top(
+        body = _solids.spinning_top(
             _mass(disc_mass, "disc_mass"),
             _length(disc_radius, "disc_radius"),
             axle_mass_si,
@@ -377,7 +379,7 @@ class RigidBody:
         hh = None if dynamical_flattening is None else dimensionless(dynamical_flattening, "dynamical_flattening", low=0.0, high=1.0)
         jj = None if j2 is None else dimensionless(j2, "j2", low=0.0)
         q = dimensionless(j22, "j22", low=0.0, open_interval=False)
-        body = _m.oblate_planet(_mass(mass), _length(radius, "radius"), c, dynamical_flattening=hh, j2=jj, j22=q)
+        body = _solids.oblate_planet(_mass(mass), _length(radius, "radius"), c, dynamical_flattening=hh, j2=jj, j22=q)
         return cls(body, name)
 
     @classmethod
@@ -637,7 +639,7 @@ class RigidBody:
             raise InputError("dataset", f"no variable {exc}", "a Dataset made by RigidBody.to_dataset") from None
         d12, d23, d13 = pairs
         diffs = np.array([[0.0, -d12, -d13], [d12, 0.0, -d23], [d13, d23, 0.0]])
-        exact = _m._Eigenbasis(moments, axes, diffs)
+        exact = _m.Eigenbasis(moments, axes, diffs)
         body = _m.Body(tensor, ref, com, mass, exact)
         return cls(body, str(ds.attrs.get("name", "")))
 
@@ -739,7 +741,7 @@ def _replace_exact(body: RigidBody, pairs, tensor) -> RigidBody:
             raise InputError(
                 "principal_moment_differences", pairs, "I2 - I1, I3 - I2, I3 - I1 consistent with principal_moments"
             )
-    exact = _m._Eigenbasis(b._exact.values, b._exact.vectors, given)
+    exact = _m.Eigenbasis(b.eigenbasis.values, b.eigenbasis.vectors, given)
     t = b.tensor if tensor is None else 0.5 * (tensor + tensor.T)
     return RigidBody(_m.Body(t, b.reference_point, b.center_of_mass, b.mass, exact), body.name)
 
@@ -789,7 +791,7 @@ def _grid_description(density):
     return dims, tuple(axes), float(unit.to(_DENSITY))
 
 
-def _uniform_axis(dim: str, x: np.ndarray, unit: u.UnitBase, name: str) -> _m.GridAxis:
+def _uniform_axis(dim: str, x: np.ndarray, unit: u.UnitBase, name: str) -> _grid.GridAxis:
     n = x.size
     if x.ndim != 1 or n < 2:
         raise InputError(name, f"{n} point(s)", "a 1-D coordinate with at least 2 points")
@@ -808,7 +810,7 @@ def _uniform_axis(dim: str, x: np.ndarray, unit: u.UnitBase, name: str) -> _m.Gr
             "uniformly spaced, strictly monotonic coordinates (to 1e-6 of the spacing); resample the grid first",
         )
     factor = float(unit.to(u.m))
-    return _m.GridAxis(dim, n, xf[0] * factor, xf[-1] * factor)
+    return _grid.GridAxis(dim, n, xf[0] * factor, xf[-1] * factor)
 
 
 def _slabs(density, dims: tuple[str, ...], chunk_bytes: int):

@@ -240,7 +240,7 @@ def _planet_body(r: _Reader, name, mass, symmetric=False) -> BodyModel:
 
 def _solid(r: _Reader, data):
     """A named solid from the rigid-bodies library (closed-form tensors, notes 5.1)."""
-    from wobble.models import bodies
+    from wobble.models import solids
 
     name = r.string(data["solid"], "body.solid", tuple(_SOLID_LENGTHS))
     lengths = _SOLID_LENGTHS[name]
@@ -253,7 +253,7 @@ def _solid(r: _Reader, data):
         if key in data:
             val = r.quantity(data[key], f"body.{key}", u.m, nonnegative=True)
             kwargs[key] = float(val) if val.ndim == 0 else val
-    solid = getattr(bodies, name)(mass, **kwargs)
+    solid = getattr(solids, name)(mass, **kwargs)
     if "about" in data:
         solid = solid.shifted_to(r.quantity(data["about"], "body.about", u.m, ndim=(1,), width=3))
     body = BodyModel.from_tensor(np.asarray(solid.tensor), mass)

@@ -1,5 +1,8 @@
 """Rigid bodies in SI: inertia tensors, principal axes, L, T (course notes section 5.1).
 
+Closed-form solids and planets are in :mod:`wobble.models.solids`, bodies from a
+density sampled on a grid in :mod:`wobble.models.density_grid`.
+
 Everything here is float64 in SI units: masses in kg, lengths in m, moments of
 inertia in kg m^2, angular velocities in rad/s, energies in J. No units, no
 xarray, no files: :mod:`wobble.api.bodies` converts at the boundary.
@@ -32,13 +35,12 @@ from __future__ import annotations
 import functools
 import itertools
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.numerics.grid_quadrature import RULES, accumulate_moments, moment_rows
 from wobble.numerics.symmetric_eigen import canonical_frame, degenerate_pairs, symmetric_eigen3
 
 __all__ = [
@@ -48,23 +50,16 @@ __all__ = [
     "Body",
     "PrincipalFrame",
     "Classification",
-    "GridAxis",
+    "Eigenbasis",
     "steiner_term",
+    "tensor_from_second_moments",
+    "positive_number",
+    "overflow_is_input_error",
+    "sorted_with_differences",
     "from_principal_moments",
     "from_tensor",
     "from_point_masses",
-    "from_grid",
     "composite",
-    "solid_sphere",
-    "hollow_sphere",
-    "ellipsoid",
-    "box",
-    "cylinder",
-    "cone",
-    "thin_disc",
-    "thin_rod",
-    "spinning_top",
-    "oblate_planet",
 ]
 
 #: Default relative tolerance: for symmetry of a given tensor, the triangle
@@ -101,7 +96,8 @@ def _vector(value, name: str) -> np.ndarray:
     return v
 
 
-def _positive(value, name: str, *, allow_zero: bool = False) -> float:
+def positive_number(value, name: str, *, allow_zero: bool = False) -> float:
+    """``value`` as a float, checked positive (or non-negative) and finite; else an InputError naming ``name``."""
     x = float(value)
     if not math.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
         want = "a non-negative" if allow_zero else "a positive"
@@ -109,7 +105,7 @@ def _positive(value, name: str, *, allow_zero: bool = False) -> float:
     return x
 
 
-def _finite(fn):
+def overflow_is_input_error(fn):
     """Run a constructor with floating-point overflow as an InputError naming it.
 
     Finite inputs can overflow (a 1e200 m ellipsoid has moments near 1e400 kg m^2):
@@ -145,7 +141,7 @@ def steiner_term(mass: float, d: np.ndarray) -> np.ndarray:
     return out
 
 
-def _tensor_from_second_moments(s: np.ndarray) -> np.ndarray:
+def tensor_from_second_moments(s: np.ndarray) -> np.ndarray:
     """I = tr(S) 1 - S for S_jk = sum m x_j x_k, with the diagonal as sums (no cancellation)."""
     out = 0.0 - np.array(s, dtype=float)
     out[0, 0] = s[1, 1] + s[2, 2]
@@ -298,8 +294,13 @@ def _reorder(frame: PrincipalFrame, order: str, rtol: float) -> PrincipalFrame:
 
 
 @dataclass(frozen=True, eq=False)
-class _Eigenbasis:
-    """Exact principal data known at construction (ascending values, rows, differences)."""
+class Eigenbasis:
+    """Exact principal data known at construction: ascending moments (kg m^2), their axes as
+    rows (input frame) and the differences ``D[i, j] = I_i - I_j`` given without cancellation.
+
+    A body built from its principal moments (a planet from H or J2, a solid in closed form)
+    carries one, so its principal frame is not recomputed from the tensor by an eigensolver.
+    """
 
     values: np.ndarray
     vectors: np.ndarray
@@ -320,13 +321,15 @@ class Body:
         Centre of mass (m, input frame).
     mass : float or None
         Total mass in kg; None when the body was given by its moments alone.
+    eigenbasis : Eigenbasis or None
+        The principal data given exactly at construction, if any.
     """
 
     tensor: np.ndarray
     reference_point: np.ndarray
     center_of_mass: np.ndarray
     mass: float | None = None
-    _exact: _Eigenbasis | None = field(default=None, repr=False)
+    eigenbasis: Eigenbasis | None = field(default=None, repr=False)
 
     def __post_init__(self):
         for name in ("tensor", "reference_point", "center_of_mass"):
@@ -360,8 +363,8 @@ class Body:
         rtol = _check_rtol(rtol)
         if order not in ORDERS:
             raise InputError("order", order, ", ".join(ORDERS))
-        if self._exact is not None:
-            values, vectors, diffs = self._exact.values, self._exact.vectors, self._exact.differences
+        if self.eigenbasis is not None:
+            values, vectors, diffs = self.eigenbasis.values, self.eigenbasis.vectors, self.eigenbasis.differences
             axes = canonical_frame(values, vectors, diffs, rtol)
         else:
             values, axes = symmetric_eigen3(self.tensor, rtol)
@@ -451,7 +454,7 @@ class Body:
     def translated(self, offset) -> Body:
         """The body moved by ``offset`` (m); the tensor about the moved reference point is unchanged."""
         d = _vector(offset, "offset")
-        return Body(self.tensor, self.reference_point + d, self.center_of_mass + d, self.mass, self._exact)
+        return Body(self.tensor, self.reference_point + d, self.center_of_mass + d, self.mass, self.eigenbasis)
 
     def rotated(self, rotation, about=None) -> Body:
         """The body turned by the proper rotation matrix ``rotation`` about ``about`` (m; origin).
@@ -464,8 +467,8 @@ class Body:
         p = np.zeros(3) if about is None else _vector(about, "about")
         tensor = r @ self.tensor @ r.T
         exact = None
-        if self._exact is not None:
-            exact = _Eigenbasis(self._exact.values, self._exact.vectors @ r.T, self._exact.differences)
+        if self.eigenbasis is not None:
+            exact = Eigenbasis(self.eigenbasis.values, self.eigenbasis.vectors @ r.T, self.eigenbasis.differences)
         return Body(
             0.5 * (tensor + tensor.T),
             r @ (self.reference_point - p) + p,
@@ -512,7 +515,7 @@ def _check_triangle(values: np.ndarray, diffs: np.ndarray, name: str, rtol: floa
         )
 
 
-def _sorted_with_differences(values_xyz: np.ndarray, diffs_xyz: np.ndarray | None):
+def sorted_with_differences(values_xyz: np.ndarray, diffs_xyz: np.ndarray | None):
     order = np.argsort(values_xyz, kind="stable")
     values = values_xyz[order]
     if diffs_xyz is None:
@@ -523,7 +526,7 @@ def _sorted_with_differences(values_xyz: np.ndarray, diffs_xyz: np.ndarray | Non
 
 
 def _placement(mass, center_of_mass, about) -> tuple[float | None, np.ndarray, np.ndarray]:
-    m = None if mass is None else _positive(mass, "mass")
+    m = None if mass is None else positive_number(mass, "mass")
     com = np.zeros(3) if center_of_mass is None else _vector(center_of_mass, "center_of_mass")
     ref = com if about is None else _vector(about, "about")
     return m, com, ref
@@ -547,7 +550,7 @@ def _check_central(tensor: np.ndarray, mass, com, ref, name: str, rtol: float, s
     _check_triangle(values, _differences(values), name, rtol, shown)
 
 
-@_finite
+@overflow_is_input_error
 def from_principal_moments(
     moments,
     *,
@@ -596,7 +599,7 @@ def from_principal_moments(
         differences = np.asarray(differences, dtype=float)
         if differences.shape != (3, 3) or not np.all(np.isfinite(differences)):
             raise InputError("differences", differences, "a finite 3x3 matrix D[i, j] = I_i - I_j")
-    order, values, diffs = _sorted_with_differences(v, differences)
+    order, values, diffs = sorted_with_differences(v, differences)
     _check_triangle(values, diffs, name, rtol, moments)
     m, com, ref = _placement(mass, center_of_mass, about)
     if axes is None:
@@ -606,10 +609,10 @@ def from_principal_moments(
         tensor = rows.T @ np.diag(v) @ rows
         tensor = 0.5 * (tensor + tensor.T)
     _check_central(tensor, m, com, ref, name, rtol, moments)
-    return Body(tensor, ref, com, m, _Eigenbasis(values, rows[order], diffs))
+    return Body(tensor, ref, com, m, Eigenbasis(values, rows[order], diffs))
 
 
-@_finite
+@overflow_is_input_error
 def from_tensor(tensor, *, mass=None, center_of_mass=None, about=None, rtol: float = DEFAULT_RTOL, name: str = "tensor") -> Body:
     """A body from a full 3x3 inertia tensor (kg m^2), checked.
 
@@ -642,7 +645,7 @@ def from_tensor(tensor, *, mass=None, center_of_mass=None, about=None, rtol: flo
     return Body(t, ref, com, m)
 
 
-@_finite
+@overflow_is_input_error
 def from_point_masses(masses, positions, *, about=None) -> Body:
     """Point masses m_i (kg) at r_i (m): I_jk = sum_i m_i (r_i^2 delta_jk - x_ij x_ik).
 
@@ -667,116 +670,7 @@ def from_point_masses(masses, positions, *, about=None) -> Body:
     ref = com if about is None else _vector(about, "about")
     d = r - ref
     s = (m[:, None] * d).T @ d
-    return Body(_tensor_from_second_moments(s), ref, com, total)
-
-
-# ---------------------------------------------------------------------------
-# Density on a grid
-# ---------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class GridAxis:
-    """One axis of a regular grid in SI: ``n`` nodes from ``start`` to ``stop`` (m)."""
-
-    name: str
-    n: int
-    start: float
-    stop: float
-
-    @property
-    def step(self) -> float:
-        """(stop - start) / (n - 1) in m: signed, negative for a decreasing coordinate."""
-        return (self.stop - self.start) / (self.n - 1)
-
-    @property
-    def spacing(self) -> float:
-        """|step| in m."""
-        return abs(self.step)
-
-    @property
-    def center(self) -> float:
-        """Mid-point of the axis in m."""
-        return 0.5 * (self.start + self.stop)
-
-
-def _checked_slabs(slabs, dims: tuple[str, ...], scale: float, name: str) -> Iterator[tuple[int, np.ndarray]]:
-    for start, block in slabs:
-        block = np.asarray(block, dtype=float)
-        ok = np.isfinite(block) & (block >= 0)
-        if not np.all(ok):
-            local = np.unravel_index(int(np.argmin(ok)), block.shape)
-            index = (int(local[0]) + start, int(local[1]), int(local[2]))
-            where = ", ".join(f"{d}={i}" for d, i in zip(dims, index))
-            raise InputError(name, f"{float(block[local])!r} at index [{where}]", "finite, non-negative densities")
-        yield start, block * scale if scale != 1.0 else block
-
-
-def from_grid(
-    slabs: Iterable[tuple[int, np.ndarray]],
-    axes: tuple[GridAxis, GridAxis, GridAxis],
-    *,
-    rule: str = "trapezoid",
-    density_scale: float = 1.0,
-    about=None,
-    name: str = "density",
-) -> Body:
-    """A body from a density sampled on a regular grid, streamed slab by slab.
-
-    I_jk = integral rho (r^2 delta_jk - x_j x_k) dV (notes 5.1, p. 67) by the
-    tensor-product rule ``rule`` (see :mod:`wobble.numerics.grid_quadrature` for
-    the rules and their orders).
-
-    Parameters
-    ----------
-    slabs : iterable of (int, ndarray)
-        ``(start, block)``: the densities ``rho[start:start + k, :, :]`` in the
-        array's own axis order (see ``axes``), in units that ``density_scale``
-        turns into kg/m^3. Every slab is checked (finite, >= 0).
-    axes : tuple of three GridAxis
-        The array axes in array order; their names must be x, y and z in some order.
-    rule : {"trapezoid", "simpson", "voxel"}
-    density_scale : float
-        Factor from the slabs' unit to kg/m^3.
-    about : array_like, shape (3,), optional
-        Reference point (m); default: the centre of mass.
-    """
-    if rule not in RULES:
-        raise InputError("rule", rule, ", ".join(RULES))
-    names = tuple(a.name for a in axes)
-    if sorted(names) != ["x", "y", "z"]:
-        raise InputError(name, f"dimensions {names}", "exactly the dimensions x, y and z")
-    for a in axes:
-        need = 3 if rule == "simpson" else 2
-        if a.n < need or (rule == "simpson" and a.n % 2 == 0):
-            allowed = "an odd number (>= 3) of points for Simpson's rule" if rule == "simpson" else "at least 2 points"
-            raise InputError(f"{name}.{a.name}", f"{a.n} points", allowed)
-        if not a.spacing > 0:
-            raise InputError(f"{name}.{a.name}", f"spacing {a.spacing}", "a positive grid spacing")
-    rows = tuple(moment_rows(a.n, a.step, rule) for a in axes)
-    raw = accumulate_moments(_checked_slabs(slabs, names, float(density_scale), name), rows)
-    xyz = [names.index(c) for c in "xyz"]  # array axis holding x, y, z
-
-    def moment(*powers_xyz: int) -> float:
-        idx = [0, 0, 0]
-        for c, p in enumerate(powers_xyz):
-            idx[xyz[c]] = p
-        return float(raw[tuple(idx)])
-
-    mass = moment(0, 0, 0)
-    if not mass > 0:
-        raise InputError(name, f"total mass {mass:g} kg", "a density with positive total mass")
-    first = np.array([moment(*np.eye(3, dtype=int)[c]) for c in range(3)])
-    second = np.empty((3, 3))
-    for j in range(3):
-        for k in range(3):
-            second[j, k] = moment(*(np.eye(3, dtype=int)[j] + np.eye(3, dtype=int)[k]))
-    center = np.array([axes[xyz[c]].center for c in range(3)])
-    offset = first / mass  # centre of mass from the grid centre
-    central = _tensor_from_second_moments(second - mass * np.outer(offset, offset))
-    com = center + offset
-    body = Body(central, com, com, mass)
-    return body if about is None else body.shifted_to(about)
+    return Body(tensor_from_second_moments(s), ref, com, total)
 
 
 # ---------------------------------------------------------------------------
@@ -806,207 +700,3 @@ def composite(parts: Iterable[Body], about=None) -> Body:
     for p in parts:
         tensor = tensor + p.central_tensor() + steiner_term(p.mass, p.center_of_mass - ref)
     return Body(0.5 * (tensor + tensor.T), ref, com, total)
-
-
-# ---------------------------------------------------------------------------
-# Solids in closed form (centre of mass at the origin, symmetry axis along z)
-# ---------------------------------------------------------------------------
-
-
-def _solid(mass: float, moments_xyz, differences=None) -> Body:
-    v = np.asarray(moments_xyz, dtype=float)
-    order, values, diffs = _sorted_with_differences(v, differences)
-    return Body(np.diag(v), np.zeros(3), np.zeros(3), mass, _Eigenbasis(values, np.eye(3)[order], diffs))
-
-
-def _two_square_differences(k: float, q: np.ndarray) -> np.ndarray:
-    """D[i, j] for I_i = k (s - q_i^2), s = sum q^2: I_i - I_j = k (q_j - q_i)(q_j + q_i), no cancellation."""
-    return k * (q[None, :] - q[:, None]) * (q[None, :] + q[:, None])
-
-
-@_finite
-def solid_sphere(mass: float, radius: float) -> Body:
-    """Uniform solid sphere: I = 2/5 M R^2 about every axis."""
-    m, r = _positive(mass, "mass"), _positive(radius, "radius")
-    i = 0.4 * m * r * r
-    return _solid(m, [i, i, i], np.zeros((3, 3)))
-
-
-@_finite
-def hollow_sphere(mass: float, radius: float, inner_radius: float | None = None) -> Body:
-    """Uniform spherical shell between ``inner_radius`` and ``radius`` (thin shell if None).
-
-    I = 2/5 M (R^5 - r^5)/(R^3 - r^3), evaluated as
-    2/5 M (R^4 + R^3 r + R^2 r^2 + R r^3 + r^4)/(R^2 + R r + r^2) (no cancellation
-    for a thin shell; r = R gives 2/3 M R^2).
-    """
-    m, big = _positive(mass, "mass"), _positive(radius, "radius")
-    small = big if inner_radius is None else _positive(inner_radius, "inner_radius", allow_zero=True)
-    if small > big:
-        raise InputError("inner_radius", inner_radius, f"at most the outer radius ({big:g} m)")
-    num = big**4 + big**3 * small + big**2 * small**2 + big * small**3 + small**4
-    den = big**2 + big * small + small**2
-    i = 0.4 * m * num / den
-    return _solid(m, [i, i, i], np.zeros((3, 3)))
-
-
-@_finite
-def ellipsoid(mass: float, semi_axes) -> Body:
-    """Uniform solid ellipsoid with semi-axes (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/5, ..."""
-    m = _positive(mass, "mass")
-    q = np.array([_positive(x, "semi_axes") for x in _triple(semi_axes, "semi_axes")])
-    s = q * q
-    moments = 0.2 * m * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
-    return _solid(m, moments, _two_square_differences(0.2 * m, q))
-
-
-@_finite
-def box(mass: float, edges) -> Body:
-    """Uniform rectangular box with edge lengths (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/12, ..."""
-    m = _positive(mass, "mass")
-    q = np.array([_positive(x, "edges") for x in _triple(edges, "edges")])
-    s = q * q
-    moments = m / 12.0 * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
-    return _solid(m, moments, _two_square_differences(m / 12.0, q))
-
-
-def _triple(value, name: str):
-    v = np.asarray(value, dtype=float)
-    if v.shape != (3,):
-        raise InputError(name, value, "three lengths (along x, y, z)")
-    return v
-
-
-@_finite
-def cylinder(mass: float, radius: float, height: float, inner_radius: float = 0.0) -> Body:
-    """Uniform cylinder (a tube if ``inner_radius`` > 0), axis along z.
-
-    I_3 = M (R^2 + r^2)/2; I_1 = I_2 = M (3 (R^2 + r^2) + h^2)/12.
-    """
-    m, big, h = _positive(mass, "mass"), _positive(radius, "radius"), _positive(height, "height")
-    small = _positive(inner_radius, "inner_radius", allow_zero=True)
-    if small > big:
-        raise InputError("inner_radius", inner_radius, f"at most the outer radius ({big:g} m)")
-    r2 = big * big + small * small
-    i1, i3 = m * (3.0 * r2 + h * h) / 12.0, 0.5 * m * r2
-    return _solid(m, [i1, i1, i3])
-
-
-@_finite
-def cone(mass: float, radius: float, height: float) -> Body:
-    """Uniform solid right circular cone, axis along z, about its centre of mass.
-
-    The apex is at z = -3h/4 and the base (radius R) at z = +h/4 (a cone standing
-    on its tip). I_3 = 3/10 M R^2; I_1 = I_2 = 3/80 M (4 R^2 + h^2).
-    """
-    m, r, h = _positive(mass, "mass"), _positive(radius, "radius"), _positive(height, "height")
-    i1, i3 = 3.0 / 80.0 * m * (4.0 * r * r + h * h), 0.3 * m * r * r
-    return _solid(m, [i1, i1, i3])
-
-
-@_finite
-def thin_disc(mass: float, radius: float) -> Body:
-    """Uniform thin disc in the x-y plane: I_1 = I_2 = M R^2/4, I_3 = M R^2/2."""
-    m, r = _positive(mass, "mass"), _positive(radius, "radius")
-    i = 0.25 * m * r * r
-    return _solid(m, [i, i, 2.0 * i])
-
-
-@_finite
-def thin_rod(mass: float, length: float) -> Body:
-    """Uniform thin rod along z: I_1 = I_2 = M L^2/12, I_3 = 0 (an idealised line)."""
-    m, ell = _positive(mass, "mass"), _positive(length, "length")
-    i = m * ell * ell / 12.0
-    return _solid(m, [i, i, 0.0])
-
-
-@_finite
-def spinning_top(
-    disc_mass: float,
-    disc_radius: float,
-    axle_mass: float,
-    axle_length: float,
-    disc_height: float,
-    axle_radius: float = 0.0,
-) -> Body:
-    """A top: a thin disc on an axle along z, with the tip of the axle at the origin.
-
-    The axle (a thin rod, or a solid cylinder of ``axle_radius``) runs from the tip
-    at z = 0 to z = ``axle_length``; the disc's centre is on the axle at
-    z = ``disc_height``. The result is about its centre of mass; shift it to the
-    tip (the origin) for the heavy-top engine (notes 5.7).
-    """
-    md = _positive(disc_mass, "disc_mass")
-    rd = _positive(disc_radius, "disc_radius")
-    ma = _positive(axle_mass, "axle_mass", allow_zero=True)
-    ell = _positive(axle_length, "axle_length")
-    h = _positive(disc_height, "disc_height", allow_zero=True)
-    if h > ell:
-        raise InputError("disc_height", disc_height, f"a height on the axle, 0 to axle_length ({ell:g} m)")
-    ra = _positive(axle_radius, "axle_radius", allow_zero=True)
-    parts = [thin_disc(md, rd).translated([0.0, 0.0, h])]
-    if ma > 0:
-        axle = thin_rod(ma, ell) if ra == 0 else cylinder(ma, ra, ell)
-        parts.append(axle.translated([0.0, 0.0, 0.5 * ell]))
-    return composite(parts)
-
-
-@_finite
-def oblate_planet(
-    mass: float,
-    radius: float,
-    polar_moment_factor: float,
-    *,
-    dynamical_flattening: float | None = None,
-    j2: float | None = None,
-    j22: float = 0.0,
-) -> Body:
-    """A planet from C/(M R^2) and either H = (C - A)/C or J2 = (C - A)/(M R^2).
-
-    C = c M R^2 about the polar z axis; the mean equatorial moment is
-    A = C (1 - H) or C - J2 M R^2 (MacCullagh's formula), and an optional
-    equatorial ellipticity J22 = (B - A)/(4 M R^2) (unnormalised) splits it into
-    A and B along x and y. The differences C - A, C - B, B - A are formed from H,
-    J2 and J22 directly, so (C - A)/A keeps full precision however small H is.
-
-    Parameters
-    ----------
-    mass : float
-        kg.
-    radius : float
-        Reference (equatorial) radius R in m.
-    polar_moment_factor : float
-        C/(M R^2), in (0, 1).
-    dynamical_flattening, j2 : float
-        Exactly one: H in (0, 1) or J2 > 0.
-    j22 : float
-        Unnormalised degree-2 order-2 coefficient magnitude, >= 0.
-    """
-    m, r = _positive(mass, "mass"), _positive(radius, "radius")
-    c = float(polar_moment_factor)
-    if not (0.0 < c < 1.0):
-        raise InputError("polar_moment_factor", polar_moment_factor, "C/(M R^2) in (0, 1) (0.3307 for Earth)")
-    if (dynamical_flattening is None) == (j2 is None):
-        raise InputError("dynamical_flattening/j2", (dynamical_flattening, j2), "exactly one of H or J2")
-    mr2 = m * r * r
-    big_c = c * mr2
-    if dynamical_flattening is not None:
-        hh = float(dynamical_flattening)
-        if not (0.0 < hh < 1.0):
-            raise InputError("dynamical_flattening", dynamical_flattening, "H = (C - A)/C in (0, 1)")
-        c_minus_a = hh * big_c
-    else:
-        jj = float(j2)
-        if not (0.0 < jj < c):
-            raise InputError("j2", j2, f"J2 in (0, C/(M R^2) = {c:g})")
-        c_minus_a = jj * mr2
-    q = float(j22)
-    if not (math.isfinite(q) and q >= 0):
-        raise InputError("j22", j22, "a non-negative, finite J22")
-    half_split = 2.0 * q * mr2  # (B - A)/2
-    mean_a = big_c - c_minus_a
-    moments = np.array([mean_a - half_split, mean_a + half_split, big_c])
-    # D[i, j] = I_i - I_j from the small quantities, never by subtracting the large moments.
-    cma, cmb, bma = c_minus_a + half_split, c_minus_a - half_split, 2.0 * half_split
-    diffs = np.array([[0.0, -bma, -cma], [bma, 0.0, -cmb], [cma, cmb, 0.0]])
-    return from_principal_moments(moments, differences=diffs, mass=m, name="polar_moment_factor")
