@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
-from wobble.errors import InputError
+from wobble.cli._planets import add_bodies, add_outputs, bodies_from_args, report
 
 EPILOG = """\
 examples:
@@ -33,50 +32,24 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("bodies", nargs="*", metavar="BODY", help="catalogued planets (default: all of them)")
-    p.add_argument("--body-file", action="append", default=[], metavar="FILE",
-                   help="a planet file in the wobble/1 schema (repeatable; 'wobble example my_planet.toml' writes one to edit)")
+    add_bodies(p)
     p.add_argument("--model", default="full", help="last step to include (default: full)")
-    p.add_argument("--json", action="store_true", help="print a JSON list, one object per body")
     p.add_argument("--sources", action="store_true", help="also list every parameter with its value, uncertainty and source")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="write a CF-1.10 netCDF file")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the budget, step by step, against the observed period")
+    add_outputs(p, "draw the budget, step by step, against the observed period")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from wobble.api.chandler import chandler_budget, chandler_dataset, known_planets
-    from wobble.cli._output import check_outputs, print_json, wrote
-    from wobble.io.shipped import resolve
+    from wobble.api.chandler import chandler_budget, chandler_dataset
+    from wobble.plot.chandler import budget_figure
 
-    typed = [None] * len(args.bodies) + list(args.body_file)
-    bodies = list(args.bodies) + [resolve(f, ("examples", "bodies"), "--body-file", (".toml",)) for f in args.body_file]
-    if not bodies:
-        bodies = known_planets()
-        typed = [None] * len(bodies)
-    for name in args.bodies:
-        if name.lower() not in known_planets():
-            raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
-    check_outputs(args)
+    bodies = bodies_from_args(args)
+    # A planet file is named in the table's title as the user typed it.
+    given = [None] * len(args.bodies) + list(args.body_file)
+    typed = given if given else [None] * len(bodies)
     budgets = [chandler_budget(b, args.model) for b in bodies]
-    written = []
-    if args.output:
-        from wobble.io.netcdf import write_netcdf
-
-        written.append(write_netcdf(chandler_dataset(budgets), args.output, overwrite=args.overwrite, command=args.command_line))
-    if args.plot:
-        from wobble.plot.chandler import budget_figure
-
-        budget_figure(budgets, args.plot, overwrite=args.overwrite)
-        written.append(args.plot)
-    if args.json:
-        print_json([b.to_dict() for b in budgets])
-    else:
-        print("\n\n".join(_table(b, sources=args.sources, typed=t) for b, t in zip(budgets, typed)))
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    names = {id(b): t for b, t in zip(budgets, typed)}
+    return report(args, budgets, chandler_dataset, budget_figure, text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]))
 
 
 def _days(q, decimals: int, sign: bool = False) -> str:

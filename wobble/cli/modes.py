@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from wobble.errors import InputError
+from wobble.cli._planets import add_bodies, add_outputs, bodies_from_args, report
 
 EPILOG = """\
 examples:
@@ -35,8 +35,7 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("bodies", nargs="*", metavar="BODY", help="catalogued planets (default: all of them)")
-    p.add_argument("--body-file", action="append", default=[], metavar="FILE", help="a planet file in the wobble/1 schema (repeatable)")
+    add_bodies(p)
     p.add_argument(
         "--profile",
         metavar="PROFILE",
@@ -44,41 +43,15 @@ def register(sub) -> None:
         "(default: the catalogued body's own)",
     )
     p.add_argument("--mode", action="append", choices=("CW", "FCN"), help="modes to compute (repeatable; default: every mode the body supports)")
-    p.add_argument("--json", action="store_true", help="print a JSON list, one object per body")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="write a CF-1.10 netCDF file")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the mode periods against the core flattening")
+    add_outputs(p, "draw the mode periods against the core flattening")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from wobble.api.chandler import known_planets
     from wobble.api.modes import modes_dataset, normal_modes
-    from wobble.cli._output import check_outputs, print_json, wrote
+    from wobble.plot.modes import modes_figure
 
-    for name in args.bodies:
-        if name.lower() not in known_planets():
-            raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
-    from wobble.io.shipped import resolve
-
-    check_outputs(args)
-    files = [resolve(f, ("examples", "bodies"), "--body-file", (".toml",)) for f in args.body_file]
-    bodies = list(args.bodies) + files or known_planets()
+    bodies = bodies_from_args(args)
     modes = tuple(args.mode) if args.mode else None
     results = [normal_modes(b, profile=args.profile, modes=modes) for b in bodies]
-    if args.output:
-        from wobble.io.netcdf import write_netcdf
-
-        write_netcdf(modes_dataset(results), args.output, overwrite=args.overwrite, command=args.command_line)
-    if args.plot:
-        from wobble.plot.modes import modes_figure
-
-        modes_figure(results, args.plot, overwrite=args.overwrite)
-    if args.json:
-        print_json([r.to_dict() for r in results])
-    else:
-        print("\n\n".join(r.summary() for r in results))
-    for path in (args.output, args.plot):
-        if path:
-            wrote(path, json_mode=args.json)
-    return 0
+    return report(args, results, modes_dataset, modes_figure)

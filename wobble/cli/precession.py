@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from wobble.errors import InputError
+from wobble.cli._planets import add_bodies, add_outputs, bodies_from_args, report
 
 EPILOG = """\
 examples:
@@ -35,8 +35,7 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("bodies", nargs="*", metavar="BODY", help="catalogued planets (default: all of them)")
-    p.add_argument("--body-file", action="append", default=[], metavar="FILE", help="a planet file in the wobble/1 schema (repeatable)")
+    add_bodies(p)
     p.add_argument(
         "--perturber",
         action="append",
@@ -44,41 +43,13 @@ def register(sub) -> None:
         metavar="NAME_OR_FILE",
         help="a satellite to include (catalogue name or perturber file; repeatable); default: the catalogue's satellites of the body",
     )
-    p.add_argument("--json", action="store_true", help="print a JSON list, one object per body")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="write a CF-1.10 netCDF file")
-    p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
-    p.add_argument("--plot", metavar="FILE.png", help="draw each budget, term by term, against the observed rate")
+    add_outputs(p, "draw each budget, term by term, against the observed rate")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    from wobble.api.chandler import known_planets
     from wobble.api.precession import precession_dataset, precession_rate
-    from wobble.cli._output import check_outputs, print_json, wrote
+    from wobble.plot.precession import budget_figure
 
-    from wobble.io.shipped import resolve
-
-    for name in args.bodies:
-        if name.lower() not in known_planets():
-            raise InputError("BODY", name, f"one of {', '.join(known_planets())} (files go with --body-file)")
-    check_outputs(args)
-    bodies = list(args.bodies) + [resolve(f, ("examples", "bodies"), "--body-file", (".toml",)) for f in args.body_file]
-    if not bodies:
-        bodies = known_planets()
-    budgets = [precession_rate(b, args.perturber) for b in bodies]
-    if args.output:
-        from wobble.io.netcdf import write_netcdf
-
-        write_netcdf(precession_dataset(budgets), args.output, overwrite=args.overwrite, command=args.command_line)
-    if args.plot:
-        from wobble.plot.precession import budget_figure
-
-        budget_figure(budgets, args.plot, overwrite=args.overwrite)
-    if args.json:
-        print_json([b.to_dict() for b in budgets])
-    else:
-        print("\n\n".join(b.summary() for b in budgets))
-    for path in (args.output, args.plot):
-        if path:
-            wrote(path, json_mode=args.json)
-    return 0
+    budgets = [precession_rate(b, args.perturber) for b in bodies_from_args(args)]
+    return report(args, budgets, precession_dataset, budget_figure)
