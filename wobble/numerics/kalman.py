@@ -210,7 +210,6 @@ def window_filter(F, Q, h, r, P0, n: int) -> WindowFilter:
     h = np.asarray(h, dtype=complex)
     P = np.asarray(P0, dtype=complex).copy()
     m = F.shape[0]
-    eye = np.eye(m, dtype=complex)
     FH = F.conj().T
     hH = h.conj()
     gains = np.empty((n, m), dtype=complex)
@@ -222,13 +221,16 @@ def window_filter(F, Q, h, r, P0, n: int) -> WindowFilter:
         gains[k] = K
         P = P - np.outer(K, Ph.conj())
         P = 0.5 * (P + P.conj().T)
+    # Backward: B_{k-1} = B_k (I - K_k h) F = B_k F - (B_k K_k)(h F), and the weight of y_k is B_k K_k.
     weights = np.empty((n, m), dtype=complex)
-    B = eye.copy()
+    hF = h @ F
+    B = np.eye(m, dtype=complex)
     for k in range(n - 1, 0, -1):
-        weights[k] = B @ gains[k]
-        B = B @ ((eye - np.outer(gains[k], h)) @ F)
+        BK = B @ gains[k]
+        weights[k] = BK
+        B = B @ F - np.outer(BK, hF)
     weights[0] = B @ gains[0]
-    return WindowFilter(weights, B @ (eye - np.outer(gains[0], h)), P)
+    return WindowFilter(weights, B - np.outer(weights[0], h), P)
 
 
 def forecast_map(F, h, steps: int) -> np.ndarray:

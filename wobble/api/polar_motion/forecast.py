@@ -30,6 +30,7 @@ errors whose outcomes were known at the issue date minus the latency. With
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -75,8 +76,12 @@ def default_latency(ds) -> float:
     return LATENCY.get(ds.attrs.get("source_format", ""), 1.0) * DAY
 
 
+@functools.lru_cache(maxsize=1)
 def default_q() -> float:
-    """Q of the Chandler wobble from wobble's own model: the anelastic step of ``chandler_budget('earth')``."""
+    """Q of the Chandler wobble from wobble's own model: the anelastic step of ``chandler_budget('earth')``.
+
+    Computed once per process (the budget's Monte Carlo costs about half a second; the catalogue is shipped).
+    """
     from wobble.api.chandler import chandler_budget
 
     return float(chandler_budget("earth").quality_factor)
