@@ -48,6 +48,8 @@ def coverage_table(h) -> dict:
             "coverage_68_range": [float(c68.min()), float(c68.max())],
             "coverage_95_range": [float(c95.min()), float(c95.max())],
             "leads_outside_63_73": outside,
+            "coverage_68_every_lead": [float(v) for v in c68],
+            "coverage_95_every_lead": [float(v) for v in c95],
         }
     return out
 

@@ -25,8 +25,9 @@ to the issue date minus its publication delay (--latency; default 30 d for C04, 
 finals2000A). The 68 % and 95 % intervals are calibrated on the method's own past
 forecasts: the same method issued every week over the --calibration-span (default 2yr)
 before, each from its own data; per lead time, the split-conformal quantile of the
-absolute errors whose outcomes were known at the issue date minus the latency (Vovk,
-Gammerman & Shafer 2005). --no-calibration gives the models' Gaussian +/- sigma instead.
+errors (over their stated sigma) whose outcomes were known at the issue date minus the
+latency (Vovk, Gammerman & Shafer 2005). --no-calibration gives the models' Gaussian
++/- sigma instead.
 --hindcast START:END issues forecasts every --every over the span and scores them
 (MAE and RMS per component and for the 2-D pole, interval coverage, skill against
 persistence and the least-squares extrapolation) beside Dill et al. (2023); the

@@ -123,9 +123,10 @@ def calibration_text(cal) -> str:
         f"calibrated on the method's own past forecasts: {int(cal.count[0])} per lead time, issued every "
         f"{cal.step / DAY:g} d from {iso_date(MJD_J2000 + cal.first_issue / DAY)} to {iso_date(MJD_J2000 + cal.last_issue / DAY)}, "
         "each from its own data, with outcomes known at the issue date minus the latency "
-        f"(the latest {iso_date(MJD_J2000 + cal.last_outcome / DAY)}); half-widths are the split-conformal quantiles "
-        "(the ceil((n+1) p)-th smallest of n absolute errors, p = 68.27 % and 95 %) of x_p and y_p per lead time "
-        "(Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
+        f"(the latest {iso_date(MJD_J2000 + cal.last_outcome / DAY)}); per lead time and for x_p and y_p apart, the "
+        "half-width is this forecast's sigma times the split-conformal quantile of the past errors over their own "
+        "stated sigma (the ceil((n+1) p)-th smallest of the n ratios, p = 68.27 % and 95 %; Vovk, Gammerman & Shafer "
+        "2005; Lei et al. 2018)"
     )
 
 
@@ -246,7 +247,7 @@ class PolarMotionForecast:
         if cal is None:
             return None
         return {
-            "method": "split-conformal quantiles of the method's own past errors per lead time",
+            "method": "split-conformal quantiles of the method's own past errors over their stated sigma, per lead time",
             "span_days": cal.span / DAY,
             "step_days": cal.step / DAY,
             "past_forecasts_per_lead": int(cal.count[0]),

@@ -139,8 +139,8 @@ class PolarMotionHindcast:
             return calibration_text(None)
         return (
             f"each forecast's intervals calibrated on the same method's past forecasts issued weekly over the {self.calibration_span.value / 365.25:g} yr "
-            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of the absolute "
-            "errors of x_p and y_p per lead time; Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
+            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their errors "
+            "over their stated sigma, per lead time and component; Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
         )
 
     def to_dataset(self):
