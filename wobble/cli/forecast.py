@@ -32,7 +32,7 @@ latency (Vovk, Gammerman & Shafer 2005). --no-calibration gives the models' Gaus
 (MAE and RMS per component and for the 2-D pole, interval coverage, skill against
 persistence and the least-squares extrapolation) beside Dill et al. (2023); the
 2016-2020 weekly hindcast of the documentation is --hindcast 2016-01-01:2021-01-01
---every 7d --latency 1d (about half a minute on two cores).
+--every 7d --latency 1d (about a minute of CPU on two cores).
 """
 
 
