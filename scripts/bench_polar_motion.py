@@ -30,10 +30,11 @@ likelihood (L-BFGS-B on the steady-state filter, 40-220 evaluations of about 2.5
 filter's weights for a ten-year span (a covariance recursion of 3653 steps, about 0.1 s), the
 Chandler period from 30 years (0.07 s), and the calibration's 157 past forecasts: one matrix product
 for the Kalman model, 157 least-squares fits and 314 AR order selections for LS+AR (about 8 ms each),
-which is why the LS+AR forecast is the slower one. The hindcast runs 13-week blocks in two processes;
+which is why the LS+AR forecast is the slower one: calibrated, it misses the 1 s target; the Kalman
+forecast, the default, meets it. The hindcast runs 13-week blocks in two processes;
 a block computes the past forecasts of all its issues once.
 
-Where the time of `wobble polar-motion` goes (CPU): imports about 1 s (SciPy's optimisers 0.4 s;
+`wobble polar-motion` misses its 2 s target by far. Where its time goes (CPU): imports about 1 s (SciPy's optimisers 0.4 s;
 xarray and, through it, dask 0.5 s), the Q profile (46 Nelder-Mead searches of about 145
 evaluations each), the 57 sliding windows and the two Monte-Carlo excitation terms."""
 
