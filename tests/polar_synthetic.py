@@ -75,3 +75,26 @@ def record(rng, years, *, chandler="sinusoid", q=100.0, noise_rms=20 * MAS, gaps
         keep &= rng.random(n) > 0.1  # and 10 % of the days dropped at random: uneven sampling
         keep[[0, -1]] = True
     return t[keep], p[keep]
+
+
+def state_space_record(rng, years, period, q, noise):
+    """(t, p): a daily record of wobble's state-space model itself (free wobble driven by coloured
+    excitation, seasonal circles, a drifting mean pole, white observation noise), from its own
+    transition and noise (:func:`wobble.models.polar_motion.state_space.system`)."""
+    from wobble.models.polar_motion.excitation import chandler_frequency
+    from wobble.models.polar_motion.state_space import system
+
+    F, Q, h, r = system(chandler_frequency(period, q), noise)
+    lam, V = np.linalg.eigh(Q)
+    root = V * np.sqrt(np.clip(lam, 0.0, None))  # root @ root^H = Q (rank-deficient)
+    n = int(years * 365.25)
+    x = np.zeros(8, dtype=complex)
+    x[2:6] = np.array([90, 5, 4, 1]) * MAS
+    x[6], x[7] = (40 + 300j) * MAS, (0.005 + 0.01j) * MAS
+    w = (root @ (rng.standard_normal((8, n)) + 1j * rng.standard_normal((8, n)))).T / math.sqrt(2)
+    v = math.sqrt(r / 2) * (rng.standard_normal(n) + 1j * rng.standard_normal(n))
+    out = np.empty(n, dtype=complex)
+    for k in range(n):
+        x = F @ x + w[k]
+        out[k] = h @ x + v[k]
+    return DAY * np.arange(n), out

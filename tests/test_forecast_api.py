@@ -32,6 +32,13 @@ def test_json_layout(forecast):
     # The pole moves a few mas a day: the first day's forecast is within 5 mas of the record.
     obs = wobble.load_polar_motion(start="2018-03-02", end="2018-03-03")
     assert abs(first["x_mas"] - float(obs["x_p"][0]) * 1e3) < 5
+    # Calibrated on 104 weekly past forecasts per lead (two years), issued up to a week before,
+    # scored on outcomes up to the last day of data.
+    cal = d["calibration"]
+    assert cal["past_forecasts_per_lead"] == 104 and cal["step_days"] == 7
+    assert (cal["last_issue"], cal["last_outcome"]) == ("2018-02-22", "2018-02-28")
+    assert cal["first_issue"] == "2016-01-07"  # 104 + ceil(61 / 7) - 1 = 112 weeks (784 d) before
+    assert "split-conformal" in d["intervals"]
 
 
 def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
@@ -39,6 +46,7 @@ def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
     assert ds["lead_time"].attrs["standard_name"] == "forecast_period"
     assert ds["forecast_reference_time"].attrs["standard_name"] == "forecast_reference_time"
     assert ds["x_p_bounds_68"].dims == ("lead", "bounds")
+    assert ds.attrs["interval_calibration"] == "past_errors" and ds.attrs["calibration_past_forecasts_per_lead"] == 104
     path = write_netcdf(ds, tmp_path / "f.nc", command="test")
     back = open_wobble(path)
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
@@ -46,7 +54,9 @@ def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
 
 
 def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
-    h = wobble.hindcast_polar_motion(start="2019-01-01", end="2019-02-01", every=14 * u.day, horizon=30 * u.day, latency=1 * u.day, workers=1)
+    h = wobble.hindcast_polar_motion(
+        start="2019-01-01", end="2019-02-01", every=14 * u.day, horizon=30 * u.day, latency=1 * u.day, workers=1, calibration_span=1 * u.yr
+    )
     d = h.to_dict()
     assert d["issues"] == 3 and set(d["methods"]) == {"ls_ar", "kalman"}
     for m in ("ls_ar", "kalman"):
@@ -62,6 +72,15 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
     assert_cf_compliant(path)
     k = list(back["method"].values).index("kalman")
     np.testing.assert_allclose(back["rms_2d"].values[k, 9], d["methods"]["kalman"]["rms_2d"]["10"], rtol=1e-12)
+    # The coverage in the file is the fraction of outcomes inside the half-widths in the file.
+    inside = (np.abs(back["x_p_forecast"] - back["x_p_observed"]) <= back["x_p_half_width_68"]).values.astype(float)
+    inside += (np.abs(back["y_p_forecast"] - back["y_p_observed"]) <= back["y_p_half_width_68"]).values
+    np.testing.assert_allclose(inside.mean(axis=1) / 2, back["coverage_68"].values, rtol=1e-12)
+    # The hindcast scores the public forecast: its first issue (where the period and noise are
+    # estimated, as a single forecast estimates them) is wobble.forecast_polar_motion's.
+    f = wobble.forecast_polar_motion(issued="2019-01-01", horizon=30 * u.day, latency=1 * u.day, calibration_span=1 * u.yr)
+    np.testing.assert_allclose(h.forecasts[0][k].mean, f.raw.mean, rtol=1e-12)
+    np.testing.assert_allclose(h.forecasts[0][k].half_widths(95)[1], f.raw.half_widths(95)[1], rtol=1e-12)
 
 
 @pytest.mark.parametrize(
@@ -75,6 +94,10 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
         ({"horizon": 30}, "horizon"),
         ({"method": "arima"}, "method: got arima"),
         ({"q": 0.0}, "q: got 0.0"),
+        ({"issued": "1975-01-01", "calibration_span": 5 * u.yr}, r"calibration_span: got 5 yr; allowed: at most 1\.\d yr"),
+        ({"issued": "1973-06-01"}, "calibration_span: got 2 yr; allowed: a later issue date"),
+        ({"calibration_span": 10 * u.day}, "calibration_span: got 10.0 d; allowed: a span from 182 d to 30 yr"),
+        ({"calibration_span": 2.0}, "calibration_span"),
     ],
 )
 def test_bad_input(kwargs, fragment):
@@ -93,6 +116,10 @@ def test_bad_input(kwargs, fragment):
         (["--q", "0"], "--q: got 0"),
         (["--hindcast", "1970-01-01:1971-01-01"], "start: got 1970-01-01"),
         (["--hindcast", "2016-01-01"], "--hindcast: got 2016-01-01"),
+        (["--issued", "1975-01-01", "--calibration-span", "5yr"], "calibration_span: got 5 yr; allowed: at most"),
+        (["--calibration-span", "3"], "calibration_span: got 3.0 d"),
+        (["--calibration-span", "two years"], "--calibration-span: got two years"),
+        (["--hindcast", "1975-01-01:1975-03-01"], "the calibration's past forecasts"),
     ],
 )
 def test_cli_bad_input_exit_2_nothing_written(args, fragment, tmp_path, capsys):

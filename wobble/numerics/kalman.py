@@ -18,7 +18,15 @@ Two filters:
   exact filter has converged the two agree (a test checks it); the first
   steps differ, so callers leave a burn-in out of the likelihood.
 
-Forecasts (:func:`forecast`) propagate the mean and covariance h steps ahead.
+* :func:`window_filter` - the exact filter over a window of n steps from a
+  prior (x0, P0), written as the fixed linear map it is: the last filtered
+  state is sum_k G_k y_k + Phi x0 with weights G_k that depend on the model
+  and n only (the covariance recursion does not see the data). One set of
+  weights filters every window of the same length, so the filtered states at
+  many issue dates are one matrix product.
+
+Forecasts (:func:`forecast`) propagate the mean and covariance h steps ahead;
+:func:`forecast_map` gives the rows h F^a that turn a state into the means.
 Plain complex128 arrays; no units.
 """
 
@@ -30,7 +38,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg
 
-__all__ = ["SteadyState", "steady_state", "filter_steady", "filter_exact", "forecast", "log_likelihood"]
+__all__ = [
+    "SteadyState",
+    "steady_state",
+    "filter_steady",
+    "filter_exact",
+    "WindowFilter",
+    "window_filter",
+    "forecast",
+    "forecast_map",
+    "log_likelihood",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -157,3 +175,70 @@ def forecast(F, Q, h, r, x, P, steps: int) -> tuple[np.ndarray, np.ndarray]:
         mean[k] = h @ x
         var[k] = float((h @ P @ h.conj()).real + r)
     return mean, var
+
+
+@dataclass(frozen=True, eq=False)
+class WindowFilter:
+    """The exact filter of model (1) over a window of n steps, as a linear map of the window's data.
+
+    Attributes
+    ----------
+    weights : ndarray, shape (n, m)
+        G_k: the last filtered state is x_{n-1|n-1} = sum_k G_k y_k + prior_map x0.
+    prior_map : ndarray, shape (m, m)
+        Phi: how the prior mean x0 (of the first state) enters the last filtered state.
+    posterior : ndarray, shape (m, m)
+        P_{n-1|n-1}, the covariance of the last filtered state.
+    """
+
+    weights: np.ndarray
+    prior_map: np.ndarray
+    posterior: np.ndarray
+
+
+def window_filter(F, Q, h, r, P0, n: int) -> WindowFilter:
+    """The exact filter (Durbin & Koopman 2012, sec. 4.3) over ``n`` steps from the prior (x0, P0), as fixed weights.
+
+    The filter is x_0 = (I - K_0 h) x0 + K_0 y_0 and x_k = A_k x_{k-1} + K_k y_k
+    with A_k = (I - K_k h) F; the gains K_k come from the covariance
+    recursion alone, so x_{n-1} = sum_k B_k K_k y_k + B_0 (I - K_0 h) x0 with
+    B_{n-1} = I and B_{k-1} = B_k A_k. Equal to :func:`filter_exact` on any
+    data (a test checks it).
+    """
+    F = np.asarray(F, dtype=complex)
+    Q = np.asarray(Q, dtype=complex)
+    h = np.asarray(h, dtype=complex)
+    P = np.asarray(P0, dtype=complex).copy()
+    m = F.shape[0]
+    FH = F.conj().T
+    hH = h.conj()
+    gains = np.empty((n, m), dtype=complex)
+    for k in range(n):
+        if k:
+            P = F @ P @ FH + Q
+        Ph = P @ hH
+        K = Ph / (float((h @ Ph).real) + r)
+        gains[k] = K
+        P = P - np.outer(K, Ph.conj())
+        P = 0.5 * (P + P.conj().T)
+    # Backward: B_{k-1} = B_k (I - K_k h) F = B_k F - (B_k K_k)(h F), and the weight of y_k is B_k K_k.
+    weights = np.empty((n, m), dtype=complex)
+    hF = h @ F
+    B = np.eye(m, dtype=complex)
+    for k in range(n - 1, 0, -1):
+        BK = B @ gains[k]
+        weights[k] = BK
+        B = B @ F - np.outer(BK, hF)
+    weights[0] = B @ gains[0]
+    return WindowFilter(weights, B - np.outer(weights[0], h), P)
+
+
+def forecast_map(F, h, steps: int) -> np.ndarray:
+    """Rows h F^a, a = 1 .. ``steps`` (steps, m): the forecast means of y are ``forecast_map @ x``."""
+    F = np.asarray(F, dtype=complex)
+    row = np.asarray(h, dtype=complex).copy()
+    out = np.empty((steps, F.shape[0]), dtype=complex)
+    for a in range(steps):
+        row = row @ F
+        out[a] = row
+    return out

@@ -33,6 +33,7 @@ def forecast_figure(forecast, data=None) -> Figure:
     keep = (mjd > last - 730) & (mjd <= float(forecast.time_mjd[-1]))
     tf = _years(forecast.time_mjd)
     b68, b95 = forecast.bounds(68), forecast.bounds(95)
+    kind = "calibrated on past forecasts" if forecast.calibration is not None else "the model's, not calibrated"
     for ax, name, value, key in ((axes[0], "x_p", forecast.x, "x"), (axes[1], "y_p", forecast.y, "y")):
         obs = (np.asarray(data[name].values) * u.Unit(data[name].attrs["units"])).to_value(u.mas)
         used = keep & (mjd <= last)
@@ -40,7 +41,7 @@ def forecast_figure(forecast, data=None) -> Figure:
         ax.plot(_years(mjd[used]), obs[used], color="k", lw=1, label="record used")
         if later.any():
             ax.plot(_years(mjd[later]), obs[later], color="0.5", lw=1, ls=":", label="record after (not used)")
-        ax.fill_between(tf, b95[key][0].value, b95[key][1].value, color="C0", alpha=0.15, lw=0, label="95 %")
+        ax.fill_between(tf, b95[key][0].value, b95[key][1].value, color="C0", alpha=0.15, lw=0, label=f"95 % ({kind})")
         ax.fill_between(tf, b68[key][0].value, b68[key][1].value, color="C0", alpha=0.3, lw=0, label="68 %")
         ax.plot(tf, value.value, color="C0", lw=1.5, label=f"forecast ({forecast.method})")
         ax.axvline(_years(float(forecast.issued.mjd)), color="C3", lw=0.8, ls="--")
@@ -104,6 +105,8 @@ def hindcast_figure(hindcast) -> Figure:
     ax_skill.set_xlabel("lead time [d]")
     ax_skill.set_ylabel("skill, 1 - RMS / RMS(reference)")
     ax_skill.legend(fontsize="x-small")
+    intervals = "intervals calibrated on past forecasts" if getattr(hindcast, "calibrated", False) else "the models' own intervals"
+    ax_cov.set_title(intervals, fontsize="medium")
     fig.suptitle(
         f"hindcast: {len(hindcast.issued_mjd)} forecasts issued {_years(hindcast.issued_mjd[0]):.1f}-{_years(hindcast.issued_mjd[-1]):.1f}, "
         f"latency {hindcast.latency.value:g} d (anchors: published, with angular-momentum forecasts where marked)"

@@ -19,10 +19,18 @@ unless given.
 minus the record's publication delay: the IERS 20 C04 series appears about 30
 days after the fact, the IERS Rapid Service's finals2000A values about a day.
 Those are the defaults (``latency``); lead times count from the issue date.
+
+**Intervals.** The 68 % and 95 % intervals are calibrated on the method's own
+past forecasts (:mod:`wobble.models.polar_motion.forecast_calibration`): the
+same method issued every week over the two years before, each from its own
+data, and for each lead time the split-conformal quantile of the absolute
+errors whose outcomes were known at the issue date minus the latency. With
+``calibrated=False`` they are the model's Gaussian +/- sigma and +/- 1.96 sigma.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -34,12 +42,21 @@ from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data,
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
 from wobble.models.polar_motion import forecast as _fc
+from wobble.models.polar_motion import forecast_calibration as _cal
 from wobble.models.polar_motion.least_squares import fit_least_squares
-from wobble.models.polar_motion.ls_ar import LS_SPAN, forecast_ls_ar
 from wobble.models.polar_motion.record import DAY
-from wobble.models.polar_motion.state_space import FIT_SPAN, forecast_kalman
 
-__all__ = ["LATENCY", "PolarMotionForecast", "forecast_polar_motion", "default_latency", "default_q", "chandler_period_before", "record_of"]
+__all__ = [
+    "LATENCY",
+    "PolarMotionForecast",
+    "forecast_polar_motion",
+    "default_latency",
+    "default_q",
+    "chandler_period_before",
+    "record_of",
+    "calibration_span_si",
+    "calibration_text",
+]
 
 #: Publication delay of each kind of record, days: C04 about a month (the shipped file ends 34 days
 #: before its package date), the Rapid Service's finals2000A about a day.
@@ -59,8 +76,12 @@ def default_latency(ds) -> float:
     return LATENCY.get(ds.attrs.get("source_format", ""), 1.0) * DAY
 
 
+@functools.lru_cache(maxsize=1)
 def default_q() -> float:
-    """Q of the Chandler wobble from wobble's own model: the anelastic step of ``chandler_budget('earth')``."""
+    """Q of the Chandler wobble from wobble's own model: the anelastic step of ``chandler_budget('earth')``.
+
+    Computed once per process (the budget's Monte Carlo costs about half a second; the catalogue is shipped).
+    """
     from wobble.api.chandler import chandler_budget
 
     return float(chandler_budget("earth").quality_factor)
@@ -82,6 +103,31 @@ def chandler_period_before(t, z, cutoff: float) -> float:
     use = (t <= cutoff + 1e-6) & (t >= cutoff - _PERIOD_SPAN)
     reference = published_chandler_period()["period"].to_value(u.s)
     return fit_least_squares(t[use], z[use], reference_period=reference, uncertainty=False).chandler.period
+
+
+def calibration_span_si(span) -> float:
+    """The calibration span in s: from 26 weeks to 30 years (a Quantity of time; None: the default, 2 years)."""
+    if span is None:
+        return _cal.SPAN
+    value = float(to_si(span, "calibration_span", u.s, shape=()))
+    if not (math.isfinite(value) and _cal.MIN_COUNT * _cal.STEP - 1e-6 <= value <= 30 * 365.25 * DAY):
+        raise InputError("calibration_span", span, f"a span from {_cal.MIN_COUNT * _cal.STEP / DAY:g} d to 30 yr")
+    return value
+
+
+def calibration_text(cal) -> str:
+    """How the intervals were calibrated, in one sentence for people (JSON, netCDF attributes)."""
+    if cal is None:
+        return "68 % = mean +/- 1 sigma, 95 % = mean +/- 1.96 sigma of the model (Gaussian errors, not calibrated)"
+    return (
+        f"calibrated on the method's own past forecasts: {int(cal.count[0])} per lead time, issued every "
+        f"{cal.step / DAY:g} d from {iso_date(MJD_J2000 + cal.first_issue / DAY)} to {iso_date(MJD_J2000 + cal.last_issue / DAY)}, "
+        "each from its own data, with outcomes known at the issue date minus the latency "
+        f"(the latest {iso_date(MJD_J2000 + cal.last_outcome / DAY)}); per lead time and for x_p and y_p apart, the "
+        "half-width is this forecast's sigma times the split-conformal quantile of the past errors over their own "
+        "stated sigma (the ceil((n+1) p)-th smallest of the n ratios, p = 68.27 % and 95 %; Vovk, Gammerman & Shafer "
+        "2005; Lei et al. 2018)"
+    )
 
 
 def _latency_si(latency, ds) -> float:
@@ -111,7 +157,10 @@ class PolarMotionForecast:
     x, y : Quantity
         The forecast pole coordinates, mas.
     sigma_x, sigma_y : Quantity
-        Their one-sigma errors, mas (68 % interval: +/- 1 sigma; 95 %: +/- 1.96 sigma).
+        The model's own one-sigma errors, mas.
+    calibration : Calibration or None
+        The intervals' calibration on past forecasts (None: the model's Gaussian
+        intervals, +/- 1 and 1.96 sigma); :meth:`bounds` gives the intervals either way.
     chandler_period : Quantity
         The Chandler period the forecast used, days.
     raw : wobble.models.polar_motion.forecast.Forecast
@@ -131,8 +180,14 @@ class PolarMotionForecast:
         self.sigma_x = (raw.sigma_x / RAD_PER_MAS) << u.mas
         self.sigma_y = (raw.sigma_y / RAD_PER_MAS) << u.mas
         self.chandler_period = raw.details["chandler_period_days"] << u.day
+        self.calibration = raw.calibration
         self.q = q
         self.source = source
+
+    def half_width(self, level: int) -> dict:
+        """``{"x": ..., "y": ...}`` half-widths of the ``level`` % interval (68 or 95), mas."""
+        hx, hy = self.raw.half_widths(level)
+        return {"x": (hx / RAD_PER_MAS) << u.mas, "y": (hy / RAD_PER_MAS) << u.mas}
 
     @property
     def time_mjd(self) -> np.ndarray:
@@ -181,9 +236,24 @@ class PolarMotionForecast:
             "chandler_period_days": float(self.chandler_period.value),
             "quality_factor": self.q,
             "source_file": self.source,
-            "intervals": "68 % = mean +/- 1 sigma, 95 % = mean +/- 1.96 sigma (Gaussian errors)",
+            "intervals": calibration_text(self.calibration),
+            "calibration": self._calibration_dict(),
             "details": details,
             "forecast": rows,
+        }
+
+    def _calibration_dict(self):
+        cal = self.calibration
+        if cal is None:
+            return None
+        return {
+            "method": "split-conformal quantiles of the method's own past errors over their stated sigma, per lead time",
+            "span_days": cal.span / DAY,
+            "step_days": cal.step / DAY,
+            "past_forecasts_per_lead": int(cal.count[0]),
+            "first_issue": iso_date(MJD_J2000 + cal.first_issue / DAY),
+            "last_issue": iso_date(MJD_J2000 + cal.last_issue / DAY),
+            "last_outcome": iso_date(MJD_J2000 + cal.last_outcome / DAY),
         }
 
     def to_dataset(self):
@@ -212,17 +282,28 @@ class PolarMotionForecast:
             "forecast_reference_time": ((), float(MJD_J2000 + self.raw.issued / DAY), {"units": MJD_UNITS, "calendar": "standard", "standard_name": "forecast_reference_time", "long_name": "issue time of the forecast (UTC)"}),
         }
         ds = xr.Dataset(data, coords=coords)
+        cal = self._calibration_dict()
         ds.attrs = {
             "title": f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}",
             "summary": self.summary().splitlines()[0],
-            "references": _REFERENCES[self.method],
+            "references": _REFERENCES[self.method] + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
             "source_file": self.source,
+            "interval_calibration": "past_errors" if cal else "none",
+            "intervals": calibration_text(self.calibration),
             "comment": (
                 f"Data used up to {self.last_data.iso[:10]} (latency {self.latency.value:g} d before the issue date). "
-                "Intervals: mean +/- 1 sigma (68 %) and +/- 1.96 sigma (95 %), Gaussian. The pole is x_p toward Greenwich, "
-                "y_p toward 90 deg W."
+                "The pole is x_p toward Greenwich, y_p toward 90 deg W."
             ),
         }
+        if cal:
+            ds.attrs.update(
+                calibration_span_days=cal["span_days"],
+                calibration_step_days=cal["step_days"],
+                calibration_past_forecasts_per_lead=cal["past_forecasts_per_lead"],
+                calibration_first_issue=cal["first_issue"],
+                calibration_last_issue=cal["last_issue"],
+                calibration_last_outcome=cal["last_outcome"],
+            )
         return ds
 
     def summary(self) -> str:
@@ -233,18 +314,28 @@ class PolarMotionForecast:
             f"  {'lead [d]':>8}  {'date':>10}  {'x_p [mas]':>16}  {'y_p [mas]':>16}",
         ]
         n = len(self.lead)
+        h = self.half_width(68)
         for k in sorted({0, 4, 9, 29, 89, 179, 364, n - 1}):
             if k < n:
                 lines.append(
                     f"  {int(self.lead[k].value):8d}  {iso_date(float(self.time_mjd[k]))}  "
-                    f"{self.x[k].value:8.2f} +/- {self.sigma_x[k].value:5.2f}  {self.y[k].value:8.2f} +/- {self.sigma_y[k].value:5.2f}"
+                    f"{self.x[k].value:8.2f} +/- {h['x'][k].value:5.2f}  {self.y[k].value:8.2f} +/- {h['y'][k].value:5.2f}"
                 )
-        lines.append("  (+/- one sigma: the 68 % interval; the 95 % interval is 1.96 times wider)")
+        if self.calibration is None:
+            lines.append("  (+/- one sigma of the model: the 68 % interval if its errors are Gaussian; not calibrated)")
+        else:
+            c = self._calibration_dict()
+            lines.append(
+                f"  (+/-: the 68 % interval, calibrated on {c['past_forecasts_per_lead']} past forecasts per lead time issued "
+                f"{c['first_issue']} to {c['last_issue']})"
+            )
         return "\n".join(lines)
 
     def __repr__(self) -> str:
         return f"PolarMotionForecast({self.method!r}, issued={self.issued.iso[:10]}, horizon={len(self.lead)} d)"
 
+
+_CALIBRATION_REFERENCES = "split-conformal prediction (Vovk, Gammerman & Shafer 2005; Lei, G'Sell, Rinaldo et al. 2018, J. Am. Stat. Assoc. 113, 1094)"
 
 _REFERENCES = {
     "ls_ar": "Least squares + autoregression (Kosek et al. 1998; Kalarus, Schuh, Kosek et al. 2010, J. Geod. 84, 587)",
@@ -265,6 +356,8 @@ def forecast_polar_motion(
     latency: u.Quantity | None = None,
     q: float | None = None,
     chandler_period: u.Quantity | None = None,
+    calibrated: bool = True,
+    calibration_span: u.Quantity | None = None,
 ) -> PolarMotionForecast:
     """Forecast the pole from the record available at an issue date.
 
@@ -288,6 +381,10 @@ def forecast_polar_motion(
     chandler_period : Quantity, optional
         The Chandler period (default: wobble's least-squares estimate from the 30 years before the
         issue date minus the latency).
+    calibrated : bool
+        Calibrate the intervals on the method's past forecasts (default) or give the model's Gaussian ones.
+    calibration_span : Quantity
+        Span of past issue dates whose errors calibrate each lead time (default 2 yr, a forecast a week).
 
     Returns
     -------
@@ -308,17 +405,17 @@ def forecast_polar_motion(
                 "issued", issued, f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)"
             )
         issued_s = (issued_mjd - MJD_J2000) * DAY
+    span = calibration_span_si(calibration_span)
+    what = {"ls_ar": "LS+AR", "kalman": "Kalman"}[method]
+    # The issue date's own checks come first (information_set), so a too-early issue date is named as such.
+    _fc.information_set(t, z, issued_s, lat, _cal.FITTING_SPAN[method], what)
+    if calibrated:
+        _cal.check_calibration_span(t, issued_s, lat, horizon_days, method, span)
     if chandler_period is None:
-        # The span check of the method comes first (information_set), so a too-early issue date is named as such.
-        span = {"ls_ar": LS_SPAN, "kalman": FIT_SPAN}[method]
-        _fc.information_set(t, z, issued_s, lat, span, {"ls_ar": "LS+AR", "kalman": "Kalman"}[method])
         period = chandler_period_before(t, z, issued_s - lat)
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
-    if method == "ls_ar":
-        raw = forecast_ls_ar(t, z, issued_s, horizon_days, chandler_period=period, latency=lat)
-        q_out = None
-    else:
-        raw = forecast_kalman(t, z, issued_s, horizon_days, chandler_period=period, q=q_value, latency=lat)
-        q_out = q_value
-    return PolarMotionForecast(raw, lat, ds.attrs.get("source_file", ""), q_out)
+    raw = _cal.forecast(
+        t, z, issued_s, horizon_days, method=method, chandler_period=period, q=q_value, latency=lat, calibrated=calibrated, span=span
+    )
+    return PolarMotionForecast(raw, lat, ds.attrs.get("source_file", ""), q_value if method == "kalman" else None)

@@ -2,7 +2,9 @@
 
 Each forecast uses only what was available at its issue date (the record up
 to the issue date minus the latency; the Chandler period and the Kalman noise
-re-estimated every 13 issues from those data alone). The issues are cut into
+re-estimated every 13 issues from those data alone), and so does the
+calibration of its intervals on the method's past forecasts, exactly as
+:func:`wobble.forecast_polar_motion` calibrates a forecast. The issues are cut into
 blocks of 13 that run in parallel: on a local process pool by default, or on
 the dask scheduler given (``"threads"``, ``"processes"``, ``"synchronous"``, a
 ``tcp://`` address or a ``distributed.Client``), as the sweeps do.
@@ -20,15 +22,14 @@ from astropy import units as u
 
 from wobble.api._units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.forecast import _latency_si, check_q, default_q
+from wobble.api.polar_motion.forecast import _latency_si, calibration_span_si, calibration_text, check_q, default_q
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
 from wobble.models.polar_motion import forecast as _fc
+from wobble.models.polar_motion import forecast_calibration as _cal
 from wobble.models.polar_motion import hindcast as _hc
-from wobble.models.polar_motion.ls_ar import LS_SPAN
 from wobble.models.polar_motion.record import DAY
-from wobble.models.polar_motion.state_space import FIT_SPAN
 
 __all__ = ["PolarMotionHindcast", "hindcast_polar_motion", "ANCHORS"]
 
@@ -86,8 +87,10 @@ class PolarMotionHindcast:
         Per method, a :class:`wobble.models.polar_motion.hindcast.Scores` (rad; see :meth:`to_dataset` for mas).
     """
 
-    def __init__(self, methods, forecasts, truth, persistence, ls_only, latency, q, source):
+    def __init__(self, methods, forecasts, truth, persistence, ls_only, latency, q, source, calibrated=True, calibration_span=_cal.SPAN):
         self.methods = tuple(methods)
+        self.calibrated = bool(calibrated)
+        self.calibration_span = (calibration_span / DAY) << u.day
         self.forecasts = forecasts  # [issue][method] -> Forecast
         first = forecasts[0][0]
         self.issued_mjd = np.array([MJD_J2000 + row[0].issued / DAY for row in forecasts])
@@ -99,9 +102,8 @@ class PolarMotionHindcast:
         self.scores = {}
         for k, m in enumerate(self.methods):
             mean = np.array([row[k].mean for row in forecasts])
-            sx = np.array([row[k].sigma_x for row in forecasts])
-            sy = np.array([row[k].sigma_y for row in forecasts])
-            self.scores[m] = _hc.score(truth, mean, sx, sy, persistence, ls_only)
+            half = {level: tuple(np.array(v) for v in zip(*(row[k].half_widths(level) for row in forecasts))) for level in (68, 95)}
+            self.scores[m] = _hc.score(truth, mean, half[68], half[95], persistence, ls_only)
 
     def at(self, metric: str, method: str, leads=(5, 10, 40, 90, 365)) -> dict:
         """``{lead days: value}`` of a score (mas for errors, fractions otherwise) at the given lead times."""
@@ -120,6 +122,8 @@ class PolarMotionHindcast:
             "latency_days": float(self.latency.value),
             "quality_factor": self.q,
             "source_file": self.source,
+            "intervals": self._intervals_text(),
+            "calibration_span_days": float(self.calibration_span.value) if self.calibrated else None,
             "methods": {},
             "anchors": [{"label": a, "metric": m, "values_mas": {str(k): v for k, v in vals.items()}} for a, m, vals in ANCHORS],
         }
@@ -129,6 +133,15 @@ class PolarMotionHindcast:
                 for metric in ("rms_2d", "mae_2d", "rms_x", "rms_y", "mae_x", "mae_y", "coverage_68", "coverage_95", "skill_persistence", "skill_ls")
             }
         return out
+
+    def _intervals_text(self) -> str:
+        if not self.calibrated:
+            return calibration_text(None)
+        return (
+            f"each forecast's intervals calibrated on the same method's past forecasts issued weekly over the {self.calibration_span.value / 365.25:g} yr "
+            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their errors "
+            "over their stated sigma, per lead time and component; Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
+        )
 
     def to_dataset(self):
         """The hindcasts, the outcomes and the scores as a CF Dataset (dimensions method, issue, lead)."""
@@ -141,11 +154,19 @@ class PolarMotionHindcast:
         y = np.array([[f.xy()[1] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
         sx = np.array([[f.sigma_x for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
         sy = np.array([[f.sigma_y for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+
+        def half(level, axis):
+            return np.array([[f.half_widths(level)[axis] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+
         data = {
             "x_p_forecast": cf.variable("forecast", "x_p_forecast", x),
             "y_p_forecast": cf.variable("forecast", "y_p_forecast", y),
             "x_p_sigma": cf.variable("forecast", "x_p_sigma", sx),
             "y_p_sigma": cf.variable("forecast", "y_p_sigma", sy),
+            "x_p_half_width_68": cf.variable("forecast", "x_p_half_width_68", half(68, 0)),
+            "y_p_half_width_68": cf.variable("forecast", "y_p_half_width_68", half(68, 1)),
+            "x_p_half_width_95": cf.variable("forecast", "x_p_half_width_95", half(95, 0)),
+            "y_p_half_width_95": cf.variable("forecast", "y_p_half_width_95", half(95, 1)),
             "x_p_observed": cf.variable("forecast", "x_p_observed", self.truth.real * mas),
             "y_p_observed": cf.variable("forecast", "y_p_observed", -self.truth.imag * mas),
             "latency": cf.variable("forecast", "latency", float(self.latency.value)),
@@ -168,11 +189,16 @@ class PolarMotionHindcast:
             "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods {', '.join(self.methods)}, latency {self.latency.value:g} d",
             "references": "; ".join(a for a, _, _ in ANCHORS[:1] + ANCHORS[3:4]) + "; IERS EOP 20 C04 series (Paris Observatory)",
             "source_file": self.source,
+            "interval_calibration": "past_errors" if self.calibrated else "none",
+            "intervals": self._intervals_text(),
             "comment": (
                 "Each forecast uses the record up to its issue time minus the latency; the Chandler period and the state-space "
-                "noise are re-estimated every 13 issues from those data. Coverage pools x_p and y_p."
+                "noise are re-estimated every 13 issues from those data. Coverage counts outcomes inside the intervals "
+                "(x_p_half_width_68 ...), pooling x_p and y_p."
             ),
         }
+        if self.calibrated:
+            ds.attrs["calibration_span_days"] = float(self.calibration_span.value)
         return ds
 
     def summary(self) -> str:
@@ -180,11 +206,17 @@ class PolarMotionHindcast:
         leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
         lines = [
             f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: {len(self.issued_mjd)} issues, "
-            f"latency {self.latency.value:g} d",
+            f"latency {self.latency.value:g} d; intervals " + ("calibrated on past forecasts" if self.calibrated else "of the models (not calibrated)"),
             f"  {'':<34}" + "".join(f"{d:>8} d" for d in leads),
         ]
         for m in self.methods:
-            for metric, label in (("rms_2d", "2-D RMS [mas]"), ("mae_x", "x_p MAE [mas]"), ("coverage_68", "68 % coverage"), ("skill_persistence", "skill vs persistence")):
+            for metric, label in (
+                ("rms_2d", "2-D RMS [mas]"),
+                ("mae_x", "x_p MAE [mas]"),
+                ("coverage_68", "68 % coverage"),
+                ("coverage_95", "95 % coverage"),
+                ("skill_persistence", "skill vs persistence"),
+            ):
                 vals = self.at(metric, m, leads)
                 lines.append(f"  {m + ' ' + label:<34}" + "".join(f"{vals.get(d, math.nan):>10.2f}" for d in leads))
         lines.append(f"  {'LS extrapolation 2-D RMS':<34}" + "".join(f"{self.scores[self.methods[0]].rms_2d_ls[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads))
@@ -208,6 +240,8 @@ def hindcast_polar_motion(
     q: float | None = None,
     scheduler=None,
     workers: int | None = None,
+    calibrated: bool = True,
+    calibration_span: u.Quantity | None = None,
 ) -> PolarMotionHindcast:
     """Forecasts issued every ``every`` from ``start`` up to (not including) ``end``, scored against the record.
 
@@ -225,6 +259,9 @@ def hindcast_polar_motion(
         ``ls_ar`` and/or ``kalman``; the LS+AR's least-squares extrapolation is the skill reference.
     scheduler : str or distributed.Client, optional
         A dask scheduler; default: a local process pool of ``workers`` (default: the CPU count).
+    calibrated, calibration_span
+        As in :func:`wobble.forecast_polar_motion`: each forecast's intervals calibrated on the
+        method's past forecasts (issued before it, outcomes known at its issue date minus the latency).
     """
     methods = tuple(_fc.check_method(m) for m in methods)
     if not methods:
@@ -236,6 +273,7 @@ def hindcast_polar_motion(
     if step < DAY - 1e-6:
         raise InputError("every", every, "at least 1 d")
     q_value = default_q() if q is None else check_q(q)
+    span = calibration_span_si(calibration_span)
     ds = resolve_data(data, file, None, None)
     mjd, t, z = series(ds)
     lat = _latency_si(latency, ds)
@@ -243,16 +281,28 @@ def hindcast_polar_motion(
     if b <= a:
         raise InputError("end", end, f"a date after start ({iso_date(a)})")
     issues = (a - MJD_J2000) * DAY + step * np.arange(math.ceil((b - a) * DAY / step - 1e-9))
-    need = max(LS_SPAN if "ls_ar" in methods else 0.0, FIT_SPAN if "kalman" in methods else 0.0)
+    need = max(_cal.FITTING_SPAN[m] for m in set(methods) | {"ls_ar"})
     if issues[0] - lat - t[0] < need - 0.5 * DAY:
         raise InputError("start", start, f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the record's start ({iso_date(mjd[0])})")
+    if calibrated:
+        oldest = _cal.past_issue_times(issues[0], lat, horizon_days, span)[0]
+        if oldest - lat - t[0] < need - 0.5 * DAY:
+            first_ok = t[0] + need + lat + (issues[0] - oldest)
+            raise InputError(
+                "start", start,
+                f"an issue date on or after {iso_date(MJD_J2000 + first_ok / DAY)}: the calibration's past forecasts "
+                f"({span / DAY / 365.25:g} yr of them, then the horizon) need their {need / DAY / 365.25:.0f}-yr fitting span in the record",
+            )
     last_needed = issues[-1] + horizon_days * DAY
     if last_needed > t[-1] + 1e-6:
         raise InputError(
             "end", end, f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or before {iso_date(mjd[-1])}"
         )
     reference = published_chandler_period()["period"].to_value(u.s)
-    blocks = _hc.blocks(issues, horizon_days, ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"), lat, q_value, reference)
+    blocks = _hc.blocks(
+        issues, horizon_days, ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"), lat, q_value, reference,
+        calibrated=methods if calibrated else (), calibration_span=span,
+    )
     rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers) for row in block]
     order = ["ls_ar"] + [m for m in methods if m != "ls_ar"]
     lead = DAY * np.arange(1, horizon_days + 1)
@@ -261,4 +311,4 @@ def hindcast_polar_motion(
     ls_only = np.array([row[0].baseline for row in rows])
     keep = [order.index(m) for m in methods]
     forecasts = [[row[k] for k in keep] for row in rows]
-    return PolarMotionHindcast(methods, forecasts, truth, persistence, ls_only, lat, q_value, ds.attrs.get("source_file", ""))
+    return PolarMotionHindcast(methods, forecasts, truth, persistence, ls_only, lat, q_value, ds.attrs.get("source_file", ""), calibrated, span)

@@ -25,6 +25,7 @@ __all__ = [
     "Z68",
     "Z95",
     "Forecast",
+    "PastForecasts",
     "information_set",
     "check_horizon",
     "check_method",
@@ -64,6 +65,9 @@ class Forecast:
         wobble), for skill scores.
     details : dict
         What the method fitted (orders, noise parameters, spans).
+    calibration : Calibration, optional
+        Interval half-widths from the method's past errors
+        (:class:`~.forecast_calibration.Calibration`); None: the model's sigma.
     """
 
     method: str
@@ -75,16 +79,52 @@ class Forecast:
     sigma_y: np.ndarray
     baseline: np.ndarray
     details: dict = field(default_factory=dict)
+    calibration: object | None = None
 
     def xy(self) -> tuple[np.ndarray, np.ndarray]:
         """(x_p, y_p) of the mean, rad."""
         return pole_xy(self.mean)
 
+    def half_widths(self, level: int) -> tuple[np.ndarray, np.ndarray]:
+        """(x_p, y_p) half-widths of the ``level`` % interval (68 or 95), rad: the calibration's when there is
+        one (:mod:`.forecast_calibration`), else z sigma of the model (Gaussian errors)."""
+        if self.calibration is not None:
+            return self.calibration.half_widths(level)
+        z = {68: Z68, 95: Z95}[level]
+        return z * self.sigma_x, z * self.sigma_y
+
     def bounds(self, level: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(x low, x high, y low, y high) of the ``level`` % interval (68 or 95), rad."""
-        z = {68: Z68, 95: Z95}[level]
+        hx, hy = self.half_widths(level)
         x, y = self.xy()
-        return x - z * self.sigma_x, x + z * self.sigma_x, y - z * self.sigma_y, y + z * self.sigma_y
+        return x - hx, x + hx, y - hy, y + hy
+
+
+@dataclass(frozen=True, eq=False)
+class PastForecasts:
+    """Forecasts of one method issued in the past (means only), for :func:`.forecast_calibration.calibrate`.
+
+    Attributes
+    ----------
+    issued : ndarray (k,)
+        Issue times, s, increasing.
+    mean : ndarray (k, H), complex
+        Forecasts of p = x_p - i y_p at lead 1 .. H days after each issue, rad.
+    sigma : ndarray (k, H, 2)
+        The models' one-sigma errors of x_p and y_p, rad.
+    """
+
+    issued: np.ndarray
+    mean: np.ndarray
+    sigma: np.ndarray
+
+    def take(self, times) -> "PastForecasts":
+        """The forecasts issued at ``times`` (each must be present)."""
+        times = np.asarray(times, dtype=float)
+        idx = np.searchsorted(self.issued, times - 1e-6)
+        if np.any(idx >= self.issued.size) or np.any(np.abs(self.issued[np.minimum(idx, self.issued.size - 1)] - times) > 1e-6):
+            raise ValueError("past forecasts missing for some issue times")
+        return PastForecasts(self.issued[idx], self.mean[idx], self.sigma[idx])
 
 
 def information_set(t, z, issued: float, latency: float, span: float, what: str) -> tuple[np.ndarray, np.ndarray]:

@@ -3,7 +3,8 @@
 Every forecast uses only the samples up to its issue time minus the latency
 (:func:`~wobble.models.polar_motion.forecast.information_set`): the Chandler
 period and the state-space noise are re-estimated every ``refit`` issues from
-those samples too, never from later ones. Scores per lead time (1 .. H days):
+those samples too, never from later ones, and so are the intervals' calibrations
+(:mod:`.forecast_calibration`). Scores per lead time (1 .. H days):
 
 * mean absolute error and RMS of x_p and y_p, and of the 2-D pole
   (|p - p_hat|: RMS = sqrt(mean(dx^2 + dy^2)));
@@ -21,12 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wobble.models.polar_motion.forecast import Z68, Z95, Forecast, check_method, information_set
+from wobble.models.polar_motion import forecast_calibration as fcal
+from wobble.models.polar_motion.forecast import Forecast, check_method
 from wobble.models.polar_motion.least_squares import fit_least_squares
-from wobble.models.polar_motion.ls_ar import forecast_ls_ar
 from wobble.models.polar_motion.record import DAY
-from wobble.models.polar_motion.excitation import chandler_frequency
-from wobble.models.polar_motion.state_space import DEFAULT_NOISE, FIT_SPAN, fit_noise, forecast_kalman
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["PERIOD_SPAN", "Block", "blocks", "run_block", "Scores", "score", "truth_at"]
@@ -46,42 +45,68 @@ class Block:
     q: float
     reference_period: float
     chandler_period: float | None = None
+    calibrated: tuple[str, ...] = ()
+    calibration_span: float = fcal.SPAN
 
 
-def blocks(issues, horizon_days, methods, latency, q, reference_period, refit: int = 13, chandler_period=None) -> list[Block]:
-    """The issue times cut into blocks of ``refit`` consecutive issues (the unit of parallel work)."""
+def blocks(
+    issues, horizon_days, methods, latency, q, reference_period, refit: int = 13, chandler_period=None, calibrated=None, calibration_span=fcal.SPAN
+) -> list[Block]:
+    """The issue times cut into blocks of ``refit`` consecutive issues (the unit of parallel work).
+
+    ``calibrated`` names the methods whose intervals are calibrated (default: all).
+    """
     issues = [float(x) for x in issues]
     methods = tuple(check_method(m) for m in methods)
+    calibrated = methods if calibrated is None else tuple(check_method(m) for m in calibrated)
     return [
-        Block(tuple(issues[i : i + refit]), int(horizon_days), methods, float(latency), float(q), float(reference_period), chandler_period)
+        Block(
+            tuple(issues[i : i + refit]), int(horizon_days), methods, float(latency), float(q), float(reference_period), chandler_period,
+            calibrated, float(calibration_span),
+        )
         for i in range(0, len(issues), refit)
     ]
 
 
 @one_blas_thread
 def run_block(t, z, block: Block) -> list[list[Forecast]]:
-    """The forecasts of every method at every issue of ``block`` (outer list: issues)."""
+    """The forecasts of every method at every issue of ``block`` (outer list: issues), calibrated as the block says.
+
+    The Chandler period and the Kalman noise are estimated once, at the first
+    issue, from the data before it; every forecast of the block, and every past
+    forecast its calibration uses, shares them (:func:`.forecast_calibration.forecast`).
+    The past forecasts of all the block's issues are computed once.
+    """
     first = block.issues[0]
     cutoff = first - block.latency
     period = block.chandler_period
     if period is None:
         use = (t <= cutoff + 1e-6) & (t >= cutoff - PERIOD_SPAN)
         period = fit_least_squares(t[use], z[use], reference_period=block.reference_period, uncertainty=False).chandler.period
-    noise = None
+    setup = None
     if "kalman" in block.methods:
-        ti, zi = information_set(t, z, first, block.latency, FIT_SPAN, "Kalman")
-        noise, _ = fit_noise(ti, zi, chandler_frequency(period, block.q), start=DEFAULT_NOISE)
+        tk, zk = fcal.known_at(t, z, cutoff)
+        setup, _ = fcal.kalman_setup(tk, zk, first, block.latency, period, block.q)
+    past = {}
+    if block.calibrated:
+        times = np.unique(
+            np.round(np.concatenate([fcal.past_issue_times(i, block.latency, block.horizon_days, block.calibration_span) for i in block.issues]), 3)
+        )
+        for method in block.calibrated:
+            past[method] = fcal.past_forecasts(
+                t, z, times, block.horizon_days, method=method, chandler_period=period, latency=block.latency, setup=setup
+            )
     out = []
     for issued in block.issues:
-        row = []
-        for method in block.methods:
-            if method == "ls_ar":
-                row.append(forecast_ls_ar(t, z, issued, block.horizon_days, chandler_period=period, latency=block.latency))
-            else:
-                row.append(
-                    forecast_kalman(t, z, issued, block.horizon_days, chandler_period=period, q=block.q, latency=block.latency, noise=noise)
+        out.append(
+            [
+                fcal.forecast(
+                    t, z, issued, block.horizon_days, method=method, chandler_period=period, q=block.q, latency=block.latency,
+                    calibrated=method in block.calibrated, span=block.calibration_span, setup=setup, past=past.get(method),
                 )
-        out.append(row)
+                for method in block.methods
+            ]
+        )
     return out
 
 
@@ -103,16 +128,17 @@ class Scores:
     skill_ls: np.ndarray
 
 
-def score(truth: np.ndarray, mean: np.ndarray, sigma_x: np.ndarray, sigma_y: np.ndarray, persistence: np.ndarray, ls_only: np.ndarray) -> Scores:
+def score(truth: np.ndarray, mean: np.ndarray, half68: tuple, half95: tuple, persistence: np.ndarray, ls_only: np.ndarray) -> Scores:
     """Scores of forecasts ``mean`` (issues x leads, complex) against ``truth`` (same shape).
 
-    ``persistence`` is the last value used by each issue (issues,), ``ls_only``
-    the least-squares extrapolation (issues x leads).
+    ``half68`` and ``half95`` are the (x_p, y_p) half-widths of the intervals
+    (each issues x leads); ``persistence`` is the last value used by each
+    issue (issues,), ``ls_only`` the least-squares extrapolation (issues x leads).
     """
     d = mean - truth
     dx, dy = d.real, -d.imag
-    inside68 = (np.abs(dx) <= Z68 * sigma_x).astype(float) + (np.abs(dy) <= Z68 * sigma_y)
-    inside95 = (np.abs(dx) <= Z95 * sigma_x).astype(float) + (np.abs(dy) <= Z95 * sigma_y)
+    inside68 = (np.abs(dx) <= half68[0]).astype(float) + (np.abs(dy) <= half68[1])
+    inside95 = (np.abs(dx) <= half95[0]).astype(float) + (np.abs(dy) <= half95[1])
     rms2 = np.sqrt(np.mean(np.abs(d) ** 2, axis=0))
     rms_p = np.sqrt(np.mean(np.abs(persistence[:, None] - truth) ** 2, axis=0))
     rms_ls = np.sqrt(np.mean(np.abs(ls_only - truth) ** 2, axis=0))

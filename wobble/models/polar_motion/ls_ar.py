@@ -24,13 +24,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from wobble.models.polar_motion.forecast import Forecast, daily, information_set
+from wobble.models.polar_motion.forecast import Forecast, PastForecasts, daily, information_set
 from wobble.models.polar_motion.record import ANNUAL_RATE, DAY, pole_xy
 from wobble.models.polar_motion.uncertainty import hac_meat
 from wobble.numerics.autoregression import ARFit, ar_forecast, select_ar
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["LS_SPAN", "AR_SPAN", "MAX_ORDER", "harmonic_columns", "forecast_ls_ar"]
+__all__ = ["LS_SPAN", "AR_SPAN", "MAX_ORDER", "harmonic_columns", "forecast_ls_ar", "past_forecasts_ls_ar"]
 
 #: Default fitting span of the least squares: six years (Chao 1985's optimum base for polar-motion prediction).
 LS_SPAN = 6.0 * 365.25 * DAY
@@ -128,16 +128,17 @@ def forecast_ls_ar(
         carried.append(ar_forecast(offset, np.ones(max(fit.order, 1)), steps)[0][ahead - 1])
     future_cols = harmonic_columns(issued + lead - ti[-1], rate)
     ls_future = future_cols @ coeffs
-    var_lx, var_ly = _extrapolation_variance(ti, cols, resid, future_cols, carried)
     mean = ls_future + (means[0] - 1j * means[1])
+    var_lx, var_ly = _extrapolation_variance(ti, cols, resid, future_cols, carried)
+    sigma_x, sigma_y = np.sqrt(variances[0] + var_lx), np.sqrt(variances[1] + var_ly)
     return Forecast(
         method="ls_ar",
         issued=float(issued),
         last_data=float(ti[-1]),
         lead=lead,
         mean=mean,
-        sigma_x=np.sqrt(variances[0] + var_lx),
-        sigma_y=np.sqrt(variances[1] + var_ly),
+        sigma_x=sigma_x,
+        sigma_y=sigma_y,
         baseline=ls_future,
         details={
             "ls_span_days": ls_span / DAY,
@@ -148,3 +149,13 @@ def forecast_ls_ar(
             "ls_residual_rms_mas": float(np.sqrt(np.mean(np.abs(resid) ** 2))) / (np.pi / 648e6),
         },
     )
+
+
+@one_blas_thread
+def past_forecasts_ls_ar(t, z, issues, horizon_days: int, *, chandler_period: float, latency: float = DAY, **kwargs):
+    """The forecasts :func:`forecast_ls_ar` issues at each of ``issues`` (a :class:`~.forecast.PastForecasts`)."""
+    issues = np.asarray(issues, dtype=float)
+    fs = [forecast_ls_ar(t, z, s, horizon_days, chandler_period=chandler_period, latency=latency, **kwargs) for s in issues]
+    mean = np.array([f.mean for f in fs], dtype=complex).reshape(issues.size, horizon_days)
+    sigma = np.array([np.stack([f.sigma_x, f.sigma_y], axis=1) for f in fs]).reshape(issues.size, horizon_days, 2)
+    return PastForecasts(issues, mean, sigma)

@@ -70,7 +70,10 @@ def hac_meat(t: np.ndarray, scores: np.ndarray, lag: float) -> np.ndarray:
     idx = np.rint((t - t[0]) / dt).astype(int)
     n = int(idx[-1]) + 1
     grid = np.zeros((n, scores.shape[1]))
-    np.add.at(grid, idx, scores)
+    if np.all(np.diff(idx) > 0):
+        grid[idx] = scores  # one sample per grid point (the usual case): the same as adding, without ufunc.at's cost
+    else:
+        np.add.at(grid, idx, scores)
     nlag = int(min(max(round(lag / dt), 1), n - 1))
     nfft = 1 << int(math.ceil(math.log2(n + nlag + 1)))
     weights = np.zeros(nfft)
