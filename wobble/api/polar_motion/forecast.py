@@ -130,7 +130,8 @@ def calibration_text(cal) -> str:
     )
 
 
-def _latency_si(latency, ds) -> float:
+def latency_si(latency, ds) -> float:
+    """The record's publication delay in s: ``latency`` (a time Quantity, 0 d to 1 yr) or the record's default."""
     if latency is None:
         return default_latency(ds)
     value = float(to_si(latency, "latency", u.s, shape=()))
@@ -395,7 +396,7 @@ def forecast_polar_motion(
     q_value = default_q() if q is None else check_q(q)
     ds = resolve_data(data, file, None, None)
     mjd, t, z = series(ds)
-    lat = _latency_si(latency, ds)
+    lat = latency_si(latency, ds)
     if issued is None:
         issued_s = t[-1] + lat
     else:

@@ -22,7 +22,7 @@ from astropy import units as u
 
 from wobble.api._units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.forecast import _latency_si, calibration_span_si, calibration_text, check_q, default_q
+from wobble.api.polar_motion.forecast import latency_si, calibration_span_si, calibration_text, check_q, default_q
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
@@ -276,7 +276,7 @@ def hindcast_polar_motion(
     span = calibration_span_si(calibration_span)
     ds = resolve_data(data, file, None, None)
     mjd, t, z = series(ds)
-    lat = _latency_si(latency, ds)
+    lat = latency_si(latency, ds)
     a, b = to_mjd(start, "start"), to_mjd(end, "end")
     if b <= a:
         raise InputError("end", end, f"a date after start ({iso_date(a)})")
