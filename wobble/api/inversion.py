@@ -546,13 +546,14 @@ class Inversion:
         file is replaced only with ``overwrite=True``. Reopen with
         ``arviz.from_netcdf(path)`` (or ``xarray.open_dataset(path, group="posterior")``).
         """
-        from wobble.io.atomic import atomic_target
+        from wobble.io.atomic import atomic_target, interrupts_held
 
         idata = self.to_inference_data()
         with atomic_target(path, overwrite) as tmp:
             # netCDF4, as every wobble file: h5netcdf (ArviZ's default) leaves HDF5 objects open
             # after a failed write (a full disk), and the interpreter then crashes closing them.
-            idata.to_netcdf(tmp, engine="netcdf4")
+            with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
+                idata.to_netcdf(tmp, engine="netcdf4")
         from pathlib import Path
 
         return Path(path)

@@ -18,7 +18,9 @@ import errno
 import os
 import re
 import shutil
+import signal
 import tempfile
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -26,7 +28,7 @@ from pathlib import Path
 from wobble.errors import InputError, OutputExistsError
 
 __all__ = ["atomic_target", "check_target", "new_temporary", "new_temporary_folder", "publish", "write_error",
-           "remove_stale_temporaries"]
+           "remove_stale_temporaries", "interrupts_held"]
 
 # When this process began writing files (the module is imported before any write): temporaries
 # older than this cannot belong to a write this process is doing.
@@ -40,6 +42,33 @@ _WRITE_FAILURE = re.compile(r"HDF error|write failed|errno = \d+|can't write|no 
 _NO_ROOM = {errno.ENOSPC, errno.EFBIG, errno.EDQUOT}
 # Below this many free bytes in the target's file system, a failed write is put down to a full disk.
 _NEARLY_FULL = 1 << 20
+
+
+@contextlib.contextmanager
+def interrupts_held():
+    """Hold Ctrl-C (SIGINT) while the block runs, then raise the ``KeyboardInterrupt`` it was for.
+
+    xarray's writers take a non-reentrant lock around the netCDF library and take it again in
+    their clean-up: a ``KeyboardInterrupt`` raised between the two deadlocks the process (seen
+    with Ctrl-C early in a large sweep's file), or is lost in a clean-up that swallows it and the
+    run goes on. Holding the signal over such a call costs at most the call's own duration; the
+    interrupt then arrives where wobble's clean-up (:func:`atomic_target`) removes the temporary.
+    Outside the main thread (where signal handlers cannot be set) the block runs unchanged.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+    if received:
+        if previous is signal.default_int_handler:
+            raise KeyboardInterrupt
+        if callable(previous):
+            previous(signal.SIGINT, None)
 
 
 def _umask() -> int:

@@ -32,7 +32,7 @@ import numpy as np
 import xarray as xr
 
 from wobble.errors import FileFormatError, InputError
-from wobble.io.atomic import atomic_target, check_target, new_temporary, publish, write_error
+from wobble.io.atomic import atomic_target, check_target, interrupts_held, new_temporary, publish, write_error
 
 __all__ = [
     "CONVENTIONS",
@@ -181,7 +181,8 @@ def write_netcdf(
     path = Path(path)
     with atomic_target(path, overwrite) as tmp:
         cf = to_cf(ds, command=command)
-        cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf))
+        with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
+            cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf))
     return path
 
 
@@ -221,7 +222,8 @@ def write_netcdf_blocks(
     with atomic_target(path, overwrite) as tmp:
         cf = to_cf(template, command=command)
         # compute=False writes the structure and the in-memory variables only.
-        cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf), compute=False)
+        with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
+            cf.to_netcdf(tmp, format="NETCDF4", engine="netcdf4", encoding=_encoding(cf), compute=False)
         with netCDF4.Dataset(tmp, "a") as nc:
             nc.set_auto_maskandscale(False)
             for name, index, values in blocks:
@@ -317,10 +319,11 @@ class StreamingWriter:
             self.begin()
         if self.rows == 0:
             cf = to_cf(block, command=self.command)
-            cf.to_netcdf(
-                self.tmp, mode="w", format="NETCDF4", engine="netcdf4",
-                encoding=_encoding(cf, streaming=True), unlimited_dims=["time"],
-            )
+            with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
+                cf.to_netcdf(
+                    self.tmp, mode="w", format="NETCDF4", engine="netcdf4",
+                    encoding=_encoding(cf, streaming=True), unlimited_dims=["time"],
+                )
             import netCDF4
 
             self._nc = netCDF4.Dataset(self.tmp, mode="a")
