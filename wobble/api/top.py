@@ -451,9 +451,8 @@ class HeavyTop:
         return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)
 
     def _dataset(self, ts, mo) -> xr.Dataset:
-        from wobble.api.dataset import xarray
+        from wobble.api.dataset import build
 
-        xr = xarray()
         m = self._model
         inv = {"energy": mo.energy, "p_phi": mo.p_phi, "p_psi": mo.p_psi}  # recomputed from omega and q
         # The drifts in one allocation (a fresh array per drift costs page faults at this size).
@@ -480,20 +479,18 @@ class HeavyTop:
             "p_psi": var("p_psi", inv["p_psi"]),
             "p_psi_drift": var("p_psi_drift", drift[2]),
         }
-        ds = xr.Dataset(
-            data,
-            coords={
-                "time": cf.time_coordinate(ts),
-                "axis": cf.label_coordinate("axis"),
-                "inertial_axis": cf.label_coordinate("inertial_axis"),
-                "component": cf.label_coordinate("component"),
-            },
-        )
+        coords = {
+            "time": cf.time_coordinate(ts),
+            "axis": cf.label_coordinate("axis"),
+            "inertial_axis": cf.label_coordinate("inertial_axis"),
+            "component": cf.label_coordinate("component"),
+        }
 
         def fin(x):
             return float(x) if np.isfinite(x) else "inf"
 
-        ds.attrs.update(
+        return build(
+            data, coords,
             {
                 "title": "Heavy symmetric top with one point fixed (exact solution)",
                 "references": "Goldstein, Poole & Safko 2002, Classical Mechanics, section 5.7; Landau & Lifshitz, "
@@ -507,6 +504,5 @@ class HeavyTop:
                 "elliptic_parameter_m": m.m, "elliptic_complementary_parameter": m.m1,
                 "energy_J": m.energy, "p_phi_kg_m2_per_s": m.p_phi, "p_psi_kg_m2_per_s": m.p_psi,
                 "sleeping_stable": int(m.sleeping_stable),
-            }
+            },
         )
-        return ds
