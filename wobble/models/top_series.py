@@ -128,9 +128,21 @@ class Fourier:
 
     def series(self, r, rows):
         """The series ``rows`` at reduced phases r from the Taylor table (nearest node, Horner)."""
-        ii, _, d = self._nodes(r)
+        values, _, _, _ = self._all_rows(r)
+        return [values[:, row] for row in rows]
+
+    def _all_rows(self, r):
+        """Every row at phases r (as :meth:`_horner` row by row, in one pass over the rows):
+        the values (N, rows), their changes from the node (N, rows), the phasor index and d."""
+        ii, iu, d = self._nodes(r)
         coef = self.table[ii]  # one gather: a node's coefficients are contiguous
-        return [self._horner(coef, row, d) for row in rows]
+        dd = d[:, None]
+        acc = coef[:, _ORDER, :].copy()
+        for j in range(_ORDER - 1, 0, -1):
+            acc *= dd
+            acc += coef[:, j, :]
+        acc *= dd
+        return acc + coef[:, 0, :], acc, iu, d
 
     def constants(self, inertia=(0.0, 0.0, 0.0)) -> np.ndarray:
         """The constants of the compiled pass (:data:`wobble.numerics.taylor_table.CONSTANTS`)."""
@@ -312,22 +324,28 @@ def build(e, est: dict) -> Fourier | None:
         return None
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
-    sample = e.periodic_with_half_angles
+    sample = e.sample_periodic
     # Check points between the nodes (phases offset by an irrational fraction of the spacing).
     m = 41
     vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
     r_check = vt * (k / np.pi)
     want = None
+    parity = np.array([1.0 if kind == "cos" else -1.0 for kind in _KINDS])[:, None]
     for n in (64, 128, 256, _FOURIER_MAX_N):
-        vt = 2 * np.pi * np.arange(n) / n
-        vt = np.where(vt > np.pi, vt - 2 * np.pi, vt)
+        # The nodes vartheta_i = 2 pi i / n in [0, pi]; those in (pi, 2 pi) are -vartheta_{n-i}, where
+        # the rows are their mirror images (theta and the half angles' sines and cosines even,
+        # the rest odd, and exactly so in the direct path: sn odd, cn and dn even, Pi odd).
+        half = n // 2
+        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
         if want is None:  # nodes and check points in one pass of the direct path
-            both = sample(np.concatenate([vt * (k / np.pi), r_check]))
-            vals = [v[:n] for v in both]
-            want = [v[n:] for v in both]
+            both = np.stack(sample(np.concatenate([r_half, r_check])))
+            part, want = both[:, : half + 1], list(both[:, half + 1 :])
         else:
-            vals = sample(vt * (k / np.pi))
-        spectra = np.fft.rfft(np.stack(vals), axis=-1) / n
+            part = np.stack(sample(r_half))
+        vals = np.empty((len(_KINDS), n))
+        vals[:, : half + 1] = part
+        vals[:, half + 1 :] = parity * part[:, half - 1 : 0 : -1]
+        spectra = np.fft.rfft(vals, axis=-1) / n
         scales = [max(float(np.max(np.abs(v))), 1e-300) for v in vals]
         scales[_SIGMA] = scales[_DELTA] = max(1.0, scales[_SIGMA], scales[_DELTA])  # phases: absolute (rad)
         # Aliasing folds c_{n-k} onto c_k: only the top of the band must be at rounding
@@ -402,30 +420,25 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
 def _check_fourier(fo, r, want, scales, est, k):
     """The table if it reproduces the direct values within the error estimate (finer tables
     are tried first); None otherwise."""
-    theta, sp, dp, dth, sh, ch = want
     e = fo.base
     rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
+    want = np.stack(want, axis=-1)  # (m, rows), as the table's rows come
+    # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
+    c = np.array([e.sigma_sec.c, e.delta_sec.c])
+    g = ((c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset]))
+         + (want[:, _SIGMA : _DELTA + 1] - np.array([e.k_minus * e.p_minus0, e.k_plus * e.p_plus0])))
+    cos_g, sin_g = np.cos(g), np.sin(g)
+    limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
+                       rel * scales[4], rel * scales[5]])
     while fo is not None:
-        got = fo.series(r, range(6))
-        err_t = float(np.max(np.abs(got[0] - theta)))
-        err_p = max(float(np.max(np.abs(got[_SIGMA] - sp))), float(np.max(np.abs(got[_DELTA] - dp))))
-        err_d = float(np.max(np.abs(got[3] - dth))) / scales[3]
-        half_ok = (float(np.max(np.abs(got[4] - sh))) <= rel * scales[4]
-                   and float(np.max(np.abs(got[5] - ch))) <= rel * scales[5])
+        got, v, iu, _ = fo._all_rows(r)
+        err = np.max(np.abs(got - want), axis=0)
         # The phasors of the half angles (at j = 0) against cos and sin of the direct phases.
-        ii, iu, d = fo._nodes(r)
-        coef = fo.table[ii]
-        for p, (sec, row, p0, direct) in enumerate(((e.sigma_sec, _SIGMA, e.k_minus * e.p_minus0, sp),
-                                                    (e.delta_sec, _DELTA, e.k_plus * e.p_plus0, dp))):
-            _, v = fo._horner(coef, row, d, split=True)
-            ec, es = fo._cis(sec.c * (r - fo.node_r[iu]) + v)
-            pc, ps_ = fo.phasor[p, 0, iu], fo.phasor[p, 1, iu]
-            g = (sec.c * (r - e.w0) + sec.offset) + (direct - p0)
-            miss = np.hypot(pc * ec - ps_ * es - np.cos(g), pc * es + ps_ * ec - np.sin(g))
-            err_p = max(err_p, float(np.max(miss)))
-        if (err_t <= est["theta_rad"] and err_p <= est["attitude_rad"] and err_d <= 64 * _EPS * (1 + k)
-                and half_ok):
-            return replace(fo, error_theta=err_t, error_phase=err_p)
+        ec, es = fo._cis(c * (r - fo.node_r[iu])[:, None] + v[:, _SIGMA : _DELTA + 1])
+        pc, ps_ = fo.phasor[:, 0, iu].T, fo.phasor[:, 1, iu].T
+        miss = float(np.max(np.hypot(pc * ec - ps_ * es - cos_g, pc * es + ps_ * ec - sin_g)))
+        if np.all(err <= limits) and miss <= est["attitude_rad"]:
+            return replace(fo, error_theta=float(err[0]), error_phase=max(float(np.max(err[_SIGMA : _DELTA + 1])), miss))
         nodes = 2 * fo.table.shape[0]
         if nodes > _TAYLOR_MAX_NODES:
             return None

@@ -32,7 +32,7 @@ from wobble.models.top_closed_form import Elliptic, Secular, Uniform
 from wobble.numerics import cubic
 from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
-from wobble.numerics.phase import split_dd
+from wobble.numerics.phase import reduce_phase, split_dd
 
 __all__ = ["DIGITS", "TopSetup", "analyse", "context", "to_decimal"]
 
@@ -363,13 +363,17 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
             levels=levels,
         )
-        # The periodic parts at t = 0, through the very path the evaluation takes (so that
-        # the attitude at t = 0 is q0 to the last bit).
-        probe = Elliptic(p_plus0=0.0, p_minus0=0.0, **impl0)
-        r0, _ = probe.phase(np.zeros(1))
-        s_, c_, d_ = ell.jacobi_reduced(r0, levels, K[1])
-        p_plus0, p_minus0 = probe.periodic_parts(r0, s_, c_, d_)
-        impl = Elliptic(p_plus0=float(p_plus0[0]), p_minus0=float(p_minus0[0]), **impl0)
+        # The reduced phase at t = 0. The reduction of lambda t + w0
+        # (wobble.numerics.phase.reduce_phase) forms x = 0 + w0 with no error term and, for
+        # |w0| <= K (x / 2K in [-1/2, 1/2], which rint takes to 0, ties to even), j = 0 and
+        # r = x: it is 0.0 + w0 exactly (the sum turns -0.0 into +0.0, as there). The periodic
+        # parts there (the attitude at t = 0 is q0 to the last bit) are taken by the evaluator
+        # when first needed, through the evaluation's own path.
+        if abs(w0) <= K[0]:
+            r0 = 0.0 + w0
+        else:
+            r0 = float(reduce_phase(np.zeros(1), impl0["lam"], (2 * K[0], 2 * K[1]), w0)[0][0])
+        impl = Elliptic(r0=r0, **impl0)
         u1, u2, u3 = _report_roots(roots)
         nut = nutation_class(B, a, x1, x2, y1, y2, C)
         if st.s0 != 0:
