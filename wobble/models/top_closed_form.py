@@ -152,8 +152,8 @@ class Elliptic:
         return reduce_phase(t, self.lam, (2 * self.K[0], 2 * self.K[1]), self.w0)
 
     # P_+ and P_- at t = 0, through the very path the evaluation takes (so that the attitude
-    # at t = 0 is q0 to the last bit): computed on first use, or taken from the first batch
-    # of samples that holds r0 (the series' set-up, :meth:`sample_periodic`). Elementwise
+    # at t = 0 is q0 to the last bit): computed on first use, or taken from the series' first
+    # batch of NumPy samples, which holds r0 (wobble.models.top_series.build). Elementwise
     # NumPy and SciPy give each element the same value whatever the batch.
     @cached_property
     def _start(self) -> tuple[float, float]:
@@ -205,19 +205,10 @@ class Elliptic:
 
     def periodic_with_half_angles(self, r):
         """:meth:`periodic_of_r` and sin(theta/2), cos(theta/2) at the same phases (|r| <= K)."""
-        return self._periodic_with_half_angles(r)[0]
+        return self.periodic_with_half_angles_and_parts(r)[0]
 
-    def sample_periodic(self, r):
-        """:meth:`periodic_with_half_angles` at phases ``r``; the batch also carries r0 when P_+(r0)
-        and P_-(r0) are not known yet (one evaluation instead of two)."""
-        if "_start" in self.__dict__:
-            return self.periodic_with_half_angles(r)
-        rows, (p_plus, p_minus) = self._periodic_with_half_angles(np.append(r, self.r0))
-        # cached_property's own slot (the dataclass is frozen; the value is what _start computes).
-        self.__dict__.setdefault("_start", (float(p_plus[-1]), float(p_minus[-1])))
-        return tuple(v[:-1] for v in rows)
-
-    def _periodic_with_half_angles(self, r):
+    def periodic_with_half_angles_and_parts(self, r):
+        """:meth:`periodic_with_half_angles` and the raw P_+(r), P_-(r) it scales (for the series' set-up)."""
         sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
         sx, sy = self._scaled(sn, cn)
         sh, ch = self.hx1 * sx, self.hy2 * sy

@@ -80,6 +80,10 @@ class Fourier:
     node_r: np.ndarray | None = None  # (S + 1,) the nodes -K + i h, as the phasors take them
     error_theta: float = 0.0
     error_phase: float = 0.0
+    # k_- P_-(r0) and k_+ P_+(r0): the periodic parts of sigma and delta at t = 0, as the samples
+    # the series come from give them (the direct path's own when the samples are NumPy's).
+    start: tuple = (0.0, 0.0)
+    compiled: bool = False  # set up with the compiled helpers (wobble.numerics.taylor_table)
 
     # -- building and checking -------------------------------------------------
     def clenshaw(self, r, rows):
@@ -151,7 +155,7 @@ class Fourier:
         s_, d_ = e.sigma_sec, e.delta_sec
         return np.array([
             e.K[0], self.h, 1.0 / self.h, e.w0, e.lam[0], e.B, e.C, e.omega3, e.omega3 - e.a,
-            *s_.a, s_.c, s_.offset, e.k_minus * e.p_minus0, *d_.a, d_.c, d_.offset, e.k_plus * e.p_plus0,
+            *s_.a, s_.c, s_.offset, self.start[0], *d_.a, d_.c, d_.offset, self.start[1],
             *TWO_PI_PIECES, 1.0 / TWO_PI, 2 * np.pi, 0.5 / np.pi,
             0.5 * i1, 0.5 * i3, i1, i3, mgl,
         ])
@@ -218,8 +222,8 @@ class Fourier:
         ii, _, d = self._nodes(r)
         coef = self.table[ii]
         theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
-        sig = e.sigma_sec(j, r, e.w0) + (sp - e.k_minus * e.p_minus0)
-        dlt = e.delta_sec(j, r, e.w0) + (dp - e.k_plus * e.p_plus0)
+        sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
+        dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
         return theta, _wrap(sig + dlt), _wrap(sig - dlt)
 
     def motion(self, t, inertia) -> dict:
@@ -259,8 +263,8 @@ class Fourier:
             jc, js = np.take(jtab[p, 0], jj), np.take(jtab[p, 1], jj)
             phases.append((jc * nc - js * ns, jc * ns + js * nc))
         (cs, ss), (cd, sd) = phases
-        sig = e.sigma_sec(j, r, e.w0) + (sp - e.k_minus * e.p_minus0)
-        dlt = e.delta_sec(j, r, e.w0) + (dp - e.k_plus * e.p_plus0)
+        sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
+        dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
         x = 2.0 * sh * sh
         y = 2.0 * ch * ch
         bx = e.B / x
@@ -309,7 +313,7 @@ _FOURIER_MAX_TERMS = 96
 _TAYLOR_MAX_NODES = 1 << 15
 
 
-def build(e, est: dict) -> Fourier | None:
+def build(e, est: dict, fast: bool = False) -> Fourier | None:
     """Fourier series of the periodic parts of ``e``, tabulated and verified; None where not worth it.
 
     Six 2K-periodic functions of the reduced phase are sampled exactly at N equispaced
@@ -319,12 +323,16 @@ def build(e, est: dict) -> Fourier | None:
     spectrum is at rounding level; the table must then reproduce the direct evaluation
     between the nodes within the solution's error estimate, the phasors of the half angles
     included. Used only off the poles (x, y > 0 on the orbit).
+
+    ``fast``: the samples, the phasors and the check by the compiled helpers of
+    :mod:`wobble.numerics.taylor_table` (the same arithmetic, in one pass each) where Numba
+    and SciPy's C Carlson functions are at hand.
     """
     if e.through_top or e.through_bottom:
         return None
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
-    sample = e.sample_periodic
+    sample, fast = _sampler(e, fast)
     # Check points between the nodes (phases offset by an irrational fraction of the spacing).
     m = 41
     vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
@@ -337,23 +345,26 @@ def build(e, est: dict) -> Fourier | None:
         # the rest odd, and exactly so in the direct path: sn odd, cn and dn even, Pi odd).
         half = n // 2
         r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
-        if want is None:  # nodes and check points in one pass of the direct path
-            both = np.stack(sample(np.concatenate([r_half, r_check])))
-            part, want = both[:, : half + 1], list(both[:, half + 1 :])
+        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
+            both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
+            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
+            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+            if not fast:  # the direct path's own P_+(r0), P_-(r0) (elementwise: as if alone)
+                e.__dict__.setdefault("_start", (float(raw[0][-1]), float(raw[1][-1])))
         else:
-            part = np.stack(sample(r_half))
+            part = sample(r_half)[0]
         vals = np.empty((len(_KINDS), n))
         vals[:, : half + 1] = part
         vals[:, half + 1 :] = parity * part[:, half - 1 : 0 : -1]
         spectra = np.fft.rfft(vals, axis=-1) / n
-        scales = [max(float(np.max(np.abs(v))), 1e-300) for v in vals]
+        scales = np.maximum(np.max(np.abs(vals), axis=1), 1e-300)
         scales[_SIGMA] = scales[_DELTA] = max(1.0, scales[_SIGMA], scales[_DELTA])  # phases: absolute (rad)
         # Aliasing folds c_{n-k} onto c_k: only the top of the band must be at rounding
         # level; the check against the direct evaluation below decides.
         top = np.max(np.abs(spectra[:, 7 * n // 16 :]), axis=1)
-        if not np.all(top <= noise * np.array(scales)):
+        if not np.all(top <= noise * scales):
             continue
-        fo = _fourier_from_spectra(e, spectra, scales, k)
+        fo = _fourier_from_spectra(e, spectra, scales, k, start, fast)
         if fo is None:
             return None  # too long a series: the direct path is about as fast
         checked = _check_fourier(fo, r_check, want, scales, est, k)
@@ -362,11 +373,36 @@ def build(e, est: dict) -> Fourier | None:
     return None
 
 
-def _fourier_from_spectra(e, spectra, scales, k):
+def _sampler(e, fast):
+    """The direct evaluation of the six rows at phases r as (rows (6, N), (P_+, P_-)), and
+    whether it is the compiled one."""
+    if fast:
+        from wobble.numerics import taylor_table
+
+        functions = taylor_table.carlson()
+        if functions is not None:
+            lv = e.levels
+            constants = np.array([
+                float(lv.m), float(lv.m1), float(lv.K), e.K[1], float(lv.scale), e.rho_x, e.rho_y, e.hx1, e.hy2, e.W,
+                e.k_plus, e.k_minus, e.n_plus, e.one_minus_n_plus, e.nu_minus, e.pi_plus_over_k, e.pi_minus_over_k,
+                3.0 * (1.0 + e.nu_minus) ** 2,
+            ])
+            ratios = np.array(lv.ratios, dtype=float).reshape(-1)
+            ratios_b = np.array(lv.ratios_b, dtype=float).reshape(-1)
+            return (lambda r: taylor_table.sample(r, constants, ratios, ratios_b, functions)), True
+
+    def numpy_sample(r):
+        rows, raw = e.periodic_with_half_angles_and_parts(r)
+        return np.stack(rows), raw
+
+    return numpy_sample, False
+
+
+def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
     cos_rows = np.array([kind == "cos" for kind in _KINDS])
     coef = np.where(cos_rows[:, None], 2 * spectra.real, -2 * spectra.imag)
     coef[:, 0] = np.where(cos_rows, spectra[:, 0].real, 0.0)
-    big = np.max(np.abs(coef) / np.array(scales)[:, None], axis=0)
+    big = np.max(np.abs(coef) / np.asarray(scales)[:, None], axis=0)
     keep = np.nonzero(big > 0.25 * _EPS)[0]
     last = int(keep.max()) if keep.size else 1
     if last > _FOURIER_MAX_TERMS:
@@ -374,7 +410,8 @@ def _fourier_from_spectra(e, spectra, scales, k):
     coef = np.ascontiguousarray(coef[:, : last + 1])
     scale = np.pi / k
     nodes = 1 << max(8, int(np.ceil(np.log2(32 * (last + 1)))))
-    return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0), nodes)
+    return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0, start=start,
+                             compiled=fast), nodes)
 
 
 def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
@@ -397,9 +434,15 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     node_r = -k + h * np.arange(nodes + 1)
     # g = c (node - w0) + offset + (P(node) - P0) of sigma and delta in double-double: |c (node - w0)|
     # reaches several radians, whose rounding would otherwise be the phasors' largest error.
+    if fo.compiled:  # the lines below in one compiled pass
+        from wobble.numerics import taylor_table
+
+        phasor = taylor_table.phasors(table, node_r, e.w0, (e.sigma_sec.c, e.delta_sec.c),
+                                      (e.sigma_sec.offset, e.delta_sec.offset), fo.start)
+        return replace(fo, table=table, h=h, phasor=phasor, node_r=node_r)
     c = np.array([[e.sigma_sec.c], [e.delta_sec.c]])
     offset = np.array([[e.sigma_sec.offset], [e.delta_sec.offset]])
-    p0 = np.array([[e.k_minus * e.p_minus0], [e.k_plus * e.p_plus0]])
+    p0 = np.array([[fo.start[0]], [fo.start[1]]])
     at_node = np.empty((2, nodes + 1))
     at_node[:, :nodes] = table[:, 0, _SIGMA : _DELTA + 1].T
     at_node[:, nodes] = at_node[:, 0]  # r = +K is the node of r = -K
@@ -422,21 +465,27 @@ def _check_fourier(fo, r, want, scales, est, k):
     are tried first); None otherwise."""
     e = fo.base
     rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
-    want = np.stack(want, axis=-1)  # (m, rows), as the table's rows come
+    want = np.asarray(want)  # (m, rows), as the table's rows come
     # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
     c = np.array([e.sigma_sec.c, e.delta_sec.c])
     g = ((c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset]))
-         + (want[:, _SIGMA : _DELTA + 1] - np.array([e.k_minus * e.p_minus0, e.k_plus * e.p_plus0])))
+         + (want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)))
     cos_g, sin_g = np.cos(g), np.sin(g)
     limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
                        rel * scales[4], rel * scales[5]])
     while fo is not None:
-        got, v, iu, _ = fo._all_rows(r)
-        err = np.max(np.abs(got - want), axis=0)
-        # The phasors of the half angles (at j = 0) against cos and sin of the direct phases.
-        ec, es = fo._cis(c * (r - fo.node_r[iu])[:, None] + v[:, _SIGMA : _DELTA + 1])
-        pc, ps_ = fo.phasor[:, 0, iu].T, fo.phasor[:, 1, iu].T
-        miss = float(np.max(np.hypot(pc * ec - ps_ * es - cos_g, pc * es + ps_ * ec - sin_g)))
+        if fo.compiled:  # the lines of the other branch in one compiled pass
+            from wobble.numerics import taylor_table
+
+            err, miss = taylor_table.check(r, want, cos_g, sin_g, fo.table, fo.node_r, fo.phasor, e.K[0], fo.h, c,
+                                           _COS, _SIN)
+        else:
+            got, v, iu, _ = fo._all_rows(r)
+            err = np.max(np.abs(got - want), axis=0)
+            # The phasors of the half angles (at j = 0) against cos and sin of the direct phases.
+            ec, es = fo._cis(c * (r - fo.node_r[iu])[:, None] + v[:, _SIGMA : _DELTA + 1])
+            pc, ps_ = fo.phasor[:, 0, iu].T, fo.phasor[:, 1, iu].T
+            miss = float(np.max(np.hypot(pc * ec - ps_ * es - cos_g, pc * es + ps_ * ec - sin_g)))
         if np.all(err <= limits) and miss <= est["attitude_rad"]:
             return replace(fo, error_theta=float(err[0]), error_phase=max(float(np.max(err[_SIGMA : _DELTA + 1])), miss))
         nodes = 2 * fo.table.shape[0]
@@ -462,7 +511,8 @@ def _taylor_table(coef, nodes, scale):
     power = (1j * kk[:, None] * scale) ** _ORDERS  # (ncoef, order + 1)
     spec = np.zeros((nodes // 2 + 1, _ORDER + 1, nrow), dtype=complex)
     spec[:ncoef] = (coef.T * sign[:, None])[:, None, :] * (power / _FACT)[:, :, None] * _ROT  # (ncoef, order + 1, rows)
-    return np.fft.irfft(spec, n=nodes, axis=0) * nodes
+    # norm="forward": the inverse without its 1/S, i.e. irfft(spec) * S exactly (S a power of two).
+    return np.fft.irfft(spec, n=nodes, axis=0, norm="forward")
 
 
 # The table of each model, built on first use: keyed by id(model), dropped when the model is
@@ -471,18 +521,19 @@ def _taylor_table(coef, nodes, scale):
 _TABLES: dict[int, Fourier | None] = {}
 
 
-def series_of(owner, e, est: dict) -> Fourier | None:
+def series_of(owner, e, est: dict, fast: bool = False) -> Fourier | None:
     """The verified series of the evaluator ``e`` of model ``owner`` (built once), or None.
 
     ``owner`` is the object the table belongs to (the frozen model): the table lives
-    here, not in it, for as long as ``owner`` does.
+    here, not in it, for as long as ``owner`` does. ``fast``: set it up with the compiled
+    helpers (:func:`build`).
     """
     key = id(owner)
     try:
         return _TABLES[key]
     except KeyError:
         pass
-    table = build(e, est)
+    table = build(e, est, fast)
     _TABLES[key] = table
     weakref.finalize(owner, _TABLES.pop, key, None)
     return table
