@@ -22,6 +22,7 @@ from __future__ import annotations
 import os
 import re
 
+import numpy as np
 import xarray as xr
 from astropy import units as u
 
@@ -133,7 +134,10 @@ def build(data_vars: dict, coords: dict, attrs: dict | None = None) -> xr.Datase
     dims: dict = {}
     indexes: dict = {}
     for name, (vdims, data, vattrs) in entries.items():
-        var = xr.Variable(vdims, data, vattrs)
+        # A numeric NumPy array is what xarray's own checks (as_compatible_data) would hand on
+        # unchanged: they are skipped for it.
+        plain = type(data) is np.ndarray and data.ndim > 0 and data.dtype.kind in "biufc"
+        var = xr.Variable(vdims, data, vattrs, fastpath=plain)
         for dim, size in zip(var.dims, var.shape):
             if dims.setdefault(dim, size) != size:
                 return _general(data_vars, coords, attrs)
