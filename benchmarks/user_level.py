@@ -124,15 +124,18 @@ def _stages(HeavyTop, args, ts, label):  # noqa: N803
             out.append(time.perf_counter() - t0)
         return min(out)
 
+    from wobble.numerics import compiled
+
     top = HeavyTop(**args)
     t = ts.to_value("s")
     mdl = top.model
     direct = mdl.evaluator(1, "direct")  # the closed-form evaluator the series are built from
+    fast = t.size >= compiled.LONG_ARRAY and compiled.available()  # as HeavyTopModel.evaluator sets it up
     motion = best(lambda: mdl.motion(t))
     return {
         "top": label,
         "construction": best(lambda: HeavyTop(**args)),
-        "series": best(lambda: top_series.build(direct, mdl.error_estimate)),
+        "series": best(lambda: top_series.build(direct, mdl.error_estimate, fast)),
         "motion": motion,
         "dataset": best(lambda: top.motion(ts)) - motion,  # the times' conversion and the Dataset
     }

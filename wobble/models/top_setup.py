@@ -382,9 +382,10 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             phidot0 = to_decimal(s.phidot0) if st.x0 == 0 else Decimal(0)
         psidot0 = w3 - st.u0 * phidot0
         kf = float(K[0])
+        theta_max = theta_of(x1, y1)
         swing = abs(_f(b_eff * pi_plus / (lam * x1))) + (abs(_f(c_eff * pi_minus / (lam * y1))) if not bottom else 0.0)
         est = {
-            "theta_rad": 32 * _EPS * (1 + kf) * max(theta_of(x1, y1), _EPS),
+            "theta_rad": 32 * _EPS * (1 + kf) * max(theta_max, _EPS),
             "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing),
             "turning_points_relative": 4 * _EPS,
             "period_relative": 4 * _EPS,
@@ -392,7 +393,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         return dict(
             phidot0=_f(phidot0), psidot0=_f(psidot0), u1=u1, u2=u2, u3=u3, x1=_f(x1), x2=_f(x2),
             x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
-            theta_min=theta_of(x2, y2), theta_max=theta_of(x1, y1), nutation=nut, m=_f(m), m1=_f(m1),
+            theta_min=theta_of(x2, y2), theta_max=theta_max, nutation=nut, m=_f(m), m1=_f(m1),
             nutation_period=_f(period), mean_precession_rate=_f(mean_phidot), mean_spin_rate=_f(mean_psidot),
             error_estimate=est, _impl=impl,
         )
