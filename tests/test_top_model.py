@@ -353,3 +353,22 @@ def test_compiled_set_up_of_the_series_agrees_with_numpy(name):
     inertia = (mdl.I1, mdl.I3, mdl.mgl)
     qa, qb = fa._motion_numpy(t, inertia)["quaternion"], fb._motion_numpy(t, inertia)["quaternion"]
     assert np.max(attitude_angle(qa, qb)) < 2e-15
+
+
+def test_the_two_complete_integrals_of_the_third_kind_in_one_loop_are_cel_s():
+    """complete_pi_pair runs Bulirsch's cel for both parameters of the top in one loop (the
+    sequence it iterates depends on kc alone): the same 50-digit values as two calls of cel."""
+    import decimal
+    from decimal import Decimal
+
+    from wobble.models.top_setup import complete_pi_pair, context
+    from wobble.numerics import highprec as hp
+
+    rng = np.random.default_rng(4)
+    for _ in range(40):
+        with decimal.localcontext(context()):
+            kc = Decimal(float(10 ** rng.uniform(-30, 0))).sqrt()
+            p1, p2 = Decimal(float(rng.uniform(1e-6, 1))) / 3, Decimal(float(rng.uniform(0.1, 1))) / 7
+        assert complete_pi_pair(kc, p1, p2) == (hp.cel(kc, p1, 1, 1), hp.cel(kc, p2, 1, 1))
+        assert complete_pi_pair(kc, None, p2) == (0, hp.cel(kc, p2, 1, 1))
+        assert complete_pi_pair(kc, p1, None) == (hp.cel(kc, p1, 1, 1), 0)
