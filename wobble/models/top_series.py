@@ -409,9 +409,30 @@ def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
         return None
     coef = np.ascontiguousarray(coef[:, : last + 1])
     scale = np.pi / k
-    nodes = 1 << max(8, int(np.ceil(np.log2(32 * (last + 1)))))
+    # Nodes: the remainder of the degree-5 Taylor polynomials half a spacing from their node,
+    # |f^(6)| (h/2)^6 / 6! <= sum_k |c_k| (k pi / S)^6 / 720, below each row's rounding (eps times
+    # its scale); S the smallest FFT-friendly size (2^a 3^b 5^c, even) from 256 on.
+    moment = np.sum(np.abs(coef) * np.arange(last + 1.0) ** 6, axis=1)
+    need = np.pi * float(np.max((moment / (720 * _EPS * np.asarray(scales))) ** (1 / 6)))
+    nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
     return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0, start=start,
                              compiled=fast), nodes)
+
+
+def _fft_size(n: int) -> int:
+    """The smallest even 2^a 3^b 5^c >= n."""
+    best = 1 << max(1, (n - 1).bit_length())
+    p5 = 1
+    while p5 < best:
+        p35 = p5
+        while p35 < best:
+            m = p35
+            while m < n or m % 2:
+                m *= 2
+            best = min(best, m)
+            p35 *= 3
+        p5 *= 5
+    return best
 
 
 def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
