@@ -44,9 +44,13 @@ _EPS = float(np.finfo(float).eps)
 _POLE = Decimal("1e-32")
 
 
+_CONTEXT = decimal.Context(prec=DIGITS)
+
+
 def context() -> decimal.Context:
-    """The decimal context of the set-up (:data:`DIGITS` significant digits)."""
-    return decimal.Context(prec=DIGITS)
+    """The decimal context of the set-up (:data:`DIGITS` significant digits): one shared
+    template, which decimal.localcontext copies."""
+    return _CONTEXT
 
 
 def to_decimal(x) -> Decimal:

@@ -22,9 +22,13 @@ DIGITS = 50
 PI = Decimal("3.14159265358979323846264338327950288419716939937510582097494")
 
 
+_CONTEXT = decimal.Context(prec=DIGITS)
+
+
 def context() -> decimal.Context:
-    """The decimal context used here (DIGITS significant digits)."""
-    return decimal.Context(prec=DIGITS)
+    """The decimal context used here (DIGITS significant digits): one shared template, which
+    decimal.localcontext copies; its own methods (plus, divide, sqrt, subtract) only set flags."""
+    return _CONTEXT
 
 
 def exact(x) -> Fraction:
