@@ -145,7 +145,13 @@ def build(data_vars: dict, coords: dict, attrs: dict | None = None) -> xr.Datase
             labels = data if isinstance(data, (list, tuple)) and all(isinstance(x, str) for x in data) else None
             key = (name, tuple(labels)) if labels is not None else None
             index = _LABEL_INDEXES.get(key) if key is not None else None
-            if index is None:
+            if index is None and plain and data.ndim == 1 and data.dtype.kind in "iuf" and data.dtype != np.float16:
+                # What from_variables makes of a plain numeric array (pd.Index of its values,
+                # named, with the variable's dtype), without its generic checks and copies.
+                import pandas as pd
+
+                index = PandasIndex(pd.Index(data, name=name), name, coord_dtype=var.dtype, fastpath=True)
+            elif index is None:
                 index = PandasIndex.from_variables({name: var}, options={})
                 if key is not None:
                     _LABEL_INDEXES[key] = index
