@@ -104,8 +104,9 @@ def xarray():
     return xr
 
 
-# Default indexes of the string-labelled dimensions (axis, component, ...), by name and labels:
-# xarray's indexes are immutable and shared between Datasets, so one per label set will do.
+# Default indexes of the string-labelled dimensions (axis, component, ...) and their data
+# adapters, by name and labels: xarray's indexes (and the adapters over them) are immutable and
+# shared between Datasets, so one per label set will do; each Dataset gets its own variable.
 _LABEL_INDEXES: dict = {}
 
 
@@ -134,6 +135,15 @@ def build(data_vars: dict, coords: dict, attrs: dict | None = None) -> xr.Datase
     dims: dict = {}
     indexes: dict = {}
     for name, (vdims, data, vattrs) in entries.items():
+        cached = _LABEL_INDEXES.get((name, tuple(data))) if name in coords and vdims in (name, (name,)) and isinstance(
+            data, (list, tuple)) and all(isinstance(x, str) for x in data) else None
+        if cached is not None:  # a label coordinate seen before: its index and the index's data adapter
+            index, adapter = cached
+            if dims.setdefault(name, len(data)) != len(data):
+                return _general(data_vars, coords, attrs)
+            variables[name] = xr.IndexVariable((name,), adapter, attrs=vattrs, fastpath=True)
+            indexes[name] = index
+            continue
         # A numeric NumPy array is what xarray's own checks (as_compatible_data) would hand on
         # unchanged: they are skipped for it.
         plain = type(data) is np.ndarray and data.ndim > 0 and data.dtype.kind in "biufc"
@@ -142,20 +152,18 @@ def build(data_vars: dict, coords: dict, attrs: dict | None = None) -> xr.Datase
             if dims.setdefault(dim, size) != size:
                 return _general(data_vars, coords, attrs)
         if name in coords and var.dims == (name,):  # a dimension coordinate: the default index
-            labels = data if isinstance(data, (list, tuple)) and all(isinstance(x, str) for x in data) else None
-            key = (name, tuple(labels)) if labels is not None else None
-            index = _LABEL_INDEXES.get(key) if key is not None else None
-            if index is None and plain and data.ndim == 1 and data.dtype.kind in "iuf" and data.dtype != np.float16:
+            labels = isinstance(data, (list, tuple)) and all(isinstance(x, str) for x in data)
+            if plain and data.ndim == 1 and data.dtype.kind in "iuf" and data.dtype != np.float16:
                 # What from_variables makes of a plain numeric array (pd.Index of its values,
                 # named, with the variable's dtype), without its generic checks and copies.
                 import pandas as pd
 
                 index = PandasIndex(pd.Index(data, name=name), name, coord_dtype=var.dtype, fastpath=True)
-            elif index is None:
+            else:
                 index = PandasIndex.from_variables({name: var}, options={})
-                if key is not None:
-                    _LABEL_INDEXES[key] = index
             var = index.create_variables({name: var})[name]
+            if labels and vdims in (name, (name,)):
+                _LABEL_INDEXES[(name, tuple(data))] = (index, var._data)
             indexes[name] = index
         elif name in coords and name in var.dims:
             return _general(data_vars, coords, attrs)  # a multi-dimensional coordinate named as its dimension
