@@ -372,3 +372,19 @@ def test_the_two_complete_integrals_of_the_third_kind_in_one_loop_are_cel_s():
         assert complete_pi_pair(kc, p1, p2) == (hp.cel(kc, p1, 1, 1), hp.cel(kc, p2, 1, 1))
         assert complete_pi_pair(kc, None, p2) == (0, hp.cel(kc, p2, 1, 1))
         assert complete_pi_pair(kc, p1, None) == (hp.cel(kc, p1, 1, 1), 0)
+
+
+def test_series_table_sizes_are_the_smallest_even_5_smooth_numbers():
+    """The Taylor table's node count: the smallest even 2^a 3^b 5^c at or above what the
+    remainder bound asks (an FFT-friendly size)."""
+    from wobble.models.top_series import _fft_size
+
+    def smooth(m):
+        for p in (2, 3, 5):
+            while m % p == 0:
+                m //= p
+        return m == 1
+
+    sizes = [m for m in range(2, 3000) if m % 2 == 0 and smooth(m)]
+    for n in range(2, 2900):
+        assert _fft_size(n) == next(m for m in sizes if m >= n)
