@@ -325,9 +325,8 @@ def _find_carlson():
         from scipy.special import cython_special
     except ImportError:  # pragma: no cover - SciPy is a dependency
         return None
-    get_name = ctypes.pythonapi.PyCapsule_GetName
-    get_name.restype = ctypes.c_char_p
-    get_name.argtypes = [ctypes.py_object]
+    # A prototype of our own (setting restype on ctypes.pythonapi's shared one would change it for everyone).
+    get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
     double = ctypes.c_double
     found = {}
     for key, capsule in getattr(cython_special, "__pyx_capi__", {}).items():
