@@ -16,6 +16,7 @@ by the model and released with it: the frozen model itself holds no mutable stat
 
 from __future__ import annotations
 
+import bisect
 import weakref
 from dataclasses import dataclass, replace
 
@@ -333,12 +334,9 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
     sample, fast = _sampler(e, fast)
-    # Check points between the nodes (phases offset by an irrational fraction of the spacing).
-    m = 41
-    vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
-    r_check = vt * (k / np.pi)
+    r_check = _CHECK_VT * (k / np.pi)
     want = None
-    parity = np.array([1.0 if kind == "cos" else -1.0 for kind in _KINDS])[:, None]
+    parity = _PARITY
     for n in (64, 128, 256, _FOURIER_MAX_N):
         # The nodes vartheta_i = 2 pi i / n in [0, pi]; those in (pi, 2 pi) are -vartheta_{n-i}, where
         # the rows are their mirror images (theta and the half angles' sines and cosines even,
@@ -373,6 +371,12 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     return None
 
 
+# Check points between the nodes (phases offset by an irrational fraction of the spacing).
+_CHECK_VT = -np.pi + 2 * np.pi * (np.arange(41) + 0.6180339887498949) / 41
+_PARITY = np.array([1.0 if kind == "cos" else -1.0 for kind in _KINDS])[:, None]  # even rows 1, odd rows -1
+_COS_ROWS = np.array([kind == "cos" for kind in _KINDS])
+
+
 def _sampler(e, fast):
     """The direct evaluation of the six rows at phases r as (rows (6, N), (P_+, P_-)), and
     whether it is the compiled one."""
@@ -399,7 +403,7 @@ def _sampler(e, fast):
 
 
 def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
-    cos_rows = np.array([kind == "cos" for kind in _KINDS])
+    cos_rows = _COS_ROWS
     coef = np.where(cos_rows[:, None], 2 * spectra.real, -2 * spectra.imag)
     coef[:, 0] = np.where(cos_rows, spectra[:, 0].real, 0.0)
     big = np.max(np.abs(coef) / np.asarray(scales)[:, None], axis=0)
@@ -421,6 +425,12 @@ def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
 
 def _fft_size(n: int) -> int:
     """The smallest even 2^a 3^b 5^c >= n."""
+    if n <= _FFT_SIZES[-1]:
+        return _FFT_SIZES[bisect.bisect_left(_FFT_SIZES, n)]
+    return _fft_size_search(n)
+
+
+def _fft_size_search(n: int) -> int:
     best = 1 << max(1, (n - 1).bit_length())
     p5 = 1
     while p5 < best:
@@ -435,6 +445,11 @@ def _fft_size(n: int) -> int:
     return best
 
 
+# The even 2^a 3^b 5^c up to the cap of nodes (and the next one above it).
+_FFT_SIZES = sorted(2 ** a * 3 ** b * 5 ** c for a in range(1, 17) for b in range(11) for c in range(8)
+                    if 2 ** a * 3 ** b * 5 ** c <= 2 * _TAYLOR_MAX_NODES)
+
+
 def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     """The Taylor table of ``fo``'s series at ``nodes`` nodes (more where the half angles turn
     faster than 1/32 rad between a node and the next midpoint) and the node phasors of the
@@ -443,9 +458,8 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     k = e.K[0]
     # Bounds of |d/dr| of sigma's and delta's arguments: their secular rate plus the sum of
     # |k b_k| (pi / K) of their periodic parts.
-    kk = np.arange(fo.coef.shape[1]) * fo.scale
-    slopes = [abs(sec.c) + float(np.sum(kk * np.abs(fo.coef[row])))
-              for sec, row in ((e.sigma_sec, _SIGMA), (e.delta_sec, _DELTA))]
+    sums = np.abs(fo.coef[_SIGMA : _DELTA + 1]) @ (np.arange(fo.coef.shape[1]) * fo.scale)
+    slopes = [abs(e.sigma_sec.c) + float(sums[0]), abs(e.delta_sec.c) + float(sums[1])]
     while max(slopes) * k / nodes > _CIS_MAX:
         nodes *= 2
     if nodes > _TAYLOR_MAX_NODES:
