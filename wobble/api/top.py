@@ -108,6 +108,10 @@ def _from_body(body):
     return i1, i3, mass, length
 
 
+# The heavy top's CF variables (wobble.io.cf, table "top"): dims and attributes, read once.
+_TOP_VARIABLES = {name: (spec.dims, spec.attrs()) for name, spec in cf.TOP.items()}
+
+
 class HeavyTop:
     """The heavy symmetric top with one point fixed: analysis and exact motion.
 
@@ -459,8 +463,9 @@ class HeavyTop:
         drift = np.empty((3,) + np.shape(mo.energy))
         for row, (key, start) in enumerate((("energy", m.energy), ("p_phi", m.p_phi), ("p_psi", m.p_psi))):
             np.subtract(inv[key], start, out=drift[row])
-        def var(name, data):
-            return cf.variable("top", name, data)
+        def var(name, data):  # cf.variable("top", name, data), from the registry's entries read once
+            dims, attrs = _TOP_VARIABLES[name]
+            return dims, data, dict(attrs)
 
         data = {
             "theta": var("theta", mo.theta),
