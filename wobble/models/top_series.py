@@ -334,6 +334,8 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
     sample, fast = _sampler(e, fast)
+    if fast:
+        return _build_compiled(e, est, sample)
     r_check = _CHECK_VT * (k / np.pi)
     want = None
     parity = _PARITY
@@ -368,6 +370,58 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
         checked = _check_fourier(fo, r_check, want, scales, est, k)
         if checked is not None:
             return checked
+    return None
+
+
+def _build_compiled(e, est, sample):
+    """:func:`build` with the compiled helpers of :mod:`wobble.numerics.taylor_table` between the
+    FFTs: the same steps (samples on half the nodes, the spectra, the coefficients and the node
+    count, the Taylor table, the phasors, the check, finer tables on failure) in a few calls."""
+    from wobble.numerics import taylor_table as tt
+
+    k = e.K[0]
+    scale = np.pi / k
+    r_check = _CHECK_VT * (k / np.pi)
+    c = (e.sigma_sec.c, e.delta_sec.c)
+    offset = (e.sigma_sec.offset, e.delta_sec.offset)
+    want = None
+    for n in (64, 128, 256, _FOURIER_MAX_N):
+        half = n // 2
+        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
+        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
+            both, _ = sample(np.concatenate([r_half, r_check, [e.r0]]))
+            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
+            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+        else:
+            part = sample(r_half)[0]
+        vals, scales = tt.prepare(part, n, _PARITY[:, 0])
+        spectra = np.fft.rfft(vals, axis=-1) / n
+        status, coef, need, slope_s, slope_d = tt.coefficients(spectra, scales, n, 8 * _EPS, _COS_ROWS, 0.25 * _EPS,
+                                                               _FOURIER_MAX_TERMS, scale)
+        if status == 0:
+            continue
+        if status == 2:
+            return None  # too long a series: the direct path is about as fast
+        nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
+        slope = max(abs(c[0]) + slope_s, abs(c[1]) + slope_d)
+        rel = 32 * _EPS * (1 + k)
+        limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
+                           rel * scales[4], rel * scales[5]])
+        while True:
+            while slope * k / nodes > _CIS_MAX:
+                nodes *= 2
+            if nodes > _TAYLOR_MAX_NODES:
+                return None
+            h = 2 * k / nodes
+            table = np.fft.irfft(tt.spectrum(coef, scale, nodes, _COS_ROWS, _FACT), n=nodes, axis=0, norm="forward")
+            node_r = -k + h * np.arange(nodes + 1)
+            phasor = tt.phasors(table, node_r, e.w0, c, offset, start)
+            err, miss = tt.check_at(r_check, want, table, node_r, phasor, k, h, c, offset, start, e.w0, _COS, _SIN)
+            if np.all(err <= limits) and miss <= est["attitude_rad"]:
+                return Fourier(base=e, coef=coef, scale=scale, table=table, h=h, phasor=phasor, node_r=node_r,
+                               error_theta=float(err[0]), error_phase=max(float(err[_SIGMA]), float(err[_DELTA]), miss),
+                               start=start, compiled=True)
+            nodes *= 2
     return None
 
 
@@ -546,7 +600,7 @@ def _taylor_table(coef, nodes, scale):
     power = (1j * kk[:, None] * scale) ** _ORDERS  # (ncoef, order + 1)
     spec = np.zeros((nodes // 2 + 1, _ORDER + 1, nrow), dtype=complex)
     spec[:ncoef] = (coef.T * sign[:, None])[:, None, :] * (power / _FACT)[:, :, None] * _ROT  # (ncoef, order + 1, rows)
-    # norm="forward": the inverse without its 1/S, i.e. irfft(spec) * S exactly (S a power of two).
+    # norm="forward": the inverse without its 1/S (the sum itself, with no scaling to undo).
     return np.fft.irfft(spec, n=nodes, axis=0, norm="forward")
 
 

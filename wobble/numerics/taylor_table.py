@@ -26,7 +26,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-__all__ = ["phase", "angles", "motion", "CONSTANTS", "carlson", "sample", "phasors", "check", "SAMPLE_CONSTANTS"]
+__all__ = ["phase", "angles", "motion", "CONSTANTS", "carlson", "sample", "phasors", "check", "check_at", "prepare",
+           "coefficients", "spectrum", "SAMPLE_CONSTANTS"]
 
 _jit = nb.njit(cache=True, nogil=True, error_model="numpy")
 _SPLITTER = 134217729.0  # 2^27 + 1
@@ -512,6 +513,28 @@ def phasors(table, node_r, w0, c, offset, p0):
 
 
 @_jit
+def _direct_phasors(r, want, c, offset, start, w0, cos_g, sin_g):
+    for i in range(r.shape[0]):
+        for p in range(2):
+            g = (c[p] * (r[i] - w0) + offset[p]) + (want[i, 1 + p] - start[p])
+            cos_g[i, p] = np.cos(g)
+            sin_g[i, p] = np.sin(g)
+
+
+def check_at(r, want, table, node_r, phasor, k0, h, c, offset, start, w0, cos_c, sin_c):
+    """:func:`check` with the direct phases' cosines and sines formed here: at j = 0 the phase of
+    sigma (delta) is c (r - w0) + offset + (P(r) - P(r0)), with P(r) the row of ``want``."""
+    r = np.ascontiguousarray(r, dtype=float)
+    want = np.ascontiguousarray(want)
+    cos_g = np.empty((r.size, 2))
+    sin_g = np.empty((r.size, 2))
+    c = np.asarray(c, dtype=float)
+    _direct_phasors(r, want, c, np.asarray(offset, dtype=float), np.asarray(start, dtype=float), float(w0),
+                    cos_g, sin_g)
+    return check(r, want, cos_g, sin_g, table, node_r, phasor, k0, h, c, cos_c, sin_c)
+
+
+@_jit
 def _check(r, want, cos_g, sin_g, tab, node_r, phasor, k0, h, inv_h, c, cos_c, sin_c, err):
     nodes = tab.shape[0]
     order = tab.shape[1] - 1
@@ -557,3 +580,127 @@ def check(r, want, cos_g, sin_g, table, node_r, phasor, k0, h, c, cos_c, sin_c):
                   np.ascontiguousarray(sin_g), table, node_r, phasor, float(k0), float(h), 1.0 / h,
                   np.asarray(c, dtype=float), cos_c, sin_c, err)
     return err, miss
+
+
+@_jit
+def _prepare(part, n, parity, vals, scales):
+    half = n // 2
+    rows = part.shape[0]
+    for q in range(rows):
+        big = 0.0
+        for i in range(half + 1):
+            v = part[q, i]
+            vals[q, i] = v
+            a = abs(v)
+            if a > big or a != a:
+                big = a
+        for i in range(half + 1, n):
+            v = parity[q] * part[q, n - i]
+            vals[q, i] = v
+            a = abs(v)
+            if a > big or a != a:
+                big = a
+        scales[q] = big if big > 1e-300 or big != big else 1e-300
+    # The phase rows (sigma's and delta's periodic parts) are judged in absolute terms (rad).
+    ph = max(1.0, scales[1], scales[2])
+    scales[1] = ph
+    scales[2] = ph
+
+
+def prepare(part, n, parity):
+    """The samples over the whole period (rows, n) from those on [0, pi] (rows, n/2 + 1) by the
+    rows' parity (+1 even, -1 odd), and each row's scale: max |value| (at least 1e-300; the
+    two phase rows together, at least 1 rad)."""
+    vals = np.empty((part.shape[0], n))
+    scales = np.empty(part.shape[0])
+    _prepare(np.ascontiguousarray(part), n, parity, vals, scales)
+    return vals, scales
+
+
+@_jit
+def _coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms, scale, coef):
+    rows = spectra.shape[0]
+    ncoef = spectra.shape[1]
+    # Aliasing folds c_{n-k} onto c_k: the top of the band must be at rounding level.
+    for q in range(rows):
+        top = 0.0
+        for kk in range(7 * n // 16, ncoef):
+            a = np.hypot(spectra[q, kk].real, spectra[q, kk].imag)
+            if a > top or a != a:
+                top = a
+        if not top <= noise * scales[q]:
+            return 0, 0, 0.0, 0.0, 0.0
+    last = 1
+    for kk in range(ncoef):
+        for q in range(rows):
+            if kk == 0:
+                c = spectra[q, 0].real if cos_rows[q] else 0.0
+            else:
+                c = 2.0 * spectra[q, kk].real if cos_rows[q] else -2.0 * spectra[q, kk].imag
+            coef[q, kk] = c
+            if abs(c) / scales[q] > keep_level:
+                last = kk
+    if last > max_terms:
+        return 2, last, 0.0, 0.0, 0.0
+    need = 0.0
+    for q in range(rows):
+        moment = 0.0
+        for kk in range(last + 1):
+            f = float(kk)
+            moment += abs(coef[q, kk]) * (f * f * f * f * f * f)
+        x = (moment / (720.0 * 2.220446049250313e-16 * scales[q])) ** (1.0 / 6.0)
+        if x > need or x != x:
+            need = x
+    slope_s = 0.0
+    slope_d = 0.0
+    for kk in range(last + 1):
+        slope_s += abs(coef[1, kk]) * (kk * scale)
+        slope_d += abs(coef[2, kk]) * (kk * scale)
+    return 1, last, np.pi * need, slope_s, slope_d
+
+
+def coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms, scale):
+    """From the rows' spectra (rfft / n): 0 where the top of a band is above ``noise`` times its
+    row's scale; otherwise the Fourier coefficients (rows, L + 1) up to the last whose size
+    relative to its row's scale exceeds ``keep_level`` (2 and no table where L > ``max_terms``),
+    the node count the Taylor remainder bound asks (sum_k |c_k| (k pi / S)^6 / 6! below each
+    row's rounding) and the sums of |k c_k| ``scale`` of the two phase rows. The arithmetic of
+    the NumPy lines of wobble.models.top_series.build and _fourier_from_spectra."""
+    coef = np.empty((spectra.shape[0], spectra.shape[1]))
+    status, last, need, slope_s, slope_d = _coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms,
+                                                         scale, coef)
+    return status, np.ascontiguousarray(coef[:, : last + 1]), need, slope_s, slope_d
+
+
+@_jit
+def _spectrum(coef, scale, cos_rows, fact, spec):
+    rows = coef.shape[0]
+    for kk in range(coef.shape[1]):
+        sign = 1.0 if kk == 0 else (0.5 if kk % 2 == 0 else -0.5)
+        a = kk * scale
+        p = 1.0
+        for j in range(fact.shape[0]):
+            if j > 0:
+                p = p * a
+            w = p / fact[j]  # (k scale)^j / j!; times i^j
+            for q in range(rows):
+                v = coef[q, kk] * sign * w
+                # i^j times the row's rotation: cos series 1, sin series -i.
+                m = j % 4 if cos_rows[q] else (j + 3) % 4
+                if m == 0:
+                    spec[kk, j, q] = complex(v, 0.0)
+                elif m == 1:
+                    spec[kk, j, q] = complex(0.0, v)
+                elif m == 2:
+                    spec[kk, j, q] = complex(-v, 0.0)
+                else:
+                    spec[kk, j, q] = complex(0.0, -v)
+
+
+def spectrum(coef, scale, nodes, cos_rows, fact):
+    """The half-spectrum (nodes // 2 + 1, orders, rows) whose inverse real FFT is the Taylor
+    table of wobble.models.top_series._taylor_table: c_k (-1)^k (halved for k >= 1)
+    (i k scale)^j / j!, times -i for a sine series."""
+    spec = np.zeros((nodes // 2 + 1, fact.shape[0], coef.shape[0]), dtype=np.complex128)
+    _spectrum(coef, float(scale), cos_rows, fact, spec)
+    return spec
