@@ -324,9 +324,10 @@ def test_start_of_the_periodic_parts_alone_or_with_the_series_samples(name):
                                   "generic offsets", "near separatrix 1e-4"])
 def test_compiled_set_up_of_the_series_agrees_with_numpy(name):
     """The series set up by the compiled helpers (samples of the direct path with SciPy's own
-    Carlson functions, the node phasors, the check) is the NumPy set-up's: the same
-    arithmetic, so the samples agree to the last bits (exactly where NumPy's sin, cos, arcsin
-    and arctan2 are the C library's) and the two series give the same motion."""
+    Carlson functions, the coefficients, the Taylor spectrum, the node phasors, the check) is
+    the NumPy set-up's: the samples agree to the last bits (exactly where NumPy's sin, cos,
+    arcsin and arctan2 are the C library's), the tables have the same size and the two series
+    give the same motion to rounding."""
     pytest.importorskip("numba")
     from wobble.models import top_series
     from wobble.numerics import taylor_table
