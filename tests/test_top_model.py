@@ -301,3 +301,91 @@ def test_sparse_times_over_a_million_periods(name, monkeypatch):
     numpy_path = mdl.motion(t, "fourier")
     for key in ("theta", "phi", "psi", "omega", "quaternion", "energy"):
         np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
+
+
+@pytest.mark.parametrize("name", ["issue8 cusps", "issue8 loops", "nearly sleeping 1e-4", "generic offsets"])
+def test_start_of_the_periodic_parts_alone_or_with_the_series_samples(name):
+    """P_+ and P_- at t = 0 (what makes the attitude at t = 0 exact) are the same whether the
+    evaluator takes them alone, through the evaluation's path, or from the series' first batch
+    of samples; the reduced phase at t = 0 is the one the evaluation's reduction gives."""
+    from wobble.models import top_series
+
+    alone, batched = model_of(name), model_of(name)
+    e = batched._impl
+    assert "_start" not in e.__dict__
+    assert np.array_equal(e.phase(np.zeros(1))[0], [e.r0])
+    assert top_series.build(e, batched.error_estimate) is not None
+    assert e.__dict__["_start"] == (alone._impl.p_plus0, alone._impl.p_minus0)
+    t = np.linspace(0.0, 3.0, 7)
+    np.testing.assert_array_equal(batched.attitude(t, "direct"), alone.attitude(t, "direct"))
+
+
+@pytest.mark.parametrize("name", ["issue8 cusps", "issue8 undulating", "issue8 loops", "nearly sleeping 1e-4",
+                                  "generic offsets", "near separatrix 1e-4"])
+def test_compiled_set_up_of_the_series_agrees_with_numpy(name):
+    """The series set up by the compiled helpers (samples of the direct path with SciPy's own
+    Carlson functions, the coefficients, the Taylor spectrum, the node phasors, the check) is
+    the NumPy set-up's: the samples agree to the last bits (exactly where NumPy's sin, cos,
+    arcsin and arctan2 are the C library's), the tables have the same size and the two series
+    give the same motion to rounding."""
+    pytest.importorskip("numba")
+    from wobble.models import top_series
+    from wobble.numerics import taylor_table
+
+    if taylor_table.carlson() is None:
+        pytest.skip("SciPy's Carlson functions are not reachable from compiled code here")
+    mdl = model_of(name)
+    e = mdl._impl
+    k = e.K[0]
+    r = np.concatenate([np.linspace(-k, k, 101), [e.r0, 0.0, -0.0]])
+    fb = top_series.build(e, mdl.error_estimate, fast=True)
+    assert "_start" not in e.__dict__  # the compiled samples leave the direct path's own start alone
+    rows, raw = e.periodic_with_half_angles_and_parts(r)
+    got, got_raw = top_series._sampler(e, True)[0](r)
+    for want, have in zip(list(rows) + list(raw), list(got) + list(got_raw)):
+        np.testing.assert_allclose(have, want, rtol=4e-16, atol=4e-16 * np.max(np.abs(want)))
+    fa = top_series.build(model_of(name)._impl, mdl.error_estimate)
+    assert (fa is None) == (fb is None)
+    if fa is None:
+        return
+    assert fb.compiled and not fa.compiled and fa.table.shape == fb.table.shape
+    np.testing.assert_allclose(fb.start, fa.start, rtol=0, atol=1e-15)
+    t = np.linspace(0.0, 40 * mdl.nutation_period, 3001)
+    inertia = (mdl.I1, mdl.I3, mdl.mgl)
+    qa, qb = fa._motion_numpy(t, inertia)["quaternion"], fb._motion_numpy(t, inertia)["quaternion"]
+    assert np.max(attitude_angle(qa, qb)) < 2e-15
+
+
+def test_the_two_complete_integrals_of_the_third_kind_in_one_loop_are_cel_s():
+    """complete_pi_pair runs Bulirsch's cel for both parameters of the top in one loop (the
+    sequence it iterates depends on kc alone): the same 50-digit values as two calls of cel."""
+    import decimal
+    from decimal import Decimal
+
+    from wobble.models.top_setup import complete_pi_pair, context
+    from wobble.numerics import highprec as hp
+
+    rng = np.random.default_rng(4)
+    for _ in range(40):
+        with decimal.localcontext(context()):
+            kc = Decimal(float(10 ** rng.uniform(-30, 0))).sqrt()
+            p1, p2 = Decimal(float(rng.uniform(1e-6, 1))) / 3, Decimal(float(rng.uniform(0.1, 1))) / 7
+        assert complete_pi_pair(kc, p1, p2) == (hp.cel(kc, p1, 1, 1), hp.cel(kc, p2, 1, 1))
+        assert complete_pi_pair(kc, None, p2) == (0, hp.cel(kc, p2, 1, 1))
+        assert complete_pi_pair(kc, p1, None) == (hp.cel(kc, p1, 1, 1), 0)
+
+
+def test_series_table_sizes_are_the_smallest_even_5_smooth_numbers():
+    """The Taylor table's node count: the smallest even 2^a 3^b 5^c at or above what the
+    remainder bound asks (an FFT-friendly size)."""
+    from wobble.models.top_series import _fft_size
+
+    def smooth(m):
+        for p in (2, 3, 5):
+            while m % p == 0:
+                m //= p
+        return m == 1
+
+    sizes = [m for m in range(2, 3000) if m % 2 == 0 and smooth(m)]
+    for n in range(2, 2900):
+        assert _fft_size(n) == next(m for m in sizes if m >= n)

@@ -8,6 +8,8 @@ never a guess.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from astropy import units as u
 
@@ -82,23 +84,40 @@ def to_si(
     wobble.errors.InputError
         Not a Quantity, incompatible unit, wrong shape, non-finite or out of range.
     """
-    allowed = describe_unit(unit)
+    # The unit's description (for the error messages) is formed only when one is raised:
+    # it costs more than the conversion itself.
     if not isinstance(value, u.Quantity):
-        raise InputError(name, value, allowed + "; a plain number has no unit")
+        raise InputError(name, value, describe_unit(unit) + "; a plain number has no unit")
     try:
-        si = np.asarray(value.to_value(unit, equivalencies=equivalencies or []), dtype=float)
+        # Plain conversion first: astropy tries it first with equivalencies too (same
+        # result), and the equivalencies' set-up costs several times the conversion.
+        si = np.asarray(value.to_value(unit), dtype=float)
     except u.UnitConversionError:
-        raise InputError(name, value, allowed) from None
+        if not equivalencies:
+            raise InputError(name, value, describe_unit(unit)) from None
+        try:
+            si = np.asarray(value.to_value(unit, equivalencies=equivalencies), dtype=float)
+        except u.UnitConversionError:
+            raise InputError(name, value, describe_unit(unit)) from None
     if shape is not None and si.shape != shape:
         want = "a scalar" if shape == () else f"shape {shape}"
-        raise InputError(name, value, f"{want} ({allowed})")
+        raise InputError(name, value, f"{want} ({describe_unit(unit)})")
+    if si.ndim == 0:  # a scalar: Python comparisons, no array reductions
+        x = float(si)
+        if finite and not math.isfinite(x):
+            raise InputError(name, value, "finite values (no NaN or inf)")
+        if positive and not x > 0:
+            raise InputError(name, value, f"positive values ({describe_unit(unit)})")
+        if nonnegative and not x >= 0:
+            raise InputError(name, value, f"non-negative values ({describe_unit(unit)})")
+        return x
     if finite and not np.all(np.isfinite(si)):
         raise InputError(name, value, "finite values (no NaN or inf)")
     if positive and not np.all(si > 0):
-        raise InputError(name, value, f"positive values ({allowed})")
+        raise InputError(name, value, f"positive values ({describe_unit(unit)})")
     if nonnegative and not np.all(si >= 0):
-        raise InputError(name, value, f"non-negative values ({allowed})")
-    return float(si) if si.ndim == 0 else si
+        raise InputError(name, value, f"non-negative values ({describe_unit(unit)})")
+    return si
 
 
 def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool = True):

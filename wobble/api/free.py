@@ -283,15 +283,14 @@ class FreeRotation:
         return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)
 
     def _dataset(self, ts, omega, q, energy, lmag) -> xr.Dataset:
-        from wobble.api.dataset import xarray
+        from wobble.api.dataset import build
 
-        xr = xarray()
         mdl = self._model
         e0, l0 = mdl.energy, mdl.angular_momentum
         def var(name, data):
             return cf.variable("free", name, data)
 
-        ds = xr.Dataset(
+        ds = build(
             {
                 "omega": var("omega", omega),
                 "angular_momentum": var("angular_momentum", mdl.angular_momentum_inertial),
@@ -308,9 +307,7 @@ class FreeRotation:
                 "component": cf.label_coordinate("component"),
                 "moment_of_inertia": var("moment_of_inertia", np.asarray(mdl.moments)),
             },
-        )
-        ds.attrs.update(
-            {
+            attrs={
                 "title": "Torque-free rigid-body rotation (exact solution)",
                 "references": "Landau & Lifshitz, Mechanics, section 37; Goldstein, Poole & Safko 2002, Classical Mechanics, "
                 "section 5.6",
@@ -319,7 +316,7 @@ class FreeRotation:
                 "elliptic_complementary_parameter": mdl.m1,
                 "kinetic_energy_J": e0,
                 "angular_momentum_magnitude": l0,
-            }
+            },
         )
         if np.isfinite(mdl.period):
             ds.attrs["period_s"] = mdl.period

@@ -108,6 +108,10 @@ def _from_body(body):
     return i1, i3, mass, length
 
 
+# The heavy top's CF variables (wobble.io.cf, table "top"): dims and attributes, read once.
+_TOP_VARIABLES = {name: (spec.dims, spec.attrs()) for name, spec in cf.TOP.items()}
+
+
 class HeavyTop:
     """The heavy symmetric top with one point fixed: analysis and exact motion.
 
@@ -451,17 +455,17 @@ class HeavyTop:
         return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)
 
     def _dataset(self, ts, mo) -> xr.Dataset:
-        from wobble.api.dataset import xarray
+        from wobble.api.dataset import build
 
-        xr = xarray()
         m = self._model
         inv = {"energy": mo.energy, "p_phi": mo.p_phi, "p_psi": mo.p_psi}  # recomputed from omega and q
         # The drifts in one allocation (a fresh array per drift costs page faults at this size).
         drift = np.empty((3,) + np.shape(mo.energy))
         for row, (key, start) in enumerate((("energy", m.energy), ("p_phi", m.p_phi), ("p_psi", m.p_psi))):
             np.subtract(inv[key], start, out=drift[row])
-        def var(name, data):
-            return cf.variable("top", name, data)
+        def var(name, data):  # cf.variable("top", name, data), from the registry's entries read once
+            dims, attrs = _TOP_VARIABLES[name]
+            return dims, data, dict(attrs)
 
         data = {
             "theta": var("theta", mo.theta),
@@ -480,20 +484,18 @@ class HeavyTop:
             "p_psi": var("p_psi", inv["p_psi"]),
             "p_psi_drift": var("p_psi_drift", drift[2]),
         }
-        ds = xr.Dataset(
-            data,
-            coords={
-                "time": cf.time_coordinate(ts),
-                "axis": cf.label_coordinate("axis"),
-                "inertial_axis": cf.label_coordinate("inertial_axis"),
-                "component": cf.label_coordinate("component"),
-            },
-        )
+        coords = {
+            "time": cf.time_coordinate(ts),
+            "axis": cf.label_coordinate("axis"),
+            "inertial_axis": cf.label_coordinate("inertial_axis"),
+            "component": cf.label_coordinate("component"),
+        }
 
         def fin(x):
             return float(x) if np.isfinite(x) else "inf"
 
-        ds.attrs.update(
+        return build(
+            data, coords,
             {
                 "title": "Heavy symmetric top with one point fixed (exact solution)",
                 "references": "Goldstein, Poole & Safko 2002, Classical Mechanics, section 5.7; Landau & Lifshitz, "
@@ -507,6 +509,5 @@ class HeavyTop:
                 "elliptic_parameter_m": m.m, "elliptic_complementary_parameter": m.m1,
                 "energy_J": m.energy, "p_phi_kg_m2_per_s": m.p_phi, "p_psi_kg_m2_per_s": m.p_psi,
                 "sleeping_stable": int(m.sleeping_stable),
-            }
+            },
         )
-        return ds

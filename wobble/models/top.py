@@ -74,6 +74,7 @@ from wobble.errors import InputError
 from wobble.models import top_series
 from wobble.models.top_closed_form import Elliptic
 from wobble.models.top_setup import DIGITS, TopSetup, analyse, context, to_decimal
+from wobble.numerics import compiled
 from wobble.numerics import highprec as hp
 
 __all__ = [
@@ -378,7 +379,9 @@ class HeavyTopModel:
         if method == "auto" and n < top_series.MIN_SAMPLES:
             return self._impl
         # The table lives in top_series' cache (keyed by this model), not in the frozen model.
-        return top_series.series_of(self, self._impl, self.error_estimate) or self._impl
+        # Set up with the compiled helpers where the evaluation itself will be compiled.
+        fast = n >= compiled.LONG_ARRAY and compiled.available()
+        return top_series.series_of(self, self._impl, self.error_estimate, fast) or self._impl
 
     def motion(self, t, method: str = "auto") -> TopMotion:
         """theta, phi, psi, their rates, omega (body), the quaternion and the axis at times t (s).

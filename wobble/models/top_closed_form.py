@@ -25,6 +25,7 @@ u = cos theta and phidot sin theta.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -142,8 +143,7 @@ class Elliptic:
     pi_minus_over_k: float
     k_plus: float  # B / (2 lambda x1): delta = ... + k_plus P_+(w)
     k_minus: float  # C / (2 lambda y1): sigma = ... + k_minus P_-(w)
-    p_plus0: float
-    p_minus0: float
+    r0: float  # the reduced nutation phase at t = 0 (what phase(0) gives)
     sigma_sec: Secular
     delta_sec: Secular
     levels: object = field(repr=False, compare=False)
@@ -151,15 +151,38 @@ class Elliptic:
     def phase(self, t):
         return reduce_phase(t, self.lam, (2 * self.K[0], 2 * self.K[1]), self.w0)
 
+    # P_+ and P_- at t = 0, through the very path the evaluation takes (so that the attitude
+    # at t = 0 is q0 to the last bit): computed on first use, or taken from the series' first
+    # batch of NumPy samples, which holds r0 (wobble.models.top_series.build). Elementwise
+    # NumPy and SciPy give each element the same value whatever the batch.
+    @cached_property
+    def _start(self) -> tuple[float, float]:
+        r0 = np.array([self.r0])
+        s_, c_, d_ = ell.jacobi_reduced(r0, self.levels, self.K[1])
+        p_plus, p_minus = self.periodic_parts(r0, s_, c_, d_)
+        return float(p_plus[0]), float(p_minus[0])
+
+    @property
+    def p_plus0(self) -> float:
+        """P_+(r0), the periodic part of J_+ at t = 0."""
+        return self._start[0]
+
+    @property
+    def p_minus0(self) -> float:
+        """P_-(r0), the periodic part of J_- at t = 0."""
+        return self._start[1]
+
     def periodic_parts(self, r, sn, cn, dn):
         """P_+(r) and P_-(r): the 2K-periodic parts Pi(n; am r | m) - (Pi(n|m)/K) r, |r| <= K."""
         d2 = dn * dn
         p_plus = p_minus = np.zeros_like(r)
+        # R_F(cn^2, dn^2, 1) is common to both integrals: evaluated once when both are needed.
+        rf = ell.carlson_rf_scd(cn, d2) if self.k_plus != 0.0 and self.k_minus != 0.0 else None
         if self.k_plus != 0.0:
-            pi = ell.pi_positive_scd(self.n_plus, self.one_minus_n_plus, sn, cn, d2)
+            pi = ell.pi_positive_scd(self.n_plus, self.one_minus_n_plus, sn, cn, d2, rf)
             p_plus = pi - self.pi_plus_over_k * r
         if self.k_minus != 0.0:
-            pi = ell.pi_negative_scd(self.nu_minus, sn, cn, d2, self.m1)
+            pi = ell.pi_negative_scd(self.nu_minus, sn, cn, d2, self.m1, rf)
             p_minus = pi - self.pi_minus_over_k * r
         return p_plus, p_minus
 
@@ -182,12 +205,17 @@ class Elliptic:
 
     def periodic_with_half_angles(self, r):
         """:meth:`periodic_of_r` and sin(theta/2), cos(theta/2) at the same phases (|r| <= K)."""
+        return self.periodic_with_half_angles_and_parts(r)[0]
+
+    def periodic_with_half_angles_and_parts(self, r):
+        """:meth:`periodic_with_half_angles` and the raw P_+(r), P_-(r) it scales (for the series' set-up)."""
         sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
         sx, sy = self._scaled(sn, cn)
         sh, ch = self.hx1 * sx, self.hy2 * sy
         theta = 2.0 * np.arctan2(sh, ch)
         p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
-        return (theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy), sh, ch)
+        rows = (theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy), sh, ch)
+        return rows, (p_plus, p_minus)
 
     def core(self, t):
         r, j = self.phase(t)

@@ -16,6 +16,7 @@ by the model and released with it: the frozen model itself holds no mutable stat
 
 from __future__ import annotations
 
+import bisect
 import weakref
 from dataclasses import dataclass, replace
 
@@ -80,6 +81,10 @@ class Fourier:
     node_r: np.ndarray | None = None  # (S + 1,) the nodes -K + i h, as the phasors take them
     error_theta: float = 0.0
     error_phase: float = 0.0
+    # k_- P_-(r0) and k_+ P_+(r0): the periodic parts of sigma and delta at t = 0, as the samples
+    # the series come from give them (the direct path's own when the samples are NumPy's).
+    start: tuple = (0.0, 0.0)
+    compiled: bool = False  # set up with the compiled helpers (wobble.numerics.taylor_table)
 
     # -- building and checking -------------------------------------------------
     def clenshaw(self, r, rows):
@@ -128,9 +133,21 @@ class Fourier:
 
     def series(self, r, rows):
         """The series ``rows`` at reduced phases r from the Taylor table (nearest node, Horner)."""
-        ii, _, d = self._nodes(r)
+        values, _, _, _ = self._all_rows(r)
+        return [values[:, row] for row in rows]
+
+    def _all_rows(self, r):
+        """Every row at phases r (as :meth:`_horner` row by row, in one pass over the rows):
+        the values (N, rows), their changes from the node (N, rows), the phasor index and d."""
+        ii, iu, d = self._nodes(r)
         coef = self.table[ii]  # one gather: a node's coefficients are contiguous
-        return [self._horner(coef, row, d) for row in rows]
+        dd = d[:, None]
+        acc = coef[:, _ORDER, :].copy()
+        for j in range(_ORDER - 1, 0, -1):
+            acc *= dd
+            acc += coef[:, j, :]
+        acc *= dd
+        return acc + coef[:, 0, :], acc, iu, d
 
     def constants(self, inertia=(0.0, 0.0, 0.0)) -> np.ndarray:
         """The constants of the compiled pass (:data:`wobble.numerics.taylor_table.CONSTANTS`)."""
@@ -139,7 +156,7 @@ class Fourier:
         s_, d_ = e.sigma_sec, e.delta_sec
         return np.array([
             e.K[0], self.h, 1.0 / self.h, e.w0, e.lam[0], e.B, e.C, e.omega3, e.omega3 - e.a,
-            *s_.a, s_.c, s_.offset, e.k_minus * e.p_minus0, *d_.a, d_.c, d_.offset, e.k_plus * e.p_plus0,
+            *s_.a, s_.c, s_.offset, self.start[0], *d_.a, d_.c, d_.offset, self.start[1],
             *TWO_PI_PIECES, 1.0 / TWO_PI, 2 * np.pi, 0.5 / np.pi,
             0.5 * i1, 0.5 * i3, i1, i3, mgl,
         ])
@@ -206,8 +223,8 @@ class Fourier:
         ii, _, d = self._nodes(r)
         coef = self.table[ii]
         theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
-        sig = e.sigma_sec(j, r, e.w0) + (sp - e.k_minus * e.p_minus0)
-        dlt = e.delta_sec(j, r, e.w0) + (dp - e.k_plus * e.p_plus0)
+        sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
+        dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
         return theta, _wrap(sig + dlt), _wrap(sig - dlt)
 
     def motion(self, t, inertia) -> dict:
@@ -247,8 +264,8 @@ class Fourier:
             jc, js = np.take(jtab[p, 0], jj), np.take(jtab[p, 1], jj)
             phases.append((jc * nc - js * ns, jc * ns + js * nc))
         (cs, ss), (cd, sd) = phases
-        sig = e.sigma_sec(j, r, e.w0) + (sp - e.k_minus * e.p_minus0)
-        dlt = e.delta_sec(j, r, e.w0) + (dp - e.k_plus * e.p_plus0)
+        sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
+        dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
         x = 2.0 * sh * sh
         y = 2.0 * ch * ch
         bx = e.B / x
@@ -297,7 +314,7 @@ _FOURIER_MAX_TERMS = 96
 _TAYLOR_MAX_NODES = 1 << 15
 
 
-def build(e, est: dict) -> Fourier | None:
+def build(e, est: dict, fast: bool = False) -> Fourier | None:
     """Fourier series of the periodic parts of ``e``, tabulated and verified; None where not worth it.
 
     Six 2K-periodic functions of the reduced phase are sampled exactly at N equispaced
@@ -307,35 +324,47 @@ def build(e, est: dict) -> Fourier | None:
     spectrum is at rounding level; the table must then reproduce the direct evaluation
     between the nodes within the solution's error estimate, the phasors of the half angles
     included. Used only off the poles (x, y > 0 on the orbit).
+
+    ``fast``: the samples, the phasors and the check by the compiled helpers of
+    :mod:`wobble.numerics.taylor_table` (the same arithmetic, in one pass each) where Numba
+    and SciPy's C Carlson functions are at hand.
     """
     if e.through_top or e.through_bottom:
         return None
     k = e.K[0]
     noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
-    sample = e.periodic_with_half_angles
-    # Check points between the nodes (phases offset by an irrational fraction of the spacing).
-    m = 41
-    vt = -np.pi + 2 * np.pi * (np.arange(m) + 0.6180339887498949) / m
-    r_check = vt * (k / np.pi)
+    sample, fast = _sampler(e, fast)
+    if fast:
+        return _build_compiled(e, est, sample)
+    r_check = _CHECK_VT * (k / np.pi)
     want = None
+    parity = _PARITY
     for n in (64, 128, 256, _FOURIER_MAX_N):
-        vt = 2 * np.pi * np.arange(n) / n
-        vt = np.where(vt > np.pi, vt - 2 * np.pi, vt)
-        if want is None:  # nodes and check points in one pass of the direct path
-            both = sample(np.concatenate([vt * (k / np.pi), r_check]))
-            vals = [v[:n] for v in both]
-            want = [v[n:] for v in both]
+        # The nodes vartheta_i = 2 pi i / n in [0, pi]; those in (pi, 2 pi) are -vartheta_{n-i}, where
+        # the rows are their mirror images (theta and the half angles' sines and cosines even,
+        # the rest odd, and exactly so in the direct path: sn odd, cn and dn even, Pi odd).
+        half = n // 2
+        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
+        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
+            both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
+            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
+            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+            if not fast:  # the direct path's own P_+(r0), P_-(r0) (elementwise: as if alone)
+                e.__dict__.setdefault("_start", (float(raw[0][-1]), float(raw[1][-1])))
         else:
-            vals = sample(vt * (k / np.pi))
-        spectra = np.fft.rfft(np.stack(vals), axis=-1) / n
-        scales = [max(float(np.max(np.abs(v))), 1e-300) for v in vals]
+            part = sample(r_half)[0]
+        vals = np.empty((len(_KINDS), n))
+        vals[:, : half + 1] = part
+        vals[:, half + 1 :] = parity * part[:, half - 1 : 0 : -1]
+        spectra = np.fft.rfft(vals, axis=-1) / n
+        scales = np.maximum(np.max(np.abs(vals), axis=1), 1e-300)
         scales[_SIGMA] = scales[_DELTA] = max(1.0, scales[_SIGMA], scales[_DELTA])  # phases: absolute (rad)
         # Aliasing folds c_{n-k} onto c_k: only the top of the band must be at rounding
         # level; the check against the direct evaluation below decides.
         top = np.max(np.abs(spectra[:, 7 * n // 16 :]), axis=1)
-        if not np.all(top <= noise * np.array(scales)):
+        if not np.all(top <= noise * scales):
             continue
-        fo = _fourier_from_spectra(e, spectra, scales, k)
+        fo = _fourier_from_spectra(e, spectra, scales, k, start, fast)
         if fo is None:
             return None  # too long a series: the direct path is about as fast
         checked = _check_fourier(fo, r_check, want, scales, est, k)
@@ -344,19 +373,135 @@ def build(e, est: dict) -> Fourier | None:
     return None
 
 
-def _fourier_from_spectra(e, spectra, scales, k):
-    cos_rows = np.array([kind == "cos" for kind in _KINDS])
+def _build_compiled(e, est, sample):
+    """:func:`build` with the compiled helpers of :mod:`wobble.numerics.taylor_table` between the
+    FFTs: the same steps (samples on half the nodes, the spectra, the coefficients and the node
+    count, the Taylor table, the phasors, the check, finer tables on failure) in a few calls."""
+    from wobble.numerics import taylor_table as tt
+
+    k = e.K[0]
+    scale = np.pi / k
+    r_check = _CHECK_VT * (k / np.pi)
+    c = (e.sigma_sec.c, e.delta_sec.c)
+    offset = (e.sigma_sec.offset, e.delta_sec.offset)
+    want = None
+    for n in (64, 128, 256, _FOURIER_MAX_N):
+        half = n // 2
+        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
+        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
+            both, _ = sample(np.concatenate([r_half, r_check, [e.r0]]))
+            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
+            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+        else:
+            part = sample(r_half)[0]
+        vals, scales = tt.prepare(part, n, _PARITY[:, 0])
+        spectra = np.fft.rfft(vals, axis=-1) / n
+        status, coef, need, slope_s, slope_d = tt.coefficients(spectra, scales, n, 8 * _EPS, _COS_ROWS, 0.25 * _EPS,
+                                                               _FOURIER_MAX_TERMS, scale)
+        if status == 0:
+            continue
+        if status == 2:
+            return None  # too long a series: the direct path is about as fast
+        nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
+        slope = max(abs(c[0]) + slope_s, abs(c[1]) + slope_d)
+        rel = 32 * _EPS * (1 + k)
+        limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
+                           rel * scales[4], rel * scales[5]])
+        while True:
+            while slope * k / nodes > _CIS_MAX:
+                nodes *= 2
+            if nodes > _TAYLOR_MAX_NODES:
+                return None
+            h = 2 * k / nodes
+            table = np.fft.irfft(tt.spectrum(coef, scale, nodes, _COS_ROWS, _FACT), n=nodes, axis=0, norm="forward")
+            node_r = -k + h * np.arange(nodes + 1)
+            phasor = tt.phasors(table, node_r, e.w0, c, offset, start)
+            err, miss = tt.check_at(r_check, want, table, node_r, phasor, k, h, c, offset, start, e.w0, _COS, _SIN)
+            if np.all(err <= limits) and miss <= est["attitude_rad"]:
+                return Fourier(base=e, coef=coef, scale=scale, table=table, h=h, phasor=phasor, node_r=node_r,
+                               error_theta=float(err[0]), error_phase=max(float(err[_SIGMA]), float(err[_DELTA]), miss),
+                               start=start, compiled=True)
+            nodes *= 2
+    return None
+
+
+# Check points between the nodes (phases offset by an irrational fraction of the spacing).
+_CHECK_VT = -np.pi + 2 * np.pi * (np.arange(41) + 0.6180339887498949) / 41
+_PARITY = np.array([1.0 if kind == "cos" else -1.0 for kind in _KINDS])[:, None]  # even rows 1, odd rows -1
+_COS_ROWS = np.array([kind == "cos" for kind in _KINDS])
+
+
+def _sampler(e, fast):
+    """The direct evaluation of the six rows at phases r as (rows (6, N), (P_+, P_-)), and
+    whether it is the compiled one."""
+    if fast:
+        from wobble.numerics import taylor_table
+
+        functions = taylor_table.carlson()
+        if functions is not None:
+            lv = e.levels
+            constants = np.array([
+                float(lv.m), float(lv.m1), float(lv.K), e.K[1], float(lv.scale), e.rho_x, e.rho_y, e.hx1, e.hy2, e.W,
+                e.k_plus, e.k_minus, e.n_plus, e.one_minus_n_plus, e.nu_minus, e.pi_plus_over_k, e.pi_minus_over_k,
+                3.0 * (1.0 + e.nu_minus) ** 2,
+            ])
+            ratios = np.array(lv.ratios, dtype=float).reshape(-1)
+            ratios_b = np.array(lv.ratios_b, dtype=float).reshape(-1)
+            return (lambda r: taylor_table.sample(r, constants, ratios, ratios_b, functions)), True
+
+    def numpy_sample(r):
+        rows, raw = e.periodic_with_half_angles_and_parts(r)
+        return np.stack(rows), raw
+
+    return numpy_sample, False
+
+
+def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
+    cos_rows = _COS_ROWS
     coef = np.where(cos_rows[:, None], 2 * spectra.real, -2 * spectra.imag)
     coef[:, 0] = np.where(cos_rows, spectra[:, 0].real, 0.0)
-    big = np.max(np.abs(coef) / np.array(scales)[:, None], axis=0)
+    big = np.max(np.abs(coef) / np.asarray(scales)[:, None], axis=0)
     keep = np.nonzero(big > 0.25 * _EPS)[0]
     last = int(keep.max()) if keep.size else 1
     if last > _FOURIER_MAX_TERMS:
         return None
     coef = np.ascontiguousarray(coef[:, : last + 1])
     scale = np.pi / k
-    nodes = 1 << max(8, int(np.ceil(np.log2(32 * (last + 1)))))
-    return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0), nodes)
+    # Nodes: the remainder of the degree-5 Taylor polynomials half a spacing from their node,
+    # |f^(6)| (h/2)^6 / 6! <= sum_k |c_k| (k pi / S)^6 / 720, below each row's rounding (eps times
+    # its scale); S the smallest FFT-friendly size (2^a 3^b 5^c, even) from 256 on.
+    moment = np.sum(np.abs(coef) * np.arange(last + 1.0) ** 6, axis=1)
+    need = np.pi * float(np.max((moment / (720 * _EPS * np.asarray(scales))) ** (1 / 6)))
+    nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
+    return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0, start=start,
+                             compiled=fast), nodes)
+
+
+def _fft_size(n: int) -> int:
+    """The smallest even 2^a 3^b 5^c >= n."""
+    if n <= _FFT_SIZES[-1]:
+        return _FFT_SIZES[bisect.bisect_left(_FFT_SIZES, n)]
+    return _fft_size_search(n)
+
+
+def _fft_size_search(n: int) -> int:
+    best = 1 << max(1, (n - 1).bit_length())
+    p5 = 1
+    while p5 < best:
+        p35 = p5
+        while p35 < best:
+            m = p35
+            while m < n or m % 2:
+                m *= 2
+            best = min(best, m)
+            p35 *= 3
+        p5 *= 5
+    return best
+
+
+# The even 2^a 3^b 5^c up to the cap of nodes (and the next one above it).
+_FFT_SIZES = sorted(2 ** a * 3 ** b * 5 ** c for a in range(1, 17) for b in range(11) for c in range(8)
+                    if 2 ** a * 3 ** b * 5 ** c <= 2 * _TAYLOR_MAX_NODES)
 
 
 def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
@@ -367,9 +512,8 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     k = e.K[0]
     # Bounds of |d/dr| of sigma's and delta's arguments: their secular rate plus the sum of
     # |k b_k| (pi / K) of their periodic parts.
-    kk = np.arange(fo.coef.shape[1]) * fo.scale
-    slopes = [abs(sec.c) + float(np.sum(kk * np.abs(fo.coef[row])))
-              for sec, row in ((e.sigma_sec, _SIGMA), (e.delta_sec, _DELTA))]
+    sums = np.abs(fo.coef[_SIGMA : _DELTA + 1]) @ (np.arange(fo.coef.shape[1]) * fo.scale)
+    slopes = [abs(e.sigma_sec.c) + float(sums[0]), abs(e.delta_sec.c) + float(sums[1])]
     while max(slopes) * k / nodes > _CIS_MAX:
         nodes *= 2
     if nodes > _TAYLOR_MAX_NODES:
@@ -379,9 +523,15 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     node_r = -k + h * np.arange(nodes + 1)
     # g = c (node - w0) + offset + (P(node) - P0) of sigma and delta in double-double: |c (node - w0)|
     # reaches several radians, whose rounding would otherwise be the phasors' largest error.
+    if fo.compiled:  # the lines below in one compiled pass
+        from wobble.numerics import taylor_table
+
+        phasor = taylor_table.phasors(table, node_r, e.w0, (e.sigma_sec.c, e.delta_sec.c),
+                                      (e.sigma_sec.offset, e.delta_sec.offset), fo.start)
+        return replace(fo, table=table, h=h, phasor=phasor, node_r=node_r)
     c = np.array([[e.sigma_sec.c], [e.delta_sec.c]])
     offset = np.array([[e.sigma_sec.offset], [e.delta_sec.offset]])
-    p0 = np.array([[e.k_minus * e.p_minus0], [e.k_plus * e.p_plus0]])
+    p0 = np.array([[fo.start[0]], [fo.start[1]]])
     at_node = np.empty((2, nodes + 1))
     at_node[:, :nodes] = table[:, 0, _SIGMA : _DELTA + 1].T
     at_node[:, nodes] = at_node[:, 0]  # r = +K is the node of r = -K
@@ -402,30 +552,31 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
 def _check_fourier(fo, r, want, scales, est, k):
     """The table if it reproduces the direct values within the error estimate (finer tables
     are tried first); None otherwise."""
-    theta, sp, dp, dth, sh, ch = want
     e = fo.base
     rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
+    want = np.asarray(want)  # (m, rows), as the table's rows come
+    # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
+    c = np.array([e.sigma_sec.c, e.delta_sec.c])
+    g = ((c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset]))
+         + (want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)))
+    cos_g, sin_g = np.cos(g), np.sin(g)
+    limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
+                       rel * scales[4], rel * scales[5]])
     while fo is not None:
-        got = fo.series(r, range(6))
-        err_t = float(np.max(np.abs(got[0] - theta)))
-        err_p = max(float(np.max(np.abs(got[_SIGMA] - sp))), float(np.max(np.abs(got[_DELTA] - dp))))
-        err_d = float(np.max(np.abs(got[3] - dth))) / scales[3]
-        half_ok = (float(np.max(np.abs(got[4] - sh))) <= rel * scales[4]
-                   and float(np.max(np.abs(got[5] - ch))) <= rel * scales[5])
-        # The phasors of the half angles (at j = 0) against cos and sin of the direct phases.
-        ii, iu, d = fo._nodes(r)
-        coef = fo.table[ii]
-        for p, (sec, row, p0, direct) in enumerate(((e.sigma_sec, _SIGMA, e.k_minus * e.p_minus0, sp),
-                                                    (e.delta_sec, _DELTA, e.k_plus * e.p_plus0, dp))):
-            _, v = fo._horner(coef, row, d, split=True)
-            ec, es = fo._cis(sec.c * (r - fo.node_r[iu]) + v)
-            pc, ps_ = fo.phasor[p, 0, iu], fo.phasor[p, 1, iu]
-            g = (sec.c * (r - e.w0) + sec.offset) + (direct - p0)
-            miss = np.hypot(pc * ec - ps_ * es - np.cos(g), pc * es + ps_ * ec - np.sin(g))
-            err_p = max(err_p, float(np.max(miss)))
-        if (err_t <= est["theta_rad"] and err_p <= est["attitude_rad"] and err_d <= 64 * _EPS * (1 + k)
-                and half_ok):
-            return replace(fo, error_theta=err_t, error_phase=err_p)
+        if fo.compiled:  # the lines of the other branch in one compiled pass
+            from wobble.numerics import taylor_table
+
+            err, miss = taylor_table.check(r, want, cos_g, sin_g, fo.table, fo.node_r, fo.phasor, e.K[0], fo.h, c,
+                                           _COS, _SIN)
+        else:
+            got, v, iu, _ = fo._all_rows(r)
+            err = np.max(np.abs(got - want), axis=0)
+            # The phasors of the half angles (at j = 0) against cos and sin of the direct phases.
+            ec, es = fo._cis(c * (r - fo.node_r[iu])[:, None] + v[:, _SIGMA : _DELTA + 1])
+            pc, ps_ = fo.phasor[:, 0, iu].T, fo.phasor[:, 1, iu].T
+            miss = float(np.max(np.hypot(pc * ec - ps_ * es - cos_g, pc * es + ps_ * ec - sin_g)))
+        if np.all(err <= limits) and miss <= est["attitude_rad"]:
+            return replace(fo, error_theta=float(err[0]), error_phase=max(float(np.max(err[_SIGMA : _DELTA + 1])), miss))
         nodes = 2 * fo.table.shape[0]
         if nodes > _TAYLOR_MAX_NODES:
             return None
@@ -449,7 +600,8 @@ def _taylor_table(coef, nodes, scale):
     power = (1j * kk[:, None] * scale) ** _ORDERS  # (ncoef, order + 1)
     spec = np.zeros((nodes // 2 + 1, _ORDER + 1, nrow), dtype=complex)
     spec[:ncoef] = (coef.T * sign[:, None])[:, None, :] * (power / _FACT)[:, :, None] * _ROT  # (ncoef, order + 1, rows)
-    return np.fft.irfft(spec, n=nodes, axis=0) * nodes
+    # norm="forward": the inverse without its 1/S (the sum itself, with no scaling to undo).
+    return np.fft.irfft(spec, n=nodes, axis=0, norm="forward")
 
 
 # The table of each model, built on first use: keyed by id(model), dropped when the model is
@@ -458,18 +610,19 @@ def _taylor_table(coef, nodes, scale):
 _TABLES: dict[int, Fourier | None] = {}
 
 
-def series_of(owner, e, est: dict) -> Fourier | None:
+def series_of(owner, e, est: dict, fast: bool = False) -> Fourier | None:
     """The verified series of the evaluator ``e`` of model ``owner`` (built once), or None.
 
     ``owner`` is the object the table belongs to (the frozen model): the table lives
-    here, not in it, for as long as ``owner`` does.
+    here, not in it, for as long as ``owner`` does. ``fast``: set it up with the compiled
+    helpers (:func:`build`).
     """
     key = id(owner)
     try:
         return _TABLES[key]
     except KeyError:
         pass
-    table = build(e, est)
+    table = build(e, est, fast)
     _TABLES[key] = table
     weakref.finalize(owner, _TABLES.pop, key, None)
     return table

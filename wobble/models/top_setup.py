@@ -32,7 +32,7 @@ from wobble.models.top_closed_form import Elliptic, Secular, Uniform
 from wobble.numerics import cubic
 from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
-from wobble.numerics.phase import split_dd
+from wobble.numerics.phase import reduce_phase, split_dd
 
 __all__ = ["DIGITS", "TopSetup", "analyse", "context", "to_decimal"]
 
@@ -44,9 +44,13 @@ _EPS = float(np.finfo(float).eps)
 _POLE = Decimal("1e-32")
 
 
+_CONTEXT = decimal.Context(prec=DIGITS)
+
+
 def context() -> decimal.Context:
-    """The decimal context of the set-up (:data:`DIGITS` significant digits)."""
-    return decimal.Context(prec=DIGITS)
+    """The decimal context of the set-up (:data:`DIGITS` significant digits): one shared
+    template, which decimal.localcontext copies."""
+    return _CONTEXT
 
 
 def to_decimal(x) -> Decimal:
@@ -138,6 +142,49 @@ def secular_phase(rate: Decimal, lam: Decimal, kdec: Decimal, offset) -> Secular
         # below rounding anyway.
         pieces = split_dd(hi, lo) if abs(hi) > 1e-280 else (0.0, 0.0, hi + lo)
         return Secular(a=pieces, c=_f(rate / lam), offset=float(offset))
+
+
+def complete_pi_pair(kc: Decimal, p_plus, p_minus) -> tuple[Decimal, Decimal]:
+    """``hp.cel(kc, p, 1, 1)`` for p = ``p_plus`` and ``p_minus`` (None: 0 returned), in one loop.
+
+    Bulirsch's cel (:func:`wobble.numerics.highprec.cel`) operation for operation, at its
+    precision: the sequence of e, em and kc it iterates (and so its stopping point) depends on
+    kc alone, so both integrals share one square root per step instead of one each.
+    """
+    ps = [p for p in (p_plus, p_minus) if p is not None]
+    out = {}
+    if ps:
+        qc = hp.dec(kc)
+        if qc <= 0 or any(hp.dec(p) <= 0 for p in ps):
+            raise ValueError("cel here takes p > 0 and kc > 0")
+        one = hp.dec(1)
+        with decimal.localcontext(hp.context()):
+            ca = Decimal(10) ** (-hp.DIGITS + 5)
+            e = qc
+            em = Decimal(1)
+            state = []
+            for p in ps:
+                p = hp.dec(p).sqrt()
+                state.append([one, one / p, p])  # a, b, p
+            for _ in range(200):
+                for st in state:
+                    a, b, p = st
+                    f = a
+                    a = a + b / p
+                    g = e / p
+                    b = b + f * g
+                    b = b + b
+                    st[0], st[1], st[2] = a, b, g + p
+                g = em
+                em = em + qc
+                if abs(g - qc) <= g * ca:
+                    break
+                qc = e.sqrt()
+                qc = qc + qc
+                e = qc * em
+            for key, (a, b, p) in zip([k for k, p in (("+", p_plus), ("-", p_minus)) if p is not None], state):
+                out[key] = (hp.PI / 2) * (b + a * em) / (em * (em + p))
+    return out.get("+", Decimal(0)), out.get("-", Decimal(0))
 
 
 def analyse(setup: TopSetup) -> dict:
@@ -317,8 +364,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         period = 2 * kdec / lam
         # Mean rates of J_+ = int dt/x and J_- = int dt/y (complete Pi by Bulirsch's cel).
         kc = m1.sqrt()
-        pi_plus = hp.cel(kc, x2 / x1, 1, 1) if B != 0 else Decimal(0)
-        pi_minus = hp.cel(kc, y2 / y1, 1, 1) if C != 0 else Decimal(0)
+        pi_plus, pi_minus = complete_pi_pair(kc, x2 / x1 if B != 0 else None, y2 / y1 if C != 0 else None)
         mean_inv_x = pi_plus / (kdec * x1)
         mean_inv_y = pi_minus / (kdec * y1) if C != 0 else Decimal(0)
         w3ma = w3 - a
@@ -363,13 +409,17 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
             levels=levels,
         )
-        # The periodic parts at t = 0, through the very path the evaluation takes (so that
-        # the attitude at t = 0 is q0 to the last bit).
-        probe = Elliptic(p_plus0=0.0, p_minus0=0.0, **impl0)
-        r0, _ = probe.phase(np.zeros(1))
-        s_, c_, d_ = ell.jacobi_reduced(r0, levels, K[1])
-        p_plus0, p_minus0 = probe.periodic_parts(r0, s_, c_, d_)
-        impl = Elliptic(p_plus0=float(p_plus0[0]), p_minus0=float(p_minus0[0]), **impl0)
+        # The reduced phase at t = 0. The reduction of lambda t + w0
+        # (wobble.numerics.phase.reduce_phase) forms x = 0 + w0 with no error term and, for
+        # |w0| <= K (x / 2K in [-1/2, 1/2], which rint takes to 0, ties to even), j = 0 and
+        # r = x: it is 0.0 + w0 exactly (the sum turns -0.0 into +0.0, as there). The periodic
+        # parts there (the attitude at t = 0 is q0 to the last bit) are taken by the evaluator
+        # when first needed, through the evaluation's own path.
+        if abs(w0) <= K[0]:
+            r0 = 0.0 + w0
+        else:
+            r0 = float(reduce_phase(np.zeros(1), impl0["lam"], (2 * K[0], 2 * K[1]), w0)[0][0])
+        impl = Elliptic(r0=r0, **impl0)
         u1, u2, u3 = _report_roots(roots)
         nut = nutation_class(B, a, x1, x2, y1, y2, C)
         if st.s0 != 0:
@@ -378,9 +428,10 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             phidot0 = to_decimal(s.phidot0) if st.x0 == 0 else Decimal(0)
         psidot0 = w3 - st.u0 * phidot0
         kf = float(K[0])
+        theta_max = theta_of(x1, y1)
         swing = abs(_f(b_eff * pi_plus / (lam * x1))) + (abs(_f(c_eff * pi_minus / (lam * y1))) if not bottom else 0.0)
         est = {
-            "theta_rad": 32 * _EPS * (1 + kf) * max(theta_of(x1, y1), _EPS),
+            "theta_rad": 32 * _EPS * (1 + kf) * max(theta_max, _EPS),
             "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing),
             "turning_points_relative": 4 * _EPS,
             "period_relative": 4 * _EPS,
@@ -388,7 +439,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         return dict(
             phidot0=_f(phidot0), psidot0=_f(psidot0), u1=u1, u2=u2, u3=u3, x1=_f(x1), x2=_f(x2),
             x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
-            theta_min=theta_of(x2, y2), theta_max=theta_of(x1, y1), nutation=nut, m=_f(m), m1=_f(m1),
+            theta_min=theta_of(x2, y2), theta_max=theta_max, nutation=nut, m=_f(m), m1=_f(m1),
             nutation_period=_f(period), mean_precession_rate=_f(mean_phidot), mean_spin_rate=_f(mean_psidot),
             error_estimate=est, _impl=impl,
         )

@@ -61,8 +61,13 @@ DIGITS = 60
 _MAX_ITER = 600
 
 
+# One template: decimal.localcontext works on a copy of it (creating a Context costs about a
+# microsecond, and the roots take dozens of contexts).
+_CONTEXT = decimal.Context(prec=DIGITS)
+
+
 def _ctx() -> decimal.Context:
-    return decimal.Context(prec=DIGITS)
+    return _CONTEXT
 
 
 @dataclass(frozen=True)

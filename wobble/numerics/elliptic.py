@@ -72,6 +72,8 @@ elliptic tables and on grids over m1 from 2.2e-308 to 1
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy import special as _sp
 
@@ -91,6 +93,7 @@ __all__ = [
     "jacobi_reduced",
     "landen_levels",
     "LandenLevels",
+    "carlson_rf_scd",
     "pi_negative_scd",
     "pi_positive_scd",
     "reduce_half_period",
@@ -137,6 +140,9 @@ class LandenLevels:
     """
 
     def __init__(self, m, m1=None, K=None):  # noqa: N803 - K is the integral's name
+        if np.ndim(m) == 0 and np.ndim(m1) == 0:
+            self._scalar(m, m1, K)
+            return
         m, m1 = _params(m, m1)
         m, m1 = np.broadcast_arrays(m, m1)
         self.m, self.m1 = m, m1
@@ -158,6 +164,32 @@ class LandenLevels:
         self.ratios = ratios
         self.ratios_b = ratios_b
         self.scale = scale * a
+
+    def _scalar(self, m, m1, K):  # noqa: N803
+        """The same sequence for one parameter in Python floats (the same roundings: +, *, /
+        and sqrt are correctly rounded either way), without NumPy's per-call cost."""
+        mf = float(m)
+        m1f = 1.0 - mf if m1 is None else float(m1)
+        if mf < 0 or mf > 1 or m1f < 0 or m1f > 1:
+            raise ValueError("elliptic parameter m and complement m1 must lie in [0, 1]")
+        self.m, self.m1 = np.asarray(mf), np.asarray(m1f)
+        a, b = 1.0, math.sqrt(m1f)
+        c = math.sqrt(mf) if m1f > 0 else 0.0
+        ratios, ratios_b, scale = [], [], 1.0
+        for _ in range(_MAX_LEVELS):
+            if not c > _EPS * a * 0.5:
+                break
+            a, b, c = 0.5 * (a + b), math.sqrt(a * b), 0.5 * (a - b)
+            ratios.append(np.float64(c / a))
+            ratios_b.append(np.float64(b / a))
+            scale = 2.0 * scale
+        if K is None:
+            self.K = np.asarray(0.5 * np.pi / a if m1f > 0 else np.inf)
+        else:
+            self.K = np.asarray(K, dtype=float)
+        self.ratios = ratios
+        self.ratios_b = ratios_b
+        self.scale = np.float64(scale * a)
 
 
 def landen_levels(m, m1=None, K=None) -> LandenLevels:  # noqa: N803
@@ -265,11 +297,12 @@ def ellipe_inc(phi, m, m1=None):
         return m1 * s * rf + (m * m1 / 3.0) * s * s2 * np.where(m1 > 0, rd, 0.0) + tail
 
 
-def pi_negative_scd(nu, s, c, d2, m1):
+def pi_negative_scd(nu, s, c, d2, m1, rf=None):
     """Pi(-nu; phi | m) for nu >= 0 from s = sin phi, c = cos phi >= 0, d2 = 1 - m s^2.
 
     The three positive terms of :func:`ellippi_inc`; callers that already have
-    sn, cn, dn of a reduced argument (so s, c, dn^2) skip the trigonometry.
+    sn, cn, dn of a reduced argument (so s, c, dn^2) skip the trigonometry, and
+    ``rf`` = R_F(c^2, d2, 1) where they have it (:func:`carlson_rf_scd`).
     Relative error below 3e-15 (module docstring).
     """
     sign = np.sign(s)
@@ -277,7 +310,7 @@ def pi_negative_scd(nu, s, c, d2, m1):
     c2 = c * c
     s2 = s * s
     with np.errstate(invalid="ignore", divide="ignore"):
-        rf = _sp.elliprf(c2, d2, 1.0)
+        rf = _sp.elliprf(c2, d2, 1.0) if rf is None else rf
         p = 1.0 + nu * s2
         q = c2 + m1 * s2 / (1.0 + nu)
         out = s * rf / (1.0 + nu)
@@ -291,7 +324,14 @@ def pi_negative_scd(nu, s, c, d2, m1):
     return sign * out
 
 
-def pi_positive_scd(n, one_minus_n, s, c, d2):
+def carlson_rf_scd(c, d2):
+    """R_F(c^2, d2, 1), the first-kind term that :func:`pi_positive_scd` and
+    :func:`pi_negative_scd` share (pass it as ``rf`` to both: one evaluation)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return _sp.elliprf(c * c, d2, 1.0)
+
+
+def pi_positive_scd(n, one_minus_n, s, c, d2, rf=None):
     """Pi(n; phi | m) for 0 <= n < 1 from s = sin phi, c = cos phi >= 0, d2 = 1 - m s^2.
 
     DLMF 19.25.14 with positive terms only, ``s R_F(c^2, d2, 1) + (n/3) s^3
@@ -299,7 +339,8 @@ def pi_positive_scd(n, one_minus_n, s, c, d2):
     ``p = 1 - n s^2 = c^2 + (1 - n) s^2`` is formed without cancellation: n next to
     1 (a heavy top whose axis passes next to the vertical) keeps full relative
     accuracy, the integrand's near-pole at phi = pi/2 included: below 3e-15, except
-    in SciPy's R_J corner (module docstring: 2e-14 there).
+    in SciPy's R_J corner (module docstring: 2e-14 there). ``rf``: R_F(c^2, d2, 1) where
+    the caller has it (:func:`carlson_rf_scd`).
     """
     sign = np.sign(s)
     s = np.abs(s)
@@ -307,7 +348,7 @@ def pi_positive_scd(n, one_minus_n, s, c, d2):
     s2 = s * s
     p = c2 + one_minus_n * s2
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = s * _sp.elliprf(c2, d2, 1.0)
+        out = s * (_sp.elliprf(c2, d2, 1.0) if rf is None else rf)
         if n > 0:
             rj = _sp.elliprj(c2, d2, 1.0, np.where(p > 0, p, 1.0))
             out = out + np.where(s > 0, (n / 3.0) * s * s2 * rj, 0.0)

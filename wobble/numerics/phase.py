@@ -14,6 +14,8 @@ Manual for the Elementary Functions, 1980).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["two_sum", "two_prod", "split_dd", "reduce_phase"]
@@ -50,14 +52,15 @@ def split_dd(hi: float, lo: float):
     ``j * piece`` is exact for the first two pieces when ``|j| < 2^26``.
     """
     hi = float(hi)
-    if hi == 0.0 or not np.isfinite(hi):
+    if hi == 0.0 or not math.isfinite(hi):
         return hi, 0.0, float(lo)
-    e = np.floor(np.log2(abs(hi)))
+    # Python floats (the C library's log2, round half to even as np.round): a scalar each time.
+    e = math.floor(math.log2(abs(hi)))
     s1 = 2.0 ** (e - 25)
-    p1 = np.round(hi / s1) * s1
+    p1 = round(hi / s1) * s1
     rest = hi - p1  # exact
     s2 = 2.0 ** (e - 51)
-    p2 = np.round(rest / s2) * s2
+    p2 = round(rest / s2) * s2
     p3 = (rest - p2) + lo
     return float(p1), float(p2), float(p3)
 

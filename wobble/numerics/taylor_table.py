@@ -26,7 +26,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-__all__ = ["phase", "angles", "motion", "CONSTANTS"]
+__all__ = ["phase", "angles", "motion", "CONSTANTS", "carlson", "sample", "phasors", "check", "check_at", "prepare",
+           "coefficients", "spectrum", "SAMPLE_CONSTANTS"]
 
 _jit = nb.njit(cache=True, nogil=True, error_model="numpy")
 _SPLITTER = 134217729.0  # 2^27 + 1
@@ -296,3 +297,410 @@ def motion(r, j, jidx, table, node_r, phasor, jtab, cos_c, sin_c, constants):
     axis = buf[17 * n :].reshape(n, 3)
     _motion(r, j, int(jidx), table, node_r, phasor, jtab, cos_c, sin_c, constants, out, omega, quat, axis)
     return out, omega, quat, axis
+
+
+# ---------------------------------------------------------------------------------------------
+# The table's set-up, compiled: the samples of the direct evaluation, the phasors at the nodes
+# and the check between the nodes (wobble.models.top_series.build; NumPy does the same when
+# Numba is not in use). The arithmetic is that of the NumPy functions named, operation for
+# operation; the transcendental functions are the C library's, as NumPy's are where it does
+# not vectorise them, and Carlson's R_F, R_J, R_C are SciPy's own (scipy.special.cython_special).
+# ---------------------------------------------------------------------------------------------
+_CARLSON = None
+
+
+def carlson():
+    """SciPy's double-precision R_F, R_J and R_C as C function pointers callable from compiled
+    code (the functions behind scipy.special.elliprf, elliprj, elliprc), or None."""
+    global _CARLSON
+    if _CARLSON is None:
+        _CARLSON = _find_carlson() or False
+    return _CARLSON or None
+
+
+def _find_carlson():
+    import ctypes
+
+    try:
+        from numba.extending import get_cython_function_address
+        from scipy.special import cython_special
+    except ImportError:  # pragma: no cover - SciPy is a dependency
+        return None
+    # A prototype of our own (setting restype on ctypes.pythonapi's shared one would change it for everyone).
+    get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+    double = ctypes.c_double
+    found = {}
+    for key, capsule in getattr(cython_special, "__pyx_capi__", {}).items():
+        for fn, nargs in (("elliprf", 3), ("elliprj", 4), ("elliprc", 2)):
+            if not key.endswith(fn):
+                continue
+            # The real version of the fused function: "double (double, ..., int __pyx_skip_dispatch)".
+            signature = (get_name(capsule) or b"").decode()
+            if signature.replace(" ", "") == "double(" + "double," * nargs + "int__pyx_skip_dispatch)":
+                addr = get_cython_function_address("scipy.special.cython_special", key)
+                found[fn] = ctypes.CFUNCTYPE(double, *([double] * nargs), ctypes.c_int)(addr)
+    if set(found) != {"elliprf", "elliprj", "elliprc"}:
+        return None
+    return found["elliprf"], found["elliprj"], found["elliprc"]
+
+
+# The evaluator's constants for sample(): layout of the vector ``e``.
+SAMPLE_CONSTANTS = (
+    "m", "m1", "K", "k_lo", "scale", "rho_x", "rho_y", "hx1", "hy2", "W", "k_plus", "k_minus",
+    "n_plus", "one_minus_n_plus", "nu_minus", "pi_plus_over_k", "pi_minus_over_k", "three_square",
+)
+(_M, _M1, _K, _KLO, _SCALE, _RX, _RY, _HX1, _HY2, _W, _KP, _KM, _NP, _OMNP, _NUM, _PPK, _PMK, _TSQ) = range(
+    len(SAMPLE_CONSTANTS))
+_SMALL_M = 1e-9  # wobble.numerics.elliptic._SMALL_M
+_ASIN_SAFE = 0.5  # wobble.numerics.elliptic._ASIN_SAFE
+
+
+@_jit
+def _sign(x):
+    if x > 0:
+        return 1.0
+    if x < 0:
+        return -1.0
+    return x  # 0.0, -0.0 or nan, as np.sign
+
+
+@_jit
+def _sample(r, e, ratios, ratios_b, rf_fn, rj_fn, rc_fn, out, raw):
+    m, m1, kk = e[_M], e[_M1], e[_K]
+    kp = np.sqrt(m1)
+    for i in range(r.shape[0]):
+        ri = r[i]
+        # wobble.numerics.elliptic.jacobi_reduced (with _landen_amplitude)
+        if m < _SMALL_M:
+            s = np.sin(ri)
+            c = np.cos(ri)
+            corr = 0.25 * m * (ri - s * c)
+            cn = c + corr * s
+            sn = s - corr * c
+            dn = np.sqrt(m1 + m * cn * cn)
+        else:
+            v = abs(ri)
+            far = v > 0.5 * kk
+            w = (kk - v) + e[_KLO] if far else v
+            phi = e[_SCALE] * w
+            for q in range(ratios.shape[0] - 1, -1, -1):
+                ratio = ratios[q]
+                x = ratio * np.sin(phi)
+                if ratio > _ASIN_SAFE:
+                    cphi = np.cos(phi)
+                    sphi = np.sin(phi)
+                    t = ratios_b[q] * sphi
+                    phi = 0.5 * (phi + np.arctan2(x, np.sqrt(cphi * cphi + t * t)))
+                else:
+                    phi = 0.5 * (phi + np.arcsin(x))
+            s = np.sin(phi)
+            c = np.cos(phi)
+            d = np.sqrt(m1 + m * c * c)
+            if far:
+                sn = c / d
+                cn = kp * s / d
+                dn = kp / d
+            else:
+                sn = s
+                cn = c
+                dn = d
+            sn = np.copysign(sn, ri)
+        # Elliptic._scaled, the half angles and theta
+        sn2 = sn * sn
+        cn2 = cn * cn
+        sx = np.sqrt(cn2 + e[_RX] * sn2)
+        sy = np.sqrt(e[_RY] * cn2 + sn2)
+        sh = e[_HX1] * sx
+        ch = e[_HY2] * sy
+        # Elliptic.periodic_parts (pi_positive_scd, pi_negative_scd)
+        d2 = dn * dn
+        sg = _sign(sn)
+        sa = abs(sn)
+        c2 = cn * cn
+        s2 = sa * sa
+        p_plus = 0.0
+        p_minus = 0.0
+        rf = 0.0
+        if e[_KP] != 0.0 or e[_KM] != 0.0:
+            rf = rf_fn(c2, d2, 1.0, 0)
+        if e[_KP] != 0.0:
+            n = e[_NP]
+            pp = c2 + e[_OMNP] * s2
+            o = sa * rf
+            if n > 0:
+                rj = rj_fn(c2, d2, 1.0, pp if pp > 0 else 1.0, 0)
+                o = o + ((n / 3.0) * sa * s2 * rj if sa > 0 else 0.0)
+            p_plus = sg * o - e[_PPK] * ri
+        if e[_KM] != 0.0:
+            nu = e[_NUM]
+            pm = 1.0 + nu * s2
+            qm = c2 + m1 * s2 / (1.0 + nu)
+            o = sa * rf / (1.0 + nu)
+            if nu > 0:
+                o = o + (nu * sa * cn * rc_fn(d2, pm * qm, 0) if nu > 0 else 0.0) / (1.0 + nu)
+                if m1 > 0:
+                    rj = rj_fn(c2, d2, 1.0, qm if qm > 0 else 1.0, 0)
+                    numi = nu * m1
+                    o = o + (numi * sa * s2 * rj if numi * sa > 0 else 0.0) / e[_TSQ]
+            p_minus = sg * o - e[_PMK] * ri
+        out[0, i] = 2.0 * np.arctan2(sh, ch)
+        out[1, i] = e[_KM] * p_minus
+        out[2, i] = e[_KP] * p_plus
+        out[3, i] = -e[_W] * sn * cn * dn / (sx * sy)
+        out[4, i] = sh
+        out[5, i] = ch
+        raw[0, i] = p_plus
+        raw[1, i] = p_minus
+
+
+def sample(r, constants, ratios, ratios_b, functions):
+    """The six rows of :meth:`wobble.models.top_closed_form.Elliptic.periodic_with_half_angles`
+    (6, N) and the raw P_+, P_- (2, N) at reduced phases ``r``; ``constants`` as
+    :data:`SAMPLE_CONSTANTS` (``three_square`` is 3 (1 + nu_minus)**2 as Python's power rounds
+    it, which is not always the product), ``ratios`` and ``ratios_b`` the Landen levels',
+    ``functions`` from :func:`carlson`."""
+    r = np.ascontiguousarray(r, dtype=float)
+    out = np.empty((6, r.size))
+    raw = np.empty((2, r.size))
+    _sample(r, constants, ratios, ratios_b, *functions, out, raw)
+    return out, raw
+
+
+@_jit
+def _two_sum(a, b):
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+@_jit
+def _split27(a):
+    c = _SPLITTER * a
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+@_jit
+def _phasors(table, node_r, w0, c, offset, p0, phasor):
+    nodes = table.shape[0]
+    for p in range(2):
+        cp = c[p]
+        ch_, cl_ = _split27(cp)
+        for i in range(nodes + 1):
+            at = table[i if i < nodes else 0, 0, 1 + p]
+            dh, dl = _two_sum(node_r[i], -w0)
+            gh = cp * dh  # wobble.numerics.phase.two_prod(c, dh)
+            bh, bl = _split27(dh)
+            gl = ((ch_ * bh - gh) + ch_ * bl + cl_ * bh) + cl_ * bl
+            gl = gl + cp * dl
+            gh, e1 = _two_sum(gh, offset[p])
+            ph, pl = _two_sum(at, -p0[p])
+            gh, e2 = _two_sum(gh, ph)
+            gl = gl + (e1 + (e2 + pl))
+            cos_h = np.cos(gh)
+            sin_h = np.sin(gh)
+            phasor[p, 0, i] = cos_h - sin_h * gl
+            phasor[p, 1, i] = sin_h + cos_h * gl
+
+
+def phasors(table, node_r, w0, c, offset, p0):
+    """cos and sin (2, 2, S + 1) of the node parts of sigma and delta (the NumPy lines of
+    :func:`wobble.models.top_series._tabulate`)."""
+    out = np.empty((2, 2, node_r.size))
+    _phasors(table, node_r, float(w0), np.asarray(c, dtype=float), np.asarray(offset, dtype=float),
+             np.asarray(p0, dtype=float), out)
+    return out
+
+
+@_jit
+def _direct_phasors(r, want, c, offset, start, w0, cos_g, sin_g):
+    for i in range(r.shape[0]):
+        for p in range(2):
+            g = (c[p] * (r[i] - w0) + offset[p]) + (want[i, 1 + p] - start[p])
+            cos_g[i, p] = np.cos(g)
+            sin_g[i, p] = np.sin(g)
+
+
+def check_at(r, want, table, node_r, phasor, k0, h, c, offset, start, w0, cos_c, sin_c):
+    """:func:`check` with the direct phases' cosines and sines formed here: at j = 0 the phase of
+    sigma (delta) is c (r - w0) + offset + (P(r) - P(r0)), with P(r) the row of ``want``."""
+    r = np.ascontiguousarray(r, dtype=float)
+    want = np.ascontiguousarray(want)
+    cos_g = np.empty((r.size, 2))
+    sin_g = np.empty((r.size, 2))
+    c = np.asarray(c, dtype=float)
+    _direct_phasors(r, want, c, np.asarray(offset, dtype=float), np.asarray(start, dtype=float), float(w0),
+                    cos_g, sin_g)
+    return check(r, want, cos_g, sin_g, table, node_r, phasor, k0, h, c, cos_c, sin_c)
+
+
+@_jit
+def _check(r, want, cos_g, sin_g, tab, node_r, phasor, k0, h, inv_h, c, cos_c, sin_c, err):
+    nodes = tab.shape[0]
+    order = tab.shape[1] - 1
+    rows = tab.shape[2]
+    miss = 0.0
+    for q in range(rows):
+        err[q] = 0.0
+    for i in range(r.shape[0]):
+        u = (r[i] + k0) * inv_h
+        idx = np.rint(u)
+        d = (u - idx) * h
+        iu = int(idx)
+        ii = iu - nodes if iu >= nodes else iu
+        dn = r[i] - node_r[iu]
+        for q in range(rows):
+            acc = tab[ii, order, q]
+            for o in range(order - 1, 0, -1):
+                acc = acc * d + tab[ii, o, q]
+            acc = acc * d
+            got = acc + tab[ii, 0, q]
+            dev = abs(got - want[i, q])
+            if dev > err[q] or dev != dev:
+                err[q] = dev  # a nan stays (as np.max)
+            if q == 1 or q == 2:
+                x = c[q - 1] * dn + acc
+                z = x * x
+                ec = ((cos_c[3] * z + cos_c[2]) * z + cos_c[1]) * z + cos_c[0]
+                es = (((sin_c[3] * z + sin_c[2]) * z + sin_c[1]) * z + sin_c[0]) * x
+                pc = phasor[q - 1, 0, iu]
+                ps = phasor[q - 1, 1, iu]
+                dev = np.hypot(pc * ec - ps * es - cos_g[i, q - 1], pc * es + ps * ec - sin_g[i, q - 1])
+                if dev > miss or dev != dev:
+                    miss = dev
+    return miss
+
+
+def check(r, want, cos_g, sin_g, table, node_r, phasor, k0, h, c, cos_c, sin_c):
+    """The largest deviation of each row (rows,) of the table from ``want`` (N, rows) at the
+    phases ``r``, and of the half angles' phasors from (cos_g, sin_g) (N, 2): the check of
+    :func:`wobble.models.top_series._check_fourier` in one pass."""
+    err = np.empty(table.shape[2])
+    miss = _check(np.ascontiguousarray(r, dtype=float), np.ascontiguousarray(want), np.ascontiguousarray(cos_g),
+                  np.ascontiguousarray(sin_g), table, node_r, phasor, float(k0), float(h), 1.0 / h,
+                  np.asarray(c, dtype=float), cos_c, sin_c, err)
+    return err, miss
+
+
+@_jit
+def _prepare(part, n, parity, vals, scales):
+    half = n // 2
+    rows = part.shape[0]
+    for q in range(rows):
+        big = 0.0
+        for i in range(half + 1):
+            v = part[q, i]
+            vals[q, i] = v
+            a = abs(v)
+            if a > big or a != a:
+                big = a
+        for i in range(half + 1, n):
+            v = parity[q] * part[q, n - i]
+            vals[q, i] = v
+            a = abs(v)
+            if a > big or a != a:
+                big = a
+        scales[q] = big if big > 1e-300 or big != big else 1e-300
+    # The phase rows (sigma's and delta's periodic parts) are judged in absolute terms (rad).
+    ph = max(1.0, scales[1], scales[2])
+    scales[1] = ph
+    scales[2] = ph
+
+
+def prepare(part, n, parity):
+    """The samples over the whole period (rows, n) from those on [0, pi] (rows, n/2 + 1) by the
+    rows' parity (+1 even, -1 odd), and each row's scale: max |value| (at least 1e-300; the
+    two phase rows together, at least 1 rad)."""
+    vals = np.empty((part.shape[0], n))
+    scales = np.empty(part.shape[0])
+    _prepare(np.ascontiguousarray(part), n, parity, vals, scales)
+    return vals, scales
+
+
+@_jit
+def _coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms, scale, coef):
+    rows = spectra.shape[0]
+    ncoef = spectra.shape[1]
+    # Aliasing folds c_{n-k} onto c_k: the top of the band must be at rounding level.
+    for q in range(rows):
+        top = 0.0
+        for kk in range(7 * n // 16, ncoef):
+            a = np.hypot(spectra[q, kk].real, spectra[q, kk].imag)
+            if a > top or a != a:
+                top = a
+        if not top <= noise * scales[q]:
+            return 0, 0, 0.0, 0.0, 0.0
+    last = 1
+    for kk in range(ncoef):
+        for q in range(rows):
+            if kk == 0:
+                c = spectra[q, 0].real if cos_rows[q] else 0.0
+            else:
+                c = 2.0 * spectra[q, kk].real if cos_rows[q] else -2.0 * spectra[q, kk].imag
+            coef[q, kk] = c
+            if abs(c) / scales[q] > keep_level:
+                last = kk
+    if last > max_terms:
+        return 2, last, 0.0, 0.0, 0.0
+    need = 0.0
+    for q in range(rows):
+        moment = 0.0
+        for kk in range(last + 1):
+            f = float(kk)
+            moment += abs(coef[q, kk]) * (f * f * f * f * f * f)
+        x = (moment / (720.0 * 2.220446049250313e-16 * scales[q])) ** (1.0 / 6.0)
+        if x > need or x != x:
+            need = x
+    slope_s = 0.0
+    slope_d = 0.0
+    for kk in range(last + 1):
+        slope_s += abs(coef[1, kk]) * (kk * scale)
+        slope_d += abs(coef[2, kk]) * (kk * scale)
+    return 1, last, np.pi * need, slope_s, slope_d
+
+
+def coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms, scale):
+    """From the rows' spectra (rfft / n): 0 where the top of a band is above ``noise`` times its
+    row's scale; otherwise the Fourier coefficients (rows, L + 1) up to the last whose size
+    relative to its row's scale exceeds ``keep_level`` (2 and no table where L > ``max_terms``),
+    the node count the Taylor remainder bound asks (sum_k |c_k| (k pi / S)^6 / 6! below each
+    row's rounding) and the sums of |k c_k| ``scale`` of the two phase rows. The arithmetic of
+    the NumPy lines of wobble.models.top_series.build and _fourier_from_spectra."""
+    coef = np.empty((spectra.shape[0], spectra.shape[1]))
+    status, last, need, slope_s, slope_d = _coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms,
+                                                         scale, coef)
+    return status, np.ascontiguousarray(coef[:, : last + 1]), need, slope_s, slope_d
+
+
+@_jit
+def _spectrum(coef, scale, cos_rows, fact, spec):
+    rows = coef.shape[0]
+    for kk in range(coef.shape[1]):
+        sign = 1.0 if kk == 0 else (0.5 if kk % 2 == 0 else -0.5)
+        a = kk * scale
+        p = 1.0
+        for j in range(fact.shape[0]):
+            if j > 0:
+                p = p * a
+            w = p / fact[j]  # (k scale)^j / j!; times i^j
+            for q in range(rows):
+                v = coef[q, kk] * sign * w
+                # i^j times the row's rotation: cos series 1, sin series -i.
+                m = j % 4 if cos_rows[q] else (j + 3) % 4
+                if m == 0:
+                    spec[kk, j, q] = complex(v, 0.0)
+                elif m == 1:
+                    spec[kk, j, q] = complex(0.0, v)
+                elif m == 2:
+                    spec[kk, j, q] = complex(-v, 0.0)
+                else:
+                    spec[kk, j, q] = complex(0.0, -v)
+
+
+def spectrum(coef, scale, nodes, cos_rows, fact):
+    """The half-spectrum (nodes // 2 + 1, orders, rows) whose inverse real FFT is the Taylor
+    table of wobble.models.top_series._taylor_table: c_k (-1)^k (halved for k >= 1)
+    (i k scale)^j / j!, times -i for a sine series."""
+    spec = np.zeros((nodes // 2 + 1, fact.shape[0], coef.shape[0]), dtype=np.complex128)
+    _spectrum(coef, float(scale), cos_rows, fact, spec)
+    return spec
