@@ -408,12 +408,21 @@ def core_flattening_under_linear_mantle(x, y, c, *, rtol: float = 1e-12) -> np.n
 
 def _radau_through_linear_mantle(x, y, c, rtol):
     """e_f/q for 1-d arrays x, y, c, without the admissibility check (the Radau
-    integration itself only needs the mass inside each radius to stay positive)."""
+    integration itself only needs the mass inside each radius to stay positive: NaN
+    where it does not, or where the integration does not finish)."""
+    from wobble.numerics.integrators import StepLimitError
+
+    out = np.full(np.shape(x), np.nan)
     a0, a1 = linear_mantle_coefficients(x, y, c)
-    span = -np.log(x)
-    log_x = np.log(x)
     # m(r) = int_0^r rho r'^2 dr' = core + mantle from x to r.
     m_core = y * x**3 / 3.0 - a0 * x**3 / 3.0 - a1 * x**4 / 4.0
+    r = x[:, None] + (1.0 - x[:, None]) * np.linspace(0.0, 1.0, 65)
+    regular = np.all(m_core[:, None] + a0[:, None] * r**3 / 3.0 + a1[:, None] * r**4 / 4.0 > 0, axis=1)
+    if not np.any(regular):
+        return out
+    x, a0, a1, m_core = x[regular], a0[regular], a1[regular], m_core[regular]
+    span = -np.log(x)
+    log_x = np.log(x)
 
     def rhs(u, state, idx):
         r = np.exp(log_x[idx] + u * span[idx])
@@ -424,6 +433,10 @@ def _radau_through_linear_mantle(x, y, c, rtol):
         deta = 6.0 - 6.0 * ratio * (eta + 1.0) - eta * (eta - 1.0)
         return np.stack([deta * span[idx], eta * span[idx]], axis=-1)
 
-    solver = DOP853(rhs, 0.0, np.zeros((x.size, 2)), rtol=rtol, atol=1e-15)
-    end = solver.advance([1.0])[-1]
-    return 2.5 * np.exp(-end[:, 1]) / (end[:, 0] + 2.0)
+    solver = DOP853(rhs, 0.0, np.zeros((x.size, 2)), rtol=rtol, atol=1e-15, max_steps=5000)
+    try:
+        end = solver.advance([1.0])[-1]
+    except StepLimitError:  # a nearly singular member (extreme densities): no answer
+        return out
+    out[regular] = 2.5 * np.exp(-end[:, 1]) / (end[:, 0] + 2.0)
+    return out

@@ -20,11 +20,15 @@ Two hydrostatic cores:
   dimensionless numbers e_f depends on, x = r_c/R, y = rho_c/rho_mean and
   c = C/(M R^2) (e_f/q depends on nothing else; q = Omega^2 R^3/(G M)), and
   interpolated (tensor Chebyshev series). The grid covers the box the priors can
-  reach (to 1e-12 tail probability); the interpolation error is measured against the
-  direct vectorised solve (:func:`wobble.models.hydrostatic.core_flattening_under_linear_mantle`)
-  at random points of the box when the table is built (:attr:`max_error`), and
-  members outside the box or outside the profiles :func:`~wobble.models.hydrostatic.check_profile`
-  accepts get NaN.
+  reach (a normal prior to 1e-12 in each tail); the interpolation error is measured
+  against the direct vectorised solve
+  (:func:`wobble.models.hydrostatic.core_flattening_under_linear_mantle`) at random
+  admissible points of the box when the table is built (:attr:`~LinearMantleCoreFigure.max_error`;
+  the build refuses a table worse than :data:`TABLE_TOLERANCE`), and members outside the
+  box or outside the profiles :func:`~wobble.models.hydrostatic.check_profile` accepts
+  get NaN. The Chebyshev series extends smoothly over the parts of the box where the
+  profile is not admissible (Radau's equation stays regular there), so the validity
+  boundary does not spoil the fit.
 """
 
 from __future__ import annotations
@@ -122,7 +126,10 @@ def _table(box: tuple, seed: int):
     keep = (pts[1] >= lo_y) & (pts[1] < hi_y)
     pts = [p[keep][:_CHECK_POINTS] for p in pts]
     if pts[0].size == 0:
-        raise InputError("priors", "core radius, density and polar moment", "priors that allow a core lighter than the mantle nowhere (no admissible profile in their range)")
+        raise InputError(
+            "priors", "core radius, density and polar moment",
+            "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than the core)",
+        )
     reference = _hydro._radau_through_linear_mantle(*pts, 1e-13)
     error = math.inf
     for degrees in DEGREES:
