@@ -50,6 +50,13 @@ CAL_SETTINGS = dict(walkers=64, steps=400, burn=400)
 ABLATION_SETTINGS = dict(steps=1000, burn=500)
 
 
+def _digits(value, sigma) -> int:
+    """Significant digits that show ``value`` to two digits of its uncertainty (at least 5)."""
+    if not (math.isfinite(value) and math.isfinite(sigma) and value != 0 and sigma > 0):
+        return 5
+    return max(5, int(math.floor(math.log10(abs(value)))) - int(math.floor(math.log10(sigma))) + 2)
+
+
 def _fmt(x, digits=4):
     if x is None or not math.isfinite(x):
         return "-"
@@ -96,9 +103,10 @@ def default_runs(lines: list[str], quick: bool):
     for name, result, _, _, _ in timing:
         for q in result.quantity_rows():
             if q["measured"]:
+                n = _digits(q["observed"], q["observed_uncertainty"])
                 lines.append(
-                    f"| {name} | {q['name']} | {_fmt(q['observed'], 5)} +/- {_fmt(q['observed_uncertainty'], 2)} {q['unit']} | "
-                    f"{_fmt(q['predictive_median'], 5)} [{_fmt(q['predictive_lower_68'], 5)}, {_fmt(q['predictive_upper_68'], 5)}] | "
+                    f"| {name} | {q['name']} | {_fmt(q['observed'], n)} +/- {_fmt(q['observed_uncertainty'], 2)} {q['unit']} | "
+                    f"{_fmt(q['predictive_median'], n)} [{_fmt(q['predictive_lower_68'], n)}, {_fmt(q['predictive_upper_68'], n)}] | "
                     f"{q['predictive_p_value']:.2f} |"
                 )
     lines += ["", "Time (wall clock, whole `wobble.invert` call; sampling alone in brackets) and time per effective sample "
