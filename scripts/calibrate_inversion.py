@@ -112,14 +112,15 @@ def default_runs(lines: list[str], quick: bool):
     lines += ["", "Time (wall clock, whole `wobble.invert` call; sampling alone in brackets) and time per effective sample "
               "(sampling time over the smallest bulk or tail ESS of any parameter), with the machine's one-minute load "
               "average before and after the run (2 cores: a load of 4 leaves this run about half a core's worth less):", "",
-              "| setup | walkers x steps (+ burn-in) | time [s] | load before, after | max R-hat | min ESS | ms per effective sample | warnings |",
-              "|---|---|---|---|---|---|---|---|"]
+              "| setup | walkers x steps (+ burn-in) | moves | time [s] | load before, after | max R-hat | min ESS | ms per effective sample | warnings |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for name, result, wall, d, load in timing:
         s = result.settings
         rhat = max(r.r_hat for r in result.rows())
         thin = f", thin {s.thin}" if s.thin > 1 else ""
         lines.append(
-            f"| {name} | {s.walkers} x {s.steps} (+ {s.burn}{thin}) | {wall:.1f} ({d['seconds']:.1f}) | {load[0]:.1f}, {load[1]:.1f} | "
+            f"| {name} | {s.walkers} x {s.steps} (+ {s.burn}{thin}) | {', '.join(f'{m} {w:g}' for m, w in s.moves)} | "
+            f"{wall:.1f} ({d['seconds']:.1f}) | {load[0]:.1f}, {load[1]:.1f} | "
             f"{rhat:.4f} | {d['min_ess']:.0f} | "
             f"{1e3 * d['seconds_per_effective_sample']:.2f} | {'; '.join(w.split(':')[0] for w in result.warnings) or 'none'} |"
         )

@@ -165,10 +165,14 @@ def _broken(path_to_key, value, delete=False):
         ((["observables", "tidal_k2", "uncertainty"], None, True), "observables.tidal_k2.uncertainty: missing"),
         ((["observables", "tidal_k2", "uncertainty"], 0.0), "positive one-sigma uncertainty"),
         ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 3000, "high": 3300, "unit": "km"}),
-         "no prediction at the priors' centre"),
+         "hydrostatic figure exists"),
+        ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 1900, "high": 2300, "unit": "km"}), None),
         ((["parameters", "gm"], {}), None),  # catalogued with an uncertainty: allowed
         ((["parameters", "equatorial_radius"], {}), "does not catalogue an uncertainty"),
         ((["sampler", "walkers"], 7), "walkers"),
+        ((["sampler", "moves"], {"hop": 1.0}), "sampler.moves.hop: unknown move"),
+        ((["sampler", "moves"], {"de": -1.0}), "positive weight"),
+        ((["sampler", "moves"], {"stretch": 0.5, "de": 0.5}), None),  # a mixture of one's own: allowed
     ],
 )
 def test_bad_setups_are_refused_naming_the_key(edit, message):

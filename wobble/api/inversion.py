@@ -36,7 +36,7 @@ from wobble.errors import InputError
 from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
 from wobble.models.inversion.calibration import LEVELS, Recovery, central_interval, coverage, recover_one
 from wobble.models.inversion.likelihood import Posterior
-from wobble.models.inversion.sampling import MOVES, Chains, SamplerSettings, draw_prior, run_emcee
+from wobble.models.inversion.sampling import Chains, SamplerSettings, draw_prior, run_emcee
 
 if TYPE_CHECKING:
     import arviz
@@ -389,8 +389,7 @@ class Inversion:
             "observables": [{**row, "published": comparisons.get(row["name"], [])} for row in self.quantity_rows()],
             "sampler": "emcee",
             "sampler_version": _version("emcee"),
-            "settings": {**self.settings.as_dict(), "seed": self.seed, "vectorize": True,
-                         "moves": {name: weight for name, weight in MOVES}},
+            "settings": {**self.settings.as_dict(), "seed": self.seed, "vectorize": True},
             "scheduler": self.scheduler,
             "diagnostics": {
                 "draws": int(self.samples.shape[0] * self.samples.shape[1]),

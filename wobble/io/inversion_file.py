@@ -19,6 +19,7 @@ Schema ``wobble-inversion/1``::
     thin = 1
     ensembles = 1                    # independent ensembles (parallel on a dask scheduler)
     seed = 20230621                  # same seed, same numbers
+    moves = { independence = 0.8, de = 0.15, de_snooker = 0.05 }   # the default mixture (also: stretch)
 
     [parameters.fluid_core_radius]   # sampled; every other planet parameter keeps its value
     prior = "uniform"                # uniform | log_uniform | normal
@@ -83,14 +84,14 @@ from wobble.models.inversion.context import FixedCoreFigure, ForwardContext, Lin
 from wobble.models.inversion.likelihood import Measurement, Parameter, Posterior
 from wobble.models.inversion.observables import REGISTRY
 from wobble.models.inversion.priors import KINDS, LogUniform, Normal, Uniform, physical_range
-from wobble.models.inversion.sampling import SamplerSettings
+from wobble.models.inversion.sampling import MOVE_NAMES, SamplerSettings
 from wobble.models.planet import PlanetParameters
 
 __all__ = ["SCHEMA", "InversionSetup", "Comparison", "setup_names", "resolve_setup", "read_setup", "setup_from_dict"]
 
 SCHEMA = "wobble-inversion/1"
 _TOP = {"schema", "name", "title", "description", "body", "model", "profile", "derived", "sampler", "parameters", "observables", "compare"}
-_SAMPLER = {"walkers", "steps", "burn", "thin", "ensembles", "prior_draws", "seed"}
+_SAMPLER = {"walkers", "steps", "burn", "thin", "ensembles", "prior_draws", "seed", "moves"}
 _PRIOR_FIELDS = {
     "uniform": {"low", "high"},
     "log_uniform": {"low", "high"},
@@ -215,6 +216,17 @@ def _sampler(path, raw) -> tuple[SamplerSettings, int]:
     if unknown:
         raise FileFormatError(path, f"sampler.{sorted(unknown)[0]}", f"unknown key; allowed: {', '.join(sorted(_SAMPLER))}")
     kwargs = {}
+    if "moves" in raw:
+        moves = raw["moves"]
+        if not isinstance(moves, dict) or not moves:
+            raise FileFormatError(path, "sampler.moves", f"got {moves!r}; allowed: a table of move = weight ({', '.join(MOVE_NAMES)})")
+        for name, weight in moves.items():
+            if name not in MOVE_NAMES:
+                raise FileFormatError(path, f"sampler.moves.{name}", f"unknown move; allowed: {', '.join(MOVE_NAMES)}")
+            if isinstance(weight, bool) or not isinstance(weight, (int, float)) or not (math.isfinite(weight) and weight > 0):
+                raise FileFormatError(path, f"sampler.moves.{name}", f"got {weight!r}; allowed: a positive weight")
+        kwargs["moves"] = tuple((name, float(weight)) for name, weight in moves.items())
+        raw = {k: v for k, v in raw.items() if k != "moves"}
     for key, value in raw.items():
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key in ("burn", "seed") else 1):
             raise FileFormatError(path, f"sampler.{key}", f"got {value!r}; allowed: a {'non-negative' if key in ('burn', 'seed') else 'positive'} integer")

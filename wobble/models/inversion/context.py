@@ -135,16 +135,25 @@ def _table(box: tuple, seed: int):
     for degrees in DEGREES:
         coefficients = _fit(box, degrees)
         if coefficients is None:
-            break
+            raise InputError(
+                "priors", _box_text(box),
+                "priors for which the core's hydrostatic figure exists everywhere (in part of this range the mantle "
+                "would need a negative mass: Clairaut's equation has no regular solution there)",
+            )
         error = float(np.max(np.abs(_evaluate(coefficients, box, *pts) / reference - 1.0)))
         if error <= TABLE_TOLERANCE:
             coefficients.setflags(write=False)
             return coefficients, error, pts[0].size
     raise InputError(
-        "priors",
-        f"core radius/R in [{box[0][0]:.4g}, {box[0][1]:.4g}], core density/mean in [{box[1][0]:.4g}, {box[1][1]:.4g}], "
-        f"C/(MR^2) in [{box[2][0]:.4g}, {box[2][1]:.4g}]",
+        "priors", _box_text(box),
         f"priors over which the hydrostatic core can be tabulated to {TABLE_TOLERANCE:g} (narrower priors; last error {error:.2g})",
+    )
+
+
+def _box_text(box) -> str:
+    return (
+        f"core radius/R in [{box[0][0]:.4g}, {box[0][1]:.4g}], core density/mean density in [{box[1][0]:.4g}, {box[1][1]:.4g}], "
+        f"C/(MR^2) in [{box[2][0]:.4g}, {box[2][1]:.4g}]"
     )
 
 

@@ -2,7 +2,7 @@
 
 emcee (Foreman-Mackey et al. 2013, PASP 125, 306) moves an ensemble of walkers, half
 of them at a time, each half with proposals built from the other half. The moves are a
-mixture (:data:`MOVES`): 80 % an *independence* move (:func:`_independence_move`: a
+mixture (:data:`MOVES` by default; a setup may choose its own): 80 % an *independence* move (:func:`_independence_move`: a
 Student t proposal with the mean and covariance of the other half), 15 % differential
 evolution (ter Braak 2006, Stat. Comput. 16, 239; Nelson, Ford & Payne 2014, ApJS 210,
 11) and 5 % its snooker variant (ter Braak & Vrugt 2008, Stat. Comput. 18, 435). All
@@ -15,7 +15,9 @@ successive draws nearly independent: with 64 walkers the autocorrelation time is
 stretch move of Goodman & Weare (2010) mixed with differential evolution and 50 for
 the earlier mixture (half stretch), measured on the same setups. The
 differential-evolution part explores along ridges, where an independence proposal is
-poor (the Chandler period alone: one curved ridge in core radius and k2). The
+poor; on the long curved ridge of the Chandler period alone (core radius against k2)
+a setup mixes in the stretch move of Goodman & Weare (2010, Comm. App. Math. Comp.
+Sci. 5, 65) instead, which is accepted more often there. The
 ensemble's half-steps evaluate the posterior for half the walkers at once
 (``vectorize=True``): one call of the vectorised forward model per half-step.
 
@@ -37,10 +39,12 @@ import numpy as np
 from wobble.errors import InputError
 from wobble.models.inversion.likelihood import Posterior
 
-__all__ = ["SamplerSettings", "Chains", "run_emcee", "draw_prior", "start_positions", "MOVES"]
+__all__ = ["SamplerSettings", "Chains", "run_emcee", "draw_prior", "start_positions", "MOVES", "MOVE_NAMES"]
 
 # (move, weight): see the module docstring.
 MOVES = (("independence", 0.8), ("de", 0.15), ("de_snooker", 0.05))
+#: The moves a setup may mix (``[sampler] moves``).
+MOVE_NAMES = ("independence", "stretch", "de", "de_snooker")
 #: Degrees of freedom of the independence move's Student t proposal, and the widening of its scale.
 T_DOF = 5.0
 WIDEN = 1.2
@@ -67,6 +71,9 @@ class SamplerSettings:
         their walkers are pooled as chains.
     prior_draws : int
         Independent prior draws stored beside the posterior.
+    moves : tuple of (name, weight)
+        The mixture of moves (:data:`MOVE_NAMES`; weights are normalised); default
+        :data:`MOVES`.
     """
 
     walkers: int = 32
@@ -75,6 +82,7 @@ class SamplerSettings:
     thin: int = 1
     ensembles: int = 1
     prior_draws: int = 4000
+    moves: tuple = MOVES
 
     def check(self, ndim: int) -> None:
         for name in ("walkers", "steps", "thin", "ensembles", "prior_draws"):
@@ -87,9 +95,17 @@ class SamplerSettings:
             raise InputError("walkers", self.walkers, f"an even number >= {2 * ndim} (twice the {ndim} parameters)")
         if self.steps // self.thin < 2:
             raise InputError("steps", self.steps, f"at least {2 * self.thin} (two kept draws at thin = {self.thin})")
+        names = [m[0] for m in self.moves]
+        if not names or len(set(names)) != len(names) or any(n not in MOVE_NAMES for n in names):
+            raise InputError("moves", ", ".join(map(str, names)) or "none", f"each of {', '.join(MOVE_NAMES)} at most once")
+        for name, weight in self.moves:
+            if isinstance(weight, bool) or not (isinstance(weight, (int, float)) and math.isfinite(weight) and weight > 0):
+                raise InputError(f"moves.{name}", weight, "a positive weight")
 
     def as_dict(self) -> dict:
-        return dict(self.__dict__)
+        out = dict(self.__dict__)
+        out["moves"] = {name: float(weight) for name, weight in self.moves}
+        return out
 
 
 @dataclass(frozen=True)
@@ -221,7 +237,7 @@ def run_emcee(
     moves = {"stretch": emcee.moves.StretchMove, "de": emcee.moves.DEMove, "de_snooker": emcee.moves.DESnookerMove,
              "independence": _independence_move}
     sampler = emcee.EnsembleSampler(
-        settings.walkers, posterior.ndim, posterior, vectorize=True, moves=[(moves[m](), w) for m, w in MOVES]
+        settings.walkers, posterior.ndim, posterior, vectorize=True, moves=[(moves[m](), w) for m, w in settings.moves]
     )
     sampler.random_state = np.random.RandomState(int(rng.integers(2**32))).get_state()
     total = settings.burn + settings.steps
