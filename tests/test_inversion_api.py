@@ -19,7 +19,7 @@ import wobble
 from wobble.cli import main
 from wobble.errors import FileFormatError, InputError, OutputExistsError
 
-SHORT = dict(steps=200, burn=100, walkers=12)
+SHORT = dict(steps=200, burn=100, walkers=16)
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,8 @@ def test_shipped_setups_are_found_by_name():
 def test_result_speaks_the_vocabulary(mars):
     d = mars.to_dict()
     names = [p["name"] for p in d["parameters"]]
-    assert names == ["fluid_core_radius", "fluid_core_density", "love_number_k2", "anelastic_exponent", "love_number_k2_imaginary"]
+    assert names == ["fluid_core_radius", "fluid_core_density", "love_number_k2", "anelastic_exponent", "love_number_k2_imaginary",
+                     "polar_moment_factor", "core_compliance_beta", "core_compliance_gamma"]
     for p in d["parameters"]:
         assert {"name", "unit", "median", "lower_68", "upper_68", "lower_95", "upper_95", "r_hat", "ess"} <= set(p)
         assert p["lower_95"] <= p["lower_68"] <= p["median"] <= p["upper_68"] <= p["upper_95"]
@@ -49,6 +50,10 @@ def test_result_speaks_the_vocabulary(mars):
     assert obs["chandler_period"]["observed"] == pytest.approx(206.9)
     assert obs["chandler_period"]["unit"] == "d"
     assert obs["tidal_k2"]["measured"] and not obs["chandler_quality_factor"]["measured"]
+    # FCN and precession from the catalogue (RISE; Konopliv et al. 2016), in the units people read.
+    assert obs["fcn_period"]["observed"] == pytest.approx(-243.0) and obs["fcn_period"]["unit"] == "d"
+    assert "Le Maistre et al. 2023" in obs["fcn_period"]["source"]
+    assert obs["precession_rate"]["observed"] == pytest.approx(-7608.3) and obs["precession_rate"]["unit"] == "mas / yr"
     text = mars.summary()
     assert isinstance(text, str) and "fluid_core_radius" in text and "Staehler et al. 2021" in text
 
@@ -117,7 +122,7 @@ def test_prior_only_run_is_wider_than_the_posterior(mars):
 
 
 def test_injection_recovery_runs_on_a_real_setup():
-    cal = wobble.injection_recovery("mars", draws=2, seed=1, steps=100, burn=50, walkers=12)
+    cal = wobble.injection_recovery("mars", draws=2, seed=1, steps=100, burn=50, walkers=16)
     d = cal.to_dict()
     assert d["draws"] == 2 and set(d["coverage"]) == set(cal.names)
     assert "coverage" in cal.summary()
@@ -147,14 +152,27 @@ def _broken(path_to_key, value, delete=False):
         ((["parameters", "fluid_core_density"], {"prior": "normal", "mean": 6000, "sd": -300}), "positive standard deviation"),
         ((["parameters", "anelastic_exponent"], {"prior": "uniform", "low": 0.5, "high": 1.5}), "physical range"),
         ((["parameters", "core_radius"], {}), "parameters.core_radius: unknown parameter"),
-        ((["observables", "fcn_period"], {"value": -243, "uncertainty": 3.3}), "observables.fcn_period: unknown observable"),
+        ((["observables", "lod_variation"], {"value": 1.0, "uncertainty": 0.1}), "observables.lod_variation: unknown observable"),
+        ((["observables", "fcn_period", "value"], -243.0), "observables.fcn_period.uncertainty: missing"),
+        ((["parameters", "core_flattening_exces"], {"prior": "uniform", "low": 0, "high": 0.1}),
+         "parameters.core_flattening_exces: unknown parameter"),
+        ((["parameters", "core_flattening_excess"], {"prior": "uniform", "low": 0.1, "high": -0.1}), "low < high"),
+        ((["parameters", "core_flattening_excess"], {"prior": "uniform", "low": -1.5, "high": 0.3}), "physical range"),
+        ((["parameters", "core_flattening_excess"], {"prior": "normal", "mean": 0.05, "sd": 0.0}), "positive standard deviation"),
+        ((["parameters", "core_flattening_excess"], {}), "does not catalogue an uncertainty"),
+        ((["parameters", "observed_fcn_period"], {}), "parameters.observed_fcn_period: unknown parameter"),
+        ((["profile"], "prem"), "profile"),
         ((["observables", "tidal_k2", "uncertainty"], None, True), "observables.tidal_k2.uncertainty: missing"),
         ((["observables", "tidal_k2", "uncertainty"], 0.0), "positive one-sigma uncertainty"),
         ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 3000, "high": 3300, "unit": "km"}),
-         "no prediction at the priors' centre"),
+         "hydrostatic figure exists"),
+        ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 1900, "high": 2300, "unit": "km"}), None),
         ((["parameters", "gm"], {}), None),  # catalogued with an uncertainty: allowed
         ((["parameters", "equatorial_radius"], {}), "does not catalogue an uncertainty"),
         ((["sampler", "walkers"], 7), "walkers"),
+        ((["sampler", "moves"], {"hop": 1.0}), "sampler.moves.hop: unknown move"),
+        ((["sampler", "moves"], {"de": -1.0}), "positive weight"),
+        ((["sampler", "moves"], {"stretch": 0.5, "de": 0.5}), None),  # a mixture of one's own: allowed
     ],
 )
 def test_bad_setups_are_refused_naming_the_key(edit, message):
@@ -186,14 +204,46 @@ def test_cli_bad_setup_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys
 
 def test_cli_json_and_files(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    status = main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "12", "--seed", "2",
+    status = main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "16", "--seed", "2",
                    "--json", "-o", "e.nc", "--plot", "e.png", "--quiet"])
     out, err = capsys.readouterr()
     assert status == 0
     d = json.loads(out)
     assert d["setup"] == "earth" and d["settings"]["seed"] == 2 and d["output"] == "e.nc"
     assert [p["name"] for p in d["parameters"]][0] == "anelastic_exponent"
+    assert "core_flattening_excess" in [p["name"] for p in d["parameters"]]
+    assert {o["name"] for o in d["observables"]} >= {"chandler_period", "fcn_period", "core_ellipticity"}
     assert d["warnings"]
     assert err.splitlines() == ["wrote e.nc", "wrote e.png"]
     # The same command again refuses to replace the files, before sampling.
-    assert main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "12", "-o", "e.nc", "--quiet"]) == 2
+    assert main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "16", "-o", "e.nc", "--quiet"]) == 2
+
+
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        ('[parameters.core_flattening_excess]\nprior = "uniform"\nlow = 0.3\nhigh = -0.2', "low < high"),
+        ('[parameters.core_flatening_excess]\nprior = "uniform"\nlow = -0.2\nhigh = 0.3', "unknown parameter"),
+    ],
+)
+def test_cli_bad_new_parameter_exits_2_with_one_line_and_writes_nothing(edit, message, tmp_path, capsys, monkeypatch):
+    """The FCN's core-flattening excess: an improper prior or a misspelt name is one line, exit 2, no file."""
+    monkeypatch.chdir(tmp_path)
+    text = (resources.files("wobble._data") / "inversions" / "earth.toml").read_text()
+    start = text.index("[parameters.core_flattening_excess]")
+    end = text.index("[parameters.core_compliance_beta]")
+    (tmp_path / "bad.toml").write_text(text[:start] + edit + "\n\n" + text[end:])
+    status = main(["invert", "bad.toml", "-o", "out.nc", "--plot", "c.png", "--quiet"])
+    out, err = capsys.readouterr()
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and message in err and "core_fla" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+
+
+def test_mars_same_seed_same_numbers_with_fcn_and_precession():
+    """Seeded reproducibility on the full Mars setup (FCN, precession, tabulated core)."""
+    a = wobble.invert("mars", seed=9, steps=60, burn=20, walkers=16)
+    b = wobble.invert("mars", seed=9, steps=60, burn=20, walkers=16)
+    c = wobble.invert("mars", seed=10, steps=60, burn=20, walkers=16)
+    np.testing.assert_array_equal(a.samples, b.samples)
+    assert not np.array_equal(a.samples, c.samples)

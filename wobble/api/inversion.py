@@ -36,7 +36,7 @@ from wobble.errors import InputError
 from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
 from wobble.models.inversion.calibration import LEVELS, Recovery, central_interval, coverage, recover_one
 from wobble.models.inversion.likelihood import Posterior
-from wobble.models.inversion.sampling import MOVES, Chains, SamplerSettings, draw_prior, run_emcee
+from wobble.models.inversion.sampling import Chains, SamplerSettings, draw_prior, run_emcee
 
 if TYPE_CHECKING:
     import arviz
@@ -389,8 +389,7 @@ class Inversion:
             "observables": [{**row, "published": comparisons.get(row["name"], [])} for row in self.quantity_rows()],
             "sampler": "emcee",
             "sampler_version": _version("emcee"),
-            "settings": {**self.settings.as_dict(), "seed": self.seed, "vectorize": True,
-                         "moves": {name: weight for name, weight in MOVES}},
+            "settings": {**self.settings.as_dict(), "seed": self.seed, "vectorize": True},
             "scheduler": self.scheduler,
             "diagnostics": {
                 "draws": int(self.samples.shape[0] * self.samples.shape[1]),
@@ -439,11 +438,14 @@ class Inversion:
         lines.append(f"  {'observable':<28} {'measured':>22} {'posterior predictive (68 %)':>36} {'model median':>13}  unit")
         for row in self.quantity_rows():
             if row["measured"]:
-                meas = f"{_g(row['observed'])} +/- {_g(row['observed_uncertainty'])}"
-                pp = f"{_g(row['predictive_median'])} [{_g(row['predictive_lower_68'])}, {_g(row['predictive_upper_68'])}]"
+                # Enough digits to show the uncertainty (an FCN of -430.00 +/- 0.10 d).
+                n = _digits(row["observed"], row["observed_uncertainty"])
+                meas = f"{_g(row['observed'], n)} +/- {_g(row['observed_uncertainty'], 2)}"
+                pp = f"{_g(row['predictive_median'], n)} [{_g(row['predictive_lower_68'], n)}, {_g(row['predictive_upper_68'], n)}]"
             else:
+                n = 5
                 meas, pp = "(derived)", f"{_g(row['median'])} [{_g(row['lower_68'])}, {_g(row['upper_68'])}]"
-            lines.append(f"  {row['name']:<28} {meas:>22} {pp:>36} {_g(row['median']):>13}  {row['unit'] or '-'}")
+            lines.append(f"  {row['name']:<28} {meas:>22} {pp:>36} {_g(row['median'], n):>13}  {row['unit'] or '-'}")
         d = self.to_dict()["diagnostics"]
         lines.append(
             f"  sampler: emcee, {self.settings.walkers} walkers x {self.settings.ensembles} ensemble(s), "
@@ -607,6 +609,13 @@ def _g(x: float, digits: int = 5) -> str:
     if not math.isfinite(x):
         return "nan" if math.isnan(x) else ("inf" if x > 0 else "-inf")
     return f"{x:.{digits}g}"
+
+
+def _digits(value: float, sigma: float) -> int:
+    """Significant digits that show ``value`` to two digits of its uncertainty (at least 5)."""
+    if not (math.isfinite(value) and math.isfinite(sigma) and value != 0 and sigma > 0):
+        return 5
+    return max(5, int(math.floor(math.log10(abs(value)))) - int(math.floor(math.log10(sigma))) + 2)
 
 
 def _pair(a: float, b: float) -> str:

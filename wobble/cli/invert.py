@@ -9,21 +9,23 @@ from wobble.errors import InputError
 
 EPILOG = """\
 examples:
-  wobble invert mars                       Mars' core radius from the Chandler period and k2
-  wobble invert earth --json               Earth's anelastic exponent and Chandler Q, for scripts
+  wobble invert mars                       Mars' core radius from the Chandler period, k2, the FCN and the precession
+  wobble invert earth --json               Earth's anelastic exponent, Chandler Q and core-flattening excess, for scripts
   wobble invert mars_chandler_only --steps 1000   the Chandler period alone: how little one period says
-  wobble invert mars -o mars_posterior.nc --plot mars_corner.png --overwrite
+  wobble invert mars --steps 500 -o mars_posterior.nc --plot mars_corner.png --overwrite
   wobble invert mars --prior-only --steps 500     the priors pushed through the model (what the data add)
-  wobble invert mars --seed 7 --steps 500 --quiet     a short run: the summary warns of a small ESS
+  wobble invert mars --seed 7 --steps 200 --quiet     a short run: the summary warns that R-hat is too large
   wobble example inversions/mars my_setup.toml    copy a shipped set-up to edit, then:
   wobble invert my_setup.toml --ensembles 2 --steps 500 --scheduler tcp://127.0.0.1:8786
 
 Setups are wobble-inversion/1 TOML files (priors, observables, sampler settings);
 the shipped ones (data/inversions/: earth, mars, mars_chandler_only) are found by
-name from any folder. Sampling uses emcee; the summary gives each parameter's
-median, central 68 % and 95 % intervals, R-hat and effective sample size (ArviZ),
-and warns when R-hat > 1.01 or the ESS is small. -o writes ArviZ InferenceData
-as netCDF (reopen with arviz.from_netcdf). The same seed gives the same numbers.
+name from any folder. Observables: chandler_period, tidal_k2, fcn_period (the free
+core nutation in space), precession_rate, and derived quantities (the wobble's Q,
+the core's e_f). Sampling uses emcee; the summary gives each parameter's median,
+central 68 % and 95 % intervals, R-hat and effective sample size (ArviZ), and
+warns when R-hat > 1.01 or the ESS is small. -o writes ArviZ InferenceData as
+netCDF (reopen with arviz.from_netcdf). The same seed gives the same numbers.
 A progress bar is shown on a terminal unless --quiet.
 """
 
@@ -33,7 +35,8 @@ def register(sub) -> None:
         "invert",
         help="Bayesian inversion: interior parameters from the observed wobble (emcee, ArviZ)",
         description="Sample the posterior of a planet's parameters (core radius, anelasticity, Love "
-        "numbers) given observed wobble periods and tides, with priors from the catalogue or the setup.",
+        "numbers, core flattening, polar moment) given observed wobble periods, tides, the free core "
+        "nutation and the precession, with priors from the catalogue or the setup.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -55,6 +55,7 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
     "core_compliance_beta": _ONE,
     "core_compliance_gamma": _ONE,
     "observed_fcn_period": u.s,
+    "core_flattening_excess": _ONE,
 }
 
 

@@ -8,6 +8,8 @@ Schema ``wobble-inversion/1``::
     description = "..."
     body = "mars"                    # catalogue name, or a planet file (relative to this file)
     model = "full"                   # Chandler model: full or the last step
+    profile = "mars_layered"         # density profile of the core's hydrostatic flattening (FCN);
+                                     # default: the shipped profile of the body
     derived = ["chandler_quality_factor"]   # registered quantities reported without a measurement
 
     [sampler]                        # all optional
@@ -17,6 +19,7 @@ Schema ``wobble-inversion/1``::
     thin = 1
     ensembles = 1                    # independent ensembles (parallel on a dask scheduler)
     seed = 20230621                  # same seed, same numbers
+    moves = { independence = 0.8, de = 0.15, de_snooker = 0.05 }   # the default mixture (also: stretch)
 
     [parameters.fluid_core_radius]   # sampled; every other planet parameter keeps its value
     prior = "uniform"                # uniform | log_uniform | normal
@@ -49,6 +52,15 @@ Schema ``wobble-inversion/1``::
 Everything is checked (with the file and key in the message) before any sampling:
 unknown names, improper or contradictory priors, an observable without an
 uncertainty, a forward model that fails at the priors' centre.
+
+Forward models that need more than the planet's parameters get it here
+(:class:`~wobble.models.inversion.context.ForwardContext`): the free core nutation
+(``fcn_period``, ``core_ellipticity``) the hydrostatic flattening of the core from the
+density profile (a fixed profile such as PREM gives one number; a profile built from
+the body's catalogue, ``construction = "core_under_linear_mantle"``, is rebuilt for
+every draw, tabulated over the box the priors reach); the precession rate
+(``precession_rate``) the Sun on the body's orbit and the catalogued satellites
+(``data/precession``), with geodesic precession when the observed rate includes it.
 """
 
 from __future__ import annotations
@@ -63,18 +75,23 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS, load_planet
+from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile, read_toml
+from wobble.io.perturbers import PERTURBER_UNITS, load_perturber, measured, perturbers_of
+from wobble.models import hydrostatic as _hydro
+from wobble.models import precession as _precession
+from wobble.models.inversion.context import FixedCoreFigure, ForwardContext, LinearMantleCoreFigure, box_corners
 from wobble.models.inversion.likelihood import Measurement, Parameter, Posterior
 from wobble.models.inversion.observables import REGISTRY
 from wobble.models.inversion.priors import KINDS, LogUniform, Normal, Uniform, physical_range
-from wobble.models.inversion.sampling import SamplerSettings
+from wobble.models.inversion.sampling import MOVE_NAMES, SamplerSettings
 from wobble.models.planet import PlanetParameters
 
 __all__ = ["SCHEMA", "InversionSetup", "Comparison", "setup_names", "resolve_setup", "read_setup", "setup_from_dict"]
 
 SCHEMA = "wobble-inversion/1"
-_TOP = {"schema", "name", "title", "description", "body", "model", "derived", "sampler", "parameters", "observables", "compare"}
-_SAMPLER = {"walkers", "steps", "burn", "thin", "ensembles", "prior_draws", "seed"}
+_TOP = {"schema", "name", "title", "description", "body", "model", "profile", "derived", "sampler", "parameters", "observables", "compare"}
+_SAMPLER = {"walkers", "steps", "burn", "thin", "ensembles", "prior_draws", "seed", "moves"}
 _PRIOR_FIELDS = {
     "uniform": {"low", "high"},
     "log_uniform": {"low", "high"},
@@ -86,7 +103,12 @@ _COMMON = {"prior", "unit", "source", "note"}
 _OBS_FIELDS = {"value", "uncertainty", "unit", "source", "note"}
 _COMPARE_FIELDS = {"value", "uncertainty", "low", "high", "unit", "source", "note"}
 # Parameters that describe how the model is set up, not physics to infer.
-_NOT_INVERTIBLE = {"observed_chandler_period"}
+_NOT_INVERTIBLE = {"observed_chandler_period", "observed_fcn_period", "observed_precession_rate", "observed_precession_includes_geodesic"}
+# Observables that need the core's hydrostatic figure, or the perturbers.
+_NEEDS_CORE = {"fcn_period", "core_ellipticity"}
+_NEEDS_PERTURBERS = {"precession_rate"}
+# Tail probability of a normal prior left outside the tabulated hydrostatic core.
+_PRIOR_TAIL = 1e-12
 
 
 @dataclass(frozen=True)
@@ -119,9 +141,10 @@ class InversionSetup:
     comparisons: tuple[Comparison, ...] = ()
     path: str | None = None
     extra: dict = field(default_factory=dict)
+    context: ForwardContext = field(default_factory=ForwardContext)
 
     def posterior(self, prior_only: bool = False) -> Posterior:
-        return Posterior(self.parameters, self.measurements, self.planet, self.model, prior_only=prior_only)
+        return Posterior(self.parameters, self.measurements, self.planet, self.model, prior_only=prior_only, context=self.context)
 
 
 def _folder():
@@ -193,6 +216,17 @@ def _sampler(path, raw) -> tuple[SamplerSettings, int]:
     if unknown:
         raise FileFormatError(path, f"sampler.{sorted(unknown)[0]}", f"unknown key; allowed: {', '.join(sorted(_SAMPLER))}")
     kwargs = {}
+    if "moves" in raw:
+        moves = raw["moves"]
+        if not isinstance(moves, dict) or not moves:
+            raise FileFormatError(path, "sampler.moves", f"got {moves!r}; allowed: a table of move = weight ({', '.join(MOVE_NAMES)})")
+        for name, weight in moves.items():
+            if name not in MOVE_NAMES:
+                raise FileFormatError(path, f"sampler.moves.{name}", f"unknown move; allowed: {', '.join(MOVE_NAMES)}")
+            if isinstance(weight, bool) or not isinstance(weight, (int, float)) or not (math.isfinite(weight) and weight > 0):
+                raise FileFormatError(path, f"sampler.moves.{name}", f"got {weight!r}; allowed: a positive weight")
+        kwargs["moves"] = tuple((name, float(weight)) for name, weight in moves.items())
+        raw = {k: v for k, v in raw.items() if k != "moves"}
     for key, value in raw.items():
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key in ("burn", "seed") else 1):
             raise FileFormatError(path, f"sampler.{key}", f"got {value!r}; allowed: a {'non-negative' if key in ('burn', 'seed') else 'positive'} integer")
@@ -329,6 +363,101 @@ def _comparisons(path, raw, units: dict[str, u.UnitBase]) -> tuple[Comparison, .
     return tuple(out)
 
 
+def _prior_range(parameters, name: str, nominal) -> tuple[float, float] | None:
+    """(low, high) a parameter can take: its prior's support (a normal prior to 1e-12 in
+    each tail), or its nominal value when not sampled; None when neither."""
+    for p in parameters:
+        if p.name == name:
+            lo, hi = (float(p.prior.ppf(q)) for q in (_PRIOR_TAIL, 1.0 - _PRIOR_TAIL))
+            return max(lo, p.prior.low), min(hi, p.prior.high)
+    return None if nominal is None else (float(nominal), float(nominal))
+
+
+def _padded(lo: float, hi: float) -> tuple[float, float]:
+    """A range with room for rounding (and some width where nothing varies)."""
+    mid = 0.5 * (lo + hi)
+    half = max(0.5 * (hi - lo), 1e-6 * abs(mid)) * (1.0 + 1e-9)
+    return mid - half, mid + half
+
+
+def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
+    """The hydrostatic core of the setup's body (FixedCoreFigure or LinearMantleCoreFigure)."""
+    name = _string(where, "profile", raw_profile) or profile_for_body(planet.name)
+    if not name:
+        raise FileFormatError(where, "profile", f"missing: {planet.name} has no shipped density profile; give one for the core's hydrostatic flattening")
+    try:
+        prof, pf = load_profile(name)
+    except InputError as exc:
+        raise FileFormatError(where, "profile", f"got {name!r}; allowed: {exc.allowed}") from None
+    if prof.fluid_core is None:
+        raise FileFormatError(where, "profile", f"{prof.name} has no liquid core; allowed: a profile with a liquid core (the FCN needs one)")
+    construction = pf.extra.get("construction")
+    if construction is None:
+        # A fixed profile must be this body's: its mass within 1e-3 of GM/G (as wobble modes asks).
+        if planet.gm is not None:
+            mass = planet.gm.value / planet.gravitational_constant.value
+            if abs(prof.mass() / mass - 1.0) > 1e-3:
+                raise FileFormatError(
+                    where, "profile", f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = {mass:.6g} kg)"
+                )
+        fig = _hydro.hydrostatic_figure(prof, planet.rotation_rate.value, planet.gravitational_constant.value)
+        return FixedCoreFigure(prof.name, float(fig.core_dynamical_ellipticity))
+    if construction != "core_under_linear_mantle":
+        raise FileFormatError(pf.path, "construction", f"got {construction!r}; allowed: core_under_linear_mantle")
+    values = planet.values()
+    ranges = {}
+    for key in ("fluid_core_radius", "fluid_core_density", "gm", "gravitational_constant", "equatorial_radius", "polar_moment_factor", "j2", "dynamical_flattening"):
+        found = _prior_range(parameters, key, values.get(key))
+        if found is not None:
+            ranges[key] = found
+    missing = [k for k in ("fluid_core_radius", "fluid_core_density", "gm", "equatorial_radius") if k not in ranges]
+    if missing:
+        raise FileFormatError(where, "profile", f"{prof.name} is built from the body's {', '.join(missing)}; allowed: a body that gives them")
+    r = prof.radius
+
+    def pick(*keys):
+        return {k: ranges[k] for k in keys}
+
+    x = box_corners(pick("fluid_core_radius"), lambda fluid_core_radius: fluid_core_radius / r)
+    y = box_corners(
+        pick("fluid_core_density", "gm", "gravitational_constant"),
+        lambda fluid_core_density, gm, gravitational_constant: fluid_core_density / (gm / gravitational_constant / (4.0 / 3.0 * math.pi * r**3)),
+    )
+    if "polar_moment_factor" in ranges:
+        c = box_corners(pick("polar_moment_factor", "equatorial_radius"), lambda polar_moment_factor, equatorial_radius: polar_moment_factor * (equatorial_radius / r) ** 2)
+    else:
+        c = box_corners(pick("j2", "dynamical_flattening", "equatorial_radius"), lambda j2, dynamical_flattening, equatorial_radius: j2 / dynamical_flattening * (equatorial_radius / r) ** 2)
+    try:
+        return LinearMantleCoreFigure.build(prof.name, r, (_padded(*x), _padded(*y), _padded(*c)))
+    except InputError as exc:
+        raise FileFormatError(where, "parameters", f"{exc.value}; allowed: {exc.allowed}") from None
+
+
+def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precession.PerturberOrbit, ...], float]:
+    """The Sun on the body's orbit and its catalogued satellites; the geodesic rate the observed precession includes."""
+    missing = [k for k in ("obliquity", "orbit_semi_major_axis", "orbit_eccentricity") if getattr(planet, k) is None]
+    if missing:
+        raise FileFormatError(where, "observables.precession_rate", f"{planet.name} does not catalogue {', '.join(missing)}; allowed: a body with its obliquity and orbit")
+    sun = load_perturber("sun")
+    sun_orbit = _precession.PerturberOrbit(
+        "sun", measured(sun, "gm", PERTURBER_UNITS["gm"]).value, planet.orbit_semi_major_axis.value, planet.orbit_eccentricity.value
+    )
+    orbits = [sun_orbit]
+    for pf in perturbers_of(planet.name):
+        def get(key, default=None, pf=pf):
+            m = measured(pf, key, PERTURBER_UNITS[key])
+            return default if m is None else m.value
+
+        orbits.append(_precession.PerturberOrbit(
+            pf.name, get("gm"), get("semi_major_axis"), get("eccentricity", 0.0), get("inclination", 0.0),
+            get("solar_perturbation_factor", 1.0), get("node_rate"),
+        ))
+    flag = planet.observed_precession_includes_geodesic
+    includes = flag is None or flag.value != 0
+    geodesic = _precession.geodesic_precession_rate(sun_orbit.gm, sun_orbit.semi_major_axis, sun_orbit.eccentricity) if includes else 0.0
+    return tuple(orbits), geodesic
+
+
 def setup_from_dict(data: dict, path: str | os.PathLike | None = None) -> InversionSetup:
     """Check a setup given as a dict (the TOML structure) and build it (SI)."""
     where = str(path) if path is not None else "<setup>"
@@ -371,6 +500,10 @@ def setup_from_dict(data: dict, path: str | os.PathLike | None = None) -> Invers
     clash = {m.name for m in measurements} & {m.name for m in derived}
     if clash:
         raise FileFormatError(where, "derived", f"{sorted(clash)[0]} is also an observable; list it once")
+    names = {m.name for m in (*measurements, *derived)}
+    core_figure = _core_figure(where, data.get("profile"), planet, parameters) if names & _NEEDS_CORE else None
+    perturbers, geodesic = _perturber_orbits(where, planet) if names & _NEEDS_PERTURBERS else ((), 0.0)
+    context = ForwardContext(core_figure, perturbers, geodesic)
     units = {p.name: _si_unit(PLANET_UNITS[p.name].to_string()) for p in parameters}
     units.update({m.name: _si_unit(REGISTRY[m.name].unit) for m in (*measurements, *derived)})
     comparisons = _comparisons(where, data.get("compare", {}), units)
@@ -388,6 +521,7 @@ def setup_from_dict(data: dict, path: str | os.PathLike | None = None) -> Invers
         seed=seed,
         comparisons=comparisons,
         path=None if path is None else str(path),
+        context=context,
     )
     try:
         posterior = setup.posterior()

@@ -311,11 +311,15 @@ class _Values:
             if key not in merged:
                 raise InputError("parameter", key, f"one of {', '.join(sorted(merged))}")
             merged[key] = val
-        given = {k: v for k, v in merged.items() if v is not None}
-        arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in given.values()))
-        self.shape = arrays[0].shape if arrays else ()
+        given = {k: np.asarray(v, dtype=float) for k, v in merged.items() if v is not None}
+        self.shape = np.broadcast_shapes(*(a.shape for a in given.values())) if given else ()
         self.v = {k: None for k in merged}
-        self.v.update(dict(zip(given, arrays)))
+        # Broadcast to one shape (np.full for the many scalars: np.broadcast_arrays costs
+        # ten times more, and this runs on every call of a sweep chunk or an inversion step).
+        self.v.update({
+            k: a if a.shape == self.shape else (np.full(self.shape, a) if a.ndim == 0 else np.broadcast_to(a, self.shape))
+            for k, a in given.items()
+        })
         bad = np.zeros(self.shape, dtype=bool)
         for key in POSITIVE_KEYS:
             if self.v[key] is not None:

@@ -26,8 +26,18 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.numerics import clairaut
+from wobble.numerics.integrators import DOP853
 
-__all__ = ["DensityProfile", "HydrostaticFigure", "hydrostatic_figure", "check_profile", "core_under_linear_mantle"]
+__all__ = [
+    "DensityProfile",
+    "HydrostaticFigure",
+    "hydrostatic_figure",
+    "check_profile",
+    "core_under_linear_mantle",
+    "linear_mantle_coefficients",
+    "linear_mantle_core_density_range",
+    "core_flattening_under_linear_mantle",
+]
 
 _SAMPLES_PER_LAYER = 24
 # A density jump outward smaller than this (relative) is rounding, not inversion.
@@ -309,3 +319,124 @@ def hydrostatic_figure(
         core_moment=core_moment,
         radau_darwin_flattening=2.5 * q / (eta_rd + 2.0),
     )
+
+
+# ---------------------------------------------------------------------------
+# A uniform core under a linear mantle, vectorised (the inversion's hydrostatic core)
+# ---------------------------------------------------------------------------
+
+
+def linear_mantle_coefficients(x, y, c):
+    """Mantle rho = a0 + a1 r of :func:`core_under_linear_mantle` in dimensionless form (arrays).
+
+    Units: radius R = 1, density in units of the body's mean density 3M/(4 pi R^3).
+    ``x`` = core radius/R, ``y`` = core density/mean density, ``c`` = C/(M R^2). The
+    body's mass and moment fix (a0, a1): int_x^1 rho r^2 dr = (1 - y x^3)/3 and
+    int_x^1 rho r^4 dr = c/2 - y x^5/5, a 2 x 2 linear system (Cramer's rule).
+    """
+    x, y, c = (np.asarray(v, dtype=float) for v in (x, y, c))
+    a11, a12 = (1.0 - x**3) / 3.0, (1.0 - x**4) / 4.0
+    a21, a22 = (1.0 - x**5) / 5.0, (1.0 - x**6) / 6.0
+    b1 = (1.0 - y * x**3) / 3.0
+    b2 = 0.5 * c - y * x**5 / 5.0
+    det = a11 * a22 - a12 * a21
+    return (b1 * a22 - a12 * b2) / det, (a11 * b2 - a21 * b1) / det
+
+
+def linear_mantle_core_density_range(x, c):
+    """(y_min, y_max): the core densities (in units of the mean density) that
+    :func:`check_profile` accepts for a core of radius x R under a linear mantle, C = c M R^2.
+
+    a0 and a1 are linear in y, so each condition is a half-line in y: the mantle's
+    density at the core (rho_b) and at the surface (rho_s) positive, and no denser
+    than the core at the boundary, rho_b <= y (a fluid in equilibrium is not lighter
+    below). Empty where y_min >= y_max.
+    """
+    x, c = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, c)))
+    a0_0, a1_0 = linear_mantle_coefficients(x, 0.0, c)
+    a0_1, a1_1 = linear_mantle_coefficients(x, 1.0, c)
+    lo = np.full(x.shape, 0.0)
+    hi = np.full(x.shape, np.inf)
+    # rho_b = p0 + p1 y, rho_s = s0 + s1 y.
+    p0, p1 = a0_0 + a1_0 * x, (a0_1 - a0_0) + (a1_1 - a1_0) * x
+    s0, s1 = a0_0 + a1_0, (a0_1 - a0_0) + (a1_1 - a1_0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for u0, u1 in ((p0, p1), (s0, s1), (-p0, 1.0 - p1)):  # u0 + u1 y > 0 (the last: y - rho_b >= 0)
+            edge = -u0 / u1
+            lo = np.where(u1 > 0, np.maximum(lo, edge), lo)
+            hi = np.where(u1 < 0, np.minimum(hi, edge), hi)
+            lo = np.where((u1 == 0) & (u0 <= 0), np.inf, lo)
+    return lo, hi
+
+
+def core_flattening_under_linear_mantle(x, y, c, *, rtol: float = 1e-12) -> np.ndarray:
+    """e_f/q of a uniform liquid core under a linear mantle, for many bodies at once.
+
+    The same figure as :func:`hydrostatic_figure` of :func:`core_under_linear_mantle`
+    (Clairaut's equation, first order), vectorised over members: inside a uniform
+    core Radau's eta is 0 (rho = rhobar), so the core's level surfaces share one
+    flattening and e_f = eps(r_c) = eps(R) exp(-int_{r_c}^R eta dr/r) with
+    eps(R) = 5 q/(2 (eta(R) + 2)); eta obeys Radau's equation through the mantle
+    from eta(r_c) = 0. All members are integrated together with
+    :class:`~wobble.numerics.integrators.DOP853` in u = (ln r - ln x)/(-ln x) on [0, 1].
+
+    Parameters
+    ----------
+    x, y, c : array_like
+        Core radius/R, core density/mean density, C/(M R^2) (dimensionless; broadcast).
+    rtol : float
+        Relative tolerance of the integration.
+
+    Returns
+    -------
+    numpy.ndarray
+        e_f/q, q = Omega^2 R^3/(G M) (e_f is linear in q at first order); NaN where the
+        profile is not one :func:`check_profile` accepts
+        (:func:`linear_mantle_core_density_range`) or x is not in (0, 1).
+    """
+    x, y, c = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, y, c)))
+    shape = x.shape
+    x, y, c = x.ravel(), y.ravel(), c.ravel()
+    lo, hi = linear_mantle_core_density_range(np.clip(x, 1e-3, 1 - 1e-3), c)
+    ok = (x > 0) & (x < 1) & (y >= lo * (1 - _JUMP_TOLERANCE)) & (y < hi) & np.isfinite(y) & np.isfinite(c)
+    out = np.full(x.shape, np.nan)
+    if not np.any(ok):
+        return out.reshape(shape)
+    out[ok] = _radau_through_linear_mantle(x[ok], y[ok], c[ok], rtol)
+    return out.reshape(shape)
+
+
+def _radau_through_linear_mantle(x, y, c, rtol):
+    """e_f/q for 1-d arrays x, y, c, without the admissibility check (the Radau
+    integration itself only needs the mass inside each radius to stay positive: NaN
+    where it does not, or where the integration does not finish)."""
+    from wobble.numerics.integrators import StepLimitError
+
+    out = np.full(np.shape(x), np.nan)
+    a0, a1 = linear_mantle_coefficients(x, y, c)
+    # m(r) = int_0^r rho r'^2 dr' = core + mantle from x to r.
+    m_core = y * x**3 / 3.0 - a0 * x**3 / 3.0 - a1 * x**4 / 4.0
+    r = x[:, None] + (1.0 - x[:, None]) * np.linspace(0.0, 1.0, 65)
+    regular = np.all(m_core[:, None] + a0[:, None] * r**3 / 3.0 + a1[:, None] * r**4 / 4.0 > 0, axis=1)
+    if not np.any(regular):
+        return out
+    x, a0, a1, m_core = x[regular], a0[regular], a1[regular], m_core[regular]
+    span = -np.log(x)
+    log_x = np.log(x)
+
+    def rhs(u, state, idx):
+        r = np.exp(log_x[idx] + u * span[idx])
+        rho = a0[idx] + a1[idx] * r
+        m = m_core[idx] + a0[idx] * r**3 / 3.0 + a1[idx] * r**4 / 4.0
+        ratio = rho * r**3 / (3.0 * m)
+        eta = state[:, 0]
+        deta = 6.0 - 6.0 * ratio * (eta + 1.0) - eta * (eta - 1.0)
+        return np.stack([deta * span[idx], eta * span[idx]], axis=-1)
+
+    solver = DOP853(rhs, 0.0, np.zeros((x.size, 2)), rtol=rtol, atol=1e-15, max_steps=5000)
+    try:
+        end = solver.advance([1.0])[-1]
+    except StepLimitError:  # a nearly singular member (extreme densities): no answer
+        return out
+    out[regular] = 2.5 * np.exp(-end[:, 1]) / (end[:, 0] + 2.0)
+    return out

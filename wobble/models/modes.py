@@ -55,6 +55,7 @@ __all__ = [
     "Mode",
     "NormalModes",
     "mode_rates",
+    "mode_rates_samples",
     "normal_modes",
     "required_core_ellipticity",
     "love_number_at",
@@ -177,6 +178,198 @@ def mode_rates(
             raise InputError("anelastic_exponent", p.anelastic_exponent, f"parameters for which the {name} frequency converges")
         out[name] = (sign * rate, love_number_at(p, rate))
     return out
+
+
+def _biquadratic_frequencies(a_, b_, f, g, bt, a, b, e):
+    """|omega|/Omega of the two modes of M x' + Omega K x = 0 in closed form (arrays).
+
+    For x = v e^{lambda t} the determinant of lambda M + Omega K, with the state
+    ordered (m1, mf1 | m2, mf2), is the 2 x 2 block determinant
+    det(s D1 M2 - Omega^2 N)/D1 with s = lambda^2, M1 = [[A', F], [G, Bt]],
+    M2 = [[B', F], [G, Bt]], D1 = det M1 and N = Q2 adj(M1) Q1/Omega^2 (Q1, Q2 the
+    coupling blocks of K): a *quadratic in s*, exact for a triaxial mantle (A != B).
+    Both roots are negative for an oscillating system, s = -omega^2. The stable
+    quadratic formula gives the small (Chandler) root without cancellation:
+    its product with the large root is the constant term, det N = a b E^2 D1.
+
+    Parameters are the matrix entries of :func:`_matrices` (units of C): a_ = A' =
+    1 - (C-A)/C + D, b_ = B', f = F, g = 1 + gamma, bt = 1 + beta, a = (C-A)/C - D,
+    b = (C-B)/C - D, e = 1 + e_f.
+
+    Returns
+    -------
+    small, large : numpy.ndarray
+        omega/Omega of the Chandler-like and FCN-like modes (NaN where a root is
+        not a real frequency: no oscillation).
+    """
+    d1 = a_ * bt - f * g
+    d2 = b_ * bt - f * g
+    n00 = -b * (a * bt + f * g)
+    n01 = f * (a * bt + f * g) - e * f * (a + a_)
+    n10 = -e * g * b
+    n11 = e * g * f - e * e * a_
+    # det(s X - Y) with X = D1 M2, Y = N (Omega = 1): s^2 det X - s tr(adj-pairing) + det Y.
+    qa = d1 * d1 * d2
+    qb = -d1 * (b_ * n11 + bt * n00 - f * n10 - g * n01)
+    qc = a * b * e * e * d1
+    disc = qb * qb - 4.0 * qa * qc
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = np.sqrt(disc)
+        q = -0.5 * (qb + np.copysign(root, qb))
+        s_large = q / qa
+        s_small = qc / q
+        ok = (disc >= 0) & (s_large < 0) & (s_small < 0)
+        return np.where(ok, np.sqrt(-s_small), np.nan), np.where(ok, np.sqrt(-s_large), np.nan)
+
+
+def mode_rates_samples(
+    p: PlanetParameters,
+    overrides,
+    e_f=0.0,
+    *,
+    coupled: bool = True,
+    second_order: bool = True,
+    which: tuple[str, ...] = MODES,
+    values=None,
+) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """:func:`mode_rates` vectorised over members: some parameters (and e_f) as arrays.
+
+    The same Liouville equations (M), solved in closed form instead of as a 4 x 4
+    eigenproblem per member (:func:`_biquadratic_frequencies`: the characteristic
+    polynomial is a quadratic in the square of the frequency, exactly, also for
+    A != B), and the same iteration of each mode's k2 at its own frequency, on all
+    members at once. With the coupling off, the Chandler root is the Chandler
+    budget's equation (1) (:func:`wobble.models.chandler.chandler_samples`, last step).
+
+    Members get NaN where the model has no free wobble, as the budget flags them
+    (:data:`wobble.models.chandler.INVALID_REASONS`): a parameter outside its
+    physical range, a liquid core as large as the equatorial moment, C the
+    intermediate moment, k2 at or above the secular Love number, no convergence of
+    k2 at the mode's frequency; and where a root is not a real frequency.
+
+    Parameters
+    ----------
+    p : PlanetParameters
+        The nominal planet (which model steps apply: elastic, ocean, anelastic).
+    overrides : mapping
+        Parameter name -> array of values (SI), broadcast together (as for
+        :func:`wobble.models.chandler.chandler_samples`).
+    e_f : float or array_like
+        The core's dynamical ellipticity of each member (unused when not coupled).
+    coupled, second_order, which
+        As for :func:`mode_rates`.
+    values : optional
+        The parameter arrays already built from ``p`` and ``overrides``
+        (``wobble.models.chandler._Values``), shared by callers that evaluate
+        several models of one batch.
+
+    Returns
+    -------
+    dict
+        ``{"CW": (rate, k2), "FCN": (rate, k2)}`` (arrays; rad/s signed like the spin
+        when prograde); the FCN only with a liquid core and only when coupled.
+    """
+    vals = chandler._Values(p.values(), overrides) if values is None else values
+    e_f = np.asarray(e_f, dtype=float)
+    shape = np.broadcast_shapes(vals.shape, e_f.shape)
+    zeros = np.zeros(shape)
+    omega = vals["rotation_rate"] + zeros
+    sign = np.where(omega > 0, 1.0, -1.0)
+    spin = np.abs(omega)
+    ca, cb = (np.asarray(x) + zeros for x in vals.equatorial_excess())
+    steps = chandler.available_steps(p)
+    scaled = "elastic" in steps
+    d_per_k = vals.deformation(1.0) + zeros if scaled else zeros
+    has_core = p.fluid_core_moment is not None and scaled
+    core = vals.core_over_c() + zeros if has_core else zeros
+    if coupled:
+        beta = vals["core_compliance_beta"] + zeros if vals["core_compliance_beta"] is not None else zeros
+        gamma = vals["core_compliance_gamma"] + zeros if vals["core_compliance_gamma"] is not None else zeros
+        ef = e_f + zeros
+    else:
+        ef, beta, gamma = zeros, zeros, zeros
+    ocean = vals["ocean_pole_tide_love_number"] + zeros if "ocean_pole_tide" in steps else zeros
+    # The budget's invalid members: out of range (code 5), the core as large as A or B (code 2).
+    bad = vals.out_of_range | ~np.isfinite(ef) | ~((1.0 - ca - core > 0) & (1.0 - cb - core > 0))
+    k_s = vals.secular_love_number() if scaled else None
+
+    def love(rate):
+        if "anelastic" in steps:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                return vals.anelastic_k(rate)[0] + ocean
+        if "elastic" in steps:
+            return vals["love_number_k2"] + ocean
+        return zeros
+
+    def frequencies(k):
+        d = k * d_per_k
+        carry = d if second_order else zeros
+        if coupled:
+            f = core * (1.0 + gamma)
+            small, large = _biquadratic_frequencies(
+                1.0 - ca + carry, 1.0 - cb + carry, f, 1.0 + gamma, 1.0 + beta, ca - d, cb - d, 1.0 + ef
+            )
+        else:
+            # Coupling off: the mantle rows decouple, and the small root is the budget's
+            # equation (1), sigma^2 = (C - A - D)(C - B - D)/((A_m + D)(B_m + D)) (units of C).
+            with np.errstate(invalid="ignore", divide="ignore"):
+                small = np.sqrt((ca - d) * (cb - d) / ((1.0 - ca - core + carry) * (1.0 - cb - core + carry)))
+            large = zeros
+        # No free wobble where C is the intermediate moment (code 1) or k2 >= k_s (code 3):
+        # the deformation's D then reaches the smaller of C - A, C - B.
+        unstable = (ca - d) * (cb - d) < 0
+        if k_s is not None:
+            unstable |= (ca > 0) & (cb > 0) & (d >= np.minimum(ca, cb))
+        small = np.where(unstable, np.nan, small)
+        # The Chandler mode turns with the spin for C largest (oblate), against it for C
+        # smallest; the FCN is retrograde, near -Omega (Sasao, Okubo & Saito 1980).
+        return {"CW": np.where(ca - d > 0, 1.0, -1.0) * spin * small, "FCN": np.where(unstable, np.nan, -spin * large)}
+
+    guesses = {}
+    if "CW" in which:
+        with np.errstate(invalid="ignore"):
+            guesses["CW"] = spin * np.sqrt(np.abs(ca * cb)) / (1.0 - core) * np.where(ca > 0, 1.0, -1.0)
+    if has_core and coupled and "FCN" in which:
+        guesses["FCN"] = -spin * (1.0 + ef / (1.0 - core))
+    out = {}
+    for name, guess in guesses.items():
+        rate = _own_frequency(lambda x, name=name: frequencies(love(x))[name], np.where(bad, np.nan, guess))
+        out[name] = (sign * rate, love(rate))
+    return out
+
+
+def _own_frequency(update, x0):
+    """Solve x = update(x) (a mode's frequency with k2 at that frequency) for every member.
+
+    update is a contraction (factor 1e-2 to 1e-4), so the fixed-point iteration
+    of :func:`mode_rates` converges; a secant step on g(x) = update(x) - x (as the
+    Chandler budget's, :func:`wobble.models.chandler._anelastic_fixed_point`) gets
+    there in three or four evaluations instead of seven. Stops at |g| <= 1e-14 |x|
+    or at the rounding floor; members that do not converge get NaN.
+    """
+    f0 = update(x0)
+    failed = ~np.isfinite(f0)
+    done = failed.copy()
+    x1 = np.where(done, x0, f0)
+    g0 = f0 - x0
+    for _ in range(_K_MAX):
+        f1 = update(x1)
+        g1 = f1 - x1
+        failed |= ~done & ~np.isfinite(f1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            converged = np.abs(g1) <= _K_TOL * np.abs(f1)
+            stalled = (np.abs(g1) >= np.abs(g0)) & (np.abs(g1) <= 1e-12 * np.abs(f1))
+            secant = x1 - g1 * (x1 - x0) / (g1 - g0)
+        new_done = done | converged | stalled | failed
+        # Converged members keep the last evaluation (as the per-member iteration does).
+        result = np.where(done, x1, f1)
+        if np.all(new_done):
+            return np.where(failed, np.nan, result)
+        usable = np.isfinite(secant) & (np.sign(secant) == np.sign(x1))
+        x0, g0 = x1, g1
+        x1 = np.where(new_done, result, np.where(usable, secant, f1))
+        done = new_done
+    return np.where(done & ~failed, x1, np.nan)
 
 
 def _cw_guess(ratios, spin):

@@ -112,6 +112,11 @@ class PlanetParameters:
         mantle wobble (gamma), in units of A_f (:mod:`wobble.models.modes`).
     observed_fcn_period : Measured or None
         The observed free core nutation period in space, s (negative: retrograde).
+    core_flattening_excess : Measured or None
+        The liquid core's dynamical ellipticity over its hydrostatic value, minus
+        one: e_f = e_f,hydrostatic (1 + excess). Not given: a hydrostatic core. A
+        parameter of the inversion's FCN model (:mod:`wobble.models.inversion`);
+        ``wobble modes`` reports the excess the observed FCN requires instead.
     """
 
     name: str
@@ -142,6 +147,7 @@ class PlanetParameters:
     core_compliance_beta: Measured | None = None
     core_compliance_gamma: Measured | None = None
     observed_fcn_period: Measured | None = None
+    core_flattening_excess: Measured | None = None
 
     def __post_init__(self):
         given = [k for k in FIGURE_KEYS if getattr(self, k) is not None]

@@ -26,6 +26,7 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.models import chandler as _chandler
+from wobble.models.inversion.context import ForwardContext
 from wobble.models.inversion.observables import Batch, ObservableModel, observable_model
 from wobble.models.inversion.priors import Prior, physical_range
 from wobble.models.planet import PlanetParameters
@@ -140,6 +141,9 @@ class Posterior:
         Chandler model (``full`` or the last step).
     prior_only : bool
         Drop the likelihood (a prior-only run: what the data add is the difference).
+    context : ForwardContext, optional
+        Fixed inputs of the forward models that are not planet parameters (the
+        perturbers of the precession, the hydrostatic core of the FCN).
 
     Calling the object with an array of shape (n, ndim) returns ln p for each row:
     the form ``emcee.EnsembleSampler(..., vectorize=True)`` wants.
@@ -152,12 +156,14 @@ class Posterior:
         planet: PlanetParameters | None = None,
         model: str = "full",
         prior_only: bool = False,
+        context: ForwardContext | None = None,
     ):
         self.parameters = tuple(parameters)
         self.measurements = tuple(measurements)
         self.planet = planet
         self.model = model
         self.prior_only = prior_only
+        self.context = context if context is not None else ForwardContext()
         names = [p.name for p in self.parameters]
         if not names:
             raise InputError("parameters", "none", "at least one parameter to invert")
@@ -194,11 +200,11 @@ class Posterior:
     def with_measured_values(self, values: Mapping[str, float]) -> Posterior:
         """The same setup with other measured values (synthetic data for injection tests)."""
         new = [replace(m, value=float(values[m.name])) if m.name in values else m for m in self.measurements]
-        return Posterior(self.parameters, new, self.planet, self.model, self.prior_only)
+        return Posterior(self.parameters, new, self.planet, self.model, self.prior_only, self.context)
 
     def without_likelihood(self) -> Posterior:
         """The prior-only version of this posterior."""
-        return Posterior(self.parameters, self.measurements, self.planet, self.model, prior_only=True)
+        return Posterior(self.parameters, self.measurements, self.planet, self.model, prior_only=True, context=self.context)
 
     # -- evaluation -------------------------------------------------------------
 
@@ -216,7 +222,7 @@ class Posterior:
     def predict(self, theta, names: Sequence[str] | None = None) -> dict[str, np.ndarray]:
         """Forward predictions (SI) of every measurement (or of ``names``) for each row."""
         theta = self._theta(theta)
-        batch = Batch(self.planet, {p.name: theta[..., i] for i, p in enumerate(self.parameters)}, self.model)
+        batch = Batch(self.planet, {p.name: theta[..., i] for i, p in enumerate(self.parameters)}, self.model, self.context)
         wanted = self.measurements if names is None else [m for m in self.measurements if m.name in names]
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             return {m.name: m.model(batch, m.options) for m in wanted}

@@ -38,6 +38,11 @@ PHYSICAL_RANGE: dict[str, tuple[float, float]] = {
     "love_number_k2_imaginary": (0.0, math.inf),
     "ocean_pole_tide_love_number": (0.0, math.inf),
     "anelastic_exponent": (0.0, 1.0),
+    # The core yields in the sense of the forcing (Sasao, Okubo & Saito 1980).
+    "core_compliance_beta": (0.0, math.inf),
+    "core_compliance_gamma": (0.0, math.inf),
+    # e_f = e_hyd (1 + excess) must stay positive: a core flattened, not prolate.
+    "core_flattening_excess": (-1.0, math.inf),
 }
 
 
