@@ -177,13 +177,14 @@ class Fourier:
         s *= x
         return c, s
 
-    def whole_periods(self, j):
+    def whole_periods(self, j, j_range=None):
         """exp(i j A) of sigma and delta for the half-periods ``j``, as (2, 2, M) and the index
-        base: one value per distinct j of a dense range (``j - base``), else per sample (-1)."""
+        base: one value per distinct j of a dense range (``j - base``), else per sample (-1).
+        ``j_range``: the smallest and largest j where known."""
         e = self.base
         if j.size == 0:
             return np.empty((2, 2, 0)), 0
-        lo, hi = float(np.min(j)), float(np.max(j))
+        lo, hi = (float(np.min(j)), float(np.max(j))) if j_range is None else j_range
         if hi - lo < max(2 * j.size, 64):
             jj, base = np.arange(lo, hi + 1.0), int(lo)
         else:  # a few times spread over very many periods
@@ -233,8 +234,9 @@ class Fourier:
         if t.size >= compiled.LONG_ARRAY and compiled.available():  # one pass, bit for bit the NumPy path
             from wobble.numerics import taylor_table
 
-            r, j = self._phase(t)
-            jtab, base = self.whole_periods(j)
+            e = self.base
+            r, j, j_range = taylor_table.phase(t, e.lam, (2 * e.K[0], 2 * e.K[1]), e.w0, self._period_pieces(), True)
+            jtab, base = self.whole_periods(j, j_range)
             out, omega, quat, axis = taylor_table.motion(r, j, base, self.table, self.node_r, self.phasor, jtab,
                                                          _COS, _SIN, self.constants(inertia))
             names = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi")

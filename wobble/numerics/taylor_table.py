@@ -46,8 +46,11 @@ _I = {name: i for i, name in enumerate(CONSTANTS)}
 
 
 @_jit
-def _phase(t, lam0, lam1, w0, p1, p2, p3, period, r_out, j_out):
+def _phase(t, lam0, lam1, w0, p1, p2, p3, period, r_out, j_out, j_range):
     half = 0.5 * period
+    j_lo = np.inf
+    j_hi = -np.inf
+    nan = False
     for i in range(t.shape[0]):
         ti = t[i]
         p = ti * lam0
@@ -73,17 +76,29 @@ def _phase(t, lam0, lam1, w0, p1, p2, p3, period, r_out, j_out):
             j = j - 1.0
         r_out[i] = r
         j_out[i] = j
+        if j < j_lo:
+            j_lo = j
+        if j > j_hi:
+            j_hi = j
+        if j != j:
+            nan = True
+    # A nan time: no range (as np.min and np.max give nan).
+    j_range[0] = np.nan if nan else j_lo
+    j_range[1] = np.nan if nan else j_hi
 
 
-def phase(t, lam, period, offset, pieces):
+def phase(t, lam, period, offset, pieces, with_range=False):
     """Reduced nutation phase r and whole half-periods j of ``lam * t + offset`` (as
     :func:`wobble.numerics.phase.reduce_phase`, bit for bit; ``pieces`` = its three-float
-    split of ``period``)."""
+    split of ``period``); ``with_range``: also the smallest and largest j."""
     t = np.ascontiguousarray(t, dtype=float)
     r = np.empty_like(t)
     j = np.empty_like(t)
+    j_range = np.empty(2)
     _phase(t, float(lam[0]), float(lam[1]), float(offset), float(pieces[0]), float(pieces[1]), float(pieces[2]),
-           float(period[0]), r, j)
+           float(period[0]), r, j, j_range)
+    if with_range:
+        return r, j, (float(j_range[0]), float(j_range[1]))
     return r, j
 
 
