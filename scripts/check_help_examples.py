@@ -18,8 +18,13 @@ import time
 
 from wobble.cli._examples import help_examples
 
-# Examples the test suite does not run: each takes minutes (and needs a source checkout).
+# Examples the test suite does not run (this script does): the benchmarks take minutes (and need a
+# source checkout); the inversions at their default length take 25-60 s each, and the suite runs
+# the same command lines with fewer steps (the other invert examples and tests/test_inversion_api.py).
 LONG = {
+    ("invert", "mars"),
+    ("invert", "earth", "--json"),
+    ("invert", "mars", "--plot", "corner.png"),
     ("bench", "--quick"),
     ("bench", "--case", "free_generic", "--plot", "figs"),
     ("bench", "--case", "user_top"),

@@ -3,8 +3,9 @@
 A new user copies an example from ``wobble --help`` or ``wobble COMMAND --help`` and runs
 it from wherever they are: it must exit 0 there, with nothing but what wobble ships.
 Each help text's examples run in order in their own empty temporary folder (a later
-example may use a file an earlier one copied). The minutes-long benchmarks are left to
-``scripts/check_help_examples.py`` (which runs every example); the example that needs a
+example may use a file an earlier one copied). The minutes-long benchmarks and the
+default-length inversions (25-60 s each) are left to ``scripts/check_help_examples.py``
+(which runs every example); the example that needs a
 dask.distributed scheduler gets one started here first.
 """
 
@@ -43,7 +44,15 @@ def scheduler():
     cluster.close()
 
 
-@pytest.mark.parametrize("name", sorted(EXAMPLES))
+def _params():
+    # Examples that need the scheduler on its fixed port run in one test worker (pytest-xdist):
+    # two workers starting it at once would make one of them skip.
+    for name in sorted(EXAMPLES):
+        marks = [pytest.mark.xdist_group("port-8786")] if any(map(_needs_scheduler, EXAMPLES[name])) else []
+        yield pytest.param(name, marks=marks)
+
+
+@pytest.mark.parametrize("name", list(_params()))
 def test_every_help_example_runs_in_an_empty_folder(name, tmp_path, monkeypatch, capsys, request):
     monkeypatch.chdir(tmp_path)
     ran = 0

@@ -25,8 +25,9 @@ class WobbleError(ValueError):
 
 
 def _show(value: object) -> str:
+    # A long value keeps its start and its end: for a path, the end is the file's name.
     text = str(value)
-    return text if len(text) <= 80 else text[:77] + "..."
+    return text if len(text) <= 80 else text[:37] + "..." + text[-40:]
 
 
 class InputError(WobbleError):
