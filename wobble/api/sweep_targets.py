@@ -139,7 +139,7 @@ class ChandlerTarget:
         if "step_period" in self.selected:
             out["step_period"] = np.moveaxis(s.step_periods, 0, -1) / 86400.0
         if "dynamical_flattening" in self.selected:
-            vals = chandler_model._Values(self.params.values(), overrides)
+            vals = chandler_model.ParameterValues(self.params.values(), overrides)
             out["dynamical_flattening"] = np.broadcast_to(vals.flattening, s.period.shape).copy()
         return out
 

@@ -59,6 +59,7 @@ __all__ = [
     "STEP_DESCRIPTIONS",
     "Step",
     "Budget",
+    "ParameterValues",
     "free_wobble_rate",
     "free_wobble_rate_array",
     "secular_love_number",
@@ -285,10 +286,10 @@ def principal_moments(planet: PlanetParameters):
     """Principal moments (A, B, C) in kg m^2 and the mass in kg of a catalogued planet.
 
     C = (C/(M a^2)) M a^2 with M = GM/G; A and B from (C - A)/C and (C - B)/C formed
-    from H and J22 without cancellation (:meth:`_Values.equatorial_excess`). None when
+    from H and J22 without cancellation (:meth:`ParameterValues.equatorial_excess`). None when
     the file does not give the absolute scale (GM, a and C/(M a^2), or J2 with H).
     """
-    vals = _Values(planet.values())
+    vals = ParameterValues(planet.values())
     c_factor = vals.c_factor
     if c_factor is None or vals["gm"] is None or vals["equatorial_radius"] is None:
         return None
@@ -302,8 +303,45 @@ def principal_moments(planet: PlanetParameters):
 
 
 
-class _Values:
-    """Parameter values as float64 arrays broadcast to one shape, with the derived figure."""
+class ParameterValues:
+    """A planet's parameters as float64 arrays broadcast to one shape, with the derived figure.
+
+    The one place the Chandler budget, the normal modes, the sweeps and the inversion turn
+    a parameter mapping (with per-member overrides) into arrays, and form the figure from
+    it: H, C/(M a^2), (C - A)/C and (C - B)/C from H and J22 without cancellation, the
+    deformation D/C, the core's A_f/C, the secular Love number and the anelastic k2.
+
+    Parameters
+    ----------
+    base : Mapping[str, float or None]
+        Every parameter by name (SI), as :meth:`wobble.models.planet.PlanetParameters.values` gives it; None
+        where the body file does not give it.
+    overrides : Mapping[str, array_like], optional
+        Values that replace entries of ``base`` (scalars or arrays, broadcast together
+        with the rest); a key that ``base`` does not have raises :class:`InputError`.
+
+    Attributes
+    ----------
+    shape : tuple of int
+        The broadcast shape of every given parameter.
+    v : dict
+        Parameter name -> array of that shape, or None where the parameter is not given
+        (``values[name]`` reads it).
+    out_of_range : numpy.ndarray of bool
+        True for members with a parameter outside its physical range (a non-positive
+        mass, radius or moment, a negative Love number, an anelastic exponent outside
+        (0, 1)).
+
+    Examples
+    --------
+    >>> from wobble.io.catalog import load_planet
+    >>> earth, _ = load_planet("earth")
+    >>> values = ParameterValues(earth.values(), {"love_number_k2": [0.29, 0.30]})
+    >>> values.shape
+    (2,)
+    >>> values.deformation(values["love_number_k2"]).round(6)  # D/C = H k2/k_s
+    array([0.001012, 0.001047])
+    """
 
     def __init__(self, base: Mapping[str, float | None], overrides: Mapping[str, object] | None = None):
         merged = dict(base)
@@ -400,7 +438,7 @@ def secular_love_number(p: PlanetParameters) -> float | None:
     Uses the body's actual C - Abar (H C), so for a non-hydrostatic body it is
     the quantity equation (1) needs, not a fluid-body Love number.
     """
-    ks = _Values(p.values()).secular_love_number()
+    ks = ParameterValues(p.values()).secular_love_number()
     return None if ks is None else float(ks)
 
 
@@ -415,7 +453,7 @@ def inertia_ratios(p: PlanetParameters) -> dict[str, float | None]:
         absolute scale); ``deformation_per_k``: D/C for k2 = 1, i.e.
         a^3 Omega^2/(3 GM C/(M a^2)) (None without the scale).
     """
-    values = _Values(p.values())
+    values = ParameterValues(p.values())
     ca, cb = values.equatorial_excess()
     scaled = values.c_factor is not None and values["gm"] is not None and values["equatorial_radius"] is not None
     core = None
@@ -443,7 +481,7 @@ def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, floa
     alpha = p.anelastic_exponent.value
     if not 0 < alpha < 1:
         raise InputError("anelastic_exponent", alpha, "a number in (0, 1)")
-    real, imag = _Values(p.values()).anelastic_k(rate)
+    real, imag = ParameterValues(p.values()).anelastic_k(rate)
     return float(real), float(imag)
 
 
@@ -513,7 +551,7 @@ class _StepArrays:
     core_fraction: np.ndarray
 
 
-def _evaluate(vals: _Values, steps: tuple[str, ...]):
+def _evaluate(vals: ParameterValues, steps: tuple[str, ...]):
     """Equation (1) step by step on arrays; returns step arrays, validity code, Q."""
     omega = vals["rotation_rate"]
     ca, cb = vals.equatorial_excess()
@@ -601,7 +639,7 @@ def _quality_factor(vals, omega, ca, cb, core, k_real, k_imag):
         return np.abs(sigma.real) / (2.0 * np.abs(sigma.imag))
 
 
-def _raise_for(p: PlanetParameters, code: int, steps, values: _Values):
+def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
     if code == 1:
         ca, cb = values.equatorial_excess()
         raise InputError(
@@ -651,7 +689,7 @@ def _monte_carlo(p: PlanetParameters, steps: tuple[str, ...], draws: int = MC_DR
     if not measured:
         return 0.0, 1.0
     overrides = {k: m.value + m.sigma * standard_normal(seed, i, 0, draws) for i, (k, m) in enumerate(measured.items())}
-    out, code, _ = _evaluate(_Values(p.values(), overrides), steps)
+    out, code, _ = _evaluate(ParameterValues(p.values(), overrides), steps)
     ok = code == 0
     with np.errstate(divide="ignore"):
         period = np.abs(2.0 * math.pi / out[-1].rate[ok])
@@ -675,7 +713,7 @@ def _propagate(p: PlanetParameters, steps: tuple[str, ...]) -> tuple[float, dict
         col[2 * i] += measured[key].sigma
         col[2 * i + 1] -= measured[key].sigma
         overrides[key] = col
-    out, code, _ = _evaluate(_Values(base, overrides), steps)
+    out, code, _ = _evaluate(ParameterValues(base, overrides), steps)
     with np.errstate(divide="ignore"):
         period = np.where(code == 0, np.abs(2.0 * math.pi / out[-1].rate), np.nan)
     contributions = {}
@@ -705,7 +743,7 @@ def chandler_budget(p: PlanetParameters, model: str = "full") -> Budget:
         The steps with their periods, the propagated uncertainty and Q.
     """
     name, steps = resolve_model(p, model)
-    values = _Values(p.values())
+    values = ParameterValues(p.values())
     arrays, code, quality = _evaluate(values, steps)
     _raise_for(p, int(code), steps, values)
     out = []
@@ -783,7 +821,7 @@ def chandler_samples(p: PlanetParameters, overrides: Mapping[str, object], model
         As for :func:`chandler_budget`.
     """
     _, steps = resolve_model(p, model)
-    arrays, code, quality = _evaluate(_Values(p.values(), overrides), steps)
+    arrays, code, quality = _evaluate(ParameterValues(p.values(), overrides), steps)
 
     def period_of(rate):
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -824,7 +862,7 @@ def love_number_samples(p: PlanetParameters, overrides: Mapping[str, object], pe
     """
     if p.love_number_k2 is None and "love_number_k2" not in overrides:
         raise InputError("love_number_k2", "not given", "a planet with a Love number k2")
-    vals = _Values(p.values(), overrides)
+    vals = ParameterValues(p.values(), overrides)
     period = np.asarray(period, dtype=float)
     if "anelastic" in available_steps(p):
         real, imag = vals.anelastic_k(2.0 * math.pi / period)

@@ -260,7 +260,7 @@ def mode_rates_samples(
         As for :func:`mode_rates`.
     values : optional
         The parameter arrays already built from ``p`` and ``overrides``
-        (``wobble.models.chandler._Values``), shared by callers that evaluate
+        (:class:`wobble.models.chandler.ParameterValues`), shared by callers that evaluate
         several models of one batch.
 
     Returns
@@ -269,7 +269,7 @@ def mode_rates_samples(
         ``{"CW": (rate, k2), "FCN": (rate, k2)}`` (arrays; rad/s signed like the spin
         when prograde); the FCN only with a liquid core and only when coupled.
     """
-    vals = chandler._Values(p.values(), overrides) if values is None else values
+    vals = chandler.ParameterValues(p.values(), overrides) if values is None else values
     e_f = np.asarray(e_f, dtype=float)
     shape = np.broadcast_shapes(vals.shape, e_f.shape)
     zeros = np.zeros(shape)

@@ -105,7 +105,7 @@ class Batch:
 
     def arrays(self):
         """The planet's parameters as arrays with the batch's values (shared by the mode solvers)."""
-        return self.memo("arrays", lambda: _chandler._Values(self._nominal, self.values))
+        return self.memo("arrays", lambda: _chandler.ParameterValues(self._nominal, self.values))
 
     def chandler_rate(self) -> np.ndarray:
         """Signed Chandler rate (rad/s) of the budget's last step for every member, NaN where it has none.
