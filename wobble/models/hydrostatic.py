@@ -37,6 +37,7 @@ __all__ = [
     "linear_mantle_coefficients",
     "linear_mantle_core_density_range",
     "core_flattening_under_linear_mantle",
+    "core_flattening_unchecked",
 ]
 
 _SAMPLES_PER_LAYER = 24
@@ -402,14 +403,32 @@ def core_flattening_under_linear_mantle(x, y, c, *, rtol: float = 1e-12) -> np.n
     out = np.full(x.shape, np.nan)
     if not np.any(ok):
         return out.reshape(shape)
-    out[ok] = _radau_through_linear_mantle(x[ok], y[ok], c[ok], rtol)
+    out[ok] = core_flattening_unchecked(x[ok], y[ok], c[ok], rtol)
     return out.reshape(shape)
 
 
-def _radau_through_linear_mantle(x, y, c, rtol):
-    """e_f/q for 1-d arrays x, y, c, without the admissibility check (the Radau
-    integration itself only needs the mass inside each radius to stay positive: NaN
-    where it does not, or where the integration does not finish)."""
+def core_flattening_unchecked(x, y, c, rtol):
+    """e_f/q of :func:`core_flattening_under_linear_mantle` without its admissibility check.
+
+    The Radau integration itself only needs the mass inside each radius to stay positive,
+    so this also answers for profiles :func:`check_profile` refuses (a mantle denser than
+    the core, just outside :func:`linear_mantle_core_density_range`): a smooth extension
+    that a Chebyshev table over a box of priors can be fitted to.
+
+    Parameters
+    ----------
+    x, y, c : numpy.ndarray
+        1-d arrays of one length: core radius/R, core density/mean density, C/(M R^2)
+        (dimensionless).
+    rtol : float
+        Relative tolerance of the integration.
+
+    Returns
+    -------
+    numpy.ndarray
+        e_f/q for each member; NaN where the mass inside some radius is not positive, or
+        where the integration does not finish.
+    """
     from wobble.numerics.integrators import StepLimitError
 
     out = np.full(np.shape(x), np.nan)

@@ -96,7 +96,7 @@ def _fit(box, degrees):
     """Chebyshev coefficients (nx+1, ny+1, nc+1) of e_f/q on ``box`` by interpolation at the nodes."""
     us = [_nodes(d + 1) for d in degrees]
     grid = np.meshgrid(*[_to_box(u, lo, hi) for u, (lo, hi) in zip(us, box)], indexing="ij")
-    values = _hydro._radau_through_linear_mantle(grid[0].ravel(), grid[1].ravel(), grid[2].ravel(), 1e-12)
+    values = _hydro.core_flattening_unchecked(grid[0].ravel(), grid[1].ravel(), grid[2].ravel(), 1e-12)
     values = values.reshape(grid[0].shape)
     if not np.all(np.isfinite(values)):
         return None
@@ -130,7 +130,7 @@ def _table(box: tuple, seed: int):
             "priors", "core radius, density and polar moment",
             "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than the core)",
         )
-    reference = _hydro._radau_through_linear_mantle(*pts, 1e-13)
+    reference = _hydro.core_flattening_unchecked(*pts, 1e-13)
     error = math.inf
     for degrees in DEGREES:
         coefficients = _fit(box, degrees)
