@@ -12,7 +12,7 @@ import os
 import astropy.units as u
 import numpy as np
 
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.errors import InputError
 
 __all__ = ["available_memory", "human_bytes", "sample_times"]

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import dimensionless, to_si
+from wobble.api.units import dimensionless, to_si
 from wobble.errors import FileFormatError, InputError
 from wobble.io import cf
 from wobble.models import bodies as _m

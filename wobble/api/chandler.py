@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import dimensionless, spin_rate_si, to_si
+from wobble.api.units import dimensionless, spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.catalog import catalogue_names, load_planet as _load_planet_si
 from wobble.io.parameter_file import Parameter, ParameterFile

@@ -24,7 +24,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.io import cf
 from wobble.models import free as _free
 

@@ -28,7 +28,7 @@ import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
-from wobble.api._units import spin_rate_si, to_si
+from wobble.api.units import spin_rate_si, to_si
 from wobble.api.chandler import Planet, chandler_budget, load_planet
 from wobble.errors import InputError
 from wobble.io.density_profile import load_profile, profile_for_body

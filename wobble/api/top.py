@@ -27,7 +27,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io import cf
 from wobble.models import top as _top

@@ -40,7 +40,7 @@ def check_outputs(args, names=("output", "plot")) -> None:
         if not path:
             continue
         if name == "plot":
-            from wobble.plot._save import check_plot_path
+            from wobble.plot.save import check_plot_path
 
             check_plot_path(path, overwrite)
         elif str(path).rstrip("/").endswith(".zarr"):

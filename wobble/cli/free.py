@@ -49,7 +49,7 @@ def register(subparsers) -> None:
 def _quantity(values, name, unit):
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     qs = [parse_quantity(v, name, unit) for v in values]
     return u.Quantity([q.to_value(unit) for q in qs], unit)
@@ -61,7 +61,7 @@ def _span(body, text):
 
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     if text is not None:
         t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)

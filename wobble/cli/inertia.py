@@ -126,7 +126,7 @@ def _refuse_unused(args, allowed: set[str], what: str) -> None:
 def _about(args, length_unit: u.UnitBase):
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     tokens = args.about
     if len(tokens) == 1 and tokens[0].lower() in ("com", "origin"):
@@ -139,7 +139,7 @@ def _about(args, length_unit: u.UnitBase):
 def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
     from wobble.api.bodies import RigidBody
 
     constructor_name, required, optional = SOLIDS[args.solid]

@@ -63,7 +63,7 @@ def run(args) -> int:
     import numpy as np
     from astropy import units as u
 
-    from wobble.api._units import parse_angle, parse_quantity
+    from wobble.api.units import parse_angle, parse_quantity
     from wobble.api.top import HeavyTop
     from wobble.cli._output import check_outputs, print_json, wrote
 
@@ -121,7 +121,7 @@ def _span(top, text) -> float:
 
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     if text is None:
         period = top.model.nutation_period

@@ -63,7 +63,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     axes[-1, 0].set_xlabel("period (d)")
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
     return fig

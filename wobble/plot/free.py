@@ -142,7 +142,7 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     fig.tight_layout()
     if path is None:
         return fig
-    from wobble.plot._save import save_figure
+    from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
 

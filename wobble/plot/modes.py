@@ -42,7 +42,7 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
         _cw_panel(row[2], r, grid, periods["CW"].to_value(u.day))
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
         plt.close(fig)

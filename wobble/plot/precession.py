@@ -51,7 +51,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         ax.set_title(f"{b.planet.title}: forced precession, term by term", fontsize=10)
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
         plt.close(fig)
@@ -97,7 +97,7 @@ def nutation_ellipse_figure(budget, path=None, *, overwrite: bool = False):
     ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.08), frameon=False)
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
         plt.close(fig)

@@ -46,7 +46,7 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
             ds.close()
     if path is None:
         return fig
-    from wobble.plot._save import save_figure
+    from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
 

@@ -60,7 +60,7 @@ def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, o
     fig.tight_layout()
     if path is None:
         return fig
-    from wobble.plot._save import save_figure
+    from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
 

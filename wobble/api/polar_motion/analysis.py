@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.api.polar_motion.estimate import (
     DEPRECATED_KEYS,
     ChandlerEstimate,

@@ -9,7 +9,7 @@ import numpy as np
 from astropy import units as u
 from astropy.time import Time
 
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_data, series
 from wobble.errors import InputError
 from wobble.io.dates import mjd_time
