@@ -63,7 +63,7 @@ def free_case(key: str, quick: bool) -> Case:
     """The case ``key`` of :data:`FREE`; ``quick``: fewer tolerances."""
     spec = FREE[key]
     ref = next(c for c in load_json("tests", "references", "free_rotation.json")["closed"] if c["name"] == spec["ref"])
-    I = floats(ref["moments"])  # noqa: E741
+    I = floats(ref["moments"])
     w0 = floats(ref["omega0"])
     ref_t, ref_w = floats(ref["t"]), floats(ref["omega"])
     att_t, att_q = floats(ref["attitude_t"]), floats(ref["attitude"])
@@ -79,8 +79,8 @@ def free_case(key: str, quick: bool) -> Case:
     what = ("wobble phase error (rad): max wrapped difference of atan2(omega2, omega1)" if earth else
             "max relative error of omega, ``|omega - omega_ref| / |omega_ref|``")
     case = Case(key, spec["title"], spec["description"], what,
-                "mpmath (tests/references/free_rotation.json, case '%s') at %d times; integrators also against "
-                "wobble's exact solution at every output" % (spec["ref"], ref_t.size), t0.size, complete=not quick)
+                f"mpmath (tests/references/free_rotation.json, case '{spec['ref']}') at {ref_t.size:d} times; "
+                "integrators also against wobble's exact solution at every output", t0.size, complete=not quick)
     case.context = {"t": t, "exact": exact, "w_exact": w_exact, "iw": iw, "ref_w": ref_w}
 
     def check_integrator(w):
@@ -100,7 +100,7 @@ def free_case(key: str, quick: bool) -> Case:
     if key == "free_separatrix":
         flips_ref = floats(ref["flip_times"])
 
-        def check_exact(w, _c=check_exact):  # noqa: F811
+        def check_exact(w, _c=check_exact):
             flips = exact.flip_times(0.0, float(t[-1]))
             err = float(np.max(np.abs(flips - flips_ref))) if flips.shape == flips_ref.shape else math.inf
             return {**_c(w), "flip_time_error_s": err}

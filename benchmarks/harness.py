@@ -117,7 +117,7 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
 
 
 def _run_cases(mode, keys, repeats, say, started) -> dict:
-    out = {"meta": {"mode": mode, "repeats": repeats, "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+    out = {"meta": {"mode": mode, "repeats": repeats, "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
                     "versions": _versions(), "load_start": _load(),
                     "timing": "one warm-up run (its output is the one checked), then min and median of the repeats, "
                               "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
@@ -343,7 +343,7 @@ def _save(fig, path: Path, atomic_target):
 class _Parser(argparse.ArgumentParser):
     """Usage errors as one line on stderr, exit status 2 (as every wobble command)."""
 
-    def error(self, message: str):  # noqa: D401 - argparse API
+    def error(self, message: str):  # overrides argparse.ArgumentParser.error
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 

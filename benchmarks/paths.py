@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 from wobble.errors import InputError
@@ -22,7 +22,7 @@ def reference_file(*parts: str) -> Path:
     return path
 
 
-@lru_cache(maxsize=None)
+@cache
 def load_json(*parts: str) -> dict:
     """A committed JSON reference, read once."""
     return json.loads(reference_file(*parts).read_text())

@@ -164,7 +164,7 @@ def markdown(res: dict, report: Path, figures: dict) -> str:
             p(f"* {what}: docs/{name} (`python {script}`), included below.")
     if (docs / "performance-sweeps.md").is_file():
         p("* Sweeps: see performance-sweeps.md.")
-    for name, what, script in PER_ISSUE:
+    for name, _what, _script in PER_ISSUE:
         if (docs / name).is_file():
             p("")
             p(f"```{{include}} {name}")

@@ -116,7 +116,7 @@ def turning_error(turning, ref):
 
 def _mujoco():
     try:
-        import mujoco  # noqa: F401
+        import mujoco
     except ImportError:
         return None
     return mujoco
@@ -151,7 +151,7 @@ def top_case(key: str, label: str, refname: str, kw: dict, quick: bool, mujoco_d
     """A heavy-top case of :data:`CASES`: wobble's exact top against SciPy (with turning-point
     events, for the turning angles), wobble's integrators and MuJoCo; ``quick``: fewer settings."""
     ref = next(c for c in load_json("tests", "references", "heavy_top.json")["cases"] if c["name"] == refname)
-    W3 = OMEGA3  # noqa: N806
+    W3 = OMEGA3
     mdl = heavy_top(I1, I3, MGL, omega3=W3, **kw)
     t0 = np.linspace(0.0, 1000 * mdl.nutation_period, 20_001)
     ref_t, ref_q = floats(ref["long"]["t"]), floats(ref["long"]["quaternion"])
@@ -164,8 +164,9 @@ def top_case(key: str, label: str, refname: str, kw: dict, quick: bool, mujoco_d
             f"({t0[-1]:.1f} s), 20,001 outputs.")
     case = Case(key, f"Heavy top: {label}", desc,
                 "attitude angle error (rad), max over the reference times; turning points (relative) in their own column",
-                "mpmath (tests/references/heavy_top.json, case '%s'): turning angles and the attitude at %d times up "
-                "to 1000.25 periods; integrators also against wobble's exact attitude at every output" % (refname, ref_t.size),
+                f"mpmath (tests/references/heavy_top.json, case '{refname}'): turning angles and the attitude at "
+                f"{ref_t.size:d} times up to 1000.25 periods; integrators also against wobble's exact attitude at every "
+                "output",
                 t0.size, complete=not quick)
     case.context = {"model": mdl}
 

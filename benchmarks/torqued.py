@@ -95,7 +95,7 @@ class Satellite(TorquedSystem):
         )
 
     def scipy_rhs(self):
-        I, k, n = tuple(self.moments), self.k, self.n  # noqa: E741
+        I, k, n = tuple(self.moments), self.k, self.n
 
         def f(t, y):
             w, q = y[:3].tolist(), y[3:].tolist()
@@ -109,7 +109,10 @@ class Satellite(TorquedSystem):
 class AsymmetricTop(TorquedSystem):
     def __init__(self):
         c = next(c for c in load_json("tests", "references", "engine_torqued.json")["cases"] if c["name"] == "asymmetric top")
-        fl = lambda xs: [float(x) for x in xs]  # noqa: E731
+
+        def fl(xs):
+            return [float(x) for x in xs]
+
         self.r = np.array(fl(c["center_of_mass"]))
         self.mg = float(c["mass"]) * np.array(fl(c["gravity"]))
         super().__init__(
@@ -120,7 +123,7 @@ class AsymmetricTop(TorquedSystem):
         self.q_ref = np.array([fl(r) for r in c["attitude"]])
 
     def scipy_rhs(self):
-        I, r, mg = tuple(self.moments), tuple(self.r), tuple(self.mg)  # noqa: E741
+        I, r, mg = tuple(self.moments), tuple(self.r), tuple(self.mg)
 
         def f(t, y):
             w, q = y[:3].tolist(), y[3:].tolist()

@@ -119,7 +119,7 @@ def user_top_case(quick: bool) -> Case:
     return case
 
 
-def _cpu_times(HeavyTop, args, ts, mdl, t, kind):  # noqa: N803
+def _cpu_times(HeavyTop, args, ts, mdl, t, kind):
     """CPU time of the user's call (minimum of 20) and of one plain DOP853 run, in s."""
     import time
 
@@ -133,7 +133,7 @@ def _cpu_times(HeavyTop, args, ts, mdl, t, kind):  # noqa: N803
     return min(out), time.thread_time() - c0
 
 
-def _stages(HeavyTop, args, ts, label):  # noqa: N803
+def _stages(HeavyTop, args, ts, label):
     """Minimum times of the stages of HeavyTop(...).motion(t): construction, series, motion, Dataset."""
     import time
 

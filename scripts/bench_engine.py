@@ -38,11 +38,18 @@ import scipy
 from scipy.integrate import solve_ivp
 
 import wobble
+
 # The cases, the SciPy right-hand sides, the runners and the reference loader live in
 # benchmarks/, shared with the work-precision harness (wobble bench, scripts/work_precision.py).
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ is a folder of the checkout
-from benchmarks.torqued import (  # noqa: E402, F401
-    AsymmetricTop, Satellite, error, load_reference, method_time_at, run_scipy, run_wobble,
+from benchmarks.torqued import (
+    AsymmetricTop,
+    Satellite,
+    error,
+    load_reference,
+    method_time_at,
+    run_scipy,
+    run_wobble,
 )
 from wobble.models.engine import BodyModel, Engine, UniformGravity, attitude_angle
 from wobble.numerics import quaternion as Q

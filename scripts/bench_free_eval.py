@@ -67,7 +67,7 @@ def ref_error(model, case):
     return float(np.max(np.linalg.norm(got - want, axis=1) / np.linalg.norm(want, axis=1)))
 
 
-def euler_rhs(I):  # noqa: E741
+def euler_rhs(I):
     def f(t, w):
         return np.cross(I * w, w) / I
 
@@ -82,7 +82,7 @@ def main(argv=None):
     rows = []
 
     # 1. Per-sample cost against scipy.special.ellipj (same N, same process).
-    I = np.array([1.0, 2.0, 3.0])  # noqa: E741
+    I = np.array([1.0, 2.0, 3.0])
     w0 = np.array([1.0, 0.1, 1.0])
     model = free_rotation(I, w0)
     n = 10_000

@@ -40,7 +40,7 @@ evaluations each), the 57 sliding windows and the two Monte-Carlo excitation ter
 
 
 def load() -> str:
-    return "{:.1f}".format(os.getloadavg()[0])
+    return f"{os.getloadavg()[0]:.1f}"
 
 
 def children_cpu() -> float:

@@ -406,7 +406,7 @@ def main(argv=None):
     ref = reference(case)
     rows = sweep(case, args.quick, args.repeats)
     elapsed, loads = time.perf_counter() - start, (load0, os.getloadavg()[0])
-    finished = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    finished = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     saved.parent.mkdir(exist_ok=True)
     saved.write_text(json.dumps({"reference": ref, "rows": rows, "quick": args.quick, "repeats": args.repeats,
                                  "elapsed_s": elapsed, "loads": loads, "finished": finished}, indent=1))

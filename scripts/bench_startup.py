@@ -54,7 +54,7 @@ def heaviest_imports(argv, top: int = 3) -> str:
 
 
 def report(runs: int) -> str:
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     lines = [
         "# Start-up time",
         "",

@@ -48,7 +48,8 @@ ROOT = Path(__file__).resolve().parents[1]
 # The cases and the SciPy baselines live in benchmarks/ (a folder of the checkout), shared with
 # the work-precision harness (wobble bench, scripts/work_precision.py).
 sys.path.insert(0, str(ROOT))
-from benchmarks.top import CASES, I1, I3, MGL, OMEGA3, angle_between, run_dop853, turning_error  # noqa: E402
+from benchmarks.top import CASES, I1, I3, MGL, OMEGA3, angle_between, run_dop853, turning_error  # noqa: E402 - after sys.path.insert(0, ROOT)
+
 REF = {c["name"]: c for c in json.loads((ROOT / "tests" / "references" / "heavy_top.json").read_text())["cases"]}
 
 

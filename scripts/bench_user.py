@@ -22,8 +22,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # benchmarks/ is a folder of the checkout, not installed
 
-from benchmarks.harness import run_benchmark, write_user_report  # noqa: E402
-from benchmarks.report import USER_REPORT  # noqa: E402
+from benchmarks.harness import run_benchmark, write_user_report  # noqa: E402 - after sys.path.insert(0, ROOT)
+from benchmarks.report import USER_REPORT  # noqa: E402 - after sys.path.insert(0, ROOT)
 
 
 def main(argv=None) -> int:

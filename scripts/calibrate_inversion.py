@@ -246,7 +246,7 @@ def main(argv=None) -> int:
     parser.add_argument("--output", default=str(REPORT), help="report path (default docs/performance-inversion.md)")
     args = parser.parse_args(argv)
     draws = 10 if args.quick else args.draws
-    started = dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    started = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     load = os.getloadavg() if hasattr(os, "getloadavg") else (math.nan,) * 3
     lines = [
         "# Inversion: calibration and timing",

@@ -57,8 +57,8 @@ BOUND = 16.0
 COMPLETE_BOUND = 3.0
 
 sys.path.insert(0, str(ROOT))
-from wobble.numerics import elliptic as ell  # noqa: E402
-from wobble.numerics.phase import reduce_phase  # noqa: E402
+from wobble.numerics import elliptic as ell  # noqa: E402 - after sys.path.insert(0, ROOT)
+from wobble.numerics.phase import reduce_phase  # noqa: E402 - after sys.path.insert(0, ROOT)
 
 
 # ---------------------------------------------------------------------------

@@ -22,11 +22,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from astropy import units as u  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from astropy import units as u
 
-import wobble  # noqa: E402
+import wobble
 
 FIGURES = Path(__file__).resolve().parents[1] / "docs" / "figures"
 

@@ -18,11 +18,11 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-import wobble  # noqa: E402
-from wobble.models.precession_measure import axis_angles  # noqa: E402
+import wobble
+from wobble.models.precession_measure import axis_angles
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 ARCSEC = math.pi / 180 / 3600
@@ -32,8 +32,9 @@ IAU = (-17.2064161, 9.2052331)  # IAU 2000A principal term (Mathews, Herring & B
 
 def _node(ds):
     """The Moon's node from the moving equinox, rad, at the run's times (from the scene's elements)."""
-    from wobble.io.scene_file import scene_from_mapping
     import json
+
+    from wobble.io.scene_file import scene_from_mapping
 
     moon = next(t for t in scene_from_mapping(json.loads(ds.attrs["scene"])).torques if t.name == "moon").orbit
     return moon.longitude_of_node, moon.node_rate

@@ -67,10 +67,9 @@ def run_chunk(job, out_path: str) -> None:
     import pickle
     import warnings
 
+    import fuzz_strategies as fz
     from hypothesis import HealthCheck, Phase, given, settings
     from hypothesis import seed as hseed
-
-    import fuzz_strategies as fz
 
     command, n, seed = job
     warnings.simplefilter("ignore")  # the harness records the run's own warnings itself
@@ -94,7 +93,7 @@ def run_chunk(job, out_path: str) -> None:
 
         shutil.rmtree(base, ignore_errors=True)
     failures = []
-    for case, status, seconds, problems, noise in results:
+    for case, _status, _seconds, problems, noise in results:
         for problem in problems:
             failures.append({"signature": fz.signature(problem), "problem": problem, "case": case})
         for warning in noise:
@@ -195,7 +194,7 @@ def main(argv=None) -> int:
               f"{row['seconds'] / max(1, row['inputs']):>8.2f}")
     if warned:
         print(f"\n{len(warned)} distinct Python warnings printed on stderr (noise, not counted as failures):")
-        for sig, f in sorted(warned.items()):
+        for _sig, f in sorted(warned.items()):
             print(f"- {f['problem']}  ({f['count']} inputs)\n  " + f["case"].show().splitlines()[0])
     if failures:
         print(f"\n{len(failures)} distinct failures:")

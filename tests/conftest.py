@@ -8,8 +8,8 @@ import socket
 
 os.environ.setdefault("MPLBACKEND", "Agg")  # no display, and no GUI warnings
 
-import pytest  # noqa: E402
-from hypothesis import HealthCheck, settings  # noqa: E402
+import pytest
+from hypothesis import HealthCheck, settings
 
 # Property tests: no deadlines (machines are shared; timing is not a test),
 # derandomized so CI runs are reproducible.

@@ -43,7 +43,7 @@ import tomllib
 import traceback
 import warnings
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 
 from hypothesis import strategies as st
@@ -178,7 +178,7 @@ def _valid_file(path: Path, role: str, command: str) -> str | None:
 
             with xr.open_zarr(path, decode_times=False) as ds:
                 ds.load()
-        except Exception as exc:  # noqa: BLE001 - any failure to reopen is the finding
+        except Exception as exc:  # any failure to reopen is the finding
             return f"Zarr store does not reopen: {exc!r}"
         return None
     data = path.read_bytes()
@@ -189,7 +189,7 @@ def _valid_file(path: Path, role: str, command: str) -> str | None:
             import netCDF4
 
             netCDF4.Dataset(path).close()
-        except Exception as exc:  # noqa: BLE001
+        except Exception as exc:
             return f"netCDF does not reopen: {exc!r}"
         return None
     # Figures: by their content.
@@ -248,7 +248,7 @@ def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | N
                 problems.append(f"hang: still running after {bound} s")
             except KeyboardInterrupt:
                 raise
-            except BaseException as exc:  # noqa: BLE001 - an exception escaping main is the finding
+            except BaseException as exc:  # an exception escaping main is the finding
                 tb = traceback.extract_tb(exc.__traceback__)
                 where = next((f"{Path(f.filename).name}:{f.lineno} {f.name}" for f in reversed(tb)
                               if "/wobble/" in f.filename or "/benchmarks/" in f.filename), "?")
@@ -436,8 +436,8 @@ def angles(mode: str = "wild"):
 
 def dates(mode: str = "wild"):
     ordinary = st.one_of(st.integers(1963, 2024).map(str),
-                         st.tuples(st.integers(1963, 2024), st.integers(1, 12), st.integers(1, 28)).map(lambda t: "%04d-%02d-%02d" % t),
-                         st.tuples(st.integers(1963, 2024), st.integers(1, 12)).map(lambda t: "%04d-%02d" % t),
+                         st.tuples(st.integers(1963, 2024), st.integers(1, 12), st.integers(1, 28)).map(lambda t: "{:04d}-{:02d}-{:02d}".format(*t)),
+                         st.tuples(st.integers(1963, 2024), st.integers(1, 12)).map(lambda t: "{:04d}-{:02d}".format(*t)),
                          st.floats(1963, 2024).map(lambda x: f"{x:.2f}"))
     if mode == "valid":
         return ordinary
@@ -469,12 +469,12 @@ def _data_root():
     return resources.files("wobble._data")
 
 
-@lru_cache(maxsize=None)
+@cache
 def shipped_text(kind: str, name: str) -> str:
     return (_data_root() / kind / name).read_text(encoding="utf-8")
 
 
-@lru_cache(maxsize=None)
+@cache
 def shipped_names(kind: str) -> tuple[str, ...]:
     return tuple(sorted(e.name for e in (_data_root() / kind).iterdir() if e.is_file() and not e.name.startswith(("_", "."))
                         and not e.name.endswith(".py")))
@@ -671,7 +671,7 @@ def density_files(draw, mode: str = "wild"):
         return path.read_bytes()
 
 
-@lru_cache(maxsize=None)
+@cache
 def _eop_lines(name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """(header lines, data lines) of a file of astropy-iers-data."""
     import astropy_iers_data
@@ -916,7 +916,10 @@ def inertia_cases(draw):
 @st.composite
 def free_cases(draw):
     mode = _mode(draw)
-    vec = lambda kind, typical=None: st.lists(quantities(kind, typical, mode), min_size=3, max_size=3)  # noqa: E731
+
+    def vec(kind, typical=None):
+        return st.lists(quantities(kind, typical, mode), min_size=3, max_size=3)
+
     argv = ["--inertia", *draw(vec("inertia")),
             "--omega", *draw(vec("rate", st.floats(-10, 10).map(lambda x: f"{x:.6g}")))]
     if mode == "wild" and draw(st.integers(0, 5)) == 0:

@@ -18,9 +18,9 @@ from wobble.models.free import free_rotation
 
 cli_bench.harness()  # puts this checkout's benchmarks/ on the path, as `wobble bench` does
 
-from benchmarks import cases as C  # noqa: E402
-from benchmarks import free as F  # noqa: E402
-from benchmarks.timing import Run, measure, measures_resident_memory, peak_memory, time_at, traced_peak  # noqa: E402
+from benchmarks import cases as C  # noqa: E402 - after cli_bench.harness() puts benchmarks/ on sys.path
+from benchmarks import free as F  # noqa: E402 - after cli_bench.harness() puts benchmarks/ on sys.path
+from benchmarks.timing import Run, measure, measures_resident_memory, peak_memory, time_at, traced_peak  # noqa: E402 - after cli_bench.harness() puts benchmarks/ on sys.path
 
 
 def test_rel_and_phase_error_known_values():
@@ -66,7 +66,7 @@ def test_injected_perturbation_is_reported():
 
 def test_error_of_a_small_case_matches_an_independent_computation():
     """Symmetric body I = (1, 1, 2), omega0 = (0.1, 0, 1): omega_perp turns at 1 rad/s exactly."""
-    I = np.array([1.0, 1.0, 2.0])  # noqa: E741
+    I = np.array([1.0, 1.0, 2.0])
     w0 = np.array([0.1, 0.0, 1.0])
     t = np.linspace(0.0, 20.0, 41)
     sol = F.solve(F.free_euler_rhs(I), t, w0, "RK45", 1e-5, 1e-8)

@@ -14,7 +14,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 from astropy import units as u
-from astropy.units import imperial  # noqa: F401  (registers u.imperial)
+from astropy.units import imperial  # noqa: F401 - importing it registers u.imperial
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays

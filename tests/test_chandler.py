@@ -252,8 +252,13 @@ def test_uncertainty_is_the_monte_carlo_spread_of_a_nonlinear_model(earth):
     b = chandler_budget(only_h, "rigid")
     mp.mp.dps = 30
     sidereal = 2 * mp.pi / mp.mpf(earth.rotation_rate.value)
-    density = lambda x: mp.npdf(x, h, rel * h)  # noqa: E731
-    period = lambda x: sidereal * (1 - x) / x  # noqa: E731
+
+    def density(x):
+        return mp.npdf(x, h, rel * h)
+
+    def period(x):
+        return sidereal * (1 - x) / x
+
     # H > 0 up to 5 sigma: the omitted tail (5e-7 of the draws) changes sigma by < 1e-4.
     lo, hi = h * (1 - 5 * rel), h * (1 + 5 * rel)
     weight = mp.quad(density, [lo, h, hi])

@@ -114,7 +114,7 @@ decimals = st.decimals(min_value=Decimal("-5"), max_value=Decimal("5"), places=3
 @settings(max_examples=60)
 @given(decimals, decimals, decimals, st.decimals(min_value=Decimal("0.001"), max_value=Decimal("5"), places=3),
        st.decimals(min_value=Decimal("0.001"), max_value=Decimal("1.999"), places=3))
-def test_roots_reproduce_the_polynomial(A, B, a, beta, x0):  # noqa: N803
+def test_roots_reproduce_the_polynomial(A, B, a, beta, x0):
     """Property: for any start with g(x0) > 0, g(x_i) = 0 and Vieta's relations hold to 1e-45."""
     with decimal.localcontext(decimal.Context(prec=60)):
         cub = cubic.TopCubic(A=A, B=B, C=B + 2 * a, a=a, beta=beta)

@@ -113,7 +113,6 @@ def test_gravity_gradient_torque_is_maccullaghs_formula():
     gm, d = 3.986004418e14, 7.0e6
     moments = np.array([0.9, 1.1, 1.4])
     direction = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
-    engine = Engine(BodyModel.from_moments(moments), [GravityGradient(gm, d, direction=direction)])
     rng = np.random.default_rng(4)
     q = Q.normalize(rng.normal(size=(20, 4)))
     w = np.zeros((20, 3))
@@ -132,7 +131,10 @@ def test_gravity_gradient_torque_is_maccullaghs_formula():
 # --------------------------------------------------------------------------
 # The heavy symmetric top: conservation laws and steady precession
 # --------------------------------------------------------------------------
-def _top(theta0=np.radians(60), spin=10.0, phidot=0.0):
+_THETA0 = np.radians(60)
+
+
+def _top(theta0=_THETA0, spin=10.0, phidot=0.0):
     """I1 = I2 = 1, I3 = 0.5 about the pivot, M g l = 1 (issue 8's top)."""
     moments = [1.0, 1.0, 0.5]
     gravity = [UniformGravity(1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0])]
@@ -143,7 +145,7 @@ def _top(theta0=np.radians(60), spin=10.0, phidot=0.0):
 
 def _invariants(moments, run):
     """E, p_phi = L . z (inertial), p_psi = I3 omega3."""
-    I = np.array(moments)  # noqa: E741
+    I = np.array(moments)
     w, q = run.omega[:, 0], run.attitude[:, 0]
     axis = Q.rotate(q, np.array([0.0, 0.0, 1.0]))
     energy = 0.5 * np.sum(I * w * w, axis=-1) + axis[:, 2]  # V = M g l cos(theta)

@@ -237,7 +237,10 @@ def test_forecasts_never_read_data_after_the_information_set(simulated, method):
     spoiled = p.copy()
     spoiled[t > issued - latency] = 1e3 + 1e3j
     kwargs = {"chandler_period": 433.0 * DAY, "latency": latency}
-    run = (lambda z: fc_run(method, t, z, issued, kwargs))
+
+    def run(z):
+        return fc_run(method, t, z, issued, kwargs)
+
     a, b = run(p), run(spoiled)
     np.testing.assert_array_equal(a.mean, b.mean)
     np.testing.assert_array_equal(a.sigma_x, b.sigma_x)

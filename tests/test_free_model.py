@@ -20,7 +20,7 @@ CLOSED = {c["name"]: c for c in REF["closed"]}
 
 
 def _case(c):
-    I = [float(x) for x in c["moments"]]  # noqa: E741
+    I = [float(x) for x in c["moments"]]
     w = [float(x) for x in c["omega0"]]
     return free_rotation(I, w)
 
@@ -218,7 +218,7 @@ def test_exactly_on_the_separatrix():
     assert model.period == np.inf
     t = np.linspace(0, 60, 13)
     w = model.omega(t)
-    I = np.array([3.0, 4.0, 6.0])  # noqa: E741
+    I = np.array([3.0, 4.0, 6.0])
     np.testing.assert_allclose(0.5 * np.sum(I * w * w, -1), model.energy, rtol=1e-15)
     # Approaches steady rotation about the intermediate axis.
     assert abs(abs(w[-1, 1]) - model.angular_momentum / 4.0) < 1e-12
@@ -232,7 +232,7 @@ rate = st.floats(-2.0, 2.0)
 @settings(max_examples=60)
 @given(moment, moment, moment, rate, rate, rate, st.permutations([0, 1, 2]))
 def test_invariants_and_relabelling(i1, i2, i3, w1, w2, w3, perm):
-    I = np.array([i1, i2, i3])  # noqa: E741
+    I = np.array([i1, i2, i3])
     if sorted(I)[0] + sorted(I)[1] < sorted(I)[2]:
         return
     w = np.array([w1, w2, w3])

@@ -13,10 +13,9 @@ import subprocess
 import sys
 import time
 
+import fuzz_strategies as fz
 import pytest
 from hypothesis import HealthCheck, given, settings
-
-import fuzz_strategies as fz
 
 # Inputs per command: the cheap commands get more, the slow ones enough to pass through their files.
 BUDGET = {"chandler": 3, "modes": 2, "precession": 6, "polar-motion": 2, "excitation": 3, "forecast": 3, "inertia": 15,

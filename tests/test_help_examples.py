@@ -20,7 +20,7 @@ from wobble.cli import main
 from wobble.cli._examples import help_examples
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-from check_help_examples import LONG  # noqa: E402
+from check_help_examples import LONG
 
 EXAMPLES = help_examples()
 SCHEDULER = ("127.0.0.1", 8786)

@@ -37,7 +37,10 @@ YEAR = 365.25 * 86400
 NODE_RATE = -2 * math.pi / (18.6 * YEAR)
 
 
-def _series(rate, a_psi, b_eps, extra=(), years=40.0, samples=3000, eps0=math.radians(23.44)):
+_OBLIQUITY = math.radians(23.44)
+
+
+def _series(rate, a_psi, b_eps, extra=(), years=40.0, samples=3000, eps0=_OBLIQUITY):
     """psi(t), eps(t) in closed form, IAU-convention amplitudes (Delta psi = -(psi - secular))."""
     t = np.linspace(0.0, years * YEAR, samples)
     omega = 0.3 + NODE_RATE * t

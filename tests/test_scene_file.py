@@ -116,13 +116,21 @@ def test_euler_angles_and_rates():
     }
     scene = scene_from_mapping(data)
     phi, theta, psi = np.radians([30, 60, 45])
-    rz = lambda a: np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])  # noqa: E731
-    rx = lambda a: np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])  # noqa: E731
+
+    def rz(a):
+        return np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+
+    def rx(a):
+        return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+
     np.testing.assert_allclose(Q.to_matrix(scene.attitude0[0]), rz(phi) @ rx(theta) @ rz(psi), atol=1e-15)
     # omega from the time derivative of R: [omega]_x = R^T dR/dt, by finite differences
     rates = np.array([0.5, -0.2, 10.0])
     dt = 1e-6
-    r = lambda a: rz(a[0]) @ rx(a[1]) @ rz(a[2])  # noqa: E731
+
+    def r(a):
+        return rz(a[0]) @ rx(a[1]) @ rz(a[2])
+
     angles = np.array([phi, theta, psi])
     skew = r(angles).T @ (r(angles + rates * dt) - r(angles - rates * dt)) / (2 * dt)
     np.testing.assert_allclose(scene.omega0[0], [skew[2, 1], skew[0, 2], skew[1, 0]], rtol=1e-8)

@@ -107,7 +107,6 @@ def test_reproducible_whatever_the_chunking_and_scheduler(ens):
 
 def test_shipped_ensemble_streams_in_bounded_memory(tmp_path, assert_cf_compliant):
     import tracemalloc
-
     from dataclasses import replace
 
     spec = wobble.load_sweep("data/sweeps/tumbling_asteroids.toml")

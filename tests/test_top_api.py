@@ -80,7 +80,7 @@ class _StandIn:
 
 def test_body_by_duck_typing():
     """A disc on an axle about its tip: I1, I3, M, l read from mass, com, reference point, tensor."""
-    m, l, i1, i3 = 0.3, 0.05, 2.0e-4, 1.5e-4  # noqa: E741
+    m, l, i1, i3 = 0.3, 0.05, 2.0e-4, 1.5e-4
     body = _StandIn(m, [0, 0, l], [0, 0, 0], np.diag([i1, i1, i3]))
     top = HeavyTop(body=body, theta0=20 * u.deg, omega3=100 * RAD_S)
     assert top.I1.value == pytest.approx(i1, rel=1e-15) and top.I3.value == pytest.approx(i3, rel=1e-15)

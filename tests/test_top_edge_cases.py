@@ -42,7 +42,7 @@ def angle(q1, q2):
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_extreme_state_is_finite_and_conservative(name):
-    I1, I3, mgl, th, thd, phd, w3 = CASES[name]  # noqa: N806
+    I1, I3, mgl, th, thd, phd, w3 = CASES[name]
     mdl = heavy_top(I1, I3, mgl, th, thd, phd, omega3=w3)
     t = np.array([0.0, 0.37, 1.3, 7.0, 77.0])
     mo = mdl.motion(t)
@@ -59,7 +59,7 @@ def test_extreme_state_is_finite_and_conservative(name):
                                   "hanging within 1e-16 rad of the bottom", "beta 1e-173, nearly regular",
                                   "free top, double root to 1e-60"])
 def test_extreme_state_agrees_with_the_quaternion_integration(name):
-    I1, I3, mgl, th, thd, phd, w3 = CASES[name]  # noqa: N806
+    I1, I3, mgl, th, thd, phd, w3 = CASES[name]
     mdl = heavy_top(I1, I3, mgl, th, thd, phd, omega3=w3)
     t = np.linspace(0.0, 6.0, 31)
     w, q = mdl.evaluate(t)

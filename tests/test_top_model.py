@@ -59,7 +59,7 @@ def attitude_angle(q1, q2):
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_analysis_against_mpmath(name):
     """Invariants, roots (as u and as 1 - u), turning angles: 1e-12 relative (we reach ~1e-16)."""
-    c, an = CASES[name], CASES[name]["analysis"]
+    an = CASES[name]["analysis"]
     mdl = model_of(name)
     for key in ("a", "b", "alpha", "beta", "energy", "energy_prime", "p_phi", "p_psi"):
         assert rel(getattr(mdl, key), an[key]) < 1e-14 or abs(getattr(mdl, key) - float(an[key])) < 1e-15, key

@@ -16,6 +16,8 @@ from importlib.metadata import version as _version
 
 import lazy_loader as _lazy
 
+from wobble._offline import configure_astropy_offline as _configure_astropy_offline
+
 try:
     __version__ = _version("wobble")
 except _PackageNotFoundError:  # a source tree that was never installed
@@ -71,6 +73,4 @@ __all__ = ["__version__", *_names]
 
 # No network at run time: astropy must never try to download IERS tables. This
 # sets astropy's configuration without importing its IERS machinery (~0.4 s).
-from wobble._offline import configure_astropy_offline as _configure_astropy_offline  # noqa: E402
-
 _configure_astropy_offline()

@@ -230,7 +230,7 @@ def agm_rows():
 def main():
     mp.mp.dps = DPS
     out = {
-        "generator": "tests/references/build_elliptic_references.py (mpmath %s)" % mp.__version__,
+        "generator": f"tests/references/build_elliptic_references.py (mpmath {mp.__version__})",
         "integrals": integral_rows(),
         "jacobi": jacobi_rows(),
         "reduce_amplitude": reduce_rows(),

@@ -82,7 +82,7 @@ def integral_cases():
 # The free body
 # ---------------------------------------------------------------------------
 def ode_case(name, moments, omega0, times):
-    I = [mp.mpf(x) for x in moments]  # noqa: E741
+    I = [mp.mpf(x) for x in moments]
 
     def f(t, y):
         w1, w2, w3, q0, q1, q2, q3 = y
@@ -118,7 +118,7 @@ class Closed:
         order = sorted(range(3), key=lambda i: float(moments[i]))
         parity = 1 if order in ([0, 1, 2], [1, 2, 0], [2, 0, 1]) else -1
         self.order, self.sgn = order, [1, 1, parity]
-        I = [self.user[order[k]] for k in range(3)]  # noqa: E741
+        I = [self.user[order[k]] for k in range(3)]
         w = [self.sgn[k] * w[order[k]] for k in range(3)]
         self.I = I
         two_e = sum(I[i] * w[i] ** 2 for i in range(3))
@@ -236,7 +236,7 @@ def closed_case(name, moments, omega0, times, attitude_times=(), flips=None):
 
 def main():
     mp.mp.dps = DPS
-    data = {"generator": "tests/references/build_free_references.py (mpmath %s, %d digits)" % (mp.__version__, DPS)}
+    data = {"generator": f"tests/references/build_free_references.py (mpmath {mp.__version__}, {DPS:d} digits)"}
     data["elliptic"] = elliptic_cases()
     data["integrals"] = integral_cases()
     short = [0.5, 1.0, 2.5, 4.0, 7.0, 10.0]

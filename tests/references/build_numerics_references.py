@@ -60,7 +60,7 @@ CUBIC_CASES = [
 ]
 
 
-def _g(A, B, a, beta, x):  # noqa: N803
+def _g(A, B, a, beta, x):
     return x * (2 - x) * (A + beta * x) - (B + a * x) ** 2
 
 
@@ -155,7 +155,7 @@ def highprec_rows():
 
 def main():
     out = {
-        "generator": "tests/references/build_numerics_references.py (mpmath %s)" % mp.__version__,
+        "generator": f"tests/references/build_numerics_references.py (mpmath {mp.__version__})",
         "cubic": cubic_rows(),
         "eigen": eigen_rows(),
         "highprec": highprec_rows(),

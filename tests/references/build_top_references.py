@@ -50,9 +50,9 @@ def s(x, digits=34):
 DEG60 = math.pi / 3
 
 
-def _slow_fast(I1, I3, mgl, omega3, theta):  # noqa: N803
+def _slow_fast(I1, I3, mgl, omega3, theta):
     with mp.workdps(DPS):
-        I1, I3, mgl, w3, th = (mp.mpf(v) for v in (I1, I3, mgl, omega3, theta))  # noqa: N806
+        I1, I3, mgl, w3, th = (mp.mpf(v) for v in (I1, I3, mgl, omega3, theta))
         c = mp.cos(th)
         disc = (I3 * w3) ** 2 - 4 * I1 * mgl * c
         r1 = (I3 * w3 + mp.sqrt(disc)) / (2 * I1 * c)
@@ -89,11 +89,11 @@ CASES = [
 class Top:
     """The notes' analysis of one case, at DPS digits."""
 
-    def __init__(self, name, I1, I3, mgl, theta0, thetadot0, phidot0, omega3, phi0, psi0):  # noqa: N803
+    def __init__(self, name, I1, I3, mgl, theta0, thetadot0, phidot0, omega3, phi0, psi0):
         self.name = name
         self.inputs = dict(I1=I1, I3=I3, mgl=mgl, theta0=theta0, thetadot0=thetadot0, phidot0=phidot0,
                            omega3=omega3, phi0=phi0, psi0=psi0)
-        I1, I3, mgl = mp.mpf(I1), mp.mpf(I3), mp.mpf(mgl)  # noqa: N806
+        I1, I3, mgl = mp.mpf(I1), mp.mpf(I3), mp.mpf(mgl)
         th, thd, phd, w3 = mp.mpf(theta0), mp.mpf(thetadot0), mp.mpf(phidot0), mp.mpf(omega3)
         self.I1, self.I3, self.mgl = I1, I3, mgl
         self.th0, self.thd0, self.phd0, self.w3 = th, thd, phd, w3
@@ -212,7 +212,7 @@ def omega_from_euler(theta, psi, thd, phd, psd):
 
 
 def ode_case(top: Top, times):
-    I1, I3, mgl = top.I1, top.I3, top.mgl  # noqa: N806
+    I1, I3, mgl = top.I1, top.I3, top.mgl
 
     def rhs(t, y):
         w1, w2, w3, q0, q1, q2, q3 = y
@@ -327,7 +327,7 @@ def main():
     mp.mp.dps = DPS
     data = {"generator": f"tests/references/build_top_references.py (mpmath {mp.__version__}, {DPS} digits)",
             "cases": []}
-    for name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0, long_span in CASES:  # noqa: N806
+    for name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0, long_span in CASES:
         top = Top(name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0)
         an, xs = analysis(top)
         case = {"name": name, "inputs": {k: repr(float(v)) for k, v in top.inputs.items()}, "analysis": an}

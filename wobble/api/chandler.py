@@ -20,7 +20,6 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,7 +27,8 @@ from astropy import units as u
 
 from wobble.api.units import dimensionless, spin_rate_si, to_si
 from wobble.errors import InputError
-from wobble.io.catalog import catalogue_names, load_planet as _load_planet_si
+from wobble.io.catalog import catalogue_names
+from wobble.io.catalog import load_planet as _load_planet_si
 from wobble.io.parameter_file import Parameter, ParameterFile
 from wobble.models import chandler as _model
 from wobble.models.planet import PlanetParameters

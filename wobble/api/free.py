@@ -17,7 +17,6 @@ Example
 
 from __future__ import annotations
 
-
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -88,7 +87,7 @@ class FreeRotation:
     def __init__(self, moments, omega0):
         if not isinstance(moments, u.Quantity) and hasattr(moments, "principal_moments"):
             moments = moments.principal_moments
-        I = to_si(moments, "moments", MOMENT_UNIT, positive=True, shape=(3,))  # noqa: E741
+        I = to_si(moments, "moments", MOMENT_UNIT, positive=True, shape=(3,))
         w = to_si(omega0, "omega0", _RATE, shape=(3,))
         self._model = _free.free_rotation(I, w)
 
@@ -274,7 +273,7 @@ class FreeRotation:
         mdl = self._model
         omega = mdl.omega(ts)
         q = mdl.attitude(ts)
-        I = np.asarray(mdl.moments)  # noqa: E741
+        I = np.asarray(mdl.moments)
         energy = 0.5 * np.sum(I * omega * omega, axis=-1)
         lmag = np.linalg.norm(I * omega, axis=-1)
         return self._dataset(ts, omega, q, energy, lmag)

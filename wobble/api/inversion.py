@@ -34,7 +34,7 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
-from wobble.models.inversion.calibration import LEVELS, Recovery, central_interval, coverage, recover_one
+from wobble.models.inversion.calibration import Recovery, central_interval, coverage, recover_one
 from wobble.models.inversion.likelihood import Posterior
 from wobble.models.inversion.sampling import Chains, SamplerSettings, draw_prior, run_emcee
 
@@ -77,7 +77,8 @@ def arviz():
     if "arviz" not in sys.modules:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message=r"\s*ArviZ is undergoing a major refactor", category=FutureWarning)
-            import arviz as az  # noqa: F401
+            import arviz
+        return arviz
     return sys.modules["arviz"]
 
 

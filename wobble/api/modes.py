@@ -28,8 +28,8 @@ import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
-from wobble.api.units import spin_rate_si, to_si
 from wobble.api.chandler import Planet, chandler_budget, load_planet
+from wobble.api.units import spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile

@@ -25,6 +25,7 @@ from astropy import units as u
 
 from wobble.api.chandler import Planet, load_planet
 from wobble.errors import FileFormatError, InputError
+from wobble.io.parameter_file import ParameterFile
 from wobble.io.perturbers import (
     NUTATION_REFERENCE_UNITS,
     PERTURBER_UNITS,
@@ -35,7 +36,6 @@ from wobble.io.perturbers import (
     measured,
     perturbers_of,
 )
-from wobble.io.parameter_file import ParameterFile
 from wobble.models import nutation as _nutation
 from wobble.models import precession as _model
 

@@ -189,7 +189,7 @@ def sweep(spec, *, chunk_size: int | None = None) -> xr.Dataset:
     parts = {name: [] for name in layout}
     for r0, r1 in plan.row_chunks():
         result = dask.delayed(_chunk, pure=True)(plan, r0, r1)
-        for name, (dims, shape, dtype) in layout.items():
+        for name, (_dims, shape, dtype) in layout.items():
             block_shape = (r1 - r0, *shape[1:])
             parts[name].append(da.from_delayed(result[name], shape=block_shape, dtype=dtype))
     data = {

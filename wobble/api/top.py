@@ -164,7 +164,7 @@ class HeavyTop:
     """
 
     def __init__(
-        self, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None,  # noqa: N803, E741
+        self, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None,
         theta0=None, thetadot0=_ZERO_RATE, phidot0=_ZERO_RATE, psidot0=None, omega3=None,
         phi0=_ZERO_ANGLE, psi0=_ZERO_ANGLE,
     ):
@@ -188,7 +188,7 @@ class HeavyTop:
         self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
 
     @classmethod
-    def from_state(cls, omega0, q0, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None):  # noqa: N803, E741
+    def from_state(cls, omega0, q0, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None):
         """A top from its body angular velocity ``omega0`` (angle/time, 3) and attitude ``q0``.
 
         ``q0`` is a unit quaternion (w, x, y, z), body -> space, body z the symmetry axis
@@ -201,7 +201,7 @@ class HeavyTop:
         return self
 
     @staticmethod
-    def _parameters(I1, I3, mgl, M, l, g, body):  # noqa: N803, E741
+    def _parameters(I1, I3, mgl, M, l, g, body):
         ml2 = None
         if body is not None:
             if any(v is not None for v in (I1, I3, M, l)):
@@ -237,12 +237,12 @@ class HeavyTop:
         return self._model
 
     @property
-    def I1(self) -> u.Quantity:  # noqa: N802
+    def I1(self) -> u.Quantity:
         """Transverse moment about the tip (kg m2)."""
         return self._model.I1 << MOMENT_UNIT
 
     @property
-    def I3(self) -> u.Quantity:  # noqa: N802
+    def I3(self) -> u.Quantity:
         """Axial moment (kg m2)."""
         return self._model.I3 << MOMENT_UNIT
 

@@ -57,7 +57,7 @@ Numbers without units are SI; days are days of 86400 s. Run
 class _Parser(argparse.ArgumentParser):
     """argparse with usage errors reported as one line and exit status 2."""
 
-    def error(self, message: str):  # noqa: D401 - argparse API
+    def error(self, message: str):  # overrides argparse.ArgumentParser.error
         self.exit(2, f"{self.prog}: error: {_one_line(message)}\n")  # a value may hold a newline
 
 

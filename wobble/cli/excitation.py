@@ -81,8 +81,7 @@ def parse_days(text, name):
 
 def run(args) -> int:
     from wobble.api.polar_motion.excitation import geodetic_excitation
-    from wobble.cli._output import print_json, wrote
-    from wobble.cli._output import check_outputs
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.io.netcdf import write_netcdf
 
     q = parse_q(args.q)

@@ -75,9 +75,8 @@ def _methods(text, hindcast: bool):
 
 
 def run(args) -> int:
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.cli.excitation import parse_days, parse_q
-    from wobble.cli._output import check_outputs
 
     horizon = parse_days(args.horizon, "--horizon")
     latency = parse_days(args.latency, "--latency")

@@ -8,8 +8,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from wobble.errors import InputError
+
+if TYPE_CHECKING:  # annotations only: run() imports astropy and the API when it runs
+    from astropy import units as u
+
+    from wobble.api.bodies import RigidBody
 
 __all__ = ["register", "run", "SOLIDS"]
 
@@ -139,8 +145,8 @@ def _about(args, length_unit: u.UnitBase):
 def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
     from astropy import units as u
 
-    from wobble.api.units import parse_quantity
     from wobble.api.bodies import RigidBody
+    from wobble.api.units import parse_quantity
 
     constructor_name, required, optional = SOLIDS[args.solid]
     constructor = getattr(RigidBody, constructor_name)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from wobble.cli._table import print_rows
 from wobble.errors import InputError
@@ -60,11 +59,10 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    import numpy as np
     from astropy import units as u
 
-    from wobble.api.units import parse_angle, parse_quantity
     from wobble.api.top import HeavyTop
+    from wobble.api.units import parse_angle, parse_quantity
     from wobble.cli._output import check_outputs, print_json, wrote
 
     check_outputs(args)

@@ -77,7 +77,7 @@ def to_cf(ds: xr.Dataset, *, command: str | None = None) -> xr.Dataset:
     if label_dims:
         out = out.rename_vars({d: f"{d}_name" for d in label_dims})
         out.attrs[_LABELS_ATTR] = " ".join(label_dims)
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     line = f"{stamp} wobble {_version()}" + (f": {command}" if command else "")
     previous = out.attrs.get("history")
     out.attrs["history"] = f"{previous}\n{line}" if previous else line
@@ -363,7 +363,7 @@ class StreamingWriter:
         if self._nc is not None:
             try:
                 self._nc.close()
-            except Exception:  # noqa: BLE001 - closing a broken file must not mask the real error
+            except Exception:  # closing a broken file must not mask the real error
                 pass
             self._nc = None
         if self.tmp is not None:

@@ -717,7 +717,7 @@ def to_plain(data):
     if isinstance(data, (_dt.date, _dt.time)):
         return data.isoformat()
     if hasattr(data, "kind"):
-        return {"kind": getattr(data, "kind"), "python": getattr(data, "name", type(data).__name__)}
+        return {"kind": data.kind, "python": getattr(data, "name", type(data).__name__)}
     try:
         json.dumps(data)
         return data

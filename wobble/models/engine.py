@@ -270,7 +270,7 @@ class Engine:
             return self._rhs_one(float(t[0]) if np.ndim(t) else float(t), y)
         w = y[:, :3]
         q = y[:, 3:7] if y.shape[1] == 7 else None
-        I = take_rows(self.moments, idx)  # noqa: E741
+        I = take_rows(self.moments, idx)
         tau = self.torque(t, w, q, idx)
         w0, w1, w2 = w[:, 0], w[:, 1], w[:, 2]
         i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
@@ -296,7 +296,7 @@ class Engine:
         tau = 0.0
         for b in self.kicked:
             tau = tau + b.torque(t, w, q, None)
-        I = self.moments  # noqa: E741
+        I = self.moments
         if self.damping is None:
             return w + (h / I) * tau, q
         x = self.damping * h / I
@@ -307,7 +307,7 @@ class Engine:
     def drift(self, state, t, h):
         """Exact free flow over h (Touma & Wisdom's drift)."""
         w, q = state
-        I = np.broadcast_to(self.moments, w.shape)  # noqa: E741
+        I = np.broadcast_to(self.moments, w.shape)
         w1, dq = flow_sorted(I, w, np.full(w.shape[0], h), attitude=q is not None)
         if q is None:
             return w1, None
@@ -357,7 +357,7 @@ class Engine:
         for b in self.kicked:
             a = b.torque_one(t, w, q)
             tx, ty, tz = tx + a[0], ty + a[1], tz + a[2]
-        I = self._moments_one  # noqa: E741
+        I = self._moments_one
         if self.damping is None:
             return (w[0] + h * tx / I[0], w[1] + h * ty / I[1], w[2] + h * tz / I[2]), q
         out = []

@@ -476,7 +476,7 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
     """
     moments, omega0 = _check(moments, omega0)
     order = tuple(int(i) for i in np.argsort(moments, kind="stable"))
-    I = [Fraction(moments[i]) for i in order]  # noqa: E741 - the notes' name
+    I = [Fraction(moments[i]) for i in order]
     w_user = [Fraction(x) for x in omega0]
     two_e = sum(Fraction(moments[i]) * w_user[i] ** 2 for i in range(3))
     l2 = sum((Fraction(moments[i]) * w_user[i]) ** 2 for i in range(3))
@@ -532,7 +532,7 @@ def intermediate_axis_alignment(moments, omega0) -> float | None:
     """
     moments, omega0 = _check(moments, omega0)
     order = np.argsort(moments, kind="stable")
-    I = [Fraction(moments[i]) for i in order]  # noqa: E741 - the notes' name
+    I = [Fraction(moments[i]) for i in order]
     w = [Fraction(omega0[i]) for i in order]
     if I[0] == I[1] or I[1] == I[2] or not any(w):
         return None
@@ -551,7 +551,7 @@ def intermediate_axis_alignment(moments, omega0) -> float | None:
     return min(1.0, float(hp.sqrt(I[1] * i2w2 / l2)))
 
 
-def _symmetric_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
+def _symmetric_model(moments, omega0, I, order, common, two_e, l2):
     # Oblate (I1 = I2 < I3): the symmetry axis is the largest; prolate
     # (I1 < I2 = I3): the smallest. Put it last in a right-handed frame.
     if I[0] == I[1]:
@@ -623,7 +623,7 @@ def _check_separatrix_distance(name: str, value, m1) -> None:
         )
 
 
-def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
+def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
     frame, signs = _proper_frame(order)
     w = to_sorted(np.asarray(omega0), frame, signs)
     wf = [Fraction(float(x)) for x in w]

@@ -129,7 +129,7 @@ def flow_sorted(moments, omega, h, attitude=True):
     component by component, with the three integrals of the third kind in
     one vectorised call, because it is the inner loop of the splitting.
     """
-    I = np.broadcast_to(np.asarray(moments, dtype=float), np.shape(omega))  # noqa: E741 - the notes' name
+    I = np.broadcast_to(np.asarray(moments, dtype=float), np.shape(omega))
     if omega.shape[0] == 1:
         w1, dq = flow_one(tuple(I[0]), tuple(omega[0]), float(np.reshape(h, -1)[0]), attitude)
         return np.array([w1]), (None if dq is None else np.array([dq]))
@@ -137,7 +137,7 @@ def flow_sorted(moments, omega, h, attitude=True):
         return flow_many(I, omega, h, attitude)
 
 
-def flow_many(I, omega, h, attitude):  # noqa: E741
+def flow_many(I, omega, h, attitude):
     """:func:`flow_sorted` for N members at once in NumPy (moments ascending, the sorted frame)."""
     i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
     w0, w1, w2 = omega[:, 0], omega[:, 1], omega[:, 2]

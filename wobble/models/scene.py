@@ -40,8 +40,8 @@ run whose output exceeds memory never holds it all.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -232,7 +232,7 @@ class _FreeEnsemble(_ModelRun):
         moments = np.broadcast_to(self.engine.moments, (n, 3))
         for tb in _blocks_of(times, max(1, block)):
             T = tb.size
-            I = np.broadcast_to(moments, (T, n, 3)).reshape(-1, 3)  # noqa: E741
+            I = np.broadcast_to(moments, (T, n, 3)).reshape(-1, 3)
             w = np.broadcast_to(self.w0, (T, n, 3)).reshape(-1, 3)
             h = np.repeat(tb - t0, n)
             w1, dq = flow_sorted(I, w, h, attitude=attitude)
@@ -432,7 +432,7 @@ def _separatrix_negative(scene) -> bool:
     """The one input free_rotation cannot take: the exact separatrix entered with omega_a < 0."""
     body = scene.body
     w = np.asarray(body.axes).reshape(3, 3) @ scene.omega0[0]
-    I = np.asarray(body.moments).reshape(3)  # noqa: E741
+    I = np.asarray(body.moments).reshape(3)
     order = np.argsort(I, kind="stable")
     i0, i1, i2 = I[order]
     w0, w1, w2 = w[order]

@@ -110,7 +110,7 @@ def _finite(name: str, value, allowed: str) -> float:
     return x
 
 
-def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = None) -> tuple[float, float, float]:  # noqa: N803
+def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = None) -> tuple[float, float, float]:
     """Check a top's moments about the tip (kg m^2) and M g l (J); return them as floats.
 
     Parameters
@@ -129,8 +129,8 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         I1 <= 0, I3 <= 0, I3 > 2 I1 (no real body has I3 > I1 + I2), mgl < 0,
         I1 < M l^2, or non-finite values; the message names the parameter.
     """
-    I1 = _finite("I1", I1, "a positive, finite moment of inertia (kg m2)")  # noqa: N806
-    I3 = _finite("I3", I3, "a positive, finite moment of inertia (kg m2)")  # noqa: N806
+    I1 = _finite("I1", I1, "a positive, finite moment of inertia (kg m2)")
+    I3 = _finite("I3", I3, "a positive, finite moment of inertia (kg m2)")
     mgl = _finite("mgl", mgl, "a finite, non-negative M g l (J)")
     if I1 <= 0:
         raise InputError("I1", I1, "a positive moment of inertia about the tip (kg m2)")
@@ -150,14 +150,14 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
     return I1, I3, mgl
 
 
-def sleeping_top_stable(I1: float, I3: float, mgl: float, omega3: float) -> bool:  # noqa: N803
+def sleeping_top_stable(I1: float, I3: float, mgl: float, omega3: float) -> bool:
     """True when the sleeping top is stable: I3^2 omega3^2 > 4 M g l I1 (Kibble & Berkshire eq. 12.26)."""
-    I1, I3, mgl = (hp.exact(float(v)) for v in (I1, I3, mgl))  # noqa: N806
+    I1, I3, mgl = (hp.exact(float(v)) for v in (I1, I3, mgl))
     w = hp.exact(float(omega3))
     return I3 * I3 * w * w > 4 * mgl * I1
 
 
-def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, theta: float) -> tuple[float, float]:  # noqa: N803
+def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, theta: float) -> tuple[float, float]:
     """Slow and fast rates (rad/s) of steady (regular) precession at tilt theta.
 
     Regular precession needs f(u0) = 0 and df/du(u0) = 0 at u0 = cos theta (notes
@@ -180,7 +180,7 @@ def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, th
         ``theta`` outside [0, pi], or no steady precession at that tilt
         (I3^2 omega3^2 < 4 I1 M g l cos theta).
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl)
     theta = _finite("theta", theta, "an angle in [0, pi] rad")
     if not 0 <= theta <= np.pi:
         raise InputError("theta", theta, "an angle in [0, pi] rad")
@@ -473,8 +473,8 @@ class HeavyTopModel:
 # Construction
 # --------------------------------------------------------------------------
 def heavy_top(
-    I1: float,  # noqa: N803
-    I3: float,  # noqa: N803
+    I1: float,
+    I3: float,
     mgl: float,
     theta0: float,
     thetadot0: float = 0.0,
@@ -515,7 +515,7 @@ def heavy_top(
         Bad moments (see :func:`check_top_parameters`), theta0 outside [0, pi],
         non-finite rates, both or neither of omega3 and psidot0.
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
     theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad")
     if not 0.0 <= theta0 <= np.pi:
         raise InputError("theta0", theta0, "an angle in [0, pi] rad (0 = upright)")
@@ -539,7 +539,7 @@ def heavy_top(
     return HeavyTopModel(**analyse(setup))
 
 
-def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: float | None = None) -> HeavyTopModel:  # noqa: N803
+def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: float | None = None) -> HeavyTopModel:
     """The exact top from an engine-style state: body angular velocity and attitude (SI).
 
     Parameters
@@ -557,7 +557,7 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     HeavyTopModel
         Its :meth:`~HeavyTopModel.evaluate` returns q0 (same sign) and omega0 at t = 0.
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
     w = np.asarray(omega0, dtype=float).reshape(-1)
     q = np.asarray(q0, dtype=float).reshape(-1)
     if w.size != 3 or not np.all(np.isfinite(w)):

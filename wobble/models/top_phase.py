@@ -76,7 +76,7 @@ def _theta_of(x):
     return 2.0 * np.arctan2(np.sqrt(0.5 * x), np.sqrt(np.maximum(0.5 * (2.0 - x), 0.0)))
 
 
-def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
+def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):
     """Float64 analysis of members started at a turning point; ``hard`` marks the borderline ones."""
     a = I3 * omega3 / I1
     beta = 2.0 * mgl / I1
@@ -86,8 +86,8 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
     s2 = x0 * y0  # sin^2 theta0
     u0 = np.cos(theta0)
     v = phidot0 * s2  # b - a u0: the sign of phidot at u0
-    P = 2.0 * u0 * beta - phidot0 * phidot0 * s2 - a * a  # noqa: N806
-    Q = s2 * (2.0 * a * phidot0 - 2.0 * u0 * phidot0 * phidot0 - beta)  # noqa: N806
+    P = 2.0 * u0 * beta - phidot0 * phidot0 * s2 - a * a
+    Q = s2 * (2.0 * a * phidot0 - 2.0 * u0 * phidot0 * phidot0 - beta)
     q_scale = s2 * (2.0 * np.abs(a * phidot0) + 2.0 * np.abs(u0) * phidot0 * phidot0 + beta)
     disc = P * P - 4.0 * beta * Q
     root = np.sqrt(np.maximum(disc, 0.0))
@@ -126,7 +126,7 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
         # Harmless stand-ins where the member goes to the exact model (replaced there).
         m, m1, span = np.where(hard, 0.5, m), np.where(hard, 0.5, m1), np.where(hard, 1.0, span)
         x1, x2 = np.where(hard, 1.0, x1), np.where(hard, 0.5, x2)
-        K = _sp.elliprf(0.0, m1, 1.0)  # noqa: N806
+        K = _sp.elliprf(0.0, m1, 1.0)
         period = 4.0 * K / np.sqrt(span)
         y1 = 2.0 - x1
         width = x1 - x2
@@ -154,7 +154,7 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
     }, hard
 
 
-def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> dict[str, np.ndarray]:  # noqa: N803
+def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> dict[str, np.ndarray]:
     """Nutation class, turning angles, period and mean precession of many heavy tops (notes section 5.7).
 
     All arguments broadcast against each other (SI: kg m^2, J, rad, rad/s).

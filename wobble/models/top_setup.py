@@ -219,9 +219,9 @@ def analyse(setup: TopSetup) -> dict:
         b = v0 * s0 + a * u0
         kin = thetadot0 * thetadot0 + v0 * v0  # thetadot^2 + phidot^2 sin^2 theta
         alpha = kin + beta * u0
-        A = kin - beta * x0  # alpha - beta  # noqa: N806
-        B = v0 * s0 - a * x0  # b - a  # noqa: N806
-        C = v0 * s0 + a * y0  # b + a  # noqa: N806
+        A = kin - beta * x0  # alpha - beta
+        B = v0 * s0 - a * x0  # b - a
+        C = v0 * s0 + a * y0  # b + a
         g0 = s0 * s0 * thetadot0 * thetadot0
         energy = i1 * kin / 2 + i3 * w3 * w3 / 2 + mg * u0
         e_prime = i1 * kin / 2 + mg * u0
@@ -315,7 +315,7 @@ def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
         )
 
 
-def nutation_class(B, a, x1, x2, y1, y2, C) -> str:  # noqa: N803
+def nutation_class(B, a, x1, x2, y1, y2, C) -> str:
     """'undulating', 'cusps' or 'loops' from the sign of phidot at the two turning points (notes p. 72)."""
 
     def sign_at(x, y):
@@ -348,7 +348,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
         span, gap = roots.beta_span, roots.beta_gap
         beta = cub.beta
-        B, C = cub.B, cub.C  # noqa: N806
+        B, C = cub.B, cub.C
         m = beta * (x1 - x2) / span
         m1 = gap / span
         if m1 < Decimal("1e-150"):
@@ -360,7 +360,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             )
         lam = span.sqrt() / 2
         kdec = hp.agm_k(m1)
-        K = hp.to_dd(kdec)  # noqa: N806
+        K = hp.to_dd(kdec)
         period = 2 * kdec / lam
         # Mean rates of J_+ = int dt/x and J_- = int dt/y (complete Pi by Bulirsch's cel).
         kc = m1.sqrt()

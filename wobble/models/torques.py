@@ -58,12 +58,14 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
 from wobble.errors import InputError
+from wobble.models.orbit import EphemerisTable, KeplerOrbit, rms_radius
 from wobble.models.rigid_frame import (
     InternalFrame,
     cross,
@@ -76,7 +78,6 @@ from wobble.models.rigid_frame import (
     to_body,
     to_body_components,
 )
-from wobble.models.orbit import EphemerisTable, KeplerOrbit, rms_radius
 from wobble.numerics import quaternion as quat
 from wobble.numerics.kepler import position_one as kepler_position_one
 

@@ -8,7 +8,7 @@ that wobble's vectorised integrator does not depend on a private SciPy module.
 Plain float64 numbers; :mod:`wobble.numerics.integrators` uses them.
 """
 
-import numpy as np  # noqa: E402
+import numpy as np
 
 N_STAGES = 12
 N_STAGES_EXTENDED = 16

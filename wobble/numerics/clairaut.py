@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from wobble.numerics.integrators import DOP853
 
 __all__ = [

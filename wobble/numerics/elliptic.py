@@ -139,7 +139,7 @@ class LandenLevels:
         ``2^N a_N``, so that ``phi_N = scale * u``.
     """
 
-    def __init__(self, m, m1=None, K=None):  # noqa: N803 - K is the integral's name
+    def __init__(self, m, m1=None, K=None):
         if np.ndim(m) == 0 and np.ndim(m1) == 0:
             self._scalar(m, m1, K)
             return
@@ -165,7 +165,7 @@ class LandenLevels:
         self.ratios_b = ratios_b
         self.scale = scale * a
 
-    def _scalar(self, m, m1, K):  # noqa: N803
+    def _scalar(self, m, m1, K):
         """The same sequence for one parameter in Python floats (the same roundings: +, *, /
         and sqrt are correctly rounded either way), without NumPy's per-call cost."""
         mf = float(m)
@@ -192,7 +192,7 @@ class LandenLevels:
         self.scale = np.float64(scale * a)
 
 
-def landen_levels(m, m1=None, K=None) -> LandenLevels:  # noqa: N803
+def landen_levels(m, m1=None, K=None) -> LandenLevels:
     """Precompute the Landen/AGM sequence of ``m`` (reuse it for many arguments).
 
     ``K``, if given, is the complete integral the levels carry instead of their own

@@ -27,7 +27,7 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     -------
     matplotlib.figure.Figure
     """
-    I = moments.to_value(u.kg * u.m**2)  # noqa: E741
+    I = moments.to_value(u.kg * u.m**2)
     fig = plt.figure(figsize=(6.4, 6.0))
     ax = fig.add_subplot(projection="3d")
     w_first = omegas[0].to_value(u.rad / u.s)
@@ -105,7 +105,7 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     t1 = t_end.to_value(u.s)
     t = np.linspace(0.0, t1, samples)
     w = body.omega(t * u.s).to_value(u.rad / u.s)
-    I = body.moments.to_value(u.kg * u.m**2)  # noqa: E741
+    I = body.moments.to_value(u.kg * u.m**2)
     scale, unit = time_axis(t1)
     big = int(np.argmax(np.max(np.abs(w), axis=0)))
     others = [k for k in range(3) if k != big]
@@ -168,7 +168,7 @@ def _polhode_from_above(ax, L, axis: int) -> None:
     sign = np.sign(L[0, axis])
     x, y = L[:, a] * sign, L[:, b] * sign
     extent = np.max(np.hypot(x, y))
-    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):
+    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):  # noqa: B007 - size and name are read after the loop
         if extent >= 3 * size:
             break
     ax.plot(x / size, y / size, color="C0", lw=1.4)

@@ -6,11 +6,11 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg", force=False)
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from astropy import units as u  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from astropy import units as u
 
-from wobble.api.top import HeavyTop  # noqa: E402
+from wobble.api.top import HeavyTop
 
 __all__ = ["nutation_classes_figure", "axis_trace_axes", "axis_locus_figure", "effective_potential_figure", "cubic_figure"]
 
@@ -65,7 +65,7 @@ def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, o
     return save_figure(fig, path, overwrite=overwrite)
 
 
-def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: float = 6.0):  # noqa: N803
+def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: float = 6.0):
     """Three panels: the axis trace for initial precession rates ``phidots`` (rad/s Quantities),
     typically > 0 (undulating), 0 (released: cusps) and < 0 (loops)."""
     fig, axes = plt.subplots(1, len(phidots), figsize=(4.2 * len(phidots), 4.4))

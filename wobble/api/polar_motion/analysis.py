@@ -8,7 +8,6 @@ from dataclasses import dataclass
 import numpy as np
 from astropy import units as u
 
-from wobble.api.units import to_si
 from wobble.api.polar_motion.estimate import (
     DEPRECATED_KEYS,
     ChandlerEstimate,
@@ -18,6 +17,7 @@ from wobble.api.polar_motion.estimate import (
     with_deprecated_keys,
 )
 from wobble.api.polar_motion.record import SIGN_NOTE, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
 from wobble.models import polar_motion as _pm

@@ -9,8 +9,8 @@ import numpy as np
 from astropy import units as u
 from astropy.time import Time
 
-from wobble.api.units import to_si
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import mjd_time
 from wobble.models import polar_motion as _pm
@@ -125,9 +125,12 @@ class ChandlerEstimate:
     raw: _pm.ChandlerFit
 
     @classmethod
-    def from_fit(cls, fit: _pm.ChandlerFit) -> "ChandlerEstimate":
+    def from_fit(cls, fit: _pm.ChandlerFit) -> ChandlerEstimate:
         rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
-        to_mjd = lambda ts: MJD_J2000 + ts / _pm.DAY  # noqa: E731
+
+        def to_mjd(ts):
+            return MJD_J2000 + ts / _pm.DAY
+
         mean = complex(fit.mean_pole(fit.epoch))
         # d(mean pole)/dt at the epoch: c_1 / h (rad/s)
         speed = complex(fit.drift[1] / fit.half_span) if fit.drift.size > 1 else 0j

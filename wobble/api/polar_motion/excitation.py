@@ -19,10 +19,10 @@ import math
 import numpy as np
 from astropy import units as u
 
-from wobble.api.units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import check_q, default_q
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date
 from wobble.models.polar_motion import excitation as _ex

@@ -36,9 +36,9 @@ import math
 import numpy as np
 from astropy import units as u
 
-from wobble.api.units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
 from wobble.models.polar_motion import forecast as _fc

@@ -20,10 +20,10 @@ import os
 import numpy as np
 from astropy import units as u
 
-from wobble.api.units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.forecast import latency_si, calibration_span_si, calibration_text, check_q, default_q
+from wobble.api.polar_motion.forecast import calibration_span_si, calibration_text, check_q, default_q, latency_si
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
 from wobble.models.polar_motion import forecast as _fc

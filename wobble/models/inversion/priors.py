@@ -23,7 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special, stats
 
-from wobble.errors import InputError
 from wobble.models.planet import POSITIVE_KEYS
 
 __all__ = ["Prior", "Uniform", "LogUniform", "Normal", "PHYSICAL_RANGE", "physical_range", "KINDS"]

@@ -118,7 +118,7 @@ class PastForecasts:
     mean: np.ndarray
     sigma: np.ndarray
 
-    def take(self, times) -> "PastForecasts":
+    def take(self, times) -> PastForecasts:
         """The forecasts issued at ``times`` (each must be present)."""
         times = np.asarray(times, dtype=float)
         idx = np.searchsorted(self.issued, times - 1e-6)

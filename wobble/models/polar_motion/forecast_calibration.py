@@ -51,7 +51,14 @@ from wobble.errors import InputError
 from wobble.models.polar_motion.forecast import Forecast, PastForecasts, check_method, information_set
 from wobble.models.polar_motion.ls_ar import LS_SPAN, forecast_ls_ar, past_forecasts_ls_ar
 from wobble.models.polar_motion.record import DAY
-from wobble.models.polar_motion.state_space import FIT_SPAN, KalmanSetup, NoiseParameters, fit_noise, forecast_kalman, past_forecasts_kalman
+from wobble.models.polar_motion.state_space import (
+    FIT_SPAN,
+    KalmanSetup,
+    NoiseParameters,
+    fit_noise,
+    forecast_kalman,
+    past_forecasts_kalman,
+)
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = [

@@ -105,7 +105,7 @@ class NoiseParameters:
         )
 
     @classmethod
-    def from_ratios(cls, theta, scale: float = 1.0) -> "NoiseParameters":
+    def from_ratios(cls, theta, scale: float = 1.0) -> NoiseParameters:
         """The inverse of :meth:`ratios` with excitation variance ``scale``."""
         lt, ls, lm, lr, lo = (float(v) for v in theta)
         return cls(scale, math.exp(lt) * DAY, scale * math.exp(ls), scale * math.exp(lm), scale * math.exp(lr), scale * math.exp(lo))
@@ -234,7 +234,7 @@ class KalmanSetup:
     window: kalman.WindowFilter
 
     @classmethod
-    def build(cls, chandler_period: float, q: float, noise: NoiseParameters, n: int) -> "KalmanSetup":
+    def build(cls, chandler_period: float, q: float, noise: NoiseParameters, n: int) -> KalmanSetup:
         """The model of T_c = ``chandler_period`` (s) and ``q`` with ``noise``, filtered over spans of ``n`` days."""
         sigma_c = chandler_frequency(chandler_period, q)
         F, Q, h, r = system(sigma_c, noise)
