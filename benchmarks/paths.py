@@ -17,8 +17,11 @@ def reference_file(*parts: str) -> Path:
     """A committed reference file of the checkout (e.g. ``tests/references/heavy_top.json``)."""
     path = ROOT.joinpath(*parts)
     if not path.is_file():
-        raise InputError("reference", str(path), "a file of the wobble source checkout the benchmark runs from "
-                         "(the committed mpmath and Radau references)")
+        raise InputError(
+            "reference",
+            str(path),
+            "a file of the wobble source checkout the benchmark runs from (the committed mpmath and Radau references)",
+        )
     return path
 
 

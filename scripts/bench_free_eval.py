@@ -132,7 +132,9 @@ def main(argv=None):
     want = np.array([[float(v) for v in row] for row in ec["omega"]])
     got = earth.omega(tw)
     phase_err = float(np.max(np.hypot(*(got[:, :2] - want[:, :2]).T) / np.hypot(*want[:, :2].T)))
-    r4 = interleaved({"earth": lambda: earth.omega(td), "earth_att": lambda: (earth.omega(td), earth.attitude(td))}, reps)
+    r4 = interleaved(
+        {"earth": lambda: earth.omega(td), "earth_att": lambda: (earth.omega(td), earth.attitude(td))}, reps
+    )
     xs = td * 2.4e-7
     sin_t = timeit(lambda: np.sin(xs), reps)[0]
     rows.append(("Earth 100 yr, 36,526 daily outputs: omega (wobble phase error, rad)", r4["earth"], phase_err))

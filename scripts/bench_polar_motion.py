@@ -85,7 +85,15 @@ def main() -> None:
                 wb.forecast_polar_motion(horizon=365 * u.day, method=method, calibrated=calibrated)
                 best = min(best, (time.perf_counter() - t0, time.process_time() - c0))
             what = "calibrated" if calibrated else "not calibrated"
-            rows.append((f"one-year forecast after start-up, {method}, {what}", f"{best[0]:.2f}", f"{best[1]:.2f}", f"{before} / {load()}", "under 1 s"))
+            rows.append(
+                (
+                    f"one-year forecast after start-up, {method}, {what}",
+                    f"{best[0]:.2f}",
+                    f"{best[1]:.2f}",
+                    f"{before} / {load()}",
+                    "under 1 s",
+                )
+            )
     before = load()
     t0, c0, k0 = time.perf_counter(), time.process_time(), children_cpu()
     h = wb.hindcast_polar_motion(start="2016-01-01", end="2021-01-01", latency=1 * u.day, workers=2)

@@ -36,10 +36,10 @@ def main(folder: Path | None = None) -> tuple[Path, Path]:
     nc_folder = folder or Path(tempfile.mkdtemp())
     png = (folder or FIGURES) / "getting_started_top_loops.png"
 
-    ds = wobble.run("top_loops")                                   # exact heavy top, 10 s
+    ds = wobble.run("top_loops")  # exact heavy top, 10 s
     path = wobble.write_netcdf(ds, nc_folder / "top_loops.nc", overwrite=True)
-    back = wobble.load(path)                                       # xarray, with units
-    axis = back["axis_direction"]                                  # symmetry axis in space
+    back = wobble.load(path)  # xarray, with units
+    axis = back["axis_direction"]  # symmetry axis in space
     tilt = back.wobble.quantity("tilt").to(u.deg)
     t = back.wobble.quantity("time").to(u.s)
 

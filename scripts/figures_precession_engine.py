@@ -67,8 +67,10 @@ def main() -> None:
     ax.plot(along, (eps - eps[0]) / ARCSEC, lw=0.6, color="C0")
     ax.set_xlabel("along the precession: (psi - psi0) sin(eps) [arcsec]")
     ax.set_ylabel("eps - eps0 [arcsec]")
-    ax.set_title(f"Earth's spin axis in space, 20 years by brute force (wobble run earth_precession): "
-                 f"{m.rate.value:+.2f}\"/cy", fontsize=9)
+    ax.set_title(
+        f"Earth's spin axis in space, 20 years by brute force (wobble run earth_precession): {m.rate.value:+.2f}\"/cy",
+        fontsize=9,
+    )
     ax.invert_xaxis()
     ax = axes[1]
     ax.plot(years, dpsi, lw=0.5, color="C0", label="Delta psi, simulated (secular part removed)")
@@ -88,9 +90,14 @@ def main() -> None:
     ax.plot(dpsi * sin_eps, deps, lw=0.3, color="0.6", label="simulated pole, secular motion removed (20 yr)")
     full = np.linspace(0, 2 * math.pi, 361)
     ellipses = (
-        (lon, obl, dict(lw=1.6, color="C0"), f"fitted 18.6-yr term: {lon:+.4f}\", {obl:+.4f}\""),
-        (alon, aobl, dict(lw=1.0, ls="--", color="k"), f"first-order rigid model: {alon:+.4f}\", {aobl:+.4f}\""),
-        (IAU[0], IAU[1], dict(lw=1.0, ls=":", color="C3"), f"IAU 2000A (non-rigid Earth): {IAU[0]:+.4f}\", {IAU[1]:+.4f}\""),
+        (lon, obl, dict(lw=1.6, color="C0"), f'fitted 18.6-yr term: {lon:+.4f}", {obl:+.4f}"'),
+        (alon, aobl, dict(lw=1.0, ls="--", color="k"), f'first-order rigid model: {alon:+.4f}", {aobl:+.4f}"'),
+        (
+            IAU[0],
+            IAU[1],
+            dict(lw=1.0, ls=":", color="C3"),
+            f'IAU 2000A (non-rigid Earth): {IAU[0]:+.4f}", {IAU[1]:+.4f}"',
+        ),
     )
     for a, b, style, label in ellipses:
         ax.plot(a * sin_eps * np.sin(full), b * np.cos(full), label=label, **style)

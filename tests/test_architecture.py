@@ -37,8 +37,10 @@ def test_import_wobble_is_lazy():
 
 def test_table_commands_skip_xarray():
     """`wobble chandler earth --json` needs astropy.units and NumPy, not xarray, pandas or dask."""
-    loaded = _loaded_after("import contextlib, io, wobble.cli as c; f = io.StringIO(); "
-                           "contextlib.redirect_stdout(f).__enter__(); c.main(['chandler', 'earth', '--json'])")
+    loaded = _loaded_after(
+        "import contextlib, io, wobble.cli as c; f = io.StringIO(); "
+        "contextlib.redirect_stdout(f).__enter__(); c.main(['chandler', 'earth', '--json'])"
+    )
     assert not set(loaded) & {"xarray", "pandas", "dask", "matplotlib", "numba", "astropy.utils.iers"}
 
 
@@ -169,15 +171,17 @@ def test_no_private_names_across_modules():
 
 def test_private_seam_check_finds_each_form():
     """The check itself: each form of reaching a private name is found, the allowed ones are not."""
-    source = "\n".join([
-        "from wobble.models.chandler import _evaluate",  # 1: private name of another module
-        "from . import _output",  # 2: private module of its own package (allowed)
-        "from wobble.api import _sampling",  # 3: private module of another package
-        "from wobble.models import chandler as cm",  # 4
-        "cm._evaluate(cm.__name__)",  # 5: alias._name (the dunder is allowed)
-        "import wobble.numerics._dop853_tableau",  # 6: private module of another package
-        "wobble.models.hydrostatic._JUMP_TOLERANCE",  # 7: attribute chain from the package
-        "from ._output import print_json",  # 8: allowed
-    ])
+    source = "\n".join(
+        [
+            "from wobble.models.chandler import _evaluate",  # 1: private name of another module
+            "from . import _output",  # 2: private module of its own package (allowed)
+            "from wobble.api import _sampling",  # 3: private module of another package
+            "from wobble.models import chandler as cm",  # 4
+            "cm._evaluate(cm.__name__)",  # 5: alias._name (the dunder is allowed)
+            "import wobble.numerics._dop853_tableau",  # 6: private module of another package
+            "wobble.models.hydrostatic._JUMP_TOLERANCE",  # 7: attribute chain from the package
+            "from ._output import print_json",  # 8: allowed
+        ]
+    )
     found = _private_seams(PACKAGE / "cli" / "planted.py", source)
     assert [int(p.split(":")[1]) for p in found] == [1, 3, 5, 6, 7], found

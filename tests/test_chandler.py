@@ -46,7 +46,15 @@ def _mp_moments(p):
     c22 = mp.mpf(float(p.c22.value)) if p.c22 else 0
     s22 = mp.mpf(float(p.s22.value)) if p.s22 else 0
     j22 = mp.sqrt(mp.mpf(5) / 12) * mp.sqrt(c22**2 + s22**2)
-    return abar - 2 * j22 * mass * a**2, abar + 2 * j22 * mass * a**2, c, mp.mpf(float(p.rotation_rate.value)), mass, a, g
+    return (
+        abar - 2 * j22 * mass * a**2,
+        abar + 2 * j22 * mass * a**2,
+        c,
+        mp.mpf(float(p.rotation_rate.value)),
+        mass,
+        a,
+        g,
+    )
 
 
 def _mp_period_days(sigma):
@@ -228,7 +236,11 @@ def test_observed_period_is_never_an_input(earth):
 def test_uncertainty_is_linear_propagation(earth):
     # Rigid symmetric Earth with only H uncertain: sigma_T = T sigma_H / (H (1 - H)).
     only_h = replace(
-        earth, c22=None, s22=None, j2=Measured(earth.j2.value), gm=None,
+        earth,
+        c22=None,
+        s22=None,
+        j2=Measured(earth.j2.value),
+        gm=None,
         dynamical_flattening=Measured(earth.dynamical_flattening.value, 1e-6),
     )
     b = chandler_budget(only_h, "rigid")
@@ -246,7 +258,11 @@ def test_uncertainty_is_the_monte_carlo_spread_of_a_nonlinear_model(earth):
 
     h, rel = earth.dynamical_flattening.value, 0.1
     only_h = replace(
-        earth, c22=None, s22=None, j2=Measured(earth.j2.value), gm=None,
+        earth,
+        c22=None,
+        s22=None,
+        j2=Measured(earth.j2.value),
+        gm=None,
         dynamical_flattening=Measured(h, rel * h),
     )
     b = chandler_budget(only_h, "rigid")
@@ -366,11 +382,15 @@ def test_samples_agree_member_by_member_with_the_scalar_model(mars):
 def test_samples_mark_unphysical_members_instead_of_raising(earth):
     from wobble.models.chandler import INVALID_REASONS, chandler_samples
 
-    s = chandler_samples(earth, {"love_number_k2": np.array([0.29525, 1.5, -0.1]), "c22": np.array([2.4e-6, 2.4e-6, 2.4e-6])})
+    s = chandler_samples(
+        earth, {"love_number_k2": np.array([0.29525, 1.5, -0.1]), "c22": np.array([2.4e-6, 2.4e-6, 2.4e-6])}
+    )
     assert list(s.code) == [0, 3, 5]
     assert np.isfinite(s.period[0]) and np.isnan(s.period[1:]).all()
     assert "fluid" in INVALID_REASONS[3]
-    flip = chandler_samples(earth, {"dynamical_flattening": np.array([3.2e-3, 1e-6]), "c22": np.array([2.4e-6, 2e-3])}, "rigid")
+    flip = chandler_samples(
+        earth, {"dynamical_flattening": np.array([3.2e-3, 1e-6]), "c22": np.array([2.4e-6, 2e-3])}, "rigid"
+    )
     assert list(flip.code) == [0, 1]  # C intermediate: no periodic wobble
 
 

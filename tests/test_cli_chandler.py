@@ -129,8 +129,10 @@ def test_readme_and_docs_show_what_the_command_prints(capsys):
     root = Path(__file__).resolve().parents[1]
     assert main(["chandler", "earth", "mars"]) == 0
     printed = capsys.readouterr().out.rstrip("\n")
-    for page, heading in ((root / "README.md", "## What the first line prints"),
-                          (root / "docs" / "chandler.md", "Output of `wobble chandler earth mars`:")):
+    for page, heading in (
+        (root / "README.md", "## What the first line prints"),
+        (root / "docs" / "chandler.md", "Output of `wobble chandler earth mars`:"),
+    ):
         text = page.read_text()
-        block = re.search(r"```text\n(.*?)\n```", text[text.index(heading):], flags=re.S).group(1)
+        block = re.search(r"```text\n(.*?)\n```", text[text.index(heading) :], flags=re.S).group(1)
         assert block == printed, f"{page.name} shows an old output of 'wobble chandler earth mars'"

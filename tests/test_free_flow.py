@@ -183,7 +183,9 @@ def _states(draw):
     # Components are zero or at least 1e-12 of the largest: states nearer the separatrix than
     # 1 - m ~ 1e-24 reach Carlson integrals at arguments near the underflow threshold, where
     # SciPy's R_F, R_C and R_J return inf or NaN: a limit of the kernels, not of this equivalence.
-    omega = draw(st.lists(st.one_of(st.just(0.0), st.floats(1e-6, 2.0), st.floats(-2.0, -1e-6)), min_size=3, max_size=3))
+    omega = draw(
+        st.lists(st.one_of(st.just(0.0), st.floats(1e-6, 2.0), st.floats(-2.0, -1e-6)), min_size=3, max_size=3)
+    )
     if kind == "steady":
         axis = draw(st.integers(0, 2))
         omega = [omega[k] if k == axis else 0.0 for k in range(3)]
@@ -196,7 +198,10 @@ def test_one_member_flow_equals_the_vectorised_flow_in_every_regime(state, h, at
     moments, omega = state
     I, w = np.array([moments]), np.array([omega])
     outcomes = []
-    for run in (lambda: flow_many(I, w, np.array([h]), attitude), lambda: flow_one(tuple(moments), tuple(omega), h, attitude)):
+    for run in (
+        lambda: flow_many(I, w, np.array([h]), attitude),
+        lambda: flow_one(tuple(moments), tuple(omega), h, attitude),
+    ):
         try:
             with np.errstate(all="ignore"):
                 outcomes.append(run())

@@ -126,11 +126,14 @@ def test_earth_daily_grid_takes_the_nome_series_path_and_matches_mpmath():
 
 
 @pytest.mark.parametrize("n", [10_001, 4001])  # compiled (>= compiled.LONG_ARRAY samples), NumPy's
-@pytest.mark.parametrize("moments, omega0", [
-    ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # m ~ 1e-9: nome series with its 3v harmonic
-    ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: exp(i (Omega t + beta)) by block rotation
-    ((1.5, 1.0, 1.0 + 1e-9), (1.0, 0.05, 0.1)),  # the same body with its axes permuted
-])
+@pytest.mark.parametrize(
+    "moments, omega0",
+    [
+        ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # m ~ 1e-9: nome series with its 3v harmonic
+        ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: exp(i (Omega t + beta)) by block rotation
+        ((1.5, 1.0, 1.0 + 1e-9), (1.0, 0.05, 0.1)),  # the same body with its axes permuted
+    ],
+)
 def test_grid_path_equals_the_per_sample_path(moments, omega0, n):
     """Every sample of a grid (over ~300 wobble periods) against omega_at sample by sample."""
     from wobble.models.free import _blocked
@@ -197,7 +200,12 @@ def test_symmetric_closed_form_of_the_notes():
 
 
 def test_sphere_principal_axis_and_zero():
-    for I, w in [((2.0, 2.0, 2.0), (0.3, -1.0, 0.2)), ((1.0, 2.0, 3.0), (0.0, 0.0, 2.0)), ((1.0, 2.0, 3.0), (0.0, 1.0, 0.0)), ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0))]:
+    for I, w in [
+        ((2.0, 2.0, 2.0), (0.3, -1.0, 0.2)),
+        ((1.0, 2.0, 3.0), (0.0, 0.0, 2.0)),
+        ((1.0, 2.0, 3.0), (0.0, 1.0, 0.0)),
+        ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0)),
+    ]:
         model = free_rotation(I, w)
         assert model.regime == "steady"
         t = np.linspace(0, 50, 11)

@@ -37,8 +37,14 @@ def scheduler():
     with socket.socket() as probe:
         if probe.connect_ex(SCHEDULER) == 0:
             pytest.skip("port 8786 is taken by another process (a cluster of someone else's)")
-    cluster = distributed.LocalCluster(host=SCHEDULER[0], scheduler_port=SCHEDULER[1], n_workers=1,
-                                       threads_per_worker=2, processes=False, dashboard_address=None)
+    cluster = distributed.LocalCluster(
+        host=SCHEDULER[0],
+        scheduler_port=SCHEDULER[1],
+        n_workers=1,
+        threads_per_worker=2,
+        processes=False,
+        dashboard_address=None,
+    )
     yield cluster
     cluster.close()
 

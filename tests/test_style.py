@@ -26,7 +26,9 @@ def _ruff(*args: str) -> subprocess.CompletedProcess:
 def test_ruff_check_passes():
     """No lint finding (pyflakes, pycodestyle, bugbear, pyupgrade, no unused ``# noqa``)."""
     out = _ruff("check", "--output-format", "concise")
-    assert out.returncode == 0, f"ruff check found problems (fix them, or run `ruff check --fix`):\n{out.stdout}{out.stderr}"
+    assert out.returncode == 0, (
+        f"ruff check found problems (fix them, or run `ruff check --fix`):\n{out.stdout}{out.stderr}"
+    )
 
 
 def test_ruff_format_is_clean():

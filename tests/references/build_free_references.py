@@ -73,7 +73,13 @@ def integral_cases():
             rows.append({"kind": "Einc", "m1": repr(m1f), "phi": repr(phi), "value": s(mp.ellipe(p, m))})
             for n in [-1e6, -3.0, -0.01, 0.0, 0.5]:
                 rows.append(
-                    {"kind": "Pi", "m1": repr(m1f), "phi": repr(phi), "n": repr(n), "value": s(mp.ellippi(mp.mpf(n), p, m))}
+                    {
+                        "kind": "Pi",
+                        "m1": repr(m1f),
+                        "phi": repr(phi),
+                        "n": repr(n),
+                        "value": s(mp.ellippi(mp.mpf(n), p, m)),
+                    }
                 )
     return rows
 
@@ -258,7 +264,9 @@ def main():
     earth_omega = (7.292115e-11, 0.0, 7.292115e-05)
     sep_t = [x * 5.0 for x in range(0, 41)]
     data["closed"] = [
-        closed_case("generic 1000 s", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0), generic_t, [100.0, 1000.0], flips=(0.0, 1000.0)),
+        closed_case(
+            "generic 1000 s", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0), generic_t, [100.0, 1000.0], flips=(0.0, 1000.0)
+        ),
         closed_case("generic 1e6 periods", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0), long_t, long_t[2:4]),
         closed_case("separatrix 2e-12", (1.0, 2.0, 3.0), (1e-6, 1.0, 1e-6), sep_t, [50.0, 200.0], flips=(0.0, 200.0)),
         closed_case("separatrix 5e-13", (1.0, 2.0, 3.0), (5e-7, 1.0, 5e-7), sep_t, [], flips=(0.0, 200.0)),

@@ -91,8 +91,17 @@ class Top:
 
     def __init__(self, name, I1, I3, mgl, theta0, thetadot0, phidot0, omega3, phi0, psi0):
         self.name = name
-        self.inputs = dict(I1=I1, I3=I3, mgl=mgl, theta0=theta0, thetadot0=thetadot0, phidot0=phidot0,
-                           omega3=omega3, phi0=phi0, psi0=psi0)
+        self.inputs = dict(
+            I1=I1,
+            I3=I3,
+            mgl=mgl,
+            theta0=theta0,
+            thetadot0=thetadot0,
+            phidot0=phidot0,
+            omega3=omega3,
+            phi0=phi0,
+            psi0=psi0,
+        )
         I1, I3, mgl = mp.mpf(I1), mp.mpf(I3), mp.mpf(mgl)
         th, thd, phd, w3 = mp.mpf(theta0), mp.mpf(thetadot0), mp.mpf(phidot0), mp.mpf(omega3)
         self.I1, self.I3, self.mgl = I1, I3, mgl
@@ -148,9 +157,21 @@ def analysis(top: Top):
     u1, u2, u3 = 1 - x1, 1 - x2, 1 - x3
     sleeping = top.th0 == 0 and top.thd0 == 0
     out.update(
-        a=s(top.a), b=s(top.b), alpha=s(top.alpha), beta=s(top.beta), energy=s(top.E), energy_prime=s(top.Ep),
-        p_phi=s(top.p_phi), p_psi=s(top.p_psi), psidot0=s(top.psd0),
-        u1=s(u1), u2=s(u2), u3=s(u3), x1=s(x1), x2=s(x2), x3=s(x3),
+        a=s(top.a),
+        b=s(top.b),
+        alpha=s(top.alpha),
+        beta=s(top.beta),
+        energy=s(top.E),
+        energy_prime=s(top.Ep),
+        p_phi=s(top.p_phi),
+        p_psi=s(top.p_psi),
+        psidot0=s(top.psd0),
+        u1=s(u1),
+        u2=s(u2),
+        u3=s(u3),
+        x1=s(x1),
+        x2=s(x2),
+        x3=s(x3),
         theta_max=s(0 if sleeping else 2 * mp.asin(mp.sqrt(x1 / 2))),
         theta_min=s(0 if sleeping else 2 * mp.asin(mp.sqrt(max(x2, 0) / 2))),
         sleeping_stable=bool(top.I3**2 * top.w3**2 > 4 * top.mgl * top.I1),
@@ -191,8 +212,13 @@ def analysis(top: Top):
         dpsi = 4 * mp.quad(lambda q: psidot(q) * w(q), pts)
         period_k = 4 * mp.ellipk(m) / mp.sqrt(be * (x1 - x3))
         assert abs(period / period_k - 1) < mp.mpf(10) ** -30, (top.name, period, period_k)
-        out.update(period=s(period), mean_precession_rate=s(dphi / period), mean_spin_rate=s(dpsi / period),
-                   dphi_per_period=s(dphi), dpsi_per_period=s(dpsi))
+        out.update(
+            period=s(period),
+            mean_precession_rate=s(dphi / period),
+            mean_spin_rate=s(dpsi / period),
+            dphi_per_period=s(dphi),
+            dpsi_per_period=s(dpsi),
+        )
     return out, (x1, x2, x3)
 
 
@@ -201,14 +227,20 @@ def analysis(top: Top):
 # ---------------------------------------------------------------------------
 def quat_from_euler(phi, theta, psi):
     ch, sh = mp.cos(theta / 2), mp.sin(theta / 2)
-    return [ch * mp.cos((phi + psi) / 2), sh * mp.cos((phi - psi) / 2), sh * mp.sin((phi - psi) / 2),
-            ch * mp.sin((phi + psi) / 2)]
+    return [
+        ch * mp.cos((phi + psi) / 2),
+        sh * mp.cos((phi - psi) / 2),
+        sh * mp.sin((phi - psi) / 2),
+        ch * mp.sin((phi + psi) / 2),
+    ]
 
 
 def omega_from_euler(theta, psi, thd, phd, psd):
-    return [phd * mp.sin(theta) * mp.sin(psi) + thd * mp.cos(psi),
-            phd * mp.sin(theta) * mp.cos(psi) - thd * mp.sin(psi),
-            phd * mp.cos(theta) + psd]
+    return [
+        phd * mp.sin(theta) * mp.sin(psi) + thd * mp.cos(psi),
+        phd * mp.sin(theta) * mp.cos(psi) - thd * mp.sin(psi),
+        phd * mp.cos(theta) + psd,
+    ]
 
 
 def ode_case(top: Top, times):
@@ -325,8 +357,10 @@ def check_closed_against_ode(top: Top, xs, ode):
 
 def main():
     mp.mp.dps = DPS
-    data = {"generator": f"tests/references/build_top_references.py (mpmath {mp.__version__}, {DPS} digits)",
-            "cases": []}
+    data = {
+        "generator": f"tests/references/build_top_references.py (mpmath {mp.__version__}, {DPS} digits)",
+        "cases": [],
+    }
     for name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0, long_span in CASES:
         top = Top(name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0)
         an, xs = analysis(top)

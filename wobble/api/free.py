@@ -40,10 +40,6 @@ _LMOM = u.kg * u.m**2 / u.s
 BYTES_PER_SAMPLE = 8 * 64
 
 
-
-
-
-
 class FreeRotation:
     """Exact torque-free motion of a rigid body.
 
@@ -239,7 +235,9 @@ class FreeRotation:
         """Deprecated alias of :meth:`to_dataset` (one name per action across wobble)."""
         import warnings
 
-        warnings.warn("FreeRotation.evaluate is deprecated; use FreeRotation.to_dataset", DeprecationWarning, stacklevel=2)
+        warnings.warn(
+            "FreeRotation.evaluate is deprecated; use FreeRotation.to_dataset", DeprecationWarning, stacklevel=2
+        )
         return self.to_dataset(t, t_end=t_end, samples=samples)
 
     def to_dataset(self, t=None, *, t_end=None, samples: int | None = None) -> xr.Dataset:
@@ -286,6 +284,7 @@ class FreeRotation:
 
         mdl = self._model
         e0, l0 = mdl.energy, mdl.angular_momentum
+
         def var(name, data):
             return cf.variable("free", name, data)
 

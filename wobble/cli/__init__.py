@@ -18,8 +18,22 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "excitation", "forecast", "inertia", "free", "top", "run", "sweep",
-               "invert", "example", "bench")
+SUBCOMMANDS = (
+    "chandler",
+    "modes",
+    "precession",
+    "polar_motion",
+    "excitation",
+    "forecast",
+    "inertia",
+    "free",
+    "top",
+    "run",
+    "sweep",
+    "invert",
+    "example",
+    "bench",
+)
 
 EPILOG = """\
 examples:

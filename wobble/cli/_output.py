@@ -13,7 +13,17 @@ import sys
 
 from wobble.io.text import clean, decimals_for, dumps, duration, number, with_uncertainty
 
-__all__ = ["clean", "dumps", "print_json", "wrote", "check_outputs", "number", "with_uncertainty", "decimals_for", "duration"]
+__all__ = [
+    "clean",
+    "dumps",
+    "print_json",
+    "wrote",
+    "check_outputs",
+    "number",
+    "with_uncertainty",
+    "decimals_for",
+    "duration",
+]
 
 
 def print_json(obj) -> None:

@@ -48,14 +48,16 @@ def report(a) -> str:
         f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} +/- {_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
     )
     lines.append(
-        f"  mean pole at {e.epoch.iso[:10]}: x {_fmt(e.mean_pole_x, 3)}\", y {_fmt(e.mean_pole_y, 3)}\", "
+        f'  mean pole at {e.epoch.iso[:10]}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '
         f"drifting {_fmt(e.drift_rate, 1)} mas/yr toward {_fmt(e.drift_direction, 0)} deg W"
     )
     if a.quality_factor is not None:
         q = a.quality_factor
         value = "unresolved (inf)" if not math.isfinite(q.value) else f"{q.value:.0f}"
         hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
-        lines.append(f"  Q (line shape; see caveats): ML {value}, 68 % {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
+        lines.append(
+            f"  Q (line shape; see caveats): ML {value}, 68 % {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}"
+        )
     lines += ["", "  Beside the model (wobble chandler earth) and the literature; days of 86400 s:"]
     lines.append(f"  {'':<44}{'period [d]':>11}{'residual [d]':>14}")
     for r in a.comparison():

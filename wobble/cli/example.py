@@ -44,8 +44,12 @@ def run(args) -> int:
             raise InputError.missing("NAME", "a shipped file to copy, or --list to see them")
         files = shipped_files()
         if args.json:
-            print_json([{"name": f.name, "kind": f.kind, "qualified_name": f.qualified, "description": f.description}
-                        for f in files])
+            print_json(
+                [
+                    {"name": f.name, "kind": f.kind, "qualified_name": f.qualified, "description": f.description}
+                    for f in files
+                ]
+            )
             return 0
         counts = {}
         for f in files:

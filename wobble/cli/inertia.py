@@ -115,7 +115,9 @@ def _unit_option(text: str | None, option: str, kind: u.UnitBase) -> u.UnitBase 
     try:
         unit = u.Unit(text, parse_strict="raise")
     except ValueError:
-        raise InputError(option, text, f"a unit astropy can parse (e.g. {'g, kg, Msun' if kind == u.kg else 'cm, m, au'})") from None
+        raise InputError(
+            option, text, f"a unit astropy can parse (e.g. {'g, kg, Msun' if kind == u.kg else 'cm, m, au'})"
+        ) from None
     if not unit.is_equivalent(kind):
         raise InputError(option, text, f"a unit of {kind.physical_type}")
     return unit

@@ -27,8 +27,16 @@ from pathlib import Path
 
 from wobble.errors import InputError, OutputExistsError
 
-__all__ = ["atomic_target", "check_target", "new_temporary", "new_temporary_folder", "publish", "write_error",
-           "remove_stale_temporaries", "interrupts_held"]
+__all__ = [
+    "atomic_target",
+    "check_target",
+    "new_temporary",
+    "new_temporary_folder",
+    "publish",
+    "write_error",
+    "remove_stale_temporaries",
+    "interrupts_held",
+]
 
 # When this process began writing files (the module is imported before any write): temporaries
 # older than this cannot belong to a write this process is doing.

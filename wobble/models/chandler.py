@@ -81,9 +81,18 @@ _ALIASES = {"core": "fluid_core", "ocean": "ocean_pole_tide", "euler": "rigid"}
 STEP_LABELS = {
     "rigid": ("rigid body: Euler free precession", "Euler 1765; Goldstein, Poole & Safko 2002 sec. 5.6"),
     "elastic": ("elastic yielding, k2 against k_s", "Munk & MacDonald 1960; Smith & Dahlen 1981"),
-    "fluid_core": ("liquid core does not follow the mantle, A -> A_m", "Sasao, Okubo & Saito 1980; Smith & Dahlen 1981"),
-    "ocean_pole_tide": ("equilibrium ocean pole tide, k2 + k_ocean", "Dahlen 1976; Desai 2002; IERS Conventions 2010 sec. 6.5"),
-    "anelastic": ("mantle anelasticity: k2 at the wobble's frequency", "Wahr & Bergen 1986; Mathews et al. 2002; IERS Conventions 2010 eq. 6.12"),
+    "fluid_core": (
+        "liquid core does not follow the mantle, A -> A_m",
+        "Sasao, Okubo & Saito 1980; Smith & Dahlen 1981",
+    ),
+    "ocean_pole_tide": (
+        "equilibrium ocean pole tide, k2 + k_ocean",
+        "Dahlen 1976; Desai 2002; IERS Conventions 2010 sec. 6.5",
+    ),
+    "anelastic": (
+        "mantle anelasticity: k2 at the wobble's frequency",
+        "Wahr & Bergen 1986; Mathews et al. 2002; IERS Conventions 2010 eq. 6.12",
+    ),
 }
 STEP_DESCRIPTIONS = {name: f"{label} ({refs})" for name, (label, refs) in STEP_LABELS.items()}
 
@@ -271,7 +280,9 @@ def free_wobble_rate(spin: float, c_minus_a: float, c_minus_b: float, d: float =
     """
     rate, code = free_wobble_rate_array(spin, c_minus_a, c_minus_b, d, core)
     if code == 2:
-        raise InputError("fluid_core", f"A_f/C = {core:.6g}", "a liquid core smaller than the equatorial moment (A_f < A)")
+        raise InputError(
+            "fluid_core", f"A_f/C = {core:.6g}", "a liquid core smaller than the equatorial moment (A_f < A)"
+        )
     if code == 1:
         raise InputError(
             "figure",
@@ -300,7 +311,6 @@ def principal_moments(planet: PlanetParameters):
 
 
 # -- the parameters as arrays ----------------------------------------------------------
-
 
 
 class ParameterValues:
@@ -354,10 +364,14 @@ class ParameterValues:
         self.v = {k: None for k in merged}
         # Broadcast to one shape (np.full for the many scalars: np.broadcast_arrays costs
         # ten times more, and this runs on every call of a sweep chunk or an inversion step).
-        self.v.update({
-            k: a if a.shape == self.shape else (np.full(self.shape, a) if a.ndim == 0 else np.broadcast_to(a, self.shape))
-            for k, a in given.items()
-        })
+        self.v.update(
+            {
+                k: a
+                if a.shape == self.shape
+                else (np.full(self.shape, a) if a.ndim == 0 else np.broadcast_to(a, self.shape))
+                for k, a in given.items()
+            }
+        )
         bad = np.zeros(self.shape, dtype=bool)
         for key in POSITIVE_KEYS:
             if self.v[key] is not None:
@@ -520,8 +534,7 @@ def resolve_model(p: PlanetParameters, model: str) -> tuple[str, tuple[str, ...]
         raise InputError(
             "model",
             model,
-            f"a model {p.name} supports ({', '.join((*supported, 'full'))}); "
-            f"'{name}' needs {', '.join(missing)}",
+            f"a model {p.name} supports ({', '.join((*supported, 'full'))}); '{name}' needs {', '.join(missing)}",
         )
     upto = STEPS.index(name)
     return name, tuple(s for s in supported if STEPS.index(s) <= upto)
@@ -538,7 +551,12 @@ _USES = {
     "elastic": ("love_number_k2", "gm", "equatorial_radius"),
     "fluid_core": ("fluid_core_equatorial_moment", "fluid_core_radius", "fluid_core_density", "gravitational_constant"),
     "ocean_pole_tide": ("ocean_pole_tide_love_number",),
-    "anelastic": ("love_number_k2_period", "love_number_k2_imaginary", "love_number_k2_imaginary_period", "anelastic_exponent"),
+    "anelastic": (
+        "love_number_k2_period",
+        "love_number_k2_imaginary",
+        "love_number_k2_imaginary_period",
+        "anelastic_exponent",
+    ),
 }
 
 
@@ -649,7 +667,11 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
             "axis is unstable (no periodic wobble)",
         )
     if code == 2:
-        raise InputError("fluid_core", f"A_f/C = {float(values.core_over_c()):.6g}", "a liquid core smaller than the equatorial moment (A_f < A)")
+        raise InputError(
+            "fluid_core",
+            f"A_f/C = {float(values.core_over_c()):.6g}",
+            "a liquid core smaller than the equatorial moment (A_f < A)",
+        )
     if code == 3:
         ks = values.secular_love_number()
         raise InputError(
@@ -658,7 +680,9 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
             f"below the secular Love number k_s = {float(ks):.6g} of this figure (a body cannot yield more than a fluid)",
         )
     if code == 4:
-        raise InputError("anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges")
+        raise InputError(
+            "anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges"
+        )
     if code == 5:
         raise InputError("parameters", p.name, INVALID_REASONS[5])
 
@@ -670,8 +694,9 @@ MC_DRAWS = 100_000
 MC_SEED = 20_240_901
 
 
-def _monte_carlo(p: PlanetParameters, steps: tuple[str, ...], draws: int = MC_DRAWS,
-                 seed: int = MC_SEED) -> tuple[float, float]:
+def _monte_carlo(
+    p: PlanetParameters, steps: tuple[str, ...], draws: int = MC_DRAWS, seed: int = MC_SEED
+) -> tuple[float, float]:
     """Standard deviation of the period (s) over normal draws of every uncertain parameter.
 
     Draws outside a parameter's physical range (a negative Love number or density, a
@@ -749,7 +774,16 @@ def chandler_budget(p: PlanetParameters, model: str = "full") -> Budget:
     out = []
     for s in arrays:
         uses = _rigid_uses(p) if s.name == "rigid" else tuple(k for k in _USES[s.name] if getattr(p, k) is not None)
-        out.append(Step(s.name, float(s.rate), float(s.love_number), float(s.love_number_imaginary), float(s.core_fraction), uses))
+        out.append(
+            Step(
+                s.name,
+                float(s.rate),
+                float(s.love_number),
+                float(s.love_number_imaginary),
+                float(s.core_fraction),
+                uses,
+            )
+        )
     if out[-1].rate == 0:
         sigma, linear, contributions, valid = math.nan, math.nan, {}, math.nan
     else:

@@ -150,7 +150,9 @@ def _analyse(moments, omega):
     nu = np.abs(ic * iba / (ia * icb))
     ones = np.ones_like(nu)
     pi_c = ell.pi_negative_scd(nu, ones, 0.0 * ones, np.where(sep, 1.0, m1), np.where(sep, 1.0, m1))
-    rate_psi = big_l / ic + (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * np.pi) / (ia * np.sqrt(1.0 + nu))) / K
+    rate_psi = (
+        big_l / ic + (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * np.pi) / (ia * np.sqrt(1.0 + nu))) / K
+    )
     rate = rate_psi + np.where(minor, -2.0, 2.0) * np.pi / period
     theta_min = np.arctan2(ia * amp_a, ic * amp_c)
     theta_max = np.arctan2(ib * amp_b, ic * amp_c * np.sqrt(m1))

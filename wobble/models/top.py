@@ -144,7 +144,9 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         ml2 = _finite("M l^2", ml2, "a finite M l^2 (kg m2)")
         if I1 < ml2 * (1 - 8 * _EPS):
             raise InputError(
-                "I1", I1, f"I1 >= M l^2 = {ml2:g} kg m2 (the moment about the tip includes M l^2; "
+                "I1",
+                I1,
+                f"I1 >= M l^2 = {ml2:g} kg m2 (the moment about the tip includes M l^2; "
                 "I1 must be about the tip, not the centre of mass)",
             )
     return I1, I3, mgl
@@ -191,7 +193,8 @@ def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, th
         disc = a * a - 2 * c * beta
         if disc < 0:
             raise InputError(
-                "theta", theta,
+                "theta",
+                theta,
                 "a tilt where steady precession exists: I3^2 omega3^2 >= 4 I1 M g l cos(theta)",
             )
         if c == 0:
@@ -420,8 +423,17 @@ class HeavyTopModel:
         omega = np.stack([ps * spsi + tdc * cpsi, ps * cpsi - tdc * spsi, np.full_like(ps, self.omega3)], axis=-1)
         inv = self._invariants(omega, q, c["u"])
         return TopMotion(
-            t=t, theta=r(theta), phi=r(phi), psi=r(psi), thetadot=r(thetadot), phidot=r(c["phidot"]),
-            psidot=r(c["psidot"]), omega=r(omega, (3,)), quaternion=r(q, (4,)), axis=r(axis, (3,)), u=r(c["u"]),
+            t=t,
+            theta=r(theta),
+            phi=r(phi),
+            psi=r(psi),
+            thetadot=r(thetadot),
+            phidot=r(c["phidot"]),
+            psidot=r(c["psidot"]),
+            omega=r(omega, (3,)),
+            quaternion=r(q, (4,)),
+            axis=r(axis, (3,)),
+            u=r(c["u"]),
             **{k: r(v) for k, v in inv.items()},
         )
 
@@ -534,8 +546,20 @@ def heavy_top(
         else:
             w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)")) + to_decimal(phidot0) * u0
         v0 = to_decimal(phidot0) * s0
-    setup = TopSetup(I1=I1, I3=I3, mgl=mgl, theta0=theta0, sin_half=sh, cos_half=ch, thetadot0=to_decimal(thetadot0),
-                     v0=v0, omega3=w3, phi0=to_decimal(phi0), psi0=to_decimal(psi0), phidot0=phidot0)
+    setup = TopSetup(
+        I1=I1,
+        I3=I3,
+        mgl=mgl,
+        theta0=theta0,
+        sin_half=sh,
+        cos_half=ch,
+        thetadot0=to_decimal(thetadot0),
+        v0=v0,
+        omega3=w3,
+        phi0=to_decimal(phi0),
+        psi0=to_decimal(psi0),
+        phidot0=phidot0,
+    )
     return HeavyTopModel(**analyse(setup))
 
 
@@ -585,6 +609,18 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     phidot0 = phidot_sin / float(2 * sh * ch) if sh_f > 0 and ch_f > 0 else 0.0
     phi0_d = to_decimal(sigma0) + to_decimal(delta0)  # the current decimal context, as always
     psi0_d = to_decimal(sigma0) - to_decimal(delta0)
-    setup = TopSetup(I1=I1, I3=I3, mgl=mgl, theta0=theta0, sin_half=sh, cos_half=ch, thetadot0=to_decimal(thetadot0),
-                     v0=to_decimal(phidot_sin), omega3=to_decimal(float(w[2])), phi0=phi0_d, psi0=psi0_d, phidot0=phidot0)
+    setup = TopSetup(
+        I1=I1,
+        I3=I3,
+        mgl=mgl,
+        theta0=theta0,
+        sin_half=sh,
+        cos_half=ch,
+        thetadot0=to_decimal(thetadot0),
+        v0=to_decimal(phidot_sin),
+        omega3=to_decimal(float(w[2])),
+        phi0=phi0_d,
+        psi0=psi0_d,
+        phidot0=phidot0,
+    )
     return HeavyTopModel(**analyse(setup))

@@ -109,7 +109,8 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):
             | (np.minimum(y0, y_o) <= _POLE * np.maximum(y0, y_o))  # next to the bottom
             | (np.abs(d_s) <= _MARGIN * x1)  # a nutation too small for float64 rounding of x
             | ~np.isfinite(d_s)
-            | (theta0 <= 0) | (theta0 >= np.pi)
+            | (theta0 <= 0)
+            | (theta0 >= np.pi)
         )
         # beta (u3 - u1), m and 1 - m without cancellation (module docstring).
         up = Q > 0  # u0 is the lower turning point u1: the axis rises first
@@ -183,13 +184,22 @@ def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> d
         (int8, :data:`INVALID_REASONS`) and ``scalar_fallback`` (bool: the
         member was analysed by :func:`wobble.models.top.heavy_top`).
     """
-    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (I1, I3, mgl, theta0, omega3, phidot0, thetadot0)))
+    arrays = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (I1, I3, mgl, theta0, omega3, phidot0, thetadot0))
+    )
     shape = arrays[0].shape
     i1, i3, mg, th, w3, pd, td = (x.ravel() for x in arrays)
     n = i1.size
     with np.errstate(invalid="ignore"):
-        bad_top = ~(np.isfinite(i1) & np.isfinite(i3) & np.isfinite(mg) & (i1 > 0) & (i3 > 0) & (mg >= 0)
-                    & (i3 <= 2 * i1 * (1 + 8 * _EPS)))
+        bad_top = ~(
+            np.isfinite(i1)
+            & np.isfinite(i3)
+            & np.isfinite(mg)
+            & (i1 > 0)
+            & (i3 > 0)
+            & (mg >= 0)
+            & (i3 <= 2 * i1 * (1 + 8 * _EPS))
+        )
         bad_state = ~(np.isfinite(th) & (th >= 0) & (th <= np.pi) & np.isfinite(w3) & np.isfinite(pd) & np.isfinite(td))
     reason = np.where(bad_top, 1, np.where(bad_state, 2, 0)).astype(np.int8)
     ok = reason == 0

@@ -398,7 +398,9 @@ def ellippi_inc(n, phi, m, m1=None):
         # p = 1 - n s^2 = c^2 + (1 - n) s^2: no cancellation as n s^2 -> 1 (1 - n is
         # exact for n >= 1/2), as in pi_positive_scd.
         p_pos = c2 + (1.0 - npos) * s2
-        pos = s * rf + np.where(npos > 0, (npos / 3.0) * s * s2 * _sp.elliprj(c2, d2, 1.0, np.where(p_pos > 0, p_pos, 1.0)), 0.0)
+        pos = s * rf + np.where(
+            npos > 0, (npos / 3.0) * s * s2 * _sp.elliprj(c2, d2, 1.0, np.where(p_pos > 0, p_pos, 1.0)), 0.0
+        )
     return sign * np.where(n <= 0, neg, pos)
 
 

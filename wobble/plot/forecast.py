@@ -105,7 +105,11 @@ def hindcast_figure(hindcast) -> Figure:
     ax_skill.set_xlabel("lead time [d]")
     ax_skill.set_ylabel("skill, 1 - RMS / RMS(reference)")
     ax_skill.legend(fontsize="x-small")
-    intervals = "intervals calibrated on past forecasts" if getattr(hindcast, "calibrated", False) else "the models' own intervals"
+    intervals = (
+        "intervals calibrated on past forecasts"
+        if getattr(hindcast, "calibrated", False)
+        else "the models' own intervals"
+    )
     ax_cov.set_title(intervals, fontsize="medium")
     fig.suptitle(
         f"hindcast: {len(hindcast.issued_mjd)} forecasts issued {_years(hindcast.issued_mjd[0]):.1f}-{_years(hindcast.issued_mjd[-1]):.1f}, "

@@ -35,8 +35,12 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     uu, vv = np.meshgrid(np.linspace(0, 2 * np.pi, 60), np.linspace(0, np.pi, 30))
     radii = np.sqrt(two_t * I)
     ax.plot_surface(
-        radii[0] * np.cos(uu) * np.sin(vv), radii[1] * np.sin(uu) * np.sin(vv), radii[2] * np.cos(vv),
-        color="0.85", alpha=0.25, linewidth=0,
+        radii[0] * np.cos(uu) * np.sin(vv),
+        radii[1] * np.sin(uu) * np.sin(vv),
+        radii[2] * np.cos(vv),
+        color="0.85",
+        alpha=0.25,
+        linewidth=0,
     )
     for w in omegas:
         w = w.to_value(u.rad / u.s)
@@ -69,8 +73,10 @@ def flip_figure(moments, omega0, t_end):
     ax.set_xlim(0, t_end_s)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("body-frame angular velocity (rad s$^{-1}$)")
-    ax.set_title(f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
-                 f"flip every {body.time_between_flips.to_value(u.s):.6f} s")
+    ax.set_title(
+        f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
+        f"flip every {body.time_between_flips.to_value(u.s):.6f} s"
+    )
     ax.legend(loc="upper right")
     fig.tight_layout()
     return fig

@@ -111,16 +111,39 @@ class PolarMotionAnalysis:
         """
         obs = self.estimate
         rows = [
-            {"name": f"observed ({obs.method.replace('_', ' ')})", "kind": "observed", "period": obs.period, "uncertainty": obs.period_uncertainty, "residual": None, "sigma": None}
+            {
+                "name": f"observed ({obs.method.replace('_', ' ')})",
+                "kind": "observed",
+                "period": obs.period,
+                "uncertainty": obs.period_uncertainty,
+                "residual": None,
+                "sigma": None,
+            }
         ]
         for step in self.budget.steps:
             final = step is self.budget.steps[-1]
             unc = self.budget.period_uncertainty if final else None
             sigma = np.hypot(unc, obs.period_uncertainty) if final else None
-            rows.append({"name": f"model: {step.name}", "kind": "model", "period": step.period, "uncertainty": unc, "residual": step.period - obs.period, "sigma": sigma})
+            rows.append(
+                {
+                    "name": f"model: {step.name}",
+                    "kind": "model",
+                    "period": step.period,
+                    "uncertainty": unc,
+                    "residual": step.period - obs.period,
+                    "sigma": sigma,
+                }
+            )
         pub = published_chandler_period()
         rows.append(
-            {"name": "published (Vicente & Wilson 1997)", "kind": "published", "period": pub["period"], "uncertainty": pub["uncertainty"], "residual": pub["period"] - obs.period, "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty)}
+            {
+                "name": "published (Vicente & Wilson 1997)",
+                "kind": "published",
+                "period": pub["period"],
+                "uncertainty": pub["uncertainty"],
+                "residual": pub["period"] - obs.period,
+                "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty),
+            }
         )
         return rows
 
@@ -158,7 +181,9 @@ class PolarMotionAnalysis:
                 }
                 for r in self.comparison()
             ],
-            "published": {k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()},
+            "published": {
+                k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()
+            },
             "caveats": list(self.caveats),
             "deprecated_keys": dict(DEPRECATED_KEYS),
         }
@@ -193,7 +218,9 @@ class PolarMotionAnalysis:
         if self.quality_factor is not None:
             q = self.quality_factor
             hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
-            lines.append(f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
+            lines.append(
+                f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}"
+            )
         pub = published_chandler_period()
         lines.append(
             f"  model (wobble.chandler_budget('earth')) {pm(self.budget.period, self.budget.period_uncertainty, 1)} d; "
@@ -271,7 +298,9 @@ def polar_motion_analysis(
     span = t[-1] - t[0]
     if span < _pm.MIN_SPAN:
         raise InputError(
-            "start/end", f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}", f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)"
+            "start/end",
+            f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}",
+            f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)",
         )
     if not _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9):
         raise InputError(
@@ -281,16 +310,22 @@ def polar_motion_analysis(
         )
     say("least-squares fit")
     reference = published_chandler_period()["period"].to_value(u.s)
-    ls = _pm.fit_least_squares(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    ls = _pm.fit_least_squares(
+        t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws
+    )
     say("spectral estimate")
-    sp = _pm.fit_spectrum(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    sp = _pm.fit_spectrum(
+        t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws
+    )
     spectrum = _pm.two_sided_spectrum(t, z, reference_period=reference, drift_degree=drift_degree)
 
     def window_progress(done, total):
         if done % 5 == 0 or done == total:
             say(f"windows {done}/{total}")
 
-    wf = _pm.sliding_windows(t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress)
+    wf = _pm.sliding_windows(
+        t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress
+    )
     caveats = list(ls.caveats)
     if window_s < _pm.beat_period(reference):
         caveats.append(
@@ -316,5 +351,3 @@ def polar_motion_analysis(
         budget=chandler_budget("earth"),
         caveats=caveats,
     )
-
-

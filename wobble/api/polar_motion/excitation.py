@@ -151,7 +151,12 @@ class GeodeticExcitation:
         data = {
             "x_p": cf.variable("excitation", "x_p", x * mas),
             "y_p": cf.variable("excitation", "y_p", y * mas),
-            "chi_1": cf.variable("excitation", "chi_1", self.chi_1.value, comment="excitation of the step ending at each time; NaN at the first"),
+            "chi_1": cf.variable(
+                "excitation",
+                "chi_1",
+                self.chi_1.value,
+                comment="excitation of the step ending at each time; NaN at the first",
+            ),
             "chi_2": cf.variable("excitation", "chi_2", self.chi_2.value),
             "x_p_round_trip": cf.variable("excitation", "x_p_round_trip", xb * mas),
             "y_p_round_trip": cf.variable("excitation", "y_p_round_trip", yb * mas),
@@ -160,12 +165,17 @@ class GeodeticExcitation:
             "round_trip_rms": cf.variable("excitation", "round_trip_rms", float(self.round_trip_rms.value)),
         }
         if self.band_chi is not None:
-            data["chandler_band_chi"] = cf.variable("excitation", "chandler_band_chi", np.concatenate([[np.nan], self.band_chi]))
+            data["chandler_band_chi"] = cf.variable(
+                "excitation", "chandler_band_chi", np.concatenate([[np.nan], self.band_chi])
+            )
             data["chandler_band_pole"] = cf.variable("excitation", "chandler_band_pole", self.band_pole)
         f, ac, ap = self.spectra()
         data["excitation_spectrum"] = cf.variable("excitation", "excitation_spectrum", ac)
         data["pole_spectrum"] = cf.variable("excitation", "pole_spectrum", ap)
-        coords = {"time": cf.time_coordinate(self.time_mjd, MJD_UNITS, long_name="time (UTC)"), "frequency": cf.variable("excitation", "frequency", f)}
+        coords = {
+            "time": cf.time_coordinate(self.time_mjd, MJD_UNITS, long_name="time (UTC)"),
+            "frequency": cf.variable("excitation", "frequency", f),
+        }
         ds = xr.Dataset(data, coords=coords)
         ds.attrs = {
             "title": "Geodetic excitation of polar motion",
@@ -196,7 +206,6 @@ class GeodeticExcitation:
         return "\n".join(lines)
 
 
-
 def geodetic_excitation(
     data=None, *, file=None, start=None, end=None, chandler_period: u.Quantity | None = None, q: float | None = None
 ) -> GeodeticExcitation:
@@ -223,7 +232,11 @@ def geodetic_excitation(
     if chandler_period is None:
         reference = published_chandler_period()["period"].to_value(u.s)
         if t_all[-1] - t_all[0] < MIN_SPAN:
-            raise InputError("data", "a record shorter than two years", "two years or more to measure the Chandler period, or chandler_period=")
+            raise InputError(
+                "data",
+                "a record shorter than two years",
+                "two years or more to measure the Chandler period, or chandler_period=",
+            )
         period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))

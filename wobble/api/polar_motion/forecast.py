@@ -279,15 +279,35 @@ class PolarMotionForecast:
         }
         coords = {
             "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
-            "time": (("lead",), self.time_mjd, {"units": MJD_UNITS, "calendar": "standard", "standard_name": "time", "long_name": "time the forecast is for (UTC)", "axis": "T"}),
-            "forecast_reference_time": ((), float(MJD_J2000 + self.raw.issued / DAY), {"units": MJD_UNITS, "calendar": "standard", "standard_name": "forecast_reference_time", "long_name": "issue time of the forecast (UTC)"}),
+            "time": (
+                ("lead",),
+                self.time_mjd,
+                {
+                    "units": MJD_UNITS,
+                    "calendar": "standard",
+                    "standard_name": "time",
+                    "long_name": "time the forecast is for (UTC)",
+                    "axis": "T",
+                },
+            ),
+            "forecast_reference_time": (
+                (),
+                float(MJD_J2000 + self.raw.issued / DAY),
+                {
+                    "units": MJD_UNITS,
+                    "calendar": "standard",
+                    "standard_name": "forecast_reference_time",
+                    "long_name": "issue time of the forecast (UTC)",
+                },
+            ),
         }
         ds = xr.Dataset(data, coords=coords)
         cal = self._calibration_dict()
         ds.attrs = {
             "title": f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}",
             "summary": self.summary().splitlines()[0],
-            "references": _REFERENCES[self.method] + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
+            "references": _REFERENCES[self.method]
+            + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
             "source_file": self.source,
             "interval_calibration": "past_errors" if cal else "none",
             "intervals": calibration_text(self.calibration),
@@ -403,7 +423,9 @@ def forecast_polar_motion(
         issued_mjd = to_mjd(issued, "issued")
         if not (mjd[0] <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
             raise InputError(
-                "issued", issued, f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)"
+                "issued",
+                issued,
+                f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)",
             )
         issued_s = (issued_mjd - MJD_J2000) * DAY
     span = calibration_span_si(calibration_span)
@@ -417,6 +439,15 @@ def forecast_polar_motion(
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
     raw = _cal.forecast(
-        t, z, issued_s, horizon_days, method=method, chandler_period=period, q=q_value, latency=lat, calibrated=calibrated, span=span
+        t,
+        z,
+        issued_s,
+        horizon_days,
+        method=method,
+        chandler_period=period,
+        q=q_value,
+        latency=lat,
+        calibrated=calibrated,
+        span=span,
     )
     return PolarMotionForecast(raw, lat, ds.attrs.get("source_file", ""), q_value if method == "kalman" else None)

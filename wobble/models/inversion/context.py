@@ -127,7 +127,8 @@ def _table(box: tuple, seed: int):
     pts = [p[keep][:_CHECK_POINTS] for p in pts]
     if pts[0].size == 0:
         raise InputError(
-            "priors", "core radius, density and polar moment",
+            "priors",
+            "core radius, density and polar moment",
             "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than the core)",
         )
     reference = _hydro.core_flattening_unchecked(*pts, 1e-13)
@@ -136,7 +137,8 @@ def _table(box: tuple, seed: int):
         coefficients = _fit(box, degrees)
         if coefficients is None:
             raise InputError(
-                "priors", _box_text(box),
+                "priors",
+                _box_text(box),
                 "priors for which the core's hydrostatic figure exists everywhere (in part of this range the mantle "
                 "would need a negative mass: Clairaut's equation has no regular solution there)",
             )
@@ -145,7 +147,8 @@ def _table(box: tuple, seed: int):
             coefficients.setflags(write=False)
             return coefficients, error, pts[0].size
     raise InputError(
-        "priors", _box_text(box),
+        "priors",
+        _box_text(box),
         f"priors over which the hydrostatic core can be tabulated to {TABLE_TOLERANCE:g} (narrower priors; last error {error:.2g})",
     )
 
@@ -194,7 +197,9 @@ class LinearMantleCoreFigure:
             if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
                 raise InputError(name, f"[{lo:.6g}, {hi:.6g}]", "a finite, positive range")
         if box[0][1] >= 1.0:
-            raise InputError("fluid_core_radius", f"up to {box[0][1]:.4g} of the radius", "a prior for a core inside the planet")
+            raise InputError(
+                "fluid_core_radius", f"up to {box[0][1]:.4g} of the radius", "a prior for a core inside the planet"
+            )
         coefficients, error, points = _table(box, seed)
         return cls(profile, float(radius), box, coefficients, error, points)
 

@@ -167,7 +167,9 @@ class Normal(Prior):
         if not self.low < self.high:
             return ["truncation bounds with low < high"]
         if not self._log_mass() > math.log(1e-12):
-            return [f"a normal prior with probability inside the range [{self.low:.6g}, {self.high:.6g}] it is truncated to"]
+            return [
+                f"a normal prior with probability inside the range [{self.low:.6g}, {self.high:.6g}] it is truncated to"
+            ]
         return []
 
     def _a(self) -> float:

@@ -97,9 +97,13 @@ class SamplerSettings:
             raise InputError("steps", self.steps, f"at least {2 * self.thin} (two kept draws at thin = {self.thin})")
         names = [m[0] for m in self.moves]
         if not names or len(set(names)) != len(names) or any(n not in MOVE_NAMES for n in names):
-            raise InputError("moves", ", ".join(map(str, names)) or "none", f"each of {', '.join(MOVE_NAMES)} at most once")
+            raise InputError(
+                "moves", ", ".join(map(str, names)) or "none", f"each of {', '.join(MOVE_NAMES)} at most once"
+            )
         for name, weight in self.moves:
-            if isinstance(weight, bool) or not (isinstance(weight, (int, float)) and math.isfinite(weight) and weight > 0):
+            if isinstance(weight, bool) or not (
+                isinstance(weight, (int, float)) and math.isfinite(weight) and weight > 0
+            ):
                 raise InputError(f"moves.{name}", weight, "a positive weight")
 
     def as_dict(self) -> dict:
@@ -204,7 +208,8 @@ def start_positions(posterior: Posterior, walkers: int, rng: np.random.Generator
         if len(found) == walkers:
             return found
     raise InputError(
-        "priors", ", ".join(posterior.names),
+        "priors",
+        ", ".join(posterior.names),
         f"priors under which the posterior is positive somewhere: {len(found)} of {_START_ATTEMPTS * 4 * walkers} "
         "prior draws had a finite likelihood (the data may contradict the priors, or the model fails there)",
     )
@@ -234,8 +239,12 @@ def run_emcee(
     settings.check(posterior.ndim)
     rng = _rng(seed)
     start = start_positions(posterior, settings.walkers, rng)
-    moves = {"stretch": emcee.moves.StretchMove, "de": emcee.moves.DEMove, "de_snooker": emcee.moves.DESnookerMove,
-             "independence": _independence_move}
+    moves = {
+        "stretch": emcee.moves.StretchMove,
+        "de": emcee.moves.DEMove,
+        "de_snooker": emcee.moves.DESnookerMove,
+        "independence": _independence_move,
+    }
     sampler = emcee.EnsembleSampler(
         settings.walkers, posterior.ndim, posterior, vectorize=True, moves=[(moves[m](), w) for m, w in settings.moves]
     )

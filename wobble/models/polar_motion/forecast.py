@@ -122,7 +122,9 @@ class PastForecasts:
         """The forecasts issued at ``times`` (each must be present)."""
         times = np.asarray(times, dtype=float)
         idx = np.searchsorted(self.issued, times - 1e-6)
-        if np.any(idx >= self.issued.size) or np.any(np.abs(self.issued[np.minimum(idx, self.issued.size - 1)] - times) > 1e-6):
+        if np.any(idx >= self.issued.size) or np.any(
+            np.abs(self.issued[np.minimum(idx, self.issued.size - 1)] - times) > 1e-6
+        ):
             raise ValueError("past forecasts missing for some issue times")
         return PastForecasts(self.issued[idx], self.mean[idx], self.sigma[idx])
 
@@ -172,4 +174,8 @@ def daily(t, what: str) -> None:
     """Refuse a fitting span that is not sampled once a day without gaps (the models step by days)."""
     steps = np.diff(np.asarray(t, dtype=float))
     if steps.size and not np.allclose(steps, DAY, rtol=0, atol=1e-3):
-        raise InputError("data", f"{int(np.sum(~np.isclose(steps, DAY, rtol=0, atol=1e-3)))} gaps in the {what} fitting span", "daily samples without gaps")
+        raise InputError(
+            "data",
+            f"{int(np.sum(~np.isclose(steps, DAY, rtol=0, atol=1e-3)))} gaps in the {what} fitting span",
+            "daily samples without gaps",
+        )

@@ -50,7 +50,9 @@ def harmonic_columns(s, chandler_rate: float) -> np.ndarray:
     return np.stack(cols, axis=1).astype(complex)
 
 
-def _extrapolation_variance(t, cols, resid, future_cols, carried, lag: float = 365.25 * DAY) -> tuple[np.ndarray, np.ndarray]:
+def _extrapolation_variance(
+    t, cols, resid, future_cols, carried, lag: float = 365.25 * DAY
+) -> tuple[np.ndarray, np.ndarray]:
     """Variances of x_p and y_p of the LS extrapolation's error that the AR forecast does not carry.
 
     An error d of the coefficients misplaces the pole by c(t) . d; the residuals
@@ -155,7 +157,10 @@ def forecast_ls_ar(
 def past_forecasts_ls_ar(t, z, issues, horizon_days: int, *, chandler_period: float, latency: float = DAY, **kwargs):
     """The forecasts :func:`forecast_ls_ar` issues at each of ``issues`` (a :class:`~.forecast.PastForecasts`)."""
     issues = np.asarray(issues, dtype=float)
-    fs = [forecast_ls_ar(t, z, s, horizon_days, chandler_period=chandler_period, latency=latency, **kwargs) for s in issues]
+    fs = [
+        forecast_ls_ar(t, z, s, horizon_days, chandler_period=chandler_period, latency=latency, **kwargs)
+        for s in issues
+    ]
     mean = np.array([f.mean for f in fs], dtype=complex).reshape(issues.size, horizon_days)
     sigma = np.array([np.stack([f.sigma_x, f.sigma_y], axis=1) for f in fs]).reshape(issues.size, horizon_days, 2)
     return PastForecasts(issues, mean, sigma)
