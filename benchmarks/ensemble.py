@@ -160,7 +160,8 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
         "rows": rows,
         "skipped": skipped,
         "cap_s": cap_s,
-        "error_measure": "max over the probe members and outputs of the relative omega error and the attitude angle (rad)",
+        "error_measure": "max over the probe members and outputs of the relative omega error and the attitude "
+        "angle (rad)",
     }
 
 

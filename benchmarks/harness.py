@@ -299,7 +299,8 @@ def targets(res: dict) -> list[dict]:
         add(
             c["title"],
             ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
-            f"{ratio:.0f}x (exact {ex['t_min'] * 1e3:.2f} ms incl. construction, DOP853 {dop['t_min']:.3g} s); attitude "
+            f"{ratio:.0f}x (exact {ex['t_min'] * 1e3:.2f} ms incl. construction, DOP853 {dop['t_min']:.3g} s); "
+            "attitude "
             f"{ex['error']:.1e} vs {dop['error']:.1e} rad, turning points {ex.get('turning_error', 0):.1e} vs "
             f"{dop.get('turning_error', float('nan')):.1e}",
             ratio >= 1000 and better,
@@ -394,7 +395,8 @@ def text_table(res: dict) -> str:
         lines.append(f"\n{e['title']}")
         for r in e["scipy"]:
             lines.append(
-                f"  {r['method']:<26} {r['setting']:<14} {'':>9} {r['error']:>9.2e} {r['per_member_s'] * 1e6:>10.1f} us/member"
+                f"  {r['method']:<26} {r['setting']:<14} {'':>9} {r['error']:>9.2e} "
+                f"{r['per_member_s'] * 1e6:>10.1f} us/member"
             )
         for r in e["rows"]:
             ratio = "-" if r["ratio_vs_scipy"] is None else f"{r['ratio_vs_scipy']:.1f}x"

@@ -314,7 +314,8 @@ def main():
     )
     p("")
     p(
-        "| members | method | setting | error | wobble (µs / member, min) | wobble (median) | SciPy at that error (µs / member) | ratio |"
+        "| members | method | setting | error | wobble (µs / member, min) | wobble (median) | SciPy at that error "
+        "(µs / member) | ratio |"
     )
     p("|---|---|---|---|---|---|---|---|")
     best_ratio = {}
@@ -326,7 +327,8 @@ def main():
         if ratio is not None:
             best_ratio[n] = max(best_ratio.get(n, 0.0), ratio)
         p(
-            f"| {n} | {label} | {setting} | {err:.1e} | {tmin * 1e6:.2f} | {tmed * 1e6:.2f} | {fmt(None if ref is None else ref * 1e6)} | {fmt(ratio)}x |"
+            f"| {n} | {label} | {setting} | {err:.1e} | {tmin * 1e6:.2f} | {tmed * 1e6:.2f} | "
+            f"{fmt(None if ref is None else ref * 1e6)} | {fmt(ratio)}x |"
         )
     p("")
 
@@ -341,7 +343,8 @@ def main():
     p("show as a trend comparable to the error and a last tenth larger than the first).")
     p("")
     p(
-        "| order | h (s) | steps | max error, first 10 % | max error, last 10 % | linear trend over the run | L_z error | seconds |"
+        "| order | h (s) | steps | max error, first 10 % | max error, last 10 % | linear trend over the run | L_z "
+        "error | seconds |"
     )
     p("|---|---|---|---|---|---|---|---|")
     for order, h, steps, first, last, slope, lz, seconds in drift:
@@ -384,26 +387,31 @@ def main():
     p("")
     p("* One trajectory. SciPy is fed the right-hand side in Python floats (the fastest a user can do without")
     p(
-        f"  compiling): its DOP853 costs {cost.get('scipy DOP853', float('nan')):.1f} µs per evaluation, mostly solve_ivp's own"
+        f"  compiling): its DOP853 costs {cost.get('scipy DOP853', float('nan')):.1f} µs per evaluation, mostly "
+        "solve_ivp's own"
     )
     p(
-        f"  overhead. wobble's DOP853 runs compiled (wobble.numerics.rigid_dop853): {cost.get('wobble DOP853', float('nan')):.2f} µs per"
+        "  overhead. wobble's DOP853 runs compiled (wobble.numerics.rigid_dop853): "
+        f"{cost.get('wobble DOP853', float('nan')):.2f} µs per"
     )
     p("  evaluation including its fixed set-up per call (frames, tolerances, outputs in the body frame), which")
     p("  dominates short runs. The same method in NumPy (what a custom torque runs on) costs")
     p(
-        f"  {cost.get('wobble DOP853 (NumPy)', float('nan')):.1f} µs per evaluation: its step is built for arrays of members and also"
+        f"  {cost.get('wobble DOP853 (NumPy)', float('nan')):.1f} µs per evaluation: its step is built for arrays "
+        "of members and also"
     )
     p("  advances the quaternion. A splitting drift with its kick costs")
     p(
-        f"  {cost.get('wobble splitting-6', float('nan')):.0f} µs (the exact elliptic flow in Python floats, not compiled): the splitting"
+        f"  {cost.get('wobble splitting-6', float('nan')):.0f} µs (the exact elliptic flow in Python floats, not "
+        "compiled): the splitting"
     )
     p("  is kept for its bounded energy error over long runs, not for speed.")
     if ens_dop:
         best = min(ens_dop, key=lambda r: r[4])
         p(f"* {max(sizes)} members. The compiled DOP853 costs {best[4] * 1e6:.0f} µs per member for this run")
         p(
-            f"  ({best[4] / best[6] * 1e6:.3f} µs per member and evaluation of Euler's equations, the members split between"
+            f"  ({best[4] / best[6] * 1e6:.3f} µs per member and evaluation of Euler's equations, the members "
+            "split between"
         )
         p(f"  the CPUs in threads): {best_ratio.get(max(sizes), 0):.0f}x SciPy's per-member cost at equal error.")
     p("* Energy. Both parts of the splitting are exact Poisson flows, so for a conservative torque the method")

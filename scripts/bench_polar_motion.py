@@ -34,8 +34,8 @@ which is why the LS+AR forecast is the slower one: calibrated, it misses the 1 s
 forecast, the default, meets it. The hindcast runs 13-week blocks in two processes;
 a block computes the past forecasts of all its issues once.
 
-`wobble polar-motion` misses its 2 s target by far. Where its time goes (CPU): imports about 1 s (SciPy's optimisers 0.4 s;
-xarray and, through it, dask 0.5 s), the Q profile (46 Nelder-Mead searches of about 145
+`wobble polar-motion` misses its 2 s target by far. Where its time goes (CPU): imports about 1 s
+(SciPy's optimisers 0.4 s; xarray and, through it, dask 0.5 s), the Q profile (46 Nelder-Mead searches of about 145
 evaluations each), the 57 sliding windows and the two Monte-Carlo excitation terms."""
 
 

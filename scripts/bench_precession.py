@@ -424,7 +424,8 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         f = _errors(r, ref, "axis_direction")
         steps = "-" if r["steps"] is None else f"{r['steps']:,}"
         lines.append(
-            f"| {r['method']} | {r['setting']} | {r['time_s']:.2f} | {r['load']:.1f} | {steps} | {r['evaluations']:,} | "
+            f"| {r['method']} | {r['setting']} | {r['time_s']:.2f} | {r['load']:.1f} | {steps} | "
+            f"{r['evaluations']:,} | "
             f"{e['rate_vs_reference']:.2g} | {e['nutation_vs_reference']:.2g} | {100 * e['rate_vs_analytic']:+.4f} % | "
             f"{100 * e['lon_vs_analytic']:+.3f} % | {100 * e['obl_vs_analytic']:+.3f} % | "
             f'{100 * f["rate_vs_analytic"]:+.3f} %, {r["axis_direction"]["rms"]:.2g}" |'

@@ -141,7 +141,8 @@ def main() -> None:
         "* Chandler: the whole model is numpy over a chunk.",
         "* Tumbling asteroids: regime, periods, wobble angles and the exact flow map to the final time are numpy",
         "  over a chunk (`wobble.models.free_ensemble`); no Python loop over members.",
-        "* Heavy-top phase diagram (not timed here; the 45,955-point shipped grid takes a few seconds): classification,",
+        "* Heavy-top phase diagram (not timed here; the 45,955-point shipped grid takes a few seconds): "
+        "classification,",
         "  turning angles, period and mean precession are numpy over a chunk; members next to a class boundary",
         "  (regular precession, cusps, separatrix, poles; theta0 = 0 or pi; thetadot0 != 0) loop over the exact",
         "  scalar model inside the chunk (`scalar_fallback` = 1 in the output; about 4 % of the shipped grid).",

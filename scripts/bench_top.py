@@ -219,7 +219,8 @@ def main(argv=None):
         "angles (relative) and the attitude angle (rad) at 7 times up to 1000.25 periods. The last "
         "column compares the integrator with wobble's exact attitude at all 20,001 outputs.",
         "",
-        "| case | method | min (s) | median (s) | turning points (rel.) | attitude vs mpmath (rad) | vs exact, all outputs (rad) |",
+        "| case | method | min (s) | median (s) | turning points (rel.) | attitude vs mpmath (rad) | vs exact, all "
+        "outputs (rad) |",
         "|---|---|---|---|---|---|---|",
     ]
     for label, meth, (tmin, tmed), eturn, etraj, dev in rows:
@@ -238,7 +239,8 @@ def main(argv=None):
         "attitude angle against mpmath's Taylor integration over ~3 periods (ode) and against the "
         "mpmath closed form at times up to 1000.25 periods (long), in rad.",
         "",
-        "| case | class | turning points | period | attitude, ode (direct / fourier) | attitude, 1000 periods (direct / fourier) |",
+        "| case | class | turning points | period | attitude, ode (direct / fourier) | attitude, 1000 periods "
+        "(direct / fourier) |",
         "|---|---|---|---|---|---|",
     ]
     lines += accuracy_rows()

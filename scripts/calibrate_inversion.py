@@ -69,7 +69,8 @@ def default_runs(lines: list[str], quick: bool):
     lines += [
         "## The shipped setups at their default settings",
         "",
-        "| setup | parameter | median | 68 % interval | 95 % interval | R-hat | ESS (min of bulk, tail) | prior 68 % width / posterior 68 % width |",
+        "| setup | parameter | median | 68 % interval | 95 % interval | R-hat | ESS (min of bulk, tail) | prior 68 "
+        "% width / posterior 68 % width |",
         "|---|---|---|---|---|---|---|---|",
     ]
     timing = []
@@ -88,13 +89,15 @@ def default_runs(lines: list[str], quick: bool):
             unit = f" {r.unit}" if r.unit else ""
             lines.append(
                 f"| {name} | {r.name} | {_fmt(r.median, 5)}{unit} | [{_fmt(r.lower_68, 5)}, {_fmt(r.upper_68, 5)}] | "
-                f"[{_fmt(r.lower_95, 5)}, {_fmt(r.upper_95, 5)}] | {r.r_hat:.4f} | {min(r.ess, r.ess_tail):.0f} | {ratio:.2f} |"
+                f"[{_fmt(r.lower_95, 5)}, {_fmt(r.upper_95, 5)}] | {r.r_hat:.4f} | {min(r.ess, r.ess_tail):.0f} | "
+                f"{ratio:.2f} |"
             )
         for q in result.quantity_rows():
             if not q["measured"]:
                 unit = f" {q['unit']}" if q["unit"] else ""
                 lines.append(
-                    f"| {name} | {q['name']} (derived) | {_fmt(q['median'], 4)}{unit} | [{_fmt(q['lower_68'], 4)}, {_fmt(q['upper_68'], 4)}] | "
+                    f"| {name} | {q['name']} (derived) | {_fmt(q['median'], 4)}{unit} | [{_fmt(q['lower_68'], 4)}, "
+                    f"{_fmt(q['upper_68'], 4)}] | "
                     f"[{_fmt(q['lower_95'], 4)}, {_fmt(q['upper_95'], 4)}] | - | - | "
                     f"{(q['prior_upper_68'] - q['prior_lower_68']) / (q['upper_68'] - q['lower_68']):.2f} |"
                 )
@@ -113,8 +116,10 @@ def default_runs(lines: list[str], quick: bool):
             if q["measured"]:
                 n = _digits(q["observed"], q["observed_uncertainty"])
                 lines.append(
-                    f"| {name} | {q['name']} | {_fmt(q['observed'], n)} +/- {_fmt(q['observed_uncertainty'], 2)} {q['unit']} | "
-                    f"{_fmt(q['predictive_median'], n)} [{_fmt(q['predictive_lower_68'], n)}, {_fmt(q['predictive_upper_68'], n)}] | "
+                    f"| {name} | {q['name']} | {_fmt(q['observed'], n)} +/- {_fmt(q['observed_uncertainty'], 2)} "
+                    f"{q['unit']} | "
+                    f"{_fmt(q['predictive_median'], n)} [{_fmt(q['predictive_lower_68'], n)}, "
+                    f"{_fmt(q['predictive_upper_68'], n)}] | "
                     f"{q['predictive_p_value']:.2f} |"
                 )
     lines += [
@@ -123,7 +128,8 @@ def default_runs(lines: list[str], quick: bool):
         "(sampling time over the smallest bulk or tail ESS of any parameter), with the machine's one-minute load "
         "average before and after the run (2 cores: a load of 4 leaves this run about half a core's worth less):",
         "",
-        "| setup | walkers x steps (+ burn-in) | moves | time [s] | load before, after | max R-hat | min ESS | ms per effective sample | warnings |",
+        "| setup | walkers x steps (+ burn-in) | moves | time [s] | load before, after | max R-hat | min ESS | ms "
+        "per effective sample | warnings |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for name, result, wall, d, load in timing:
@@ -134,13 +140,15 @@ def default_runs(lines: list[str], quick: bool):
             f"| {name} | {s.walkers} x {s.steps} (+ {s.burn}{thin}) | {', '.join(f'{m} {w:g}' for m, w in s.moves)} | "
             f"{wall:.1f} ({d['seconds']:.1f}) | {load[0]:.1f}, {load[1]:.1f} | "
             f"{rhat:.4f} | {d['min_ess']:.0f} | "
-            f"{1e3 * d['seconds_per_effective_sample']:.2f} | {'; '.join(w.split(':')[0] for w in result.warnings) or 'none'} |"
+            f"{1e3 * d['seconds_per_effective_sample']:.2f} | "
+            f"{'; '.join(w.split(':')[0] for w in result.warnings) or 'none'} |"
         )
     figure = next((r.setup.context.core_figure for _, r, _, _, _ in timing if r.setup.name == "mars"), None)
     if figure is not None:
         lines += [
             "",
-            f"Mars' hydrostatic core: {figure.describe()}; box x = r_c/R in [{figure.box[0][0]:.4f}, {figure.box[0][1]:.4f}], "
+            f"Mars' hydrostatic core: {figure.describe()}; box x = r_c/R in [{figure.box[0][0]:.4f}, "
+            f"{figure.box[0][1]:.4f}], "
             f"y = rho_c/rho_mean in [{figure.box[1][0]:.4f}, {figure.box[1][1]:.4f}], c = C/(MR^2) in "
             f"[{figure.box[2][0]:.5f}, {figure.box[2][1]:.5f}] (R = {figure.radius / 1e3:.1f} km).",
         ]
@@ -208,8 +216,10 @@ def ablations(lines: list[str], quick: bool):
     lines += [
         "## What each observable adds",
         "",
-        f"Medians and central 68 % intervals of the main parameters for the shipped setups with one observable left out, "
-        f"or with the core's compliances fixed; {settings['steps']} steps after {settings['burn']} burn-in (shorter than the defaults: "
+        "Medians and central 68 % intervals of the main parameters for the shipped setups with one observable "
+        "left out, "
+        f"or with the core's compliances fixed; {settings['steps']} steps after {settings['burn']} burn-in "
+        "(shorter than the defaults: "
         "the intervals, not R-hat, are the point here).",
         "",
         "| body | observables | parameter | median | 68 % interval |",
@@ -225,7 +235,8 @@ def ablations(lines: list[str], quick: bool):
             if r.name in shown[body]:
                 unit = f" {r.unit}" if r.unit else ""
                 lines.append(
-                    f"| {body} | {label} | {r.name} | {_fmt(r.median, 5)}{unit} | [{_fmt(r.lower_68, 5)}, {_fmt(r.upper_68, 5)}] |"
+                    f"| {body} | {label} | {r.name} | {_fmt(r.median, 5)}{unit} | [{_fmt(r.lower_68, 5)}, "
+                    f"{_fmt(r.upper_68, 5)}] |"
                 )
         print(f"ablation {body}: {label} done", file=sys.stderr)
     lines.append("")
@@ -259,7 +270,8 @@ def calibration(lines: list[str], draws: int, scheduler, seed: int, setups=CALIB
             counts = np.array(hist[pname])
             p = stats.chisquare(counts).pvalue
             lines.append(
-                f"| {name} | {pname} | {100 * c['68']:.1f} +/- {100 * c['se_68']:.1f} % | {100 * c['95']:.1f} +/- {100 * c['se_95']:.1f} % | "
+                f"| {name} | {pname} | {100 * c['68']:.1f} +/- {100 * c['se_68']:.1f} % | {100 * c['95']:.1f} +/- "
+                f"{100 * c['se_95']:.1f} % | "
                 f"{' '.join(str(int(x)) for x in counts)} | {p:.2f} |"
             )
         ess = cal.to_dict()["min_ess_median"]

@@ -147,7 +147,10 @@ def spawn_chunk(job, folder: str):
     import fuzz_strategies as fz
 
     case = case or fz.Case(command, [command])
-    problem = f"interpreter died: exit status {proc.returncode}: {proc.stderr.strip().splitlines()[-1][:200] if proc.stderr.strip() else ''}"
+    problem = (
+        f"interpreter died: exit status {proc.returncode}: "
+        f"{proc.stderr.strip().splitlines()[-1][:200] if proc.stderr.strip() else ''}"
+    )
     return command, 0, {}, 0.0, [{"signature": f"interpreter died ({command})", "problem": problem, "case": case}]
 
 

@@ -36,7 +36,8 @@ LEADS = (1, 2, 3, 5, 10, 20, 30, 40, 60, 90, 120, 150, 200, 270, 365)
 
 
 def coverage_table(h) -> dict:
-    """Per method: 68 % and 95 % coverage at LEADS, their range over every lead 1-365 d and the leads outside 63-73 %."""
+    """Per method: 68 % and 95 % coverage at LEADS, their range over every lead 1-365 d and the leads
+    outside 63-73 %."""
     out = {}
     for m in h.methods:
         s = h.scores[m]

@@ -313,7 +313,8 @@ def test_user_body_file_minimal_and_malformed(tmp_path):
     minimal.write_text(
         'schema = "wobble/1"\nkind = "planet"\nname = "blob"\n'
         '[parameters.rotation_period]\nvalue = 10\nuncertainty = 0\nunit = "h"\nsource = "test"\nstatus = "assumed"\n'
-        '[parameters.dynamical_flattening]\nvalue = 0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = "assumed"\n'
+        '[parameters.dynamical_flattening]\nvalue = 0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = '
+        '"assumed"\n'
     )
     b = wobble.chandler_budget(minimal)
     assert [s.name for s in b.steps] == ["rigid"] and b.observed is None

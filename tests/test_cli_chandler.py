@@ -47,8 +47,10 @@ def test_json_observed_is_null_when_unknown(tmp_path, capsys):
     f = tmp_path / "blob.toml"
     f.write_text(
         'schema = "wobble/1"\nkind = "planet"\nname = "blob"\n'
-        '[parameters.rotation_rate]\nvalue = 1e-4\nuncertainty = 0\nunit = "rad s-1"\nsource = "test"\nstatus = "assumed"\n'
-        '[parameters.dynamical_flattening]\nvalue = -0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = "assumed"\n'
+        '[parameters.rotation_rate]\nvalue = 1e-4\nuncertainty = 0\nunit = "rad s-1"\nsource = "test"\nstatus = '
+        '"assumed"\n'
+        '[parameters.dynamical_flattening]\nvalue = -0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = '
+        '"assumed"\n'
     )
     status, out, _ = _run(capsys, "chandler", "--body-file", str(f), "--json")
     d = json.loads(out)[0]

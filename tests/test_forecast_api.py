@@ -1,4 +1,5 @@
-"""wobble.forecast_polar_motion, hindcasts and `wobble forecast`: JSON, CF netCDF, bad input with exit 2 and nothing written."""
+"""wobble.forecast_polar_motion, hindcasts and `wobble forecast`: JSON, CF netCDF, bad input with exit 2 and
+nothing written."""
 
 from __future__ import annotations
 

@@ -142,7 +142,8 @@ def test_complex_filter_equals_statsmodels():
 
 
 def test_window_filter_is_the_exact_filter():
-    """The exact filter written as weights on the data (kalman.window_filter) equals filter_exact's last state and covariance."""
+    """The exact filter written as weights on the data (kalman.window_filter) equals filter_exact's last state
+    and covariance."""
     sigma = chandler_frequency(433.0 * DAY, 80.0)
     F, Q, h, r = ssm.system(sigma, ssm.DEFAULT_NOISE)
     rng = np.random.default_rng(9)
@@ -150,7 +151,8 @@ def test_window_filter_is_the_exact_filter():
     x0, P0 = ssm.prior(y[0], ssm.DEFAULT_NOISE)
     xs, Ps, _, _ = kalman.filter_exact(F, Q, h, r, y, x0, P0)
     wf = kalman.window_filter(F, Q, h, r, P0, y.size)
-    # Both recursions start from a diffuse prior (1000 mas against 0.0015 mas of observation noise): rounding of 1e-7 mas.
+    # Both recursions start from a diffuse prior (1000 mas against 0.0015 mas of observation noise):
+    # rounding of 1e-7 mas.
     np.testing.assert_allclose(wf.weights.T @ y + wf.prior_map @ x0, xs[-1], rtol=0, atol=1e-6 * MAS)
     np.testing.assert_allclose(wf.posterior, Ps[-1], rtol=1e-6, atol=1e-9 * np.max(np.abs(Ps[-1])))
     # The means of a forecast are forecast_map @ state.

@@ -18,7 +18,8 @@ from wobble.io.netcdf import open_wobble, write_netcdf
 
 @pytest.fixture(scope="module")
 def analysis():
-    """The whole IERS 20 C04 record, 1962 to the file's end (16 Monte-Carlo draws and 2-yr window steps: a fast suite)."""
+    """The whole IERS 20 C04 record, 1962 to the file's end (16 Monte-Carlo draws and 2-yr window steps: a fast
+    suite)."""
     return wobble.polar_motion_analysis(draws=16, step=2 * u.yr)
 
 

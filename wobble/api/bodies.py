@@ -324,7 +324,8 @@ class RigidBody:
 
     @classmethod
     def cylinder(cls, mass, radius, height, inner_radius=None, *, name: str = "cylinder") -> RigidBody:
-        """Uniform cylinder (tube if ``inner_radius``), axis z: I3 = M (R^2 + r^2)/2, I1 = M (3 (R^2 + r^2) + h^2)/12."""
+        """Uniform cylinder (tube if ``inner_radius``), axis z: I3 = M (R^2 + r^2)/2,
+        I1 = M (3 (R^2 + r^2) + h^2)/12."""
         inner = 0.0 if inner_radius is None else _length(inner_radius, "inner_radius", allow_zero=True)
         return cls(_solids.cylinder(_mass(mass), _length(radius, "radius"), _length(height, "height"), inner), name)
 

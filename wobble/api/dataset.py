@@ -216,7 +216,8 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     >>> path = wobble.write_netcdf(wobble.chandler_dataset([wobble.chandler_budget("mars")]),
     ...                            Path(folder.name) / "mars.nc")
     >>> ds = wobble.load(path)
-    >>> print(f"{ds.wobble.quantity('model_period')[0]:.1f} model, {ds.wobble.quantity('observed_period')[0]:.1f} observed")
+    >>> model, observed = ds.wobble.quantity("model_period")[0], ds.wobble.quantity("observed_period")[0]
+    >>> print(f"{model:.1f} model, {observed:.1f} observed")
     205.6 d model, 206.9 d observed
     >>> folder.cleanup()
     """

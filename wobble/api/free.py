@@ -307,7 +307,8 @@ class FreeRotation:
             },
             attrs={
                 "title": "Torque-free rigid-body rotation (exact solution)",
-                "references": "Landau & Lifshitz, Mechanics, section 37; Goldstein, Poole & Safko 2002, Classical Mechanics, "
+                "references": "Landau & Lifshitz, Mechanics, section 37; Goldstein, Poole & Safko 2002, Classical "
+                "Mechanics, "
                 "section 5.6",
                 "regime": mdl.regime,
                 "elliptic_parameter_m": mdl.m,

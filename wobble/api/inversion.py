@@ -295,7 +295,8 @@ class Inversion:
             worst = min((r for r in rows if r.name in small), key=lambda r: min(r.ess, r.ess_tail))
             self.warnings.append(
                 f"effective sample size below {ESS_MIN} for {', '.join(small)} "
-                f"(smallest {min(worst.ess, worst.ess_tail):.0f}, {worst.name}): intervals are unreliable; run longer (--steps)"
+                f"(smallest {min(worst.ess, worst.ess_tail):.0f}, {worst.name}): intervals are unreliable; run "
+                "longer (--steps)"
             )
         acc = float(np.mean(self.acceptance))
         lo, hi = ACCEPTANCE_RANGE
@@ -475,11 +476,13 @@ class Inversion:
             f"body {self.setup.planet.name}, model '{self.setup.model}')"
         ]
         lines.append(
-            f"  {'parameter':<28} {'median':>11} {'68 % interval':>25} {'95 % interval':>25} {'R-hat':>6} {'ESS':>6}  unit   prior"
+            f"  {'parameter':<28} {'median':>11} {'68 % interval':>25} {'95 % interval':>25} {'R-hat':>6} "
+            f"{'ESS':>6}  unit   prior"
         )
         for r in self.rows():
             lines.append(
-                f"  {r.name:<28} {_g(r.median):>11} {_pair(r.lower_68, r.upper_68):>25} {_pair(r.lower_95, r.upper_95):>25} "
+                f"  {r.name:<28} {_g(r.median):>11} {_pair(r.lower_68, r.upper_68):>25} "
+                f"{_pair(r.lower_95, r.upper_95):>25} "
                 f"{r.r_hat:6.3f} {min(r.ess, r.ess_tail):6.0f}  {r.unit or '-':<6} {r.prior}"
             )
         published = [c for c in self.setup.comparisons]
@@ -500,7 +503,10 @@ class Inversion:
                 # Enough digits to show the uncertainty (an FCN of -430.00 +/- 0.10 d).
                 n = _digits(row["observed"], row["observed_uncertainty"])
                 meas = f"{_g(row['observed'], n)} +/- {_g(row['observed_uncertainty'], 2)}"
-                pp = f"{_g(row['predictive_median'], n)} [{_g(row['predictive_lower_68'], n)}, {_g(row['predictive_upper_68'], n)}]"
+                pp = (
+                    f"{_g(row['predictive_median'], n)} [{_g(row['predictive_lower_68'], n)}, "
+                    f"{_g(row['predictive_upper_68'], n)}]"
+                )
             else:
                 n = 5
                 meas, pp = "(derived)", f"{_g(row['median'])} [{_g(row['lower_68'])}, {_g(row['upper_68'])}]"
@@ -829,7 +835,8 @@ class Calibration:
         lines.append(f"  {'parameter':<28} {'68 % coverage':>16} {'95 % coverage':>16}")
         for name, c in self.coverage.items():
             lines.append(
-                f"  {name:<28} {100 * c['68']:8.1f} +/- {100 * c['se_68']:.1f} {100 * c['95']:8.1f} +/- {100 * c['se_95']:.1f}"
+                f"  {name:<28} {100 * c['68']:8.1f} +/- {100 * c['se_68']:.1f} {100 * c['95']:8.1f} +/- "
+                f"{100 * c['se_95']:.1f}"
             )
         return "\n".join(lines)
 

@@ -181,7 +181,8 @@ class HydrostaticFigure:
         """One paragraph for a person."""
         lines = [
             f"hydrostatic figure ({self.profile}; Clairaut's equation to first order): "
-            f"surface flattening 1/{1 / self.surface_flattening:.2f} (Radau-Darwin 1/{1 / self.radau_darwin_flattening:.2f}), "
+            f"surface flattening 1/{1 / self.surface_flattening:.2f} (Radau-Darwin "
+            f"1/{1 / self.radau_darwin_flattening:.2f}), "
             f"J2 = {self.j2:.7g}, H = {self.dynamical_flattening:.7g}, C/(Ma^2) = {self.moment_factor:.5f}"
         ]
         for key, label in (
@@ -378,7 +379,8 @@ class NormalModes:
 
     @property
     def chandler_first_order(self) -> u.Quantity:
-        """Chandler period with the coupling off and the deformation's own angular momentum dropped (the classic first-order formula), days."""
+        """Chandler period with the coupling off and the deformation's own angular momentum dropped (the
+        classic first-order formula), days."""
         return _days(abs(2 * math.pi / self.raw.cw_rate_first_order))
 
     @property
@@ -459,17 +461,23 @@ class NormalModes:
             )
             lines.append(
                 f"  core flattening e_f: hydrostatic {hyd_text} ({source}, Clairaut) "
-                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} sidereal days in space)"
+                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} "
+                "sidereal days in space)"
             )
             if self.core_flattening_required is not None:
+                excess = with_uncertainty(
+                    100 * self.core_flattening_excess, 100 * self.core_flattening_excess_uncertainty, sign=True
+                )
                 lines.append(
-                    f"  the observed FCN requires e_f = {with_uncertainty(self.core_flattening_required, self.core_flattening_required_uncertainty)}"
-                    f": {with_uncertainty(100 * self.core_flattening_excess, 100 * self.core_flattening_excess_uncertainty, sign=True)} % "
+                    "  the observed FCN requires e_f = "
+                    f"{with_uncertainty(self.core_flattening_required, self.core_flattening_required_uncertainty)}"
+                    f": {excess} % "
                     f"against hydrostatic (put back, it gives {self.fcn_period_required.to_value(u.day):.4f} d)"
                 )
         cw = self.mode("CW")
         lines.append(
-            f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off {self.chandler_coupling_off.to_value(u.day):.2f} d "
+            f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off "
+            f"{self.chandler_coupling_off.to_value(u.day):.2f} d "
             f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d (FCN effect "
             f"{self.fcn_effect_on_chandler.to_value(u.day):+.2f} d; the classic first-order formula would give "
             f"{self.chandler_first_order.to_value(u.day):.2f} d)"

@@ -733,7 +733,8 @@ def _summary(b: PrecessionBudget) -> str:
         )
         why = "; the published higher-order terms below account for it" if b.literature_steps else ""
         lines.append(
-            f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed uncertainties{why})"
+            f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed "
+            f"uncertainties{why})"
         )
     if b.iau is not None:
         lines.append(
@@ -741,7 +742,8 @@ def _summary(b: PrecessionBudget) -> str:
         )
         lines.append('  psi_A = +5038.48"/cy is -5038.48 here):')
         lines.append(
-            f'    {"first order (model)":<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986" cos(eps_0) = {_fmt(b.iau["first_order"])}'
+            f'    {"first order (model)":<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
+            f"{_fmt(b.iau['first_order'])}"
         )
         for s in b.literature_steps:
             lines.append(f"    + {s.name:<22}{_fmt(s.change, 6):>14}  -> {_fmt(s.value)}   {s.description}")
@@ -757,9 +759,13 @@ def _summary(b: PrecessionBudget) -> str:
         )
     for n in b.nutation:
         lines.append(
-            f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), rigid body, first order:"
+            f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), "
+            "rigid body, first order:"
         )
-        line = f'    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}" sin(Omega), Delta eps = {n.obliquity.to_value(u.arcsec):+.4f}" cos(Omega)'
+        line = (
+            f'    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}" sin(Omega), Delta eps = '
+            f'{n.obliquity.to_value(u.arcsec):+.4f}" cos(Omega)'
+        )
         lines.append(line)
         if n.rigid is not None:
             r = n.rigid

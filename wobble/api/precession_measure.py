@@ -228,13 +228,17 @@ class PrecessionMeasurement:
             },
             attrs={
                 "title": "Precession and nutation measured from a simulated spin axis",
-                "comment": f"axis: {self.axis}; principal term: {self.perturber}'s node; IAU convention for the nutation",
+                "comment": f"axis: {self.axis}; principal term: {self.perturber}'s node; IAU convention for the "
+                "nutation",
                 "references": "Woolard 1953; Kinoshita 1977; Goldstein, Poole & Safko 2002, sec. 5.8",
             },
         )
 
     def __repr__(self) -> str:
-        return f"PrecessionMeasurement(rate={self.rate:.4f}, nutation=({self.nutation_longitude}, {self.nutation_obliquity}))"
+        return (
+            f"PrecessionMeasurement(rate={self.rate:.4f}, nutation=({self.nutation_longitude}, "
+            f"{self.nutation_obliquity}))"
+        )
 
 
 # ---------------------------------------------------------------------------

@@ -158,7 +158,8 @@ class ChandlerTarget:
             "units": "1",
             "long_name": "why the member is invalid (0: valid)",
             "flag_values": np.array(codes, dtype=np.int8),
-            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged parameter_out_of_range",
+            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged "
+            "parameter_out_of_range",
             "comment": "; ".join(f"{k}: {v}" for k, v in chandler_model.INVALID_REASONS.items() if k),
         }
 

@@ -79,7 +79,8 @@ def register(sub) -> None:
     p.add_argument("--every", metavar="T", default="7d", help="spacing of the hindcast's issue dates (default: 7d)")
     p.add_argument(
         "--scheduler",
-        help="hindcast on a dask scheduler: threads, processes, synchronous or an address (default: a local process pool)",
+        help="hindcast on a dask scheduler: threads, processes, synchronous or an address (default: a local "
+        "process pool)",
     )
     p.add_argument("--json", action="store_true", help="print the forecast (or the hindcast's scores) as JSON")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the forecast or hindcast (CF-1.10 netCDF)")

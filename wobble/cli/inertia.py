@@ -185,7 +185,8 @@ def build_body(args) -> tuple[RigidBody, str]:
 
         _refuse_unused(args, {"mass_unit", "length_unit"}, "--points")
         masses, positions = read_point_masses(
-            resolve(args.points, "examples", "--points", (".csv",)), mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
+            resolve(args.points, "examples", "--points", (".csv",)),
+            mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
             length_unit=_unit_option(args.length_unit, "--length-unit", u.m),
         )  # fmt: skip
         body = RigidBody.from_point_masses(masses, positions, name=str(args.points))
@@ -196,7 +197,10 @@ def build_body(args) -> tuple[RigidBody, str]:
         _refuse_unused(args, {"var", "rule", "length_unit"}, "--density")
         with open_density(resolve(args.density, "examples", "--density", (".nc",)), args.var) as density:
             body = RigidBody.from_density(density, rule=args.rule or "trapezoid", name=str(density.name))
-            label = f"density {density.name!r} from {args.density} ({'x'.join(map(str, density.shape))} grid, {args.rule or 'trapezoid'} rule)"
+            label = (
+                f"density {density.name!r} from {args.density} ({'x'.join(map(str, density.shape))} grid, "
+                f"{args.rule or 'trapezoid'} rule)"
+            )
     else:
         body = _solid(args, mass_unit, length_unit)
         label = f"solid {args.solid}"

@@ -10,7 +10,7 @@ from wobble.errors import InputError
 EPILOG = """\
 examples:
   wobble invert mars                       Mars' core radius from the Chandler period, k2, the FCN and the precession
-  wobble invert earth --json               Earth's anelastic exponent, Chandler Q and core-flattening excess, for scripts
+  wobble invert earth --json               Earth's anelastic exponent, Chandler Q and core-flattening excess (scripts)
   wobble invert mars_chandler_only --steps 1000   the Chandler period alone: how little one period says
   wobble invert mars --steps 500 -o mars_posterior.nc --plot mars_corner.png --overwrite
   wobble invert mars --prior-only --steps 500     the priors pushed through the model (what the data add)

@@ -44,7 +44,8 @@ _STARTED = time.time()
 
 # Libraries whose failed writes surface as RuntimeError rather than OSError.
 _FILE_LIBRARIES = ("netCDF4", "h5py", "h5netcdf")
-# Their messages for a write the system refused (netCDF4: "NetCDF: HDF error"; HDF5: "file write failed ... errno = 28").
+# Their messages for a write the system refused (netCDF4: "NetCDF: HDF error"; HDF5: "file write failed ...
+# errno = 28").
 _WRITE_FAILURE = re.compile(r"HDF error|write failed|errno = \d+|can't write|no space|too large", re.IGNORECASE)
 # Errors that mean the target's file system had no room for it.
 _NO_ROOM = {errno.ENOSPC, errno.EFBIG, errno.EDQUOT}

@@ -292,7 +292,8 @@ def _prior(path, name, raw, planet: PlanetParameters, pf: ParameterFile) -> Para
             raise FileFormatError(
                 path,
                 where,
-                f"{planet.name} does not catalogue an uncertainty for {name}; allowed: a prior (uniform, log_uniform or normal)",
+                f"{planet.name} does not catalogue an uncertainty for {name}; allowed: a prior (uniform, "
+                "log_uniform or normal)",
             )
         prior = Normal(measured.value, measured.sigma, low_phys, high_phys)
         source = source or f"catalogue: {catalogued.source if catalogued is not None else name}"
@@ -468,7 +469,8 @@ def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
                 raise FileFormatError(
                     where,
                     "profile",
-                    f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = {mass:.6g} kg)",
+                    f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = "
+                    f"{mass:.6g} kg)",
                 )
         fig = _hydro.hydrostatic_figure(prof, planet.rotation_rate.value, planet.gravitational_constant.value)
         return FixedCoreFigure(prof.name, float(fig.core_dynamical_ellipticity))

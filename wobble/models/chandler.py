@@ -677,7 +677,8 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
         raise InputError(
             "love_number_k2",
             f"{p.love_number_k2.value:.6g}",
-            f"below the secular Love number k_s = {float(ks):.6g} of this figure (a body cannot yield more than a fluid)",
+            f"below the secular Love number k_s = {float(ks):.6g} of this figure (a body cannot yield more than a "
+            "fluid)",
         )
     if code == 4:
         raise InputError(

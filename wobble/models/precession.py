@@ -356,7 +356,8 @@ def budget_terms(inputs: Inputs) -> list[Term]:
             Term(
                 "geodesic",
                 geodesic_precession_rate(sun.gm, sun.semi_major_axis, sun.eccentricity),
-                "geodesic (de Sitter) precession in the Sun's field, prograde (de Sitter 1916; Soffel 1989; Capitaine et al. 2003)",
+                "geodesic (de Sitter) precession in the Sun's field, prograde (de Sitter 1916; Soffel 1989; "
+                "Capitaine et al. 2003)",
             )
         )
     return terms

@@ -38,8 +38,8 @@ Borderline members go to the exact scalar model. The float64 formulas decide
 the class only where the decision is far from its threshold; a member is
 analysed by :func:`wobble.models.top.heavy_top` itself (50-digit roots, one
 member at a time) when it is within a relative 1e-8 of regular precession
-(``|Q|``; the exact model's threshold is 16 eps), within 1e-4 of a double root of g (the separatrix), of a cusp at either turning
-point (or where rounding could flip the sign of phidot at the far turning point),
+(``|Q|``; the exact model's threshold is 16 eps), within 1e-4 of a double root of g (the separatrix),
+of a cusp at either turning point (or where rounding could flip the sign of phidot at the far turning point),
 passes within 1e-6 (in 1 - cos) of a pole, or has thetadot0 != 0,
 theta0 = 0 (sleeping) or theta0 = pi. Elsewhere the float64 results agree with
 the exact model to about 1e-8 relative (1e-10 typically) (checked per grid point in

@@ -26,7 +26,8 @@ _MJD_J2000 = 51544.5
 
 
 def _published_chandler_cpy() -> float:
-    """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak to label."""
+    """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak
+    to label."""
     from astropy import units as u
 
     from wobble.api.polar_motion import published_chandler_period
@@ -256,5 +257,6 @@ def save_figure(fig: Figure, path, *, overwrite: bool = False, dpi: int = 110) -
 
 
 def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
-    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without ``overwrite``."""
+    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without
+    ``overwrite``."""
     return save_figure(overview(analysis), path, overwrite=overwrite, dpi=dpi)

@@ -122,7 +122,8 @@ def nutation_ellipse_figure(budget, path=None, *, overwrite: bool = False):
     ax.set_xlabel("Δψ sin ε [arcsec] (along the ecliptic, IAU sign)")
     ax.set_ylabel("Δε [arcsec]")
     ax.set_title(
-        f"{budget.planet.title}: principal nutation ({n.period.to_value(u.yr):.2f} yr, the {n.perturber.capitalize()}'s node)",
+        f"{budget.planet.title}: principal nutation ({n.period.to_value(u.yr):.2f} yr, the "
+        f"{n.perturber.capitalize()}'s node)",
         fontsize=9,
     )
     ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.08), frameon=False)

@@ -1,4 +1,5 @@
-"""Everything ``wobble polar-motion`` reports: both estimates, sliding windows, the spectrum, Q, the model beside them."""
+"""Everything ``wobble polar-motion`` reports: both estimates, sliding windows, the spectrum, Q, the model
+beside them."""
 
 from __future__ import annotations
 
@@ -46,7 +47,8 @@ class QualityFactorEstimate:
             "interval_68": [num(self.low), num(self.high)],
             "lower_bound_95": num(self.lower_bound_95),
             "resolved": self.resolved,
-            "method": "Whittle likelihood of a randomly excited damped oscillator (Lorentzian line) near the Chandler peak",
+            "method": "Whittle likelihood of a randomly excited damped oscillator (Lorentzian line) near the "
+            "Chandler peak",
             "caveats": list(self.caveats),
         }
 
@@ -190,7 +192,8 @@ class PolarMotionAnalysis:
         return with_deprecated_keys(out)
 
     def to_dataset(self):
-        """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready (xarray.Dataset)."""
+        """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready
+        (xarray.Dataset)."""
         from wobble.api.polar_motion.dataset import analysis_dataset
 
         return analysis_dataset(self)
@@ -209,10 +212,13 @@ class PolarMotionAnalysis:
 
         lines = [
             f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; p = x_p - i y_p, prograde):",
-            f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, {pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
-            f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, {pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
+            f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, "
+            f"{pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
+            f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, "
+            f"{pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
             f" ({'agree' if self.methods_agree else 'DISAGREE'}: {self.agreement:.1f} sigma apart)",
-            f"  annual wobble: prograde {pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
+            "  annual wobble: prograde "
+            f"{pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
             f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas",
         ]
         if self.quality_factor is not None:
@@ -306,7 +312,8 @@ def polar_motion_analysis(
         raise InputError(
             "window",
             window,
-            f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed ({span / (365.25 * _pm.DAY):.2f} yr)",
+            f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed "
+            f"({span / (365.25 * _pm.DAY):.2f} yr)",
         )
     say("least-squares fit")
     reference = published_chandler_period()["period"].to_value(u.s)

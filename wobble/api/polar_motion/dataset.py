@@ -32,7 +32,10 @@ def windows_dataset(wf: _pm.WindowedFits):
     centre = MJD_J2000 + wf.centre / _pm.DAY
     bounds = np.stack([MJD_J2000 + wf.start / _pm.DAY, MJD_J2000 + wf.end / _pm.DAY], axis=1)
     day = 1.0 / _pm.DAY
-    note = "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' autocorrelation and the drift model"
+    note = (
+        "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' "
+        "autocorrelation and the drift model"
+    )
     return xr.Dataset(
         {
             # CF 7.1: a boundary variable takes its units and calendar from its coordinate.
@@ -115,7 +118,8 @@ def spectrum_dataset(sp: _pm.Spectrum):
                 attrs(
                     "milliarcsecond",
                     "two-sided amplitude spectrum of the detrended complex pole x_p - i y_p",
-                    comment=f"radius of a circular term at each frequency; taper: {sp.taper}; drift polynomial degree {sp.drift_degree} removed",
+                    comment=f"radius of a circular term at each frequency; taper: {sp.taper}; drift polynomial "
+                    f"degree {sp.drift_degree} removed",
                 ),
             )
         },

@@ -136,7 +136,8 @@ class GeodeticExcitation:
             },
             "chandler_band_collapse": self.collapse(),
             "source_file": self.source,
-            "method": "exact discrete inverse of the Liouville equation, excitation constant over each step (Wilson 1985; Gross 1992; Brzezinski 1992)",
+            "method": "exact discrete inverse of the Liouville equation, excitation constant over each step "
+            "(Wilson 1985; Gross 1992; Brzezinski 1992)",
         }
 
     def to_dataset(self):
@@ -179,12 +180,15 @@ class GeodeticExcitation:
         ds = xr.Dataset(data, coords=coords)
         ds.attrs = {
             "title": "Geodetic excitation of polar motion",
-            "summary": f"chi = chi_1 + i chi_2 from the pole {iso_date(float(self.time_mjd[0]))} to {iso_date(float(self.time_mjd[-1]))}, "
+            "summary": f"chi = chi_1 + i chi_2 from the pole {iso_date(float(self.time_mjd[0]))} to "
+            f"{iso_date(float(self.time_mjd[-1]))}, "
             f"T_c = {self.chandler_period.value:.2f} d, Q = {self.quality_factor:.1f}",
-            "references": "Munk & MacDonald 1960; Wilson 1985, J. Geophys. Res. 90; Gross 1992, Geophys. J. Int. 109, 107; "
+            "references": "Munk & MacDonald 1960; Wilson 1985, J. Geophys. Res. 90; Gross 1992, Geophys. J. Int. "
+            "109, 107; "
             "Brzezinski 1992, manuscripta geodaetica 17, 3",
             "source_file": self.source,
-            "comment": "p = x_p - i y_p; p + (i/sigma_c) dp/dt = chi with sigma_c = 2 pi/T_c (1 + i/(2Q)); chi constant over each step",
+            "comment": "p = x_p - i y_p; p + (i/sigma_c) dp/dt = chi with sigma_c = 2 pi/T_c (1 + i/(2Q)); chi "
+            "constant over each step",
         }
         return ds
 
@@ -192,15 +196,18 @@ class GeodeticExcitation:
         """A few lines: sigma_c, the round trip, the excitation's size, the Chandler band before and after 2015."""
         d = self.to_dict()
         lines = [
-            f"Geodetic excitation {d['start']} to {d['end']} ({d['n_samples']} samples): T_c = {d['chandler_period_days']:.2f} d, Q = {d['quality_factor']:.1f}",
-            f"  chi_1 RMS {d['chi_1_rms_mas']:.1f} mas, chi_2 RMS {d['chi_2_rms_mas']:.1f} mas; round trip (inverse then forward) RMS {d['round_trip_rms_mas']:.2e} mas",
+            f"Geodetic excitation {d['start']} to {d['end']} ({d['n_samples']} samples): T_c = "
+            f"{d['chandler_period_days']:.2f} d, Q = {d['quality_factor']:.1f}",
+            f"  chi_1 RMS {d['chi_1_rms_mas']:.1f} mas, chi_2 RMS {d['chi_2_rms_mas']:.1f} mas; round trip "
+            f"(inverse then forward) RMS {d['round_trip_rms_mas']:.2e} mas",
             f"  Chandler peak over its neighbourhood: pole {d['chandler_peak_over_neighbours']['pole']:.1f}x, "
             f"excitation {d['chandler_peak_over_neighbours']['excitation']:.2f}x (broadband: no peak)",
         ]
         c = d["chandler_band_collapse"]
         if c:
             lines.append(
-                f"  Chandler band (+/- 0.1 cycle/yr), RMS before/after {c['split']}: excitation {c['excitation_before_mas']:.1f} / "
+                f"  Chandler band (+/- 0.1 cycle/yr), RMS before/after {c['split']}: excitation "
+                f"{c['excitation_before_mas']:.1f} / "
                 f"{c['excitation_after_mas']:.1f} mas, pole {c['pole_before_mas']:.1f} / {c['pole_after_mas']:.1f} mas"
             )
         return "\n".join(lines)

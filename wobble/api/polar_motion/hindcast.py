@@ -178,8 +178,10 @@ class PolarMotionHindcast:
         if not self.calibrated:
             return calibration_text(None)
         return (
-            f"each forecast's intervals calibrated on the same method's past forecasts issued weekly over the {self.calibration_span.value / 365.25:g} yr "
-            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their errors "
+            "each forecast's intervals calibrated on the same method's past forecasts issued weekly over the "
+            f"{self.calibration_span.value / 365.25:g} yr "
+            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their "
+            "errors "
             "over their stated sigma, per lead time and component; Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
         )
 
@@ -246,15 +248,18 @@ class PolarMotionHindcast:
         }
         ds = xr.Dataset(data, coords=coords)
         ds.attrs = {
-            "title": f"Polar-motion hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}",
-            "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods {', '.join(self.methods)}, latency {self.latency.value:g} d",
+            "title": f"Polar-motion hindcast {iso_date(float(self.issued_mjd[0]))} to "
+            f"{iso_date(float(self.issued_mjd[-1]))}",
+            "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods "
+            f"{', '.join(self.methods)}, latency {self.latency.value:g} d",
             "references": "; ".join(a for a, _, _ in ANCHORS[:1] + ANCHORS[3:4])
             + "; IERS EOP 20 C04 series (Paris Observatory)",
             "source_file": self.source,
             "interval_calibration": "past_errors" if self.calibrated else "none",
             "intervals": self._intervals_text(),
             "comment": (
-                "Each forecast uses the record up to its issue time minus the latency; the Chandler period and the state-space "
+                "Each forecast uses the record up to its issue time minus the latency; the Chandler period and the "
+                "state-space "
                 "noise are re-estimated every 13 issues from those data. Coverage counts outcomes inside the intervals "
                 "(x_p_half_width_68 ...), pooling x_p and y_p."
             ),
@@ -267,7 +272,8 @@ class PolarMotionHindcast:
         """The 2-D RMS, x_p mean absolute error and coverage at a few lead times, beside the published anchors."""
         leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
         lines = [
-            f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: {len(self.issued_mjd)} issues, "
+            f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: "
+            f"{len(self.issued_mjd)} issues, "
             f"latency {self.latency.value:g} d; intervals "
             + ("calibrated on past forecasts" if self.calibrated else "of the models (not calibrated)"),
             f"  {'':<34}" + "".join(f"{d:>8} d" for d in leads),
@@ -361,7 +367,8 @@ def hindcast_polar_motion(
         raise InputError(
             "start",
             start,
-            f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the record's start ({iso_date(mjd[0])})",
+            f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the "
+            f"record's start ({iso_date(mjd[0])})",
         )
     if calibrated:
         oldest = _cal.past_issue_times(issues[0], lat, horizon_days, span)[0]
@@ -371,14 +378,16 @@ def hindcast_polar_motion(
                 "start",
                 start,
                 f"an issue date on or after {iso_date(MJD_J2000 + first_ok / DAY)}: the calibration's past forecasts "
-                f"({span / DAY / 365.25:g} yr of them, then the horizon) need their {need / DAY / 365.25:.0f}-yr fitting span in the record",
+                f"({span / DAY / 365.25:g} yr of them, then the horizon) need their {need / DAY / 365.25:.0f}-yr "
+                "fitting span in the record",
             )
     last_needed = issues[-1] + horizon_days * DAY
     if last_needed > t[-1] + 1e-6:
         raise InputError(
             "end",
             end,
-            f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or before {iso_date(mjd[-1])}",
+            f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or "
+            f"before {iso_date(mjd[-1])}",
         )
     reference = published_chandler_period()["period"].to_value(u.s)
     blocks = _hc.blocks(

@@ -75,7 +75,10 @@ class FixedCoreFigure:
         return np.full(batch.shape, self.core_ellipticity)
 
     def describe(self) -> str:
-        return f"hydrostatic e_f = {self.core_ellipticity:.7g} of the profile {self.profile} (Clairaut's equation, first order)"
+        return (
+            f"hydrostatic e_f = {self.core_ellipticity:.7g} of the profile {self.profile} (Clairaut's equation, "
+            "first order)"
+        )
 
 
 def _nodes(n: int) -> np.ndarray:
@@ -129,7 +132,8 @@ def _table(box: tuple, seed: int):
         raise InputError(
             "priors",
             "core radius, density and polar moment",
-            "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than the core)",
+            "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than "
+            "the core)",
         )
     reference = _hydro.core_flattening_unchecked(*pts, 1e-13)
     error = math.inf
@@ -149,13 +153,15 @@ def _table(box: tuple, seed: int):
     raise InputError(
         "priors",
         _box_text(box),
-        f"priors over which the hydrostatic core can be tabulated to {TABLE_TOLERANCE:g} (narrower priors; last error {error:.2g})",
+        f"priors over which the hydrostatic core can be tabulated to {TABLE_TOLERANCE:g} (narrower priors; last "
+        f"error {error:.2g})",
     )
 
 
 def _box_text(box) -> str:
     return (
-        f"core radius/R in [{box[0][0]:.4g}, {box[0][1]:.4g}], core density/mean density in [{box[1][0]:.4g}, {box[1][1]:.4g}], "
+        f"core radius/R in [{box[0][0]:.4g}, {box[0][1]:.4g}], core density/mean density in [{box[1][0]:.4g}, "
+        f"{box[1][1]:.4g}], "
         f"C/(MR^2) in [{box[2][0]:.4g}, {box[2][1]:.4g}]"
     )
 
@@ -191,7 +197,8 @@ class LinearMantleCoreFigure:
 
     @classmethod
     def build(cls, profile: str, radius: float, box, seed: int = 20240901) -> LinearMantleCoreFigure:
-        """Tabulate e_f/q over ``box`` ((x_lo, x_hi), (y_lo, y_hi), (c_lo, c_hi)), checked to :data:`TABLE_TOLERANCE`."""
+        """Tabulate e_f/q over ``box`` ((x_lo, x_hi), (y_lo, y_hi), (c_lo, c_hi)), checked to
+        :data:`TABLE_TOLERANCE`."""
         box = tuple((float(lo), float(hi)) for lo, hi in box)
         for (lo, hi), name in zip(box, ("core radius/R", "core density/mean density", "C/(M R^2)")):
             if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
@@ -274,5 +281,6 @@ class ForwardContext:
 
     @property
     def torque_strength(self) -> float:
-        """Sum over perturbers of G M <(a/r)^3> P2(cos i) f / a^3, s^-2 (:func:`wobble.models.precession.torque_strength`)."""
+        """Sum over perturbers of G M <(a/r)^3> P2(cos i) f / a^3, s^-2
+        (:func:`wobble.models.precession.torque_strength`)."""
         return float(sum(torque_strength(o) for o in self.perturbers))

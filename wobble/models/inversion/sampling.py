@@ -2,8 +2,8 @@
 
 emcee (Foreman-Mackey et al. 2013, PASP 125, 306) moves an ensemble of walkers, half
 of them at a time, each half with proposals built from the other half. The moves are a
-mixture (:data:`MOVES` by default; a setup may choose its own): 80 % an *independence* move (:func:`_independence_move`: a
-Student t proposal with the mean and covariance of the other half), 15 % differential
+mixture (:data:`MOVES` by default; a setup may choose its own): 80 % an *independence* move
+(:func:`_independence_move`: a Student t proposal with the mean and covariance of the other half), 15 % differential
 evolution (ter Braak 2006, Stat. Comput. 16, 239; Nelson, Ford & Payne 2014, ApJS 210,
 11) and 5 % its snooker variant (ter Braak & Vrugt 2008, Stat. Comput. 18, 435). All
 are invariant under linear maps of the parameters, so correlated and badly scaled

@@ -123,7 +123,8 @@ class ChandlerFit:
 
 
 def make_fit(method, t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig) -> ChandlerFit:
-    """A :class:`ChandlerFit` from the coefficients of equation (2) (drift, annual +, annual -, Chandler) and the sigmas."""
+    """A :class:`ChandlerFit` from the coefficients of equation (2) (drift, annual +, annual -, Chandler) and
+    the sigmas."""
     nan = math.nan
     c = coeffs
     chandler = Harmonic(rate, sig_rate, abs(c[-1]), sig_amp, float(np.angle(c[-1])), sig_phase)

@@ -149,7 +149,8 @@ def information_set(t, z, issued: float, latency: float, span: float, what: str)
         raise InputError(
             "issued",
             f"{(cutoff - t[0]) / DAY:.0f} d of data before it",
-            f"an issue date at least {span / DAY:.0f} d (the {what} fitting span) plus the latency after the record's start",
+            f"an issue date at least {span / DAY:.0f} d (the {what} fitting span) plus the latency after the "
+            "record's start",
         )
     keep = (t <= cutoff + 1e-6) & (t >= cutoff - span - 1e-6)
     return t[keep], z[keep]

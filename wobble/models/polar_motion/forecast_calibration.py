@@ -1,4 +1,5 @@
-"""Forecast intervals calibrated on the method's own past forecasts: quantiles of past standardised errors per lead time.
+"""Forecast intervals calibrated on the method's own past forecasts: quantiles of past standardised errors
+per lead time.
 
 A model's stated forecast variance is only as good as the model: on the IERS
 record the 68 % intervals of least squares + autoregression held 48 % of the
@@ -279,9 +280,11 @@ def check_calibration_span(
         most = span - (need - have)
         allowed = (
             f"at most {most / (365.25 * DAY):.1f} yr for this issue date and horizon (the oldest past forecast, issued "
-            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / (365.25 * DAY):.0f}-yr {_WHAT[method]} fitting span in the record)"
+            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / (365.25 * DAY):.0f}-yr {_WHAT[method]} "
+            "fitting span in the record)"
             if most >= MIN_COUNT * step
-            else f"a later issue date: its past forecasts need {(issued - oldest + latency + need) / (365.25 * DAY):.1f} yr of record before it"
+            else "a later issue date: its past forecasts need "
+            f"{(issued - oldest + latency + need) / (365.25 * DAY):.1f} yr of record before it"
         )
         raise InputError("calibration_span", f"{span / (365.25 * DAY):g} yr", allowed)
 

@@ -3,7 +3,8 @@
 The LS+AR scheme of the IERS Rapid Service and of most entries of the EOP
 prediction comparison campaigns (Kosek et al. 1998; Kalarus et al. 2010):
 
-    p(t) = c_0 + c_1 s + A_c e^{i sigma_c s} + sum_{k=1,2} (A_k+ e^{i k Omega_a s} + A_k- e^{-i k Omega_a s}) + r(t)   (1)
+    p(t) = c_0 + c_1 s + A_c e^{i sigma_c s}
+           + sum_{k=1,2} (A_k+ e^{i k Omega_a s} + A_k- e^{-i k Omega_a s}) + r(t)   (1)
 
 with s = t - t_last in years, fitted by complex linear least squares over the
 last ``ls_span`` of the information set (the Chandler frequency sigma_c is not
@@ -42,7 +43,8 @@ _YEAR = 365.25 * DAY
 
 
 def harmonic_columns(s, chandler_rate: float) -> np.ndarray:
-    """The columns of equation (1) at times ``s`` (s from the last sample): 1, s/yr, Chandler, +/- annual, +/- semi-annual."""
+    """The columns of equation (1) at times ``s`` (s from the last sample): 1, s/yr, Chandler, +/- annual,
+    +/- semi-annual."""
     s = np.asarray(s, dtype=float)
     cols = [np.ones_like(s), s / _YEAR, np.exp(1j * chandler_rate * s)]
     for k in (1, 2):

@@ -220,7 +220,8 @@ PRIOR_SD_MAS = {"wobble": 1000.0, "seasonal": 1000.0, "mean_pole": 1000.0, "mean
 
 
 def prior(y0: complex, noise: NoiseParameters) -> tuple[np.ndarray, np.ndarray]:
-    """(x0, P0): the prior of the first state of a span whose first value is ``y0``: the mean pole there, the rest zero."""
+    """(x0, P0): the prior of the first state of a span whose first value is ``y0``: the mean pole there, the
+    rest zero."""
     x0 = np.zeros(8, dtype=complex)
     x0[6] = y0
     phi = math.exp(-DAY / noise.correlation_time)
@@ -235,7 +236,8 @@ def prior(y0: complex, noise: NoiseParameters) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclass(frozen=True, eq=False)
 class KalmanSetup:
-    """The model with its noise and the exact filter over a span of ``n`` daily values (shared by every span of that length).
+    """The model with its noise and the exact filter over a span of ``n`` daily values (shared by every span
+    of that length).
 
     The filter runs from the diffuse :func:`prior` over the whole span (the exact,
     time-varying recursion), not with the steady-state gain: the slowest modes
