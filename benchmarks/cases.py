@@ -49,7 +49,11 @@ class Case:
 
 def floats(rows):
     """A reference's decimal strings (a list or a list of lists) as a float64 array."""
-    return np.array([[float(v) for v in r] for r in rows]) if isinstance(rows[0], list) else np.array([float(v) for v in rows])
+    return (
+        np.array([[float(v) for v in r] for r in rows])
+        if isinstance(rows[0], list)
+        else np.array([float(v) for v in rows])
+    )
 
 
 def rel_error(got, want) -> float:

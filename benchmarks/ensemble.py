@@ -50,11 +50,15 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
         w_all = _members(w0, max(sizes))
         refs = []
         for i in range(PROBES):
-            s = solve_ivp(f, (0.0, span), np.concatenate([w_all[i], q1]), method="LSODA", rtol=1e-13, atol=1e-16, t_eval=t)
+            s = solve_ivp(
+                f, (0.0, span), np.concatenate([w_all[i], q1]), method="LSODA", rtol=1e-13, atol=1e-16, t_eval=t
+            )
             refs.append((s.y[:3].T, Q.normalize(s.y[3:].T)))
-        wobble_settings = [("wobble DOP853", "rtol 1e-9", dict(method="dop853", rtol=1e-9)),
-                           ("wobble DOP853 (NumPy)", "rtol 1e-9", dict(method="dop853", rtol=1e-9, backend="python")),
-                           ("wobble splitting-6", "h 0.75 s", dict(method="splitting", step=0.75, order=6))]
+        wobble_settings = [
+            ("wobble DOP853", "rtol 1e-9", dict(method="dop853", rtol=1e-9)),
+            ("wobble DOP853 (NumPy)", "rtol 1e-9", dict(method="dop853", rtol=1e-9, backend="python")),
+            ("wobble splitting-6", "h 0.75 s", dict(method="splitting", step=0.75, order=6)),
+        ]
         title = "Ensemble: gravity-gradient satellites, 30 s, 7 outputs"
         reference = "SciPy LSODA at rtol 1e-13, atol 1e-16 on 5 probe members"
     else:
@@ -65,8 +69,10 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
         for i in range(PROBES):
             m = free_rotation(moments, w_all[i])
             refs.append((m.omega(t), m.attitude(t)))
-        wobble_settings = [("wobble exact flow", "free_flow", None),
-                           ("wobble DOP853", "rtol 1e-10", dict(method="dop853", rtol=1e-10))]
+        wobble_settings = [
+            ("wobble exact flow", "free_flow", None),
+            ("wobble DOP853", "rtol 1e-10", dict(method="dop853", rtol=1e-10)),
+        ]
         title = "Ensemble: generic free bodies, 30 s, 7 outputs"
         reference = "wobble's exact solution per member (free_rotation, checked against mpmath) on 5 probe members"
 
@@ -80,17 +86,23 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
     # SciPy's DOP853, looping over the probe members.
     scipy_runs = []
     for rtol in scipy_rtols:
+
         def loop(rtol=rtol):
             out = []
             for i in range(PROBES):
                 y0 = np.concatenate([w_all[i], q1]) if which == "satellite" else w_all[i]
-                s = solve_ivp(f, (0.0, span), y0, method="DOP853", rtol=rtol,
-                              atol=rtol * 1e-3, t_eval=t)
+                s = solve_ivp(f, (0.0, span), y0, method="DOP853", rtol=rtol, atol=rtol * 1e-3, t_eval=t)
                 out.append((s.y[:3].T, Q.normalize(s.y[3:].T) if which == "satellite" else None))
             return out
 
-        scipy_runs.append(Run("scipy DOP853 (loop)", f"rtol {rtol:g}", loop,
-                              lambda out: {"error": max(member_error(w, q, i) for i, (w, q) in enumerate(out))}))
+        scipy_runs.append(
+            Run(
+                "scipy DOP853 (loop)",
+                f"rtol {rtol:g}",
+                loop,
+                lambda out: {"error": max(member_error(w, q, i) for i, (w, q) in enumerate(out))},
+            )
+        )
     scipy_rows = measure(scipy_runs, repeats)
     for r in scipy_rows:
         r["per_member_s"] = r["t_min"] / PROBES
@@ -105,14 +117,19 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
                 skipped.append({"members": n, "method": label, "setting": setting, "predicted_s": predicted[key]})
                 continue
             if kw is None:
+
                 def go(n=n):
                     w = w_all[:n]
                     q = np.broadcast_to(q1, (n, 4))
                     return [free_flow(moments, w, q, h) for h in t]
 
                 def chk(out):
-                    return {"error": max(member_error(np.array([o[0][i] for o in out]), np.array([o[1][i] for o in out]), i)
-                                         for i in range(PROBES))}
+                    return {
+                        "error": max(
+                            member_error(np.array([o[0][i] for o in out]), np.array([o[1][i] for o in out]), i)
+                            for i in range(PROBES)
+                        )
+                    }
             else:
                 eng = Engine(BodyModel.from_moments(moments), torques, members=n)
 
@@ -121,6 +138,7 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
 
                 def chk(tr):
                     return {"error": max(member_error(tr.omega[:, i], tr.attitude[:, i], i) for i in range(PROBES))}
+
             runs.append(Run(label, setting, go, chk))
         if not runs:
             continue
@@ -134,9 +152,17 @@ def ensemble(which: str, sizes, repeats: int, cap_s: float, progress=None, scipy
             r["ratio_vs_scipy"] = None if ref is None else ref / r["per_member_s"]
             rows.append(r)
             predicted[(r["method"], r["setting"])] = r["t_min"] * 10  # the next size is 10 times larger
-    return {"key": f"ensemble_{which}", "title": title, "reference": reference, "scipy": scipy_rows, "rows": rows,
-            "skipped": skipped, "cap_s": cap_s,
-            "error_measure": "max over the probe members and outputs of the relative omega error and the attitude angle (rad)"}
+    return {
+        "key": f"ensemble_{which}",
+        "title": title,
+        "reference": reference,
+        "scipy": scipy_rows,
+        "rows": rows,
+        "skipped": skipped,
+        "cap_s": cap_s,
+        "error_measure": "max over the probe members and outputs of the relative omega error and the attitude "
+        "angle (rad)",
+    }
 
 
 def best_ratio(result: dict, members: int) -> float | None:

@@ -44,18 +44,30 @@ def sol_omega(sol, n):
 
 
 FREE = {
-    "free_generic": dict(ref="generic 1000 s", t_end=1000.0, n=10_001,
-                         title="Generic asymmetric free body",
-                         description="I = (1, 2, 3) kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10^4 output intervals."),
-    "free_separatrix": dict(ref="separatrix 2e-12", t_end=200.0, n=10_001,
-                            title="Free body near the separatrix",
-                            description="I = (1, 2, 3) kg m2, omega0 = (1e-6, 1, 1e-6) rad/s (1 - m = 2e-12), "
-                            "200 s, 10^4 output intervals; flip times of the exact solution."),
-    "free_earth": dict(ref="Earth 100 years", t_end=None, n=36_526,
-                       title="Earth-like free wobble, 100 years daily",
-                       description="Earth's principal moments (8.01012e37, 8.01032e37, 8.03652e37 kg m2, the "
-                       "catalogue values of tests/references/free_rotation.json) spinning at 7.292115e-5 rad/s, "
-                       "rotation axis 1e-6 rad from the figure axis; 36,526 daily outputs."),
+    "free_generic": dict(
+        ref="generic 1000 s",
+        t_end=1000.0,
+        n=10_001,
+        title="Generic asymmetric free body",
+        description="I = (1, 2, 3) kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10^4 output intervals.",
+    ),
+    "free_separatrix": dict(
+        ref="separatrix 2e-12",
+        t_end=200.0,
+        n=10_001,
+        title="Free body near the separatrix",
+        description="I = (1, 2, 3) kg m2, omega0 = (1e-6, 1, 1e-6) rad/s (1 - m = 2e-12), "
+        "200 s, 10^4 output intervals; flip times of the exact solution.",
+    ),
+    "free_earth": dict(
+        ref="Earth 100 years",
+        t_end=None,
+        n=36_526,
+        title="Earth-like free wobble, 100 years daily",
+        description="Earth's principal moments (8.01012e37, 8.01032e37, 8.03652e37 kg m2, the "
+        "catalogue values of tests/references/free_rotation.json) spinning at 7.292115e-5 rad/s, "
+        "rotation axis 1e-6 rad from the figure axis; 36,526 daily outputs.",
+    ),
 }
 
 
@@ -63,7 +75,7 @@ def free_case(key: str, quick: bool) -> Case:
     """The case ``key`` of :data:`FREE`; ``quick``: fewer tolerances."""
     spec = FREE[key]
     ref = next(c for c in load_json("tests", "references", "free_rotation.json")["closed"] if c["name"] == spec["ref"])
-    I = floats(ref["moments"])  # noqa: E741
+    I = floats(ref["moments"])
     w0 = floats(ref["omega0"])
     ref_t, ref_w = floats(ref["t"]), floats(ref["omega"])
     att_t, att_q = floats(ref["attitude_t"]), floats(ref["attitude"])
@@ -76,11 +88,21 @@ def free_case(key: str, quick: bool) -> Case:
     w_exact = exact.omega(t)
     earth = key == "free_earth"
     measure = phase_error if earth else rel_error
-    what = ("wobble phase error (rad): max wrapped difference of atan2(omega2, omega1)" if earth else
-            "max relative error of omega, ``|omega - omega_ref| / |omega_ref|``")
-    case = Case(key, spec["title"], spec["description"], what,
-                "mpmath (tests/references/free_rotation.json, case '%s') at %d times; integrators also against "
-                "wobble's exact solution at every output" % (spec["ref"], ref_t.size), t0.size, complete=not quick)
+    what = (
+        "wobble phase error (rad): max wrapped difference of atan2(omega2, omega1)"
+        if earth
+        else "max relative error of omega, ``|omega - omega_ref| / |omega_ref|``"
+    )
+    case = Case(
+        key,
+        spec["title"],
+        spec["description"],
+        what,
+        f"mpmath (tests/references/free_rotation.json, case '{spec['ref']}') at {ref_t.size:d} times; "
+        "integrators also against wobble's exact solution at every output",
+        t0.size,
+        complete=not quick,
+    )
     case.context = {"t": t, "exact": exact, "w_exact": w_exact, "iw": iw, "ref_w": ref_w}
 
     def check_integrator(w):
@@ -100,7 +122,7 @@ def free_case(key: str, quick: bool) -> Case:
     if key == "free_separatrix":
         flips_ref = floats(ref["flip_times"])
 
-        def check_exact(w, _c=check_exact):  # noqa: F811
+        def check_exact(w, _c=check_exact):
             flips = exact.flip_times(0.0, float(t[-1]))
             err = float(np.max(np.abs(flips - flips_ref))) if flips.shape == flips_ref.shape else math.inf
             return {**_c(w), "flip_time_error_s": err}
@@ -109,14 +131,25 @@ def free_case(key: str, quick: bool) -> Case:
     if earth:
         # The evaluation alone (the model built once, as a script reusing it would): what the
         # Earth target's "36,526 daily outputs in under 1 ms" measures; construction is separate.
-        case.runs.append(Run("wobble exact (evaluation only)", "omega (model built)", lambda: exact.omega(t), check_exact))
-    case.runs.append(Run("wobble exact + attitude", "omega, quaternion",
-                         lambda: (lambda m: (m.omega(t), m.attitude(t)))(free_rotation(I, w0)), check_exact_att))
+        case.runs.append(
+            Run("wobble exact (evaluation only)", "omega (model built)", lambda: exact.omega(t), check_exact)
+        )
+    case.runs.append(
+        Run(
+            "wobble exact + attitude",
+            "omega, quaternion",
+            lambda: (lambda m: (m.omega(t), m.attitude(t)))(free_rotation(I, w0)),
+            check_exact_att,
+        )
+    )
     # The integrators.
     scale = float(np.hypot(w0[0], w0[1])) if earth else float(np.linalg.norm(w0))
     rtols = {
-        "DOP853": [1e-6, 1e-8, 1e-10, 1e-12], "RK45": [1e-5, 1e-7, 1e-9], "LSODA": [1e-6, 1e-8, 1e-10, 1e-12],
-        "Radau": [1e-4, 1e-6, 1e-8], "wobble DOP853": [1e-6, 1e-8, 1e-10, 1e-12],
+        "DOP853": [1e-6, 1e-8, 1e-10, 1e-12],
+        "RK45": [1e-5, 1e-7, 1e-9],
+        "LSODA": [1e-6, 1e-8, 1e-10, 1e-12],
+        "Radau": [1e-4, 1e-6, 1e-8],
+        "wobble DOP853": [1e-6, 1e-8, 1e-10, 1e-12],
     }
     if quick:
         rtols = {k: v[:2] for k, v in rtols.items()}
@@ -125,16 +158,29 @@ def free_case(key: str, quick: bool) -> Case:
         for rtol in rtols[method]:
             # atol relative to the wobble for Earth (a user controls the small components)
             atol = rtol * (scale if earth else 1e-3 * scale)
-            case.runs.append(Run(f"scipy {method}", f"rtol {rtol:g}",
-                                 lambda m=method, r=rtol, a=atol: solve(f, t, w0, m, r, a),
-                                 lambda s: check_integrator(sol_omega(s, t.size)), work=lambda s: int(s.nfev)))
+            case.runs.append(
+                Run(
+                    f"scipy {method}",
+                    f"rtol {rtol:g}",
+                    lambda m=method, r=rtol, a=atol: solve(f, t, w0, m, r, a),
+                    lambda s: check_integrator(sol_omega(s, t.size)),
+                    work=lambda s: int(s.nfev),
+                )
+            )
     eng = Engine(BodyModel.from_moments(I), [])
     q1 = np.array([1.0, 0.0, 0.0, 0.0])
     for rtol in rtols["wobble DOP853"]:
-        case.runs.append(Run("wobble DOP853", f"rtol {rtol:g}",
-                             lambda r=rtol: eng.integrate(w0, q1, t, method="dop853", rtol=r, attitude=False, estimate=False),
-                             lambda tr: check_integrator(tr.omega[:, 0]),
-                             work=lambda tr: int(tr.stats["function_evaluations"])))
-    case.notes.append("The splitting integrators are not swept here: without a torque their drift is the exact "
-                      "free flow, so they return the exact solution at any step.")
+        case.runs.append(
+            Run(
+                "wobble DOP853",
+                f"rtol {rtol:g}",
+                lambda r=rtol: eng.integrate(w0, q1, t, method="dop853", rtol=r, attitude=False, estimate=False),
+                lambda tr: check_integrator(tr.omega[:, 0]),
+                work=lambda tr: int(tr.stats["function_evaluations"]),
+            )
+        )
+    case.notes.append(
+        "The splitting integrators are not swept here: without a torque their drift is the exact "
+        "free flow, so they return the exact solution at any step."
+    )
     return case

@@ -50,10 +50,18 @@ def _versions() -> dict:
         except PackageNotFoundError:
             return None
 
-    return {"python": platform.python_version(), "numpy": np.__version__, "scipy": v("scipy"),
-            "matplotlib": v("matplotlib"), "mujoco": v("mujoco"), "wobble": v("wobble"),
-            "machine": platform.machine(), "processor": platform.processor() or "unknown CPU",
-            "system": f"{platform.system()} {platform.release()}", "cpus": os.cpu_count()}
+    return {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": v("scipy"),
+        "matplotlib": v("matplotlib"),
+        "mujoco": v("mujoco"),
+        "wobble": v("wobble"),
+        "machine": platform.machine(),
+        "processor": platform.processor() or "unknown CPU",
+        "system": f"{platform.system()} {platform.release()}",
+        "cpus": os.cpu_count(),
+    }
 
 
 def build_case(key: str, mode: str):
@@ -117,27 +125,45 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
 
 
 def _run_cases(mode, keys, repeats, say, started) -> dict:
-    out = {"meta": {"mode": mode, "repeats": repeats, "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-                    "versions": _versions(), "load_start": _load(),
-                    "timing": "one warm-up run (its output is the one checked), then min and median of the repeats, "
-                              "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
-                              "(their warm-up); runs under 50 ms get three times the repeats; Numba-compiled kernels "
-                              "are loaded from their disk cache (or compiled) in the warm-up, which is not timed",
-                    "memory": ("peak resident memory that one run of each method at its loosest setting adds to the "
-                               "process, at the case's full output size (Linux VmHWM - VmRSS in a forked child after "
-                               "returning free heap to the system; everything the run makes resident counts, C "
-                               "libraries included; '-' where it could not be measured)" if measures_resident_memory()
-                               else "tracemalloc peak (Python and NumPy allocations) of one run of each method at its "
-                               "loosest setting, at the case's full output size")},
-           "cases": [], "ensembles": []}
+    out = {
+        "meta": {
+            "mode": mode,
+            "repeats": repeats,
+            "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+            "versions": _versions(),
+            "load_start": _load(),
+            "timing": "one warm-up run (its output is the one checked), then min and median of the repeats, "
+            "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
+            "(their warm-up); runs under 50 ms get three times the repeats; Numba-compiled kernels "
+            "are loaded from their disk cache (or compiled) in the warm-up, which is not timed",
+            "memory": (
+                "peak resident memory that one run of each method at its loosest setting adds to the "
+                "process, at the case's full output size (Linux VmHWM - VmRSS in a forked child after "
+                "returning free heap to the system; everything the run makes resident counts, C "
+                "libraries included; '-' where it could not be measured)"
+                if measures_resident_memory()
+                else "tracemalloc peak (Python and NumPy allocations) of one run of each method at its "
+                "loosest setting, at the case's full output size"
+            ),
+        },
+        "cases": [],
+        "ensembles": [],
+    }
     for key in keys:
         if key.startswith("ensemble_"):
             which = key.split("_", 1)[1]
-            sizes = {"full": [100, 1000, 10_000, 100_000, 1_000_000], "quick": [100, 1000, 10_000],
-                     "smoke": [100]}[mode]
+            sizes = {"full": [100, 1000, 10_000, 100_000, 1_000_000], "quick": [100, 1000, 10_000], "smoke": [100]}[
+                mode
+            ]
             say(f"{key}")
-            res = ensemble(which, sizes, repeats, cap_s=60.0 if mode == "full" else 10.0, progress=say,
-                           scipy_rtols=(1e-7,) if mode == "smoke" else (1e-7, 1e-9, 1e-11))
+            res = ensemble(
+                which,
+                sizes,
+                repeats,
+                cap_s=60.0 if mode == "full" else 10.0,
+                progress=say,
+                scipy_rtols=(1e-7,) if mode == "smoke" else (1e-7, 1e-9, 1e-11),
+            )
             out["ensembles"].append(res)
             continue
         case = build_case(key, mode)
@@ -156,10 +182,20 @@ def _run_cases(mode, keys, repeats, say, started) -> dict:
         if key == "free_earth":
             xs = case.context["t"] * 2.4e-7
             extra["np_sin_same_size_s"] = min(_t(lambda: np.sin(xs)) for _ in range(20))
-        out["cases"].append({"key": key, "title": case.title, "description": case.description,
-                             "error_measure": case.error_measure, "reference": case.reference,
-                             "outputs": case.outputs, "notes": case.notes, "rows": rows,
-                             "complete": case.complete, **extra})
+        out["cases"].append(
+            {
+                "key": key,
+                "title": case.title,
+                "description": case.description,
+                "error_measure": case.error_measure,
+                "reference": case.reference,
+                "outputs": case.outputs,
+                "notes": case.notes,
+                "rows": rows,
+                "complete": case.complete,
+                **extra,
+            }
+        )
         if "stages" in case.context:
             out["cases"][-1]["stages"] = case.context["stages"]
     out["meta"]["seconds"] = time.perf_counter() - started
@@ -206,42 +242,71 @@ def targets(res: dict) -> list[dict]:
         ex, dop = _row(c, "wobble exact"), _row(c, "scipy DOP853", "rtol 1e-12")
         if dop:
             ratio = dop["t_min"] / ex["t_min"]
-            add("generic free body", "exact error <= 1e-13 in >= 100x less time than SciPy DOP853 at rtol 1e-12",
+            add(
+                "generic free body",
+                "exact error <= 1e-13 in >= 100x less time than SciPy DOP853 at rtol 1e-12",
                 f"exact {ex['error']:.1e} in {ex['t_min']:.3g} s; DOP853 rtol 1e-12 {dop['error']:.1e} in "
-                f"{dop['t_min']:.3g} s; {ratio:.0f}x", ex["error"] <= 1e-13 and ratio >= 100, ratio, c)
+                f"{dop['t_min']:.3g} s; {ratio:.0f}x",
+                ex["error"] <= 1e-13 and ratio >= 100,
+                ratio,
+                c,
+            )
         else:
-            add("generic free body", "exact error <= 1e-13, >= 100x faster than DOP853 at rtol 1e-12",
-                "DOP853 at rtol 1e-12 not run in this mode", None)
+            add(
+                "generic free body",
+                "exact error <= 1e-13, >= 100x faster than DOP853 at rtol 1e-12",
+                "DOP853 at rtol 1e-12 not run in this mode",
+                None,
+            )
     c = cases.get("free_separatrix")
     if c:
         ex = _row(c, "wobble exact")
         sc = [r["error"] for r in c["rows"] if r["method"].startswith("scipy")]
-        add("near the separatrix", "exact error <= 1e-10 and flip times within 1e-9 s",
+        add(
+            "near the separatrix",
+            "exact error <= 1e-10 and flip times within 1e-9 s",
             f"exact {ex['error']:.1e}, flip times {ex['flip_time_error_s']:.1e} s; best SciPy "
-            f"{min(sc) if sc else float('nan'):.1e}", ex["error"] <= 1e-10 and ex["flip_time_error_s"] <= 1e-9)
+            f"{min(sc) if sc else float('nan'):.1e}",
+            ex["error"] <= 1e-10 and ex["flip_time_error_s"] <= 1e-9,
+        )
     c = cases.get("free_earth")
     if c:
         ex = _row(c, "wobble exact")
         ev = _row(c, "wobble exact (evaluation only)") or ex
-        add("Earth, 100 years daily", "exact phase error <= 1e-12 rad in under 1 ms for 36,526 outputs",
+        add(
+            "Earth, 100 years daily",
+            "exact phase error <= 1e-12 rad in under 1 ms for 36,526 outputs",
             f"phase error {ev['error']:.1e} rad; evaluation {ev['t_min'] * 1e3:.2f} ms ({ev['t_min'] / 1e-3:.2f} x the "
             f"1 ms goal), {ex['t_min'] * 1e3:.2f} ms including the construction of the solution",
-            ev["error"] <= 1e-12 and ev["t_min"] < 1e-3, ev["t_min"] / 1e-3)
+            ev["error"] <= 1e-12 and ev["t_min"] < 1e-3,
+            ev["t_min"] / 1e-3,
+        )
     for key in ("top_undulating", "top_cusps", "top_loops", "top_sleeping"):
         c = cases.get(key)
         if not c:
             continue
         ex, dop = _row(c, "wobble exact"), _row(c, "scipy DOP853", "rtol 1e-12")
         if not dop:
-            add(c["title"], ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
-                "DOP853 at rtol 1e-12 not run in this mode", None)
+            add(
+                c["title"],
+                ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
+                "DOP853 at rtol 1e-12 not run in this mode",
+                None,
+            )
             continue
         ratio = dop["t_min"] / ex["t_min"]
         better = ex["error"] <= dop["error"] and ex.get("turning_error", 0) <= dop.get("turning_error", float("inf"))
-        add(c["title"], ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
-            f"{ratio:.0f}x (exact {ex['t_min'] * 1e3:.2f} ms incl. construction, DOP853 {dop['t_min']:.3g} s); attitude "
+        add(
+            c["title"],
+            ">= 1000x faster than DOP853 at rtol 1e-12, equal or better error",
+            f"{ratio:.0f}x (exact {ex['t_min'] * 1e3:.2f} ms incl. construction, DOP853 {dop['t_min']:.3g} s); "
+            "attitude "
             f"{ex['error']:.1e} vs {dop['error']:.1e} rad, turning points {ex.get('turning_error', 0):.1e} vs "
-            f"{dop.get('turning_error', float('nan')):.1e}", ratio >= 1000 and better, ratio, c)
+            f"{dop.get('turning_error', float('nan')):.1e}",
+            ratio >= 1000 and better,
+            ratio,
+            c,
+        )
     for key in ("torqued_satellite", "torqued_asymmetric_top"):
         c = cases.get(key)
         if not c:
@@ -260,31 +325,53 @@ def targets(res: dict) -> list[dict]:
             best = min(wob, key=wob.get)
             parts.append(f"{target:g}: {ref / wob[best]:.2f}x ({best})")
             ok.append(ref / wob[best])
-        add(c["title"], "one trajectory: best wobble integrator >= 5x faster than DOP853 at equal error",
-            "; ".join(parts), bool(ok) and min(ok) >= 5, min(ok) if ok else None, c)
+        add(
+            c["title"],
+            "one trajectory: best wobble integrator >= 5x faster than DOP853 at equal error",
+            "; ".join(parts),
+            bool(ok) and min(ok) >= 5,
+            min(ok) if ok else None,
+            c,
+        )
     for e in res["ensembles"]:
         if e["key"] != "ensemble_satellite":
             continue
         r = best_ratio(e, 10_000)
-        add("ensemble of 10^4 satellites", ">= 100x faster per member than SciPy DOP853 at equal error",
+        add(
+            "ensemble of 10^4 satellites",
+            ">= 100x faster per member than SciPy DOP853 at equal error",
             "10^4 members not run in this mode" if r is None else f"best {r:.0f}x per member",
-            None if r is None else r >= 100, r)
+            None if r is None else r >= 100,
+            r,
+        )
     c = cases.get("user_top")
     if c:
         parts, ratios, better = [], [], True
         for api in (r for r in c["rows"] if r["method"] == user_level.API_TOP):
-            plain = next(r for r in c["rows"]
-                         if r["method"] == user_level.PLAIN and r["setting"].startswith(api["setting"]))
+            plain = next(
+                r for r in c["rows"] if r["method"] == user_level.PLAIN and r["setting"].startswith(api["setting"])
+            )
             ratios.append(plain["t_min"] / api["t_min"])
             better = better and api["error"] <= plain["error"]
-            parts.append(f"{api['setting']} {ratios[-1]:.0f}x ({api['t_min'] * 1e3:.2f} ms vs {plain['t_min']:.3g} s; "
-                         f"{api['error']:.1e} vs {plain['error']:.1e} rad)")
-        add("Heavy top through the public API",
+            parts.append(
+                f"{api['setting']} {ratios[-1]:.0f}x ({api['t_min'] * 1e3:.2f} ms vs {plain['t_min']:.3g} s; "
+                f"{api['error']:.1e} vs {plain['error']:.1e} rad)"
+            )
+        add(
+            "Heavy top through the public API",
             "HeavyTop(...).motion(t) >= 1000x faster than plain SciPy DOP853 (rtol 1e-12, no events), "
             "equal or better error",
-            "; ".join(parts), min(ratios) >= 1000 and better, min(ratios), c)
-    add("energy over 10^6 splitting steps", "bounded energy error (no secular drift) for orders 2, 4, 6",
-        "not re-measured here (a 10-minute run): see performance-engine.md, produced by scripts/bench_engine.py", None)
+            "; ".join(parts),
+            min(ratios) >= 1000 and better,
+            min(ratios),
+            c,
+        )
+    add(
+        "energy over 10^6 splitting steps",
+        "bounded energy error (no secular drift) for orders 2, 4, 6",
+        "not re-measured here (a 10-minute run): see performance-engine.md, produced by scripts/bench_engine.py",
+        None,
+    )
     return out
 
 
@@ -295,19 +382,28 @@ def text_table(res: dict) -> str:
     lines = []
     for c in res["cases"]:
         lines.append(f"\n{c['title']} ({c['key']}), {c['outputs']} outputs; error: {c['error_measure']}")
-        lines.append(f"  {'method':<26} {'setting':<44} {'error':>9} {'min (s)':>10} {'median (s)':>10} {'peak MiB':>9}")
+        lines.append(
+            f"  {'method':<26} {'setting':<44} {'error':>9} {'min (s)':>10} {'median (s)':>10} {'peak MiB':>9}"
+        )
         for r in c["rows"]:
             mem = "-" if r.get("peak_memory_bytes") is None else f"{r['peak_memory_bytes'] / 2**20:.2f}"
-            lines.append(f"  {r['method']:<26} {r['setting'][:44]:<44} {r['error']:>9.2e} {r['t_min']:>10.4g} "
-                         f"{r['t_median']:>10.4g} {mem:>9}")
+            lines.append(
+                f"  {r['method']:<26} {r['setting'][:44]:<44} {r['error']:>9.2e} {r['t_min']:>10.4g} "
+                f"{r['t_median']:>10.4g} {mem:>9}"
+            )
     for e in res["ensembles"]:
         lines.append(f"\n{e['title']}")
         for r in e["scipy"]:
-            lines.append(f"  {r['method']:<26} {r['setting']:<14} {'':>9} {r['error']:>9.2e} {r['per_member_s'] * 1e6:>10.1f} us/member")
+            lines.append(
+                f"  {r['method']:<26} {r['setting']:<14} {'':>9} {r['error']:>9.2e} "
+                f"{r['per_member_s'] * 1e6:>10.1f} us/member"
+            )
         for r in e["rows"]:
             ratio = "-" if r["ratio_vs_scipy"] is None else f"{r['ratio_vs_scipy']:.1f}x"
-            lines.append(f"  {r['method']:<26} {r['setting']:<14} {r['members']:>9} {r['error']:>9.2e} "
-                         f"{r['per_member_s'] * 1e6:>10.2f} us/member  {ratio}")
+            lines.append(
+                f"  {r['method']:<26} {r['setting']:<14} {r['members']:>9} {r['error']:>9.2e} "
+                f"{r['per_member_s'] * 1e6:>10.2f} us/member  {ratio}"
+            )
     lines.append("\nTargets:")
     for t in res["targets"]:
         status = t["status"].upper() if t["status"] == "missed" else t["status"]
@@ -324,7 +420,9 @@ def write_figures(res: dict, folder: Path) -> dict:
     for c in res["cases"]:
         if c["key"].startswith("user_"):
             continue  # a table per top, not a sweep of settings: no diagram
-        fig = work_precision_figure(f"{c['title']}: {c['outputs']} outputs", c["rows"], xlabel=c["error_measure"].split(",")[0])
+        fig = work_precision_figure(
+            f"{c['title']}: {c['outputs']} outputs", c["rows"], xlabel=c["error_measure"].split(",")[0]
+        )
         written[c["key"]] = _save(fig, folder / f"work_precision_{c['key']}.png", atomic_target)
     for e in res["ensembles"]:
         rows = [{**r, "method": f"{r['method']} ({r['members']})"} for r in e["rows"]]
@@ -343,7 +441,7 @@ def _save(fig, path: Path, atomic_target):
 class _Parser(argparse.ArgumentParser):
     """Usage errors as one line on stderr, exit status 2 (as every wobble command)."""
 
-    def error(self, message: str):  # noqa: D401 - argparse API
+    def error(self, message: str):  # overrides argparse.ArgumentParser.error
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 

@@ -16,9 +16,10 @@ import os
 import statistics
 import time
 import tracemalloc
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 
 @dataclass
@@ -66,8 +67,9 @@ def measure(runs: list[Run], repeats: int, slow_s: float = 2.0, progress=None) -
                 t.append(time.perf_counter() - t0)
     rows = []
     for r, t, n in zip(runs, times, want):
-        rows.append({**r.result, "t_min": min(t), "t_median": statistics.median(t), "timed_runs": len(t),
-                     "timed_once": n == 0})
+        rows.append(
+            {**r.result, "t_min": min(t), "t_median": statistics.median(t), "timed_runs": len(t), "timed_once": n == 0}
+        )
     return rows
 
 
@@ -117,6 +119,8 @@ _CLEAR_REFS = Path("/proc/self/clear_refs")
 def measures_resident_memory() -> bool:
     """Whether :func:`peak_memory` measures resident memory (Linux) rather than tracemalloc's peak."""
     return hasattr(os, "fork") and _CLEAR_REFS.exists()
+
+
 _M_MMAP_THRESHOLD = -3  # glibc's mallopt parameter
 
 

@@ -27,8 +27,21 @@ from wobble.models.top import heavy_top
 from wobble.models.top_ode import top_rhs, vertical_in_body
 from wobble.numerics import quaternion as Q
 
-__all__ = ["I1", "I3", "MGL", "OMEGA3", "RTOL", "CASES", "quat_from_euler", "angle_between", "top_euler_angle_rhs",
-           "run_dop853", "turning_error", "top_case", "mujoco_top"]
+__all__ = [
+    "I1",
+    "I3",
+    "MGL",
+    "OMEGA3",
+    "RTOL",
+    "CASES",
+    "quat_from_euler",
+    "angle_between",
+    "top_euler_angle_rhs",
+    "run_dop853",
+    "turning_error",
+    "top_case",
+    "mujoco_top",
+]
 
 I1, I3, MGL, OMEGA3 = 1.0, 0.5, 1.0, 10.0
 RTOL = 1e-12
@@ -42,8 +55,15 @@ CASES = [
 
 def quat_from_euler(phi, theta, psi):
     ch, sh = np.cos(theta / 2), np.sin(theta / 2)
-    return np.stack([ch * np.cos((phi + psi) / 2), sh * np.cos((phi - psi) / 2),
-                     sh * np.sin((phi - psi) / 2), ch * np.sin((phi + psi) / 2)], axis=-1)
+    return np.stack(
+        [
+            ch * np.cos((phi + psi) / 2),
+            sh * np.cos((phi - psi) / 2),
+            sh * np.sin((phi - psi) / 2),
+            ch * np.sin((phi + psi) / 2),
+        ],
+        axis=-1,
+    )
 
 
 def angle_between(q1, q2):
@@ -70,13 +90,16 @@ def top_euler_angle_rhs(mdl):
 
 def turning_event(kind):
     if kind == "euler":
+
         def ev(t, y):
             return y[1]
     else:
+
         def ev(t, y):  # d(gamma3)/dt = d(cos theta)/dt = omega x gamma, third component
             w1, w2 = y[0], y[1]
             g = vertical_in_body(y[3:])
             return w1 * g[1] - w2 * g[0]
+
     return ev
 
 
@@ -86,8 +109,16 @@ def run_dop853(mdl, t, kind, rtol=RTOL, method="DOP853", extra_t=None, events=Tr
     if kind == "euler":
         y0 = [mdl.theta0, mdl.thetadot0, mdl.phi0, mdl.psi0]
         scale = np.array([1.0, max(abs(mdl.a), 1.0), 1.0, 1.0])
-        sol = solve_ivp(top_euler_angle_rhs(mdl), (0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol, atol=rtol * scale,
-                        events=ev)
+        sol = solve_ivp(
+            top_euler_angle_rhs(mdl),
+            (0, t_eval[-1]),
+            y0,
+            method=method,
+            t_eval=t_eval,
+            rtol=rtol,
+            atol=rtol * scale,
+            events=ev,
+        )
         th, ph, ps = sol.y[0], sol.y[2], sol.y[3]
         q = quat_from_euler(ph, th, ps)
         turning = sol.y_events[0][:, 0] if events else None
@@ -95,8 +126,16 @@ def run_dop853(mdl, t, kind, rtol=RTOL, method="DOP853", extra_t=None, events=Tr
         w, q0 = mdl.evaluate(np.zeros(1), "direct")
         y0 = np.concatenate([w[0], q0[0]])
         scale = np.array([np.linalg.norm(w[0])] * 3 + [1.0] * 4)
-        sol = solve_ivp(top_rhs(mdl.I1, mdl.I3, mdl.mgl), (0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol,
-                        atol=rtol * scale, events=ev)
+        sol = solve_ivp(
+            top_rhs(mdl.I1, mdl.I3, mdl.mgl),
+            (0, t_eval[-1]),
+            y0,
+            method=method,
+            t_eval=t_eval,
+            rtol=rtol,
+            atol=rtol * scale,
+            events=ev,
+        )
         q = sol.y[3:].T / np.linalg.norm(sol.y[3:].T, axis=1, keepdims=True)
         g = vertical_in_body(q)
         th = np.arctan2(np.hypot(g[:, 0], g[:, 1]), g[:, 2])
@@ -116,7 +155,7 @@ def turning_error(turning, ref):
 
 def _mujoco():
     try:
-        import mujoco  # noqa: F401
+        import mujoco
     except ImportError:
         return None
     return mujoco
@@ -151,7 +190,7 @@ def top_case(key: str, label: str, refname: str, kw: dict, quick: bool, mujoco_d
     """A heavy-top case of :data:`CASES`: wobble's exact top against SciPy (with turning-point
     events, for the turning angles), wobble's integrators and MuJoCo; ``quick``: fewer settings."""
     ref = next(c for c in load_json("tests", "references", "heavy_top.json")["cases"] if c["name"] == refname)
-    W3 = OMEGA3  # noqa: N806
+    W3 = OMEGA3
     mdl = heavy_top(I1, I3, MGL, omega3=W3, **kw)
     t0 = np.linspace(0.0, 1000 * mdl.nutation_period, 20_001)
     ref_t, ref_q = floats(ref["long"]["t"]), floats(ref["long"]["quaternion"])
@@ -159,14 +198,22 @@ def top_case(key: str, label: str, refname: str, kw: dict, quick: bool, mujoco_d
     q_exact = mdl.attitude(t)
     an = ref["analysis"]
     w_turn = max(abs(mdl.theta_min / float(an["theta_min"]) - 1), abs(mdl.theta_max / float(an["theta_max"]) - 1))
-    desc = (f"I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s, theta0 = {kw['theta0']:.6g} rad, "
-            f"phidot0 = {kw['phidot0']:g} rad/s ({mdl.nutation} nutation); 1000 nutation periods "
-            f"({t0[-1]:.1f} s), 20,001 outputs.")
-    case = Case(key, f"Heavy top: {label}", desc,
-                "attitude angle error (rad), max over the reference times; turning points (relative) in their own column",
-                "mpmath (tests/references/heavy_top.json, case '%s'): turning angles and the attitude at %d times up "
-                "to 1000.25 periods; integrators also against wobble's exact attitude at every output" % (refname, ref_t.size),
-                t0.size, complete=not quick)
+    desc = (
+        f"I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s, theta0 = {kw['theta0']:.6g} rad, "
+        f"phidot0 = {kw['phidot0']:g} rad/s ({mdl.nutation} nutation); 1000 nutation periods "
+        f"({t0[-1]:.1f} s), 20,001 outputs."
+    )
+    case = Case(
+        key,
+        f"Heavy top: {label}",
+        desc,
+        "attitude angle error (rad), max over the reference times; turning points (relative) in their own column",
+        f"mpmath (tests/references/heavy_top.json, case '{refname}'): turning angles and the attitude at "
+        f"{ref_t.size:d} times up to 1000.25 periods; integrators also against wobble's exact attitude at every "
+        "output",
+        t0.size,
+        complete=not quick,
+    )
     case.context = {"model": mdl}
 
     def check_q(q, turning=None):
@@ -188,16 +235,24 @@ def top_case(key: str, label: str, refname: str, kw: dict, quick: bool, mujoco_d
         return check_q(quat_from_euler(ph, th, ps), w_turn)
 
     case.runs.append(Run("wobble exact", "construction + theta, phi, psi", exact_angles, check_angles))
-    case.runs.append(Run("wobble exact (evaluation only)", "theta, phi, psi (model built)", lambda: mdl.angles(t),
-                         check_angles))
-    case.runs.append(Run("wobble exact + omega", "construction + omega, quaternion",
-                         lambda: heavy_top(I1, I3, MGL, omega3=W3, **kw).evaluate(t), lambda o: check_q(o[1], w_turn)))
+    case.runs.append(
+        Run("wobble exact (evaluation only)", "theta, phi, psi (model built)", lambda: mdl.angles(t), check_angles)
+    )
+    case.runs.append(
+        Run(
+            "wobble exact + omega",
+            "construction + omega, quaternion",
+            lambda: heavy_top(I1, I3, MGL, omega3=W3, **kw).evaluate(t),
+            lambda o: check_q(o[1], w_turn),
+        )
+    )
     kind = "euler" if kw["theta0"] > 0.1 else "quaternion"
     rtols = {"DOP853": [1e-8, 1e-10, 1e-12], "RK45": [1e-6, 1e-8], "LSODA": [1e-8, 1e-10, 1e-12], "Radau": [1e-6]}
     if quick:
         rtols = {"DOP853": [1e-6, 1e-8], "RK45": [1e-5], "LSODA": [1e-6, 1e-8], "Radau": [1e-4]}
     for method in SCIPY:
         for rtol in rtols[method]:
+
             def go(m=method, r=rtol):
                 return run_dop853(mdl, t, kind, rtol=r, method=m, events=True)
 
@@ -215,19 +270,38 @@ def top_case(key: str, label: str, refname: str, kw: dict, quick: bool, mujoco_d
     w_init, q_init = w_init[0], q_init[0]
     wrtols = [1e-8, 1e-10] if not quick else [1e-6]
     for rtol in wrtols:
-        case.runs.append(Run("wobble DOP853", f"rtol {rtol:g}",
-                             lambda r=rtol: eng.integrate(w_init, q_init, t, method="dop853", rtol=r, estimate=False),
-                             lambda tr: check_q(tr.attitude[:, 0]), work=lambda tr: int(tr.stats["function_evaluations"])))
+        case.runs.append(
+            Run(
+                "wobble DOP853",
+                f"rtol {rtol:g}",
+                lambda r=rtol: eng.integrate(w_init, q_init, t, method="dop853", rtol=r, estimate=False),
+                lambda tr: check_q(tr.attitude[:, 0]),
+                work=lambda tr: int(tr.stats["function_evaluations"]),
+            )
+        )
     steps = {2: [0.005], 4: [0.02], 6: [0.04]} if not quick else {2: [0.02], 4: [0.08], 6: [0.16]}
     for order, hs in steps.items():
         for h in hs:
-            case.runs.append(Run(f"wobble splitting-{order}", f"h {h:g} s",
-                                 lambda h=h, o=order: eng.integrate(w_init, q_init, t, method="splitting", step=h, order=o,
-                                                                    estimate=False),
-                                 lambda tr: check_q(tr.attitude[:, 0]), work=lambda tr: int(tr.stats["drifts"])))
+            case.runs.append(
+                Run(
+                    f"wobble splitting-{order}",
+                    f"h {h:g} s",
+                    lambda h=h, o=order: eng.integrate(
+                        w_init, q_init, t, method="splitting", step=h, order=o, estimate=False
+                    ),
+                    lambda tr: check_q(tr.attitude[:, 0]),
+                    work=lambda tr: int(tr.stats["drifts"]),
+                )
+            )
     if mujoco_dts and _mujoco() is not None:
         for integrator, dts in mujoco_dts.items():
             for dt in dts:
-                case.runs.append(Run(f"MuJoCo {integrator}", f"dt {dt:g} s",
-                                     lambda dt=dt, i=integrator: mujoco_top(w_init, q_init, t, dt, i), lambda q: check_q(q)))
+                case.runs.append(
+                    Run(
+                        f"MuJoCo {integrator}",
+                        f"dt {dt:g} s",
+                        lambda dt=dt, i=integrator: mujoco_top(w_init, q_init, t, dt, i),
+                        lambda q: check_q(q),
+                    )
+                )
     return case

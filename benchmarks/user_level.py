@@ -56,15 +56,18 @@ def user_top_case(quick: bool) -> Case:
 
     tops = CASES[:1] if quick else CASES
     case = Case(
-        "user_top", "User level: HeavyTop(...).motion(t) against plain SciPy DOP853",
+        "user_top",
+        "User level: HeavyTop(...).motion(t) against plain SciPy DOP853",
         "The four tops of issue 8 (I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s; theta0 = 60 deg with "
         "phidot0 = 0, 0.3, -0.3 rad/s, and theta0 = 1e-4 rad), 1000 nutation periods, 20,001 outputs. wobble: "
         "HeavyTop(...) with Quantities, then .motion(t) with t a time Quantity: construction, the series of the "
         "motion and the whole CF Dataset. SciPy: solve_ivp(method='DOP853', t_eval=t) on the Euler-angle equations "
         "in Python floats (omega and quaternion equations for theta0 = 1e-4 rad), rtol 1e-12, no events.",
         "attitude angle error (rad), max over the mpmath reference times",
-        "mpmath (tests/references/heavy_top.json): the attitude at 7 times up to 1000.25 periods", 20_001,
-        complete=not quick)
+        "mpmath (tests/references/heavy_top.json): the attitude at 7 times up to 1000.25 periods",
+        20_001,
+        complete=not quick,
+    )
     refs = {c["name"]: c for c in load_json("tests", "references", "heavy_top.json")["cases"]}
     stages = None
     cpu = []
@@ -75,14 +78,22 @@ def user_top_case(quick: bool) -> Case:
         t, (iq,) = grid(np.linspace(0.0, 1000 * mdl.nutation_period, 20_001), ref_t)
         ts = t * u.s
         q_exact = mdl.attitude(t)
-        args = dict(I1=I1 * u.kg * u.m**2, I3=I3 * u.kg * u.m**2, mgl=MGL * u.J, theta0=kw["theta0"] * u.rad,
-                    phidot0=kw["phidot0"] * u.rad / u.s, omega3=OMEGA3 * u.rad / u.s)
+        args = dict(
+            I1=I1 * u.kg * u.m**2,
+            I3=I3 * u.kg * u.m**2,
+            mgl=MGL * u.J,
+            theta0=kw["theta0"] * u.rad,
+            phidot0=kw["phidot0"] * u.rad / u.s,
+            omega3=OMEGA3 * u.rad / u.s,
+        )
         built = HeavyTop(**args)
         built.motion(ts)  # the series built once, as after a first evaluation
         if stages is None:
             stages = _stages(HeavyTop, args, ts, label)
         if not quick:  # one more DOP853 run per top (seconds): the full run only
-            cpu.append((label, *_cpu_times(HeavyTop, args, ts, mdl, t, "euler" if kw["theta0"] > 0.1 else "quaternion")))
+            cpu.append(
+                (label, *_cpu_times(HeavyTop, args, ts, mdl, t, "euler" if kw["theta0"] > 0.1 else "quaternion"))
+            )
 
         def check(q, iq=iq, ref_q=ref_q, q_exact=q_exact, n=t.size):
             if q.shape != (n, 4) or not np.all(np.isfinite(q)):
@@ -92,34 +103,50 @@ def user_top_case(quick: bool) -> Case:
             return {"error": e_ref, "error_vs_mpmath": e_ref, "error_vs_exact": e_all}
 
         kind = "euler" if kw["theta0"] > 0.1 else "quaternion"
-        case.runs.append(Run(API_TOP, label, lambda a=args, ts=ts: HeavyTop(**a).motion(ts),
-                             lambda ds, c=check: c(ds["attitude"].values)))
-        case.runs.append(Run(API_TOP_BUILT, label, lambda b=built, ts=ts: b.motion(ts),
-                             lambda ds, c=check: c(ds["attitude"].values)))
+        case.runs.append(
+            Run(
+                API_TOP,
+                label,
+                lambda a=args, ts=ts: HeavyTop(**a).motion(ts),
+                lambda ds, c=check: c(ds["attitude"].values),
+            )
+        )
+        case.runs.append(
+            Run(API_TOP_BUILT, label, lambda b=built, ts=ts: b.motion(ts), lambda ds, c=check: c(ds["attitude"].values))
+        )
 
         def plain(mdl=mdl, t=t, kind=kind):
             tt, th, q, _ = run_dop853(mdl, t, kind, rtol=RTOL, events=False)
             return q if tt.size == t.size else np.full((t.size, 4), np.nan)
 
-        case.runs.append(Run(PLAIN, f"{label}: rtol 1e-12, {kind} equations", plain,
-                             lambda q, c=check: c(q / np.linalg.norm(q, axis=1, keepdims=True))))
+        case.runs.append(
+            Run(
+                PLAIN,
+                f"{label}: rtol 1e-12, {kind} equations",
+                plain,
+                lambda q, c=check: c(q / np.linalg.norm(q, axis=1, keepdims=True)),
+            )
+        )
     case.context["stages"] = stages
     case.notes.append(
         "Where the time of the first row goes (" + stages["top"] + ", minima of 20 runs each, outside the interleaved "
         f"timing): HeavyTop(...) {stages['construction'] * 1e3:.2f} ms (the unit conversions and the 60-digit "
         f"analysis); building the verified series of the motion {stages['series'] * 1e3:.2f} ms (once per top); "
         f"the motion at every output {stages['motion'] * 1e3:.2f} ms (one compiled pass); the times' conversion "
-        f"and the CF Dataset {stages['dataset'] * 1e3:.2f} ms (astropy, xarray).")
+        f"and the CF Dataset {stages['dataset'] * 1e3:.2f} ms (astropy, xarray)."
+    )
     if cpu:
         case.notes.append(
             "The same comparison in CPU time (time.thread_time, to which the other processes of a busy machine add "
             "nothing, though they still slow its caches), outside the interleaved timing: HeavyTop(...).motion(t), "
-            "minimum of 20 runs, against one plain DOP853 run: " + "; ".join(
-                f"{name} {call * 1e3:.2f} ms vs {dop:.2f} s, {dop / call:.0f}x" for name, call, dop in cpu) + ".")
+            "minimum of 20 runs, against one plain DOP853 run: "
+            + "; ".join(f"{name} {call * 1e3:.2f} ms vs {dop:.2f} s, {dop / call:.0f}x" for name, call, dop in cpu)
+            + "."
+        )
     return case
 
 
-def _cpu_times(HeavyTop, args, ts, mdl, t, kind):  # noqa: N803
+def _cpu_times(HeavyTop, args, ts, mdl, t, kind):
     """CPU time of the user's call (minimum of 20) and of one plain DOP853 run, in s."""
     import time
 
@@ -133,7 +160,7 @@ def _cpu_times(HeavyTop, args, ts, mdl, t, kind):  # noqa: N803
     return min(out), time.thread_time() - c0
 
 
-def _stages(HeavyTop, args, ts, label):  # noqa: N803
+def _stages(HeavyTop, args, ts, label):
     """Minimum times of the stages of HeavyTop(...).motion(t): construction, series, motion, Dataset."""
     import time
 
@@ -171,9 +198,15 @@ def _free_rhs(moments):
 
     def f(t, y):
         w1, w2, w3, qw, qx, qy, qz = y
-        return [a * w2 * w3, b * w3 * w1, c * w1 * w2,
-                -0.5 * (qx * w1 + qy * w2 + qz * w3), 0.5 * (qw * w1 + qy * w3 - qz * w2),
-                0.5 * (qw * w2 - qx * w3 + qz * w1), 0.5 * (qw * w3 + qx * w2 - qy * w1)]
+        return [
+            a * w2 * w3,
+            b * w3 * w1,
+            c * w1 * w2,
+            -0.5 * (qx * w1 + qy * w2 + qz * w3),
+            0.5 * (qw * w1 + qy * w3 - qz * w2),
+            0.5 * (qw * w2 - qx * w3 + qz * w1),
+            0.5 * (qw * w3 + qx * w2 - qy * w1),
+        ]
 
     return f
 
@@ -192,14 +225,17 @@ def user_free_case(quick: bool) -> Case:
     att_t, att_q = floats(ref["attitude_t"]), floats(ref["attitude"])
     t, (iw, iq) = grid(np.linspace(0.0, 1000.0, 10_001), ref_t, att_t)
     case = Case(
-        "user_free", "User level: FreeRotation(...).evaluate(t) against plain SciPy DOP853",
+        "user_free",
+        "User level: FreeRotation(...).evaluate(t) against plain SciPy DOP853",
         "The generic free body of issue 8: I = (1, 2, 3) kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10,001 outputs. "
         "wobble: FreeRotation(moments, omega0) with Quantities, then .evaluate(t): construction, omega and the "
         "attitude, the CF Dataset. SciPy: solve_ivp(method='DOP853', t_eval=t) on Euler's equations and the "
         "quaternion's, in Python floats, rtol 1e-12, no events.",
         "max of omega's relative error and the attitude angle (rad) at the mpmath reference times",
         "mpmath (tests/references/free_rotation.json, case 'generic 1000 s'): omega at 21 times, the attitude at 2",
-        10_001, complete=not quick)
+        10_001,
+        complete=not quick,
+    )
     ts = t * u.s
     m_q, w0_q = moments * u.kg * u.m**2, w0 * u.rad / u.s
 
@@ -210,8 +246,14 @@ def user_free_case(quick: bool) -> Case:
         eq = float(np.max(attitude_angle(q[iq] / np.linalg.norm(q[iq], axis=1, keepdims=True), att_q)))
         return {"error": max(ew, eq), "error_vs_mpmath": max(ew, eq), "attitude_error_rad": eq}
 
-    case.runs.append(Run(API_FREE, "generic", lambda: FreeRotation(m_q, w0_q).evaluate(ts),
-                         lambda ds: check(ds["omega"].values, ds["attitude"].values)))
+    case.runs.append(
+        Run(
+            API_FREE,
+            "generic",
+            lambda: FreeRotation(m_q, w0_q).evaluate(ts),
+            lambda ds: check(ds["omega"].values, ds["attitude"].values),
+        )
+    )
     f = _free_rhs(moments)
     y0 = np.concatenate([w0, [1.0, 0.0, 0.0, 0.0]])
     atol = RTOL * np.array([np.linalg.norm(w0)] * 3 + [1.0] * 4)

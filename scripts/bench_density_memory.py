@@ -76,7 +76,8 @@ def main(n: int = 512) -> None:
         "* command: `wobble inertia --density grid.nc --rule voxel --json` in a fresh process",
         f"* peak resident memory of that process: **{peak_kib / 2**20:.2f} GiB** "
         f"(the same grid held in memory as float64 would be {n**3 * 8 / 2**30:.1f} GiB)",
-        f"* wall time: {seconds:.1f} s on {platform.machine()} ({platform.python_implementation()} {platform.python_version()})",
+        f"* wall time: {seconds:.1f} s on {platform.machine()} ({platform.python_implementation()} "
+        f"{platform.python_version()})",
         f"* mass {report['mass']:.6g} kg vs closed form {mass:.6g} kg; principal moments within "
         f"{err:.2e} (relative) of M (b^2 + c^2)/5, ...: the error of the voxelised surface",
         "",

@@ -96,8 +96,9 @@ def kernels(repeats: int, sizes):
         out["jacobi"].append({"n": n, "new": t["new"], "old": t["old"]})
         out["ellipk_dd"].append({"n": n, "time": timeit(lambda: ell.ellipk_dd(m, m1), repeats)})
         nn = -rng.uniform(0, 3, n)
-        t = interleaved({"new": lambda: ell.ellippi(nn, m, m1),
-                         "old": lambda: ell.ellippi_inc(nn, 0.5 * np.pi, m, m1)}, repeats)
+        t = interleaved(
+            {"new": lambda: ell.ellippi(nn, m, m1), "old": lambda: ell.ellippi_inc(nn, 0.5 * np.pi, m, m1)}, repeats
+        )
         out["ellippi"].append({"n": n, "new": t["new"], "old": t["old"]})
     # Agreement with per-row calls (a smaller set: per-row calls cost ~0.2 ms each).
     n = 2000
@@ -114,13 +115,18 @@ def kernels(repeats: int, sizes):
     t_row = timeit(lambda: ell.jacobi(1.3, 0.4, 0.6), repeats)
     t_agm = timeit(lambda: ell.ellipk_dd(0.4, 0.6), repeats)
     t_pi = timeit(lambda: ell.ellippi(-0.3, 0.4, 0.6), repeats)
-    return {"sizes": out, "agree": agree, "agree_rows": n, "scalar": {"jacobi": t_row, "ellipk_dd": t_agm, "ellippi": t_pi}}
+    return {
+        "sizes": out,
+        "agree": agree,
+        "agree_rows": n,
+        "scalar": {"jacobi": t_row, "ellipk_dd": t_agm, "ellippi": t_pi},
+    }
 
 
 # ---------------------------------------------------------------------------
 # Part 2: the callers, in a subprocess per tree
 # ---------------------------------------------------------------------------
-CALLERS = r'''
+CALLERS = r"""
 import json, sys, time, statistics
 import numpy as np
 repeats = int(sys.argv[1])
@@ -159,13 +165,19 @@ th = rng.uniform(0.2, 2.5, M); pd = rng.uniform(-1, 1, M); w3 = rng.uniform(5, 2
 res["top phase diagram: 20,000 members"] = best(
     lambda: top_phase.phase_analysis(np.ones(M), 0.5 * np.ones(M), np.ones(M), th, w3, pd, np.zeros(M)))
 print(json.dumps(res))
-'''
+"""
 
 
 def callers(tree: Path, repeats: int):
     env = {**os.environ, "PYTHONPATH": str(tree)}
-    proc = subprocess.run([sys.executable, "-c", CALLERS, str(repeats)], capture_output=True, text=True, env=env,
-                          cwd=str(tree), check=True)
+    proc = subprocess.run(
+        [sys.executable, "-c", CALLERS, str(repeats)],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=str(tree),
+        check=True,
+    )
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
@@ -188,12 +200,16 @@ def report(k, both, repeats) -> str:
     for name, label in (("jacobi", "jacobi(u, m, m1), one m per element"), ("ellippi", "ellippi(n, m, m1)")):
         for r in k["sizes"][name]:
             n = r["n"]
-            lines.append(f"| {label} | {n:,} | {us(r['new'][0])} ({us(r['new'][1])}); {1e9 * r['new'][0] / n:.0f} ns each | "
-                         f"{us(r['old'][0])} ({us(r['old'][1])}); {1e9 * r['old'][0] / n:.0f} ns each | "
-                         f"{r['new'][0] / r['old'][0]:.2f} |")
+            lines.append(
+                f"| {label} | {n:,} | {us(r['new'][0])} ({us(r['new'][1])}); {1e9 * r['new'][0] / n:.0f} ns each | "
+                f"{us(r['old'][0])} ({us(r['old'][1])}); {1e9 * r['old'][0] / n:.0f} ns each | "
+                f"{r['new'][0] / r['old'][0]:.2f} |"
+            )
     for r in k["sizes"]["ellipk_dd"]:
-        lines.append(f"| ellipk_dd (double-double AGM) | {r['n']:,} | {us(r['time'][0])} ({us(r['time'][1])}); "
-                     f"{1e9 * r['time'][0] / r['n']:.0f} ns each | - | - |")
+        lines.append(
+            f"| ellipk_dd (double-double AGM) | {r['n']:,} | {us(r['time'][0])} ({us(r['time'][1])}); "
+            f"{1e9 * r['time'][0] / r['n']:.0f} ns each | - | - |"
+        )
     s = k["scalar"]
     lines.append(f"| jacobi, scalar m | 1 | {us(s['jacobi'][0])} | - | - |")
     lines.append(f"| ellipk_dd, scalar m | 1 | {us(s['ellipk_dd'][0])} | - | - |")
@@ -207,8 +223,13 @@ def report(k, both, repeats) -> str:
     ]
     if both:
         names = list(both["now"])
-        lines += ["", "The callers (model-level calls of the benchmarked paths), this tree against the baseline tree:", "",
-                  "| call | now | baseline | now / baseline (min) |", "|---|---:|---:|---:|"]
+        lines += [
+            "",
+            "The callers (model-level calls of the benchmarked paths), this tree against the baseline tree:",
+            "",
+            "| call | now | baseline | now / baseline (min) |",
+            "|---|---:|---:|---:|",
+        ]
         for nme in names:
             a_, b_ = both["now"][nme], both["base"][nme]
             lines.append(f"| {nme} | {us(a_[0])} ({us(a_[1])}) | {us(b_[0])} ({us(b_[1])}) | {a_[0] / b_[0]:.2f} |")

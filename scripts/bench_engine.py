@@ -38,11 +38,18 @@ import scipy
 from scipy.integrate import solve_ivp
 
 import wobble
+
 # The cases, the SciPy right-hand sides, the runners and the reference loader live in
 # benchmarks/, shared with the work-precision harness (wobble bench, scripts/work_precision.py).
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ is a folder of the checkout
-from benchmarks.torqued import (  # noqa: E402, F401
-    AsymmetricTop, Satellite, error, load_reference, method_time_at, run_scipy, run_wobble,
+from benchmarks.torqued import (
+    AsymmetricTop,
+    Satellite,
+    error,
+    load_reference,
+    method_time_at,
+    run_scipy,
+    run_wobble,
 )
 from wobble.models.engine import BodyModel, Engine, UniformGravity, attitude_angle
 from wobble.numerics import quaternion as Q
@@ -66,8 +73,12 @@ def timed(fn, repeats):
 def sweep(case, repeats, quick):
     """Rows (method, setting, error, t_min, t_median, work) for every method and setting."""
     rows = []
-    scipy_rtols = {"DOP853": [1e-7, 1e-9, 1e-11, 1e-13], "RK45": [1e-6, 1e-8, 1e-10], "LSODA": [1e-7, 1e-9, 1e-11],
-                   "Radau": [1e-6, 1e-8]}
+    scipy_rtols = {
+        "DOP853": [1e-7, 1e-9, 1e-11, 1e-13],
+        "RK45": [1e-6, 1e-8, 1e-10],
+        "LSODA": [1e-7, 1e-9, 1e-11],
+        "Radau": [1e-6, 1e-8],
+    }
     wobble_rtols = [1e-7, 1e-9, 1e-11, 1e-13]
     span = case.t[-1] - case.t[0]
     if case.name == "satellite":
@@ -92,7 +103,16 @@ def sweep(case, repeats, quick):
     for order, hs in steps.items():
         for h in hs:
             (w, q, drifts), tmin, tmed = timed(run_wobble(case, "splitting", h, order), repeats)
-            rows.append((f"wobble splitting-{order}", f"h {h:g} s ({span / h:.0f} steps)", error(case, w, q), tmin, tmed, drifts))
+            rows.append(
+                (
+                    f"wobble splitting-{order}",
+                    f"h {h:g} s ({span / h:.0f} steps)",
+                    error(case, w, q),
+                    tmin,
+                    tmed,
+                    drifts,
+                )
+            )
     return rows
 
 
@@ -123,6 +143,7 @@ def ensemble(sizes, repeats):
 
     scipy_points = []
     for rtol in (1e-7, 1e-9, 1e-11):
+
         def loop(rtol=rtol):
             out = []
             for i in range(probe):
@@ -132,13 +153,17 @@ def ensemble(sizes, repeats):
             return out
 
         res, s_min, _ = timed(loop, repeats)
-        scipy_points.append((f"rtol {rtol:g}", max(member_error(w, q, i) for i, (w, q) in enumerate(res)), s_min / probe))
+        scipy_points.append(
+            (f"rtol {rtol:g}", max(member_error(w, q, i) for i, (w, q) in enumerate(res)), s_min / probe)
+        )
     rows = []
-    settings = [("wobble DOP853", "rtol 1e-9", dict(method="dop853", rtol=1e-9)),
-                ("wobble DOP853", "rtol 1e-11", dict(method="dop853", rtol=1e-11)),
-                ("wobble DOP853 (NumPy)", "rtol 1e-9", dict(method="dop853", rtol=1e-9, backend="python")),
-                ("wobble splitting-6", "h 1.5 s", dict(method="splitting", step=1.5, order=6)),
-                ("wobble splitting-6", "h 0.75 s", dict(method="splitting", step=0.75, order=6))]
+    settings = [
+        ("wobble DOP853", "rtol 1e-9", dict(method="dop853", rtol=1e-9)),
+        ("wobble DOP853", "rtol 1e-11", dict(method="dop853", rtol=1e-11)),
+        ("wobble DOP853 (NumPy)", "rtol 1e-9", dict(method="dop853", rtol=1e-9, backend="python")),
+        ("wobble splitting-6", "h 1.5 s", dict(method="splitting", step=1.5, order=6)),
+        ("wobble splitting-6", "h 0.75 s", dict(method="splitting", step=0.75, order=6)),
+    ]
     for n in sizes:
         eng = Engine(BodyModel.from_moments(case.moments), case.torques, members=n)
         for label, setting, kw in settings:
@@ -177,8 +202,18 @@ def energy_drift(n_steps, orders):
         lz = Q.rotate(q, np.array(moments) * w)[:, 2]
         de = np.abs(energy - energy[0]) / abs(energy[0])
         slope = np.polyfit(t, energy - energy[0], 1)[0] * t[-1] / abs(energy[0])
-        rows.append((order, h, tr.stats["steps"], de[1:101].max(), de[-100:].max(), slope,
-                     float(np.max(np.abs(lz - lz[0])) / abs(lz[0])), seconds))
+        rows.append(
+            (
+                order,
+                h,
+                tr.stats["steps"],
+                de[1:101].max(),
+                de[-100:].max(),
+                slope,
+                float(np.max(np.abs(lz - lz[0])) / abs(lz[0])),
+                seconds,
+            )
+        )
     return rows
 
 
@@ -192,7 +227,9 @@ def fmt(x, digits=3):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer settings, 10^5 steps, small ensembles")
-    parser.add_argument("--rebuild-reference", action="store_true", help="recompute the Radau reference of the satellite")
+    parser.add_argument(
+        "--rebuild-reference", action="store_true", help="recompute the Radau reference of the satellite"
+    )
     parser.add_argument("--output", default=str(ROOT / "docs" / "performance-engine.md"))
     args = parser.parse_args()
     repeats = 2 if args.quick else 3
@@ -201,9 +238,11 @@ def main():
     p("# Performance of the engine (torqued rigid bodies)")
     p("")
     p(f"Generated by `python scripts/bench_engine.py{' --quick' if args.quick else ''}` (do not edit by hand).")
-    p(f"Machine: {platform.machine()}, {platform.processor() or 'unknown CPU'}, Python {platform.python_version()}, "
-      f"NumPy {np.__version__}, SciPy {scipy.__version__}, wobble {wobble.__version__}. "
-      f"Timings: one warm-up, then min and median of {repeats} repeats, all methods in one process.")
+    p(
+        f"Machine: {platform.machine()}, {platform.processor() or 'unknown CPU'}, Python {platform.python_version()}, "
+        f"NumPy {np.__version__}, SciPy {scipy.__version__}, wobble {wobble.__version__}. "
+        f"Timings: one warm-up, then min and median of {repeats} repeats, all methods in one process."
+    )
     p("")
     p("Error = max over the outputs of |ω − ω_ref| / |ω_ref| and of the attitude angle (rad). SciPy runs")
     p("`solve_ivp` on the same equations written as a user would (NumPy, one trajectory), atol = 1e-3 rtol.")
@@ -213,8 +252,10 @@ def main():
     sat = Satellite()
     ref_seconds = load_reference(sat, args.rebuild_reference)
     top = AsymmetricTop()
-    for case, ref_text in ((sat, f"SciPy Radau at rtol 1e-13 (cached; it took {ref_seconds:.0f} s)"),
-                           (top, "mpmath Taylor integration at 30 digits (tests/references/engine_torqued.json)")):
+    for case, ref_text in (
+        (sat, f"SciPy Radau at rtol 1e-13 (cached; it took {ref_seconds:.0f} s)"),
+        (top, "mpmath Taylor integration at 30 digits (tests/references/engine_torqued.json)"),
+    ):
         print(f"case {case.name}", flush=True)
         rows = sweep(case, repeats, args.quick)
         all_rows.extend(rows)
@@ -245,8 +286,15 @@ def main():
                 best = min(wob)
                 name = next(m for m in methods if m.startswith("wobble") and at[m][i] == best)
                 ratios[(case.name, target)] = (ref / best, name)
-        p("Best wobble integrator against SciPy DOP853 at matched error: " + "; ".join(
-            f"{t:g}: {ratios[(case.name, t)][0]:.2f}x ({ratios[(case.name, t)][1]})" for t in targets if (case.name, t) in ratios) + ".")
+        p(
+            "Best wobble integrator against SciPy DOP853 at matched error: "
+            + "; ".join(
+                f"{t:g}: {ratios[(case.name, t)][0]:.2f}x ({ratios[(case.name, t)][1]})"
+                for t in targets
+                if (case.name, t) in ratios
+            )
+            + "."
+        )
         p("")
 
     print("ensembles", flush=True)
@@ -259,9 +307,16 @@ def main():
     p("cost measured on 5 members). Errors on those 5 members against DOP853 at rtol 2.3e-14. The ratio compares")
     p("wobble's per-member time with SciPy's at the same error (log-log interpolation of SciPy's points).")
     p("")
-    p("SciPy DOP853 per member: " + "; ".join(f"{s} → error {e:.1e}, {t * 1e6:.0f} µs" for s, e, t in scipy_points) + ".")
+    p(
+        "SciPy DOP853 per member: "
+        + "; ".join(f"{s} → error {e:.1e}, {t * 1e6:.0f} µs" for s, e, t in scipy_points)
+        + "."
+    )
     p("")
-    p("| members | method | setting | error | wobble (µs / member, min) | wobble (median) | SciPy at that error (µs / member) | ratio |")
+    p(
+        "| members | method | setting | error | wobble (µs / member, min) | wobble (median) | SciPy at that error "
+        "(µs / member) | ratio |"
+    )
     p("|---|---|---|---|---|---|---|---|")
     best_ratio = {}
     for n, label, setting, err, tmin, tmed, _ in ens:
@@ -271,7 +326,10 @@ def main():
         ratio = None if ref is None else ref / tmin
         if ratio is not None:
             best_ratio[n] = max(best_ratio.get(n, 0.0), ratio)
-        p(f"| {n} | {label} | {setting} | {err:.1e} | {tmin * 1e6:.2f} | {tmed * 1e6:.2f} | {fmt(None if ref is None else ref * 1e6)} | {fmt(ratio)}x |")
+        p(
+            f"| {n} | {label} | {setting} | {err:.1e} | {tmin * 1e6:.2f} | {tmed * 1e6:.2f} | "
+            f"{fmt(None if ref is None else ref * 1e6)} | {fmt(ratio)}x |"
+        )
     p("")
 
     print("energy", flush=True)
@@ -284,7 +342,10 @@ def main():
     p("over the first and the last tenth of the run, and the linear trend over the run (a secular drift would")
     p("show as a trend comparable to the error and a last tenth larger than the first).")
     p("")
-    p("| order | h (s) | steps | max error, first 10 % | max error, last 10 % | linear trend over the run | L_z error | seconds |")
+    p(
+        "| order | h (s) | steps | max error, first 10 % | max error, last 10 % | linear trend over the run | L_z "
+        "error | seconds |"
+    )
     p("|---|---|---|---|---|---|---|---|")
     for order, h, steps, first, last, slope, lz, seconds in drift:
         p(f"| {order} | {h:g} | {steps} | {first:.2e} | {last:.2e} | {slope:.1e} | {lz:.1e} | {seconds:.1f} |")
@@ -297,14 +358,24 @@ def main():
         found = [(t, r, m) for (c, t), (r, m) in ratios.items() if c == name]
         text = ", ".join(f"{r:.2f}x at {t:g} ({m})" for t, r, m in found)
         met = bool(found) and all(r >= 5 for _, r, _ in found)
-        lines.append(f"* One trajectory, {name}, at least 5x faster than SciPy DOP853 at equal error: {text}. "
-                     + ("Met." if met else "**Missed**" + (" at some errors." if any(r >= 5 for _, r, _ in found) else ".")))
+        lines.append(
+            f"* One trajectory, {name}, at least 5x faster than SciPy DOP853 at equal error: {text}. "
+            + ("Met." if met else "**Missed**" + (" at some errors." if any(r >= 5 for _, r, _ in found) else "."))
+        )
     big = max(sizes)
-    lines.append(f"* {big} members, at least 100x faster per member than SciPy DOP853 at equal error: best "
-                 f"{best_ratio.get(big, 0):.0f}x. " + ("Met." if best_ratio.get(big, 0) >= 100 else "**Missed.**"))
+    lines.append(
+        f"* {big} members, at least 100x faster per member than SciPy DOP853 at equal error: best "
+        f"{best_ratio.get(big, 0):.0f}x. " + ("Met." if best_ratio.get(big, 0) >= 100 else "**Missed.**")
+    )
     bounded = all(last < 2 * first and abs(slope) < max(first, last) for _, _, _, first, last, slope, _, _ in drift)
-    lines.append(f"* Energy over {n_steps:.0e} splitting steps bounded, no secular drift: "
-                 + ("met for orders " + ", ".join(str(o) for o, *_ in drift) + "." if bounded else "**not shown** (see the table)."))
+    lines.append(
+        f"* Energy over {n_steps:.0e} splitting steps bounded, no secular drift: "
+        + (
+            "met for orders " + ", ".join(str(o) for o, *_ in drift) + "."
+            if bounded
+            else "**not shown** (see the table)."
+        )
+    )
     out.extend(lines)
     p("")
     per = {}
@@ -315,18 +386,33 @@ def main():
     p("Why the targets are met or missed (costs measured in this run):")
     p("")
     p("* One trajectory. SciPy is fed the right-hand side in Python floats (the fastest a user can do without")
-    p(f"  compiling): its DOP853 costs {cost.get('scipy DOP853', float('nan')):.1f} µs per evaluation, mostly solve_ivp's own")
-    p(f"  overhead. wobble's DOP853 runs compiled (wobble.numerics.rigid_dop853): {cost.get('wobble DOP853', float('nan')):.2f} µs per")
+    p(
+        f"  compiling): its DOP853 costs {cost.get('scipy DOP853', float('nan')):.1f} µs per evaluation, mostly "
+        "solve_ivp's own"
+    )
+    p(
+        "  overhead. wobble's DOP853 runs compiled (wobble.numerics.rigid_dop853): "
+        f"{cost.get('wobble DOP853', float('nan')):.2f} µs per"
+    )
     p("  evaluation including its fixed set-up per call (frames, tolerances, outputs in the body frame), which")
     p("  dominates short runs. The same method in NumPy (what a custom torque runs on) costs")
-    p(f"  {cost.get('wobble DOP853 (NumPy)', float('nan')):.1f} µs per evaluation: its step is built for arrays of members and also")
+    p(
+        f"  {cost.get('wobble DOP853 (NumPy)', float('nan')):.1f} µs per evaluation: its step is built for arrays "
+        "of members and also"
+    )
     p("  advances the quaternion. A splitting drift with its kick costs")
-    p(f"  {cost.get('wobble splitting-6', float('nan')):.0f} µs (the exact elliptic flow in Python floats, not compiled): the splitting")
+    p(
+        f"  {cost.get('wobble splitting-6', float('nan')):.0f} µs (the exact elliptic flow in Python floats, not "
+        "compiled): the splitting"
+    )
     p("  is kept for its bounded energy error over long runs, not for speed.")
     if ens_dop:
         best = min(ens_dop, key=lambda r: r[4])
         p(f"* {max(sizes)} members. The compiled DOP853 costs {best[4] * 1e6:.0f} µs per member for this run")
-        p(f"  ({best[4] / best[6] * 1e6:.3f} µs per member and evaluation of Euler's equations, the members split between")
+        p(
+            f"  ({best[4] / best[6] * 1e6:.3f} µs per member and evaluation of Euler's equations, the members "
+            "split between"
+        )
         p(f"  the CPUs in threads): {best_ratio.get(max(sizes), 0):.0f}x SciPy's per-member cost at equal error.")
     p("* Energy. Both parts of the splitting are exact Poisson flows, so for a conservative torque the method")
     p("  is a Poisson map: the energy error oscillates at the level of the method's error and does not grow.")

@@ -67,7 +67,7 @@ def ref_error(model, case):
     return float(np.max(np.linalg.norm(got - want, axis=1) / np.linalg.norm(want, axis=1)))
 
 
-def euler_rhs(I):  # noqa: E741
+def euler_rhs(I):
     def f(t, w):
         return np.cross(I * w, w) / I
 
@@ -82,7 +82,7 @@ def main(argv=None):
     rows = []
 
     # 1. Per-sample cost against scipy.special.ellipj (same N, same process).
-    I = np.array([1.0, 2.0, 3.0])  # noqa: E741
+    I = np.array([1.0, 2.0, 3.0])
     w0 = np.array([1.0, 0.1, 1.0])
     model = free_rotation(I, w0)
     n = 10_000
@@ -132,7 +132,9 @@ def main(argv=None):
     want = np.array([[float(v) for v in row] for row in ec["omega"]])
     got = earth.omega(tw)
     phase_err = float(np.max(np.hypot(*(got[:, :2] - want[:, :2]).T) / np.hypot(*want[:, :2].T)))
-    r4 = interleaved({"earth": lambda: earth.omega(td), "earth_att": lambda: (earth.omega(td), earth.attitude(td))}, reps)
+    r4 = interleaved(
+        {"earth": lambda: earth.omega(td), "earth_att": lambda: (earth.omega(td), earth.attitude(td))}, reps
+    )
     xs = td * 2.4e-7
     sin_t = timeit(lambda: np.sin(xs), reps)[0]
     rows.append(("Earth 100 yr, 36,526 daily outputs: omega (wobble phase error, rad)", r4["earth"], phase_err))
@@ -178,7 +180,8 @@ def main(argv=None):
         f"Earth, 100 years daily: wobble phase error {phase_err:.1e} rad (target 1e-12) in "
         f"{r4['earth'][0] * 1e3:.2f} ms for omega (target under 1 ms).",
         (
-            f"Target missed on this machine: {r4['earth'][0] * 1e3:.2f} ms, {r4['earth'][0] / 1e-3:.1f} times the 1 ms goal "
+            f"Target missed on this machine: {r4['earth'][0] * 1e3:.2f} ms, {r4['earth'][0] / 1e-3:.1f} times the "
+            "1 ms goal "
             f"(one np.sin over the same 36,526 values takes {sin_t * 1e3:.2f} ms here)."
             if r4["earth"][0] > 1e-3
             else f"Earth target met: {r4['earth'][0] * 1e3:.2f} ms (one np.sin over the same 36,526 values takes "

@@ -34,13 +34,13 @@ which is why the LS+AR forecast is the slower one: calibrated, it misses the 1 s
 forecast, the default, meets it. The hindcast runs 13-week blocks in two processes;
 a block computes the past forecasts of all its issues once.
 
-`wobble polar-motion` misses its 2 s target by far. Where its time goes (CPU): imports about 1 s (SciPy's optimisers 0.4 s;
-xarray and, through it, dask 0.5 s), the Q profile (46 Nelder-Mead searches of about 145
+`wobble polar-motion` misses its 2 s target by far. Where its time goes (CPU): imports about 1 s
+(SciPy's optimisers 0.4 s; xarray and, through it, dask 0.5 s), the Q profile (46 Nelder-Mead searches of about 145
 evaluations each), the 57 sliding windows and the two Monte-Carlo excitation terms."""
 
 
 def load() -> str:
-    return "{:.1f}".format(os.getloadavg()[0])
+    return f"{os.getloadavg()[0]:.1f}"
 
 
 def children_cpu() -> float:
@@ -85,7 +85,15 @@ def main() -> None:
                 wb.forecast_polar_motion(horizon=365 * u.day, method=method, calibrated=calibrated)
                 best = min(best, (time.perf_counter() - t0, time.process_time() - c0))
             what = "calibrated" if calibrated else "not calibrated"
-            rows.append((f"one-year forecast after start-up, {method}, {what}", f"{best[0]:.2f}", f"{best[1]:.2f}", f"{before} / {load()}", "under 1 s"))
+            rows.append(
+                (
+                    f"one-year forecast after start-up, {method}, {what}",
+                    f"{best[0]:.2f}",
+                    f"{best[1]:.2f}",
+                    f"{before} / {load()}",
+                    "under 1 s",
+                )
+            )
     before = load()
     t0, c0, k0 = time.perf_counter(), time.process_time(), children_cpu()
     h = wb.hindcast_polar_motion(start="2016-01-01", end="2021-01-01", latency=1 * u.day, workers=2)

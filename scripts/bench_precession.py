@@ -75,7 +75,10 @@ class Case:
         big_l = Q.rotate(q, self.moments * w)
         axis = Q.rotate(q, np.array([0.0, 0.0, 1.0]))
         return xr.Dataset(
-            {"angular_momentum": (("time", "inertial_axis"), big_l), "axis_direction": (("time", "inertial_axis"), axis)},
+            {
+                "angular_momentum": (("time", "inertial_axis"), big_l),
+                "axis_direction": (("time", "inertial_axis"), axis),
+            },
             coords={"time": ("time", self.t, {"units": "seconds since 2000-01-01 12:00:00"})},
             attrs={"scene": self.mapping},
         )
@@ -86,11 +89,15 @@ def measure(case, w, q):
     out = {}
     for axis in ("angular_momentum", "axis_direction"):
         m = wobble.measure_precession(ds, axis=axis)
-        out[axis] = {"rate": float(m.rate.value), "lon": float(m.nutation_longitude.value),
-                     "obl": float(m.nutation_obliquity.value), "analytic_rate": float(m.analytic_rate.value),
-                     "analytic_lon": float(m.analytic_nutation_longitude.value),
-                     "analytic_obl": float(m.analytic_nutation_obliquity.value),
-                     "rms": float(m.residual_rms_longitude.value)}
+        out[axis] = {
+            "rate": float(m.rate.value),
+            "lon": float(m.nutation_longitude.value),
+            "obl": float(m.nutation_obliquity.value),
+            "analytic_rate": float(m.analytic_rate.value),
+            "analytic_lon": float(m.analytic_nutation_longitude.value),
+            "analytic_obl": float(m.analytic_nutation_obliquity.value),
+            "rms": float(m.residual_rms_longitude.value),
+        }
     return out
 
 
@@ -98,16 +105,32 @@ def measure(case, w, q):
 # The methods
 # --------------------------------------------------------------------------
 def run_wobble_dop853(case, rtol, backend):
-    run = case.engine.integrate(case.scene.omega0, case.scene.attitude0, case.t, method="dop853", rtol=rtol,
-                                backend=backend, estimate=False)
-    return run.omega[:, 0], run.attitude[:, 0], {"steps": run.stats["steps"], "evaluations": run.stats["function_evaluations"]}
+    run = case.engine.integrate(
+        case.scene.omega0, case.scene.attitude0, case.t, method="dop853", rtol=rtol, backend=backend, estimate=False
+    )
+    return (
+        run.omega[:, 0],
+        run.attitude[:, 0],
+        {"steps": run.stats["steps"], "evaluations": run.stats["function_evaluations"]},
+    )
 
 
 def run_splitting(case, order, step_days):
-    run = case.engine.integrate(case.scene.omega0, case.scene.attitude0, case.t, method="splitting", step=step_days * 86400.0,
-                                order=order, estimate=False)
+    run = case.engine.integrate(
+        case.scene.omega0,
+        case.scene.attitude0,
+        case.t,
+        method="splitting",
+        step=step_days * 86400.0,
+        order=order,
+        estimate=False,
+    )
     stages = {2: 1, 4: 5, 6: 7}[order]
-    return run.omega[:, 0], run.attitude[:, 0], {"steps": run.stats["steps"], "evaluations": run.stats["steps"] * (stages + 1)}
+    return (
+        run.omega[:, 0],
+        run.attitude[:, 0],
+        {"steps": run.stats["steps"], "evaluations": run.stats["steps"] * (stages + 1)},
+    )
 
 
 def _scipy_problem(case):
@@ -116,8 +139,20 @@ def _scipy_problem(case):
     bodies = []
     for spec in case.scene.torques:
         o = spec.orbit
-        bodies.append((spec.gm, o.semi_major_axis, o.eccentricity, o.inclination, o.longitude_of_node,
-                       o.argument_of_periapsis, o.mean_anomaly, o.mean_motion, o.node_rate, o.periapsis_rate))
+        bodies.append(
+            (
+                spec.gm,
+                o.semi_major_axis,
+                o.eccentricity,
+                o.inclination,
+                o.longitude_of_node,
+                o.argument_of_periapsis,
+                o.mean_anomaly,
+                o.mean_motion,
+                o.node_rate,
+                o.periapsis_rate,
+            )
+        )
 
     def position(t, gm, a, e, inc, node0, peri0, m0, n, node_rate, peri_rate):
         m = math.remainder(m0 + n * t, 2 * math.pi)
@@ -129,26 +164,45 @@ def _scipy_problem(case):
                 break
         x, y = a * (math.cos(big_e) - e), a * math.sqrt(1 - e * e) * math.sin(big_e)
         node, peri = node0 + node_rate * t, peri0 + peri_rate * t
-        cO, sO, cw, sw, ci, si = math.cos(node), math.sin(node), math.cos(peri), math.sin(peri), math.cos(inc), math.sin(inc)
-        return np.array([x * (cO * cw - sO * sw * ci) - y * (cO * sw + sO * cw * ci),
-                         x * (sO * cw + cO * sw * ci) - y * (sO * sw - cO * cw * ci),
-                         (x * sw + y * cw) * si])
+        cO, sO, cw, sw, ci, si = (
+            math.cos(node),
+            math.sin(node),
+            math.cos(peri),
+            math.sin(peri),
+            math.cos(inc),
+            math.sin(inc),
+        )
+        return np.array(
+            [
+                x * (cO * cw - sO * sw * ci) - y * (cO * sw + sO * cw * ci),
+                x * (sO * cw + cO * sw * ci) - y * (sO * sw - cO * cw * ci),
+                (x * sw + y * cw) * si,
+            ]
+        )
 
     def rhs(t, y):
         w, q = y[:3], y[3:]
         qw, qx, qy, qz = q
-        rot = np.array([  # body -> inertial
-            [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)],
-            [2 * (qx * qy + qw * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qw * qx)],
-            [2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)],
-        ])
+        rot = np.array(
+            [  # body -> inertial
+                [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)],
+                [2 * (qx * qy + qw * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qw * qx)],
+                [2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)],
+            ]
+        )
         tau = np.zeros(3)
         for b in bodies:
             r = rot.T @ position(t, *b)
             tau += 3 * b[0] / np.linalg.norm(r) ** 5 * np.cross(r, moments * r)
         dw = (tau - np.cross(w, moments * w)) / moments
-        dq = 0.5 * np.array([-qx * w[0] - qy * w[1] - qz * w[2], qw * w[0] + qy * w[2] - qz * w[1],
-                             qw * w[1] - qx * w[2] + qz * w[0], qw * w[2] + qx * w[1] - qy * w[0]])
+        dq = 0.5 * np.array(
+            [
+                -qx * w[0] - qy * w[1] - qz * w[2],
+                qw * w[0] + qy * w[2] - qz * w[1],
+                qw * w[1] - qx * w[2] + qz * w[0],
+                qw * w[2] + qx * w[1] - qy * w[0],
+            ]
+        )
         return np.concatenate([dw, dq])
 
     return rhs
@@ -183,14 +237,23 @@ def timed(fn, repeats):
 
 
 def sweep(case, quick, repeats):
-    methods = [("wobble DOP853 (compiled)", f"rtol {r:.0e}", lambda r=r: run_wobble_dop853(case, r, "compiled"))
-               for r in ([1e-8, 1e-10] if quick else [1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12])]
-    methods += [(f"splitting-{p}", f"h = {h:g} d", lambda p=p, h=h: run_splitting(case, p, h))
-                 for p in (2, 4, 6) for h in ([4.0, 1.0] if quick else [4.0, 2.0, 1.0, 0.5, 0.25])]
-    methods += [("wobble DOP853 (NumPy)", f"rtol {r:.0e}", lambda r=r: run_wobble_dop853(case, r, "python"))
-                for r in ([1e-8] if quick else [1e-8, 1e-10])]
-    methods += [("SciPy solve_ivp DOP853", f"rtol {r:.0e}", lambda r=r: run_scipy(case, r))
-                for r in ([1e-8] if quick else [1e-8, 1e-10])]
+    methods = [
+        ("wobble DOP853 (compiled)", f"rtol {r:.0e}", lambda r=r: run_wobble_dop853(case, r, "compiled"))
+        for r in ([1e-8, 1e-10] if quick else [1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12])
+    ]
+    methods += [
+        (f"splitting-{p}", f"h = {h:g} d", lambda p=p, h=h: run_splitting(case, p, h))
+        for p in (2, 4, 6)
+        for h in ([4.0, 1.0] if quick else [4.0, 2.0, 1.0, 0.5, 0.25])
+    ]
+    methods += [
+        ("wobble DOP853 (NumPy)", f"rtol {r:.0e}", lambda r=r: run_wobble_dop853(case, r, "python"))
+        for r in ([1e-8] if quick else [1e-8, 1e-10])
+    ]
+    methods += [
+        ("SciPy solve_ivp DOP853", f"rtol {r:.0e}", lambda r=r: run_scipy(case, r))
+        for r in ([1e-8] if quick else [1e-8, 1e-10])
+    ]
     run_wobble_dop853(case, 1e-6, "compiled")  # warm-up: Numba loads the kernel from its cache
     rows = []
     for name, setting, fn in methods:
@@ -198,8 +261,11 @@ def sweep(case, quick, repeats):
         (w, q, stats), seconds = timed(fn, repeats)
         row = {"method": name, "setting": setting, "time_s": seconds, "load": load, **stats, **measure(case, w, q)}
         rows.append(row)
-        print(f"{name:<26}{setting:<14}{seconds:8.2f} s  load {load:4.1f}  rate {row['angular_momentum']['rate']:.4f}"
-              f"  lon {row['angular_momentum']['lon']:.5f}  obl {row['angular_momentum']['obl']:.5f}", flush=True)
+        print(
+            f"{name:<26}{setting:<14}{seconds:8.2f} s  load {load:4.1f}  rate {row['angular_momentum']['rate']:.4f}"
+            f"  lon {row['angular_momentum']['lon']:.5f}  obl {row['angular_momentum']['obl']:.5f}",
+            flush=True,
+        )
     return rows
 
 
@@ -224,7 +290,10 @@ def _errors(row, ref, axis="angular_momentum"):
 
 def _meets(row, ref, axis="angular_momentum"):
     e = _errors(row, ref, axis)
-    return abs(e["rate_vs_analytic"]) < TARGET_RATE and max(abs(e["lon_vs_analytic"]), abs(e["obl_vs_analytic"])) < TARGET_NUTATION
+    return (
+        abs(e["rate_vs_analytic"]) < TARGET_RATE
+        and max(abs(e["lon_vs_analytic"]), abs(e["obl_vs_analytic"])) < TARGET_NUTATION
+    )
 
 
 def figure(rows, ref):
@@ -242,11 +311,22 @@ def figure(rows, ref):
         ax.loglog([r["time_s"] for r in sel], err, marker=markers[name], label=name)
     floor = abs(ref["angular_momentum"]["rate"] - ref["angular_momentum"]["analytic_rate"])
     ax.axhline(TARGET_RATE * abs(ref["angular_momentum"]["analytic_rate"]), color="k", lw=0.8, ls="--")
-    ax.text(0.01, TARGET_RATE * abs(ref["angular_momentum"]["analytic_rate"]) * 1.15, "0.1 % of the rate (the target)",
-            fontsize=8, transform=ax.get_yaxis_transform())
+    ax.text(
+        0.01,
+        TARGET_RATE * abs(ref["angular_momentum"]["analytic_rate"]) * 1.15,
+        "0.1 % of the rate (the target)",
+        fontsize=8,
+        transform=ax.get_yaxis_transform(),
+    )
     ax.axhline(floor, color="0.5", lw=0.8, ls=":")
-    ax.text(0.01, floor * 0.62, "reference run - first-order averaged model (physics)", fontsize=8,
-            color="0.4", transform=ax.get_yaxis_transform())
+    ax.text(
+        0.01,
+        floor * 0.62,
+        "reference run - first-order averaged model (physics)",
+        fontsize=8,
+        color="0.4",
+        transform=ax.get_yaxis_transform(),
+    )
     ax.axvline(TIME_TARGET, color="k", lw=0.8, ls="--")
     ax.set_xlabel("wall time for 20 years [s] (shared 2-core machine)")
     ax.set_ylabel("|rate - reference rate| [arcsec per century]")
@@ -296,12 +376,12 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         "  leaves out, so no integrator can do better than that difference;",
         "* the **reference run** (compiled DOP853 at rtol 1e-12): the integration error itself.",
         "",
-        f"Reference run: rate {r0['rate']:+.4f}\"/cy against the averaged model's {r0['analytic_rate']:+.4f}\"/cy "
-        f"({100 * (r0['rate'] / r0['analytic_rate'] - 1):+.4f} %); 18.6-year nutation {r0['lon']:+.5f}\" sin Omega "
-        f"and {r0['obl']:+.5f}\" cos Omega against the first-order rigid amplitudes {r0['analytic_lon']:+.5f}\" and "
-        f"{r0['analytic_obl']:+.5f}\" ({100 * (r0['lon'] / r0['analytic_lon'] - 1):+.3f} %, "
+        f'Reference run: rate {r0["rate"]:+.4f}"/cy against the averaged model\'s {r0["analytic_rate"]:+.4f}"/cy '
+        f'({100 * (r0["rate"] / r0["analytic_rate"] - 1):+.4f} %); 18.6-year nutation {r0["lon"]:+.5f}" sin Omega '
+        f'and {r0["obl"]:+.5f}" cos Omega against the first-order rigid amplitudes {r0["analytic_lon"]:+.5f}" and '
+        f'{r0["analytic_obl"]:+.5f}" ({100 * (r0["lon"] / r0["analytic_lon"] - 1):+.3f} %, '
         f"{100 * (r0['obl'] / r0['analytic_obl'] - 1):+.3f} %) and IAU 2000A's (non-rigid Earth) {iau_lon}\" and "
-        f"{iau_obl}\" ({100 * (r0['lon'] / iau_lon - 1):+.2f} %, {100 * (r0['obl'] / iau_obl - 1):+.2f} %).",
+        f'{iau_obl}" ({100 * (r0["lon"] / iau_lon - 1):+.2f} %, {100 * (r0["obl"] / iau_obl - 1):+.2f} %).',
         "",
         "## Targets",
         "",
@@ -310,28 +390,32 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
     ]
     if best is not None:
         e = _errors(best, ref)
-        lines.append(f"| 20 years in under {TIME_TARGET:.0f} s on 2 cores with the best integrator, the rate within 0.1 % and "
-                     f"the 18.6-year amplitudes within 1 % of the averaged model | {best['method']} ({best['setting']}): "
-                     f"{best['time_s']:.2f} s; rate {100 * e['rate_vs_analytic']:+.4f} %, amplitudes "
-                     f"{100 * e['lon_vs_analytic']:+.3f} % and {100 * e['obl_vs_analytic']:+.3f} % | "
-                     f"{'met' if best['time_s'] < TIME_TARGET else 'missed'} |")
+        lines.append(
+            f"| 20 years in under {TIME_TARGET:.0f} s on 2 cores with the best integrator, the rate within 0.1 % and "
+            f"the 18.6-year amplitudes within 1 % of the averaged model | {best['method']} ({best['setting']}): "
+            f"{best['time_s']:.2f} s; rate {100 * e['rate_vs_analytic']:+.4f} %, amplitudes "
+            f"{100 * e['lon_vs_analytic']:+.3f} % and {100 * e['obl_vs_analytic']:+.3f} % | "
+            f"{'met' if best['time_s'] < TIME_TARGET else 'missed'} |"
+        )
     if best_fig is not None:
         e = _errors(best_fig, ref, "axis_direction")
-        lines.append(f"| the same, measuring the figure axis | {best_fig['method']} ({best_fig['setting']}): "
-                     f"{best_fig['time_s']:.2f} s; rate {100 * e['rate_vs_analytic']:+.4f} %, amplitudes "
-                     f"{100 * e['lon_vs_analytic']:+.3f} % and {100 * e['obl_vs_analytic']:+.3f} %; fit residuals "
-                     f"{best_fig['axis_direction']['rms']:.2g}\" (the reference's figure axis: "
-                     f"{ref['axis_direction']['rms']:.2g}\") | {'met' if best_fig['time_s'] < TIME_TARGET else 'missed'} |")
+        lines.append(
+            f"| the same, measuring the figure axis | {best_fig['method']} ({best_fig['setting']}): "
+            f"{best_fig['time_s']:.2f} s; rate {100 * e['rate_vs_analytic']:+.4f} %, amplitudes "
+            f"{100 * e['lon_vs_analytic']:+.3f} % and {100 * e['obl_vs_analytic']:+.3f} %; fit residuals "
+            f"{best_fig['axis_direction']['rms']:.2g}\" (the reference's figure axis: "
+            f'{ref["axis_direction"]["rms"]:.2g}") | {"met" if best_fig["time_s"] < TIME_TARGET else "missed"} |'
+        )
     lines += [
         "",
         "## Every run",
         "",
         "Times in s; steps (accepted) and right-hand-side evaluations (splitting: kicks); errors of the angular",
-        "momentum's rate (\"/cy) and 18.6-year amplitudes (\") against the reference run, and of the rate and",
+        'momentum\'s rate ("/cy) and 18.6-year amplitudes (") against the reference run, and of the rate and',
         "amplitudes against the averaged model (%). The last column measures the figure axis (`axis_direction`)",
         "instead: its rate's difference from the averaged model and the RMS of its fit residuals.",
         "",
-        "| method | setting | time [s] | load | steps | evaluations | rate - ref [\"/cy] | nutation - ref [\"] | "
+        '| method | setting | time [s] | load | steps | evaluations | rate - ref ["/cy] | nutation - ref ["] | '
         "rate vs model | Δψ vs model | Δε vs model | figure axis: rate vs model, residual RMS |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -340,10 +424,12 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         f = _errors(r, ref, "axis_direction")
         steps = "-" if r["steps"] is None else f"{r['steps']:,}"
         lines.append(
-            f"| {r['method']} | {r['setting']} | {r['time_s']:.2f} | {r['load']:.1f} | {steps} | {r['evaluations']:,} | "
+            f"| {r['method']} | {r['setting']} | {r['time_s']:.2f} | {r['load']:.1f} | {steps} | "
+            f"{r['evaluations']:,} | "
             f"{e['rate_vs_reference']:.2g} | {e['nutation_vs_reference']:.2g} | {100 * e['rate_vs_analytic']:+.4f} % | "
             f"{100 * e['lon_vs_analytic']:+.3f} % | {100 * e['obl_vs_analytic']:+.3f} % | "
-            f"{100 * f['rate_vs_analytic']:+.3f} %, {r['axis_direction']['rms']:.2g}\" |")
+            f'{100 * f["rate_vs_analytic"]:+.3f} %, {r["axis_direction"]["rms"]:.2g}" |'
+        )
     lines += [
         "",
         "```{figure} figures/work_precision_precession.png",
@@ -352,7 +438,7 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         "**Time against the error in the precession rate** (against the reference run) for every method; the",
         "dashed lines are the targets (0.1 % of the rate, 10 s), the dotted line the difference between the",
         "converged run and the first-order averaged model (physics, not integration error); errors below",
-        "1e-5\"/cy (the reference itself: zero) are drawn at 1e-5.",
+        '1e-5"/cy (the reference itself: zero) are drawn at 1e-5.',
         "```",
         "",
         "## Reading the numbers",
@@ -379,7 +465,7 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         "* The scene chooser counts evaluations, not their cost: asked for the scene at accuracy 1e-9 without a",
         "  named model, it piloted both integrators and took the splitting with half-hour steps (exact spin, in",
         "  Python floats: 185 s on this machine) over the compiled DOP853 (about a second). The shipped scene",
-        "  therefore names `model = \"dop853\"` and says why; weighing a compiled evaluation's cost in the",
+        '  therefore names `model = "dop853"` and says why; weighing a compiled evaluation\'s cost in the',
         "  chooser is left to the engine's owner.",
     ]
     REPORT.write_text("\n".join(lines) + "\n")
@@ -390,15 +476,25 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer settings")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--report-only", action="store_true",
-                        help="rewrite the report and the figure from docs/benchmarks/precession.json (no runs)")
+    parser.add_argument(
+        "--report-only",
+        action="store_true",
+        help="rewrite the report and the figure from docs/benchmarks/precession.json (no runs)",
+    )
     args = parser.parse_args(argv)
     saved = ROOT / "docs" / "benchmarks" / "precession.json"
     if args.report_only:
         data = json.loads(saved.read_text())
         figure(data["rows"], data["reference"])
-        report(data["rows"], data["reference"], data["quick"], data["repeats"], data["elapsed_s"], tuple(data["loads"]),
-               data["finished"])
+        report(
+            data["rows"],
+            data["reference"],
+            data["quick"],
+            data["repeats"],
+            data["elapsed_s"],
+            tuple(data["loads"]),
+            data["finished"],
+        )
         return
     start = time.perf_counter()
     load0 = os.getloadavg()[0]
@@ -406,10 +502,22 @@ def main(argv=None):
     ref = reference(case)
     rows = sweep(case, args.quick, args.repeats)
     elapsed, loads = time.perf_counter() - start, (load0, os.getloadavg()[0])
-    finished = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    finished = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     saved.parent.mkdir(exist_ok=True)
-    saved.write_text(json.dumps({"reference": ref, "rows": rows, "quick": args.quick, "repeats": args.repeats,
-                                 "elapsed_s": elapsed, "loads": loads, "finished": finished}, indent=1))
+    saved.write_text(
+        json.dumps(
+            {
+                "reference": ref,
+                "rows": rows,
+                "quick": args.quick,
+                "repeats": args.repeats,
+                "elapsed_s": elapsed,
+                "loads": loads,
+                "finished": finished,
+            },
+            indent=1,
+        )
+    )
     figure(rows, ref)
     report(rows, ref, args.quick, args.repeats, elapsed, loads, finished)
     print(f"wrote {FIGURE}")

@@ -26,8 +26,11 @@ COMMANDS = (
     ("wobble --help", [sys.executable, "-m", "wobble", "--help"], 0.3),
     ("wobble chandler earth --json", [sys.executable, "-m", "wobble", "chandler", "earth", "--json"], 0.8),
     ("wobble chandler earth mars", [sys.executable, "-m", "wobble", "chandler", "earth", "mars"], None),
-    ("wobble inertia --solid ellipsoid ...", [sys.executable, "-m", "wobble", "inertia", "--solid", "ellipsoid",
-                                             "--mass", "2", "--axes", "3", "2", "1"], None),
+    (
+        "wobble inertia --solid ellipsoid ...",
+        [sys.executable, "-m", "wobble", "inertia", "--solid", "ellipsoid", "--mass", "2", "--axes", "3", "2", "1"],
+        None,
+    ),
     ("python -c 'import sys'", [sys.executable, "-c", "import sys"], None),
 )
 
@@ -47,14 +50,19 @@ def heaviest_imports(argv, top: int = 3) -> str:
     rows = []
     for line in out.splitlines():
         parts = line.split("|")
-        if len(parts) == 3 and parts[1].strip().isdigit() and parts[2].startswith(" ") and not parts[2].startswith("  "):
+        if (
+            len(parts) == 3
+            and parts[1].strip().isdigit()
+            and parts[2].startswith(" ")
+            and not parts[2].startswith("  ")
+        ):
             rows.append((int(parts[1]), parts[2].strip()))
     rows.sort(reverse=True)
     return ", ".join(f"{name} {us / 1e3:.0f} ms" for us, name in rows[:top])
 
 
 def report(runs: int) -> str:
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     lines = [
         "# Start-up time",
         "",

@@ -28,8 +28,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import wobble  # noqa: E402
-from wobble.api.sweep import _plan  # noqa: E402
+import wobble  # noqa: E402 - after sys.path.insert(0, ROOT)
+from wobble.api.sweep import _plan  # noqa: E402 - after sys.path.insert(0, ROOT)
 
 
 def _time_sweep(spec, n, scheduler, repeat=1):
@@ -129,10 +129,10 @@ def main() -> None:
         "",
         "## Against a plain Python loop over solve_ivp",
         "",
-        f"The same asteroid outputs (omega after 30 d, the regime) by integrating Euler's equations member by",
+        "The same asteroid outputs (omega after 30 d, the regime) by integrating Euler's equations member by",
         f"member with `scipy.integrate.solve_ivp` (DOP853, rtol 1e-10): {loop_sec * 1e3:.2f} ms per member, i.e.",
         f"{1 / loop_sec:,.0f} members/s, timed on {loop_n} valid members of the first {args.loop_members} (the",
-        f"loop's rate does not depend on the member count, so 10^5 members would take about",
+        "loop's rate does not depend on the member count, so 10^5 members would take about",
         f"{1e5 * loop_sec / 60:.0f} min). The vectorised exact sweep's best rate above, {best_ast:,.0f} members/s,",
         f"is {best_ast * loop_sec:,.0f} times faster, and exact (the loop's omega carries its tolerance).",
         "",
@@ -141,7 +141,8 @@ def main() -> None:
         "* Chandler: the whole model is numpy over a chunk.",
         "* Tumbling asteroids: regime, periods, wobble angles and the exact flow map to the final time are numpy",
         "  over a chunk (`wobble.models.free_ensemble`); no Python loop over members.",
-        "* Heavy-top phase diagram (not timed here; the 45,955-point shipped grid takes a few seconds): classification,",
+        "* Heavy-top phase diagram (not timed here; the 45,955-point shipped grid takes a few seconds): "
+        "classification,",
         "  turning angles, period and mean precession are numpy over a chunk; members next to a class boundary",
         "  (regular precession, cusps, separatrix, poles; theta0 = 0 or pi; thetadot0 != 0) loop over the exact",
         "  scalar model inside the chunk (`scalar_fallback` = 1 in the output; about 4 % of the shipped grid).",

@@ -48,7 +48,8 @@ ROOT = Path(__file__).resolve().parents[1]
 # The cases and the SciPy baselines live in benchmarks/ (a folder of the checkout), shared with
 # the work-precision harness (wobble bench, scripts/work_precision.py).
 sys.path.insert(0, str(ROOT))
-from benchmarks.top import CASES, I1, I3, MGL, OMEGA3, angle_between, run_dop853, turning_error  # noqa: E402
+from benchmarks.top import CASES, I1, I3, MGL, OMEGA3, angle_between, run_dop853, turning_error  # noqa: E402 - after sys.path.insert(0, ROOT)
+
 REF = {c["name"]: c for c in json.loads((ROOT / "tests" / "references" / "heavy_top.json").read_text())["cases"]}
 
 
@@ -72,14 +73,25 @@ def accuracy_rows():
     rows = []
     for name, c in REF.items():
         inp = {k: float(v) for k, v in c["inputs"].items()}
-        mdl = heavy_top(inp["I1"], inp["I3"], inp["mgl"], inp["theta0"], inp["thetadot0"], inp["phidot0"],
-                        omega3=inp["omega3"], phi0=inp["phi0"], psi0=inp["psi0"])
+        mdl = heavy_top(
+            inp["I1"],
+            inp["I3"],
+            inp["mgl"],
+            inp["theta0"],
+            inp["thetadot0"],
+            inp["phidot0"],
+            omega3=inp["omega3"],
+            phi0=inp["phi0"],
+            psi0=inp["psi0"],
+        )
         an = c["analysis"]
         if mdl.nutation == "sleeping":
             turn = max(mdl.theta_min, mdl.theta_max)  # both 0 exactly
         else:
-            turn = max(abs(mdl.theta_min - float(an["theta_min"])) / max(float(an["theta_min"]), 1e-300),
-                       abs(mdl.theta_max - float(an["theta_max"])) / float(an["theta_max"]))
+            turn = max(
+                abs(mdl.theta_min - float(an["theta_min"])) / max(float(an["theta_min"]), 1e-300),
+                abs(mdl.theta_max - float(an["theta_max"])) / float(an["theta_max"]),
+            )
         per = abs(mdl.nutation_period / float(an["period"]) - 1) if "period" in an else float("nan")
         cells = []
         for key in ("ode", "long"):
@@ -129,12 +141,18 @@ def main(argv=None):
         def dop(mdl=mdl, kind=kind):  # timed without events (they are only for the error run)
             return run_dop853(mdl, t, kind, events=False)
 
-        res = interleaved({"angles": exact_angles, "eval": exact_eval_only, "state": exact_state}, {"dop853": dop},
-                          reps_slow, reps_fast)
+        res = interleaved(
+            {"angles": exact_angles, "eval": exact_eval_only, "state": exact_state},
+            {"dop853": dop},
+            reps_slow,
+            reps_fast,
+        )
         fast = slow = res
         # Errors. wobble: analysis against mpmath; attitude at the reference times.
-        w_turn = max(abs(mdl.theta_min / float(ref["analysis"]["theta_min"]) - 1),
-                     abs(mdl.theta_max / float(ref["analysis"]["theta_max"]) - 1))
+        w_turn = max(
+            abs(mdl.theta_min / float(ref["analysis"]["theta_min"]) - 1),
+            abs(mdl.theta_max / float(ref["analysis"]["theta_max"]) - 1),
+        )
         w_traj = float(np.max(angle_between(mdl.attitude(ref_t), ref_q)))
         tt, th, q, turning = run_dop853(mdl, t, kind, extra_t=ref_t)
         d_turn = turning_error(turning, ref["analysis"])
@@ -146,13 +164,28 @@ def main(argv=None):
         rows.append((label, "wobble exact: construction + theta, phi, psi", fast["angles"], w_turn, w_traj, "-"))
         rows.append((label, "wobble exact: theta, phi, psi (model built)", fast["eval"], w_turn, w_traj, "-"))
         rows.append((label, "wobble exact: omega and quaternion (model built)", fast["state"], w_turn, w_traj, "-"))
-        rows.append((label, f"solve_ivp DOP853 rtol 1e-12 ({kind} equations)", slow["dop853"], d_turn, d_traj, f"{d_dev:.1e}"))
-        summary.append((label, ratio, slow["dop853"][1] / fast["angles"][1], slow["dop853"][0] / fast["eval"][0],
-                        w_turn, d_turn, w_traj, d_traj, type(mdl.evaluator(t.size)).__name__.strip("_").lower()))
+        rows.append(
+            (label, f"solve_ivp DOP853 rtol 1e-12 ({kind} equations)", slow["dop853"], d_turn, d_traj, f"{d_dev:.1e}")
+        )
+        summary.append(
+            (
+                label,
+                ratio,
+                slow["dop853"][1] / fast["angles"][1],
+                slow["dop853"][0] / fast["eval"][0],
+                w_turn,
+                d_turn,
+                w_traj,
+                d_traj,
+                type(mdl.evaluator(t.size)).__name__.strip("_").lower(),
+            )
+        )
         split.append((fast["angles"][0], fast["eval"][0]))
-        print(f"{label}: DOP853 {slow['dop853'][0]:.3g} s, wobble {fast['angles'][0] * 1e3:.3g} ms "
-              f"(ratio {ratio:.0f}); turning points {w_turn:.1e} vs {d_turn:.1e}; attitude {w_traj:.1e} vs {d_traj:.1e}",
-              flush=True)
+        print(
+            f"{label}: DOP853 {slow['dop853'][0]:.3g} s, wobble {fast['angles'][0] * 1e3:.3g} ms "
+            f"(ratio {ratio:.0f}); turning points {w_turn:.1e} vs {d_turn:.1e}; attitude {w_traj:.1e} vs {d_traj:.1e}",
+            flush=True,
+        )
     radau_line = None
     if not args.no_radau:
         mdl = heavy_top(I1, I3, MGL, np.pi / 3, omega3=OMEGA3)
@@ -186,48 +219,73 @@ def main(argv=None):
         "angles (relative) and the attitude angle (rad) at 7 times up to 1000.25 periods. The last "
         "column compares the integrator with wobble's exact attitude at all 20,001 outputs.",
         "",
-        "| case | method | min (s) | median (s) | turning points (rel.) | attitude vs mpmath (rad) | vs exact, all outputs (rad) |",
+        "| case | method | min (s) | median (s) | turning points (rel.) | attitude vs mpmath (rad) | vs exact, all "
+        "outputs (rad) |",
         "|---|---|---|---|---|---|---|",
     ]
     for label, meth, (tmin, tmed), eturn, etraj, dev in rows:
         lines.append(f"| {label} | {meth} | {tmin:.3g} | {tmed:.3g} | {eturn:.1e} | {etraj:.1e} | {dev} |")
     if radau_line:
-        lines.append(f"| cusps | solve_ivp Radau rtol 1e-10 (Euler-angle equations), one run | {radau_line[0]:.3g} | - | "
-                     f"{radau_line[1]:.1e} | {radau_line[2]:.1e} | - |")
-    lines += ["", "## Accuracy against mpmath, every reference case", "",
-              "Both evaluation paths of wobble (direct: Jacobi + Carlson per output; fourier: the verified "
-              "table) against tests/references/heavy_top.json: turning angles and period (relative), the "
-              "attitude angle against mpmath's Taylor integration over ~3 periods (ode) and against the "
-              "mpmath closed form at times up to 1000.25 periods (long), in rad.", "",
-              "| case | class | turning points | period | attitude, ode (direct / fourier) | attitude, 1000 periods (direct / fourier) |",
-              "|---|---|---|---|---|---|"]
+        lines.append(
+            f"| cusps | solve_ivp Radau rtol 1e-10 (Euler-angle equations), one run | {radau_line[0]:.3g} | - | "
+            f"{radau_line[1]:.1e} | {radau_line[2]:.1e} | - |"
+        )
+    lines += [
+        "",
+        "## Accuracy against mpmath, every reference case",
+        "",
+        "Both evaluation paths of wobble (direct: Jacobi + Carlson per output; fourier: the verified "
+        "table) against tests/references/heavy_top.json: turning angles and period (relative), the "
+        "attitude angle against mpmath's Taylor integration over ~3 periods (ode) and against the "
+        "mpmath closed form at times up to 1000.25 periods (long), in rad.",
+        "",
+        "| case | class | turning points | period | attitude, ode (direct / fourier) | attitude, 1000 periods "
+        "(direct / fourier) |",
+        "|---|---|---|---|---|---|",
+    ]
     lines += accuracy_rows()
-    lines += ["", "## Speed ratios (DOP853 time / wobble time)", "",
-              "| case | wobble path | incl. construction (minima) | incl. construction (medians) | evaluation only (minima) "
-              "| wobble turning / attitude error | DOP853 turning / attitude error |",
-              "|---|---|---|---|---|---|---|"]
+    lines += [
+        "",
+        "## Speed ratios (DOP853 time / wobble time)",
+        "",
+        "| case | wobble path | incl. construction (minima) | incl. construction (medians) | evaluation only (minima) "
+        "| wobble turning / attitude error | DOP853 turning / attitude error |",
+        "|---|---|---|---|---|---|---|",
+    ]
     met = True
     met_median = True
     for label, ratio, ratio_med, ratio_eval, wt, dt, wa, da, path in summary:
-        lines.append(f"| {label} | {path} | {ratio:.0f}x | {ratio_med:.0f}x | {ratio_eval:.0f}x | {wt:.1e} / {wa:.1e} "
-                     f"| {dt:.1e} / {da:.1e} |")
+        lines.append(
+            f"| {label} | {path} | {ratio:.0f}x | {ratio_med:.0f}x | {ratio_eval:.0f}x | {wt:.1e} / {wa:.1e} "
+            f"| {dt:.1e} / {da:.1e} |"
+        )
         met = met and ratio >= 1000 and wt <= dt and wa <= da
         met_median = met_median and ratio_med >= 1000
     lines += [
         "",
         "Issue-8 target: at least 1000 times faster than DOP853 at rtol 1e-12, at equal or better error. "
-        + ("Met on every case above on the minima (construction included)" if met else
-           "Not met on every case on the minima (see the ratios, as measured)")
-        + ("; also on the medians." if met_median else
-           "; on the medians, which the other jobs on this shared 2-core machine inflate (mostly "
-           "for the millisecond-long wobble runs), some cases fall short: see the column.")
-        + (" Why: of wobble's "
-           f"{1e3 * min(a for a, _ in split):.1f}-{1e3 * max(a for a, _ in split):.1f} ms, the evaluation of the "
-           f"20,001 outputs takes {1e3 * min(e for _, e in split):.1f}-{1e3 * max(e for _, e in split):.1f} ms "
-           "(evaluation alone is well above 1000x); the rest is the construction: the analysis in 60-digit "
-           "decimal arithmetic (roots, K, the complete Pi, the secular rates) and the Fourier table of the "
-           "periodic parts with its check against the direct evaluation, both fixed costs per top in "
-           "Python/NumPy." if not met else ""),
+        + (
+            "Met on every case above on the minima (construction included)"
+            if met
+            else "Not met on every case on the minima (see the ratios, as measured)"
+        )
+        + (
+            "; also on the medians."
+            if met_median
+            else "; on the medians, which the other jobs on this shared 2-core machine inflate (mostly "
+            "for the millisecond-long wobble runs), some cases fall short: see the column."
+        )
+        + (
+            " Why: of wobble's "
+            f"{1e3 * min(a for a, _ in split):.1f}-{1e3 * max(a for a, _ in split):.1f} ms, the evaluation of the "
+            f"20,001 outputs takes {1e3 * min(e for _, e in split):.1f}-{1e3 * max(e for _, e in split):.1f} ms "
+            "(evaluation alone is well above 1000x); the rest is the construction: the analysis in 60-digit "
+            "decimal arithmetic (roots, K, the complete Pi, the secular rates) and the Fourier table of the "
+            "periodic parts with its check against the direct evaluation, both fixed costs per top in "
+            "Python/NumPy."
+            if not met
+            else ""
+        ),
         "",
         "wobble's path: 'fourier' = the verified Fourier series of the periodic parts (used from 1024 "
         "outputs on, where it reproduces the direct evaluation to rounding); 'elliptic' = Jacobi "

@@ -22,8 +22,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # benchmarks/ is a folder of the checkout, not installed
 
-from benchmarks.harness import run_benchmark, write_user_report  # noqa: E402
-from benchmarks.report import USER_REPORT  # noqa: E402
+from benchmarks.harness import run_benchmark, write_user_report  # noqa: E402 - after sys.path.insert(0, ROOT)
+from benchmarks.report import USER_REPORT  # noqa: E402 - after sys.path.insert(0, ROOT)
 
 
 def main(argv=None) -> int:
@@ -33,8 +33,9 @@ def main(argv=None) -> int:
     typed = sys.argv[1:] if argv is None else list(argv)
     args = ap.parse_args(typed)
     mode = "quick" if args.quick else "full"
-    res = run_benchmark(mode, ["user_top", "user_free"], args.repeats,
-                        progress=lambda s: print(s, file=sys.stderr, flush=True))
+    res = run_benchmark(
+        mode, ["user_top", "user_free"], args.repeats, progress=lambda s: print(s, file=sys.stderr, flush=True)
+    )
     command = " ".join(["python scripts/bench_user.py", *typed])
     niceness = os.nice(0) if hasattr(os, "nice") else 0
     # A run at raised priority on a shared machine says so: its header then shows it.
@@ -69,14 +70,21 @@ def _median_note(res: dict) -> None:
     if not below_min and not below_med:
         verdict = "the 1000x target is met at the minima and at the medians."
     elif not below_min:
-        verdict = "the 1000x target is met at the minima only; at the medians it is missed for " + ", ".join(below_med) + "."
+        verdict = (
+            "the 1000x target is met at the minima only; at the medians it is missed for " + ", ".join(below_med) + "."
+        )
     else:
-        verdict = ("the 1000x target is missed at the minima for " + ", ".join(below_min)
-                   + (" and at the medians for " + ", ".join(below_med) if below_med else "") + ".")
+        verdict = (
+            "the 1000x target is missed at the minima for "
+            + ", ".join(below_min)
+            + (" and at the medians for " + ", ".join(below_med) if below_med else "")
+            + "."
+        )
     case["notes"].append(
         f"HeavyTop(...).motion(t) against plain DOP853, ratio of the minimum times: {listed(lows)}; of the median "
         f"times: {listed(meds)} (each SciPy run takes over 2 s and is timed once, so its median is that time): "
-        + verdict)
+        + verdict
+    )
 
 
 if __name__ == "__main__":

@@ -36,8 +36,14 @@ def _scheduler():
     """A local dask.distributed cluster where the sweep's help example expects one."""
     from distributed import LocalCluster
 
-    return LocalCluster(host="127.0.0.1", scheduler_port=8786, n_workers=1, threads_per_worker=2,
-                        processes=False, dashboard_address=None)
+    return LocalCluster(
+        host="127.0.0.1",
+        scheduler_port=8786,
+        n_workers=1,
+        threads_per_worker=2,
+        processes=False,
+        dashboard_address=None,
+    )
 
 
 def run_examples(quick: bool) -> int:
@@ -57,7 +63,9 @@ def _run_all(quick: bool) -> int:
                     print(f"skip  {' '.join(argv)}")
                     continue
                 t0 = time.perf_counter()
-                done = subprocess.run([sys.executable, "-m", "wobble", *argv], cwd=folder, capture_output=True, text=True)
+                done = subprocess.run(
+                    [sys.executable, "-m", "wobble", *argv], cwd=folder, capture_output=True, text=True
+                )
                 dt = time.perf_counter() - t0
                 ok = done.returncode == 0
                 failed += not ok

@@ -57,8 +57,8 @@ BOUND = 16.0
 COMPLETE_BOUND = 3.0
 
 sys.path.insert(0, str(ROOT))
-from wobble.numerics import elliptic as ell  # noqa: E402
-from wobble.numerics.phase import reduce_phase  # noqa: E402
+from wobble.numerics import elliptic as ell  # noqa: E402 - after sys.path.insert(0, ROOT)
+from wobble.numerics.phase import reduce_phase  # noqa: E402 - after sys.path.insert(0, ROOT)
 
 
 # ---------------------------------------------------------------------------
@@ -221,12 +221,24 @@ def score_tables(data: Path):
         ref = np.array([float(r[1]) for r in rows])
         m, m1 = np.vectorize(params)(k)
         per = np.array([fn(a, b) for a, b in zip(m, m1)], dtype=float)
-        scores.append(Score(name, label, len(rows), per, ref, fn(m, m1), sfn(m, m1), COMPLETE_BOUND,
-                            [dict(k=x) for x in k]))
+        scores.append(
+            Score(name, label, len(rows), per, ref, fn(m, m1), sfn(m, m1), COMPLETE_BOUND, [dict(k=x) for x in k])
+        )
         if name == "ellint_k.csv":
             hi = np.array([ell.ellipk_dd(a, b)[0] for a, b in zip(m, m1)], dtype=float)
-            scores.append(Score(name, "K hi (ellipk_dd)", len(rows), hi, ref, ell.ellipk_dd(m, m1)[0], None,
-                                COMPLETE_BOUND, [dict(k=x) for x in k]))
+            scores.append(
+                Score(
+                    name,
+                    "K hi (ellipk_dd)",
+                    len(rows),
+                    hi,
+                    ref,
+                    ell.ellipk_dd(m, m1)[0],
+                    None,
+                    COMPLETE_BOUND,
+                    [dict(k=x) for x in k],
+                )
+            )
 
     # Incomplete F and E: phi, k
     for name, fn, sfn, label in (
@@ -239,8 +251,19 @@ def score_tables(data: Path):
         ref = np.array([float(r[2]) for r in rows])
         m, m1 = np.vectorize(params)(k)
         per = np.array([fn(a, b, c) for a, b, c in zip(phi, m, m1)], dtype=float)
-        scores.append(Score(name, label, len(rows), per, ref, fn(phi, m, m1), sfn(phi, m), BOUND,
-                            [dict(phi=a, k=b) for a, b in zip(phi, k)]))
+        scores.append(
+            Score(
+                name,
+                label,
+                len(rows),
+                per,
+                ref,
+                fn(phi, m, m1),
+                sfn(phi, m),
+                BOUND,
+                [dict(phi=a, k=b) for a, b in zip(phi, k)],
+            )
+        )
 
     # Complete Pi: n, k
     _, rows = read(data / "ellint_pi2.csv")
@@ -252,8 +275,19 @@ def score_tables(data: Path):
     m, m1 = np.vectorize(params)(k)
     per = np.array([ell.ellippi(a, b, c) for a, b, c in zip(n, m, m1)], dtype=float)
     scipy_pi = np.array([s_pi3(a, 0.5 * np.pi, b) for a, b in zip(n, m)], dtype=float)
-    scores.append(Score("ellint_pi2.csv", "Pi(n) (ellippi)", len(rows_in), per, ref, ell.ellippi(n, m, m1), scipy_pi,
-                        COMPLETE_BOUND, [dict(n=a, k=b) for a, b in zip(n, k)]))
+    scores.append(
+        Score(
+            "ellint_pi2.csv",
+            "Pi(n) (ellippi)",
+            len(rows_in),
+            per,
+            ref,
+            ell.ellippi(n, m, m1),
+            scipy_pi,
+            COMPLETE_BOUND,
+            [dict(n=a, k=b) for a, b in zip(n, k)],
+        )
+    )
 
     # Incomplete Pi: n, phi, k
     for name in ("ellint_pi3.csv", "ellint_pi3_large.csv"):
@@ -272,10 +306,22 @@ def score_tables(data: Path):
         scores.append(Score(name, "Pi(n; phi) (ellippi_inc)", len(rows_in), per, ref, vec, scipy_pi, BOUND, worst))
         inside = np.abs(phi) <= 0.5 * np.pi
         if np.any(inside):
-            per_scd = np.array([w_pi_scd(a, b, c, d) for a, b, c, d in zip(n[inside], phi[inside], m[inside], m1[inside])],
-                               dtype=float)
-            scores.append(Score(name, "Pi (pi_positive_scd / pi_negative_scd)", int(inside.sum()), per_scd, ref[inside],
-                                None, None, BOUND, [w for w, i in zip(worst, inside) if i]))
+            per_scd = np.array(
+                [w_pi_scd(a, b, c, d) for a, b, c, d in zip(n[inside], phi[inside], m[inside], m1[inside])], dtype=float
+            )
+            scores.append(
+                Score(
+                    name,
+                    "Pi (pi_positive_scd / pi_negative_scd)",
+                    int(inside.sum()),
+                    per_scd,
+                    ref[inside],
+                    None,
+                    None,
+                    BOUND,
+                    [w for w, i in zip(worst, inside) if i],
+                )
+            )
 
     # Jacobi functions: u, k
     for name in ("jacobi_elliptic.csv", "jacobi_elliptic_small.csv", "jacobi_large_phi.csv", "jacobi_near_1.csv"):
@@ -288,7 +334,9 @@ def score_tables(data: Path):
         vec = np.array(jacobi_in_domain(ell.jacobi, u, k)).T
         sci = np.array(jacobi_in_domain(s_jacobi, u, k)).T
         for i, f in enumerate(("sn", "cn", "dn")):
-            scores.append(Score(name, f"{f} (jacobi)", len(rows), per[:, i], ref[:, i], vec[:, i], sci[:, i], BOUND, worst))
+            scores.append(
+                Score(name, f"{f} (jacobi)", len(rows), per[:, i], ref[:, i], vec[:, i], sci[:, i], BOUND, worst)
+            )
         # The amplitude: Boost's sn, cn give am = atan2(sn, cn) + 2 pi j (j from u / K).
         inside = np.abs(k) <= 1
         if np.any(inside):
@@ -298,8 +346,19 @@ def score_tables(data: Path):
             am_ref = am_ref + 2 * np.pi * turns
             am = np.array([ell.jacobi_am(a, b, c) for a, b, c in zip(u[inside], m, m1)], dtype=float)
             sci_am = sp.ellipj(u[inside], m)[3]
-            scores.append(Score(name, "am (jacobi_am)*", int(inside.sum()), am, am_ref, ell.jacobi_am(u[inside], m, m1),
-                                sci_am, BOUND, [w for w, i in zip(worst, inside) if i]))
+            scores.append(
+                Score(
+                    name,
+                    "am (jacobi_am)*",
+                    int(inside.sum()),
+                    am,
+                    am_ref,
+                    ell.jacobi_am(u[inside], m, m1),
+                    sci_am,
+                    BOUND,
+                    [w for w, i in zip(worst, inside) if i],
+                )
+            )
         for label, fn in (("jacobi_reduced after reduce_phase", models_path), ("jacobi_quarter", quarter_path)):
             got = np.array(jacobi_in_domain(fn, u, k)).T
             for i, f in enumerate(("sn", "cn", "dn")):
@@ -348,12 +407,19 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, default=DEFAULT_DATA, help="folder of the Boost CSV tables")
     ap.add_argument("--no-write", action="store_true", help="print only; do not update docs/accuracy.md")
-    ap.add_argument("--worst", type=int, default=1, metavar="N",
-                    help="list the N worst rows of every bounded function (inputs for tests/references)")
+    ap.add_argument(
+        "--worst",
+        type=int,
+        default=1,
+        metavar="N",
+        help="list the N worst rows of every bounded function (inputs for tests/references)",
+    )
     args = ap.parse_args(argv)
     if not (args.data / "README.md").exists() or not (args.data / "ellint_k.csv").exists():
-        print(f"Boost.Math reference tables not found at {args.data}: nothing scored (they live outside "
-              "the project; see the docstring).")
+        print(
+            f"Boost.Math reference tables not found at {args.data}: nothing scored (they live outside "
+            "the project; see the docstring)."
+        )
         return 0
     t0 = time.perf_counter()
     scores, skipped = score_tables(args.data)

@@ -22,11 +22,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from astropy import units as u  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from astropy import units as u
 
-import wobble  # noqa: E402
+import wobble
 
 FIGURES = Path(__file__).resolve().parents[1] / "docs" / "figures"
 
@@ -36,10 +36,10 @@ def main(folder: Path | None = None) -> tuple[Path, Path]:
     nc_folder = folder or Path(tempfile.mkdtemp())
     png = (folder or FIGURES) / "getting_started_top_loops.png"
 
-    ds = wobble.run("top_loops")                                   # exact heavy top, 10 s
+    ds = wobble.run("top_loops")  # exact heavy top, 10 s
     path = wobble.write_netcdf(ds, nc_folder / "top_loops.nc", overwrite=True)
-    back = wobble.load(path)                                       # xarray, with units
-    axis = back["axis_direction"]                                  # symmetry axis in space
+    back = wobble.load(path)  # xarray, with units
+    axis = back["axis_direction"]  # symmetry axis in space
     tilt = back.wobble.quantity("tilt").to(u.deg)
     t = back.wobble.quantity("time").to(u.s)
 

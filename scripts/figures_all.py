@@ -35,8 +35,21 @@ def jobs() -> list[tuple[str, list[str]]]:
     found = [(p.stem, [sys.executable, str(p)]) for p in scripts]
     found.append(("example_top_loops", [sys.executable, str(SCRIPTS / "example_top_loops.py")]))
     if not any(p.stem.startswith("figures_sweep") for p in scripts):
-        found.append(("sweep_mars_chandler", [sys.executable, "-m", "wobble", "sweep", "mars_chandler", "--quiet",
-                                              "--plot", str(FIGURES / "sweep_mars_chandler.png")]))
+        found.append(
+            (
+                "sweep_mars_chandler",
+                [
+                    sys.executable,
+                    "-m",
+                    "wobble",
+                    "sweep",
+                    "mars_chandler",
+                    "--quiet",
+                    "--plot",
+                    str(FIGURES / "sweep_mars_chandler.png"),
+                ],
+            )
+        )
     return found
 
 

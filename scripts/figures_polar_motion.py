@@ -67,7 +67,13 @@ def main() -> None:
     for q in (50.0, 100.0, 200.0):
         est = wobble.chandler_wobble(a.data, excitation_q=q)
         numbers["excitation_sensitivity_days"][str(q)] = est.period_uncertainty_parts["excitation"].to_value(u.day)
-    text = report(a) + "\n\n" + json.dumps(numbers, indent=1, default=lambda x: None if isinstance(x, float) and not math.isfinite(x) else str(x))
+    text = (
+        report(a)
+        + "\n\n"
+        + json.dumps(
+            numbers, indent=1, default=lambda x: None if isinstance(x, float) and not math.isfinite(x) else str(x)
+        )
+    )
     (OUT / "polar_motion_summary.txt").write_text(text + "\n")
     print(text)
 

@@ -18,11 +18,11 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-import wobble  # noqa: E402
-from wobble.models.precession_measure import axis_angles  # noqa: E402
+import wobble
+from wobble.models.precession_measure import axis_angles
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 ARCSEC = math.pi / 180 / 3600
@@ -32,8 +32,9 @@ IAU = (-17.2064161, 9.2052331)  # IAU 2000A principal term (Mathews, Herring & B
 
 def _node(ds):
     """The Moon's node from the moving equinox, rad, at the run's times (from the scene's elements)."""
-    from wobble.io.scene_file import scene_from_mapping
     import json
+
+    from wobble.io.scene_file import scene_from_mapping
 
     moon = next(t for t in scene_from_mapping(json.loads(ds.attrs["scene"])).torques if t.name == "moon").orbit
     return moon.longitude_of_node, moon.node_rate
@@ -66,8 +67,10 @@ def main() -> None:
     ax.plot(along, (eps - eps[0]) / ARCSEC, lw=0.6, color="C0")
     ax.set_xlabel("along the precession: (psi - psi0) sin(eps) [arcsec]")
     ax.set_ylabel("eps - eps0 [arcsec]")
-    ax.set_title(f"Earth's spin axis in space, 20 years by brute force (wobble run earth_precession): "
-                 f"{m.rate.value:+.2f}\"/cy", fontsize=9)
+    ax.set_title(
+        f"Earth's spin axis in space, 20 years by brute force (wobble run earth_precession): {m.rate.value:+.2f}\"/cy",
+        fontsize=9,
+    )
     ax.invert_xaxis()
     ax = axes[1]
     ax.plot(years, dpsi, lw=0.5, color="C0", label="Delta psi, simulated (secular part removed)")
@@ -87,9 +90,14 @@ def main() -> None:
     ax.plot(dpsi * sin_eps, deps, lw=0.3, color="0.6", label="simulated pole, secular motion removed (20 yr)")
     full = np.linspace(0, 2 * math.pi, 361)
     ellipses = (
-        (lon, obl, dict(lw=1.6, color="C0"), f"fitted 18.6-yr term: {lon:+.4f}\", {obl:+.4f}\""),
-        (alon, aobl, dict(lw=1.0, ls="--", color="k"), f"first-order rigid model: {alon:+.4f}\", {aobl:+.4f}\""),
-        (IAU[0], IAU[1], dict(lw=1.0, ls=":", color="C3"), f"IAU 2000A (non-rigid Earth): {IAU[0]:+.4f}\", {IAU[1]:+.4f}\""),
+        (lon, obl, dict(lw=1.6, color="C0"), f'fitted 18.6-yr term: {lon:+.4f}", {obl:+.4f}"'),
+        (alon, aobl, dict(lw=1.0, ls="--", color="k"), f'first-order rigid model: {alon:+.4f}", {aobl:+.4f}"'),
+        (
+            IAU[0],
+            IAU[1],
+            dict(lw=1.0, ls=":", color="C3"),
+            f'IAU 2000A (non-rigid Earth): {IAU[0]:+.4f}", {IAU[1]:+.4f}"',
+        ),
     )
     for a, b, style, label in ellipses:
         ax.plot(a * sin_eps * np.sin(full), b * np.cos(full), label=label, **style)

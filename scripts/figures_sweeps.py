@@ -12,8 +12,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import wobble  # noqa: E402
-from wobble.plot import sweep as sweep_plot  # noqa: E402
+import wobble
+from wobble.plot import sweep as sweep_plot
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "figures"

@@ -30,8 +30,22 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 #: Relative share of the inputs per command (the slow ones get fewer; every one gets some).
-WEIGHTS = {"chandler": 4, "modes": 2, "precession": 8, "polar-motion": 3, "excitation": 3, "forecast": 4,
-           "inertia": 16, "free": 18, "top": 18, "run": 8, "sweep": 4, "invert": 1, "example": 8, "bench": 1}
+WEIGHTS = {
+    "chandler": 4,
+    "modes": 2,
+    "precession": 8,
+    "polar-motion": 3,
+    "excitation": 3,
+    "forecast": 4,
+    "inertia": 16,
+    "free": 18,
+    "top": 18,
+    "run": 8,
+    "sweep": 4,
+    "invert": 1,
+    "example": 8,
+    "bench": 1,
+}
 CHUNK = 100
 
 
@@ -67,10 +81,9 @@ def run_chunk(job, out_path: str) -> None:
     import pickle
     import warnings
 
+    import fuzz_strategies as fz
     from hypothesis import HealthCheck, Phase, given, settings
     from hypothesis import seed as hseed
-
-    import fuzz_strategies as fz
 
     command, n, seed = job
     warnings.simplefilter("ignore")  # the harness records the run's own warnings itself
@@ -78,8 +91,14 @@ def run_chunk(job, out_path: str) -> None:
     results = []
 
     @hseed(seed)
-    @settings(max_examples=n, database=None, deadline=None, phases=[Phase.generate], derandomize=False,
-              suppress_health_check=list(HealthCheck))
+    @settings(
+        max_examples=n,
+        database=None,
+        deadline=None,
+        phases=[Phase.generate],
+        derandomize=False,
+        suppress_health_check=list(HealthCheck),
+    )
     @given(fz.case_strategy(command))
     def go(case):
         with open(out_path + ".current", "wb") as fh:
@@ -94,7 +113,7 @@ def run_chunk(job, out_path: str) -> None:
 
         shutil.rmtree(base, ignore_errors=True)
     failures = []
-    for case, status, seconds, problems, noise in results:
+    for case, _status, _seconds, problems, noise in results:
         for problem in problems:
             failures.append({"signature": fz.signature(problem), "problem": problem, "case": case})
         for warning in noise:
@@ -112,8 +131,12 @@ def spawn_chunk(job, folder: str):
 
     command, n, seed = job
     out = os.path.join(folder, f"{command}-{seed}.pickle")
-    proc = subprocess.run([sys.executable, __file__, "--chunk", command, str(n), str(seed), out],
-                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.run(
+        [sys.executable, __file__, "--chunk", command, str(n), str(seed), out],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     if proc.returncode == 0 and os.path.exists(out):
         with open(out, "rb") as fh:
             return pickle.load(fh)
@@ -124,7 +147,10 @@ def spawn_chunk(job, folder: str):
     import fuzz_strategies as fz
 
     case = case or fz.Case(command, [command])
-    problem = f"interpreter died: exit status {proc.returncode}: {proc.stderr.strip().splitlines()[-1][:200] if proc.stderr.strip() else ''}"
+    problem = (
+        f"interpreter died: exit status {proc.returncode}: "
+        f"{proc.stderr.strip().splitlines()[-1][:200] if proc.stderr.strip() else ''}"
+    )
     return command, 0, {}, 0.0, [{"signature": f"interpreter died ({command})", "problem": problem, "case": case}]
 
 
@@ -144,8 +170,10 @@ def main(argv=None) -> int:
         if c not in fz.COMMANDS:
             parser.error(f"--only: {c!r} is not one of {', '.join(fz.COMMANDS)}")
     chunks = plan(args.count, args.only, args.seed)
-    print(f"fuzzing wobble: {args.count} inputs in {len(chunks)} chunks, seed {args.seed}, {args.jobs} processes",
-          flush=True)
+    print(
+        f"fuzzing wobble: {args.count} inputs in {len(chunks)} chunks, seed {args.seed}, {args.jobs} processes",
+        flush=True,
+    )
     started = time.perf_counter()
     per = collections.defaultdict(lambda: {"inputs": 0, "status": collections.Counter(), "seconds": 0.0})
     failures: dict[str, dict] = {}
@@ -170,8 +198,11 @@ def main(argv=None) -> int:
                 entry["count"] += 1
             elapsed = time.perf_counter() - started
             broken = sum(not f.get("warning") for f in failures.values())
-            print(f"[{elapsed:7.1f} s] {done}/{args.count} inputs; {broken} distinct failures "
-                  f"(last chunk: {command}, {n} inputs)", flush=True)
+            print(
+                f"[{elapsed:7.1f} s] {done}/{args.count} inputs; {broken} distinct failures "
+                f"(last chunk: {command}, {n} inputs)",
+                flush=True,
+            )
     except KeyboardInterrupt:  # Ctrl-C: summarise the chunks that finished (their subprocesses got it too)
         interrupted = True
         print("interrupted: the summary covers the chunks that finished", flush=True)
@@ -191,11 +222,13 @@ def main(argv=None) -> int:
         row = per[command]
         s = row["status"]
         other = row["inputs"] - s.get(0, 0) - s.get(2, 0)
-        print(f"{command:<14}{row['inputs']:>8}{s.get(0, 0):>8}{s.get(2, 0):>8}{other:>8}"
-              f"{row['seconds'] / max(1, row['inputs']):>8.2f}")
+        print(
+            f"{command:<14}{row['inputs']:>8}{s.get(0, 0):>8}{s.get(2, 0):>8}{other:>8}"
+            f"{row['seconds'] / max(1, row['inputs']):>8.2f}"
+        )
     if warned:
         print(f"\n{len(warned)} distinct Python warnings printed on stderr (noise, not counted as failures):")
-        for sig, f in sorted(warned.items()):
+        for _sig, f in sorted(warned.items()):
             print(f"- {f['problem']}  ({f['count']} inputs)\n  " + f["case"].show().splitlines()[0])
     if failures:
         print(f"\n{len(failures)} distinct failures:")
@@ -205,16 +238,38 @@ def main(argv=None) -> int:
                 f["reproduction"] = case.show()
                 print(f"\n- {sig}  ({f['count']} inputs)\n  {f['problem']}\n  " + case.show().replace("\n", "\n  "))
     else:
-        print("\nno failures: every input exited 0 or 2 in time, without a traceback, and left no partial, "
-              "temporary or changed file")
+        print(
+            "\nno failures: every input exited 0 or 2 in time, without a traceback, and left no partial, "
+            "temporary or changed file"
+        )
     if args.report:
-        summary = {"count": done, "seed": args.seed, "jobs": args.jobs, "wall_seconds": round(wall, 1),
-                   "per_command": {c: {"inputs": r["inputs"], "status": dict(r["status"]),
-                                       "mean_seconds": round(r["seconds"] / max(1, r["inputs"]), 3)} for c, r in per.items()},
-                   "failures": [{"signature": s, "count": f["count"], "problem": f["problem"],
-                                 "reproduction": f.get("reproduction", f["case"].show())} for s, f in failures.items()],
-                   "warnings": [{"warning": f["problem"], "count": f["count"], "example": f["case"].show().splitlines()[0]}
-                                for f in warned.values()]}
+        summary = {
+            "count": done,
+            "seed": args.seed,
+            "jobs": args.jobs,
+            "wall_seconds": round(wall, 1),
+            "per_command": {
+                c: {
+                    "inputs": r["inputs"],
+                    "status": dict(r["status"]),
+                    "mean_seconds": round(r["seconds"] / max(1, r["inputs"]), 3),
+                }
+                for c, r in per.items()
+            },
+            "failures": [
+                {
+                    "signature": s,
+                    "count": f["count"],
+                    "problem": f["problem"],
+                    "reproduction": f.get("reproduction", f["case"].show()),
+                }
+                for s, f in failures.items()
+            ],
+            "warnings": [
+                {"warning": f["problem"], "count": f["count"], "example": f["case"].show().splitlines()[0]}
+                for f in warned.values()
+            ],
+        }
         Path(args.report).write_text(json.dumps(summary, indent=2) + "\n")
     return 1 if failures else 0
 

@@ -36,7 +36,8 @@ LEADS = (1, 2, 3, 5, 10, 20, 30, 40, 60, 90, 120, 150, 200, 270, 365)
 
 
 def coverage_table(h) -> dict:
-    """Per method: 68 % and 95 % coverage at LEADS, their range over every lead 1-365 d and the leads outside 63-73 %."""
+    """Per method: 68 % and 95 % coverage at LEADS, their range over every lead 1-365 d and the leads
+    outside 63-73 %."""
     out = {}
     for m in h.methods:
         s = h.scores[m]
@@ -57,7 +58,13 @@ def coverage_table(h) -> dict:
 def hindcast(start, end, latency, calibrated=True):
     t0 = time.perf_counter()
     h = wobble.hindcast_polar_motion(
-        start=start, end=end, every=7 * u.day, horizon=365 * u.day, latency=latency * u.day, calibrated=calibrated, workers=2
+        start=start,
+        end=end,
+        every=7 * u.day,
+        horizon=365 * u.day,
+        latency=latency * u.day,
+        calibrated=calibrated,
+        workers=2,
     )
     seconds = time.perf_counter() - t0
     print(h.summary())
@@ -66,7 +73,9 @@ def hindcast(start, end, latency, calibrated=True):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--selection", action="store_true", help="the 2006-2015 hindcast of the settings' choice instead")
+    parser.add_argument(
+        "--selection", action="store_true", help="the 2006-2015 hindcast of the settings' choice instead"
+    )
     args = parser.parse_args()
     OUT.mkdir(parents=True, exist_ok=True)
     if args.selection:

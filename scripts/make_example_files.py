@@ -36,10 +36,16 @@ def density_grid() -> xr.Dataset:
     coord = {"units": "m"}
     return xr.Dataset(
         {"rho": (("x", "y", "z"), rho, {"units": "kg m-3", "long_name": "mass density"})},
-        coords={"x": ("x", x, {**coord, "long_name": "x"}), "y": ("y", x, {**coord, "long_name": "y"}),
-                "z": ("z", x, {**coord, "long_name": "z (spin axis)"})},
-        attrs={"title": "Example density grid: a two-layer oblate planet (wobble example planet.nc)",
-               "Conventions": "CF-1.10", "comment": __doc__.split("\n\n")[2].replace("\n", " ")},
+        coords={
+            "x": ("x", x, {**coord, "long_name": "x"}),
+            "y": ("y", x, {**coord, "long_name": "y"}),
+            "z": ("z", x, {**coord, "long_name": "z (spin axis)"}),
+        },
+        attrs={
+            "title": "Example density grid: a two-layer oblate planet (wobble example planet.nc)",
+            "Conventions": "CF-1.10",
+            "comment": __doc__.split("\n\n")[2].replace("\n", " "),
+        },
     )
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))  # benchmarks/ is a folder of the checkout, not installed
 
-from benchmarks.harness import main  # noqa: E402
+from benchmarks.harness import main  # noqa: E402 - after sys.path.insert(0, ROOT)
 
 if __name__ == "__main__":
     argv = sys.argv[1:]

@@ -8,14 +8,12 @@ import socket
 
 os.environ.setdefault("MPLBACKEND", "Agg")  # no display, and no GUI warnings
 
-import pytest  # noqa: E402
-from hypothesis import HealthCheck, settings  # noqa: E402
+import pytest
+from hypothesis import HealthCheck, settings
 
 # Property tests: no deadlines (machines are shared; timing is not a test),
 # derandomized so CI runs are reproducible.
-settings.register_profile(
-    "wobble", deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
-)
+settings.register_profile("wobble", deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("wobble")
 
 _real_connect = socket.socket.connect

@@ -43,20 +43,48 @@ import tomllib
 import traceback
 import warnings
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache, lru_cache
 from pathlib import Path
 
 from hypothesis import strategies as st
 
 __all__ = ["COMMANDS", "BOUNDS", "Case", "Outcome", "run_case", "case_strategy", "signature", "minimize"]
 
-COMMANDS = ("chandler", "modes", "precession", "polar-motion", "excitation", "forecast", "inertia", "free", "top",
-            "run", "sweep", "invert", "example", "bench")
+COMMANDS = (
+    "chandler",
+    "modes",
+    "precession",
+    "polar-motion",
+    "excitation",
+    "forecast",
+    "inertia",
+    "free",
+    "top",
+    "run",
+    "sweep",
+    "invert",
+    "example",
+    "bench",
+)
 
 #: Seconds one generated input may take (in-process, on a busy two-core machine); beyond it is a hang.
 #: Generous: the slowest valid inputs take a few seconds on a quiet machine, ten times that on a loaded one.
-BOUNDS = {"chandler": 30, "modes": 45, "precession": 30, "polar-motion": 60, "excitation": 60, "forecast": 60,
-          "inertia": 30, "free": 30, "top": 30, "run": 60, "sweep": 60, "invert": 60, "example": 30, "bench": 180}
+BOUNDS = {
+    "chandler": 30,
+    "modes": 45,
+    "precession": 30,
+    "polar-motion": 60,
+    "excitation": 60,
+    "forecast": 60,
+    "inertia": 30,
+    "free": 30,
+    "top": 30,
+    "run": 60,
+    "sweep": 60,
+    "invert": 60,
+    "example": 30,
+    "bench": 180,
+}
 
 #: The contents planted at an output path before a run (a previous result the run must not lose).
 PREVIOUS = b"previous result: must survive unless --overwrite and success\n"
@@ -178,7 +206,7 @@ def _valid_file(path: Path, role: str, command: str) -> str | None:
 
             with xr.open_zarr(path, decode_times=False) as ds:
                 ds.load()
-        except Exception as exc:  # noqa: BLE001 - any failure to reopen is the finding
+        except Exception as exc:  # any failure to reopen is the finding
             return f"Zarr store does not reopen: {exc!r}"
         return None
     data = path.read_bytes()
@@ -189,7 +217,7 @@ def _valid_file(path: Path, role: str, command: str) -> str | None:
             import netCDF4
 
             netCDF4.Dataset(path).close()
-        except Exception as exc:  # noqa: BLE001
+        except Exception as exc:
             return f"netCDF does not reopen: {exc!r}"
         return None
     # Figures: by their content.
@@ -215,7 +243,9 @@ def _strict_json(text: str) -> None:
     json.loads(text, parse_constant=refuse)
 
 
-def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | None = None, keep: bool = False) -> Outcome:
+def run_case(
+    case: Case, base: str | os.PathLike | None = None, bound: float | None = None, keep: bool = False
+) -> Outcome:
     """Run ``case`` in-process in a fresh folder under ``base``; return the outcome and every problem."""
     from wobble.cli import main
 
@@ -237,7 +267,11 @@ def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | N
     start = time.perf_counter()
     try:
         os.chdir(folder)
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), warnings.catch_warnings(record=True) as caught:
+        with (
+            contextlib.redirect_stdout(out),
+            contextlib.redirect_stderr(err),
+            warnings.catch_warnings(record=True) as caught,
+        ):
             warnings.simplefilter("always")
             signal.setitimer(signal.ITIMER_REAL, bound)
             try:
@@ -248,10 +282,16 @@ def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | N
                 problems.append(f"hang: still running after {bound} s")
             except KeyboardInterrupt:
                 raise
-            except BaseException as exc:  # noqa: BLE001 - an exception escaping main is the finding
+            except BaseException as exc:  # an exception escaping main is the finding
                 tb = traceback.extract_tb(exc.__traceback__)
-                where = next((f"{Path(f.filename).name}:{f.lineno} {f.name}" for f in reversed(tb)
-                              if "/wobble/" in f.filename or "/benchmarks/" in f.filename), "?")
+                where = next(
+                    (
+                        f"{Path(f.filename).name}:{f.lineno} {f.name}"
+                        for f in reversed(tb)
+                        if "/wobble/" in f.filename or "/benchmarks/" in f.filename
+                    ),
+                    "?",
+                )
                 problems.append(f"crash: {type(exc).__name__} at {where}: {str(exc)[:200]}")
             finally:
                 signal.setitimer(signal.ITIMER_REAL, 0)
@@ -261,7 +301,9 @@ def run_case(case: Case, base: str | os.PathLike | None = None, bound: float | N
     seconds = time.perf_counter() - start
     stdout, stderr = out.getvalue(), err.getvalue()
     # Python warnings are noise on stderr, not a broken promise: reported apart (the script lists them).
-    noise = [f"warning: {w.category.__name__} at {Path(w.filename).name}:{w.lineno}: {str(w.message)[:160]}" for w in caught]
+    noise = [
+        f"warning: {w.category.__name__} at {Path(w.filename).name}:{w.lineno}: {str(w.message)[:160]}" for w in caught
+    ]
     if status is not None and status not in (0, 2):
         problems.append(f"exit status {status}")
     if "Traceback" in stderr:
@@ -297,7 +339,9 @@ def _file_problems(case: Case, folder: Path, before: dict, status) -> list[str]:
         if base.startswith(".") and (base.endswith(".tmp") or base.endswith(".old")):
             problems.append(f"temporary file left: {name}")
             continue
-        if any(part.startswith(".") and (part.endswith(".tmp") or part.endswith(".old")) for part in Path(name).parts[:-1]):
+        if any(
+            part.startswith(".") and (part.endswith(".tmp") or part.endswith(".old")) for part in Path(name).parts[:-1]
+        ):
             continue
         old = before.get(name, "absent")
         if old == data:
@@ -334,7 +378,11 @@ def signature(problem: str) -> str:
         return problem.split(": ", 2)[1] if problem.count(": ") >= 2 else problem
     if head in ("warning",):
         return problem.rsplit(": ", 1)[0]
-    return problem.split(":", 1)[0] + ": " + problem.split(":", 1)[-1].split("(")[0].strip()[:80] if ":" in problem else problem
+    return (
+        problem.split(":", 1)[0] + ": " + problem.split(":", 1)[-1].split("(")[0].strip()[:80]
+        if ":" in problem
+        else problem
+    )
 
 
 def minimize(case: Case, problem_signature: str, base=None, trials: int = 60) -> Case:
@@ -357,7 +405,7 @@ def minimize(case: Case, problem_signature: str, base=None, trials: int = 60) ->
     i = 1
     while i < len(argv):
         for width in (2, 1, 3, 4):
-            trial = argv[:i] + argv[i + width:]
+            trial = argv[:i] + argv[i + width :]
             if i + width <= len(argv) and fails(Case(case.command, trial, case.files)):
                 argv = trial
                 break
@@ -376,8 +424,26 @@ def minimize(case: Case, problem_signature: str, base=None, trials: int = 60) ->
 # Values
 # --------------------------------------------------------------------------------------------
 
-EDGE_NUMBERS = ["0", "-0", "1", "-1", "2", "0.5", "1e-300", "-1e-300", "1e300", "-1e300", "1.7e308", "5e-324",
-                "inf", "-inf", "nan", "1e-12", "1e12", "3"]
+EDGE_NUMBERS = [
+    "0",
+    "-0",
+    "1",
+    "-1",
+    "2",
+    "0.5",
+    "1e-300",
+    "-1e-300",
+    "1e300",
+    "-1e300",
+    "1.7e308",
+    "5e-324",
+    "inf",
+    "-inf",
+    "nan",
+    "1e-12",
+    "1e12",
+    "3",
+]
 MALFORMED = ["", " ", "abc", "1,5", "1..2", "1e", "0x10", "None", "[1]", "1 2", "--", "-", "é", "1/0", "１"]
 
 
@@ -387,8 +453,13 @@ def _float_text():
 
 def numbers():
     """Text for a number: edges, random floats and integers, malformed text."""
-    return st.one_of(st.sampled_from(EDGE_NUMBERS), _float_text(), st.integers(-1000, 10**6).map(str),
-                     st.sampled_from(MALFORMED), st.text(max_size=6))
+    return st.one_of(
+        st.sampled_from(EDGE_NUMBERS),
+        _float_text(),
+        st.integers(-1000, 10**6).map(str),
+        st.sampled_from(MALFORMED),
+        st.text(max_size=6),
+    )
 
 
 def positive_numbers():
@@ -427,25 +498,81 @@ def quantities(kind: str, typical=None, mode: str = "wild"):
 def angles(mode: str = "wild"):
     typical = st.floats(0, 180).map(lambda x: f"{x:.4g}")
     if mode == "valid":
-        return st.one_of(st.sampled_from(["30", "30 deg", "1 rad", "60", "90", "0.5 rad"]), quantities("angle", typical, mode))
-    return st.one_of(st.sampled_from(["30", "30 deg", "1 rad", "0", "180", "-30", "1e-6 rad", "400", "nan", "30 m",
-                                      "90", "179.999", "0.5 rad", "1 arcsec", "pi", "30 degree", "inf deg", "1e-300",
-                                      "1e300 deg", "-0"]),
-                     quantities("angle", typical, mode))
+        return st.one_of(
+            st.sampled_from(["30", "30 deg", "1 rad", "60", "90", "0.5 rad"]), quantities("angle", typical, mode)
+        )
+    return st.one_of(
+        st.sampled_from(
+            [
+                "30",
+                "30 deg",
+                "1 rad",
+                "0",
+                "180",
+                "-30",
+                "1e-6 rad",
+                "400",
+                "nan",
+                "30 m",
+                "90",
+                "179.999",
+                "0.5 rad",
+                "1 arcsec",
+                "pi",
+                "30 degree",
+                "inf deg",
+                "1e-300",
+                "1e300 deg",
+                "-0",
+            ]
+        ),
+        quantities("angle", typical, mode),
+    )
 
 
 def dates(mode: str = "wild"):
-    ordinary = st.one_of(st.integers(1963, 2024).map(str),
-                         st.tuples(st.integers(1963, 2024), st.integers(1, 12), st.integers(1, 28)).map(lambda t: "%04d-%02d-%02d" % t),
-                         st.tuples(st.integers(1963, 2024), st.integers(1, 12)).map(lambda t: "%04d-%02d" % t),
-                         st.floats(1963, 2024).map(lambda x: f"{x:.2f}"))
+    ordinary = st.one_of(
+        st.integers(1963, 2024).map(str),
+        st.tuples(st.integers(1963, 2024), st.integers(1, 12), st.integers(1, 28)).map(
+            lambda t: "{:04d}-{:02d}-{:02d}".format(*t)
+        ),
+        st.tuples(st.integers(1963, 2024), st.integers(1, 12)).map(lambda t: "{:04d}-{:02d}".format(*t)),
+        st.floats(1963, 2024).map(lambda x: f"{x:.2f}"),
+    )
     if mode == "valid":
         return ordinary
     return st.one_of(
         ordinary,
-        st.sampled_from(["2015-01-01", "2015-06", "2015", "2015.5", "1962-01-01", "1900", "2100-01-01", "2015-13-01",
-                         "2015-02-30", "0", "-1", "1e300", "nan", "inf", "today", "", "2015-01-01T12:00", "99999",
-                         "2019-01-01", "2020-06-01", "1980", "2010", "2016-01-01", "2021-01-01", "-4713", "10000-01-01"]),
+        st.sampled_from(
+            [
+                "2015-01-01",
+                "2015-06",
+                "2015",
+                "2015.5",
+                "1962-01-01",
+                "1900",
+                "2100-01-01",
+                "2015-13-01",
+                "2015-02-30",
+                "0",
+                "-1",
+                "1e300",
+                "nan",
+                "inf",
+                "today",
+                "",
+                "2015-01-01T12:00",
+                "99999",
+                "2019-01-01",
+                "2020-06-01",
+                "1980",
+                "2010",
+                "2016-01-01",
+                "2021-01-01",
+                "-4713",
+                "10000-01-01",
+            ]
+        ),
         st.text(max_size=10),
     )
 
@@ -454,8 +581,11 @@ def whole_numbers(low: int, high: int, mode: str = "wild"):
     """Text for an integer option: mostly in [low, high], sometimes negative, huge or not an integer."""
     if mode == "valid":
         return st.integers(low, high).map(str)
-    return st.one_of(st.integers(low, high).map(str), st.integers(low, high).map(str),
-                     st.sampled_from(["0", "-1", "-5", "1e3", "2.5", "abc", "", "99999999999999999999", "10000000000000"]))
+    return st.one_of(
+        st.integers(low, high).map(str),
+        st.integers(low, high).map(str),
+        st.sampled_from(["0", "-1", "-5", "1e3", "2.5", "abc", "", "99999999999999999999", "10000000000000"]),
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -469,15 +599,20 @@ def _data_root():
     return resources.files("wobble._data")
 
 
-@lru_cache(maxsize=None)
+@cache
 def shipped_text(kind: str, name: str) -> str:
     return (_data_root() / kind / name).read_text(encoding="utf-8")
 
 
-@lru_cache(maxsize=None)
+@cache
 def shipped_names(kind: str) -> tuple[str, ...]:
-    return tuple(sorted(e.name for e in (_data_root() / kind).iterdir() if e.is_file() and not e.name.startswith(("_", "."))
-                        and not e.name.endswith(".py")))
+    return tuple(
+        sorted(
+            e.name
+            for e in (_data_root() / kind).iterdir()
+            if e.is_file() and not e.name.startswith(("_", ".")) and not e.name.endswith(".py")
+        )
+    )
 
 
 def _toml_key(key: str) -> str:
@@ -509,16 +644,84 @@ def dump_toml(data: dict) -> str:
     return "".join(f"{_toml_key(k)} = {_toml_value(v)}\n" for k, v in data.items())
 
 
-TOML_EDGES = [0, -1, 1, 2, 3, 10**30, -(10**30), 0.0, -0.0, 1e-300, 1e300, -1e300, float("inf"), float("-inf"),
-              float("nan"), 0.5, True, False, "", "x", "kg", "deg", "1 d", "earth", "mars", "nan", [], [1, 2], [0.0, 0.0, 0.0],
-              [1e300, 1.0, 1.0], ["a"], {}, {"value": 1.0}, {"value": 1.0, "unit": "kg"}, 2**63, 1e-12, 100]
+TOML_EDGES = [
+    0,
+    -1,
+    1,
+    2,
+    3,
+    10**30,
+    -(10**30),
+    0.0,
+    -0.0,
+    1e-300,
+    1e300,
+    -1e300,
+    float("inf"),
+    float("-inf"),
+    float("nan"),
+    0.5,
+    True,
+    False,
+    "",
+    "x",
+    "kg",
+    "deg",
+    "1 d",
+    "earth",
+    "mars",
+    "nan",
+    [],
+    [1, 2],
+    [0.0, 0.0, 0.0],
+    [1e300, 1.0, 1.0],
+    ["a"],
+    {},
+    {"value": 1.0},
+    {"value": 1.0, "unit": "kg"},
+    2**63,
+    1e-12,
+    100,
+]
 
 
 #: Keys whose value sets how much work a run does (time spans, sample and member counts, grid sizes).
-_WORK_KEYS = {"start", "stop", "step", "samples", "values", "members", "num", "steps", "walkers", "burn", "prior_draws",
-              "ensembles", "chunk_size", "thin"}
-_WORK_EDGES = [0, -1, 1, 2, 0.0, -0.0, 0.5, float("nan"), float("inf"), float("-inf"), "", "x", "kg", True, [], {},
-               10**30, -(10**30)]
+_WORK_KEYS = {
+    "start",
+    "stop",
+    "step",
+    "samples",
+    "values",
+    "members",
+    "num",
+    "steps",
+    "walkers",
+    "burn",
+    "prior_draws",
+    "ensembles",
+    "chunk_size",
+    "thin",
+}
+_WORK_EDGES = [
+    0,
+    -1,
+    1,
+    2,
+    0.0,
+    -0.0,
+    0.5,
+    float("nan"),
+    float("inf"),
+    float("-inf"),
+    "",
+    "x",
+    "kg",
+    True,
+    [],
+    {},
+    10**30,
+    -(10**30),
+]
 
 
 def _paths(data, prefix=()):
@@ -544,8 +747,11 @@ def mutated_toml(draw, base_text: str, mode: str = "wild"):
     data = tomllib.loads(base_text)
     if mode == "wild" and draw(st.integers(0, 5)) == 0:
         return draw(mutated_text(base_text)).encode("utf-8", "surrogatepass")
-    ops = {"valid": ["number"], "edge": ["edge", "number", "delete", "unknown"],
-           "wild": ["edge", "edge", "number", "delete", "unknown", "unit"]}[mode]
+    ops = {
+        "valid": ["number"],
+        "edge": ["edge", "number", "delete", "unknown"],
+        "wild": ["edge", "edge", "number", "delete", "unknown", "unit"],
+    }[mode]
     factors = [0.5, 0.9, 1.1, 2] if mode == "valid" else [-1, 0, 1e-3, 0.5, 2, 1e3, 1e100]
     for _ in range(draw(st.integers(0, 3))):
         places = list(_paths(data))
@@ -567,7 +773,13 @@ def mutated_toml(draw, base_text: str, mode: str = "wild"):
             old = container[key]
             if isinstance(old, (int, float)) and not isinstance(old, bool):
                 factor = draw(st.sampled_from(factors))
-                container[key] = type(old)(old * factor) if isinstance(old, float) else int(old * factor) if abs(factor) < 1e20 else float(old * factor)
+                container[key] = (
+                    type(old)(old * factor)
+                    if isinstance(old, float)
+                    else int(old * factor)
+                    if abs(factor) < 1e20
+                    else float(old * factor)
+                )
             elif mode != "valid":
                 container[key] = draw(st.sampled_from(TOML_EDGES))
         else:
@@ -596,7 +808,7 @@ def mutated_text(draw, text: str):
     elif op == "garble":
         line = lines[i]
         j = draw(st.integers(0, max(0, len(line) - 1)))
-        lines[i] = line[:j] + draw(st.text(min_size=1, max_size=5)) + line[j + 1:]
+        lines[i] = line[:j] + draw(st.text(min_size=1, max_size=5)) + line[j + 1 :]
     else:
         lines.insert(i, draw(st.text(max_size=40)) + "\n")
     return "".join(lines)
@@ -605,8 +817,10 @@ def mutated_text(draw, text: str):
 def toml_files(kind: str, names=None, mode: str = "wild"):
     """Mutations of the shipped TOML files of a data/ folder, and (wild) random text."""
     names = names or [n for n in shipped_names(kind) if n.endswith(".toml") and n != "index.toml"]
-    choices = [st.sampled_from(names).flatmap(lambda n: mutated_toml(shipped_text(kind, n), mode)),
-               st.sampled_from(names).map(lambda n: shipped_text(kind, n).encode())]
+    choices = [
+        st.sampled_from(names).flatmap(lambda n: mutated_toml(shipped_text(kind, n), mode)),
+        st.sampled_from(names).map(lambda n: shipped_text(kind, n).encode()),
+    ]
     if mode == "wild":
         choices.append(st.text(max_size=120).map(lambda t: t.encode("utf-8", "surrogatepass")))
     return st.one_of(*choices)
@@ -616,10 +830,25 @@ def csv_files(mode: str = "wild"):
     base = shipped_text("examples", "dumbbell.csv")
     if mode == "valid":
         row = st.lists(positive_numbers(), min_size=4, max_size=4).map(lambda r: ", ".join(r))
-        return st.one_of(st.just(base), st.lists(row, min_size=1, max_size=8).map(lambda rows: "m, x, y, z\n" + "\n".join(rows) + "\n")).map(str.encode)
+        return st.one_of(
+            st.just(base),
+            st.lists(row, min_size=1, max_size=8).map(lambda rows: "m, x, y, z\n" + "\n".join(rows) + "\n"),
+        ).map(str.encode)
     row = st.lists(st.one_of(numbers(), positive_numbers()), min_size=3, max_size=5).map(lambda r: ", ".join(r))
-    header = st.sampled_from(["m, x, y, z", "m [kg], x, y, z", "m [g], x [cm], y [cm], z [cm]", "m [m], x, y, z",
-                              "m, x [kg], y, z", "x, y, z, m", "m,x,y", "mass, x, y, z", "", "m [foo], x, y, z"])
+    header = st.sampled_from(
+        [
+            "m, x, y, z",
+            "m [kg], x, y, z",
+            "m [g], x [cm], y [cm], z [cm]",
+            "m [m], x, y, z",
+            "m, x [kg], y, z",
+            "x, y, z, m",
+            "m,x,y",
+            "mass, x, y, z",
+            "",
+            "m [foo], x, y, z",
+        ]
+    )
     built = st.tuples(header, st.lists(row, min_size=0, max_size=6)).map(lambda t: "\n".join([t[0], *t[1]]) + "\n")
     return st.one_of(st.just(base), mutated_text(base), built).map(lambda t: t.encode("utf-8", "surrogatepass"))
 
@@ -632,9 +861,13 @@ def density_files(draw, mode: str = "wild"):
 
     if mode == "valid":
         shape = draw(st.tuples(*[st.integers(2, 5)] * 3))
-        ds = xr.Dataset({"rho": (("x", "y", "z"), np.full(shape, draw(st.floats(1, 1e4))), {"units": "kg m-3"})},
-                        coords={a: (a, np.linspace(-1.0, 1.0, n), {"units": draw(st.sampled_from(["m", "km", "cm"]))})
-                                for a, n in zip("xyz", shape)})
+        ds = xr.Dataset(
+            {"rho": (("x", "y", "z"), np.full(shape, draw(st.floats(1, 1e4))), {"units": "kg m-3"})},
+            coords={
+                a: (a, np.linspace(-1.0, 1.0, n), {"units": draw(st.sampled_from(["m", "km", "cm"]))})
+                for a, n in zip("xyz", shape)
+            },
+        )
         with tempfile.TemporaryDirectory() as tmp:
             ds.to_netcdf(Path(tmp) / "grid.nc", engine="netcdf4")
             return (Path(tmp) / "grid.nc").read_bytes()
@@ -661,17 +894,19 @@ def density_files(draw, mode: str = "wild"):
         values.flat[0] = draw(st.sampled_from([0.0, -5.0, float("nan"), 1e308]))
     dims = draw(st.sampled_from([("x", "y", "z"), ("z", "y", "x"), ("x", "y", "w")]))
     if dims != ("x", "y", "z"):
-        values = values.transpose([ "xyz".index(d) if d in "xyz" else 2 for d in dims]) if dims[2] != "w" else values
+        values = values.transpose(["xyz".index(d) if d in "xyz" else 2 for d in dims]) if dims[2] != "w" else values
     unit = draw(st.sampled_from(["kg m-3", "g cm-3", "kg/m3", "kg", "m", "", "foo"]))
-    ds = xr.Dataset({"rho": (dims, values, {"units": unit})},
-                    coords={k: v for k, v in coords.items() if k in dims} if dims[2] != "w" else {})
+    ds = xr.Dataset(
+        {"rho": (dims, values, {"units": unit})},
+        coords={k: v for k, v in coords.items() if k in dims} if dims[2] != "w" else {},
+    )
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "grid.nc"
         ds.to_netcdf(path, engine="netcdf4")
         return path.read_bytes()
 
 
-@lru_cache(maxsize=None)
+@cache
 def _eop_lines(name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """(header lines, data lines) of a file of astropy-iers-data."""
     import astropy_iers_data
@@ -679,7 +914,9 @@ def _eop_lines(name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
     path = Path(astropy_iers_data.__file__).parent / "data" / name
     lines = path.read_text(encoding="ascii").splitlines()
     if name.startswith("eopc04"):
-        return tuple(x for x in lines if x.startswith("#")), tuple(x for x in lines if not x.startswith("#") and x.strip())
+        return tuple(x for x in lines if x.startswith("#")), tuple(
+            x for x in lines if not x.startswith("#") and x.strip()
+        )
     return (), tuple(x for x in lines if x.strip())
 
 
@@ -694,10 +931,17 @@ def eop_files(draw, mode: str = "wild"):
     years = draw(st.sampled_from([0.01, 1, 3, 8, 11, 12, 14]))
     n = max(2, int(years * 365.25))
     start = draw(st.integers(0, max(0, len(data) - n)))
-    lines = list(header) + list(data[start:start + n])
+    lines = list(header) + list(data[start : start + n])
     text = "\n".join(lines) + "\n"
-    op = draw(st.sampled_from({"valid": ["none"], "edge": ["none", "field", "swap", "gap"],
-                               "wild": ["none", "text", "field", "swap", "gap"]}[mode]))
+    op = draw(
+        st.sampled_from(
+            {
+                "valid": ["none"],
+                "edge": ["none", "field", "swap", "gap"],
+                "wild": ["none", "text", "field", "swap", "gap"],
+            }[mode]
+        )
+    )
     body = len(header)
     if op == "text":
         text = draw(mutated_text(text))
@@ -706,11 +950,15 @@ def eop_files(draw, mode: str = "wild"):
         if op == "field":
             line = lines[i]
             j = draw(st.integers(0, max(0, len(line) - 10)))
-            lines[i] = line[:j] + draw(st.sampled_from(["       nan", "  junk    ", "     1e300", "      -inf", "          "])) + line[j + 10:]
+            lines[i] = (
+                line[:j]
+                + draw(st.sampled_from(["       nan", "  junk    ", "     1e300", "      -inf", "          "]))
+                + line[j + 10 :]
+            )
         elif op == "swap":
             lines[i], lines[i + 1] = lines[i + 1], lines[i]
         else:
-            del lines[i: i + draw(st.integers(1, 400))]
+            del lines[i : i + draw(st.integers(1, 400))]
         text = "\n".join(lines) + "\n"
     return text.encode("utf-8", "surrogatepass")
 
@@ -720,10 +968,35 @@ def eop_files(draw, mode: str = "wild"):
 # --------------------------------------------------------------------------------------------
 
 #: Output paths: new, in a sub-folder, in a missing folder, a folder, empty, odd suffixes, an existing file.
-OUTPUT_NAMES = ["out.nc", "out.nc", "out.nc", "sub/out.nc", "missing/out.nc", ".", "sub", "", "out", "out.txt",
-                "prev.nc", "prev.nc", "out.zarr", "sub/prev.nc"]
-PLOT_NAMES = ["fig.png", "fig.png", "fig.pdf", "fig.svg", "fig.jpg", "fig", "missing/fig.png", "sub", "prevfig.png",
-              "prevfig.png", ""]
+OUTPUT_NAMES = [
+    "out.nc",
+    "out.nc",
+    "out.nc",
+    "sub/out.nc",
+    "missing/out.nc",
+    ".",
+    "sub",
+    "",
+    "out",
+    "out.txt",
+    "prev.nc",
+    "prev.nc",
+    "out.zarr",
+    "sub/prev.nc",
+]
+PLOT_NAMES = [
+    "fig.png",
+    "fig.png",
+    "fig.pdf",
+    "fig.svg",
+    "fig.jpg",
+    "fig",
+    "missing/fig.png",
+    "sub",
+    "prevfig.png",
+    "prevfig.png",
+    "",
+]
 
 
 @st.composite
@@ -771,9 +1044,18 @@ def _finish(draw, command: str, argv: list[str], files: dict, mode: str = "wild"
 
 def _common_outputs(mode: str = "wild"):
     if mode == "valid":
-        return {"-o": st.sampled_from(["out.nc", "sub/out.nc", "prev.nc"]), "--overwrite": None, "--json": None,
-                "--plot": st.sampled_from(["fig.png", "fig.pdf", "fig.svg", "prevfig.png"])}
-    return {"-o": st.sampled_from(OUTPUT_NAMES), "--overwrite": None, "--json": None, "--plot": st.sampled_from(PLOT_NAMES)}
+        return {
+            "-o": st.sampled_from(["out.nc", "sub/out.nc", "prev.nc"]),
+            "--overwrite": None,
+            "--json": None,
+            "--plot": st.sampled_from(["fig.png", "fig.pdf", "fig.svg", "prevfig.png"]),
+        }
+    return {
+        "-o": st.sampled_from(OUTPUT_NAMES),
+        "--overwrite": None,
+        "--json": None,
+        "--plot": st.sampled_from(PLOT_NAMES),
+    }
 
 
 BODIES = ["earth", "mars", "EARTH", "venus", "", "my_planet", "../x", "mars.toml"]
@@ -789,8 +1071,11 @@ def chandler_cases(draw, command="chandler"):
     files = {}
     argv = draw(st.lists(st.sampled_from(BODIES if mode == "wild" else ["earth", "mars"]), max_size=2))
     if draw(st.booleans()):
-        files["planet.toml"] = draw(toml_files("bodies", None, mode) if draw(st.booleans()) else
-                                    toml_files("examples", ["my_planet.toml"], mode))
+        files["planet.toml"] = draw(
+            toml_files("bodies", None, mode)
+            if draw(st.booleans())
+            else toml_files("examples", ["my_planet.toml"], mode)
+        )
         argv += ["--body-file", "planet.toml"]
     elif mode == "wild" and draw(st.booleans()):
         argv += ["--body-file", draw(st.sampled_from(["my_planet.toml", "missing.toml", "mars", "sub", "planet.nc"]))]
@@ -799,14 +1084,24 @@ def chandler_cases(draw, command="chandler"):
         models = ["full", "rigid", "elastic", "fluid_core", "core", "ocean_pole_tide", "ocean", "anelastic"]
         spec.update({"--model": st.sampled_from(models + (["bogus", ""] if mode == "wild" else [])), "--sources": None})
     elif command == "modes":
-        spec.update({"--profile": st.sampled_from(["prem", "mars_layered", "profile.toml"]
-                                                  + (["missing", ""] if mode == "wild" else [])),
-                     "--mode": st.sampled_from(["CW", "FCN"] + (["cw", "XX"] if mode == "wild" else []))})
+        spec.update(
+            {
+                "--profile": st.sampled_from(
+                    ["prem", "mars_layered", "profile.toml"] + (["missing", ""] if mode == "wild" else [])
+                ),
+                "--mode": st.sampled_from(["CW", "FCN"] + (["cw", "XX"] if mode == "wild" else [])),
+            }
+        )
         if draw(st.booleans()):
             files["profile.toml"] = draw(toml_files("profiles", None, mode))
     else:
-        spec.update({"--perturber": st.sampled_from(["moon", "sun", "perturber.toml"]
-                                                    + (["phobos", "", "iau2006"] if mode == "wild" else []))})
+        spec.update(
+            {
+                "--perturber": st.sampled_from(
+                    ["moon", "sun", "perturber.toml"] + (["phobos", "", "iau2006"] if mode == "wild" else [])
+                )
+            }
+        )
         if draw(st.booleans()):
             files["perturber.toml"] = draw(toml_files("precession", ["moon.toml", "sun.toml"], mode))
     argv += draw(_options(spec))
@@ -836,32 +1131,60 @@ def pole_cases(draw, command: str):
     spec = _common_outputs(mode)
     spec.update({"--start": dates(mode), "--end": dates(mode)})
     if command == "polar-motion":
-        spec.update({"--window": _pick(mode, ["8", "4", "2", "6", "3.5"], ["0", "-1", "1e300", "nan", "inf", "1e-300", "20"], ["x", ""]),
-                     "--step": _pick(mode, ["1", "0.5", "2"], ["0", "-1", "1e-300", "nan", "1e300"], ["x"]),
-                     "--drift-degree": whole_numbers(0, 4, mode),
-                     "--excitation-q": _pick(mode, ["100", "none", "50"], ["0", "-1", "1", "inf", "nan", "1e300", "0.5"], ["x"]),
-                     "--no-q": None})
+        spec.update(
+            {
+                "--window": _pick(
+                    mode, ["8", "4", "2", "6", "3.5"], ["0", "-1", "1e300", "nan", "inf", "1e-300", "20"], ["x", ""]
+                ),
+                "--step": _pick(mode, ["1", "0.5", "2"], ["0", "-1", "1e-300", "nan", "1e300"], ["x"]),
+                "--drift-degree": whole_numbers(0, 4, mode),
+                "--excitation-q": _pick(
+                    mode, ["100", "none", "50"], ["0", "-1", "1", "inf", "nan", "1e300", "0.5"], ["x"]
+                ),
+                "--no-q": None,
+            }
+        )
         if source != "shipped" and draw(st.booleans()):
             argv.append("--no-q")
     elif command == "excitation":
-        spec.update({"--period": _pick(mode, ["433d", "433", "365 d", "1.2 yr"], ["0", "-433", "nan", "inf", "1e300", "1e-300"],
-                                       ["433 m", "x"]),
-                     "--q": _pick(mode, ["100", "inf", "82"], ["0", "-1", "nan", "1e300", "1e-300"], ["x"])})
+        spec.update(
+            {
+                "--period": _pick(
+                    mode,
+                    ["433d", "433", "365 d", "1.2 yr"],
+                    ["0", "-433", "nan", "inf", "1e300", "1e-300"],
+                    ["433 m", "x"],
+                ),
+                "--q": _pick(mode, ["100", "inf", "82"], ["0", "-1", "nan", "1e300", "1e-300"], ["x"]),
+            }
+        )
     else:
-        spec.update({"--issued": dates(mode),
-                     "--horizon": _pick(mode, ["365d", "90", "30d", "1 yr"], ["0", "-5", "1e300", "nan", "inf", "4 yr", "1e-300", "1"],
-                                        ["5 m", "x"]),
-                     "--method": _pick(mode, ["kalman", "ls_ar"], ["both"], ["x", ""]),
-                     "--latency": _pick(mode, ["1d", "30d", "0"], ["-1", "nan", "1e300", "100 yr"], ["x"]),
-                     "--q": _pick(mode, ["100", "inf"], ["0", "-1", "nan"], ["x"]),
-                     "--scheduler": _pick(mode, ["synchronous", "threads"], [], ["bogus"])})
+        spec.update(
+            {
+                "--issued": dates(mode),
+                "--horizon": _pick(
+                    mode,
+                    ["365d", "90", "30d", "1 yr"],
+                    ["0", "-5", "1e300", "nan", "inf", "4 yr", "1e-300", "1"],
+                    ["5 m", "x"],
+                ),
+                "--method": _pick(mode, ["kalman", "ls_ar"], ["both"], ["x", ""]),
+                "--latency": _pick(mode, ["1d", "30d", "0"], ["-1", "nan", "1e300", "100 yr"], ["x"]),
+                "--q": _pick(mode, ["100", "inf"], ["0", "-1", "nan"], ["x"]),
+                "--scheduler": _pick(mode, ["synchronous", "threads"], [], ["bogus"]),
+            }
+        )
         if draw(st.booleans()):
             a = draw(dates(mode))
             b = draw(dates(mode))
             spec.pop("--issued")
             spec.pop("--scheduler")
             spec["--every"] = _pick(mode, ["7d", "30d", "100d"], ["0", "-7", "1e-300", "nan"], ["x"])
-            span = draw(st.sampled_from([f"{a}:{b}", "2019-01-01:2019-03-01"] + ([a, f"{a}:{b}:{a}", ":"] if mode == "wild" else [])))
+            span = draw(
+                st.sampled_from(
+                    [f"{a}:{b}", "2019-01-01:2019-03-01"] + ([a, f"{a}:{b}:{a}", ":"] if mode == "wild" else [])
+                )
+            )
             argv += ["--hindcast", span, "--scheduler", "synchronous"]
     argv += draw(_options(spec))
     return draw(_finish(command, argv, files, mode))
@@ -873,23 +1196,41 @@ def inertia_cases(draw):
 
     mode = _mode(draw)
     files = {}
-    source = draw(st.sampled_from(["points", "density", "solid", "solid", "solid"] + (["none"] if mode == "wild" else [])))
+    source = draw(
+        st.sampled_from(["points", "density", "solid", "solid", "solid"] + (["none"] if mode == "wild" else []))
+    )
     argv: list[str] = []
-    spec = {"-o": _common_outputs(mode)["-o"], "--overwrite": None, "--json": None,
-            "--about": _pick(mode, [["com"], ["origin"], ["0", "0", "-0.06"]], [["1e300", "0", "0"], ["nan", "0", "0"], ["0", "0", "0"]],
-                             [["1", "2"], ["x", "y", "z"], ["1 km", "0", "0 s"]]),
-            "--tolerance": _pick(mode, ["1e-9", "0.5", "1e-3"], ["0", "-1", "1", "nan", "inf"], ["x"])}
+    spec = {
+        "-o": _common_outputs(mode)["-o"],
+        "--overwrite": None,
+        "--json": None,
+        "--about": _pick(
+            mode,
+            [["com"], ["origin"], ["0", "0", "-0.06"]],
+            [["1e300", "0", "0"], ["nan", "0", "0"], ["0", "0", "0"]],
+            [["1", "2"], ["x", "y", "z"], ["1 km", "0", "0 s"]],
+        ),
+        "--tolerance": _pick(mode, ["1e-9", "0.5", "1e-3"], ["0", "-1", "1", "nan", "inf"], ["x"]),
+    }
     if source == "points":
         files["masses.csv"] = draw(csv_files(mode))
         argv += ["--points", draw(_pick(mode, ["masses.csv", "masses.csv", "dumbbell.csv"], [], ["missing.csv"]))]
-        spec.update({"--mass-unit": _pick(mode, UNITS["mass"][:3], [], UNITS["mass"][3:] + ["", "???"]),
-                     "--length-unit": _pick(mode, UNITS["length"][:3], [], UNITS["length"][3:] + ["", "???"])})
+        spec.update(
+            {
+                "--mass-unit": _pick(mode, UNITS["mass"][:3], [], UNITS["mass"][3:] + ["", "???"]),
+                "--length-unit": _pick(mode, UNITS["length"][:3], [], UNITS["length"][3:] + ["", "???"]),
+            }
+        )
     elif source == "density":
         files["grid.nc"] = draw(density_files(mode))
         argv += ["--density", draw(_pick(mode, ["grid.nc", "grid.nc", "planet.nc"], [], ["missing.nc"]))]
-        spec.update({"--var": _pick(mode, ["rho"], [], ["x", "missing"]),
-                     "--rule": _pick(mode, ["trapezoid", "simpson", "voxel"], [], ["bogus"]),
-                     "--length-unit": _pick(mode, UNITS["length"][:3], [], UNITS["length"][3:] + ["", "???"])})
+        spec.update(
+            {
+                "--var": _pick(mode, ["rho"], [], ["x", "missing"]),
+                "--rule": _pick(mode, ["trapezoid", "simpson", "voxel"], [], ["bogus"]),
+                "--length-unit": _pick(mode, UNITS["length"][:3], [], UNITS["length"][3:] + ["", "???"]),
+            }
+        )
     elif source == "solid":
         name = draw(st.sampled_from(list(SOLIDS) + (["bogus"] if mode == "wild" else [])))
         argv += ["--solid", name]
@@ -907,8 +1248,12 @@ def inertia_cases(draw):
                 argv += [flag, draw(quantities(kind, mode=mode))]
         if mode == "wild" and draw(st.integers(0, 5)) == 0:
             argv += ["--radius", "1"]  # an option the solid may not use
-        spec.update({"--mass-unit": _pick(mode, UNITS["mass"][:3], [], UNITS["mass"][3:] + ["", "???"]),
-                     "--length-unit": _pick(mode, UNITS["length"][:3], [], UNITS["length"][3:] + ["", "???"])})
+        spec.update(
+            {
+                "--mass-unit": _pick(mode, UNITS["mass"][:3], [], UNITS["mass"][3:] + ["", "???"]),
+                "--length-unit": _pick(mode, UNITS["length"][:3], [], UNITS["length"][3:] + ["", "???"]),
+            }
+        )
     argv += draw(_options(spec))
     return draw(_finish("inertia", argv, files, mode))
 
@@ -916,14 +1261,25 @@ def inertia_cases(draw):
 @st.composite
 def free_cases(draw):
     mode = _mode(draw)
-    vec = lambda kind, typical=None: st.lists(quantities(kind, typical, mode), min_size=3, max_size=3)  # noqa: E731
-    argv = ["--inertia", *draw(vec("inertia")),
-            "--omega", *draw(vec("rate", st.floats(-10, 10).map(lambda x: f"{x:.6g}")))]
+
+    def vec(kind, typical=None):
+        return st.lists(quantities(kind, typical, mode), min_size=3, max_size=3)
+
+    argv = [
+        "--inertia",
+        *draw(vec("inertia")),
+        "--omega",
+        *draw(vec("rate", st.floats(-10, 10).map(lambda x: f"{x:.6g}"))),
+    ]
     if mode == "wild" and draw(st.integers(0, 5)) == 0:
         argv = argv[: draw(st.integers(0, len(argv)))]
     spec = _common_outputs(mode)
-    spec.update({"--t-end": quantities("time", st.floats(0, 50).map(lambda x: f"{x:.4g}"), mode),
-                 "--samples": whole_numbers(1, 2000, mode)})
+    spec.update(
+        {
+            "--t-end": quantities("time", st.floats(0, 50).map(lambda x: f"{x:.4g}"), mode),
+            "--samples": whole_numbers(1, 2000, mode),
+        }
+    )
     argv += draw(_options(spec))
     return draw(_finish("free", argv, {}, mode))
 
@@ -931,8 +1287,16 @@ def free_cases(draw):
 @st.composite
 def top_cases(draw):
     mode = _mode(draw)
-    argv = ["--I1", draw(quantities("inertia", mode=mode)), "--I3", draw(quantities("inertia", mode=mode)),
-            "--mgl", draw(quantities("energy", mode=mode)), "--theta0", draw(angles(mode))]
+    argv = [
+        "--I1",
+        draw(quantities("inertia", mode=mode)),
+        "--I3",
+        draw(quantities("inertia", mode=mode)),
+        "--mgl",
+        draw(quantities("energy", mode=mode)),
+        "--theta0",
+        draw(angles(mode)),
+    ]
     spin = draw(st.sampled_from(["--omega3", "--psidot0"] + (["both", "neither"] if mode == "wild" else [])))
     rate = quantities("rate", st.floats(-30, 30).map(lambda x: f"{x:.4g}"), mode)
     if spin in ("--omega3", "both"):
@@ -942,23 +1306,40 @@ def top_cases(draw):
     if mode == "wild" and draw(st.integers(0, 5)) == 0:
         argv = argv[: draw(st.integers(0, len(argv)))]
     spec = _common_outputs(mode)
-    spec.update({"--thetadot0": rate, "--phidot0": rate, "--phi0": angles(mode), "--psi0": angles(mode),
-                 "--t-end": quantities("time", st.floats(0, 30).map(lambda x: f"{x:.4g}"), mode),
-                 "--samples": whole_numbers(1, 2000, mode)})
+    spec.update(
+        {
+            "--thetadot0": rate,
+            "--phidot0": rate,
+            "--phi0": angles(mode),
+            "--psi0": angles(mode),
+            "--t-end": quantities("time", st.floats(0, 30).map(lambda x: f"{x:.4g}"), mode),
+            "--samples": whole_numbers(1, 2000, mode),
+        }
+    )
     argv += draw(_options(spec))
     return draw(_finish("top", argv, {}, mode))
 
 
 #: Shipped scenes cheap enough to run whole within the bound.
-CHEAP_SCENES = ["tennis_racket", "top_cusps", "top_loops", "tossed_book", "tumbling_asteroid", "gyroscope",
-                "mars_free_wobble", "earth_free_wobble"]
+CHEAP_SCENES = [
+    "tennis_racket",
+    "top_cusps",
+    "top_loops",
+    "tossed_book",
+    "tumbling_asteroid",
+    "gyroscope",
+    "mars_free_wobble",
+    "earth_free_wobble",
+]
 
 
 @st.composite
 def run_cases(draw):
     mode = _mode(draw)
     files = {}
-    which = draw(st.sampled_from(["name", "mutated", "mutated", "mutated", "list"] + (["missing"] if mode == "wild" else [])))
+    which = draw(
+        st.sampled_from(["name", "mutated", "mutated", "mutated", "list"] + (["missing"] if mode == "wild" else []))
+    )
     argv: list[str] = []
     if which == "name":
         argv.append(draw(_pick(mode, CHEAP_SCENES, ["tennis_racket.toml"], ["bogus"])))
@@ -970,7 +1351,9 @@ def run_cases(draw):
     else:
         argv.append("--list")
     spec = _common_outputs(mode)
-    spec["--model"] = _pick(mode, ["free-symmetric", "free-elliptic", "heavy-top", "splitting", "dop853"], [], ["bogus", ""])
+    spec["--model"] = _pick(
+        mode, ["free-symmetric", "free-elliptic", "heavy-top", "splitting", "dop853"], [], ["bogus", ""]
+    )
     argv += draw(_options(spec, always=("-o",) if which != "list" and draw(st.integers(0, 5)) else ()))
     return draw(_finish("run", argv, files, mode))
 
@@ -990,9 +1373,13 @@ def sweep_cases(draw):
     else:
         argv.append(draw(st.sampled_from(["missing.toml", "sub", ""])))
     spec = _common_outputs(mode)
-    spec.update({"--chunk-size": whole_numbers(50, 500, mode),
-                 "--scheduler": _pick(mode, ["threads", "synchronous", "threads", "processes"], [], ["bogus", ""]),
-                 "--quiet": None})
+    spec.update(
+        {
+            "--chunk-size": whole_numbers(50, 500, mode),
+            "--scheduler": _pick(mode, ["threads", "synchronous", "threads", "processes"], [], ["bogus", ""]),
+            "--quiet": None,
+        }
+    )
     argv += ["--members", draw(whole_numbers(1, 800, mode))]
     argv += draw(_options(spec))
     o = argv.index("-o") if "-o" in argv else -1
@@ -1014,13 +1401,23 @@ def invert_cases(draw):
         argv.append("setup.toml")
     else:
         argv.append(draw(st.sampled_from(["missing.toml", "sub", ""])))
-    argv += ["--steps", draw(_pick(mode, ["20", "30", "10"], ["0", "-1", "1"], ["x"])),
-             "--burn", draw(_pick(mode, ["5", "10", "0"], ["-1"]))]
+    argv += [
+        "--steps",
+        draw(_pick(mode, ["20", "30", "10"], ["0", "-1", "1"], ["x"])),
+        "--burn",
+        draw(_pick(mode, ["5", "10", "0"], ["-1"])),
+    ]
     spec = _common_outputs(mode)
-    spec.update({"--walkers": _pick(mode, ["10", "12", "16"], ["11", "2", "0", "-2"], ["x"]),
-                 "--ensembles": _pick(mode, ["1", "2"], ["0", "-1"]), "--seed": whole_numbers(0, 2**32, mode),
-                 "--prior-only": None, "--scheduler": _pick(mode, ["synchronous", "threads"], [], ["bogus"]),
-                 "--quiet": None})
+    spec.update(
+        {
+            "--walkers": _pick(mode, ["10", "12", "16"], ["11", "2", "0", "-2"], ["x"]),
+            "--ensembles": _pick(mode, ["1", "2"], ["0", "-1"]),
+            "--seed": whole_numbers(0, 2**32, mode),
+            "--prior-only": None,
+            "--scheduler": _pick(mode, ["synchronous", "threads"], [], ["bogus"]),
+            "--quiet": None,
+        }
+    )
     argv += draw(_options(spec))
     return draw(_finish("invert", argv, files, mode))
 
@@ -1037,8 +1434,16 @@ def example_cases(draw):
         return draw(_finish("example", argv, {}, mode))
     argv = [draw(_pick(mode, names, [], ["bogus", "", "../etc", "bodies/", "/"]))]
     if draw(st.booleans()):
-        argv.append(draw(_pick(mode, ["copy.toml", "sub", "sub/", "prev.toml", "prev.toml", "copy.csv"], ["."],
-                               ["missing/copy.toml", ""])))
+        argv.append(
+            draw(
+                _pick(
+                    mode,
+                    ["copy.toml", "sub", "sub/", "prev.toml", "prev.toml", "copy.csv"],
+                    ["."],
+                    ["missing/copy.toml", ""],
+                )
+            )
+        )
     argv += draw(_options({"--json": None, "--overwrite": None}))
     case = draw(_finish("example", argv, {}, mode))
     if draw(st.integers(0, 3)) == 0:  # the default destination exists already
@@ -1054,13 +1459,33 @@ def bench_cases(draw, real: bool = True):
     if real and draw(st.integers(0, 3)) == 0:  # a real (short) run
         argv += ["--smoke", "--case", draw(st.sampled_from(["free_generic", "top_cusps", "user_free"]))]
     else:  # refusals: unknown cases, bad repeats, bad outputs, conflicting modes
-        argv += draw(st.sampled_from([["--case", "bogus"], ["--repeats", "0"], ["--repeats", "-1"], ["--repeats", "x"],
-                                      ["--quick", "--smoke"], ["--case", ""], ["--case", CASE_KEYS[0], "--repeats", "-3"],
-                                      ["--smoke", "-o", "missing/r.md"], ["--smoke", "-o", "prev.md"],
-                                      ["--smoke", "--plot", "prev.md"], ["--smoke", "-o", "sub"]]))
-    argv += draw(_options({"--json": None, "-o": st.sampled_from(["report.md", "prev.md", "missing/r.md", "sub"]),
-                           "--plot": st.sampled_from(["figs", "sub", "missing/figs", "prev.md"]),
-                           "--repeats": st.sampled_from(["1", "0", "-1"])}))
+        argv += draw(
+            st.sampled_from(
+                [
+                    ["--case", "bogus"],
+                    ["--repeats", "0"],
+                    ["--repeats", "-1"],
+                    ["--repeats", "x"],
+                    ["--quick", "--smoke"],
+                    ["--case", ""],
+                    ["--case", CASE_KEYS[0], "--repeats", "-3"],
+                    ["--smoke", "-o", "missing/r.md"],
+                    ["--smoke", "-o", "prev.md"],
+                    ["--smoke", "--plot", "prev.md"],
+                    ["--smoke", "-o", "sub"],
+                ]
+            )
+        )
+    argv += draw(
+        _options(
+            {
+                "--json": None,
+                "-o": st.sampled_from(["report.md", "prev.md", "missing/r.md", "sub"]),
+                "--plot": st.sampled_from(["figs", "sub", "missing/figs", "prev.md"]),
+                "--repeats": st.sampled_from(["1", "0", "-1"]),
+            }
+        )
+    )
     return draw(_finish("bench", argv, {"prev.md": PREVIOUS}, "edge"))
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 from pathlib import Path
 
 from importlinter.cli import lint_imports
@@ -36,8 +37,10 @@ def test_import_wobble_is_lazy():
 
 def test_table_commands_skip_xarray():
     """`wobble chandler earth --json` needs astropy.units and NumPy, not xarray, pandas or dask."""
-    loaded = _loaded_after("import contextlib, io, wobble.cli as c; f = io.StringIO(); "
-                           "contextlib.redirect_stdout(f).__enter__(); c.main(['chandler', 'earth', '--json'])")
+    loaded = _loaded_after(
+        "import contextlib, io, wobble.cli as c; f = io.StringIO(); "
+        "contextlib.redirect_stdout(f).__enter__(); c.main(['chandler', 'earth', '--json'])"
+    )
     assert not set(loaded) & {"xarray", "pandas", "dask", "matplotlib", "numba", "astropy.utils.iers"}
 
 
@@ -47,3 +50,138 @@ def test_public_names_resolve():
 
     missing = [name for name in wobble.__all__ if getattr(wobble, name, None) is None]
     assert missing == []
+
+
+# ---------------------------------------------------------------------------
+# Public seams: a module uses another wobble module only through its public names.
+# ---------------------------------------------------------------------------
+PACKAGE = ROOT / "wobble"
+
+# (importing module, private target) -> why it is allowed. Keep empty; an entry needs a reason.
+PRIVATE_SEAMS_ALLOWED: dict[tuple[str, str], str] = {}
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _is_module(dotted: str) -> bool:
+    """True when ``dotted`` (``wobble.x.y``) names a module or package of the source tree."""
+    path = ROOT.joinpath(*dotted.split("."))
+    return path.with_suffix(".py").is_file() or (path / "__init__.py").is_file()
+
+
+def _is_private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _private_use(importer: str, target: str) -> str | None:
+    """Why ``importer`` may not reach ``target`` (a dotted wobble name), or None when it may.
+
+    The first private component of ``target`` decides: a private *module* may be used anywhere
+    inside the package that holds it; a private *name* of a module only by that module.
+    """
+    parts = target.split(".")
+    for k, part in enumerate(parts):
+        if not _is_private(part):
+            continue
+        owner, reached = ".".join(parts[:k]), ".".join(parts[: k + 1])
+        if _is_module(reached):
+            if importer == owner or importer.startswith(owner + "."):
+                return None
+            return f"private module {reached} used outside {owner}"
+        if importer == owner:
+            return None
+        return f"private name {reached}"
+    return None
+
+
+def _absolute(importer: str, is_package: bool, node) -> str:
+    """The absolute module a ``from ... import`` statement reads from."""
+    if not node.level:
+        return node.module
+    base = importer.split(".")
+    base = base if is_package else base[:-1]
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _attribute_chain(node) -> list[str] | None:
+    """``a.b.c`` as ["a", "b", "c"]; None when the chain does not start at a plain name."""
+    names = []
+    while isinstance(node, ast.Attribute):
+        names.append(node.attr)
+        node = node.value
+    if not isinstance(node, ast.Name):
+        return None
+    return [node.id, *reversed(names)]
+
+
+def _private_seams(path: Path, source: str | None = None) -> list[str]:
+    """Every place where the module at ``path`` reaches a private name of another wobble module."""
+    importer = _module_name(path)
+    is_package = path.name == "__init__.py"
+    source = path.read_text(encoding="utf-8") if source is None else source
+    tree = ast.parse(source, filename=str(path))
+    found: list[tuple[int, str]] = []
+    aliases: dict[str, str] = {}  # local name -> the wobble module it is bound to
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            origin = _absolute(importer, is_package, node)
+            if origin.split(".")[0] != "wobble":
+                continue
+            found.append((node.lineno, origin))
+            for alias in node.names:
+                target = f"{origin}.{alias.name}"
+                found.append((node.lineno, target))
+                if _is_module(target):
+                    aliases[alias.asname or alias.name] = target
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] != "wobble":
+                    continue
+                found.append((node.lineno, alias.name))
+                aliases[alias.asname or "wobble"] = alias.name if alias.asname else "wobble"
+
+    for node in ast.walk(tree):
+        chain = _attribute_chain(node) if isinstance(node, ast.Attribute) else None
+        if chain and chain[0] in aliases:
+            found.append((node.lineno, ".".join([aliases[chain[0]], *chain[1:]])))
+
+    problems = {}
+    for lineno, target in sorted(set(found)):
+        why = _private_use(importer, target)
+        if why and (importer, target) not in PRIVATE_SEAMS_ALLOWED:
+            problems.setdefault(f"{path.relative_to(ROOT)}:{lineno}: {why}", None)
+    return list(problems)
+
+
+def test_no_private_names_across_modules():
+    """No module imports a private name (``_x``) of another wobble module (issue 16: public seams).
+
+    Checked: ``from wobble.x import _name``, ``from . import _name``, ``import wobble.x._y``, and
+    ``alias._name`` where ``alias`` is an imported wobble module. A private module (``_output``)
+    may be used anywhere inside its own package; dunder names are public.
+    """
+    problems = [p for path in sorted(PACKAGE.rglob("*.py")) for p in _private_seams(path)]
+    assert problems == [], "private names used across modules:\n" + "\n".join(problems)
+
+
+def test_private_seam_check_finds_each_form():
+    """The check itself: each form of reaching a private name is found, the allowed ones are not."""
+    source = "\n".join(
+        [
+            "from wobble.models.chandler import _evaluate",  # 1: private name of another module
+            "from . import _output",  # 2: private module of its own package (allowed)
+            "from wobble.api import _sampling",  # 3: private module of another package
+            "from wobble.models import chandler as cm",  # 4
+            "cm._evaluate(cm.__name__)",  # 5: alias._name (the dunder is allowed)
+            "import wobble.numerics._dop853_tableau",  # 6: private module of another package
+            "wobble.models.hydrostatic._JUMP_TOLERANCE",  # 7: attribute chain from the package
+            "from ._output import print_json",  # 8: allowed
+        ]
+    )
+    found = _private_seams(PACKAGE / "cli" / "planted.py", source)
+    assert [int(p.split(":")[1]) for p in found] == [1, 3, 5, 6, 7], found

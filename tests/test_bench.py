@@ -18,9 +18,9 @@ from wobble.models.free import free_rotation
 
 cli_bench.harness()  # puts this checkout's benchmarks/ on the path, as `wobble bench` does
 
-from benchmarks import cases as C  # noqa: E402
-from benchmarks import free as F  # noqa: E402
-from benchmarks.timing import Run, measure, measures_resident_memory, peak_memory, time_at, traced_peak  # noqa: E402
+from benchmarks import cases as C  # noqa: E402 - after cli_bench.harness() puts benchmarks/ on sys.path
+from benchmarks import free as F  # noqa: E402 - after cli_bench.harness() puts benchmarks/ on sys.path
+from benchmarks.timing import Run, measure, measures_resident_memory, peak_memory, time_at, traced_peak  # noqa: E402 - after cli_bench.harness() puts benchmarks/ on sys.path
 
 
 def test_rel_and_phase_error_known_values():
@@ -66,14 +66,16 @@ def test_injected_perturbation_is_reported():
 
 def test_error_of_a_small_case_matches_an_independent_computation():
     """Symmetric body I = (1, 1, 2), omega0 = (0.1, 0, 1): omega_perp turns at 1 rad/s exactly."""
-    I = np.array([1.0, 1.0, 2.0])  # noqa: E741
+    I = np.array([1.0, 1.0, 2.0])
     w0 = np.array([0.1, 0.0, 1.0])
     t = np.linspace(0.0, 20.0, 41)
     sol = F.solve(F.free_euler_rhs(I), t, w0, "RK45", 1e-5, 1e-8)
     got = F.sol_omega(sol, t.size)
     harness = C.rel_error(got, free_rotation(I, w0).omega(t))
     by_hand = max(
-        float(np.sqrt((got[i, 0] - 0.1 * np.cos(ti)) ** 2 + (got[i, 1] - 0.1 * np.sin(ti)) ** 2 + (got[i, 2] - 1.0) ** 2))
+        float(
+            np.sqrt((got[i, 0] - 0.1 * np.cos(ti)) ** 2 + (got[i, 1] - 0.1 * np.sin(ti)) ** 2 + (got[i, 2] - 1.0) ** 2)
+        )
         / float(np.sqrt(0.01 + 1.0))
         for i, ti in enumerate(t)
     )
@@ -91,8 +93,10 @@ def test_measure_interleaves_and_checks_the_warm_up_output():
 
         return fn
 
-    runs = [Run("a", "1", maker("a"), lambda o: {"error": 1.0 if o == "a" else 0.0}),
-            Run("b", "1", maker("b"), lambda o: {"error": 2.0})]
+    runs = [
+        Run("a", "1", maker("a"), lambda o: {"error": 1.0 if o == "a" else 0.0}),
+        Run("b", "1", maker("b"), lambda o: {"error": 2.0}),
+    ]
     rows = measure(runs, repeats=2, slow_s=10.0)
     # warm-ups first, then rounds in which every run goes once (fast runs: 3 x repeats)
     assert calls[:2] == ["a", "b"]
@@ -118,8 +122,19 @@ def test_time_at_and_peak_memory():
 
 def test_wobble_bench_smoke_json(capsys, tmp_path):
     report = tmp_path / "perf.md"
-    code = main(["bench", "--smoke", "--case", "torqued_asymmetric_top", "--json", "--plot", str(tmp_path / "figs"),
-                 "-o", str(report)])
+    code = main(
+        [
+            "bench",
+            "--smoke",
+            "--case",
+            "torqued_asymmetric_top",
+            "--json",
+            "--plot",
+            str(tmp_path / "figs"),
+            "-o",
+            str(report),
+        ]
+    )
     assert code == 0
     data = json.loads(capsys.readouterr().out)
     assert set(data) >= {"meta", "cases", "ensembles", "targets"}
@@ -139,13 +154,16 @@ def test_wobble_bench_smoke_json(capsys, tmp_path):
     assert "## Targets" in text and "figs/work_precision_torqued_asymmetric_top.png" in text
 
 
-@pytest.mark.parametrize("argv", [
-    ["bench", "--repeats", "0"],
-    ["bench", "--case", "no_such_case"],
-    ["bench", "--smoke", "-o", "/no/such/folder/report.md"],
-    ["bench", "--quick", "--smoke"],
-    ["bench", "--bogus"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["bench", "--repeats", "0"],
+        ["bench", "--case", "no_such_case"],
+        ["bench", "--smoke", "-o", "/no/such/folder/report.md"],
+        ["bench", "--quick", "--smoke"],
+        ["bench", "--bogus"],
+    ],
+)
 def test_wobble_bench_bad_input_exits_2_with_one_line(argv, capsys):
     try:
         code = main(argv)
@@ -165,15 +183,24 @@ def test_quick_judges_targets_only_with_the_full_runs_methods():
     from benchmarks.torqued import torqued_case
 
     full, quick = torqued_case("asymmetric top", False), torqued_case("asymmetric top", True)
+
     def kept(case):
         return {(r.method, r.setting) for r in case.runs if r.method == "scipy DOP853" or r.method.startswith("wobble")}
 
     assert kept(quick) == kept(full) and quick.complete
     assert len(quick.runs) < len(full.runs)
     row = {"method": "wobble exact", "setting": "omega", "error": 1e-16, "t_min": 1e-3}
-    res = {"meta": {"mode": "quick"}, "ensembles": [],
-           "cases": [{"key": "free_generic", "complete": False,
-                      "rows": [row, {"method": "scipy DOP853", "setting": "rtol 1e-12", "error": 1e-9, "t_min": 1.0}]}]}
+    res = {
+        "meta": {"mode": "quick"},
+        "ensembles": [],
+        "cases": [
+            {
+                "key": "free_generic",
+                "complete": False,
+                "rows": [row, {"method": "scipy DOP853", "setting": "rtol 1e-12", "error": 1e-9, "t_min": 1.0}],
+            }
+        ],
+    }
     (t,) = [t for t in harness.targets(res) if t["case"] == "generic free body"]
     assert t["met"] is None and t["status"] == "not judged" and "fewer settings" in t["measured"]
     res["cases"][0]["complete"] = True

@@ -14,7 +14,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 from astropy import units as u
-from astropy.units import imperial  # noqa: F401  (registers u.imperial)
+from astropy.units import imperial  # noqa: F401 - importing it registers u.imperial
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -154,15 +154,19 @@ def test_composite_is_additive(a, b):
     np.testing.assert_allclose(parts.center_of_mass.to_value(u.m), joint.center_of_mass.to_value(u.m), atol=1e-12)
     about = np.array([1.0, -2.0, 0.5]) * u.m
     parts_about = RigidBody.composite(
-        [RigidBody.from_point_masses(ma * u.kg, ra * u.m), RigidBody.from_point_masses(mb * u.kg, rb * u.m)], about=about
+        [RigidBody.from_point_masses(ma * u.kg, ra * u.m), RigidBody.from_point_masses(mb * u.kg, rb * u.m)],
+        about=about,
     )
     joint_about = RigidBody.from_point_masses(np.concatenate([ma, mb]) * u.kg, np.vstack([ra, rb]) * u.m, about=about)
-    assert np.max(np.abs((parts_about.tensor - joint_about.tensor).to_value(KGM2))) <= 1e-12 * np.max(
-        np.abs(joint_about.tensor.to_value(KGM2))
-    ) + floor
+    assert (
+        np.max(np.abs((parts_about.tensor - joint_about.tensor).to_value(KGM2)))
+        <= 1e-12 * np.max(np.abs(joint_about.tensor.to_value(KGM2))) + floor
+    )
 
 
-units = st.sampled_from([u.g * u.cm**2, u.kg * u.m**2, u.Msun * u.au**2, u.kg * u.km**2, u.imperial.lb * u.imperial.ft**2])
+units = st.sampled_from(
+    [u.g * u.cm**2, u.kg * u.m**2, u.Msun * u.au**2, u.kg * u.km**2, u.imperial.lb * u.imperial.ft**2]
+)
 
 
 @given(arrays(float, 3, elements=st.floats(1.0, 2.0)), units, st.floats(-30, 30))
@@ -179,6 +183,7 @@ def test_unit_round_trip(values, unit, exponent):
 # ---------------------------------------------------------------------------
 # Solids: mpmath integrals over the volume (independent of the closed forms used)
 # ---------------------------------------------------------------------------
+
 
 def _moments_by_quadrature(density, volume_integral):
     """(I_x, I_y, I_z) = rho * integral over the solid of (y^2+z^2, x^2+z^2, x^2+y^2)."""
@@ -275,19 +280,25 @@ def test_solids_match_volume_integrals(case):
 def test_cone_centre_of_mass_is_at_the_origin():
     """Apex at z = -3h/4: the z moment of the volume vanishes (checked by quadrature)."""
     h, r = 0.6, 0.2
-    first = _cylinder(0, 0, -0.75 * h, 0.25 * h, radius_at=lambda z: r * (z + 0.75 * h) / h, epsabs=1e-16)(lambda x, y, z: z)
+    first = _cylinder(0, 0, -0.75 * h, 0.25 * h, radius_at=lambda z: r * (z + 0.75 * h) / h, epsabs=1e-16)(
+        lambda x, y, z: z
+    )
     assert abs(first) < 1e-15
 
 
 def test_thin_shell_disc_and_rod_textbook():
     m, r, ell = 3.0, 0.5, 2.0
     shell = RigidBody.hollow_sphere(m * u.kg, r * u.m)  # surface integral: 2/3 M R^2
-    surface, _ = dblquad(lambda p, t: (r * np.sin(t)) ** 2 * r * r * np.sin(t), 0, np.pi, 0, 2 * np.pi, epsabs=0, epsrel=1e-13)
+    surface, _ = dblquad(
+        lambda p, t: (r * np.sin(t)) ** 2 * r * r * np.sin(t), 0, np.pi, 0, 2 * np.pi, epsabs=0, epsrel=1e-13
+    )
     np.testing.assert_allclose(shell.principal_moments.to_value(KGM2), surface * m / (4 * np.pi * r * r), rtol=1e-13)
     thick_to_thin = RigidBody.hollow_sphere(m * u.kg, r * u.m, r * (1 - 1e-12) * u.m)
     np.testing.assert_allclose(thick_to_thin.principal_moments.to_value(KGM2), 2 / 3 * m * r * r, rtol=1e-11)
     disc = RigidBody.thin_disc(m * u.kg, r * u.m)
-    np.testing.assert_allclose(disc.principal_moments.to_value(KGM2), [m * r * r / 4, m * r * r / 4, m * r * r / 2], rtol=1e-15)
+    np.testing.assert_allclose(
+        disc.principal_moments.to_value(KGM2), [m * r * r / 4, m * r * r / 4, m * r * r / 2], rtol=1e-15
+    )
     rod = RigidBody.thin_rod(m * u.kg, ell * u.m)
     np.testing.assert_allclose(rod.principal_moments.to_value(KGM2), [0, m * ell**2 / 12, m * ell**2 / 12], rtol=1e-15)
     assert rod.classification == "prolate" and disc.classification == "oblate" and shell.classification == "spherical"
@@ -312,7 +323,9 @@ def test_spinning_top_about_its_tip():
     np.testing.assert_array_equal(tip.reference_point.to_value(u.m), 0.0)
     # A massive axle of radius r adds m_a r^2 / 2 about the figure axis.
     thick = RigidBody.spinning_top(md * u.kg, rd * u.m, ma * u.kg, ell * u.m, h * u.m, axle_radius=0.004 * u.m)
-    assert thick.shifted_to("origin").principal("symmetry").moments[2].to_value(KGM2) == pytest.approx(i3 + ma * 0.004**2 / 2, rel=1e-14)
+    assert thick.shifted_to("origin").principal("symmetry").moments[2].to_value(KGM2) == pytest.approx(
+        i3 + ma * 0.004**2 / 2, rel=1e-14
+    )
     # A flat top is oblate about its tip and keeps the figure axis third in every order.
     flat = RigidBody.spinning_top(1 * u.kg, 0.1 * u.m, 0 * u.kg, 0.01 * u.m, 0.01 * u.m).shifted_to("origin")
     assert flat.classification == "oblate"
@@ -326,7 +339,9 @@ def test_oblate_planet_from_h_and_from_j2_agree_with_tn36():
     h, j2 = 3273795e-9, 1.0826359e-3
     from_h = RigidBody.oblate_planet(mass, a, j2 / h, dynamical_flattening=h)
     from_j2 = RigidBody.oblate_planet(mass, a, j2 / h, j2=j2)
-    np.testing.assert_allclose(from_h.principal_moments.to_value(KGM2), from_j2.principal_moments.to_value(KGM2), rtol=1e-15)
+    np.testing.assert_allclose(
+        from_h.principal_moments.to_value(KGM2), from_j2.principal_moments.to_value(KGM2), rtol=1e-15
+    )
     assert from_h.moment_ratio(3, 1) == pytest.approx(3.2845479e-3, abs=5e-11)
     assert from_h.moment_ratio(3, 1) == pytest.approx(h / (1 - h), rel=1e-15)
     assert from_h.dynamical_flattening == pytest.approx(h, rel=1e-15)
@@ -459,7 +474,9 @@ def test_rotated_about_a_point_moves_the_body():
     quarter = Rotation.from_euler("z", 90, degrees=True)
     turned = body.rotated(quarter, about=[0, 0, 0] * u.m)
     np.testing.assert_allclose(turned.center_of_mass.to_value(u.m), [0, 1, 0], atol=1e-15)
-    np.testing.assert_allclose(np.diag(turned.tensor.to_value(KGM2)), [(1 + 9) / 12, (4 + 9) / 12, (4 + 1) / 12], rtol=1e-15)
+    np.testing.assert_allclose(
+        np.diag(turned.tensor.to_value(KGM2)), [(1 + 9) / 12, (4 + 9) / 12, (4 + 1) / 12], rtol=1e-15
+    )
     in_place = body.rotated(quarter, about="com")
     np.testing.assert_allclose(in_place.center_of_mass.to_value(u.m), [1, 0, 0], atol=1e-15)
 
@@ -484,7 +501,9 @@ def test_orders_and_rotation_between_frames():
     a = body.principal_axes
     np.testing.assert_allclose(a @ body.tensor.to_value(KGM2) @ a.T, np.diag([1.0, 2.0, 3.0]), atol=1e-14)
     # "input": the axis closest to x comes first, each pointing along its input axis.
-    near = RigidBody.from_principal_moments([2.0, 3.0, 1.0] * KGM2, axes=Rotation.from_euler("z", 5, degrees=True).as_matrix())
+    near = RigidBody.from_principal_moments(
+        [2.0, 3.0, 1.0] * KGM2, axes=Rotation.from_euler("z", 5, degrees=True).as_matrix()
+    )
     frame = near.principal("input")
     np.testing.assert_array_equal(frame.moments.value, [2, 3, 1])
     assert np.all(np.diag(frame.axes) > 0.99)
@@ -520,13 +539,17 @@ def test_angular_momentum_and_energy_match_the_definitions():
     a = body.principal_axes
     w_p = a @ omega
     l_p = body.angular_momentum(w_p * u.rad / u.s, frame="principal").to_value(u.kg * u.m**2 / u.s)
-    np.testing.assert_allclose(l_p, body.principal_moments.to_value(KGM2) * w_p, rtol=1e-12, atol=1e-12 * np.abs(l_p).max())
+    np.testing.assert_allclose(
+        l_p, body.principal_moments.to_value(KGM2) * w_p, rtol=1e-12, atol=1e-12 * np.abs(l_p).max()
+    )
     np.testing.assert_allclose(a.T @ l_p, l_ref, rtol=1e-12)
     assert body.kinetic_energy(w_p * u.rad / u.s, frame="principal").to_value(u.J) == pytest.approx(t_ref, rel=1e-13)
     # Moment about the rotation axis: T = 1/2 I_n omega^2 (notes p. 68).
     n = omega / np.linalg.norm(omega)
     assert body.moment_about(n).to_value(KGM2) == pytest.approx(2 * t_ref / (omega @ omega), rel=1e-13)
-    assert body.moment_about(a[0] * 7).to_value(KGM2) == pytest.approx(body.principal_moments[0].to_value(KGM2), rel=1e-12)
+    assert body.moment_about(a[0] * 7).to_value(KGM2) == pytest.approx(
+        body.principal_moments[0].to_value(KGM2), rel=1e-12
+    )
     assert body.moment_about([1, 0, 0], frame="principal").to_value(KGM2) == pytest.approx(
         body.principal_moments[0].to_value(KGM2), rel=1e-12
     )
@@ -563,18 +586,34 @@ BAD = [
     (lambda: RigidBody.hollow_sphere(1 * u.kg, 1 * u.m, 2 * u.m), "inner_radius", "at most the outer radius"),
     (lambda: RigidBody.ellipsoid(1 * u.kg, [1, 0, 1] * u.m), "semi_axes", "positive"),
     (lambda: RigidBody.spinning_top(1 * u.kg, 1 * u.m, 1 * u.kg, 1 * u.m, 2 * u.m), "disc_height", "axle_length"),
-    (lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.3, dynamical_flattening=1.2), "dynamical_flattening", "(0, 1)"),
-    (lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.3, dynamical_flattening=0.1, j2=0.1), "dynamical_flattening/j2", "exactly one"),
+    (
+        lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.3, dynamical_flattening=1.2),
+        "dynamical_flattening",
+        "(0, 1)",
+    ),
+    (
+        lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.3, dynamical_flattening=0.1, j2=0.1),
+        "dynamical_flattening/j2",
+        "exactly one",
+    ),
     (lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 1.3, j2=0.1), "polar_moment_factor", "(0, 1)"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).rotated(np.diag([1, 1, -1])), "rotation", "proper rotation"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).moment_about([0, 0, 0]), "axis", "non-zero"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).shifted_to("centre"), "point", "'com', 'origin'"),
-    (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).angular_momentum([1, 2] * u.rad / u.s), "omega", "shape (..., 3)"),
+    (
+        lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).angular_momentum([1, 2] * u.rad / u.s),
+        "omega",
+        "shape (..., 3)",
+    ),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).principal(order="biggest"), "order", "ascending"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).classify(rtol="loose"), "rtol", "relative tolerance"),
     (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2, axes=np.ones((3, 3))), "axes", "proper rotation"),
     (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2).shifted_to([1, 0, 0] * u.m), "mass", "known mass"),
-    (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2, mass=1 * u.kg, about=[0, 0, 2] * u.m), "moments", "parallel-axis"),
+    (
+        lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2, mass=1 * u.kg, about=[0, 0, 2] * u.m),
+        "moments",
+        "parallel-axis",
+    ),
 ]
 
 
@@ -596,5 +635,7 @@ def test_moments_about_another_point_are_accepted_when_physical():
         center_of_mass=[0, 0, h] * u.m,
         about="origin",
     )
-    np.testing.assert_allclose(np.diag(tip.central_tensor.to_value(KGM2)), [md * r * r / 4, md * r * r / 4, md * r * r / 2], rtol=1e-13)
+    np.testing.assert_allclose(
+        np.diag(tip.central_tensor.to_value(KGM2)), [md * r * r / 4, md * r * r / 4, md * r * r / 2], rtol=1e-13
+    )
     assert tip.center_of_mass_offset.to_value(u.m)[2] == h

@@ -51,7 +51,10 @@ def _reference():
         com = [moment(*e[k]) / mass for k in range(3)]
         s = [[moment(*(e[j] + e[k])) - mass * com[j] * com[k] for k in range(3)] for j in range(3)]
         tensor = [
-            [float(s[(j + 1) % 3][(j + 1) % 3] + s[(j + 2) % 3][(j + 2) % 3]) if j == k else float(-s[j][k]) for k in range(3)]
+            [
+                float(s[(j + 1) % 3][(j + 1) % 3] + s[(j + 2) % 3][(j + 2) % 3]) if j == k else float(-s[j][k])
+                for k in range(3)
+            ]
             for j in range(3)
         ]
         return float(mass), np.array([float(c) for c in com]), np.array(tensor)
@@ -145,7 +148,10 @@ def test_grid_invariance_under_axis_rotations_and_translation(rho, perm, flips, 
     spacing = (0.5, 0.3, 0.2)
     coords = [np.arange(n) * h for n, h in zip(rho.shape, spacing)]
     base = xr.DataArray(
-        rho, dims=("x", "y", "z"), coords={d: (d, c, {"units": "m"}) for d, c in zip("xyz", coords)}, attrs={"units": "kg m-3"}
+        rho,
+        dims=("x", "y", "z"),
+        coords={d: (d, c, {"units": "m"}) for d, c in zip("xyz", coords)},
+        attrs={"units": "kg m-3"},
     )
     names = "xyz"
     p = np.zeros((3, 3))
@@ -154,7 +160,9 @@ def test_grid_invariance_under_axis_rotations_and_translation(rho, perm, flips, 
         sign = -1.0 if flips[k] else 1.0
         p[perm[k], k] = sign
         new_coords[names[perm[k]]] = (names[perm[k]], sign * coords[k] + offset[perm[k]], {"units": "m"})
-    moved = xr.DataArray(rho, dims=tuple(names[perm[k]] for k in range(3)), coords=new_coords, attrs={"units": "kg m-3"})
+    moved = xr.DataArray(
+        rho, dims=tuple(names[perm[k]] for k in range(3)), coords=new_coords, attrs={"units": "kg m-3"}
+    )
     one = RigidBody.from_density(base)
     two = RigidBody.from_density(moved)
     t1 = one.tensor.to_value(KGM2)
@@ -165,7 +173,10 @@ def test_grid_invariance_under_axis_rotations_and_translation(rho, perm, flips, 
     scale = np.max(np.abs(t1))
     assert np.max(np.abs(two.tensor.to_value(KGM2) - p @ t1 @ p.T)) <= 1e-12 * scale + floor
     np.testing.assert_allclose(
-        two.center_of_mass.to_value(u.m), p @ one.center_of_mass.to_value(u.m) + offset, rtol=0, atol=1e-11 * (1 + np.abs(offset).max())
+        two.center_of_mass.to_value(u.m),
+        p @ one.center_of_mass.to_value(u.m) + offset,
+        rtol=0,
+        atol=1e-11 * (1 + np.abs(offset).max()),
     )
     np.testing.assert_allclose(
         two.principal_moments.to_value(KGM2), one.principal_moments.to_value(KGM2), rtol=0, atol=1e-12 * scale + floor
@@ -179,7 +190,9 @@ def test_streaming_in_slabs_gives_the_same_answer():
     t = whole.tensor.to_value(KGM2)
     np.testing.assert_allclose(slabs.tensor.to_value(KGM2), t, rtol=0, atol=1e-14 * np.abs(t).max())
     about = RigidBody.from_density(da, about="origin")
-    np.testing.assert_allclose(about.tensor.to_value(KGM2), whole.shifted_to("origin").tensor.to_value(KGM2), rtol=1e-14)
+    np.testing.assert_allclose(
+        about.tensor.to_value(KGM2), whole.shifted_to("origin").tensor.to_value(KGM2), rtol=1e-14
+    )
 
 
 def test_lazy_file_is_read_slab_by_slab(tmp_path):

@@ -19,10 +19,14 @@ KGM2 = u.kg * u.m**2
 
 def _bodies():
     top = RigidBody.spinning_top(0.1 * u.kg, 3 * u.cm, 10 * u.g, 8 * u.cm, 5 * u.cm).shifted_to("origin")
-    turned = RigidBody.box(2 * u.kg, [1, 2, 3] * u.m).rotated(Rotation.from_euler("xyz", [0.1, 0.7, -0.3])).translated(
-        [1, 2, 3] * u.m
+    turned = (
+        RigidBody.box(2 * u.kg, [1, 2, 3] * u.m)
+        .rotated(Rotation.from_euler("xyz", [0.1, 0.7, -0.3]))
+        .translated([1, 2, 3] * u.m)
     )
-    earth = RigidBody.oblate_planet(5.9722e24 * u.kg, 6378136.6 * u.m, 0.3307, dynamical_flattening=3273795e-9, name="Earth")
+    earth = RigidBody.oblate_planet(
+        5.9722e24 * u.kg, 6378136.6 * u.m, 0.3307, dynamical_flattening=3273795e-9, name="Earth"
+    )
     no_mass = RigidBody.from_principal_moments([1, 2, 2.5] * u.g * u.cm**2, name="moments only")
     return {"top": top, "turned box": turned, "earth": earth, "no mass": no_mass}
 

@@ -46,7 +46,15 @@ def _mp_moments(p):
     c22 = mp.mpf(float(p.c22.value)) if p.c22 else 0
     s22 = mp.mpf(float(p.s22.value)) if p.s22 else 0
     j22 = mp.sqrt(mp.mpf(5) / 12) * mp.sqrt(c22**2 + s22**2)
-    return abar - 2 * j22 * mass * a**2, abar + 2 * j22 * mass * a**2, c, mp.mpf(float(p.rotation_rate.value)), mass, a, g
+    return (
+        abar - 2 * j22 * mass * a**2,
+        abar + 2 * j22 * mass * a**2,
+        c,
+        mp.mpf(float(p.rotation_rate.value)),
+        mass,
+        a,
+        g,
+    )
 
 
 def _mp_period_days(sigma):
@@ -228,7 +236,11 @@ def test_observed_period_is_never_an_input(earth):
 def test_uncertainty_is_linear_propagation(earth):
     # Rigid symmetric Earth with only H uncertain: sigma_T = T sigma_H / (H (1 - H)).
     only_h = replace(
-        earth, c22=None, s22=None, j2=Measured(earth.j2.value), gm=None,
+        earth,
+        c22=None,
+        s22=None,
+        j2=Measured(earth.j2.value),
+        gm=None,
         dynamical_flattening=Measured(earth.dynamical_flattening.value, 1e-6),
     )
     b = chandler_budget(only_h, "rigid")
@@ -246,14 +258,23 @@ def test_uncertainty_is_the_monte_carlo_spread_of_a_nonlinear_model(earth):
 
     h, rel = earth.dynamical_flattening.value, 0.1
     only_h = replace(
-        earth, c22=None, s22=None, j2=Measured(earth.j2.value), gm=None,
+        earth,
+        c22=None,
+        s22=None,
+        j2=Measured(earth.j2.value),
+        gm=None,
         dynamical_flattening=Measured(h, rel * h),
     )
     b = chandler_budget(only_h, "rigid")
     mp.mp.dps = 30
     sidereal = 2 * mp.pi / mp.mpf(earth.rotation_rate.value)
-    density = lambda x: mp.npdf(x, h, rel * h)  # noqa: E731
-    period = lambda x: sidereal * (1 - x) / x  # noqa: E731
+
+    def density(x):
+        return mp.npdf(x, h, rel * h)
+
+    def period(x):
+        return sidereal * (1 - x) / x
+
     # H > 0 up to 5 sigma: the omitted tail (5e-7 of the draws) changes sigma by < 1e-4.
     lo, hi = h * (1 - 5 * rel), h * (1 + 5 * rel)
     weight = mp.quad(density, [lo, h, hi])
@@ -292,7 +313,8 @@ def test_user_body_file_minimal_and_malformed(tmp_path):
     minimal.write_text(
         'schema = "wobble/1"\nkind = "planet"\nname = "blob"\n'
         '[parameters.rotation_period]\nvalue = 10\nuncertainty = 0\nunit = "h"\nsource = "test"\nstatus = "assumed"\n'
-        '[parameters.dynamical_flattening]\nvalue = 0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = "assumed"\n'
+        '[parameters.dynamical_flattening]\nvalue = 0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = '
+        '"assumed"\n'
     )
     b = wobble.chandler_budget(minimal)
     assert [s.name for s in b.steps] == ["rigid"] and b.observed is None
@@ -361,11 +383,15 @@ def test_samples_agree_member_by_member_with_the_scalar_model(mars):
 def test_samples_mark_unphysical_members_instead_of_raising(earth):
     from wobble.models.chandler import INVALID_REASONS, chandler_samples
 
-    s = chandler_samples(earth, {"love_number_k2": np.array([0.29525, 1.5, -0.1]), "c22": np.array([2.4e-6, 2.4e-6, 2.4e-6])})
+    s = chandler_samples(
+        earth, {"love_number_k2": np.array([0.29525, 1.5, -0.1]), "c22": np.array([2.4e-6, 2.4e-6, 2.4e-6])}
+    )
     assert list(s.code) == [0, 3, 5]
     assert np.isfinite(s.period[0]) and np.isnan(s.period[1:]).all()
     assert "fluid" in INVALID_REASONS[3]
-    flip = chandler_samples(earth, {"dynamical_flattening": np.array([3.2e-3, 1e-6]), "c22": np.array([2.4e-6, 2e-3])}, "rigid")
+    flip = chandler_samples(
+        earth, {"dynamical_flattening": np.array([3.2e-3, 1e-6]), "c22": np.array([2.4e-6, 2e-3])}, "rigid"
+    )
     assert list(flip.code) == [0, 1]  # C intermediate: no periodic wobble
 
 

@@ -47,8 +47,10 @@ def test_json_observed_is_null_when_unknown(tmp_path, capsys):
     f = tmp_path / "blob.toml"
     f.write_text(
         'schema = "wobble/1"\nkind = "planet"\nname = "blob"\n'
-        '[parameters.rotation_rate]\nvalue = 1e-4\nuncertainty = 0\nunit = "rad s-1"\nsource = "test"\nstatus = "assumed"\n'
-        '[parameters.dynamical_flattening]\nvalue = -0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = "assumed"\n'
+        '[parameters.rotation_rate]\nvalue = 1e-4\nuncertainty = 0\nunit = "rad s-1"\nsource = "test"\nstatus = '
+        '"assumed"\n'
+        '[parameters.dynamical_flattening]\nvalue = -0.01\nuncertainty = 0\nunit = ""\nsource = "test"\nstatus = '
+        '"assumed"\n'
     )
     status, out, _ = _run(capsys, "chandler", "--body-file", str(f), "--json")
     d = json.loads(out)[0]
@@ -129,8 +131,10 @@ def test_readme_and_docs_show_what_the_command_prints(capsys):
     root = Path(__file__).resolve().parents[1]
     assert main(["chandler", "earth", "mars"]) == 0
     printed = capsys.readouterr().out.rstrip("\n")
-    for page, heading in ((root / "README.md", "## What the first line prints"),
-                          (root / "docs" / "chandler.md", "Output of `wobble chandler earth mars`:")):
+    for page, heading in (
+        (root / "README.md", "## What the first line prints"),
+        (root / "docs" / "chandler.md", "Output of `wobble chandler earth mars`:"),
+    ):
         text = page.read_text()
-        block = re.search(r"```text\n(.*?)\n```", text[text.index(heading):], flags=re.S).group(1)
+        block = re.search(r"```text\n(.*?)\n```", text[text.index(heading) :], flags=re.S).group(1)
         assert block == printed, f"{page.name} shows an old output of 'wobble chandler earth mars'"

@@ -54,7 +54,21 @@ def test_ellipsoid_json_matches_the_closed_form(capsys):
 def test_units_on_the_command_line(capsys):
     report = _json(capsys, "--solid", "ellipsoid", "--mass", "2 g", "--axes", "3 cm", "2 cm", "1 cm")
     np.testing.assert_allclose(report["principal_moments"], np.array([2.0, 4.0, 5.2]) * 1e-7, rtol=1e-15)
-    same = _json(capsys, "--solid", "ellipsoid", "--mass", "2", "--mass-unit", "g", "--axes", "3", "2", "1", "--length-unit", "cm")
+    same = _json(
+        capsys,
+        "--solid",
+        "ellipsoid",
+        "--mass",
+        "2",
+        "--mass-unit",
+        "g",
+        "--axes",
+        "3",
+        "2",
+        "1",
+        "--length-unit",
+        "cm",
+    )
     np.testing.assert_allclose(same["principal_moments"], report["principal_moments"], rtol=1e-15)
 
 
@@ -105,7 +119,11 @@ def _density_file(tmp_path, spacing_ok=True):
             "rho": (("x", "y", "z"), rho, {"units": "g cm-3"}),
             "temperature": (("x", "y", "z"), rho * 0 + 300.0, {"units": "K"}),
         },
-        coords={"x": ("x", x * 100, {"units": "cm"}), "y": ("y", c * 100, {"units": "cm"}), "z": ("z", c * 100, {"units": "cm"})},
+        coords={
+            "x": ("x", x * 100, {"units": "cm"}),
+            "y": ("y", c * 100, {"units": "cm"}),
+            "z": ("z", c * 100, {"units": "cm"}),
+        },
     )
     path = tmp_path / "grid.nc"
     ds.to_netcdf(path)

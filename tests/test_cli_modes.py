@@ -13,7 +13,15 @@ import wobble
 from wobble.cli import main
 from wobble.io.catalog import catalogue_file
 
-JSON_MODE_KEYS = {"mode", "period_days", "period_uncertainty_days", "frame", "sense", "observed_days", "observed_uncertainty_days"}
+JSON_MODE_KEYS = {
+    "mode",
+    "period_days",
+    "period_uncertainty_days",
+    "frame",
+    "sense",
+    "observed_days",
+    "observed_uncertainty_days",
+}
 
 
 def _run(capsys, *args):
@@ -25,7 +33,16 @@ def _run(capsys, *args):
 def test_table_lists_every_mode_with_its_observation(capsys):
     status, out, err = _run(capsys, "modes", "earth", "mars")
     assert status == 0 and not err
-    for word in ("Earth: free rotational modes", "Mars: free rotational modes", "CW", "FCN", "terrestrial", "celestial", "prograde", "retrograde"):
+    for word in (
+        "Earth: free rotational modes",
+        "Mars: free rotational modes",
+        "CW",
+        "FCN",
+        "terrestrial",
+        "celestial",
+        "prograde",
+        "retrograde",
+    ):
         assert word in out
     assert "Krasna, Boehm & Schuh 2013" in out and "Le Maistre et al. 2023" in out
     assert "the observed FCN requires e_f" in out and "Chandler budget" in out
@@ -37,10 +54,19 @@ def test_json_schema_scripts_rely_on(capsys):
     data = json.loads(out)
     assert [d["body"] for d in data] == ["earth", "mars"]
     for d in data:
-        assert [(m["mode"], m["frame"]) for m in d["modes"]] == [("CW", "terrestrial"), ("FCN", "terrestrial"), ("FCN", "celestial")]
+        assert [(m["mode"], m["frame"]) for m in d["modes"]] == [
+            ("CW", "terrestrial"),
+            ("FCN", "terrestrial"),
+            ("FCN", "celestial"),
+        ]
         for m in d["modes"]:
             assert JSON_MODE_KEYS <= set(m)
-        for key in ("core_flattening_hydrostatic", "core_flattening_hydrostatic_uncertainty", "core_flattening_required", "core_flattening_required_uncertainty"):
+        for key in (
+            "core_flattening_hydrostatic",
+            "core_flattening_hydrostatic_uncertainty",
+            "core_flattening_required",
+            "core_flattening_required_uncertainty",
+        ):
             assert d[key] is not None
     earth = data[0]
     assert earth["modes"][2]["period_days"] < -450 and earth["modes"][2]["sense"] == "retrograde"
@@ -140,5 +166,7 @@ def test_hydrostatic_figure_netcdf_round_trip_and_cf(tmp_path, assert_cf_complia
     path = wobble.write_netcdf(ds, tmp_path / "prem_figure.nc")
     back = wobble.load(path)
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
-    assert back.attrs["hydrostatic_core_dynamical_ellipticity"] == pytest.approx(figure.core_dynamical_ellipticity, rel=1e-15)
+    assert back.attrs["hydrostatic_core_dynamical_ellipticity"] == pytest.approx(
+        figure.core_dynamical_ellipticity, rel=1e-15
+    )
     assert_cf_compliant(path)

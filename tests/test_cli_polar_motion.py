@@ -10,7 +10,19 @@ from wobble.cli import main
 from wobble.io.netcdf import open_wobble
 
 # A short span without the Monte-Carlo term and Q keeps these runs quick.
-FAST = ["--start", "2000-01-01", "--end", "2012-12-31", "--window", "6", "--step", "2", "--excitation-q", "none", "--no-q"]
+FAST = [
+    "--start",
+    "2000-01-01",
+    "--end",
+    "2012-12-31",
+    "--window",
+    "6",
+    "--step",
+    "2",
+    "--excitation-q",
+    "none",
+    "--no-q",
+]
 
 
 def _run(capsys, *args):
@@ -87,7 +99,15 @@ def test_help_example_with_a_shipped_file_runs_from_any_folder(tmp_path, monkeyp
 def test_table_shows_the_estimate_beside_the_model(capsys):
     status, out, _ = _run(capsys, *FAST)
     assert status == 0
-    for word in ("least squares", "spectrum", "period [d]", "model: rigid", "model: anelastic", "Vicente & Wilson 1997", "Windows of 6 yr"):
+    for word in (
+        "least squares",
+        "spectrum",
+        "period [d]",
+        "model: rigid",
+        "model: anelastic",
+        "Vicente & Wilson 1997",
+        "Windows of 6 yr",
+    ):
         assert word in out
     assert "wrote" not in out
 

@@ -29,8 +29,10 @@ def test_free_omega_whose_energy_overflows_is_an_input_error(capsys):
     # Was: OverflowError traceback in free_rotation (energy = float(2E / 2)), exit status 1.
     code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "1e300", "0.1", "1", "--json"], capsys)
     assert code == 2 and out == ""
-    assert err == ("wobble free: error: --omega: got (1e+300, 0.1, 1.0); allowed: rates whose energy fits double "
-                   "precision: 2E = sum I w^2 and L^2 = sum (I w)^2 below 1.798e+308 in SI\n")
+    assert err == (
+        "wobble free: error: --omega: got (1e+300, 0.1, 1.0); allowed: rates whose energy fits double "
+        "precision: 2E = sum I w^2 and L^2 = sum (I w)^2 below 1.798e+308 in SI\n"
+    )
 
 
 def test_free_omega_just_inside_double_precision_still_runs(capsys):
@@ -47,24 +49,59 @@ def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
 
 def test_inertia_about_a_point_whose_shift_overflows_is_an_input_error(capsys):
     # Was: "overflow encountered in multiply" warnings and an infinite tensor, exit status 0.
-    code, out, err = _run(["inertia", "--solid", "sphere", "--mass", "1", "--radius", "80", "--about", "1e300", "0", "0"],
-                          capsys)
+    code, out, err = _run(
+        ["inertia", "--solid", "sphere", "--mass", "1", "--radius", "80", "--about", "1e300", "0", "0"], capsys
+    )
     assert code == 2
     assert err.startswith("wobble inertia: error: point: got (1e+300, 0.0, 0.0); allowed: a point whose parallel-axis")
 
 
 def test_free_plot_of_a_body_at_rest_draws_without_warnings(tmp_path, capsys):
     # Was: "invalid value encountered in divide" normalising L = 0 for the polhode (warnings are errors here).
-    code, out, err = _run(["free", "--inertia", "1", "1", "1", "--omega", "0", "0", "0", "--t-end", "10",
-                           "--plot", str(tmp_path / "rest.png")], capsys)
+    code, out, err = _run(
+        [
+            "free",
+            "--inertia",
+            "1",
+            "1",
+            "1",
+            "--omega",
+            "0",
+            "0",
+            "0",
+            "--t-end",
+            "10",
+            "--plot",
+            str(tmp_path / "rest.png"),
+        ],
+        capsys,
+    )
     assert code == 0, err
     assert (tmp_path / "rest.png").read_bytes().startswith(b"\x89PNG")
 
 
 def test_top_plot_of_a_sleeping_top_draws_without_warnings(tmp_path, capsys):
     # Was: matplotlib's "identical low and high xlims" warnings for theta = 0 throughout.
-    code, out, err = _run(["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "0", "--omega3", "10",
-                           "--t-end", "1", "--plot", str(tmp_path / "sleep.png")], capsys)
+    code, out, err = _run(
+        [
+            "top",
+            "--I1",
+            "1",
+            "--I3",
+            "0.5",
+            "--mgl",
+            "1",
+            "--theta0",
+            "0",
+            "--omega3",
+            "10",
+            "--t-end",
+            "1",
+            "--plot",
+            str(tmp_path / "sleep.png"),
+        ],
+        capsys,
+    )
     assert code == 0, err
     assert (tmp_path / "sleep.png").read_bytes().startswith(b"\x89PNG")
 
@@ -72,12 +109,14 @@ def test_top_plot_of_a_sleeping_top_draws_without_warnings(tmp_path, capsys):
 def test_scene_whose_body_is_not_a_table_is_a_file_error(tmp_path, capsys):
     # Was: TypeError traceback ("argument of type 'float' is not iterable") reading [body].
     scene = tmp_path / "scene.toml"
-    scene.write_text('body = 1.5\n[initial]\nomega = { value = [0, 0, 1], unit = "rad/s" }\n'
-                     '[time]\nstop = "1 s"\nsamples = 3\n')
+    scene.write_text(
+        'body = 1.5\n[initial]\nomega = { value = [0, 0, 1], unit = "rad/s" }\n[time]\nstop = "1 s"\nsamples = 3\n'
+    )
     code, out, err = _run(["run", str(scene), "-o", str(tmp_path / "out.nc")], capsys)
     assert code == 2
-    assert err == (f"wobble run: error: {scene}, body: got 1.5; allowed: a table with one of moments, tensor, "
-                   "planet, solid\n")
+    assert err == (
+        f"wobble run: error: {scene}, body: got 1.5; allowed: a table with one of moments, tensor, planet, solid\n"
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]
 
 
@@ -86,16 +125,20 @@ def test_invert_seed_too_large_for_the_file_is_refused_before_sampling(capsys):
     # after the whole run.
     code, out, err = _run(["invert", "mars", "--seed", "99999999999999999999", "-o", "idata.nc"], capsys)
     assert code == 2
-    assert err == ("wobble invert: error: --seed: got 99999999999999999999; allowed: a non-negative integer below "
-                   "2**63 (9223372036854775808)\n")
+    assert err == (
+        "wobble invert: error: --seed: got 99999999999999999999; allowed: a non-negative integer below "
+        "2**63 (9223372036854775808)\n"
+    )
 
 
 @pytest.mark.slow
 def test_invert_with_more_walkers_than_steps_prints_no_warning(tmp_path, capsys):
     # Was: ArviZ's "More chains (32) than draws (20)" and emcee's "invalid value encountered in divide"
     # (a parameter that never moved) on stderr of a successful run.
-    code, out, err = _run(["invert", "earth", "--steps", "20", "--burn", "5", "--quiet", "--json",
-                           "-o", str(tmp_path / "idata.nc")], capsys)
+    code, out, err = _run(
+        ["invert", "earth", "--steps", "20", "--burn", "5", "--quiet", "--json", "-o", str(tmp_path / "idata.nc")],
+        capsys,
+    )
     assert code == 0, err
     assert "Warning" not in err
     import netCDF4

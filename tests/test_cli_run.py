@@ -79,8 +79,13 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys, ar
     (tmp_path / "bad.toml").write_text(BAD_SCENE)
     tight = BAD_SCENE.replace('unit = "kg" }', 'unit = "kg m2" }').replace("[body]", "accuracy = 1e-17\n[body]")
     (tmp_path / "tight.toml").write_text(tight)
-    subs = {"bad": str(tmp_path / "bad.toml"), "tight": str(tmp_path / "tight.toml"), "missing": str(tmp_path / "nope.toml"),
-            "out": str(tmp_path / "out.nc"), "folder": str(tmp_path)}
+    subs = {
+        "bad": str(tmp_path / "bad.toml"),
+        "tight": str(tmp_path / "tight.toml"),
+        "missing": str(tmp_path / "nope.toml"),
+        "out": str(tmp_path / "out.nc"),
+        "folder": str(tmp_path),
+    }
     status, out, err = _run(capsys, *[a.format(**subs) for a in args])
     assert status == 2 and not out
     assert err.count("\n") == 1 and err.startswith("wobble run: error:")

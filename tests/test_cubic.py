@@ -28,8 +28,9 @@ TOL = Decimal("1e-45")  # relative, in the root's own coordinate (60-digit arith
 
 
 def _solve(r):
-    cub = cubic.TopCubic(A=Decimal(r["A"]), B=Decimal(r["B"]), C=Decimal(r["C"]), a=Decimal(r["a"]),
-                         beta=Decimal(r["beta"]))
+    cub = cubic.TopCubic(
+        A=Decimal(r["A"]), B=Decimal(r["B"]), C=Decimal(r["C"]), a=Decimal(r["a"]), beta=Decimal(r["beta"])
+    )
     return cub, cubic.top_roots(cub, Decimal(r["x0"]), Decimal(r["y0"]), Decimal(r["g0"]))
 
 
@@ -112,9 +113,14 @@ decimals = st.decimals(min_value=Decimal("-5"), max_value=Decimal("5"), places=3
 
 
 @settings(max_examples=60)
-@given(decimals, decimals, decimals, st.decimals(min_value=Decimal("0.001"), max_value=Decimal("5"), places=3),
-       st.decimals(min_value=Decimal("0.001"), max_value=Decimal("1.999"), places=3))
-def test_roots_reproduce_the_polynomial(A, B, a, beta, x0):  # noqa: N803
+@given(
+    decimals,
+    decimals,
+    decimals,
+    st.decimals(min_value=Decimal("0.001"), max_value=Decimal("5"), places=3),
+    st.decimals(min_value=Decimal("0.001"), max_value=Decimal("1.999"), places=3),
+)
+def test_roots_reproduce_the_polynomial(A, B, a, beta, x0):
     """Property: for any start with g(x0) > 0, g(x_i) = 0 and Vieta's relations hold to 1e-45."""
     with decimal.localcontext(decimal.Context(prec=60)):
         cub = cubic.TopCubic(A=A, B=B, C=B + 2 * a, a=a, beta=beta)

@@ -8,8 +8,17 @@ import pytest
 
 import wobble
 
-ENTRY_POINTS = ["chandler_budget", "euler_period", "rigid_wobble", "FreeRotation", "HeavyTop", "RigidBody",
-                "run", "load_polar_motion", "load"]
+ENTRY_POINTS = [
+    "chandler_budget",
+    "euler_period",
+    "rigid_wobble",
+    "FreeRotation",
+    "HeavyTop",
+    "RigidBody",
+    "run",
+    "load_polar_motion",
+    "load",
+]
 
 
 @pytest.mark.parametrize("name", ENTRY_POINTS)

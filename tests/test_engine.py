@@ -43,7 +43,11 @@ def reference_case(name):
         torques = [UniformGravity(float(c["mass"]), _floats(c["center_of_mass"]), _floats(c["gravity"]))]
     else:
         gm_d3 = float(c["gm_over_d3"])
-        torques = [GravityGradient(gm_d3, 1.0, orbit_normal=[0, 0, 1], phase=float(c["phase"]), mean_motion=float(c["mean_motion"]))]
+        torques = [
+            GravityGradient(
+                gm_d3, 1.0, orbit_normal=[0, 0, 1], phase=float(c["phase"]), mean_motion=float(c["mean_motion"])
+            )
+        ]
     engine = Engine(BodyModel.from_moments(moments), torques)
     t = np.concatenate([[0.0], _floats(c["t"])])
     w = np.array([_floats(r) for r in c["omega"]])
@@ -61,7 +65,9 @@ def errors(traj, w_ref, q_ref):
 # --------------------------------------------------------------------------
 # Closed forms
 # --------------------------------------------------------------------------
-@pytest.mark.parametrize("method, kw, tol", [("dop853", {"rtol": 1e-12}, 2e-10), ("splitting", {"step": 0.5, "order": 4}, 1e-13)])
+@pytest.mark.parametrize(
+    "method, kw, tol", [("dop853", {"rtol": 1e-12}, 2e-10), ("splitting", {"step": 0.5, "order": 4}, 1e-13)]
+)
 def test_zero_torque_is_the_exact_free_motion(method, kw, tol):
     moments, omega0 = [1.0, 2.0, 3.0], [1.0, 0.1, 1.0]
     t = np.linspace(0, 20, 41)
@@ -113,7 +119,6 @@ def test_gravity_gradient_torque_is_maccullaghs_formula():
     gm, d = 3.986004418e14, 7.0e6
     moments = np.array([0.9, 1.1, 1.4])
     direction = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
-    engine = Engine(BodyModel.from_moments(moments), [GravityGradient(gm, d, direction=direction)])
     rng = np.random.default_rng(4)
     q = Q.normalize(rng.normal(size=(20, 4)))
     w = np.zeros((20, 3))
@@ -132,7 +137,10 @@ def test_gravity_gradient_torque_is_maccullaghs_formula():
 # --------------------------------------------------------------------------
 # The heavy symmetric top: conservation laws and steady precession
 # --------------------------------------------------------------------------
-def _top(theta0=np.radians(60), spin=10.0, phidot=0.0):
+_THETA0 = np.radians(60)
+
+
+def _top(theta0=_THETA0, spin=10.0, phidot=0.0):
     """I1 = I2 = 1, I3 = 0.5 about the pivot, M g l = 1 (issue 8's top)."""
     moments = [1.0, 1.0, 0.5]
     gravity = [UniformGravity(1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0])]
@@ -143,7 +151,7 @@ def _top(theta0=np.radians(60), spin=10.0, phidot=0.0):
 
 def _invariants(moments, run):
     """E, p_phi = L . z (inertial), p_psi = I3 omega3."""
-    I = np.array(moments)  # noqa: E741
+    I = np.array(moments)
     w, q = run.omega[:, 0], run.attitude[:, 0]
     axis = Q.rotate(q, np.array([0.0, 0.0, 1.0]))
     energy = 0.5 * np.sum(I * w * w, axis=-1) + axis[:, 2]  # V = M g l cos(theta)
@@ -151,7 +159,9 @@ def _invariants(moments, run):
     return energy, p_phi, I[2] * w[:, 2]
 
 
-@pytest.mark.parametrize("method, kw, tol", [("dop853", {"rtol": 1e-12}, 1e-10), ("splitting", {"step": 0.01, "order": 6}, 1e-10)])
+@pytest.mark.parametrize(
+    "method, kw, tol", [("dop853", {"rtol": 1e-12}, 1e-10), ("splitting", {"step": 0.01, "order": 6}, 1e-10)]
+)
 def test_heavy_top_conserves_energy_and_both_momenta(method, kw, tol):
     moments, gravity, w0, q0 = _top()
     run = simulate(moments, w0, q0, np.linspace(0, 20, 401), gravity, method=method, **kw)
@@ -205,7 +215,15 @@ def test_measured_orders_on_a_torqued_problem():
     tt, wr = t[:3], w_ref[:2]  # up to 1 s
     measured = {}
     for order, steps in ((2, (0.004, 0.002)), (4, (0.02, 0.01)), (6, (0.02, 0.01))):
-        e = [np.max(np.abs(engine.integrate(w0, q0, tt, method="splitting", step=h, order=order, estimate=False).omega[1:, 0] - wr)) for h in steps]
+        e = [
+            np.max(
+                np.abs(
+                    engine.integrate(w0, q0, tt, method="splitting", step=h, order=order, estimate=False).omega[1:, 0]
+                    - wr
+                )
+            )
+            for h in steps
+        ]
         measured[order] = math.log2(e[0] / e[1])
     from wobble.numerics.integrators import DOP853
 
@@ -294,7 +312,9 @@ def test_ensemble_equals_member_by_member():
                 np.testing.assert_array_equal(alone.omega[:, 0], together.omega[:, i])
             else:  # shared steps; one member runs in Python floats, many in NumPy: rounding apart
                 assert np.max(np.abs(alone.omega[:, 0] - together.omega[:, i])) < 1e-12
-            np.testing.assert_allclose(alone.error.omega_relative[0], together.error.omega_relative[i], rtol=1e-3, atol=1e-14)
+            np.testing.assert_allclose(
+                alone.error.omega_relative[0], together.error.omega_relative[i], rtol=1e-3, atol=1e-14
+            )
 
 
 def test_ensemble_of_bodies():
@@ -323,7 +343,9 @@ def test_tensor_body_frame_gives_the_same_physics():
     q_rot = Q.multiply(q0, Q.conjugate(Q.from_matrix(rot)))
     b = rotated.integrate(rot @ w0, q_rot, t, rtol=1e-12, estimate=False)
     np.testing.assert_allclose(b.omega[:, 0], a.omega[:, 0] @ rot.T, atol=1e-9)
-    assert np.max(attitude_angle(b.attitude[:, 0], Q.multiply(a.attitude[:, 0], Q.conjugate(Q.from_matrix(rot))))) < 1e-9
+    assert (
+        np.max(attitude_angle(b.attitude[:, 0], Q.multiply(a.attitude[:, 0], Q.conjugate(Q.from_matrix(rot))))) < 1e-9
+    )
 
 
 def test_bad_input_names_the_parameter():

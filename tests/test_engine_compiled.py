@@ -55,7 +55,9 @@ def test_constant_torque_on_a_sphere_and_damping_closed_forms(backend):
     want = Q.from_axis_angle(axis, 0.5 * t + 0.5 * 0.3 * t**2 / 2.0)
     assert np.max(attitude_angle(run.attitude[:, 0], want)) < 1e-11
     t = np.linspace(0, 4, 9)
-    damped = simulate([2.0] * 3, [0.0, 0.0, 3.0], ID, t, [LinearDamping(0.5)], rtol=1e-12, attitude=False, backend=backend)
+    damped = simulate(
+        [2.0] * 3, [0.0, 0.0, 3.0], ID, t, [LinearDamping(0.5)], rtol=1e-12, attitude=False, backend=backend
+    )
     np.testing.assert_allclose(damped.omega[:, 0, 2], 3.0 * np.exp(-0.25 * t), rtol=1e-11)
 
 
@@ -98,8 +100,10 @@ def test_conservative_torque_program_conserves_energy(backend):
     potential, so E = T + V is constant (ground truth independent of either integrator)."""
     n = 3
     moments = np.array([1.0, 1.4, 1.9])
-    torques = [UniformGravity([0.6, 0.8, 1.0], [0.05, -0.1, 0.2]),
-               GravityGradient(2.0, 1.0, direction=[0.3, -0.5, 0.8])]  # k = 6 s^-2: as strong as gravity
+    torques = [
+        UniformGravity([0.6, 0.8, 1.0], [0.05, -0.1, 0.2]),
+        GravityGradient(2.0, 1.0, direction=[0.3, -0.5, 0.8]),
+    ]  # k = 6 s^-2: as strong as gravity
     engine = Engine(BodyModel.from_moments(moments), torques, members=n)
     w0 = np.array([[0.3, -0.2, 5.0], [1.0, 0.5, 2.0], [-0.4, 2.0, 0.7]])
     q0 = Q.normalize(np.array([[0.9, 0.2, -0.1, 0.3], [0.5, 0.5, 0.5, 0.5], [1.0, 0.0, 0.0, 0.0]]))

@@ -20,8 +20,12 @@ def top(**kw):
     kw.setdefault("t_end", 2 * u.s)
     kw.setdefault("samples", 41)
     return wobble.Scene(
-        body=[1.0, 1.0, 0.5] * KGM2, omega0=[0.0, 0.0, 10.0] * RAD_S, attitude0=[np.cos(theta / 2), np.sin(theta / 2), 0, 0],
-        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)], accuracy=1e-8, **kw,
+        body=[1.0, 1.0, 0.5] * KGM2,
+        omega0=[0.0, 0.0, 10.0] * RAD_S,
+        attitude0=[np.cos(theta / 2), np.sin(theta / 2), 0, 0],
+        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)],
+        accuracy=1e-8,
+        **kw,
     )
 
 
@@ -41,7 +45,18 @@ def test_each_kind_of_file_round_trips_and_is_cf_compliant(kind, tmp_path, asser
     back = wobble.load(path)
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
     assert_cf_compliant(path)
-    for key in ("model", "model_reason", "error_estimate", "scene", "accuracy_requested", "Conventions", "history", "source", "references", "title"):
+    for key in (
+        "model",
+        "model_reason",
+        "error_estimate",
+        "scene",
+        "accuracy_requested",
+        "Conventions",
+        "history",
+        "source",
+        "references",
+        "title",
+    ):
         assert key in back.attrs
     # streamed: the same layout, the same numbers, also CF
     summary = wobble.run_to_netcdf(scene, tmp_path / "b.nc", block_bytes=4096)
@@ -68,7 +83,9 @@ def test_time_units_carry_the_scene_epoch(tmp_path):
 
 
 def test_units_come_back_as_quantities(tmp_path):
-    ds = wobble.load(wobble.write_netcdf(wobble.run(top(outputs=["omega", "total_energy", "tilt", "attitude"])), tmp_path / "q.nc"))
+    ds = wobble.load(
+        wobble.write_netcdf(wobble.run(top(outputs=["omega", "total_energy", "tilt", "attitude"])), tmp_path / "q.nc")
+    )
     assert ds.wobble.quantity("omega").unit == RAD_S
     assert ds.wobble.quantity("total_energy").unit == u.J
     assert ds.wobble.quantity("tilt").to(u.deg)[0].value == pytest.approx(60.0, rel=1e-13)
@@ -110,8 +127,14 @@ def test_a_failing_run_leaves_nothing_behind(tmp_path):
             raise RuntimeError("sensor failure")
         return np.zeros_like(w)
 
-    scene = wobble.Scene(body=[1, 2, 3] * KGM2, omega0=[1, 0.1, 1] * RAD_S, t_end=200 * u.s, samples=2001,
-                         torques=[wobble.Torque.custom(flaky)], accuracy=1e-6)
+    scene = wobble.Scene(
+        body=[1, 2, 3] * KGM2,
+        omega0=[1, 0.1, 1] * RAD_S,
+        t_end=200 * u.s,
+        samples=2001,
+        torques=[wobble.Torque.custom(flaky)],
+        accuracy=1e-6,
+    )
     path = tmp_path / "y.nc"
     path.write_text("old")
     with pytest.raises(RuntimeError, match="sensor"):

@@ -120,7 +120,11 @@ def test_finals_errors(tmp_path):
 
 @pytest.mark.parametrize(
     ("content", "fragment"),
-    [("", "no data lines"), ("hello world\n", "line 1: neither the IERS C04"), ("# only a header\n\n", "no data lines")],
+    [
+        ("", "no data lines"),
+        ("hello world\n", "line 1: neither the IERS C04"),
+        ("# only a header\n\n", "no data lines"),
+    ],
 )
 def test_unknown_or_empty_files(tmp_path, content, fragment):
     path = tmp_path / "x.txt"

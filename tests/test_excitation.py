@@ -1,4 +1,5 @@
-"""Geodetic excitation: the exact discrete Liouville equation both ways, on synthetic records with known excitation and on C04."""
+"""Geodetic excitation: the exact discrete Liouville equation both ways, on synthetic records with known
+excitation and on C04."""
 
 from __future__ import annotations
 
@@ -39,7 +40,8 @@ def test_constant_excitation_gives_the_closed_form_relaxation():
 
 
 def test_known_excitation_is_recovered_and_the_round_trip_is_exact():
-    """A damped oscillator driven by a known coloured excitation (daily): inverse recovers it, forward rebuilds the pole."""
+    """A damped oscillator driven by a known coloured excitation (daily): inverse recovers it, forward rebuilds
+    the pole."""
     rng = np.random.default_rng(20)
     n = 20 * 365
     t = DAY * np.arange(n)

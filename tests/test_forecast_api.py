@@ -1,4 +1,5 @@
-"""wobble.forecast_polar_motion, hindcasts and `wobble forecast`: JSON, CF netCDF, bad input with exit 2 and nothing written."""
+"""wobble.forecast_polar_motion, hindcasts and `wobble forecast`: JSON, CF netCDF, bad input with exit 2 and
+nothing written."""
 
 from __future__ import annotations
 
@@ -55,7 +56,13 @@ def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
 
 def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
     h = wobble.hindcast_polar_motion(
-        start="2019-01-01", end="2019-02-01", every=14 * u.day, horizon=30 * u.day, latency=1 * u.day, workers=1, calibration_span=1 * u.yr
+        start="2019-01-01",
+        end="2019-02-01",
+        every=14 * u.day,
+        horizon=30 * u.day,
+        latency=1 * u.day,
+        workers=1,
+        calibration_span=1 * u.yr,
     )
     d = h.to_dict()
     assert d["issues"] == 3 and set(d["methods"]) == {"ls_ar", "kalman"}
@@ -78,7 +85,9 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
     np.testing.assert_allclose(inside.mean(axis=1) / 2, back["coverage_68"].values, rtol=1e-12)
     # The hindcast scores the public forecast: its first issue (where the period and noise are
     # estimated, as a single forecast estimates them) is wobble.forecast_polar_motion's.
-    f = wobble.forecast_polar_motion(issued="2019-01-01", horizon=30 * u.day, latency=1 * u.day, calibration_span=1 * u.yr)
+    f = wobble.forecast_polar_motion(
+        issued="2019-01-01", horizon=30 * u.day, latency=1 * u.day, calibration_span=1 * u.yr
+    )
     np.testing.assert_allclose(h.forecasts[0][k].mean, f.raw.mean, rtol=1e-12)
     np.testing.assert_allclose(h.forecasts[0][k].half_widths(95)[1], f.raw.half_widths(95)[1], rtol=1e-12)
 
@@ -94,7 +103,10 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
         ({"horizon": 30}, "horizon"),
         ({"method": "arima"}, "method: got arima"),
         ({"q": 0.0}, "q: got 0.0"),
-        ({"issued": "1975-01-01", "calibration_span": 5 * u.yr}, r"calibration_span: got 5 yr; allowed: at most 1\.\d yr"),
+        (
+            {"issued": "1975-01-01", "calibration_span": 5 * u.yr},
+            r"calibration_span: got 5 yr; allowed: at most 1\.\d yr",
+        ),
         ({"issued": "1973-06-01"}, "calibration_span: got 2 yr; allowed: a later issue date"),
         ({"calibration_span": 10 * u.day}, "calibration_span: got 10.0 d; allowed: a span from 182 d to 30 yr"),
         ({"calibration_span": 2.0}, "calibration_span"),
@@ -132,7 +144,9 @@ def test_cli_bad_input_exit_2_nothing_written(args, fragment, tmp_path, capsys):
 
 def test_cli_json(tmp_path, capsys):
     png = tmp_path / "f.png"
-    status = main(["forecast", "--issued", "2020-06-01", "--horizon", "30d", "--latency", "1d", "--json", "--plot", str(png)])
+    status = main(
+        ["forecast", "--issued", "2020-06-01", "--horizon", "30d", "--latency", "1d", "--json", "--plot", str(png)]
+    )
     out, err = capsys.readouterr()
     d = json.loads(out)
     assert status == 0 and d["method"] == "kalman" and d["horizon_days"] == 30 and d["latency_days"] == 1

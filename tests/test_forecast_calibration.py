@@ -36,7 +36,11 @@ def _record_and_past(rng, scale_x, scale_y, horizon, latency, span):
     idx = np.rint((times[:, None] + lead[None, :] * DAY - t[0]) / DAY).astype(int)
     truth = z[np.minimum(idx, t.size - 1)]
     noise = scale_x(lead) * rng.standard_normal(idx.shape) - 1j * scale_y(lead) * rng.standard_normal(idx.shape)
-    stated = 0.5 * np.stack(np.broadcast_arrays(scale_x(lead)[None, :], scale_y(lead)[None, :]), axis=2) * np.ones((times.size, 1, 1))
+    stated = (
+        0.5
+        * np.stack(np.broadcast_arrays(scale_x(lead)[None, :], scale_y(lead)[None, :]), axis=2)
+        * np.ones((times.size, 1, 1))
+    )
     return t, z, issued, PastForecasts(times, truth + noise, stated)
 
 
@@ -117,7 +121,9 @@ def test_past_forecasts_are_the_forecasts_themselves(simulated, setup):
             np.testing.assert_allclose(past.mean[k], f.mean, rtol=0, atol=1e-9 * MAS)
         past_ls = past_forecasts_ls_ar(t, p, issues[:2], 30, chandler_period=PERIOD, latency=2 * DAY)
         for k, s in enumerate(issues[:2]):
-            np.testing.assert_array_equal(past_ls.mean[k], forecast_ls_ar(t, p, s, 30, chandler_period=PERIOD, latency=2 * DAY).mean)
+            np.testing.assert_array_equal(
+                past_ls.mean[k], forecast_ls_ar(t, p, s, 30, chandler_period=PERIOD, latency=2 * DAY).mean
+            )
 
 
 def test_calibration_makes_a_wrong_model_honest(simulated):
@@ -130,7 +136,9 @@ def test_calibration_makes_a_wrong_model_honest(simulated):
     first = t[0] + DAY * math.ceil((ssm.FIT_SPAN + span) / DAY + 60)
     issues = first + 41 * DAY * np.arange(int((t[-1] - horizon * DAY - first) / (41 * DAY)))
     with single_blas_thread():
-        times = np.unique(np.round(np.concatenate([fcal.past_issue_times(s, latency, horizon, span) for s in issues]), 3))
+        times = np.unique(
+            np.round(np.concatenate([fcal.past_issue_times(s, latency, horizon, span) for s in issues]), 3)
+        )
         past = ssm.past_forecasts_kalman(t, p, np.unique(np.r_[times, issues]), horizon, setup=bad, latency=latency)
         now = past.take(issues)
         lead = np.arange(1, horizon + 1)
@@ -180,7 +188,9 @@ def test_calibrated_forecast_never_reads_after_its_cutoff(simulated, setup, meth
             np.testing.assert_array_equal(ha, hb)
     assert a.calibration.last_outcome == issued - latency
     at = p.copy()
-    at[np.flatnonzero(t <= issued - latency)[-1]] += 1e3 * MAS  # the cut-off's own sample: an outcome of the calibration
+    at[np.flatnonzero(t <= issued - latency)[-1]] += (
+        1e3 * MAS
+    )  # the cut-off's own sample: an outcome of the calibration
     c = run(at)
     assert not np.array_equal(a.half_widths(68)[0], c.half_widths(68)[0])
 
@@ -192,7 +202,9 @@ def test_hindcast_calibrations_never_read_the_future(simulated):
 
     t, p = simulated
     issues = t[-1] - 1096 * DAY + 7 * DAY * np.arange(3)
-    block = hc.blocks(issues, 20, ("ls_ar", "kalman"), DAY, Q, PERIOD, refit=3, chandler_period=PERIOD, calibration_span=YEAR)[0]
+    block = hc.blocks(
+        issues, 20, ("ls_ar", "kalman"), DAY, Q, PERIOD, refit=3, chandler_period=PERIOD, calibration_span=YEAR
+    )[0]
     spoiled = p.copy()
     spoiled[t > issues[0] - DAY] = 1e3 + 1e3j
     first_a = hc.run_block(t, p, block)[0]
@@ -215,4 +227,6 @@ def test_calibration_span_outside_the_record_is_named(simulated, setup):
         fcal.forecast(t, p, issued, 30, method="kalman", chandler_period=PERIOD, q=Q, setup=setup, span=5 * YEAR)
     with pytest.raises(InputError, match="calibration_span: got 70 d"):
         fcal.count_per_lead(70 * DAY)
-    fcal.forecast(t, p, issued, 30, method="kalman", chandler_period=PERIOD, q=Q, setup=setup, span=YEAR)  # one year fits
+    fcal.forecast(
+        t, p, issued, 30, method="kalman", chandler_period=PERIOD, q=Q, setup=setup, span=YEAR
+    )  # one year fits

@@ -75,10 +75,25 @@ def test_ls_ar_continues_an_exact_harmonic_model():
     """A record that is exactly trend + Chandler + annual + semi-annual terms: the forecast is their continuation."""
     period = 433.0 * DAY
     t = DAY * np.arange(8 * 365)
-    coeffs = np.array([40 + 300j, 5 - 3j, 150 * np.exp(0.7j), 90 * np.exp(0.3j), 5 * np.exp(-1j), 4 * np.exp(2j), 1 * np.exp(0.1j)]) * MAS
+    coeffs = (
+        np.array(
+            [
+                40 + 300j,
+                5 - 3j,
+                150 * np.exp(0.7j),
+                90 * np.exp(0.3j),
+                5 * np.exp(-1j),
+                4 * np.exp(2j),
+                1 * np.exp(0.1j),
+            ]
+        )
+        * MAS
+    )
     record = harmonic_columns(t - t[-1], 2 * math.pi / period) @ coeffs
     rng = np.random.default_rng(0)
-    record = record + 1e-6 * MAS * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size))  # a whisper of noise for the AR
+    record = record + 1e-6 * MAS * (
+        rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size)
+    )  # a whisper of noise for the AR
     issued = t[-1] + DAY
     f = forecast_ls_ar(t, record, issued, 90, chandler_period=period, latency=DAY)
     truth = harmonic_columns(issued + f.lead - t[-1], 2 * math.pi / period) @ coeffs
@@ -127,7 +142,8 @@ def test_complex_filter_equals_statsmodels():
 
 
 def test_window_filter_is_the_exact_filter():
-    """The exact filter written as weights on the data (kalman.window_filter) equals filter_exact's last state and covariance."""
+    """The exact filter written as weights on the data (kalman.window_filter) equals filter_exact's last state
+    and covariance."""
     sigma = chandler_frequency(433.0 * DAY, 80.0)
     F, Q, h, r = ssm.system(sigma, ssm.DEFAULT_NOISE)
     rng = np.random.default_rng(9)
@@ -135,7 +151,8 @@ def test_window_filter_is_the_exact_filter():
     x0, P0 = ssm.prior(y[0], ssm.DEFAULT_NOISE)
     xs, Ps, _, _ = kalman.filter_exact(F, Q, h, r, y, x0, P0)
     wf = kalman.window_filter(F, Q, h, r, P0, y.size)
-    # Both recursions start from a diffuse prior (1000 mas against 0.0015 mas of observation noise): rounding of 1e-7 mas.
+    # Both recursions start from a diffuse prior (1000 mas against 0.0015 mas of observation noise):
+    # rounding of 1e-7 mas.
     np.testing.assert_allclose(wf.weights.T @ y + wf.prior_map @ x0, xs[-1], rtol=0, atol=1e-6 * MAS)
     np.testing.assert_allclose(wf.posterior, Ps[-1], rtol=1e-6, atol=1e-9 * np.max(np.abs(Ps[-1])))
     # The means of a forecast are forecast_map @ state.
@@ -237,7 +254,10 @@ def test_forecasts_never_read_data_after_the_information_set(simulated, method):
     spoiled = p.copy()
     spoiled[t > issued - latency] = 1e3 + 1e3j
     kwargs = {"chandler_period": 433.0 * DAY, "latency": latency}
-    run = (lambda z: fc_run(method, t, z, issued, kwargs))
+
+    def run(z):
+        return fc_run(method, t, z, issued, kwargs)
+
     a, b = run(p), run(spoiled)
     np.testing.assert_array_equal(a.mean, b.mean)
     np.testing.assert_array_equal(a.sigma_x, b.sigma_x)
@@ -255,7 +275,9 @@ def test_hindcast_blocks_never_read_the_future(simulated):
 
     t, p, _ = simulated
     issues = t[-1] - 3 * 365 * DAY + 14 * DAY * np.arange(3)
-    block = hc.blocks(issues, 30, ("ls_ar", "kalman"), DAY, 80.0, 433.1 * DAY, refit=3, calibrated=())[0]  # calibrations: test_forecast_calibration
+    block = hc.blocks(issues, 30, ("ls_ar", "kalman"), DAY, 80.0, 433.1 * DAY, refit=3, calibrated=())[
+        0
+    ]  # calibrations: test_forecast_calibration
     spoiled = p.copy()
     spoiled[t > issues[0] - DAY] = 1e3 + 1e3j  # after the first issue's information set
     first_a = hc.run_block(t, p, block)[0]
@@ -267,8 +289,14 @@ def test_hindcast_blocks_never_read_the_future(simulated):
 @pytest.mark.parametrize(
     ("call", "fragment"),
     [
-        (lambda t, p: forecast_ls_ar(t, p, t[0] + 2 * 365 * DAY, 30, chandler_period=433 * DAY), "LS\\+AR fitting span"),
-        (lambda t, p: ssm.forecast_kalman(t, p, t[-1] + 40 * DAY, 30, chandler_period=433 * DAY, q=80.0), "after the record's last day"),
+        (
+            lambda t, p: forecast_ls_ar(t, p, t[0] + 2 * 365 * DAY, 30, chandler_period=433 * DAY),
+            "LS\\+AR fitting span",
+        ),
+        (
+            lambda t, p: ssm.forecast_kalman(t, p, t[-1] + 40 * DAY, 30, chandler_period=433 * DAY, q=80.0),
+            "after the record's last day",
+        ),
         (lambda t, p: fc.check_horizon(0.0), "horizon: got 0 d"),
         (lambda t, p: fc.check_horizon(5000 * DAY), "horizon: got 5000 d"),
         (lambda t, p: fc.check_method("arima"), "method: got arima"),

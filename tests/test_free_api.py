@@ -48,8 +48,13 @@ def test_dataset_layout():
     body = FreeRotation([3, 1, 2] * KGM2, [0.3, -0.5, 1.2] * RAD_S)
     ds = body.to_dataset(t_end=20 * u.s, samples=201)
     assert set(ds.data_vars) == {
-        "omega", "angular_momentum", "attitude", "kinetic_energy", "kinetic_energy_drift",
-        "angular_momentum_magnitude", "angular_momentum_magnitude_drift",
+        "omega",
+        "angular_momentum",
+        "attitude",
+        "kinetic_energy",
+        "kinetic_energy_drift",
+        "angular_momentum_magnitude",
+        "angular_momentum_magnitude_drift",
     }
     assert ds.omega.dims == ("time", "axis") and ds.attitude.dims == ("time", "component")
     assert list(ds.component.values) == ["w", "x", "y", "z"]
@@ -125,8 +130,24 @@ def test_cli_json_summary(capsys):
 
 def test_cli_writes_netcdf_with_units(tmp_path, capsys):
     path = tmp_path / "out.nc"
-    args = ["free", "--inertia", "8.01012e37 kg m2", "8.01032e37", "8.03652e37", "--omega", "7.292115e-11",
-            "0", "360.98 deg / d", "--t-end", "2 d", "--samples", "49", "-o", str(path), "--json"]
+    args = [
+        "free",
+        "--inertia",
+        "8.01012e37 kg m2",
+        "8.01032e37",
+        "8.03652e37",
+        "--omega",
+        "7.292115e-11",
+        "0",
+        "360.98 deg / d",
+        "--t-end",
+        "2 d",
+        "--samples",
+        "49",
+        "-o",
+        str(path),
+        "--json",
+    ]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
     ds = open_wobble(path)

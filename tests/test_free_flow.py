@@ -134,7 +134,7 @@ def test_invariants_and_unit_quaternion(moments, omega, h):
     s = sorted(moments)
     if s[0] + s[1] < s[2]:
         moments = [s[0], s[1], s[0] + s[1]]
-    I = np.array(moments)  # noqa: E741
+    I = np.array(moments)
     w0 = np.array([omega])
     q0 = Q.normalize(np.array([[0.9, 0.1, -0.3, 0.2]]))
     try:
@@ -153,7 +153,7 @@ def test_invariants_and_unit_quaternion(moments, omega, h):
 @given(st.floats(-np.pi, np.pi), st.floats(0.1, 3.0), st.floats(-10.0, 10.0))
 def test_rotation_invariance(angle_z, spin, h):
     """Turning the initial attitude turns the whole motion: omega unchanged, q rotated."""
-    I = [1.0, 1.7, 2.3]  # noqa: E741
+    I = [1.0, 1.7, 2.3]
     w0 = np.array([[0.3, -0.2, spin]])
     q0 = np.array([[1.0, 0, 0, 0]])
     r = Q.from_axis_angle(np.array([0.0, 0.0, 1.0]), angle_z)[None]
@@ -183,7 +183,9 @@ def _states(draw):
     # Components are zero or at least 1e-12 of the largest: states nearer the separatrix than
     # 1 - m ~ 1e-24 reach Carlson integrals at arguments near the underflow threshold, where
     # SciPy's R_F, R_C and R_J return inf or NaN: a limit of the kernels, not of this equivalence.
-    omega = draw(st.lists(st.one_of(st.just(0.0), st.floats(1e-6, 2.0), st.floats(-2.0, -1e-6)), min_size=3, max_size=3))
+    omega = draw(
+        st.lists(st.one_of(st.just(0.0), st.floats(1e-6, 2.0), st.floats(-2.0, -1e-6)), min_size=3, max_size=3)
+    )
     if kind == "steady":
         axis = draw(st.integers(0, 2))
         omega = [omega[k] if k == axis else 0.0 for k in range(3)]
@@ -194,9 +196,12 @@ def _states(draw):
 @given(_states(), st.floats(-40.0, 40.0), st.booleans())
 def test_one_member_flow_equals_the_vectorised_flow_in_every_regime(state, h, attitude):
     moments, omega = state
-    I, w = np.array([moments]), np.array([omega])  # noqa: E741
+    I, w = np.array([moments]), np.array([omega])
     outcomes = []
-    for run in (lambda: flow_many(I, w, np.array([h]), attitude), lambda: flow_one(tuple(moments), tuple(omega), h, attitude)):
+    for run in (
+        lambda: flow_many(I, w, np.array([h]), attitude),
+        lambda: flow_one(tuple(moments), tuple(omega), h, attitude),
+    ):
         try:
             with np.errstate(all="ignore"):
                 outcomes.append(run())

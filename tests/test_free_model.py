@@ -20,7 +20,7 @@ CLOSED = {c["name"]: c for c in REF["closed"]}
 
 
 def _case(c):
-    I = [float(x) for x in c["moments"]]  # noqa: E741
+    I = [float(x) for x in c["moments"]]
     w = [float(x) for x in c["omega0"]]
     return free_rotation(I, w)
 
@@ -126,11 +126,14 @@ def test_earth_daily_grid_takes_the_nome_series_path_and_matches_mpmath():
 
 
 @pytest.mark.parametrize("n", [10_001, 4001])  # compiled (>= compiled.LONG_ARRAY samples), NumPy's
-@pytest.mark.parametrize("moments, omega0", [
-    ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # m ~ 1e-9: nome series with its 3v harmonic
-    ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: exp(i (Omega t + beta)) by block rotation
-    ((1.5, 1.0, 1.0 + 1e-9), (1.0, 0.05, 0.1)),  # the same body with its axes permuted
-])
+@pytest.mark.parametrize(
+    "moments, omega0",
+    [
+        ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # m ~ 1e-9: nome series with its 3v harmonic
+        ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: exp(i (Omega t + beta)) by block rotation
+        ((1.5, 1.0, 1.0 + 1e-9), (1.0, 0.05, 0.1)),  # the same body with its axes permuted
+    ],
+)
 def test_grid_path_equals_the_per_sample_path(moments, omega0, n):
     """Every sample of a grid (over ~300 wobble periods) against omega_at sample by sample."""
     from wobble.models.free import _blocked
@@ -197,7 +200,12 @@ def test_symmetric_closed_form_of_the_notes():
 
 
 def test_sphere_principal_axis_and_zero():
-    for I, w in [((2.0, 2.0, 2.0), (0.3, -1.0, 0.2)), ((1.0, 2.0, 3.0), (0.0, 0.0, 2.0)), ((1.0, 2.0, 3.0), (0.0, 1.0, 0.0)), ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0))]:
+    for I, w in [
+        ((2.0, 2.0, 2.0), (0.3, -1.0, 0.2)),
+        ((1.0, 2.0, 3.0), (0.0, 0.0, 2.0)),
+        ((1.0, 2.0, 3.0), (0.0, 1.0, 0.0)),
+        ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0)),
+    ]:
         model = free_rotation(I, w)
         assert model.regime == "steady"
         t = np.linspace(0, 50, 11)
@@ -218,7 +226,7 @@ def test_exactly_on_the_separatrix():
     assert model.period == np.inf
     t = np.linspace(0, 60, 13)
     w = model.omega(t)
-    I = np.array([3.0, 4.0, 6.0])  # noqa: E741
+    I = np.array([3.0, 4.0, 6.0])
     np.testing.assert_allclose(0.5 * np.sum(I * w * w, -1), model.energy, rtol=1e-15)
     # Approaches steady rotation about the intermediate axis.
     assert abs(abs(w[-1, 1]) - model.angular_momentum / 4.0) < 1e-12
@@ -232,7 +240,7 @@ rate = st.floats(-2.0, 2.0)
 @settings(max_examples=60)
 @given(moment, moment, moment, rate, rate, rate, st.permutations([0, 1, 2]))
 def test_invariants_and_relabelling(i1, i2, i3, w1, w2, w3, perm):
-    I = np.array([i1, i2, i3])  # noqa: E741
+    I = np.array([i1, i2, i3])
     if sorted(I)[0] + sorted(I)[1] < sorted(I)[2]:
         return
     w = np.array([w1, w2, w3])

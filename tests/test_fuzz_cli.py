@@ -13,19 +13,37 @@ import subprocess
 import sys
 import time
 
+import fuzz_strategies as fz
 import pytest
 from hypothesis import HealthCheck, given, settings
 
-import fuzz_strategies as fz
-
 # Inputs per command: the cheap commands get more, the slow ones enough to pass through their files.
-BUDGET = {"chandler": 3, "modes": 2, "precession": 6, "polar-motion": 2, "excitation": 3, "forecast": 3, "inertia": 15,
-          "free": 15, "top": 15, "run": 6, "sweep": 4, "invert": 1, "example": 10, "bench": 4}
+BUDGET = {
+    "chandler": 3,
+    "modes": 2,
+    "precession": 6,
+    "polar-motion": 2,
+    "excitation": 3,
+    "forecast": 3,
+    "inertia": 15,
+    "free": 15,
+    "top": 15,
+    "run": 6,
+    "sweep": 4,
+    "invert": 1,
+    "example": 10,
+    "bench": 4,
+}
 
 
 def _fuzz(command):
-    @settings(max_examples=BUDGET[command], derandomize=True, database=None, deadline=None,
-              suppress_health_check=list(HealthCheck))
+    @settings(
+        max_examples=BUDGET[command],
+        derandomize=True,
+        database=None,
+        deadline=None,
+        suppress_health_check=list(HealthCheck),
+    )
     @given(fz.case_strategy(command, real_bench=False))
     def check(case):
         outcome = fz.run_case(case, os.environ.get("PYTEST_FUZZ_TMP"))
@@ -101,8 +119,11 @@ def test_harness_reports_a_multi_line_failure_and_bad_json(monkeypatch, tmp_path
 
 
 def test_a_valid_run_passes_every_check(tmp_path):
-    case = fz.Case("free", [*FREE, "-o", "sub/out.nc", "--plot", "prevfig.png", "--overwrite", "--json"],
-                   {"sub": None, "prevfig.png": fz.PREVIOUS})
+    case = fz.Case(
+        "free",
+        [*FREE, "-o", "sub/out.nc", "--plot", "prevfig.png", "--overwrite", "--json"],
+        {"sub": None, "prevfig.png": fz.PREVIOUS},
+    )
     outcome = fz.run_case(case, tmp_path)
     assert outcome.status == 0 and outcome.problems == [] and outcome.warnings == []
 
@@ -125,8 +146,9 @@ def test_in_process_runs_match_real_processes(tmp_path):
         folder.mkdir()
         for name, data in files.items():
             (folder / name).write_bytes(data)
-        real = subprocess.run([sys.executable, "-m", "wobble", *argv], cwd=folder, capture_output=True, text=True,
-                              env=env, timeout=120)
+        real = subprocess.run(
+            [sys.executable, "-m", "wobble", *argv], cwd=folder, capture_output=True, text=True, env=env, timeout=120
+        )
         assert inside.problems == [], (argv, inside.problems)
         assert real.returncode == inside.status, (argv, real.stderr)
         assert "Traceback" not in real.stderr

@@ -21,7 +21,7 @@ from wobble.cli import main
 from wobble.cli._examples import help_examples
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-from check_help_examples import LONG  # noqa: E402
+from check_help_examples import LONG
 
 EXAMPLES = help_examples()
 SCHEDULER = ("127.0.0.1", 8786)
@@ -38,8 +38,14 @@ def scheduler():
     with socket.socket() as probe:
         if probe.connect_ex(SCHEDULER) == 0:
             pytest.skip("port 8786 is taken by another process (a cluster of someone else's)")
-    cluster = distributed.LocalCluster(host=SCHEDULER[0], scheduler_port=SCHEDULER[1], n_workers=1,
-                                       threads_per_worker=2, processes=False, dashboard_address=None)
+    cluster = distributed.LocalCluster(
+        host=SCHEDULER[0],
+        scheduler_port=SCHEDULER[1],
+        n_workers=1,
+        threads_per_worker=2,
+        processes=False,
+        dashboard_address=None,
+    )
     yield cluster
     cluster.close()
 

@@ -71,7 +71,9 @@ def test_homogeneous_body_is_the_maclaurin_limit():
     assert fig.radau_darwin_flattening == pytest.approx(1.25 * q, rel=1e-14)  # exact for eta = 0
 
 
-@pytest.mark.parametrize(("b", "rho_c", "rho_m"), [(3.48e6, 11000.0, 4400.0), (1.83e6, 6000.0, 3500.0), (5.0e6, 5000.0, 4999.0)])
+@pytest.mark.parametrize(
+    ("b", "rho_c", "rho_m"), [(3.48e6, 11000.0, 4400.0), (1.83e6, 6000.0, 3500.0), (5.0e6, 5000.0, 4999.0)]
+)
 def test_two_layer_body_matches_the_closed_form_to_1e_10(b, rho_c, rho_m):
     a = 6.4e6
     body = DensityProfile("two", (0.0, b, a), ((rho_c,), (rho_m,)), a, fluid_core=(0.0, b))
@@ -139,7 +141,9 @@ def test_mars_profile_is_rederived_from_the_catalogue():
     def integ(n, j):
         return (big_r ** (n + j + 1) - rc ** (n + j + 1)) / (n + j + 1) / big_r**j
 
-    system = mp.matrix([[4 * mp.pi * integ(2, 0), 4 * mp.pi * integ(2, 1)], [8 * mp.pi / 3 * integ(4, 0), 8 * mp.pi / 3 * integ(4, 1)]])
+    system = mp.matrix(
+        [[4 * mp.pi * integ(2, 0), 4 * mp.pi * integ(2, 1)], [8 * mp.pi / 3 * integ(4, 0), 8 * mp.pi / 3 * integ(4, 1)]]
+    )
     a0, a1 = mp.lu_solve(system, mp.matrix([mass - m_core, c - c_core]))
     assert prof.coeffs[1][0] == pytest.approx(float(a0), rel=1e-6)
     assert prof.coeffs[1][1] == pytest.approx(float(a1), rel=1e-6)
@@ -151,7 +155,9 @@ def test_mars_profile_is_rederived_from_the_catalogue():
 @given(scale=st.floats(0.1, 10.0), lam=st.floats(0.1, 10.0))
 def test_figure_depends_only_on_q_and_the_shape_of_rho(scale, lam):
     """Scaling all radii by s and densities by l, with Omega^2 scaled by l, leaves eps(r/a) unchanged."""
-    base = DensityProfile("two", (0.0, 3.5e6, 6.4e6), ((10000.0, 0.0, -2000.0), (5000.0, -1000.0)), 6.4e6, fluid_core=(0.0, 3.5e6))
+    base = DensityProfile(
+        "two", (0.0, 3.5e6, 6.4e6), ((10000.0, 0.0, -2000.0), (5000.0, -1000.0)), 6.4e6, fluid_core=(0.0, 3.5e6)
+    )
     scaled = DensityProfile(
         "two",
         tuple(e * scale for e in base.edges),
@@ -180,7 +186,11 @@ def _two(rho_c=11000.0, rho_m=4400.0, core=(0.0, 3.48e6), b=3.48e6):
         (_two(rho_c=3000.0), "density", "does not increase outward"),
         (_two(core=(0.0, 7.0e6)), "fluid_core_outer_radius", "inside the planet"),
         (_two(core=(0.0, 3.0e6)), "fluid_core_outer_radius", "layer boundary"),
-        (DensityProfile("x", (0.0, 3.48e6, 6.4e6), ((9000.0, 0.0, 3000.0), (4000.0,)), 6.4e6, (0.0, 3.48e6)), "density", "liquid core"),
+        (
+            DensityProfile("x", (0.0, 3.48e6, 6.4e6), ((9000.0, 0.0, 3000.0), (4000.0,)), 6.4e6, (0.0, 3.48e6)),
+            "density",
+            "liquid core",
+        ),
         (DensityProfile("x", (0.0, 6.4e6, 3.0e6), ((9000.0,), (4000.0,)), 6.4e6), "layer_top_radius", "increasing"),
     ],
 )
@@ -209,7 +219,11 @@ def test_plain_number_spin_is_refused():
 
 
 def test_negative_density_in_a_file_is_one_clear_error(tmp_path):
-    text = Path(load_profile("mars_layered")[1].path).read_text().replace("[[6.0, 0.0], [5.035803, -1.826654]]", "[[6.0, 0.0], [-5.0, 0.0]]")
+    text = (
+        Path(load_profile("mars_layered")[1].path)
+        .read_text()
+        .replace("[[6.0, 0.0], [5.035803, -1.826654]]", "[[6.0, 0.0], [-5.0, 0.0]]")
+    )
     path = tmp_path / "negative.toml"
     path.write_text(text)
     with pytest.raises(FileFormatError, match="positive density"):
@@ -229,4 +243,6 @@ def test_core_under_linear_mantle_reproduces_mass_and_moment():
     with pytest.raises(InputError, match="fluid_core_radius"):
         core_under_linear_mantle("x", mass, moment, radius, 4.0e6, 6000.0)
     with pytest.raises(InputError, match="density"):
-        core_under_linear_mantle("x", mass, 0.2 * mass * radius**2, radius, 1.83e6, 6000.0)  # mantle denser than the core
+        core_under_linear_mantle(
+            "x", mass, 0.2 * mass * radius**2, radius, 1.83e6, 6000.0
+        )  # mantle denser than the core

@@ -42,8 +42,16 @@ def _start(argv, cwd, tty=False):
     if tty:
         master, slave = pty.openpty()
         stderr = slave
-    proc = subprocess.Popen([sys.executable, "-m", "wobble", *argv], cwd=cwd, stdout=subprocess.PIPE, stderr=stderr,
-                            stdin=subprocess.DEVNULL, env=_env(), start_new_session=True, preexec_fn=_default_sigint)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "wobble", *argv],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=stderr,
+        stdin=subprocess.DEVNULL,
+        env=_env(),
+        start_new_session=True,
+        preexec_fn=_default_sigint,
+    )
     if tty:
         os.close(slave)
     proc.master = master
@@ -119,8 +127,21 @@ def _assert_interrupted(code, err, command):
 def test_ctrl_c_during_a_big_sweep_keeps_the_previous_file(tmp_path, output):
     target = tmp_path / output
     target.write_bytes(PREVIOUS)  # a previous result that --overwrite would replace on success
-    proc = _start(["sweep", "mars_chandler", "--members", "1000000", "--chunk-size", "20000", "-o", output,
-                   "--overwrite", "--quiet"], tmp_path)
+    proc = _start(
+        [
+            "sweep",
+            "mars_chandler",
+            "--members",
+            "1000000",
+            "--chunk-size",
+            "20000",
+            "-o",
+            output,
+            "--overwrite",
+            "--quiet",
+        ],
+        tmp_path,
+    )
     _wait_until(proc, lambda: any(n.endswith(".tmp") for n in _temporaries(tmp_path)), "the temporary output appeared")
     time.sleep(0.3)  # a few blocks into the file
     code, out, err = _interrupt(proc)
@@ -150,8 +171,22 @@ def test_ctrl_c_during_polar_motion_analysis_writes_nothing(tmp_path):
 
 @pytest.mark.slow
 def test_ctrl_c_during_a_hindcast_writes_nothing(tmp_path):
-    proc = _start(["forecast", "--hindcast", "2016-01-01:2021-01-01", "--every", "7d", "--latency", "1d", "--scheduler",
-                   "threads", "-o", "hindcast.nc"], tmp_path)
+    proc = _start(
+        [
+            "forecast",
+            "--hindcast",
+            "2016-01-01:2021-01-01",
+            "--every",
+            "7d",
+            "--latency",
+            "1d",
+            "--scheduler",
+            "threads",
+            "-o",
+            "hindcast.nc",
+        ],
+        tmp_path,
+    )
     # No progress line without a terminal: wait until it has spent well past its start-up's CPU time.
     _wait_until(proc, lambda: _cpu_seconds(proc.pid) > 4, "the hindcast was under way")
     code, out, err = _interrupt(proc)
@@ -175,8 +210,21 @@ def test_ctrl_c_during_a_benchmark_writes_no_report(tmp_path):  # the suite runs
 def test_sigkill_leaves_only_a_temporary_that_the_next_run_removes(tmp_path):
     target = tmp_path / "big.nc"
     target.write_bytes(PREVIOUS)
-    proc = _start(["sweep", "mars_chandler", "--members", "1000000", "--chunk-size", "20000", "-o", "big.nc",
-                   "--overwrite", "--quiet"], tmp_path)
+    proc = _start(
+        [
+            "sweep",
+            "mars_chandler",
+            "--members",
+            "1000000",
+            "--chunk-size",
+            "20000",
+            "-o",
+            "big.nc",
+            "--overwrite",
+            "--quiet",
+        ],
+        tmp_path,
+    )
     _wait_until(proc, lambda: bool(_temporaries(tmp_path)), "the temporary output appeared")
     time.sleep(0.3)
     code, _, _ = _interrupt(proc, signal.SIGKILL)
@@ -191,8 +239,25 @@ def test_sigkill_leaves_only_a_temporary_that_the_next_run_removes(tmp_path):
     alive = tmp_path / f".big.nc.{os.getpid()}.abcdefgh.tmp"
     alive.write_bytes(b"x")
     # The next run of the same target ignores the stale file, writes its own and removes the stale one.
-    rerun = subprocess.run([sys.executable, "-m", "wobble", "sweep", "mars_chandler", "--members", "200", "-o", "big.nc",
-                            "--overwrite", "--quiet"], cwd=tmp_path, capture_output=True, text=True, env=_env())
+    rerun = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "wobble",
+            "sweep",
+            "mars_chandler",
+            "--members",
+            "200",
+            "-o",
+            "big.nc",
+            "--overwrite",
+            "--quiet",
+        ],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=_env(),
+    )
     assert rerun.returncode == 0, rerun.stderr
     import netCDF4
 

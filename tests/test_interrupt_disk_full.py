@@ -47,8 +47,10 @@ def _run(argv, folder: Path):
 def _full_statvfs(real):
     def statvfs(path):
         s = real(path)
-        return os.statvfs_result((s.f_bsize, s.f_frsize, s.f_blocks, 0, 0, s.f_files, s.f_ffree, s.f_favail,
-                                  s.f_flag, s.f_namemax))
+        return os.statvfs_result(
+            (s.f_bsize, s.f_frsize, s.f_blocks, 0, 0, s.f_files, s.f_ffree, s.f_favail, s.f_flag, s.f_namemax)
+        )
+
     return statvfs
 
 
@@ -159,8 +161,14 @@ def test_a_real_file_size_limit_on_every_writer(tmp_path):
     for name in names:
         (tmp_path / name).write_bytes(PREVIOUS)
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONWARNINGS="ignore")
-    child = subprocess.run([sys.executable, "-c", _CHILD, json.dumps(REAL)], cwd=tmp_path, capture_output=True,
-                           text=True, env=env, timeout=300)
+    child = subprocess.run(
+        [sys.executable, "-c", _CHILD, json.dumps(REAL)],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert child.returncode == 0, child.stderr[-2000:]
     results = json.loads(child.stdout.strip().splitlines()[-1])
     for name in names:

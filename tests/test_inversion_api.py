@@ -39,8 +39,16 @@ def test_shipped_setups_are_found_by_name():
 def test_result_speaks_the_vocabulary(mars):
     d = mars.to_dict()
     names = [p["name"] for p in d["parameters"]]
-    assert names == ["fluid_core_radius", "fluid_core_density", "love_number_k2", "anelastic_exponent", "love_number_k2_imaginary",
-                     "polar_moment_factor", "core_compliance_beta", "core_compliance_gamma"]
+    assert names == [
+        "fluid_core_radius",
+        "fluid_core_density",
+        "love_number_k2",
+        "anelastic_exponent",
+        "love_number_k2_imaginary",
+        "polar_moment_factor",
+        "core_compliance_beta",
+        "core_compliance_gamma",
+    ]
     for p in d["parameters"]:
         assert {"name", "unit", "median", "lower_68", "upper_68", "lower_95", "upper_95", "r_hat", "ess"} <= set(p)
         assert p["lower_95"] <= p["lower_68"] <= p["median"] <= p["upper_68"] <= p["upper_95"]
@@ -71,8 +79,16 @@ def test_inference_data_round_trip_with_arviz_and_xarray(mars, tmp_path):
 
     az, xr = arviz(), xarray()
     idata = mars.to_inference_data()
-    for group in ("posterior", "prior", "posterior_predictive", "prior_predictive", "log_likelihood",
-                  "observed_data", "constant_data", "sample_stats"):
+    for group in (
+        "posterior",
+        "prior",
+        "posterior_predictive",
+        "prior_predictive",
+        "log_likelihood",
+        "observed_data",
+        "constant_data",
+        "sample_stats",
+    ):
         assert hasattr(idata, group), group
     path = mars.write(tmp_path / "mars.nc")
     back = az.from_netcdf(path)
@@ -83,7 +99,9 @@ def test_inference_data_round_trip_with_arviz_and_xarray(mars, tmp_path):
     np.testing.assert_array_equal(post["fluid_core_radius"].values, mars.samples[..., 0] / 1e3)
     post.close()
     summary = az.summary(back, var_names=["fluid_core_radius"], kind="diagnostics")
-    assert summary.loc["fluid_core_radius", "r_hat"] == pytest.approx(mars.to_dict()["parameters"][0]["r_hat"], abs=0.011)
+    assert summary.loc["fluid_core_radius", "r_hat"] == pytest.approx(
+        mars.to_dict()["parameters"][0]["r_hat"], abs=0.011
+    )
     assert back.observed_data["chandler_period"].values.tolist() == pytest.approx([206.9])
     assert back.posterior_predictive["chandler_period"].dims == ("chain", "draw", "chandler_period_dim_0")
 
@@ -149,23 +167,36 @@ def _broken(path_to_key, value, delete=False):
     "edit, message",
     [
         ((["parameters", "fluid_core_radius", "low"], 2500), "low < high"),
-        ((["parameters", "fluid_core_density"], {"prior": "normal", "mean": 6000, "sd": -300}), "positive standard deviation"),
+        (
+            (["parameters", "fluid_core_density"], {"prior": "normal", "mean": 6000, "sd": -300}),
+            "positive standard deviation",
+        ),
         ((["parameters", "anelastic_exponent"], {"prior": "uniform", "low": 0.5, "high": 1.5}), "physical range"),
         ((["parameters", "core_radius"], {}), "parameters.core_radius: unknown parameter"),
-        ((["observables", "lod_variation"], {"value": 1.0, "uncertainty": 0.1}), "observables.lod_variation: unknown observable"),
+        (
+            (["observables", "lod_variation"], {"value": 1.0, "uncertainty": 0.1}),
+            "observables.lod_variation: unknown observable",
+        ),
         ((["observables", "fcn_period", "value"], -243.0), "observables.fcn_period.uncertainty: missing"),
-        ((["parameters", "core_flattening_exces"], {"prior": "uniform", "low": 0, "high": 0.1}),
-         "parameters.core_flattening_exces: unknown parameter"),
+        (
+            (["parameters", "core_flattening_exces"], {"prior": "uniform", "low": 0, "high": 0.1}),
+            "parameters.core_flattening_exces: unknown parameter",
+        ),
         ((["parameters", "core_flattening_excess"], {"prior": "uniform", "low": 0.1, "high": -0.1}), "low < high"),
         ((["parameters", "core_flattening_excess"], {"prior": "uniform", "low": -1.5, "high": 0.3}), "physical range"),
-        ((["parameters", "core_flattening_excess"], {"prior": "normal", "mean": 0.05, "sd": 0.0}), "positive standard deviation"),
+        (
+            (["parameters", "core_flattening_excess"], {"prior": "normal", "mean": 0.05, "sd": 0.0}),
+            "positive standard deviation",
+        ),
         ((["parameters", "core_flattening_excess"], {}), "does not catalogue an uncertainty"),
         ((["parameters", "observed_fcn_period"], {}), "parameters.observed_fcn_period: unknown parameter"),
         ((["profile"], "prem"), "profile"),
         ((["observables", "tidal_k2", "uncertainty"], None, True), "observables.tidal_k2.uncertainty: missing"),
         ((["observables", "tidal_k2", "uncertainty"], 0.0), "positive one-sigma uncertainty"),
-        ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 3000, "high": 3300, "unit": "km"}),
-         "hydrostatic figure exists"),
+        (
+            (["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 3000, "high": 3300, "unit": "km"}),
+            "hydrostatic figure exists",
+        ),
         ((["parameters", "fluid_core_radius"], {"prior": "uniform", "low": 1900, "high": 2300, "unit": "km"}), None),
         ((["parameters", "gm"], {}), None),  # catalogued with an uncertainty: allowed
         ((["parameters", "equatorial_radius"], {}), "does not catalogue an uncertainty"),
@@ -204,8 +235,26 @@ def test_cli_bad_setup_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys
 
 def test_cli_json_and_files(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    status = main(["invert", "earth", "--steps", "150", "--burn", "50", "--walkers", "16", "--seed", "2",
-                   "--json", "-o", "e.nc", "--plot", "e.png", "--quiet"])
+    status = main(
+        [
+            "invert",
+            "earth",
+            "--steps",
+            "150",
+            "--burn",
+            "50",
+            "--walkers",
+            "16",
+            "--seed",
+            "2",
+            "--json",
+            "-o",
+            "e.nc",
+            "--plot",
+            "e.png",
+            "--quiet",
+        ]
+    )
     out, err = capsys.readouterr()
     assert status == 0
     d = json.loads(out)

@@ -30,7 +30,13 @@ from wobble.models.inversion.sampling import SamplerSettings, draw_prior, run_em
 
 @pytest.mark.parametrize(
     "prior",
-    [Uniform(-1.0, 3.0), LogUniform(1e-3, 10.0), Normal(0.2, 0.1, 0.0, 1.0), Normal(5.0, 2.0), Normal(-3.0, 1.0, 0.0, 2.0)],
+    [
+        Uniform(-1.0, 3.0),
+        LogUniform(1e-3, 10.0),
+        Normal(0.2, 0.1, 0.0, 1.0),
+        Normal(5.0, 2.0),
+        Normal(-3.0, 1.0, 0.0, 2.0),
+    ],
     ids=["uniform", "log_uniform", "normal_truncated", "normal", "normal_far_tail"],
 )
 def test_priors_are_normalised_and_their_ppf_inverts_the_cdf(prior):
@@ -131,7 +137,9 @@ Y = np.array([2.1, 1.4, 2.6])
 
 
 def _linear(row):
-    return ObservableModel(f"y{row}", lambda batch: A[row, 0] * batch["a"] + A[row, 1] * batch["b"], "", "", "linear test", "closed form")
+    return ObservableModel(
+        f"y{row}", lambda batch: A[row, 0] * batch["a"] + A[row, 1] * batch["b"], "", "", "linear test", "closed form"
+    )
 
 
 def linear_posterior(y=Y, prior_only=False) -> Posterior:

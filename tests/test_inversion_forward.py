@@ -64,10 +64,25 @@ def _member(p, overrides, i):
 
 
 MODE_KEYS = {
-    "earth": ("love_number_k2", "anelastic_exponent", "love_number_k2_imaginary", "ocean_pole_tide_love_number",
-              "fluid_core_equatorial_moment", "core_compliance_beta", "core_compliance_gamma"),
-    "mars": ("love_number_k2", "anelastic_exponent", "love_number_k2_imaginary", "fluid_core_radius",
-             "fluid_core_density", "polar_moment_factor", "core_compliance_beta", "core_compliance_gamma"),
+    "earth": (
+        "love_number_k2",
+        "anelastic_exponent",
+        "love_number_k2_imaginary",
+        "ocean_pole_tide_love_number",
+        "fluid_core_equatorial_moment",
+        "core_compliance_beta",
+        "core_compliance_gamma",
+    ),
+    "mars": (
+        "love_number_k2",
+        "anelastic_exponent",
+        "love_number_k2_imaginary",
+        "fluid_core_radius",
+        "fluid_core_density",
+        "polar_moment_factor",
+        "core_compliance_beta",
+        "core_compliance_gamma",
+    ),
 }
 
 
@@ -100,7 +115,9 @@ def _k2_mp(p, rate):
     f_ref = 1 / mp.mpf(p.love_number_k2_period.value)
     f_im = 1 / mp.mpf(p.love_number_k2_imaginary_period.value)
     im = mp.mpf(p.love_number_k2_imaginary.value)
-    k = mp.mpf(p.love_number_k2.value) + im * mp.cot(alpha * mp.pi / 2) * ((f_im / f) ** alpha - (f_im / f_ref) ** alpha)
+    k = mp.mpf(p.love_number_k2.value) + im * mp.cot(alpha * mp.pi / 2) * (
+        (f_im / f) ** alpha - (f_im / f_ref) ** alpha
+    )
     if p.ocean_pole_tide_love_number is not None:
         k += mp.mpf(p.ocean_pole_tide_love_number.value)
     return k
@@ -259,7 +276,13 @@ def test_tabulated_core_flattening_against_the_direct_solve(mars_setup):
     np.testing.assert_allclose(table, direct, rtol=2 * TABLE_TOLERANCE)
     # Through a batch, in SI: e_f of the catalogued Mars equals the profile API's.
     p = mars_setup.planet
-    batch = Batch(p, {"fluid_core_radius": np.array([1.83e6, 2.5e6, 1.83e6]), "fluid_core_density": np.array([6000.0, 6000.0, 1.0e4])})
+    batch = Batch(
+        p,
+        {
+            "fluid_core_radius": np.array([1.83e6, 2.5e6, 1.83e6]),
+            "fluid_core_density": np.array([6000.0, 6000.0, 1.0e4]),
+        },
+    )
     e = fig.hydrostatic(batch)
     assert e[0] == pytest.approx(wobble.normal_modes("mars").core_flattening_hydrostatic, rel=1e-9)
     assert np.isnan(e[1]) and np.isnan(e[2])  # outside the priors' box; a core too dense for the mantle
@@ -272,7 +295,9 @@ def test_tabulated_core_flattening_against_the_direct_solve(mars_setup):
 
 def _nominal(setup):
     post = setup.posterior()
-    return post, np.array([[getattr(setup.planet, n).value if getattr(setup.planet, n) is not None else 0.0 for n in post.names]])
+    return post, np.array(
+        [[getattr(setup.planet, n).value if getattr(setup.planet, n) is not None else 0.0 for n in post.names]]
+    )
 
 
 def test_fcn_observable_is_the_normal_modes_fcn_in_space(mars_setup, earth_setup):
@@ -311,10 +336,15 @@ def test_precession_observable_is_equation_3_and_the_budgets_rate(mars_setup):
 
 
 def test_earth_precession_observable_includes_geodesic_and_the_moon():
-    setup = wobble.load_inversion_setup({
-        "schema": "wobble-inversion/1", "name": "earth_precession", "body": "earth",
-        "parameters": {"anelastic_exponent": {}}, "observables": {"precession_rate": {}},
-    })
+    setup = wobble.load_inversion_setup(
+        {
+            "schema": "wobble-inversion/1",
+            "name": "earth_precession",
+            "body": "earth",
+            "parameters": {"anelastic_exponent": {}},
+            "observables": {"precession_rate": {}},
+        }
+    )
     assert [o.name for o in setup.context.perturbers] == ["sun", "moon"] and setup.context.geodesic_rate > 0
     post, theta = _nominal(setup)
     rate = post.predict(theta, ["precession_rate"])["precession_rate"][0]

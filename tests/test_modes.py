@@ -176,7 +176,9 @@ def test_uncertainty_is_propagated_like_the_budget(earth_modes):
     """The modes propagate linearly; the budget's first-order propagation is the same sum."""
     budget = wobble.chandler_budget("earth")
     cw = earth_modes.mode("CW")
-    assert cw.period_uncertainty.to_value(u.day) == pytest.approx(budget.period_uncertainty_linear.to_value(u.day), rel=0.05)
+    assert cw.period_uncertainty.to_value(u.day) == pytest.approx(
+        budget.period_uncertainty_linear.to_value(u.day), rel=0.05
+    )
     assert "observed_fcn_period" in earth_modes.raw.contributions
     assert earth_modes.mode("FCN", "celestial").period_uncertainty > 0 * u.day
 
@@ -197,7 +199,9 @@ def test_periods_against_core_flattening_cross_the_observation(earth_modes):
     periods = earth_modes.periods_against_core_flattening(grid)["FCN_celestial"].to_value(u.day)
     assert np.all(np.diff(periods) > 0)  # flatter core: faster retrograde nutation
     exact = earth_modes.periods_against_core_flattening([earth_modes.core_flattening_required])["FCN_celestial"]
-    assert exact[0].to_value(u.day) == pytest.approx(earth_modes.mode("FCN", "celestial").observed.to_value(u.day), rel=1e-12)
+    assert exact[0].to_value(u.day) == pytest.approx(
+        earth_modes.mode("FCN", "celestial").observed.to_value(u.day), rel=1e-12
+    )
 
 
 def test_a_planet_spinning_the_other_way_is_the_mirror_image():

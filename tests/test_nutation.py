@@ -37,7 +37,10 @@ YEAR = 365.25 * 86400
 NODE_RATE = -2 * math.pi / (18.6 * YEAR)
 
 
-def _series(rate, a_psi, b_eps, extra=(), years=40.0, samples=3000, eps0=math.radians(23.44)):
+_OBLIQUITY = math.radians(23.44)
+
+
+def _series(rate, a_psi, b_eps, extra=(), years=40.0, samples=3000, eps0=_OBLIQUITY):
     """psi(t), eps(t) in closed form, IAU-convention amplitudes (Delta psi = -(psi - secular))."""
     t = np.linspace(0.0, years * YEAR, samples)
     omega = 0.3 + NODE_RATE * t
@@ -139,7 +142,9 @@ def test_averaged_equations_integrated_give_the_first_order_amplitudes():
     s0 = np.array([0.0, -math.sin(eps), math.cos(eps)])
     sol = solve_ivp(rhs, (0.0, span), s0, method="DOP853", rtol=1e-12, atol=1e-15, t_eval=t)
     # The vernal equinox is the descending node of the equator: Omega from it starts at pi.
-    fit = fit_precession_nutation(t, sol.y.T, moon.node_rate, math.pi, extra={"2Omega": (2 * moon.node_rate, 2 * math.pi)})
+    fit = fit_precession_nutation(
+        t, sol.y.T, moon.node_rate, math.pi, extra={"2Omega": (2 * moon.node_rate, 2 * math.pi)}
+    )
     n = nodal_nutation(h, w, eps, moon)
     assert fit.nutation_longitude == pytest.approx(n.longitude, rel=1e-3)
     assert fit.nutation_obliquity == pytest.approx(n.obliquity, rel=1e-3)
@@ -188,7 +193,9 @@ def test_the_api_compares_like_with_like_and_the_non_rigid_gap_is_ten_times_larg
     (n,) = wobble.principal_nutation("earth")
     r = n.rigid
     assert r.name == "REN-2000"
-    assert r.scale == pytest.approx(wobble.load_planet("earth").parameters.dynamical_flattening.value / 3.2737548e-3, rel=1e-15)
+    assert r.scale == pytest.approx(
+        wobble.load_planet("earth").parameters.dynamical_flattening.value / 3.2737548e-3, rel=1e-15
+    )
     assert r.scaled_longitude.to_value(u.arcsec) == pytest.approx(-17.2805921 * r.scale, rel=1e-12)
     dl, de = n.rigid_difference
     assert abs(dl) < 1e-3 and abs(de) < 1e-3

@@ -18,7 +18,8 @@ from wobble.io.netcdf import open_wobble, write_netcdf
 
 @pytest.fixture(scope="module")
 def analysis():
-    """The whole IERS 20 C04 record, 1962 to the file's end (16 Monte-Carlo draws and 2-yr window steps: a fast suite)."""
+    """The whole IERS 20 C04 record, 1962 to the file's end (16 Monte-Carlo draws and 2-yr window steps: a fast
+    suite)."""
     return wobble.polar_motion_analysis(draws=16, step=2 * u.yr)
 
 
@@ -113,7 +114,10 @@ def test_chandler_wobble_on_a_synthetic_dataset():
     t, p = record(rng, 20)
     mjd = 51544.5 + t / DAY
     ds = xr.Dataset(
-        {"x_p": ("time", p.real / MAS, {"units": "milliarcsecond"}), "y_p": ("time", -p.imag / MAS, {"units": "milliarcsecond"})},
+        {
+            "x_p": ("time", p.real / MAS, {"units": "milliarcsecond"}),
+            "y_p": ("time", -p.imag / MAS, {"units": "milliarcsecond"}),
+        },
         coords={"time": ("time", mjd, {"units": MJD_UNITS})},
     )
     e = wobble.chandler_wobble(ds, excitation_q=None)
@@ -145,7 +149,12 @@ def test_chandler_wobble_bad_arguments(kwargs, fragment):
 
 @pytest.mark.parametrize(
     ("window", "fragment"),
-    [(1 * u.yr, "window: got 1.0 yr"), (30 * u.yr, "to the span analysed"), (8, "a plain number has no unit"), (-3 * u.yr, "positive")],
+    [
+        (1 * u.yr, "window: got 1.0 yr"),
+        (30 * u.yr, "to the span analysed"),
+        (8, "a plain number has no unit"),
+        (-3 * u.yr, "positive"),
+    ],
 )
 def test_bad_window_lengths(window, fragment):
     with pytest.raises(InputError, match=fragment):
@@ -153,7 +162,9 @@ def test_bad_window_lengths(window, fragment):
 
 
 def test_short_span_analysis_says_so():
-    a = wobble.polar_motion_analysis(start="2018-01-01", end="2022-12-31", window=3 * u.yr, excitation_q=None, quality_factor=True)
+    a = wobble.polar_motion_analysis(
+        start="2018-01-01", end="2022-12-31", window=3 * u.yr, excitation_q=None, quality_factor=True
+    )
     joined = " ".join(a.caveats)
     assert "beat" in joined and "no Q estimate" in joined
     assert a.quality_factor is None
@@ -169,7 +180,15 @@ def test_short_span_analysis_says_so():
 
 def test_netcdf_round_trip_and_cf(analysis, tmp_path, assert_cf_compliant):
     ds = analysis.to_dataset()
-    for name in ("x_p", "x_p_model", "x_p_residual", "chandler_amplitude", "amplitude_spectrum", "chandler_period", "model_period"):
+    for name in (
+        "x_p",
+        "x_p_model",
+        "x_p_residual",
+        "chandler_amplitude",
+        "amplitude_spectrum",
+        "chandler_period",
+        "model_period",
+    ):
         assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
     np.testing.assert_allclose(ds["x_p_model"] + ds["x_p_residual"], ds["x_p"], atol=1e-12)
     assert ds["window_time"].attrs["bounds"] == "window_time_bounds"

@@ -36,7 +36,9 @@ def test_terms_recovered_within_stated_uncertainties(deterministic_fits, which):
         dphi = math.remainder(f.chandler.phase - TRUTH["chandler_phase"], 2 * math.pi)
         assert abs(dphi) < 3 * f.chandler.phase_sigma + 1e-3
         assert abs(f.annual_prograde.amplitude - TRUTH["annual_amplitude"]) < 3 * f.annual_prograde.amplitude_sigma
-        assert abs(f.annual_retrograde.amplitude - TRUTH["retrograde_amplitude"]) < 3 * f.annual_retrograde.amplitude_sigma
+        assert (
+            abs(f.annual_retrograde.amplitude - TRUTH["retrograde_amplitude"]) < 3 * f.annual_retrograde.amplitude_sigma
+        )
         assert f.annual_retrograde.rate < 0 < f.annual_prograde.rate
 
 

@@ -89,7 +89,9 @@ def test_average_over_a_regressing_node_gives_the_p2_factor(inclination_deg):
     s = np.array([0.0, -math.sin(eps), math.cos(eps)])
     nodes = 2 * math.pi * np.arange(64) / 64
     torques = [
-        model.averaged_tidal_torque(1.0, 1.0, s, [math.sin(i) * math.sin(w), -math.sin(i) * math.cos(w), math.cos(i)], 1.0)
+        model.averaged_tidal_torque(
+            1.0, 1.0, s, [math.sin(i) * math.sin(w), -math.sin(i) * math.cos(w), math.cos(i)], 1.0
+        )
         for w in nodes
     ]
     mean = np.mean(torques, axis=0)
@@ -131,7 +133,9 @@ def test_earth_steps_reach_psi_a_and_p_a(earth):
     assert p_a == pytest.approx(IAU_P_A, abs=0.02)
     residual = psi - IAU_PSI_RATE
     first = -earth.first_order.to_value(ARCSEC_PER_CENTURY) - IAU_FIRST_ORDER
-    geodesic_gap = (-1.919883) - (-[t for t in earth.terms if t.name == "geodesic"][0].rate.to_value(ARCSEC_PER_CENTURY))
+    geodesic_gap = (-1.919883) - (
+        -[t for t in earth.terms if t.name == "geodesic"][0].rate.to_value(ARCSEC_PER_CENTURY)
+    )
     # ...up to the rounding of the published numbers (P03 Table 3 sums to 1 uas/cy).
     assert residual == pytest.approx(first - geodesic_gap, abs=1e-6)
 
@@ -147,7 +151,12 @@ def test_earth_uses_the_catalogue_h_not_iau_2006s(earth):
 def test_mars_rate_is_the_textbook_formula_from_the_catalogue(mars):
     p = mars.planet.parameters
     h = p.j2.value / p.polar_moment_factor.value
-    a, e, eps, omega = p.orbit_semi_major_axis.value, p.orbit_eccentricity.value, p.obliquity.value, p.rotation_rate.value
+    a, e, eps, omega = (
+        p.orbit_semi_major_axis.value,
+        p.orbit_eccentricity.value,
+        p.obliquity.value,
+        p.rotation_rate.value,
+    )
     n2 = 1.32712440041e20 / a**3
     expected = -1.5 * n2 * (1 - e**2) ** -1.5 * h / omega * math.cos(eps)
     assert mars.first_order.to_value(u.rad / u.s) == pytest.approx(expected, rel=1e-13)
@@ -175,7 +184,15 @@ def test_mars_uncertainty_is_the_polar_moments_in_closed_form(mars):
 
 def test_quantities_out_and_json_keys(earth):
     d = earth.to_dict()
-    for key in ("body", "rate_arcsec_per_century", "rate_uncertainty", "terms", "observed", "observed_uncertainty", "source"):
+    for key in (
+        "body",
+        "rate_arcsec_per_century",
+        "rate_uncertainty",
+        "terms",
+        "observed",
+        "observed_uncertainty",
+        "source",
+    ):
         assert key in d
     assert {"name", "value"} <= set(d["terms"][0])
     assert earth.rate.unit.is_equivalent(u.rad / u.s)

@@ -22,8 +22,17 @@ def _run(capsys, *args):
 def test_table_shows_each_term_and_the_steps_to_iau_2006(capsys):
     status, out, err = _run(capsys, "precession", "earth", "mars")
     assert status == 0 and not err
-    for word in ("sun_eccentricity", "moon_inclination", "moon_solar_perturbation", "geodesic", "psi_A", "p_A",
-                 "IAU 2000A", "Konopliv", "Circular"):
+    for word in (
+        "sun_eccentricity",
+        "moon_inclination",
+        "moon_solar_perturbation",
+        "geodesic",
+        "psi_A",
+        "p_A",
+        "IAU 2000A",
+        "Konopliv",
+        "Circular",
+    ):
         assert word in out
 
 
@@ -32,7 +41,15 @@ def test_json_keys_scripts_rely_on(capsys):
     data = json.loads(out)
     assert status == 0 and [d["body"] for d in data] == ["earth", "mars"]
     for d in data:
-        for key in ("body", "rate_arcsec_per_century", "rate_uncertainty", "terms", "observed", "observed_uncertainty", "source"):
+        for key in (
+            "body",
+            "rate_arcsec_per_century",
+            "rate_uncertainty",
+            "terms",
+            "observed",
+            "observed_uncertainty",
+            "source",
+        ):
             assert key in d
         assert all({"name", "value"} <= set(t) for t in d["terms"])
     assert abs(-data[0]["first_order_arcsec_per_century"] - 5040.70) < 0.05
@@ -42,7 +59,7 @@ def test_json_keys_scripts_rely_on(capsys):
 def test_the_principal_nutation_is_shown_beside_the_rigid_earth_series_and_iau_2000a(capsys):
     status, out, _ = _run(capsys, "precession", "earth")
     assert status == 0
-    assert "rigid Earth, REN-2000 (Souchay et al. 1999; H = 0.0032737548): -17.2806\", +9.2279\"" in out
+    assert 'rigid Earth, REN-2000 (Souchay et al. 1999; H = 0.0032737548): -17.2806", +9.2279"' in out
     shown = re.search(r"model - REN-2000: ([+-][0-9.]+) %, ([+-][0-9.]+) %", out)
     assert shown and "model - IAU 2000A:" in out
     status, out, _ = _run(capsys, "precession", "earth", "--json")

@@ -105,8 +105,10 @@ def test_a_nutation_reference_without_its_coefficient_is_refused(tmp_path):
     from wobble.io.perturbers import load_nutation_reference
 
     path = tmp_path / "series.toml"
-    path.write_text('schema = "wobble/1"\nkind = "nutation_reference"\nname = "x"\n'
-                    '[parameters.dynamical_flattening]\nvalue = 3.27e-3\nunit = ""\nsource = "test"\nstatus = "assumed"\n')
+    path.write_text(
+        'schema = "wobble/1"\nkind = "nutation_reference"\nname = "x"\n'
+        '[parameters.dynamical_flattening]\nvalue = 3.27e-3\nunit = ""\nsource = "test"\nstatus = "assumed"\n'
+    )
     with pytest.raises(FileFormatError, match="nutation_longitude"):
         load_nutation_reference(path)
     with pytest.raises(InputError, match="rigid_earth_nutation"):

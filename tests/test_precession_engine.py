@@ -45,8 +45,13 @@ def _formula(scene) -> float:
     h = (m[2] - 0.5 * (m[0] + m[1])) / m[2]
     spin = float(np.linalg.norm(scene.omega0[0]))
     axis = wobble.numerics.quaternion.rotate(scene.attitude0[0], np.array([0.0, 0.0, 1.0]))
-    total = sum(t.gm / t.orbit.semi_major_axis**3 * (1 - t.orbit.eccentricity**2) ** -1.5
-                * (1 - 1.5 * math.sin(t.orbit.inclination) ** 2) for t in scene.torques)
+    total = sum(
+        t.gm
+        / t.orbit.semi_major_axis**3
+        * (1 - t.orbit.eccentricity**2) ** -1.5
+        * (1 - 1.5 * math.sin(t.orbit.inclination) ** 2)
+        for t in scene.torques
+    )
     return -1.5 * total * h / spin * axis[2]
 
 
@@ -89,7 +94,9 @@ def _ecliptic(v):
 
 
 def _angle(a, b):
-    return np.degrees(np.arccos(np.clip(np.sum(a * b, -1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(b, axis=-1), -1, 1)))
+    return np.degrees(
+        np.arccos(np.clip(np.sum(a * b, -1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(b, axis=-1), -1, 1))
+    )
 
 
 def test_the_scene_s_sun_and_moon_are_where_erfa_puts_them():
@@ -151,7 +158,9 @@ def test_a_scene_asking_only_for_the_mean_rate_gets_the_averaged_model():
     data.update(outputs=["mean_precession_rate"], accuracy=1e-3)
     data.pop("model")
     ds = wobble.run(data)
-    assert ds.attrs["model"] == "averaged-precession" and "only for the mean precession rate" in ds.attrs["model_reason"]
+    assert (
+        ds.attrs["model"] == "averaged-precession" and "only for the mean precession rate" in ds.attrs["model_reason"]
+    )
     assert ds["mean_precession_rate"].attrs["cell_methods"] == "time: mean"
     np.testing.assert_allclose(ds["time_bounds"].values, [[0.0, 7305 * 86400.0]])
     assert float(ds["mean_precession_rate"].values[0]) == pytest.approx(_formula(scene_from_mapping(data)), rel=1e-12)
@@ -159,15 +168,20 @@ def test_a_scene_asking_only_for_the_mean_rate_gets_the_averaged_model():
     # the triaxial Earth has the same mean rate (H counts the mean equatorial moment)
     data["body"] = {"planet": "earth"}
     tri = wobble.run(data)
-    assert float(tri["mean_precession_rate"].values[0]) == pytest.approx(float(ds["mean_precession_rate"].values[0]), rel=1e-9)
+    assert float(tri["mean_precession_rate"].values[0]) == pytest.approx(
+        float(ds["mean_precession_rate"].values[0]), rel=1e-9
+    )
 
 
-@pytest.mark.parametrize("change, key, match", [
-    ({"outputs": ["mean_precession_rate", "angular_momentum"]}, "outputs", "alone"),
-    ({"accuracy": 1e-9}, "accuracy", "first-order averaging"),
-    ({"torques": "table"}, "outputs", "Keplerian orbits only"),
-    ({"model": "dop853"}, "model", "averaged-precession"),
-])
+@pytest.mark.parametrize(
+    "change, key, match",
+    [
+        ({"outputs": ["mean_precession_rate", "angular_momentum"]}, "outputs", "alone"),
+        ({"accuracy": 1e-9}, "accuracy", "first-order averaging"),
+        ({"torques": "table"}, "outputs", "Keplerian orbits only"),
+        ({"model": "dop853"}, "model", "averaged-precession"),
+    ],
+)
 def test_the_mean_rate_is_refused_where_the_averaged_model_cannot_give_it(change, key, match):
     data = _shipped()
     data.update(outputs=["mean_precession_rate"], accuracy=1e-3)
@@ -175,8 +189,15 @@ def test_the_mean_rate_is_refused_where_the_averaged_model_cannot_give_it(change
     if change.get("torques") == "table":
         t = np.linspace(0.0, 7306 * 86400.0, 8)
         pos = np.stack([np.cos(t * 1e-7), np.sin(t * 1e-7), 0 * t], -1) * 1.5e11
-        data["torques"] = [data["torques"][1], {"kind": "third_body", "name": "sun", "gm": "1.327e20 m3 s-2",
-                                                "ephemeris": {"times": t * u.s, "positions": pos * u.m}}]
+        data["torques"] = [
+            data["torques"][1],
+            {
+                "kind": "third_body",
+                "name": "sun",
+                "gm": "1.327e20 m3 s-2",
+                "ephemeris": {"times": t * u.s, "positions": pos * u.m},
+            },
+        ]
     else:
         data.update(change)
     with pytest.raises(InputError, match=f"{key}: .*{match}"):
@@ -188,7 +209,10 @@ def test_the_mean_rate_is_refused_where_the_averaged_model_cannot_give_it(change
 def test_the_averaged_rate_does_not_depend_on_where_longitudes_start(turn, obliquity):
     """Turning the inertial frame about z (every node and the body's equator) leaves the rate alone."""
     data = _shipped()
-    data["initial"] = {"spin_rate": "catalogue", "euler_angles": {"value": [math.pi + turn, obliquity, 0.0], "unit": "rad"}}
+    data["initial"] = {
+        "spin_rate": "catalogue",
+        "euler_angles": {"value": [math.pi + turn, obliquity, 0.0], "unit": "rad"},
+    }
     base = scene_from_mapping(data)
     for t in data["torques"]:
         t["longitude_of_node"] = f"{float(u.Quantity(t['longitude_of_node']).to_value(u.rad)) + turn} rad"

@@ -60,8 +60,15 @@ def _top_reference(ds, center_of_mass=(0.0, 0.0, 1.0)):
     from wobble.models.engine import UniformGravity, simulate
 
     theta = np.radians(60)
-    return simulate([1.0, 1.0, 0.5], [0, 0, 10.0], [np.cos(theta / 2), np.sin(theta / 2), 0, 0], ds["time"].values,
-                    [UniformGravity(1.0, list(center_of_mass), [0, 0, -1.0])], rtol=1e-13, estimate=False)
+    return simulate(
+        [1.0, 1.0, 0.5],
+        [0, 0, 10.0],
+        [np.cos(theta / 2), np.sin(theta / 2), 0, 0],
+        ds["time"].values,
+        [UniformGravity(1.0, list(center_of_mass), [0, 0, -1.0])],
+        rtol=1e-13,
+        estimate=False,
+    )
 
 
 def _assert_matches(ds, ref, tol):
@@ -83,13 +90,18 @@ def test_a_hanging_top_is_the_same_top_with_turned_body_axes():
     """Centre of mass below the pivot on body axis 3 (M g l < 0 along +z): the exact top, axes turned back."""
     theta = np.radians(60)
     scene = wobble.Scene(
-        body=[1.0, 1.0, 0.5] * KGM2, omega0=[0.0, 0.0, 10.0] * RAD_S,
+        body=[1.0, 1.0, 0.5] * KGM2,
+        omega0=[0.0, 0.0, 10.0] * RAD_S,
         attitude0=[np.cos(theta / 2), np.sin(theta / 2), 0, 0],
-        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, -1] * u.m, g=1 * u.m / u.s**2)], t_end=3 * u.s, samples=31,
+        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, -1] * u.m, g=1 * u.m / u.s**2)],
+        t_end=3 * u.s,
+        samples=31,
     )
     ds = wobble.run(scene)
     assert ds.attrs["model"] == "heavy-top"
-    np.testing.assert_allclose(ds["attitude"].values[0], [np.cos(theta / 2), np.sin(theta / 2), 0, 0], rtol=0, atol=2e-16)
+    np.testing.assert_allclose(
+        ds["attitude"].values[0], [np.cos(theta / 2), np.sin(theta / 2), 0, 0], rtol=0, atol=2e-16
+    )
     _assert_matches(ds, _top_reference(ds, (0.0, 0.0, -1.0)), 1e-10)
 
 
@@ -97,8 +109,12 @@ def test_a_top_ensemble_integrates_and_says_why():
     omega = [[0.0, 0.0, 10.0], [0.0, 0.0, 11.0]] * RAD_S
     theta = np.radians(60)
     scene = wobble.Scene(
-        body=[1.0, 1.0, 0.5] * KGM2, omega0=omega, attitude0=[np.cos(theta / 2), np.sin(theta / 2), 0, 0],
-        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)], t_end=1 * u.s, samples=11,
+        body=[1.0, 1.0, 0.5] * KGM2,
+        omega0=omega,
+        attitude0=[np.cos(theta / 2), np.sin(theta / 2), 0, 0],
+        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)],
+        t_end=1 * u.s,
+        samples=11,
     )
     ds = wobble.run(scene)
     assert ds.attrs["model"] in ("splitting-4", "splitting-6", "dop853")
@@ -108,11 +124,21 @@ def test_a_top_ensemble_integrates_and_says_why():
 
 def test_what_is_not_a_heavy_top():
     """An asymmetric body or an off-axis centre of mass is integrated."""
-    off = wobble.Scene(body=[1.0, 1.2, 0.5] * KGM2, omega0=[0, 0, 10.0] * RAD_S, t_end=1 * u.s, samples=3,
-                       torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)])
+    off = wobble.Scene(
+        body=[1.0, 1.2, 0.5] * KGM2,
+        omega0=[0, 0, 10.0] * RAD_S,
+        t_end=1 * u.s,
+        samples=3,
+        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)],
+    )
     assert wobble.run(off).attrs["model"] != "heavy-top"
-    side = wobble.Scene(body=[1.0, 1.0, 0.5] * KGM2, omega0=[0, 0, 10.0] * RAD_S, t_end=1 * u.s, samples=3,
-                        torques=[wobble.Torque.gravity(1 * u.kg, [0.1, 0, 1] * u.m, g=1 * u.m / u.s**2)])
+    side = wobble.Scene(
+        body=[1.0, 1.0, 0.5] * KGM2,
+        omega0=[0, 0, 10.0] * RAD_S,
+        t_end=1 * u.s,
+        samples=3,
+        torques=[wobble.Torque.gravity(1 * u.kg, [0.1, 0, 1] * u.m, g=1 * u.m / u.s**2)],
+    )
     assert wobble.run(side).attrs["model"] != "heavy-top"
 
 
@@ -138,8 +164,15 @@ def test_accuracy_asked_is_met_for_a_torqued_scene():
     for model in (None, "dop853"):
         ds = wobble.run(top_scene(accuracy=1e-8), model=model)
         theta = np.radians(60)
-        ref = simulate([1.0, 1.0, 0.5], [0, 0, 10.0], [np.cos(theta / 2), np.sin(theta / 2), 0, 0], ds["time"].values,
-                       [UniformGravity(1.0, [0, 0, 1.0], [0, 0, -1.0])], rtol=1e-13, estimate=False)
+        ref = simulate(
+            [1.0, 1.0, 0.5],
+            [0, 0, 10.0],
+            [np.cos(theta / 2), np.sin(theta / 2), 0, 0],
+            ds["time"].values,
+            [UniformGravity(1.0, [0, 0, 1.0], [0, 0, -1.0])],
+            rtol=1e-13,
+            estimate=False,
+        )
         w, wr = ds["omega"].values, ref.omega[:, 0]
         err = np.max(np.abs(w - wr) / np.max(np.abs(wr), axis=0))
         assert err <= 1e-8
@@ -164,8 +197,12 @@ def test_only_the_outputs_asked_for_are_computed(monkeypatch):
 
 
 def test_energy_of_a_non_conservative_torque_is_refused():
-    scene = free_scene([1, 2, 3], [1.0, 0.1, 1.0], torques=[wobble.Torque.damping(0.1 * u.N * u.m * u.s)],
-                       outputs=["omega", "total_energy"])
+    scene = free_scene(
+        [1, 2, 3],
+        [1.0, 0.1, 1.0],
+        torques=[wobble.Torque.damping(0.1 * u.N * u.m * u.s)],
+        outputs=["omega", "total_energy"],
+    )
     with pytest.raises(InputError, match="outputs"):
         wobble.run(scene)
 
@@ -232,7 +269,9 @@ def test_example_scene_physics():
 
 def test_scene_file_errors_name_the_file(tmp_path):
     path = tmp_path / "bad.toml"
-    path.write_text('schema = "wobble-scene/1"\naccuracy = 1e-17\n[body]\nmoments = "1 kg m2"\n'
-                    '[initial]\nomega = { value = [1, 0.1, 1], unit = "rad/s" }\n[time]\nstop = "1 s"\nsamples = 3\n')
+    path.write_text(
+        'schema = "wobble-scene/1"\naccuracy = 1e-17\n[body]\nmoments = "1 kg m2"\n'
+        '[initial]\nomega = { value = [1, 0.1, 1], unit = "rad/s" }\n[time]\nstop = "1 s"\nsamples = 3\n'
+    )
     with pytest.raises(FileFormatError, match="bad.toml"):
         wobble.run(path)

@@ -46,8 +46,12 @@ def test_a_minimal_scene(tmp_path):
 
 
 def test_quantities_in_every_form_and_unit(tmp_path):
-    text = BASE.replace('moments = { value = [1, 2, 3], unit = "kg m2" }', 'moments = { value = [10000, 20000, 30000], unit = "g cm2" }')
-    text = text.replace('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [360, 36, 360], unit = "deg / s" }')
+    text = BASE.replace(
+        'moments = { value = [1, 2, 3], unit = "kg m2" }', 'moments = { value = [10000, 20000, 30000], unit = "g cm2" }'
+    )
+    text = text.replace(
+        'omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [360, 36, 360], unit = "deg / s" }'
+    )
     text = text.replace('stop = "10 s"', 'stop = "0.5 min"')
     scene = read_scene(write(tmp_path, text))
     np.testing.assert_allclose(scene.body.moments, [1e-3, 2e-3, 3e-3])
@@ -59,26 +63,47 @@ def test_quantities_in_every_form_and_unit(tmp_path):
     "change, key",
     [
         (('[body]\nmoments = { value = [1, 2, 3], unit = "kg m2" }\n', ""), "body"),  # missing section
-        (('moments = { value = [1, 2, 3], unit = "kg m2" }', 'moments = { value = [1, 2, 3], unit = "kg" }'), "body.moments.unit"),
+        (
+            ('moments = { value = [1, 2, 3], unit = "kg m2" }', 'moments = { value = [1, 2, 3], unit = "kg" }'),
+            "body.moments.unit",
+        ),
         (('moments = { value = [1, 2, 3], unit = "kg m2" }', "moments = [1, 2, 3]"), "body.moments"),
-        (('moments = { value = [1, 2, 3], unit = "kg m2" }', 'moments = { value = [1, 1, 3], unit = "kg m2" }'), "body.moments"),
-        (('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [1, 0.1, 1], unit = "m/s" }'), "initial.omega.unit"),
-        (('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [1, 0.1], unit = "rad/s" }'), "initial.omega"),
+        (
+            ('moments = { value = [1, 2, 3], unit = "kg m2" }', 'moments = { value = [1, 1, 3], unit = "kg m2" }'),
+            "body.moments",
+        ),
+        (
+            ('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [1, 0.1, 1], unit = "m/s" }'),
+            "initial.omega.unit",
+        ),
+        (
+            ('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [1, 0.1], unit = "rad/s" }'),
+            "initial.omega",
+        ),
         (('stop = "10 s"', 'stop = "-10 s"'), "time.stop"),
         (('stop = "10 s"', 'stop = "10 kg"'), "time.stop"),
         (('stop = "10 s"\nsamples = 11', 'values = { value = [0, 2, 1], unit = "s" }'), "time.values"),
         (('stop = "10 s"\nsamples = 11', 'stop = "10 s"\nstep = "-1 s"'), "time.step"),
-        (('samples = 11', 'samples = 0'), "time.samples"),
-        (('samples = 11', 'samples = 11\nfrequency = 3'), "time.frequency"),
-        (('accuracy = 1e-9', 'accuracy = 2'), "accuracy"),
+        (("samples = 11", "samples = 0"), "time.samples"),
+        (("samples = 11", "samples = 11\nfrequency = 3"), "time.frequency"),
+        (("accuracy = 1e-9", "accuracy = 2"), "accuracy"),
         (('outputs = ["omega"]', 'outputs = ["omega", "spin_angle"]'), "outputs[1]"),
         (('name = "test"', 'name = "test"\ncolour = "red"'), "colour"),
-        (('accuracy = 1e-9', 'accuracy = 1e-9\nmodel = "rk4"'), "model"),
+        (("accuracy = 1e-9", 'accuracy = 1e-9\nmodel = "rk4"'), "model"),
         (("[time]", '[[torques]]\nkind = "electrostatic"\n\n[time]'), "torques[0].kind"),
         (("[time]", '[[torques]]\ntorque = { value = [0, 0, 1], unit = "N m" }\n\n[time]'), "torques[0].kind"),
-        (("[time]", '[[torques]]\nkind = "constant"\ntorque = { value = [0, 0, 1], unit = "N" }\n\n[time]'), "torques[0].torque.unit"),
-        (("[time]", '[[torques]]\nkind = "gravity"\ncenter_of_mass = { value = [0, 0, 1], unit = "m" }\n\n[time]'), "torques[0].mass"),
-        (("[time]", '[[torques]]\nkind = "gravity_gradient"\ngm = "1 m3/s2"\ndistance = "1 km"\n\n[time]'), "torques[0].direction"),
+        (
+            ("[time]", '[[torques]]\nkind = "constant"\ntorque = { value = [0, 0, 1], unit = "N" }\n\n[time]'),
+            "torques[0].torque.unit",
+        ),
+        (
+            ("[time]", '[[torques]]\nkind = "gravity"\ncenter_of_mass = { value = [0, 0, 1], unit = "m" }\n\n[time]'),
+            "torques[0].mass",
+        ),
+        (
+            ("[time]", '[[torques]]\nkind = "gravity_gradient"\ngm = "1 m3/s2"\ndistance = "1 km"\n\n[time]'),
+            "torques[0].direction",
+        ),
         (("[time]", '[[torques]]\nkind = "damping"\ncoefficient = "-1 N m s"\n\n[time]'), "torques[0].coefficient"),
         (('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'spin_rate = "catalogue"'), "initial.spin_rate"),
         (('schema = "wobble-scene/1"', 'schema = "wobble-scene/9"'), "schema"),
@@ -104,25 +129,42 @@ def test_unreadable_and_missing_files(tmp_path):
 
 def test_a_mapping_without_a_file_raises_input_error_naming_the_key():
     with pytest.raises(InputError, match=r"^time\.stop"):
-        scene_from_mapping({"body": {"moments": "1 kg m2"}, "initial": {"omega": {"value": [0, 0, 1], "unit": "rad/s"}}, "time": {"samples": 3}})
+        scene_from_mapping(
+            {
+                "body": {"moments": "1 kg m2"},
+                "initial": {"omega": {"value": [0, 0, 1], "unit": "rad/s"}},
+                "time": {"samples": 3},
+            }
+        )
 
 
 def test_euler_angles_and_rates():
     """z-x-z angles: R = Rz(phi) Rx(theta) Rz(psi); body omega from the rates (Goldstein 4.125)."""
     data = {
         "body": {"moments": {"value": [1, 1, 0.5], "unit": "kg m2"}},
-        "initial": {"euler_angles": {"value": [30, 60, 45], "unit": "deg"}, "euler_rates": {"value": [0.5, -0.2, 10], "unit": "rad/s"}},
+        "initial": {
+            "euler_angles": {"value": [30, 60, 45], "unit": "deg"},
+            "euler_rates": {"value": [0.5, -0.2, 10], "unit": "rad/s"},
+        },
         "time": {"stop": "1 s", "samples": 2},
     }
     scene = scene_from_mapping(data)
     phi, theta, psi = np.radians([30, 60, 45])
-    rz = lambda a: np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])  # noqa: E731
-    rx = lambda a: np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])  # noqa: E731
+
+    def rz(a):
+        return np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+
+    def rx(a):
+        return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+
     np.testing.assert_allclose(Q.to_matrix(scene.attitude0[0]), rz(phi) @ rx(theta) @ rz(psi), atol=1e-15)
     # omega from the time derivative of R: [omega]_x = R^T dR/dt, by finite differences
     rates = np.array([0.5, -0.2, 10.0])
     dt = 1e-6
-    r = lambda a: rz(a[0]) @ rx(a[1]) @ rz(a[2])  # noqa: E731
+
+    def r(a):
+        return rz(a[0]) @ rx(a[1]) @ rz(a[2])
+
     angles = np.array([phi, theta, psi])
     skew = r(angles).T @ (r(angles + rates * dt) - r(angles - rates * dt)) / (2 * dt)
     np.testing.assert_allclose(scene.omega0[0], [skew[2, 1], skew[0, 2], skew[1, 0]], rtol=1e-8)
@@ -130,35 +172,51 @@ def test_euler_angles_and_rates():
 
 def test_planet_bodies_come_from_the_catalogue():
     """Earth's A < B < C from its file, and its spin rate: nothing retyped."""
-    scene = scene_from_mapping({
-        "body": {"planet": "earth"},
-        "initial": {"spin_rate": "catalogue", "wobble_angle": "0.2 arcsec"},
-        "time": {"stop": "1 d", "samples": 2},
-    })
+    scene = scene_from_mapping(
+        {
+            "body": {"planet": "earth"},
+            "initial": {"spin_rate": "catalogue", "wobble_angle": "0.2 arcsec"},
+            "time": {"stop": "1 d", "samples": 2},
+        }
+    )
     planet, _ = load_planet("earth")
     a, b, c = scene.body.moments
     assert a < b < c
     # Earth's file gives J2 and H: C/(M a^2) = J2/H, M = GM/G.
-    c_ref = (planet.j2.value / planet.dynamical_flattening.value) * planet.gm.value / planet.gravitational_constant.value * planet.equatorial_radius.value**2
+    c_ref = (
+        (planet.j2.value / planet.dynamical_flattening.value)
+        * planet.gm.value
+        / planet.gravitational_constant.value
+        * planet.equatorial_radius.value**2
+    )
     assert math.isclose(c, c_ref, rel_tol=1e-15)
     assert math.isclose((c - (a + b) / 2) / c, planet.flattening, rel_tol=1e-9)
     assert math.isclose(np.linalg.norm(scene.omega0), planet.rotation_rate.value, rel_tol=1e-15)
-    assert math.isclose(np.arctan2(np.hypot(*scene.omega0[0, :2]), scene.omega0[0, 2]), np.radians(0.2 / 3600), rel_tol=1e-12)
+    assert math.isclose(
+        np.arctan2(np.hypot(*scene.omega0[0, :2]), scene.omega0[0, 2]), np.radians(0.2 / 3600), rel_tol=1e-12
+    )
 
 
 def test_gravity_gradient_primary_from_the_catalogue():
-    scene = scene_from_mapping({
-        "body": {"moments": "1 kg m2"},
-        "initial": {"omega": {"value": [0, 0, 1], "unit": "rad/s"}},
-        "torques": [{"kind": "gravity_gradient", "primary": "earth", "distance": "7000 km", "orbit_normal": [0, 0, 1]}],
-        "time": {"stop": "1 s", "samples": 2},
-    })
+    scene = scene_from_mapping(
+        {
+            "body": {"moments": "1 kg m2"},
+            "initial": {"omega": {"value": [0, 0, 1], "unit": "rad/s"}},
+            "torques": [
+                {"kind": "gravity_gradient", "primary": "earth", "distance": "7000 km", "orbit_normal": [0, 0, 1]}
+            ],
+            "time": {"stop": "1 s", "samples": 2},
+        }
+    )
     assert scene.torques[0].gm == load_planet("earth")[0].gm.value
 
 
 def test_named_solids_come_from_the_bodies_library(tmp_path):
     """A box of edges (a, b, c): I = m (b^2 + c^2)/12 and cyclic (closed form, notes 5.1)."""
-    text = BASE.replace('moments = { value = [1, 2, 3], unit = "kg m2" }', 'solid = "box"\nmass = "1 kg"\nedges = { value = [0.2, 0.1, 0.03], unit = "m" }')
+    text = BASE.replace(
+        'moments = { value = [1, 2, 3], unit = "kg m2" }',
+        'solid = "box"\nmass = "1 kg"\nedges = { value = [0.2, 0.1, 0.03], unit = "m" }',
+    )
     scene = read_scene(write(tmp_path, text))
     a, b, c = 0.2, 0.1, 0.03
     expected = np.array([b * b + c * c, a * a + c * c, a * a + b * b]) / 12
@@ -166,7 +224,10 @@ def test_named_solids_come_from_the_bodies_library(tmp_path):
 
 
 def test_ensembles_from_lists_of_states(tmp_path):
-    text = BASE.replace('omega = { value = [1, 0.1, 1], unit = "rad/s" }', 'omega = { value = [[1, 0.1, 1], [0, 1, 0.1]], unit = "rad/s" }')
+    text = BASE.replace(
+        'omega = { value = [1, 0.1, 1], unit = "rad/s" }',
+        'omega = { value = [[1, 0.1, 1], [0, 1, 0.1]], unit = "rad/s" }',
+    )
     scene = read_scene(write(tmp_path, text))
     assert scene.members == 2 and scene.ensemble
     bad = text.replace("[initial]", "[initial]\nattitude = [[1, 0, 0, 0], [1, 0, 0, 0], [1, 0, 0, 0]]")
@@ -188,5 +249,7 @@ def test_example_scenes_parse(name):
 
     scene = read_scene(example_scene_path(name))
     assert scene.description and scene.title
-    assert all(isinstance(t, (eng.ConstantTorque, eng.UniformGravity, eng.GravityGradient, eng.ThirdBody, eng.LinearDamping))
-               for t in scene.torques)
+    assert all(
+        isinstance(t, (eng.ConstantTorque, eng.UniformGravity, eng.GravityGradient, eng.ThirdBody, eng.LinearDamping))
+        for t in scene.torques
+    )

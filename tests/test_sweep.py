@@ -59,7 +59,9 @@ def test_distributed_cluster_matches_serial():
     from distributed import Client, LocalCluster
 
     reference = run_sweep(MARS, scheduler="synchronous")
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None) as cluster:
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
         with Client(cluster) as client:
             on_cluster = run_sweep(MARS, chunk_size=600, scheduler=client)
             by_address = run_sweep(MARS, chunk_size=2000, scheduler=cluster.scheduler_address)
@@ -90,7 +92,9 @@ def test_monte_carlo_spread_matches_linear_propagation():
     spec = {**MARS, "members": 40000, "vary": {"love_number_k2": {"distribution": "normal"}}}
     summary = summarize_sweep(run_sweep(spec))
     mars = load_planet("mars")[0]
-    only_k2 = replace(mars, **{k: Measured(v.value, 0.0) for k, v in mars.measured_fields().items() if k != "love_number_k2"})
+    only_k2 = replace(
+        mars, **{k: Measured(v.value, 0.0) for k, v in mars.measured_fields().items() if k != "love_number_k2"}
+    )
     linear = chandler_budget(only_k2)
     assert summary.std == pytest.approx(linear.period_sigma / 86400, rel=0.02)
     assert summary.mean == pytest.approx(linear.period / 86400, abs=3 * summary.std / np.sqrt(40000) + 1e-3)
@@ -133,14 +137,26 @@ def test_unphysical_members_are_marked_and_the_sweep_goes_on():
     [
         ({"bogus": 1}, "bogus", "unknown key"),
         ({"vary": {"love_number": {"distribution": "normal"}}}, "vary.love_number", "unknown parameter"),
-        ({"vary": {"love_number_k2": {"distribution": "poisson"}}}, "vary.love_number_k2.distribution", "allowed: normal"),
+        (
+            {"vary": {"love_number_k2": {"distribution": "poisson"}}},
+            "vary.love_number_k2.distribution",
+            "allowed: normal",
+        ),
         ({"vary": {"love_number_k2": {"distribution": "uniform", "low": 1}}}, "vary.love_number_k2", "low and high"),
         ({"members": 0}, "members", "positive"),
         ({"outputs": ["nope"]}, "outputs", "allowed: chandler_period"),
         ({"target": "weather"}, "target", "allowed: chandler"),
         ({"body": "pluto"}, "body", "pluto"),
-        ({"vary": {"love_number_k2": {"distribution": "grid", "values": [0.1]}, "j2": {"distribution": "normal"}}}, "vary", "mixing"),
-        ({"vary": {"love_number_k2": {"distribution": "normal", "unit": "m"}}}, "vary.love_number_k2.unit", "dimensionless"),
+        (
+            {"vary": {"love_number_k2": {"distribution": "grid", "values": [0.1]}, "j2": {"distribution": "normal"}}},
+            "vary",
+            "mixing",
+        ),
+        (
+            {"vary": {"love_number_k2": {"distribution": "normal", "unit": "m"}}},
+            "vary.love_number_k2.unit",
+            "dimensionless",
+        ),
     ],
 )
 def test_bad_sweeps_fail_before_any_work_naming_the_key(edit, where, fragment):
@@ -183,7 +199,9 @@ def test_sweep_spread_is_the_budgets_uncertainty(body):
 
 def test_cli_summary_json_plot_and_errors(tmp_path, capsys):
     out = tmp_path / "m.nc"
-    status = main(["sweep", "mars_chandler", "--members", "300", "-o", str(out), "--json", "--plot", str(tmp_path / "h.png")])
+    status = main(
+        ["sweep", "mars_chandler", "--members", "300", "-o", str(out), "--json", "--plot", str(tmp_path / "h.png")]
+    )
     captured = capsys.readouterr()
     # No progress bar when stderr is not a terminal; under --json the files written are announced there.
     assert status == 0 and captured.err.splitlines() == [f"wrote {out}", f"wrote {tmp_path / 'h.png'}"]

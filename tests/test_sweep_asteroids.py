@@ -13,7 +13,11 @@ from wobble.models.free import free_rotation
 from wobble.models.free_ensemble import free_ensemble
 
 SPEC = {
-    "schema": "wobble-sweep/1", "name": "ast_test", "target": "free_rotation", "members": 3000, "seed": 11,
+    "schema": "wobble-sweep/1",
+    "name": "ast_test",
+    "target": "free_rotation",
+    "members": 3000,
+    "seed": 11,
     "base": {"moment_a": {"value": 1e17, "unit": "kg m2"}, "final_time": {"value": 10.0, "unit": "d"}},
     "vary": {
         "moment_ratio_ba": {"distribution": "uniform", "low": 1.0, "high": 3.0},
@@ -55,7 +59,9 @@ def test_members_agree_with_the_single_member_exact_solution(ens):
         model = free_rotation(moments, w)
         assert int(m.regime) == codes[model.regime]
         np.testing.assert_allclose(float(m.nutation_period), model.period, rtol=1e-13)
-        np.testing.assert_allclose(m.omega_final.values, model.omega(10 * 86400.0), rtol=0, atol=1e-13 * np.linalg.norm(w))
+        np.testing.assert_allclose(
+            m.omega_final.values, model.omega(10 * 86400.0), rtol=0, atol=1e-13 * np.linalg.norm(w)
+        )
         # The wobble angle (circulation axis against L) over one period, sampled densely.
         t = np.linspace(0, model.period, 4001)
         om = model.omega(t)
@@ -63,11 +69,17 @@ def test_members_agree_with_the_single_member_exact_solution(ens):
         ax = 2 if int(m.regime) == 1 else 0
         ang = np.arccos(np.abs(ll[:, ax]) / np.linalg.norm(ll, axis=1))
         assert ang.min() >= float(m.wobble_angle_min) - 1e-9 and ang.max() <= float(m.wobble_angle_max) + 1e-9
-        np.testing.assert_allclose([ang.min(), ang.max()], [float(m.wobble_angle_min), float(m.wobble_angle_max)], atol=2e-6)
+        np.testing.assert_allclose(
+            [ang.min(), ang.max()], [float(m.wobble_angle_min), float(m.wobble_angle_max)], atol=2e-6
+        )
         # Mean precession rate: the mean of Landau & Lifshitz's phidot (eq. 37.14) over a period.
         a, b = [k for k in range(3) if k != ax]
         ia, ib = moments[a], moments[b]
-        phidot = np.linalg.norm(ll[0]) * (ia * om[:, a] ** 2 + ib * om[:, b] ** 2) / (ia**2 * om[:, a] ** 2 + ib**2 * om[:, b] ** 2)
+        phidot = (
+            np.linalg.norm(ll[0])
+            * (ia * om[:, a] ** 2 + ib * om[:, b] ** 2)
+            / (ia**2 * om[:, a] ** 2 + ib**2 * om[:, b] ** 2)
+        )
         np.testing.assert_allclose(2 * np.pi / float(m.precession_period), phidot[:-1].mean(), rtol=1e-9)
         checked += 1
     assert checked > 20
@@ -107,7 +119,6 @@ def test_reproducible_whatever_the_chunking_and_scheduler(ens):
 
 def test_shipped_ensemble_streams_in_bounded_memory(tmp_path, assert_cf_compliant):
     import tracemalloc
-
     from dataclasses import replace
 
     spec = wobble.load_sweep("data/sweeps/tumbling_asteroids.toml")

@@ -37,8 +37,14 @@ def write_toml(path, spec: dict):
 
 def _spec(**vary):
     return {
-        "schema": "wobble-sweep/1", "name": "top_test", "target": "heavy_top",
-        "base": {"I1": {"value": I1, "unit": "kg m2"}, "I3": {"value": I3, "unit": "kg m2"}, "mgl": {"value": MGL, "unit": "J"}},
+        "schema": "wobble-sweep/1",
+        "name": "top_test",
+        "target": "heavy_top",
+        "base": {
+            "I1": {"value": I1, "unit": "kg m2"},
+            "I3": {"value": I3, "unit": "kg m2"},
+            "mgl": {"value": MGL, "unit": "J"},
+        },
         "vary": vary,
     }
 

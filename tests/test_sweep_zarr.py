@@ -19,8 +19,10 @@ SWEEPS = Path(__file__).resolve().parents[1] / "data" / "sweeps"
 
 def _same(a: xr.Dataset, b: xr.Dataset) -> None:
     # history carries the time of writing; everything else must be identical
-    xr.testing.assert_identical(a.drop_attrs(deep=False).assign_attrs({k: v for k, v in a.attrs.items() if k != "history"}),
-                                b.drop_attrs(deep=False).assign_attrs({k: v for k, v in b.attrs.items() if k != "history"}))
+    xr.testing.assert_identical(
+        a.drop_attrs(deep=False).assign_attrs({k: v for k, v in a.attrs.items() if k != "history"}),
+        b.drop_attrs(deep=False).assign_attrs({k: v for k, v in b.attrs.items() if k != "history"}),
+    )
 
 
 @pytest.mark.parametrize("name, chunks", [("mars_chandler", (7000, 30000)), ("top_phase_diagram", (5000, 20000))])

@@ -88,7 +88,9 @@ def test_degenerate_pair_frame_is_stable():
     # the unique axis is R e_z (up to sign), the pair spans its orthogonal plane
     assert abs(abs(axes[2] @ r[:, 2]) - 1) <= 1e-14
     assert degenerate_pairs(np.subtract.outer([1.0, 1.0, 3.0], [1.0, 1.0, 3.0]), np.array([1.0, 1.0, 3.0]), 1e-12) == (
-        True, False)
+        True,
+        False,
+    )
 
 
 def test_canonical_frame_of_a_given_basis():

@@ -56,8 +56,13 @@ def test_analysis_properties_carry_units():
 
 def test_units_and_spellings_give_the_same_top():
     a = issue8_top()
-    b = HeavyTop(I1=1e7 * u.g * u.cm**2, I3=5e6 * u.g * u.cm**2, mgl=1 * u.N * u.m,
-                 theta0=(np.pi / 3) * u.rad, omega3=(10 * RAD_S).to(u.deg / u.s))
+    b = HeavyTop(
+        I1=1e7 * u.g * u.cm**2,
+        I3=5e6 * u.g * u.cm**2,
+        mgl=1 * u.N * u.m,
+        theta0=(np.pi / 3) * u.rad,
+        omega3=(10 * RAD_S).to(u.deg / u.s),
+    )
     assert b.nutation_period.value == pytest.approx(a.nutation_period.value, rel=1e-14)
     # psidot0 instead of omega3: omega3 = psidot0 + phidot0 cos theta0.
     c = issue8_top(omega3=None, psidot0=10 * RAD_S - 0.3 * RAD_S * np.cos(np.pi / 3), phidot0=0.3 * RAD_S)
@@ -80,7 +85,7 @@ class _StandIn:
 
 def test_body_by_duck_typing():
     """A disc on an axle about its tip: I1, I3, M, l read from mass, com, reference point, tensor."""
-    m, l, i1, i3 = 0.3, 0.05, 2.0e-4, 1.5e-4  # noqa: E741
+    m, l, i1, i3 = 0.3, 0.05, 2.0e-4, 1.5e-4
     body = _StandIn(m, [0, 0, l], [0, 0, 0], np.diag([i1, i1, i3]))
     top = HeavyTop(body=body, theta0=20 * u.deg, omega3=100 * RAD_S)
     assert top.I1.value == pytest.approx(i1, rel=1e-15) and top.I3.value == pytest.approx(i3, rel=1e-15)
@@ -154,8 +159,23 @@ def test_bad_input_names_the_parameter(kwargs, name):
 def test_dataset_layout_and_conservation():
     top = issue8_top(phidot0=-0.3 * RAD_S, thetadot0=0.1 * RAD_S, phi0=10 * u.deg)
     ds = top.to_dataset(t_end=20 * u.s, samples=2001)
-    assert {"theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "attitude", "symmetry_axis",
-            "energy", "energy_drift", "p_phi", "p_phi_drift", "p_psi", "p_psi_drift"} == set(ds.data_vars)
+    assert {
+        "theta",
+        "phi",
+        "psi",
+        "thetadot",
+        "phidot",
+        "psidot",
+        "omega",
+        "attitude",
+        "symmetry_axis",
+        "energy",
+        "energy_drift",
+        "p_phi",
+        "p_phi_drift",
+        "p_psi",
+        "p_psi_drift",
+    } == set(ds.data_vars)
     assert ds.omega.dims == ("time", "axis") and ds.symmetry_axis.dims == ("time", "inertial_axis")
     assert ds.time.attrs["units"] == SIMULATION_TIME_UNITS and ds.time.dtype == np.float64
     for name, var in ds.variables.items():
@@ -201,8 +221,17 @@ def test_from_state_matches_euler_angle_construction():
 def test_to_dict_has_the_cli_keys_and_summary_is_text():
     top = issue8_top()
     s = top.to_dict()
-    for key in ("u1", "u2", "u3", "theta_min_deg", "theta_max_deg", "nutation", "nutation_period_s",
-                "mean_precession_rate_rad_per_s", "sleeping_stable"):
+    for key in (
+        "u1",
+        "u2",
+        "u3",
+        "theta_min_deg",
+        "theta_max_deg",
+        "nutation",
+        "nutation_period_s",
+        "mean_precession_rate_rad_per_s",
+        "sleeping_stable",
+    ):
         assert key in s
     json.dumps(s)  # plain numbers only
     assert top.summary().startswith(s["nutation"]) and "deg" in top.summary()
@@ -233,15 +262,38 @@ def test_cli_json(capsys):
 
 
 def test_cli_sleeping_and_units(capsys):
-    assert main(["top", "--I1", "1 kg m2", "--I3", "0.5", "--mgl", "1 N m", "--theta0", "0", "--omega3", "1", "--json"]) == 0
+    assert (
+        main(["top", "--I1", "1 kg m2", "--I3", "0.5", "--mgl", "1 N m", "--theta0", "0", "--omega3", "1", "--json"])
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert out["nutation"] == "sleeping" and out["sleeping_stable"] is False and out["nutation_period_s"] is None
 
 
 def test_cli_writes_netcdf(tmp_path, capsys):
     path = tmp_path / "loops.nc"
-    args = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60 deg", "--phidot0", "-0.3",
-            "--omega3", "10", "-o", str(path), "--t-end", "20", "--samples", "201", "--json"]
+    args = [
+        "top",
+        "--I1",
+        "1",
+        "--I3",
+        "0.5",
+        "--mgl",
+        "1",
+        "--theta0",
+        "60 deg",
+        "--phidot0",
+        "-0.3",
+        "--omega3",
+        "10",
+        "-o",
+        str(path),
+        "--t-end",
+        "20",
+        "--samples",
+        "201",
+        "--json",
+    ]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
     ds = open_wobble(path)
@@ -261,7 +313,25 @@ def test_cli_writes_netcdf(tmp_path, capsys):
         (["--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "200 deg", "--omega3", "1"], "--theta0"),
         (["--I1", "1", "--I3", "0.5", "--mgl", "1 kg", "--theta0", "1", "--omega3", "1"], "--mgl"),
         (["--I1", "1", "--I3", "0.5", "--mgl", "-1", "--theta0", "1", "--omega3", "1"], "--mgl"),
-        (["--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "1", "--omega3", "1", "-o", "x.nc", "--samples", "0"], "--samples"),
+        (
+            [
+                "--I1",
+                "1",
+                "--I3",
+                "0.5",
+                "--mgl",
+                "1",
+                "--theta0",
+                "1",
+                "--omega3",
+                "1",
+                "-o",
+                "x.nc",
+                "--samples",
+                "0",
+            ],
+            "--samples",
+        ),
     ],
 )
 def test_cli_bad_input_one_line_exit_2(argv, match, capsys, tmp_path, monkeypatch):
@@ -292,8 +362,9 @@ def test_plots_build_from_real_runs():
 
     from wobble.plot.top import cubic_figure, effective_potential_figure, nutation_classes_figure
 
-    fig = nutation_classes_figure(1 * KGM2, 0.5 * KGM2, 1 * u.J, 50 * u.deg, 6 * RAD_S,
-                                  [0.2 * RAD_S, 0 * RAD_S, -0.3 * RAD_S], periods=2)
+    fig = nutation_classes_figure(
+        1 * KGM2, 0.5 * KGM2, 1 * u.J, 50 * u.deg, 6 * RAD_S, [0.2 * RAD_S, 0 * RAD_S, -0.3 * RAD_S], periods=2
+    )
     assert len(fig.axes) == 3 and [a.get_title().split(":")[0] for a in fig.axes] == ["undulating", "cusps", "loops"]
     top = issue8_top()
     for f in (fig, effective_potential_figure(top), cubic_figure(top)):
@@ -330,9 +401,12 @@ def test_direct_dataset_builder_equals_the_general_constructor(monkeypatch):
         return dataset._general(data_vars, coords, attrs)
 
     t = np.linspace(0.0, 20.0, 1501) * u.s
-    made = [lambda: issue8_top().motion(t), lambda: issue8_top(theta0=1e-4 * u.rad).to_dataset(t[:5]),
-            lambda: wobble.FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S).to_dataset(t),
-            lambda: wobble.FreeRotation([1, 1, 2] * KGM2, [0, 0, 0] * RAD_S).to_dataset(t[:3])]
+    made = [
+        lambda: issue8_top().motion(t),
+        lambda: issue8_top(theta0=1e-4 * u.rad).to_dataset(t[:5]),
+        lambda: wobble.FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S).to_dataset(t),
+        lambda: wobble.FreeRotation([1, 1, 2] * KGM2, [0, 0, 0] * RAD_S).to_dataset(t[:3]),
+    ]
     fast = [make() for make in made]
     # Shared label indexes, not shared variables: one Dataset's attributes are its own.
     fast[0]["axis"].attrs["note"] = "mine"

@@ -21,17 +21,52 @@ from wobble.numerics import quaternion as Q
 CASES = {
     "pendulum released at rest (b = a = 0)": (1.0, 0.5, 1.0, 0.7, 0.0, 0.0, 0.0),
     "pendulum over the top (through both poles)": (1.0, 0.5, 1.0, 0.0, 3.0, 0.0, 0.0),
-    "1e-129 rad from the vertical, kicked": (1.2850847296619075, 2.570169459323815, 1.3421870589272098,
-                                             1.526628395667065e-129, 1.4262213918742717, -0.0014225430536045636, 2.625651008473973),
-    "1e-202 rad, stable spin, at rest": (1.7598120598066005, 3.519624119613201, 1.8570975657557427,
-                                         2.2668076975108654e-202, 4.0781588274140786e-268, 0.0, 5.522021220858619),
-    "beta 1e-173, nearly regular": (0.3362377248724901, 0.6724754497449802, 4.334619090657065e-174,
-                                    1.976127142769412, 0.0, -1.1194508951951661e-79, 29.766500895369433),
-    "free top, double root to 1e-60": (2.077592291776867, 2.028804697451651, 0.0, 0.6211569051511763, 0.0,
-                                       -9.287056233989217e-64, -15.713577916202082),
+    "1e-129 rad from the vertical, kicked": (
+        1.2850847296619075,
+        2.570169459323815,
+        1.3421870589272098,
+        1.526628395667065e-129,
+        1.4262213918742717,
+        -0.0014225430536045636,
+        2.625651008473973,
+    ),
+    "1e-202 rad, stable spin, at rest": (
+        1.7598120598066005,
+        3.519624119613201,
+        1.8570975657557427,
+        2.2668076975108654e-202,
+        4.0781588274140786e-268,
+        0.0,
+        5.522021220858619,
+    ),
+    "beta 1e-173, nearly regular": (
+        0.3362377248724901,
+        0.6724754497449802,
+        4.334619090657065e-174,
+        1.976127142769412,
+        0.0,
+        -1.1194508951951661e-79,
+        29.766500895369433,
+    ),
+    "free top, double root to 1e-60": (
+        2.077592291776867,
+        2.028804697451651,
+        0.0,
+        0.6211569051511763,
+        0.0,
+        -9.287056233989217e-64,
+        -15.713577916202082,
+    ),
     "hanging within 1e-16 rad of the bottom": (1.0, 0.5, 1.0, np.pi, -0.2, 0.0, 3.0),
-    "free, no spin, at the bottom": (1.650704371191778, 3.301408742383556, 3.188565765155668e-25, np.pi, 0.0,
-                                     0.30521485278958504, -3.007787721976763e-55),
+    "free, no spin, at the bottom": (
+        1.650704371191778,
+        3.301408742383556,
+        3.188565765155668e-25,
+        np.pi,
+        0.0,
+        0.30521485278958504,
+        -3.007787721976763e-55,
+    ),
 }
 
 
@@ -42,7 +77,7 @@ def angle(q1, q2):
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_extreme_state_is_finite_and_conservative(name):
-    I1, I3, mgl, th, thd, phd, w3 = CASES[name]  # noqa: N806
+    I1, I3, mgl, th, thd, phd, w3 = CASES[name]
     mdl = heavy_top(I1, I3, mgl, th, thd, phd, omega3=w3)
     t = np.array([0.0, 0.37, 1.3, 7.0, 77.0])
     mo = mdl.motion(t)
@@ -55,11 +90,18 @@ def test_extreme_state_is_finite_and_conservative(name):
     assert mdl.theta_min <= th * (1 + 1e-15) + 1e-300 and th <= mdl.theta_max * (1 + 1e-15)
 
 
-@pytest.mark.parametrize("name", ["pendulum released at rest (b = a = 0)", "pendulum over the top (through both poles)",
-                                  "hanging within 1e-16 rad of the bottom", "beta 1e-173, nearly regular",
-                                  "free top, double root to 1e-60"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "pendulum released at rest (b = a = 0)",
+        "pendulum over the top (through both poles)",
+        "hanging within 1e-16 rad of the bottom",
+        "beta 1e-173, nearly regular",
+        "free top, double root to 1e-60",
+    ],
+)
 def test_extreme_state_agrees_with_the_quaternion_integration(name):
-    I1, I3, mgl, th, thd, phd, w3 = CASES[name]  # noqa: N806
+    I1, I3, mgl, th, thd, phd, w3 = CASES[name]
     mdl = heavy_top(I1, I3, mgl, th, thd, phd, omega3=w3)
     t = np.linspace(0.0, 6.0, 31)
     w, q = mdl.evaluate(t)

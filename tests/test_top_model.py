@@ -40,8 +40,15 @@ EXPECTED_CLASS = {
 def model_of(name):
     inp = {k: float(v) for k, v in CASES[name]["inputs"].items()}
     return heavy_top(
-        inp["I1"], inp["I3"], inp["mgl"], inp["theta0"], inp["thetadot0"], inp["phidot0"],
-        omega3=inp["omega3"], phi0=inp["phi0"], psi0=inp["psi0"],
+        inp["I1"],
+        inp["I3"],
+        inp["mgl"],
+        inp["theta0"],
+        inp["thetadot0"],
+        inp["phidot0"],
+        omega3=inp["omega3"],
+        phi0=inp["phi0"],
+        psi0=inp["psi0"],
     )
 
 
@@ -59,7 +66,7 @@ def attitude_angle(q1, q2):
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_analysis_against_mpmath(name):
     """Invariants, roots (as u and as 1 - u), turning angles: 1e-12 relative (we reach ~1e-16)."""
-    c, an = CASES[name], CASES[name]["analysis"]
+    an = CASES[name]["analysis"]
     mdl = model_of(name)
     for key in ("a", "b", "alpha", "beta", "energy", "energy_prime", "p_phi", "p_psi"):
         assert rel(getattr(mdl, key), an[key]) < 1e-14 or abs(getattr(mdl, key) - float(an[key])) < 1e-15, key
@@ -99,7 +106,9 @@ def test_period_and_mean_rates_against_quadrature(name):
         return
     assert rel(mdl.nutation_period, an["period"]) < 1e-13
     assert rel(mdl.nutation_period, an["period"]) < mdl.error_estimate["period_relative"]
-    assert abs(mdl.mean_precession_rate - float(an["mean_precession_rate"])) < 1e-13 * max(1.0, abs(float(an["mean_precession_rate"])))
+    assert abs(mdl.mean_precession_rate - float(an["mean_precession_rate"])) < 1e-13 * max(
+        1.0, abs(float(an["mean_precession_rate"]))
+    )
     assert abs(mdl.mean_spin_rate - float(an["mean_spin_rate"])) < 1e-13 * max(1.0, abs(float(an["mean_spin_rate"])))
     if "m1" in an:
         assert rel(mdl.m1, an["m1"]) < 1e-12
@@ -139,7 +148,9 @@ def test_sleeping_top_small_nutation_period():
         assert np.all(mo.theta == 0)
         np.testing.assert_allclose(mo.axis, np.tile([0, 0, 1.0], (7, 1)), atol=0)
         np.testing.assert_allclose(mo.omega, np.tile([0, 0, mdl.omega3], (7, 1)), atol=1e-15)
-        np.testing.assert_allclose(attitude_angle(mo.quaternion, Q.from_axis_angle([0, 0, 1.0], mdl.omega3 * t)), 0, atol=2e-14)
+        np.testing.assert_allclose(
+            attitude_angle(mo.quaternion, Q.from_axis_angle([0, 0, 1.0], mdl.omega3 * t)), 0, atol=2e-14
+        )
 
 
 @pytest.mark.parametrize("method", ["direct", "fourier"])
@@ -209,8 +220,21 @@ def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
     angles = mdl.angles(t, "fourier")
     monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
     numpy_path = mdl.motion(t, "fourier")
-    for key in ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "quaternion", "axis", "u",
-                "energy", "p_phi", "p_psi"):
+    for key in (
+        "theta",
+        "phi",
+        "psi",
+        "thetadot",
+        "phidot",
+        "psidot",
+        "omega",
+        "quaternion",
+        "axis",
+        "u",
+        "energy",
+        "p_phi",
+        "p_psi",
+    ):
         np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
     for got, want in zip(angles, mdl.angles(t, "fourier")):
         np.testing.assert_array_equal(got, want)
@@ -267,7 +291,9 @@ def test_frozen_model_holds_no_cache_and_its_series_table_goes_with_it():
     from wobble.models import top_series
 
     mdl = model_of("issue8 loops")
-    assert all(not isinstance(getattr(mdl, f.name), (list, set)) and f.name != "_cache" for f in dataclasses.fields(mdl))
+    assert all(
+        not isinstance(getattr(mdl, f.name), (list, set)) and f.name != "_cache" for f in dataclasses.fields(mdl)
+    )
     before = len(top_series._TABLES)
     t = np.linspace(0.0, 10 * mdl.nutation_period, 2001)
     first = mdl.evaluator(t.size)
@@ -320,8 +346,17 @@ def test_start_of_the_periodic_parts_alone_or_with_the_series_samples(name):
     np.testing.assert_array_equal(batched.attitude(t, "direct"), alone.attitude(t, "direct"))
 
 
-@pytest.mark.parametrize("name", ["issue8 cusps", "issue8 undulating", "issue8 loops", "nearly sleeping 1e-4",
-                                  "generic offsets", "near separatrix 1e-4"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "issue8 cusps",
+        "issue8 undulating",
+        "issue8 loops",
+        "nearly sleeping 1e-4",
+        "generic offsets",
+        "near separatrix 1e-4",
+    ],
+)
 def test_compiled_set_up_of_the_series_agrees_with_numpy(name):
     """The series set up by the compiled helpers (samples of the direct path with SciPy's own
     Carlson functions, the coefficients, the Taylor spectrum, the node phasors, the check) is

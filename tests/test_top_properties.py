@@ -36,8 +36,15 @@ def build(p, **over):
     p = {**p, **over}
     try:
         return heavy_top(
-            p["I1"], p["ratio"] * p["I1"], p["mgl"], p["theta0"], p["thetadot0"], p["phidot0"],
-            omega3=p["omega3"], phi0=p["phi0"], psi0=p["psi0"],
+            p["I1"],
+            p["ratio"] * p["I1"],
+            p["mgl"],
+            p["theta0"],
+            p["thetadot0"],
+            p["phidot0"],
+            omega3=p["omega3"],
+            phi0=p["phi0"],
+            psi0=p["psi0"],
         )
     except InputError as exc:
         assume(not (exc.parameter == "thetadot0" and "separatrix" in str(exc)))
@@ -59,7 +66,9 @@ def test_energy_and_momenta_are_conserved_along_the_exact_motion(p, times):
     e_scale = kin + mdl.mgl + abs(mdl.energy)
     assert np.max(np.abs(inv["energy"] - mdl.energy)) <= 1e-12 * e_scale
     p_scale = mdl.I1 * (abs(mdl.phidot0) + abs(mdl.thetadot0)) + mdl.I3 * abs(mdl.omega3) + 1e-300
-    assert np.max(np.abs(inv["p_phi"] - mdl.p_phi)) <= 1e-12 * p_scale + 1e-11 * mdl.I1 * np.sqrt(abs(mdl.energy_prime) / mdl.I1 + mdl.mgl / mdl.I1)
+    assert np.max(np.abs(inv["p_phi"] - mdl.p_phi)) <= 1e-12 * p_scale + 1e-11 * mdl.I1 * np.sqrt(
+        abs(mdl.energy_prime) / mdl.I1 + mdl.mgl / mdl.I1
+    )
     assert np.max(np.abs(inv["p_psi"] - mdl.p_psi)) <= 1e-13 * p_scale
     # The axis stays between the turning circles and on the unit sphere.
     assert np.all(mo.theta >= mdl.theta_min * (1 - 1e-12) - 1e-15)

@@ -29,9 +29,14 @@ def _exact_and_engine():
     return top, engine
 
 
-@pytest.mark.parametrize("method, kw", [("dop853", {"rtol": 1e-12, "backend": "compiled"}),
-                                        ("dop853", {"rtol": 1e-12, "backend": "python"}),
-                                        ("splitting", {"step": 2e-3, "order": 6})])
+@pytest.mark.parametrize(
+    "method, kw",
+    [
+        ("dop853", {"rtol": 1e-12, "backend": "compiled"}),
+        ("dop853", {"rtol": 1e-12, "backend": "python"}),
+        ("splitting", {"step": 2e-3, "order": 6}),
+    ],
+)
 def test_a_magnetised_top_is_the_exact_heavy_top(method, kw):
     top, engine = _exact_and_engine()
     t = np.linspace(0.0, 6 * top.nutation_period, 241)
@@ -55,13 +60,20 @@ def test_energy_with_the_dipole_potential_is_conserved():
 
 
 def test_scene_file_and_api_give_the_same_torque():
-    from_file = scene_from_mapping({
-        "body": {"moments": {"value": [I1, I1, I3], "unit": "kg m2"}},
-        "initial": {"omega": {"value": [0, 0, OMEGA3], "unit": "rad/s"}},
-        "torques": [{"kind": "magnetic", "dipole": {"value": [0, 0, 800], "unit": "mA m2"},
-                     "field": {"value": [0, 0, -2500], "unit": "uT"}}],
-        "time": {"stop": "1 s", "samples": 3},
-    }).torques[0]
+    from_file = scene_from_mapping(
+        {
+            "body": {"moments": {"value": [I1, I1, I3], "unit": "kg m2"}},
+            "initial": {"omega": {"value": [0, 0, OMEGA3], "unit": "rad/s"}},
+            "torques": [
+                {
+                    "kind": "magnetic",
+                    "dipole": {"value": [0, 0, 800], "unit": "mA m2"},
+                    "field": {"value": [0, 0, -2500], "unit": "uT"},
+                }
+            ],
+            "time": {"stop": "1 s", "samples": 3},
+        }
+    ).torques[0]
     from_api = wobble.Torque.magnetic([0, 0, MU] * u.A * u.m**2, [0, 0, -B] * u.T).spec
     for spec in (from_file, from_api):
         assert isinstance(spec, MagneticDipole)
@@ -73,7 +85,11 @@ def test_bad_magnetic_input_names_the_key():
     with pytest.raises(wobble.InputError, match="field: got"):
         wobble.Torque.magnetic([0, 0, MU] * u.A * u.m**2, [0, 0, -B] * u.m)
     with pytest.raises(wobble.InputError, match="dipole: missing"):
-        scene_from_mapping({"body": {"moments": {"value": [1, 1, 1], "unit": "kg m2"}},
-                            "initial": {"omega": {"value": [0, 0, 1], "unit": "rad/s"}},
-                            "torques": [{"kind": "magnetic", "field": {"value": [0, 0, 1], "unit": "T"}}],
-                            "time": {"stop": "1 s", "samples": 2}})
+        scene_from_mapping(
+            {
+                "body": {"moments": {"value": [1, 1, 1], "unit": "kg m2"}},
+                "initial": {"omega": {"value": [0, 0, 1], "unit": "rad/s"}},
+                "torques": [{"kind": "magnetic", "field": {"value": [0, 0, 1], "unit": "T"}}],
+                "time": {"stop": "1 s", "samples": 2},
+            }
+        )

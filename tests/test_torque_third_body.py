@@ -113,13 +113,17 @@ Q0 = Q.normalize(np.array([0.9, 0.3, -0.2, 0.25]))
 
 def _perturber(moving=True):
     # k = 3 GM / a^3 ~ 0.5 s^-2: the torque turns the body by radians in the run
-    orbit = KeplerOrbit(1.0e3, 0.3, 0.6, 0.4, 1.0, 0.2, 0.7 if moving else 0.0, 0.05 if moving else 0.0,
-                        -0.04 if moving else 0.0)
+    orbit = KeplerOrbit(
+        1.0e3, 0.3, 0.6, 0.4, 1.0, 0.2, 0.7 if moving else 0.0, 0.05 if moving else 0.0, -0.04 if moving else 0.0
+    )
     return ThirdBody(1.6e8, orbit=orbit)
 
 
-RUNS = [("dop853", {"rtol": 1e-12, "backend": "compiled"}), ("dop853", {"rtol": 1e-12, "backend": "python"}),
-        ("splitting", {"step": 2e-3, "order": 6})]
+RUNS = [
+    ("dop853", {"rtol": 1e-12, "backend": "compiled"}),
+    ("dop853", {"rtol": 1e-12, "backend": "python"}),
+    ("splitting", {"step": 2e-3, "order": 6}),
+]
 
 
 @pytest.mark.parametrize("method, kw", RUNS)
@@ -201,44 +205,80 @@ def test_a_table_is_refused_outside_its_span_and_when_not_monotone():
 # --------------------------------------------------------------------------
 # Scene file and API
 # --------------------------------------------------------------------------
-MOON = {"kind": "third_body", "name": "moon", "gm": "4.902800118e12 m3 s-2", "semi_major_axis": "384399 km",
-        "eccentricity": 0.0549, "inclination": "5.145396 deg", "longitude_of_node": "125.04455501 deg",
-        "argument_of_periapsis": "318.30868811 deg", "mean_anomaly": "134.96340251 deg",
-        "mean_motion": "1717915923.2178 arcsec / hyr", "node_rate": "-6967930.5815 arcsec / hyr",
-        "periapsis_rate": "21611339.63 arcsec / hyr"}
+MOON = {
+    "kind": "third_body",
+    "name": "moon",
+    "gm": "4.902800118e12 m3 s-2",
+    "semi_major_axis": "384399 km",
+    "eccentricity": 0.0549,
+    "inclination": "5.145396 deg",
+    "longitude_of_node": "125.04455501 deg",
+    "argument_of_periapsis": "318.30868811 deg",
+    "mean_anomaly": "134.96340251 deg",
+    "mean_motion": "1717915923.2178 arcsec / hyr",
+    "node_rate": "-6967930.5815 arcsec / hyr",
+    "periapsis_rate": "21611339.63 arcsec / hyr",
+}
 
 
 def _earth_scene(torque, **initial):
-    return {"body": {"planet": "earth", "symmetric": True},
-            "initial": {"spin_rate": "catalogue", "obliquity": "23.44 deg", **initial},
-            "torques": [torque], "time": {"stop": "2 d", "step": "1 d"}, "outputs": ["angular_momentum"]}
+    return {
+        "body": {"planet": "earth", "symmetric": True},
+        "initial": {"spin_rate": "catalogue", "obliquity": "23.44 deg", **initial},
+        "torques": [torque],
+        "time": {"stop": "2 d", "step": "1 d"},
+        "outputs": ["angular_momentum"],
+    }
 
 
 def test_scene_file_and_api_give_the_same_torque():
     from_file = scene_from_mapping(_earth_scene(MOON)).torques[0]
     arcsec_cy = u.arcsec / (100 * u.yr)
     from_api = wobble.Torque.third_body(
-        4.902800118e12 * u.m**3 / u.s**2, semi_major_axis=384399 * u.km, eccentricity=0.0549,
-        inclination=5.145396 * u.deg, longitude_of_node=125.04455501 * u.deg, argument_of_periapsis=318.30868811 * u.deg,
-        mean_anomaly=134.96340251 * u.deg, mean_motion=1717915923.2178 * arcsec_cy, node_rate=-6967930.5815 * arcsec_cy,
-        periapsis_rate=21611339.63 * arcsec_cy, name="moon").spec
+        4.902800118e12 * u.m**3 / u.s**2,
+        semi_major_axis=384399 * u.km,
+        eccentricity=0.0549,
+        inclination=5.145396 * u.deg,
+        longitude_of_node=125.04455501 * u.deg,
+        argument_of_periapsis=318.30868811 * u.deg,
+        mean_anomaly=134.96340251 * u.deg,
+        mean_motion=1717915923.2178 * arcsec_cy,
+        node_rate=-6967930.5815 * arcsec_cy,
+        periapsis_rate=21611339.63 * arcsec_cy,
+        name="moon",
+    ).spec
     for spec in (from_file, from_api):
         assert isinstance(spec, ThirdBody) and spec.name == "moon"
         np.testing.assert_allclose(spec.orbit.elements, from_file.orbit.elements, rtol=1e-15)
     assert from_file.orbit.node_rate == pytest.approx(-2 * math.pi / (18.6 * 365.25 * 86400), rel=1e-3)
 
 
-@pytest.mark.parametrize("change, key", [
-    ({"eccentricity": 1.2}, "torques[0].eccentricity"),
-    ({"semi_major_axis": "6000 km"}, "torques[0].semi_major_axis"),
-    ({"gm": "-4.9e12 m3 s-2"}, "torques[0].gm"),
-    ({"ephemeris": {"times": {"value": [0, 1, 3, 2], "unit": "d"},
-                    "positions": {"value": [[4e5, 0, 0], [0, 4e5, 0], [-4e5, 0, 0], [0, -4e5, 0]], "unit": "km"}}},
-     "torques[0].ephemeris.times"),
-    ({"ephemeris": {"times": {"value": [0, 0.5, 1, 1.5], "unit": "d"},
-                    "positions": {"value": [[4e5, 0, 0], [0, 4e5, 0], [-4e5, 0, 0], [0, -4e5, 0]], "unit": "km"}}},
-     "torques[0].ephemeris.times"),
-])
+@pytest.mark.parametrize(
+    "change, key",
+    [
+        ({"eccentricity": 1.2}, "torques[0].eccentricity"),
+        ({"semi_major_axis": "6000 km"}, "torques[0].semi_major_axis"),
+        ({"gm": "-4.9e12 m3 s-2"}, "torques[0].gm"),
+        (
+            {
+                "ephemeris": {
+                    "times": {"value": [0, 1, 3, 2], "unit": "d"},
+                    "positions": {"value": [[4e5, 0, 0], [0, 4e5, 0], [-4e5, 0, 0], [0, -4e5, 0]], "unit": "km"},
+                }
+            },
+            "torques[0].ephemeris.times",
+        ),
+        (
+            {
+                "ephemeris": {
+                    "times": {"value": [0, 0.5, 1, 1.5], "unit": "d"},
+                    "positions": {"value": [[4e5, 0, 0], [0, 4e5, 0], [-4e5, 0, 0], [0, -4e5, 0]], "unit": "km"},
+                }
+            },
+            "torques[0].ephemeris.times",
+        ),
+    ],
+)
 def test_bad_perturbers_are_refused_naming_the_key(change, key):
     torque = {k: v for k, v in MOON.items() if not ("ephemeris" in change and k not in ("kind", "name", "gm"))}
     torque.update(change)
@@ -251,12 +291,15 @@ def test_an_obliquity_outside_0_180_deg_is_refused():
         scene_from_mapping(_earth_scene(MOON, obliquity="200 deg"))
 
 
-@pytest.mark.parametrize("line, key", [
-    ('eccentricity = 1.5', "eccentricity"),
-    ('semi_major_axis = "3000 km"', "semi_major_axis"),
-    ('gm = "-1 m3 s-2"', "gm"),
-    ('obliquity = "-5 deg"', "initial.obliquity"),
-])
+@pytest.mark.parametrize(
+    "line, key",
+    [
+        ("eccentricity = 1.5", "eccentricity"),
+        ('semi_major_axis = "3000 km"', "semi_major_axis"),
+        ('gm = "-1 m3 s-2"', "gm"),
+        ('obliquity = "-5 deg"', "initial.obliquity"),
+    ],
+)
 def test_cli_refuses_bad_scenes_with_exit_2_and_writes_nothing(tmp_path, capsys, line, key):
     from wobble.cli import main
 
@@ -298,12 +341,18 @@ def test_cli_refuses_a_bad_ephemeris_table_with_exit_2(tmp_path, capsys, times, 
 def test_a_scene_file_cannot_hold_a_callable_and_elements_need_an_orbit(tmp_path):
     with pytest.raises(InputError, match="position"):
         scene_from_mapping(_earth_scene({"kind": "third_body", "gm": "1 m3 s-2", "position": "moon.csv"}))
-    table = {"times": {"value": [0, 1, 2, 3], "unit": "d"},
-             "positions": {"value": [[4e5, 0, 0], [0, 4e5, 0], [-4e5, 0, 0], [0, -4e5, 0]], "unit": "km"}}
+    table = {
+        "times": {"value": [0, 1, 2, 3], "unit": "d"},
+        "positions": {"value": [[4e5, 0, 0], [0, 4e5, 0], [-4e5, 0, 0], [0, -4e5, 0]], "unit": "km"},
+    }
     with pytest.raises(InputError, match="eccentricity"):
-        scene_from_mapping(_earth_scene({"kind": "third_body", "gm": "1 m3 s-2", "ephemeris": table, "eccentricity": 0.1}))
+        scene_from_mapping(
+            _earth_scene({"kind": "third_body", "gm": "1 m3 s-2", "ephemeris": table, "eccentricity": 0.1})
+        )
     path = tmp_path / "x.toml"
-    path.write_text('[body]\nmoments = "1 kg m2"\n[initial]\nomega = { value = [0, 0, 1], unit = "rad/s" }\n'
-                    '[[torques]]\nkind = "third_body"\ngm = "1 m3 s-2"\n[time]\nstop = "1 s"\nsamples = 2\n')
+    path.write_text(
+        '[body]\nmoments = "1 kg m2"\n[initial]\nomega = { value = [0, 0, 1], unit = "rad/s" }\n'
+        '[[torques]]\nkind = "third_body"\ngm = "1 m3 s-2"\n[time]\nstop = "1 s"\nsamples = 2\n'
+    )
     with pytest.raises(FileFormatError, match="x.toml, torques.0..semi_major_axis"):
         wobble.run(path)

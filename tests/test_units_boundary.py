@@ -8,7 +8,7 @@ from astropy import units as u
 from hypothesis import given
 from hypothesis import strategies as st
 
-from wobble.api._units import dimensionless, parse_quantity, spin_rate_si, to_si
+from wobble.api.units import dimensionless, parse_quantity, spin_rate_si, to_si
 from wobble.errors import InputError
 
 

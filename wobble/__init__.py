@@ -16,6 +16,8 @@ from importlib.metadata import version as _version
 
 import lazy_loader as _lazy
 
+from wobble._offline import configure_astropy_offline as _configure_astropy_offline
+
 try:
     __version__ = _version("wobble")
 except _PackageNotFoundError:  # a source tree that was never installed
@@ -39,7 +41,14 @@ _PUBLIC = {
         "free_precession_rate",
         "euler_period",
     ],
-    "api.modes": ["HydrostaticFigure", "FreeMode", "NormalModes", "hydrostatic_figure", "normal_modes", "modes_dataset"],
+    "api.modes": [
+        "HydrostaticFigure",
+        "FreeMode",
+        "NormalModes",
+        "hydrostatic_figure",
+        "normal_modes",
+        "modes_dataset",
+    ],
     "api.free": ["FreeRotation"],
     "api.bodies": ["RigidBody", "PrincipalAxes"],
     "api.sweep": ["sweep", "run_sweep", "load_sweep", "summarize_sweep"],
@@ -57,13 +66,26 @@ _PUBLIC = {
         "hindcast_polar_motion",
         "PolarMotionHindcast",
     ],
-    "api.precession": ["PrecessionBudget", "PrincipalNutation", "precession_rate", "principal_nutation", "precession_dataset"],
+    "api.precession": [
+        "PrecessionBudget",
+        "PrincipalNutation",
+        "precession_rate",
+        "principal_nutation",
+        "precession_dataset",
+    ],
     "api.precession_measure": ["PrecessionMeasurement", "measure_precession"],
     "api.top": ["HeavyTop"],
     "api.engine": ["Torque"],
     "api.scene": ["Scene", "run", "run_to_netcdf", "example_scenes"],
     "api.examples": ["example_files", "example_path", "copy_example"],
-    "api.inversion": ["invert", "Inversion", "injection_recovery", "Calibration", "inversion_setups", "load_inversion_setup"],
+    "api.inversion": [
+        "invert",
+        "Inversion",
+        "injection_recovery",
+        "Calibration",
+        "inversion_setups",
+        "load_inversion_setup",
+    ],
 }
 
 __getattr__, __dir__, _names = _lazy.attach(__name__, submodules=["plot"], submod_attrs=_PUBLIC)
@@ -71,6 +93,4 @@ __all__ = ["__version__", *_names]
 
 # No network at run time: astropy must never try to download IERS tables. This
 # sets astropy's configuration without importing its IERS machinery (~0.4 s).
-from wobble._offline import configure_astropy_offline as _configure_astropy_offline  # noqa: E402
-
 _configure_astropy_offline()

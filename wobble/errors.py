@@ -83,6 +83,5 @@ class OutputExistsError(WobbleError):
     def __init__(self, path: object):
         self.path = str(path)
         super().__init__(
-            f"{self.path}: file exists; allowed: a new path, or --overwrite (overwrite=True) "
-            "to replace it"
+            f"{self.path}: file exists; allowed: a new path, or --overwrite (overwrite=True) to replace it"
         )

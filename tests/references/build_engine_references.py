@@ -133,7 +133,12 @@ def main():
         case["attitude"] = [[mp.nstr(v, 25) for v in row[3:]] for row in rows]
         cases.append(case)
         print(case["name"], "done")
-    OUT.write_text(json.dumps({"generator": "tests/references/build_engine_references.py", "mpmath_dps": 30, "cases": cases}, indent=1) + "\n")
+    OUT.write_text(
+        json.dumps(
+            {"generator": "tests/references/build_engine_references.py", "mpmath_dps": 30, "cases": cases}, indent=1
+        )
+        + "\n"
+    )
 
 
 if __name__ == "__main__":

@@ -73,7 +73,13 @@ def integral_cases():
             rows.append({"kind": "Einc", "m1": repr(m1f), "phi": repr(phi), "value": s(mp.ellipe(p, m))})
             for n in [-1e6, -3.0, -0.01, 0.0, 0.5]:
                 rows.append(
-                    {"kind": "Pi", "m1": repr(m1f), "phi": repr(phi), "n": repr(n), "value": s(mp.ellippi(mp.mpf(n), p, m))}
+                    {
+                        "kind": "Pi",
+                        "m1": repr(m1f),
+                        "phi": repr(phi),
+                        "n": repr(n),
+                        "value": s(mp.ellippi(mp.mpf(n), p, m)),
+                    }
                 )
     return rows
 
@@ -82,7 +88,7 @@ def integral_cases():
 # The free body
 # ---------------------------------------------------------------------------
 def ode_case(name, moments, omega0, times):
-    I = [mp.mpf(x) for x in moments]  # noqa: E741
+    I = [mp.mpf(x) for x in moments]
 
     def f(t, y):
         w1, w2, w3, q0, q1, q2, q3 = y
@@ -118,7 +124,7 @@ class Closed:
         order = sorted(range(3), key=lambda i: float(moments[i]))
         parity = 1 if order in ([0, 1, 2], [1, 2, 0], [2, 0, 1]) else -1
         self.order, self.sgn = order, [1, 1, parity]
-        I = [self.user[order[k]] for k in range(3)]  # noqa: E741
+        I = [self.user[order[k]] for k in range(3)]
         w = [self.sgn[k] * w[order[k]] for k in range(3)]
         self.I = I
         two_e = sum(I[i] * w[i] ** 2 for i in range(3))
@@ -236,7 +242,7 @@ def closed_case(name, moments, omega0, times, attitude_times=(), flips=None):
 
 def main():
     mp.mp.dps = DPS
-    data = {"generator": "tests/references/build_free_references.py (mpmath %s, %d digits)" % (mp.__version__, DPS)}
+    data = {"generator": f"tests/references/build_free_references.py (mpmath {mp.__version__}, {DPS:d} digits)"}
     data["elliptic"] = elliptic_cases()
     data["integrals"] = integral_cases()
     short = [0.5, 1.0, 2.5, 4.0, 7.0, 10.0]
@@ -258,7 +264,9 @@ def main():
     earth_omega = (7.292115e-11, 0.0, 7.292115e-05)
     sep_t = [x * 5.0 for x in range(0, 41)]
     data["closed"] = [
-        closed_case("generic 1000 s", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0), generic_t, [100.0, 1000.0], flips=(0.0, 1000.0)),
+        closed_case(
+            "generic 1000 s", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0), generic_t, [100.0, 1000.0], flips=(0.0, 1000.0)
+        ),
         closed_case("generic 1e6 periods", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0), long_t, long_t[2:4]),
         closed_case("separatrix 2e-12", (1.0, 2.0, 3.0), (1e-6, 1.0, 1e-6), sep_t, [50.0, 200.0], flips=(0.0, 200.0)),
         closed_case("separatrix 5e-13", (1.0, 2.0, 3.0), (5e-7, 1.0, 5e-7), sep_t, [], flips=(0.0, 200.0)),

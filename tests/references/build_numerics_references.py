@@ -60,7 +60,7 @@ CUBIC_CASES = [
 ]
 
 
-def _g(A, B, a, beta, x):  # noqa: N803
+def _g(A, B, a, beta, x):
     return x * (2 - x) * (A + beta * x) - (B + a * x) ** 2
 
 
@@ -94,12 +94,22 @@ def cubic_rows():
                 assert abs(_g(Am, Bm, am, bm, x)) <= mp.mpf(10) ** -80 * scale, (name, x)
                 xs.append(x)
                 ys.append(y)
-            rows.append({
-                "name": name, "A": A, "B": B, "C": s(Bm + 2 * am, 80), "a": a, "beta": beta, "x0": x0,
-                "y0": s(2 - xm, 80), "g0": s(g0, 120),
-                # ascending x (beta > 0: x3 < 0 <= x2 <= x1); y = 2 - x with its own digits
-                "x": [s(v, 70) for v in xs], "y": [s(v, 70) for v in ys],
-            })
+            rows.append(
+                {
+                    "name": name,
+                    "A": A,
+                    "B": B,
+                    "C": s(Bm + 2 * am, 80),
+                    "a": a,
+                    "beta": beta,
+                    "x0": x0,
+                    "y0": s(2 - xm, 80),
+                    "g0": s(g0, 120),
+                    # ascending x (beta > 0: x3 < 0 <= x2 <= x1); y = 2 - x with its own digits
+                    "x": [s(v, 70) for v in xs],
+                    "y": [s(v, 70) for v in ys],
+                }
+            )
     return rows
 
 
@@ -123,11 +133,14 @@ def eigen_rows():
             a = mp.matrix([[exact(v) for v in row] for row in m])
             e, q = mp.eigsy(a)
             order = sorted(range(3), key=lambda i: e[i])
-            rows.append({
-                "name": name, "matrix": [[repr(v) for v in row] for row in m],
-                "values": [s(e[i], 40) for i in order],
-                "vectors": [[s(q[j, i], 40) for j in range(3)] for i in order],  # rows: unit eigenvectors
-            })
+            rows.append(
+                {
+                    "name": name,
+                    "matrix": [[repr(v) for v in row] for row in m],
+                    "values": [s(e[i], 40) for i in order],
+                    "vectors": [[s(q[j, i], 40) for j in range(3)] for i in order],  # rows: unit eigenvectors
+                }
+            )
     return rows
 
 
@@ -147,15 +160,26 @@ def highprec_rows():
             out["cel"].append({"kind": "E", "m1": repr(m1), "value": s(mp.ellipe(m), 70)})
             for n in [-50.0, -0.5, 0.3, 0.99, 0.9999999]:
                 out["cel"].append({"kind": "Pi", "m1": repr(m1), "n": repr(n), "value": s(mp.ellippi(exact(n), m), 70)})
-        for x in [0.0, 1e-17, 0.5, -0.75, 0.7853981633974483, 1.5707963267948966, -1.5707963267948966, 2.0,
-                  3.141592653589793, -3.141592653589793, 1e-300]:
+        for x in [
+            0.0,
+            1e-17,
+            0.5,
+            -0.75,
+            0.7853981633974483,
+            1.5707963267948966,
+            -1.5707963267948966,
+            2.0,
+            3.141592653589793,
+            -3.141592653589793,
+            1e-300,
+        ]:
             out["sin_cos"].append({"x": repr(x), "sin": s(mp.sin(exact(x)), 70), "cos": s(mp.cos(exact(x)), 70)})
     return out
 
 
 def main():
     out = {
-        "generator": "tests/references/build_numerics_references.py (mpmath %s)" % mp.__version__,
+        "generator": f"tests/references/build_numerics_references.py (mpmath {mp.__version__})",
         "cubic": cubic_rows(),
         "eigen": eigen_rows(),
         "highprec": highprec_rows(),

@@ -50,9 +50,9 @@ def s(x, digits=34):
 DEG60 = math.pi / 3
 
 
-def _slow_fast(I1, I3, mgl, omega3, theta):  # noqa: N803
+def _slow_fast(I1, I3, mgl, omega3, theta):
     with mp.workdps(DPS):
-        I1, I3, mgl, w3, th = (mp.mpf(v) for v in (I1, I3, mgl, omega3, theta))  # noqa: N806
+        I1, I3, mgl, w3, th = (mp.mpf(v) for v in (I1, I3, mgl, omega3, theta))
         c = mp.cos(th)
         disc = (I3 * w3) ** 2 - 4 * I1 * mgl * c
         r1 = (I3 * w3 + mp.sqrt(disc)) / (2 * I1 * c)
@@ -89,11 +89,20 @@ CASES = [
 class Top:
     """The notes' analysis of one case, at DPS digits."""
 
-    def __init__(self, name, I1, I3, mgl, theta0, thetadot0, phidot0, omega3, phi0, psi0):  # noqa: N803
+    def __init__(self, name, I1, I3, mgl, theta0, thetadot0, phidot0, omega3, phi0, psi0):
         self.name = name
-        self.inputs = dict(I1=I1, I3=I3, mgl=mgl, theta0=theta0, thetadot0=thetadot0, phidot0=phidot0,
-                           omega3=omega3, phi0=phi0, psi0=psi0)
-        I1, I3, mgl = mp.mpf(I1), mp.mpf(I3), mp.mpf(mgl)  # noqa: N806
+        self.inputs = dict(
+            I1=I1,
+            I3=I3,
+            mgl=mgl,
+            theta0=theta0,
+            thetadot0=thetadot0,
+            phidot0=phidot0,
+            omega3=omega3,
+            phi0=phi0,
+            psi0=psi0,
+        )
+        I1, I3, mgl = mp.mpf(I1), mp.mpf(I3), mp.mpf(mgl)
         th, thd, phd, w3 = mp.mpf(theta0), mp.mpf(thetadot0), mp.mpf(phidot0), mp.mpf(omega3)
         self.I1, self.I3, self.mgl = I1, I3, mgl
         self.th0, self.thd0, self.phd0, self.w3 = th, thd, phd, w3
@@ -148,9 +157,21 @@ def analysis(top: Top):
     u1, u2, u3 = 1 - x1, 1 - x2, 1 - x3
     sleeping = top.th0 == 0 and top.thd0 == 0
     out.update(
-        a=s(top.a), b=s(top.b), alpha=s(top.alpha), beta=s(top.beta), energy=s(top.E), energy_prime=s(top.Ep),
-        p_phi=s(top.p_phi), p_psi=s(top.p_psi), psidot0=s(top.psd0),
-        u1=s(u1), u2=s(u2), u3=s(u3), x1=s(x1), x2=s(x2), x3=s(x3),
+        a=s(top.a),
+        b=s(top.b),
+        alpha=s(top.alpha),
+        beta=s(top.beta),
+        energy=s(top.E),
+        energy_prime=s(top.Ep),
+        p_phi=s(top.p_phi),
+        p_psi=s(top.p_psi),
+        psidot0=s(top.psd0),
+        u1=s(u1),
+        u2=s(u2),
+        u3=s(u3),
+        x1=s(x1),
+        x2=s(x2),
+        x3=s(x3),
         theta_max=s(0 if sleeping else 2 * mp.asin(mp.sqrt(x1 / 2))),
         theta_min=s(0 if sleeping else 2 * mp.asin(mp.sqrt(max(x2, 0) / 2))),
         sleeping_stable=bool(top.I3**2 * top.w3**2 > 4 * top.mgl * top.I1),
@@ -191,8 +212,13 @@ def analysis(top: Top):
         dpsi = 4 * mp.quad(lambda q: psidot(q) * w(q), pts)
         period_k = 4 * mp.ellipk(m) / mp.sqrt(be * (x1 - x3))
         assert abs(period / period_k - 1) < mp.mpf(10) ** -30, (top.name, period, period_k)
-        out.update(period=s(period), mean_precession_rate=s(dphi / period), mean_spin_rate=s(dpsi / period),
-                   dphi_per_period=s(dphi), dpsi_per_period=s(dpsi))
+        out.update(
+            period=s(period),
+            mean_precession_rate=s(dphi / period),
+            mean_spin_rate=s(dpsi / period),
+            dphi_per_period=s(dphi),
+            dpsi_per_period=s(dpsi),
+        )
     return out, (x1, x2, x3)
 
 
@@ -201,18 +227,24 @@ def analysis(top: Top):
 # ---------------------------------------------------------------------------
 def quat_from_euler(phi, theta, psi):
     ch, sh = mp.cos(theta / 2), mp.sin(theta / 2)
-    return [ch * mp.cos((phi + psi) / 2), sh * mp.cos((phi - psi) / 2), sh * mp.sin((phi - psi) / 2),
-            ch * mp.sin((phi + psi) / 2)]
+    return [
+        ch * mp.cos((phi + psi) / 2),
+        sh * mp.cos((phi - psi) / 2),
+        sh * mp.sin((phi - psi) / 2),
+        ch * mp.sin((phi + psi) / 2),
+    ]
 
 
 def omega_from_euler(theta, psi, thd, phd, psd):
-    return [phd * mp.sin(theta) * mp.sin(psi) + thd * mp.cos(psi),
-            phd * mp.sin(theta) * mp.cos(psi) - thd * mp.sin(psi),
-            phd * mp.cos(theta) + psd]
+    return [
+        phd * mp.sin(theta) * mp.sin(psi) + thd * mp.cos(psi),
+        phd * mp.sin(theta) * mp.cos(psi) - thd * mp.sin(psi),
+        phd * mp.cos(theta) + psd,
+    ]
 
 
 def ode_case(top: Top, times):
-    I1, I3, mgl = top.I1, top.I3, top.mgl  # noqa: N806
+    I1, I3, mgl = top.I1, top.I3, top.mgl
 
     def rhs(t, y):
         w1, w2, w3, q0, q1, q2, q3 = y
@@ -325,9 +357,11 @@ def check_closed_against_ode(top: Top, xs, ode):
 
 def main():
     mp.mp.dps = DPS
-    data = {"generator": f"tests/references/build_top_references.py (mpmath {mp.__version__}, {DPS} digits)",
-            "cases": []}
-    for name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0, long_span in CASES:  # noqa: N806
+    data = {
+        "generator": f"tests/references/build_top_references.py (mpmath {mp.__version__}, {DPS} digits)",
+        "cases": [],
+    }
+    for name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0, long_span in CASES:
         top = Top(name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0)
         an, xs = analysis(top)
         case = {"name": name, "inputs": {k: repr(float(v)) for k, v in top.inputs.items()}, "analysis": an}

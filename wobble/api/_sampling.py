@@ -12,7 +12,7 @@ import os
 import astropy.units as u
 import numpy as np
 
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.errors import InputError
 
 __all__ = ["available_memory", "human_bytes", "sample_times"]
@@ -41,7 +41,8 @@ def check_memory(n: int, bytes_per_sample: int) -> None:
     have = available_memory() // 2
     if need > have:
         raise InputError(
-            "samples", n,
+            "samples",
+            n,
             f"at most {have // bytes_per_sample} samples here: {n} samples need about {human_bytes(need)} "
             f"of memory and {human_bytes(have)} is usable (ask for fewer samples or a shorter span)",
         )

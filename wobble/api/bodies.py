@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import dimensionless, to_si
+from wobble.api.units import dimensionless, to_si
 from wobble.errors import FileFormatError, InputError
 from wobble.io import cf
 from wobble.models import bodies as _m
@@ -176,7 +176,15 @@ class RigidBody:
 
     @classmethod
     def from_principal_moments(
-        cls, moments, *, axes=None, mass=None, center_of_mass=None, about=None, rtol: float = DEFAULT_RTOL, name: str = ""
+        cls,
+        moments,
+        *,
+        axes=None,
+        mass=None,
+        center_of_mass=None,
+        about=None,
+        rtol: float = DEFAULT_RTOL,
+        name: str = "",
     ) -> RigidBody:
         """A body from its three principal moments.
 
@@ -316,7 +324,8 @@ class RigidBody:
 
     @classmethod
     def cylinder(cls, mass, radius, height, inner_radius=None, *, name: str = "cylinder") -> RigidBody:
-        """Uniform cylinder (tube if ``inner_radius``), axis z: I3 = M (R^2 + r^2)/2, I1 = M (3 (R^2 + r^2) + h^2)/12."""
+        """Uniform cylinder (tube if ``inner_radius``), axis z: I3 = M (R^2 + r^2)/2,
+        I1 = M (3 (R^2 + r^2) + h^2)/12."""
         inner = 0.0 if inner_radius is None else _length(inner_radius, "inner_radius", allow_zero=True)
         return cls(_solids.cylinder(_mass(mass), _length(radius, "radius"), _length(height, "height"), inner), name)
 
@@ -337,7 +346,15 @@ class RigidBody:
 
     @classmethod
     def spinning_top(
-        cls, disc_mass, disc_radius, axle_mass, axle_length, disc_height, axle_radius=None, *, name: str = "spinning top"
+        cls,
+        disc_mass,
+        disc_radius,
+        axle_mass,
+        axle_length,
+        disc_height,
+        axle_radius=None,
+        *,
+        name: str = "spinning top",
     ) -> RigidBody:
         """A top: thin disc on an axle along z, tip at the origin, about its centre of mass.
 
@@ -376,7 +393,11 @@ class RigidBody:
         so :meth:`moment_ratio` ``(3, 1)`` = (C - A)/A keeps full precision.
         """
         c = dimensionless(polar_moment_factor, "polar_moment_factor", low=0.0, high=1.0)
-        hh = None if dynamical_flattening is None else dimensionless(dynamical_flattening, "dynamical_flattening", low=0.0, high=1.0)
+        hh = (
+            None
+            if dynamical_flattening is None
+            else dimensionless(dynamical_flattening, "dynamical_flattening", low=0.0, high=1.0)
+        )
         jj = None if j2 is None else dimensionless(j2, "j2", low=0.0)
         q = dimensionless(j22, "j22", low=0.0, open_interval=False)
         body = _solids.oblate_planet(_mass(mass), _length(radius, "radius"), c, dynamical_flattening=hh, j2=jj, j22=q)
@@ -606,7 +627,11 @@ class RigidBody:
             "row": ("row", comp, {"long_name": "tensor row (input-frame axis)"}),
             "column": ("column", comp, {"long_name": "tensor column (input-frame axis)"}),
             "component": ("component", comp, {"long_name": "input-frame axis"}),
-            "principal": ("principal", np.array([1, 2, 3]), {"units": "1", "long_name": "principal axis number (ascending moment)"}),
+            "principal": (
+                "principal",
+                np.array([1, 2, 3]),
+                {"units": "1", "long_name": "principal axis number (ascending moment)"},
+            ),
             "pair": ("pair", ["I2-I1", "I3-I2", "I3-I1"], {"long_name": "pair of principal moments"}),
         }
         attrs = {
@@ -643,7 +668,9 @@ class RigidBody:
         body = _m.Body(tensor, ref, com, mass, exact)
         return cls(body, str(ds.attrs.get("name", "")))
 
-    def to_parameter_file(self, path, *, overwrite: bool = False, title: str = "", description: str = "", source: str = ""):
+    def to_parameter_file(
+        self, path, *, overwrite: bool = False, title: str = "", description: str = "", source: str = ""
+    ):
         """Write the body in the ``wobble/1`` schema (``kind = "rigid_body"``), atomically.
 
         Values are SI; ``source`` (default: this wobble version) is recorded for
@@ -699,9 +726,13 @@ class RigidBody:
             return p[key].value if key in p else None
 
         try:
-            common = dict(mass=get("mass"), center_of_mass=get("center_of_mass"), about=get("reference_point"), rtol=rtol)
+            common = dict(
+                mass=get("mass"), center_of_mass=get("center_of_mass"), about=get("reference_point"), rtol=rtol
+            )
             if "principal_moments" in p:
-                axes = None if "principal_axes" not in p else _dimensionless_array(get("principal_axes"), "principal_axes")
+                axes = (
+                    None if "principal_axes" not in p else _dimensionless_array(get("principal_axes"), "principal_axes")
+                )
                 body = cls.from_principal_moments(get("principal_moments"), axes=axes, name=pf.title, **common)
                 tensor = None
                 if "tensor" in p:
@@ -714,7 +745,9 @@ class RigidBody:
             else:
                 raise FileFormatError(path, "parameters", "give principal_moments or tensor")
         except InputError as exc:
-            raise FileFormatError(path, f"parameters.{exc.parameter}", f"got {exc.value}; allowed: {exc.allowed}") from None
+            raise FileFormatError(
+                path, f"parameters.{exc.parameter}", f"got {exc.value}; allowed: {exc.allowed}"
+            ) from None
         return body
 
 
@@ -777,7 +810,9 @@ def _grid_description(density):
         raise InputError("density", type(density).__name__, "an xarray.DataArray with dimensions x, y, z")
     dims = tuple(str(d) for d in density.dims)
     if sorted(dims) != ["x", "y", "z"]:
-        raise InputError("density", f"dimensions {dims}", "exactly the dimensions x, y and z (a regular Cartesian grid)")
+        raise InputError(
+            "density", f"dimensions {dims}", "exactly the dimensions x, y and z (a regular Cartesian grid)"
+        )
     unit = _parse_units(density.attrs.get("units"), "density", _DENSITY, "mass/volume units (e.g. 'kg m-3', 'g cm-3')")
     axes = []
     for d in dims:
@@ -820,4 +855,3 @@ def _slabs(density, dims: tuple[str, ...], chunk_bytes: int):
     for start in range(0, n0, step):
         block = density.isel({dims[0]: slice(start, start + step)}).values
         yield start, block
-

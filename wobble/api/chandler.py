@@ -20,15 +20,15 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-
 from typing import TYPE_CHECKING
 
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import dimensionless, spin_rate_si, to_si
+from wobble.api.units import dimensionless, spin_rate_si, to_si
 from wobble.errors import InputError
-from wobble.io.catalog import catalogue_names, load_planet as _load_planet_si
+from wobble.io.catalog import catalogue_names
+from wobble.io.catalog import load_planet as _load_planet_si
 from wobble.io.parameter_file import Parameter, ParameterFile
 from wobble.models import chandler as _model
 from wobble.models.planet import PlanetParameters
@@ -175,7 +175,15 @@ class ChandlerBudget:
             previous = period
             sources = {key: planet.source(key) for key in s.uses}
             steps.append(
-                BudgetStep(s.name, _model.STEP_DESCRIPTIONS[s.name], period, change, s.rate << (u.rad / u.s), s.love_number, sources)
+                BudgetStep(
+                    s.name,
+                    _model.STEP_DESCRIPTIONS[s.name],
+                    period,
+                    change,
+                    s.rate << (u.rad / u.s),
+                    s.love_number,
+                    sources,
+                )
             )
         self.steps: list[BudgetStep] = steps
 
@@ -373,9 +381,13 @@ def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
             "love_number_k2_effective": var("love_number_k2_effective", k2),
             "applied": var("applied", applied, **flag_attrs({0: "not_applied", 1: "applied"})),
             "model_period": var("model_period", per_body(lambda b: b.period.to_value(u.day))),
-            "model_period_uncertainty": var("model_period_uncertainty", per_body(lambda b: b.period_uncertainty.to_value(u.day))),
+            "model_period_uncertainty": var(
+                "model_period_uncertainty", per_body(lambda b: b.period_uncertainty.to_value(u.day))
+            ),
             "observed_period": var("observed_period", per_body(lambda b: _num(b.observed))),
-            "observed_period_uncertainty": var("observed_period_uncertainty", per_body(lambda b: _num(b.observed_uncertainty))),
+            "observed_period_uncertainty": var(
+                "observed_period_uncertainty", per_body(lambda b: _num(b.observed_uncertainty))
+            ),
             "residual": var("residual", per_body(lambda b: _num(b.residual))),
             "quality_factor": var("quality_factor", per_body(lambda b: b.quality_factor)),
             "secular_love_number": var("secular_love_number", per_body(lambda b: b.secular_love_number)),
@@ -438,7 +450,9 @@ def _ratios_from_moments(moments) -> tuple[float, float]:
         raise InputError("moments", moments, "(I1, I3) for a symmetric body or (I1, I2, I3), spin about axis 3")
     for a, b, c in ((i1, i2, i3), (i2, i3, i1), (i3, i1, i2)):
         if a + b < c * (1 - 1e-12):
-            raise InputError("moments", moments, "moments satisfying the triangle inequalities I1 + I2 >= I3 (and cyclic)")
+            raise InputError(
+                "moments", moments, "moments satisfying the triangle inequalities I1 + I2 >= I3 (and cyclic)"
+            )
     # (I3 - I1)/I3: the subtraction is exact when I1 and I3 are within a factor 2 (Sterbenz).
     return (i3 - i1) / i3, (i3 - i2) / i3
 
@@ -496,7 +510,9 @@ def rigid_wobble(
     elif dynamical_flattening is not None:
         h = dimensionless(dynamical_flattening, "dynamical_flattening", low=-1, high=1)
         if h > 0.5:
-            raise InputError("dynamical_flattening", dynamical_flattening, "H <= 0.5 (C <= 2A: the triangle inequality)")
+            raise InputError(
+                "dynamical_flattening", dynamical_flattening, "H <= 0.5 (C <= 2A: the triangle inequality)"
+            )
         ca = cb = h
     else:
         e = dimensionless(inertia_ratio, "inertia_ratio", low=-1, high=1)
@@ -529,4 +545,6 @@ def euler_period(moments=None, *, spin, dynamical_flattening=None, inertia_ratio
     >>> print(f"{wobble.euler_period(dynamical_flattening=3.273795e-3, spin=1 * u.sday):.2f}")
     303.62 d
     """
-    return rigid_wobble(moments, spin=spin, dynamical_flattening=dynamical_flattening, inertia_ratio=inertia_ratio).period
+    return rigid_wobble(
+        moments, spin=spin, dynamical_flattening=dynamical_flattening, inertia_ratio=inertia_ratio
+    ).period

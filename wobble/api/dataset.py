@@ -33,8 +33,18 @@ __all__ = ["load", "quantity", "WobbleAccessor", "xarray", "build"]
 
 _SINCE = re.compile(r"^\s*(\w+)\s+since\s+(.+?)\s*$")
 # UDUNITS time words astropy does not know by these names.
-_TIME_WORDS = {"second": "s", "seconds": "s", "sec": "s", "secs": "s", "minute": "min", "minutes": "min",
-               "hour": "h", "hours": "h", "day": "d", "days": "d"}
+_TIME_WORDS = {
+    "second": "s",
+    "seconds": "s",
+    "sec": "s",
+    "secs": "s",
+    "minute": "min",
+    "minutes": "min",
+    "hour": "h",
+    "hours": "h",
+    "day": "d",
+    "days": "d",
+}
 
 
 def _unit(text: str, name: str) -> u.UnitBase:
@@ -127,16 +137,24 @@ def build(data_vars: dict, coords: dict, attrs: dict | None = None) -> xr.Datase
 
     construct = getattr(xr.Dataset, "_construct_direct", None)
     entries = {**data_vars, **coords}
-    if construct is None or len(entries) != len(data_vars) + len(coords) or not all(
-        isinstance(v, tuple) and len(v) == 3 for v in entries.values()
+    if (
+        construct is None
+        or len(entries) != len(data_vars) + len(coords)
+        or not all(isinstance(v, tuple) and len(v) == 3 for v in entries.values())
     ):
         return _general(data_vars, coords, attrs)
     variables: dict = {}
     dims: dict = {}
     indexes: dict = {}
     for name, (vdims, data, vattrs) in entries.items():
-        cached = _LABEL_INDEXES.get((name, tuple(data))) if name in coords and vdims in (name, (name,)) and isinstance(
-            data, (list, tuple)) and all(isinstance(x, str) for x in data) else None
+        cached = (
+            _LABEL_INDEXES.get((name, tuple(data)))
+            if name in coords
+            and vdims in (name, (name,))
+            and isinstance(data, (list, tuple))
+            and all(isinstance(x, str) for x in data)
+            else None
+        )
         if cached is not None:  # a label coordinate seen before: its index and the index's data adapter
             index, adapter = cached
             if dims.setdefault(name, len(data)) != len(data):
@@ -198,7 +216,8 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     >>> path = wobble.write_netcdf(wobble.chandler_dataset([wobble.chandler_budget("mars")]),
     ...                            Path(folder.name) / "mars.nc")
     >>> ds = wobble.load(path)
-    >>> print(f"{ds.wobble.quantity('model_period')[0]:.1f} model, {ds.wobble.quantity('observed_period')[0]:.1f} observed")
+    >>> model, observed = ds.wobble.quantity("model_period")[0], ds.wobble.quantity("observed_period")[0]
+    >>> print(f"{model:.1f} model, {observed:.1f} observed")
     205.6 d model, 206.9 d observed
     >>> folder.cleanup()
     """

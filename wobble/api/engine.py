@@ -80,7 +80,9 @@ class Torque:
         return cls(torque_from_mapping({"kind": "gravity", "mass": mass, "center_of_mass": center_of_mass, key: g}))
 
     @classmethod
-    def gravity_gradient(cls, gm, distance, *, direction=None, orbit_normal=None, phase=0 * u.rad, mean_motion=None) -> Torque:
+    def gravity_gradient(
+        cls, gm, distance, *, direction=None, orbit_normal=None, phase=0 * u.rad, mean_motion=None
+    ) -> Torque:
         """The tidal torque of a distant point mass: ``tau = 3 GM / d^3 rho x I rho``.
 
         Parameters
@@ -105,9 +107,24 @@ class Torque:
         return cls(torque_from_mapping(mapping))
 
     @classmethod
-    def third_body(cls, gm, *, semi_major_axis=None, eccentricity: float = 0.0, inclination=None, longitude_of_node=None,
-                   argument_of_periapsis=None, mean_anomaly=None, mean_motion=None, node_rate=None, periapsis_rate=None,
-                   ephemeris_times=None, ephemeris_positions=None, position=None, name: str = "third_body") -> Torque:
+    def third_body(
+        cls,
+        gm,
+        *,
+        semi_major_axis=None,
+        eccentricity: float = 0.0,
+        inclination=None,
+        longitude_of_node=None,
+        argument_of_periapsis=None,
+        mean_anomaly=None,
+        mean_motion=None,
+        node_rate=None,
+        periapsis_rate=None,
+        ephemeris_times=None,
+        ephemeris_positions=None,
+        position=None,
+        name: str = "third_body",
+    ) -> Torque:
         """The tidal torque of a third body moving on a given orbit: ``tau = (3 GM / r^5) r_b x I r_b``.
 
         MacCullagh's formula (Goldstein, Poole & Safko 2002, sec. 5.8) with the perturber's
@@ -146,14 +163,21 @@ class Torque:
         if semi_major_axis is not None:
             mapping["semi_major_axis"] = semi_major_axis
             mapping["eccentricity"] = eccentricity
-        for key, value in (("inclination", inclination), ("longitude_of_node", longitude_of_node),
-                           ("argument_of_periapsis", argument_of_periapsis), ("mean_anomaly", mean_anomaly),
-                           ("mean_motion", mean_motion), ("node_rate", node_rate), ("periapsis_rate", periapsis_rate)):
+        for key, value in (
+            ("inclination", inclination),
+            ("longitude_of_node", longitude_of_node),
+            ("argument_of_periapsis", argument_of_periapsis),
+            ("mean_anomaly", mean_anomaly),
+            ("mean_motion", mean_motion),
+            ("node_rate", node_rate),
+            ("periapsis_rate", periapsis_rate),
+        ):
             if value is not None:
                 mapping[key] = value
         if ephemeris_times is not None or ephemeris_positions is not None:
-            mapping["ephemeris"] = {k: v for k, v in (("times", ephemeris_times), ("positions", ephemeris_positions))
-                                    if v is not None}
+            mapping["ephemeris"] = {
+                k: v for k, v in (("times", ephemeris_times), ("positions", ephemeris_positions)) if v is not None
+            }
         if position is not None:
             mapping["position"] = position
         return cls(torque_from_mapping(mapping))
@@ -177,7 +201,9 @@ class Torque:
         return cls(torque_from_mapping({"kind": "damping", "coefficient": coefficient}))
 
     @classmethod
-    def custom(cls, function, *, frame: str = "body", uses_omega: bool = True, uses_attitude: bool = True, name: str = "custom") -> Torque:
+    def custom(
+        cls, function, *, frame: str = "body", uses_omega: bool = True, uses_attitude: bool = True, name: str = "custom"
+    ) -> Torque:
         """Your own torque: ``function(t, omega, q) -> tau``, vectorised, in SI.
 
         ``t`` (n,) in s, ``omega`` (n, 3) in rad/s (body frame), ``q`` (n, 4)

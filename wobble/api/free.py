@@ -17,14 +17,13 @@ Example
 
 from __future__ import annotations
 
-
 from typing import TYPE_CHECKING
 
 import numpy as np
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.io import cf
 from wobble.models import free as _free
 
@@ -39,10 +38,6 @@ _LMOM = u.kg * u.m**2 / u.s
 # Float64 values held per sample while a Dataset is built (time, omega, attitude,
 # energy and |L| with drifts, and the temporaries of the evaluation), in bytes.
 BYTES_PER_SAMPLE = 8 * 64
-
-
-
-
 
 
 class FreeRotation:
@@ -88,7 +83,7 @@ class FreeRotation:
     def __init__(self, moments, omega0):
         if not isinstance(moments, u.Quantity) and hasattr(moments, "principal_moments"):
             moments = moments.principal_moments
-        I = to_si(moments, "moments", MOMENT_UNIT, positive=True, shape=(3,))  # noqa: E741
+        I = to_si(moments, "moments", MOMENT_UNIT, positive=True, shape=(3,))
         w = to_si(omega0, "omega0", _RATE, shape=(3,))
         self._model = _free.free_rotation(I, w)
 
@@ -240,7 +235,9 @@ class FreeRotation:
         """Deprecated alias of :meth:`to_dataset` (one name per action across wobble)."""
         import warnings
 
-        warnings.warn("FreeRotation.evaluate is deprecated; use FreeRotation.to_dataset", DeprecationWarning, stacklevel=2)
+        warnings.warn(
+            "FreeRotation.evaluate is deprecated; use FreeRotation.to_dataset", DeprecationWarning, stacklevel=2
+        )
         return self.to_dataset(t, t_end=t_end, samples=samples)
 
     def to_dataset(self, t=None, *, t_end=None, samples: int | None = None) -> xr.Dataset:
@@ -274,7 +271,7 @@ class FreeRotation:
         mdl = self._model
         omega = mdl.omega(ts)
         q = mdl.attitude(ts)
-        I = np.asarray(mdl.moments)  # noqa: E741
+        I = np.asarray(mdl.moments)
         energy = 0.5 * np.sum(I * omega * omega, axis=-1)
         lmag = np.linalg.norm(I * omega, axis=-1)
         return self._dataset(ts, omega, q, energy, lmag)
@@ -287,6 +284,7 @@ class FreeRotation:
 
         mdl = self._model
         e0, l0 = mdl.energy, mdl.angular_momentum
+
         def var(name, data):
             return cf.variable("free", name, data)
 
@@ -309,7 +307,8 @@ class FreeRotation:
             },
             attrs={
                 "title": "Torque-free rigid-body rotation (exact solution)",
-                "references": "Landau & Lifshitz, Mechanics, section 37; Goldstein, Poole & Safko 2002, Classical Mechanics, "
+                "references": "Landau & Lifshitz, Mechanics, section 37; Goldstein, Poole & Safko 2002, Classical "
+                "Mechanics, "
                 "section 5.6",
                 "regime": mdl.regime,
                 "elliptic_parameter_m": mdl.m,

@@ -34,7 +34,7 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
-from wobble.models.inversion.calibration import LEVELS, Recovery, central_interval, coverage, recover_one
+from wobble.models.inversion.calibration import Recovery, central_interval, coverage, recover_one
 from wobble.models.inversion.likelihood import Posterior
 from wobble.models.inversion.sampling import Chains, SamplerSettings, draw_prior, run_emcee
 
@@ -76,8 +76,11 @@ def arviz():
     """
     if "arviz" not in sys.modules:
         with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message=r"\s*ArviZ is undergoing a major refactor", category=FutureWarning)
-            import arviz as az  # noqa: F401
+            warnings.filterwarnings(
+                "ignore", message=r"\s*ArviZ is undergoing a major refactor", category=FutureWarning
+            )
+            import arviz
+        return arviz
     return sys.modules["arviz"]
 
 
@@ -128,7 +131,11 @@ class _Progress:
 
 def _check_scheduler(scheduler):
     if isinstance(scheduler, str) and scheduler not in _LOCAL_SCHEDULERS and "://" not in scheduler:
-        raise InputError("scheduler", scheduler, "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786")
+        raise InputError(
+            "scheduler",
+            scheduler,
+            "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
+        )
 
 
 def _map(function, items: list, scheduler, progress: _Progress | None):
@@ -218,8 +225,17 @@ class Inversion:
         Convergence and sampler warnings (also in :meth:`to_dict` and the netCDF file).
     """
 
-    def __init__(self, setup: InversionSetup, chains: list[Chains], prior_samples: np.ndarray, settings: SamplerSettings,
-                 seed: int, seconds: float, prior_only: bool, scheduler: str | None):
+    def __init__(
+        self,
+        setup: InversionSetup,
+        chains: list[Chains],
+        prior_samples: np.ndarray,
+        settings: SamplerSettings,
+        seed: int,
+        seconds: float,
+        prior_only: bool,
+        scheduler: str | None,
+    ):
         self.setup = setup
         self.posterior = setup.posterior(prior_only=prior_only)
         self.samples = np.concatenate([c.samples for c in chains], axis=0)
@@ -259,14 +275,18 @@ class Inversion:
         """Posterior predictive draws y_rep = f(theta) + noise (SI), shape (chains, draws)."""
         rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence([int(self.seed), 2])))
         pred = self.predictions()
-        return {m.name: pred[m.name] + m.sigma * rng.standard_normal(pred[m.name].shape) for m in self.posterior.measured}
+        return {
+            m.name: pred[m.name] + m.sigma * rng.standard_normal(pred[m.name].shape) for m in self.posterior.measured
+        }
 
     def _diagnose(self):
         rows = self.rows()
         bad_rhat = [r.name for r in rows if not (r.r_hat <= RHAT_MAX)]
         small = [r.name for r in rows if not (min(r.ess, r.ess_tail) >= ESS_MIN)]
         if bad_rhat:
-            worst = max((r for r in rows if r.name in bad_rhat), key=lambda r: r.r_hat if math.isfinite(r.r_hat) else math.inf)
+            worst = max(
+                (r for r in rows if r.name in bad_rhat), key=lambda r: r.r_hat if math.isfinite(r.r_hat) else math.inf
+            )
             self.warnings.append(
                 f"R-hat above {RHAT_MAX} for {', '.join(bad_rhat)} (worst {worst.r_hat:.3f}, {worst.name}): "
                 "the chains have not converged; run longer (--steps) or with more burn-in"
@@ -275,7 +295,8 @@ class Inversion:
             worst = min((r for r in rows if r.name in small), key=lambda r: min(r.ess, r.ess_tail))
             self.warnings.append(
                 f"effective sample size below {ESS_MIN} for {', '.join(small)} "
-                f"(smallest {min(worst.ess, worst.ess_tail):.0f}, {worst.name}): intervals are unreliable; run longer (--steps)"
+                f"(smallest {min(worst.ess, worst.ess_tail):.0f}, {worst.name}): intervals are unreliable; run "
+                "longer (--steps)"
             )
         acc = float(np.mean(self.acceptance))
         lo, hi = ACCEPTANCE_RANGE
@@ -311,11 +332,22 @@ class Inversion:
             lo68, hi68 = central_interval(x, 0.68)
             lo95, hi95 = central_interval(x, 0.95)
             plo, phi = central_interval(self.prior_samples[:, i] / p.scale, 0.68)
-            rows.append(_Row(
-                p.name, p.unit, float(np.median(x)), float(lo68), float(hi68), float(lo95), float(hi95),
-                float(rhat[p.name]), float(ess_bulk[p.name]), float(ess_tail[p.name]),
-                p.prior.describe(p.scale, p.unit), (float(plo), float(phi)),
-            ))
+            rows.append(
+                _Row(
+                    p.name,
+                    p.unit,
+                    float(np.median(x)),
+                    float(lo68),
+                    float(hi68),
+                    float(lo95),
+                    float(hi95),
+                    float(rhat[p.name]),
+                    float(ess_bulk[p.name]),
+                    float(ess_tail[p.name]),
+                    p.prior.describe(p.scale, p.unit),
+                    (float(plo), float(phi)),
+                )
+            )
         self._rows = rows
         return rows
 
@@ -333,18 +365,27 @@ class Inversion:
             row.update(_interval_dict(x))
             px = prior_pred[m.name] / m.scale
             px = px[np.isfinite(px)]
-            row["prior_lower_68"], row["prior_upper_68"] = (float(v) for v in central_interval(px, 0.68)) if px.size else (math.nan, math.nan)
+            row["prior_lower_68"], row["prior_upper_68"] = (
+                (float(v) for v in central_interval(px, 0.68)) if px.size else (math.nan, math.nan)
+            )
             if m.measured:
                 y = rep[m.name].ravel() / m.scale
                 y = y[np.isfinite(y)]
                 lo, hi = central_interval(y, 0.68)
                 lo95, hi95 = central_interval(y, 0.95)
-                row.update({
-                    "observed": m.value / m.scale, "observed_uncertainty": m.sigma / m.scale, "source": m.source,
-                    "predictive_median": float(np.median(y)), "predictive_lower_68": float(lo), "predictive_upper_68": float(hi),
-                    "predictive_lower_95": float(lo95), "predictive_upper_95": float(hi95),
-                    "predictive_p_value": float(np.mean(y > m.value / m.scale)),
-                })
+                row.update(
+                    {
+                        "observed": m.value / m.scale,
+                        "observed_uncertainty": m.sigma / m.scale,
+                        "source": m.source,
+                        "predictive_median": float(np.median(y)),
+                        "predictive_lower_68": float(lo),
+                        "predictive_upper_68": float(hi),
+                        "predictive_lower_95": float(lo95),
+                        "predictive_upper_95": float(hi95),
+                        "predictive_p_value": float(np.mean(y > m.value / m.scale)),
+                    }
+                )
             out.append(row)
         return out
 
@@ -363,13 +404,15 @@ class Inversion:
         comparisons = {}
         for c in self.setup.comparisons:
             scale = self._scale(c.name)
-            comparisons.setdefault(c.name, []).append({
-                "value": None if c.value is None else c.value / scale,
-                "uncertainty": None if c.uncertainty is None else c.uncertainty / scale,
-                "low": None if c.low is None else c.low / scale,
-                "high": None if c.high is None else c.high / scale,
-                "source": c.source,
-            })
+            comparisons.setdefault(c.name, []).append(
+                {
+                    "value": None if c.value is None else c.value / scale,
+                    "uncertainty": None if c.uncertainty is None else c.uncertainty / scale,
+                    "low": None if c.low is None else c.low / scale,
+                    "high": None if c.high is None else c.high / scale,
+                    "source": c.source,
+                }
+            )
         return {
             "setup": self.setup.name,
             "title": self.setup.title,
@@ -378,10 +421,19 @@ class Inversion:
             "prior_only": self.prior_only,
             "parameters": [
                 {
-                    "name": r.name, "unit": r.unit, "median": r.median,
-                    "lower_68": r.lower_68, "upper_68": r.upper_68, "lower_95": r.lower_95, "upper_95": r.upper_95,
-                    "r_hat": r.r_hat, "ess": r.ess, "ess_tail": r.ess_tail, "prior": r.prior,
-                    "prior_lower_68": r.prior_68[0], "prior_upper_68": r.prior_68[1],
+                    "name": r.name,
+                    "unit": r.unit,
+                    "median": r.median,
+                    "lower_68": r.lower_68,
+                    "upper_68": r.upper_68,
+                    "lower_95": r.lower_95,
+                    "upper_95": r.upper_95,
+                    "r_hat": r.r_hat,
+                    "ess": r.ess,
+                    "ess_tail": r.ess_tail,
+                    "prior": r.prior,
+                    "prior_lower_68": r.prior_68[0],
+                    "prior_upper_68": r.prior_68[1],
                     "published": comparisons.get(r.name, []),
                 }
                 for r in self.rows()
@@ -395,7 +447,9 @@ class Inversion:
                 "draws": int(self.samples.shape[0] * self.samples.shape[1]),
                 "chains": int(self.samples.shape[0]),
                 "mean_acceptance_fraction": float(np.mean(self.acceptance)),
-                "autocorrelation_time_steps": {n: float(t) * self.settings.thin for n, t in zip(self.names, self.autocorr)},
+                "autocorrelation_time_steps": {
+                    n: float(t) * self.settings.thin for n, t in zip(self.names, self.autocorr)
+                },
                 "min_ess": self.min_ess,
                 "seconds": self.seconds,
                 "seconds_per_effective_sample": self.seconds_per_effective_sample,
@@ -417,12 +471,18 @@ class Inversion:
 
     def summary(self) -> str:
         """The table a person reads: parameters, observables, diagnostics, warnings."""
-        lines = [f"{self.setup.title} ({'PRIOR ONLY: no data' if self.prior_only else 'posterior'}; "
-                 f"body {self.setup.planet.name}, model '{self.setup.model}')"]
-        lines.append(f"  {'parameter':<28} {'median':>11} {'68 % interval':>25} {'95 % interval':>25} {'R-hat':>6} {'ESS':>6}  unit   prior")
+        lines = [
+            f"{self.setup.title} ({'PRIOR ONLY: no data' if self.prior_only else 'posterior'}; "
+            f"body {self.setup.planet.name}, model '{self.setup.model}')"
+        ]
+        lines.append(
+            f"  {'parameter':<28} {'median':>11} {'68 % interval':>25} {'95 % interval':>25} {'R-hat':>6} "
+            f"{'ESS':>6}  unit   prior"
+        )
         for r in self.rows():
             lines.append(
-                f"  {r.name:<28} {_g(r.median):>11} {_pair(r.lower_68, r.upper_68):>25} {_pair(r.lower_95, r.upper_95):>25} "
+                f"  {r.name:<28} {_g(r.median):>11} {_pair(r.lower_68, r.upper_68):>25} "
+                f"{_pair(r.lower_95, r.upper_95):>25} "
                 f"{r.r_hat:6.3f} {min(r.ess, r.ess_tail):6.0f}  {r.unit or '-':<6} {r.prior}"
             )
         published = [c for c in self.setup.comparisons]
@@ -435,13 +495,18 @@ class Inversion:
                 else:
                     val = f"{_g(c.low / s)} to {_g(c.high / s)}"
                 lines.append(f"    {c.name:<26} {val:<22} {c.source}")
-        lines.append(f"  {'observable':<28} {'measured':>22} {'posterior predictive (68 %)':>36} {'model median':>13}  unit")
+        lines.append(
+            f"  {'observable':<28} {'measured':>22} {'posterior predictive (68 %)':>36} {'model median':>13}  unit"
+        )
         for row in self.quantity_rows():
             if row["measured"]:
                 # Enough digits to show the uncertainty (an FCN of -430.00 +/- 0.10 d).
                 n = _digits(row["observed"], row["observed_uncertainty"])
                 meas = f"{_g(row['observed'], n)} +/- {_g(row['observed_uncertainty'], 2)}"
-                pp = f"{_g(row['predictive_median'], n)} [{_g(row['predictive_lower_68'], n)}, {_g(row['predictive_upper_68'], n)}]"
+                pp = (
+                    f"{_g(row['predictive_median'], n)} [{_g(row['predictive_lower_68'], n)}, "
+                    f"{_g(row['predictive_upper_68'], n)}]"
+                )
             else:
                 n = 5
                 meas, pp = "(derived)", f"{_g(row['median'])} [{_g(row['lower_68'])}, {_g(row['upper_68'])}]"
@@ -489,12 +554,14 @@ class Inversion:
             # posterior-predictive checks (az.plot_ppc) expect.
             groups["posterior_predictive"] = {m.name: rep[m.name][..., None] / m.scale for m in measured}
             groups["prior_predictive"] = {
-                m.name: (prior_pred[m.name] + m.sigma * rng.standard_normal(prior_pred[m.name].shape))[None, :, None] / m.scale
+                m.name: (prior_pred[m.name] + m.sigma * rng.standard_normal(prior_pred[m.name].shape))[None, :, None]
+                / m.scale
                 for m in measured
             }
             z = {m.name: (pred[m.name] - m.value) / m.sigma for m in measured}
             groups["log_likelihood"] = {
-                m.name: (-0.5 * z[m.name] ** 2 - math.log(m.sigma / m.scale * math.sqrt(2 * math.pi)))[..., None] for m in measured
+                m.name: (-0.5 * z[m.name] ** 2 - math.log(m.sigma / m.scale * math.sqrt(2 * math.pi)))[..., None]
+                for m in measured
             }
         with np.errstate(invalid="ignore"), warnings.catch_warnings():
             # ArviZ guesses the layout when there are more walkers (chains) than steps (draws); ours is
@@ -506,7 +573,10 @@ class Inversion:
         return idata
 
     def _annotate(self, idata):
-        units = {p.name: (p.unit or "1", f"{p.name} ({p.prior.describe(p.scale, p.unit)} prior)") for p in self.posterior.parameters}
+        units = {
+            p.name: (p.unit or "1", f"{p.name} ({p.prior.describe(p.scale, p.unit)} prior)")
+            for p in self.posterior.parameters
+        }
         for m in self.posterior.measurements:
             units[_model_name(m)] = (m.unit or "1", f"modelled {m.model.description}")
             units[m.name] = (m.unit or "1", m.model.description)
@@ -600,8 +670,13 @@ def _interval_dict(x: np.ndarray) -> dict:
         return {k: math.nan for k in ("median", "lower_68", "upper_68", "lower_95", "upper_95")}
     lo68, hi68 = central_interval(x, 0.68)
     lo95, hi95 = central_interval(x, 0.95)
-    return {"median": float(np.median(x)), "lower_68": float(lo68), "upper_68": float(hi68),
-            "lower_95": float(lo95), "upper_95": float(hi95)}
+    return {
+        "median": float(np.median(x)),
+        "lower_68": float(lo68),
+        "upper_68": float(hi68),
+        "lower_95": float(lo95),
+        "upper_95": float(hi95),
+    }
 
 
 def _g(x: float, digits: int = 5) -> str:
@@ -682,14 +757,18 @@ def invert(
     settings.check(posterior.ndim)
     seed = s.seed if seed is None else int(seed)
     total = settings.ensembles * (settings.burn + settings.steps)
-    bar = _Progress(total if scheduler is None else settings.ensembles, "steps" if scheduler is None else "ensembles", progress)
+    bar = _Progress(
+        total if scheduler is None else settings.ensembles, "steps" if scheduler is None else "ensembles", progress
+    )
     t0 = time.perf_counter()
     try:
         if scheduler is None:
             chains = []
             for e in range(settings.ensembles):
                 offset = e * (settings.burn + settings.steps)
-                chains.append(run_emcee(posterior, settings, _ensemble_seed(seed, e), (lambda d, t, o=offset: bar(o + d))))
+                chains.append(
+                    run_emcee(posterior, settings, _ensemble_seed(seed, e), (lambda d, t, o=offset: bar(o + d)))
+                )
         else:
             items = [(posterior, settings, _ensemble_seed(seed, e)) for e in range(settings.ensembles)]
             chains = _map(_run_ensemble, items, scheduler, bar)
@@ -697,7 +776,9 @@ def invert(
         bar.close()
     seconds = time.perf_counter() - t0
     prior_samples = draw_prior(posterior, settings.prior_draws, [seed, 4])
-    return Inversion(s, chains, prior_samples, settings, seed, seconds, prior_only, None if scheduler is None else str(scheduler))
+    return Inversion(
+        s, chains, prior_samples, settings, seed, seconds, prior_only, None if scheduler is None else str(scheduler)
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -717,7 +798,9 @@ class Calibration:
     seconds : float
     """
 
-    def __init__(self, setup: InversionSetup, recoveries: list[Recovery], settings: SamplerSettings, seed: int, seconds: float):
+    def __init__(
+        self, setup: InversionSetup, recoveries: list[Recovery], settings: SamplerSettings, seed: int, seconds: float
+    ):
         self.setup = setup
         self.recoveries = recoveries
         self.settings = settings
@@ -751,12 +834,25 @@ class Calibration:
         lines = [f"Injection-recovery of '{self.setup.name}': {len(self.recoveries)} truths drawn from the prior"]
         lines.append(f"  {'parameter':<28} {'68 % coverage':>16} {'95 % coverage':>16}")
         for name, c in self.coverage.items():
-            lines.append(f"  {name:<28} {100 * c['68']:8.1f} +/- {100 * c['se_68']:.1f} {100 * c['95']:8.1f} +/- {100 * c['se_95']:.1f}")
+            lines.append(
+                f"  {name:<28} {100 * c['68']:8.1f} +/- {100 * c['se_68']:.1f} {100 * c['95']:8.1f} +/- "
+                f"{100 * c['se_95']:.1f}"
+            )
         return "\n".join(lines)
 
 
-def injection_recovery(setup="mars", draws: int = 100, *, seed: int = 0, walkers=None, steps=None, burn=None, thin=None,
-                       scheduler=None, progress: bool = False) -> Calibration:
+def injection_recovery(
+    setup="mars",
+    draws: int = 100,
+    *,
+    seed: int = 0,
+    walkers=None,
+    steps=None,
+    burn=None,
+    thin=None,
+    scheduler=None,
+    progress: bool = False,
+) -> Calibration:
     """Injection–recovery of a setup: invert ``draws`` synthetic data sets from prior truths.
 
     Each truth is drawn from the setup's priors, its measurements are simulated with
@@ -778,4 +874,3 @@ def injection_recovery(setup="mars", draws: int = 100, *, seed: int = 0, walkers
     finally:
         bar.close()
     return Calibration(s, recoveries, settings, seed, time.perf_counter() - t0)
-

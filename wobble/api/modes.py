@@ -28,8 +28,8 @@ import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
-from wobble.api._units import spin_rate_si, to_si
 from wobble.api.chandler import Planet, chandler_budget, load_planet
+from wobble.api.units import spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile
@@ -171,16 +171,24 @@ class HydrostaticFigure:
         return ds
 
     def _density(self, radius):
-        return np.asarray(self._profile.density(radius), dtype=float) if self._profile is not None else np.full(radius.shape, np.nan)
+        return (
+            np.asarray(self._profile.density(radius), dtype=float)
+            if self._profile is not None
+            else np.full(radius.shape, np.nan)
+        )
 
     def summary(self) -> str:
         """One paragraph for a person."""
         lines = [
             f"hydrostatic figure ({self.profile}; Clairaut's equation to first order): "
-            f"surface flattening 1/{1 / self.surface_flattening:.2f} (Radau-Darwin 1/{1 / self.radau_darwin_flattening:.2f}), "
+            f"surface flattening 1/{1 / self.surface_flattening:.2f} (Radau-Darwin "
+            f"1/{1 / self.radau_darwin_flattening:.2f}), "
             f"J2 = {self.j2:.7g}, H = {self.dynamical_flattening:.7g}, C/(Ma^2) = {self.moment_factor:.5f}"
         ]
-        for key, label in (("observed_flattening", "observed"), ("reference_hydrostatic_flattening", "published hydrostatic")):
+        for key, label in (
+            ("observed_flattening", "observed"),
+            ("reference_hydrostatic_flattening", "published hydrostatic"),
+        ):
             if key in self.anchors:
                 value, _, source = self.anchors[key]
                 lines.append(f"  {label} flattening 1/{1 / value:.2f} ({source})")
@@ -194,7 +202,9 @@ def _profile(profile) -> tuple[_hydro.DensityProfile, ParameterFile | None]:
     if isinstance(profile, _hydro.DensityProfile):
         return profile, None
     if not isinstance(profile, (str, os.PathLike)):
-        raise InputError("profile", profile, "a profile name (prem, mars_layered), the path of a profile file, or a DensityProfile")
+        raise InputError(
+            "profile", profile, "a profile name (prem, mars_layered), the path of a profile file, or a DensityProfile"
+        )
     return load_profile(profile)
 
 
@@ -209,7 +219,9 @@ def _anchors(pf: ParameterFile | None) -> dict:
     return out
 
 
-def hydrostatic_figure(profile, spin: u.Quantity, *, gravitational_constant: u.Quantity | None = None) -> HydrostaticFigure:
+def hydrostatic_figure(
+    profile, spin: u.Quantity, *, gravitational_constant: u.Quantity | None = None
+) -> HydrostaticFigure:
     """The hydrostatic figure of a layered body from its density profile (Clairaut's equation).
 
     Parameters
@@ -235,8 +247,10 @@ def hydrostatic_figure(profile, spin: u.Quantity, *, gravitational_constant: u.Q
     e_f = 0.00435, 1/f = 199.3
     """
     omega = spin_rate_si(spin)
-    g = const.G.si.value if gravitational_constant is None else to_si(
-        gravitational_constant, "gravitational_constant", u.m**3 / (u.kg * u.s**2), positive=True, shape=()
+    g = (
+        const.G.si.value
+        if gravitational_constant is None
+        else to_si(gravitational_constant, "gravitational_constant", u.m**3 / (u.kg * u.s**2), positive=True, shape=())
     )
     prof, pf = _profile(profile)
     return HydrostaticFigure(prof.name, _hydro.hydrostatic_figure(prof, omega, g), _anchors(pf), prof)
@@ -288,7 +302,9 @@ class NormalModes:
     Build with :func:`normal_modes`.
     """
 
-    def __init__(self, planet: Planet, raw: _modes.NormalModes, figure: HydrostaticFigure | None, budget_period: u.Quantity):
+    def __init__(
+        self, planet: Planet, raw: _modes.NormalModes, figure: HydrostaticFigure | None, budget_period: u.Quantity
+    ):
         self.planet = planet
         self.raw = raw
         self.figure = figure
@@ -363,7 +379,8 @@ class NormalModes:
 
     @property
     def chandler_first_order(self) -> u.Quantity:
-        """Chandler period with the coupling off and the deformation's own angular momentum dropped (the classic first-order formula), days."""
+        """Chandler period with the coupling off and the deformation's own angular momentum dropped (the
+        classic first-order formula), days."""
         return _days(abs(2 * math.pi / self.raw.cw_rate_first_order))
 
     @property
@@ -416,6 +433,7 @@ class NormalModes:
 
     def summary(self) -> str:
         """The table a person reads (``wobble modes``)."""
+
         def fmt(q, sigma=None):
             if q is None:
                 return "-"
@@ -436,20 +454,30 @@ class NormalModes:
             source = self.figure.profile if self.figure is not None else "given"
             fcn = self.mode("FCN", "celestial")
             hyd = self.core_flattening_hydrostatic
-            hyd_text = f"{hyd:.7f}" if not self.core_flattening_hydrostatic_uncertainty else with_uncertainty(hyd, self.core_flattening_hydrostatic_uncertainty)
+            hyd_text = (
+                f"{hyd:.7f}"
+                if not self.core_flattening_hydrostatic_uncertainty
+                else with_uncertainty(hyd, self.core_flattening_hydrostatic_uncertainty)
+            )
             lines.append(
                 f"  core flattening e_f: hydrostatic {hyd_text} ({source}, Clairaut) "
-                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} sidereal days in space)"
+                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} "
+                "sidereal days in space)"
             )
             if self.core_flattening_required is not None:
+                excess = with_uncertainty(
+                    100 * self.core_flattening_excess, 100 * self.core_flattening_excess_uncertainty, sign=True
+                )
                 lines.append(
-                    f"  the observed FCN requires e_f = {with_uncertainty(self.core_flattening_required, self.core_flattening_required_uncertainty)}"
-                    f": {with_uncertainty(100 * self.core_flattening_excess, 100 * self.core_flattening_excess_uncertainty, sign=True)} % "
+                    "  the observed FCN requires e_f = "
+                    f"{with_uncertainty(self.core_flattening_required, self.core_flattening_required_uncertainty)}"
+                    f": {excess} % "
                     f"against hydrostatic (put back, it gives {self.fcn_period_required.to_value(u.day):.4f} d)"
                 )
         cw = self.mode("CW")
         lines.append(
-            f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off {self.chandler_coupling_off.to_value(u.day):.2f} d "
+            f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off "
+            f"{self.chandler_coupling_off.to_value(u.day):.2f} d "
             f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d (FCN effect "
             f"{self.fcn_effect_on_chandler.to_value(u.day):+.2f} d; the classic first-order formula would give "
             f"{self.chandler_first_order.to_value(u.day):.2f} d)"
@@ -475,7 +503,9 @@ class NormalModes:
         if not np.all(np.isfinite(values) & (values > 0)):
             raise InputError("core_flattening", core_flattening, "positive, finite values")
         if self.core_flattening_hydrostatic is None:
-            raise InputError("core_flattening", self.body, "a body whose free core nutation is modelled (a liquid core)")
+            raise InputError(
+                "core_flattening", self.body, "a body whose free core nutation is modelled (a liquid core)"
+            )
         spin = self.raw.spin_rate
         turn = 2 * math.pi * math.copysign(1.0, spin)  # periods signed relative to the spin
         out = {"CW": [], "FCN_terrestrial": [], "FCN_celestial": []}
@@ -528,14 +558,20 @@ def _rebuilder(prof: _hydro.DensityProfile, pf: ParameterFile | None):
         raise InputError("construction", construction, f"one of {', '.join(CONSTRUCTIONS)}")
 
     def rebuild(p):
-        missing = [k for k in ("gm", "equatorial_radius", "fluid_core_radius", "fluid_core_density") if getattr(p, k) is None]
+        missing = [
+            k for k in ("gm", "equatorial_radius", "fluid_core_radius", "fluid_core_density") if getattr(p, k) is None
+        ]
         if p.c_factor is None:
             missing.append("polar_moment_factor")
         if missing:
-            raise InputError(missing[0], "not given", f"the profile {prof.name} is built from the body's {', '.join(missing)}")
+            raise InputError(
+                missing[0], "not given", f"the profile {prof.name} is built from the body's {', '.join(missing)}"
+            )
         mass = p.gm.value / p.gravitational_constant.value
         moment = p.c_factor * mass * p.equatorial_radius.value**2
-        return _hydro.core_under_linear_mantle(prof.name, mass, moment, prof.radius, p.fluid_core_radius.value, p.fluid_core_density.value)
+        return _hydro.core_under_linear_mantle(
+            prof.name, mass, moment, prof.radius, p.fluid_core_radius.value, p.fluid_core_density.value
+        )
 
     return rebuild
 
@@ -554,14 +590,18 @@ def _hydrostatic_core_ellipticity(rebuild, nominal: float, nominal_planet):
     def e_of(p):
         prof, sig = signature(p)
         if sig not in cache:
-            fig = _hydro.hydrostatic_figure(prof, p.rotation_rate.value, p.gravitational_constant.value, samples=2, rtol=1e-9)
+            fig = _hydro.hydrostatic_figure(
+                prof, p.rotation_rate.value, p.gravitational_constant.value, samples=2, rtol=1e-9
+            )
             cache[sig] = fig.core_dynamical_ellipticity
         return cache[sig]
 
     return e_of
 
 
-def normal_modes(body: str | os.PathLike | Planet, *, profile=None, modes: tuple[str, ...] | None = None) -> NormalModes:
+def normal_modes(
+    body: str | os.PathLike | Planet, *, profile=None, modes: tuple[str, ...] | None = None
+) -> NormalModes:
     """The free modes of a planet: Chandler wobble and free core nutation, from one body file.
 
     Parameters
@@ -604,7 +644,9 @@ def normal_modes(body: str | os.PathLike | Planet, *, profile=None, modes: tuple
             _check_mass(planet, prof, pf)
         figure = HydrostaticFigure(
             prof.name,
-            _hydro.hydrostatic_figure(prof, planet.parameters.rotation_rate.value, planet.parameters.gravitational_constant.value),
+            _hydro.hydrostatic_figure(
+                prof, planet.parameters.rotation_rate.value, planet.parameters.gravitational_constant.value
+            ),
             _anchors(pf),
             prof,
         )
@@ -628,9 +670,23 @@ def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
     xr = xarray()
     if not results:
         raise InputError("results", "[]", "at least one NormalModes")
-    labels = [lab for lab in ("CW_terrestrial", "FCN_terrestrial", "FCN_celestial") if any(lab in [m.label for m in r.modes] for r in results)]
+    labels = [
+        lab
+        for lab in ("CW_terrestrial", "FCN_terrestrial", "FCN_celestial")
+        if any(lab in [m.label for m in r.modes] for r in results)
+    ]
     shape = (len(results), len(labels))
-    fields = {k: np.full(shape, np.nan) for k in ("period", "period_uncertainty", "rate", "observed_period", "observed_period_uncertainty", "love_number_k2")}
+    fields = {
+        k: np.full(shape, np.nan)
+        for k in (
+            "period",
+            "period_uncertainty",
+            "rate",
+            "observed_period",
+            "observed_period_uncertainty",
+            "love_number_k2",
+        )
+    }
     sense = np.zeros(shape, dtype=np.int8)
     for i, r in enumerate(results):
         for m in r.modes:
@@ -658,20 +714,29 @@ def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
     data["sense"] = var("sense", sense, **flag_attrs({-1: "retrograde", 0: "absent", 1: "prograde"}))
     data.update(
         {
-            "core_flattening_hydrostatic": var("core_flattening_hydrostatic", per_body(lambda r: r.core_flattening_hydrostatic)),
+            "core_flattening_hydrostatic": var(
+                "core_flattening_hydrostatic", per_body(lambda r: r.core_flattening_hydrostatic)
+            ),
             "core_flattening_required": var("core_flattening_required", per_body(lambda r: r.core_flattening_required)),
             "core_flattening_required_uncertainty": var(
                 "core_flattening_required_uncertainty", per_body(lambda r: r.core_flattening_required_uncertainty)
             ),
-            "core_flattening_excess": var("core_flattening_excess", per_body(lambda r: None if r.core_flattening_excess is None else 100 * r.core_flattening_excess)),
+            "core_flattening_excess": var(
+                "core_flattening_excess",
+                per_body(lambda r: None if r.core_flattening_excess is None else 100 * r.core_flattening_excess),
+            ),
             "fcn_period_required": var("fcn_period_required", per_body(lambda r: day(r.fcn_period_required))),
             "chandler_budget_period": var("chandler_budget_period", per_body(lambda r: day(r.chandler_budget_period))),
-            "chandler_period_coupling_off": var("chandler_period_coupling_off", per_body(lambda r: day(r.chandler_coupling_off))),
+            "chandler_period_coupling_off": var(
+                "chandler_period_coupling_off", per_body(lambda r: day(r.chandler_coupling_off))
+            ),
             "surface_flattening_hydrostatic": var(
-                "surface_flattening_hydrostatic", per_body(lambda r: None if r.figure is None else r.figure.surface_flattening)
+                "surface_flattening_hydrostatic",
+                per_body(lambda r: None if r.figure is None else r.figure.surface_flattening),
             ),
             "dynamical_flattening_hydrostatic": var(
-                "dynamical_flattening_hydrostatic", per_body(lambda r: None if r.figure is None else r.figure.dynamical_flattening)
+                "dynamical_flattening_hydrostatic",
+                per_body(lambda r: None if r.figure is None else r.figure.dynamical_flattening),
             ),
             "spin_rate": var("spin_rate", per_body(lambda r: r.raw.spin_rate)),
         }

@@ -25,6 +25,7 @@ from astropy import units as u
 
 from wobble.api.chandler import Planet, load_planet
 from wobble.errors import FileFormatError, InputError
+from wobble.io.parameter_file import ParameterFile
 from wobble.io.perturbers import (
     NUTATION_REFERENCE_UNITS,
     PERTURBER_UNITS,
@@ -35,7 +36,6 @@ from wobble.io.perturbers import (
     measured,
     perturbers_of,
 )
-from wobble.io.parameter_file import ParameterFile
 from wobble.models import nutation as _nutation
 from wobble.models import precession as _model
 
@@ -175,7 +175,10 @@ class PrincipalNutation:
         """(longitude, obliquity): model over the rigid-Earth series at the model's H, minus 1 (None without one)."""
         if self.rigid is None:
             return None
-        return (float(self.longitude / self.rigid.scaled_longitude - 1), float(self.obliquity / self.rigid.scaled_obliquity - 1))
+        return (
+            float(self.longitude / self.rigid.scaled_longitude - 1),
+            float(self.obliquity / self.rigid.scaled_obliquity - 1),
+        )
 
     def to_dict(self) -> dict:
         """JSON-ready amplitudes (arcsec) and their differences from the rigid-Earth series and from IAU 2000A."""
@@ -305,6 +308,7 @@ class PrecessionBudget:
 
     def to_dict(self) -> dict:
         """A JSON-ready summary (arcsec per Julian century; wobble's sign convention)."""
+
         def num(q):
             return None if q is None else float(q.to_value(ARCSEC_PER_CENTURY))
 
@@ -319,7 +323,12 @@ class PrecessionBudget:
             "observed_includes_geodesic": self.includes_geodesic,
             "rate_mas_per_year": float(self.rate.to_value(u.mas / u.yr)),
             "terms": [
-                {"name": t.name, "value": num(t.rate), "value_arcsec_per_century": num(t.rate), "description": t.description}
+                {
+                    "name": t.name,
+                    "value": num(t.rate),
+                    "value_arcsec_per_century": num(t.rate),
+                    "description": t.description,
+                }
                 for t in self.terms
             ],
             "observed": num(self.observed),
@@ -331,12 +340,19 @@ class PrecessionBudget:
             "source": self.observed_source,
             "sign_convention": _SIGN_NOTE,
             "literature_steps": [
-                {"name": s.name, "change_arcsec_per_century": num(s.change), "value_arcsec_per_century": num(s.value), "description": s.description}
+                {
+                    "name": s.name,
+                    "change_arcsec_per_century": num(s.change),
+                    "value_arcsec_per_century": num(s.value),
+                    "description": s.description,
+                }
                 for s in self.literature_steps
             ],
             "nutation": [n.to_dict() for n in self.nutation],
             "notes": self.notes,
-            "uncertainty_contributions_arcsec_per_century": {k: num(v) for k, v in self.uncertainty_contributions.items()},
+            "uncertainty_contributions_arcsec_per_century": {
+                k: num(v) for k, v in self.uncertainty_contributions.items()
+            },
         }
 
     def summary(self) -> str:
@@ -359,7 +375,9 @@ class PrecessionBudget:
 def _require(planet: Planet, key: str):
     value = getattr(planet.parameters, key)
     if value is None:
-        raise FileFormatError(planet.file.path or planet.name, f"parameters.{key}", "missing; needed for the precession rate")
+        raise FileFormatError(
+            planet.file.path or planet.name, f"parameters.{key}", "missing; needed for the precession rate"
+        )
     return value
 
 
@@ -376,12 +394,16 @@ def _planet_values(planet: Planet):
     eps = values["obliquity"]
     if not 0.0 <= eps <= math.pi:
         raise FileFormatError(
-            planet.file.path or planet.name, "parameters.obliquity.value", f"got {math.degrees(eps):.6g} deg; allowed: 0 to 180 deg"
+            planet.file.path or planet.name,
+            "parameters.obliquity.value",
+            f"got {math.degrees(eps):.6g} deg; allowed: 0 to 180 deg",
         )
     e = values["orbit_eccentricity"]
     if not 0.0 <= e < 1.0:
         raise FileFormatError(
-            planet.file.path or planet.name, "parameters.orbit_eccentricity.value", f"got {e!r}; allowed: 0 <= e < 1 (a bound orbit)"
+            planet.file.path or planet.name,
+            "parameters.orbit_eccentricity.value",
+            f"got {e!r}; allowed: 0 <= e < 1 (a bound orbit)",
         )
     return values, sigmas
 
@@ -442,7 +464,9 @@ def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
             orbit = _orbit(pf.name, values)
             _model.check_inside(orbit, None if radius is None else radius.value)
         except InputError as exc:
-            raise FileFormatError(pf.path, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}") from None
+            raise FileFormatError(
+                pf.path, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
+            ) from None
 
 
 def _literature_steps(first_order_si: float, geodesic_si: float) -> tuple[list[LiteratureStep], ParameterFile]:
@@ -460,7 +484,7 @@ def _literature_steps(first_order_si: float, geodesic_si: float) -> tuple[list[L
         running += change_si
         steps.append(LiteratureStep(name, _arcsec_cy(change_si), _arcsec_cy(running), description))
 
-    add("geodesic", geodesic_si, "geodesic precession, computed here (IAU 2006: -1.919883\"/cy in psi_A)")
+    add("geodesic", geodesic_si, 'geodesic precession, computed here (IAU 2006: -1.919883"/cy in psi_A)')
     others = ("planetary_first_order", "lunisolar_second_order", "j4_term", "j2_planetary_tilt", "nonlinear_term")
     labels = {
         "planetary_first_order": "planets' torque on the bulge, first order",
@@ -474,7 +498,11 @@ def _literature_steps(first_order_si: float, geodesic_si: float) -> tuple[list[L
         add(key, -si(key), f"{labels[key]} ({ref.get(key).source})")
     chi = si("chi_rate")
     eps0 = si("obliquity")
-    add("ecliptic_motion", chi * math.cos(eps0), "the ecliptic's own motion: p_A = psi_A - chi_A cos(eps_0) (Lieske et al. 1977; Capitaine et al. 2003)")
+    add(
+        "ecliptic_motion",
+        chi * math.cos(eps0),
+        "the ecliptic's own motion: p_A = psi_A - chi_A cos(eps_0) (Lieske et al. 1977; Capitaine et al. 2003)",
+    )
     return steps, ref
 
 
@@ -547,7 +575,9 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     try:
         raw = _model.precession_budget(planet.name, values, _prepare([pf.name for pf in satellites]), sigmas)
     except InputError as exc:
-        raise FileFormatError(planet.file.path or planet.name, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}") from None
+        raise FileFormatError(
+            planet.file.path or planet.name, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
+        ) from None
     inputs = _prepare([pf.name for pf in satellites])(values)
     nutation = []
     refs = None
@@ -626,7 +656,9 @@ def precession_dataset(budgets: list[PrecessionBudget]) -> xr.Dataset:
     def var(name, data, **extra):
         return variable("precession", name, data, **extra)
 
-    refs = sorted({b.planet.source(k) for b in budgets for k in ("dynamical_flattening", "obliquity", "orbit_semi_major_axis")})
+    refs = sorted(
+        {b.planet.source(k) for b in budgets for k in ("dynamical_flattening", "obliquity", "orbit_semi_major_axis")}
+    )
     descriptions = {}
     for b in budgets:
         for t in b.terms:
@@ -652,8 +684,10 @@ def precession_dataset(budgets: list[PrecessionBudget]) -> xr.Dataset:
         attrs={
             "title": "Forced precession budget",
             "references": "; ".join(refs),
-            "comment": "Rates from physical parameters only (the observed rate is never an input); " + _SIGN_NOTE
-            + ". " + " ".join(n for b in budgets for n in b.notes),
+            "comment": "Rates from physical parameters only (the observed rate is never an input); "
+            + _SIGN_NOTE
+            + ". "
+            + " ".join(n for b in budgets for n in b.notes),
         },
     )
     return ds
@@ -686,48 +720,78 @@ def _summary(b: PrecessionBudget) -> str:
     rate = b.rate.to_value(ARCSEC_PER_CENTURY)
     sigma = b.rate_uncertainty.to_value(ARCSEC_PER_CENTURY)
     label = "model (with geodesic)" if b.includes_geodesic else "model (tidal; see note)"
-    lines.append(f"  {label:<26}{with_uncertainty(rate, sigma if sigma > 0 else None, sign=True):>14}"
-                 f"   = {b.rate.to_value(u.mas / u.yr):+.1f} mas/yr")
+    lines.append(
+        f"  {label:<26}{with_uncertainty(rate, sigma if sigma > 0 else None, sign=True):>14}"
+        f"   = {b.rate.to_value(u.mas / u.yr):+.1f} mas/yr"
+    )
     if b.observed is not None:
         obs = b.observed.to_value(ARCSEC_PER_CENTURY)
         osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
-        lines.append(f"  {'observed':<26}{with_uncertainty(obs, osig, sign=True):>14}"
-                     f"   = {b.observed.to_value(u.mas / u.yr):+.1f} mas/yr; {b.observed_source}")
+        lines.append(
+            f"  {'observed':<26}{with_uncertainty(obs, osig, sign=True):>14}"
+            f"   = {b.observed.to_value(u.mas / u.yr):+.1f} mas/yr; {b.observed_source}"
+        )
         why = "; the published higher-order terms below account for it" if b.literature_steps else ""
-        lines.append(f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed uncertainties{why})")
+        lines.append(
+            f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed "
+            f"uncertainties{why})"
+        )
     if b.iau is not None:
-        lines.append("  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its")
-        lines.append("  psi_A = +5038.48\"/cy is -5038.48 here):")
-        lines.append(f"    {'first order (model)':<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986\" cos(eps_0) = {_fmt(b.iau['first_order'])}")
+        lines.append(
+            "  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its"
+        )
+        lines.append('  psi_A = +5038.48"/cy is -5038.48 here):')
+        lines.append(
+            f'    {"first order (model)":<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
+            f"{_fmt(b.iau['first_order'])}"
+        )
         for s in b.literature_steps:
             lines.append(f"    + {s.name:<22}{_fmt(s.change, 6):>14}  -> {_fmt(s.value)}   {s.description}")
             if s.name == "nonlinear_term":
-                lines.append(f"    {'= psi_A (model)':<24}{_fmt(s.value):>14}   IAU 2006 psi_A: {_fmt(b.iau['psi_rate'])}"
-                             f"  (difference {_fmt(s.value - b.iau['psi_rate'], 4)})")
+                lines.append(
+                    f"    {'= psi_A (model)':<24}{_fmt(s.value):>14}   IAU 2006 psi_A: {_fmt(b.iau['psi_rate'])}"
+                    f"  (difference {_fmt(s.value - b.iau['psi_rate'], 4)})"
+                )
         last = b.literature_steps[-1].value
-        lines.append(f"    {'= p_A (model)':<24}{_fmt(last):>14}   IAU 2006 p_A: {_fmt(b.iau['general_precession'])}"
-                     f"  (difference {_fmt(last - b.iau['general_precession'], 4)})")
+        lines.append(
+            f"    {'= p_A (model)':<24}{_fmt(last):>14}   IAU 2006 p_A: {_fmt(b.iau['general_precession'])}"
+            f"  (difference {_fmt(last - b.iau['general_precession'], 4)})"
+        )
     for n in b.nutation:
-        lines.append(f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), rigid body, first order:")
-        line = f"    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}\" sin(Omega), Delta eps = {n.obliquity.to_value(u.arcsec):+.4f}\" cos(Omega)"
+        lines.append(
+            f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), "
+            "rigid body, first order:"
+        )
+        line = (
+            f'    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}" sin(Omega), Delta eps = '
+            f'{n.obliquity.to_value(u.arcsec):+.4f}" cos(Omega)'
+        )
         lines.append(line)
         if n.rigid is not None:
             r = n.rigid
             dl, de = n.rigid_difference
-            lines.append(f"    rigid Earth, {r.name} (Souchay et al. 1999; H = {r.dynamical_flattening:.8g}): "
-                         f"{r.longitude.to_value(u.arcsec):+.4f}\", {r.obliquity.to_value(u.arcsec):+.4f}\"; "
-                         f"at the catalogue's H (x {r.scale:.7f}): {r.scaled_longitude.to_value(u.arcsec):+.4f}\", "
-                         f"{r.scaled_obliquity.to_value(u.arcsec):+.4f}\"")
-            lines.append(f"    model - {r.name}: {100 * dl:+.3f} %, {100 * de:+.3f} % (the series adds the second-order and "
-                         "planetary-tilt terms a first-order model leaves out)")
+            lines.append(
+                f"    rigid Earth, {r.name} (Souchay et al. 1999; H = {r.dynamical_flattening:.8g}): "
+                f'{r.longitude.to_value(u.arcsec):+.4f}", {r.obliquity.to_value(u.arcsec):+.4f}"; '
+                f"at the catalogue's H (x {r.scale:.7f}): {r.scaled_longitude.to_value(u.arcsec):+.4f}\", "
+                f'{r.scaled_obliquity.to_value(u.arcsec):+.4f}"'
+            )
+            lines.append(
+                f"    model - {r.name}: {100 * dl:+.3f} %, {100 * de:+.3f} % (the series adds the second-order and "
+                "planetary-tilt terms a first-order model leaves out)"
+            )
         if n.reference_longitude is not None:
             dl = 100 * float(n.longitude / n.reference_longitude - 1)
             de = 100 * float(n.obliquity / n.reference_obliquity - 1)
-            lines.append(f"    IAU 2000A (non-rigid Earth): {n.reference_longitude.to_value(u.arcsec):+.4f}\", "
-                         f"{n.reference_obliquity.to_value(u.arcsec):+.4f}\"; model - IAU 2000A: {dl:+.2f} %, {de:+.2f} %")
+            lines.append(
+                f'    IAU 2000A (non-rigid Earth): {n.reference_longitude.to_value(u.arcsec):+.4f}", '
+                f'{n.reference_obliquity.to_value(u.arcsec):+.4f}"; model - IAU 2000A: {dl:+.2f} %, {de:+.2f} %'
+            )
     if not b.includes_geodesic:
         lines.append("  note: the observed rate excludes geodesic precession (relativistic terms modelled separately),")
-        lines.append(f"  so the comparison uses the tidal rate; with geodesic precession the model is {_fmt(b.inertial_rate)}.")
+        lines.append(
+            f"  so the comparison uses the tidal rate; with geodesic precession the model is {_fmt(b.inertial_rate)}."
+        )
     for note in b.notes:
         lines.append(f"  note: {note}")
     return "\n".join(lines)

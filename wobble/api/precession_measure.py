@@ -116,11 +116,14 @@ class PrecessionMeasurement:
         """Measured / analytic amplitude - 1, in longitude and in obliquity."""
         if self.analytic_nutation_longitude is None or self.nutation_longitude is None:
             return None
-        return (float(self.nutation_longitude / self.analytic_nutation_longitude - 1),
-                float(self.nutation_obliquity / self.analytic_nutation_obliquity - 1))
+        return (
+            float(self.nutation_longitude / self.analytic_nutation_longitude - 1),
+            float(self.nutation_obliquity / self.analytic_nutation_obliquity - 1),
+        )
 
     def to_dict(self) -> dict:
         """JSON-ready numbers (arcsec, arcsec per Julian century, years)."""
+
         def arcsec(q):
             return None if q is None else float(q.to_value(u.arcsec))
 
@@ -138,7 +141,9 @@ class PrecessionMeasurement:
             "rate_difference": self.rate_difference,
             "obliquity_deg": float(self.obliquity.to_value(u.deg)),
             "perturber": self.perturber,
-            "nutation_period_years": None if self.nutation_period is None else float(self.nutation_period.to_value(u.yr)),
+            "nutation_period_years": None
+            if self.nutation_period is None
+            else float(self.nutation_period.to_value(u.yr)),
             "nutation_longitude_arcsec": arcsec(self.nutation_longitude),
             "nutation_longitude_sigma_arcsec": arcsec(self.nutation_longitude_sigma),
             "nutation_obliquity_arcsec": arcsec(self.nutation_obliquity),
@@ -155,25 +160,37 @@ class PrecessionMeasurement:
     def summary(self) -> str:
         """The measurement as text for a person."""
         d = self.to_dict()
-        lines = [f"precession and nutation measured from the simulated {self.axis.replace('_', ' ')} "
-                 f"({self.samples} samples over {d['span_years']:.2f} yr)"]
-        line = f"  mean rate      {d['rate_arcsec_per_century']:+.4f} +/- {d['rate_sigma_arcsec_per_century']:.4f} \"/cy"
+        lines = [
+            f"precession and nutation measured from the simulated {self.axis.replace('_', ' ')} "
+            f"({self.samples} samples over {d['span_years']:.2f} yr)"
+        ]
+        line = f'  mean rate      {d["rate_arcsec_per_century"]:+.4f} +/- {d["rate_sigma_arcsec_per_century"]:.4f} "/cy'
         if self.analytic_rate is not None:
-            line += (f"   averaged model {d['analytic_rate_arcsec_per_century']:+.4f} \"/cy "
-                     f"(difference {100 * self.rate_difference:+.4f} %)")
+            line += (
+                f'   averaged model {d["analytic_rate_arcsec_per_century"]:+.4f} "/cy '
+                f"(difference {100 * self.rate_difference:+.4f} %)"
+            )
         lines.append(line)
         lines.append(f"  mean obliquity {d['obliquity_deg']:.6f} deg")
         if self.nutation_longitude is not None:
-            lines.append(f"  principal nutation ({self.perturber}'s node, {d['nutation_period_years']:.2f} yr), IAU convention:")
+            lines.append(
+                f"  principal nutation ({self.perturber}'s node, {d['nutation_period_years']:.2f} yr), IAU convention:"
+            )
             for name, key in (("Delta psi", "longitude"), ("Delta eps", "obliquity")):
-                text = (f"    {name} = {d[f'nutation_{key}_arcsec']:+.5f} +/- {d[f'nutation_{key}_sigma_arcsec']:.5f}\" "
-                        f"{'sin' if key == 'longitude' else 'cos'}(Omega)")
+                text = (
+                    f'    {name} = {d[f"nutation_{key}_arcsec"]:+.5f} +/- {d[f"nutation_{key}_sigma_arcsec"]:.5f}" '
+                    f"{'sin' if key == 'longitude' else 'cos'}(Omega)"
+                )
                 if d[f"analytic_nutation_{key}_arcsec"] is not None:
-                    text += (f"   first-order rigid model {d[f'analytic_nutation_{key}_arcsec']:+.5f}\" "
-                             f"(difference {100 * d[f'nutation_{key}_difference']:+.3f} %)")
+                    text += (
+                        f'   first-order rigid model {d[f"analytic_nutation_{key}_arcsec"]:+.5f}" '
+                        f"(difference {100 * d[f'nutation_{key}_difference']:+.3f} %)"
+                    )
                 lines.append(text)
-        lines.append(f"  fit residuals (rms): {d['residual_rms_longitude_arcsec']:.2g}\" in psi, "
-                     f"{d['residual_rms_obliquity_arcsec']:.2g}\" in eps ({len(self.terms)} other periodic terms fitted)")
+        lines.append(
+            f'  fit residuals (rms): {d["residual_rms_longitude_arcsec"]:.2g}" in psi, '
+            f'{d["residual_rms_obliquity_arcsec"]:.2g}" in eps ({len(self.terms)} other periodic terms fitted)'
+        )
         return "\n".join(lines)
 
     def to_dataset(self) -> xr.Dataset:
@@ -184,28 +201,44 @@ class PrecessionMeasurement:
 
         def var(q, unit, long_name, **attrs):
             value = np.nan if q is None else float(q.to_value(unit))
-            return xr.Variable((), value, {"units": "rad s-1" if unit == _RATE else "rad", "long_name": long_name, **attrs})
+            return xr.Variable(
+                (), value, {"units": "rad s-1" if unit == _RATE else "rad", "long_name": long_name, **attrs}
+            )
 
         return xr.Dataset(
             {
-                "precession_rate": var(self.rate, _RATE, "measured mean precession rate of the equator's node (negative: retrograde)"),
+                "precession_rate": var(
+                    self.rate, _RATE, "measured mean precession rate of the equator's node (negative: retrograde)"
+                ),
                 "precession_rate_sigma": var(self.rate_sigma, _RATE, "standard error of the measured rate"),
                 "analytic_precession_rate": var(self.analytic_rate, _RATE, "first-order averaged precession rate"),
                 "obliquity": var(self.obliquity, u.rad, "mean obliquity at t = 0"),
-                "nutation_longitude": var(self.nutation_longitude, u.rad, "principal nutation in longitude, coefficient of sin(node)"),
-                "nutation_obliquity": var(self.nutation_obliquity, u.rad, "principal nutation in obliquity, coefficient of cos(node)"),
-                "analytic_nutation_longitude": var(self.analytic_nutation_longitude, u.rad, "first-order rigid-body nutation in longitude"),
-                "analytic_nutation_obliquity": var(self.analytic_nutation_obliquity, u.rad, "first-order rigid-body nutation in obliquity"),
+                "nutation_longitude": var(
+                    self.nutation_longitude, u.rad, "principal nutation in longitude, coefficient of sin(node)"
+                ),
+                "nutation_obliquity": var(
+                    self.nutation_obliquity, u.rad, "principal nutation in obliquity, coefficient of cos(node)"
+                ),
+                "analytic_nutation_longitude": var(
+                    self.analytic_nutation_longitude, u.rad, "first-order rigid-body nutation in longitude"
+                ),
+                "analytic_nutation_obliquity": var(
+                    self.analytic_nutation_obliquity, u.rad, "first-order rigid-body nutation in obliquity"
+                ),
             },
             attrs={
                 "title": "Precession and nutation measured from a simulated spin axis",
-                "comment": f"axis: {self.axis}; principal term: {self.perturber}'s node; IAU convention for the nutation",
+                "comment": f"axis: {self.axis}; principal term: {self.perturber}'s node; IAU convention for the "
+                "nutation",
                 "references": "Woolard 1953; Kinoshita 1977; Goldstein, Poole & Safko 2002, sec. 5.8",
             },
         )
 
     def __repr__(self) -> str:
-        return f"PrecessionMeasurement(rate={self.rate:.4f}, nutation=({self.nutation_longitude}, {self.nutation_obliquity}))"
+        return (
+            f"PrecessionMeasurement(rate={self.rate:.4f}, nutation=({self.nutation_longitude}, "
+            f"{self.nutation_obliquity}))"
+        )
 
 
 # ---------------------------------------------------------------------------
@@ -243,8 +276,11 @@ def _vectors(ds, axis, member):
         if "member" in q.dims:
             q = q.isel(member=0 if member is None else int(member))
         return "axis_direction", quat.rotate(np.asarray(q.values, dtype=float), np.array([0.0, 0.0, 1.0]))
-    raise InputError("axis", axis or "angular_momentum, axis_direction",
-                     "a run with the output angular_momentum or axis_direction (or attitude)")
+    raise InputError(
+        "axis",
+        axis or "angular_momentum, axis_direction",
+        "a run with the output angular_momentum or axis_direction (or attitude)",
+    )
 
 
 def _scene(ds):
@@ -314,8 +350,9 @@ def _principal(perturbers):
     return best
 
 
-def measure_precession(ds, *, axis: str | None = None, member: int | None = None, node_rate=None, node_phase=None,
-                       extra=None) -> PrecessionMeasurement:
+def measure_precession(
+    ds, *, axis: str | None = None, member: int | None = None, node_rate=None, node_phase=None, extra=None
+) -> PrecessionMeasurement:
     """Measure the mean precession rate and the principal nutation from a simulated spin axis.
 
     Parameters
@@ -344,7 +381,9 @@ def measure_precession(ds, *, axis: str | None = None, member: int | None = None
     t = _seconds(ds)
     name, vec = _vectors(ds, axis, member)
     scene = _scene(ds)
-    perturbers = [s for s in (scene.torques if scene is not None else ()) if isinstance(s, ThirdBody) and s.orbit is not None]
+    perturbers = [
+        s for s in (scene.torques if scene is not None else ()) if isinstance(s, ThirdBody) and s.orbit is not None
+    ]
     analytic = None
     if scene is not None and averaging_applies(scene.body, scene.omega0, scene.attitude0, scene.torques) is None:
         analytic = averaged_precession(scene.body, scene.omega0, scene.attitude0, scene.torques)
@@ -360,12 +399,17 @@ def measure_precession(ds, *, axis: str | None = None, member: int | None = None
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
         node, terms = _arguments(perturbers, psi0, psi_rate, span, principal)
         if node_rate is not None:
-            node = (float(node_rate.to_value(_RATE)), float(u.Quantity(node_phase if node_phase is not None else 0 * u.rad).to_value(u.rad)))
+            node = (
+                float(node_rate.to_value(_RATE)),
+                float(u.Quantity(node_phase if node_phase is not None else 0 * u.rad).to_value(u.rad)),
+            )
         terms.update(user_extra)
         use_node = node
         if use_node is None:
             if not terms:
-                raise InputError("node_rate", None, "the argument of a periodic term (the scene has no Keplerian perturber)")
+                raise InputError(
+                    "node_rate", None, "the argument of a periodic term (the scene has no Keplerian perturber)"
+                )
             first = next(iter(terms))
             use_node = terms.pop(first)
         fit = fit_precession_nutation(t, vec, use_node[0], use_node[1], extra=terms)

@@ -23,7 +23,6 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -72,8 +71,23 @@ class Scene:
         ISO date-time (UTC) of t = 0 for the CF time units.
     """
 
-    def __init__(self, body, omega0, *, attitude0=None, torques=(), t=None, t_start=0 * u.s, t_end=None, samples=None,
-                 accuracy: float = 1e-9, outputs=("omega", "attitude"), name: str = "scene", title: str = "", epoch=None):
+    def __init__(
+        self,
+        body,
+        omega0,
+        *,
+        attitude0=None,
+        torques=(),
+        t=None,
+        t_start=0 * u.s,
+        t_end=None,
+        samples=None,
+        accuracy: float = 1e-9,
+        outputs=("omega", "attitude"),
+        name: str = "scene",
+        title: str = "",
+        epoch=None,
+    ):
         mapping: dict = {"name": name, "title": title or name, "accuracy": accuracy, "outputs": list(outputs)}
         mapping["body"] = _body_mapping(body)
         initial: dict = {"omega": omega0}
@@ -175,7 +189,11 @@ def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
     if "time_bounds" in data_vars:
         coords["time"][2]["bounds"] = "time_bounds"
     if scene.ensemble:
-        coords["member"] = ("member", np.arange(scene.members, dtype=np.int64), {"long_name": "ensemble member", "units": "1"})
+        coords["member"] = (
+            "member",
+            np.arange(scene.members, dtype=np.int64),
+            {"long_name": "ensemble member", "units": "1"},
+        )
     from wobble.api.dataset import xarray
 
     # Through wobble.api.dataset: every Dataset wobble returns carries the ds.wobble accessor.
@@ -287,8 +305,12 @@ def run(scene, *, model: str | None = None) -> xr.Dataset:
     sc = _as_scene(scene)
     need = _estimated_bytes(sc)
     if need > _MEMORY_LIMIT:
-        raise InputError("scene", sc.name, f"an output that fits in memory ({need / 1e9:.3g} GB asked): use "
-                         "wobble.run_to_netcdf or `wobble run -o FILE`, which write as they go")
+        raise InputError(
+            "scene",
+            sc.name,
+            f"an output that fits in memory ({need / 1e9:.3g} GB asked): use "
+            "wobble.run_to_netcdf or `wobble run -o FILE`, which write as they go",
+        )
     sink = _Collector(sc)
     record = _scene.execute(sc, sink, model=model if model is not None else _forced(sc))
     ds = sink.dataset()
@@ -301,8 +323,15 @@ def _forced(sc):
     return None if m == "auto" else m
 
 
-def run_to_netcdf(scene, path, *, model: str | None = None, overwrite: bool = False, command: str | None = None,
-                  block_bytes: int = 64 * 2**20) -> dict:
+def run_to_netcdf(
+    scene,
+    path,
+    *,
+    model: str | None = None,
+    overwrite: bool = False,
+    command: str | None = None,
+    block_bytes: int = 64 * 2**20,
+) -> dict:
     """Run a scene and stream its outputs to a CF netCDF file as they are computed.
 
     The file is written under a temporary name in the target folder and
@@ -327,8 +356,26 @@ def run_to_netcdf(scene, path, *, model: str | None = None, overwrite: bool = Fa
     except BaseException:
         writer.discard()
         raise
-    summary = {k: attrs[k] for k in ("model", "model_reason", "error_estimate", "error_estimate_omega_relative",
-                                      "error_estimate_attitude_rad", "accuracy_requested", "attempts")}
-    summary.update({"scene": sc.name, "output": str(out), "members": sc.members, "times": int(sc.times.size),
-                    "settings": record.settings, "stats": record.stats})
+    summary = {
+        k: attrs[k]
+        for k in (
+            "model",
+            "model_reason",
+            "error_estimate",
+            "error_estimate_omega_relative",
+            "error_estimate_attitude_rad",
+            "accuracy_requested",
+            "attempts",
+        )
+    }
+    summary.update(
+        {
+            "scene": sc.name,
+            "output": str(out),
+            "members": sc.members,
+            "times": int(sc.times.size),
+            "settings": record.settings,
+            "stats": record.stats,
+        }
+    )
     return summary

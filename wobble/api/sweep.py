@@ -124,7 +124,11 @@ def _var_attrs(plan: _Plan, name: str) -> dict:
     if name in target.outputs:
         return target.output_attrs(name)
     var = next(v for v in target.variations if v.name == name)
-    how = f"normal(mean={var.mean:.10g}, sd={var.sd:.6g})" if var.distribution == "normal" else f"uniform({var.low:.10g}, {var.high:.10g})"
+    how = (
+        f"normal(mean={var.mean:.10g}, sd={var.sd:.6g})"
+        if var.distribution == "normal"
+        else f"uniform({var.low:.10g}, {var.high:.10g})"
+    )
     return {"units": var.unit, "long_name": f"sampled {name}", "comment": f"drawn from {how} in SI units"}
 
 
@@ -189,7 +193,7 @@ def sweep(spec, *, chunk_size: int | None = None) -> xr.Dataset:
     parts = {name: [] for name in layout}
     for r0, r1 in plan.row_chunks():
         result = dask.delayed(_chunk, pure=True)(plan, r0, r1)
-        for name, (dims, shape, dtype) in layout.items():
+        for name, (_dims, shape, dtype) in layout.items():
             block_shape = (r1 - r0, *shape[1:])
             parts[name].append(da.from_delayed(result[name], shape=block_shape, dtype=dtype))
     data = {
@@ -315,7 +319,11 @@ def run_sweep(
 
     plan = _plan(load_sweep(spec), chunk_size)
     if isinstance(scheduler, str) and scheduler not in _LOCAL_SCHEDULERS and "://" not in scheduler:
-        raise InputError("scheduler", scheduler, "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786")
+        raise InputError(
+            "scheduler",
+            scheduler,
+            "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
+        )
     template = sweep(plan.spec, chunk_size=chunk_size)
     batch = 2 * (os.cpu_count() or 2)
     bar = _Progress(plan.size, progress)
@@ -409,4 +417,3 @@ def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary
         invalid_reasons=reasons,
         classes=classes,
     )
-

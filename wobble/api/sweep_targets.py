@@ -39,8 +39,6 @@ def _stream_id(name: str) -> int:
     return zlib.crc32(name.encode())
 
 
-
-
 @dataclass(frozen=True)
 class _Resolved:
     """A variation with its numbers in SI."""
@@ -114,16 +112,24 @@ class ChandlerTarget:
             unit = si if v.unit is None else u.Unit(v.unit or u.dimensionless_unscaled)
             scale = (1.0 * unit).to_value(si)
         except (ValueError, u.UnitConversionError):
-            raise FileFormatError(sweep_source(spec), f"{where}.unit", f"got {v.unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}") from None
+            raise FileFormatError(
+                sweep_source(spec),
+                f"{where}.unit",
+                f"got {v.unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}",
+            ) from None
         catalogued = getattr(self.params, v.parameter)
         if v.distribution == "normal":
             mean = v.mean * scale if v.mean is not None else (catalogued.value if catalogued else None)
             sd = v.sd * scale if v.sd is not None else (catalogued.sigma if catalogued else None)
             if mean is None or sd is None:
-                raise FileFormatError(sweep_source(spec), where, f"{self.planet.name} does not catalogue {v.parameter}; give mean and sd")
+                raise FileFormatError(
+                    sweep_source(spec), where, f"{self.planet.name} does not catalogue {v.parameter}; give mean and sd"
+                )
             return _Resolved(v.parameter, "normal", mean=mean, sd=sd, unit=_unit_text(v.parameter))
         if v.distribution == "uniform":
-            return _Resolved(v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=_unit_text(v.parameter))
+            return _Resolved(
+                v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=_unit_text(v.parameter)
+            )
         return _Resolved(v.parameter, "grid", values=tuple(x * scale for x in v.values), unit=_unit_text(v.parameter))
 
     def evaluate(self, overrides: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -139,7 +145,7 @@ class ChandlerTarget:
         if "step_period" in self.selected:
             out["step_period"] = np.moveaxis(s.step_periods, 0, -1) / 86400.0
         if "dynamical_flattening" in self.selected:
-            vals = chandler_model._Values(self.params.values(), overrides)
+            vals = chandler_model.ParameterValues(self.params.values(), overrides)
             out["dynamical_flattening"] = np.broadcast_to(vals.flattening, s.period.shape).copy()
         return out
 
@@ -152,7 +158,8 @@ class ChandlerTarget:
             "units": "1",
             "long_name": "why the member is invalid (0: valid)",
             "flag_values": np.array(codes, dtype=np.int8),
-            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged parameter_out_of_range",
+            "flag_meanings": "valid intermediate_axis_spin core_too_large softer_than_fluid k2_not_converged "
+            "parameter_out_of_range",
             "comment": "; ".join(f"{k}: {v}" for k, v in chandler_model.INVALID_REASONS.items() if k),
         }
 
@@ -204,12 +211,16 @@ class _BaseTarget:
         self.base = {}
         for bv in spec.base:
             if bv.parameter not in self.parameters:
-                raise FileFormatError(where, f"base.{bv.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}")
+                raise FileFormatError(
+                    where, f"base.{bv.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}"
+                )
             self.base[bv.parameter] = bv.value * self._scale(spec, f"base.{bv.parameter}.unit", bv.unit, bv.parameter)
         out = {}
         for v in spec.variations:
             if v.parameter not in self.parameters:
-                raise FileFormatError(where, f"vary.{v.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}")
+                raise FileFormatError(
+                    where, f"vary.{v.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}"
+                )
             if v.parameter in self.base:
                 raise FileFormatError(where, f"vary.{v.parameter}", "also fixed in [base]; give it in one place")
             out[v.parameter] = self._si(spec, v)
@@ -227,7 +238,9 @@ class _BaseTarget:
         try:
             return float((1.0 * u.Unit(unit or u.dimensionless_unscaled)).to_value(si))
         except (ValueError, TypeError, u.UnitConversionError):
-            raise FileFormatError(sweep_source(spec), where, f"got {unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}") from None
+            raise FileFormatError(
+                sweep_source(spec), where, f"got {unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}"
+            ) from None
 
     def _si(self, spec: SweepSpec, v: Variation) -> _Resolved:
         where = f"vary.{v.parameter}"
@@ -235,7 +248,9 @@ class _BaseTarget:
         scale = 1.0 if v.unit is None else self._scale(spec, f"{where}.unit", v.unit, v.parameter)
         if v.distribution == "normal":
             if v.mean is None or v.sd is None:
-                raise FileFormatError(sweep_source(spec), where, f"target {self.name} has no catalogue; give mean and sd")
+                raise FileFormatError(
+                    sweep_source(spec), where, f"target {self.name} has no catalogue; give mean and sd"
+                )
             return _Resolved(v.parameter, "normal", mean=v.mean * scale, sd=v.sd * scale, unit=unit_text)
         if v.distribution == "uniform":
             return _Resolved(v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=unit_text)
@@ -273,9 +288,12 @@ class _BaseTarget:
         attrs = {"units": units, "long_name": long_name}
         if name in self.flags:  # a CF flag variable: integer codes with their meanings
             start, meanings = self.flags[name]
-            attrs = {"long_name": long_name, "units": "1",
-                     "flag_values": np.arange(start, start + len(meanings.split()), dtype=np.int8),
-                     "flag_meanings": meanings}
+            attrs = {
+                "long_name": long_name,
+                "units": "1",
+                "flag_values": np.arange(start, start + len(meanings.split()), dtype=np.int8),
+                "flag_meanings": meanings,
+            }
         return attrs
 
     def attrs(self) -> dict:
@@ -307,7 +325,10 @@ class HeavyTopTarget(_BaseTarget):
     }
     outputs = {
         "nutation_class": ("1", "class of the nutation (Goldstein, Poole & Safko 2002, sec. 5.7)"),
-        "nutation_period": ("s", "nutation period 4 K(m) / sqrt(beta (u3 - u1)) (small-nutation period for uniform motion)"),
+        "nutation_period": (
+            "s",
+            "nutation period 4 K(m) / sqrt(beta (u3 - u1)) (small-nutation period for uniform motion)",
+        ),
         "theta_min": ("rad", "smallest tilt of the symmetry axis (turning point u2)"),
         "theta_max": ("rad", "largest tilt of the symmetry axis (turning point u1)"),
         "mean_precession_rate": ("rad s-1", "mean of phidot over a nutation period"),
@@ -327,7 +348,9 @@ class HeavyTopTarget(_BaseTarget):
     invalid_reasons = top_phase.INVALID_REASONS
 
     def compute(self, p):
-        res = top_phase.phase_analysis(p["I1"], p["I3"], p["mgl"], p["theta0"], p["omega3"], p["phidot0"], p["thetadot0"])
+        res = top_phase.phase_analysis(
+            p["I1"], p["I3"], p["mgl"], p["theta0"], p["omega3"], p["phidot0"], p["thetadot0"]
+        )
         for k in ("sleeping_stable", "scalar_fallback"):
             res[k] = res[k].astype(np.int8)
         return res
@@ -388,7 +411,9 @@ class FreeRotationTarget(_BaseTarget):
         omega0 = rate[:, None] * np.stack([sz * np.cos(lon), sz * np.sin(lon), cz], -1)
         res = free_ensemble.free_ensemble(np.stack([ia, ib, ic], -1), omega0, p["final_time"].ravel())
         bad_spin = ~((np.abs(cz) <= 1) & (p["spin_period"].ravel() > 0))
-        res["invalid_reason"] = np.where(bad_spin & (res["invalid_reason"] == 0), 2, res["invalid_reason"]).astype(np.int8)
+        res["invalid_reason"] = np.where(bad_spin & (res["invalid_reason"] == 0), 2, res["invalid_reason"]).astype(
+            np.int8
+        )
         for k, v in res.items():
             if k != "invalid_reason":
                 v[bad_spin] = -1 if v.dtype == np.int8 else np.nan

@@ -27,7 +27,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io import cf
 from wobble.models import top as _top
@@ -86,15 +86,19 @@ def _from_body(body):
         tensor = to_si(body.tensor, "body.tensor", MOMENT_UNIT, shape=(3, 3))
     except AttributeError as exc:
         raise InputError(
-            "body", type(body).__name__,
+            "body",
+            type(body).__name__,
             "a rigid body with mass, center_of_mass, reference_point and tensor (e.g. "
             "RigidBody.spinning_top(...).shifted_to('origin'))",
         ) from exc
     r = com - ref
     length = float(np.linalg.norm(r))
     if not length > 0:
-        raise InputError("body", "centre of mass at the pivot",
-                         "a top whose centre of mass is off the fixed point (use FreeRotation otherwise)")
+        raise InputError(
+            "body",
+            "centre of mass at the pivot",
+            "a top whose centre of mass is off the fixed point (use FreeRotation otherwise)",
+        )
     n = r / length
     i3 = float(n @ tensor @ n)
     i1 = 0.5 * (float(np.trace(tensor)) - i3)
@@ -102,7 +106,8 @@ def _from_body(body):
     scale = float(np.max(np.abs(tensor)))
     if float(np.max(np.abs(tensor - model))) > 1e-9 * scale:
         raise InputError(
-            "body", "inertia tensor not symmetric about the tip-to-centre-of-mass line",
+            "body",
+            "inertia tensor not symmetric about the tip-to-centre-of-mass line",
             "a symmetric top: I1 = I2 about the axis from the tip (reference_point) to the centre of mass",
         )
     return i1, i3, mass, length
@@ -164,9 +169,22 @@ class HeavyTop:
     """
 
     def __init__(
-        self, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None,  # noqa: N803, E741
-        theta0=None, thetadot0=_ZERO_RATE, phidot0=_ZERO_RATE, psidot0=None, omega3=None,
-        phi0=_ZERO_ANGLE, psi0=_ZERO_ANGLE,
+        self,
+        I1=None,
+        I3=None,
+        *,
+        mgl=None,
+        M=None,
+        l=None,
+        g=None,
+        body=None,
+        theta0=None,
+        thetadot0=_ZERO_RATE,
+        phidot0=_ZERO_RATE,
+        psidot0=None,
+        omega3=None,
+        phi0=_ZERO_ANGLE,
+        psi0=_ZERO_ANGLE,
     ):
         i1, i3, mgl_si, ml2 = self._parameters(I1, I3, mgl, M, l, g, body)
         if theta0 is None:
@@ -178,8 +196,10 @@ class HeavyTop:
             raise InputError("theta0", theta0, "an angle in [0, 180] deg (0 = upright, 180 = hanging down)")
         th = min(th, np.pi)
         kwargs = dict(
-            thetadot0=_rate(thetadot0, "thetadot0"), phidot0=_rate(phidot0, "phidot0"),
-            phi0=_angle(phi0, "phi0"), psi0=_angle(psi0, "psi0"),
+            thetadot0=_rate(thetadot0, "thetadot0"),
+            phidot0=_rate(phidot0, "phidot0"),
+            phi0=_angle(phi0, "phi0"),
+            psi0=_angle(psi0, "psi0"),
         )
         if omega3 is not None:
             kwargs["omega3"] = _rate(omega3, "omega3")
@@ -188,7 +208,7 @@ class HeavyTop:
         self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
 
     @classmethod
-    def from_state(cls, omega0, q0, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None):  # noqa: N803, E741
+    def from_state(cls, omega0, q0, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None):
         """A top from its body angular velocity ``omega0`` (angle/time, 3) and attitude ``q0``.
 
         ``q0`` is a unit quaternion (w, x, y, z), body -> space, body z the symmetry axis
@@ -201,7 +221,7 @@ class HeavyTop:
         return self
 
     @staticmethod
-    def _parameters(I1, I3, mgl, M, l, g, body):  # noqa: N803, E741
+    def _parameters(I1, I3, mgl, M, l, g, body):
         ml2 = None
         if body is not None:
             if any(v is not None for v in (I1, I3, M, l)):
@@ -209,7 +229,9 @@ class HeavyTop:
             i1, i3, mass, length = _from_body(body)
             gg = to_si(STANDARD_GRAVITY if g is None else g, "g", u.m / u.s**2, nonnegative=True, shape=())
             if mgl is not None:
-                raise InputError("mgl", mgl, "no mgl with body (it comes from the body's mass and centre of mass, and g)")
+                raise InputError(
+                    "mgl", mgl, "no mgl with body (it comes from the body's mass and centre of mass, and g)"
+                )
             return i1, i3, mass * gg * length, None
         if I1 is None or I3 is None:
             raise InputError("I1, I3", (I1, I3), "both moments about the tip (kg m2), or body=")
@@ -237,12 +259,12 @@ class HeavyTop:
         return self._model
 
     @property
-    def I1(self) -> u.Quantity:  # noqa: N802
+    def I1(self) -> u.Quantity:
         """Transverse moment about the tip (kg m2)."""
         return self._model.I1 << MOMENT_UNIT
 
     @property
-    def I3(self) -> u.Quantity:  # noqa: N802
+    def I3(self) -> u.Quantity:
         """Axial moment (kg m2)."""
         return self._model.I3 << MOMENT_UNIT
 
@@ -388,20 +410,35 @@ class HeavyTop:
             reg = None
         return {
             "nutation": m.nutation,
-            "u1": m.u1, "u2": m.u2, "u3": fin(m.u3),
-            "theta_min_deg": float(np.degrees(m.theta_min)), "theta_max_deg": float(np.degrees(m.theta_max)),
-            "theta_min_rad": m.theta_min, "theta_max_rad": m.theta_max,
+            "u1": m.u1,
+            "u2": m.u2,
+            "u3": fin(m.u3),
+            "theta_min_deg": float(np.degrees(m.theta_min)),
+            "theta_max_deg": float(np.degrees(m.theta_max)),
+            "theta_min_rad": m.theta_min,
+            "theta_max_rad": m.theta_max,
             "nutation_period_s": fin(m.nutation_period),
             "mean_precession_rate_rad_per_s": m.mean_precession_rate,
             "mean_spin_rate_rad_per_s": m.mean_spin_rate,
             "sleeping_stable": bool(m.sleeping_stable),
-            "parameter_m": m.m, "complementary_parameter_1_minus_m": m.m1,
-            "a_per_s": m.a, "b_per_s": m.b, "alpha_per_s2": m.alpha, "beta_per_s2": m.beta,
-            "energy_J": m.energy, "energy_prime_J": m.energy_prime,
-            "p_phi_kg_m2_per_s": m.p_phi, "p_psi_kg_m2_per_s": m.p_psi,
-            "omega3_rad_per_s": m.omega3, "psidot0_rad_per_s": m.psidot0,
-            "I1_kg_m2": m.I1, "I3_kg_m2": m.I3, "mgl_J": m.mgl, "theta0_rad": m.theta0,
-            "thetadot0_rad_per_s": m.thetadot0, "phidot0_rad_per_s": m.phidot0,
+            "parameter_m": m.m,
+            "complementary_parameter_1_minus_m": m.m1,
+            "a_per_s": m.a,
+            "b_per_s": m.b,
+            "alpha_per_s2": m.alpha,
+            "beta_per_s2": m.beta,
+            "energy_J": m.energy,
+            "energy_prime_J": m.energy_prime,
+            "p_phi_kg_m2_per_s": m.p_phi,
+            "p_psi_kg_m2_per_s": m.p_psi,
+            "omega3_rad_per_s": m.omega3,
+            "psidot0_rad_per_s": m.psidot0,
+            "I1_kg_m2": m.I1,
+            "I3_kg_m2": m.I3,
+            "mgl_J": m.mgl,
+            "theta0_rad": m.theta0,
+            "thetadot0_rad_per_s": m.thetadot0,
+            "phidot0_rad_per_s": m.phidot0,
             "regular_precession_at_theta0": reg,
             "error_estimate": dict(m.error_estimate),
         }
@@ -411,9 +448,11 @@ class HeavyTop:
         from wobble.io.text import duration, number
 
         m = self._model
-        return (f"{m.nutation} nutation between theta = {number(np.degrees(m.theta_min))} and "
-                f"{number(np.degrees(m.theta_max))} deg, period {duration(m.nutation_period)}; mean precession "
-                f"{number(m.mean_precession_rate)} rad/s")
+        return (
+            f"{m.nutation} nutation between theta = {number(np.degrees(m.theta_min))} and "
+            f"{number(np.degrees(m.theta_max))} deg, period {duration(m.nutation_period)}; mean precession "
+            f"{number(m.mean_precession_rate)} rad/s"
+        )
 
     def __repr__(self) -> str:
         return f"HeavyTop(nutation={self._model.nutation!r}, I1={self.I1}, I3={self.I3}, mgl={self.mgl})"
@@ -463,6 +502,7 @@ class HeavyTop:
         drift = np.empty((3,) + np.shape(mo.energy))
         for row, (key, start) in enumerate((("energy", m.energy), ("p_phi", m.p_phi), ("p_psi", m.p_psi))):
             np.subtract(inv[key], start, out=drift[row])
+
         def var(name, data):  # cf.variable("top", name, data), from the registry's entries read once
             dims, attrs = _TOP_VARIABLES[name]
             return dims, data, dict(attrs)
@@ -495,19 +535,28 @@ class HeavyTop:
             return float(x) if np.isfinite(x) else "inf"
 
         return build(
-            data, coords,
+            data,
+            coords,
             {
                 "title": "Heavy symmetric top with one point fixed (exact solution)",
                 "references": "Goldstein, Poole & Safko 2002, Classical Mechanics, section 5.7; Landau & Lifshitz, "
                 "Mechanics, section 35",
                 "nutation": m.nutation,
-                "I1_kg_m2": m.I1, "I3_kg_m2": m.I3, "mgl_J": m.mgl,
-                "u1": m.u1, "u2": m.u2, "u3": fin(m.u3),
-                "theta_min_rad": m.theta_min, "theta_max_rad": m.theta_max,
+                "I1_kg_m2": m.I1,
+                "I3_kg_m2": m.I3,
+                "mgl_J": m.mgl,
+                "u1": m.u1,
+                "u2": m.u2,
+                "u3": fin(m.u3),
+                "theta_min_rad": m.theta_min,
+                "theta_max_rad": m.theta_max,
                 "nutation_period_s": fin(m.nutation_period),
                 "mean_precession_rate_rad_per_s": m.mean_precession_rate,
-                "elliptic_parameter_m": m.m, "elliptic_complementary_parameter": m.m1,
-                "energy_J": m.energy, "p_phi_kg_m2_per_s": m.p_phi, "p_psi_kg_m2_per_s": m.p_psi,
+                "elliptic_parameter_m": m.m,
+                "elliptic_complementary_parameter": m.m1,
+                "energy_J": m.energy,
+                "p_phi_kg_m2_per_s": m.p_phi,
+                "p_psi_kg_m2_per_s": m.p_psi,
                 "sleeping_stable": int(m.sleeping_stable),
             },
         )

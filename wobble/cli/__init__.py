@@ -18,8 +18,22 @@ from wobble.errors import WobbleError
 __all__ = ["main", "build_parser", "SUBCOMMANDS"]
 
 # Subcommand modules, in the order `wobble --help` lists them.
-SUBCOMMANDS = ("chandler", "modes", "precession", "polar_motion", "excitation", "forecast", "inertia", "free", "top", "run", "sweep",
-               "invert", "example", "bench")
+SUBCOMMANDS = (
+    "chandler",
+    "modes",
+    "precession",
+    "polar_motion",
+    "excitation",
+    "forecast",
+    "inertia",
+    "free",
+    "top",
+    "run",
+    "sweep",
+    "invert",
+    "example",
+    "bench",
+)
 
 EPILOG = """\
 examples:
@@ -57,7 +71,7 @@ Numbers without units are SI; days are days of 86400 s. Run
 class _Parser(argparse.ArgumentParser):
     """argparse with usage errors reported as one line and exit status 2."""
 
-    def error(self, message: str):  # noqa: D401 - argparse API
+    def error(self, message: str):  # overrides argparse.ArgumentParser.error
         self.exit(2, f"{self.prog}: error: {_one_line(message)}\n")  # a value may hold a newline
 
 

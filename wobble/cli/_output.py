@@ -13,7 +13,17 @@ import sys
 
 from wobble.io.text import clean, decimals_for, dumps, duration, number, with_uncertainty
 
-__all__ = ["clean", "dumps", "print_json", "wrote", "check_outputs", "number", "with_uncertainty", "decimals_for", "duration"]
+__all__ = [
+    "clean",
+    "dumps",
+    "print_json",
+    "wrote",
+    "check_outputs",
+    "number",
+    "with_uncertainty",
+    "decimals_for",
+    "duration",
+]
 
 
 def print_json(obj) -> None:
@@ -40,7 +50,7 @@ def check_outputs(args, names=("output", "plot")) -> None:
         if not path:
             continue
         if name == "plot":
-            from wobble.plot._save import check_plot_path
+            from wobble.plot.save import check_plot_path
 
             check_plot_path(path, overwrite)
         elif str(path).rstrip("/").endswith(".zarr"):

@@ -16,9 +16,13 @@ __all__ = ["add_bodies", "add_outputs", "bodies_from_args", "report"]
 def add_bodies(p) -> None:
     """The positional BODY names and the repeatable ``--body-file``."""
     p.add_argument("bodies", nargs="*", metavar="BODY", help="catalogued planets (default: all of them)")
-    p.add_argument("--body-file", action="append", default=[], metavar="FILE",
-                   help="a planet file in the wobble/1 schema (repeatable; 'wobble example my_planet.toml' "
-                   "writes one to edit)")
+    p.add_argument(
+        "--body-file",
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="a planet file in the wobble/1 schema (repeatable; 'wobble example my_planet.toml' writes one to edit)",
+    )
 
 
 def add_outputs(p, plot_help: str) -> None:

@@ -1,4 +1,5 @@
-"""The text report ``wobble polar-motion`` prints: both estimates, their uncertainty, Q, the model beside them, the windows.
+"""The text report ``wobble polar-motion`` prints: both estimates, their uncertainty, Q, the model beside
+them, the windows.
 
 Imported by :mod:`wobble.cli.polar_motion` inside ``run()`` (so ``wobble --help``
 stays light); the numbers come from a :class:`wobble.PolarMotionAnalysis`.
@@ -24,17 +25,20 @@ def _fmt(q, digits=1, unit=None) -> str:
 
 
 def report(a) -> str:
-    """The report of a :class:`wobble.PolarMotionAnalysis`: estimates, uncertainty, annual wobble, mean pole, Q, model, windows."""
+    """The report of a :class:`wobble.PolarMotionAnalysis`: estimates, uncertainty, annual wobble, mean pole,
+    Q, model, windows."""
     e, s = a.least_squares, a.spectral
     lines = [
-        f"Polar motion {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; {os.path.basename(a.data.attrs.get('source_file', ''))})",
+        f"Polar motion {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; "
+        f"{os.path.basename(a.data.attrs.get('source_file', ''))})",
         "  p = x_p - i y_p: the Chandler term is at a positive (prograde) frequency",
         "",
         f"  Chandler wobble      {'period [d]':>18}  {'amplitude [mas]':>16}",
     ]
     for est, label in ((e, "least squares"), (s, "spectrum")):
         lines.append(
-            f"  {label:<19}{_fmt(est.period):>9} +/- {_fmt(est.period_uncertainty):<5}  {_fmt(est.amplitude, 0):>7} +/- {_fmt(est.amplitude_uncertainty, 0):<5}"
+            f"  {label:<19}{_fmt(est.period):>9} +/- {_fmt(est.period_uncertainty):<5}  "
+            f"{_fmt(est.amplitude, 0):>7} +/- {_fmt(est.amplitude_uncertainty, 0):<5}"
         )
     parts = e.period_uncertainty_parts
     lines.append(
@@ -44,18 +48,23 @@ def report(a) -> str:
     )
     lines.append(f"  the two methods differ by {a.agreement:.1f} sigma ({'agree' if a.methods_agree else 'DISAGREE'})")
     lines.append(
-        f"  annual wobble: prograde {_fmt(e.annual_prograde_amplitude, 1)} +/- {_fmt(e.annual_prograde_amplitude_uncertainty, 1)} mas, "
-        f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} +/- {_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
+        f"  annual wobble: prograde {_fmt(e.annual_prograde_amplitude, 1)} +/- "
+        f"{_fmt(e.annual_prograde_amplitude_uncertainty, 1)} mas, "
+        f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} +/- "
+        f"{_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
     )
     lines.append(
-        f"  mean pole at {e.epoch.iso[:10]}: x {_fmt(e.mean_pole_x, 3)}\", y {_fmt(e.mean_pole_y, 3)}\", "
+        f'  mean pole at {e.epoch.iso[:10]}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '
         f"drifting {_fmt(e.drift_rate, 1)} mas/yr toward {_fmt(e.drift_direction, 0)} deg W"
     )
     if a.quality_factor is not None:
         q = a.quality_factor
         value = "unresolved (inf)" if not math.isfinite(q.value) else f"{q.value:.0f}"
         hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
-        lines.append(f"  Q (line shape; see caveats): ML {value}, 68 % {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
+        lines.append(
+            f"  Q (line shape; see caveats): ML {value}, 68 % {q.low:.0f} to {hi}, 95 % lower bound "
+            f"{q.lower_bound_95:.0f}"
+        )
     lines += ["", "  Beside the model (wobble chandler earth) and the literature; days of 86400 s:"]
     lines.append(f"  {'':<44}{'period [d]':>11}{'residual [d]':>14}")
     for r in a.comparison():
@@ -71,7 +80,8 @@ def report(a) -> str:
     for k in range(len(mjd)):
         if k % max(1, len(mjd) // 12) == 0 or k == len(mjd) - 1:
             lines.append(
-                f"    {iso_date(float(mjd[k]))}  {amp[k]:6.1f} +/- {w['chandler_amplitude_uncertainty'].values[k]:4.1f}   "
+                f"    {iso_date(float(mjd[k]))}  {amp[k]:6.1f} +/- "
+                f"{w['chandler_amplitude_uncertainty'].values[k]:4.1f}   "
                 f"{w['chandler_period'].values[k]:6.1f} +/- {w['chandler_period_uncertainty'].values[k]:4.1f}"
             )
     if a.caveats:

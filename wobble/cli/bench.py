@@ -15,9 +15,21 @@ import argparse
 __all__ = ["CASE_KEYS", "add_arguments", "register", "run", "harness"]
 
 #: The benchmark's cases, in the order of the report.
-CASE_KEYS = ("free_generic", "free_separatrix", "free_earth", "top_undulating", "top_cusps", "top_loops",
-             "top_sleeping", "torqued_satellite", "torqued_asymmetric_top", "ensemble_satellite", "ensemble_free",
-             "user_top", "user_free")
+CASE_KEYS = (
+    "free_generic",
+    "free_separatrix",
+    "free_earth",
+    "top_undulating",
+    "top_cusps",
+    "top_loops",
+    "top_sleeping",
+    "torqued_satellite",
+    "torqued_asymmetric_top",
+    "ensemble_satellite",
+    "ensemble_free",
+    "user_top",
+    "user_free",
+)
 
 EPILOG = """\
 examples:
@@ -41,18 +53,27 @@ put the error on x and seconds on y.
 def add_arguments(p) -> None:
     """The options of ``wobble bench`` and ``python scripts/work_precision.py``."""
     mode = p.add_mutually_exclusive_group()
-    mode.add_argument("--quick", action="store_true",
-                      help="fewer settings and repeats (targets judged only where their methods ran as in the full "
-                           "run); ensembles up to 10^4 members; 5-8 minutes")
-    mode.add_argument("--smoke", action="store_true",
-                      help="a few seconds (3-5 s): one setting per method on two short cases, the harness's own "
-                           "test (targets not judged)")
-    p.add_argument("--case", action="append", metavar="NAME",
-                   help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}")
+    mode.add_argument(
+        "--quick",
+        action="store_true",
+        help="fewer settings and repeats (targets judged only where their methods ran as in the full "
+        "run); ensembles up to 10^4 members; 5-8 minutes",
+    )
+    mode.add_argument(
+        "--smoke",
+        action="store_true",
+        help="a few seconds (3-5 s): one setting per method on two short cases, the harness's own "
+        "test (targets not judged)",
+    )
+    p.add_argument(
+        "--case", action="append", metavar="NAME", help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}"
+    )
     p.add_argument("--repeats", type=int, help="timed runs after the warm-up (default 3; --quick 2; --smoke 1)")
     p.add_argument("--json", action="store_true", help="print the results as JSON instead of a table")
     p.add_argument("--plot", metavar="DIR", help="write work_precision_<case>.png diagrams into DIR (replaced)")
-    p.add_argument("-o", "--output", metavar="REPORT.md", help="write the Markdown report (the project's is docs/performance.md)")
+    p.add_argument(
+        "-o", "--output", metavar="REPORT.md", help="write the Markdown report (the project's is docs/performance.md)"
+    )
     p.add_argument("--overwrite", action="store_true", help="replace an existing report")
 
 
@@ -88,9 +109,12 @@ def harness():
     package = Path(wobble.__file__).resolve().parent
     root = package.parent
     if not (root / "benchmarks" / "harness.py").is_file() or not (root / "tests" / "references").is_dir():
-        raise InputError("wobble bench", f"wobble installed at {package}",
-                         "wobble run from a source checkout (git clone, then pip install -e .): the benchmark and its "
-                         "references are in benchmarks/ and tests/references/ of the repository, not in the package")
+        raise InputError(
+            "wobble bench",
+            f"wobble installed at {package}",
+            "wobble run from a source checkout (git clone, then pip install -e .): the benchmark and its "
+            "references are in benchmarks/ and tests/references/ of the repository, not in the package",
+        )
     if str(root) not in sys.path:
         sys.path.insert(0, str(root))
     return importlib.import_module("benchmarks.harness")

@@ -34,7 +34,9 @@ def register(sub) -> None:
     )
     add_bodies(p)
     p.add_argument("--model", default="full", help="last step to include (default: full)")
-    p.add_argument("--sources", action="store_true", help="also list every parameter with its value, uncertainty and source")
+    p.add_argument(
+        "--sources", action="store_true", help="also list every parameter with its value, uncertainty and source"
+    )
     add_outputs(p, "draw the budget, step by step, against the observed period")
     p.set_defaults(func=run)
 
@@ -49,7 +51,13 @@ def run(args) -> int:
     typed = given if given else [None] * len(bodies)
     budgets = [chandler_budget(b, args.model) for b in bodies]
     names = {id(b): t for b, t in zip(budgets, typed)}
-    return report(args, budgets, chandler_dataset, budget_figure, text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]))
+    return report(
+        args,
+        budgets,
+        chandler_dataset,
+        budget_figure,
+        text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]),
+    )
 
 
 def _days(q, decimals: int, sign: bool = False) -> str:
@@ -76,8 +84,9 @@ def _skipped_steps(b) -> list[str]:
     if b.model != "full":
         return []
     done = {s.name for s in b.steps}
-    return [f"{step} needs {', '.join(missing_parameters(b.planet.parameters, step))}"
-            for step in STEPS if step not in done]
+    return [
+        f"{step} needs {', '.join(missing_parameters(b.planet.parameters, step))}" for step in STEPS if step not in done
+    ]
 
 
 def _table(b, sources: bool = False, typed: str | None = None) -> str:
@@ -94,7 +103,10 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
     for s in b.steps:
         label, refs = STEP_LABELS[s.name]
         k2 = f"{s.love_number:.4f}" if s.love_number else "-"
-        lines.append(f"  {s.name:<16}{_days(s.period, d):>11}{_days(s.change, d, sign=True):>12}{k2:>8}   {label} ({refs})")
+        lines.append(
+            f"  {s.name:<16}{_days(s.period, d):>11}{_days(s.change, d, sign=True):>12}{k2:>8}   {label} ({refs})"
+        )
+
     def row(name: str, value: float, err: float | None, tail: str = "", sign: bool = False) -> str:
         number, _, plus = with_uncertainty(value, err, sign=sign).partition(" +/- ")
         return f"  {name:<16}{number:>11}" + (f" +/- {plus}" if plus else "") + tail
@@ -110,8 +122,10 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
         lines.append(f"  {'observed':<16}{'unknown':>11}")
     if math.isfinite(b.raw.valid_fraction):
         dropped = 100 * (1 - b.raw.valid_fraction)
-        lines.append(f"  (+/- is one sigma over {_draws():,} Monte Carlo draws of the catalogued uncertainties"
-                     + (f"; {dropped:.1f} % unphysical draws dropped)" if dropped >= 0.05 else ")"))
+        lines.append(
+            f"  (+/- is one sigma over {_draws():,} Monte Carlo draws of the catalogued uncertainties"
+            + (f"; {dropped:.1f} % unphysical draws dropped)" if dropped >= 0.05 else ")")
+        )
     skipped = _skipped_steps(b)
     if skipped:
         lines.append("  steps not run (parameters missing): " + "; ".join(skipped))
@@ -129,5 +143,3 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
         where = f"--body-file {typed}" if typed else b.body
         lines.append(f"  (sources of every number: wobble chandler {where} --sources)")
     return "\n".join(lines)
-
-

@@ -7,7 +7,7 @@ import argparse
 EPILOG = """\
 examples:
   wobble example --list                          every shipped file, with what it is
-  wobble example my_planet.toml                  a planet file to edit (then: wobble chandler --body-file my_planet.toml)
+  wobble example my_planet.toml                  a planet to edit (then: wobble chandler --body-file my_planet.toml)
   wobble example tennis_racket my_racket.toml    a scene, under a new name
   wobble example dumbbell.csv --overwrite        point masses (wobble inertia --points dumbbell.csv --length-unit cm)
 
@@ -44,8 +44,12 @@ def run(args) -> int:
             raise InputError.missing("NAME", "a shipped file to copy, or --list to see them")
         files = shipped_files()
         if args.json:
-            print_json([{"name": f.name, "kind": f.kind, "qualified_name": f.qualified, "description": f.description}
-                        for f in files])
+            print_json(
+                [
+                    {"name": f.name, "kind": f.kind, "qualified_name": f.qualified, "description": f.description}
+                    for f in files
+                ]
+            )
             return 0
         counts = {}
         for f in files:

@@ -35,13 +35,28 @@ def register(sub) -> None:
     )
     p.add_argument("--start", metavar="DATE", help="first day (default: the file's first)")
     p.add_argument("--end", metavar="DATE", help="last day (default: the file's last)")
-    p.add_argument("--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)")
-    p.add_argument("--period", metavar="T", help="Chandler period T_c, e.g. 433d (default: wobble's estimate from the record)")
-    p.add_argument("--q", metavar="Q", help="quality factor Q > 0, or inf (default: wobble's Chandler budget, about 82)")
+    p.add_argument(
+        "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
+    )
+    p.add_argument(
+        "--period", metavar="T", help="Chandler period T_c, e.g. 433d (default: wobble's estimate from the record)"
+    )
+    p.add_argument(
+        "--q", metavar="Q", help="quality factor Q > 0, or inf (default: wobble's Chandler budget, about 82)"
+    )
     p.add_argument("--json", action="store_true", help="print the results as JSON")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="write pole, excitation, round trip, band amplitudes and spectra (CF-1.10 netCDF)")
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.nc",
+        help="write pole, excitation, round trip, band amplitudes and spectra (CF-1.10 netCDF)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument("--plot", metavar="FILE.png", help="write a figure: spectra of pole and excitation, the Chandler band against time")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        help="write a figure: spectra of pole and excitation, the Chandler band against time",
+    )
     p.set_defaults(func=run)
 
 
@@ -81,8 +96,7 @@ def parse_days(text, name):
 
 def run(args) -> int:
     from wobble.api.polar_motion.excitation import geodetic_excitation
-    from wobble.cli._output import print_json, wrote
-    from wobble.cli._output import check_outputs
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.io.netcdf import write_netcdf
 
     q = parse_q(args.q)

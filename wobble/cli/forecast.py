@@ -47,20 +47,47 @@ def register(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--issued", metavar="DATE", help="issue date (default: the record's last day plus the latency)")
-    p.add_argument("--horizon", metavar="T", default="365d", help="how far ahead, e.g. 365d or 90 (days; default 365d, at most 3 years)")
+    p.add_argument(
+        "--horizon",
+        metavar="T",
+        default="365d",
+        help="how far ahead, e.g. 365d or 90 (days; default 365d, at most 3 years)",
+    )
     p.add_argument("--method", help="kalman (default) or ls_ar; with --hindcast: both (default), kalman or ls_ar")
-    p.add_argument("--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)")
-    p.add_argument("--latency", metavar="T", help="publication delay of the record, e.g. 1d (default: 30 d for C04, 1 d for finals2000A)")
-    p.add_argument("--q", metavar="Q", help="quality factor of the Chandler wobble, Q > 0 (default: wobble's Chandler budget, about 82)")
-    p.add_argument("--calibration-span", metavar="T", help="span of past issue dates whose errors calibrate the intervals (default: 2yr)")
-    p.add_argument("--no-calibration", action="store_true", help="the models' Gaussian intervals, not calibrated on past forecasts")
+    p.add_argument(
+        "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
+    )
+    p.add_argument(
+        "--latency",
+        metavar="T",
+        help="publication delay of the record, e.g. 1d (default: 30 d for C04, 1 d for finals2000A)",
+    )
+    p.add_argument(
+        "--q",
+        metavar="Q",
+        help="quality factor of the Chandler wobble, Q > 0 (default: wobble's Chandler budget, about 82)",
+    )
+    p.add_argument(
+        "--calibration-span",
+        metavar="T",
+        help="span of past issue dates whose errors calibrate the intervals (default: 2yr)",
+    )
+    p.add_argument(
+        "--no-calibration", action="store_true", help="the models' Gaussian intervals, not calibrated on past forecasts"
+    )
     p.add_argument("--hindcast", metavar="START:END", help="issue forecasts over this span of dates and score them")
     p.add_argument("--every", metavar="T", default="7d", help="spacing of the hindcast's issue dates (default: 7d)")
-    p.add_argument("--scheduler", help="hindcast on a dask scheduler: threads, processes, synchronous or an address (default: a local process pool)")
+    p.add_argument(
+        "--scheduler",
+        help="hindcast on a dask scheduler: threads, processes, synchronous or an address (default: a local "
+        "process pool)",
+    )
     p.add_argument("--json", action="store_true", help="print the forecast (or the hindcast's scores) as JSON")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the forecast or hindcast (CF-1.10 netCDF)")
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument("--plot", metavar="FILE.png", help="write a figure (forecast with intervals; or error against lead time)")
+    p.add_argument(
+        "--plot", metavar="FILE.png", help="write a figure (forecast with intervals; or error against lead time)"
+    )
     p.set_defaults(func=run)
 
 
@@ -75,9 +102,8 @@ def _methods(text, hindcast: bool):
 
 
 def run(args) -> int:
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.cli.excitation import parse_days, parse_q
-    from wobble.cli._output import check_outputs
 
     horizon = parse_days(args.horizon, "--horizon")
     latency = parse_days(args.latency, "--latency")
@@ -93,8 +119,17 @@ def run(args) -> int:
             raise InputError("--hindcast", args.hindcast, "START:END, e.g. 2016-01-01:2021-01-01")
         start, end = args.hindcast.split(":")
         result = hindcast_polar_motion(
-            args.file, start=start, end=end, every=parse_days(args.every, "--every"), horizon=horizon, methods=methods,
-            latency=latency, q=q, scheduler=args.scheduler, calibrated=not args.no_calibration, calibration_span=span,
+            args.file,
+            start=start,
+            end=end,
+            every=parse_days(args.every, "--every"),
+            horizon=horizon,
+            methods=methods,
+            latency=latency,
+            q=q,
+            scheduler=args.scheduler,
+            calibrated=not args.no_calibration,
+            calibration_span=span,
         )
     else:
         from wobble.api.polar_motion.forecast import forecast_polar_motion
@@ -102,14 +137,22 @@ def run(args) -> int:
         if args.issued is not None and ":" in args.issued:
             raise InputError("--issued", args.issued, "one date (a span of issue dates goes with --hindcast)")
         result = forecast_polar_motion(
-            args.file, issued=args.issued, horizon=horizon, method=methods[0], latency=latency, q=q,
-            calibrated=not args.no_calibration, calibration_span=span,
+            args.file,
+            issued=args.issued,
+            horizon=horizon,
+            method=methods[0],
+            latency=latency,
+            q=q,
+            calibrated=not args.no_calibration,
+            calibration_span=span,
         )
     written = []
     if args.output:
         from wobble.io.netcdf import write_netcdf
 
-        written.append(write_netcdf(result.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line))
+        written.append(
+            write_netcdf(result.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
+        )
     if args.plot:
         from wobble.plot.forecast import save_forecast_figure, save_hindcast_figure
 

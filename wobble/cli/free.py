@@ -35,9 +35,19 @@ def register(subparsers) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--inertia", nargs=3, required=True, metavar=("I1", "I2", "I3"), help="principal moments (kg m2), any order")
-    p.add_argument("--omega", nargs=3, required=True, metavar=("W1", "W2", "W3"), help="initial body-frame angular velocity (rad/s)")
-    p.add_argument("--t-end", help=f"end of the output span (s unless a unit is given; default {DEFAULT_PERIODS} periods)")
+    p.add_argument(
+        "--inertia", nargs=3, required=True, metavar=("I1", "I2", "I3"), help="principal moments (kg m2), any order"
+    )
+    p.add_argument(
+        "--omega",
+        nargs=3,
+        required=True,
+        metavar=("W1", "W2", "W3"),
+        help="initial body-frame angular velocity (rad/s)",
+    )
+    p.add_argument(
+        "--t-end", help=f"end of the output span (s unless a unit is given; default {DEFAULT_PERIODS} periods)"
+    )
     p.add_argument("--samples", type=int, default=1001, help="number of output times from 0 to --t-end (default 1001)")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the time series to this netCDF file")
     p.add_argument("--plot", metavar="FILE.png", help="draw omega(t) and the polhode (the path of L in the body)")
@@ -49,7 +59,7 @@ def register(subparsers) -> None:
 def _quantity(values, name, unit):
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     qs = [parse_quantity(v, name, unit) for v in values]
     return u.Quantity([q.to_value(unit) for q in qs], unit)
@@ -61,7 +71,7 @@ def _span(body, text):
 
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     if text is not None:
         t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
@@ -71,7 +81,9 @@ def _span(body, text):
     period = body.period.to_value(u.s)
     if not math.isfinite(period):
         why = "on the separatrix the motion never repeats" if body.regime == "separatrix" else "the spin is steady"
-        raise InputError.missing("--t-end", f"a time span (e.g. --t-end 100): {why}, so there is no period to default to")
+        raise InputError.missing(
+            "--t-end", f"a time span (e.g. --t-end 100): {why}, so there is no period to default to"
+        )
     return DEFAULT_PERIODS * period, f"{DEFAULT_PERIODS} periods, the default; --t-end to change"
 
 
@@ -134,8 +146,11 @@ def _print_table(body, summary: dict) -> None:
     from wobble.cli._table import print_rows
 
     regime = summary["regime"]
-    period = duration(summary["period_s"]) if summary["period_s"] else (
-        "none: omega is constant" if regime == "steady" else "none: omega never repeats")
+    period = (
+        duration(summary["period_s"])
+        if summary["period_s"]
+        else ("none: omega is constant" if regime == "steady" else "none: omega never repeats")
+    )
     rows = [("regime", f"{regime}: {_REGIMES[regime]}"), ("period of omega", period)]
     swing = summary.get("intermediate_axis_swing_deg")
     if regime == "steady":
@@ -149,10 +164,18 @@ def _print_table(body, summary: dict) -> None:
     elif swing is not None:
         rows.append(("flips", f"no: the intermediate axis swings by {number(swing, 4)} deg (a wobble)"))
     rows += [
-        ("elliptic parameter m, 1 - m", f"{number(summary['parameter_m'])}, {number(summary['complementary_parameter_1_minus_m'])}"),
+        (
+            "elliptic parameter m, 1 - m",
+            f"{number(summary['parameter_m'])}, {number(summary['complementary_parameter_1_minus_m'])}",
+        ),
         ("kinetic energy", f"{number(summary['energy_J'])} J"),
         ("|L|", f"{number(summary['angular_momentum_kg_m2_per_s'])} kg m2/s"),
     ]
     if "t_end_s" in summary:
-        rows.append(("span", f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples ({summary['t_end_chosen_by']})"))
+        rows.append(
+            (
+                "span",
+                f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples ({summary['t_end_chosen_by']})",
+            )
+        )
     print_rows(rows)

@@ -8,8 +8,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from wobble.errors import InputError
+
+if TYPE_CHECKING:  # annotations only: run() imports astropy and the API when it runs
+    from astropy import units as u
+
+    from wobble.api.bodies import RigidBody
 
 __all__ = ["register", "run", "SOLIDS"]
 
@@ -109,7 +115,9 @@ def _unit_option(text: str | None, option: str, kind: u.UnitBase) -> u.UnitBase 
     try:
         unit = u.Unit(text, parse_strict="raise")
     except ValueError:
-        raise InputError(option, text, f"a unit astropy can parse (e.g. {'g, kg, Msun' if kind == u.kg else 'cm, m, au'})") from None
+        raise InputError(
+            option, text, f"a unit astropy can parse (e.g. {'g, kg, Msun' if kind == u.kg else 'cm, m, au'})"
+        ) from None
     if not unit.is_equivalent(kind):
         raise InputError(option, text, f"a unit of {kind.physical_type}")
     return unit
@@ -126,7 +134,7 @@ def _refuse_unused(args, allowed: set[str], what: str) -> None:
 def _about(args, length_unit: u.UnitBase):
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     tokens = args.about
     if len(tokens) == 1 and tokens[0].lower() in ("com", "origin"):
@@ -139,8 +147,8 @@ def _about(args, length_unit: u.UnitBase):
 def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
     from wobble.api.bodies import RigidBody
+    from wobble.api.units import parse_quantity
 
     constructor_name, required, optional = SOLIDS[args.solid]
     constructor = getattr(RigidBody, constructor_name)
@@ -177,7 +185,8 @@ def build_body(args) -> tuple[RigidBody, str]:
 
         _refuse_unused(args, {"mass_unit", "length_unit"}, "--points")
         masses, positions = read_point_masses(
-            resolve(args.points, "examples", "--points", (".csv",)), mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
+            resolve(args.points, "examples", "--points", (".csv",)),
+            mass_unit=_unit_option(args.mass_unit, "--mass-unit", u.kg),
             length_unit=_unit_option(args.length_unit, "--length-unit", u.m),
         )  # fmt: skip
         body = RigidBody.from_point_masses(masses, positions, name=str(args.points))
@@ -188,7 +197,10 @@ def build_body(args) -> tuple[RigidBody, str]:
         _refuse_unused(args, {"var", "rule", "length_unit"}, "--density")
         with open_density(resolve(args.density, "examples", "--density", (".nc",)), args.var) as density:
             body = RigidBody.from_density(density, rule=args.rule or "trapezoid", name=str(density.name))
-            label = f"density {density.name!r} from {args.density} ({'x'.join(map(str, density.shape))} grid, {args.rule or 'trapezoid'} rule)"
+            label = (
+                f"density {density.name!r} from {args.density} ({'x'.join(map(str, density.shape))} grid, "
+                f"{args.rule or 'trapezoid'} rule)"
+            )
     else:
         body = _solid(args, mass_unit, length_unit)
         label = f"solid {args.solid}"

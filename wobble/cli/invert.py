@@ -10,7 +10,7 @@ from wobble.errors import InputError
 EPILOG = """\
 examples:
   wobble invert mars                       Mars' core radius from the Chandler period, k2, the FCN and the precession
-  wobble invert earth --json               Earth's anelastic exponent, Chandler Q and core-flattening excess, for scripts
+  wobble invert earth --json               Earth's anelastic exponent, Chandler Q and core-flattening excess (scripts)
   wobble invert mars_chandler_only --steps 1000   the Chandler period alone: how little one period says
   wobble invert mars --steps 500 -o mars_posterior.nc --plot mars_corner.png --overwrite
   wobble invert mars --prior-only --steps 500     the priors pushed through the model (what the data add)
@@ -40,18 +40,26 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("setup", metavar="SETUP", help="a setup file (.toml) or a shipped setup: earth, mars, mars_chandler_only")
-    p.add_argument("--json", action="store_true", help="print the result as JSON (parameters, observables, sampler, warnings)")
+    p.add_argument(
+        "setup", metavar="SETUP", help="a setup file (.toml) or a shipped setup: earth, mars, mars_chandler_only"
+    )
+    p.add_argument(
+        "--json", action="store_true", help="print the result as JSON (parameters, observables, sampler, warnings)"
+    )
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the ArviZ InferenceData as netCDF")
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument("--plot", metavar="FILE.png", help="corner plot of the posterior with the priors and published values")
+    p.add_argument(
+        "--plot", metavar="FILE.png", help="corner plot of the posterior with the priors and published values"
+    )
     p.add_argument("--seed", type=int, help="random seed (default: the setup's); same seed, same numbers")
     p.add_argument("--walkers", type=int, help="walkers per ensemble (even, >= twice the parameters)")
     p.add_argument("--steps", type=int, help="steps kept per walker after the burn-in")
     p.add_argument("--burn", type=int, help="burn-in steps discarded per walker")
     p.add_argument("--ensembles", type=int, help="independent ensembles, pooled (parallel with --scheduler)")
     p.add_argument("--prior-only", action="store_true", help="sample the priors only (no data): what the data add")
-    p.add_argument("--scheduler", help="run ensembles on dask: threads, processes, synchronous or a dask.distributed address")
+    p.add_argument(
+        "--scheduler", help="run ensembles on dask: threads, processes, synchronous or a dask.distributed address"
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 

@@ -42,7 +42,12 @@ def register(sub) -> None:
         help="density profile (shipped name such as prem, or a file) for the hydrostatic core flattening "
         "(default: the catalogued body's own)",
     )
-    p.add_argument("--mode", action="append", choices=("CW", "FCN"), help="modes to compute (repeatable; default: every mode the body supports)")
+    p.add_argument(
+        "--mode",
+        action="append",
+        choices=("CW", "FCN"),
+        help="modes to compute (repeatable; default: every mode the body supports)",
+    )
     add_outputs(p, "draw the mode periods against the core flattening")
     p.set_defaults(func=run)
 

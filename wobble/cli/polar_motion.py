@@ -39,10 +39,14 @@ def register(sub) -> None:
     )
     p.add_argument("--start", metavar="DATE", help="first day to use (default: the file's first)")
     p.add_argument("--end", metavar="DATE", help="last day to use (default: the file's last)")
-    p.add_argument("--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)")
+    p.add_argument(
+        "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
+    )
     p.add_argument("--window", metavar="YEARS", default="8", help="length of the sliding windows in years (default: 8)")
     p.add_argument("--step", metavar="YEARS", default="1", help="spacing of the windows in years (default: 1)")
-    p.add_argument("--drift-degree", metavar="N", type=int, default=2, help="degree of the mean-pole polynomial (default: 2)")
+    p.add_argument(
+        "--drift-degree", metavar="N", type=int, default=2, help="degree of the mean-pole polynomial (default: 2)"
+    )
     p.add_argument(
         "--excitation-q",
         metavar="Q",
@@ -51,9 +55,18 @@ def register(sub) -> None:
     )
     p.add_argument("--no-q", action="store_true", help="skip the quality-factor estimate")
     p.add_argument("--json", action="store_true", help="print the results as JSON")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="write series, model, residuals, windows and spectrum (CF-1.10 netCDF)")
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.nc",
+        help="write series, model, residuals, windows and spectrum (CF-1.10 netCDF)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument("--plot", metavar="FILE.png", help="write a figure: pole path, two-sided spectrum, windowed amplitude and period")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        help="write a figure: pole path, two-sided spectrum, windowed amplitude and period",
+    )
     p.set_defaults(func=run)
 
 
@@ -117,7 +130,9 @@ def run(args) -> int:
         progress.done()
     written = []
     if args.output:
-        written.append(write_netcdf(analysis.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line))
+        written.append(
+            write_netcdf(analysis.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
+        )
     if args.plot:
         from wobble.plot.polar_motion import save_overview
 

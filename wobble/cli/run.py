@@ -57,8 +57,9 @@ def run(args) -> int:
     from wobble.io.shipped import resolve
 
     scene = read_scene(resolve(args.scene, "scenes", "SCENE"))
-    summary = run_to_netcdf(scene, args.output, model=args.model, overwrite=args.overwrite,
-                            command=getattr(args, "command_line", None))
+    summary = run_to_netcdf(
+        scene, args.output, model=args.model, overwrite=args.overwrite, command=getattr(args, "command_line", None)
+    )
     written = [summary["output"]]
     if args.plot:
         from wobble.plot.scene import scene_figure
@@ -92,10 +93,15 @@ def _print_summary(summary: dict) -> None:
     from wobble.cli._output import number
     from wobble.cli._table import print_rows
 
-    print_rows([
-        ("scene", summary["scene"]),
-        ("model", summary["model"]),
-        ("why", summary["model_reason"]),
-        ("error estimate", f"{number(summary['error_estimate'], 3)} (asked {number(summary['accuracy_requested'], 3)})"),
-        ("members x times", f"{summary['members']} x {summary['times']}"),
-    ])
+    print_rows(
+        [
+            ("scene", summary["scene"]),
+            ("model", summary["model"]),
+            ("why", summary["model_reason"]),
+            (
+                "error estimate",
+                f"{number(summary['error_estimate'], 3)} (asked {number(summary['accuracy_requested'], 3)})",
+            ),
+            ("members x times", f"{summary['members']} x {summary['times']}"),
+        ]
+    )

@@ -38,16 +38,25 @@ def register(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("sweep", metavar="SWEEP", help="a sweep file, or the name of one in data/sweeps")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="stream the results to a CF-1.10 netCDF file "
-                   "(or a Zarr store when the name ends in .zarr; needs the zarr package)")
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.nc",
+        help="stream the results to a CF-1.10 netCDF file "
+        "(or a Zarr store when the name ends in .zarr; needs the zarr package)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
     p.add_argument("--members", type=int, help="override the sweep's member count (random sweeps)")
     p.add_argument("--chunk-size", type=int, help="members per dask chunk")
     p.add_argument("--scheduler", help="threads (default), processes, synchronous, or a dask.distributed address")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--plot", metavar="FILE.png", help="histogram of the main output with the observed value "
-                   "(the phase diagram for heavy_top sweeps, periods and wobble angles for free_rotation)")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        help="histogram of the main output with the observed value "
+        "(the phase diagram for heavy_top sweeps, periods and wobble angles for free_rotation)",
+    )
     p.set_defaults(func=run)
 
 
@@ -83,7 +92,9 @@ def run(args) -> int:
         from wobble.plot import sweep as sweep_plot
 
         target = ds.attrs.get("sweep_target", "chandler")
-        draw = {"heavy_top": sweep_plot.phase_diagram, "free_rotation": sweep_plot.ensemble}.get(target, sweep_plot.histogram)
+        draw = {"heavy_top": sweep_plot.phase_diagram, "free_rotation": sweep_plot.ensemble}.get(
+            target, sweep_plot.histogram
+        )
         draw(ds, args.plot, overwrite=args.overwrite)
     written = [p for p in (args.output, args.plot) if p]
     if args.json:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from wobble.cli._table import print_rows
 from wobble.errors import InputError
@@ -40,7 +39,9 @@ def register(subparsers) -> None:
     p.add_argument("--I1", required=True, help="transverse moment of inertia about the tip (kg m2)")
     p.add_argument("--I3", required=True, help="axial moment of inertia (kg m2)")
     p.add_argument("--mgl", required=True, help="M g l: weight times tip-to-centre-of-mass distance (J)")
-    p.add_argument("--theta0", required=True, help="initial tilt from the upward vertical (degrees unless a unit is given)")
+    p.add_argument(
+        "--theta0", required=True, help="initial tilt from the upward vertical (degrees unless a unit is given)"
+    )
     p.add_argument("--thetadot0", default="0", help="initial nutation rate (rad/s; default 0)")
     p.add_argument("--phidot0", default="0", help="initial precession rate (rad/s; default 0)")
     spin = p.add_mutually_exclusive_group(required=True)
@@ -48,23 +49,28 @@ def register(subparsers) -> None:
     spin.add_argument("--psidot0", help="initial spin rate dpsi/dt (rad/s)")
     p.add_argument("--phi0", default="0", help="initial precession angle (degrees unless a unit is given; default 0)")
     p.add_argument("--psi0", default="0", help="initial spin angle (degrees unless a unit is given; default 0)")
-    p.add_argument("--t-end", default=None, help="end of the output span for -o and --plot (s unless a unit is given; "
-                   "default 10 nutation periods)")
+    p.add_argument(
+        "--t-end",
+        default=None,
+        help="end of the output span for -o and --plot (s unless a unit is given; default 10 nutation periods)",
+    )
     p.add_argument("--samples", type=int, default=1001, help="number of output times from 0 to --t-end (default 1001)")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the motion to this netCDF file")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the path of the figure axis between the turning circles "
-                   "(undulation, cusps or loops) over the span")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        help="draw the path of the figure axis between the turning circles (undulation, cusps or loops) over the span",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    import numpy as np
     from astropy import units as u
 
-    from wobble.api._units import parse_angle, parse_quantity
     from wobble.api.top import HeavyTop
+    from wobble.api.units import parse_angle, parse_quantity
     from wobble.cli._output import check_outputs, print_json, wrote
 
     check_outputs(args)
@@ -121,7 +127,7 @@ def _span(top, text) -> float:
 
     from astropy import units as u
 
-    from wobble.api._units import parse_quantity
+    from wobble.api.units import parse_quantity
 
     if text is None:
         period = top.model.nutation_period
@@ -152,7 +158,12 @@ def _print_table(summary: dict) -> None:
     ]
     reg = summary.get("regular_precession_at_theta0")
     if reg:
-        rows.append(("steady precession at theta0", f"slow {number(reg['slow_rad_per_s'])}, fast {number(reg['fast_rad_per_s'])} rad/s"))
+        rows.append(
+            (
+                "steady precession at theta0",
+                f"slow {number(reg['slow_rad_per_s'])}, fast {number(reg['fast_rad_per_s'])} rad/s",
+            )
+        )
     if "t_end_s" in summary:
         rows.append(("span", f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples"))
     print_rows(rows)

@@ -27,8 +27,16 @@ from pathlib import Path
 
 from wobble.errors import InputError, OutputExistsError
 
-__all__ = ["atomic_target", "check_target", "new_temporary", "new_temporary_folder", "publish", "write_error",
-           "remove_stale_temporaries", "interrupts_held"]
+__all__ = [
+    "atomic_target",
+    "check_target",
+    "new_temporary",
+    "new_temporary_folder",
+    "publish",
+    "write_error",
+    "remove_stale_temporaries",
+    "interrupts_held",
+]
 
 # When this process began writing files (the module is imported before any write): temporaries
 # older than this cannot belong to a write this process is doing.
@@ -36,7 +44,8 @@ _STARTED = time.time()
 
 # Libraries whose failed writes surface as RuntimeError rather than OSError.
 _FILE_LIBRARIES = ("netCDF4", "h5py", "h5netcdf")
-# Their messages for a write the system refused (netCDF4: "NetCDF: HDF error"; HDF5: "file write failed ... errno = 28").
+# Their messages for a write the system refused (netCDF4: "NetCDF: HDF error"; HDF5: "file write failed ...
+# errno = 28").
 _WRITE_FAILURE = re.compile(r"HDF error|write failed|errno = \d+|can't write|no space|too large", re.IGNORECASE)
 # Errors that mean the target's file system had no room for it.
 _NO_ROOM = {errno.ENOSPC, errno.EFBIG, errno.EDQUOT}

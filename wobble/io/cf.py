@@ -104,7 +104,9 @@ CHANDLER: dict[str, Spec] = {
     "love_number_k2_effective": Spec(("body", "step"), "1", "effective degree-2 Love number k2 used by the step"),
     "applied": Spec(("body", "step"), "1", "whether the body's parameters support the step"),
     "model_period": Spec(("body",), "day", "modelled Chandler period"),
-    "model_period_uncertainty": Spec(("body",), "day", "one-sigma uncertainty of the modelled period (linear propagation)"),
+    "model_period_uncertainty": Spec(
+        ("body",), "day", "one-sigma uncertainty of the modelled period (linear propagation)"
+    ),
     "observed_period": Spec(("body",), "day", "observed Chandler period"),
     "observed_period_uncertainty": Spec(("body",), "day", "one-sigma uncertainty of the observed period"),
     "residual": Spec(("body",), "day", "modelled minus observed Chandler period"),
@@ -115,13 +117,18 @@ CHANDLER: dict[str, Spec] = {
 # Torque-free rotation, exact (wobble free, FreeRotation.to_dataset).
 FREE: dict[str, Spec] = {
     "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body (principal-axis) frame"),
-    "angular_momentum": Spec(("inertial_axis",), "kg m2 s-1",
-                             "angular momentum in the inertial frame (the body frame at t = 0), constant"),
-    "attitude": Spec(("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
+    "angular_momentum": Spec(
+        ("inertial_axis",), "kg m2 s-1", "angular momentum in the inertial frame (the body frame at t = 0), constant"
+    ),
+    "attitude": Spec(
+        ("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"
+    ),
     "kinetic_energy": Spec(("time",), "J", "kinetic energy from omega(t)"),
     "kinetic_energy_drift": Spec(("time",), "J", "kinetic energy minus its initial value"),
     "angular_momentum_magnitude": Spec(("time",), "kg m2 s-1", "magnitude of the angular momentum from omega(t)"),
-    "angular_momentum_magnitude_drift": Spec(("time",), "kg m2 s-1", "magnitude of the angular momentum minus its initial value"),
+    "angular_momentum_magnitude_drift": Spec(
+        ("time",), "kg m2 s-1", "magnitude of the angular momentum minus its initial value"
+    ),
     "moment_of_inertia": Spec(("axis",), "kg m2", "principal moment of inertia"),
 }
 
@@ -129,7 +136,9 @@ FREE: dict[str, Spec] = {
 # "time" for ensembles (with_member).
 SCENE: dict[str, Spec] = {
     "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body frame"),
-    "attitude": Spec(("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
+    "attitude": Spec(
+        ("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"
+    ),
     "angular_momentum": Spec(("time", "inertial_axis"), "kg m2 s-1", "angular momentum in the inertial frame"),
     "angular_momentum_magnitude": Spec(("time",), "kg m2 s-1", "magnitude of the angular momentum"),
     "kinetic_energy": Spec(("time",), "J", "rotational kinetic energy"),
@@ -138,8 +147,12 @@ SCENE: dict[str, Spec] = {
     "axis_direction": Spec(("time", "inertial_axis"), "1", "direction of body axis 3 in the inertial frame"),
     "tilt": Spec(("time",), "rad", "angle between body axis 3 and the inertial z axis"),
     "wobble_angle": Spec(("time",), "rad", "angle between the angular velocity and body axis 3"),
-    "mean_precession_rate": Spec(("time",), "rad s-1", "mean precession rate of the node of the body's equator on the "
-                                 "inertial x-y plane over the run (negative: retrograde), first-order averaged model"),
+    "mean_precession_rate": Spec(
+        ("time",),
+        "rad s-1",
+        "mean precession rate of the node of the body's equator on the "
+        "inertial x-y plane over the run (negative: retrograde), first-order averaged model",
+    ),
 }
 
 # The heavy symmetric top, exact (wobble top -o, HeavyTop.to_dataset).
@@ -151,9 +164,14 @@ TOP: dict[str, Spec] = {
     "phidot": Spec(("time",), "rad s-1", "precession rate dphi/dt"),
     "psidot": Spec(("time",), "rad s-1", "spin rate dpsi/dt"),
     "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body frame (axis 3 = symmetry axis)"),
-    "attitude": Spec(("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"),
-    "symmetry_axis": Spec(("time", "inertial_axis"), "1",
-                          "unit vector of the symmetry axis in the inertial frame (Z up): its trace on the unit sphere"),
+    "attitude": Spec(
+        ("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"
+    ),
+    "symmetry_axis": Spec(
+        ("time", "inertial_axis"),
+        "1",
+        "unit vector of the symmetry axis in the inertial frame (Z up): its trace on the unit sphere",
+    ),
     "energy": Spec(("time",), "J", "total energy recomputed from the motion"),
     "energy_drift": Spec(("time",), "J", "total energy minus its initial value"),
     "p_phi": Spec(("time",), "kg m2 s-1", "vertical angular momentum p_phi recomputed from the motion"),
@@ -165,8 +183,12 @@ TOP: dict[str, Spec] = {
 # A rigid body's inertia (wobble inertia -o, RigidBody.to_dataset).
 BODIES: dict[str, Spec] = {
     "tensor": Spec(("row", "column"), "kg m2", "inertia tensor about the reference point, input-frame axes"),
-    "principal_moments": Spec(("principal",), "kg m2", "principal moments of inertia about the reference point, ascending"),
-    "principal_axes": Spec(("principal", "component"), "1", "principal axis unit vectors (one per row) in input-frame components"),
+    "principal_moments": Spec(
+        ("principal",), "kg m2", "principal moments of inertia about the reference point, ascending"
+    ),
+    "principal_axes": Spec(
+        ("principal", "component"), "1", "principal axis unit vectors (one per row) in input-frame components"
+    ),
     "principal_moment_differences": Spec(("pair",), "kg m2", "differences of principal moments I2-I1, I3-I2, I3-I1"),
     "center_of_mass": Spec(("component",), "m", "centre of mass, input frame"),
     "reference_point": Spec(("component",), "m", "point the inertia tensor is taken about, input frame"),
@@ -180,12 +202,22 @@ MODES: dict[str, Spec] = {
     "rate": Spec(("body", "mode"), "rad s-1", "signed frequency of the free mode (positive: prograde)"),
     "observed_period": Spec(("body", "mode"), "day", "observed signed period of the mode"),
     "observed_period_uncertainty": Spec(("body", "mode"), "day", "one-sigma uncertainty of the observed period"),
-    "love_number_k2": Spec(("body", "mode"), "1", "degree-2 Love number k2 at the mode's frequency in the planet's frame"),
+    "love_number_k2": Spec(
+        ("body", "mode"), "1", "degree-2 Love number k2 at the mode's frequency in the planet's frame"
+    ),
     "sense": Spec(("body", "mode"), "1", "sense of the mode relative to the spin"),
-    "core_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic dynamical ellipticity of the liquid core (C_f - A_f)/A_f"),
-    "core_flattening_required": Spec(("body",), "1", "dynamical ellipticity of the liquid core that the observed FCN period requires"),
-    "core_flattening_required_uncertainty": Spec(("body",), "1", "one-sigma uncertainty of the required core dynamical ellipticity"),
-    "core_flattening_excess": Spec(("body",), "percent", "required over hydrostatic core dynamical ellipticity, minus one"),
+    "core_flattening_hydrostatic": Spec(
+        ("body",), "1", "hydrostatic dynamical ellipticity of the liquid core (C_f - A_f)/A_f"
+    ),
+    "core_flattening_required": Spec(
+        ("body",), "1", "dynamical ellipticity of the liquid core that the observed FCN period requires"
+    ),
+    "core_flattening_required_uncertainty": Spec(
+        ("body",), "1", "one-sigma uncertainty of the required core dynamical ellipticity"
+    ),
+    "core_flattening_excess": Spec(
+        ("body",), "percent", "required over hydrostatic core dynamical ellipticity, minus one"
+    ),
     "fcn_period_required": Spec(("body",), "day", "FCN period in space with the required core ellipticity put back"),
     "chandler_budget_period": Spec(("body",), "day", "Chandler period of the first-order budget"),
     "chandler_period_coupling_off": Spec(("body",), "day", "Chandler period with the core-mantle coupling off"),
@@ -193,7 +225,9 @@ MODES: dict[str, Spec] = {
     "dynamical_flattening_hydrostatic": Spec(("body",), "1", "hydrostatic dynamical flattening H = (C - A)/C"),
     # The hydrostatic figure of one body (HydrostaticFigure.to_dataset).
     "radius": Spec(("radius",), "km", "radius of the level surface (its mean radius)"),
-    "level_surface_flattening": Spec(("radius",), "1", "flattening of the hydrostatic level surface (Clairaut's equation)"),
+    "level_surface_flattening": Spec(
+        ("radius",), "1", "flattening of the hydrostatic level surface (Clairaut's equation)"
+    ),
     "radau_parameter": Spec(("radius",), "1", "Radau's eta = r d(ln flattening)/dr"),
     "density": Spec(("radius",), "kg m-3", "density of the profile (the layer above at an interface)"),
 }
@@ -204,35 +238,55 @@ PRECESSION: dict[str, Spec] = {
     "term_rate": Spec(("body", "term"), "rad s-1", "contribution of each term to the precession rate"),
     "first_order_rate": Spec(("body",), "rad s-1", "first-order tidal precession rate of the spin axis"),
     "precession_rate": Spec(("body",), "rad s-1", "modelled precession rate, defined as the observed one"),
-    "precession_rate_uncertainty": Spec(("body",), "rad s-1", "one-sigma uncertainty of the modelled precession rate (linear propagation)"),
+    "precession_rate_uncertainty": Spec(
+        ("body",), "rad s-1", "one-sigma uncertainty of the modelled precession rate (linear propagation)"
+    ),
     "observed_precession_rate": Spec(("body",), "rad s-1", "observed precession rate"),
-    "observed_precession_rate_uncertainty": Spec(("body",), "rad s-1", "one-sigma uncertainty of the observed precession rate"),
-    "nutation_longitude": Spec(("body",), "rad", "amplitude of the principal nutation in longitude (coefficient of sin Omega, IAU sign)"),
-    "nutation_obliquity": Spec(("body",), "rad", "amplitude of the principal nutation in obliquity (coefficient of cos Omega)"),
+    "observed_precession_rate_uncertainty": Spec(
+        ("body",), "rad s-1", "one-sigma uncertainty of the observed precession rate"
+    ),
+    "nutation_longitude": Spec(
+        ("body",), "rad", "amplitude of the principal nutation in longitude (coefficient of sin Omega, IAU sign)"
+    ),
+    "nutation_obliquity": Spec(
+        ("body",), "rad", "amplitude of the principal nutation in obliquity (coefficient of cos Omega)"
+    ),
 }
 
 # Geodetic excitation of polar motion (wobble excitation).
 EXCITATION: dict[str, Spec] = {
     "x_p": Spec(("time",), "milliarcsecond", "pole coordinate x_p (toward the Greenwich meridian)"),
     "y_p": Spec(("time",), "milliarcsecond", "pole coordinate y_p (toward 90 deg W longitude)"),
-    "chi_1": Spec(("time",), "milliarcsecond", "geodetic excitation chi_1 (real part of chi, from the pole by the Liouville equation)"),
-    "chi_2": Spec(("time",), "milliarcsecond", "geodetic excitation chi_2 (imaginary part of chi; chi = chi_1 + i chi_2)"),
+    "chi_1": Spec(
+        ("time",),
+        "milliarcsecond",
+        "geodetic excitation chi_1 (real part of chi, from the pole by the Liouville equation)",
+    ),
+    "chi_2": Spec(
+        ("time",), "milliarcsecond", "geodetic excitation chi_2 (imaginary part of chi; chi = chi_1 + i chi_2)"
+    ),
     "x_p_round_trip": Spec(("time",), "milliarcsecond", "x_p rebuilt from the excitation (forward Liouville equation)"),
     "y_p_round_trip": Spec(("time",), "milliarcsecond", "y_p rebuilt from the excitation (forward Liouville equation)"),
     "chandler_band_chi": Spec(("time",), "milliarcsecond", "amplitude of the excitation in the prograde Chandler band"),
     "chandler_band_pole": Spec(("time",), "milliarcsecond", "amplitude of the pole in the prograde Chandler band"),
-    "excitation_spectrum": Spec(("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the excitation chi_1 + i chi_2"),
+    "excitation_spectrum": Spec(
+        ("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the excitation chi_1 + i chi_2"
+    ),
     "pole_spectrum": Spec(("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the pole x_p - i y_p"),
     "frequency": Spec(("frequency",), "year-1", "frequency in cycles per Julian year (positive: prograde)"),
     "chandler_period": Spec((), "day", "Chandler period T_c of the complex frequency sigma_c"),
     "quality_factor": Spec((), "1", "quality factor Q of the Chandler wobble"),
-    "round_trip_rms": Spec((), "milliarcsecond", "RMS distance between the record and the pole rebuilt from its excitation"),
+    "round_trip_rms": Spec(
+        (), "milliarcsecond", "RMS distance between the record and the pole rebuilt from its excitation"
+    ),
 }
 
 # Polar-motion forecasts and hindcasts (wobble forecast).
 FORECAST: dict[str, Spec] = {
     "lead_time": Spec(("lead",), "day", "lead time from the issue time", "forecast_period"),
-    "issue_time": Spec(("issue",), "days since 1858-11-17 00:00:00", "issue time of the forecast (UTC)", "forecast_reference_time"),
+    "issue_time": Spec(
+        ("issue",), "days since 1858-11-17 00:00:00", "issue time of the forecast (UTC)", "forecast_reference_time"
+    ),
     "x_p": Spec(("lead",), "milliarcsecond", "forecast of the pole coordinate x_p"),
     "y_p": Spec(("lead",), "milliarcsecond", "forecast of the pole coordinate y_p"),
     "x_p_bounds_68": Spec(("lead", "bounds"), "milliarcsecond", "68 % interval of the x_p forecast"),
@@ -241,12 +295,24 @@ FORECAST: dict[str, Spec] = {
     "y_p_bounds_95": Spec(("lead", "bounds"), "milliarcsecond", "95 % interval of the y_p forecast"),
     "x_p_forecast": Spec(("method", "issue", "lead"), "milliarcsecond", "hindcast of x_p"),
     "y_p_forecast": Spec(("method", "issue", "lead"), "milliarcsecond", "hindcast of y_p"),
-    "x_p_sigma": Spec(("method", "issue", "lead"), "milliarcsecond", "the model's own one-sigma error of the x_p hindcast"),
-    "y_p_sigma": Spec(("method", "issue", "lead"), "milliarcsecond", "the model's own one-sigma error of the y_p hindcast"),
-    "x_p_half_width_68": Spec(("method", "issue", "lead"), "milliarcsecond", "half-width of the 68 % interval of the x_p hindcast"),
-    "y_p_half_width_68": Spec(("method", "issue", "lead"), "milliarcsecond", "half-width of the 68 % interval of the y_p hindcast"),
-    "x_p_half_width_95": Spec(("method", "issue", "lead"), "milliarcsecond", "half-width of the 95 % interval of the x_p hindcast"),
-    "y_p_half_width_95": Spec(("method", "issue", "lead"), "milliarcsecond", "half-width of the 95 % interval of the y_p hindcast"),
+    "x_p_sigma": Spec(
+        ("method", "issue", "lead"), "milliarcsecond", "the model's own one-sigma error of the x_p hindcast"
+    ),
+    "y_p_sigma": Spec(
+        ("method", "issue", "lead"), "milliarcsecond", "the model's own one-sigma error of the y_p hindcast"
+    ),
+    "x_p_half_width_68": Spec(
+        ("method", "issue", "lead"), "milliarcsecond", "half-width of the 68 % interval of the x_p hindcast"
+    ),
+    "y_p_half_width_68": Spec(
+        ("method", "issue", "lead"), "milliarcsecond", "half-width of the 68 % interval of the y_p hindcast"
+    ),
+    "x_p_half_width_95": Spec(
+        ("method", "issue", "lead"), "milliarcsecond", "half-width of the 95 % interval of the x_p hindcast"
+    ),
+    "y_p_half_width_95": Spec(
+        ("method", "issue", "lead"), "milliarcsecond", "half-width of the 95 % interval of the y_p hindcast"
+    ),
     "x_p_observed": Spec(("issue", "lead"), "milliarcsecond", "x_p of the record at the forecast time"),
     "y_p_observed": Spec(("issue", "lead"), "milliarcsecond", "y_p of the record at the forecast time"),
     "mae_x": Spec(("method", "lead"), "milliarcsecond", "mean absolute error of x_p"),
@@ -257,8 +323,12 @@ FORECAST: dict[str, Spec] = {
     "rms_2d": Spec(("method", "lead"), "milliarcsecond", "RMS error of the 2-D pole"),
     "coverage_68": Spec(("method", "lead"), "1", "fraction of x_p and y_p outcomes inside the 68 % interval"),
     "coverage_95": Spec(("method", "lead"), "1", "fraction of x_p and y_p outcomes inside the 95 % interval"),
-    "rms_2d_persistence": Spec(("lead",), "milliarcsecond", "RMS error of the 2-D pole of persistence (the last value used)"),
-    "rms_2d_ls": Spec(("lead",), "milliarcsecond", "RMS error of the 2-D pole of the least-squares extrapolation alone"),
+    "rms_2d_persistence": Spec(
+        ("lead",), "milliarcsecond", "RMS error of the 2-D pole of persistence (the last value used)"
+    ),
+    "rms_2d_ls": Spec(
+        ("lead",), "milliarcsecond", "RMS error of the 2-D pole of the least-squares extrapolation alone"
+    ),
     "skill_persistence": Spec(("method", "lead"), "1", "skill against persistence, 1 - RMS_2d / RMS_2d(persistence)"),
     "skill_ls": Spec(("method", "lead"), "1", "skill against the least-squares extrapolation, 1 - RMS_2d / RMS_2d(LS)"),
     "latency": Spec((), "day", "publication delay assumed: the data used end this long before the issue time"),

@@ -32,7 +32,7 @@ def to_mjd(value, name: str) -> float:
     try:
         from erfa import ErfaWarning
     except ImportError:  # pragma: no cover - erfa ships with astropy
-        ErfaWarning = Warning  # noqa: N806
+        ErfaWarning = Warning
     try:
         with warnings.catch_warnings():
             # Dates before 1960 or past the leap-second table are "dubious" to ERFA

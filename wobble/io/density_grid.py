@@ -64,5 +64,7 @@ def _choose(path: Path, ds: xr.Dataset, var: str | None) -> str:
     if not candidates:
         raise FileFormatError(path, None, "no variable on dimensions x, y, z (a density grid)")
     if len(candidates) > 1:
-        raise FileFormatError(path, None, f"several density candidates ({', '.join(candidates)}); choose one with --var")
+        raise FileFormatError(
+            path, None, f"several density candidates ({', '.join(candidates)}); choose one with --var"
+        )
     return candidates[0]

@@ -87,7 +87,11 @@ def profile_from_file(pf: ParameterFile) -> DensityProfile:
         raise FileFormatError(pf.path, "parameters.normalising_radius.value", "must be positive")
     inner, outer = _si(pf, "fluid_core_inner_radius"), _si(pf, "fluid_core_outer_radius")
     if (inner is None) != (outer is None):
-        raise FileFormatError(pf.path, "parameters.fluid_core_outer_radius", "give both fluid_core_inner_radius and fluid_core_outer_radius")
+        raise FileFormatError(
+            pf.path,
+            "parameters.fluid_core_outer_radius",
+            "give both fluid_core_inner_radius and fluid_core_outer_radius",
+        )
     core = None if inner is None else (float(inner), float(outer))
     profile = DensityProfile(
         name=pf.name,

@@ -30,7 +30,15 @@ import numpy as np
 
 from wobble.errors import FileFormatError
 
-__all__ = ["PoleRecord", "SHIPPED_FILES", "default_c04_path", "resolve_eop_path", "read_c04", "read_finals2000a", "read_pole_file"]
+__all__ = [
+    "PoleRecord",
+    "SHIPPED_FILES",
+    "default_c04_path",
+    "resolve_eop_path",
+    "read_c04",
+    "read_finals2000a",
+    "read_pole_file",
+]
 
 #: The Earth-orientation files the astropy-iers-data package ships, found by name from any folder.
 SHIPPED_FILES = ("eopc04.1962-now", "finals2000A.all")
@@ -212,7 +220,9 @@ def read_finals2000a(path) -> PoleRecord:
             continue
         flag = line[16] if len(line) > 16 else " "
         if flag not in "IP ":
-            raise FileFormatError(path, f"line {lineno}", f"column 17 holds {flag!r}; allowed: I (IERS), P (prediction) or blank")
+            raise FileFormatError(
+                path, f"line {lineno}", f"column 17 holds {flag!r}; allowed: I (IERS), P (prediction) or blank"
+            )
         if flag == " ":
             _field(line, "MJD", _FINALS_FIELDS["MJD"], path, lineno)  # a bare future date is fine; junk is not
             continue
@@ -222,7 +232,9 @@ def read_finals2000a(path) -> PoleRecord:
         else:  # predictions are not used, but a malformed one is still a broken file
             _columns([(lineno, line)], _FINALS_FIELDS, path)
     data = _columns(rows, _FINALS_FIELDS, path)[:, [0, 1, 3, 2, 4]]  # MJD, x, y, x error, y error
-    return _finish(path, [r[0] for r in rows], data, "finals2000A", "IERS Bulletin A (finals2000A), observed values only")
+    return _finish(
+        path, [r[0] for r in rows], data, "finals2000A", "IERS Bulletin A (finals2000A), observed values only"
+    )
 
 
 def read_pole_file(path=None) -> PoleRecord:

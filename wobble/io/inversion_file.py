@@ -90,7 +90,20 @@ from wobble.models.planet import PlanetParameters
 __all__ = ["SCHEMA", "InversionSetup", "Comparison", "setup_names", "resolve_setup", "read_setup", "setup_from_dict"]
 
 SCHEMA = "wobble-inversion/1"
-_TOP = {"schema", "name", "title", "description", "body", "model", "profile", "derived", "sampler", "parameters", "observables", "compare"}
+_TOP = {
+    "schema",
+    "name",
+    "title",
+    "description",
+    "body",
+    "model",
+    "profile",
+    "derived",
+    "sampler",
+    "parameters",
+    "observables",
+    "compare",
+}
 _SAMPLER = {"walkers", "steps", "burn", "thin", "ensembles", "prior_draws", "seed", "moves"}
 _PRIOR_FIELDS = {
     "uniform": {"low", "high"},
@@ -103,7 +116,12 @@ _COMMON = {"prior", "unit", "source", "note"}
 _OBS_FIELDS = {"value", "uncertainty", "unit", "source", "note"}
 _COMPARE_FIELDS = {"value", "uncertainty", "low", "high", "unit", "source", "note"}
 # Parameters that describe how the model is set up, not physics to infer.
-_NOT_INVERTIBLE = {"observed_chandler_period", "observed_fcn_period", "observed_precession_rate", "observed_precession_includes_geodesic"}
+_NOT_INVERTIBLE = {
+    "observed_chandler_period",
+    "observed_fcn_period",
+    "observed_precession_rate",
+    "observed_precession_includes_geodesic",
+}
 # Observables that need the core's hydrostatic figure, or the perturbers.
 _NEEDS_CORE = {"fcn_period", "core_ellipticity"}
 _NEEDS_PERTURBERS = {"precession_rate"}
@@ -144,7 +162,9 @@ class InversionSetup:
     context: ForwardContext = field(default_factory=ForwardContext)
 
     def posterior(self, prior_only: bool = False) -> Posterior:
-        return Posterior(self.parameters, self.measurements, self.planet, self.model, prior_only=prior_only, context=self.context)
+        return Posterior(
+            self.parameters, self.measurements, self.planet, self.model, prior_only=prior_only, context=self.context
+        )
 
 
 def _folder():
@@ -187,7 +207,7 @@ def _num(path, where, raw, *, positive=False) -> float:
 def _unit(path, where, text, si: u.UnitBase) -> tuple[str, float]:
     """(unit text, SI value of one unit), checked against the SI unit ``si``."""
     if not isinstance(text, str):
-        raise FileFormatError(path, where, f"got {text!r}; allowed: a unit string such as \"km\" or \"\"")
+        raise FileFormatError(path, where, f'got {text!r}; allowed: a unit string such as "km" or ""')
     try:
         unit = u.Unit(text.strip() or u.dimensionless_unscaled, parse_strict="raise")
         scale = float((1.0 * unit).to_value(si))
@@ -214,22 +234,34 @@ def _sampler(path, raw) -> tuple[SamplerSettings, int]:
         raise FileFormatError(path, "sampler", "must be a table")
     unknown = set(raw) - _SAMPLER
     if unknown:
-        raise FileFormatError(path, f"sampler.{sorted(unknown)[0]}", f"unknown key; allowed: {', '.join(sorted(_SAMPLER))}")
+        raise FileFormatError(
+            path, f"sampler.{sorted(unknown)[0]}", f"unknown key; allowed: {', '.join(sorted(_SAMPLER))}"
+        )
     kwargs = {}
     if "moves" in raw:
         moves = raw["moves"]
         if not isinstance(moves, dict) or not moves:
-            raise FileFormatError(path, "sampler.moves", f"got {moves!r}; allowed: a table of move = weight ({', '.join(MOVE_NAMES)})")
+            raise FileFormatError(
+                path, "sampler.moves", f"got {moves!r}; allowed: a table of move = weight ({', '.join(MOVE_NAMES)})"
+            )
         for name, weight in moves.items():
             if name not in MOVE_NAMES:
                 raise FileFormatError(path, f"sampler.moves.{name}", f"unknown move; allowed: {', '.join(MOVE_NAMES)}")
-            if isinstance(weight, bool) or not isinstance(weight, (int, float)) or not (math.isfinite(weight) and weight > 0):
+            if (
+                isinstance(weight, bool)
+                or not isinstance(weight, (int, float))
+                or not (math.isfinite(weight) and weight > 0)
+            ):
                 raise FileFormatError(path, f"sampler.moves.{name}", f"got {weight!r}; allowed: a positive weight")
         kwargs["moves"] = tuple((name, float(weight)) for name, weight in moves.items())
         raw = {k: v for k, v in raw.items() if k != "moves"}
     for key, value in raw.items():
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key in ("burn", "seed") else 1):
-            raise FileFormatError(path, f"sampler.{key}", f"got {value!r}; allowed: a {'non-negative' if key in ('burn', 'seed') else 'positive'} integer")
+            raise FileFormatError(
+                path,
+                f"sampler.{key}",
+                f"got {value!r}; allowed: a {'non-negative' if key in ('burn', 'seed') else 'positive'} integer",
+            )
         kwargs[key] = value
     seed = kwargs.pop("seed", 0)
     return SamplerSettings(**kwargs), seed
@@ -245,7 +277,9 @@ def _prior(path, name, raw, planet: PlanetParameters, pf: ParameterFile) -> Para
     unknown = set(raw) - _COMMON - _PRIOR_FIELDS[kind]
     if unknown:
         allowed = ", ".join(sorted(_COMMON | _PRIOR_FIELDS[kind]))
-        raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"not a field of a {kind or 'catalogue'} prior; allowed: {allowed}")
+        raise FileFormatError(
+            path, f"{where}.{sorted(unknown)[0]}", f"not a field of a {kind or 'catalogue'} prior; allowed: {allowed}"
+        )
     si = PLANET_UNITS[name]
     catalogued = pf.get(name)
     default_unit = catalogued.value.unit.to_string() if catalogued is not None else si.to_string()
@@ -256,22 +290,31 @@ def _prior(path, name, raw, planet: PlanetParameters, pf: ParameterFile) -> Para
         measured = getattr(planet, name)
         if measured is None or measured.sigma == 0:
             raise FileFormatError(
-                path, where,
-                f"{planet.name} does not catalogue an uncertainty for {name}; allowed: a prior (uniform, log_uniform or normal)",
+                path,
+                where,
+                f"{planet.name} does not catalogue an uncertainty for {name}; allowed: a prior (uniform, "
+                "log_uniform or normal)",
             )
         prior = Normal(measured.value, measured.sigma, low_phys, high_phys)
         source = source or f"catalogue: {catalogued.source if catalogued is not None else name}"
     else:
         missing = [k for k in _REQUIRED[kind] if k not in raw]
         if missing:
-            raise FileFormatError(path, f"{where}.{missing[0]}", f"missing; a {kind} prior needs {' and '.join(_REQUIRED[kind])}")
+            raise FileFormatError(
+                path, f"{where}.{missing[0]}", f"missing; a {kind} prior needs {' and '.join(_REQUIRED[kind])}"
+            )
         nums = {k: _num(path, f"{where}.{k}", raw[k]) * scale for k in _PRIOR_FIELDS[kind] if k in raw}
         if kind == "uniform":
             prior = Uniform(nums["low"], nums["high"])
         elif kind == "log_uniform":
             prior = LogUniform(nums["low"], nums["high"])
         else:
-            prior = Normal(nums["mean"], nums["sd"], max(nums.get("low", -math.inf), low_phys), min(nums.get("high", math.inf), high_phys))
+            prior = Normal(
+                nums["mean"],
+                nums["sd"],
+                max(nums.get("low", -math.inf), low_phys),
+                min(nums.get("high", math.inf), high_phys),
+            )
     try:
         return Parameter(name, prior, unit, scale, source)
     except InputError as exc:
@@ -296,7 +339,7 @@ def _measurement(path, name, raw, planet: PlanetParameters, pf: ParameterFile) -
         if opt in raw:
             entry = raw[opt]
             if not isinstance(entry, dict) or set(entry) - {"value", "unit"} or "value" not in entry:
-                raise FileFormatError(path, f"{where}.{opt}", "allowed: a table { value = ..., unit = \"...\" }")
+                raise FileFormatError(path, f"{where}.{opt}", 'allowed: a table { value = ..., unit = "..." }')
             _, opt_scale = _unit(path, f"{where}.{opt}.unit", entry.get("unit", opt_unit), _si_unit(opt_unit))
             options[opt] = _num(path, f"{where}.{opt}.value", entry["value"], positive=True) * opt_scale
     source = _string(path, f"{where}.source", raw.get("source"))
@@ -306,17 +349,25 @@ def _measurement(path, name, raw, planet: PlanetParameters, pf: ParameterFile) -
         key = model.catalogue_key
         measured = getattr(planet, key) if key else None
         if measured is None:
-            raise FileFormatError(path, f"{where}.value", f"missing, and {planet.name} does not catalogue it; give value and uncertainty")
+            raise FileFormatError(
+                path, f"{where}.value", f"missing, and {planet.name} does not catalogue it; give value and uncertainty"
+            )
         value, sigma = measured.value, measured.sigma
         entry = pf.get(key)
         source = source or (entry.source if entry is not None else key)
     else:
         value = _num(path, f"{where}.value", raw["value"]) * scale
         if "uncertainty" not in raw:
-            raise FileFormatError(path, f"{where}.uncertainty", "missing; allowed: a positive one-sigma uncertainty (a measurement without one cannot be weighed)")
+            raise FileFormatError(
+                path,
+                f"{where}.uncertainty",
+                "missing; allowed: a positive one-sigma uncertainty (a measurement without one cannot be weighed)",
+            )
         sigma = _num(path, f"{where}.uncertainty", raw["uncertainty"]) * scale
     if not sigma > 0:
-        raise FileFormatError(path, f"{where}.uncertainty", f"got {sigma / scale:g}; allowed: a positive one-sigma uncertainty")
+        raise FileFormatError(
+            path, f"{where}.uncertainty", f"got {sigma / scale:g}; allowed: a positive one-sigma uncertainty"
+        )
     try:
         return Measurement(name, value, sigma, options, unit, scale, source)
     except InputError as exc:
@@ -342,7 +393,9 @@ def _comparisons(path, raw, units: dict[str, u.UnitBase]) -> tuple[Comparison, .
     out = []
     for name, entries in raw.items():
         if name not in units:
-            raise FileFormatError(path, f"compare.{name}", "not a sampled parameter or a reported quantity of this setup")
+            raise FileFormatError(
+                path, f"compare.{name}", "not a sampled parameter or a reported quantity of this setup"
+            )
         if not isinstance(entries, list):
             entries = [entries]
         for i, entry in enumerate(entries):
@@ -351,15 +404,23 @@ def _comparisons(path, raw, units: dict[str, u.UnitBase]) -> tuple[Comparison, .
                 raise FileFormatError(path, where, "must be a table")
             unknown = set(entry) - _COMPARE_FIELDS
             if unknown:
-                raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"unknown key; allowed: {', '.join(sorted(_COMPARE_FIELDS))}")
+                raise FileFormatError(
+                    path, f"{where}.{sorted(unknown)[0]}", f"unknown key; allowed: {', '.join(sorted(_COMPARE_FIELDS))}"
+                )
             _, scale = _unit(path, f"{where}.unit", entry.get("unit", units[name].to_string()), units[name])
-            nums = {k: _num(path, f"{where}.{k}", entry[k]) * scale for k in ("value", "uncertainty", "low", "high") if k in entry}
+            nums = {
+                k: _num(path, f"{where}.{k}", entry[k]) * scale
+                for k in ("value", "uncertainty", "low", "high")
+                if k in entry
+            }
             if ("value" in nums) == ("low" in nums or "high" in nums) or ("low" in nums) != ("high" in nums):
                 raise FileFormatError(path, where, "give value (with optional uncertainty) or low and high")
             source = _string(path, f"{where}.source", entry.get("source"))
             if not source:
                 raise FileFormatError(path, f"{where}.source", "missing: a published value names its source")
-            out.append(Comparison(name, source, nums.get("value"), nums.get("uncertainty"), nums.get("low"), nums.get("high")))
+            out.append(
+                Comparison(name, source, nums.get("value"), nums.get("uncertainty"), nums.get("low"), nums.get("high"))
+            )
     return tuple(out)
 
 
@@ -384,13 +445,21 @@ def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
     """The hydrostatic core of the setup's body (FixedCoreFigure or LinearMantleCoreFigure)."""
     name = _string(where, "profile", raw_profile) or profile_for_body(planet.name)
     if not name:
-        raise FileFormatError(where, "profile", f"missing: {planet.name} has no shipped density profile; give one for the core's hydrostatic flattening")
+        raise FileFormatError(
+            where,
+            "profile",
+            f"missing: {planet.name} has no shipped density profile; give one for the core's hydrostatic flattening",
+        )
     try:
         prof, pf = load_profile(name)
     except InputError as exc:
         raise FileFormatError(where, "profile", f"got {name!r}; allowed: {exc.allowed}") from None
     if prof.fluid_core is None:
-        raise FileFormatError(where, "profile", f"{prof.name} has no liquid core; allowed: a profile with a liquid core (the FCN needs one)")
+        raise FileFormatError(
+            where,
+            "profile",
+            f"{prof.name} has no liquid core; allowed: a profile with a liquid core (the FCN needs one)",
+        )
     construction = pf.extra.get("construction")
     if construction is None:
         # A fixed profile must be this body's: its mass within 1e-3 of GM/G (as wobble modes asks).
@@ -398,7 +467,10 @@ def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
             mass = planet.gm.value / planet.gravitational_constant.value
             if abs(prof.mass() / mass - 1.0) > 1e-3:
                 raise FileFormatError(
-                    where, "profile", f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = {mass:.6g} kg)"
+                    where,
+                    "profile",
+                    f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = "
+                    f"{mass:.6g} kg)",
                 )
         fig = _hydro.hydrostatic_figure(prof, planet.rotation_rate.value, planet.gravitational_constant.value)
         return FixedCoreFigure(prof.name, float(fig.core_dynamical_ellipticity))
@@ -406,13 +478,26 @@ def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
         raise FileFormatError(pf.path, "construction", f"got {construction!r}; allowed: core_under_linear_mantle")
     values = planet.values()
     ranges = {}
-    for key in ("fluid_core_radius", "fluid_core_density", "gm", "gravitational_constant", "equatorial_radius", "polar_moment_factor", "j2", "dynamical_flattening"):
+    for key in (
+        "fluid_core_radius",
+        "fluid_core_density",
+        "gm",
+        "gravitational_constant",
+        "equatorial_radius",
+        "polar_moment_factor",
+        "j2",
+        "dynamical_flattening",
+    ):
         found = _prior_range(parameters, key, values.get(key))
         if found is not None:
             ranges[key] = found
     missing = [k for k in ("fluid_core_radius", "fluid_core_density", "gm", "equatorial_radius") if k not in ranges]
     if missing:
-        raise FileFormatError(where, "profile", f"{prof.name} is built from the body's {', '.join(missing)}; allowed: a body that gives them")
+        raise FileFormatError(
+            where,
+            "profile",
+            f"{prof.name} is built from the body's {', '.join(missing)}; allowed: a body that gives them",
+        )
     r = prof.radius
 
     def pick(*keys):
@@ -421,12 +506,22 @@ def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
     x = box_corners(pick("fluid_core_radius"), lambda fluid_core_radius: fluid_core_radius / r)
     y = box_corners(
         pick("fluid_core_density", "gm", "gravitational_constant"),
-        lambda fluid_core_density, gm, gravitational_constant: fluid_core_density / (gm / gravitational_constant / (4.0 / 3.0 * math.pi * r**3)),
+        lambda fluid_core_density, gm, gravitational_constant: (
+            fluid_core_density / (gm / gravitational_constant / (4.0 / 3.0 * math.pi * r**3))
+        ),
     )
     if "polar_moment_factor" in ranges:
-        c = box_corners(pick("polar_moment_factor", "equatorial_radius"), lambda polar_moment_factor, equatorial_radius: polar_moment_factor * (equatorial_radius / r) ** 2)
+        c = box_corners(
+            pick("polar_moment_factor", "equatorial_radius"),
+            lambda polar_moment_factor, equatorial_radius: polar_moment_factor * (equatorial_radius / r) ** 2,
+        )
     else:
-        c = box_corners(pick("j2", "dynamical_flattening", "equatorial_radius"), lambda j2, dynamical_flattening, equatorial_radius: j2 / dynamical_flattening * (equatorial_radius / r) ** 2)
+        c = box_corners(
+            pick("j2", "dynamical_flattening", "equatorial_radius"),
+            lambda j2, dynamical_flattening, equatorial_radius: (
+                j2 / dynamical_flattening * (equatorial_radius / r) ** 2
+            ),
+        )
     try:
         return LinearMantleCoreFigure.build(prof.name, r, (_padded(*x), _padded(*y), _padded(*c)))
     except InputError as exc:
@@ -437,24 +532,43 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
     """The Sun on the body's orbit and its catalogued satellites; the geodesic rate the observed precession includes."""
     missing = [k for k in ("obliquity", "orbit_semi_major_axis", "orbit_eccentricity") if getattr(planet, k) is None]
     if missing:
-        raise FileFormatError(where, "observables.precession_rate", f"{planet.name} does not catalogue {', '.join(missing)}; allowed: a body with its obliquity and orbit")
+        raise FileFormatError(
+            where,
+            "observables.precession_rate",
+            f"{planet.name} does not catalogue {', '.join(missing)}; allowed: a body with its obliquity and orbit",
+        )
     sun = load_perturber("sun")
     sun_orbit = _precession.PerturberOrbit(
-        "sun", measured(sun, "gm", PERTURBER_UNITS["gm"]).value, planet.orbit_semi_major_axis.value, planet.orbit_eccentricity.value
+        "sun",
+        measured(sun, "gm", PERTURBER_UNITS["gm"]).value,
+        planet.orbit_semi_major_axis.value,
+        planet.orbit_eccentricity.value,
     )
     orbits = [sun_orbit]
     for pf in perturbers_of(planet.name):
+
         def get(key, default=None, pf=pf):
             m = measured(pf, key, PERTURBER_UNITS[key])
             return default if m is None else m.value
 
-        orbits.append(_precession.PerturberOrbit(
-            pf.name, get("gm"), get("semi_major_axis"), get("eccentricity", 0.0), get("inclination", 0.0),
-            get("solar_perturbation_factor", 1.0), get("node_rate"),
-        ))
+        orbits.append(
+            _precession.PerturberOrbit(
+                pf.name,
+                get("gm"),
+                get("semi_major_axis"),
+                get("eccentricity", 0.0),
+                get("inclination", 0.0),
+                get("solar_perturbation_factor", 1.0),
+                get("node_rate"),
+            )
+        )
     flag = planet.observed_precession_includes_geodesic
     includes = flag is None or flag.value != 0
-    geodesic = _precession.geodesic_precession_rate(sun_orbit.gm, sun_orbit.semi_major_axis, sun_orbit.eccentricity) if includes else 0.0
+    geodesic = (
+        _precession.geodesic_precession_rate(sun_orbit.gm, sun_orbit.semi_major_axis, sun_orbit.eccentricity)
+        if includes
+        else 0.0
+    )
     return tuple(orbits), geodesic
 
 

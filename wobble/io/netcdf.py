@@ -71,13 +71,11 @@ def to_cf(ds: xr.Dataset, *, command: str | None = None) -> xr.Dataset:
     gains a timestamped line naming ``command``).
     """
     out = ds.copy()
-    label_dims = [
-        name for name in out.indexes if name in out.dims and is_label_index(out[name].values)
-    ]
+    label_dims = [name for name in out.indexes if name in out.dims and is_label_index(out[name].values)]
     if label_dims:
         out = out.rename_vars({d: f"{d}_name" for d in label_dims})
         out.attrs[_LABELS_ATTR] = " ".join(label_dims)
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     line = f"{stamp} wobble {_version()}" + (f": {command}" if command else "")
     previous = out.attrs.get("history")
     out.attrs["history"] = f"{previous}\n{line}" if previous else line
@@ -259,9 +257,7 @@ def open_wobble(path: str | os.PathLike) -> xr.Dataset:
         raise FileFormatError(path, None, f"not a readable netCDF file ({exc})") from None
     source = str(ds.attrs.get("source", ""))
     if not source.startswith("wobble"):
-        raise FileFormatError(
-            path, "global attribute 'source'", f"got {source!r}; allowed: a file written by wobble"
-        )
+        raise FileFormatError(path, "global attribute 'source'", f"got {source!r}; allowed: a file written by wobble")
     return from_cf(ds)
 
 
@@ -321,8 +317,12 @@ class StreamingWriter:
             cf = to_cf(block, command=self.command)
             with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
                 cf.to_netcdf(
-                    self.tmp, mode="w", format="NETCDF4", engine="netcdf4",
-                    encoding=_encoding(cf, streaming=True), unlimited_dims=["time"],
+                    self.tmp,
+                    mode="w",
+                    format="NETCDF4",
+                    engine="netcdf4",
+                    encoding=_encoding(cf, streaming=True),
+                    unlimited_dims=["time"],
                 )
             import netCDF4
 
@@ -363,7 +363,7 @@ class StreamingWriter:
         if self._nc is not None:
             try:
                 self._nc.close()
-            except Exception:  # noqa: BLE001 - closing a broken file must not mask the real error
+            except Exception:  # closing a broken file must not mask the real error
                 pass
             self._nc = None
         if self.tmp is not None:

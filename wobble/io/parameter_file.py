@@ -35,7 +35,15 @@ from astropy import units as u
 from wobble.errors import FileFormatError
 from wobble.io.atomic import atomic_target
 
-__all__ = ["SCHEMA", "STATUSES", "Parameter", "ParameterFile", "read_toml", "read_parameter_file", "write_parameter_file"]
+__all__ = [
+    "SCHEMA",
+    "STATUSES",
+    "Parameter",
+    "ParameterFile",
+    "read_toml",
+    "read_parameter_file",
+    "write_parameter_file",
+]
 
 SCHEMA = "wobble/1"
 STATUSES = ("read", "secondary", "derived", "assumed")
@@ -86,11 +94,13 @@ class ParameterFile:
 
 def _parse_unit(path, key: str, text) -> u.UnitBase:
     if not isinstance(text, str):
-        raise FileFormatError(path, f"{key}.unit", f"got {text!r}; allowed: a unit string such as \"m3 s-2\" or \"\"")
+        raise FileFormatError(path, f"{key}.unit", f'got {text!r}; allowed: a unit string such as "m3 s-2" or ""')
     try:
         return u.Unit(text.strip() or u.dimensionless_unscaled, parse_strict="raise")
     except ValueError:
-        raise FileFormatError(path, f"{key}.unit", f"got {text!r}; allowed: a unit astropy can parse (e.g. \"kg m2\", \"d\")") from None
+        raise FileFormatError(
+            path, f"{key}.unit", f'got {text!r}; allowed: a unit astropy can parse (e.g. "kg m2", "d")'
+        ) from None
 
 
 def _parse_number(path, where: str, raw) -> np.ndarray:
@@ -141,7 +151,9 @@ def read_toml(path: str | os.PathLike) -> dict:
         raise FileFormatError(path, None, f"not valid TOML ({exc})") from None
 
 
-def read_parameter_file(path: str | os.PathLike, *, kind: str | None = None, known: set[str] | None = None) -> ParameterFile:
+def read_parameter_file(
+    path: str | os.PathLike, *, kind: str | None = None, known: set[str] | None = None
+) -> ParameterFile:
     """Read and validate a wobble parameter file.
 
     Parameters

@@ -115,7 +115,9 @@ def measured(pf: ParameterFile, key: str, unit: u.UnitBase) -> Measured | None:
         return Measured(float(param.value.to_value(unit)), float(param.uncertainty.to_value(unit)))
     except u.UnitConversionError:
         want = unit.to_string() or "dimensionless"
-        raise FileFormatError(pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}") from None
+        raise FileFormatError(
+            pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
+        ) from None
 
 
 def _check(pf: ParameterFile) -> ParameterFile:
@@ -125,20 +127,30 @@ def _check(pf: ParameterFile) -> ParameterFile:
         pf.require("semi_major_axis", "a perturber's tidal torque")
     gm = measured(pf, "gm", PERTURBER_UNITS["gm"])
     if gm is not None and not gm.value > 0:
-        raise FileFormatError(pf.path, "parameters.gm.value", f"got {gm.value!r}; allowed: a positive G M (a negative mass is unphysical)")
+        raise FileFormatError(
+            pf.path, "parameters.gm.value", f"got {gm.value!r}; allowed: a positive G M (a negative mass is unphysical)"
+        )
     a = measured(pf, "semi_major_axis", u.m)
     if a is not None and not a.value > 0:
-        raise FileFormatError(pf.path, "parameters.semi_major_axis.value", f"got {a.value!r}; allowed: a positive length")
+        raise FileFormatError(
+            pf.path, "parameters.semi_major_axis.value", f"got {a.value!r}; allowed: a positive length"
+        )
     e = measured(pf, "eccentricity", _ONE)
     if e is not None and not 0 <= e.value < 1:
         raise FileFormatError(
-            pf.path, "parameters.eccentricity.value", f"got {e.value!r}; allowed: 0 <= e < 1 (a bound orbit; e >= 1 is hyperbolic)"
+            pf.path,
+            "parameters.eccentricity.value",
+            f"got {e.value!r}; allowed: 0 <= e < 1 (a bound orbit; e >= 1 is hyperbolic)",
         )
     i = measured(pf, "inclination", u.rad)
     if i is not None and not 0 <= i.value <= math.pi:
-        raise FileFormatError(pf.path, "parameters.inclination.value", f"got {math.degrees(i.value):.6g} deg; allowed: 0 to 180 deg")
+        raise FileFormatError(
+            pf.path, "parameters.inclination.value", f"got {math.degrees(i.value):.6g} deg; allowed: 0 to 180 deg"
+        )
     if not isinstance(pf.extra.get("primary", ""), str) or not pf.extra.get("primary"):
-        raise FileFormatError(pf.path, "primary", "missing; the name of the body this perturber orbits (or \"*\" for every planet)")
+        raise FileFormatError(
+            pf.path, "primary", 'missing; the name of the body this perturber orbits (or "*" for every planet)'
+        )
     return pf
 
 
@@ -183,7 +195,9 @@ def load_nutation_reference(name: str | os.PathLike = "rigid_earth_nutation") ->
     else:
         entry = _dir() / f"{text.strip().lower()}.toml"
         if not entry.is_file():
-            raise InputError("nutation reference", text, "rigid_earth_nutation, or the path of a nutation_reference file")
+            raise InputError(
+                "nutation reference", text, "rigid_earth_nutation, or the path of a nutation_reference file"
+            )
         with resources.as_file(entry) as path:
             pf = _read(path, "nutation_reference", NUTATION_REFERENCE_UNITS)
     for key in ("nutation_longitude", "nutation_obliquity", "dynamical_flattening"):

@@ -49,7 +49,9 @@ def _parse_header(path, line_no: int, fields: list[str]) -> dict[str, tuple[int,
         name = _ALIASES.get(match.group(1).lower(), match.group(1).lower()) if match else None
         if name not in _COLUMNS:
             raise FileFormatError(
-                path, f"line {line_no}", f"column {field.strip()!r}; allowed: columns m, x, y, z with optional units, e.g. 'x [cm]'"
+                path,
+                f"line {line_no}",
+                f"column {field.strip()!r}; allowed: columns m, x, y, z with optional units, e.g. 'x [cm]'",
             )
         if name in found:
             raise FileFormatError(path, f"line {line_no}", f"column {name!r} appears twice")
@@ -60,17 +62,27 @@ def _parse_header(path, line_no: int, fields: list[str]) -> dict[str, tuple[int,
     return found
 
 
-def _unit(path, line_no, column: str, header_unit: str | None, default: u.UnitBase | None, kind: u.UnitBase, option: str):
+def _unit(
+    path, line_no, column: str, header_unit: str | None, default: u.UnitBase | None, kind: u.UnitBase, option: str
+):
     if header_unit is None:
         return default if default is not None else kind
     try:
         unit = u.Unit(header_unit, parse_strict="raise")
     except ValueError:
-        raise FileFormatError(path, f"line {line_no}", f"unit {header_unit!r} of column {column!r} is not a unit astropy can parse") from None
+        raise FileFormatError(
+            path, f"line {line_no}", f"unit {header_unit!r} of column {column!r} is not a unit astropy can parse"
+        ) from None
     if not unit.is_equivalent(kind):
-        raise FileFormatError(path, f"line {line_no}", f"unit {header_unit!r} of column {column!r}; allowed: a unit of {kind.physical_type}")
+        raise FileFormatError(
+            path,
+            f"line {line_no}",
+            f"unit {header_unit!r} of column {column!r}; allowed: a unit of {kind.physical_type}",
+        )
     if default is not None and default != unit:
-        raise InputError(option, str(default), f"the header's unit {header_unit!r} for column {column!r}, or no {option}")
+        raise InputError(
+            option, str(default), f"the header's unit {header_unit!r} for column {column!r}, or no {option}"
+        )
     return unit
 
 
@@ -117,7 +129,9 @@ def read_point_masses(
                 header_line = line_no
                 continue
         if len(fields) != len(columns):
-            raise FileFormatError(path, f"line {line_no}", f"{len(fields)} fields; allowed: {len(columns)} (m, x, y, z)")
+            raise FileFormatError(
+                path, f"line {line_no}", f"{len(fields)} fields; allowed: {len(columns)} (m, x, y, z)"
+            )
         try:
             values = [float(f) for f in fields]
         except ValueError:
@@ -130,7 +144,9 @@ def read_point_masses(
     masses = data[:, 0] << munit
     positions = np.column_stack(
         [
-            (data[:, k + 1] << _unit(path, header_line, c, columns[c][1], length_unit, u.m, "--length-unit")).to_value(u.m)
+            (data[:, k + 1] << _unit(path, header_line, c, columns[c][1], length_unit, u.m, "--length-unit")).to_value(
+                u.m
+            )
             for k, c in enumerate("xyz")
         ]
     )

@@ -32,12 +32,30 @@ from wobble.models.torques import TorqueSpec
 from wobble.numerics import quaternion as quat
 
 __all__ = [
-    "SCHEMA", "read_scene", "scene_from_mapping", "torque_from_mapping", "example_scenes", "example_scene_path", "to_plain",
+    "SCHEMA",
+    "read_scene",
+    "scene_from_mapping",
+    "torque_from_mapping",
+    "example_scenes",
+    "example_scene_path",
+    "to_plain",
     "TORQUE_KINDS",
 ]
 
 SCHEMA = "wobble-scene/1"
-TOP_KEYS = ("schema", "name", "title", "description", "body", "initial", "torques", "time", "accuracy", "outputs", "model")
+TOP_KEYS = (
+    "schema",
+    "name",
+    "title",
+    "description",
+    "body",
+    "initial",
+    "torques",
+    "time",
+    "accuracy",
+    "outputs",
+    "model",
+)
 # The kinds a scene file names; "custom" (a Python function) comes only from Python.
 TORQUE_KINDS = ("constant", "gravity", "gravity_gradient", "third_body", "magnetic", "damping")
 _SOLID_LENGTHS = {
@@ -88,7 +106,7 @@ class _Reader:
             try:
                 q = u.Quantity(raw)
             except (TypeError, ValueError):
-                raise self.error(where, raw, f"a number with a unit of {kind} (e.g. \"{_example(unit)}\")") from None
+                raise self.error(where, raw, f'a number with a unit of {kind} (e.g. "{_example(unit)}")') from None
         elif isinstance(raw, dict):
             self.table(raw, where, ("value", "unit"))
             if "value" not in raw or "unit" not in raw:
@@ -96,18 +114,26 @@ class _Reader:
             try:
                 un = u.Unit(str(raw["unit"]), parse_strict="raise")
             except ValueError:
-                raise self.error(f"{where}.unit", raw["unit"], f"a unit of {kind} astropy can parse (e.g. \"{unit.to_string()}\")") from None
+                raise self.error(
+                    f"{where}.unit", raw["unit"], f'a unit of {kind} astropy can parse (e.g. "{unit.to_string()}")'
+                ) from None
             try:
                 value = np.asarray(raw["value"], dtype=float)
             except (TypeError, ValueError):
                 raise self.error(f"{where}.value", raw["value"], "numbers") from None
             q = value * un
         else:
-            raise self.error(where, raw, f"a quantity with a unit of {kind}, e.g. \"{_example(unit)}\" (a bare number has no unit)")
+            raise self.error(
+                where, raw, f'a quantity with a unit of {kind}, e.g. "{_example(unit)}" (a bare number has no unit)'
+            )
         try:
             si = np.asarray(q.to_value(unit), dtype=float)
         except u.UnitConversionError:
-            raise self.error(f"{where}" if not isinstance(raw, dict) else f"{where}.unit", str(q.unit), f"a unit of {kind} (e.g. \"{unit.to_string()}\")") from None
+            raise self.error(
+                f"{where}" if not isinstance(raw, dict) else f"{where}.unit",
+                str(q.unit),
+                f'a unit of {kind} (e.g. "{unit.to_string()}")',
+            ) from None
         self._check_array(si, raw, where, ndim, width, positive, nonnegative)
         return si
 
@@ -130,7 +156,9 @@ class _Reader:
         if not np.all(np.isfinite(arr)):
             raise self.error(where, raw, "finite numbers")
         if ndim is not None and arr.ndim not in ndim:
-            want = " or ".join({0: "a single number", 1: "a list", 2: "a list of lists", 3: "a list of 3x3 tensors"}[d] for d in ndim)
+            want = " or ".join(
+                {0: "a single number", 1: "a list", 2: "a list of lists", 3: "a list of 3x3 tensors"}[d] for d in ndim
+            )
             raise self.error(where, raw, want)
         if width is not None and arr.ndim >= 1 and arr.shape[-1] != width:
             raise self.error(where, raw, f"{width} components per entry")
@@ -160,8 +188,16 @@ def _kind(unit):
 
 
 def _example(unit):
-    examples = {"time": "10 s", "angular speed": "1 rad/s", "moment of inertia": "1 kg m2", "mass": "1 kg", "length": "0.1 m",
-                "angle": "30 deg", "acceleration": "9.81 m/s2", "gravitational parameter": "3.986004418e14 m3/s2"}
+    examples = {
+        "time": "10 s",
+        "angular speed": "1 rad/s",
+        "moment of inertia": "1 kg m2",
+        "mass": "1 kg",
+        "length": "0.1 m",
+        "angle": "30 deg",
+        "acceleration": "9.81 m/s2",
+        "gravitational parameter": "3.986004418e14 m3/s2",
+    }
     return examples.get(_kind(unit), f"1 {unit.to_string()}")
 
 
@@ -207,7 +243,7 @@ def _planet(r: _Reader, name, where):
     from wobble.io.catalog import load_planet
 
     if not isinstance(name, str):
-        raise r.error(where, name, "the name of a catalogued planet (data/bodies), e.g. \"earth\"")
+        raise r.error(where, name, 'the name of a catalogued planet (data/bodies), e.g. "earth"')
     try:
         params, _ = load_planet(name)
     except InputError as exc:
@@ -228,7 +264,9 @@ def _planet_body(r: _Reader, name, mass, symmetric=False) -> BodyModel:
     p = _planet(r, name, "body.planet")
     figure = principal_moments(p)
     if figure is None:
-        raise r.error("body.planet", name, "a planet whose file gives gm, equatorial_radius and C/(M a^2) (or j2 with H)")
+        raise r.error(
+            "body.planet", name, "a planet whose file gives gm, equatorial_radius and C/(M a^2) (or j2 with H)"
+        )
     moments, planet_mass = figure
     moments = np.array(moments)
     if symmetric:
@@ -265,7 +303,9 @@ def _euler_quaternion(angles):
     phi, theta, psi = angles[..., 0], angles[..., 1], angles[..., 2]
     z = np.array([0.0, 0.0, 1.0])
     x = np.array([1.0, 0.0, 0.0])
-    return quat.multiply(quat.from_axis_angle(z, phi), quat.multiply(quat.from_axis_angle(x, theta), quat.from_axis_angle(z, psi)))
+    return quat.multiply(
+        quat.from_axis_angle(z, phi), quat.multiply(quat.from_axis_angle(x, theta), quat.from_axis_angle(z, psi))
+    )
 
 
 def _euler_omega(angles, rates):
@@ -285,14 +325,25 @@ def _euler_omega(angles, rates):
 def _initial(r: _Reader, data, body_data):
     if data is None:
         raise r.missing("initial", "give omega (or euler_rates, or spin_rate)")
-    keys = ("omega", "euler_rates", "spin_rate", "wobble_angle", "wobble_phase", "attitude", "euler_angles", "obliquity")
+    keys = (
+        "omega",
+        "euler_rates",
+        "spin_rate",
+        "wobble_angle",
+        "wobble_phase",
+        "attitude",
+        "euler_angles",
+        "obliquity",
+    )
     r.table(data, "initial", keys)
     rate_keys = [k for k in ("omega", "euler_rates", "spin_rate") if k in data]
     if len(rate_keys) != 1:
         raise r.error("initial", sorted(data), "exactly one of omega, euler_rates, spin_rate")
     given = [k for k in ("attitude", "euler_angles", "obliquity") if k in data]
     if len(given) > 1:
-        raise r.error(f"initial.{given[1]}", f"both {given[0]} and {given[1]}", "one of attitude, euler_angles, obliquity")
+        raise r.error(
+            f"initial.{given[1]}", f"both {given[0]} and {given[1]}", "one of attitude, euler_angles, obliquity"
+        )
     angles = None
     if "obliquity" in data:
         # Body axis 3 at (0, sin eps, cos eps): tilted towards +y, so that the inertial x axis
@@ -328,7 +379,7 @@ def _initial(r: _Reader, data, body_data):
         raw = data["spin_rate"]
         if raw == "catalogue":
             if not isinstance(body_data, dict) or "planet" not in body_data:
-                raise r.error("initial.spin_rate", raw, "\"catalogue\" only with body.planet; else an angular speed")
+                raise r.error("initial.spin_rate", raw, '"catalogue" only with body.planet; else an angular speed')
             spin = np.asarray(_planet(r, body_data["planet"], "body.planet").rotation_rate.value)
         else:
             spin = r.quantity(raw, "initial.spin_rate", u.rad / u.s, ndim=(0, 1))
@@ -371,7 +422,7 @@ def _torque_spec(r: _Reader, where: str, data, body, com) -> TorqueSpec:
 def _constant(r: _Reader, where, data, body, com) -> TorqueSpec:
     r.table(data, where, ("kind", "torque", "frame"))
     if "torque" not in data:
-        raise r.missing(_key(where, "torque"), "the torque vector, e.g. { value = [0, 0, 1], unit = \"N m\" }")
+        raise r.missing(_key(where, "torque"), 'the torque vector, e.g. { value = [0, 0, 1], unit = "N m" }')
     tau = r.quantity(data["torque"], _key(where, "torque"), u.N * u.m, ndim=(1, 2), width=3)
     frame = r.string(data.get("frame", "body"), _key(where, "frame"), ("body", "inertial"))
     return torques.ConstantTorque(tau, frame)
@@ -384,8 +435,15 @@ def _gravity(r: _Reader, where, data, body, com) -> TorqueSpec:
     if "gravity" in data:
         grav = r.quantity(data["gravity"], _key(where, "gravity"), u.m / u.s**2, ndim=(1,), width=3)
     else:
-        g = float(r.quantity(data.get("g", f"{torques.STANDARD_GRAVITY} m/s2"), _key(where, "g"), u.m / u.s**2,
-                             ndim=(0,), positive=True))
+        g = float(
+            r.quantity(
+                data.get("g", f"{torques.STANDARD_GRAVITY} m/s2"),
+                _key(where, "g"),
+                u.m / u.s**2,
+                ndim=(0,),
+                positive=True,
+            )
+        )
         grav = np.array([0.0, 0.0, -g])
     if "mass" in data:
         mass = r.quantity(data["mass"], _key(where, "mass"), u.kg, ndim=(0, 1), positive=True)
@@ -417,7 +475,9 @@ def _gravity_gradient(r: _Reader, where, data, body, com) -> TorqueSpec:
         raise r.missing(_key(where, "distance"), "the distance to the attracting mass")
     dist = float(r.quantity(data["distance"], _key(where, "distance"), u.m, ndim=(0,), positive=True))
     if ("direction" in data) == ("orbit_normal" in data):
-        raise r.error(_key(where, "direction"), sorted(data), "exactly one of direction (fixed) and orbit_normal (circular orbit)")
+        raise r.error(
+            _key(where, "direction"), sorted(data), "exactly one of direction (fixed) and orbit_normal (circular orbit)"
+        )
     direction = normal = None
     if "direction" in data:
         direction = _nonzero(r, data["direction"], _key(where, "direction"))
@@ -439,8 +499,17 @@ def _nonzero(r: _Reader, raw, where: str) -> np.ndarray:
 
 _ORBIT_ANGLES = ("inclination", "longitude_of_node", "argument_of_periapsis", "mean_anomaly")
 _ORBIT_RATES = ("mean_motion", "node_rate", "periapsis_rate")
-_THIRD_BODY_KEYS = ("kind", "name", "gm", "semi_major_axis", "eccentricity", *_ORBIT_ANGLES, *_ORBIT_RATES,
-                    "ephemeris", "position")
+_THIRD_BODY_KEYS = (
+    "kind",
+    "name",
+    "gm",
+    "semi_major_axis",
+    "eccentricity",
+    *_ORBIT_ANGLES,
+    *_ORBIT_RATES,
+    "ephemeris",
+    "position",
+)
 
 
 def _third_body(r: _Reader, where, data, body, com) -> TorqueSpec:
@@ -450,39 +519,53 @@ def _third_body(r: _Reader, where, data, body, com) -> TorqueSpec:
     if not isinstance(name, str) or not name:
         raise r.error(_key(where, "name"), name, "a non-empty string (the perturber's name)")
     if "gm" not in data:
-        raise r.missing(_key(where, "gm"), "the perturber's G M, e.g. \"4.9028e12 m3/s2\" (the Moon)")
+        raise r.missing(_key(where, "gm"), 'the perturber\'s G M, e.g. "4.9028e12 m3/s2" (the Moon)')
     gm_si = r.quantity(data["gm"], _key(where, "gm"), u.m**3 / u.s**2, ndim=(0,))
     if not gm_si > 0:
         raise r.error(_key(where, "gm"), data["gm"], "a positive G M (a negative mass is unphysical)")
     sources = [k for k in ("semi_major_axis", "ephemeris", "position") if k in data]
     if len(sources) != 1:
-        raise r.error(_key(where, "semi_major_axis"), sorted(data),
-                      "exactly one of semi_major_axis (with the other orbital elements), ephemeris (a table) "
-                      "and position (a Python callable)")
+        raise r.error(
+            _key(where, "semi_major_axis"),
+            sorted(data),
+            "exactly one of semi_major_axis (with the other orbital elements), ephemeris (a table) "
+            "and position (a Python callable)",
+        )
     orbit_keys = ("eccentricity", *_ORBIT_ANGLES, *_ORBIT_RATES)
     if sources[0] != "semi_major_axis" and any(k in data for k in orbit_keys):
         extra = next(k for k in orbit_keys if k in data)
-        raise r.error(_key(where, extra), data[extra], f"orbital elements only with semi_major_axis (not with {sources[0]})")
+        raise r.error(
+            _key(where, extra), data[extra], f"orbital elements only with semi_major_axis (not with {sources[0]})"
+        )
     if sources[0] == "semi_major_axis":
         a = float(r.quantity(data["semi_major_axis"], _key(where, "semi_major_axis"), u.m, ndim=(0,)))
         e = float(r.number(data.get("eccentricity", 0.0), _key(where, "eccentricity"), ndim=(0,)))
         angles = {k: float(r.quantity(data.get(k, "0 deg"), _key(where, k), u.rad, ndim=(0,))) for k in _ORBIT_ANGLES}
-        rates = {k: float(r.quantity(data[k], _key(where, k), u.rad / u.s, ndim=(0,))) for k in _ORBIT_RATES if k in data}
+        rates = {
+            k: float(r.quantity(data[k], _key(where, k), u.rad / u.s, ndim=(0,))) for k in _ORBIT_RATES if k in data
+        }
         if "mean_motion" not in rates and a > 0:
             rates["mean_motion"] = float(np.sqrt(float(gm_si) / a**3))  # the perturber as the heavy partner
-        return _checked(r, where, lambda: torques.ThirdBody(float(gm_si), orbit=KeplerOrbit(a, e, **angles, **rates), name=name))
+        return _checked(
+            r, where, lambda: torques.ThirdBody(float(gm_si), orbit=KeplerOrbit(a, e, **angles, **rates), name=name)
+        )
     if sources[0] == "ephemeris":
         table = r.table(data["ephemeris"], _key(where, "ephemeris"), ("times", "positions"))
         for key in ("times", "positions"):
             if key not in table:
-                raise r.missing(_key(where, f"ephemeris.{key}"),
-                                "times (e.g. { value = [0, 1, 2, 3], unit = \"d\" }) and positions (m, one triple per time)")
+                raise r.missing(
+                    _key(where, f"ephemeris.{key}"),
+                    'times (e.g. { value = [0, 1, 2, 3], unit = "d" }) and positions (m, one triple per time)',
+                )
         t = r.quantity(table["times"], _key(where, "ephemeris.times"), u.s, ndim=(1,))
         pos = r.quantity(table["positions"], _key(where, "ephemeris.positions"), u.m, ndim=(2,), width=3)
         return _checked(r, where, lambda: torques.ThirdBody(float(gm_si), ephemeris=EphemerisTable(t, pos), name=name))
     if not callable(data["position"]):
-        raise r.error(_key(where, "position"), data["position"],
-                      "a Python callable f(t) -> positions (n, 3) in m (scene files use semi_major_axis or ephemeris)")
+        raise r.error(
+            _key(where, "position"),
+            data["position"],
+            "a Python callable f(t) -> positions (n, 3) in m (scene files use semi_major_axis or ephemeris)",
+        )
     return _checked(r, where, lambda: torques.ThirdBody(float(gm_si), position=data["position"], name=name))
 
 
@@ -496,8 +579,10 @@ def _checked(r: _Reader, where: str, build):
 
 def _magnetic(r: _Reader, where, data, body, com) -> TorqueSpec:
     r.table(data, where, ("kind", "dipole", "field"))
-    for key, what in (("dipole", "the body's magnetic dipole moment, body frame, e.g. { value = [0, 0, 1], unit = \"A m2\" }"),
-                      ("field", "the uniform magnetic field, inertial frame, e.g. { value = [0, 0, -50], unit = \"uT\" }")):
+    for key, what in (
+        ("dipole", 'the body\'s magnetic dipole moment, body frame, e.g. { value = [0, 0, 1], unit = "A m2" }'),
+        ("field", 'the uniform magnetic field, inertial frame, e.g. { value = [0, 0, -50], unit = "uT" }'),
+    ):
         if key not in data:
             raise r.missing(_key(where, key), what)
     mu = r.quantity(data["dipole"], _key(where, "dipole"), u.A * u.m**2, ndim=(1, 2), width=3)
@@ -535,11 +620,13 @@ def _times(r: _Reader, data):
             raise r.error("time.values", sorted(data), "values alone, or stop with samples or step")
         t = r.quantity(data["values"], "time.values", u.s, ndim=(1,))
         if t.size == 0 or np.any(np.diff(t) <= 0):
-            raise r.error("time.values", data["values"], "times increasing strictly (the time grid may not go backwards)")
+            raise r.error(
+                "time.values", data["values"], "times increasing strictly (the time grid may not go backwards)"
+            )
         return t, epoch
     start = float(r.quantity(data.get("start", "0 s"), "time.start", u.s, ndim=(0,)))
     if "stop" not in data:
-        raise r.missing("time.stop", "the end of the run (e.g. \"100 s\")")
+        raise r.missing("time.stop", 'the end of the run (e.g. "100 s")')
     stop = float(r.quantity(data["stop"], "time.stop", u.s, ndim=(0,)))
     if stop < start:
         raise r.error("time.stop", data["stop"], f"a time after time.start ({start} s): the grid may not go backwards")
@@ -569,9 +656,9 @@ def _epoch(r: _Reader, raw) -> str:
         try:
             value = dt.datetime.fromisoformat(raw.strip().replace("Z", "+00:00"))
         except ValueError:
-            raise r.error("time.epoch", raw, "an ISO 8601 date-time in UTC, e.g. \"2000-01-01 12:00:00\"") from None
+            raise r.error("time.epoch", raw, 'an ISO 8601 date-time in UTC, e.g. "2000-01-01 12:00:00"') from None
     else:
-        raise r.error("time.epoch", raw, "an ISO 8601 date-time in UTC, e.g. \"2000-01-01 12:00:00\"")
+        raise r.error("time.epoch", raw, 'an ISO 8601 date-time in UTC, e.g. "2000-01-01 12:00:00"')
     if value.tzinfo is not None:
         value = value.astimezone(dt.timezone.utc).replace(tzinfo=None)
     return value.strftime("%Y-%m-%d %H:%M:%S")
@@ -657,9 +744,20 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
             raise
         raise r.error("initial", str(exc), "per-member arrays of matching length") from None
     return Scene(
-        body=body, omega0=w0, attitude0=q0, torques=torques, times=times, accuracy=float(accuracy),
-        outputs=tuple(dict.fromkeys(outputs)), ensemble=bool(ensemble), name=name, title=title,
-        description=description, epoch=epoch, source=source, mapping=to_plain(data),
+        body=body,
+        omega0=w0,
+        attitude0=q0,
+        torques=torques,
+        times=times,
+        accuracy=float(accuracy),
+        outputs=tuple(dict.fromkeys(outputs)),
+        ensemble=bool(ensemble),
+        name=name,
+        title=title,
+        description=description,
+        epoch=epoch,
+        source=source,
+        mapping=to_plain(data),
     )
 
 
@@ -717,10 +815,9 @@ def to_plain(data):
     if isinstance(data, (_dt.date, _dt.time)):
         return data.isoformat()
     if hasattr(data, "kind"):
-        return {"kind": getattr(data, "kind"), "python": getattr(data, "name", type(data).__name__)}
+        return {"kind": data.kind, "python": getattr(data, "name", type(data).__name__)}
     try:
         json.dumps(data)
         return data
     except TypeError:
         return str(data)
-

@@ -150,8 +150,11 @@ def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> st
     found = find_shipped(str(text), kinds, suffixes)
     if found is not None:
         return str(found.path())
-    raise InputError(parameter, os.fspath(text),
-                     f"an existing file (there is no such file), or a shipped one: {_names(kinds, suffixes)}")
+    raise InputError(
+        parameter,
+        os.fspath(text),
+        f"an existing file (there is no such file), or a shipped one: {_names(kinds, suffixes)}",
+    )
 
 
 def copy_shipped(name: str, dest: str | os.PathLike | None = None, *, overwrite: bool = False) -> Path:

@@ -58,8 +58,20 @@ __all__ = ["SCHEMA", "DISTRIBUTIONS", "BaseValue", "Variation", "SweepSpec", "re
 SCHEMA = "wobble-sweep/1"
 DISTRIBUTIONS = ("normal", "uniform", "grid")
 _TOP = {
-    "schema", "name", "title", "description", "target", "body", "model", "members", "seed",
-    "chunk_size", "outputs", "vary", "vary_all_uncertain", "base",
+    "schema",
+    "name",
+    "title",
+    "description",
+    "target",
+    "body",
+    "model",
+    "members",
+    "seed",
+    "chunk_size",
+    "outputs",
+    "vary",
+    "vary_all_uncertain",
+    "base",
 }
 _BASE_FIELDS = {"value", "unit", "uncertainty", "source", "status", "note"}
 _FIELDS = {
@@ -137,7 +149,9 @@ def _variation(path, name: str, raw) -> Variation:
     unknown = set(raw) - _FIELDS[dist] - {"distribution"}
     if unknown:
         allowed = ", ".join(sorted(_FIELDS[dist]))
-        raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"not a field of a {dist} variation; allowed: {allowed}")
+        raise FileFormatError(
+            path, f"{where}.{sorted(unknown)[0]}", f"not a field of a {dist} variation; allowed: {allowed}"
+        )
     num = {k: _number(path, f"{where}.{k}", raw[k]) for k in ("mean", "sd", "low", "high", "start", "stop") if k in raw}
     if "note" in raw and not isinstance(raw["note"], str):
         raise FileFormatError(path, f"{where}.note", f"got {raw['note']!r}; allowed: a string")
@@ -169,21 +183,25 @@ def _variation(path, name: str, raw) -> Variation:
 
 def _base(path, raw) -> tuple[BaseValue, ...]:
     if not isinstance(raw, dict):
-        raise FileFormatError(path, "base", "must be a table of parameters, e.g. I1 = { value = 1.0, unit = \"kg m2\" }")
+        raise FileFormatError(path, "base", 'must be a table of parameters, e.g. I1 = { value = 1.0, unit = "kg m2" }')
     out = []
     for name, entry in raw.items():
         where = f"base.{name}"
         if not isinstance(entry, dict):
-            raise FileFormatError(path, where, f"got {entry!r}; allowed: a table {{ value = ..., unit = ..., source = ... }}")
+            raise FileFormatError(
+                path, where, f"got {entry!r}; allowed: a table {{ value = ..., unit = ..., source = ... }}"
+            )
         unknown = set(entry) - _BASE_FIELDS
         if unknown:
-            raise FileFormatError(path, f"{where}.{sorted(unknown)[0]}", f"unknown field; allowed: {', '.join(sorted(_BASE_FIELDS))}")
+            raise FileFormatError(
+                path, f"{where}.{sorted(unknown)[0]}", f"unknown field; allowed: {', '.join(sorted(_BASE_FIELDS))}"
+            )
         if "value" not in entry:
             raise FileFormatError(path, f"{where}.value", "missing; allowed: a number")
         value = _number(path, f"{where}.value", entry["value"])
         unit = entry.get("unit")
         if not isinstance(unit, str):
-            raise FileFormatError(path, f"{where}.unit", f"got {unit!r}; allowed: a unit string (\"\" for dimensionless)")
+            raise FileFormatError(path, f"{where}.unit", f'got {unit!r}; allowed: a unit string ("" for dimensionless)')
         unc = entry.get("uncertainty")
         if unc is not None and _number(path, f"{where}.uncertainty", unc) < 0:
             raise FileFormatError(path, f"{where}.uncertainty", f"got {unc!r}; allowed: >= 0")
@@ -215,14 +233,18 @@ def sweep_spec_from_dict(data: dict, path: str | os.PathLike | None = None) -> S
     if not isinstance(vary_all, bool):
         raise FileFormatError(where_path, "vary_all_uncertain", f"got {vary_all!r}; allowed: true or false")
     if not variations and not vary_all:
-        raise FileFormatError(where_path, "vary", "nothing varies; add [vary.<parameter>] tables or vary_all_uncertain = true")
+        raise FileFormatError(
+            where_path, "vary", "nothing varies; add [vary.<parameter>] tables or vary_all_uncertain = true"
+        )
     grid = [v for v in variations if v.distribution == "grid"]
     if grid and (len(grid) != len(variations) or vary_all):
         raise FileFormatError(where_path, "vary", "mixing grid and random variations is not supported; use one kind")
     members = data.get("members")
     if grid:
         if members is not None:
-            raise FileFormatError(where_path, "members", "a grid sweep's size is the product of its grids; remove members")
+            raise FileFormatError(
+                where_path, "members", "a grid sweep's size is the product of its grids; remove members"
+            )
     else:
         members = _number(where_path, "members", members, integer=True, positive=True) if members is not None else None
         if members is None:

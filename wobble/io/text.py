@@ -104,7 +104,7 @@ def duration(seconds: float | None, digits: int = TEXT_DIGITS) -> str:
     seconds = float(seconds)
     if not math.isfinite(seconds):
         return number(seconds)
-    for limit, size, symbol in _SPANS:
+    for limit, size, symbol in _SPANS:  # noqa: B007 - size and symbol are read after the loop
         if abs(seconds) < limit:
             break
     else:

@@ -39,11 +39,15 @@ def _zarr():
     try:
         import zarr
     except ModuleNotFoundError:
-        raise InputError("output", "*.zarr", 'a .nc file, or install zarr for Zarr output: pip install "wobble[zarr]"') from None
+        raise InputError(
+            "output", "*.zarr", 'a .nc file, or install zarr for Zarr output: pip install "wobble[zarr]"'
+        ) from None
     return zarr
 
 
-def write_zarr_blocks(template: xr.Dataset, path, blocks, *, overwrite: bool = False, command: str | None = None) -> Path:
+def write_zarr_blocks(
+    template: xr.Dataset, path, blocks, *, overwrite: bool = False, command: str | None = None
+) -> Path:
     """Write a dataset whose data arrive in blocks into a Zarr store, atomically, in bounded memory.
 
     Same contract as :func:`wobble.io.netcdf.write_netcdf_blocks`: ``template``'s lazy

@@ -118,9 +118,12 @@ def overflow_is_input_error(fn):
             with np.errstate(over="raise", invalid="raise"):
                 return fn(*args, **kwargs)
         except (FloatingPointError, OverflowError):
-            raise InputError(fn.__name__, ", ".join(map(str, [*args, *kwargs.values()])),
-                             "sizes whose moments of inertia fit double precision (below about 1e308 in SI); "
-                             "give smaller numbers in larger units") from None
+            raise InputError(
+                fn.__name__,
+                ", ".join(map(str, [*args, *kwargs.values()])),
+                "sizes whose moments of inertia fit double precision (below about 1e308 in SI); "
+                "give smaller numbers in larger units",
+            ) from None
 
     return checked
 
@@ -336,8 +339,12 @@ class Body:
             value = np.asarray(getattr(self, name), dtype=float)
             if not np.all(np.isfinite(value)):
                 # Finite inputs can still overflow (a 1e200 m ellipsoid has moments ~1e400).
-                raise InputError(name, value.tolist(), "finite values: the inputs overflow double precision "
-                                 "(about 1.8e308); use larger units or smaller numbers")
+                raise InputError(
+                    name,
+                    value.tolist(),
+                    "finite values: the inputs overflow double precision "
+                    "(about 1.8e308); use larger units or smaller numbers",
+                )
         if self.mass is not None and not math.isfinite(self.mass):
             raise InputError("mass", self.mass, "a finite mass: the inputs overflow double precision")
         object.__setattr__(self, "tensor", _readonly(self.tensor))
@@ -447,8 +454,12 @@ class Body:
             with np.errstate(over="raise", invalid="raise"):
                 tensor = self.central_tensor() + steiner_term(mass, self.center_of_mass - p)
         except FloatingPointError:
-            raise InputError("point", tuple(float(x) for x in p), "a point whose parallel-axis term M |d|^2 fits "
-                             "double precision (below about 1e308 kg m2), d its distance from the centre of mass") from None
+            raise InputError(
+                "point",
+                tuple(float(x) for x in p),
+                "a point whose parallel-axis term M |d|^2 fits "
+                "double precision (below about 1e308 kg m2), d its distance from the centre of mass",
+            ) from None
         return Body(0.5 * (tensor + tensor.T), p, self.center_of_mass, mass)
 
     def translated(self, offset) -> Body:
@@ -613,7 +624,9 @@ def from_principal_moments(
 
 
 @overflow_is_input_error
-def from_tensor(tensor, *, mass=None, center_of_mass=None, about=None, rtol: float = DEFAULT_RTOL, name: str = "tensor") -> Body:
+def from_tensor(
+    tensor, *, mass=None, center_of_mass=None, about=None, rtol: float = DEFAULT_RTOL, name: str = "tensor"
+) -> Body:
     """A body from a full 3x3 inertia tensor (kg m^2), checked.
 
     The tensor must be finite, symmetric to ``rtol`` (relative to its largest

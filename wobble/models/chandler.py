@@ -59,6 +59,7 @@ __all__ = [
     "STEP_DESCRIPTIONS",
     "Step",
     "Budget",
+    "ParameterValues",
     "free_wobble_rate",
     "free_wobble_rate_array",
     "secular_love_number",
@@ -80,9 +81,18 @@ _ALIASES = {"core": "fluid_core", "ocean": "ocean_pole_tide", "euler": "rigid"}
 STEP_LABELS = {
     "rigid": ("rigid body: Euler free precession", "Euler 1765; Goldstein, Poole & Safko 2002 sec. 5.6"),
     "elastic": ("elastic yielding, k2 against k_s", "Munk & MacDonald 1960; Smith & Dahlen 1981"),
-    "fluid_core": ("liquid core does not follow the mantle, A -> A_m", "Sasao, Okubo & Saito 1980; Smith & Dahlen 1981"),
-    "ocean_pole_tide": ("equilibrium ocean pole tide, k2 + k_ocean", "Dahlen 1976; Desai 2002; IERS Conventions 2010 sec. 6.5"),
-    "anelastic": ("mantle anelasticity: k2 at the wobble's frequency", "Wahr & Bergen 1986; Mathews et al. 2002; IERS Conventions 2010 eq. 6.12"),
+    "fluid_core": (
+        "liquid core does not follow the mantle, A -> A_m",
+        "Sasao, Okubo & Saito 1980; Smith & Dahlen 1981",
+    ),
+    "ocean_pole_tide": (
+        "equilibrium ocean pole tide, k2 + k_ocean",
+        "Dahlen 1976; Desai 2002; IERS Conventions 2010 sec. 6.5",
+    ),
+    "anelastic": (
+        "mantle anelasticity: k2 at the wobble's frequency",
+        "Wahr & Bergen 1986; Mathews et al. 2002; IERS Conventions 2010 eq. 6.12",
+    ),
 }
 STEP_DESCRIPTIONS = {name: f"{label} ({refs})" for name, (label, refs) in STEP_LABELS.items()}
 
@@ -270,7 +280,9 @@ def free_wobble_rate(spin: float, c_minus_a: float, c_minus_b: float, d: float =
     """
     rate, code = free_wobble_rate_array(spin, c_minus_a, c_minus_b, d, core)
     if code == 2:
-        raise InputError("fluid_core", f"A_f/C = {core:.6g}", "a liquid core smaller than the equatorial moment (A_f < A)")
+        raise InputError(
+            "fluid_core", f"A_f/C = {core:.6g}", "a liquid core smaller than the equatorial moment (A_f < A)"
+        )
     if code == 1:
         raise InputError(
             "figure",
@@ -285,10 +297,10 @@ def principal_moments(planet: PlanetParameters):
     """Principal moments (A, B, C) in kg m^2 and the mass in kg of a catalogued planet.
 
     C = (C/(M a^2)) M a^2 with M = GM/G; A and B from (C - A)/C and (C - B)/C formed
-    from H and J22 without cancellation (:meth:`_Values.equatorial_excess`). None when
+    from H and J22 without cancellation (:meth:`ParameterValues.equatorial_excess`). None when
     the file does not give the absolute scale (GM, a and C/(M a^2), or J2 with H).
     """
-    vals = _Values(planet.values())
+    vals = ParameterValues(planet.values())
     c_factor = vals.c_factor
     if c_factor is None or vals["gm"] is None or vals["equatorial_radius"] is None:
         return None
@@ -301,9 +313,45 @@ def principal_moments(planet: PlanetParameters):
 # -- the parameters as arrays ----------------------------------------------------------
 
 
+class ParameterValues:
+    """A planet's parameters as float64 arrays broadcast to one shape, with the derived figure.
 
-class _Values:
-    """Parameter values as float64 arrays broadcast to one shape, with the derived figure."""
+    The one place the Chandler budget, the normal modes, the sweeps and the inversion turn
+    a parameter mapping (with per-member overrides) into arrays, and form the figure from
+    it: H, C/(M a^2), (C - A)/C and (C - B)/C from H and J22 without cancellation, the
+    deformation D/C, the core's A_f/C, the secular Love number and the anelastic k2.
+
+    Parameters
+    ----------
+    base : Mapping[str, float or None]
+        Every parameter by name (SI), as :meth:`wobble.models.planet.PlanetParameters.values` gives it; None
+        where the body file does not give it.
+    overrides : Mapping[str, array_like], optional
+        Values that replace entries of ``base`` (scalars or arrays, broadcast together
+        with the rest); a key that ``base`` does not have raises :class:`InputError`.
+
+    Attributes
+    ----------
+    shape : tuple of int
+        The broadcast shape of every given parameter.
+    v : dict
+        Parameter name -> array of that shape, or None where the parameter is not given
+        (``values[name]`` reads it).
+    out_of_range : numpy.ndarray of bool
+        True for members with a parameter outside its physical range (a non-positive
+        mass, radius or moment, a negative Love number, an anelastic exponent outside
+        (0, 1)).
+
+    Examples
+    --------
+    >>> from wobble.io.catalog import load_planet
+    >>> earth, _ = load_planet("earth")
+    >>> values = ParameterValues(earth.values(), {"love_number_k2": [0.29, 0.30]})
+    >>> values.shape
+    (2,)
+    >>> values.deformation(values["love_number_k2"]).round(6)  # D/C = H k2/k_s
+    array([0.001012, 0.001047])
+    """
 
     def __init__(self, base: Mapping[str, float | None], overrides: Mapping[str, object] | None = None):
         merged = dict(base)
@@ -316,10 +364,14 @@ class _Values:
         self.v = {k: None for k in merged}
         # Broadcast to one shape (np.full for the many scalars: np.broadcast_arrays costs
         # ten times more, and this runs on every call of a sweep chunk or an inversion step).
-        self.v.update({
-            k: a if a.shape == self.shape else (np.full(self.shape, a) if a.ndim == 0 else np.broadcast_to(a, self.shape))
-            for k, a in given.items()
-        })
+        self.v.update(
+            {
+                k: a
+                if a.shape == self.shape
+                else (np.full(self.shape, a) if a.ndim == 0 else np.broadcast_to(a, self.shape))
+                for k, a in given.items()
+            }
+        )
         bad = np.zeros(self.shape, dtype=bool)
         for key in POSITIVE_KEYS:
             if self.v[key] is not None:
@@ -400,7 +452,7 @@ def secular_love_number(p: PlanetParameters) -> float | None:
     Uses the body's actual C - Abar (H C), so for a non-hydrostatic body it is
     the quantity equation (1) needs, not a fluid-body Love number.
     """
-    ks = _Values(p.values()).secular_love_number()
+    ks = ParameterValues(p.values()).secular_love_number()
     return None if ks is None else float(ks)
 
 
@@ -415,7 +467,7 @@ def inertia_ratios(p: PlanetParameters) -> dict[str, float | None]:
         absolute scale); ``deformation_per_k``: D/C for k2 = 1, i.e.
         a^3 Omega^2/(3 GM C/(M a^2)) (None without the scale).
     """
-    values = _Values(p.values())
+    values = ParameterValues(p.values())
     ca, cb = values.equatorial_excess()
     scaled = values.c_factor is not None and values["gm"] is not None and values["equatorial_radius"] is not None
     core = None
@@ -443,7 +495,7 @@ def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, floa
     alpha = p.anelastic_exponent.value
     if not 0 < alpha < 1:
         raise InputError("anelastic_exponent", alpha, "a number in (0, 1)")
-    real, imag = _Values(p.values()).anelastic_k(rate)
+    real, imag = ParameterValues(p.values()).anelastic_k(rate)
     return float(real), float(imag)
 
 
@@ -482,8 +534,7 @@ def resolve_model(p: PlanetParameters, model: str) -> tuple[str, tuple[str, ...]
         raise InputError(
             "model",
             model,
-            f"a model {p.name} supports ({', '.join((*supported, 'full'))}); "
-            f"'{name}' needs {', '.join(missing)}",
+            f"a model {p.name} supports ({', '.join((*supported, 'full'))}); '{name}' needs {', '.join(missing)}",
         )
     upto = STEPS.index(name)
     return name, tuple(s for s in supported if STEPS.index(s) <= upto)
@@ -500,7 +551,12 @@ _USES = {
     "elastic": ("love_number_k2", "gm", "equatorial_radius"),
     "fluid_core": ("fluid_core_equatorial_moment", "fluid_core_radius", "fluid_core_density", "gravitational_constant"),
     "ocean_pole_tide": ("ocean_pole_tide_love_number",),
-    "anelastic": ("love_number_k2_period", "love_number_k2_imaginary", "love_number_k2_imaginary_period", "anelastic_exponent"),
+    "anelastic": (
+        "love_number_k2_period",
+        "love_number_k2_imaginary",
+        "love_number_k2_imaginary_period",
+        "anelastic_exponent",
+    ),
 }
 
 
@@ -513,7 +569,7 @@ class _StepArrays:
     core_fraction: np.ndarray
 
 
-def _evaluate(vals: _Values, steps: tuple[str, ...]):
+def _evaluate(vals: ParameterValues, steps: tuple[str, ...]):
     """Equation (1) step by step on arrays; returns step arrays, validity code, Q."""
     omega = vals["rotation_rate"]
     ca, cb = vals.equatorial_excess()
@@ -601,7 +657,7 @@ def _quality_factor(vals, omega, ca, cb, core, k_real, k_imag):
         return np.abs(sigma.real) / (2.0 * np.abs(sigma.imag))
 
 
-def _raise_for(p: PlanetParameters, code: int, steps, values: _Values):
+def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
     if code == 1:
         ca, cb = values.equatorial_excess()
         raise InputError(
@@ -611,16 +667,23 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: _Values):
             "axis is unstable (no periodic wobble)",
         )
     if code == 2:
-        raise InputError("fluid_core", f"A_f/C = {float(values.core_over_c()):.6g}", "a liquid core smaller than the equatorial moment (A_f < A)")
+        raise InputError(
+            "fluid_core",
+            f"A_f/C = {float(values.core_over_c()):.6g}",
+            "a liquid core smaller than the equatorial moment (A_f < A)",
+        )
     if code == 3:
         ks = values.secular_love_number()
         raise InputError(
             "love_number_k2",
             f"{p.love_number_k2.value:.6g}",
-            f"below the secular Love number k_s = {float(ks):.6g} of this figure (a body cannot yield more than a fluid)",
+            f"below the secular Love number k_s = {float(ks):.6g} of this figure (a body cannot yield more than a "
+            "fluid)",
         )
     if code == 4:
-        raise InputError("anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges")
+        raise InputError(
+            "anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges"
+        )
     if code == 5:
         raise InputError("parameters", p.name, INVALID_REASONS[5])
 
@@ -632,8 +695,9 @@ MC_DRAWS = 100_000
 MC_SEED = 20_240_901
 
 
-def _monte_carlo(p: PlanetParameters, steps: tuple[str, ...], draws: int = MC_DRAWS,
-                 seed: int = MC_SEED) -> tuple[float, float]:
+def _monte_carlo(
+    p: PlanetParameters, steps: tuple[str, ...], draws: int = MC_DRAWS, seed: int = MC_SEED
+) -> tuple[float, float]:
     """Standard deviation of the period (s) over normal draws of every uncertain parameter.
 
     Draws outside a parameter's physical range (a negative Love number or density, a
@@ -651,7 +715,7 @@ def _monte_carlo(p: PlanetParameters, steps: tuple[str, ...], draws: int = MC_DR
     if not measured:
         return 0.0, 1.0
     overrides = {k: m.value + m.sigma * standard_normal(seed, i, 0, draws) for i, (k, m) in enumerate(measured.items())}
-    out, code, _ = _evaluate(_Values(p.values(), overrides), steps)
+    out, code, _ = _evaluate(ParameterValues(p.values(), overrides), steps)
     ok = code == 0
     with np.errstate(divide="ignore"):
         period = np.abs(2.0 * math.pi / out[-1].rate[ok])
@@ -675,7 +739,7 @@ def _propagate(p: PlanetParameters, steps: tuple[str, ...]) -> tuple[float, dict
         col[2 * i] += measured[key].sigma
         col[2 * i + 1] -= measured[key].sigma
         overrides[key] = col
-    out, code, _ = _evaluate(_Values(base, overrides), steps)
+    out, code, _ = _evaluate(ParameterValues(base, overrides), steps)
     with np.errstate(divide="ignore"):
         period = np.where(code == 0, np.abs(2.0 * math.pi / out[-1].rate), np.nan)
     contributions = {}
@@ -705,13 +769,22 @@ def chandler_budget(p: PlanetParameters, model: str = "full") -> Budget:
         The steps with their periods, the propagated uncertainty and Q.
     """
     name, steps = resolve_model(p, model)
-    values = _Values(p.values())
+    values = ParameterValues(p.values())
     arrays, code, quality = _evaluate(values, steps)
     _raise_for(p, int(code), steps, values)
     out = []
     for s in arrays:
         uses = _rigid_uses(p) if s.name == "rigid" else tuple(k for k in _USES[s.name] if getattr(p, k) is not None)
-        out.append(Step(s.name, float(s.rate), float(s.love_number), float(s.love_number_imaginary), float(s.core_fraction), uses))
+        out.append(
+            Step(
+                s.name,
+                float(s.rate),
+                float(s.love_number),
+                float(s.love_number_imaginary),
+                float(s.core_fraction),
+                uses,
+            )
+        )
     if out[-1].rate == 0:
         sigma, linear, contributions, valid = math.nan, math.nan, {}, math.nan
     else:
@@ -783,7 +856,7 @@ def chandler_samples(p: PlanetParameters, overrides: Mapping[str, object], model
         As for :func:`chandler_budget`.
     """
     _, steps = resolve_model(p, model)
-    arrays, code, quality = _evaluate(_Values(p.values(), overrides), steps)
+    arrays, code, quality = _evaluate(ParameterValues(p.values(), overrides), steps)
 
     def period_of(rate):
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -824,7 +897,7 @@ def love_number_samples(p: PlanetParameters, overrides: Mapping[str, object], pe
     """
     if p.love_number_k2 is None and "love_number_k2" not in overrides:
         raise InputError("love_number_k2", "not given", "a planet with a Love number k2")
-    vals = _Values(p.values(), overrides)
+    vals = ParameterValues(p.values(), overrides)
     period = np.asarray(period, dtype=float)
     if "anelastic" in available_steps(p):
         real, imag = vals.anelastic_k(2.0 * math.pi / period)

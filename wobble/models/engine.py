@@ -223,7 +223,9 @@ class Engine:
         )
         self._program = None
         self._moments_one = tuple(float(x) for x in self.moments[0])
-        self._damping_one = None if self.damping is None else tuple(float(x) for x in np.reshape(self.damping, (-1, 3))[0])
+        self._damping_one = (
+            None if self.damping is None else tuple(float(x) for x in np.reshape(self.damping, (-1, 3))[0])
+        )
 
     # -- what the torques need ---------------------------------------------------
     @property
@@ -270,7 +272,7 @@ class Engine:
             return self._rhs_one(float(t[0]) if np.ndim(t) else float(t), y)
         w = y[:, :3]
         q = y[:, 3:7] if y.shape[1] == 7 else None
-        I = take_rows(self.moments, idx)  # noqa: E741
+        I = take_rows(self.moments, idx)
         tau = self.torque(t, w, q, idx)
         w0, w1, w2 = w[:, 0], w[:, 1], w[:, 2]
         i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
@@ -296,7 +298,7 @@ class Engine:
         tau = 0.0
         for b in self.kicked:
             tau = tau + b.torque(t, w, q, None)
-        I = self.moments  # noqa: E741
+        I = self.moments
         if self.damping is None:
             return w + (h / I) * tau, q
         x = self.damping * h / I
@@ -307,7 +309,7 @@ class Engine:
     def drift(self, state, t, h):
         """Exact free flow over h (Touma & Wisdom's drift)."""
         w, q = state
-        I = np.broadcast_to(self.moments, w.shape)  # noqa: E741
+        I = np.broadcast_to(self.moments, w.shape)
         w1, dq = flow_sorted(I, w, np.full(w.shape[0], h), attitude=q is not None)
         if q is None:
             return w1, None
@@ -357,7 +359,7 @@ class Engine:
         for b in self.kicked:
             a = b.torque_one(t, w, q)
             tx, ty, tz = tx + a[0], ty + a[1], tz + a[2]
-        I = self._moments_one  # noqa: E741
+        I = self._moments_one
         if self.damping is None:
             return (w[0] + h * tx / I[0], w[1] + h * ty / I[1], w[2] + h * tz / I[2]), q
         out = []
@@ -387,7 +389,9 @@ class Engine:
         """The torque program of :mod:`wobble.numerics.rigid_dop853` (internal frame, float64; built once)."""
         if self._program is None:
             if not self.compilable:
-                raise InputError("torques", [s.kind for s in self.specs], "built-in torques only for the compiled backend")
+                raise InputError(
+                    "torques", [s.kind for s in self.specs], "built-in torques only for the compiled backend"
+                )
             self._program = pack(self.moments, [term for b in self.torques for term in b.program_terms()])
         return self._program
 
@@ -422,13 +426,16 @@ class Engine:
         imin = np.min(self.moments, axis=-1)
         big_l = np.linalg.norm(self.moments * w, axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            turn = np.where(big_l > 0, np.linalg.norm(tau, axis=-1) / big_l, np.sqrt(np.linalg.norm(tau, axis=-1) / imin))
+            turn = np.where(
+                big_l > 0, np.linalg.norm(tau, axis=-1) / big_l, np.sqrt(np.linalg.norm(tau, axis=-1) / imin)
+            )
         damp = 0.0 if self.damping is None else np.max(self.damping / self.moments)
         return float(np.max(np.sqrt(stiff / imin) + turn) + damp)
 
     # -- integration ---------------------------------------------------------------
-    def propagator(self, omega0, q0, t0, *, method, rtol=None, step=None, order=6, attitude=True, multiple=1,
-                   backend="auto"):
+    def propagator(
+        self, omega0, q0, t0, *, method, rtol=None, step=None, order=6, attitude=True, multiple=1, backend="auto"
+    ):
         """A propagator with ``advance(t_out) -> (omega, q)`` in the body frame."""
         need_q = attitude or self.needs_attitude
         w, q = self.state_in(omega0, q0)
@@ -438,7 +445,9 @@ class Engine:
             if rtol is None:
                 raise InputError("rtol", rtol, "a relative tolerance for dop853")
             if backend == "compiled" and not self.compilable:
-                raise InputError("backend", backend, "'auto' or 'python' with a custom torque (it has no compiled form)")
+                raise InputError(
+                    "backend", backend, "'auto' or 'python' with a custom torque (it has no compiled form)"
+                )
             compiled = backend == "compiled" or (backend == "auto" and self.compilable and compiled_kernels.available())
             return _RKPropagator(self, w, q if need_q else None, t0, float(rtol), attitude, compiled)
         if method == "splitting":
@@ -451,8 +460,20 @@ class Engine:
             return _SplitPropagator(self, w, q if need_q else None, t0, float(step), int(order), attitude, multiple)
         raise InputError("method", method, f"one of {', '.join(METHODS)}")
 
-    def integrate(self, omega0, q0, t, *, method="dop853", rtol=1e-10, step=None, order=6, attitude=True, estimate=True,
-                  backend="auto"):
+    def integrate(
+        self,
+        omega0,
+        q0,
+        t,
+        *,
+        method="dop853",
+        rtol=1e-10,
+        step=None,
+        order=6,
+        attitude=True,
+        estimate=True,
+        backend="auto",
+    ):
         """Integrate N members to the output times ``t`` (s), with a global error estimate.
 
         Parameters
@@ -490,15 +511,29 @@ class Engine:
         t = np.asarray(t, dtype=float).reshape(-1)
         split_multiple = 2 if (estimate and method == "splitting") else 1
         prop = self.propagator(
-            omega0, q0, t[0], method=method, rtol=rtol, step=step, order=order, attitude=attitude, multiple=split_multiple,
+            omega0,
+            q0,
+            t[0],
+            method=method,
+            rtol=rtol,
+            step=step,
+            order=order,
+            attitude=attitude,
+            multiple=split_multiple,
             backend=backend,
         )
         comp = None
         if estimate:
             comp = self.propagator(
-                omega0, q0, t[0], method=method,
+                omega0,
+                q0,
+                t[0],
+                method=method,
                 rtol=None if rtol is None else min(10 * rtol, 1e-3),
-                step=None if step is None else 2 * step, order=order, attitude=attitude, backend=backend,
+                step=None if step is None else 2 * step,
+                order=order,
+                attitude=attitude,
+                backend=backend,
             )
         acc = ErrorAccumulator(self.n, 1.0 if method == "dop853" else 1.0 / (2**order - 1))
         w, q = prop.advance(t)
@@ -578,7 +613,9 @@ class _SplitPropagator:
         self.scalar = engine.scalar
         if self.scalar:
             state = (tuple(float(x) for x in w[0]), None if q is None else tuple(float(x) for x in q[0]))
-            self.solver = Splitting(engine.drift_one, engine.kick_one, t0, state, order=order, step=step, multiple=multiple)
+            self.solver = Splitting(
+                engine.drift_one, engine.kick_one, t0, state, order=order, step=step, multiple=multiple
+            )
         else:
             self.solver = Splitting(engine.drift, engine.kick, t0, (w, q), order=order, step=step, multiple=multiple)
 
@@ -604,8 +641,21 @@ class _SplitPropagator:
         }
 
 
-def simulate(moments, omega0, q0, t, torques=(), *, method="dop853", rtol=1e-10, step=None, order=6, attitude=True, estimate=True,
-             backend="auto"):
+def simulate(
+    moments,
+    omega0,
+    q0,
+    t,
+    torques=(),
+    *,
+    method="dop853",
+    rtol=1e-10,
+    step=None,
+    order=6,
+    attitude=True,
+    estimate=True,
+    backend="auto",
+):
     """Array-in, array-out ensemble integration (SI): the engine for sweeps and scripts.
 
     Parameters
@@ -641,5 +691,15 @@ def simulate(moments, omega0, q0, t, torques=(), *, method="dop853", rtol=1e-10,
     q0 = np.asarray(q0, dtype=float)
     n = max(omega0.reshape(-1, 3).shape[0], q0.reshape(-1, 4).shape[0], np.reshape(moments, (-1, 3)).shape[0])
     engine = Engine(BodyModel.from_moments(moments), torques, members=n)
-    return engine.integrate(omega0, q0, t, method=method, rtol=rtol, step=step, order=order, attitude=attitude, estimate=estimate,
-                            backend=backend)
+    return engine.integrate(
+        omega0,
+        q0,
+        t,
+        method=method,
+        rtol=rtol,
+        step=step,
+        order=order,
+        attitude=attitude,
+        estimate=estimate,
+        backend=backend,
+    )

@@ -145,7 +145,9 @@ class _Symmetric:
     def attitude_at(self, t):
         half_space, _ = reduce_phase(t, self.half_space_rate, _TWO_PI_DD)
         half_body, _ = reduce_phase(t, (-0.5 * self.rate[0], -0.5 * self.rate[1]), _TWO_PI_DD)
-        space = np.concatenate([np.cos(half_space)[..., None], np.sin(half_space)[..., None] * np.asarray(self.l_dir)], -1)
+        space = np.concatenate(
+            [np.cos(half_space)[..., None], np.sin(half_space)[..., None] * np.asarray(self.l_dir)], -1
+        )
         body = np.stack([np.cos(half_body), 0 * half_body, 0 * half_body, np.sin(half_body)], -1)
         return quat.multiply(space, body)
 
@@ -217,9 +219,12 @@ class _Elliptic:
         _, a1, a3, c1, c3, d0, d2 = self.fourier
         s, (amp_a, amp_b, amp_c) = self.sign_bc, self.amp
         return (self.a, self.b, self.c), (
-            4.0 * c3 * amp_a, (c1 - 3.0 * c3) * amp_a,
-            -4.0 * a3 * s * amp_b, (a1 + 3.0 * a3) * s * amp_b,
-            2.0 * d2 * s * amp_c, (d0 - d2) * s * amp_c,
+            4.0 * c3 * amp_a,
+            (c1 - 3.0 * c3) * amp_a,
+            -4.0 * a3 * s * amp_b,
+            (a1 + 3.0 * a3) * s * amp_b,
+            2.0 * d2 * s * amp_c,
+            (d0 - d2) * s * amp_c,
         )
 
     def omega_on_grid(self, t0, dt, n):
@@ -476,23 +481,26 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
     """
     moments, omega0 = _check(moments, omega0)
     order = tuple(int(i) for i in np.argsort(moments, kind="stable"))
-    I = [Fraction(moments[i]) for i in order]  # noqa: E741 - the notes' name
+    I = [Fraction(moments[i]) for i in order]
     w_user = [Fraction(x) for x in omega0]
     two_e = sum(Fraction(moments[i]) * w_user[i] ** 2 for i in range(3))
     l2 = sum((Fraction(moments[i]) * w_user[i]) ** 2 for i in range(3))
     if not (_fits_double(two_e) and _fits_double(l2)):
         raise InputError(
-            "omega0", omega0, f"rates whose energy fits double precision: 2E = sum I w^2 and L^2 = sum (I w)^2 "
-            f"below {sys.float_info.max:.4g} in SI"
+            "omega0",
+            omega0,
+            f"rates whose energy fits double precision: 2E = sum I w^2 and L^2 = sum (I w)^2 "
+            f"below {sys.float_info.max:.4g} in SI",
         )
     energy = float(two_e / 2)
     big_l = float(hp.sqrt(l2)) if l2 > 0 else 0.0
     lw = [Fraction(moments[i]) * w_user[i] for i in range(3)]
-    steady = all(
-        lw[i] * w_user[k] - lw[k] * w_user[i] == 0 for i, k in ((0, 1), (1, 2), (0, 2))
-    )
+    steady = all(lw[i] * w_user[k] - lw[k] * w_user[i] == 0 for i, k in ((0, 1), (1, 2), (0, 2)))
     common = dict(
-        moments=moments, omega0=omega0, energy=energy, angular_momentum=big_l,
+        moments=moments,
+        omega0=omega0,
+        energy=energy,
+        angular_momentum=big_l,
     )
     if steady:
         order, signs = (0, 1, 2), (1.0, 1.0, 1.0)
@@ -500,10 +508,17 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
         half_rate = hp.to_dd(hp.sqrt(norm2) / 2) if norm2 > 0 else (0.0, 0.0)
         impl = _Steady(omega=omega0, half_rate=half_rate)
         return FreeRotationModel(
-            regime="steady", m=0.0, m1=1.0, period=np.inf, time_between_flips=None,
+            regime="steady",
+            m=0.0,
+            m1=1.0,
+            period=np.inf,
+            time_between_flips=None,
             error_estimate={"omega_relative": 0.0, "attitude_rad": 4 * _EPS},
             precession_rate=float(hp.sqrt(norm2)) if norm2 > 0 else 0.0,
-            _order=order, _signs=signs, _impl=impl, **common,
+            _order=order,
+            _signs=signs,
+            _impl=impl,
+            **common,
         )
     if I[0] == I[1] or I[1] == I[2]:
         return _symmetric_model(moments, omega0, I, order, common, two_e, l2)
@@ -532,7 +547,7 @@ def intermediate_axis_alignment(moments, omega0) -> float | None:
     """
     moments, omega0 = _check(moments, omega0)
     order = np.argsort(moments, kind="stable")
-    I = [Fraction(moments[i]) for i in order]  # noqa: E741 - the notes' name
+    I = [Fraction(moments[i]) for i in order]
     w = [Fraction(omega0[i]) for i in order]
     if I[0] == I[1] or I[1] == I[2] or not any(w):
         return None
@@ -551,7 +566,7 @@ def intermediate_axis_alignment(moments, omega0) -> float | None:
     return min(1.0, float(hp.sqrt(I[1] * i2w2 / l2)))
 
 
-def _symmetric_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
+def _symmetric_model(moments, omega0, I, order, common, two_e, l2):
     # Oblate (I1 = I2 < I3): the symmetry axis is the largest; prolate
     # (I1 < I2 = I3): the smallest. Put it last in a right-handed frame.
     if I[0] == I[1]:
@@ -567,17 +582,28 @@ def _symmetric_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E74
     big_l = hp.sqrt(l2)
     l_dir = tuple(float(hp.dec(Fraction(moments[frame[k]]) * wf[k]) / big_l) for k in range(3))
     impl = _Symmetric(
-        i_perp=float(i_perp), i_axis=float(i_axis),
-        amplitude=float(hp.sqrt(wf[0] ** 2 + wf[1] ** 2)), omega3=float(wf[2]),
+        i_perp=float(i_perp),
+        i_axis=float(i_axis),
+        amplitude=float(hp.sqrt(wf[0] ** 2 + wf[1] ** 2)),
+        omega3=float(wf[2]),
         beta=float(np.arctan2(float(wf[1]), float(wf[0]))),
-        rate=hp.to_dd(rate), half_space_rate=hp.to_dd(big_l / hp.dec(2 * i_perp)), l_dir=l_dir,
+        rate=hp.to_dd(rate),
+        half_space_rate=hp.to_dd(big_l / hp.dec(2 * i_perp)),
+        l_dir=l_dir,
     )
     period = float(2 * hp.PI / abs(hp.dec(rate))) if rate != 0 else np.inf
     return FreeRotationModel(
-        regime="symmetric", m=0.0, m1=1.0, period=period, time_between_flips=None,
+        regime="symmetric",
+        m=0.0,
+        m1=1.0,
+        period=period,
+        time_between_flips=None,
         error_estimate={"omega_relative": 4 * _EPS, "attitude_rad": 8 * _EPS},
         precession_rate=float(big_l / hp.dec(i_perp)),
-        _order=frame, _signs=signs, _impl=impl, **common,
+        _order=frame,
+        _signs=signs,
+        _impl=impl,
+        **common,
     )
 
 
@@ -600,9 +626,12 @@ def _nome_series(m, kdec):
         rq = q.sqrt()
         coeffs = (
             hp.PI / (2 * kdec),
-            lead * rq / (1 - q), lead * rq * q / (1 - q**3),
-            lead * rq / (1 + q), lead * rq * q / (1 + q**3),
-            hp.PI / (2 * kdec), 2 * hp.PI / kdec * q / (1 + q * q),
+            lead * rq / (1 - q),
+            lead * rq * q / (1 - q**3),
+            lead * rq / (1 + q),
+            lead * rq * q / (1 + q**3),
+            hp.PI / (2 * kdec),
+            2 * hp.PI / kdec * q / (1 + q * q),
         )
     return tuple(float(x) for x in coeffs)
 
@@ -616,14 +645,15 @@ def _check_separatrix_distance(name: str, value, m1) -> None:
     """
     if 0 < m1 < ell.M1_MIN:  # m1 exact (a Fraction): an underflowing 1 - m is caught too
         raise InputError(
-            name, value,
+            name,
+            value,
             f"a state farther from the separatrix: 1 - m = {hp.dec(m1):.3g} is below {ell.M1_MIN:g} (a state within "
             "~1e-75 of the separatrix), where the elliptic integrals leave double precision; the exact "
             "separatrix (1 - m = 0) and anything farther than 1e-75 are computed",
         )
 
 
-def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
+def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
     frame, signs = _proper_frame(order)
     w = to_sorted(np.asarray(omega0), frame, signs)
     wf = [Fraction(float(x)) for x in w]
@@ -670,10 +700,14 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     c_g = float(hp.dec(ic - ia) * hp.sqrt(amp2[2]) / (hp.dec(ia) * lam * hp.sqrt(1 + nu)))
     if kdec is not None:
         pi_c = hp.cel(hp.sqrt(m1), 1 + nu, 1, 1)
-        mean = big_l / hp.dec(ic) + (
-            hp.dec(ic - ia) * big_l * pi_c / hp.dec(ia * ic)
-            - hp.dec(ic - ia) * hp.sqrt(amp2[2]) * hp.PI / (2 * hp.dec(ia) * hp.sqrt(1 + nu))
-        ) / kdec
+        mean = (
+            big_l / hp.dec(ic)
+            + (
+                hp.dec(ic - ia) * big_l * pi_c / hp.dec(ia * ic)
+                - hp.dec(ic - ia) * hp.sqrt(amp2[2]) * hp.PI / (2 * hp.dec(ia) * hp.sqrt(1 + nu))
+            )
+            / kdec
+        )
         pi_over_k = float(pi_c / kdec)
         period = float(4 * kdec / lam)
         half = 2 * kdec / lam
@@ -686,9 +720,24 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
         flip = ((np.inf, 0.0), hp.to_dd(-hp.dec(u0) / lam))
         tbf = None
     impl = _Elliptic(
-        a=a, b=b, c=c, amp=amp, sign_bc=sign_bc, m=float(m), m1=float(m1), lam=hp.to_dd(lam), K=K,
-        u0=u0, moments=tuple(float(x) for x in I), L=float(big_l), nu=float(nu), c_pi=c_pi, c_g=c_g,
-        pi_over_k=pi_over_k, half_prec_rate=hp.to_dd(mean / 2), levels=levels,
+        a=a,
+        b=b,
+        c=c,
+        amp=amp,
+        sign_bc=sign_bc,
+        m=float(m),
+        m1=float(m1),
+        lam=hp.to_dd(lam),
+        K=K,
+        u0=u0,
+        moments=tuple(float(x) for x in I),
+        L=float(big_l),
+        nu=float(nu),
+        c_pi=c_pi,
+        c_g=c_g,
+        pi_over_k=pi_over_k,
+        half_prec_rate=hp.to_dd(mean / 2),
+        levels=levels,
         fourier=_nome_series(m, kdec) if (kdec is not None and 0 < m <= _FOURIER_MAX_M) else None,
     )
     kf = K[0] if np.isfinite(K[0]) else 1.0
@@ -700,9 +749,18 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):  # noqa: E741
     if kdec is not None:
         circulation = (1 if regime == "major-axis" else -1) * hp.PI * lam / (2 * kdec)
     model = FreeRotationModel(
-        regime=regime, m=float(m), m1=float(m1), period=period, time_between_flips=tbf,
-        error_estimate=est, precession_rate=float(mean + circulation),
-        _order=frame, _signs=signs, _impl=impl, _flip=flip, **common,
+        regime=regime,
+        m=float(m),
+        m1=float(m1),
+        period=period,
+        time_between_flips=tbf,
+        error_estimate=est,
+        precession_rate=float(mean + circulation),
+        _order=frame,
+        _signs=signs,
+        _impl=impl,
+        _flip=flip,
+        **common,
     )
     return model
 

@@ -42,8 +42,8 @@ import numpy as np
 from scipy import special as _sp
 
 from wobble.models.free_flow import free_flow
-from wobble.models.vocabulary import Regime
 from wobble.models.principal_axes import proper_sort
+from wobble.models.vocabulary import Regime
 from wobble.numerics import elliptic as ell
 
 __all__ = ["REGIMES", "INVALID_REASONS", "free_ensemble"]
@@ -120,7 +120,7 @@ def free_ensemble(moments, omega0, t=None) -> dict[str, np.ndarray]:
 
 def _analyse(moments, omega):
     order, signs = proper_sort(moments)
-    I = np.take_along_axis(moments, order, -1)  # noqa: E741 - the notes' name
+    I = np.take_along_axis(moments, order, -1)
     w = np.take_along_axis(omega, order, -1)  # signs do not matter for what follows
     i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
     e0, e1, e2 = i0 * w[:, 0] ** 2, i1 * w[:, 1] ** 2, i2 * w[:, 2] ** 2
@@ -145,12 +145,14 @@ def _analyse(moments, omega):
     amp_a = np.sqrt(np.abs(dc / (ia * ica)))
     amp_b = np.sqrt(np.abs(dc / (ib * icb)))
     amp_c = np.sqrt(np.abs(-da / (ic * ica)))
-    K = _sp.elliprf(0.0, m1, 1.0)  # noqa: N806 - inf on the separatrix
+    K = _sp.elliprf(0.0, m1, 1.0)  # inf on the separatrix
     period = 4.0 * K / lam
     nu = np.abs(ic * iba / (ia * icb))
     ones = np.ones_like(nu)
     pi_c = ell.pi_negative_scd(nu, ones, 0.0 * ones, np.where(sep, 1.0, m1), np.where(sep, 1.0, m1))
-    rate_psi = big_l / ic + (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * np.pi) / (ia * np.sqrt(1.0 + nu))) / K
+    rate_psi = (
+        big_l / ic + (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * np.pi) / (ia * np.sqrt(1.0 + nu))) / K
+    )
     rate = rate_psi + np.where(minor, -2.0, 2.0) * np.pi / period
     theta_min = np.arctan2(ia * amp_a, ic * amp_c)
     theta_max = np.arctan2(ib * amp_b, ic * amp_c * np.sqrt(m1))

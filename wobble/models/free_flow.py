@@ -114,10 +114,15 @@ def _check_representable(omega, energies, m1, steady) -> None:
     bad = np.flatnonzero(lost | near)
     if bad.size:
         k = int(bad[0])
-        why = ("components whose squares underflow double precision (|omega_k| below ~1e-154 beside a "
-               "non-zero one)" if lost[k] else f"1 - m = {float(m1[k]):.3g}, below {ell.M1_MIN:g}: within ~1e-75 of "
-               "the separatrix, where the elliptic integrals leave double precision")
-        raise InputError(f"omega[{k}]", omega[k].tolist(), f"a state the free flow can carry in float64; this one has {why}")
+        why = (
+            "components whose squares underflow double precision (|omega_k| below ~1e-154 beside a non-zero one)"
+            if lost[k]
+            else f"1 - m = {float(m1[k]):.3g}, below {ell.M1_MIN:g}: within ~1e-75 of "
+            "the separatrix, where the elliptic integrals leave double precision"
+        )
+        raise InputError(
+            f"omega[{k}]", omega[k].tolist(), f"a state the free flow can carry in float64; this one has {why}"
+        )
 
 
 def flow_sorted(moments, omega, h, attitude=True):
@@ -129,7 +134,7 @@ def flow_sorted(moments, omega, h, attitude=True):
     component by component, with the three integrals of the third kind in
     one vectorised call, because it is the inner loop of the splitting.
     """
-    I = np.broadcast_to(np.asarray(moments, dtype=float), np.shape(omega))  # noqa: E741 - the notes' name
+    I = np.broadcast_to(np.asarray(moments, dtype=float), np.shape(omega))
     if omega.shape[0] == 1:
         w1, dq = flow_one(tuple(I[0]), tuple(omega[0]), float(np.reshape(h, -1)[0]), attitude)
         return np.array([w1]), (None if dq is None else np.array([dq]))
@@ -137,7 +142,7 @@ def flow_sorted(moments, omega, h, attitude=True):
         return flow_many(I, omega, h, attitude)
 
 
-def flow_many(I, omega, h, attitude):  # noqa: E741
+def flow_many(I, omega, h, attitude):
     """:func:`flow_sorted` for N members at once in NumPy (moments ascending, the sorted frame)."""
     i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
     w0, w1, w2 = omega[:, 0], omega[:, 1], omega[:, 2]
@@ -268,7 +273,9 @@ def flow_many(I, omega, h, attitude):  # noqa: E741
         pi_c = np.where(sep, 0.0, pi_c)
     # P(r) = c_pi (Pi(r) - Pi_c r/K) - c_g (g(r) - (pi/2) r/K); the mean rate Omega_psi.
     rate = big_l / ic + (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * np.pi) / (ia * sq)) * lin_scale
-    dpsi = rate * h + c_pi * ((pi1 - pi0) - pi_c * (lin1 - lin0)) - c_g * ((g[n:] - g[:n]) - 0.5 * np.pi * (lin1 - lin0))
+    dpsi = (
+        rate * h + c_pi * ((pi1 - pi0) - pi_c * (lin1 - lin0)) - c_g * ((g[n:] - g[:n]) - 0.5 * np.pi * (lin1 - lin0))
+    )
     # dq = S(l0)* R_z(dpsi) S(l1) in the (a, b, c) frame, S the shortest arc from l to z = s e_c:
     # S = (1 + s l_c, s l_b, -s l_a, 0) / norm, l = I omega / L.
     inv_l = 1.0 / np.where(big_l > 0, big_l, 1.0)
@@ -388,8 +395,9 @@ def flow_one(moments, omega, h, attitude=True):
         m1, m = 1.0 - m_dir, m_dir
     m1, m = min(max(m1, 0.0), 1.0), min(max(m, 0.0), 1.0)
     sep = m1 == 0.0
-    _check_representable(np.array([[w0, w1, w2]]), (np.array([e0]), np.array([e1]), np.array([e2])), np.array([m1]),
-                         np.array([False]))
+    _check_representable(
+        np.array([[w0, w1, w2]]), (np.array([e0]), np.array([e1]), np.array([e2])), np.array([m1]), np.array([False])
+    )
     lam = math.sqrt(abs(den) / (i0 * i1 * i2))
     amp_a = math.sqrt(abs(dc / (ia * ica)))
     amp_b = math.sqrt(abs(dc / (ib * icb)))

@@ -37,6 +37,7 @@ __all__ = [
     "linear_mantle_coefficients",
     "linear_mantle_core_density_range",
     "core_flattening_under_linear_mantle",
+    "core_flattening_unchecked",
 ]
 
 _SAMPLES_PER_LAYER = 24
@@ -119,7 +120,9 @@ def check_profile(profile: DensityProfile) -> None:
     if edges.ndim != 1 or edges.size < 2 or edges[0] != 0.0 or not np.all(np.diff(edges) > 0):
         raise InputError("layer_top_radius", profile.edges, "layer radii increasing from the centre")
     if len(profile.coeffs) != edges.size - 1:
-        raise InputError("density_coefficients", f"{len(profile.coeffs)} layers", f"one polynomial per layer ({edges.size - 1})")
+        raise InputError(
+            "density_coefficients", f"{len(profile.coeffs)} layers", f"one polynomial per layer ({edges.size - 1})"
+        )
     lo_side, hi_side = _layer_end_densities(profile)
     inner = np.concatenate([np.linspace(a, b, _SAMPLES_PER_LAYER) for a, b in zip(edges[:-1], edges[1:])])
     rho = np.concatenate([lo_side, hi_side, profile.density(inner)])
@@ -148,10 +151,14 @@ def _layer_end_densities(profile):
 def _check_core(profile, edges):
     inner, outer = profile.fluid_core
     if not (0.0 <= inner < outer):
-        raise InputError("fluid_core_outer_radius", f"{outer / 1e3:.6g} km", f"larger than the inner radius {inner / 1e3:.6g} km")
+        raise InputError(
+            "fluid_core_outer_radius", f"{outer / 1e3:.6g} km", f"larger than the inner radius {inner / 1e3:.6g} km"
+        )
     if outer > profile.radius * (1 + 1e-12):
         raise InputError(
-            "fluid_core_outer_radius", f"{outer / 1e3:.6g} km", f"a core inside the planet (radius {profile.radius / 1e3:.6g} km)"
+            "fluid_core_outer_radius",
+            f"{outer / 1e3:.6g} km",
+            f"a core inside the planet (radius {profile.radius / 1e3:.6g} km)",
         )
     for name, r in (("fluid_core_inner_radius", inner), ("fluid_core_outer_radius", outer)):
         if not np.any(np.isclose(edges, r, rtol=1e-12, atol=0.0)):
@@ -159,7 +166,11 @@ def _check_core(profile, edges):
     r = np.linspace(max(inner, 1e-9 * outer), outer, 400)[:-1]
     rho = profile.density(r)
     if np.any(np.diff(rho) > _JUMP_TOLERANCE * rho[:-1]):
-        raise InputError("density", "increasing outward inside the liquid core", "a liquid core whose density does not increase outward")
+        raise InputError(
+            "density",
+            "increasing outward inside the liquid core",
+            "a liquid core whose density does not increase outward",
+        )
 
 
 @dataclass(frozen=True)
@@ -230,7 +241,11 @@ def core_under_linear_mantle(
         than the core (checked by :func:`check_profile`).
     """
     if not 0 < core_radius < radius:
-        raise InputError("fluid_core_radius", f"{core_radius / 1e3:.6g} km", f"a core inside the planet (radius {radius / 1e3:.6g} km)")
+        raise InputError(
+            "fluid_core_radius",
+            f"{core_radius / 1e3:.6g} km",
+            f"a core inside the planet (radius {radius / 1e3:.6g} km)",
+        )
     m_core = 4.0 / 3.0 * math.pi * core_density * core_radius**3
     c_core = 8.0 / 15.0 * math.pi * core_density * core_radius**5
 
@@ -244,7 +259,11 @@ def core_under_linear_mantle(
     a0 = (b1 * a22 - a12 * b2) / det
     a1 = (a11 * b2 - a21 * b1) / det
     profile = DensityProfile(
-        name, (0.0, core_radius, radius), ((float(core_density),), (float(a0), float(a1))), radius, fluid_core=(0.0, core_radius)
+        name,
+        (0.0, core_radius, radius),
+        ((float(core_density),), (float(a0), float(a1))),
+        radius,
+        fluid_core=(0.0, core_radius),
     )
     check_profile(profile)
     return profile
@@ -402,14 +421,32 @@ def core_flattening_under_linear_mantle(x, y, c, *, rtol: float = 1e-12) -> np.n
     out = np.full(x.shape, np.nan)
     if not np.any(ok):
         return out.reshape(shape)
-    out[ok] = _radau_through_linear_mantle(x[ok], y[ok], c[ok], rtol)
+    out[ok] = core_flattening_unchecked(x[ok], y[ok], c[ok], rtol)
     return out.reshape(shape)
 
 
-def _radau_through_linear_mantle(x, y, c, rtol):
-    """e_f/q for 1-d arrays x, y, c, without the admissibility check (the Radau
-    integration itself only needs the mass inside each radius to stay positive: NaN
-    where it does not, or where the integration does not finish)."""
+def core_flattening_unchecked(x, y, c, rtol):
+    """e_f/q of :func:`core_flattening_under_linear_mantle` without its admissibility check.
+
+    The Radau integration itself only needs the mass inside each radius to stay positive,
+    so this also answers for profiles :func:`check_profile` refuses (a mantle denser than
+    the core, just outside :func:`linear_mantle_core_density_range`): a smooth extension
+    that a Chebyshev table over a box of priors can be fitted to.
+
+    Parameters
+    ----------
+    x, y, c : numpy.ndarray
+        1-d arrays of one length: core radius/R, core density/mean density, C/(M R^2)
+        (dimensionless).
+    rtol : float
+        Relative tolerance of the integration.
+
+    Returns
+    -------
+    numpy.ndarray
+        e_f/q for each member; NaN where the mass inside some radius is not positive, or
+        where the integration does not finish.
+    """
     from wobble.numerics.integrators import StepLimitError
 
     out = np.full(np.shape(x), np.nan)

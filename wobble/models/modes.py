@@ -175,7 +175,9 @@ def mode_rates(
             if step <= _K_TOL * abs(new) or (step >= last and step <= 1e-12 * abs(new)):
                 break
         else:  # pragma: no cover - the contraction factor is ~1e-3
-            raise InputError("anelastic_exponent", p.anelastic_exponent, f"parameters for which the {name} frequency converges")
+            raise InputError(
+                "anelastic_exponent", p.anelastic_exponent, f"parameters for which the {name} frequency converges"
+            )
         out[name] = (sign * rate, love_number_at(p, rate))
     return out
 
@@ -260,7 +262,7 @@ def mode_rates_samples(
         As for :func:`mode_rates`.
     values : optional
         The parameter arrays already built from ``p`` and ``overrides``
-        (``wobble.models.chandler._Values``), shared by callers that evaluate
+        (:class:`wobble.models.chandler.ParameterValues`), shared by callers that evaluate
         several models of one batch.
 
     Returns
@@ -269,7 +271,7 @@ def mode_rates_samples(
         ``{"CW": (rate, k2), "FCN": (rate, k2)}`` (arrays; rad/s signed like the spin
         when prograde); the FCN only with a liquid core and only when coupled.
     """
-    vals = chandler._Values(p.values(), overrides) if values is None else values
+    vals = chandler.ParameterValues(p.values(), overrides) if values is None else values
     e_f = np.asarray(e_f, dtype=float)
     shape = np.broadcast_shapes(vals.shape, e_f.shape)
     zeros = np.zeros(shape)
@@ -533,7 +535,11 @@ def _perturbed(p: PlanetParameters):
         if key in skip:
             continue
         try:
-            yield key, replace(p, **{key: replace(m, value=m.value + m.sigma)}), replace(p, **{key: replace(m, value=m.value - m.sigma)})
+            yield (
+                key,
+                replace(p, **{key: replace(m, value=m.value + m.sigma)}),
+                replace(p, **{key: replace(m, value=m.value - m.sigma)}),
+            )
         except InputError:  # pragma: no cover - a +-1 sigma step outside the physical range
             continue
 
@@ -566,7 +572,9 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
     if with_fcn:
         missing = _requirements(p, core_ellipticity)
         if missing:
-            raise InputError(missing[0].split(" ")[0], "not given", f"the free core nutation needs {', '.join(missing)}")
+            raise InputError(
+                missing[0].split(" ")[0], "not given", f"the free core nutation needs {', '.join(missing)}"
+            )
     e_f = core_ellipticity if with_fcn else 0.0
     spin = p.rotation_rate.value
     rates = mode_rates(p, e_f, coupled=with_fcn)
@@ -577,7 +585,9 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
         obs_fcn = replace(obs_fcn, value=sign * obs_fcn.value)
     required = required_core_ellipticity(p, 2 * math.pi / obs_fcn.value, e_f) if obs_fcn is not None else None
     contributions = _contributions(p, e_f, with_fcn, obs_fcn, required, e_of if with_fcn else None)
-    sig = {k: math.sqrt(sum(v[k] ** 2 for v in contributions.values())) for k in ("CW", "FCN", "e_f", "e_hyd", "excess")}
+    sig = {
+        k: math.sqrt(sum(v[k] ** 2 for v in contributions.values())) for k in ("CW", "FCN", "e_f", "e_hyd", "excess")
+    }
     cw_obs = p.observed_chandler_period
     # Observed periods are catalogued relative to the spin (the Chandler period unsigned, prograde).
     shown = p.observed_fcn_period if with_fcn else None
@@ -635,7 +645,13 @@ def _contributions(p, e_f, with_fcn, obs_fcn, required, e_of=None):
         e_plus, e_minus = (e_of(plus), e_of(minus)) if e_of is not None else (e_f, e_f)
         r_plus = mode_rates(plus, e_plus, coupled=with_fcn, which=which)
         r_minus = mode_rates(minus, e_minus, coupled=with_fcn, which=which)
-        row = {"CW": 0.5 * (r_plus["CW"][0] - r_minus["CW"][0]), "FCN": 0.0, "e_f": 0.0, "e_hyd": 0.5 * (e_plus - e_minus), "excess": 0.0}
+        row = {
+            "CW": 0.5 * (r_plus["CW"][0] - r_minus["CW"][0]),
+            "FCN": 0.0,
+            "e_f": 0.0,
+            "e_hyd": 0.5 * (e_plus - e_minus),
+            "excess": 0.0,
+        }
         if with_fcn:
             row["FCN"] = 0.5 * (r_plus["FCN"][0] - r_minus["FCN"][0])
             if slope is not None:
@@ -647,5 +663,11 @@ def _contributions(p, e_f, with_fcn, obs_fcn, required, e_of=None):
     if slope is not None and obs_fcn.sigma > 0:
         # The observation's own uncertainty moves only the required e_f.
         d_obs = 0.5 * abs(2 * math.pi / (obs_fcn.value + obs_fcn.sigma) - 2 * math.pi / (obs_fcn.value - obs_fcn.sigma))
-        out["observed_fcn_period"] = {"CW": 0.0, "FCN": 0.0, "e_f": d_obs / slope, "e_hyd": 0.0, "excess": d_obs / slope / e_f}
+        out["observed_fcn_period"] = {
+            "CW": 0.0,
+            "FCN": 0.0,
+            "e_f": d_obs / slope,
+            "e_hyd": 0.0,
+            "excess": d_obs / slope / e_f,
+        }
     return out

@@ -74,7 +74,9 @@ def perturber_precession_constant(dynamical_flattening: float, spin_rate: float,
     )
 
 
-def nodal_nutation(dynamical_flattening: float, spin_rate: float, obliquity: float, orbit: PerturberOrbit) -> NodalNutation:
+def nodal_nutation(
+    dynamical_flattening: float, spin_rate: float, obliquity: float, orbit: PerturberOrbit
+) -> NodalNutation:
     """Equations (2) and (3): the principal nutation from one perturber's node regression.
 
     Parameters
@@ -92,7 +94,11 @@ def nodal_nutation(dynamical_flattening: float, spin_rate: float, obliquity: flo
     if orbit.node_rate is None or orbit.node_rate == 0:
         raise InputError(f"{orbit.name}.node_rate", orbit.node_rate, "a non-zero node rate (the nutation's frequency)")
     if math.sin(obliquity) == 0:
-        raise InputError("obliquity", obliquity, "an obliquity strictly between 0 and 180 deg (the node of the equator is undefined otherwise)")
+        raise InputError(
+            "obliquity",
+            obliquity,
+            "an obliquity strictly between 0 and 180 deg (the node of the equator is undefined otherwise)",
+        )
     p = perturber_precession_constant(dynamical_flattening, spin_rate, orbit)
     nu = abs(orbit.node_rate)
     tilt = math.sin(orbit.inclination) * math.cos(orbit.inclination)

@@ -73,7 +73,9 @@ class KeplerOrbit:
         if not (math.isfinite(e) and 0.0 <= e < 1.0):
             raise InputError("eccentricity", e, "0 <= e < 1 (a bound orbit; e >= 1 is parabolic or hyperbolic)")
         if not (math.isfinite(i) and 0.0 <= i <= math.pi):
-            raise InputError("inclination", f"{math.degrees(i):.6g} deg" if math.isfinite(i) else i, "an angle in [0, 180] deg")
+            raise InputError(
+                "inclination", f"{math.degrees(i):.6g} deg" if math.isfinite(i) else i, "an angle in [0, 180] deg"
+            )
         if not (math.isfinite(self.mean_motion) and self.mean_motion >= 0):
             raise InputError("mean_motion", self.mean_motion, "a non-negative, finite angular speed (rad/s)")
         for name in ("longitude_of_node", "argument_of_periapsis", "mean_anomaly", "node_rate", "periapsis_rate"):
@@ -83,9 +85,19 @@ class KeplerOrbit:
     @property
     def elements(self) -> np.ndarray:
         """The element row of :data:`wobble.numerics.kepler.ELEMENTS`."""
-        return np.array([self.semi_major_axis, self.eccentricity, self.inclination, self.longitude_of_node,
-                         self.argument_of_periapsis, self.mean_anomaly, self.mean_motion, self.node_rate,
-                         self.periapsis_rate])
+        return np.array(
+            [
+                self.semi_major_axis,
+                self.eccentricity,
+                self.inclination,
+                self.longitude_of_node,
+                self.argument_of_periapsis,
+                self.mean_anomaly,
+                self.mean_motion,
+                self.node_rate,
+                self.periapsis_rate,
+            ]
+        )
 
     @property
     def periapsis(self) -> float:
@@ -136,12 +148,16 @@ class EphemerisTable:
         t = np.asarray(self.times, dtype=float)
         p = np.asarray(self.positions, dtype=float)
         if t.ndim != 1 or t.size < 4 or not np.all(np.isfinite(t)):
-            raise InputError("ephemeris.times", f"{t.size} values" if t.ndim == 1 else t.shape,
-                             "at least 4 finite times (s)")
+            raise InputError(
+                "ephemeris.times", f"{t.size} values" if t.ndim == 1 else t.shape, "at least 4 finite times (s)"
+            )
         if np.any(np.diff(t) <= 0):
             k = int(np.flatnonzero(np.diff(t) <= 0)[0])
-            raise InputError("ephemeris.times", f"t[{k + 1}] = {t[k + 1]!r} s after t[{k}] = {t[k]!r} s",
-                             "strictly increasing times (a table monotone in time)")
+            raise InputError(
+                "ephemeris.times",
+                f"t[{k + 1}] = {t[k + 1]!r} s after t[{k}] = {t[k]!r} s",
+                "strictly increasing times (a table monotone in time)",
+            )
         if p.shape != (t.size, 3) or not np.all(np.isfinite(p)):
             raise InputError("ephemeris.positions", p.shape, f"({t.size}, 3) finite positions (m), one per time")
         if np.any(np.linalg.norm(p, axis=1) == 0):
@@ -165,8 +181,9 @@ class EphemerisTable:
         """Refuse a run from ``start`` to ``stop`` (s) that the table does not cover."""
         t0, t1 = self.span
         if start < t0 or stop > t1:
-            raise InputError("ephemeris.times", f"[{t0!r}, {t1!r}] s",
-                             f"a table covering the run's span [{start!r}, {stop!r}] s")
+            raise InputError(
+                "ephemeris.times", f"[{t0!r}, {t1!r}] s", f"a table covering the run's span [{start!r}, {stop!r}] s"
+            )
 
     def _check(self, t):
         t0, t1 = self.span
@@ -192,7 +209,9 @@ class EphemerisTable:
         k = min(max(bisect.bisect_right(self._knots, t) - 1, 0), len(self._knots) - 2)
         dt = t - self._knots[k]
         c = self.coefficients[:, k, :]
-        x, y, z = (((float(c[0, j]) * dt + float(c[1, j])) * dt + float(c[2, j])) * dt + float(c[3, j]) for j in range(3))
+        x, y, z = (
+            ((float(c[0, j]) * dt + float(c[1, j])) * dt + float(c[2, j])) * dt + float(c[3, j]) for j in range(3)
+        )
         return x, y, z, math.sqrt(x * x + y * y + z * z)
 
 

@@ -152,9 +152,7 @@ class PlanetParameters:
     def __post_init__(self):
         given = [k for k in FIGURE_KEYS if getattr(self, k) is not None]
         if not given:
-            raise InputError(
-                "figure", "none given", "dynamical_flattening (H), or two of H, j2, polar_moment_factor"
-            )
+            raise InputError("figure", "none given", "dynamical_flattening (H), or two of H, j2, polar_moment_factor")
         if len(given) == 1 and given[0] != "dynamical_flattening":
             raise InputError(
                 "figure", f"only {given[0]}", "dynamical_flattening (H), or two of H, j2, polar_moment_factor"

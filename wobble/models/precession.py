@@ -111,10 +111,14 @@ class PerturberOrbit:
             raise InputError(f"{self.name}.semi_major_axis", self.semi_major_axis, "a positive, finite length")
         if not (0.0 <= self.eccentricity < 1.0):
             raise InputError(
-                f"{self.name}.eccentricity", self.eccentricity, "0 <= e < 1 (a bound orbit; e >= 1 is parabolic or hyperbolic)"
+                f"{self.name}.eccentricity",
+                self.eccentricity,
+                "0 <= e < 1 (a bound orbit; e >= 1 is parabolic or hyperbolic)",
             )
         if not (0.0 <= self.inclination <= math.pi):
-            raise InputError(f"{self.name}.inclination", self.inclination, "an inclination in [0, pi] rad (0 to 180 deg)")
+            raise InputError(
+                f"{self.name}.inclination", self.inclination, "an inclination in [0, pi] rad (0 to 180 deg)"
+            )
         if not (math.isfinite(self.perturbation_factor) and self.perturbation_factor > 0):
             raise InputError(f"{self.name}.perturbation_factor", self.perturbation_factor, "a positive factor near 1")
 
@@ -171,7 +175,9 @@ def tidal_torque(gm: float, c_minus_a: float, axis, position) -> np.ndarray:
     return 3.0 * gm * c_minus_a / rn**5 * (r @ s)[..., None] * np.cross(r, s)
 
 
-def averaged_tidal_torque(gm: float, c_minus_a: float, axis, normal, semi_major_axis: float, eccentricity: float = 0.0) -> np.ndarray:
+def averaged_tidal_torque(
+    gm: float, c_minus_a: float, axis, normal, semi_major_axis: float, eccentricity: float = 0.0
+) -> np.ndarray:
     """Orbit-averaged torque of a Keplerian perturber, equation (2), N m."""
     s = np.asarray(axis, dtype=float)
     n = np.asarray(normal, dtype=float)
@@ -211,7 +217,9 @@ def torque_strength(orbit: PerturberOrbit) -> float:
     )
 
 
-def precession_rate(dynamical_flattening: float, spin_rate: float, obliquity: float, orbits: Sequence[PerturberOrbit]) -> float:
+def precession_rate(
+    dynamical_flattening: float, spin_rate: float, obliquity: float, orbits: Sequence[PerturberOrbit]
+) -> float:
     """Secular precession rate of the node of the equator, equation (3) summed, rad/s.
 
     Negative (retrograde) for an oblate body (H > 0) spinning prograde
@@ -290,12 +298,22 @@ class PrecessionBudget:
 def _factor_terms(orbit: PerturberOrbit, scale: float, title: str, refs: Mapping[str, str]) -> list[Term]:
     """Equation (3) for one perturber, split into its circular rate and each factor's increment."""
     base = scale * orbit.gm / orbit.semi_major_axis**3
-    out = [Term(orbit.name, base, f"{title}: circular orbit in the reference plane at the mean distance ({refs['base']})")]
+    out = [
+        Term(orbit.name, base, f"{title}: circular orbit in the reference plane at the mean distance ({refs['base']})")
+    ]
     running = base
     for key, factor, label in (
         ("eccentricity", orbit.eccentricity_factor, "eccentricity of the orbit, (1 - e^2)^(-3/2)"),
-        ("inclination", orbit.inclination_factor, "inclination of the orbit averaged over its regressing node, 1 - (3/2) sin^2 i"),
-        ("solar_perturbation", orbit.perturbation_factor, "the Sun's perturbations of the orbit (evection, variation) on the mean tidal torque"),
+        (
+            "inclination",
+            orbit.inclination_factor,
+            "inclination of the orbit averaged over its regressing node, 1 - (3/2) sin^2 i",
+        ),
+        (
+            "solar_perturbation",
+            orbit.perturbation_factor,
+            "the Sun's perturbations of the orbit (evection, variation) on the mean tidal torque",
+        ),
     ):
         if factor == 1.0:
             continue
@@ -338,7 +356,8 @@ def budget_terms(inputs: Inputs) -> list[Term]:
             Term(
                 "geodesic",
                 geodesic_precession_rate(sun.gm, sun.semi_major_axis, sun.eccentricity),
-                "geodesic (de Sitter) precession in the Sun's field, prograde (de Sitter 1916; Soffel 1989; Capitaine et al. 2003)",
+                "geodesic (de Sitter) precession in the Sun's field, prograde (de Sitter 1916; Soffel 1989; "
+                "Capitaine et al. 2003)",
             )
         )
     return terms

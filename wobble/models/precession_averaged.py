@@ -82,8 +82,15 @@ def _orbits(torques):
 def perturber_orbit(spec: ThirdBody, node_rate: float | None = None) -> PerturberOrbit:
     """A third body's Keplerian orbit as :class:`wobble.models.precession.PerturberOrbit`."""
     o: KeplerOrbit = spec.orbit
-    return PerturberOrbit(spec.name, spec.gm, o.semi_major_axis, o.eccentricity, o.inclination, 1.0,
-                          o.node_rate if node_rate is None else node_rate)
+    return PerturberOrbit(
+        spec.name,
+        spec.gm,
+        o.semi_major_axis,
+        o.eccentricity,
+        o.inclination,
+        1.0,
+        o.node_rate if node_rate is None else node_rate,
+    )
 
 
 def _figure(body: BodyModel, omega0, attitude0):
@@ -107,8 +114,13 @@ def averaging_applies(body: BodyModel, omega0, attitude0, torques) -> str | None
     if not torques:
         return "no torque acts"
     if len(orbits) != len(torques):
-        others = sorted({t.kind if not isinstance(t, ThirdBody) else "a third body given by a table or a callable"
-                         for t in torques if not any(t is o for o in orbits)})
+        others = sorted(
+            {
+                t.kind if not isinstance(t, ThirdBody) else "a third body given by a table or a callable"
+                for t in torques
+                if not any(t is o for o in orbits)
+            }
+        )
         return "the averaged model takes third bodies on Keplerian orbits only (not " + ", ".join(others) + ")"
     h, spin, wobble, axis, m = _figure(body, omega0, attitude0)
     if np.any(m[:, 2] <= m[:, 1]):
@@ -124,8 +136,10 @@ def averaging_applies(body: BodyModel, omega0, attitude0, torques) -> str | None
     for t in orbits:
         o = t.orbit
         if o.inclination != 0 and o.node_rate == 0:
-            return (f"the orbit of {t.name} is inclined and its node does not regress: the axis precesses about its "
-                    "orbit normal, not about the inertial z axis")
+            return (
+                f"the orbit of {t.name} is inclined and its node does not regress: the axis precesses about its "
+                "orbit normal, not about the inertial z axis"
+            )
         slowest = min(o.mean_motion, abs(o.node_rate) if o.node_rate else math.inf)
         if float(np.max(np.abs(rate))) > SLOW * slowest:
             return f"the precession is not slow against the orbit of {t.name}"

@@ -48,7 +48,11 @@ def axis_angles(axis) -> tuple[np.ndarray, np.ndarray]:
     s = s / norm[:, None]
     eps = np.arccos(np.clip(s[:, 2], -1.0, 1.0))
     if np.any(np.sin(eps) < 1e-8):
-        raise InputError("axis", "an axis along the reference pole", "an obliquity away from 0 and 180 deg (the node is undefined there)")
+        raise InputError(
+            "axis",
+            "an axis along the reference pole",
+            "an obliquity away from 0 and 180 deg (the node is undefined there)",
+        )
     psi = np.unwrap(np.arctan2(s[:, 0], -s[:, 1]))
     return psi, eps
 
@@ -115,7 +119,11 @@ def _solve(design, y):
     a = design / scale
     coef, _, rank, _ = np.linalg.lstsq(a, y, rcond=None)
     if rank < a.shape[1]:
-        raise InputError("times", "a span that cannot separate the terms", "a series longer than the longest period fitted, sampled often enough")
+        raise InputError(
+            "times",
+            "a span that cannot separate the terms",
+            "a series longer than the longest period fitted, sampled often enough",
+        )
     resid = y - a @ coef
     dof = max(len(y) - a.shape[1], 1)
     s2 = float(resid @ resid) / dof

@@ -40,8 +40,8 @@ run whose output exceeds memory never holds it all.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -87,7 +87,9 @@ SUMMARY_OUTPUTS = frozenset({"mean_precession_rate"})
 #: Every name a scene's ``outputs`` may hold.
 ALL_OUTPUTS = OUTPUTS + tuple(sorted(SUMMARY_OUTPUTS))
 #: Outputs that need the attitude.
-ATTITUDE_OUTPUTS = frozenset({"attitude", "angular_momentum", "axis_direction", "tilt", "potential_energy", "total_energy"})
+ATTITUDE_OUTPUTS = frozenset(
+    {"attitude", "angular_momentum", "axis_direction", "tilt", "potential_energy", "total_energy"}
+)
 _EPS = np.finfo(float).eps
 # Integrators are not asked for less than this (relative): rounding over a run.
 _INTEGRATOR_FLOOR = 1e-13
@@ -212,7 +214,11 @@ class _FreeSingle(_ModelRun):
 
     def error_estimate(self):
         e = self.model.error_estimate
-        return {"omega_relative": float(e["omega_relative"]), "attitude_rad": float(e["attitude_rad"]), "method": "a priori bound of the exact solution (elliptic functions in double-double arithmetic)"}
+        return {
+            "omega_relative": float(e["omega_relative"]),
+            "attitude_rad": float(e["attitude_rad"]),
+            "method": "a priori bound of the exact solution (elliptic functions in double-double arithmetic)",
+        }
 
 
 class _FreeEnsemble(_ModelRun):
@@ -232,7 +238,7 @@ class _FreeEnsemble(_ModelRun):
         moments = np.broadcast_to(self.engine.moments, (n, 3))
         for tb in _blocks_of(times, max(1, block)):
             T = tb.size
-            I = np.broadcast_to(moments, (T, n, 3)).reshape(-1, 3)  # noqa: E741
+            I = np.broadcast_to(moments, (T, n, 3)).reshape(-1, 3)
             w = np.broadcast_to(self.w0, (T, n, 3)).reshape(-1, 3)
             h = np.repeat(tb - t0, n)
             w1, dq = flow_sorted(I, w, h, attitude=attitude)
@@ -245,7 +251,11 @@ class _FreeEnsemble(_ModelRun):
 
     def error_estimate(self):
         bound = _free_ensemble_bound(self.scene)
-        return {"omega_relative": bound, "attitude_rad": bound, "method": "a priori bound of the exact flow map (float phase)"}
+        return {
+            "omega_relative": bound,
+            "attitude_rad": bound,
+            "method": "a priori bound of the exact flow map (float phase)",
+        }
 
 
 class _Numerical(_ModelRun):
@@ -266,14 +276,18 @@ class _Numerical(_ModelRun):
         if self.method == "dop853":
             rtol = self.settings["rtol"]
             prop = self.engine.propagator(s.omega0, s.attitude0, times[0], method="dop853", rtol=rtol, **kw)
-            comp = self.engine.propagator(s.omega0, s.attitude0, times[0], method="dop853", rtol=min(10 * rtol, 1e-3), **kw)
+            comp = self.engine.propagator(
+                s.omega0, s.attitude0, times[0], method="dop853", rtol=min(10 * rtol, 1e-3), **kw
+            )
             factor = 1.0
         else:
             step, order = self.settings["step_s"], self.settings["order"]
             prop = self.engine.propagator(
                 s.omega0, s.attitude0, times[0], method="splitting", step=step, order=order, multiple=2, **kw
             )
-            comp = self.engine.propagator(s.omega0, s.attitude0, times[0], method="splitting", step=2 * step, order=order, **kw)
+            comp = self.engine.propagator(
+                s.omega0, s.attitude0, times[0], method="splitting", step=2 * step, order=order, **kw
+            )
             factor = 1.0 / (2**order - 1)
         self._acc = eng.ErrorAccumulator(s.members, factor)
         self._method = eng.error_estimate_method(self.method, self.settings.get("order", 8))
@@ -286,7 +300,11 @@ class _Numerical(_ModelRun):
 
     def error_estimate(self):
         e = self._acc.result(self._method)
-        return {"omega_relative": float(np.max(e.omega_relative)), "attitude_rad": float(np.max(e.attitude)), "method": e.method}
+        return {
+            "omega_relative": float(np.max(e.omega_relative)),
+            "attitude_rad": float(np.max(e.attitude)),
+            "method": e.method,
+        }
 
     def stats(self):
         return dict(self._stats)
@@ -314,8 +332,11 @@ class _AveragedRun(_ModelRun):
         return np.array([0.5 * (t[0] + t[-1])]), {"mean_precession_rate": self.model.rate[None, :]}
 
     def error_estimate(self):
-        return {"omega_relative": self.model.error, "attitude_rad": 0.0,
-                "method": "a priori: the precession rate over the fastest motion averaged over (first-order averaging)"}
+        return {
+            "omega_relative": self.model.error,
+            "attitude_rad": 0.0,
+            "method": "a priori: the precession rate over the fastest motion averaged over (first-order averaging)",
+        }
 
 
 def _applies_averaged(scene):
@@ -341,23 +362,32 @@ def _check_summary_outputs(scene, force):
         return
     name = sorted(summary)[0]
     if set(scene.outputs) - SUMMARY_OUTPUTS:
-        raise scene.error("outputs", list(scene.outputs),
-                          f"{name} alone (the averaged model), or the motion (axis_direction, angular_momentum) "
-                          "without it: measure the rate from the motion with wobble.measure_precession")
+        raise scene.error(
+            "outputs",
+            list(scene.outputs),
+            f"{name} alone (the averaged model), or the motion (axis_direction, angular_momentum) "
+            "without it: measure the rate from the motion with wobble.measure_precession",
+        )
     if force not in (None, "averaged-precession"):
         raise InputError("model", force, f"averaged-precession for a scene whose only output is {name}")
     from wobble.models.precession_averaged import averaging_applies
 
     why = averaging_applies(scene.body, scene.omega0, scene.attitude0, scene.torques)
     if why is not None:
-        raise scene.error("outputs", list(scene.outputs),
-                          f"{name} from the averaged model, which does not apply here ({why}); ask for "
-                          "angular_momentum and measure it with wobble.measure_precession")
+        raise scene.error(
+            "outputs",
+            list(scene.outputs),
+            f"{name} from the averaged model, which does not apply here ({why}); ask for "
+            "angular_momentum and measure it with wobble.measure_precession",
+        )
     floor = _floor_averaged(scene)
     if scene.accuracy < floor:
-        raise scene.error("accuracy", scene.accuracy,
-                          f"at least {floor:.3g} for {name} from first-order averaging (integrate the motion and "
-                          "measure it with wobble.measure_precession for more)")
+        raise scene.error(
+            "accuracy",
+            scene.accuracy,
+            f"at least {floor:.3g} for {name} from first-order averaging (integrate the motion and "
+            "measure it with wobble.measure_precession for more)",
+        )
 
 
 # --------------------------------------------------------------------------
@@ -432,7 +462,7 @@ def _separatrix_negative(scene) -> bool:
     """The one input free_rotation cannot take: the exact separatrix entered with omega_a < 0."""
     body = scene.body
     w = np.asarray(body.axes).reshape(3, 3) @ scene.omega0[0]
-    I = np.asarray(body.moments).reshape(3)  # noqa: E741
+    I = np.asarray(body.moments).reshape(3)
     order = np.argsort(I, kind="stable")
     i0, i1, i2 = I[order]
     w0, w1, w2 = w[order]
@@ -585,8 +615,14 @@ def _pilot_times(scene):
 def _pilot(scene, method, settings):
     """Run the model with a companion over the pilot span: (worst estimate, stats)."""
     sub = Scene(
-        body=scene.body, omega0=scene.omega0, attitude0=scene.attitude0, torques=scene.torques,
-        times=_pilot_times(scene)[0], accuracy=scene.accuracy, outputs=scene.outputs, ensemble=scene.ensemble,
+        body=scene.body,
+        omega0=scene.omega0,
+        attitude0=scene.attitude0,
+        torques=scene.torques,
+        times=_pilot_times(scene)[0],
+        accuracy=scene.accuracy,
+        outputs=scene.outputs,
+        ensemble=scene.ensemble,
     )
     run = _Numerical(sub, method, settings)
     for _ in run.blocks(sub.times, sub.times.size):
@@ -703,19 +739,55 @@ def _build_dop853(scene, settings=None):
 
 
 CANDIDATES: tuple[Candidate, ...] = (
-    Candidate("averaged-precession", "averaged", _applies_averaged, _AveragedRun, _floor_averaged,
-              "the scene asks only for the mean precession rate: the first-order averaged torque of the third bodies "
-              "(Goldstein, Poole & Safko 2002 sec. 5.8; Woolard 1953; Kinoshita 1977), no integration"),
-    Candidate("free-symmetric", "exact", _applies_free_symmetric, _build_free("free-symmetric"), _floor_free,
-              "closed form for a torque-free symmetric body (notes section 5.6)"),
-    Candidate("free-elliptic", "exact", _applies_free, _build_free("free-elliptic"), _floor_free,
-              "Jacobi elliptic functions for a torque-free body (Landau & Lifshitz section 37)"),
-    Candidate("heavy-top", "exact", _applies_heavy_top, _build_heavy_top, lambda s: 1e-13,
-              "the exact heavy symmetric top (notes section 5.7)"),
-    Candidate("splitting", "numerical", _applies_splitting, _build_splitting, _integrator_floor,
-              "Touma-Wisdom splitting: exact free flow between torque kicks (predicted cheaper than dop853)"),
-    Candidate("dop853", "numerical", lambda s: None, _build_dop853, _integrator_floor,
-              "adaptive Dormand-Prince 8(5,3) on Euler's equations"),
+    Candidate(
+        "averaged-precession",
+        "averaged",
+        _applies_averaged,
+        _AveragedRun,
+        _floor_averaged,
+        "the scene asks only for the mean precession rate: the first-order averaged torque of the third bodies "
+        "(Goldstein, Poole & Safko 2002 sec. 5.8; Woolard 1953; Kinoshita 1977), no integration",
+    ),
+    Candidate(
+        "free-symmetric",
+        "exact",
+        _applies_free_symmetric,
+        _build_free("free-symmetric"),
+        _floor_free,
+        "closed form for a torque-free symmetric body (notes section 5.6)",
+    ),
+    Candidate(
+        "free-elliptic",
+        "exact",
+        _applies_free,
+        _build_free("free-elliptic"),
+        _floor_free,
+        "Jacobi elliptic functions for a torque-free body (Landau & Lifshitz section 37)",
+    ),
+    Candidate(
+        "heavy-top",
+        "exact",
+        _applies_heavy_top,
+        _build_heavy_top,
+        lambda s: 1e-13,
+        "the exact heavy symmetric top (notes section 5.7)",
+    ),
+    Candidate(
+        "splitting",
+        "numerical",
+        _applies_splitting,
+        _build_splitting,
+        _integrator_floor,
+        "Touma-Wisdom splitting: exact free flow between torque kicks (predicted cheaper than dop853)",
+    ),
+    Candidate(
+        "dop853",
+        "numerical",
+        lambda s: None,
+        _build_dop853,
+        _integrator_floor,
+        "adaptive Dormand-Prince 8(5,3) on Euler's equations",
+    ),
 )
 MODEL_NAMES = tuple(c.name for c in CANDIDATES)
 
@@ -840,7 +912,8 @@ def check_outputs(scene: Scene, engine: eng.Engine):
         bad = [t.kind for t, b in zip(engine.specs, engine.torques) if not b.conservative]
         if bad:
             raise scene.error(
-                "outputs", list(scene.outputs),
+                "outputs",
+                list(scene.outputs),
                 f"potential/total energy only with torques that have a potential (not {', '.join(bad)})",
             )
 
@@ -901,7 +974,8 @@ def execute(scene: Scene, sink, *, model: str | None = None, block_bytes: int = 
             break
         if attempts >= _MAX_ATTEMPTS or not worst < previous:
             raise scene.error(
-                "accuracy", scene.accuracy,
+                "accuracy",
+                scene.accuracy,
                 f"at least {worst:.3g} for this scene with {run.name} (estimate after {attempts} attempts)",
             )
         previous = worst

@@ -110,7 +110,7 @@ def _finite(name: str, value, allowed: str) -> float:
     return x
 
 
-def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = None) -> tuple[float, float, float]:  # noqa: N803
+def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = None) -> tuple[float, float, float]:
     """Check a top's moments about the tip (kg m^2) and M g l (J); return them as floats.
 
     Parameters
@@ -129,8 +129,8 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         I1 <= 0, I3 <= 0, I3 > 2 I1 (no real body has I3 > I1 + I2), mgl < 0,
         I1 < M l^2, or non-finite values; the message names the parameter.
     """
-    I1 = _finite("I1", I1, "a positive, finite moment of inertia (kg m2)")  # noqa: N806
-    I3 = _finite("I3", I3, "a positive, finite moment of inertia (kg m2)")  # noqa: N806
+    I1 = _finite("I1", I1, "a positive, finite moment of inertia (kg m2)")
+    I3 = _finite("I3", I3, "a positive, finite moment of inertia (kg m2)")
     mgl = _finite("mgl", mgl, "a finite, non-negative M g l (J)")
     if I1 <= 0:
         raise InputError("I1", I1, "a positive moment of inertia about the tip (kg m2)")
@@ -144,20 +144,22 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         ml2 = _finite("M l^2", ml2, "a finite M l^2 (kg m2)")
         if I1 < ml2 * (1 - 8 * _EPS):
             raise InputError(
-                "I1", I1, f"I1 >= M l^2 = {ml2:g} kg m2 (the moment about the tip includes M l^2; "
+                "I1",
+                I1,
+                f"I1 >= M l^2 = {ml2:g} kg m2 (the moment about the tip includes M l^2; "
                 "I1 must be about the tip, not the centre of mass)",
             )
     return I1, I3, mgl
 
 
-def sleeping_top_stable(I1: float, I3: float, mgl: float, omega3: float) -> bool:  # noqa: N803
+def sleeping_top_stable(I1: float, I3: float, mgl: float, omega3: float) -> bool:
     """True when the sleeping top is stable: I3^2 omega3^2 > 4 M g l I1 (Kibble & Berkshire eq. 12.26)."""
-    I1, I3, mgl = (hp.exact(float(v)) for v in (I1, I3, mgl))  # noqa: N806
+    I1, I3, mgl = (hp.exact(float(v)) for v in (I1, I3, mgl))
     w = hp.exact(float(omega3))
     return I3 * I3 * w * w > 4 * mgl * I1
 
 
-def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, theta: float) -> tuple[float, float]:  # noqa: N803
+def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, theta: float) -> tuple[float, float]:
     """Slow and fast rates (rad/s) of steady (regular) precession at tilt theta.
 
     Regular precession needs f(u0) = 0 and df/du(u0) = 0 at u0 = cos theta (notes
@@ -180,7 +182,7 @@ def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, th
         ``theta`` outside [0, pi], or no steady precession at that tilt
         (I3^2 omega3^2 < 4 I1 M g l cos theta).
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl)
     theta = _finite("theta", theta, "an angle in [0, pi] rad")
     if not 0 <= theta <= np.pi:
         raise InputError("theta", theta, "an angle in [0, pi] rad")
@@ -191,7 +193,8 @@ def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, th
         disc = a * a - 2 * c * beta
         if disc < 0:
             raise InputError(
-                "theta", theta,
+                "theta",
+                theta,
                 "a tilt where steady precession exists: I3^2 omega3^2 >= 4 I1 M g l cos(theta)",
             )
         if c == 0:
@@ -420,8 +423,17 @@ class HeavyTopModel:
         omega = np.stack([ps * spsi + tdc * cpsi, ps * cpsi - tdc * spsi, np.full_like(ps, self.omega3)], axis=-1)
         inv = self._invariants(omega, q, c["u"])
         return TopMotion(
-            t=t, theta=r(theta), phi=r(phi), psi=r(psi), thetadot=r(thetadot), phidot=r(c["phidot"]),
-            psidot=r(c["psidot"]), omega=r(omega, (3,)), quaternion=r(q, (4,)), axis=r(axis, (3,)), u=r(c["u"]),
+            t=t,
+            theta=r(theta),
+            phi=r(phi),
+            psi=r(psi),
+            thetadot=r(thetadot),
+            phidot=r(c["phidot"]),
+            psidot=r(c["psidot"]),
+            omega=r(omega, (3,)),
+            quaternion=r(q, (4,)),
+            axis=r(axis, (3,)),
+            u=r(c["u"]),
             **{k: r(v) for k, v in inv.items()},
         )
 
@@ -473,8 +485,8 @@ class HeavyTopModel:
 # Construction
 # --------------------------------------------------------------------------
 def heavy_top(
-    I1: float,  # noqa: N803
-    I3: float,  # noqa: N803
+    I1: float,
+    I3: float,
     mgl: float,
     theta0: float,
     thetadot0: float = 0.0,
@@ -515,7 +527,7 @@ def heavy_top(
         Bad moments (see :func:`check_top_parameters`), theta0 outside [0, pi],
         non-finite rates, both or neither of omega3 and psidot0.
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
     theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad")
     if not 0.0 <= theta0 <= np.pi:
         raise InputError("theta0", theta0, "an angle in [0, pi] rad (0 = upright)")
@@ -534,12 +546,24 @@ def heavy_top(
         else:
             w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)")) + to_decimal(phidot0) * u0
         v0 = to_decimal(phidot0) * s0
-    setup = TopSetup(I1=I1, I3=I3, mgl=mgl, theta0=theta0, sin_half=sh, cos_half=ch, thetadot0=to_decimal(thetadot0),
-                     v0=v0, omega3=w3, phi0=to_decimal(phi0), psi0=to_decimal(psi0), phidot0=phidot0)
+    setup = TopSetup(
+        I1=I1,
+        I3=I3,
+        mgl=mgl,
+        theta0=theta0,
+        sin_half=sh,
+        cos_half=ch,
+        thetadot0=to_decimal(thetadot0),
+        v0=v0,
+        omega3=w3,
+        phi0=to_decimal(phi0),
+        psi0=to_decimal(psi0),
+        phidot0=phidot0,
+    )
     return HeavyTopModel(**analyse(setup))
 
 
-def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: float | None = None) -> HeavyTopModel:  # noqa: N803
+def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: float | None = None) -> HeavyTopModel:
     """The exact top from an engine-style state: body angular velocity and attitude (SI).
 
     Parameters
@@ -557,7 +581,7 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     HeavyTopModel
         Its :meth:`~HeavyTopModel.evaluate` returns q0 (same sign) and omega0 at t = 0.
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
     w = np.asarray(omega0, dtype=float).reshape(-1)
     q = np.asarray(q0, dtype=float).reshape(-1)
     if w.size != 3 or not np.all(np.isfinite(w)):
@@ -585,6 +609,18 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     phidot0 = phidot_sin / float(2 * sh * ch) if sh_f > 0 and ch_f > 0 else 0.0
     phi0_d = to_decimal(sigma0) + to_decimal(delta0)  # the current decimal context, as always
     psi0_d = to_decimal(sigma0) - to_decimal(delta0)
-    setup = TopSetup(I1=I1, I3=I3, mgl=mgl, theta0=theta0, sin_half=sh, cos_half=ch, thetadot0=to_decimal(thetadot0),
-                     v0=to_decimal(phidot_sin), omega3=to_decimal(float(w[2])), phi0=phi0_d, psi0=psi0_d, phidot0=phidot0)
+    setup = TopSetup(
+        I1=I1,
+        I3=I3,
+        mgl=mgl,
+        theta0=theta0,
+        sin_half=sh,
+        cos_half=ch,
+        thetadot0=to_decimal(thetadot0),
+        v0=to_decimal(phidot_sin),
+        omega3=to_decimal(float(w[2])),
+        phi0=phi0_d,
+        psi0=psi0_d,
+        phidot0=phidot0,
+    )
     return HeavyTopModel(**analyse(setup))

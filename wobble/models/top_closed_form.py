@@ -65,8 +65,15 @@ class Uniform:
         ch = np.full(n, self.ch)
         zero = np.zeros(n)
         return dict(
-            sh=sh, ch=ch, sigma=sig, delta=dlt, thetadot=zero, phidot=np.full(n, self.phidot),
-            psidot=np.full(n, self.psidot), u=np.full(n, self.u), phidot_sin=np.full(n, self.phidot * 2 * self.sh * self.ch),
+            sh=sh,
+            ch=ch,
+            sigma=sig,
+            delta=dlt,
+            thetadot=zero,
+            phidot=np.full(n, self.phidot),
+            psidot=np.full(n, self.psidot),
+            u=np.full(n, self.u),
+            phidot_sin=np.full(n, self.phidot * 2 * self.sh * self.ch),
         )
 
 
@@ -100,7 +107,6 @@ class Secular:
         k = np.rint(z * (1.0 / TWO_PI))
         z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
         return z + (j * a2 + j * a3)
-
 
 
 @dataclass(frozen=True)
@@ -253,6 +259,14 @@ class Elliptic:
         x = self.x1 * (sx * sx)
         y = self.y2 * (sy * sy)
         u = np.where(x <= 1.0, 1.0 - x, y - 1.0)
-        return dict(sh=sh, ch=ch, sigma=sig, delta=dlt, thetadot=thetadot, phidot=phidot, psidot=psidot, u=u,
-                    phidot_sin=b_term + c_term)
-
+        return dict(
+            sh=sh,
+            ch=ch,
+            sigma=sig,
+            delta=dlt,
+            thetadot=thetadot,
+            phidot=phidot,
+            psidot=psidot,
+            u=u,
+            phidot_sin=b_term + c_term,
+        )

@@ -37,7 +37,7 @@ def vertical_in_body(q) -> np.ndarray:
     return np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1)
 
 
-def top_rhs(I1: float, I3: float, mgl: float):  # noqa: N803
+def top_rhs(I1: float, I3: float, mgl: float):
     """Right-hand side f(t, y) for y = (omega1, omega2, omega3, qw, qx, qy, qz) (SI)."""
     c13 = (I1 - I3) / I1
     g = mgl / I1
@@ -61,7 +61,7 @@ def top_rhs(I1: float, I3: float, mgl: float):  # noqa: N803
     return rhs
 
 
-def integrate_top(I1: float, I3: float, mgl: float, omega0, q0, t, *, rtol: float = 1e-12, method: str = "DOP853"):  # noqa: N803
+def integrate_top(I1: float, I3: float, mgl: float, omega0, q0, t, *, rtol: float = 1e-12, method: str = "DOP853"):
     """Integrate the top from (omega0, q0) and return omega (N, 3) and q (N, 4) at times t (s).
 
     Parameters
@@ -84,7 +84,7 @@ def integrate_top(I1: float, I3: float, mgl: float, omega0, q0, t, *, rtol: floa
     -------
     omega, q : numpy.ndarray
     """
-    I1, I3, mgl = check_top_parameters(I1, I3, mgl)  # noqa: N806
+    I1, I3, mgl = check_top_parameters(I1, I3, mgl)
     w0 = np.asarray(omega0, dtype=float).reshape(3)
     q0 = np.asarray(q0, dtype=float).reshape(4)
     t = np.asarray(t, dtype=float).reshape(-1)

@@ -38,8 +38,8 @@ Borderline members go to the exact scalar model. The float64 formulas decide
 the class only where the decision is far from its threshold; a member is
 analysed by :func:`wobble.models.top.heavy_top` itself (50-digit roots, one
 member at a time) when it is within a relative 1e-8 of regular precession
-(``|Q|``; the exact model's threshold is 16 eps), within 1e-4 of a double root of g (the separatrix), of a cusp at either turning
-point (or where rounding could flip the sign of phidot at the far turning point),
+(``|Q|``; the exact model's threshold is 16 eps), within 1e-4 of a double root of g (the separatrix),
+of a cusp at either turning point (or where rounding could flip the sign of phidot at the far turning point),
 passes within 1e-6 (in 1 - cos) of a pole, or has thetadot0 != 0,
 theta0 = 0 (sleeping) or theta0 = pi. Elsewhere the float64 results agree with
 the exact model to about 1e-8 relative (1e-10 typically) (checked per grid point in
@@ -76,7 +76,7 @@ def _theta_of(x):
     return 2.0 * np.arctan2(np.sqrt(0.5 * x), np.sqrt(np.maximum(0.5 * (2.0 - x), 0.0)))
 
 
-def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
+def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):
     """Float64 analysis of members started at a turning point; ``hard`` marks the borderline ones."""
     a = I3 * omega3 / I1
     beta = 2.0 * mgl / I1
@@ -86,8 +86,8 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
     s2 = x0 * y0  # sin^2 theta0
     u0 = np.cos(theta0)
     v = phidot0 * s2  # b - a u0: the sign of phidot at u0
-    P = 2.0 * u0 * beta - phidot0 * phidot0 * s2 - a * a  # noqa: N806
-    Q = s2 * (2.0 * a * phidot0 - 2.0 * u0 * phidot0 * phidot0 - beta)  # noqa: N806
+    P = 2.0 * u0 * beta - phidot0 * phidot0 * s2 - a * a
+    Q = s2 * (2.0 * a * phidot0 - 2.0 * u0 * phidot0 * phidot0 - beta)
     q_scale = s2 * (2.0 * np.abs(a * phidot0) + 2.0 * np.abs(u0) * phidot0 * phidot0 + beta)
     disc = P * P - 4.0 * beta * Q
     root = np.sqrt(np.maximum(disc, 0.0))
@@ -109,7 +109,8 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
             | (np.minimum(y0, y_o) <= _POLE * np.maximum(y0, y_o))  # next to the bottom
             | (np.abs(d_s) <= _MARGIN * x1)  # a nutation too small for float64 rounding of x
             | ~np.isfinite(d_s)
-            | (theta0 <= 0) | (theta0 >= np.pi)
+            | (theta0 <= 0)
+            | (theta0 >= np.pi)
         )
         # beta (u3 - u1), m and 1 - m without cancellation (module docstring).
         up = Q > 0  # u0 is the lower turning point u1: the axis rises first
@@ -126,7 +127,7 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
         # Harmless stand-ins where the member goes to the exact model (replaced there).
         m, m1, span = np.where(hard, 0.5, m), np.where(hard, 0.5, m1), np.where(hard, 1.0, span)
         x1, x2 = np.where(hard, 1.0, x1), np.where(hard, 0.5, x2)
-        K = _sp.elliprf(0.0, m1, 1.0)  # noqa: N806
+        K = _sp.elliprf(0.0, m1, 1.0)
         period = 4.0 * K / np.sqrt(span)
         y1 = 2.0 - x1
         width = x1 - x2
@@ -154,7 +155,7 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):  # noqa: N803
     }, hard
 
 
-def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> dict[str, np.ndarray]:  # noqa: N803
+def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> dict[str, np.ndarray]:
     """Nutation class, turning angles, period and mean precession of many heavy tops (notes section 5.7).
 
     All arguments broadcast against each other (SI: kg m^2, J, rad, rad/s).
@@ -183,13 +184,22 @@ def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> d
         (int8, :data:`INVALID_REASONS`) and ``scalar_fallback`` (bool: the
         member was analysed by :func:`wobble.models.top.heavy_top`).
     """
-    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (I1, I3, mgl, theta0, omega3, phidot0, thetadot0)))
+    arrays = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (I1, I3, mgl, theta0, omega3, phidot0, thetadot0))
+    )
     shape = arrays[0].shape
     i1, i3, mg, th, w3, pd, td = (x.ravel() for x in arrays)
     n = i1.size
     with np.errstate(invalid="ignore"):
-        bad_top = ~(np.isfinite(i1) & np.isfinite(i3) & np.isfinite(mg) & (i1 > 0) & (i3 > 0) & (mg >= 0)
-                    & (i3 <= 2 * i1 * (1 + 8 * _EPS)))
+        bad_top = ~(
+            np.isfinite(i1)
+            & np.isfinite(i3)
+            & np.isfinite(mg)
+            & (i1 > 0)
+            & (i3 > 0)
+            & (mg >= 0)
+            & (i3 <= 2 * i1 * (1 + 8 * _EPS))
+        )
         bad_state = ~(np.isfinite(th) & (th >= 0) & (th <= np.pi) & np.isfinite(w3) & np.isfinite(pd) & np.isfinite(td))
     reason = np.where(bad_top, 1, np.where(bad_state, 2, 0)).astype(np.int8)
     ok = reason == 0

@@ -154,12 +154,36 @@ class Fourier:
         e = self.base
         i1, i3, mgl = inertia
         s_, d_ = e.sigma_sec, e.delta_sec
-        return np.array([
-            e.K[0], self.h, 1.0 / self.h, e.w0, e.lam[0], e.B, e.C, e.omega3, e.omega3 - e.a,
-            *s_.a, s_.c, s_.offset, self.start[0], *d_.a, d_.c, d_.offset, self.start[1],
-            *TWO_PI_PIECES, 1.0 / TWO_PI, 2 * np.pi, 0.5 / np.pi,
-            0.5 * i1, 0.5 * i3, i1, i3, mgl,
-        ])
+        return np.array(
+            [
+                e.K[0],
+                self.h,
+                1.0 / self.h,
+                e.w0,
+                e.lam[0],
+                e.B,
+                e.C,
+                e.omega3,
+                e.omega3 - e.a,
+                *s_.a,
+                s_.c,
+                s_.offset,
+                self.start[0],
+                *d_.a,
+                d_.c,
+                d_.offset,
+                self.start[1],
+                *TWO_PI_PIECES,
+                1.0 / TWO_PI,
+                2 * np.pi,
+                0.5 / np.pi,
+                0.5 * i1,
+                0.5 * i3,
+                i1,
+                i3,
+                mgl,
+            ]
+        )
 
     @staticmethod
     def _cis(x):
@@ -237,8 +261,9 @@ class Fourier:
             e = self.base
             r, j, j_range = taylor_table.phase(t, e.lam, (2 * e.K[0], 2 * e.K[1]), e.w0, self._period_pieces(), True)
             jtab, base = self.whole_periods(j, j_range)
-            out, omega, quat, axis = taylor_table.motion(r, j, base, self.table, self.node_r, self.phasor, jtab,
-                                                         _COS, _SIN, self.constants(inertia))
+            out, omega, quat, axis = taylor_table.motion(
+                r, j, base, self.table, self.node_r, self.phasor, jtab, _COS, _SIN, self.constants(inertia)
+            )
             names = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi")
             return {**dict(zip(names, out)), "omega": omega, "quaternion": quat, "axis": axis}
         return _blocked(lambda tb: self._motion_numpy(tb, inertia), t)
@@ -285,11 +310,18 @@ class Fourier:
         g1 = 2.0 * (qx * qz - qw * qy)
         g2 = 2.0 * (qy * qz + qw * qx)
         return dict(
-            theta=theta, phi=_wrap(sig + dlt), psi=_wrap(sig - dlt), thetadot=thetadot, phidot=0.5 * (bx + cy),
-            psidot=(e.omega3 - e.a) - 0.5 * (bx - cy), u=u,
+            theta=theta,
+            phi=_wrap(sig + dlt),
+            psi=_wrap(sig - dlt),
+            thetadot=thetadot,
+            phidot=0.5 * (bx + cy),
+            psidot=(e.omega3 - e.a) - 0.5 * (bx - cy),
+            u=u,
             energy=((0.5 * i1) * (w1 * w1 + w2 * w2) + (0.5 * i3) * (w3 * w3)) + mgl * u,
-            p_phi=i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * u, p_psi=i3 * w3,
-            omega=np.stack([w1, w2, w3], axis=-1), quaternion=np.stack([qw, qx, qy, qz], axis=-1),
+            p_phi=i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * u,
+            p_psi=i3 * w3,
+            omega=np.stack([w1, w2, w3], axis=-1),
+            quaternion=np.stack([qw, qx, qy, qz], axis=-1),
             axis=np.stack([sin_t * (ss * cd + cs * sd), -(sin_t * (cs * cd - ss * sd)), u], axis=-1),
         )
 
@@ -398,8 +430,9 @@ def _build_compiled(e, est, sample):
             part = sample(r_half)[0]
         vals, scales = tt.prepare(part, n, _PARITY[:, 0])
         spectra = np.fft.rfft(vals, axis=-1) / n
-        status, coef, need, slope_s, slope_d = tt.coefficients(spectra, scales, n, 8 * _EPS, _COS_ROWS, 0.25 * _EPS,
-                                                               _FOURIER_MAX_TERMS, scale)
+        status, coef, need, slope_s, slope_d = tt.coefficients(
+            spectra, scales, n, 8 * _EPS, _COS_ROWS, 0.25 * _EPS, _FOURIER_MAX_TERMS, scale
+        )
         if status == 0:
             continue
         if status == 2:
@@ -407,8 +440,16 @@ def _build_compiled(e, est, sample):
         nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
         slope = max(abs(c[0]) + slope_s, abs(c[1]) + slope_d)
         rel = 32 * _EPS * (1 + k)
-        limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
-                           rel * scales[4], rel * scales[5]])
+        limits = np.array(
+            [
+                est["theta_rad"],
+                est["attitude_rad"],
+                est["attitude_rad"],
+                64 * _EPS * (1 + k) * scales[3],
+                rel * scales[4],
+                rel * scales[5],
+            ]
+        )
         while True:
             while slope * k / nodes > _CIS_MAX:
                 nodes *= 2
@@ -420,9 +461,19 @@ def _build_compiled(e, est, sample):
             phasor = tt.phasors(table, node_r, e.w0, c, offset, start)
             err, miss = tt.check_at(r_check, want, table, node_r, phasor, k, h, c, offset, start, e.w0, _COS, _SIN)
             if np.all(err <= limits) and miss <= est["attitude_rad"]:
-                return Fourier(base=e, coef=coef, scale=scale, table=table, h=h, phasor=phasor, node_r=node_r,
-                               error_theta=float(err[0]), error_phase=max(float(err[_SIGMA]), float(err[_DELTA]), miss),
-                               start=start, compiled=True)
+                return Fourier(
+                    base=e,
+                    coef=coef,
+                    scale=scale,
+                    table=table,
+                    h=h,
+                    phasor=phasor,
+                    node_r=node_r,
+                    error_theta=float(err[0]),
+                    error_phase=max(float(err[_SIGMA]), float(err[_DELTA]), miss),
+                    start=start,
+                    compiled=True,
+                )
             nodes *= 2
     return None
 
@@ -442,11 +493,28 @@ def _sampler(e, fast):
         functions = taylor_table.carlson()
         if functions is not None:
             lv = e.levels
-            constants = np.array([
-                float(lv.m), float(lv.m1), float(lv.K), e.K[1], float(lv.scale), e.rho_x, e.rho_y, e.hx1, e.hy2, e.W,
-                e.k_plus, e.k_minus, e.n_plus, e.one_minus_n_plus, e.nu_minus, e.pi_plus_over_k, e.pi_minus_over_k,
-                3.0 * (1.0 + e.nu_minus) ** 2,
-            ])
+            constants = np.array(
+                [
+                    float(lv.m),
+                    float(lv.m1),
+                    float(lv.K),
+                    e.K[1],
+                    float(lv.scale),
+                    e.rho_x,
+                    e.rho_y,
+                    e.hx1,
+                    e.hy2,
+                    e.W,
+                    e.k_plus,
+                    e.k_minus,
+                    e.n_plus,
+                    e.one_minus_n_plus,
+                    e.nu_minus,
+                    e.pi_plus_over_k,
+                    e.pi_minus_over_k,
+                    3.0 * (1.0 + e.nu_minus) ** 2,
+                ]
+            )
             ratios = np.array(lv.ratios, dtype=float).reshape(-1)
             ratios_b = np.array(lv.ratios_b, dtype=float).reshape(-1)
             return (lambda r: taylor_table.sample(r, constants, ratios, ratios_b, functions)), True
@@ -475,8 +543,9 @@ def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
     moment = np.sum(np.abs(coef) * np.arange(last + 1.0) ** 6, axis=1)
     need = np.pi * float(np.max((moment / (720 * _EPS * np.asarray(scales))) ** (1 / 6)))
     nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
-    return _tabulate(Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0, start=start,
-                             compiled=fast), nodes)
+    return _tabulate(
+        Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0, start=start, compiled=fast), nodes
+    )
 
 
 def _fft_size(n: int) -> int:
@@ -502,8 +571,13 @@ def _fft_size_search(n: int) -> int:
 
 
 # The even 2^a 3^b 5^c up to the cap of nodes (and the next one above it).
-_FFT_SIZES = sorted(2 ** a * 3 ** b * 5 ** c for a in range(1, 17) for b in range(11) for c in range(8)
-                    if 2 ** a * 3 ** b * 5 ** c <= 2 * _TAYLOR_MAX_NODES)
+_FFT_SIZES = sorted(
+    2**a * 3**b * 5**c
+    for a in range(1, 17)
+    for b in range(11)
+    for c in range(8)
+    if 2**a * 3**b * 5**c <= 2 * _TAYLOR_MAX_NODES
+)
 
 
 def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
@@ -528,8 +602,9 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     if fo.compiled:  # the lines below in one compiled pass
         from wobble.numerics import taylor_table
 
-        phasor = taylor_table.phasors(table, node_r, e.w0, (e.sigma_sec.c, e.delta_sec.c),
-                                      (e.sigma_sec.offset, e.delta_sec.offset), fo.start)
+        phasor = taylor_table.phasors(
+            table, node_r, e.w0, (e.sigma_sec.c, e.delta_sec.c), (e.sigma_sec.offset, e.delta_sec.offset), fo.start
+        )
         return replace(fo, table=table, h=h, phasor=phasor, node_r=node_r)
     c = np.array([[e.sigma_sec.c], [e.delta_sec.c]])
     offset = np.array([[e.sigma_sec.offset], [e.delta_sec.offset]])
@@ -559,17 +634,27 @@ def _check_fourier(fo, r, want, scales, est, k):
     want = np.asarray(want)  # (m, rows), as the table's rows come
     # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
     c = np.array([e.sigma_sec.c, e.delta_sec.c])
-    g = ((c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset]))
-         + (want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)))
+    g = (c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset])) + (
+        want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)
+    )
     cos_g, sin_g = np.cos(g), np.sin(g)
-    limits = np.array([est["theta_rad"], est["attitude_rad"], est["attitude_rad"], 64 * _EPS * (1 + k) * scales[3],
-                       rel * scales[4], rel * scales[5]])
+    limits = np.array(
+        [
+            est["theta_rad"],
+            est["attitude_rad"],
+            est["attitude_rad"],
+            64 * _EPS * (1 + k) * scales[3],
+            rel * scales[4],
+            rel * scales[5],
+        ]
+    )
     while fo is not None:
         if fo.compiled:  # the lines of the other branch in one compiled pass
             from wobble.numerics import taylor_table
 
-            err, miss = taylor_table.check(r, want, cos_g, sin_g, fo.table, fo.node_r, fo.phasor, e.K[0], fo.h, c,
-                                           _COS, _SIN)
+            err, miss = taylor_table.check(
+                r, want, cos_g, sin_g, fo.table, fo.node_r, fo.phasor, e.K[0], fo.h, c, _COS, _SIN
+            )
         else:
             got, v, iu, _ = fo._all_rows(r)
             err = np.max(np.abs(got - want), axis=0)
@@ -578,7 +663,9 @@ def _check_fourier(fo, r, want, scales, est, k):
             pc, ps_ = fo.phasor[:, 0, iu].T, fo.phasor[:, 1, iu].T
             miss = float(np.max(np.hypot(pc * ec - ps_ * es - cos_g, pc * es + ps_ * ec - sin_g)))
         if np.all(err <= limits) and miss <= est["attitude_rad"]:
-            return replace(fo, error_theta=float(err[0]), error_phase=max(float(np.max(err[_SIGMA : _DELTA + 1])), miss))
+            return replace(
+                fo, error_theta=float(err[0]), error_phase=max(float(np.max(err[_SIGMA : _DELTA + 1])), miss)
+            )
         nodes = 2 * fo.table.shape[0]
         if nodes > _TAYLOR_MAX_NODES:
             return None

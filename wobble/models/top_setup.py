@@ -219,17 +219,26 @@ def analyse(setup: TopSetup) -> dict:
         b = v0 * s0 + a * u0
         kin = thetadot0 * thetadot0 + v0 * v0  # thetadot^2 + phidot^2 sin^2 theta
         alpha = kin + beta * u0
-        A = kin - beta * x0  # alpha - beta  # noqa: N806
-        B = v0 * s0 - a * x0  # b - a  # noqa: N806
-        C = v0 * s0 + a * y0  # b + a  # noqa: N806
+        A = kin - beta * x0  # alpha - beta
+        B = v0 * s0 - a * x0  # b - a
+        C = v0 * s0 + a * y0  # b + a
         g0 = s0 * s0 * thetadot0 * thetadot0
         energy = i1 * kin / 2 + i3 * w3 * w3 / 2 + mg * u0
         e_prime = i1 * kin / 2 + mg * u0
         cub = cubic.TopCubic(A=A, B=B, C=C, a=a, beta=beta)
         roots = cubic.top_roots(cub, x0, y0, g0)
         stable = bool(i3 * i3 * w3 * w3 > 4 * mg * i1)
-        start = _Start(x0=x0, y0=y0, s0=s0, u0=u0, thetadot0=thetadot0, a=a, beta=beta,
-                       sigma0=(s.phi0 + s.psi0) / 2 + sigma_shift, delta0=(s.phi0 - s.psi0) / 2)
+        start = _Start(
+            x0=x0,
+            y0=y0,
+            s0=s0,
+            u0=u0,
+            thetadot0=thetadot0,
+            a=a,
+            beta=beta,
+            sigma0=(s.phi0 + s.psi0) / 2 + sigma_shift,
+            delta0=(s.phi0 - s.psi0) / 2,
+        )
         # Uniform motions: at rest on a pole, or regular precession to rounding.
         e0 = 2 * u0 * v0 * v0 + beta * s0 * s0 - 2 * a * v0 * s0  # g'(x0) when thetadot0 = 0
         e0_scale = 2 * abs(u0) * v0 * v0 + beta * s0 * s0 + 2 * abs(a * v0 * s0)
@@ -248,20 +257,47 @@ def analyse(setup: TopSetup) -> dict:
             if regular:  # e.g. at rest without gravity (f vanishes identically): nothing moves
                 uniform = "regular"
             elif roots.beta_gap <= 0:
-                raise InputError("thetadot0", _f(thetadot0), "an initial state off the separatrix (the motion "
-                                 "would approach an unstable equilibrium for ever; 1 - m = 0)")
+                raise InputError(
+                    "thetadot0",
+                    _f(thetadot0),
+                    "an initial state off the separatrix (the motion "
+                    "would approach an unstable equilibrium for ever; 1 - m = 0)",
+                )
         common = dict(
-            I1=s.I1, I3=s.I3, mgl=s.mgl, theta0=s.theta0, thetadot0=_f(thetadot0), phi0=_f(s.phi0), psi0=_f(s.psi0),
-            omega3=_f(w3), a=_f(a), b=_f(b), p_psi=_f(i3 * w3), p_phi=_f(i1 * b), energy=_f(energy),
-            energy_prime=_f(e_prime), alpha=_f(alpha), beta=_f(beta), sleeping_stable=stable,
+            I1=s.I1,
+            I3=s.I3,
+            mgl=s.mgl,
+            theta0=s.theta0,
+            thetadot0=_f(thetadot0),
+            phi0=_f(s.phi0),
+            psi0=_f(s.psi0),
+            omega3=_f(w3),
+            a=_f(a),
+            b=_f(b),
+            p_psi=_f(i3 * w3),
+            p_phi=_f(i1 * b),
+            energy=_f(energy),
+            energy_prime=_f(e_prime),
+            alpha=_f(alpha),
+            beta=_f(beta),
+            sleeping_stable=stable,
         )
         if uniform is not None:
             return {**common, **_uniform(uniform, s, start, roots)}
         fields = {**common, **_elliptic(s, start, cub, roots)}
         if regular:
             u_0 = _f(u0) if x0 <= 1 else _f(y0 - 1)
-            fields.update(nutation="regular", u1=u_0, u2=u_0, x1=_f(x0), x2=_f(x0), m=0.0, m1=1.0,
-                          theta_min=s.theta0, theta_max=s.theta0)
+            fields.update(
+                nutation="regular",
+                u1=u_0,
+                u2=u_0,
+                x1=_f(x0),
+                x2=_f(x0),
+                m=0.0,
+                m1=1.0,
+                theta_min=s.theta0,
+                theta_max=s.theta0,
+            )
         return fields
 
 
@@ -301,21 +337,45 @@ def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
             m, m1 = 0.0, 1.0
         theta0 = s.theta0
         impl = Uniform(
-            sh=_f(s.sin_half), ch=_f(s.cos_half), u=_f(st.u0), sigma_rate=hp.to_dd((phidot + psidot) / 2),
-            delta_rate=hp.to_dd((phidot - psidot) / 2), sigma0=_f(st.sigma0), delta0=_f(st.delta0),
-            phidot=_f(phidot), psidot=_f(psidot),
+            sh=_f(s.sin_half),
+            ch=_f(s.cos_half),
+            u=_f(st.u0),
+            sigma_rate=hp.to_dd((phidot + psidot) / 2),
+            delta_rate=hp.to_dd((phidot - psidot) / 2),
+            sigma0=_f(st.sigma0),
+            delta0=_f(st.delta0),
+            phidot=_f(phidot),
+            psidot=_f(psidot),
         )
-        est = {"theta_rad": 4 * _EPS * max(theta0, _EPS), "attitude_rad": 8 * _EPS, "turning_points_relative": 2 * _EPS,
-               "period_relative": 4 * _EPS}
+        est = {
+            "theta_rad": 4 * _EPS * max(theta0, _EPS),
+            "attitude_rad": 8 * _EPS,
+            "turning_points_relative": 2 * _EPS,
+            "period_relative": 4 * _EPS,
+        }
         return dict(
-            phidot0=_f(phidot), psidot0=_f(psidot), u1=u1, u2=u2, u3=u3, x1=_f(st.x0), x2=_f(st.x0),
-            x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3), theta_min=theta0, theta_max=theta0,
-            nutation=kind, m=m, m1=m1, nutation_period=period, mean_precession_rate=_f(phidot),
-            mean_spin_rate=_f(psidot), error_estimate=est, _impl=impl,
+            phidot0=_f(phidot),
+            psidot0=_f(psidot),
+            u1=u1,
+            u2=u2,
+            u3=u3,
+            x1=_f(st.x0),
+            x2=_f(st.x0),
+            x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
+            theta_min=theta0,
+            theta_max=theta0,
+            nutation=kind,
+            m=m,
+            m1=m1,
+            nutation_period=period,
+            mean_precession_rate=_f(phidot),
+            mean_spin_rate=_f(psidot),
+            error_estimate=est,
+            _impl=impl,
         )
 
 
-def nutation_class(B, a, x1, x2, y1, y2, C) -> str:  # noqa: N803
+def nutation_class(B, a, x1, x2, y1, y2, C) -> str:
     """'undulating', 'cusps' or 'loops' from the sign of phidot at the two turning points (notes p. 72)."""
 
     def sign_at(x, y):
@@ -348,19 +408,20 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
         span, gap = roots.beta_span, roots.beta_gap
         beta = cub.beta
-        B, C = cub.B, cub.C  # noqa: N806
+        B, C = cub.B, cub.C
         m = beta * (x1 - x2) / span
         m1 = gap / span
         if m1 < Decimal("1e-150"):
             raise InputError(
-                "thetadot0", _f(thetadot0),
+                "thetadot0",
+                _f(thetadot0),
                 f"a state farther from the separatrix: 1 - m = {_f(m1):.3g} is below what float64 "
                 "Carlson integrals resolve (1e-150); the top would creep away from an unstable "
                 "equilibrium for a time of order ln(1/(1 - m)) nutation periods",
             )
         lam = span.sqrt() / 2
         kdec = hp.agm_k(m1)
-        K = hp.to_dd(kdec)  # noqa: N806
+        K = hp.to_dd(kdec)
         period = 2 * kdec / lam
         # Mean rates of J_+ = int dt/x and J_- = int dt/y (complete Pi by Bulirsch's cel).
         kc = m1.sqrt()
@@ -397,14 +458,35 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             w0 = _f(sn0) * float(elliprf(_f(cn0_2), _f(dn0_2), 1.0))
         hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
         impl0 = dict(
-            hx1=_f(hx1), hy2=_f(hy2), rho_x=0.0 if top else _f(rho_x), rho_y=0.0 if bottom else _f(rho_y),
-            x1=_f(x1), y2=_f(y2), B=_f(b_eff), C=_f(c_eff), B_x1=_f(b_eff / x1), C_y2=_f(c_eff / y2),
-            Bp=_f(b_eff / x1 * hx1 * hy2), Cp=_f(c_eff / y2 * hx1 * hy2), W=_f(width / (hx1 * hy2)),
-            through_top=bool(top), through_bottom=bool(bottom), a=_f(a), omega3=_f(w3),
-            lam=hp.to_dd(lam), K=K, w0=w0, m=_f(m), m1=_f(m1), n_plus=_f(width / x1), one_minus_n_plus=_f(rho_x),
-            nu_minus=_f(width / y1) if not bottom else 0.0, pi_plus_over_k=_f(pi_plus / kdec),
+            hx1=_f(hx1),
+            hy2=_f(hy2),
+            rho_x=0.0 if top else _f(rho_x),
+            rho_y=0.0 if bottom else _f(rho_y),
+            x1=_f(x1),
+            y2=_f(y2),
+            B=_f(b_eff),
+            C=_f(c_eff),
+            B_x1=_f(b_eff / x1),
+            C_y2=_f(c_eff / y2),
+            Bp=_f(b_eff / x1 * hx1 * hy2),
+            Cp=_f(c_eff / y2 * hx1 * hy2),
+            W=_f(width / (hx1 * hy2)),
+            through_top=bool(top),
+            through_bottom=bool(bottom),
+            a=_f(a),
+            omega3=_f(w3),
+            lam=hp.to_dd(lam),
+            K=K,
+            w0=w0,
+            m=_f(m),
+            m1=_f(m1),
+            n_plus=_f(width / x1),
+            one_minus_n_plus=_f(rho_x),
+            nu_minus=_f(width / y1) if not bottom else 0.0,
+            pi_plus_over_k=_f(pi_plus / kdec),
             pi_minus_over_k=_f(pi_minus / kdec),
-            k_plus=_f(b_eff / (2 * lam * x1)), k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
+            k_plus=_f(b_eff / (2 * lam * x1)),
+            k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
             sigma_sec=secular_phase(sigma_rate, lam, kdec, st.sigma0),
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
             levels=levels,
@@ -437,9 +519,22 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             "period_relative": 4 * _EPS,
         }
         return dict(
-            phidot0=_f(phidot0), psidot0=_f(psidot0), u1=u1, u2=u2, u3=u3, x1=_f(x1), x2=_f(x2),
+            phidot0=_f(phidot0),
+            psidot0=_f(psidot0),
+            u1=u1,
+            u2=u2,
+            u3=u3,
+            x1=_f(x1),
+            x2=_f(x2),
             x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
-            theta_min=theta_of(x2, y2), theta_max=theta_max, nutation=nut, m=_f(m), m1=_f(m1),
-            nutation_period=_f(period), mean_precession_rate=_f(mean_phidot), mean_spin_rate=_f(mean_psidot),
-            error_estimate=est, _impl=impl,
+            theta_min=theta_of(x2, y2),
+            theta_max=theta_max,
+            nutation=nut,
+            m=_f(m),
+            m1=_f(m1),
+            nutation_period=_f(period),
+            mean_precession_rate=_f(mean_phidot),
+            mean_spin_rate=_f(mean_psidot),
+            error_estimate=est,
+            _impl=impl,
         )

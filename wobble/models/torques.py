@@ -58,12 +58,14 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
 from wobble.errors import InputError
+from wobble.models.orbit import EphemerisTable, KeplerOrbit, rms_radius
 from wobble.models.rigid_frame import (
     InternalFrame,
     cross,
@@ -76,7 +78,6 @@ from wobble.models.rigid_frame import (
     to_body,
     to_body_components,
 )
-from wobble.models.orbit import EphemerisTable, KeplerOrbit, rms_radius
 from wobble.numerics import quaternion as quat
 from wobble.numerics.kepler import position_one as kepler_position_one
 
@@ -310,7 +311,9 @@ class _Gradient(BoundTorque):
         r0, r1, r2 = to_body_components(q, *self._direction(t))
         m, k = take_rows(self.moments, idx), self.k
         # rho x I rho = ((I3 - I2) r1 r2, (I1 - I3) r2 r0, (I2 - I1) r0 r1)
-        return stack3(k * (m[:, 2] - m[:, 1]) * r1 * r2, k * (m[:, 0] - m[:, 2]) * r2 * r0, k * (m[:, 1] - m[:, 0]) * r0 * r1)
+        return stack3(
+            k * (m[:, 2] - m[:, 1]) * r1 * r2, k * (m[:, 0] - m[:, 2]) * r2 * r0, k * (m[:, 1] - m[:, 0]) * r0 * r1
+        )
 
     def torque_one(self, t, w, q):
         if self.e2_one is None:
@@ -331,8 +334,14 @@ class _Gradient(BoundTorque):
 
     def program_terms(self):
         moving = self.e2 is not None
-        row = np.concatenate([[self.k], self.e1, self.e2 if moving else np.zeros(3),
-                              [self.rate if moving else 0.0, self.phase if moving else 0.0]])
+        row = np.concatenate(
+            [
+                [self.k],
+                self.e1,
+                self.e2 if moving else np.zeros(3),
+                [self.rate if moving else 0.0, self.phase if moving else 0.0],
+            ]
+        )
         return [("gradient", row)]
 
 
@@ -430,7 +439,9 @@ class _ThirdBody(BoundTorque):
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         r = np.asarray(self.function(tt), dtype=float)
         if r.shape != tt.shape + (3,):
-            raise InputError(f"{self.spec.name}.position", r.shape, f"a callable returning positions of shape {tt.shape + (3,)} (m)")
+            raise InputError(
+                f"{self.spec.name}.position", r.shape, f"a callable returning positions of shape {tt.shape + (3,)} (m)"
+            )
         r = r.reshape(np.shape(t) + (3,))
         return r, np.sqrt(np.sum(r * r, axis=-1))
 
@@ -444,7 +455,9 @@ class _ThirdBody(BoundTorque):
         r0, r1, r2 = to_body_components(q, u0, u1, u2)
         m = take_rows(self.moments, idx)
         # u x I u = ((I3 - I2) u1 u2, (I1 - I3) u2 u0, (I2 - I1) u0 u1), MacCullagh
-        return stack3(k * (m[:, 2] - m[:, 1]) * r1 * r2, k * (m[:, 0] - m[:, 2]) * r2 * r0, k * (m[:, 1] - m[:, 0]) * r0 * r1)
+        return stack3(
+            k * (m[:, 2] - m[:, 1]) * r1 * r2, k * (m[:, 0] - m[:, 2]) * r2 * r0, k * (m[:, 1] - m[:, 0]) * r0 * r1
+        )
 
     def torque_one(self, t, w, q):
         if self.elements_one is not None:
@@ -539,8 +552,11 @@ class ThirdBody(TorqueSpec):
         near = self.closest_approach
         if size is not None and near is not None and not near > size:
             key = "semi_major_axis" if self.orbit is not None else "ephemeris.positions"
-            raise InputError(key, f"closest approach {near:.6g} m",
-                             f"an orbit outside the body (closest approach above its radius {size:.6g} m)")
+            raise InputError(
+                key,
+                f"closest approach {near:.6g} m",
+                f"an orbit outside the body (closest approach above its radius {size:.6g} m)",
+            )
         if self.ephemeris is not None:
             self.ephemeris.check_covers(start, stop)
 
@@ -646,5 +662,7 @@ class CustomTorque(TorqueSpec):
 
 
 #: Every built-in kind by its name (scene files, the API).
-KINDS = {cls.kind: cls for cls in (ConstantTorque, UniformGravity, GravityGradient, ThirdBody, MagneticDipole,
-                                   LinearDamping, CustomTorque)}
+KINDS = {
+    cls.kind: cls
+    for cls in (ConstantTorque, UniformGravity, GravityGradient, ThirdBody, MagneticDipole, LinearDamping, CustomTorque)
+}

@@ -9,7 +9,7 @@ The enumerations are ``str`` enumerations: a member compares equal to its value
 
 from __future__ import annotations
 
-from enum import Enum
+from enum import StrEnum
 
 __all__ = [
     "Regime",
@@ -23,9 +23,8 @@ __all__ = [
 ]
 
 
-class _Names(str, Enum):
-    def __str__(self) -> str:
-        return self.value
+class _Names(StrEnum):
+    """Names that are plain strings: ``str(member)`` and f-strings give the value."""
 
 
 class Regime(_Names):

@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from wobble.numerics.integrators import DOP853
 
 __all__ = [
@@ -162,7 +163,9 @@ def radau_profile(edges, coeffs, scale, sample_radii=(), rtol: float = RTOL):
         inside = (samples > lo) & (samples <= hi) if i else (samples <= hi)
         pts = np.log(np.maximum(samples[inside], lo))
         rhs = _rhs_factory(edges, coeffs, scale, i)
-        solver = DOP853(lambda t, yy, idx, rhs=rhs: np.array([rhs(float(t[0]), yy[0])]), math.log(lo), y, rtol=rtol, atol=_ATOL)
+        solver = DOP853(
+            lambda t, yy, idx, rhs=rhs: np.array([rhs(float(t[0]), yy[0])]), math.log(lo), y, rtol=rtol, atol=_ATOL
+        )
         order = np.argsort(pts)
         out = solver.advance(np.concatenate([pts[order], [math.log(hi)]]))
         y = out[-1].copy()

@@ -120,7 +120,9 @@ class TopCubic:
     def dG(self, y: Decimal) -> Decimal:
         """dG/dy."""
         with decimal.localcontext(_ctx()):
-            return (2 - 2 * y) * (self.A_y - self.beta * y) - self.beta * y * (2 - y) + 2 * self.a * (self.C - self.a * y)
+            return (
+                (2 - 2 * y) * (self.A_y - self.beta * y) - self.beta * y * (2 - y) + 2 * self.a * (self.C - self.a * y)
+            )
 
     @property
     def c2(self) -> Decimal:
@@ -378,8 +380,10 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
                 span = gap = cub.A
             else:
                 x3, y3 = -cub.A / beta, cub.A_y / beta
-            found = sorted([(Decimal(0), Decimal(2)), (Decimal(2), Decimal(0))] + ([] if beta == 0 else [(x3, y3)]),
-                           key=lambda r: r[0])
+            found = sorted(
+                [(Decimal(0), Decimal(2)), (Decimal(2), Decimal(0))] + ([] if beta == 0 else [(x3, y3)]),
+                key=lambda r: r[0],
+            )
             if beta == 0:
                 (x2, y2), (x1, y1) = found
             else:

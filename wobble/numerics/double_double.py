@@ -24,8 +24,21 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PI", "two_sum", "quick_two_sum", "two_prod", "add", "add_same_sign", "mul", "div", "sqrt", "sqrt_float", "agm_k", "agm_ke",
-           "split3"]
+__all__ = [
+    "PI",
+    "two_sum",
+    "quick_two_sum",
+    "two_prod",
+    "add",
+    "add_same_sign",
+    "mul",
+    "div",
+    "sqrt",
+    "sqrt_float",
+    "agm_k",
+    "agm_ke",
+    "split3",
+]
 
 _SPLITTER = 134217729.0  # 2^27 + 1
 #: pi as a double-double (hi, lo).

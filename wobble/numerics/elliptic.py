@@ -139,7 +139,7 @@ class LandenLevels:
         ``2^N a_N``, so that ``phi_N = scale * u``.
     """
 
-    def __init__(self, m, m1=None, K=None):  # noqa: N803 - K is the integral's name
+    def __init__(self, m, m1=None, K=None):
         if np.ndim(m) == 0 and np.ndim(m1) == 0:
             self._scalar(m, m1, K)
             return
@@ -165,7 +165,7 @@ class LandenLevels:
         self.ratios_b = ratios_b
         self.scale = scale * a
 
-    def _scalar(self, m, m1, K):  # noqa: N803
+    def _scalar(self, m, m1, K):
         """The same sequence for one parameter in Python floats (the same roundings: +, *, /
         and sqrt are correctly rounded either way), without NumPy's per-call cost."""
         mf = float(m)
@@ -192,7 +192,7 @@ class LandenLevels:
         self.scale = np.float64(scale * a)
 
 
-def landen_levels(m, m1=None, K=None) -> LandenLevels:  # noqa: N803
+def landen_levels(m, m1=None, K=None) -> LandenLevels:
     """Precompute the Landen/AGM sequence of ``m`` (reuse it for many arguments).
 
     ``K``, if given, is the complete integral the levels carry instead of their own
@@ -398,7 +398,9 @@ def ellippi_inc(n, phi, m, m1=None):
         # p = 1 - n s^2 = c^2 + (1 - n) s^2: no cancellation as n s^2 -> 1 (1 - n is
         # exact for n >= 1/2), as in pi_positive_scd.
         p_pos = c2 + (1.0 - npos) * s2
-        pos = s * rf + np.where(npos > 0, (npos / 3.0) * s * s2 * _sp.elliprj(c2, d2, 1.0, np.where(p_pos > 0, p_pos, 1.0)), 0.0)
+        pos = s * rf + np.where(
+            npos > 0, (npos / 3.0) * s * s2 * _sp.elliprj(c2, d2, 1.0, np.where(p_pos > 0, p_pos, 1.0)), 0.0
+        )
     return sign * np.where(n <= 0, neg, pos)
 
 

@@ -92,7 +92,9 @@ def moment_rows(n: int, step: float, rule: str) -> np.ndarray:
     return np.array([w, w * u, w * second])
 
 
-def accumulate_moments(slabs: Iterable[tuple[int, np.ndarray]], rows: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+def accumulate_moments(
+    slabs: Iterable[tuple[int, np.ndarray]], rows: tuple[np.ndarray, np.ndarray, np.ndarray]
+) -> np.ndarray:
     """Sum the separable moments of a density delivered in slabs along its first axis.
 
     Parameters
@@ -118,5 +120,5 @@ def accumulate_moments(slabs: Iterable[tuple[int, np.ndarray]], rows: tuple[np.n
         k = block.shape[0]
         t = (block.reshape(k * n1, n2) @ r2.T).reshape(k, n1, 3)  # the one pass over the data
         t = np.einsum("ijc,bj->ibc", t, r1)
-        total += np.einsum("ai,ibc->abc", r0[:, start:start + k], t)
+        total += np.einsum("ai,ibc->abc", r0[:, start : start + k], t)
     return total

@@ -300,8 +300,14 @@ class DOP853:
                 ssel = None if has.all() else np.flatnonzero(has)
                 Kg = K if gsel is None else K[:, gsel]
                 F = self._dense(
-                    _rows(t_old, ssel), _rows(_rows(y, gsel), ssel), _rows(yn, ssel), _rows(_rows(f, gsel), ssel),
-                    _rows(f_new, ssel), Kg if ssel is None else Kg[:, ssel], _rows(hg, ssel), _rows(gi, ssel),
+                    _rows(t_old, ssel),
+                    _rows(_rows(y, gsel), ssel),
+                    _rows(yn, ssel),
+                    _rows(_rows(f, gsel), ssel),
+                    _rows(f_new, ssel),
+                    Kg if ssel is None else Kg[:, ssel],
+                    _rows(hg, ssel),
+                    _rows(gi, ssel),
                 )
                 reps = _rows(counts, ssel)
                 y_sel, yn_sel, t_sel, h_sel, tn_sel = (_rows(a, ssel) for a in (_rows(y, gsel), yn, t_old, hg, tn))
@@ -316,7 +322,9 @@ class DOP853:
                     offsets = np.arange(reps.sum()) - np.repeat(np.cumsum(reps) - reps, reps)
                     k_out = np.repeat(first_sel, reps) + offsets
                     members = g_sel[member]
-                    vals = self._interpolate(F[:, member], y_sel[member], (t_out[k_out] - t_sel[member]) / h_sel[member])
+                    vals = self._interpolate(
+                        F[:, member], y_sel[member], (t_out[k_out] - t_sel[member]) / h_sel[member]
+                    )
                     at_end = t_out[k_out] == tn_sel[member]
                     vals = np.where(at_end[:, None], yn_sel[member], vals)
                 if self.project is not None:

@@ -90,6 +90,12 @@ def polynomial_omega(starts, step, n, cols, coef):
         ``(ka0, ka1, kb0, kb1, kc0, kc1)`` in rad/s, signs included.
     """
     out = np.empty((n, 3))
-    _fill(np.ascontiguousarray(starts, dtype=complex), np.ascontiguousarray(step, dtype=complex), int(n),
-          np.array(cols, dtype=np.int64), np.array(coef, dtype=float), out)
+    _fill(
+        np.ascontiguousarray(starts, dtype=complex),
+        np.ascontiguousarray(step, dtype=complex),
+        int(n),
+        np.array(cols, dtype=np.int64),
+        np.array(coef, dtype=float),
+        out,
+    )
     return out

@@ -100,9 +100,7 @@ def from_matrix(r) -> np.ndarray:
     tr = np.trace(r, axis1=-2, axis2=-1)
     d = np.stack([tr, r[..., 0, 0], r[..., 1, 1], r[..., 2, 2]], axis=-1)
     k = np.argmax(d, axis=-1)
-    sq = np.stack(
-        [1 + tr, 1 + 2 * r[..., 0, 0] - tr, 1 + 2 * r[..., 1, 1] - tr, 1 + 2 * r[..., 2, 2] - tr], axis=-1
-    )
+    sq = np.stack([1 + tr, 1 + 2 * r[..., 0, 0] - tr, 1 + 2 * r[..., 1, 1] - tr, 1 + 2 * r[..., 2, 2] - tr], axis=-1)
     big = np.sqrt(np.maximum(np.take_along_axis(sq, k[..., None], -1)[..., 0], 0.0)) * 0.5
     f = 0.25 / big
     a = (r[..., 2, 1] - r[..., 1, 2]) * f

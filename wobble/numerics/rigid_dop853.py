@@ -125,10 +125,12 @@ def _kepler_position(t, row):
     peri = row[5] + row[9] * t
     cO, sO, cw, sw = np.cos(node), np.sin(node), np.cos(peri), np.sin(peri)
     ci, si = np.cos(inc), np.sin(inc)
-    return (x * (cO * cw - sO * sw * ci) - yy * (cO * sw + sO * cw * ci),
-            x * (sO * cw + cO * sw * ci) - yy * (sO * sw - cO * cw * ci),
-            (x * sw + yy * cw) * si,
-            a * (1.0 - e * cE))
+    return (
+        x * (cO * cw - sO * sw * ci) - yy * (cO * sw + sO * cw * ci),
+        x * (sO * cw + cO * sw * ci) - yy * (sO * sw - cO * cw * ci),
+        (x * sw + yy * cw) * si,
+        a * (1.0 - e * cE),
+    )
 
 
 @_jit_inline
@@ -166,8 +168,9 @@ def _rhs(t, y, out, i, prog):
             k = gg[j, 0]
             ang = gg[j, 7] * t + gg[j, 8]
             c, s = np.cos(ang), np.sin(ang)
-            b0, b1, b2 = _to_body(qw, ux, uy, uz, c * gg[j, 1] + s * gg[j, 4], c * gg[j, 2] + s * gg[j, 5],
-                                  c * gg[j, 3] + s * gg[j, 6])
+            b0, b1, b2 = _to_body(
+                qw, ux, uy, uz, c * gg[j, 1] + s * gg[j, 4], c * gg[j, 2] + s * gg[j, 5], c * gg[j, 3] + s * gg[j, 6]
+            )
             # rho x I rho = ((I3 - I2) r1 r2, (I1 - I3) r2 r0, (I2 - I1) r0 r1)
             tx += k * (i2 - i1) * b1 * b2
             ty += k * (i0 - i2) * b2 * b0
@@ -227,8 +230,30 @@ def _rms_scaled(x, scale):
 
 
 @_jit
-def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out,
-            prog, K, ytmp, ynew, scale, F):
+def _member(
+    i,
+    t_out,
+    t_end,
+    t,
+    y,
+    f,
+    h,
+    ymax,
+    steps,
+    rejected,
+    nfev,
+    flags,
+    rtol,
+    atol,
+    max_steps,
+    out,
+    prog,
+    K,
+    ytmp,
+    ynew,
+    scale,
+    F,
+):
     """Advance member i to t_end, writing its outputs; returns an error code (OK, ...)."""
     d = y.shape[1]
     ti = t[i]
@@ -369,7 +394,6 @@ def _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rto
     return OK
 
 
-
 @_jit
 def _advance(lo, hi, t_out, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out, prog):
     """Members lo <= i < hi, one after the other; returns (code, member)."""
@@ -381,8 +405,30 @@ def _advance(lo, hi, t_out, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol
     scale = np.empty(d)
     F = np.empty((7, d))
     for i in range(lo, hi):
-        code = _member(i, t_out, t_end, t, y, f, h, ymax, steps, rejected, nfev, flags, rtol, atol, max_steps, out,
-                       prog, K, ytmp, ynew, scale, F)
+        code = _member(
+            i,
+            t_out,
+            t_end,
+            t,
+            y,
+            f,
+            h,
+            ymax,
+            steps,
+            rejected,
+            nfev,
+            flags,
+            rtol,
+            atol,
+            max_steps,
+            out,
+            prog,
+            K,
+            ytmp,
+            ynew,
+            scale,
+            F,
+        )
         if code != OK:
             return code, i
     return OK, -1
@@ -472,8 +518,23 @@ class RigidDOP853:
             return out
         check_output_times(t_out, self.t)
         self._flags[:] = 0  # "rejected just before" does not carry over from an earlier call
-        args = (t_out, self.t, self.y, self.f, self.h, self.ymax, self.n_steps, self.n_rejected,
-                self._nfev, self._flags, self.rtol, self.atol, self.max_steps, out, self.program)
+        args = (
+            t_out,
+            self.t,
+            self.y,
+            self.f,
+            self.h,
+            self.ymax,
+            self.n_steps,
+            self.n_rejected,
+            self._nfev,
+            self._flags,
+            self.rtol,
+            self.atol,
+            self.max_steps,
+            out,
+            self.program,
+        )
         workers = min(self.workers, n // _MEMBERS_PER_THREAD)
         if workers <= 1:
             code, member = _advance(0, n, *args)

@@ -17,7 +17,16 @@ __all__ = ["bracketed_root"]
 _EPS = 2.220446049250313e-16
 
 
-def bracketed_root(f, lo: float, hi: float, *, f_lo: float | None = None, f_hi: float | None = None, xtol: float = 0.0, maxiter: int = 200) -> float:
+def bracketed_root(
+    f,
+    lo: float,
+    hi: float,
+    *,
+    f_lo: float | None = None,
+    f_hi: float | None = None,
+    xtol: float = 0.0,
+    maxiter: int = 200,
+) -> float:
     """A root of ``f`` in [lo, hi], to the last bits.
 
     Parameters

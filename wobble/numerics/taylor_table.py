@@ -26,23 +26,95 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-__all__ = ["phase", "angles", "motion", "CONSTANTS", "carlson", "sample", "phasors", "check", "check_at", "prepare",
-           "coefficients", "spectrum", "SAMPLE_CONSTANTS"]
+__all__ = [
+    "phase",
+    "angles",
+    "motion",
+    "CONSTANTS",
+    "carlson",
+    "sample",
+    "phasors",
+    "check",
+    "check_at",
+    "prepare",
+    "coefficients",
+    "spectrum",
+    "SAMPLE_CONSTANTS",
+]
 
 _jit = nb.njit(cache=True, nogil=True, error_model="numpy")
 _SPLITTER = 134217729.0  # 2^27 + 1
 
 #: Layout of the constants vector handed to :func:`angles` and :func:`motion`.
 CONSTANTS = (
-    "K0", "h", "inv_h", "w0", "lam0", "B", "C", "w3", "w3_minus_a",
-    "sig_a1", "sig_a2", "sig_a3", "sig_c", "sig_off", "sig_p0",
-    "dlt_a1", "dlt_a2", "dlt_a3", "dlt_c", "dlt_off", "dlt_p0",
-    "tp0", "tp1", "tp2", "inv_two_pi", "two_pi", "half_inv_pi",
-    "half_I1", "half_I3", "I1", "I3", "mgl",
+    "K0",
+    "h",
+    "inv_h",
+    "w0",
+    "lam0",
+    "B",
+    "C",
+    "w3",
+    "w3_minus_a",
+    "sig_a1",
+    "sig_a2",
+    "sig_a3",
+    "sig_c",
+    "sig_off",
+    "sig_p0",
+    "dlt_a1",
+    "dlt_a2",
+    "dlt_a3",
+    "dlt_c",
+    "dlt_off",
+    "dlt_p0",
+    "tp0",
+    "tp1",
+    "tp2",
+    "inv_two_pi",
+    "two_pi",
+    "half_inv_pi",
+    "half_I1",
+    "half_I3",
+    "I1",
+    "I3",
+    "mgl",
 )
 _I = {name: i for i, name in enumerate(CONSTANTS)}
-(K0, H, INV_H, W0, LAM0, B_, C_, W3, W3MA, SA1, SA2, SA3, SC, SOFF, SP0, DA1, DA2, DA3, DC, DOFF, DP0,
- TP0, TP1, TP2, INV_TP, TWO_PI, HALF_INV_PI, HALF_I1, HALF_I3, I1_, I3_, MGL) = range(len(CONSTANTS))
+(
+    K0,
+    H,
+    INV_H,
+    W0,
+    LAM0,
+    B_,
+    C_,
+    W3,
+    W3MA,
+    SA1,
+    SA2,
+    SA3,
+    SC,
+    SOFF,
+    SP0,
+    DA1,
+    DA2,
+    DA3,
+    DC,
+    DOFF,
+    DP0,
+    TP0,
+    TP1,
+    TP2,
+    INV_TP,
+    TWO_PI,
+    HALF_INV_PI,
+    HALF_I1,
+    HALF_I3,
+    I1_,
+    I3_,
+    MGL,
+) = range(len(CONSTANTS))
 
 
 @_jit
@@ -95,8 +167,19 @@ def phase(t, lam, period, offset, pieces, with_range=False):
     r = np.empty_like(t)
     j = np.empty_like(t)
     j_range = np.empty(2)
-    _phase(t, float(lam[0]), float(lam[1]), float(offset), float(pieces[0]), float(pieces[1]), float(pieces[2]),
-           float(period[0]), r, j, j_range)
+    _phase(
+        t,
+        float(lam[0]),
+        float(lam[1]),
+        float(offset),
+        float(pieces[0]),
+        float(pieces[1]),
+        float(pieces[2]),
+        float(period[0]),
+        r,
+        j,
+        j_range,
+    )
     if with_range:
         return r, j, (float(j_range[0]), float(j_range[1]))
     return r, j
@@ -361,11 +444,28 @@ def _find_carlson():
 
 # The evaluator's constants for sample(): layout of the vector ``e``.
 SAMPLE_CONSTANTS = (
-    "m", "m1", "K", "k_lo", "scale", "rho_x", "rho_y", "hx1", "hy2", "W", "k_plus", "k_minus",
-    "n_plus", "one_minus_n_plus", "nu_minus", "pi_plus_over_k", "pi_minus_over_k", "three_square",
+    "m",
+    "m1",
+    "K",
+    "k_lo",
+    "scale",
+    "rho_x",
+    "rho_y",
+    "hx1",
+    "hy2",
+    "W",
+    "k_plus",
+    "k_minus",
+    "n_plus",
+    "one_minus_n_plus",
+    "nu_minus",
+    "pi_plus_over_k",
+    "pi_minus_over_k",
+    "three_square",
 )
 (_M, _M1, _K, _KLO, _SCALE, _RX, _RY, _HX1, _HY2, _W, _KP, _KM, _NP, _OMNP, _NUM, _PPK, _PMK, _TSQ) = range(
-    len(SAMPLE_CONSTANTS))
+    len(SAMPLE_CONSTANTS)
+)
 _SMALL_M = 1e-9  # wobble.numerics.elliptic._SMALL_M
 _ASIN_SAFE = 0.5  # wobble.numerics.elliptic._ASIN_SAFE
 
@@ -522,8 +622,15 @@ def phasors(table, node_r, w0, c, offset, p0):
     """cos and sin (2, 2, S + 1) of the node parts of sigma and delta (the NumPy lines of
     :func:`wobble.models.top_series._tabulate`)."""
     out = np.empty((2, 2, node_r.size))
-    _phasors(table, node_r, float(w0), np.asarray(c, dtype=float), np.asarray(offset, dtype=float),
-             np.asarray(p0, dtype=float), out)
+    _phasors(
+        table,
+        node_r,
+        float(w0),
+        np.asarray(c, dtype=float),
+        np.asarray(offset, dtype=float),
+        np.asarray(p0, dtype=float),
+        out,
+    )
     return out
 
 
@@ -544,8 +651,9 @@ def check_at(r, want, table, node_r, phasor, k0, h, c, offset, start, w0, cos_c,
     cos_g = np.empty((r.size, 2))
     sin_g = np.empty((r.size, 2))
     c = np.asarray(c, dtype=float)
-    _direct_phasors(r, want, c, np.asarray(offset, dtype=float), np.asarray(start, dtype=float), float(w0),
-                    cos_g, sin_g)
+    _direct_phasors(
+        r, want, c, np.asarray(offset, dtype=float), np.asarray(start, dtype=float), float(w0), cos_g, sin_g
+    )
     return check(r, want, cos_g, sin_g, table, node_r, phasor, k0, h, c, cos_c, sin_c)
 
 
@@ -591,9 +699,22 @@ def check(r, want, cos_g, sin_g, table, node_r, phasor, k0, h, c, cos_c, sin_c):
     phases ``r``, and of the half angles' phasors from (cos_g, sin_g) (N, 2): the check of
     :func:`wobble.models.top_series._check_fourier` in one pass."""
     err = np.empty(table.shape[2])
-    miss = _check(np.ascontiguousarray(r, dtype=float), np.ascontiguousarray(want), np.ascontiguousarray(cos_g),
-                  np.ascontiguousarray(sin_g), table, node_r, phasor, float(k0), float(h), 1.0 / h,
-                  np.asarray(c, dtype=float), cos_c, sin_c, err)
+    miss = _check(
+        np.ascontiguousarray(r, dtype=float),
+        np.ascontiguousarray(want),
+        np.ascontiguousarray(cos_g),
+        np.ascontiguousarray(sin_g),
+        table,
+        node_r,
+        phasor,
+        float(k0),
+        float(h),
+        1.0 / h,
+        np.asarray(c, dtype=float),
+        cos_c,
+        sin_c,
+        err,
+    )
     return err, miss
 
 
@@ -682,8 +803,9 @@ def coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms, sca
     row's rounding) and the sums of |k c_k| ``scale`` of the two phase rows. The arithmetic of
     the NumPy lines of wobble.models.top_series.build and _fourier_from_spectra."""
     coef = np.empty((spectra.shape[0], spectra.shape[1]))
-    status, last, need, slope_s, slope_d = _coefficients(spectra, scales, n, noise, cos_rows, keep_level, max_terms,
-                                                         scale, coef)
+    status, last, need, slope_s, slope_d = _coefficients(
+        spectra, scales, n, noise, cos_rows, keep_level, max_terms, scale, coef
+    )
     return status, np.ascontiguousarray(coef[:, : last + 1]), need, slope_s, slope_d
 
 

@@ -13,7 +13,12 @@ def time_axis(span_s: float) -> tuple[float, str]:
     >>> time_axis(200.0), time_axis(3e7)
     ((1.0, 's'), (86400.0, 'd'))
     """
-    for limit, size, name in ((300.0, 1.0, "s"), (3 * 3600.0, 60.0, "min"), (3 * 86400.0, 3600.0, "h"), (3 * _YEAR, 86400.0, "d")):
+    for limit, size, name in (
+        (300.0, 1.0, "s"),
+        (3 * 3600.0, 60.0, "min"),
+        (3 * 86400.0, 3600.0, "h"),
+        (3 * _YEAR, 86400.0, "d"),
+    ):
         if span_s < limit:
             return size, name
     return _YEAR, "yr"

@@ -39,13 +39,24 @@ def work_precision_figure(title: str, rows: list[dict], *, xlabel: str = "error"
     methods = list(dict.fromkeys(r["method"] for r in rows))
     markers = "osD^v<>ph*XP"
     for k, m in enumerate(methods):
-        pts = [(max(r["error"], ERROR_FLOOR), r["per_member_s"] if per_member else r["t_min"])
-               for r in rows if r["method"] == m and math.isfinite(r["error"])]
+        pts = [
+            (max(r["error"], ERROR_FLOOR), r["per_member_s"] if per_member else r["t_min"])
+            for r in rows
+            if r["method"] == m and math.isfinite(r["error"])
+        ]
         if not pts:
             continue
         pts.sort(key=lambda p: p[1])
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=markers[k % len(markers)],
-                color=f"C{k % 10}", ls="-" if k < 10 else "--", label=m, lw=1.6 if m.startswith("wobble") else 1.0, ms=5)
+        ax.plot(
+            [p[0] for p in pts],
+            [p[1] for p in pts],
+            marker=markers[k % len(markers)],
+            color=f"C{k % 10}",
+            ls="-" if k < 10 else "--",
+            label=m,
+            lw=1.6 if m.startswith("wobble") else 1.0,
+            ms=5,
+        )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(xlabel + f" (zero drawn at {ERROR_FLOOR:g})")

@@ -41,8 +41,15 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
                 color = _COLORS["lengthens"] if value > previous else _COLORS["shortens"]
                 ax.barh(i, value - previous, left=previous, color=color, height=0.6)
                 # Changes in a column at the right edge, clear of the bars and lines.
-                ax.text(0.99, i, f"{value - previous:+.1f} d", va="center", ha="right", fontsize=8,
-                        transform=ax.get_yaxis_transform())
+                ax.text(
+                    0.99,
+                    i,
+                    f"{value - previous:+.1f} d",
+                    va="center",
+                    ha="right",
+                    fontsize=8,
+                    transform=ax.get_yaxis_transform(),
+                )
             previous = value
         model = b.period.to_value(u.day)
         sigma = b.period_uncertainty.to_value(u.day)
@@ -63,7 +70,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     axes[-1, 0].set_xlabel("period (d)")
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
     return fig

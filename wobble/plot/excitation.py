@@ -27,7 +27,11 @@ def excitation_figure(ex) -> Figure:
     ax_s.set_xlim(-3, 3)
     ax_s.set_xlabel("frequency [cycles per year] (negative: retrograde)")
     ax_s.set_ylabel("amplitude [mas]")
-    ax_s.set_title(f"spectra: the Chandler peak of the pole, no peak in its excitation (T_c = {ex.chandler_period.value:.1f} d, Q = {ex.quality_factor:.0f})", fontsize="medium")
+    ax_s.set_title(
+        f"spectra: the Chandler peak of the pole, no peak in its excitation (T_c = {ex.chandler_period.value:.1f} "
+        f"d, Q = {ex.quality_factor:.0f})",
+        fontsize="medium",
+    )
     ax_s.legend(fontsize="small")
     if ex.band_chi is not None:
         years = 2000.0 + (ex.time_mjd - 51544.5) / 365.25

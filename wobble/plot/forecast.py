@@ -1,4 +1,5 @@
-"""Figures of forecasts: the pole ahead with its intervals, and a hindcast's error against lead time beside published curves.
+"""Figures of forecasts: the pole ahead with its intervals, and a hindcast's error against lead time beside
+published curves.
 
 Matplotlib ``Figure`` objects (no pyplot); files are written atomically with
 the umask's mode (:func:`wobble.plot.polar_motion.save_figure`).
@@ -49,7 +50,8 @@ def forecast_figure(forecast, data=None) -> Figure:
     axes[0].legend(fontsize="small", ncol=3)
     axes[1].set_xlabel("year")
     axes[0].set_title(
-        f"forecast issued {forecast.issued.iso[:10]} (dashed), data to {forecast.last_data.iso[:10]} (latency {forecast.latency.value:g} d)",
+        f"forecast issued {forecast.issued.iso[:10]} (dashed), data to {forecast.last_data.iso[:10]} (latency "
+        f"{forecast.latency.value:g} d)",
         fontsize="medium",
     )
     return fig
@@ -61,8 +63,8 @@ def save_forecast_figure(forecast, path, *, overwrite: bool = False, data=None):
 
 
 def hindcast_figure(hindcast) -> Figure:
-    """2-D RMS and x_p mean absolute error against lead time for each method, persistence and LS alone, with the anchors;
-    and the 68 % and 95 % interval coverage."""
+    """2-D RMS and x_p mean absolute error against lead time for each method, persistence and LS alone, with
+    the anchors; and the 68 % and 95 % interval coverage."""
     from wobble.api.polar_motion.hindcast import ANCHORS
     from wobble.api.polar_motion.record import RAD_PER_MAS
 
@@ -105,10 +107,15 @@ def hindcast_figure(hindcast) -> Figure:
     ax_skill.set_xlabel("lead time [d]")
     ax_skill.set_ylabel("skill, 1 - RMS / RMS(reference)")
     ax_skill.legend(fontsize="x-small")
-    intervals = "intervals calibrated on past forecasts" if getattr(hindcast, "calibrated", False) else "the models' own intervals"
+    intervals = (
+        "intervals calibrated on past forecasts"
+        if getattr(hindcast, "calibrated", False)
+        else "the models' own intervals"
+    )
     ax_cov.set_title(intervals, fontsize="medium")
     fig.suptitle(
-        f"hindcast: {len(hindcast.issued_mjd)} forecasts issued {_years(hindcast.issued_mjd[0]):.1f}-{_years(hindcast.issued_mjd[-1]):.1f}, "
+        f"hindcast: {len(hindcast.issued_mjd)} forecasts issued "
+        f"{_years(hindcast.issued_mjd[0]):.1f}-{_years(hindcast.issued_mjd[-1]):.1f}, "
         f"latency {hindcast.latency.value:g} d (anchors: published, with angular-momentum forecasts where marked)"
     )
     return fig

@@ -27,7 +27,7 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     -------
     matplotlib.figure.Figure
     """
-    I = moments.to_value(u.kg * u.m**2)  # noqa: E741
+    I = moments.to_value(u.kg * u.m**2)
     fig = plt.figure(figsize=(6.4, 6.0))
     ax = fig.add_subplot(projection="3d")
     w_first = omegas[0].to_value(u.rad / u.s)
@@ -35,8 +35,12 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     uu, vv = np.meshgrid(np.linspace(0, 2 * np.pi, 60), np.linspace(0, np.pi, 30))
     radii = np.sqrt(two_t * I)
     ax.plot_surface(
-        radii[0] * np.cos(uu) * np.sin(vv), radii[1] * np.sin(uu) * np.sin(vv), radii[2] * np.cos(vv),
-        color="0.85", alpha=0.25, linewidth=0,
+        radii[0] * np.cos(uu) * np.sin(vv),
+        radii[1] * np.sin(uu) * np.sin(vv),
+        radii[2] * np.cos(vv),
+        color="0.85",
+        alpha=0.25,
+        linewidth=0,
     )
     for w in omegas:
         w = w.to_value(u.rad / u.s)
@@ -69,8 +73,10 @@ def flip_figure(moments, omega0, t_end):
     ax.set_xlim(0, t_end_s)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("body-frame angular velocity (rad s$^{-1}$)")
-    ax.set_title(f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
-                 f"flip every {body.time_between_flips.to_value(u.s):.6f} s")
+    ax.set_title(
+        f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
+        f"flip every {body.time_between_flips.to_value(u.s):.6f} s"
+    )
     ax.legend(loc="upper right")
     fig.tight_layout()
     return fig
@@ -105,7 +111,7 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     t1 = t_end.to_value(u.s)
     t = np.linspace(0.0, t1, samples)
     w = body.omega(t * u.s).to_value(u.rad / u.s)
-    I = body.moments.to_value(u.kg * u.m**2)  # noqa: E741
+    I = body.moments.to_value(u.kg * u.m**2)
     scale, unit = time_axis(t1)
     big = int(np.argmax(np.max(np.abs(w), axis=0)))
     others = [k for k in range(3) if k != big]
@@ -142,7 +148,7 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     fig.tight_layout()
     if path is None:
         return fig
-    from wobble.plot._save import save_figure
+    from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
 
@@ -168,7 +174,7 @@ def _polhode_from_above(ax, L, axis: int) -> None:
     sign = np.sign(L[0, axis])
     x, y = L[:, a] * sign, L[:, b] * sign
     extent = np.max(np.hypot(x, y))
-    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):
+    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):  # noqa: B007 - size and name are read after the loop
         if extent >= 3 * size:
             break
     ax.plot(x / size, y / size, color="C0", lw=1.4)

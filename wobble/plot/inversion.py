@@ -52,16 +52,31 @@ def corner_figure(result):
         inside = prior[:, i][(prior[:, i] >= lo) & (prior[:, i] <= hi)]
         if inside.size:
             weights = np.full(inside.size, 1.0 / prior.shape[0])
-            ax.hist(inside, bins=40, range=(lo, hi), weights=weights / ((hi - lo) / 40), histtype="step",
-                    color="0.45", ls="--", label="prior")
+            ax.hist(
+                inside,
+                bins=40,
+                range=(lo, hi),
+                weights=weights / ((hi - lo) / 40),
+                histtype="step",
+                color="0.45",
+                ls="--",
+                label="prior",
+            )
         for k, c in enumerate(x for x in result.setup.comparisons if x.name == p.name):
             colour = f"C{k + 1}"
             if c.value is not None:
                 ax.axvline(c.value / p.scale, color=colour, lw=1.2, label=c.source.split("(")[0].strip())
                 if c.uncertainty is not None:
-                    ax.axvspan((c.value - c.uncertainty) / p.scale, (c.value + c.uncertainty) / p.scale, color=colour, alpha=0.15)
+                    ax.axvspan(
+                        (c.value - c.uncertainty) / p.scale,
+                        (c.value + c.uncertainty) / p.scale,
+                        color=colour,
+                        alpha=0.15,
+                    )
             else:
-                ax.axvspan(c.low / p.scale, c.high / p.scale, color=colour, alpha=0.15, label=c.source.split("(")[0].strip())
+                ax.axvspan(
+                    c.low / p.scale, c.high / p.scale, color=colour, alpha=0.15, label=c.source.split("(")[0].strip()
+                )
         ax.set_xlim(lo, hi)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=6, frameon=False, loc="upper left")

@@ -42,7 +42,7 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
         _cw_panel(row[2], r, grid, periods["CW"].to_value(u.day))
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
         plt.close(fig)
@@ -83,7 +83,9 @@ def _cw_panel(ax, r, grid, period):
     ax.plot(grid * 1e3, period, color="C1", label="CW (model, coupled)")
     if cw.observed is not None:
         _band(ax, cw.observed.to_value(u.day), cw.observed_uncertainty.to_value(u.day), "0.3", "observed")
-    ax.axhline(r.chandler_budget_period.to_value(u.day), color="C1", ls=":", lw=1, label="Chandler budget (first order)")
+    ax.axhline(
+        r.chandler_budget_period.to_value(u.day), color="C1", ls=":", lw=1, label="Chandler budget (first order)"
+    )
     ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1)
     ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
     ax.set_ylabel("Chandler period [d]")

@@ -26,7 +26,8 @@ _MJD_J2000 = 51544.5
 
 
 def _published_chandler_cpy() -> float:
-    """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak to label."""
+    """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak
+    to label."""
     from astropy import units as u
 
     from wobble.api.polar_motion import published_chandler_period
@@ -75,7 +76,13 @@ def pole_path(data, *, start=None, end=None, ax=None, model=None):
     if model is not None and "x_p_mean_pole" in model:
         mm = mjd_values(model["time"])
         mk = (mm >= mjd[keep][0]) & (mm <= mjd[keep][-1])
-        ax.plot(model["x_p_mean_pole"].values[mk] * 1e3, model["y_p_mean_pole"].values[mk] * 1e3, color="C3", lw=1.5, label="mean pole (fitted drift)")
+        ax.plot(
+            model["x_p_mean_pole"].values[mk] * 1e3,
+            model["y_p_mean_pole"].values[mk] * 1e3,
+            color="C3",
+            lw=1.5,
+            label="mean pole (fitted drift)",
+        )
         ax.legend(loc="lower right", fontsize="small")
     # Direction of motion at the middle of the span.
     k = len(x) // 2
@@ -108,14 +115,24 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
         ax.set_yscale("log")
     # Label each peak at its height, staggered so the Chandler and prograde
     # annual labels (0.16 cycle/yr apart) do not overlap.
-    marks = [("Chandler", _published_chandler_cpy(), (-60, 8)), ("annual", 365.25 / 365.24219, (12, -4)), ("retrograde annual", -365.25 / 365.24219, (-40, 10))]
+    marks = [
+        ("Chandler", _published_chandler_cpy(), (-60, 8)),
+        ("annual", 365.25 / 365.24219, (12, -4)),
+        ("retrograde annual", -365.25 / 365.24219, (-40, 10)),
+    ]
     for label, f, offset in marks:
         near = keep & (np.abs(cpy - f) < 0.03)
         if not near.any():
             continue
         k = np.flatnonzero(near)[np.argmax(amp[near])]
         ax.plot(cpy[k], amp[k], "o", ms=4, mfc="none", color="C3", zorder=3)
-        ax.annotate(f"{label}\n{cpy[k]:+.3f} cpy, {amp[k]:.0f} mas", (cpy[k], amp[k]), xytext=offset, textcoords="offset points", fontsize="x-small")
+        ax.annotate(
+            f"{label}\n{cpy[k]:+.3f} cpy, {amp[k]:.0f} mas",
+            (cpy[k], amp[k]),
+            xytext=offset,
+            textcoords="offset points",
+            fontsize="x-small",
+        )
     ax.set_xlabel("frequency [cycles per year]  (negative: retrograde, positive: prograde)")
     ax.set_ylabel("amplitude [mas]")
     if log:
@@ -145,8 +162,26 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
     ax_a, ax_p = axes
     years = _decimal_year(windows["window_time"].values)
     width = float(windows.attrs.get("window_years", np.nan))
-    ax_a.errorbar(years, windows["chandler_amplitude"], yerr=windows["chandler_amplitude_uncertainty"], fmt="o-", ms=3, lw=1, label="Chandler")
-    ax_a.errorbar(years, windows["annual_prograde_amplitude"], yerr=windows["annual_prograde_amplitude_uncertainty"], fmt="s-", ms=2, lw=0.8, color="C2", alpha=0.7, label="annual (prograde)")
+    ax_a.errorbar(
+        years,
+        windows["chandler_amplitude"],
+        yerr=windows["chandler_amplitude_uncertainty"],
+        fmt="o-",
+        ms=3,
+        lw=1,
+        label="Chandler",
+    )
+    ax_a.errorbar(
+        years,
+        windows["annual_prograde_amplitude"],
+        yerr=windows["annual_prograde_amplitude_uncertainty"],
+        fmt="s-",
+        ms=2,
+        lw=0.8,
+        color="C2",
+        alpha=0.7,
+        label="annual (prograde)",
+    )
     ax_a.axvline(2015.0, color="0.5", ls=":", lw=1)
     ax_a.set_ylabel("amplitude [mas]")
     ax_a.set_ylim(bottom=0)
@@ -222,5 +257,6 @@ def save_figure(fig: Figure, path, *, overwrite: bool = False, dpi: int = 110) -
 
 
 def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
-    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without ``overwrite``."""
+    """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without
+    ``overwrite``."""
     return save_figure(overview(analysis), path, overwrite=overwrite, dpi=dpi)

@@ -22,7 +22,9 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = plt.subplots(len(budgets), 1, figsize=(7.2, 0.42 * sum(len(b.terms) + 3 for b in budgets) + 0.8), squeeze=False)
+    fig, axes = plt.subplots(
+        len(budgets), 1, figsize=(7.2, 0.42 * sum(len(b.terms) + 3 for b in budgets) + 0.8), squeeze=False
+    )
     for ax, b in zip(axes[:, 0], budgets):
         running = 0.0
         for i, t in enumerate(b.terms):
@@ -34,13 +36,29 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         sigma = b.rate_uncertainty.to_value(ARCSEC_PER_CENTURY)
         n = len(b.terms)
         ax.barh(n, model, color="0.35", height=0.6)
-        ax.text(0.01, n, f"{model:.3f} ± {sigma:.3f}", va="center", ha="left", fontsize=8, transform=ax.get_yaxis_transform())
+        ax.text(
+            0.01,
+            n,
+            f"{model:.3f} ± {sigma:.3f}",
+            va="center",
+            ha="left",
+            fontsize=8,
+            transform=ax.get_yaxis_transform(),
+        )
         labels = [t.name.replace("_", " ") for t in b.terms] + ["model"]
         if b.observed is not None:
             obs = b.observed.to_value(ARCSEC_PER_CENTURY)
             osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
             ax.barh(n + 1, obs, color="k", height=0.6)
-            ax.text(0.01, n + 1, f"{obs:.3f} ± {osig:.3f}", va="center", ha="left", fontsize=8, transform=ax.get_yaxis_transform())
+            ax.text(
+                0.01,
+                n + 1,
+                f"{obs:.3f} ± {osig:.3f}",
+                va="center",
+                ha="left",
+                fontsize=8,
+                transform=ax.get_yaxis_transform(),
+            )
             labels.append("observed")
         ax.set_yticks(range(len(labels)), labels)
         ax.invert_yaxis()
@@ -51,7 +69,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         ax.set_title(f"{b.planet.title}: forced precession, term by term", fontsize=10)
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
         plt.close(fig)
@@ -82,22 +100,36 @@ def nutation_ellipse_figure(budget, path=None, *, overwrite: bool = False):
         curves.append(("IAU 2000A (non-rigid Earth)", n.reference_longitude, n.reference_obliquity, "k", "--"))
     for label, lon, obl, color, style in curves:
         a, b = lon.to_value(u.arcsec), obl.to_value(u.arcsec)
-        ax.plot(a * np.sin(omega) * np.sin(eps), b * np.cos(omega), color=color, ls=style,
-                label=f"{label}: {a:+.4f}\", {b:+.4f}\"")
+        ax.plot(
+            a * np.sin(omega) * np.sin(eps),
+            b * np.cos(omega),
+            color=color,
+            ls=style,
+            label=f'{label}: {a:+.4f}", {b:+.4f}"',
+        )
     for deg in (0, 90, 180, 270):
         w = np.radians(deg)
         a, b = n.longitude.to_value(u.arcsec), n.obliquity.to_value(u.arcsec)
         ax.plot(a * np.sin(w) * np.sin(eps), b * np.cos(w), "o", color="C0", ms=3)
-        ax.annotate(f"Ω = {deg}°", (a * np.sin(w) * np.sin(eps), b * np.cos(w)), fontsize=7,
-                    xytext=(4, 4), textcoords="offset points")
+        ax.annotate(
+            f"Ω = {deg}°",
+            (a * np.sin(w) * np.sin(eps), b * np.cos(w)),
+            fontsize=7,
+            xytext=(4, 4),
+            textcoords="offset points",
+        )
     ax.set_aspect("equal")
     ax.set_xlabel("Δψ sin ε [arcsec] (along the ecliptic, IAU sign)")
     ax.set_ylabel("Δε [arcsec]")
-    ax.set_title(f"{budget.planet.title}: principal nutation ({n.period.to_value(u.yr):.2f} yr, the {n.perturber.capitalize()}'s node)", fontsize=9)
+    ax.set_title(
+        f"{budget.planet.title}: principal nutation ({n.period.to_value(u.yr):.2f} yr, the "
+        f"{n.perturber.capitalize()}'s node)",
+        fontsize=9,
+    )
     ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.08), frameon=False)
     fig.tight_layout()
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
         plt.close(fig)

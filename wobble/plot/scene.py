@@ -46,7 +46,7 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
             ds.close()
     if path is None:
         return fig
-    from wobble.plot._save import save_figure
+    from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
 
@@ -73,8 +73,9 @@ def _draw(ds):
     t = t - t[0]
     scale, unit = time_axis(t[-1] if t.size else 1.0)
     panels = [p for p in _PANELS if _has(ds, p[0])]
-    fig, axes = plt.subplots(len(panels) or 1, 1, figsize=(7.5, 2.2 * max(len(panels), 1) + 0.6), sharex=True,
-                             squeeze=False)
+    fig, axes = plt.subplots(
+        len(panels) or 1, 1, figsize=(7.5, 2.2 * max(len(panels), 1) + 0.6), sharex=True, squeeze=False
+    )
     for ax, (kind, title) in zip(axes[:, 0], panels):
         _PANEL_DRAW[kind](ax, ds, t / scale)
         ax.set_title(title, fontsize=9)
@@ -85,8 +86,12 @@ def _draw(ds):
 
 
 def _has(ds, kind: str) -> bool:
-    wanted = {"omega": ("omega",), "angular_momentum": ("angular_momentum",),
-              "energy": ("kinetic_energy", "total_energy"), "angles": ("tilt", "wobble_angle")}[kind]
+    wanted = {
+        "omega": ("omega",),
+        "angular_momentum": ("angular_momentum",),
+        "energy": ("kinetic_energy", "total_energy"),
+        "angles": ("tilt", "wobble_angle"),
+    }[kind]
     return any(name in ds for name in wanted)
 
 
@@ -100,8 +105,14 @@ def _components(ax, ds, t, name: str, labels) -> None:
             ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, :, k]):.6g} (constant to 1e-3)")
             continue
         for j in range(values.shape[1]):
-            ax.plot(t, values[:, j, k], color=f"C{k}", lw=0.9 if values.shape[1] > 1 else 1.3,
-                    alpha=0.6 if values.shape[1] > 1 else 1.0, label=labels[k] if j == 0 else None)
+            ax.plot(
+                t,
+                values[:, j, k],
+                color=f"C{k}",
+                lw=0.9 if values.shape[1] > 1 else 1.3,
+                alpha=0.6 if values.shape[1] > 1 else 1.0,
+                label=labels[k] if j == 0 else None,
+            )
     ax.set_ylabel(ds[name].attrs.get("units", ""))
     ax.legend(loc="upper right", fontsize=8)
 
@@ -120,8 +131,13 @@ def _energy(ax, ds, t) -> None:
         if name in ds:
             values = _series(ds[name])[:, :, 0]
             scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
-            ax.plot(t, (values - values[:1]) / scale, color=f"C{k}", lw=0.8, label=[name.replace("_", " ")]
-                    + [None] * (values.shape[1] - 1))
+            ax.plot(
+                t,
+                (values - values[:1]) / scale,
+                color=f"C{k}",
+                lw=0.8,
+                label=[name.replace("_", " ")] + [None] * (values.shape[1] - 1),
+            )
     ax.set_ylabel("relative change")
     ax.legend(loc="upper right", fontsize=8)
 

@@ -43,7 +43,7 @@ def histogram(ds, path=None, variable: str = "chandler_period", ax=None, *, over
     ax.set_title(ds.attrs.get("title", ""), fontsize=9)
     ax.legend(frameon=False)
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
@@ -118,7 +118,7 @@ def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
     fig.legend(handles=handles, loc="outside right center", frameon=False, fontsize=8)
     fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
@@ -170,7 +170,7 @@ def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
     ax2.set_title("angle between circulation axis and L (4000 members each)", fontsize=8)
     fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
     if path is not None:
-        from wobble.plot._save import save_figure
+        from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
     return fig

@@ -6,17 +6,24 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg", force=False)
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from astropy import units as u  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from astropy import units as u
 
-from wobble.api.top import HeavyTop  # noqa: E402
+from wobble.api.top import HeavyTop
 
-__all__ = ["nutation_classes_figure", "axis_trace_axes", "axis_locus_figure", "effective_potential_figure", "cubic_figure"]
+__all__ = [
+    "nutation_classes_figure",
+    "axis_trace_axes",
+    "axis_locus_figure",
+    "effective_potential_figure",
+    "cubic_figure",
+]
 
 
-def axis_trace_axes(ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None,
-                    t_end=None):
+def axis_trace_axes(
+    ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None, t_end=None
+):
     """Draw the trace of the symmetry axis on the unit sphere, seen from above, on ``ax``.
 
     The trace (x, y) = sin(theta) (sin phi, -cos phi) runs between the turning circles
@@ -53,19 +60,21 @@ def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, o
 
     fig, ax = plt.subplots(figsize=(5.6, 5.6))
     m = top.model
-    title = (f"{m.nutation}: theta from {np.degrees(m.theta_min):.4g} to {np.degrees(m.theta_max):.4g} deg, "
-             f"0 to {duration(t_end.to_value(u.s), 4)}")
+    title = (
+        f"{m.nutation}: theta from {np.degrees(m.theta_min):.4g} to {np.degrees(m.theta_max):.4g} deg, "
+        f"0 to {duration(t_end.to_value(u.s), 4)}"
+    )
     axis_trace_axes(ax, top, samples=samples, t_end=t_end, title=title)
     ax.title.set_fontsize(9)
     fig.tight_layout()
     if path is None:
         return fig
-    from wobble.plot._save import save_figure
+    from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
 
 
-def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: float = 6.0):  # noqa: N803
+def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: float = 6.0):
     """Three panels: the axis trace for initial precession rates ``phidots`` (rad/s Quantities),
     typically > 0 (undulating), 0 (released: cusps) and < 0 (loops)."""
     fig, axes = plt.subplots(1, len(phidots), figsize=(4.2 * len(phidots), 4.4))
@@ -73,8 +82,11 @@ def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: fl
         top = HeavyTop(I1=I1, I3=I3, mgl=mgl, theta0=theta0, omega3=omega3, phidot0=pd)
         pdv = pd.to_value(u.rad / u.s)
         axis_trace_axes(ax, top, periods=periods, title=f"{top.nutation}: phidot0 = {pdv:g} rad/s")
-    fig.suptitle("The symmetry axis on the unit sphere seen from above, between the turning circles "
-                 "theta_min and theta_max (dashed); red dot: start", fontsize=10)
+    fig.suptitle(
+        "The symmetry axis on the unit sphere seen from above, between the turning circles "
+        "theta_min and theta_max (dashed); red dot: start",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig
 
@@ -94,7 +106,9 @@ def effective_potential_figure(top: HeavyTop):
     ax.set_ylim(min(np.min(v), m.energy_prime) - 0.2 * abs(top_), top_)
     ax.set_xlabel("theta (deg)")
     ax.set_ylabel("energy (J)")
-    ax.set_title(f"Effective potential; turning angles {np.degrees(m.theta_min):.2f} and {np.degrees(m.theta_max):.2f} deg")
+    ax.set_title(
+        f"Effective potential; turning angles {np.degrees(m.theta_min):.2f} and {np.degrees(m.theta_max):.2f} deg"
+    )
     ax.legend()
     fig.tight_layout()
     return fig

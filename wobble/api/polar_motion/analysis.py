@@ -1,4 +1,5 @@
-"""Everything ``wobble polar-motion`` reports: both estimates, sliding windows, the spectrum, Q, the model beside them."""
+"""Everything ``wobble polar-motion`` reports: both estimates, sliding windows, the spectrum, Q, the model
+beside them."""
 
 from __future__ import annotations
 
@@ -8,7 +9,6 @@ from dataclasses import dataclass
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
 from wobble.api.polar_motion.estimate import (
     DEPRECATED_KEYS,
     ChandlerEstimate,
@@ -18,6 +18,7 @@ from wobble.api.polar_motion.estimate import (
     with_deprecated_keys,
 )
 from wobble.api.polar_motion.record import SIGN_NOTE, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
 from wobble.models import polar_motion as _pm
@@ -46,7 +47,8 @@ class QualityFactorEstimate:
             "interval_68": [num(self.low), num(self.high)],
             "lower_bound_95": num(self.lower_bound_95),
             "resolved": self.resolved,
-            "method": "Whittle likelihood of a randomly excited damped oscillator (Lorentzian line) near the Chandler peak",
+            "method": "Whittle likelihood of a randomly excited damped oscillator (Lorentzian line) near the "
+            "Chandler peak",
             "caveats": list(self.caveats),
         }
 
@@ -111,16 +113,39 @@ class PolarMotionAnalysis:
         """
         obs = self.estimate
         rows = [
-            {"name": f"observed ({obs.method.replace('_', ' ')})", "kind": "observed", "period": obs.period, "uncertainty": obs.period_uncertainty, "residual": None, "sigma": None}
+            {
+                "name": f"observed ({obs.method.replace('_', ' ')})",
+                "kind": "observed",
+                "period": obs.period,
+                "uncertainty": obs.period_uncertainty,
+                "residual": None,
+                "sigma": None,
+            }
         ]
         for step in self.budget.steps:
             final = step is self.budget.steps[-1]
             unc = self.budget.period_uncertainty if final else None
             sigma = np.hypot(unc, obs.period_uncertainty) if final else None
-            rows.append({"name": f"model: {step.name}", "kind": "model", "period": step.period, "uncertainty": unc, "residual": step.period - obs.period, "sigma": sigma})
+            rows.append(
+                {
+                    "name": f"model: {step.name}",
+                    "kind": "model",
+                    "period": step.period,
+                    "uncertainty": unc,
+                    "residual": step.period - obs.period,
+                    "sigma": sigma,
+                }
+            )
         pub = published_chandler_period()
         rows.append(
-            {"name": "published (Vicente & Wilson 1997)", "kind": "published", "period": pub["period"], "uncertainty": pub["uncertainty"], "residual": pub["period"] - obs.period, "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty)}
+            {
+                "name": "published (Vicente & Wilson 1997)",
+                "kind": "published",
+                "period": pub["period"],
+                "uncertainty": pub["uncertainty"],
+                "residual": pub["period"] - obs.period,
+                "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty),
+            }
         )
         return rows
 
@@ -158,14 +183,17 @@ class PolarMotionAnalysis:
                 }
                 for r in self.comparison()
             ],
-            "published": {k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()},
+            "published": {
+                k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()
+            },
             "caveats": list(self.caveats),
             "deprecated_keys": dict(DEPRECATED_KEYS),
         }
         return with_deprecated_keys(out)
 
     def to_dataset(self):
-        """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready (xarray.Dataset)."""
+        """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready
+        (xarray.Dataset)."""
         from wobble.api.polar_motion.dataset import analysis_dataset
 
         return analysis_dataset(self)
@@ -184,16 +212,21 @@ class PolarMotionAnalysis:
 
         lines = [
             f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; p = x_p - i y_p, prograde):",
-            f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, {pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
-            f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, {pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
+            f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, "
+            f"{pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
+            f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, "
+            f"{pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
             f" ({'agree' if self.methods_agree else 'DISAGREE'}: {self.agreement:.1f} sigma apart)",
-            f"  annual wobble: prograde {pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
+            "  annual wobble: prograde "
+            f"{pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
             f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas",
         ]
         if self.quality_factor is not None:
             q = self.quality_factor
             hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
-            lines.append(f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}")
+            lines.append(
+                f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}"
+            )
         pub = published_chandler_period()
         lines.append(
             f"  model (wobble.chandler_budget('earth')) {pm(self.budget.period, self.budget.period_uncertainty, 1)} d; "
@@ -271,26 +304,35 @@ def polar_motion_analysis(
     span = t[-1] - t[0]
     if span < _pm.MIN_SPAN:
         raise InputError(
-            "start/end", f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}", f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)"
+            "start/end",
+            f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}",
+            f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)",
         )
     if not _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9):
         raise InputError(
             "window",
             window,
-            f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed ({span / (365.25 * _pm.DAY):.2f} yr)",
+            f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed "
+            f"({span / (365.25 * _pm.DAY):.2f} yr)",
         )
     say("least-squares fit")
     reference = published_chandler_period()["period"].to_value(u.s)
-    ls = _pm.fit_least_squares(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    ls = _pm.fit_least_squares(
+        t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws
+    )
     say("spectral estimate")
-    sp = _pm.fit_spectrum(t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws)
+    sp = _pm.fit_spectrum(
+        t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws
+    )
     spectrum = _pm.two_sided_spectrum(t, z, reference_period=reference, drift_degree=drift_degree)
 
     def window_progress(done, total):
         if done % 5 == 0 or done == total:
             say(f"windows {done}/{total}")
 
-    wf = _pm.sliding_windows(t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress)
+    wf = _pm.sliding_windows(
+        t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress
+    )
     caveats = list(ls.caveats)
     if window_s < _pm.beat_period(reference):
         caveats.append(
@@ -316,5 +358,3 @@ def polar_motion_analysis(
         budget=chandler_budget("earth"),
         caveats=caveats,
     )
-
-

@@ -32,26 +32,71 @@ def windows_dataset(wf: _pm.WindowedFits):
     centre = MJD_J2000 + wf.centre / _pm.DAY
     bounds = np.stack([MJD_J2000 + wf.start / _pm.DAY, MJD_J2000 + wf.end / _pm.DAY], axis=1)
     day = 1.0 / _pm.DAY
-    note = "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' autocorrelation and the drift model"
+    note = (
+        "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' "
+        "autocorrelation and the drift model"
+    )
     return xr.Dataset(
         {
             # CF 7.1: a boundary variable takes its units and calendar from its coordinate.
             "window_time_bounds": (("window", "nv"), bounds, {"long_name": "first and last day of each window"}),
-            "chandler_amplitude": ("window", wf.amplitude * rad_mas, attrs("milliarcsecond", "Chandler wobble amplitude in the window", comment=note)),
-            "chandler_amplitude_uncertainty": ("window", wf.amplitude_sigma * rad_mas, attrs("milliarcsecond", "one-sigma uncertainty of the windowed Chandler amplitude")),
-            "chandler_period": ("window", wf.period * day, attrs("day", "Chandler wobble period in the window", comment=note)),
-            "chandler_period_uncertainty": ("window", wf.period_sigma * day, attrs("day", "one-sigma uncertainty of the windowed Chandler period")),
-            "chandler_phase": ("window", np.degrees(wf.phase), attrs("degree", "argument of the Chandler term of x_p - i y_p at the window's centre")),
-            "annual_prograde_amplitude": ("window", wf.annual_prograde_amplitude * rad_mas, attrs("milliarcsecond", "prograde annual wobble amplitude in the window")),
-            "annual_prograde_amplitude_uncertainty": ("window", wf.annual_prograde_amplitude_sigma * rad_mas, attrs("milliarcsecond", "one-sigma uncertainty of the windowed prograde annual amplitude")),
-            "annual_retrograde_amplitude": ("window", wf.annual_retrograde_amplitude * rad_mas, attrs("milliarcsecond", "retrograde annual wobble amplitude in the window")),
-            "window_samples": ("window", wf.n_samples.astype(np.int32), attrs("1", "number of daily samples in the window")),
+            "chandler_amplitude": (
+                "window",
+                wf.amplitude * rad_mas,
+                attrs("milliarcsecond", "Chandler wobble amplitude in the window", comment=note),
+            ),
+            "chandler_amplitude_uncertainty": (
+                "window",
+                wf.amplitude_sigma * rad_mas,
+                attrs("milliarcsecond", "one-sigma uncertainty of the windowed Chandler amplitude"),
+            ),
+            "chandler_period": (
+                "window",
+                wf.period * day,
+                attrs("day", "Chandler wobble period in the window", comment=note),
+            ),
+            "chandler_period_uncertainty": (
+                "window",
+                wf.period_sigma * day,
+                attrs("day", "one-sigma uncertainty of the windowed Chandler period"),
+            ),
+            "chandler_phase": (
+                "window",
+                np.degrees(wf.phase),
+                attrs("degree", "argument of the Chandler term of x_p - i y_p at the window's centre"),
+            ),
+            "annual_prograde_amplitude": (
+                "window",
+                wf.annual_prograde_amplitude * rad_mas,
+                attrs("milliarcsecond", "prograde annual wobble amplitude in the window"),
+            ),
+            "annual_prograde_amplitude_uncertainty": (
+                "window",
+                wf.annual_prograde_amplitude_sigma * rad_mas,
+                attrs("milliarcsecond", "one-sigma uncertainty of the windowed prograde annual amplitude"),
+            ),
+            "annual_retrograde_amplitude": (
+                "window",
+                wf.annual_retrograde_amplitude * rad_mas,
+                attrs("milliarcsecond", "retrograde annual wobble amplitude in the window"),
+            ),
+            "window_samples": (
+                "window",
+                wf.n_samples.astype(np.int32),
+                attrs("1", "number of daily samples in the window"),
+            ),
         },
         coords={
             "window_time": (
                 "window",
                 centre,
-                {"units": MJD_UNITS, "calendar": "standard", "standard_name": "time", "long_name": "centre of the window (UTC)", "bounds": "window_time_bounds"},
+                {
+                    "units": MJD_UNITS,
+                    "calendar": "standard",
+                    "standard_name": "time",
+                    "long_name": "centre of the window (UTC)",
+                    "bounds": "window_time_bounds",
+                },
             ),
         },
         attrs={"window_years": wf.window / (365.25 * _pm.DAY), "step_years": wf.step / (365.25 * _pm.DAY)},
@@ -73,13 +118,19 @@ def spectrum_dataset(sp: _pm.Spectrum):
                 attrs(
                     "milliarcsecond",
                     "two-sided amplitude spectrum of the detrended complex pole x_p - i y_p",
-                    comment=f"radius of a circular term at each frequency; taper: {sp.taper}; drift polynomial degree {sp.drift_degree} removed",
+                    comment=f"radius of a circular term at each frequency; taper: {sp.taper}; drift polynomial "
+                    f"degree {sp.drift_degree} removed",
                 ),
             )
         },
-        coords={"frequency": ("frequency", freq, attrs("day-1", "frequency in cycles per day (positive: prograde, negative: retrograde)"))},
+        coords={
+            "frequency": (
+                "frequency",
+                freq,
+                attrs("day-1", "frequency in cycles per day (positive: prograde, negative: retrograde)"),
+            )
+        },
     )
-
 
 
 def analysis_dataset(a):
@@ -100,7 +151,9 @@ def analysis_dataset(a):
     mx, my = xy(model)
     rx, ry = xy(z - model)
     px, py = xy(mean)
-    observed = a.data.isel(time=np.nonzero(np.isin(mjd_values(a.data["time"]), mjd))[0])[["x_p", "y_p", "x_p_error", "y_p_error"]]
+    observed = a.data.isel(time=np.nonzero(np.isin(mjd_values(a.data["time"]), mjd))[0])[
+        ["x_p", "y_p", "x_p_error", "y_p_error"]
+    ]
     ls_note = "nonlinear least-squares fit of drift, Chandler and annual terms (wobble.models.polar_motion)"
     ds = observed.assign(
         x_p_model=("time", mx, attrs("arcsec", "fitted model of x_p", comment=ls_note)),
@@ -121,36 +174,122 @@ def analysis_dataset(a):
 
     est = {
         "chandler_period": ("day", "Chandler wobble period", lambda e: e.period.to_value(u.day)),
-        "chandler_period_uncertainty": ("day", "adopted one-sigma uncertainty of the Chandler period", lambda e: e.period_uncertainty.to_value(u.day)),
-        "chandler_period_uncertainty_formal": ("day", "white-noise (formal) uncertainty of the period, far too small", lambda e: e.period_uncertainty_parts["formal"].to_value(u.day)),
-        "chandler_period_uncertainty_autocorrelation": ("day", "period uncertainty from the residuals' autocorrelation", lambda e: e.period_uncertainty_parts["autocorrelation"].to_value(u.day)),
-        "chandler_period_uncertainty_subspans": ("day", "period uncertainty from the scatter over sub-spans", lambda e: e.period_uncertainty_parts["subspans"].to_value(u.day)),
-        "chandler_period_uncertainty_excitation": ("day", "period uncertainty of a randomly excited wobble (Monte Carlo)", lambda e: e.period_uncertainty_parts["excitation"].to_value(u.day)),
-        "chandler_period_uncertainty_model": ("day", "period uncertainty from the drift model", lambda e: e.period_uncertainty_parts["model"].to_value(u.day)),
-        "chandler_amplitude": ("milliarcsecond", "Chandler wobble amplitude over the span", lambda e: e.amplitude.to_value(u.mas)),
-        "chandler_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the Chandler amplitude", lambda e: e.amplitude_uncertainty.to_value(u.mas)),
-        "chandler_phase": ("degree", "argument of the Chandler term of x_p - i y_p at the epoch", lambda e: e.phase.to_value(u.deg)),
-        "annual_prograde_amplitude": ("milliarcsecond", "prograde annual wobble amplitude", lambda e: e.annual_prograde_amplitude.to_value(u.mas)),
-        "annual_prograde_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the prograde annual amplitude", lambda e: e.annual_prograde_amplitude_uncertainty.to_value(u.mas)),
-        "annual_retrograde_amplitude": ("milliarcsecond", "retrograde annual wobble amplitude", lambda e: e.annual_retrograde_amplitude.to_value(u.mas)),
-        "annual_retrograde_amplitude_uncertainty": ("milliarcsecond", "one-sigma uncertainty of the retrograde annual amplitude", lambda e: e.annual_retrograde_amplitude_uncertainty.to_value(u.mas)),
+        "chandler_period_uncertainty": (
+            "day",
+            "adopted one-sigma uncertainty of the Chandler period",
+            lambda e: e.period_uncertainty.to_value(u.day),
+        ),
+        "chandler_period_uncertainty_formal": (
+            "day",
+            "white-noise (formal) uncertainty of the period, far too small",
+            lambda e: e.period_uncertainty_parts["formal"].to_value(u.day),
+        ),
+        "chandler_period_uncertainty_autocorrelation": (
+            "day",
+            "period uncertainty from the residuals' autocorrelation",
+            lambda e: e.period_uncertainty_parts["autocorrelation"].to_value(u.day),
+        ),
+        "chandler_period_uncertainty_subspans": (
+            "day",
+            "period uncertainty from the scatter over sub-spans",
+            lambda e: e.period_uncertainty_parts["subspans"].to_value(u.day),
+        ),
+        "chandler_period_uncertainty_excitation": (
+            "day",
+            "period uncertainty of a randomly excited wobble (Monte Carlo)",
+            lambda e: e.period_uncertainty_parts["excitation"].to_value(u.day),
+        ),
+        "chandler_period_uncertainty_model": (
+            "day",
+            "period uncertainty from the drift model",
+            lambda e: e.period_uncertainty_parts["model"].to_value(u.day),
+        ),
+        "chandler_amplitude": (
+            "milliarcsecond",
+            "Chandler wobble amplitude over the span",
+            lambda e: e.amplitude.to_value(u.mas),
+        ),
+        "chandler_amplitude_uncertainty": (
+            "milliarcsecond",
+            "one-sigma uncertainty of the Chandler amplitude",
+            lambda e: e.amplitude_uncertainty.to_value(u.mas),
+        ),
+        "chandler_phase": (
+            "degree",
+            "argument of the Chandler term of x_p - i y_p at the epoch",
+            lambda e: e.phase.to_value(u.deg),
+        ),
+        "annual_prograde_amplitude": (
+            "milliarcsecond",
+            "prograde annual wobble amplitude",
+            lambda e: e.annual_prograde_amplitude.to_value(u.mas),
+        ),
+        "annual_prograde_amplitude_uncertainty": (
+            "milliarcsecond",
+            "one-sigma uncertainty of the prograde annual amplitude",
+            lambda e: e.annual_prograde_amplitude_uncertainty.to_value(u.mas),
+        ),
+        "annual_retrograde_amplitude": (
+            "milliarcsecond",
+            "retrograde annual wobble amplitude",
+            lambda e: e.annual_retrograde_amplitude.to_value(u.mas),
+        ),
+        "annual_retrograde_amplitude_uncertainty": (
+            "milliarcsecond",
+            "one-sigma uncertainty of the retrograde annual amplitude",
+            lambda e: e.annual_retrograde_amplitude_uncertainty.to_value(u.mas),
+        ),
     }
     for name, (unit, long_name, fn) in est.items():
         ds[name] = ("method", per_method(fn), attrs(unit, long_name))
     ds = ds.assign_coords(method=("method", [e.method for e in methods], {"long_name": "estimation method"}))
-    ds["epoch"] = ((), float(a.least_squares.epoch.mjd), {"units": MJD_UNITS, "calendar": "standard", "long_name": "epoch of the phases (mid-span)"})
+    ds["epoch"] = (
+        (),
+        float(a.least_squares.epoch.mjd),
+        {"units": MJD_UNITS, "calendar": "standard", "long_name": "epoch of the phases (mid-span)"},
+    )
     rows = a.comparison()
     model_rows = [r for r in rows if r["kind"] == "model"]
-    ds = ds.assign_coords(model_step=("model_step", [r["name"].removeprefix("model: ") for r in model_rows], {"long_name": "step of the Chandler model of wobble.chandler_budget('earth')"}))
-    ds["model_period"] = ("model_step", np.array([r["period"].to_value(u.day) for r in model_rows]), attrs("day", "modelled Chandler period after each model step"))
-    ds["model_minus_observed"] = ("model_step", np.array([r["residual"].to_value(u.day) for r in model_rows]), attrs("day", "modelled minus observed (least-squares) Chandler period"))
-    ds["model_period_uncertainty"] = ((), a.budget.period_uncertainty.to_value(u.day), attrs("day", "one-sigma uncertainty of the full model's period"))
+    ds = ds.assign_coords(
+        model_step=(
+            "model_step",
+            [r["name"].removeprefix("model: ") for r in model_rows],
+            {"long_name": "step of the Chandler model of wobble.chandler_budget('earth')"},
+        )
+    )
+    ds["model_period"] = (
+        "model_step",
+        np.array([r["period"].to_value(u.day) for r in model_rows]),
+        attrs("day", "modelled Chandler period after each model step"),
+    )
+    ds["model_minus_observed"] = (
+        "model_step",
+        np.array([r["residual"].to_value(u.day) for r in model_rows]),
+        attrs("day", "modelled minus observed (least-squares) Chandler period"),
+    )
+    ds["model_period_uncertainty"] = (
+        (),
+        a.budget.period_uncertainty.to_value(u.day),
+        attrs("day", "one-sigma uncertainty of the full model's period"),
+    )
     pub = published_chandler_period()
-    ds["published_period"] = ((), pub["period"].to_value(u.day), attrs("day", "published Chandler period", references=pub["reference"]))
-    ds["published_period_uncertainty"] = ((), pub["uncertainty"].to_value(u.day), attrs("day", "one-sigma uncertainty of the published Chandler period"))
+    ds["published_period"] = (
+        (),
+        pub["period"].to_value(u.day),
+        attrs("day", "published Chandler period", references=pub["reference"]),
+    )
+    ds["published_period_uncertainty"] = (
+        (),
+        pub["uncertainty"].to_value(u.day),
+        attrs("day", "one-sigma uncertainty of the published Chandler period"),
+    )
     if a.quality_factor is not None:
         q = a.quality_factor
-        ds["quality_factor"] = ((), q.value, attrs("1", "maximum-likelihood Q of the Chandler line (inf: unresolved)", comment="; ".join(q.caveats)))
+        ds["quality_factor"] = (
+            (),
+            q.value,
+            attrs("1", "maximum-likelihood Q of the Chandler line (inf: unresolved)", comment="; ".join(q.caveats)),
+        )
         ds["quality_factor_low"] = ((), q.low, attrs("1", "lower end of the 68 % interval of Q"))
         ds["quality_factor_high"] = ((), q.high, attrs("1", "upper end of the 68 % interval of Q (inf: unbounded)"))
         ds["quality_factor_lower_bound_95"] = ((), q.lower_bound_95, attrs("1", "one-sided 95 % lower bound of Q"))
@@ -163,10 +302,12 @@ def analysis_dataset(a):
             f"{a.spectral.period.value:.1f} +/- {a.spectral.period_uncertainty.value:.1f} d (spectrum), "
             f"{e.start.iso[:10]} to {e.end.iso[:10]}"
         ),
-        "references": "; ".join([a.data.attrs.get("references", C04_REFERENCE), published_chandler_period()["reference"]]),
+        "references": "; ".join(
+            [a.data.attrs.get("references", C04_REFERENCE), published_chandler_period()["reference"]]
+        ),
         "source_file": a.data.attrs.get("source_file", ""),
-        "comment": SIGN_NOTE + ". Days are days of 86400 s. Windows: " + f"{a.windows.attrs['window_years']:g} yr every {a.windows.attrs['step_years']:g} yr.",
+        "comment": SIGN_NOTE
+        + ". Days are days of 86400 s. Windows: "
+        + f"{a.windows.attrs['window_years']:g} yr every {a.windows.attrs['step_years']:g} yr.",
     }
     return ds
-
-

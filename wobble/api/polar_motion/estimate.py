@@ -9,13 +9,21 @@ import numpy as np
 from astropy import units as u
 from astropy.time import Time
 
-from wobble.api._units import to_si
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import mjd_time
 from wobble.models import polar_motion as _pm
 
-__all__ = ["published_chandler_period", "ChandlerEstimate", "chandler_wobble", "num", "q_arg", "DEPRECATED_KEYS", "with_deprecated_keys"]
+__all__ = [
+    "published_chandler_period",
+    "ChandlerEstimate",
+    "chandler_wobble",
+    "num",
+    "q_arg",
+    "DEPRECATED_KEYS",
+    "with_deprecated_keys",
+]
 
 #: JSON keys renamed for one vocabulary (the annual terms are annual_prograde_* and
 #: annual_retrograde_*), kept as aliases for one release: old name -> new name.
@@ -125,9 +133,12 @@ class ChandlerEstimate:
     raw: _pm.ChandlerFit
 
     @classmethod
-    def from_fit(cls, fit: _pm.ChandlerFit) -> "ChandlerEstimate":
+    def from_fit(cls, fit: _pm.ChandlerFit) -> ChandlerEstimate:
         rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
-        to_mjd = lambda ts: MJD_J2000 + ts / _pm.DAY  # noqa: E731
+
+        def to_mjd(ts):
+            return MJD_J2000 + ts / _pm.DAY
+
         mean = complex(fit.mean_pole(fit.epoch))
         # d(mean pole)/dt at the epoch: c_1 / h (rad/s)
         speed = complex(fit.drift[1] / fit.half_span) if fit.drift.size > 1 else 0j
@@ -166,30 +177,32 @@ class ChandlerEstimate:
         ``annual_amplitude_mas`` and ``annual_amplitude_uncertainty_mas`` are
         deprecated aliases of the ``annual_prograde_*`` keys (one release).
         """
-        return with_deprecated_keys({
-            "method": self.method,
-            "start": self.start.iso[:10],
-            "end": self.end.iso[:10],
-            "epoch": self.epoch.iso[:10],
-            "n_samples": self.n_samples,
-            "chandler_period_days": num(self.period),
-            "chandler_period_uncertainty_days": num(self.period_uncertainty),
-            "chandler_period_uncertainty_parts_days": {k: num(v) for k, v in self.period_uncertainty_parts.items()},
-            "chandler_amplitude_mas": num(self.amplitude),
-            "chandler_amplitude_uncertainty_mas": num(self.amplitude_uncertainty),
-            "chandler_phase_deg": num(self.phase),
-            "chandler_phase_uncertainty_deg": num(self.phase_uncertainty),
-            "annual_prograde_amplitude_mas": num(self.annual_prograde_amplitude),
-            "annual_prograde_amplitude_uncertainty_mas": num(self.annual_prograde_amplitude_uncertainty),
-            "annual_retrograde_amplitude_mas": num(self.annual_retrograde_amplitude),
-            "annual_retrograde_amplitude_uncertainty_mas": num(self.annual_retrograde_amplitude_uncertainty),
-            "mean_pole_x_arcsec": num(self.mean_pole_x),
-            "mean_pole_y_arcsec": num(self.mean_pole_y),
-            "drift_rate_mas_per_year": num(self.drift_rate),
-            "drift_direction_deg_west": num(self.drift_direction),
-            "residual_rms_mas": num(self.residual_rms),
-            "caveats": list(self.caveats),
-        })
+        return with_deprecated_keys(
+            {
+                "method": self.method,
+                "start": self.start.iso[:10],
+                "end": self.end.iso[:10],
+                "epoch": self.epoch.iso[:10],
+                "n_samples": self.n_samples,
+                "chandler_period_days": num(self.period),
+                "chandler_period_uncertainty_days": num(self.period_uncertainty),
+                "chandler_period_uncertainty_parts_days": {k: num(v) for k, v in self.period_uncertainty_parts.items()},
+                "chandler_amplitude_mas": num(self.amplitude),
+                "chandler_amplitude_uncertainty_mas": num(self.amplitude_uncertainty),
+                "chandler_phase_deg": num(self.phase),
+                "chandler_phase_uncertainty_deg": num(self.phase_uncertainty),
+                "annual_prograde_amplitude_mas": num(self.annual_prograde_amplitude),
+                "annual_prograde_amplitude_uncertainty_mas": num(self.annual_prograde_amplitude_uncertainty),
+                "annual_retrograde_amplitude_mas": num(self.annual_retrograde_amplitude),
+                "annual_retrograde_amplitude_uncertainty_mas": num(self.annual_retrograde_amplitude_uncertainty),
+                "mean_pole_x_arcsec": num(self.mean_pole_x),
+                "mean_pole_y_arcsec": num(self.mean_pole_y),
+                "drift_rate_mas_per_year": num(self.drift_rate),
+                "drift_direction_deg_west": num(self.drift_direction),
+                "residual_rms_mas": num(self.residual_rms),
+                "caveats": list(self.caveats),
+            }
+        )
 
 
 def num(q) -> float | None:
@@ -262,7 +275,12 @@ def chandler_wobble(
         raise InputError("draws", draws, "an integer from 4 to 10000")
     reference = published_chandler_period()["period"].to_value(u.s)
     fit = estimator(
-        t, z, reference_period=reference, drift_degree=drift_degree, band=_band_si(band), excitation_q=q_arg(excitation_q), draws=int(draws)
+        t,
+        z,
+        reference_period=reference,
+        drift_degree=drift_degree,
+        band=_band_si(band),
+        excitation_q=q_arg(excitation_q),
+        draws=int(draws),
     )
     return ChandlerEstimate.from_fit(fit)
-

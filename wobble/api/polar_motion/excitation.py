@@ -19,10 +19,10 @@ import math
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import check_q, default_q
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date
 from wobble.models.polar_motion import excitation as _ex
@@ -136,7 +136,8 @@ class GeodeticExcitation:
             },
             "chandler_band_collapse": self.collapse(),
             "source_file": self.source,
-            "method": "exact discrete inverse of the Liouville equation, excitation constant over each step (Wilson 1985; Gross 1992; Brzezinski 1992)",
+            "method": "exact discrete inverse of the Liouville equation, excitation constant over each step "
+            "(Wilson 1985; Gross 1992; Brzezinski 1992)",
         }
 
     def to_dataset(self):
@@ -151,7 +152,12 @@ class GeodeticExcitation:
         data = {
             "x_p": cf.variable("excitation", "x_p", x * mas),
             "y_p": cf.variable("excitation", "y_p", y * mas),
-            "chi_1": cf.variable("excitation", "chi_1", self.chi_1.value, comment="excitation of the step ending at each time; NaN at the first"),
+            "chi_1": cf.variable(
+                "excitation",
+                "chi_1",
+                self.chi_1.value,
+                comment="excitation of the step ending at each time; NaN at the first",
+            ),
             "chi_2": cf.variable("excitation", "chi_2", self.chi_2.value),
             "x_p_round_trip": cf.variable("excitation", "x_p_round_trip", xb * mas),
             "y_p_round_trip": cf.variable("excitation", "y_p_round_trip", yb * mas),
@@ -160,21 +166,29 @@ class GeodeticExcitation:
             "round_trip_rms": cf.variable("excitation", "round_trip_rms", float(self.round_trip_rms.value)),
         }
         if self.band_chi is not None:
-            data["chandler_band_chi"] = cf.variable("excitation", "chandler_band_chi", np.concatenate([[np.nan], self.band_chi]))
+            data["chandler_band_chi"] = cf.variable(
+                "excitation", "chandler_band_chi", np.concatenate([[np.nan], self.band_chi])
+            )
             data["chandler_band_pole"] = cf.variable("excitation", "chandler_band_pole", self.band_pole)
         f, ac, ap = self.spectra()
         data["excitation_spectrum"] = cf.variable("excitation", "excitation_spectrum", ac)
         data["pole_spectrum"] = cf.variable("excitation", "pole_spectrum", ap)
-        coords = {"time": cf.time_coordinate(self.time_mjd, MJD_UNITS, long_name="time (UTC)"), "frequency": cf.variable("excitation", "frequency", f)}
+        coords = {
+            "time": cf.time_coordinate(self.time_mjd, MJD_UNITS, long_name="time (UTC)"),
+            "frequency": cf.variable("excitation", "frequency", f),
+        }
         ds = xr.Dataset(data, coords=coords)
         ds.attrs = {
             "title": "Geodetic excitation of polar motion",
-            "summary": f"chi = chi_1 + i chi_2 from the pole {iso_date(float(self.time_mjd[0]))} to {iso_date(float(self.time_mjd[-1]))}, "
+            "summary": f"chi = chi_1 + i chi_2 from the pole {iso_date(float(self.time_mjd[0]))} to "
+            f"{iso_date(float(self.time_mjd[-1]))}, "
             f"T_c = {self.chandler_period.value:.2f} d, Q = {self.quality_factor:.1f}",
-            "references": "Munk & MacDonald 1960; Wilson 1985, J. Geophys. Res. 90; Gross 1992, Geophys. J. Int. 109, 107; "
+            "references": "Munk & MacDonald 1960; Wilson 1985, J. Geophys. Res. 90; Gross 1992, Geophys. J. Int. "
+            "109, 107; "
             "Brzezinski 1992, manuscripta geodaetica 17, 3",
             "source_file": self.source,
-            "comment": "p = x_p - i y_p; p + (i/sigma_c) dp/dt = chi with sigma_c = 2 pi/T_c (1 + i/(2Q)); chi constant over each step",
+            "comment": "p = x_p - i y_p; p + (i/sigma_c) dp/dt = chi with sigma_c = 2 pi/T_c (1 + i/(2Q)); chi "
+            "constant over each step",
         }
         return ds
 
@@ -182,19 +196,21 @@ class GeodeticExcitation:
         """A few lines: sigma_c, the round trip, the excitation's size, the Chandler band before and after 2015."""
         d = self.to_dict()
         lines = [
-            f"Geodetic excitation {d['start']} to {d['end']} ({d['n_samples']} samples): T_c = {d['chandler_period_days']:.2f} d, Q = {d['quality_factor']:.1f}",
-            f"  chi_1 RMS {d['chi_1_rms_mas']:.1f} mas, chi_2 RMS {d['chi_2_rms_mas']:.1f} mas; round trip (inverse then forward) RMS {d['round_trip_rms_mas']:.2e} mas",
+            f"Geodetic excitation {d['start']} to {d['end']} ({d['n_samples']} samples): T_c = "
+            f"{d['chandler_period_days']:.2f} d, Q = {d['quality_factor']:.1f}",
+            f"  chi_1 RMS {d['chi_1_rms_mas']:.1f} mas, chi_2 RMS {d['chi_2_rms_mas']:.1f} mas; round trip "
+            f"(inverse then forward) RMS {d['round_trip_rms_mas']:.2e} mas",
             f"  Chandler peak over its neighbourhood: pole {d['chandler_peak_over_neighbours']['pole']:.1f}x, "
             f"excitation {d['chandler_peak_over_neighbours']['excitation']:.2f}x (broadband: no peak)",
         ]
         c = d["chandler_band_collapse"]
         if c:
             lines.append(
-                f"  Chandler band (+/- 0.1 cycle/yr), RMS before/after {c['split']}: excitation {c['excitation_before_mas']:.1f} / "
+                f"  Chandler band (+/- 0.1 cycle/yr), RMS before/after {c['split']}: excitation "
+                f"{c['excitation_before_mas']:.1f} / "
                 f"{c['excitation_after_mas']:.1f} mas, pole {c['pole_before_mas']:.1f} / {c['pole_after_mas']:.1f} mas"
             )
         return "\n".join(lines)
-
 
 
 def geodetic_excitation(
@@ -223,7 +239,11 @@ def geodetic_excitation(
     if chandler_period is None:
         reference = published_chandler_period()["period"].to_value(u.s)
         if t_all[-1] - t_all[0] < MIN_SPAN:
-            raise InputError("data", "a record shorter than two years", "two years or more to measure the Chandler period, or chandler_period=")
+            raise InputError(
+                "data",
+                "a record shorter than two years",
+                "two years or more to measure the Chandler period, or chandler_period=",
+            )
         period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))

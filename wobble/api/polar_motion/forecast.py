@@ -36,9 +36,9 @@ import math
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
 from wobble.models.polar_motion import forecast as _fc
@@ -121,7 +121,8 @@ def calibration_text(cal) -> str:
         return "68 % = mean +/- 1 sigma, 95 % = mean +/- 1.96 sigma of the model (Gaussian errors, not calibrated)"
     return (
         f"calibrated on the method's own past forecasts: {int(cal.count[0])} per lead time, issued every "
-        f"{cal.step / DAY:g} d from {iso_date(MJD_J2000 + cal.first_issue / DAY)} to {iso_date(MJD_J2000 + cal.last_issue / DAY)}, "
+        f"{cal.step / DAY:g} d from {iso_date(MJD_J2000 + cal.first_issue / DAY)} to "
+        f"{iso_date(MJD_J2000 + cal.last_issue / DAY)}, "
         "each from its own data, with outcomes known at the issue date minus the latency "
         f"(the latest {iso_date(MJD_J2000 + cal.last_outcome / DAY)}); per lead time and for x_p and y_p apart, the "
         "half-width is this forecast's sigma times the split-conformal quantile of the past errors over their own "
@@ -248,7 +249,9 @@ class PolarMotionForecast:
         if cal is None:
             return None
         return {
-            "method": "split-conformal quantiles of the method's own past errors over their stated sigma, per lead time",
+            "method": (
+                "split-conformal quantiles of the method's own past errors over their stated sigma, per lead time"
+            ),
             "span_days": cal.span / DAY,
             "step_days": cal.step / DAY,
             "past_forecasts_per_lead": int(cal.count[0]),
@@ -279,15 +282,35 @@ class PolarMotionForecast:
         }
         coords = {
             "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
-            "time": (("lead",), self.time_mjd, {"units": MJD_UNITS, "calendar": "standard", "standard_name": "time", "long_name": "time the forecast is for (UTC)", "axis": "T"}),
-            "forecast_reference_time": ((), float(MJD_J2000 + self.raw.issued / DAY), {"units": MJD_UNITS, "calendar": "standard", "standard_name": "forecast_reference_time", "long_name": "issue time of the forecast (UTC)"}),
+            "time": (
+                ("lead",),
+                self.time_mjd,
+                {
+                    "units": MJD_UNITS,
+                    "calendar": "standard",
+                    "standard_name": "time",
+                    "long_name": "time the forecast is for (UTC)",
+                    "axis": "T",
+                },
+            ),
+            "forecast_reference_time": (
+                (),
+                float(MJD_J2000 + self.raw.issued / DAY),
+                {
+                    "units": MJD_UNITS,
+                    "calendar": "standard",
+                    "standard_name": "forecast_reference_time",
+                    "long_name": "issue time of the forecast (UTC)",
+                },
+            ),
         }
         ds = xr.Dataset(data, coords=coords)
         cal = self._calibration_dict()
         ds.attrs = {
             "title": f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}",
             "summary": self.summary().splitlines()[0],
-            "references": _REFERENCES[self.method] + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
+            "references": _REFERENCES[self.method]
+            + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
             "source_file": self.source,
             "interval_calibration": "past_errors" if cal else "none",
             "intervals": calibration_text(self.calibration),
@@ -320,14 +343,16 @@ class PolarMotionForecast:
             if k < n:
                 lines.append(
                     f"  {int(self.lead[k].value):8d}  {iso_date(float(self.time_mjd[k]))}  "
-                    f"{self.x[k].value:8.2f} +/- {h['x'][k].value:5.2f}  {self.y[k].value:8.2f} +/- {h['y'][k].value:5.2f}"
+                    f"{self.x[k].value:8.2f} +/- {h['x'][k].value:5.2f}  {self.y[k].value:8.2f} +/- "
+                    f"{h['y'][k].value:5.2f}"
                 )
         if self.calibration is None:
             lines.append("  (+/- one sigma of the model: the 68 % interval if its errors are Gaussian; not calibrated)")
         else:
             c = self._calibration_dict()
             lines.append(
-                f"  (+/-: the 68 % interval, calibrated on {c['past_forecasts_per_lead']} past forecasts per lead time issued "
+                f"  (+/-: the 68 % interval, calibrated on {c['past_forecasts_per_lead']} past forecasts per lead "
+                "time issued "
                 f"{c['first_issue']} to {c['last_issue']})"
             )
         return "\n".join(lines)
@@ -336,12 +361,16 @@ class PolarMotionForecast:
         return f"PolarMotionForecast({self.method!r}, issued={self.issued.iso[:10]}, horizon={len(self.lead)} d)"
 
 
-_CALIBRATION_REFERENCES = "split-conformal prediction (Vovk, Gammerman & Shafer 2005; Lei, G'Sell, Rinaldo et al. 2018, J. Am. Stat. Assoc. 113, 1094)"
+_CALIBRATION_REFERENCES = (
+    "split-conformal prediction (Vovk, Gammerman & Shafer 2005; Lei, G'Sell, Rinaldo et al. "
+    "2018, J. Am. Stat. Assoc. 113, 1094)"
+)
 
 _REFERENCES = {
     "ls_ar": "Least squares + autoregression (Kosek et al. 1998; Kalarus, Schuh, Kosek et al. 2010, J. Geod. 84, 587)",
     "kalman": (
-        "Damped Chandler oscillator (Liouville equation; Munk & MacDonald 1960; Gross 1992) driven by coloured excitation, "
+        "Damped Chandler oscillator (Liouville equation; Munk & MacDonald 1960; Gross 1992) driven by coloured "
+        "excitation, "
         "Kalman filter with maximum-likelihood noise (Durbin & Koopman 2012)"
     ),
 }
@@ -403,7 +432,9 @@ def forecast_polar_motion(
         issued_mjd = to_mjd(issued, "issued")
         if not (mjd[0] <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
             raise InputError(
-                "issued", issued, f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)"
+                "issued",
+                issued,
+                f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)",
             )
         issued_s = (issued_mjd - MJD_J2000) * DAY
     span = calibration_span_si(calibration_span)
@@ -417,6 +448,15 @@ def forecast_polar_motion(
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
     raw = _cal.forecast(
-        t, z, issued_s, horizon_days, method=method, chandler_period=period, q=q_value, latency=lat, calibrated=calibrated, span=span
+        t,
+        z,
+        issued_s,
+        horizon_days,
+        method=method,
+        chandler_period=period,
+        q=q_value,
+        latency=lat,
+        calibrated=calibrated,
+        span=span,
     )
     return PolarMotionForecast(raw, lat, ds.attrs.get("source_file", ""), q_value if method == "kalman" else None)

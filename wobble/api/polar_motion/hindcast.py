@@ -20,10 +20,10 @@ import os
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.forecast import latency_si, calibration_span_si, calibration_text, check_q, default_q
+from wobble.api.polar_motion.forecast import calibration_span_si, calibration_text, check_q, default_q, latency_si
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
 from wobble.models.polar_motion import forecast as _fc
@@ -37,11 +37,23 @@ _LOCAL = ("threads", "processes", "synchronous")
 
 #: Published results to set beside ours: (label, metric, {lead days: mas}).
 ANCHORS = (
-    ("Dill et al. 2023, LS+AR with angular-momentum forecasts, 2016-2020", "rms_2d", {5: 1.13, 10: 2.32, 40: 10.05, 90: 19.13}),
+    (
+        "Dill et al. 2023, LS+AR with angular-momentum forecasts, 2016-2020",
+        "rms_2d",
+        {5: 1.13, 10: 2.32, 40: 10.05, 90: 19.13},
+    ),
     ("Dill et al. 2023, x_p", "rms_x", {5: 0.93, 10: 1.92, 40: 8.65, 90: 15.76}),
     ("Dill et al. 2023, y_p", "rms_y", {5: 0.65, 10: 1.30, 40: 5.14, 90: 10.85}),
-    ("Lei, Zhao & Guo 2023, weighted LS + vector AR, x_p", "mae_x", {10: 2.87, 30: 7.03, 150: 13.97, 270: 18.47, 365: 20.52}),
-    ("Lei, Zhao & Guo 2023, weighted LS + vector AR, y_p", "mae_y", {10: 1.81, 30: 4.41, 150: 15.41, 270: 21.17, 365: 21.82}),
+    (
+        "Lei, Zhao & Guo 2023, weighted LS + vector AR, x_p",
+        "mae_x",
+        {10: 2.87, 30: 7.03, 150: 13.97, 270: 18.47, 365: 20.52},
+    ),
+    (
+        "Lei, Zhao & Guo 2023, weighted LS + vector AR, y_p",
+        "mae_y",
+        {10: 1.81, 30: 4.41, 150: 15.41, 270: 21.17, 365: 21.82},
+    ),
 )
 
 
@@ -87,7 +99,19 @@ class PolarMotionHindcast:
         Per method, a :class:`wobble.models.polar_motion.hindcast.Scores` (rad; see :meth:`to_dataset` for mas).
     """
 
-    def __init__(self, methods, forecasts, truth, persistence, ls_only, latency, q, source, calibrated=True, calibration_span=_cal.SPAN):
+    def __init__(
+        self,
+        methods,
+        forecasts,
+        truth,
+        persistence,
+        ls_only,
+        latency,
+        q,
+        source,
+        calibrated=True,
+        calibration_span=_cal.SPAN,
+    ):
         self.methods = tuple(methods)
         self.calibrated = bool(calibrated)
         self.calibration_span = (calibration_span / DAY) << u.day
@@ -102,7 +126,10 @@ class PolarMotionHindcast:
         self.scores = {}
         for k, m in enumerate(self.methods):
             mean = np.array([row[k].mean for row in forecasts])
-            half = {level: tuple(np.array(v) for v in zip(*(row[k].half_widths(level) for row in forecasts))) for level in (68, 95)}
+            half = {
+                level: tuple(np.array(v) for v in zip(*(row[k].half_widths(level) for row in forecasts)))
+                for level in (68, 95)
+            }
             self.scores[m] = _hc.score(truth, mean, half[68], half[95], persistence, ls_only)
 
     def at(self, metric: str, method: str, leads=(5, 10, 40, 90, 365)) -> dict:
@@ -125,12 +152,25 @@ class PolarMotionHindcast:
             "intervals": self._intervals_text(),
             "calibration_span_days": float(self.calibration_span.value) if self.calibrated else None,
             "methods": {},
-            "anchors": [{"label": a, "metric": m, "values_mas": {str(k): v for k, v in vals.items()}} for a, m, vals in ANCHORS],
+            "anchors": [
+                {"label": a, "metric": m, "values_mas": {str(k): v for k, v in vals.items()}} for a, m, vals in ANCHORS
+            ],
         }
         for m in self.methods:
             out["methods"][m] = {
                 metric: {str(k): v for k, v in self.at(metric, m, leads).items()}
-                for metric in ("rms_2d", "mae_2d", "rms_x", "rms_y", "mae_x", "mae_y", "coverage_68", "coverage_95", "skill_persistence", "skill_ls")
+                for metric in (
+                    "rms_2d",
+                    "mae_2d",
+                    "rms_x",
+                    "rms_y",
+                    "mae_x",
+                    "mae_y",
+                    "coverage_68",
+                    "coverage_95",
+                    "skill_persistence",
+                    "skill_ls",
+                )
             }
         return out
 
@@ -138,8 +178,10 @@ class PolarMotionHindcast:
         if not self.calibrated:
             return calibration_text(None)
         return (
-            f"each forecast's intervals calibrated on the same method's past forecasts issued weekly over the {self.calibration_span.value / 365.25:g} yr "
-            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their errors "
+            "each forecast's intervals calibrated on the same method's past forecasts issued weekly over the "
+            f"{self.calibration_span.value / 365.25:g} yr "
+            "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their "
+            "errors "
             "over their stated sigma, per lead time and component; Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
         )
 
@@ -156,7 +198,9 @@ class PolarMotionHindcast:
         sy = np.array([[f.sigma_y for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
 
         def half(level, axis):
-            return np.array([[f.half_widths(level)[axis] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+            return (
+                np.array([[f.half_widths(level)[axis] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+            )
 
         data = {
             "x_p_forecast": cf.variable("forecast", "x_p_forecast", x),
@@ -172,27 +216,50 @@ class PolarMotionHindcast:
             "latency": cf.variable("forecast", "latency", float(self.latency.value)),
         }
         first = self.methods[0]
-        data["rms_2d_persistence"] = cf.variable("forecast", "rms_2d_persistence", self.scores[first].rms_2d_persistence * mas)
+        data["rms_2d_persistence"] = cf.variable(
+            "forecast", "rms_2d_persistence", self.scores[first].rms_2d_persistence * mas
+        )
         data["rms_2d_ls"] = cf.variable("forecast", "rms_2d_ls", self.scores[first].rms_2d_ls * mas)
-        for name in ("mae_x", "mae_y", "rms_x", "rms_y", "mae_2d", "rms_2d", "coverage_68", "coverage_95", "skill_persistence", "skill_ls"):
+        for name in (
+            "mae_x",
+            "mae_y",
+            "rms_x",
+            "rms_y",
+            "mae_2d",
+            "rms_2d",
+            "coverage_68",
+            "coverage_95",
+            "skill_persistence",
+            "skill_ls",
+        ):
             scale = 1.0 if name.startswith(("coverage", "skill")) else mas
-            data[name] = cf.variable("forecast", name, np.array([getattr(self.scores[m], name) for m in self.methods]) * scale)
+            data[name] = cf.variable(
+                "forecast", name, np.array([getattr(self.scores[m], name) for m in self.methods]) * scale
+            )
         issue_attrs = cf.attrs("forecast", "issue_time", calendar="standard")
         coords = {
-            "method": ("method", list(self.methods), {"long_name": "forecast method (ls_ar: least squares + autoregression; kalman: state-space model)"}),
+            "method": (
+                "method",
+                list(self.methods),
+                {"long_name": "forecast method (ls_ar: least squares + autoregression; kalman: state-space model)"},
+            ),
             "issue_time": (("issue",), self.issued_mjd, issue_attrs),
             "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
         }
         ds = xr.Dataset(data, coords=coords)
         ds.attrs = {
-            "title": f"Polar-motion hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}",
-            "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods {', '.join(self.methods)}, latency {self.latency.value:g} d",
-            "references": "; ".join(a for a, _, _ in ANCHORS[:1] + ANCHORS[3:4]) + "; IERS EOP 20 C04 series (Paris Observatory)",
+            "title": f"Polar-motion hindcast {iso_date(float(self.issued_mjd[0]))} to "
+            f"{iso_date(float(self.issued_mjd[-1]))}",
+            "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods "
+            f"{', '.join(self.methods)}, latency {self.latency.value:g} d",
+            "references": "; ".join(a for a, _, _ in ANCHORS[:1] + ANCHORS[3:4])
+            + "; IERS EOP 20 C04 series (Paris Observatory)",
             "source_file": self.source,
             "interval_calibration": "past_errors" if self.calibrated else "none",
             "intervals": self._intervals_text(),
             "comment": (
-                "Each forecast uses the record up to its issue time minus the latency; the Chandler period and the state-space "
+                "Each forecast uses the record up to its issue time minus the latency; the Chandler period and the "
+                "state-space "
                 "noise are re-estimated every 13 issues from those data. Coverage counts outcomes inside the intervals "
                 "(x_p_half_width_68 ...), pooling x_p and y_p."
             ),
@@ -205,8 +272,10 @@ class PolarMotionHindcast:
         """The 2-D RMS, x_p mean absolute error and coverage at a few lead times, beside the published anchors."""
         leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
         lines = [
-            f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: {len(self.issued_mjd)} issues, "
-            f"latency {self.latency.value:g} d; intervals " + ("calibrated on past forecasts" if self.calibrated else "of the models (not calibrated)"),
+            f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: "
+            f"{len(self.issued_mjd)} issues, "
+            f"latency {self.latency.value:g} d; intervals "
+            + ("calibrated on past forecasts" if self.calibrated else "of the models (not calibrated)"),
             f"  {'':<34}" + "".join(f"{d:>8} d" for d in leads),
         ]
         for m in self.methods:
@@ -219,12 +288,20 @@ class PolarMotionHindcast:
             ):
                 vals = self.at(metric, m, leads)
                 lines.append(f"  {m + ' ' + label:<34}" + "".join(f"{vals.get(d, math.nan):>10.2f}" for d in leads))
-        lines.append(f"  {'LS extrapolation 2-D RMS':<34}" + "".join(f"{self.scores[self.methods[0]].rms_2d_ls[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads))
-        lines.append(f"  {'persistence 2-D RMS':<34}" + "".join(f"{self.scores[self.methods[0]].rms_2d_persistence[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads))
+        lines.append(
+            f"  {'LS extrapolation 2-D RMS':<34}"
+            + "".join(f"{self.scores[self.methods[0]].rms_2d_ls[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads)
+        )
+        lines.append(
+            f"  {'persistence 2-D RMS':<34}"
+            + "".join(f"{self.scores[self.methods[0]].rms_2d_persistence[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads)
+        )
         label, _, vals = ANCHORS[0]
-        lines.append(f"  {'Dill et al. 2023 2-D RMS (with AAM)':<34}" + "".join(f"{vals[d]:>10.2f}" if d in vals else f"{'-':>10}" for d in leads))
+        lines.append(
+            f"  {'Dill et al. 2023 2-D RMS (with AAM)':<34}"
+            + "".join(f"{vals[d]:>10.2f}" if d in vals else f"{'-':>10}" for d in leads)
+        )
         return "\n".join(lines)
-
 
 
 def hindcast_polar_motion(
@@ -267,7 +344,11 @@ def hindcast_polar_motion(
     if not methods:
         raise InputError("methods", methods, "one or more of 'ls_ar', 'kalman'")
     if isinstance(scheduler, str) and scheduler not in _LOCAL and "://" not in scheduler:
-        raise InputError("scheduler", scheduler, "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786")
+        raise InputError(
+            "scheduler",
+            scheduler,
+            "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
+        )
     horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
     step = float(to_si(every, "every", u.s, positive=True, shape=()))
     if step < DAY - 1e-6:
@@ -283,25 +364,41 @@ def hindcast_polar_motion(
     issues = (a - MJD_J2000) * DAY + step * np.arange(math.ceil((b - a) * DAY / step - 1e-9))
     need = max(_cal.FITTING_SPAN[m] for m in set(methods) | {"ls_ar"})
     if issues[0] - lat - t[0] < need - 0.5 * DAY:
-        raise InputError("start", start, f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the record's start ({iso_date(mjd[0])})")
+        raise InputError(
+            "start",
+            start,
+            f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the "
+            f"record's start ({iso_date(mjd[0])})",
+        )
     if calibrated:
         oldest = _cal.past_issue_times(issues[0], lat, horizon_days, span)[0]
         if oldest - lat - t[0] < need - 0.5 * DAY:
             first_ok = t[0] + need + lat + (issues[0] - oldest)
             raise InputError(
-                "start", start,
+                "start",
+                start,
                 f"an issue date on or after {iso_date(MJD_J2000 + first_ok / DAY)}: the calibration's past forecasts "
-                f"({span / DAY / 365.25:g} yr of them, then the horizon) need their {need / DAY / 365.25:.0f}-yr fitting span in the record",
+                f"({span / DAY / 365.25:g} yr of them, then the horizon) need their {need / DAY / 365.25:.0f}-yr "
+                "fitting span in the record",
             )
     last_needed = issues[-1] + horizon_days * DAY
     if last_needed > t[-1] + 1e-6:
         raise InputError(
-            "end", end, f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or before {iso_date(mjd[-1])}"
+            "end",
+            end,
+            f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or "
+            f"before {iso_date(mjd[-1])}",
         )
     reference = published_chandler_period()["period"].to_value(u.s)
     blocks = _hc.blocks(
-        issues, horizon_days, ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"), lat, q_value, reference,
-        calibrated=methods if calibrated else (), calibration_span=span,
+        issues,
+        horizon_days,
+        ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"),
+        lat,
+        q_value,
+        reference,
+        calibrated=methods if calibrated else (),
+        calibration_span=span,
     )
     rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers) for row in block]
     order = ["ls_ar"] + [m for m in methods if m != "ls_ar"]
@@ -311,4 +408,6 @@ def hindcast_polar_motion(
     ls_only = np.array([row[0].baseline for row in rows])
     keep = [order.index(m) for m in methods]
     forecasts = [[row[k] for k in keep] for row in rows]
-    return PolarMotionHindcast(methods, forecasts, truth, persistence, ls_only, lat, q_value, ds.attrs.get("source_file", ""), calibrated, span)
+    return PolarMotionHindcast(
+        methods, forecasts, truth, persistence, ls_only, lat, q_value, ds.attrs.get("source_file", ""), calibrated, span
+    )

@@ -16,7 +16,7 @@ import os
 import numpy as np
 from astropy import units as u
 
-from wobble.api._units import to_si
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, cf_time_to_mjd, select_dates
 from wobble.io.eop import read_pole_file

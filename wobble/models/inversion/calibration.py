@@ -91,7 +91,9 @@ def inject(posterior: Posterior, seed, index: int) -> tuple[np.ndarray, dict[str
         if all(np.isfinite(v[0]) for v in pred.values()):
             break
     else:
-        raise InputError("priors", ", ".join(posterior.names), "priors with physical draws (the forward model failed on every draw)")
+        raise InputError(
+            "priors", ", ".join(posterior.names), "priors with physical draws (the forward model failed on every draw)"
+        )
     noise = _rng(seed, index, 1).standard_normal(len(posterior.measured))
     synthetic = {m.name: float(pred[m.name][0] + m.sigma * z) for m, z in zip(posterior.measured, noise)}
     return truth, synthetic
@@ -127,7 +129,9 @@ def recover_one(posterior: Posterior, settings: SamplerSettings, seed, index: in
     rank = np.sum(flat[order] < truth, axis=0)
     tau = np.nanmax(chains.autocorr) if np.any(np.isfinite(chains.autocorr)) else math.nan
     min_ess = flat.shape[0] / tau if tau and math.isfinite(tau) else math.nan
-    return Recovery(index, truth, np.median(flat, axis=0), lower, upper, rank, rank_draws, synthetic, float(min_ess), chains.seconds)
+    return Recovery(
+        index, truth, np.median(flat, axis=0), lower, upper, rank, rank_draws, synthetic, float(min_ess), chains.seconds
+    )
 
 
 def _seed_words(seed, index: int) -> list[int]:

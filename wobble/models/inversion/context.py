@@ -75,7 +75,10 @@ class FixedCoreFigure:
         return np.full(batch.shape, self.core_ellipticity)
 
     def describe(self) -> str:
-        return f"hydrostatic e_f = {self.core_ellipticity:.7g} of the profile {self.profile} (Clairaut's equation, first order)"
+        return (
+            f"hydrostatic e_f = {self.core_ellipticity:.7g} of the profile {self.profile} (Clairaut's equation, "
+            "first order)"
+        )
 
 
 def _nodes(n: int) -> np.ndarray:
@@ -96,7 +99,7 @@ def _fit(box, degrees):
     """Chebyshev coefficients (nx+1, ny+1, nc+1) of e_f/q on ``box`` by interpolation at the nodes."""
     us = [_nodes(d + 1) for d in degrees]
     grid = np.meshgrid(*[_to_box(u, lo, hi) for u, (lo, hi) in zip(us, box)], indexing="ij")
-    values = _hydro._radau_through_linear_mantle(grid[0].ravel(), grid[1].ravel(), grid[2].ravel(), 1e-12)
+    values = _hydro.core_flattening_unchecked(grid[0].ravel(), grid[1].ravel(), grid[2].ravel(), 1e-12)
     values = values.reshape(grid[0].shape)
     if not np.all(np.isfinite(values)):
         return None
@@ -127,16 +130,19 @@ def _table(box: tuple, seed: int):
     pts = [p[keep][:_CHECK_POINTS] for p in pts]
     if pts[0].size == 0:
         raise InputError(
-            "priors", "core radius, density and polar moment",
-            "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than the core)",
+            "priors",
+            "core radius, density and polar moment",
+            "priors that reach profiles in hydrostatic equilibrium (a mantle of positive density, no denser than "
+            "the core)",
         )
-    reference = _hydro._radau_through_linear_mantle(*pts, 1e-13)
+    reference = _hydro.core_flattening_unchecked(*pts, 1e-13)
     error = math.inf
     for degrees in DEGREES:
         coefficients = _fit(box, degrees)
         if coefficients is None:
             raise InputError(
-                "priors", _box_text(box),
+                "priors",
+                _box_text(box),
                 "priors for which the core's hydrostatic figure exists everywhere (in part of this range the mantle "
                 "would need a negative mass: Clairaut's equation has no regular solution there)",
             )
@@ -145,14 +151,17 @@ def _table(box: tuple, seed: int):
             coefficients.setflags(write=False)
             return coefficients, error, pts[0].size
     raise InputError(
-        "priors", _box_text(box),
-        f"priors over which the hydrostatic core can be tabulated to {TABLE_TOLERANCE:g} (narrower priors; last error {error:.2g})",
+        "priors",
+        _box_text(box),
+        f"priors over which the hydrostatic core can be tabulated to {TABLE_TOLERANCE:g} (narrower priors; last "
+        f"error {error:.2g})",
     )
 
 
 def _box_text(box) -> str:
     return (
-        f"core radius/R in [{box[0][0]:.4g}, {box[0][1]:.4g}], core density/mean density in [{box[1][0]:.4g}, {box[1][1]:.4g}], "
+        f"core radius/R in [{box[0][0]:.4g}, {box[0][1]:.4g}], core density/mean density in [{box[1][0]:.4g}, "
+        f"{box[1][1]:.4g}], "
         f"C/(MR^2) in [{box[2][0]:.4g}, {box[2][1]:.4g}]"
     )
 
@@ -188,13 +197,16 @@ class LinearMantleCoreFigure:
 
     @classmethod
     def build(cls, profile: str, radius: float, box, seed: int = 20240901) -> LinearMantleCoreFigure:
-        """Tabulate e_f/q over ``box`` ((x_lo, x_hi), (y_lo, y_hi), (c_lo, c_hi)), checked to :data:`TABLE_TOLERANCE`."""
+        """Tabulate e_f/q over ``box`` ((x_lo, x_hi), (y_lo, y_hi), (c_lo, c_hi)), checked to
+        :data:`TABLE_TOLERANCE`."""
         box = tuple((float(lo), float(hi)) for lo, hi in box)
         for (lo, hi), name in zip(box, ("core radius/R", "core density/mean density", "C/(M R^2)")):
             if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
                 raise InputError(name, f"[{lo:.6g}, {hi:.6g}]", "a finite, positive range")
         if box[0][1] >= 1.0:
-            raise InputError("fluid_core_radius", f"up to {box[0][1]:.4g} of the radius", "a prior for a core inside the planet")
+            raise InputError(
+                "fluid_core_radius", f"up to {box[0][1]:.4g} of the radius", "a prior for a core inside the planet"
+            )
         coefficients, error, points = _table(box, seed)
         return cls(profile, float(radius), box, coefficients, error, points)
 
@@ -269,5 +281,6 @@ class ForwardContext:
 
     @property
     def torque_strength(self) -> float:
-        """Sum over perturbers of G M <(a/r)^3> P2(cos i) f / a^3, s^-2 (:func:`wobble.models.precession.torque_strength`)."""
+        """Sum over perturbers of G M <(a/r)^3> P2(cos i) f / a^3, s^-2
+        (:func:`wobble.models.precession.torque_strength`)."""
         return float(sum(torque_strength(o) for o in self.perturbers))

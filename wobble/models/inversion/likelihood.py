@@ -106,7 +106,9 @@ class Measurement:
             raise InputError(f"options of {self.name}", unknown[0], f"one of {', '.join(model.options) or 'none'}")
         if self.value is None:
             if self.sigma is not None:
-                raise InputError(f"observable {self.name}", "an uncertainty without a value", "a measured value with its uncertainty")
+                raise InputError(
+                    f"observable {self.name}", "an uncertainty without a value", "a measured value with its uncertainty"
+                )
             return
         if not math.isfinite(self.value):
             raise InputError(f"observable {self.name}", self.value, "a finite measured value")
@@ -204,7 +206,9 @@ class Posterior:
 
     def without_likelihood(self) -> Posterior:
         """The prior-only version of this posterior."""
-        return Posterior(self.parameters, self.measurements, self.planet, self.model, prior_only=True, context=self.context)
+        return Posterior(
+            self.parameters, self.measurements, self.planet, self.model, prior_only=True, context=self.context
+        )
 
     # -- evaluation -------------------------------------------------------------
 
@@ -222,7 +226,9 @@ class Posterior:
     def predict(self, theta, names: Sequence[str] | None = None) -> dict[str, np.ndarray]:
         """Forward predictions (SI) of every measurement (or of ``names``) for each row."""
         theta = self._theta(theta)
-        batch = Batch(self.planet, {p.name: theta[..., i] for i, p in enumerate(self.parameters)}, self.model, self.context)
+        batch = Batch(
+            self.planet, {p.name: theta[..., i] for i, p in enumerate(self.parameters)}, self.model, self.context
+        )
         wanted = self.measurements if names is None else [m for m in self.measurements if m.name in names]
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             return {m.name: m.model(batch, m.options) for m in wanted}
@@ -260,9 +266,16 @@ class Posterior:
         if failed:
             reason = ""
             if self.planet is not None:
-                code = int(_chandler.chandler_samples(self.planet, {p.name: centre[:, i] for i, p in enumerate(self.parameters)}, self.model).code[0])
+                code = int(
+                    _chandler.chandler_samples(
+                        self.planet, {p.name: centre[:, i] for i, p in enumerate(self.parameters)}, self.model
+                    ).code[0]
+                )
                 reason = _chandler.INVALID_REASONS.get(code, "")
-            values = ", ".join(f"{p.name} = {c / p.scale:.6g}{' ' + p.unit if p.unit else ''}" for p, c in zip(self.parameters, centre[0]))
+            values = ", ".join(
+                f"{p.name} = {c / p.scale:.6g}{' ' + p.unit if p.unit else ''}"
+                for p, c in zip(self.parameters, centre[0])
+            )
             raise InputError(
                 f"observable {failed[0]}",
                 f"no prediction at the priors' centre ({values})" + (f": {reason}" if reason else ""),

@@ -105,7 +105,7 @@ class Batch:
 
     def arrays(self):
         """The planet's parameters as arrays with the batch's values (shared by the mode solvers)."""
-        return self.memo("arrays", lambda: _chandler._Values(self._nominal, self.values))
+        return self.memo("arrays", lambda: _chandler.ParameterValues(self._nominal, self.values))
 
     def chandler_rate(self) -> np.ndarray:
         """Signed Chandler rate (rad/s) of the budget's last step for every member, NaN where it has none.
@@ -122,7 +122,9 @@ class Batch:
             return self.chandler().rate
 
         def compute():
-            return _modes.mode_rates_samples(self.planet, self.values, coupled=False, which=("CW",), values=self.arrays())["CW"][0]
+            return _modes.mode_rates_samples(
+                self.planet, self.values, coupled=False, which=("CW",), values=self.arrays()
+            )["CW"][0]
 
         return self.memo("chandler_rate", compute)
 
@@ -138,7 +140,11 @@ class Batch:
         def compute():
             figure = self.context.core_figure
             if figure is None:
-                raise InputError("core_figure", "none", "a density profile for the core's hydrostatic flattening (a setup read from a file provides it)")
+                raise InputError(
+                    "core_figure",
+                    "none",
+                    "a density profile for the core's hydrostatic flattening (a setup read from a file provides it)",
+                )
             return figure.hydrostatic(self) * (1.0 + self.value_or("core_flattening_excess", 0.0))
 
         return self.memo("core_ellipticity", compute)
@@ -150,7 +156,9 @@ class Batch:
             raise InputError("planet", None, "a planet for the normal modes")
         return self.memo(
             "normal_modes",
-            lambda: _modes.mode_rates_samples(self.planet, self.values, self.core_ellipticity(), which=("FCN",), values=self.arrays()),
+            lambda: _modes.mode_rates_samples(
+                self.planet, self.values, self.core_ellipticity(), which=("FCN",), values=self.arrays()
+            ),
         )
 
 
@@ -209,8 +217,14 @@ def register_observable(
         if name in REGISTRY:
             raise InputError("observable", name, "a name not registered yet")
         REGISTRY[name] = ObservableModel(
-            name, predict, unit, unit if display_unit is None else display_unit, description, references,
-            dict(options or {}), catalogue_key,
+            name,
+            predict,
+            unit,
+            unit if display_unit is None else display_unit,
+            description,
+            references,
+            dict(options or {}),
+            catalogue_key,
         )
         return predict
 
@@ -297,7 +311,9 @@ def love_number_k2_chandler(batch: Batch) -> np.ndarray:
     """Re k2 at the modelled Chandler period (without the ocean term)."""
     period = batch.chandler().period
     with np.errstate(invalid="ignore"):
-        real, _ = _chandler.love_number_samples(batch.planet, batch.values, np.where(np.isfinite(period), period, math.nan))
+        real, _ = _chandler.love_number_samples(
+            batch.planet, batch.values, np.where(np.isfinite(period), period, math.nan)
+        )
     return real
 
 
@@ -354,7 +370,11 @@ def precession_rate(batch: Batch) -> np.ndarray:
     """
     ctx = batch.context
     if not ctx.perturbers:
-        raise InputError("perturbers", "none", "the perturbers' orbits (a setup read from a file provides the Sun and the catalogued satellites)")
+        raise InputError(
+            "perturbers",
+            "none",
+            "the perturbers' orbits (a setup read from a file provides the Sun and the catalogued satellites)",
+        )
     # H as the Chandler model and the precession budget take it: the catalogue's H, else J2/(C/(M a^2)).
     if batch.planet.dynamical_flattening is not None or "dynamical_flattening" in batch.values:
         h = batch["dynamical_flattening"]

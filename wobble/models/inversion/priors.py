@@ -23,7 +23,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special, stats
 
-from wobble.errors import InputError
 from wobble.models.planet import POSITIVE_KEYS
 
 __all__ = ["Prior", "Uniform", "LogUniform", "Normal", "PHYSICAL_RANGE", "physical_range", "KINDS"]
@@ -168,7 +167,9 @@ class Normal(Prior):
         if not self.low < self.high:
             return ["truncation bounds with low < high"]
         if not self._log_mass() > math.log(1e-12):
-            return [f"a normal prior with probability inside the range [{self.low:.6g}, {self.high:.6g}] it is truncated to"]
+            return [
+                f"a normal prior with probability inside the range [{self.low:.6g}, {self.high:.6g}] it is truncated to"
+            ]
         return []
 
     def _a(self) -> float:

@@ -2,8 +2,8 @@
 
 emcee (Foreman-Mackey et al. 2013, PASP 125, 306) moves an ensemble of walkers, half
 of them at a time, each half with proposals built from the other half. The moves are a
-mixture (:data:`MOVES` by default; a setup may choose its own): 80 % an *independence* move (:func:`_independence_move`: a
-Student t proposal with the mean and covariance of the other half), 15 % differential
+mixture (:data:`MOVES` by default; a setup may choose its own): 80 % an *independence* move
+(:func:`_independence_move`: a Student t proposal with the mean and covariance of the other half), 15 % differential
 evolution (ter Braak 2006, Stat. Comput. 16, 239; Nelson, Ford & Payne 2014, ApJS 210,
 11) and 5 % its snooker variant (ter Braak & Vrugt 2008, Stat. Comput. 18, 435). All
 are invariant under linear maps of the parameters, so correlated and badly scaled
@@ -97,9 +97,13 @@ class SamplerSettings:
             raise InputError("steps", self.steps, f"at least {2 * self.thin} (two kept draws at thin = {self.thin})")
         names = [m[0] for m in self.moves]
         if not names or len(set(names)) != len(names) or any(n not in MOVE_NAMES for n in names):
-            raise InputError("moves", ", ".join(map(str, names)) or "none", f"each of {', '.join(MOVE_NAMES)} at most once")
+            raise InputError(
+                "moves", ", ".join(map(str, names)) or "none", f"each of {', '.join(MOVE_NAMES)} at most once"
+            )
         for name, weight in self.moves:
-            if isinstance(weight, bool) or not (isinstance(weight, (int, float)) and math.isfinite(weight) and weight > 0):
+            if isinstance(weight, bool) or not (
+                isinstance(weight, (int, float)) and math.isfinite(weight) and weight > 0
+            ):
                 raise InputError(f"moves.{name}", weight, "a positive weight")
 
     def as_dict(self) -> dict:
@@ -204,7 +208,8 @@ def start_positions(posterior: Posterior, walkers: int, rng: np.random.Generator
         if len(found) == walkers:
             return found
     raise InputError(
-        "priors", ", ".join(posterior.names),
+        "priors",
+        ", ".join(posterior.names),
         f"priors under which the posterior is positive somewhere: {len(found)} of {_START_ATTEMPTS * 4 * walkers} "
         "prior draws had a finite likelihood (the data may contradict the priors, or the model fails there)",
     )
@@ -234,8 +239,12 @@ def run_emcee(
     settings.check(posterior.ndim)
     rng = _rng(seed)
     start = start_positions(posterior, settings.walkers, rng)
-    moves = {"stretch": emcee.moves.StretchMove, "de": emcee.moves.DEMove, "de_snooker": emcee.moves.DESnookerMove,
-             "independence": _independence_move}
+    moves = {
+        "stretch": emcee.moves.StretchMove,
+        "de": emcee.moves.DEMove,
+        "de_snooker": emcee.moves.DESnookerMove,
+        "independence": _independence_move,
+    }
     sampler = emcee.EnsembleSampler(
         settings.walkers, posterior.ndim, posterior, vectorize=True, moves=[(moves[m](), w) for m, w in settings.moves]
     )

@@ -122,14 +122,16 @@ class ChandlerFit:
         return out
 
 
-
 def make_fit(method, t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig) -> ChandlerFit:
-    """A :class:`ChandlerFit` from the coefficients of equation (2) (drift, annual +, annual -, Chandler) and the sigmas."""
+    """A :class:`ChandlerFit` from the coefficients of equation (2) (drift, annual +, annual -, Chandler) and
+    the sigmas."""
     nan = math.nan
     c = coeffs
     chandler = Harmonic(rate, sig_rate, abs(c[-1]), sig_amp, float(np.angle(c[-1])), sig_phase)
     pro = Harmonic(ANNUAL_RATE, 0.0, abs(c[degree + 1]), ann_sig[0][0], float(np.angle(c[degree + 1])), ann_sig[0][1])
-    retro = Harmonic(-ANNUAL_RATE, 0.0, abs(c[degree + 2]), ann_sig[1][0], float(np.angle(c[degree + 2])), ann_sig[1][1])
+    retro = Harmonic(
+        -ANNUAL_RATE, 0.0, abs(c[degree + 2]), ann_sig[1][0], float(np.angle(c[degree + 2])), ann_sig[1][1]
+    )
     unc = Uncertainty(nan, nan, nan, nan, nan)
     return ChandlerFit(
         method=method,
@@ -152,4 +154,3 @@ def make_fit(method, t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_
 def with_changes(fit: ChandlerFit, **changes) -> ChandlerFit:
     """A copy of ``fit`` with some fields changed (the dataclass stays frozen)."""
     return replace(fit, **changes)
-

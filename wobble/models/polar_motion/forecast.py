@@ -118,11 +118,13 @@ class PastForecasts:
     mean: np.ndarray
     sigma: np.ndarray
 
-    def take(self, times) -> "PastForecasts":
+    def take(self, times) -> PastForecasts:
         """The forecasts issued at ``times`` (each must be present)."""
         times = np.asarray(times, dtype=float)
         idx = np.searchsorted(self.issued, times - 1e-6)
-        if np.any(idx >= self.issued.size) or np.any(np.abs(self.issued[np.minimum(idx, self.issued.size - 1)] - times) > 1e-6):
+        if np.any(idx >= self.issued.size) or np.any(
+            np.abs(self.issued[np.minimum(idx, self.issued.size - 1)] - times) > 1e-6
+        ):
             raise ValueError("past forecasts missing for some issue times")
         return PastForecasts(self.issued[idx], self.mean[idx], self.sigma[idx])
 
@@ -147,7 +149,8 @@ def information_set(t, z, issued: float, latency: float, span: float, what: str)
         raise InputError(
             "issued",
             f"{(cutoff - t[0]) / DAY:.0f} d of data before it",
-            f"an issue date at least {span / DAY:.0f} d (the {what} fitting span) plus the latency after the record's start",
+            f"an issue date at least {span / DAY:.0f} d (the {what} fitting span) plus the latency after the "
+            "record's start",
         )
     keep = (t <= cutoff + 1e-6) & (t >= cutoff - span - 1e-6)
     return t[keep], z[keep]
@@ -172,4 +175,8 @@ def daily(t, what: str) -> None:
     """Refuse a fitting span that is not sampled once a day without gaps (the models step by days)."""
     steps = np.diff(np.asarray(t, dtype=float))
     if steps.size and not np.allclose(steps, DAY, rtol=0, atol=1e-3):
-        raise InputError("data", f"{int(np.sum(~np.isclose(steps, DAY, rtol=0, atol=1e-3)))} gaps in the {what} fitting span", "daily samples without gaps")
+        raise InputError(
+            "data",
+            f"{int(np.sum(~np.isclose(steps, DAY, rtol=0, atol=1e-3)))} gaps in the {what} fitting span",
+            "daily samples without gaps",
+        )

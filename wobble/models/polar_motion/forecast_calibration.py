@@ -1,4 +1,5 @@
-"""Forecast intervals calibrated on the method's own past forecasts: quantiles of past standardised errors per lead time.
+"""Forecast intervals calibrated on the method's own past forecasts: quantiles of past standardised errors
+per lead time.
 
 A model's stated forecast variance is only as good as the model: on the IERS
 record the 68 % intervals of least squares + autoregression held 48 % of the
@@ -51,7 +52,14 @@ from wobble.errors import InputError
 from wobble.models.polar_motion.forecast import Forecast, PastForecasts, check_method, information_set
 from wobble.models.polar_motion.ls_ar import LS_SPAN, forecast_ls_ar, past_forecasts_ls_ar
 from wobble.models.polar_motion.record import DAY
-from wobble.models.polar_motion.state_space import FIT_SPAN, KalmanSetup, NoiseParameters, fit_noise, forecast_kalman, past_forecasts_kalman
+from wobble.models.polar_motion.state_space import (
+    FIT_SPAN,
+    KalmanSetup,
+    NoiseParameters,
+    fit_noise,
+    forecast_kalman,
+    past_forecasts_kalman,
+)
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = [
@@ -128,7 +136,9 @@ class Calibration:
         return h[:, 0], h[:, 1]
 
 
-def past_issue_times(issued: float, latency: float, horizon_days: int, span: float = SPAN, step: float = STEP) -> np.ndarray:
+def past_issue_times(
+    issued: float, latency: float, horizon_days: int, span: float = SPAN, step: float = STEP
+) -> np.ndarray:
     """Every past issue time a forecast issued at ``issued`` is calibrated with, oldest first.
 
     Lead l (days) uses k from ceil((l + latency) / step) on, ``round(span / step)``
@@ -143,7 +153,11 @@ def count_per_lead(span: float, step: float = STEP) -> int:
     """Past issues per lead time: ``span / step``, at least :data:`MIN_COUNT`."""
     n = int(round(span / step))
     if n < MIN_COUNT:
-        raise InputError("calibration_span", f"{span / DAY:g} d", f"at least {MIN_COUNT * step / DAY:g} d ({MIN_COUNT} past forecasts a week apart)")
+        raise InputError(
+            "calibration_span",
+            f"{span / DAY:g} d",
+            f"at least {MIN_COUNT * step / DAY:g} d ({MIN_COUNT} past forecasts a week apart)",
+        )
     return n
 
 
@@ -162,7 +176,16 @@ def _order_statistic(a: np.ndarray, p: float, axis: int) -> np.ndarray:
 
 
 def calibrate(
-    t, z, issued: float, latency: float, horizon_days: int, past: PastForecasts, sigma, *, span: float = SPAN, step: float = STEP
+    t,
+    z,
+    issued: float,
+    latency: float,
+    horizon_days: int,
+    past: PastForecasts,
+    sigma,
+    *,
+    span: float = SPAN,
+    step: float = STEP,
 ) -> Calibration:
     """Interval half-widths per lead time for a forecast issued at ``issued`` from ``past`` (see the module).
 
@@ -178,14 +201,20 @@ def calibrate(
     sel = past.take(times)
     lead = np.arange(1, horizon_days + 1)
     # Past issue k (index into ``times``, oldest first) at lead l: outcome at times[k] + l days.
-    k_max = np.array([times.size - math.ceil((d * DAY + latency) / step - 1e-9) for d in lead])  # newest usable, per lead
+    k_max = np.array(
+        [times.size - math.ceil((d * DAY + latency) / step - 1e-9) for d in lead]
+    )  # newest usable, per lead
     rows = k_max[:, None] - np.arange(n)[None, :]  # (H, n): the n most recent usable issues of each lead
     outcome_time = times[rows] + lead[:, None] * DAY
     pos = np.searchsorted(tk, outcome_time - _EPS)
     found = (pos < tk.size) & (np.abs(tk[np.minimum(pos, tk.size - 1)] - outcome_time) <= _EPS)
     if not found.all():
         missing = int(np.sum(~found))
-        raise InputError("data", f"{missing} outcomes of past forecasts missing from the record", "a daily record without gaps over the calibration span")
+        raise InputError(
+            "data",
+            f"{missing} outcomes of past forecasts missing from the record",
+            "a daily record without gaps over the calibration span",
+        )
     truth = zk[pos]
     err = sel.mean[rows, lead[:, None] - 1] - truth  # (H, n) complex
     stated = sel.sigma[rows, lead[:, None] - 1]  # (H, n, 2)
@@ -210,7 +239,9 @@ def calibrate(
     )
 
 
-def kalman_setup(t, z, issued: float, latency: float, chandler_period: float, q: float, noise: NoiseParameters | None = None):
+def kalman_setup(
+    t, z, issued: float, latency: float, chandler_period: float, q: float, noise: NoiseParameters | None = None
+):
     """(setup, log-likelihood): the Kalman model at ``issued``, its noise fitted on the information set unless given."""
     ti, zi = information_set(t, z, issued, latency, FIT_SPAN, "Kalman")
     loglike = math.nan
@@ -221,14 +252,26 @@ def kalman_setup(t, z, issued: float, latency: float, chandler_period: float, q:
     return KalmanSetup.build(chandler_period, q, noise, zi.size), loglike
 
 
-def past_forecasts(t, z, issues, horizon_days: int, *, method: str, chandler_period: float, latency: float, setup: KalmanSetup | None = None) -> PastForecasts:
+def past_forecasts(
+    t,
+    z,
+    issues,
+    horizon_days: int,
+    *,
+    method: str,
+    chandler_period: float,
+    latency: float,
+    setup: KalmanSetup | None = None,
+) -> PastForecasts:
     """The means of ``method``'s forecasts issued at ``issues`` (each from its own information set)."""
     if method == "kalman":
         return past_forecasts_kalman(t, z, issues, horizon_days, setup=setup, latency=latency)
     return past_forecasts_ls_ar(t, z, issues, horizon_days, chandler_period=chandler_period, latency=latency)
 
 
-def check_calibration_span(t, issued: float, latency: float, horizon_days: int, method: str, span: float = SPAN, step: float = STEP) -> None:
+def check_calibration_span(
+    t, issued: float, latency: float, horizon_days: int, method: str, span: float = SPAN, step: float = STEP
+) -> None:
     """Refuse a calibration whose oldest past forecast would need data from before the record's start."""
     oldest = past_issue_times(issued, latency, horizon_days, span, step)[0]
     need = FITTING_SPAN[method]
@@ -237,9 +280,11 @@ def check_calibration_span(t, issued: float, latency: float, horizon_days: int, 
         most = span - (need - have)
         allowed = (
             f"at most {most / (365.25 * DAY):.1f} yr for this issue date and horizon (the oldest past forecast, issued "
-            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / (365.25 * DAY):.0f}-yr {_WHAT[method]} fitting span in the record)"
+            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / (365.25 * DAY):.0f}-yr {_WHAT[method]} "
+            "fitting span in the record)"
             if most >= MIN_COUNT * step
-            else f"a later issue date: its past forecasts need {(issued - oldest + latency + need) / (365.25 * DAY):.1f} yr of record before it"
+            else "a later issue date: its past forecasts need "
+            f"{(issued - oldest + latency + need) / (365.25 * DAY):.1f} yr of record before it"
         )
         raise InputError("calibration_span", f"{span / (365.25 * DAY):g} yr", allowed)
 
@@ -278,7 +323,9 @@ def forecast(
     if method == "kalman":
         if setup is None:
             setup, loglike = kalman_setup(t, z, issued, latency, chandler_period, q, noise)
-        raw = forecast_kalman(t, z, issued, horizon_days, chandler_period=chandler_period, q=q, latency=latency, setup=setup)
+        raw = forecast_kalman(
+            t, z, issued, horizon_days, chandler_period=chandler_period, q=q, latency=latency, setup=setup
+        )
         raw.details.update(noise_refitted=noise is None and math.isfinite(loglike), log_likelihood=loglike)
     else:
         raw = forecast_ls_ar(t, z, issued, horizon_days, chandler_period=chandler_period, latency=latency)
@@ -286,5 +333,9 @@ def forecast(
         return raw
     times = past_issue_times(issued, latency, horizon_days, span)
     if past is None:
-        past = past_forecasts(t, z, times, horizon_days, method=method, chandler_period=chandler_period, latency=latency, setup=setup)
-    return replace(raw, calibration=calibrate(t, z, issued, latency, horizon_days, past, (raw.sigma_x, raw.sigma_y), span=span))
+        past = past_forecasts(
+            t, z, times, horizon_days, method=method, chandler_period=chandler_period, latency=latency, setup=setup
+        )
+    return replace(
+        raw, calibration=calibrate(t, z, issued, latency, horizon_days, past, (raw.sigma_x, raw.sigma_y), span=span)
+    )

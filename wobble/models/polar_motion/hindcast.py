@@ -50,7 +50,16 @@ class Block:
 
 
 def blocks(
-    issues, horizon_days, methods, latency, q, reference_period, refit: int = 13, chandler_period=None, calibrated=None, calibration_span=fcal.SPAN
+    issues,
+    horizon_days,
+    methods,
+    latency,
+    q,
+    reference_period,
+    refit: int = 13,
+    chandler_period=None,
+    calibrated=None,
+    calibration_span=fcal.SPAN,
 ) -> list[Block]:
     """The issue times cut into blocks of ``refit`` consecutive issues (the unit of parallel work).
 
@@ -61,8 +70,15 @@ def blocks(
     calibrated = methods if calibrated is None else tuple(check_method(m) for m in calibrated)
     return [
         Block(
-            tuple(issues[i : i + refit]), int(horizon_days), methods, float(latency), float(q), float(reference_period), chandler_period,
-            calibrated, float(calibration_span),
+            tuple(issues[i : i + refit]),
+            int(horizon_days),
+            methods,
+            float(latency),
+            float(q),
+            float(reference_period),
+            chandler_period,
+            calibrated,
+            float(calibration_span),
         )
         for i in range(0, len(issues), refit)
     ]
@@ -82,7 +98,9 @@ def run_block(t, z, block: Block) -> list[list[Forecast]]:
     period = block.chandler_period
     if period is None:
         use = (t <= cutoff + 1e-6) & (t >= cutoff - PERIOD_SPAN)
-        period = fit_least_squares(t[use], z[use], reference_period=block.reference_period, uncertainty=False).chandler.period
+        period = fit_least_squares(
+            t[use], z[use], reference_period=block.reference_period, uncertainty=False
+        ).chandler.period
     setup = None
     if "kalman" in block.methods:
         tk, zk = fcal.known_at(t, z, cutoff)
@@ -90,19 +108,44 @@ def run_block(t, z, block: Block) -> list[list[Forecast]]:
     past = {}
     if block.calibrated:
         times = np.unique(
-            np.round(np.concatenate([fcal.past_issue_times(i, block.latency, block.horizon_days, block.calibration_span) for i in block.issues]), 3)
+            np.round(
+                np.concatenate(
+                    [
+                        fcal.past_issue_times(i, block.latency, block.horizon_days, block.calibration_span)
+                        for i in block.issues
+                    ]
+                ),
+                3,
+            )
         )
         for method in block.calibrated:
             past[method] = fcal.past_forecasts(
-                t, z, times, block.horizon_days, method=method, chandler_period=period, latency=block.latency, setup=setup
+                t,
+                z,
+                times,
+                block.horizon_days,
+                method=method,
+                chandler_period=period,
+                latency=block.latency,
+                setup=setup,
             )
     out = []
     for issued in block.issues:
         out.append(
             [
                 fcal.forecast(
-                    t, z, issued, block.horizon_days, method=method, chandler_period=period, q=block.q, latency=block.latency,
-                    calibrated=method in block.calibrated, span=block.calibration_span, setup=setup, past=past.get(method),
+                    t,
+                    z,
+                    issued,
+                    block.horizon_days,
+                    method=method,
+                    chandler_period=period,
+                    q=block.q,
+                    latency=block.latency,
+                    calibrated=method in block.calibrated,
+                    span=block.calibration_span,
+                    setup=setup,
+                    past=past.get(method),
                 )
                 for method in block.methods
             ]
@@ -128,7 +171,9 @@ class Scores:
     skill_ls: np.ndarray
 
 
-def score(truth: np.ndarray, mean: np.ndarray, half68: tuple, half95: tuple, persistence: np.ndarray, ls_only: np.ndarray) -> Scores:
+def score(
+    truth: np.ndarray, mean: np.ndarray, half68: tuple, half95: tuple, persistence: np.ndarray, ls_only: np.ndarray
+) -> Scores:
     """Scores of forecasts ``mean`` (issues x leads, complex) against ``truth`` (same shape).
 
     ``half68`` and ``half95`` are the (x_p, y_p) half-widths of the intervals
@@ -161,4 +206,3 @@ def score(truth: np.ndarray, mean: np.ndarray, half68: tuple, half95: tuple, per
 def truth_at(t, z, times) -> np.ndarray:
     """The record at ``times`` (daily samples; a time between samples is interpolated), complex rad."""
     return np.interp(times, t, z.real) + 1j * np.interp(times, t, z.imag)
-

@@ -84,7 +84,6 @@ def _grid_gain(s, q, r0, lo_rate, hi_rate, span):
     return rates, gain, d
 
 
-
 def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
     """Chandler periods (s) of many series on the same times by variable projection (no polish).
 
@@ -178,7 +177,6 @@ def _jacobian_complex(s, half, fixed, c, rate) -> np.ndarray:
     j[:, 2 * nfix + 1] = 1j * e
     j[:, -1] = c[-1] * 1j * (s / half) * e
     return j
-
 
 
 @one_blas_thread
@@ -284,7 +282,9 @@ def fit_least_squares(
         a_hac, sig_phase = amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
-            sub, nsub = subspan_scatter(t, z, fit_least_squares, beat, reference_period=reference_period, band=band, drift_degree=degree)
+            sub, nsub = subspan_scatter(
+                t, z, fit_least_squares, beat, reference_period=reference_period, band=band, drift_degree=degree
+            )
             details["subspans"] = nsub
         base = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
         mod = model_sensitivity(t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band)
@@ -299,10 +299,12 @@ def fit_least_squares(
         sig_rate = pu.adopted * rate**2 / (2 * math.pi)
         sig_amp = au.adopted
         ann_auto = [
-            amp_phase_sigma(coeffs[degree + 1 + k], cov_hac[2 * (degree + 1 + k) : 2 * (degree + 2 + k), 2 * (degree + 1 + k) : 2 * (degree + 2 + k)])
+            amp_phase_sigma(
+                coeffs[degree + 1 + k],
+                cov_hac[2 * (degree + 1 + k) : 2 * (degree + 2 + k), 2 * (degree + 1 + k) : 2 * (degree + 2 + k)],
+            )
             for k in (0, 1)
         ]
         ann_sig = annual_sigmas(ann_auto, sub, mod)
     fit = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
     return with_changes(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
-

@@ -3,7 +3,8 @@
 The LS+AR scheme of the IERS Rapid Service and of most entries of the EOP
 prediction comparison campaigns (Kosek et al. 1998; Kalarus et al. 2010):
 
-    p(t) = c_0 + c_1 s + A_c e^{i sigma_c s} + sum_{k=1,2} (A_k+ e^{i k Omega_a s} + A_k- e^{-i k Omega_a s}) + r(t)   (1)
+    p(t) = c_0 + c_1 s + A_c e^{i sigma_c s}
+           + sum_{k=1,2} (A_k+ e^{i k Omega_a s} + A_k- e^{-i k Omega_a s}) + r(t)   (1)
 
 with s = t - t_last in years, fitted by complex linear least squares over the
 last ``ls_span`` of the information set (the Chandler frequency sigma_c is not
@@ -42,7 +43,8 @@ _YEAR = 365.25 * DAY
 
 
 def harmonic_columns(s, chandler_rate: float) -> np.ndarray:
-    """The columns of equation (1) at times ``s`` (s from the last sample): 1, s/yr, Chandler, +/- annual, +/- semi-annual."""
+    """The columns of equation (1) at times ``s`` (s from the last sample): 1, s/yr, Chandler, +/- annual,
+    +/- semi-annual."""
     s = np.asarray(s, dtype=float)
     cols = [np.ones_like(s), s / _YEAR, np.exp(1j * chandler_rate * s)]
     for k in (1, 2):
@@ -50,7 +52,9 @@ def harmonic_columns(s, chandler_rate: float) -> np.ndarray:
     return np.stack(cols, axis=1).astype(complex)
 
 
-def _extrapolation_variance(t, cols, resid, future_cols, carried, lag: float = 365.25 * DAY) -> tuple[np.ndarray, np.ndarray]:
+def _extrapolation_variance(
+    t, cols, resid, future_cols, carried, lag: float = 365.25 * DAY
+) -> tuple[np.ndarray, np.ndarray]:
     """Variances of x_p and y_p of the LS extrapolation's error that the AR forecast does not carry.
 
     An error d of the coefficients misplaces the pole by c(t) . d; the residuals
@@ -155,7 +159,10 @@ def forecast_ls_ar(
 def past_forecasts_ls_ar(t, z, issues, horizon_days: int, *, chandler_period: float, latency: float = DAY, **kwargs):
     """The forecasts :func:`forecast_ls_ar` issues at each of ``issues`` (a :class:`~.forecast.PastForecasts`)."""
     issues = np.asarray(issues, dtype=float)
-    fs = [forecast_ls_ar(t, z, s, horizon_days, chandler_period=chandler_period, latency=latency, **kwargs) for s in issues]
+    fs = [
+        forecast_ls_ar(t, z, s, horizon_days, chandler_period=chandler_period, latency=latency, **kwargs)
+        for s in issues
+    ]
     mean = np.array([f.mean for f in fs], dtype=complex).reshape(issues.size, horizon_days)
     sigma = np.array([np.stack([f.sigma_x, f.sigma_y], axis=1) for f in fs]).reshape(issues.size, horizon_days, 2)
     return PastForecasts(issues, mean, sigma)

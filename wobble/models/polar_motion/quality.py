@@ -38,7 +38,6 @@ class QualityFactor:
     caveats: tuple[str, ...]
 
 
-
 MIN_Q_SPAN = 20.0 * 365.25 * DAY
 _Q_GRID = np.concatenate([np.logspace(0.5, 5.0, 22), [np.inf]])
 _Q_BIN = 10.0 * DAY
@@ -46,7 +45,6 @@ _Q_BIN = 10.0 * DAY
 _Q_BOUNDS = [(-3.0, 3.0), (-30.0, 30.0), (-30.0, 30.0)]
 _HALF_BAND = 0.25 * 2 * math.pi / TROPICAL_YEAR  # +/- 0.25 cycle per year around the peak
 _ANNUAL_NOTCH = 0.03 * 2 * math.pi / TROPICAL_YEAR
-
 
 
 def _lag_counts(t: np.ndarray) -> tuple[np.ndarray, float]:
@@ -92,7 +90,9 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     t, y = as_series(t, y, "chandler series")
     span = t[-1] - t[0]
     if span < MIN_Q_SPAN:
-        raise InputError("span", f"{span / (365.25 * DAY):.1f} yr", f"at least {MIN_Q_SPAN / (365.25 * DAY):.0f} yr for a Q estimate")
+        raise InputError(
+            "span", f"{span / (365.25 * DAY):.1f} yr", f"at least {MIN_Q_SPAN / (365.25 * DAY):.0f} yr for a Q estimate"
+        )
     # Ten-day means: the line is within 0.12 cycle/yr of 0.84 cycle/yr, far below
     # the new Nyquist frequency (18 cycles/yr); the boxcar loses 0.1 % there.
     t, y = bin_means(t, y, _Q_BIN)
@@ -108,7 +108,11 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     spec = np.abs(dtft_at(s, y, ords)) ** 2 / n
     keep = counts > 0
     lags, counts = lags[keep], counts[keep]
-    phase = None if counts.size == n and np.array_equal(counts, n - np.arange(n)) else np.exp(-1j * np.multiply.outer(ords, lags))
+    phase = (
+        None
+        if counts.size == n and np.array_equal(counts, n - np.arange(n))
+        else np.exp(-1j * np.multiply.outer(ords, lags))
+    )
 
     # Without gaps the pair counts are n - l at lag l, and the sum over lags has a
     # closed form (a geometric series and its derivative): O(K) instead of O(K L).
@@ -143,7 +147,11 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
         for start in (x, fresh):
             simplex = start + np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
             res = optimize.minimize(
-                nll, start, args=(q,), method="Nelder-Mead", bounds=_Q_BOUNDS,
+                nll,
+                start,
+                args=(q,),
+                method="Nelder-Mead",
+                bounds=_Q_BOUNDS,
                 options={"initial_simplex": simplex, "xatol": 1e-4, "fatol": 1e-6, "maxfev": 2000},
             )
             if best is None or res.fun < best.fun:

@@ -73,7 +73,9 @@ def as_series(t, z, name: str = "series") -> tuple[np.ndarray, np.ndarray]:
     if t.size < 2 or t[-1] - t[0] < MIN_SPAN:
         span = 0.0 if t.size < 2 else (t[-1] - t[0]) / DAY
         raise InputError(
-            name, f"a span of {span:.0f} d", f"a span of at least {MIN_SPAN / DAY:.0f} d (two years) to measure a period"
+            name,
+            f"a span of {span:.0f} d",
+            f"a span of at least {MIN_SPAN / DAY:.0f} d (two years) to measure a period",
         )
     return t, z
 
@@ -111,9 +113,13 @@ def check_reference_period(reference_period) -> float:
     try:
         value = float(reference_period)
     except (TypeError, ValueError):
-        raise InputError("reference_period", reference_period, "a Chandler period in seconds, longer than a year") from None
+        raise InputError(
+            "reference_period", reference_period, "a Chandler period in seconds, longer than a year"
+        ) from None
     if not (math.isfinite(value) and value > 1.02 * TROPICAL_YEAR):
-        raise InputError("reference_period", f"{value / DAY:g} d", "a finite Chandler period longer than 1.02 tropical years")
+        raise InputError(
+            "reference_period", f"{value / DAY:g} d", "a finite Chandler period longer than 1.02 tropical years"
+        )
     return value
 
 
@@ -148,4 +154,3 @@ def bin_means(t: np.ndarray, y: np.ndarray, width: float) -> tuple[np.ndarray, n
     keep = counts > 0
     centres = t[0] + width * (np.arange(n) + 0.5)
     return centres[keep], sums[keep] / counts[keep]
-

@@ -27,4 +27,3 @@ def refine_peak(fun, rates, values, step, lo, hi) -> float:
     b = min(hi, rates[k] + step)
     res = optimize.minimize_scalar(lambda r: -fun(r), bounds=(a, b), method="bounded", options={"xatol": step * 1e-4})
     return float(res.x) if -res.fun >= values[k] else float(rates[k])
-

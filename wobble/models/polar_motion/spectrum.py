@@ -57,7 +57,6 @@ class Spectrum:
     drift_degree: int
 
 
-
 def _detrend(s, z, half, degree):
     tau = s / half
     v = np.stack([tau**j for j in range(degree + 1)], axis=1).astype(complex)
@@ -183,7 +182,9 @@ def fit_spectrum(
     resid = y - f[0] * np.exp(1j * rate * s) - annual_cols @ ann
     caveats = span_caveats(span, beat)
     if kind == "none" and taper == "auto":
-        caveats.append("span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak")
+        caveats.append(
+            "span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak"
+        )
     if not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d):
         caveats.append(
             f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
@@ -215,16 +216,29 @@ def fit_spectrum(
             ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
-            sub, nsub = subspan_scatter(t, z, fit_spectrum, beat, reference_period=reference_period, band=band, drift_degree=degree, taper=kind)
+            sub, nsub = subspan_scatter(
+                t, z, fit_spectrum, beat, reference_period=reference_period, band=band, drift_degree=degree, taper=kind
+            )
             details["subspans"] = nsub
         base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
-        mod = model_sensitivity(t, z, fit_spectrum, degree, base, reference_period=reference_period, band=band, taper=kind)
+        mod = model_sensitivity(
+            t, z, fit_spectrum, degree, base, reference_period=reference_period, band=band, taper=kind
+        )
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         ann_sig = annual_sigmas(ann_auto, sub, mod)
         p_exc = math.nan
         if excitation_q is not None:
             p_exc = excitation_scatter(
-                t, base, fit_spectrum, check_q(excitation_q), draws, seed, reference_period=reference_period, band=band, drift_degree=degree, taper=kind
+                t,
+                base,
+                fit_spectrum,
+                check_q(excitation_q),
+                draws,
+                seed,
+                reference_period=reference_period,
+                band=band,
+                drift_degree=degree,
+                taper=kind,
             )
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_auto, p_sub, p_mod, p_exc)
@@ -255,4 +269,3 @@ def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:
     for other in fitted:
         side &= np.abs(grid - other) > lobe
     return float(np.mean(p[side]))
-

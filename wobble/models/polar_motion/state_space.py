@@ -64,7 +64,16 @@ FIT_SPAN = 10.0 * 365.25 * DAY
 #: Days at the start of the fitting span that initialise the filter and are left out of the likelihood.
 BURN_IN = 365
 #: The states, in order.
-STATES = ("wobble", "excitation", "annual_prograde", "annual_retrograde", "semiannual_prograde", "semiannual_retrograde", "mean_pole", "mean_pole_rate")
+STATES = (
+    "wobble",
+    "excitation",
+    "annual_prograde",
+    "annual_retrograde",
+    "semiannual_prograde",
+    "semiannual_retrograde",
+    "mean_pole",
+    "mean_pole_rate",
+)
 _H = np.array([1, 0, 1, 1, 1, 1, 1, 0], dtype=complex)
 _MAS = math.pi / 648e6
 
@@ -105,10 +114,17 @@ class NoiseParameters:
         )
 
     @classmethod
-    def from_ratios(cls, theta, scale: float = 1.0) -> "NoiseParameters":
+    def from_ratios(cls, theta, scale: float = 1.0) -> NoiseParameters:
         """The inverse of :meth:`ratios` with excitation variance ``scale``."""
         lt, ls, lm, lr, lo = (float(v) for v in theta)
-        return cls(scale, math.exp(lt) * DAY, scale * math.exp(ls), scale * math.exp(lm), scale * math.exp(lr), scale * math.exp(lo))
+        return cls(
+            scale,
+            math.exp(lt) * DAY,
+            scale * math.exp(ls),
+            scale * math.exp(lm),
+            scale * math.exp(lr),
+            scale * math.exp(lo),
+        )
 
 
 #: The starting point of the maximum likelihood: the optimum for the IERS 20 C04 record 2006-2015 (ten years
@@ -171,7 +187,9 @@ def _concentrated(theta, sigma_c, y, x0, burn):
     return nll, scale, (ss, xs)
 
 
-def fit_noise(t, z, sigma_c: complex, start: NoiseParameters = DEFAULT_NOISE, burn: int = BURN_IN) -> tuple[NoiseParameters, float]:
+def fit_noise(
+    t, z, sigma_c: complex, start: NoiseParameters = DEFAULT_NOISE, burn: int = BURN_IN
+) -> tuple[NoiseParameters, float]:
     """Maximum-likelihood noise parameters on the daily series (t, z); returns them and the log-likelihood.
 
     The excitation variance (the overall scale) is concentrated out; the five
@@ -181,12 +199,17 @@ def fit_noise(t, z, sigma_c: complex, start: NoiseParameters = DEFAULT_NOISE, bu
     x0 = initial_state(t, y, sigma_c)
     theta0 = np.clip(start.ratios(), [b[0] for b in _BOUNDS], [b[1] for b in _BOUNDS])
     res = optimize.minimize(
-        lambda th: _concentrated(th, sigma_c, y, x0, burn)[0], theta0, method="L-BFGS-B", bounds=_BOUNDS,
+        lambda th: _concentrated(th, sigma_c, y, x0, burn)[0],
+        theta0,
+        method="L-BFGS-B",
+        bounds=_BOUNDS,
         options={"maxiter": 60, "ftol": 1e-9},
     )
     nll, scale, _ = _concentrated(res.x, sigma_c, y, x0, burn)
     if not math.isfinite(nll):
-        raise InputError("data", "a span where the state-space likelihood cannot be evaluated", "a daily record of the pole")
+        raise InputError(
+            "data", "a span where the state-space likelihood cannot be evaluated", "a daily record of the pole"
+        )
     return NoiseParameters.from_ratios(res.x, scale), -nll
 
 
@@ -197,7 +220,8 @@ PRIOR_SD_MAS = {"wobble": 1000.0, "seasonal": 1000.0, "mean_pole": 1000.0, "mean
 
 
 def prior(y0: complex, noise: NoiseParameters) -> tuple[np.ndarray, np.ndarray]:
-    """(x0, P0): the prior of the first state of a span whose first value is ``y0``: the mean pole there, the rest zero."""
+    """(x0, P0): the prior of the first state of a span whose first value is ``y0``: the mean pole there, the
+    rest zero."""
     x0 = np.zeros(8, dtype=complex)
     x0[6] = y0
     phi = math.exp(-DAY / noise.correlation_time)
@@ -212,7 +236,8 @@ def prior(y0: complex, noise: NoiseParameters) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclass(frozen=True, eq=False)
 class KalmanSetup:
-    """The model with its noise and the exact filter over a span of ``n`` daily values (shared by every span of that length).
+    """The model with its noise and the exact filter over a span of ``n`` daily values (shared by every span
+    of that length).
 
     The filter runs from the diffuse :func:`prior` over the whole span (the exact,
     time-varying recursion), not with the steady-state gain: the slowest modes
@@ -234,12 +259,23 @@ class KalmanSetup:
     window: kalman.WindowFilter
 
     @classmethod
-    def build(cls, chandler_period: float, q: float, noise: NoiseParameters, n: int) -> "KalmanSetup":
+    def build(cls, chandler_period: float, q: float, noise: NoiseParameters, n: int) -> KalmanSetup:
         """The model of T_c = ``chandler_period`` (s) and ``q`` with ``noise``, filtered over spans of ``n`` days."""
         sigma_c = chandler_frequency(chandler_period, q)
         F, Q, h, r = system(sigma_c, noise)
         _, P0 = prior(0.0, noise)
-        return cls(float(chandler_period), float(q), noise, int(n), sigma_c, F, Q, h, r, kalman.window_filter(F, Q, h, r, P0, int(n)))
+        return cls(
+            float(chandler_period),
+            float(q),
+            noise,
+            int(n),
+            sigma_c,
+            F,
+            Q,
+            h,
+            r,
+            kalman.window_filter(F, Q, h, r, P0, int(n)),
+        )
 
     def last_states(self, spans: np.ndarray) -> np.ndarray:
         """Filtered last states (k, 8) of ``k`` spans (k, n) of daily values: one matrix product."""
@@ -253,7 +289,9 @@ class KalmanSetup:
         x = np.atleast_2d(x_last)
         base = x.copy()
         base[:, :2] = 0.0  # without the free wobble and its excitation: the seasonal terms and the mean pole
-        _, var = kalman.forecast(self.F, self.Q, self.h, self.r, np.zeros(8, dtype=complex), self.window.posterior, steps)
+        _, var = kalman.forecast(
+            self.F, self.Q, self.h, self.r, np.zeros(8, dtype=complex), self.window.posterior, steps
+        )
         return x @ rows.T, base @ rows.T, var
 
 
@@ -331,7 +369,9 @@ _CHUNK = 128  # spans per matrix product (128 x 3653 complex values: 7.5 MB)
 
 
 @one_blas_thread
-def past_forecasts_kalman(t, z, issues, horizon_days: int, *, setup: KalmanSetup, latency: float = DAY, fit_span: float = FIT_SPAN) -> PastForecasts:
+def past_forecasts_kalman(
+    t, z, issues, horizon_days: int, *, setup: KalmanSetup, latency: float = DAY, fit_span: float = FIT_SPAN
+) -> PastForecasts:
     """The forecasts :func:`forecast_kalman` issues at each of ``issues`` with this ``setup``, at once.
 
     Every span of the same length is filtered by the same weights G_k, so the
@@ -351,7 +391,17 @@ def past_forecasts_kalman(t, z, issues, horizon_days: int, *, setup: KalmanSetup
     if np.any(end - start != setup.n):
         # Spans of other lengths (the record's edges): one forecast at a time, which names the problem.
         fs = [
-            forecast_kalman(t, z, s, horizon_days, chandler_period=setup.chandler_period, q=setup.q, latency=latency, fit_span=fit_span, setup=setup)
+            forecast_kalman(
+                t,
+                z,
+                s,
+                horizon_days,
+                chandler_period=setup.chandler_period,
+                q=setup.q,
+                latency=latency,
+                fit_span=fit_span,
+                setup=setup,
+            )
             for s in issues
         ]
         mean = np.array([f.mean for f in fs], dtype=complex).reshape(issues.size, horizon_days)
@@ -362,7 +412,9 @@ def past_forecasts_kalman(t, z, issues, horizon_days: int, *, setup: KalmanSetup
     offsets = np.arange(setup.n)
     for a in range(0, issues.size, _CHUNK):
         states[a : a + _CHUNK] = setup.last_states(z[start[a : a + _CHUNK, None] + offsets[None, :]])
-    ahead = np.rint((issues[:, None] + DAY * np.arange(1, horizon_days + 1)[None, :] - t[end - 1][:, None]) / DAY).astype(int)
+    ahead = np.rint(
+        (issues[:, None] + DAY * np.arange(1, horizon_days + 1)[None, :] - t[end - 1][:, None]) / DAY
+    ).astype(int)
     mean, _, var = setup.forecast(states, int(ahead.max()))
     sigma = np.sqrt(var[ahead - 1] / 2.0)  # circular: the same for x_p and y_p
     return PastForecasts(issues, np.take_along_axis(mean, ahead - 1, axis=1), np.stack([sigma, sigma], axis=2))

@@ -241,4 +241,3 @@ def amp_phase_sigma(c: complex, cov2: np.ndarray) -> tuple[float, float]:
     ga = np.array([c.real, c.imag]) / a
     gp = np.array([-c.imag, c.real]) / a**2
     return float(math.sqrt(max(ga @ cov2 @ ga, 0.0))), float(math.sqrt(max(gp @ cov2 @ gp, 0.0)))
-

@@ -63,8 +63,11 @@ class WindowedFits:
 
 
 def _deprecated(old: str, new: str) -> None:
-    warnings.warn(f"WindowedFits.{old} is deprecated; use {new} (the old name goes in the next release)", DeprecationWarning, stacklevel=3)
-
+    warnings.warn(
+        f"WindowedFits.{old} is deprecated; use {new} (the old name goes in the next release)",
+        DeprecationWarning,
+        stacklevel=3,
+    )
 
 
 @one_blas_thread
@@ -104,7 +107,10 @@ def sliding_windows(
     starts = t[0] + step * np.arange(n)
     # Centre the set of windows in the span.
     starts += 0.5 * (span - window - (starts[-1] - t[0]))
-    out = {k: np.full(n, np.nan) for k in ("period", "period_sigma", "amplitude", "amplitude_sigma", "phase", "annual", "annual_sigma", "retro")}
+    out = {
+        k: np.full(n, np.nan)
+        for k in ("period", "period_sigma", "amplitude", "amplitude_sigma", "phase", "annual", "annual_sigma", "retro")
+    }
     counts = np.zeros(n, dtype=int)
     for i, a in enumerate(starts):
         m = (t >= a) & (t <= a + window)
@@ -115,7 +121,13 @@ def sliding_windows(
             continue
         try:
             f = fit_least_squares(
-                t[m], z[m], reference_period=reference_period, drift_degree=drift_degree, band=band, subspans=False, excitation_q=None
+                t[m],
+                z[m],
+                reference_period=reference_period,
+                drift_degree=drift_degree,
+                band=band,
+                subspans=False,
+                excitation_q=None,
             )
         except InputError:
             continue
@@ -146,4 +158,3 @@ def sliding_windows(
         step=step,
         drift_degree=check_degree(drift_degree),
     )
-

@@ -3,7 +3,8 @@
 Public functions call :func:`to_si` once per dimensional argument on the way
 in and attach units once on the way out (``value << u.s``). A plain number
 where a dimension is required is an :class:`~wobble.errors.InputError`,
-never a guess.
+never a guess. The command line reads its dimensional arguments with
+:func:`parse_quantity` and :func:`parse_angle` (a bare number is SI, or degrees).
 """
 
 from __future__ import annotations
