@@ -20,6 +20,7 @@ WHERE = (
 )
 #: The user-level rows' own report, beside docs/performance.md (which includes it).
 USER_REPORT = "performance-user.md"
+STARTUP_REPORT = "performance-startup.md"
 PER_ISSUE = [
     (
         "performance-free.md",
@@ -117,6 +118,14 @@ def markdown(res: dict, report: Path, figures: dict) -> str:
         p(f"```{{include}} {USER_REPORT}")
         p(":heading-offset: 2")
         p("```")
+    p("")
+    p("## Start-up: what a shell loop pays per command")
+    p("")
+    p(f"{STARTUP_REPORT}, included here, is written by `python scripts/bench_startup.py`; its header says when.")
+    p("")
+    p(f"```{{include}} {STARTUP_REPORT}")
+    p(":heading-offset: 2")
+    p("```")
     p("")
     p("## Cases")
     for c in res["cases"]:

@@ -27,7 +27,7 @@ class WobbleError(ValueError):
 def _show(value: object) -> str:
     # A long value keeps its start and its end: for a path, the end is the file's name.
     text = str(value)
-    return text if len(text) <= 80 else text[:37] + "..." + text[-40:]
+    return text if len(text) <= 200 else text[:97] + "..." + text[-100:]
 
 
 class InputError(WobbleError):
