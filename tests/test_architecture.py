@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 import ast
 from pathlib import Path
 
@@ -25,7 +27,9 @@ def _loaded_after(code: str) -> list[str]:
     import subprocess
     import sys
 
-    probe = f"import sys; {code}; print(' '.join(m for m in {HEAVY!r} if m in sys.modules))"
+    # To the real stdout: the code may have redirected sys.stdout (a probe that printed into the
+    # redirection saw nothing and passed whatever was loaded).
+    probe = f"import sys; {code}; print(' '.join(m for m in {HEAVY!r} if m in sys.modules), file=sys.__stdout__)"
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, cwd=ROOT)
     return out.stdout.split()
 
@@ -35,12 +39,15 @@ def test_import_wobble_is_lazy():
     assert _loaded_after("import wobble, wobble.cli; wobble.cli.build_parser()") == []
 
 
-def test_table_commands_skip_xarray():
-    """`wobble chandler earth --json` needs astropy.units and NumPy, not xarray, pandas or dask."""
+@pytest.mark.parametrize("command", ["chandler", "modes", "precession"])
+def test_table_commands_skip_xarray(command):
+    """`wobble chandler earth --json` (and the other planet tables) need astropy.units and NumPy,
+    not xarray, pandas, dask or matplotlib (that is for -o and --plot)."""
     loaded = _loaded_after(
         "import contextlib, io, wobble.cli as c; f = io.StringIO(); "
-        "contextlib.redirect_stdout(f).__enter__(); c.main(['chandler', 'earth', '--json'])"
+        f"contextlib.redirect_stdout(f).__enter__(); c.main(['{command}', 'earth', '--json'])"
     )
+    assert "astropy.units" in loaded  # the probe sees what was loaded
     assert not set(loaded) & {"xarray", "pandas", "dask", "matplotlib", "numba", "astropy.utils.iers"}
 
 

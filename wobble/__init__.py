@@ -11,17 +11,9 @@ loads xarray, pandas, dask, matplotlib or Numba.
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError as _PackageNotFoundError
-from importlib.metadata import version as _version
-
 import lazy_loader as _lazy
 
-from wobble._offline import configure_astropy_offline as _configure_astropy_offline
-
-try:
-    __version__ = _version("wobble")
-except _PackageNotFoundError:  # a source tree that was never installed
-    __version__ = "0.0.0+unknown"
+from wobble._offline import configure_when_astropy_loads as _configure_when_astropy_loads
 
 # Public name -> the module that defines it (imported when the name is first used).
 _PUBLIC = {
@@ -88,9 +80,28 @@ _PUBLIC = {
     ],
 }
 
-__getattr__, __dir__, _names = _lazy.attach(__name__, submodules=["plot"], submod_attrs=_PUBLIC)
+_lazy_getattr, _lazy_dir, _names = _lazy.attach(__name__, submodules=["plot"], submod_attrs=_PUBLIC)
 __all__ = ["__version__", *_names]
 
-# No network at run time: astropy must never try to download IERS tables. This
-# sets astropy's configuration without importing its IERS machinery (~0.4 s).
-_configure_astropy_offline()
+
+def __getattr__(name: str):
+    if name == "__version__":  # importlib.metadata costs ~60 ms: read on first use
+        global __version__
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            __version__ = version("wobble")
+        except PackageNotFoundError:  # a source tree that was never installed
+            __version__ = "0.0.0+unknown"
+        return __version__
+    return _lazy_getattr(name)
+
+
+def __dir__():
+    return [*_lazy_dir(), "__version__"]
+
+
+# No network at run time: astropy must never try to download IERS tables. Set in
+# astropy's configuration now if astropy is loaded, else the moment it is imported;
+# neither imports astropy's IERS machinery (~0.4 s).
+_configure_when_astropy_loads()

@@ -75,10 +75,26 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {_one_line(message)}\n")  # a value may hold a newline
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, read only when asked (importlib.metadata costs ~60 ms)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(
+            option_strings,
+            dest=dest,
+            default=default,
+            nargs=0,
+            help=help or "show the program's version number and exit",
+        )
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from wobble import __version__
+
+        parser.exit(message=f"wobble {__version__}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full ``wobble`` argument parser with every subcommand registered."""
-    from wobble import __version__
-
     parser = _Parser(
         prog="wobble",
         description="Planetary wobble and rigid-body rotation: Chandler periods with "
@@ -86,7 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--version", action="version", version=f"wobble {__version__}")
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(title="commands", dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in SUBCOMMANDS:
         importlib.import_module(f"wobble.cli.{name}").register(sub)

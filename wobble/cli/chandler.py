@@ -43,7 +43,6 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from wobble.api.chandler import chandler_budget, chandler_dataset
-    from wobble.plot.chandler import budget_figure
 
     bodies = bodies_from_args(args)
     # A planet file is named in the table's title as the user typed it.
@@ -55,7 +54,7 @@ def run(args) -> int:
         args,
         budgets,
         chandler_dataset,
-        budget_figure,
+        "wobble.plot.chandler:budget_figure",
         text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]),
     )
 

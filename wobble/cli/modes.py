@@ -54,9 +54,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from wobble.api.modes import modes_dataset, normal_modes
-    from wobble.plot.modes import modes_figure
 
     bodies = bodies_from_args(args)
     modes = tuple(args.mode) if args.mode else None
     results = [normal_modes(b, profile=args.profile, modes=modes) for b in bodies]
-    return report(args, results, modes_dataset, modes_figure)
+    return report(args, results, modes_dataset, "wobble.plot.modes:modes_figure")

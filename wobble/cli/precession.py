@@ -50,7 +50,6 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from wobble.api.precession import precession_dataset, precession_rate
-    from wobble.plot.precession import budget_figure
 
     budgets = [precession_rate(b, args.perturber) for b in bodies_from_args(args)]
-    return report(args, budgets, precession_dataset, budget_figure)
+    return report(args, budgets, precession_dataset, "wobble.plot.precession:budget_figure")
