@@ -192,3 +192,20 @@ def test_private_seam_check_finds_each_form():
     )
     found = _private_seams(PACKAGE / "cli" / "planted.py", source)
     assert [int(p.split(":")[1]) for p in found] == [1, 3, 5, 6, 7], found
+
+
+@pytest.mark.parametrize(
+    "code",
+    [
+        "import wobble; from astropy.time import Time",  # astropy imported after wobble (the import hook)
+        "import astropy; import wobble",  # astropy loaded first (configured at once)
+        "import wobble; from astropy.utils import iers",
+    ],
+)
+def test_astropy_is_offline_whatever_the_import_order(code):
+    import subprocess
+    import sys
+
+    probe = f"{code}; from astropy.utils import iers; print(iers.conf.auto_download, iers.conf.auto_max_age)"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.split() == ["False", "None"]
