@@ -179,3 +179,34 @@ def test_a_stale_temporary_of_a_killed_run_is_removed_by_the_next_write(tmp_path
     assert not stale.exists() and not stale_store.exists()
     assert all(path.exists() for path in keep.values()), keep
     assert fresh.exists()
+
+
+def test_top_plot_whose_grid_starts_a_half_period_before_zero(tmp_path, monkeypatch, capsys):
+    # Was (fuzzer, 10,000-input run): IndexError in top_series._motion_numpy. The table of whole
+    # half-periods starts at the grid's smallest j; a start at j = -1 was taken for the
+    # 'one entry per sample' sentinel (-1) and indexed past the table's end.
+    monkeypatch.chdir(tmp_path)
+    argv = ["top", "--I1", "31.9695 kg m2", "--I3", "13.3365", "--mgl", "20.7879", "--theta0", "70.24"]
+    argv += ["--omega3", "-3.917 deg/d", "--phidot0", "9.807", "--t-end", "3.663", "--phi0", "74.14"]
+    argv += ["--psi0", "170.5", "--thetadot0", "1e-300", "--samples", "1144", "-o", "out.nc", "--plot", "fig.svg"]
+    code, out, err = _run(argv, capsys)
+    assert code == 0, err
+    assert (tmp_path / "out.nc").stat().st_size > 0 and (tmp_path / "fig.svg").stat().st_size > 0
+
+
+@pytest.mark.parametrize("samples", [1001, 8193])  # the NumPy evaluation and the compiled one
+def test_top_motion_on_grids_over_negative_half_periods_matches_each_time_alone(samples):
+    # Grids whose whole half-periods start below zero (any negative start, not only -1) against
+    # the same times evaluated one by one (a table of one entry each).
+    import numpy as np
+    from astropy import units as u
+
+    from wobble import HeavyTop
+
+    top = HeavyTop(1 * u.kg * u.m**2, 0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * u.rad / u.s)
+    t = np.linspace(-40.0, 25.0, samples)
+    grid = top.motion(t * u.s)
+    for i in np.linspace(0, samples - 1, 9).astype(int):
+        one = top.motion(t[i : i + 1] * u.s)
+        for name in ("theta", "phi", "psi"):
+            assert abs(float(grid[name][i]) - float(one[name][0])) < 1e-12, (name, t[i])

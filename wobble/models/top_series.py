@@ -24,7 +24,7 @@ import numpy as np
 
 from wobble.models.top_closed_form import TWO_PI, TWO_PI_PIECES
 from wobble.numerics import compiled
-from wobble.numerics.phase import split_dd, two_prod, two_sum
+from wobble.numerics.phase import PER_SAMPLE, split_dd, two_prod, two_sum
 
 __all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of"]
 
@@ -203,7 +203,7 @@ class Fourier:
 
     def whole_periods(self, j, j_range=None):
         """exp(i j A) of sigma and delta for the half-periods ``j``, as (2, 2, M) and the index
-        base: one value per distinct j of a dense range (``j - base``), else per sample (-1).
+        base: one value per distinct j of a dense range (``j - base``), else per sample (PER_SAMPLE).
         ``j_range``: the smallest and largest j where known."""
         e = self.base
         if j.size == 0:
@@ -212,7 +212,7 @@ class Fourier:
         if hi - lo < max(2 * j.size, 64):
             jj, base = np.arange(lo, hi + 1.0), int(lo)
         else:  # a few times spread over very many periods
-            jj, base = j, -1
+            jj, base = j, PER_SAMPLE
         out = np.empty((2, 2, jj.size))
         for p, sec in enumerate((e.sigma_sec, e.delta_sec)):
             a = sec.whole_periods(jj)
@@ -274,7 +274,7 @@ class Fourier:
         i1, i3, mgl = inertia
         r, j = e.phase(t)
         jtab, base = self.whole_periods(j)
-        jj = np.arange(j.size) if base < 0 else j.astype(np.intp) - base
+        jj = np.arange(j.size) if base == PER_SAMPLE else j.astype(np.intp) - base
         ii, iu, d = self._nodes(r)
         coef = self.table[ii]
         theta = self._horner(coef, 0, d)

@@ -18,9 +18,14 @@ import math
 
 import numpy as np
 
-__all__ = ["two_sum", "two_prod", "split_dd", "reduce_phase"]
+__all__ = ["two_sum", "two_prod", "split_dd", "reduce_phase", "PER_SAMPLE"]
 
 _SPLITTER = 134217729.0  # 2^27 + 1
+
+
+# The index base that means 'one table entry per sample': no dense range of whole half-periods
+# starts there (|j| stays far below 2**62), unlike -1, where a range over negative times starts.
+PER_SAMPLE = -(2**62)
 
 
 def two_sum(a, b):

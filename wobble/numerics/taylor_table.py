@@ -26,6 +26,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from wobble.numerics.phase import PER_SAMPLE
+
 __all__ = [
     "phase",
     "angles",
@@ -298,7 +300,7 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, omega, 
         sh = a4 * d + tab[ii, 0, 4]
         ch = a5 * d + tab[ii, 0, 5]
         # exp(i sigma) = exp(i j A) exp(i g(node)) exp(i (c d + v)), and the same for delta.
-        jj = i if jidx < 0 else int(ji) - jidx
+        jj = i if jidx == PER_SAMPLE else int(ji) - jidx
         dn = ri - node_r[iu]  # exact: r is within h/2 of its node
         ec, es = _cis(k[SC] * dn + v1, cc, sc)
         nc = phasor[0, 0, iu] * ec - phasor[0, 1, iu] * es
@@ -363,7 +365,8 @@ def motion(r, j, jidx, table, node_r, phasor, jtab, cos_c, sin_c, constants):
     r, j : numpy.ndarray
         From :func:`phase`.
     jidx : int
-        ``jtab[..., j - jidx]`` holds exp(i j A) of each phase; -1: ``jtab[..., i]`` per sample.
+        ``jtab[..., j - jidx]`` holds exp(i j A) of each phase; :data:`PER_SAMPLE`: ``jtab[..., i]``
+        per sample (a dense range may start at any j, negative ones included).
     table : numpy.ndarray
         (S, 6, 6) node-major Taylor coefficients (degree 5).
     node_r : numpy.ndarray
