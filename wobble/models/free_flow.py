@@ -99,6 +99,17 @@ def free_flow(moments, omega, q=None, h=0.0):
 _TINY = np.finfo(float).tiny
 
 
+def _invariants(i0, i1, i2, w0, w1, w2):
+    """The body-frame angular momentum ``(I_k w_k)``, the terms ``I_k w_k^2`` of 2E and the invariants
+    ``D_j = 2 E I_j - L^2 = sum_i I_i w_i^2 (I_j - I_i)``, formed from differences of moments so that
+    no large terms cancel; floats (:func:`flow_one`) or arrays (:func:`flow_many`), the same arithmetic."""
+    l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
+    e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
+    d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
+    big_d = (e1 * d01 + e2 * d02, e2 * d12 - e0 * d01, -e0 * d02 - e1 * d12)
+    return (l0, l1, l2), (e0, e1, e2), big_d
+
+
 def _check_representable(omega, energies, m1, steady) -> None:
     """Refuse states the float64 formulas cannot carry (an InputError naming the member).
 
@@ -147,13 +158,7 @@ def flow_many(I, omega, h, attitude):
     i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
     w0, w1, w2 = omega[:, 0], omega[:, 1], omega[:, 2]
     h = np.broadcast_to(np.asarray(h, dtype=float), w0.shape)
-    l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
-    e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
-    d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
-    # D_j = 2 E I_j - L^2 = sum_i I_i w_i^2 (I_j - I_i): no cancellation between large terms.
-    big_d0 = e1 * d01 + e2 * d02
-    big_d1 = e2 * d12 - e0 * d01
-    big_d2 = -e0 * d02 - e1 * d12
+    (l0, l1, l2), (e0, e1, e2), (big_d0, big_d1, big_d2) = _invariants(i0, i1, i2, w0, w1, w2)
     # The solution's right-handed frame (a, b, c): (x0, x1, x2) when omega circulates
     # about the largest axis, (x2, x1, -x0) about the smallest (L^2 < 2 E I2).
     minor = big_d1 > 0
@@ -366,12 +371,7 @@ def flow_one(moments, omega, h, attitude=True):
     i0, i1, i2 = (float(x) for x in moments)
     w0, w1, w2 = (float(x) for x in omega)
     h = float(h)
-    l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
-    e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
-    d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
-    big_d0 = e1 * d01 + e2 * d02
-    big_d1 = e2 * d12 - e0 * d01
-    big_d2 = -e0 * d02 - e1 * d12
+    (l0, l1, l2), (e0, e1, e2), (big_d0, big_d1, big_d2) = _invariants(i0, i1, i2, w0, w1, w2)
     minor = big_d1 > 0
     if minor:
         ia, ic, da, dc, wa, wc = i2, i0, big_d2, big_d0, w2, -w0
