@@ -371,22 +371,14 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     if fast:
         return _build_compiled(e, est, sample)
     r_check = _CHECK_VT * (k / np.pi)
-    want = None
     parity = _PARITY
-    for n in (64, 128, 256, _FOURIER_MAX_N):
+    for n, part, want, start, raw in _half_node_samples(e, sample, r_check):
         # The nodes vartheta_i = 2 pi i / n in [0, pi]; those in (pi, 2 pi) are -vartheta_{n-i}, where
         # the rows are their mirror images (theta and the half angles' sines and cosines even,
         # the rest odd, and exactly so in the direct path: sn odd, cn and dn even, Pi odd).
         half = n // 2
-        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
-        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
-            both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
-            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
-            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
-            if not fast:  # the direct path's own P_+(r0), P_-(r0) (elementwise: as if alone)
-                e.__dict__.setdefault("_start", (float(raw[0][-1]), float(raw[1][-1])))
-        else:
-            part = sample(r_half)[0]
+        if raw is not None:  # the direct path's own P_+(r0), P_-(r0) (elementwise: as if alone)
+            e.__dict__.setdefault("_start", (float(raw[0][-1]), float(raw[1][-1])))
         vals = np.empty((len(_KINDS), n))
         vals[:, : half + 1] = part
         vals[:, half + 1 :] = parity * part[:, half - 1 : 0 : -1]
@@ -407,6 +399,26 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     return None
 
 
+def _half_node_samples(e, sample, r_check):
+    """For n = 64, 128, 256, ... the samples on the nodes r = (2 pi i / n) K/pi, i = 0 .. n/2, of half
+    the period; the first pass also samples the check points ``r_check`` and the phase at t = 0
+    (one pass of the direct path). Yields ``(n, part, want, start, raw)``: ``part`` (rows, n/2 + 1),
+    ``want`` (check points, rows), ``start`` (sigma, delta) at r0, and ``raw`` the sampler's second
+    output on the first pass (None after it)."""
+    k = e.K[0]
+    want = start = None
+    for n in (64, 128, 256, _FOURIER_MAX_N):
+        half = n // 2
+        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
+        if want is None:
+            both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
+            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
+            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+        else:
+            part, raw = sample(r_half)[0], None
+        yield n, part, want, start, raw
+
+
 def _build_compiled(e, est, sample):
     """:func:`build` with the compiled helpers of :mod:`wobble.numerics.taylor_table` between the
     FFTs: the same steps (samples on half the nodes, the spectra, the coefficients and the node
@@ -418,16 +430,7 @@ def _build_compiled(e, est, sample):
     r_check = _CHECK_VT * (k / np.pi)
     c = (e.sigma_sec.c, e.delta_sec.c)
     offset = (e.sigma_sec.offset, e.delta_sec.offset)
-    want = None
-    for n in (64, 128, 256, _FOURIER_MAX_N):
-        half = n // 2
-        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
-        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
-            both, _ = sample(np.concatenate([r_half, r_check, [e.r0]]))
-            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
-            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
-        else:
-            part = sample(r_half)[0]
+    for n, part, want, start, _ in _half_node_samples(e, sample, r_check):
         vals, scales = tt.prepare(part, n, _PARITY[:, 0])
         spectra = np.fft.rfft(vals, axis=-1) / n
         status, coef, need, slope_s, slope_d = tt.coefficients(
