@@ -442,17 +442,7 @@ def _build_compiled(e, est, sample):
             return None  # too long a series: the direct path is about as fast
         nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
         slope = max(abs(c[0]) + slope_s, abs(c[1]) + slope_d)
-        rel = 32 * _EPS * (1 + k)
-        limits = np.array(
-            [
-                est["theta_rad"],
-                est["attitude_rad"],
-                est["attitude_rad"],
-                64 * _EPS * (1 + k) * scales[3],
-                rel * scales[4],
-                rel * scales[5],
-            ]
-        )
+        limits = _check_limits(est, scales, k)
         while True:
             while slope * k / nodes > _CIS_MAX:
                 nodes *= 2
@@ -629,19 +619,12 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     return replace(fo, table=table, h=h, phasor=phasor, node_r=node_r)
 
 
-def _check_fourier(fo, r, want, scales, est, k):
-    """The table if it reproduces the direct values within the error estimate (finer tables
-    are tried first); None otherwise."""
-    e = fo.base
+def _check_limits(est, scales, k):
+    """How far the table may stray from the direct values, per tabulated row: theta and the phases
+    sigma, delta by the solution's error estimate; dtheta/dr, sin(theta/2) and cos(theta/2) relative to
+    their scales."""
     rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
-    want = np.asarray(want)  # (m, rows), as the table's rows come
-    # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
-    c = np.array([e.sigma_sec.c, e.delta_sec.c])
-    g = (c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset])) + (
-        want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)
-    )
-    cos_g, sin_g = np.cos(g), np.sin(g)
-    limits = np.array(
+    return np.array(
         [
             est["theta_rad"],
             est["attitude_rad"],
@@ -651,6 +634,20 @@ def _check_fourier(fo, r, want, scales, est, k):
             rel * scales[5],
         ]
     )
+
+
+def _check_fourier(fo, r, want, scales, est, k):
+    """The table if it reproduces the direct values within the error estimate (finer tables
+    are tried first); None otherwise."""
+    e = fo.base
+    want = np.asarray(want)  # (m, rows), as the table's rows come
+    # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
+    c = np.array([e.sigma_sec.c, e.delta_sec.c])
+    g = (c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset])) + (
+        want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)
+    )
+    cos_g, sin_g = np.cos(g), np.sin(g)
+    limits = _check_limits(est, scales, k)
     while fo is not None:
         if fo.compiled:  # the lines of the other branch in one compiled pass
             from wobble.numerics import taylor_table
