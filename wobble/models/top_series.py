@@ -24,7 +24,8 @@ import numpy as np
 
 from wobble.models.top_closed_form import TWO_PI, TWO_PI_PIECES
 from wobble.numerics import compiled
-from wobble.numerics.phase import split_dd, two_prod, two_sum
+from wobble.numerics.double_double import two_prod, two_sum
+from wobble.numerics.phase import split_dd
 
 __all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of"]
 
