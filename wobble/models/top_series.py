@@ -27,7 +27,7 @@ from wobble.numerics import compiled
 from wobble.numerics.double_double import two_prod, two_sum
 from wobble.numerics.phase import split_dd
 
-__all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of"]
+__all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of", "wrap_angle", "blocked"]
 
 _EPS = float(np.finfo(float).eps)
 _ORDER = 5  # degree of the Taylor polynomials
@@ -241,7 +241,7 @@ class Fourier:
 
             r, j = self._phase(t)
             return tuple(taylor_table.angles(r, j, self.table, self.constants()))
-        return _blocked(self._angles_numpy, t)
+        return blocked(self._angles_numpy, t)
 
     def _angles_numpy(self, t):
         e = self.base
@@ -251,7 +251,7 @@ class Fourier:
         theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
         sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
         dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
-        return theta, _wrap(sig + dlt), _wrap(sig - dlt)
+        return theta, wrap_angle(sig + dlt), wrap_angle(sig - dlt)
 
     def motion(self, t, inertia) -> dict:
         """The motion at times t (1-D): theta, phi, psi, their rates, u = cos theta, omega (body),
@@ -267,7 +267,7 @@ class Fourier:
             )
             names = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi")
             return {**dict(zip(names, out)), "omega": omega, "quaternion": quat, "axis": axis}
-        return _blocked(lambda tb: self._motion_numpy(tb, inertia), t)
+        return blocked(lambda tb: self._motion_numpy(tb, inertia), t)
 
     def _motion_numpy(self, t, inertia) -> dict:
         """:func:`wobble.numerics.taylor_table.motion` in NumPy, operation for operation."""
@@ -312,8 +312,8 @@ class Fourier:
         g2 = 2.0 * (qy * qz + qw * qx)
         return dict(
             theta=theta,
-            phi=_wrap(sig + dlt),
-            psi=_wrap(sig - dlt),
+            phi=wrap_angle(sig + dlt),
+            psi=wrap_angle(sig - dlt),
             thetadot=thetadot,
             phidot=0.5 * (bx + cy),
             psidot=(e.omega3 - e.a) - 0.5 * (bx - cy),
@@ -327,12 +327,12 @@ class Fourier:
         )
 
 
-def _wrap(a):
+def wrap_angle(a):
     """Angles to [-pi, pi] (a few times faster than np.remainder; |a| here is < 10 pi)."""
     return a - (2 * np.pi) * np.rint(a * (0.5 / np.pi))
 
 
-def _blocked(fn, t):
+def blocked(fn, t):
     """Evaluate fn on cache-sized blocks of t and concatenate the outputs (tuple or dict)."""
     if t.size <= _BLOCK:
         return fn(t)
