@@ -95,6 +95,15 @@ def _point(value, body: _m.Body, name: str = "point") -> np.ndarray:
     return _length_vector(value, name)
 
 
+def _placement(mass, center_of_mass, about) -> dict:
+    """``mass``, ``center_of_mass`` and ``about`` of the tensor constructors, in SI (None where not given)."""
+    return {
+        "mass": None if mass is None else _mass(mass),
+        "center_of_mass": None if center_of_mass is None else _length_vector(center_of_mass, "center_of_mass"),
+        "about": _about(about),
+    }
+
+
 def _about(value, name: str = "about"):
     """``about`` for constructors: None or 'com' (the centre of mass), 'origin', or a point."""
     if value is None:
@@ -215,9 +224,7 @@ class RigidBody:
             values,
             differences=diffs,
             axes=None if axes is None else _rotation(axes, "axes"),
-            mass=None if mass is None else _mass(mass),
-            center_of_mass=None if center_of_mass is None else _length_vector(center_of_mass, "center_of_mass"),
-            about=_about(about),
+            **_placement(mass, center_of_mass, about),
             rtol=rtol,
         )
         return cls(body, name)
@@ -235,9 +242,7 @@ class RigidBody:
         t = to_si(tensor, "tensor", _MOI, shape=(3, 3))
         body = _m.from_tensor(
             t,
-            mass=None if mass is None else _mass(mass),
-            center_of_mass=None if center_of_mass is None else _length_vector(center_of_mass, "center_of_mass"),
-            about=_about(about),
+            **_placement(mass, center_of_mass, about),
             rtol=rtol,
         )
         return cls(body, name)

@@ -333,10 +333,7 @@ class NormalModes:
 
     def mode(self, name: str, frame: str = "terrestrial") -> FreeMode:
         """The mode ``name`` (``CW``, ``FCN``) in ``frame`` (``terrestrial``, ``celestial``)."""
-        for m in self.modes:
-            if m.name == name and m.frame == frame:
-                return m
-        raise InputError("mode", f"{name} ({frame})", ", ".join(f"{m.name} ({m.frame})" for m in self.modes))
+        return _modes.find_mode(self.modes, name, frame)
 
     @property
     def core_flattening_hydrostatic(self) -> float | None:

@@ -18,6 +18,7 @@ __all__ = [
     "dumps",
     "print_json",
     "wrote",
+    "finish",
     "check_outputs",
     "number",
     "with_uncertainty",
@@ -34,6 +35,18 @@ def print_json(obj) -> None:
 def wrote(path, *, json_mode: bool = False) -> None:
     """Announce a written file: ``wrote PATH`` (stderr under --json, stdout otherwise)."""
     print(f"wrote {path}", file=sys.stderr if json_mode else sys.stdout)
+
+
+def finish(args, document, show, written) -> int:
+    """The end of a command: ``document`` as JSON under ``--json``, else ``show()`` (which prints the
+    text for people); then a ``wrote PATH`` line per file in ``written``. Returns the exit status, 0."""
+    if args.json:
+        print_json(document)
+    else:
+        show()
+    for path in written:
+        wrote(path, json_mode=args.json)
+    return 0
 
 
 def check_outputs(args, names=("output", "plot")) -> None:

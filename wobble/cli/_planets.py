@@ -56,7 +56,7 @@ def report(args, results, dataset, figure, text=None) -> int:
     as ``"module:function"``, called ``function(results, path)``), print the
     JSON list or the summaries (``text(result)``, default ``result.summary()``), then a
     ``wrote PATH`` line per file. Returns the exit status, 0."""
-    from wobble.cli._output import print_json, wrote
+    from wobble.cli._output import finish
 
     written = []
     if args.output:
@@ -68,10 +68,6 @@ def report(args, results, dataset, figure, text=None) -> int:
         module, name = figure.split(":")
         getattr(importlib.import_module(module), name)(results, args.plot, overwrite=args.overwrite)
         written.append(args.plot)
-    if args.json:
-        print_json([r.to_dict() for r in results])
-    else:
-        print("\n\n".join((text or (lambda r: r.summary()))(r) for r in results))
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    summary = text or (lambda r: r.summary())
+    document = [r.to_dict() for r in results] if args.json else None
+    return finish(args, document, lambda: print("\n\n".join(summary(r) for r in results)), written)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from wobble.cli._record import add_outputs, add_record, report
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -33,29 +34,17 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--start", metavar="DATE", help="first day (default: the file's first)")
-    p.add_argument("--end", metavar="DATE", help="last day (default: the file's last)")
-    p.add_argument(
-        "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
-    )
+    add_record(p)
     p.add_argument(
         "--period", metavar="T", help="Chandler period T_c, e.g. 433d (default: wobble's estimate from the record)"
     )
     p.add_argument(
         "--q", metavar="Q", help="quality factor Q > 0, or inf (default: wobble's Chandler budget, about 82)"
     )
-    p.add_argument("--json", action="store_true", help="print the results as JSON")
-    p.add_argument(
-        "-o",
-        "--output",
-        metavar="FILE.nc",
-        help="write pole, excitation, round trip, band amplitudes and spectra (CF-1.10 netCDF)",
-    )
-    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument(
-        "--plot",
-        metavar="FILE.png",
-        help="write a figure: spectra of pole and excitation, the Chandler band against time",
+    add_outputs(
+        p,
+        output_help="write pole, excitation, round trip, band amplitudes and spectra (CF-1.10 netCDF)",
+        plot_help="write a figure: spectra of pole and excitation, the Chandler band against time",
     )
     p.set_defaults(func=run)
 
@@ -96,24 +85,10 @@ def parse_days(text, name):
 
 def run(args) -> int:
     from wobble.api.polar_motion.excitation import geodetic_excitation
-    from wobble.cli._output import check_outputs, print_json, wrote
-    from wobble.io.netcdf import write_netcdf
+    from wobble.cli._output import check_outputs
 
     q = parse_q(args.q)
     period = parse_days(args.period, "--period")
     check_outputs(args)
     ex = geodetic_excitation(args.file, start=args.start, end=args.end, chandler_period=period, q=q)
-    written = []
-    if args.output:
-        written.append(write_netcdf(ex.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line))
-    if args.plot:
-        from wobble.plot.excitation import save_excitation_figure
-
-        written.append(save_excitation_figure(ex, args.plot, overwrite=args.overwrite))
-    if args.json:
-        print_json(ex.to_dict())
-    else:
-        print(ex.summary())
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    return report(args, ex, "wobble.plot.excitation:save_excitation_figure")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from wobble.cli._record import add_file, add_outputs, report
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -54,9 +55,7 @@ def register(sub) -> None:
         help="how far ahead, e.g. 365d or 90 (days; default 365d, at most 3 years)",
     )
     p.add_argument("--method", help="kalman (default) or ls_ar; with --hindcast: both (default), kalman or ls_ar")
-    p.add_argument(
-        "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
-    )
+    add_file(p)
     p.add_argument(
         "--latency",
         metavar="T",
@@ -82,11 +81,11 @@ def register(sub) -> None:
         help="hindcast on a dask scheduler: threads, processes, synchronous or an address (default: a local "
         "process pool)",
     )
-    p.add_argument("--json", action="store_true", help="print the forecast (or the hindcast's scores) as JSON")
-    p.add_argument("-o", "--output", metavar="FILE.nc", help="write the forecast or hindcast (CF-1.10 netCDF)")
-    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument(
-        "--plot", metavar="FILE.png", help="write a figure (forecast with intervals; or error against lead time)"
+    add_outputs(
+        p,
+        json_help="print the forecast (or the hindcast's scores) as JSON",
+        output_help="write the forecast or hindcast (CF-1.10 netCDF)",
+        plot_help="write a figure (forecast with intervals; or error against lead time)",
     )
     p.set_defaults(func=run)
 
@@ -102,7 +101,7 @@ def _methods(text, hindcast: bool):
 
 
 def run(args) -> int:
-    from wobble.cli._output import check_outputs, print_json, wrote
+    from wobble.cli._output import check_outputs
     from wobble.cli.excitation import parse_days, parse_q
 
     horizon = parse_days(args.horizon, "--horizon")
@@ -146,22 +145,5 @@ def run(args) -> int:
             calibrated=not args.no_calibration,
             calibration_span=span,
         )
-    written = []
-    if args.output:
-        from wobble.io.netcdf import write_netcdf
-
-        written.append(
-            write_netcdf(result.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
-        )
-    if args.plot:
-        from wobble.plot.forecast import save_forecast_figure, save_hindcast_figure
-
-        save = save_hindcast_figure if hindcast else save_forecast_figure
-        written.append(save(result, args.plot, overwrite=args.overwrite))
-    if args.json:
-        print_json(result.to_dict())
-    else:
-        print(result.summary())
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    figure = "save_hindcast_figure" if hindcast else "save_forecast_figure"
+    return report(args, result, f"wobble.plot.forecast:{figure}")

@@ -91,7 +91,7 @@ def run(args) -> int:
     from astropy import units as u
 
     from wobble.api.free import FreeRotation
-    from wobble.cli._output import check_outputs, print_json, wrote
+    from wobble.cli._output import check_outputs, finish
 
     if args.samples < 1:
         raise InputError("--samples", args.samples, "a whole number >= 1")
@@ -123,13 +123,7 @@ def run(args) -> int:
 
         written.append(motion_figure(body, t1 * u.s, path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(args.plot)
-    if args.json:
-        print_json(summary)
-    else:
-        _print_table(body, summary)
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    return finish(args, summary, lambda: _print_table(body, summary), written)
 
 
 _REGIMES = {

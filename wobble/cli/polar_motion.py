@@ -6,6 +6,7 @@ import argparse
 import sys
 import time
 
+from wobble.cli._record import add_outputs, add_record, report
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -37,11 +38,7 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--start", metavar="DATE", help="first day to use (default: the file's first)")
-    p.add_argument("--end", metavar="DATE", help="last day to use (default: the file's last)")
-    p.add_argument(
-        "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
-    )
+    add_record(p)
     p.add_argument("--window", metavar="YEARS", default="8", help="length of the sliding windows in years (default: 8)")
     p.add_argument("--step", metavar="YEARS", default="1", help="spacing of the windows in years (default: 1)")
     p.add_argument(
@@ -54,18 +51,10 @@ def register(sub) -> None:
         help="Q of the randomly excited wobble in the Monte-Carlo part of the uncertainty, or 'none' (default: 100)",
     )
     p.add_argument("--no-q", action="store_true", help="skip the quality-factor estimate")
-    p.add_argument("--json", action="store_true", help="print the results as JSON")
-    p.add_argument(
-        "-o",
-        "--output",
-        metavar="FILE.nc",
-        help="write series, model, residuals, windows and spectrum (CF-1.10 netCDF)",
-    )
-    p.add_argument("--overwrite", action="store_true", help="replace existing output files")
-    p.add_argument(
-        "--plot",
-        metavar="FILE.png",
-        help="write a figure: pole path, two-sided spectrum, windowed amplitude and period",
+    add_outputs(
+        p,
+        output_help="write series, model, residuals, windows and spectrum (CF-1.10 netCDF)",
+        plot_help="write a figure: pole path, two-sided spectrum, windowed amplitude and period",
     )
     p.set_defaults(func=run)
 
@@ -107,8 +96,7 @@ class Progress:
 
 def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
-    from wobble.cli._output import check_outputs, print_json, wrote
-    from wobble.io.netcdf import write_netcdf
+    from wobble.cli._output import check_outputs
 
     window = _years(args.window, "--window")
     step = _years(args.step, "--step")
@@ -128,23 +116,12 @@ def run(args) -> int:
         )
     finally:
         progress.done()
-    written = []
-    if args.output:
-        written.append(
-            write_netcdf(analysis.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
-        )
-    if args.plot:
-        from wobble.plot.polar_motion import save_overview
 
-        written.append(save_overview(analysis, args.plot, overwrite=args.overwrite))
-    if args.json:
-        print_json(analysis.to_dict())
-    else:
-        from wobble.cli._polar_motion_report import report
+    def show():
+        from wobble.cli._polar_motion_report import report as text
 
-        print(report(analysis))
-        if written:
-            print()
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+        print(text(analysis))
+        if args.output or args.plot:
+            print()  # a blank line between the report and the "wrote" lines
+
+    return report(args, analysis, "wobble.plot.polar_motion:save_overview", show)

@@ -43,7 +43,7 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    from wobble.cli._output import check_outputs, print_json, wrote
+    from wobble.cli._output import check_outputs, finish
     from wobble.errors import InputError
 
     if args.list:
@@ -66,13 +66,7 @@ def run(args) -> int:
 
         written.append(scene_figure(summary["output"], path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(written[-1])
-    if args.json:
-        print_json(summary)
-    else:
-        _print_summary(summary)
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    return finish(args, summary, lambda: _print_summary(summary), written)
 
 
 def _list(as_json: bool) -> int:

@@ -71,7 +71,7 @@ def run(args) -> int:
 
     from wobble.api.top import HeavyTop
     from wobble.api.units import parse_angle, parse_quantity
-    from wobble.cli._output import check_outputs, print_json, wrote
+    from wobble.cli._output import check_outputs, finish
 
     check_outputs(args)
     if args.samples < 1:
@@ -112,13 +112,7 @@ def run(args) -> int:
 
         written.append(axis_locus_figure(top, t1 * u.s, path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(written[-1])
-    if args.json:
-        print_json(summary)
-    else:
-        _print_table(summary)
-    for path in written:
-        wrote(path, json_mode=args.json)
-    return 0
+    return finish(args, summary, lambda: _print_table(summary), written)
 
 
 def _span(top, text) -> float:

@@ -58,7 +58,8 @@ from wobble.numerics import compiled
 from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
 from wobble.numerics import quaternion as quat
-from wobble.numerics.phase import reduce_phase, two_prod
+from wobble.numerics.double_double import two_prod
+from wobble.numerics.phase import reduce_phase
 from wobble.numerics.phasor import block_parts, block_phasors, uniform_grid
 
 __all__ = [

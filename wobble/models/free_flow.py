@@ -99,6 +99,43 @@ def free_flow(moments, omega, q=None, h=0.0):
 _TINY = np.finfo(float).tiny
 
 
+def _invariants(i0, i1, i2, w0, w1, w2):
+    """The body-frame angular momentum ``(I_k w_k)``, the terms ``I_k w_k^2`` of 2E and the invariants
+    ``D_j = 2 E I_j - L^2 = sum_i I_i w_i^2 (I_j - I_i)``, formed from differences of moments so that
+    no large terms cancel; floats (:func:`flow_one`) or arrays (:func:`flow_many`), the same arithmetic."""
+    l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
+    e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
+    d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
+    big_d = (e1 * d01 + e2 * d02, e2 * d12 - e0 * d01, -e0 * d02 - e1 * d12)
+    return (l0, l1, l2), (e0, e1, e2), big_d
+
+
+def _increment(moments, w0, w1, inv_l, s, fl, dpsi, xp):
+    """The attitude increment ``dq = S(l0)* R_z(dpsi) S(l1)`` in the (a, b, c) frame, with the flip
+    (the pi rotation about c) undone: ``(w, a, b, c)``. ``S`` is the shortest arc from ``l = I omega / L``
+    to ``z = s e_c``, ``S = (1 + s l_c, s l_b, -s l_a, 0) / norm``; ``w0``, ``w1`` are omega's (a, b, c)
+    components at the two ends (flipped), ``inv_l`` = 1/L. ``xp``: :mod:`math` for floats
+    (:func:`flow_one`), NumPy for arrays (:func:`flow_many`), the same arithmetic."""
+    ia, ib, ic = moments
+    la0, lb0, lc0 = ia * w0[0] * inv_l, ib * w0[1] * inv_l, ic * w0[2] * inv_l
+    la1, lb1, lc1 = ia * w1[0] * inv_l, ib * w1[1] * inv_l, ic * w1[2] * inv_l
+    p_w, p_x, p_y = 1.0 + s * lc0, s * lb0, -s * la0
+    q_w, q_x, q_y = 1.0 + s * lc1, s * lb1, -s * la1
+    inv_p = 1.0 / xp.sqrt(p_w * p_w + p_x * p_x + p_y * p_y)
+    inv_q = 1.0 / xp.sqrt(q_w * q_w + q_x * q_x + q_y * q_y)
+    p_w, p_x, p_y = p_w * inv_p, -p_x * inv_p, -p_y * inv_p  # conjugate of S(l0)
+    q_w, q_x, q_y = q_w * inv_q, q_x * inv_q, q_y * inv_q
+    t_w, t_z = xp.cos(0.5 * dpsi), s * xp.sin(0.5 * dpsi)
+    # R = twist * S(l1) (twist has no x, y parts; S no z part)
+    r_w, r_x, r_y, r_z = t_w * q_w, t_w * q_x - t_z * q_y, t_w * q_y + t_z * q_x, t_z * q_w
+    # dq = S(l0)* * R (S(l0)* has no z part); then undo the flip (x, y parts).
+    dq_w = p_w * r_w - p_x * r_x - p_y * r_y
+    dq_a = fl * (p_w * r_x + p_x * r_w + p_y * r_z)
+    dq_b = fl * (p_w * r_y - p_x * r_z + p_y * r_w)
+    dq_c = p_w * r_z + p_x * r_y - p_y * r_x
+    return dq_w, dq_a, dq_b, dq_c
+
+
 def _check_representable(omega, energies, m1, steady) -> None:
     """Refuse states the float64 formulas cannot carry (an InputError naming the member).
 
@@ -147,13 +184,7 @@ def flow_many(I, omega, h, attitude):
     i0, i1, i2 = I[:, 0], I[:, 1], I[:, 2]
     w0, w1, w2 = omega[:, 0], omega[:, 1], omega[:, 2]
     h = np.broadcast_to(np.asarray(h, dtype=float), w0.shape)
-    l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
-    e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
-    d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
-    # D_j = 2 E I_j - L^2 = sum_i I_i w_i^2 (I_j - I_i): no cancellation between large terms.
-    big_d0 = e1 * d01 + e2 * d02
-    big_d1 = e2 * d12 - e0 * d01
-    big_d2 = -e0 * d02 - e1 * d12
+    (l0, l1, l2), (e0, e1, e2), (big_d0, big_d1, big_d2) = _invariants(i0, i1, i2, w0, w1, w2)
     # The solution's right-handed frame (a, b, c): (x0, x1, x2) when omega circulates
     # about the largest axis, (x2, x1, -x0) about the smallest (L^2 < 2 E I2).
     minor = big_d1 > 0
@@ -276,25 +307,9 @@ def flow_many(I, omega, h, attitude):
     dpsi = (
         rate * h + c_pi * ((pi1 - pi0) - pi_c * (lin1 - lin0)) - c_g * ((g[n:] - g[:n]) - 0.5 * np.pi * (lin1 - lin0))
     )
-    # dq = S(l0)* R_z(dpsi) S(l1) in the (a, b, c) frame, S the shortest arc from l to z = s e_c:
-    # S = (1 + s l_c, s l_b, -s l_a, 0) / norm, l = I omega / L.
     inv_l = 1.0 / np.where(big_l > 0, big_l, 1.0)
-    la0, lb0, lc0 = ia * wa * inv_l, ib * wb * inv_l, ic * wc * inv_l
-    la1, lb1, lc1 = ia * fl * v_a * inv_l, ib * fl * v_b * inv_l, ic * v_c * inv_l
-    p_w, p_x, p_y = 1.0 + s * lc0, s * lb0, -s * la0
-    q_w, q_x, q_y = 1.0 + s * lc1, s * lb1, -s * la1
-    inv_p = 1.0 / np.sqrt(p_w * p_w + p_x * p_x + p_y * p_y)
-    inv_q = 1.0 / np.sqrt(q_w * q_w + q_x * q_x + q_y * q_y)
-    p_w, p_x, p_y = p_w * inv_p, -p_x * inv_p, -p_y * inv_p  # conjugate of S(l0)
-    q_w, q_x, q_y = q_w * inv_q, q_x * inv_q, q_y * inv_q
-    t_w, t_z = np.cos(0.5 * dpsi), s * np.sin(0.5 * dpsi)
-    # R = twist * S(l1) (twist has no x, y parts; S no z part)
-    r_w, r_x, r_y, r_z = t_w * q_w, t_w * q_x - t_z * q_y, t_w * q_y + t_z * q_x, t_z * q_w
-    # dq = S(l0)* * R (S(l0)* has no z part); then undo the flip (x, y parts) and the frame.
-    dq_w = p_w * r_w - p_x * r_x - p_y * r_y
-    dq_a = fl * (p_w * r_x + p_x * r_w + p_y * r_z)
-    dq_b = fl * (p_w * r_y - p_x * r_z + p_y * r_w)
-    dq_c = p_w * r_z + p_x * r_y - p_y * r_x
+    dq_w, dq_a, dq_b, dq_c = _increment((ia, ib, ic), (wa, wb, wc), (fl * v_a, fl * v_b, v_c), inv_l, s, fl, dpsi, np)
+    # Undo the frame.
     if any_minor:
         dq_0, dq_2 = np.where(minor, -dq_c, dq_a), np.where(minor, dq_a, dq_c)
     else:
@@ -366,12 +381,7 @@ def flow_one(moments, omega, h, attitude=True):
     i0, i1, i2 = (float(x) for x in moments)
     w0, w1, w2 = (float(x) for x in omega)
     h = float(h)
-    l0, l1, l2 = i0 * w0, i1 * w1, i2 * w2
-    e0, e1, e2 = l0 * w0, l1 * w1, l2 * w2
-    d01, d02, d12 = i0 - i1, i0 - i2, i1 - i2
-    big_d0 = e1 * d01 + e2 * d02
-    big_d1 = e2 * d12 - e0 * d01
-    big_d2 = -e0 * d02 - e1 * d12
+    (l0, l1, l2), (e0, e1, e2), (big_d0, big_d1, big_d2) = _invariants(i0, i1, i2, w0, w1, w2)
     minor = big_d1 > 0
     if minor:
         ia, ic, da, dc, wa, wc = i2, i0, big_d2, big_d0, w2, -w0
@@ -470,20 +480,8 @@ def flow_one(moments, omega, h, attitude=True):
     c_g = ica * amp_c / (ia * lam * sq)
     rate = big_l / ic + (ica * big_l * pi_c / (ia * ic) - ica * amp_c * (0.5 * math.pi) / (ia * sq)) * lin_scale
     dpsi = rate * h + c_pi * ((pi1 - pi0) - pi_c * (lin1 - lin0)) - c_g * ((g1 - g0) - 0.5 * math.pi * (lin1 - lin0))
-    inv_l = 1.0 / big_l
-    la0, lb0, lc0 = ia * wa * inv_l, ib * wb * inv_l, ic * wc * inv_l
-    la1, lb1, lc1 = ia * fl * v_a * inv_l, ib * fl * v_b * inv_l, ic * v_c * inv_l
-    p_w, p_x, p_y = 1.0 + s * lc0, s * lb0, -s * la0
-    q_w, q_x, q_y = 1.0 + s * lc1, s * lb1, -s * la1
-    inv_p = 1.0 / math.sqrt(p_w * p_w + p_x * p_x + p_y * p_y)
-    inv_q = 1.0 / math.sqrt(q_w * q_w + q_x * q_x + q_y * q_y)
-    p_w, p_x, p_y = p_w * inv_p, -p_x * inv_p, -p_y * inv_p
-    q_w, q_x, q_y = q_w * inv_q, q_x * inv_q, q_y * inv_q
-    t_w, t_z = math.cos(0.5 * dpsi), s * math.sin(0.5 * dpsi)
-    r_w, r_x, r_y, r_z = t_w * q_w, t_w * q_x - t_z * q_y, t_w * q_y + t_z * q_x, t_z * q_w
-    dq_w = p_w * r_w - p_x * r_x - p_y * r_y
-    dq_a = fl * (p_w * r_x + p_x * r_w + p_y * r_z)
-    dq_b = fl * (p_w * r_y - p_x * r_z + p_y * r_w)
-    dq_c = p_w * r_z + p_x * r_y - p_y * r_x
+    dq_w, dq_a, dq_b, dq_c = _increment(
+        (ia, ib, ic), (wa, wb, wc), (fl * v_a, fl * v_b, v_c), 1.0 / big_l, s, fl, dpsi, math
+    )
     dq = (dq_w, -dq_c, dq_b, dq_a) if minor else (dq_w, dq_a, dq_b, dq_c)
     return w_new, dq

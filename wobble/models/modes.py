@@ -54,6 +54,7 @@ __all__ = [
     "MODES",
     "Mode",
     "NormalModes",
+    "find_mode",
     "mode_rates",
     "mode_rates_samples",
     "normal_modes",
@@ -447,6 +448,15 @@ class Mode:
         return "prograde" if self.rate * self.spin_sign > 0 else "retrograde"
 
 
+def find_mode(modes, name: str, frame: str = "terrestrial"):
+    """The entry of ``modes`` (anything with ``name`` and ``frame``) that is mode ``name`` in ``frame``;
+    an InputError listing those there are otherwise."""
+    for m in modes:
+        if m.name == name and m.frame == frame:
+            return m
+    raise InputError("mode", f"{name} ({frame})", ", ".join(f"{m.name} ({m.frame})" for m in modes))
+
+
 @dataclass(frozen=True)
 class NormalModes:
     """A planet's free modes, the core flattening both ways, and the tie to the Chandler budget (SI).
@@ -495,10 +505,7 @@ class NormalModes:
 
     def mode(self, name: str, frame: str = "terrestrial") -> Mode:
         """The mode ``name`` in ``frame``."""
-        for m in self.modes:
-            if m.name == name and m.frame == frame:
-                return m
-        raise InputError("mode", f"{name} ({frame})", ", ".join(f"{m.name} ({m.frame})" for m in self.modes))
+        return find_mode(self.modes, name, frame)
 
     @property
     def core_flattening_excess(self) -> float | None:

@@ -90,7 +90,6 @@ __all__ = [
 
 NUTATION_CLASSES = ("undulating", "cusps", "loops", "regular", "sleeping")
 _EPS = float(np.finfo(float).eps)
-_BLOCK = 8192
 
 
 def _f(x: Decimal) -> float:
@@ -235,19 +234,6 @@ class TopMotion:
     energy: np.ndarray
     p_phi: np.ndarray
     p_psi: np.ndarray
-
-
-def _wrap(a):
-    """Angles to [-pi, pi] (a few times faster than np.remainder; |a| here is < 10 pi)."""
-    return a - (2 * np.pi) * np.rint(a * (0.5 / np.pi))
-
-
-def _blocked(fn, t):
-    """Evaluate fn on cache-sized blocks of t and concatenate the dict outputs."""
-    if t.size <= _BLOCK:
-        return fn(t)
-    parts = [fn(t[i : i + _BLOCK]) for i in range(0, t.size, _BLOCK)]
-    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
 
 
 # --------------------------------------------------------------------------
@@ -404,13 +390,13 @@ class HeavyTopModel:
         if isinstance(impl, top_series.Fourier):  # every output from the verified series, in one pass
             c = impl.motion(flat, (self.I1, self.I3, self.mgl))
             return TopMotion(t=t, **{k: r(v, v.shape[1:]) for k, v in c.items()})
-        c = _blocked(impl.core, flat)
+        c = top_series.blocked(impl.core, flat)
         sh, ch, sig, dlt = c["sh"], c["ch"], c["sigma"], c["delta"]
         flip = (sh < 0) != (ch < 0)
         theta = 2.0 * np.arctan2(np.abs(sh), np.abs(ch))
         sig_f = np.where(flip, sig + np.pi, sig)
-        phi = _wrap(sig_f + dlt)
-        psi = _wrap(sig_f - dlt)
+        phi = top_series.wrap_angle(sig_f + dlt)
+        psi = top_series.wrap_angle(sig_f - dlt)
         thetadot = np.where(flip, -c["thetadot"], c["thetadot"])
         q = np.stack([ch * np.cos(sig), sh * np.cos(dlt), sh * np.sin(dlt), ch * np.sin(sig)], axis=-1)
         sin_t = 2.0 * sh * ch

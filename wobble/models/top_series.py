@@ -24,9 +24,10 @@ import numpy as np
 
 from wobble.models.top_closed_form import TWO_PI, TWO_PI_PIECES
 from wobble.numerics import compiled
-from wobble.numerics.phase import PER_SAMPLE, split_dd, two_prod, two_sum
+from wobble.numerics.double_double import two_prod, two_sum
+from wobble.numerics.phase import PER_SAMPLE, split_dd
 
-__all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of"]
+__all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of", "wrap_angle", "blocked"]
 
 _EPS = float(np.finfo(float).eps)
 _ORDER = 5  # degree of the Taylor polynomials
@@ -240,7 +241,7 @@ class Fourier:
 
             r, j = self._phase(t)
             return tuple(taylor_table.angles(r, j, self.table, self.constants()))
-        return _blocked(self._angles_numpy, t)
+        return blocked(self._angles_numpy, t)
 
     def _angles_numpy(self, t):
         e = self.base
@@ -250,7 +251,7 @@ class Fourier:
         theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
         sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
         dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
-        return theta, _wrap(sig + dlt), _wrap(sig - dlt)
+        return theta, wrap_angle(sig + dlt), wrap_angle(sig - dlt)
 
     def motion(self, t, inertia) -> dict:
         """The motion at times t (1-D): theta, phi, psi, their rates, u = cos theta, omega (body),
@@ -266,7 +267,7 @@ class Fourier:
             )
             names = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi")
             return {**dict(zip(names, out)), "omega": omega, "quaternion": quat, "axis": axis}
-        return _blocked(lambda tb: self._motion_numpy(tb, inertia), t)
+        return blocked(lambda tb: self._motion_numpy(tb, inertia), t)
 
     def _motion_numpy(self, t, inertia) -> dict:
         """:func:`wobble.numerics.taylor_table.motion` in NumPy, operation for operation."""
@@ -311,8 +312,8 @@ class Fourier:
         g2 = 2.0 * (qy * qz + qw * qx)
         return dict(
             theta=theta,
-            phi=_wrap(sig + dlt),
-            psi=_wrap(sig - dlt),
+            phi=wrap_angle(sig + dlt),
+            psi=wrap_angle(sig - dlt),
             thetadot=thetadot,
             phidot=0.5 * (bx + cy),
             psidot=(e.omega3 - e.a) - 0.5 * (bx - cy),
@@ -326,12 +327,12 @@ class Fourier:
         )
 
 
-def _wrap(a):
+def wrap_angle(a):
     """Angles to [-pi, pi] (a few times faster than np.remainder; |a| here is < 10 pi)."""
     return a - (2 * np.pi) * np.rint(a * (0.5 / np.pi))
 
 
-def _blocked(fn, t):
+def blocked(fn, t):
     """Evaluate fn on cache-sized blocks of t and concatenate the outputs (tuple or dict)."""
     if t.size <= _BLOCK:
         return fn(t)
@@ -371,22 +372,14 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     if fast:
         return _build_compiled(e, est, sample)
     r_check = _CHECK_VT * (k / np.pi)
-    want = None
     parity = _PARITY
-    for n in (64, 128, 256, _FOURIER_MAX_N):
+    for n, part, want, start, raw in _half_node_samples(e, sample, r_check):
         # The nodes vartheta_i = 2 pi i / n in [0, pi]; those in (pi, 2 pi) are -vartheta_{n-i}, where
         # the rows are their mirror images (theta and the half angles' sines and cosines even,
         # the rest odd, and exactly so in the direct path: sn odd, cn and dn even, Pi odd).
         half = n // 2
-        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
-        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
-            both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
-            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
-            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
-            if not fast:  # the direct path's own P_+(r0), P_-(r0) (elementwise: as if alone)
-                e.__dict__.setdefault("_start", (float(raw[0][-1]), float(raw[1][-1])))
-        else:
-            part = sample(r_half)[0]
+        if raw is not None:  # the direct path's own P_+(r0), P_-(r0) (elementwise: as if alone)
+            e.__dict__.setdefault("_start", (float(raw[0][-1]), float(raw[1][-1])))
         vals = np.empty((len(_KINDS), n))
         vals[:, : half + 1] = part
         vals[:, half + 1 :] = parity * part[:, half - 1 : 0 : -1]
@@ -407,6 +400,26 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     return None
 
 
+def _half_node_samples(e, sample, r_check):
+    """For n = 64, 128, 256, ... the samples on the nodes r = (2 pi i / n) K/pi, i = 0 .. n/2, of half
+    the period; the first pass also samples the check points ``r_check`` and the phase at t = 0
+    (one pass of the direct path). Yields ``(n, part, want, start, raw)``: ``part`` (rows, n/2 + 1),
+    ``want`` (check points, rows), ``start`` (sigma, delta) at r0, and ``raw`` the sampler's second
+    output on the first pass (None after it)."""
+    k = e.K[0]
+    want = start = None
+    for n in (64, 128, 256, _FOURIER_MAX_N):
+        half = n // 2
+        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
+        if want is None:
+            both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
+            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
+            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+        else:
+            part, raw = sample(r_half)[0], None
+        yield n, part, want, start, raw
+
+
 def _build_compiled(e, est, sample):
     """:func:`build` with the compiled helpers of :mod:`wobble.numerics.taylor_table` between the
     FFTs: the same steps (samples on half the nodes, the spectra, the coefficients and the node
@@ -418,16 +431,7 @@ def _build_compiled(e, est, sample):
     r_check = _CHECK_VT * (k / np.pi)
     c = (e.sigma_sec.c, e.delta_sec.c)
     offset = (e.sigma_sec.offset, e.delta_sec.offset)
-    want = None
-    for n in (64, 128, 256, _FOURIER_MAX_N):
-        half = n // 2
-        r_half = (2 * np.pi * np.arange(half + 1) / n) * (k / np.pi)
-        if want is None:  # nodes, check points and the phase at t = 0 in one pass of the direct path
-            both, _ = sample(np.concatenate([r_half, r_check, [e.r0]]))
-            part, want = both[:, : half + 1], both[:, half + 1 : -1].T
-            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
-        else:
-            part = sample(r_half)[0]
+    for n, part, want, start, _ in _half_node_samples(e, sample, r_check):
         vals, scales = tt.prepare(part, n, _PARITY[:, 0])
         spectra = np.fft.rfft(vals, axis=-1) / n
         status, coef, need, slope_s, slope_d = tt.coefficients(
@@ -439,17 +443,7 @@ def _build_compiled(e, est, sample):
             return None  # too long a series: the direct path is about as fast
         nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
         slope = max(abs(c[0]) + slope_s, abs(c[1]) + slope_d)
-        rel = 32 * _EPS * (1 + k)
-        limits = np.array(
-            [
-                est["theta_rad"],
-                est["attitude_rad"],
-                est["attitude_rad"],
-                64 * _EPS * (1 + k) * scales[3],
-                rel * scales[4],
-                rel * scales[5],
-            ]
-        )
+        limits = _check_limits(est, scales, k)
         while True:
             while slope * k / nodes > _CIS_MAX:
                 nodes *= 2
@@ -626,19 +620,12 @@ def _tabulate(fo: Fourier, nodes: int) -> Fourier | None:
     return replace(fo, table=table, h=h, phasor=phasor, node_r=node_r)
 
 
-def _check_fourier(fo, r, want, scales, est, k):
-    """The table if it reproduces the direct values within the error estimate (finer tables
-    are tried first); None otherwise."""
-    e = fo.base
+def _check_limits(est, scales, k):
+    """How far the table may stray from the direct values, per tabulated row: theta and the phases
+    sigma, delta by the solution's error estimate; dtheta/dr, sin(theta/2) and cos(theta/2) relative to
+    their scales."""
     rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
-    want = np.asarray(want)  # (m, rows), as the table's rows come
-    # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
-    c = np.array([e.sigma_sec.c, e.delta_sec.c])
-    g = (c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset])) + (
-        want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)
-    )
-    cos_g, sin_g = np.cos(g), np.sin(g)
-    limits = np.array(
+    return np.array(
         [
             est["theta_rad"],
             est["attitude_rad"],
@@ -648,6 +635,20 @@ def _check_fourier(fo, r, want, scales, est, k):
             rel * scales[5],
         ]
     )
+
+
+def _check_fourier(fo, r, want, scales, est, k):
+    """The table if it reproduces the direct values within the error estimate (finer tables
+    are tried first); None otherwise."""
+    e = fo.base
+    want = np.asarray(want)  # (m, rows), as the table's rows come
+    # The phases the phasors must reproduce (at j = 0): c (r - w0) + offset + (P(r) - P(r0)).
+    c = np.array([e.sigma_sec.c, e.delta_sec.c])
+    g = (c * (r - e.w0)[:, None] + np.array([e.sigma_sec.offset, e.delta_sec.offset])) + (
+        want[:, _SIGMA : _DELTA + 1] - np.array(fo.start)
+    )
+    cos_g, sin_g = np.cos(g), np.sin(g)
+    limits = _check_limits(est, scales, k)
     while fo is not None:
         if fo.compiled:  # the lines of the other branch in one compiled pass
             from wobble.numerics import taylor_table

@@ -145,46 +145,11 @@ def secular_phase(rate: Decimal, lam: Decimal, kdec: Decimal, offset) -> Secular
 
 
 def complete_pi_pair(kc: Decimal, p_plus, p_minus) -> tuple[Decimal, Decimal]:
-    """``hp.cel(kc, p, 1, 1)`` for p = ``p_plus`` and ``p_minus`` (None: 0 returned), in one loop.
-
-    Bulirsch's cel (:func:`wobble.numerics.highprec.cel`) operation for operation, at its
-    precision: the sequence of e, em and kc it iterates (and so its stopping point) depends on
-    kc alone, so both integrals share one square root per step instead of one each.
-    """
-    ps = [p for p in (p_plus, p_minus) if p is not None]
-    out = {}
-    if ps:
-        qc = hp.dec(kc)
-        if qc <= 0 or any(hp.dec(p) <= 0 for p in ps):
-            raise ValueError("cel here takes p > 0 and kc > 0")
-        one = hp.dec(1)
-        with decimal.localcontext(hp.context()):
-            ca = Decimal(10) ** (-hp.DIGITS + 5)
-            e = qc
-            em = Decimal(1)
-            state = []
-            for p in ps:
-                p = hp.dec(p).sqrt()
-                state.append([one, one / p, p])  # a, b, p
-            for _ in range(200):
-                for st in state:
-                    a, b, p = st
-                    f = a
-                    a = a + b / p
-                    g = e / p
-                    b = b + f * g
-                    b = b + b
-                    st[0], st[1], st[2] = a, b, g + p
-                g = em
-                em = em + qc
-                if abs(g - qc) <= g * ca:
-                    break
-                qc = e.sqrt()
-                qc = qc + qc
-                e = qc * em
-            for key, (a, b, p) in zip([k for k, p in (("+", p_plus), ("-", p_minus)) if p is not None], state):
-                out[key] = (hp.PI / 2) * (b + a * em) / (em * (em + p))
-    return out.get("+", Decimal(0)), out.get("-", Decimal(0))
+    """``hp.cel(kc, p, 1, 1)`` for p = ``p_plus`` and ``p_minus`` (None: 0 returned), in one loop
+    (:func:`wobble.numerics.highprec.cel_many`: one square root per step for both)."""
+    given = [p for p in (p_plus, p_minus) if p is not None]
+    values = iter(hp.cel_many(kc, [(p, 1, 1) for p in given]) if given else [])
+    return tuple(Decimal(0) if p is None else next(values) for p in (p_plus, p_minus))
 
 
 def analyse(setup: TopSetup) -> dict:

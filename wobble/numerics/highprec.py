@@ -15,7 +15,7 @@ import decimal
 from decimal import Decimal
 from fractions import Fraction
 
-__all__ = ["DIGITS", "PI", "context", "dec", "to_dd", "sqrt", "agm_k", "cel", "exact", "sin_cos"]
+__all__ = ["DIGITS", "PI", "context", "dec", "to_dd", "sqrt", "agm_k", "cel", "cel_many", "exact", "sin_cos"]
 
 DIGITS = 50
 # pi to 60 digits (a constant: decimal has no trigonometry).
@@ -81,22 +81,37 @@ def cel(kc, p, a, b) -> Decimal:
     so K = cel(k', 1, 1, 1) and Pi(n | m) = cel(k', 1 - n, 1, 1). Quadratically
     convergent (R. Bulirsch, Numer. Math. 13, 305 (1969); Numerical Recipes 6.11).
     """
-    qc, a, b, p = dec(kc), dec(a), dec(b), dec(p)
-    if p <= 0 or qc <= 0:
+    return cel_many(kc, [(p, a, b)])[0]
+
+
+def cel_many(kc, terms) -> list[Decimal]:
+    """:func:`cel` ``(kc, p, a, b)`` for each ``(p, a, b)`` of ``terms``, in one loop.
+
+    The sequence of e, em and kc that Bulirsch's iteration runs through (and so its stopping
+    point) depends on kc alone: the integrals share one square root per step instead of one
+    each, and each is the one :func:`cel` alone would give, operation for operation.
+    """
+    qc = dec(kc)
+    terms = [(dec(p), dec(a), dec(b)) for p, a, b in terms]
+    if qc <= 0 or any(p <= 0 for p, _, _ in terms):
         raise ValueError("cel here takes p > 0 and kc > 0")
     with decimal.localcontext(context()):
         ca = Decimal(10) ** (-DIGITS + 5)
         e = qc
         em = Decimal(1)
-        p = p.sqrt()
-        b = b / p
+        state = []
+        for p, a, b in terms:
+            p = p.sqrt()
+            state.append([a, b / p, p])
         for _ in range(200):
-            f = a
-            a = a + b / p
-            g = e / p
-            b = b + f * g
-            b = b + b
-            p = g + p
+            for st in state:
+                a, b, p = st
+                f = a
+                a = a + b / p
+                g = e / p
+                b = b + f * g
+                b = b + b
+                st[0], st[1], st[2] = a, b, g + p
             g = em
             em = em + qc
             if abs(g - qc) <= g * ca:
@@ -104,7 +119,7 @@ def cel(kc, p, a, b) -> Decimal:
             qc = e.sqrt()
             qc = qc + qc
             e = qc * em
-        return (PI / 2) * (b + a * em) / (em * (em + p))
+        return [(PI / 2) * (b + a * em) / (em * (em + p)) for a, b, p in state]
 
 
 def _sin_cos_series(x: Decimal, prec: int) -> tuple[Decimal, Decimal]:

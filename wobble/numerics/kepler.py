@@ -91,6 +91,26 @@ def solve_kepler_one(mean_anomaly: float, e: float) -> float:
     return E
 
 
+def _place(t, E, a, e, inc, node0, peri0, node_rate, peri_rate, xp):
+    """(x, y, z, |r|) at times ``t`` with eccentric anomaly ``E``: the point of the ellipse in its plane,
+    turned by the argument of pericentre, the inclination and the node (both precessing linearly).
+    ``xp``: :mod:`math` for one time in floats (:func:`position_one`), NumPy for arrays (:func:`position`),
+    the same arithmetic."""
+    cE, sE = xp.cos(E), xp.sin(E)
+    x = a * (cE - e)
+    y = a * math.sqrt(1.0 - e * e) * sE
+    node = node0 + node_rate * t
+    peri = peri0 + peri_rate * t
+    cO, sO, cw, sw = xp.cos(node), xp.sin(node), xp.cos(peri), xp.sin(peri)
+    ci, si = math.cos(inc), math.sin(inc)
+    return (
+        x * (cO * cw - sO * sw * ci) - y * (cO * sw + sO * cw * ci),
+        x * (sO * cw + cO * sw * ci) - y * (sO * sw - cO * cw * ci),
+        (x * sw + y * cw) * si,
+        a * (1.0 - e * cE),
+    )
+
+
 def position(t, elements):
     """Positions (n, 3) in m on the orbit ``elements`` (a row of :data:`ELEMENTS`) at times t (n,) in s.
 
@@ -102,34 +122,13 @@ def position(t, elements):
     a, e, inc, node0, peri0, m0, n, node_rate, peri_rate = (float(x) for x in elements)
     t = np.asarray(t, dtype=float)
     E = solve_kepler(m0 + n * t, e)
-    cE, sE = np.cos(E), np.sin(E)
-    x = a * (cE - e)
-    y = a * math.sqrt(1.0 - e * e) * sE
-    node = node0 + node_rate * t
-    peri = peri0 + peri_rate * t
-    cO, sO, cw, sw = np.cos(node), np.sin(node), np.cos(peri), np.sin(peri)
-    ci, si = math.cos(inc), math.sin(inc)
+    px, py, pz, r = _place(t, E, a, e, inc, node0, peri0, node_rate, peri_rate, np)
     out = np.empty(t.shape + (3,))
-    out[..., 0] = x * (cO * cw - sO * sw * ci) - y * (cO * sw + sO * cw * ci)
-    out[..., 1] = x * (sO * cw + cO * sw * ci) - y * (sO * sw - cO * cw * ci)
-    out[..., 2] = (x * sw + y * cw) * si
-    return out, a * (1.0 - e * cE)
+    out[..., 0], out[..., 1], out[..., 2] = px, py, pz
+    return out, r
 
 
 def position_one(t: float, elements) -> tuple[float, float, float, float]:
     """:func:`position` for one time in Python floats: (x, y, z, |r|)."""
     a, e, inc, node0, peri0, m0, n, node_rate, peri_rate = elements
-    E = solve_kepler_one(m0 + n * t, e)
-    cE, sE = math.cos(E), math.sin(E)
-    x = a * (cE - e)
-    y = a * math.sqrt(1.0 - e * e) * sE
-    node = node0 + node_rate * t
-    peri = peri0 + peri_rate * t
-    cO, sO, cw, sw = math.cos(node), math.sin(node), math.cos(peri), math.sin(peri)
-    ci, si = math.cos(inc), math.sin(inc)
-    return (
-        x * (cO * cw - sO * sw * ci) - y * (cO * sw + sO * cw * ci),
-        x * (sO * cw + cO * sw * ci) - y * (sO * sw - cO * cw * ci),
-        (x * sw + y * cw) * si,
-        a * (1.0 - e * cE),
-    )
+    return _place(t, solve_kepler_one(m0 + n * t, e), a, e, inc, node0, peri0, node_rate, peri_rate, math)

@@ -18,37 +18,15 @@ import math
 
 import numpy as np
 
-__all__ = ["two_sum", "two_prod", "split_dd", "reduce_phase", "PER_SAMPLE"]
+# The error-free transformations (Knuth's two-sum, Dekker's two-product) are those of the
+# double-double arithmetic.
+from wobble.numerics.double_double import two_prod, two_sum
 
-_SPLITTER = 134217729.0  # 2^27 + 1
-
+__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE"]
 
 # The index base that means 'one table entry per sample': no dense range of whole half-periods
 # starts there (|j| stays far below 2**62), unlike -1, where a range over negative times starts.
 PER_SAMPLE = -(2**62)
-
-
-def two_sum(a, b):
-    """Knuth's error-free sum: ``a + b = s + e`` exactly."""
-    s = a + b
-    bb = s - a
-    e = (a - (s - bb)) + (b - bb)
-    return s, e
-
-
-def _split27(a):
-    c = _SPLITTER * a
-    hi = c - (c - a)
-    return hi, a - hi
-
-
-def two_prod(a, b):
-    """Dekker's error-free product: ``a * b = p + e`` exactly (|a b| < 1e300)."""
-    p = a * b
-    ah, al = _split27(a)
-    bh, bl = _split27(b)
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, e
 
 
 def split_dd(hi: float, lo: float):

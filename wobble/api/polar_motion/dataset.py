@@ -22,6 +22,16 @@ from wobble.models import polar_motion as _pm
 
 __all__ = ["analysis_dataset", "windows_dataset", "spectrum_dataset"]
 
+# The parts of the Chandler period's uncertainty (ChandlerEstimate.period_uncertainty_parts), in
+# the order the file lists them, with their long_name.
+_PERIOD_UNCERTAINTY_PARTS = {
+    "formal": "white-noise (formal) uncertainty of the period, far too small",
+    "autocorrelation": "period uncertainty from the residuals' autocorrelation",
+    "subspans": "period uncertainty from the scatter over sub-spans",
+    "excitation": "period uncertainty of a randomly excited wobble (Monte Carlo)",
+    "model": "period uncertainty from the drift model",
+}
+
 
 def windows_dataset(wf: _pm.WindowedFits):
     """The sliding-window fits as a Dataset on the ``window`` dimension."""
@@ -179,31 +189,14 @@ def analysis_dataset(a):
             "adopted one-sigma uncertainty of the Chandler period",
             lambda e: e.period_uncertainty.to_value(u.day),
         ),
-        "chandler_period_uncertainty_formal": (
-            "day",
-            "white-noise (formal) uncertainty of the period, far too small",
-            lambda e: e.period_uncertainty_parts["formal"].to_value(u.day),
-        ),
-        "chandler_period_uncertainty_autocorrelation": (
-            "day",
-            "period uncertainty from the residuals' autocorrelation",
-            lambda e: e.period_uncertainty_parts["autocorrelation"].to_value(u.day),
-        ),
-        "chandler_period_uncertainty_subspans": (
-            "day",
-            "period uncertainty from the scatter over sub-spans",
-            lambda e: e.period_uncertainty_parts["subspans"].to_value(u.day),
-        ),
-        "chandler_period_uncertainty_excitation": (
-            "day",
-            "period uncertainty of a randomly excited wobble (Monte Carlo)",
-            lambda e: e.period_uncertainty_parts["excitation"].to_value(u.day),
-        ),
-        "chandler_period_uncertainty_model": (
-            "day",
-            "period uncertainty from the drift model",
-            lambda e: e.period_uncertainty_parts["model"].to_value(u.day),
-        ),
+        **{
+            f"chandler_period_uncertainty_{part}": (
+                "day",
+                long_name,
+                lambda e, part=part: e.period_uncertainty_parts[part].to_value(u.day),
+            )
+            for part, long_name in _PERIOD_UNCERTAINTY_PARTS.items()
+        },
         "chandler_amplitude": (
             "milliarcsecond",
             "Chandler wobble amplitude over the span",
