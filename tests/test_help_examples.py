@@ -31,9 +31,11 @@ def _needs_scheduler(argv) -> bool:
     return any(a.startswith("tcp://") for a in argv)
 
 
-@pytest.fixture
+@pytest.fixture(scope="module")
 def scheduler():
-    """A local dask.distributed cluster on the address the help text names."""
+    """A local dask.distributed cluster on the address the help text names, one for every example
+    that needs it (a second cluster started right after the first closed found the port still
+    taken and skipped)."""
     distributed = pytest.importorskip("distributed")
     with socket.socket() as probe:
         if probe.connect_ex(SCHEDULER) == 0:
