@@ -210,3 +210,14 @@ def test_top_motion_on_grids_over_negative_half_periods_matches_each_time_alone(
         one = top.motion(t[i : i + 1] * u.s)
         for name in ("theta", "phi", "psi"):
             assert abs(float(grid[name][i]) - float(one[name][0])) < 1e-12, (name, t[i])
+
+
+@pytest.mark.parametrize("members", ["99999999999999999999", str(2**63)])
+def test_sweep_members_beyond_a_64_bit_index_are_refused(members, capsys):
+    # Was (fuzzer, 10,000-input run): --members 99999999999999999999 started a sweep that would never end.
+    code, out, err = _run(["sweep", "mars_chandler", "--members", members, "--json"], capsys)
+    assert code == 2 and out == ""
+    assert err == (
+        f"wobble sweep: error: --members: got {members}; allowed: a positive integer up to 2**63 - 1 "
+        "(a member's index is a 64-bit integer)\n"
+    )

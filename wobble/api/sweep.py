@@ -48,7 +48,12 @@ from wobble.io.sweep_file import (
 from wobble.io.zarr_store import is_zarr_path, open_wobble_zarr, write_zarr_blocks
 from wobble.models import chandler as chandler_model
 
-__all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep"]
+__all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep", "MAX_MEMBERS"]
+
+# A member's index is a 64-bit integer (the file's member coordinate and the counter of its
+# random draws): a larger sweep cannot be numbered, let alone run.
+MAX_MEMBERS = 2**63 - 1
+MAX_MEMBERS_ALLOWED = "a positive integer up to 2**63 - 1 (a member's index is a 64-bit integer)"
 
 DEFAULT_CHUNK = 20_000
 _LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -105,6 +110,8 @@ def _plan(spec: SweepSpec, chunk_size: int | None) -> _Plan:
         per_row = int(np.prod(shape[1:])) if len(shape) > 1 else 1
         rows = max(1, chunk // per_row)
     else:
+        if spec.members > MAX_MEMBERS:
+            raise InputError("members", spec.members, MAX_MEMBERS_ALLOWED)
         dims, shape, rows = ("member",), (spec.members,), chunk
     return _Plan(spec, target, dims, shape, rows)
 
