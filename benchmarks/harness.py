@@ -28,7 +28,7 @@ from benchmarks import top as topcases
 from benchmarks import user_level
 from benchmarks.ensemble import best_ratio, ensemble
 from benchmarks.free import free_case
-from benchmarks.report import USER_REPORT
+from benchmarks.report import USER_REPORT, is_docs_page
 from benchmarks.timing import measure, measures_resident_memory, peak_memory, time_at
 from benchmarks.torqued import torqued_case
 from wobble.cli.bench import CASE_KEYS, add_arguments
@@ -478,7 +478,7 @@ def run(args, command: str) -> int:
         text = markdown(res, report, figures)
         with atomic_target(report, overwrite=args.overwrite) as tmp:
             Path(tmp).write_text(text)
-        if any(c["key"].startswith("user_") for c in res["cases"]):
+        if is_docs_page(report) and any(c["key"].startswith("user_") for c in res["cases"]):
             write_user_report(res, report.parent / USER_REPORT)
     if args.json:
         print(json.dumps(clean(res), indent=1, allow_nan=False))

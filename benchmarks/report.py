@@ -49,6 +49,12 @@ def _s(x):
     return "-" if x is None else f"{x:.4g}"
 
 
+def is_docs_page(report: Path) -> bool:
+    """Whether ``report`` is the documentation's performance page (docs/performance.md), which
+    includes its companion pages; any other report is one self-contained file."""
+    return report.name == "performance.md" and report.parent.name == "docs"
+
+
 def markdown(res: dict, report: Path, figures: dict) -> str:
     meta, v = res["meta"], res["meta"]["versions"]
     out = []
@@ -110,22 +116,26 @@ def markdown(res: dict, report: Path, figures: dict) -> str:
         p("")
         p("## What a user gets: the public API against plain SciPy")
         p("")
-        p(
-            f"{USER_REPORT}, included here, is written by the full run and by `python scripts/bench_user.py` alone; "
-            "its header says which, when and under what load."
-        )
+        if is_docs_page(report):
+            p(
+                f"{USER_REPORT}, included here, is written by the full run and by `python scripts/bench_user.py` "
+                "alone; its header says which, when and under what load."
+            )
+            p("")
+            p(f"```{{include}} {USER_REPORT}")
+            p(":heading-offset: 2")
+            p("```")
+        else:  # a report of the user's own: one file, the section inline
+            p("\n".join("##" + line if line.startswith("#") else line for line in user_report(res).splitlines()))
+    if is_docs_page(report):
         p("")
-        p(f"```{{include}} {USER_REPORT}")
+        p("## Start-up: what a shell loop pays per command")
+        p("")
+        p(f"{STARTUP_REPORT}, included here, is written by `python scripts/bench_startup.py`; its header says when.")
+        p("")
+        p(f"```{{include}} {STARTUP_REPORT}")
         p(":heading-offset: 2")
         p("```")
-    p("")
-    p("## Start-up: what a shell loop pays per command")
-    p("")
-    p(f"{STARTUP_REPORT}, included here, is written by `python scripts/bench_startup.py`; its header says when.")
-    p("")
-    p(f"```{{include}} {STARTUP_REPORT}")
-    p(":heading-offset: 2")
-    p("```")
     p("")
     p("## Cases")
     for c in res["cases"]:

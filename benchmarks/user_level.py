@@ -8,7 +8,7 @@
   notes' Euler-angle equations in Python floats (the quaternion and omega equations for the
   nearly sleeping top, where the Euler-angle ones cancel), ``t_eval`` the same times,
   no events.
-* ``user_free``: ``FreeRotation(moments, omega0).evaluate(t)`` for the generic body of
+* ``user_free``: ``FreeRotation(moments, omega0).to_dataset(t)`` for the generic body of
   issue 8 (I = 1, 2, 3 kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10,001 outputs); the
   Dataset holds omega and the attitude, so the baseline integrates both: Euler's equations
   and q' = q (0, omega) / 2 in Python floats.
@@ -44,7 +44,7 @@ __all__ = ["RTOL", "user_top_case", "user_free_case"]
 RTOL = 1e-12
 API_TOP = "wobble API: HeavyTop(...).motion(t)"
 API_TOP_BUILT = "wobble API: motion(t), top built"
-API_FREE = "wobble API: FreeRotation(...).evaluate(t)"
+API_FREE = "wobble API: FreeRotation(...).to_dataset(t)"
 PLAIN = "scipy DOP853 (plain, no events)"
 
 
@@ -226,9 +226,9 @@ def user_free_case(quick: bool) -> Case:
     t, (iw, iq) = grid(np.linspace(0.0, 1000.0, 10_001), ref_t, att_t)
     case = Case(
         "user_free",
-        "User level: FreeRotation(...).evaluate(t) against plain SciPy DOP853",
+        "User level: FreeRotation(...).to_dataset(t) against plain SciPy DOP853",
         "The generic free body of issue 8: I = (1, 2, 3) kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10,001 outputs. "
-        "wobble: FreeRotation(moments, omega0) with Quantities, then .evaluate(t): construction, omega and the "
+        "wobble: FreeRotation(moments, omega0) with Quantities, then .to_dataset(t): construction, omega and the "
         "attitude, the CF Dataset. SciPy: solve_ivp(method='DOP853', t_eval=t) on Euler's equations and the "
         "quaternion's, in Python floats, rtol 1e-12, no events.",
         "max of omega's relative error and the attitude angle (rad) at the mpmath reference times",
@@ -250,7 +250,7 @@ def user_free_case(quick: bool) -> Case:
         Run(
             API_FREE,
             "generic",
-            lambda: FreeRotation(m_q, w0_q).evaluate(ts),
+            lambda: FreeRotation(m_q, w0_q).to_dataset(ts),
             lambda ds: check(ds["omega"].values, ds["attitude"].values),
         )
     )
