@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import socket
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -31,15 +32,23 @@ def _needs_scheduler(argv) -> bool:
     return any(a.startswith("tcp://") for a in argv)
 
 
+def _listening(address) -> bool:
+    with socket.socket() as probe:
+        return probe.connect_ex(address) == 0
+
+
 @pytest.fixture(scope="module")
 def scheduler():
     """A local dask.distributed cluster on the address the help text names, one for every example
     that needs it (a second cluster started right after the first closed found the port still
     taken and skipped)."""
     distributed = pytest.importorskip("distributed")
-    with socket.socket() as probe:
-        if probe.connect_ex(SCHEDULER) == 0:
+    # A cluster this suite closed a moment ago may still be listening while it shuts down.
+    deadline = time.monotonic() + 30.0
+    while _listening(SCHEDULER):
+        if time.monotonic() > deadline:
             pytest.skip("port 8786 is taken by another process (a cluster of someone else's)")
+        time.sleep(0.5)
     cluster = distributed.LocalCluster(
         host=SCHEDULER[0],
         scheduler_port=SCHEDULER[1],

@@ -55,7 +55,6 @@ def test_same_seed_same_numbers_whatever_the_chunking_and_scheduler(chunk, sched
     xr.testing.assert_identical(reference, other)
 
 
-@pytest.mark.xdist_group("port-8786")  # in the worker of the help examples that start a scheduler on 8786
 def test_distributed_cluster_matches_serial():
     from distributed import Client, LocalCluster
 
