@@ -183,8 +183,8 @@ def test_a_stale_temporary_of_a_killed_run_is_removed_by_the_next_write(tmp_path
 
 def test_top_plot_whose_grid_starts_a_half_period_before_zero(tmp_path, monkeypatch, capsys):
     # Was (fuzzer, 10,000-input run): IndexError in top_series._motion_numpy. The table of whole
-    # half-periods starts at the grid's smallest j; a start at j = -1 was taken for the
-    # 'one entry per sample' sentinel (-1) and indexed past the table's end.
+    # half-periods starts at the grid's smallest j; a negative start was taken for the
+    # 'one entry per sample' sentinel (any base below 0) and indexed past the table's end.
     monkeypatch.chdir(tmp_path)
     argv = ["top", "--I1", "31.9695 kg m2", "--I3", "13.3365", "--mgl", "20.7879", "--theta0", "70.24"]
     argv += ["--omega3", "-3.917 deg/d", "--phidot0", "9.807", "--t-end", "3.663", "--phi0", "74.14"]
@@ -194,30 +194,33 @@ def test_top_plot_whose_grid_starts_a_half_period_before_zero(tmp_path, monkeypa
     assert (tmp_path / "out.nc").stat().st_size > 0 and (tmp_path / "fig.svg").stat().st_size > 0
 
 
-@pytest.mark.parametrize("samples", [1001, 8193])  # the NumPy evaluation and the compiled one
-def test_top_motion_on_grids_over_negative_half_periods_matches_each_time_alone(samples):
-    # Grids whose whole half-periods start below zero (any negative start, not only -1) against
-    # the same times evaluated one by one (a table of one entry each).
+@pytest.mark.parametrize("samples", [2001, 8193])  # the series in NumPy (1024 to 8191 times) and compiled
+def test_top_motion_over_negative_times_is_time_reversal_symmetric(samples):
+    # The same defect at any negative start of the whole half-periods (every base below 0 was
+    # taken for the sentinel): the NumPy series raised IndexError (the compiled kernel had the same
+    # test; this grid did not show it there, but the case keeps that route covered). Ground truth: a top released at a turning point (thetadot0 = 0) moves symmetrically in
+    # time, theta(-t) = theta(t), phi(-t) = 2 phi0 - phi(t), psi(-t) = 2 psi0 - psi(t).
     import numpy as np
     from astropy import units as u
 
     from wobble import HeavyTop
 
-    top = HeavyTop(1 * u.kg * u.m**2, 0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * u.rad / u.s)
-    t = np.linspace(-40.0, 25.0, samples)
-    grid = top.motion(t * u.s)
-    for i in np.linspace(0, samples - 1, 9).astype(int):
-        one = top.motion(t[i : i + 1] * u.s)
-        for name in ("theta", "phi", "psi"):
-            assert abs(float(grid[name][i]) - float(one[name][0])) < 1e-12, (name, t[i])
-
-
-@pytest.mark.parametrize("members", ["99999999999999999999", str(2**63)])
-def test_sweep_members_beyond_a_64_bit_index_are_refused(members, capsys):
-    # Was (fuzzer, 10,000-input run): --members 99999999999999999999 started a sweep that would never end.
-    code, out, err = _run(["sweep", "mars_chandler", "--members", members, "--json"], capsys)
-    assert code == 2 and out == ""
-    assert err == (
-        f"wobble sweep: error: --members: got {members}; allowed: a positive integer up to 2**63 - 1 "
-        "(a member's index is a 64-bit integer)\n"
+    phi0, psi0 = 0.3, -1.1
+    top = HeavyTop(
+        1 * u.kg * u.m**2,
+        0.5 * u.kg * u.m**2,
+        mgl=1 * u.J,
+        theta0=60 * u.deg,
+        omega3=10 * u.rad / u.s,
+        phi0=phi0 * u.rad,
+        psi0=psi0 * u.rad,
     )
+    ds = top.motion(np.linspace(-25.0, 25.0, samples) * u.s)  # whole half-periods from about -20 to 20
+    theta, phi, psi = (ds[name].values for name in ("theta", "phi", "psi"))
+
+    def wrapped(a):
+        return np.abs(np.angle(np.exp(1j * a)))
+
+    assert np.max(np.abs(theta - theta[::-1])) < 1e-13
+    assert np.max(wrapped(phi + phi[::-1] - 2 * phi0)) < 1e-11
+    assert np.max(wrapped(psi + psi[::-1] - 2 * psi0)) < 1e-11

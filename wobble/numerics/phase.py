@@ -25,7 +25,8 @@ from wobble.numerics.double_double import two_prod, two_sum
 __all__ = ["split_dd", "reduce_phase", "PER_SAMPLE"]
 
 # The index base that means 'one table entry per sample': no dense range of whole half-periods
-# starts there (|j| stays far below 2**62), unlike -1, where a range over negative times starts.
+# starts there (|j| stays far below 2**62); the earlier test 'base < 0' took every range over
+# negative times for it.
 PER_SAMPLE = -(2**62)
 
 
