@@ -48,24 +48,12 @@ from pathlib import Path
 
 from hypothesis import strategies as st
 
+from wobble.cli import SUBCOMMANDS
+
 __all__ = ["COMMANDS", "BOUNDS", "Case", "Outcome", "run_case", "case_strategy", "signature", "minimize"]
 
-COMMANDS = (
-    "chandler",
-    "modes",
-    "precession",
-    "polar-motion",
-    "excitation",
-    "forecast",
-    "inertia",
-    "free",
-    "top",
-    "run",
-    "sweep",
-    "invert",
-    "example",
-    "bench",
-)
+# Every subcommand, as typed: a new one fails the suite until it has a strategy (_BUILDERS).
+COMMANDS = tuple(name.replace("_", "-") for name in SUBCOMMANDS)
 
 #: Seconds one generated input may take (in-process, on a busy two-core machine); beyond it is a hang.
 #: Generous: the slowest valid inputs take a few seconds on a quiet machine, ten times that on a loaded one.

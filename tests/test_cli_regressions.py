@@ -198,8 +198,9 @@ def test_top_plot_whose_grid_starts_a_half_period_before_zero(tmp_path, monkeypa
 def test_top_motion_over_negative_times_is_time_reversal_symmetric(samples):
     # The same defect at any negative start of the whole half-periods (every base below 0 was
     # taken for the sentinel): the NumPy series raised IndexError (the compiled kernel had the same
-    # test; this grid did not show it there, but the case keeps that route covered). Ground truth: a top released at a turning point (thetadot0 = 0) moves symmetrically in
-    # time, theta(-t) = theta(t), phi(-t) = 2 phi0 - phi(t), psi(-t) = 2 psi0 - psi(t).
+    # test; this grid did not show it there, but the case keeps that route covered). Ground truth:
+    # a top released at a turning point (thetadot0 = 0) moves symmetrically in time:
+    # theta(-t) = theta(t), phi(-t) = 2 phi0 - phi(t), psi(-t) = 2 psi0 - psi(t).
     import numpy as np
     from astropy import units as u
 
