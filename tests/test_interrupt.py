@@ -23,6 +23,22 @@ import pytest
 PREVIOUS = b"previous result\n"
 
 
+def _big_sweep(output: str) -> list[str]:
+    """A sweep long enough to interrupt (10^6 members in blocks of 20,000) that replaces ``output``."""
+    return [
+        "sweep",
+        "mars_chandler",
+        "--members",
+        "1000000",
+        "--chunk-size",
+        "20000",
+        "-o",
+        output,
+        "--overwrite",
+        "--quiet",
+    ]
+
+
 def _env():
     env = dict(os.environ)
     env.update(MPLBACKEND="Agg", OMP_NUM_THREADS="1", PYTHONWARNINGS="ignore")
@@ -128,18 +144,7 @@ def test_ctrl_c_during_a_big_sweep_keeps_the_previous_file(tmp_path, output):
     target = tmp_path / output
     target.write_bytes(PREVIOUS)  # a previous result that --overwrite would replace on success
     proc = _start(
-        [
-            "sweep",
-            "mars_chandler",
-            "--members",
-            "1000000",
-            "--chunk-size",
-            "20000",
-            "-o",
-            output,
-            "--overwrite",
-            "--quiet",
-        ],
+        _big_sweep(output),
         tmp_path,
     )
     _wait_until(proc, lambda: any(n.endswith(".tmp") for n in _temporaries(tmp_path)), "the temporary output appeared")
@@ -211,18 +216,7 @@ def test_sigkill_leaves_only_a_temporary_that_the_next_run_removes(tmp_path):
     target = tmp_path / "big.nc"
     target.write_bytes(PREVIOUS)
     proc = _start(
-        [
-            "sweep",
-            "mars_chandler",
-            "--members",
-            "1000000",
-            "--chunk-size",
-            "20000",
-            "-o",
-            "big.nc",
-            "--overwrite",
-            "--quiet",
-        ],
+        _big_sweep("big.nc"),
         tmp_path,
     )
     _wait_until(proc, lambda: bool(_temporaries(tmp_path)), "the temporary output appeared")
