@@ -11,6 +11,11 @@ dask.distributed scheduler gets one started here first.
 
 from __future__ import annotations
 
+try:
+    import fcntl
+except ImportError:  # Windows: no lock, the examples may then skip when run in parallel
+    fcntl = None
+
 import socket
 import sys
 import time
@@ -37,39 +42,38 @@ def _listening(address) -> bool:
         return probe.connect_ex(address) == 0
 
 
-@pytest.fixture(scope="module")
-def scheduler():
-    """A local dask.distributed cluster on the address the help text names, one for every example
-    that needs it (a second cluster started right after the first closed found the port still
-    taken and skipped)."""
+@pytest.fixture
+def scheduler(tmp_path_factory):
+    """A local dask.distributed cluster on the address the help text names.
+
+    The suite runs in several processes (pytest-xdist) and two examples need this port: a lock
+    file shared by the processes lets one cluster exist at a time (the other waits for it), so
+    neither finds the port taken and skips. Only a cluster of someone else's skips the test.
+    """
     distributed = pytest.importorskip("distributed")
-    # A cluster this suite closed a moment ago may still be listening while it shuts down.
-    deadline = time.monotonic() + 30.0
-    while _listening(SCHEDULER):
-        if time.monotonic() > deadline:
-            pytest.skip("port 8786 is taken by another process (a cluster of someone else's)")
-        time.sleep(0.5)
-    cluster = distributed.LocalCluster(
-        host=SCHEDULER[0],
-        scheduler_port=SCHEDULER[1],
-        n_workers=1,
-        threads_per_worker=2,
-        processes=False,
-        dashboard_address=None,
-    )
-    yield cluster
-    cluster.close()
+    with open(tmp_path_factory.getbasetemp().parent / "port-8786.lock", "w") as lock:
+        if fcntl is not None:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        deadline = time.monotonic() + 30.0  # a cluster closed a moment ago may still be listening
+        while _listening(SCHEDULER):
+            if time.monotonic() > deadline:
+                pytest.skip("port 8786 is taken by another process (a cluster of someone else's)")
+            time.sleep(0.5)
+        cluster = distributed.LocalCluster(
+            host=SCHEDULER[0],
+            scheduler_port=SCHEDULER[1],
+            n_workers=1,
+            threads_per_worker=2,
+            processes=False,
+            dashboard_address=None,
+        )
+        try:
+            yield cluster
+        finally:
+            cluster.close()
 
 
-def _params():
-    # Examples that need the scheduler on its fixed port run in one test worker (pytest-xdist):
-    # two workers starting it at once would make one of them skip.
-    for name in sorted(EXAMPLES):
-        marks = [pytest.mark.xdist_group("port-8786")] if any(map(_needs_scheduler, EXAMPLES[name])) else []
-        yield pytest.param(name, marks=marks)
-
-
-@pytest.mark.parametrize("name", list(_params()))
+@pytest.mark.parametrize("name", sorted(EXAMPLES))
 def test_every_help_example_runs_in_an_empty_folder(name, tmp_path, monkeypatch, capsys, request):
     monkeypatch.chdir(tmp_path)
     ran = 0
