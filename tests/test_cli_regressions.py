@@ -10,6 +10,7 @@ import os
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -126,8 +127,8 @@ def test_invert_seed_too_large_for_the_file_is_refused_before_sampling(capsys):
     code, out, err = _run(["invert", "mars", "--seed", "99999999999999999999", "-o", "idata.nc"], capsys)
     assert code == 2
     assert err == (
-        "wobble invert: error: --seed: got 99999999999999999999; allowed: a non-negative integer below "
-        "2**63 (9223372036854775808)\n"
+        "wobble invert: error: --seed: got 99999999999999999999; allowed: a non-negative integer up to "
+        "2**63 - 1 (the file records it as a 64-bit integer)\n"
     )
 
 
@@ -225,3 +226,49 @@ def test_top_motion_over_negative_times_is_time_reversal_symmetric(samples):
     assert np.max(np.abs(theta - theta[::-1])) < 1e-13
     assert np.max(wrapped(phi + phi[::-1] - 2 * phi0)) < 1e-11
     assert np.max(wrapped(psi + psi[::-1] - 2 * psi0)) < 1e-11
+
+
+@pytest.mark.parametrize("members", ["99999999999999999999", str(2**63)])
+def test_sweep_members_beyond_a_64_bit_index_are_refused(members, capsys):
+    # Was (fuzzer, 10,000-input run): --members 99999999999999999999 started a sweep that would never end.
+    code, out, err = _run(["sweep", "mars_chandler", "--members", members, "--json"], capsys)
+    assert code == 2 and out == ""
+    assert err == (
+        f"wobble sweep: error: --members: got {members}; allowed: a positive integer up to 2**63 - 1 "
+        "(the file records it as a 64-bit integer)\n"
+    )
+
+
+@pytest.mark.parametrize(("key", "value"), [("members", 10**20), ("members", 2**63), ("seed", 10**20), ("seed", 2**63)])
+def test_sweep_file_integers_beyond_64_bits_are_refused_naming_the_file(key, value, tmp_path, capsys):
+    # Was (review): members = 10**20 in a sweep file raised TypeError in np.isfinite (a traceback),
+    # and seed = 10**20 ran the whole sweep, then raised TypeError writing the seed attribute.
+    import re
+
+    from wobble.io.shipped import resolve
+
+    text = Path(resolve("mars_chandler", "sweeps", "SWEEP", (".toml",))).read_text()
+    path = tmp_path / "big.toml"
+    path.write_text(re.sub(rf"(?m)^{key} = .*$", f"{key} = {value}", text))
+    code, out, err = _run(["sweep", str(path), "-o", str(tmp_path / "out.nc")], capsys)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and f"{path}, {key}: got {value}" in err and "up to 2**63 - 1" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.toml"]
+
+
+def test_inversion_seeds_beyond_64_bits_are_refused_in_the_api_and_the_setup_file(tmp_path):
+    # Was (review): only the command line's --seed was checked; wobble.invert(seed=2**64) and a
+    # setup file's [sampler] seed ran the whole inversion, then failed writing the file.
+    import re
+
+    import wobble
+    from wobble.errors import InputError, WobbleError
+    from wobble.io.shipped import resolve
+
+    with pytest.raises(InputError, match=r"^seed: got 18446744073709551616; allowed: a non-negative integer up to"):
+        wobble.invert("mars", steps=10, burn=0, seed=2**64)
+    text = Path(resolve("mars", "inversions", "SETUP", (".toml",))).read_text()
+    path = tmp_path / "setup.toml"
+    path.write_text(re.sub(r"(?m)^seed = .*$", f"seed = {2**64}", text))
+    with pytest.raises(WobbleError, match=r"sampler\.seed: got 18446744073709551616; allowed"):
+        wobble.load_inversion_setup(path)

@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wobble.errors import InputError
+from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
 from wobble.models.inversion.calibration import Recovery, central_interval, coverage, recover_one
 from wobble.models.inversion.likelihood import Posterior
@@ -749,8 +750,10 @@ def invert(
     Inversion
     """
     s = load_inversion_setup(setup)
-    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
-        raise InputError("seed", seed, "a non-negative integer")
+    if seed is not None and (
+        isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed <= INT64_MAX
+    ):
+        raise InputError("seed", seed, f"a non-negative integer {INT64_ALLOWED}")
     _check_scheduler(scheduler)
     settings = _settings(s, walkers=walkers, steps=steps, burn=burn, thin=thin, ensembles=ensembles)
     posterior = s.posterior(prior_only=prior_only)

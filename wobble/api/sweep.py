@@ -39,6 +39,7 @@ import xarray as xr
 
 from wobble.api.sweep_targets import TARGETS, ChandlerTarget, target_for
 from wobble.errors import InputError
+from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.netcdf import write_netcdf_blocks
 from wobble.io.sweep_file import (
     SweepSpec,
@@ -48,12 +49,7 @@ from wobble.io.sweep_file import (
 from wobble.io.zarr_store import is_zarr_path, open_wobble_zarr, write_zarr_blocks
 from wobble.models import chandler as chandler_model
 
-__all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep", "MAX_MEMBERS"]
-
-# A member's index is a 64-bit integer (the file's member coordinate and the counter of its
-# random draws): a larger sweep cannot be numbered, let alone run.
-MAX_MEMBERS = 2**63 - 1
-MAX_MEMBERS_ALLOWED = "a positive integer up to 2**63 - 1 (a member's index is a 64-bit integer)"
+__all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep"]
 
 DEFAULT_CHUNK = 20_000
 _LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -110,8 +106,8 @@ def _plan(spec: SweepSpec, chunk_size: int | None) -> _Plan:
         per_row = int(np.prod(shape[1:])) if len(shape) > 1 else 1
         rows = max(1, chunk // per_row)
     else:
-        if spec.members > MAX_MEMBERS:
-            raise InputError("members", spec.members, MAX_MEMBERS_ALLOWED)
+        if spec.members > INT64_MAX:  # a member's index is a coordinate of the file
+            raise InputError("members", spec.members, f"a positive integer {INT64_ALLOWED}")
         dims, shape, rows = ("member",), (spec.members,), chunk
     return _Plan(spec, target, dims, shape, rows)
 

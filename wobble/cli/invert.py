@@ -72,9 +72,10 @@ def run(args) -> int:
         value = getattr(args, name)
         if value is not None and value < 0:
             raise InputError(f"--{name}", value, "a non-negative integer")
-    if args.seed is not None and args.seed >= 2**63:
-        # The seed is recorded in the output file's attributes, as a 64-bit integer.
-        raise InputError("--seed", args.seed, "a non-negative integer below 2**63 (9223372036854775808)")
+    from wobble.io.cf import INT64_ALLOWED, INT64_MAX
+
+    if args.seed is not None and args.seed > INT64_MAX:
+        raise InputError("--seed", args.seed, f"a non-negative integer {INT64_ALLOWED}")
     for name in ("walkers", "steps", "ensembles"):
         value = getattr(args, name)
         if value is not None and value < 1:

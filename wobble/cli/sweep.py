@@ -72,10 +72,10 @@ def run(args) -> int:
     if args.members is not None:
         if spec.is_grid:
             raise InputError("--members", args.members, "only for random sweeps (a grid sets its own size)")
-        from wobble.api.sweep import MAX_MEMBERS, MAX_MEMBERS_ALLOWED
+        from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 
-        if not 0 < args.members <= MAX_MEMBERS:
-            raise InputError("--members", args.members, MAX_MEMBERS_ALLOWED)
+        if not 0 < args.members <= INT64_MAX:
+            raise InputError("--members", args.members, f"a positive integer {INT64_ALLOWED}")
         spec = replace(spec, members=args.members)
     if args.chunk_size is not None and args.chunk_size <= 0:
         raise InputError("--chunk-size", args.chunk_size, "a positive integer")

@@ -40,7 +40,14 @@ __all__ = [
     "label_coordinate",
     "with_member",
     "flag_attrs",
+    "INT64_MAX",
+    "INT64_ALLOWED",
 ]
+
+# The largest integer a file holds in an attribute or a coordinate (netCDF's int64): seeds are
+# recorded as attributes and member indices as a coordinate, so neither may exceed it.
+INT64_MAX = 2**63 - 1
+INT64_ALLOWED = "up to 2**63 - 1 (the file records it as a 64-bit integer)"
 
 # CF time units for elapsed simulation time (the epoch is nominal: J2000.0).
 SIMULATION_TIME_UNITS = "seconds since 2000-01-01 12:00:00"

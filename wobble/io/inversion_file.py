@@ -73,6 +73,7 @@ from pathlib import Path
 
 from astropy import units as u
 
+from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS, load_planet
 from wobble.io.density_profile import load_profile, profile_for_body
@@ -262,6 +263,8 @@ def _sampler(path, raw) -> tuple[SamplerSettings, int]:
                 f"sampler.{key}",
                 f"got {value!r}; allowed: a {'non-negative' if key in ('burn', 'seed') else 'positive'} integer",
             )
+        if key == "seed" and value > INT64_MAX:
+            raise FileFormatError(path, "sampler.seed", f"got {value}; allowed: a non-negative integer {INT64_ALLOWED}")
         kwargs[key] = value
     seed = kwargs.pop("seed", 0)
     return SamplerSettings(**kwargs), seed

@@ -44,12 +44,15 @@ API checks them (with the file and key in the message) before any work starts.
 
 from __future__ import annotations
 
+import math
+
 import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.errors import FileFormatError
 from wobble.io.parameter_file import read_toml
 
@@ -134,7 +137,7 @@ def _number(path, where, raw, *, integer=False, positive=False) -> float | int:
     if isinstance(raw, bool) or not isinstance(raw, (int, float)) or (integer and not isinstance(raw, int)):
         kind = "an integer" if integer else "a number"
         raise FileFormatError(path, where, f"got {raw!r}; allowed: {kind}")
-    if not np.isfinite(raw) or (positive and raw <= 0):
+    if not math.isfinite(raw) or (positive and raw <= 0):  # math: an integer past int64 is still a number
         raise FileFormatError(path, where, f"got {raw!r}; allowed: a {'positive' if positive else 'finite'} number")
     return raw
 
@@ -249,9 +252,11 @@ def sweep_spec_from_dict(data: dict, path: str | os.PathLike | None = None) -> S
         members = _number(where_path, "members", members, integer=True, positive=True) if members is not None else None
         if members is None:
             raise FileFormatError(where_path, "members", "missing; allowed: a positive integer (random sweeps)")
+        if members > INT64_MAX:
+            raise FileFormatError(where_path, "members", f"got {members}; allowed: a positive integer {INT64_ALLOWED}")
     seed = data.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise FileFormatError(where_path, "seed", f"got {seed!r}; allowed: a non-negative integer")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= INT64_MAX:
+        raise FileFormatError(where_path, "seed", f"got {seed!r}; allowed: a non-negative integer {INT64_ALLOWED}")
     chunk = data.get("chunk_size")
     if chunk is not None:
         chunk = _number(where_path, "chunk_size", chunk, integer=True, positive=True)
