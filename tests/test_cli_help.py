@@ -95,3 +95,16 @@ def test_readme_lists_every_command_and_the_docs_build():
     for name in COMMANDS:
         assert f"| `wobble {name}` |" in commands, f"README's Commands table lacks wobble {name}"
     assert "python -m sphinx -W docs docs/_build" in readme
+
+
+def test_version_is_the_installed_distributions():
+    # --version reads the version only when asked (importlib.metadata costs ~60 ms of every start-up).
+    import subprocess
+    import sys
+    from importlib.metadata import version
+
+    out = subprocess.run([sys.executable, "-m", "wobble", "--version"], capture_output=True, text=True, check=True)
+    assert out.stdout == f"wobble {version('wobble')}\n" and out.stderr == ""
+    import wobble
+
+    assert wobble.__version__ == version("wobble") and "__version__" in dir(wobble)

@@ -90,7 +90,8 @@ class _VersionAction(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):
         from wobble import __version__
 
-        parser.exit(message=f"wobble {__version__}\n")
+        print(f"wobble {__version__}")  # on stdout, as argparse's own version action
+        parser.exit()
 
 
 def build_parser() -> argparse.ArgumentParser:
