@@ -5,8 +5,9 @@
 Each command runs as a fresh process (what a shell loop pays every time): the minimum and
 the median wall time of the runs, after two warm-up runs. Targets (issue 15): ``wobble --help``
 within 0.3 s and ``wobble chandler earth --json`` within 0.8 s; ``wobble modes earth mars`` within 1 s
-(issue 17 asks for that after start-up; the whole process is timed here). The import profile of each
-command (``python -X importtime``) names what is loaded, so a regression is easy to find.
+after start-up (issue 17): a fresh process imports what the command imports, then times the command's
+own run in the same process; the whole process is timed too. The import profile of each command
+(``python -X importtime``) names what is loaded, so a regression is easy to find.
 """
 
 from __future__ import annotations
@@ -27,8 +28,7 @@ COMMANDS = (
     ("wobble --help", [sys.executable, "-m", "wobble", "--help"], 0.3),
     ("wobble chandler earth --json", [sys.executable, "-m", "wobble", "chandler", "earth", "--json"], 0.8),
     ("wobble chandler earth mars", [sys.executable, "-m", "wobble", "chandler", "earth", "mars"], None),
-    # Issue 17: the normal modes within a second after start-up (here: with it, the stricter reading).
-    ("wobble modes earth mars", [sys.executable, "-m", "wobble", "modes", "earth", "mars"], 1.0),
+    ("wobble modes earth mars", [sys.executable, "-m", "wobble", "modes", "earth", "mars"], None),
     ("wobble precession earth mars", [sys.executable, "-m", "wobble", "precession", "earth", "mars"], None),
     (
         "wobble inertia --solid ellipsoid ...",
@@ -46,6 +46,39 @@ def wall_times(argv, runs: int) -> list[float]:
         subprocess.run(argv, check=True, capture_output=True, cwd=ROOT)
         if i >= 2:  # two warm-up runs fill the file cache (and Python's bytecode cache)
             times.append(time.perf_counter() - t0)
+    return times
+
+
+# Issue 17: the normal modes within a second after start-up. The start-up (interpreter, NumPy,
+# astropy, wobble's modules) is paid first; the command's own run is then timed in the process.
+AFTER_STARTUP = (("wobble modes earth mars", ["modes", "earth", "mars"], ("wobble.cli", "wobble.api.modes"), 1.0),)
+_AFTER_STARTUP_CODE = """
+import contextlib, io, importlib, sys, time
+for name in sys.argv[2:]:
+    importlib.import_module(name)
+import wobble.cli
+args = sys.argv[1].split()
+t0 = time.perf_counter()
+with contextlib.redirect_stdout(io.StringIO()):
+    status = wobble.cli.main(args)
+print(time.perf_counter() - t0, status)
+"""
+
+
+def after_startup_times(args, modules, runs: int) -> list[float]:
+    times = []
+    for i in range(runs + 2):
+        out = subprocess.run(
+            [sys.executable, "-c", _AFTER_STARTUP_CODE, " ".join(args), *modules],
+            check=True,
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+        ).stdout.split()
+        if out[1] != "0":
+            raise SystemExit(f"wobble {' '.join(args)} exited {out[1]}")
+        if i >= 2:
+            times.append(float(out[0]))
     return times
 
 
@@ -83,6 +116,14 @@ def report(runs: int) -> str:
         met = "-" if target is None else ("yes" if mid <= target else "no")
         imports = heaviest_imports(argv) if label.startswith("wobble") or "import wobble" in label else ""
         lines.append(f"| `{label}` | {best:.3f} | {mid:.3f} | {target if target else '-'} | {met} | {imports} |")
+    for label, args, modules, target in AFTER_STARTUP:
+        t = after_startup_times(args, modules, runs)
+        best, mid = min(t), statistics.median(t)
+        met = "yes" if mid <= target else "no"
+        lines.append(
+            f"| `{label}`, after start-up | {best:.3f} | {mid:.3f} | {target} | {met} | "
+            f"(imported first: {', '.join(modules)}) |"
+        )
     lines += [
         "",
         "`python -c 'import sys'` is the interpreter's own start-up, the floor under every command.",
@@ -90,6 +131,9 @@ def report(runs: int) -> str:
         "the public names on first use (lazy_loader, SPEC 1); a command imports what it uses, so the",
         "Chandler table needs astropy.units and NumPy but not xarray, pandas, dask, matplotlib or Numba",
         "(tests/test_architecture.py checks that; this page measures the time).",
+        "A row *after start-up* times the command's own run in a process that has already imported",
+        "the modules named (issue 17's reading of its target: the physics, not the interpreter and",
+        "astropy's import); the row without the suffix is the whole process.",
         "",
     ]
     return "\n".join(lines)

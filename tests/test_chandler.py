@@ -251,6 +251,18 @@ def test_uncertainty_is_linear_propagation(earth):
     assert b.period_sigma == pytest.approx(b.period_sigma_linear, rel=4 / np.sqrt(2 * MC_DRAWS))
 
 
+def test_budget_without_uncertainty_has_the_same_steps_and_no_sigma(earth):
+    """``uncertainty=False`` (what the normal modes use) skips the propagation, nothing else; the
+    rigid step is the closed form T = T_sid (1 - H)/H of a symmetric body."""
+    full, bare = chandler_budget(earth), chandler_budget(earth, uncertainty=False)
+    assert bare.steps == full.steps
+    assert math.isnan(bare.period_sigma) and math.isnan(bare.period_sigma_linear) and not bare.contributions
+    symmetric = replace(earth, c22=None, s22=None)
+    h = symmetric.dynamical_flattening.value
+    rigid = chandler_budget(symmetric, "rigid", uncertainty=False)
+    assert rigid.period == pytest.approx(2 * math.pi / earth.rotation_rate.value * (1 - h) / h, rel=1e-14)
+
+
 def test_uncertainty_is_the_monte_carlo_spread_of_a_nonlinear_model(earth):
     """A 10 % uncertainty on H: T = T_sid (1 - H)/H is far from linear, and the budget's sigma is
     the standard deviation of T over the normal H, computed here by mpmath quadrature."""

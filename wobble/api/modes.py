@@ -28,12 +28,13 @@ import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
-from wobble.api.chandler import Planet, chandler_budget, load_planet
+from wobble.api.chandler import Planet, load_planet
 from wobble.api.units import spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile
 from wobble.io.text import with_uncertainty
+from wobble.models import chandler as _chandler
 from wobble.models import hydrostatic as _hydro
 from wobble.models import modes as _modes
 
@@ -653,7 +654,9 @@ def normal_modes(
     if modes is not None:
         modes = tuple(str(m).strip().upper() for m in modes)
     raw = _modes.normal_modes(planet.parameters, e_f, modes)
-    return NormalModes(planet, raw, figure, chandler_budget(planet).period)
+    # Only the budget's period is wanted here, not its Monte Carlo uncertainty.
+    budget = _chandler.chandler_budget(planet.parameters, uncertainty=False)
+    return NormalModes(planet, raw, figure, (budget.period << u.s).to(u.day))
 
 
 def modes_dataset(results: list[NormalModes]) -> xr.Dataset:

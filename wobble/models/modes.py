@@ -77,13 +77,24 @@ def love_number_at(p: PlanetParameters, rate: float) -> float:
     0 for a planet without k2 (rigid); the anelastic model of IERS Conventions
     (2010) eq. 6.12 where the catalogue has its parameters.
     """
+    return _love_number_function(p)(rate)
+
+
+def _love_number_function(p: PlanetParameters):
+    """``rate -> Re k2`` of :func:`love_number_at` for one planet, its parameters read once.
+
+    The mode iteration calls it a few times per mode and per perturbed planet; building
+    the parameter arrays on every call cost more than the eigenproblem.
+    """
     steps = chandler.available_steps(p)
     ocean = p.ocean_pole_tide_love_number.value if "ocean_pole_tide" in steps else 0.0
     if "anelastic" in steps:
-        return chandler.anelastic_love_number(p, rate)[0] + ocean
+        k_at = chandler.anelastic_love_number_function(p)
+        return lambda rate: k_at(rate)[0] + ocean
     if "elastic" in steps:
-        return p.love_number_k2.value + ocean
-    return 0.0
+        k = p.love_number_k2.value + ocean
+        return lambda rate: k
+    return lambda rate: 0.0
 
 
 def _matrices(ratios, k, e_f, beta, gamma, coupled, second_order):
@@ -163,10 +174,11 @@ def mode_rates(
     if ratios["core"] is not None and coupled and "FCN" in which:
         guesses["FCN"] = -spin * (1.0 + e_f / (1.0 - ratios["core"]))
     out = {}
+    k_at = _love_number_function(p)
     for name, rate in guesses.items():
         step = math.inf
         for _ in range(_K_MAX):
-            k = love_number_at(p, rate)
+            k = k_at(rate)
             m, kmat = _matrices(ratios, k, e_f, beta, gamma, coupled, second_order)
             freqs = _signed_frequencies(m, kmat, spin)
             new = float(freqs[np.argmin(np.abs(freqs - rate))])
@@ -179,7 +191,7 @@ def mode_rates(
             raise InputError(
                 "anelastic_exponent", p.anelastic_exponent, f"parameters for which the {name} frequency converges"
             )
-        out[name] = (sign * rate, love_number_at(p, rate))
+        out[name] = (sign * rate, k_at(rate))
     return out
 
 
