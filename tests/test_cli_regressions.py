@@ -57,6 +57,20 @@ def test_inertia_about_a_point_whose_shift_overflows_is_an_input_error(capsys):
     assert err.startswith("wobble inertia: error: point: got (1e+300, 0.0, 0.0); allowed: a point whose parallel-axis")
 
 
+def test_a_finite_value_that_overflows_in_si_is_one_line_without_a_warning(capsys):
+    # Was (fuzz run of 2026-11-28): astropy's "overflow encountered in multiply" on stderr before
+    # the refusal (three lines; under warnings-as-errors a traceback and exit 1).
+    code, out, err = _run(
+        ["inertia", "--solid", "cone", "--mass", "1e300 Msun", "--radius", "1e300", "--height", "1 km", "--json"],
+        capsys,
+    )
+    assert code == 2 and out == ""
+    assert err == (
+        "wobble inertia: error: mass: got 1e+300 solMass; allowed: values that stay finite in kg "
+        "(at most ~1.8e308 kg)\n"
+    )
+
+
 def test_free_plot_of_a_body_at_rest_draws_without_warnings(tmp_path, capsys):
     # Was: "invalid value encountered in divide" normalising L = 0 for the polhode (warnings are errors here).
     code, out, err = _run(

@@ -89,36 +89,46 @@ def to_si(
     # it costs more than the conversion itself.
     if not isinstance(value, u.Quantity):
         raise InputError(name, value, describe_unit(unit) + "; a plain number has no unit")
-    try:
-        # Plain conversion first: astropy tries it first with equivalencies too (same
-        # result), and the equivalencies' set-up costs several times the conversion.
-        si = np.asarray(value.to_value(unit), dtype=float)
-    except u.UnitConversionError:
-        if not equivalencies:
-            raise InputError(name, value, describe_unit(unit)) from None
+    # A finite value whose conversion overflows (1e300 Msun in kg) becomes inf and is refused
+    # below with one line, without NumPy's overflow warning on stderr before it.
+    with np.errstate(over="ignore"):
         try:
-            si = np.asarray(value.to_value(unit, equivalencies=equivalencies), dtype=float)
+            # Plain conversion first: astropy tries it first with equivalencies too (same
+            # result), and the equivalencies' set-up costs several times the conversion.
+            si = np.asarray(value.to_value(unit), dtype=float)
         except u.UnitConversionError:
-            raise InputError(name, value, describe_unit(unit)) from None
+            if not equivalencies:
+                raise InputError(name, value, describe_unit(unit)) from None
+            try:
+                si = np.asarray(value.to_value(unit, equivalencies=equivalencies), dtype=float)
+            except u.UnitConversionError:
+                raise InputError(name, value, describe_unit(unit)) from None
     if shape is not None and si.shape != shape:
         want = "a scalar" if shape == () else f"shape {shape}"
         raise InputError(name, value, f"{want} ({describe_unit(unit)})")
     if si.ndim == 0:  # a scalar: Python comparisons, no array reductions
         x = float(si)
         if finite and not math.isfinite(x):
-            raise InputError(name, value, "finite values (no NaN or inf)")
+            raise InputError(name, value, _finite_allowed(value, unit))
         if positive and not x > 0:
             raise InputError(name, value, f"positive values ({describe_unit(unit)})")
         if nonnegative and not x >= 0:
             raise InputError(name, value, f"non-negative values ({describe_unit(unit)})")
         return x
     if finite and not np.all(np.isfinite(si)):
-        raise InputError(name, value, "finite values (no NaN or inf)")
+        raise InputError(name, value, _finite_allowed(value, unit))
     if positive and not np.all(si > 0):
         raise InputError(name, value, f"positive values ({describe_unit(unit)})")
     if nonnegative and not np.all(si >= 0):
         raise InputError(name, value, f"non-negative values ({describe_unit(unit)})")
     return si
+
+
+def _finite_allowed(value: u.Quantity, unit: u.UnitBase) -> str:
+    """What a non-finite conversion is told: finite values, or values that fit a double in ``unit``."""
+    if np.all(np.isfinite(value.value)):
+        return f"values that stay finite in {unit.to_string()} (at most ~1.8e308 {unit.to_string()})"
+    return "finite values (no NaN or inf)"
 
 
 def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool = True):
