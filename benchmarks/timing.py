@@ -21,6 +21,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+#: The environment for timing a command as a fresh process the way a user runs it: a user's Python
+#: caches the bytecode of what it imports (__pycache__); a session that sets PYTHONDONTWRITEBYTECODE
+#: would compile wobble's modules from source on every run and time that instead.
+USER_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+
 
 @dataclass
 class Run:

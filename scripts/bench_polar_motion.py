@@ -23,6 +23,11 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # benchmarks/ is a folder of the checkout, not installed
+
+# Without PYTHONDONTWRITEBYTECODE: the warm-up runs fill the bytecode cache as a user's runs do.
+from benchmarks.timing import USER_ENV  # noqa: E402 - after sys.path.insert(0, ROOT)
+
 OUT = ROOT / "docs" / "performance-polar-motion.md"
 # What the numbers mean; kept in the page.
 NOTES = """Where the time of a calibrated one-year forecast goes (CPU): the Kalman model's maximum
@@ -30,13 +35,18 @@ likelihood (L-BFGS-B on the steady-state filter, 40-220 evaluations of about 2.5
 filter's weights for a ten-year span (a covariance recursion of 3653 steps, about 0.1 s), the
 Chandler period from 30 years (0.07 s), and the calibration's 157 past forecasts: one matrix product
 for the Kalman model, 157 least-squares fits and 314 AR order selections for LS+AR (about 8 ms each),
-which is why the LS+AR forecast is the slower one: calibrated, it misses the 1 s target; the Kalman
-forecast, the default, meets it. The hindcast runs 13-week blocks in two processes;
-a block computes the past forecasts of all its issues once.
+which is why the LS+AR forecast is the slower one (calibrated, close to the 1 s target on a quiet
+machine, over it on a loaded one); the Kalman forecast, the default, meets it with room. The
+hindcast runs 13-week blocks in two processes; a block computes the past forecasts of all its issues
+once.
 
-`wobble polar-motion` misses its 2 s target by far. Where its time goes (CPU): imports about 1 s
-(SciPy's optimisers 0.4 s; xarray and, through it, dask 0.5 s), the Q profile (46 Nelder-Mead searches of about 145
-evaluations each), the 57 sliding windows and the two Monte-Carlo excitation terms."""
+`wobble polar-motion` misses its 2 s target. Where its time goes (CPU seconds on a quiet machine,
+2026-11-28, by stage of `polar_motion_analysis`): imports 0.8; reading the C04 record, with the imports
+done on first use (xarray and, through its duck-array check, dask) 0.5; the least-squares fit 0.4; the
+spectral estimate and spectrum 0.8 (single-frequency Fourier sums over 23,648 samples in the peak
+refinement); the 57 sliding windows 0.7; the Q profile (46 Nelder-Mead searches of about 145 evaluations
+each) and the budget 0.4. Under 2 s needs the text and JSON path free of xarray and about half the
+computation."""
 
 
 def load() -> str:
@@ -54,7 +64,7 @@ def best_wall(argv, repeat=3) -> tuple[float, float, str]:
     times = []
     for _ in range(repeat):
         t0, c0 = time.perf_counter(), children_cpu()
-        subprocess.run(argv, check=True, capture_output=True)
+        subprocess.run(argv, check=True, capture_output=True, env=USER_ENV)
         times.append((time.perf_counter() - t0, children_cpu() - c0))
     wall, cpu = min(times)
     return wall, cpu, f"{before} / {load()}"

@@ -23,10 +23,11 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-# A user's Python caches the bytecode of the modules it imports (__pycache__); a session that sets
-# PYTHONDONTWRITEBYTECODE would compile wobble's modules from source on every run and time that.
-# The commands run without it, so the warm-up runs fill the bytecode cache as they would for a user.
-ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+sys.path.insert(0, str(ROOT))  # benchmarks/ is a folder of the checkout, not installed
+
+# Without PYTHONDONTWRITEBYTECODE: the warm-up runs fill the bytecode cache as a user's runs do.
+from benchmarks.timing import USER_ENV as ENV  # noqa: E402 - after sys.path.insert(0, ROOT)
+
 COMMANDS = (
     ("python -c 'import wobble'", [sys.executable, "-c", "import wobble"], None),
     ("wobble --help", [sys.executable, "-m", "wobble", "--help"], 0.3),
