@@ -319,7 +319,11 @@ def main(argv=None) -> int:
         help="run only this part and replace its section of the existing report, keeping the others "
         "(their timings stay those of the run that wrote them)",
     )
-    args = parser.parse_args(argv)
+    typed = sys.argv[1:] if argv is None else list(argv)
+    args = parser.parse_args(typed)
+    if args.only and args.quick:
+        # A 10-draw smoke run must not replace the section of the report the docs show.
+        parser.error("--only replaces a section of the report; --quick runs are printed, not written")
     draws = 10 if args.quick else args.draws
     started = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     load = os.getloadavg() if hasattr(os, "getloadavg") else (math.nan,) * 3
@@ -337,10 +341,10 @@ def main(argv=None) -> int:
     if args.only == "calibration":
         section: list[str] = []
         calibration(section, draws, args.scheduler, args.seed, tuple(args.setups.split(",")))
+        command = " ".join(["python scripts/calibrate_inversion.py", *typed])
         section.append(
-            f"Calibration rewritten on {started} by `python scripts/calibrate_inversion.py --only "
-            f"calibration --draws {draws}` in {time.perf_counter() - t0:.0f} s (load average "
-            f"{load[0]:.1f} at its start)."
+            f"Calibration rewritten on {started} by `{command}` in {time.perf_counter() - t0:.0f} s "
+            f"(load average {load[0]:.1f} at its start)."
         )
         text = _replace_section(Path(args.output).read_text(), section)
         Path(args.output).write_text(text)

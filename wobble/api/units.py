@@ -126,8 +126,9 @@ def to_si(
 
 def _finite_allowed(value: u.Quantity, unit: u.UnitBase) -> str:
     """What a non-finite conversion is told: finite values, or values that fit a double in ``unit``."""
-    if np.all(np.isfinite(value.value)):
-        return f"values that stay finite in {unit.to_string()} (at most ~1.8e308 {unit.to_string()})"
+    if np.all(np.isfinite(value.value)):  # finite as typed: the conversion overflowed
+        largest = np.finfo(float).max
+        return f"values that stay finite in {unit.to_string()} (at most {largest:.3g} {unit.to_string()})"
     return "finite values (no NaN or inf)"
 
 

@@ -168,7 +168,9 @@ class Budget:
     period_sigma : float
         One-sigma uncertainty of the final period, s: the standard deviation over
         :data:`MC_DRAWS` Monte Carlo draws of every uncertain parameter (the model is
-        not linear over the parameters' ranges, e.g. the anelastic exponent's).
+        not linear over the parameters' ranges, e.g. the anelastic exponent's). NaN
+        when the budget was run with ``uncertainty=False`` (as are ``period_sigma_linear``
+        and ``valid_fraction``; ``contributions`` is then empty).
     contributions : dict
         Signed period change (s) for a +1 sigma change of each parameter (linear).
     observed : Measured or None
