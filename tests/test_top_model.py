@@ -243,6 +243,27 @@ def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
         np.testing.assert_array_equal(getattr(mo, key), value, err_msg=key)
 
 
+@pytest.mark.parametrize("extra", [0, 1, 127, 129])
+def test_compiled_blocks_end_where_the_samples_end(extra, monkeypatch):
+    """The compiled pass works in blocks of taylor_table._BLOCK samples: sample counts at and
+    just past whole blocks (and a partial last block) give the NumPy path's outputs bit for bit,
+    on a dense grid (one exp(i j A) per period) and on a sparse one (one per sample)."""
+    from wobble.numerics import compiled, taylor_table
+
+    mdl = model_of("issue8 loops")
+    n = 64 * taylor_table._BLOCK + extra  # >= compiled.LONG_ARRAY
+    assert n >= compiled.LONG_ARRAY
+    grids = [np.linspace(0.0, 50 * mdl.nutation_period, n), np.linspace(0.0, 1e6 * mdl.nutation_period, n)]
+    compiled_path = [mdl.motion(t, "fourier") for t in grids]
+    monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
+    for t, mo in zip(grids, compiled_path):
+        numpy_path = mdl.motion(t, "fourier")
+        for key in ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "quaternion", "axis", "u"):
+            np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
+        for key in ("energy", "p_phi", "p_psi"):
+            np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
+
+
 def test_through_the_vertical_is_followed_through():
     """theta0 = 0 with thetadot0 != 0 (b = a): the axis passes through the vertical each
     period; theta stays >= 0 with phi, psi jumping by pi, and the quaternion is continuous."""
