@@ -205,7 +205,7 @@ def test_motion_over_1000_nutation_periods(name, method):
 
 @pytest.mark.parametrize("name", LONG)
 def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
-    """>= 8192 samples are evaluated in one compiled pass (wobble.numerics.taylor_table): the
+    """>= 8192 samples are evaluated in one compiled call (wobble.numerics.taylor_table): the
     mpmath times inside a long grid meet the reference as above, and every output of every
     sample equals the NumPy path's bit for bit."""
     from wobble.numerics import compiled
