@@ -132,8 +132,8 @@ def user_top_case(quick: bool) -> Case:
         "Where the time of the first row goes (" + stages["top"] + ", minima of 20 runs each, outside the interleaved "
         f"timing): HeavyTop(...) {stages['construction'] * 1e3:.2f} ms (the unit conversions and the 60-digit "
         f"analysis); building the verified series of the motion {stages['series'] * 1e3:.2f} ms (once per top); "
-        f"the motion at every output {stages['motion'] * 1e3:.2f} ms (one compiled call, in blocks); the times' conversion "
-        f"and the CF Dataset {stages['dataset'] * 1e3:.2f} ms (astropy, xarray)."
+        f"the motion at every output {stages['motion'] * 1e3:.2f} ms (one compiled call, in blocks); the times' "
+        f"conversion and the CF Dataset {stages['dataset'] * 1e3:.2f} ms (astropy, xarray)."
     )
     if cpu:
         case.notes.append(
