@@ -51,6 +51,19 @@ def test_table_commands_skip_xarray(command):
     assert not set(loaded) & {"xarray", "pandas", "dask", "matplotlib", "numba", "astropy.utils.iers"}
 
 
+@pytest.mark.parametrize("output", [["--json"], []])
+def test_polar_motion_report_skips_xarray(output):
+    """`wobble polar-motion` (JSON or text) reads the record into plain arrays: no xarray, pandas or
+    dask (through xarray's duck-array check), which only -o and --plot need."""
+    argv = ["polar-motion", "--start", "1990", "--end", "2012", "--excitation-q", "none", *output]
+    loaded = _loaded_after(
+        "import contextlib, io, wobble.cli as c; f = io.StringIO(); "
+        f"contextlib.redirect_stdout(f).__enter__(); c.main({argv!r})"
+    )
+    assert "astropy.units" in loaded and "scipy" in loaded  # the probe sees what was loaded
+    assert not set(loaded) & {"xarray", "pandas", "dask", "matplotlib", "netCDF4", "numba"}
+
+
 def test_public_names_resolve():
     """Every name in wobble.__all__ resolves (the lazy table has no typo)."""
     import wobble

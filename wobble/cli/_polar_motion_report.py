@@ -30,7 +30,7 @@ def report(a) -> str:
     e, s = a.least_squares, a.spectral
     lines = [
         f"Polar motion {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; "
-        f"{os.path.basename(a.data.attrs.get('source_file', ''))})",
+        f"{os.path.basename(a.source_file or '')})",
         "  p = x_p - i y_p: the Chandler term is at a positive (prograde) frequency",
         "",
         f"  Chandler wobble      {'period [d]':>18}  {'amplitude [mas]':>16}",
@@ -73,16 +73,16 @@ def report(a) -> str:
         if r["sigma"] is not None:
             res += f" ({abs(r['residual'] / r['sigma']).to_value(u.one):.1f} sigma)"
         lines.append(f"  {r['name']:<44}{_fmt(r['period']):>11}{unc:<9} {res}")
-    w = a.windows
-    amp = w["chandler_amplitude"].values
-    mjd = w["window_time"].values
-    lines += ["", f"  Windows of {w.attrs['window_years']:g} yr (centre: Chandler amplitude [mas], period [d]):"]
+    w = a.window_columns  # the numbers of a.windows, without building the Dataset (no xarray)
+    amp = w["chandler_amplitude"]
+    mjd = w["window_time"]
+    lines += ["", f"  Windows of {a.window_attrs['window_years']:g} yr (centre: Chandler amplitude [mas], period [d]):"]
     for k in range(len(mjd)):
         if k % max(1, len(mjd) // 12) == 0 or k == len(mjd) - 1:
             lines.append(
                 f"    {iso_date(float(mjd[k]))}  {amp[k]:6.1f} +/- "
-                f"{w['chandler_amplitude_uncertainty'].values[k]:4.1f}   "
-                f"{w['chandler_period'].values[k]:6.1f} +/- {w['chandler_period_uncertainty'].values[k]:4.1f}"
+                f"{w['chandler_amplitude_uncertainty'][k]:4.1f}   "
+                f"{w['chandler_period'][k]:6.1f} +/- {w['chandler_period_uncertainty'][k]:4.1f}"
             )
     if a.caveats:
         lines += ["", "  Caveats:"] + [f"    - {c}" for c in a.caveats]

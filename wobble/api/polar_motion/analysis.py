@@ -3,6 +3,7 @@ beside them."""
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -17,7 +18,7 @@ from wobble.api.polar_motion.estimate import (
     q_arg,
     with_deprecated_keys,
 )
-from wobble.api.polar_motion.record import SIGN_NOTE, resolve_data, series
+from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
@@ -56,7 +57,9 @@ class QualityFactorEstimate:
 class PolarMotionAnalysis:
     """Everything ``wobble polar-motion`` reports: both estimates, windows, spectrum, Q, the model beside it.
 
-    Build with :func:`polar_motion_analysis`.
+    Build with :func:`polar_motion_analysis`. The Datasets (``data``, ``windows``,
+    ``spectrum``) are built on first use: the JSON and the text report read the
+    same numbers from plain arrays, so they never import xarray.
 
     Attributes
     ----------
@@ -68,23 +71,74 @@ class PolarMotionAnalysis:
         Which of them is the headline (``least_squares``).
     windows : xarray.Dataset
         Sliding-window estimates (dimension ``window``).
+    window_fits : wobble.models.polar_motion.WindowedFits
+        The same in SI units (plain arrays).
     spectrum : xarray.Dataset
         Two-sided amplitude spectrum (dimension ``frequency``).
     quality_factor : QualityFactorEstimate or None
     budget : wobble.ChandlerBudget
         The model of ``wobble.chandler_budget("earth")``.
+    source_file : str or None
+        The file the record was read from.
     """
 
     def __init__(self, data, least_squares, spectral, windows, spectrum, quality_factor, budget, caveats):
-        self.data = data
+        """``data`` is the record (a Dataset, or the :class:`~wobble.io.eop.PoleRecord` read from a file),
+        ``windows`` the :class:`~wobble.models.polar_motion.WindowedFits` and ``spectrum`` the
+        :class:`~wobble.models.polar_motion.Spectrum` of the model layer."""
+        self._record = data
         self.least_squares = least_squares
         self.spectral = spectral
-        self.windows = windows
-        self.spectrum = spectrum
+        self.window_fits = windows
+        self._spectrum = spectrum
         self.quality_factor = quality_factor
         self.budget = budget
         self.method = "least_squares"
         self.caveats = tuple(caveats)
+
+    @functools.cached_property
+    def data(self):
+        """The record analysed (xarray.Dataset)."""
+        from wobble.io.eop import PoleRecord
+
+        return record_dataset(self._record) if isinstance(self._record, PoleRecord) else self._record
+
+    @functools.cached_property
+    def windows(self):
+        """Sliding-window estimates (xarray.Dataset on the dimension ``window``)."""
+        from wobble.api.polar_motion.dataset import windows_dataset
+
+        return windows_dataset(self.window_fits)
+
+    @functools.cached_property
+    def spectrum(self):
+        """Two-sided amplitude spectrum (xarray.Dataset on the dimension ``frequency``)."""
+        from wobble.api.polar_motion.dataset import spectrum_dataset
+
+        return spectrum_dataset(self._spectrum)
+
+    @property
+    def source_file(self) -> str | None:
+        """The file the record was read from (None for a Dataset that does not say)."""
+        from wobble.io.eop import PoleRecord
+
+        if isinstance(self._record, PoleRecord):
+            return record_attrs(self._record)["source_file"]
+        return self._record.attrs.get("source_file")
+
+    @functools.cached_property
+    def window_columns(self) -> dict:
+        """The variables of :attr:`windows` as plain arrays (MJD, mas, days, degrees), without xarray."""
+        from wobble.api.polar_motion.dataset import window_columns
+
+        return window_columns(self.window_fits)
+
+    @functools.cached_property
+    def window_attrs(self) -> dict:
+        """``window_years`` and ``step_years``: the attributes of :attr:`windows`."""
+        from wobble.api.polar_motion.dataset import window_attrs
+
+        return window_attrs(self.window_fits)
 
     @property
     def estimate(self) -> ChandlerEstimate:
@@ -164,14 +218,14 @@ class PolarMotionAnalysis:
             "start": est.start.iso[:10],
             "end": est.end.iso[:10],
             "method": est.method,
-            "source_file": self.data.attrs.get("source_file"),
+            "source_file": self.source_file,
             "sign_convention": SIGN_NOTE,
             "day": "days of 86400 s",
             "estimates": {e.method: e.to_dict() for e in (self.least_squares, self.spectral)},
             "methods_agree": bool(self.methods_agree),
             "agreement_sigma": num(self.agreement),
             "quality_factor": None if self.quality_factor is None else self.quality_factor.to_dict(),
-            "windows": _windows_dict(self.windows),
+            "windows": _windows_dict(self.window_columns, self.window_attrs),
             "comparison": [
                 {
                     "name": r["name"],
@@ -243,18 +297,18 @@ class PolarMotionAnalysis:
         )
 
 
-def _windows_dict(w) -> dict:
+def _windows_dict(w: dict, a: dict) -> dict:
     return {
-        "window_years": float(w.attrs["window_years"]),
-        "step_years": float(w.attrs["step_years"]),
-        "centre": [iso_date(float(m)) for m in w["window_time"].values],
-        "chandler_amplitude_mas": [num(v) for v in w["chandler_amplitude"].values],
-        "chandler_amplitude_uncertainty_mas": [num(v) for v in w["chandler_amplitude_uncertainty"].values],
-        "chandler_period_days": [num(v) for v in w["chandler_period"].values],
-        "chandler_period_uncertainty_days": [num(v) for v in w["chandler_period_uncertainty"].values],
-        "annual_prograde_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"].values],
+        "window_years": float(a["window_years"]),
+        "step_years": float(a["step_years"]),
+        "centre": [iso_date(float(m)) for m in w["window_time"]],
+        "chandler_amplitude_mas": [num(v) for v in w["chandler_amplitude"]],
+        "chandler_amplitude_uncertainty_mas": [num(v) for v in w["chandler_amplitude_uncertainty"]],
+        "chandler_period_days": [num(v) for v in w["chandler_period"]],
+        "chandler_period_uncertainty_days": [num(v) for v in w["chandler_period_uncertainty"]],
+        "annual_prograde_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"]],
         # Deprecated alias (one release).
-        "annual_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"].values],
+        "annual_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"]],
     }
 
 
@@ -293,11 +347,11 @@ def polar_motion_analysis(
     PolarMotionAnalysis
     """
     from wobble.api.chandler import chandler_budget
-    from wobble.api.polar_motion.dataset import spectrum_dataset, windows_dataset
 
     say = progress or (lambda message: None)
-    ds = resolve_data(data, None, start, end)
-    mjd, t, z = series(ds)
+    # A file (or None, the shipped C04 series) is read into plain arrays: the Dataset is built only if
+    # the caller asks for it (PolarMotionAnalysis.data), so the JSON and the text never import xarray.
+    mjd, t, z, record = resolve_series(data, start, end)
     window_s = to_si(window, "window", u.s, positive=True, shape=())
     step_s = to_si(step, "step", u.s, positive=True, shape=())
     q_value = q_arg(excitation_q)
@@ -349,11 +403,11 @@ def polar_motion_analysis(
         else:
             caveats.append("no Q estimate: the span is shorter than 20 years")
     return PolarMotionAnalysis(
-        data=ds,
+        data=record,
         least_squares=ChandlerEstimate.from_fit(ls),
         spectral=ChandlerEstimate.from_fit(sp),
-        windows=windows_dataset(wf),
-        spectrum=spectrum_dataset(spectrum),
+        windows=wf,
+        spectrum=spectrum,
         quality_factor=qf,
         budget=chandler_budget("earth"),
         caveats=caveats,

@@ -20,7 +20,7 @@ from wobble.api.polar_motion.record import (
 )
 from wobble.models import polar_motion as _pm
 
-__all__ = ["analysis_dataset", "windows_dataset", "spectrum_dataset"]
+__all__ = ["analysis_dataset", "window_columns", "window_attrs", "windows_dataset", "spectrum_dataset"]
 
 # The parts of the Chandler period's uncertainty (ChandlerEstimate.period_uncertainty_parts), in
 # the order the file lists them, with their long_name.
@@ -33,15 +33,39 @@ _PERIOD_UNCERTAINTY_PARTS = {
 }
 
 
+def window_columns(wf: _pm.WindowedFits) -> dict[str, np.ndarray]:
+    """The sliding-window fits in the units of their Dataset (MJD, mas, days, degrees), as plain arrays.
+
+    The numbers of :func:`windows_dataset`, for the JSON and the text report, which need no xarray.
+    """
+    rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
+    day = 1.0 / _pm.DAY
+    return {
+        "window_time": MJD_J2000 + wf.centre / _pm.DAY,
+        "window_time_bounds": np.stack([MJD_J2000 + wf.start / _pm.DAY, MJD_J2000 + wf.end / _pm.DAY], axis=1),
+        "chandler_amplitude": wf.amplitude * rad_mas,
+        "chandler_amplitude_uncertainty": wf.amplitude_sigma * rad_mas,
+        "chandler_period": wf.period * day,
+        "chandler_period_uncertainty": wf.period_sigma * day,
+        "chandler_phase": np.degrees(wf.phase),
+        "annual_prograde_amplitude": wf.annual_prograde_amplitude * rad_mas,
+        "annual_prograde_amplitude_uncertainty": wf.annual_prograde_amplitude_sigma * rad_mas,
+        "annual_retrograde_amplitude": wf.annual_retrograde_amplitude * rad_mas,
+        "window_samples": wf.n_samples.astype(np.int32),
+    }
+
+
+def window_attrs(wf: _pm.WindowedFits) -> dict[str, float]:
+    """``window_years`` and ``step_years`` of the windows (the attributes of :func:`windows_dataset`)."""
+    return {"window_years": wf.window / (365.25 * _pm.DAY), "step_years": wf.step / (365.25 * _pm.DAY)}
+
+
 def windows_dataset(wf: _pm.WindowedFits):
     """The sliding-window fits as a Dataset on the ``window`` dimension."""
     from wobble.api.dataset import xarray
 
     xr = xarray()
-    rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
-    centre = MJD_J2000 + wf.centre / _pm.DAY
-    bounds = np.stack([MJD_J2000 + wf.start / _pm.DAY, MJD_J2000 + wf.end / _pm.DAY], axis=1)
-    day = 1.0 / _pm.DAY
+    c = window_columns(wf)
     note = (
         "least-squares fit of drift, Chandler and annual terms in each window; uncertainty from the residuals' "
         "autocorrelation and the drift model"
@@ -49,57 +73,61 @@ def windows_dataset(wf: _pm.WindowedFits):
     return xr.Dataset(
         {
             # CF 7.1: a boundary variable takes its units and calendar from its coordinate.
-            "window_time_bounds": (("window", "nv"), bounds, {"long_name": "first and last day of each window"}),
+            "window_time_bounds": (
+                ("window", "nv"),
+                c["window_time_bounds"],
+                {"long_name": "first and last day of each window"},
+            ),
             "chandler_amplitude": (
                 "window",
-                wf.amplitude * rad_mas,
+                c["chandler_amplitude"],
                 attrs("milliarcsecond", "Chandler wobble amplitude in the window", comment=note),
             ),
             "chandler_amplitude_uncertainty": (
                 "window",
-                wf.amplitude_sigma * rad_mas,
+                c["chandler_amplitude_uncertainty"],
                 attrs("milliarcsecond", "one-sigma uncertainty of the windowed Chandler amplitude"),
             ),
             "chandler_period": (
                 "window",
-                wf.period * day,
+                c["chandler_period"],
                 attrs("day", "Chandler wobble period in the window", comment=note),
             ),
             "chandler_period_uncertainty": (
                 "window",
-                wf.period_sigma * day,
+                c["chandler_period_uncertainty"],
                 attrs("day", "one-sigma uncertainty of the windowed Chandler period"),
             ),
             "chandler_phase": (
                 "window",
-                np.degrees(wf.phase),
+                c["chandler_phase"],
                 attrs("degree", "argument of the Chandler term of x_p - i y_p at the window's centre"),
             ),
             "annual_prograde_amplitude": (
                 "window",
-                wf.annual_prograde_amplitude * rad_mas,
+                c["annual_prograde_amplitude"],
                 attrs("milliarcsecond", "prograde annual wobble amplitude in the window"),
             ),
             "annual_prograde_amplitude_uncertainty": (
                 "window",
-                wf.annual_prograde_amplitude_sigma * rad_mas,
+                c["annual_prograde_amplitude_uncertainty"],
                 attrs("milliarcsecond", "one-sigma uncertainty of the windowed prograde annual amplitude"),
             ),
             "annual_retrograde_amplitude": (
                 "window",
-                wf.annual_retrograde_amplitude * rad_mas,
+                c["annual_retrograde_amplitude"],
                 attrs("milliarcsecond", "retrograde annual wobble amplitude in the window"),
             ),
             "window_samples": (
                 "window",
-                wf.n_samples.astype(np.int32),
+                c["window_samples"],
                 attrs("1", "number of daily samples in the window"),
             ),
         },
         coords={
             "window_time": (
                 "window",
-                centre,
+                c["window_time"],
                 {
                     "units": MJD_UNITS,
                     "calendar": "standard",
@@ -109,7 +137,7 @@ def windows_dataset(wf: _pm.WindowedFits):
                 },
             ),
         },
-        attrs={"window_years": wf.window / (365.25 * _pm.DAY), "step_years": wf.step / (365.25 * _pm.DAY)},
+        attrs=window_attrs(wf),
     )
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import replace
 
 import numpy as np
 from astropy import units as u
@@ -19,7 +20,7 @@ from astropy import units as u
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, cf_time_to_mjd, select_dates
-from wobble.io.eop import read_pole_file
+from wobble.io.eop import PoleRecord, read_pole_file
 from wobble.models.polar_motion.record import DAY, complex_pole
 
 __all__ = [
@@ -33,6 +34,11 @@ __all__ = [
     "attrs",
     "time_coord",
     "load_polar_motion",
+    "read_record",
+    "record_attrs",
+    "record_dataset",
+    "record_series",
+    "resolve_series",
     "series",
     "mjd_values",
     "resolve_data",
@@ -68,6 +74,59 @@ def time_coord(mjd, long_name="time (UTC)") -> tuple:
     )
 
 
+def read_record(file: str | os.PathLike | None = None, *, start=None, end=None) -> PoleRecord:
+    """The pole coordinates of an IERS file from ``start`` to ``end``, as plain arrays (no Dataset).
+
+    What :func:`load_polar_motion` holds, without xarray: the text and JSON of
+    ``wobble polar-motion`` need only the arrays (xarray, pandas and, through
+    xarray's duck-array check, dask cost about half a second to import).
+    Parameters as in :func:`load_polar_motion`.
+
+    Returns
+    -------
+    wobble.io.eop.PoleRecord
+        The rows kept (MJD UTC; x_p, y_p and their errors in arcsec).
+    """
+    rec = read_pole_file(file)
+    keep = select_dates(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")
+    if keep.sum() < 2:
+        raise InputError("start/end", f"{start} to {end}", "an interval holding at least two days of data")
+    return replace(
+        rec, mjd=rec.mjd[keep], x=rec.x[keep], y=rec.y[keep], x_error=rec.x_error[keep], y_error=rec.y_error[keep]
+    )
+
+
+def record_attrs(rec: PoleRecord) -> dict:
+    """The global attributes of the Dataset of a record (title, source file and format, references)."""
+    return {
+        "title": f"Polar motion: {rec.title}",
+        "source_file": rec.path,
+        "source_format": rec.format,
+        "references": C04_REFERENCE if rec.format == "c04" else FINALS_REFERENCE,
+        "comment": "Times are UTC (C04: 0 h UTC each day). " + SIGN_NOTE,
+    }
+
+
+def record_dataset(rec: PoleRecord):
+    """A record from :func:`read_record` as the xarray Dataset of :func:`load_polar_motion`."""
+    from wobble.api.dataset import xarray
+
+    xr = xarray()
+    ds = xr.Dataset(
+        {
+            "x_p": ("time", rec.x, attrs("arcsec", "pole coordinate x_p (toward the Greenwich meridian)")),
+            "y_p": ("time", rec.y, attrs("arcsec", "pole coordinate y_p (toward 90 deg W longitude)")),
+            "x_p_error": ("time", rec.x_error, attrs("arcsec", "one-sigma error of x_p given in the file")),
+            "y_p_error": ("time", rec.y_error, attrs("arcsec", "one-sigma error of y_p given in the file")),
+        },
+        coords={"time": time_coord(rec.mjd)},
+        attrs=record_attrs(rec),
+    )
+    ds["x_p"].attrs["ancillary_variables"] = "x_p_error"
+    ds["y_p"].attrs["ancillary_variables"] = "y_p_error"
+    return ds
+
+
 def load_polar_motion(file: str | os.PathLike | None = None, *, start=None, end=None):
     """The pole coordinates of an IERS file as an xarray Dataset.
 
@@ -93,33 +152,7 @@ def load_polar_motion(file: str | os.PathLike | None = None, *, start=None, end=
     >>> pm.sizes["time"], list(pm.data_vars), pm["x_p"].attrs["units"]
     (366, ['x_p', 'y_p', 'x_p_error', 'y_p_error'], 'arcsec')
     """
-    from wobble.api.dataset import xarray
-
-    xr = xarray()
-    rec = read_pole_file(file)
-    keep = select_dates(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")
-    if keep.sum() < 2:
-        raise InputError("start/end", f"{start} to {end}", "an interval holding at least two days of data")
-    c04 = rec.format == "c04"
-    ds = xr.Dataset(
-        {
-            "x_p": ("time", rec.x[keep], attrs("arcsec", "pole coordinate x_p (toward the Greenwich meridian)")),
-            "y_p": ("time", rec.y[keep], attrs("arcsec", "pole coordinate y_p (toward 90 deg W longitude)")),
-            "x_p_error": ("time", rec.x_error[keep], attrs("arcsec", "one-sigma error of x_p given in the file")),
-            "y_p_error": ("time", rec.y_error[keep], attrs("arcsec", "one-sigma error of y_p given in the file")),
-        },
-        coords={"time": time_coord(rec.mjd[keep])},
-        attrs={
-            "title": f"Polar motion: {rec.title}",
-            "source_file": rec.path,
-            "source_format": rec.format,
-            "references": C04_REFERENCE if c04 else FINALS_REFERENCE,
-            "comment": "Times are UTC (C04: 0 h UTC each day). " + SIGN_NOTE,
-        },
-    )
-    ds["x_p"].attrs["ancillary_variables"] = "x_p_error"
-    ds["y_p"].attrs["ancillary_variables"] = "y_p_error"
-    return ds
+    return record_dataset(read_record(file, start=start, end=end))
 
 
 def series(data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -127,12 +160,24 @@ def series(data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     for name in ("x_p", "y_p", "time"):
         if name not in data.variables:
             raise InputError("data", f"a Dataset without {name!r}", "a Dataset from load_polar_motion (time, x_p, y_p)")
-    mjd = mjd_values(data["time"])
+    columns = [(name, data[name].values, data[name].attrs.get("units")) for name in ("x_p", "y_p")]
+    return _pole_series(mjd_values(data["time"]), columns)
+
+
+def record_series(rec: PoleRecord) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(MJD, t in s since J2000, p = x - i y in rad) of a record from :func:`read_record`.
+
+    The same numbers as :func:`series` of its Dataset (the same conversion, without xarray).
+    """
+    return _pole_series(np.asarray(rec.mjd, dtype=float), [("x_p", rec.x, "arcsec"), ("y_p", rec.y, "arcsec")])
+
+
+def _pole_series(mjd: np.ndarray, columns) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(MJD, t, p) from the MJD and the (name, values, units) of x_p and y_p: converted, finite, increasing."""
     xy = []
-    for name in ("x_p", "y_p"):
-        unit = data[name].attrs.get("units")
+    for name, values, unit in columns:
         try:
-            xy.append(to_si(np.asarray(data[name].values, dtype=float) * u.Unit(unit), name, u.rad, finite=False))
+            xy.append(to_si(np.asarray(values, dtype=float) * u.Unit(unit), name, u.rad, finite=False))
         except (ValueError, TypeError):
             raise InputError(name, f"units {unit!r}", "angle units such as 'arcsec' or 'milliarcsecond'") from None
     ok = np.isfinite(mjd) & np.isfinite(xy[0]) & np.isfinite(xy[1])
@@ -163,3 +208,14 @@ def resolve_data(data, file, start, end):
         return data
     keep = select_dates(mjd_values(data["time"]), start, end)
     return data.isel(time=np.nonzero(keep)[0])
+
+
+def resolve_series(data, start, end):
+    """The series a function was given, as ``(mjd, t, z, record)``: ``record`` is the Dataset it was
+    given (cut to start/end), or, for a file or None (the shipped C04 series), the
+    :class:`~wobble.io.eop.PoleRecord` read, with no Dataset built (:func:`record_dataset` builds it)."""
+    if data is None or isinstance(data, (str, os.PathLike)):
+        rec = read_record(data, start=start, end=end)
+        return (*record_series(rec), rec)
+    ds = resolve_data(data, None, start, end)
+    return (*series(ds), ds)
