@@ -9,7 +9,7 @@ import pytest
 from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR
 
 from wobble.models import polar_motion as pm
-from wobble.numerics.spectral import dtft, dtft_at
+from wobble.numerics.spectral import dtft, dtft_at, phases
 
 
 def test_dtft_grid_matches_the_geometric_sum():
@@ -33,6 +33,28 @@ def test_dtft_transforms_columns_together():
     got = dtft(t, z, -0.5, 0.01, 90)
     for j in range(3):
         np.testing.assert_allclose(got[:, j], dtft_at(t, z[:, j], -0.5 + 0.01 * np.arange(90)), rtol=1e-10, atol=1e-10)
+
+
+@pytest.mark.parametrize("n", [1, 300, 23648])
+def test_block_rotated_exponentials_against_the_geometric_sum(n):
+    """dtft_at with grid=(t0, dt): the closed form of test_dtft_grid_matches_the_geometric_sum, on a
+    daily grid as long as the C04 record, to the rounding the exact exponentials carry (the angles
+    omega t reach ~100 rad, rounded to ~1e-14 either way)."""
+    t0, dt = -1.0215504e9, DAY
+    t = t0 + dt * np.arange(n)
+    a = 2 * math.pi / (433.0 * DAY)
+    z = np.exp(1j * a * (t - t0))
+    w = a + np.array([-3e-9, -1e-10, 0.0, 2e-11, 4e-9])
+    d = a - w
+    with np.errstate(invalid="ignore", divide="ignore"):  # expm1: d dt is as small as 2e-6 rad
+        closed = np.where(d == 0, n, np.expm1(1j * d * dt * n) / np.expm1(1j * d * dt))
+    expected = closed * np.exp(-1j * w * t0)
+    got = dtft_at(t, z, w, grid=(t0, dt))
+    assert np.max(np.abs(got - expected)) <= 1e-13 * n
+    # and each exponential within a few ulps of the exact one, beside the angle's own rounding
+    exact = np.exp(-1j * np.multiply.outer(w, t))
+    angle = np.max(np.abs(np.multiply.outer(w, t)))
+    assert np.max(np.abs(phases(n, w, (t0, dt)) - exact)) <= 1e-15 + 4.5e-16 * angle
 
 
 def test_prograde_circle_is_at_positive_frequency():

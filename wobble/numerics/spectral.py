@@ -20,13 +20,21 @@ The grid is walked by the recurrence ``exp(-i omega_{k+1} t) = exp(-i omega_k t)
 exp(-i d t)`` (one complex multiplication per sample and frequency instead of an
 ``exp``), re-seeded with exact exponentials every :data:`RESEED` steps so the
 accumulated rounding stays below 1e-13 relative.
+
+At arbitrary frequencies (:func:`dtft_at`) every exponential is exact, or, on a
+uniform time grid t_k = t0 + k dt (``grid=(t0, dt)``, from
+:func:`wobble.numerics.phasor.uniform_grid`), the product of two exact ones,
+exp(-i omega (t0 + b B dt)) exp(-i omega j dt) for sample k = b B + j (block
+rotation, as :mod:`wobble.numerics.phasor` does): about 2 sqrt(n) exponentials
+instead of n, each sample within a few ulps of the exact exponential, nothing
+accumulating (:func:`phases`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["RESEED", "dtft", "dtft_at"]
+__all__ = ["RESEED", "dtft", "dtft_at", "phases"]
 
 RESEED = 64
 
@@ -74,9 +82,12 @@ def dtft(t: np.ndarray, z: np.ndarray, omega0: float, domega: float, count: int)
     return out[:, 0] if vector else out
 
 
-def dtft_at(t: np.ndarray, z: np.ndarray, omega) -> np.ndarray:
-    """Equation (1) at arbitrary angular frequencies ``omega`` (rad/s), exactly.
+def dtft_at(t: np.ndarray, z: np.ndarray, omega, grid: tuple[float, float] | None = None) -> np.ndarray:
+    """Equation (1) at arbitrary angular frequencies ``omega`` (rad/s).
 
+    Every exponential is exact; with ``grid = (t0, dt)`` (``t`` is that uniform
+    grid: :func:`wobble.numerics.phasor.uniform_grid`) they come from
+    :func:`phases` instead, within a few ulps, for a fraction of the cost.
     Returns an array shaped like ``omega`` (times the columns of ``z``).
     """
     t = np.asarray(t, dtype=float)
@@ -86,7 +97,27 @@ def dtft_at(t: np.ndarray, z: np.ndarray, omega) -> np.ndarray:
     flat = omega.ravel()
     out = np.empty((flat.size, cols.shape[1]), dtype=complex)
     for k0 in range(0, flat.size, RESEED):  # blocks bound the memory of the exponentials
-        phase = np.exp(-1j * np.multiply.outer(flat[k0 : k0 + RESEED], t))
+        if grid is None:
+            phase = np.exp(-1j * np.multiply.outer(flat[k0 : k0 + RESEED], t))
+        else:
+            phase = phases(t.size, flat[k0 : k0 + RESEED], grid)
         np.matmul(phase, cols, out=out[k0 : k0 + RESEED])
     shape = omega.shape + (() if z.ndim == 1 else (z.shape[1],))
     return out.reshape(shape)
+
+
+def phases(n: int, omega, grid: tuple[float, float]) -> np.ndarray:
+    """exp(-i omega_m t_k) on the uniform grid t_k = t0 + k dt, k < n, by block rotation: shape (m, n).
+
+    Sample k = b B + j (B about sqrt(n)) is exp(-i omega (t0 + b B dt)) exp(-i omega j dt):
+    two exact exponentials and one complex product, so each sample is within a few
+    ulps of exp(-i omega t_k), whatever k (nothing accumulates, unlike a running
+    product); the arguments' own rounding, omega t ~ 100 rad to 1e-14, is the same
+    either way. ``omega`` is a 1-D array of angular frequencies (rad/s).
+    """
+    t0, dt = grid
+    omega = np.asarray(omega, dtype=float).reshape(-1)
+    block = max(16, int(np.sqrt(n)))
+    starts = np.exp(-1j * np.multiply.outer(omega, t0 + np.arange(0, n, block, dtype=float) * dt))
+    steps = np.exp(-1j * np.multiply.outer(omega, np.arange(block, dtype=float) * dt))
+    return (starts[:, :, None] * steps[:, None, :]).reshape(omega.size, -1)[:, :n]
