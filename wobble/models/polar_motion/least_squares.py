@@ -28,7 +28,7 @@ from wobble.models.polar_motion.record import (
     check_q,
     span_caveats,
 )
-from wobble.models.polar_motion.search import band_grid, refine_peak
+from wobble.models.polar_motion.search import band_grid, refine_peak, refine_peaks
 from wobble.models.polar_motion.uncertainty import (
     HAC_MAX_B,
     TRACKED,
@@ -42,7 +42,8 @@ from wobble.models.polar_motion.uncertainty import (
     sqrt_var,
     subspan_scatter,
 )
-from wobble.numerics.spectral import dtft, dtft_at
+from wobble.numerics.phasor import uniform_grid
+from wobble.numerics.spectral import dtft, dtft_at, phases
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["fit_least_squares"]
@@ -62,22 +63,35 @@ def _profile(s, z, fixed):
     return q, r0
 
 
-def _gain(s, q, r0, rates) -> np.ndarray:
+def _gain(s, cols, rates, grid=None) -> np.ndarray:
     """Drop of the residual sum of squares when exp(i rate s) joins the fixed columns.
 
     gain = |e^H r0|^2 / (n - |Q^H e|^2) (Frisch-Waugh: the projection of e
     orthogonal to the fixed columns), the complex generalisation of the
-    Lomb-Scargle periodogram with nuisance terms.
+    Lomb-Scargle periodogram with nuisance terms. ``cols`` is ``[r0, Q]``;
+    ``grid`` as in :func:`~wobble.numerics.spectral.dtft_at` (s a uniform grid).
     """
-    cols = np.column_stack([r0, q])
-    f = dtft_at(s, cols, rates)
+    f = dtft_at(s, cols, rates, grid)
     denom = s.size - np.sum(np.abs(f[..., 1:]) ** 2, axis=-1)
     return np.abs(f[..., 0]) ** 2 / np.maximum(denom, 1e-12 * s.size)
 
 
-def _grid_gain(s, q, r0, lo_rate, hi_rate, span):
+def _gains(s, r0, q, grid):
+    """``gains(rates, index)``: the gain of column ``index[j]`` of ``r0`` at ``rates[j]`` (one rate each),
+    for :func:`~wobble.models.polar_motion.search.refine_peaks`."""
+    r0_rows = np.ascontiguousarray(r0.T)
+
+    def gains(rates, index):
+        phase = phases(s.size, rates, grid) if grid is not None else np.exp(-1j * np.multiply.outer(rates, s))
+        f0 = np.einsum("kn,kn->k", phase, r0_rows[index])
+        denom = s.size - np.sum(np.abs(phase @ q) ** 2, axis=-1)
+        return np.abs(f0) ** 2 / np.maximum(denom, 1e-12 * s.size)
+
+    return gains
+
+
+def _grid_gain(s, cols, lo_rate, hi_rate, span):
     rates, d = band_grid(lo_rate, hi_rate, span)
-    cols = np.column_stack([r0, q])
     f = dtft(s, cols, rates[0], d, rates.size)
     denom = s.size - np.sum(np.abs(f[:, 1:]) ** 2, axis=1)
     gain = np.abs(f[:, 0]) ** 2 / np.maximum(denom, 1e-12 * s.size)
@@ -90,7 +104,9 @@ def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
     Column k of ``zs`` gives the period ``fit_least_squares(t, zs[:, k],
     uncertainty=False)`` would: the drift and annual columns, their QR and their
     Fourier sums are shared, and the grid search is one matrix product for all
-    columns (the Monte Carlo of :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`).
+    columns (the Monte Carlo of :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`), and so
+    are the bounded Brent refinements (:func:`~wobble.models.polar_motion.search.refine_peaks`: the same
+    steps as one refinement per column, each step one array operation for all of them).
     """
     epoch = 0.5 * (t[0] + t[-1])
     half = 0.5 * (t[-1] - t[0])
@@ -103,11 +119,8 @@ def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
     f = dtft(s, np.column_stack([r0, q]), rates[0], d, rates.size)
     denom = np.maximum(s.size - np.sum(np.abs(f[:, m:]) ** 2, axis=1), 1e-12 * s.size)
     gains = np.abs(f[:, :m]) ** 2 / denom[:, None]
-    out = np.empty(m)
-    for k in range(m):
-        rate = refine_peak(lambda r, k=k: float(_gain(s, q, r0[:, k], r)), rates, gains[:, k], d, lo_rate, hi_rate)
-        out[k] = 2 * math.pi / abs(rate)
-    return out
+    rate = refine_peaks(_gains(s, r0, q, uniform_grid(s)), rates, gains, d, lo_rate, hi_rate)
+    return 2 * math.pi / np.abs(rate)
 
 
 def _ls_solve(s, z, half, degree, band, polish=True):
@@ -120,8 +133,10 @@ def _ls_solve(s, z, half, degree, band, polish=True):
     span = s[-1] - s[0]
     fixed = _fixed_columns(s, half, degree)
     q, r0 = _profile(s, z, fixed)
-    rates, gain, step = _grid_gain(s, q, r0, lo_rate, hi_rate, span)
-    rate = refine_peak(lambda r: float(_gain(s, q, r0, r)), rates, gain, step, lo_rate, hi_rate)
+    cols = np.column_stack([r0, q])
+    rates, gain, step = _grid_gain(s, cols, lo_rate, hi_rate, span)
+    grid = uniform_grid(s)  # the exponentials of the refinement by block rotation (a daily record's times)
+    rate = refine_peak(lambda r: float(_gain(s, cols, r, grid)), rates, gain, step, lo_rate, hi_rate)
     coeffs = np.linalg.lstsq(np.column_stack([fixed, np.exp(1j * rate * s)]), z, rcond=None)[0]
     if polish:
         coeffs, rate = _polish(s, z, half, fixed, coeffs, rate)

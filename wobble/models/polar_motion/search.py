@@ -1,4 +1,10 @@
-"""The frequency search both estimators share: an oversampled grid and a bounded Brent refinement."""
+"""The frequency search both estimators share: an oversampled grid and a bounded Brent refinement.
+
+:func:`refine_peaks` is :func:`refine_peak` for many series at once (the Monte
+Carlo's realisations): the same bounded Brent steps for each
+(:func:`wobble.numerics.bounded_brent.minimize_bounded`), the function evaluated
+once per step for all of them.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +13,9 @@ import math
 import numpy as np
 from scipy import optimize
 
-__all__ = ["OVERSAMPLE", "band_grid", "refine_peak"]
+from wobble.numerics.bounded_brent import minimize_bounded
+
+__all__ = ["OVERSAMPLE", "band_grid", "refine_peak", "refine_peaks"]
 
 #: Grid points per Rayleigh resolution 2 pi / T.
 OVERSAMPLE = 8
@@ -27,3 +35,19 @@ def refine_peak(fun, rates, values, step, lo, hi) -> float:
     b = min(hi, rates[k] + step)
     res = optimize.minimize_scalar(lambda r: -fun(r), bounds=(a, b), method="bounded", options={"xatol": step * 1e-4})
     return float(res.x) if -res.fun >= values[k] else float(rates[k])
+
+
+def refine_peaks(fun, rates, values, step, lo, hi) -> np.ndarray:
+    """:func:`refine_peak` for every column of ``values`` (shape (rates, m)) at once.
+
+    ``fun(r, index)`` returns the values of the columns ``index`` (an integer
+    array) at the rates ``r`` (one each). Column k gets what
+    ``refine_peak(lambda r: fun([r], [k])[0], rates, values[:, k], ...)`` would.
+    """
+    k = np.argmax(values, axis=0)
+    columns = np.arange(values.shape[1])
+    peak, best = rates[k], values[k, columns]
+    x, f = minimize_bounded(
+        lambda r, index: -fun(r, index), np.maximum(lo, peak - step), np.minimum(hi, peak + step), step * 1e-4
+    )
+    return np.where(-f >= best, x, peak)

@@ -7,6 +7,7 @@ in rad/s.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -26,7 +27,7 @@ from wobble.models.polar_motion.record import (
     check_q,
     span_caveats,
 )
-from wobble.models.polar_motion.search import band_grid, refine_peak
+from wobble.models.polar_motion.search import band_grid, refine_peaks
 from wobble.models.polar_motion.uncertainty import (
     TRACKED,
     annual_sigmas,
@@ -35,10 +36,11 @@ from wobble.models.polar_motion.uncertainty import (
     model_sensitivity,
     subspan_scatter,
 )
-from wobble.numerics.spectral import dtft, dtft_at
+from wobble.numerics.phasor import uniform_grid
+from wobble.numerics.spectral import dtft, phases
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum"]
+__all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum", "spectrum_periods"]
 
 _PREWHITEN = 30
 
@@ -134,9 +136,10 @@ def fit_spectrum(
     The series is detrended with a polynomial of ``drift_degree``, tapered
     (Hann when the span is at least one beat period, otherwise none) and
     Fourier-summed at its own sample times (gaps need no filling). The peak in
-    the prograde band is refined by bounded Brent on the exact sum; the
-    amplitude is |F|/sum w. The annual terms are read at +/- one cycle per
-    tropical year and removed before the peak is sought again (prewhitening,
+    the prograde band is refined by bounded Brent on the sum (on a uniform grid
+    of times its exponentials by block rotation, within a few ulps:
+    :func:`~wobble.numerics.spectral.phases`); the amplitude is |F|/sum w. The
+    annual terms are read at +/- one cycle per tropical year and removed before the peak is sought again (prewhitening,
     repeated until the peak stops moving), so the annual peak's main lobe does not pull the Chandler
     peak in short spans. Nothing is fitted jointly: this is a spectral
     estimator, independent of :func:`fit_least_squares`.
@@ -160,23 +163,10 @@ def fit_spectrum(
     y, drift = _detrend(s, z, half, degree)
     w = _taper(t, kind)
     lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
-    rates, d = band_grid(lo_rate, hi_rate, span)
+    d = band_grid(lo_rate, hi_rate, span)[1]
     annual_cols = np.exp(1j * ANNUAL_RATE * np.outer(s, [1.0, -1.0]))
-    ann = np.zeros(2, dtype=complex)
-    rate = math.nan
-    for _ in range(_PREWHITEN):
-        # Prewhitening (CLEAN-like): remove the current annual terms, find the
-        # Chandler peak, remove it, read the annual terms again; repeat until the
-        # peak stops moving (block relaxation, which converges however much the
-        # main lobes overlap, only more slowly).
-        wy = w * (y - annual_cols @ ann)
-        power = np.abs(dtft(s, wy, rates[0], d, rates.size)) ** 2
-        previous = rate
-        rate = refine_peak(lambda r: float(np.abs(dtft_at(s, wy, r)) ** 2), rates, power, d, lo_rate, hi_rate)
-        chandler = complex(dtft_at(s, wy, rate)) / w.sum()
-        ann = dtft_at(s, w * (y - chandler * np.exp(1j * rate * s)), np.array([ANNUAL_RATE, -ANNUAL_RATE])) / w.sum()
-        if abs(rate - previous) < 1e-3 * d:
-            break
+    rates, chandlers, anns = _prewhitened_peaks(s, y[:, None], w, lo_rate, hi_rate, span)
+    rate, chandler, ann = float(rates[0]), complex(chandlers[0]), anns[:, 0]
     f = np.array([chandler, ann[0], ann[1]])
     coeffs = np.concatenate([drift, [f[1], f[2], f[0]]])
     resid = y - f[0] * np.exp(1j * rate * s) - annual_cols @ ann
@@ -228,18 +218,10 @@ def fit_spectrum(
         ann_sig = annual_sigmas(ann_auto, sub, mod)
         p_exc = math.nan
         if excitation_q is not None:
-            p_exc = excitation_scatter(
-                t,
-                base,
-                fit_spectrum,
-                check_q(excitation_q),
-                draws,
-                seed,
-                reference_period=reference_period,
-                band=band,
-                drift_degree=degree,
-                taper=kind,
+            batch = functools.partial(
+                spectrum_periods, reference_period=reference_period, drift_degree=degree, band=band, taper=kind
             )
+            p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed, batch=True)
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_auto, p_sub, p_mod, p_exc)
         au = combine(a_formal, a_auto, a_sub, a_mod)
@@ -247,6 +229,71 @@ def fit_spectrum(
         sig_amp = au.adopted
     fit = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
     return with_changes(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
+
+
+def _prewhitened_peaks(s, y, w, lo_rate, hi_rate, span):
+    """The Chandler peak of each column of ``y`` (n, m; detrended), by the prewhitening of :func:`fit_spectrum`.
+
+    Returns the rates (m,), the Chandler terms |F|/sum w (m,) and the annual terms (2, m: prograde,
+    retrograde). The columns go through the loop together, each for as many rounds as it needs
+    alone: the grid's Fourier sums are one matrix product for all of them, the bounded Brent
+    refinements one array operation per step (:func:`~wobble.models.polar_motion.search.refine_peaks`,
+    their exponentials by block rotation on a uniform grid), and a column leaves the loop when its
+    peak stops moving.
+    """
+    n, m = y.shape
+    rates, d = band_grid(lo_rate, hi_rate, span)
+    grid = uniform_grid(s)
+    annual_cols = np.exp(1j * ANNUAL_RATE * np.outer(s, [1.0, -1.0]))
+    annual_phase = np.exp(-1j * np.multiply.outer(np.array([ANNUAL_RATE, -ANNUAL_RATE]), s))
+    sw = w.sum()
+    rate = np.full(m, math.nan)
+    chandler = np.zeros(m, dtype=complex)
+    ann = np.zeros((2, m), dtype=complex)
+    running = np.arange(m)
+    for _ in range(_PREWHITEN):
+        # Prewhitening (CLEAN-like): remove the current annual terms, find the
+        # Chandler peak, remove it, read the annual terms again; repeat until the
+        # peak stops moving (block relaxation, which converges however much the
+        # main lobes overlap, only more slowly).
+        i = running
+        wy = w[:, None] * (y[:, i] - annual_cols @ ann[:, i])
+        rows = np.ascontiguousarray(wy.T)
+        power = np.abs(dtft(s, wy, rates[0], d, rates.size)) ** 2
+
+        def power_at(r, index, rows=rows):
+            phase = phases(n, r, grid) if grid is not None else np.exp(-1j * np.multiply.outer(r, s))
+            return np.abs(np.einsum("kn,kn->k", phase, rows[index])) ** 2
+
+        previous = rate[i]
+        rate[i] = refine_peaks(power_at, rates, power, d, lo_rate, hi_rate)
+        chandler[i] = np.einsum("kn,kn->k", np.exp(-1j * np.multiply.outer(rate[i], s)), rows) / sw
+        line = chandler[i] * np.exp(1j * np.multiply.outer(s, rate[i]))
+        ann[:, i] = annual_phase @ (w[:, None] * (y[:, i] - line)) / sw
+        running = i[~(np.abs(rate[i] - previous) < 1e-3 * d)]
+        if not running.size:
+            break
+    return rate, chandler, ann
+
+
+def spectrum_periods(t, zs, *, reference_period: float, drift_degree: int, band, taper: str) -> np.ndarray:
+    """Chandler periods (s) of many series on the same times by the spectral estimator (no uncertainty).
+
+    Column k of ``zs`` gives the period ``fit_spectrum(t, zs[:, k], uncertainty=False, ...)`` would
+    (the same detrending, taper and prewhitened peak search, all columns at once: the Monte Carlo
+    of :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`).
+    """
+    t = np.asarray(t, dtype=float)
+    degree = check_degree(drift_degree)
+    band = check_band(band)
+    span = t[-1] - t[0]
+    kind = _auto_taper(span, taper, beat_period(reference_period))
+    epoch = 0.5 * (t[0] + t[-1])
+    s = t - epoch
+    y, _ = _detrend(s, np.asarray(zs, dtype=complex), 0.5 * span, degree)
+    lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
+    rates, _, _ = _prewhitened_peaks(s, y, _taper(t, kind), lo_rate, hi_rate, span)
+    return 2 * math.pi / np.abs(rates)
 
 
 def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:

@@ -1,0 +1,137 @@
+"""The batched Chandler estimators of the Monte Carlo against their per-series computation, and a closed form.
+
+``vp_periods`` and ``spectrum_periods`` measure many realisations at once (one grid
+product, Brent refinements in lockstep, exponentials by block rotation on uniform
+grids). The references here are the loops they replace, one series at a time, as they
+stood: SciPy's bounded Brent on Fourier sums with exact exponentials. The periods must
+agree to rounding. Near the peak Brent's parabolic steps divide differences of nearly
+equal sums, so a 1e-15 change in a sum (another summation order) moves the period by up
+to ~1e-11 relative; a step taken differently would move it by ~1e-7. Hence RTOL = 1e-9.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR
+
+from wobble.models.polar_motion.least_squares import fit_least_squares, vp_periods
+from wobble.models.polar_motion.record import ANNUAL_RATE, CHANDLER_BAND, bin_means
+from wobble.models.polar_motion.search import band_grid, refine_peak
+from wobble.models.polar_motion.spectrum import fit_spectrum, spectrum_periods
+from wobble.models.polar_motion.uncertainty import damped_oscillator
+from wobble.numerics.spectral import dtft, dtft_at
+
+RTOL = 1e-9
+
+
+def _columns(years, *, gaps, bin_days=None, m=6, seed=3):
+    """(t, zs): drift, annual terms and ``m`` excited wobbles of Q = 100 (the Monte Carlo's realisations)."""
+    rng = np.random.default_rng(seed)
+    t = DAY * np.arange(int(years * 365.25)) - 15 * YEAR
+    if gaps:
+        keep = rng.random(t.size) > 0.1
+        keep[[0, -1]] = True
+        t = t[keep]
+    if bin_days:
+        t, _ = bin_means(t, np.zeros(t.size, dtype=complex), bin_days * DAY)
+    s = t - 0.5 * (t[0] + t[-1])
+    base = (40 + 300j) * MAS + (20 - 60j) * MAS * s / s.max() + 90 * MAS * np.exp(1j * ANNUAL_RATE * s)
+    sims = damped_oscillator(t, 2 * math.pi / TRUTH["period"], 100.0, TRUTH["chandler_amplitude"] ** 2, m, rng)
+    return t, base[:, None] + sims
+
+
+def _old_vp_period(t, z, degree=2, band=CHANDLER_BAND):
+    """The variable-projection period as fit_least_squares(..., uncertainty=False) computed it, one series."""
+    s = t - 0.5 * (t[0] + t[-1])
+    half = 0.5 * (t[-1] - t[0])
+    tau = s / half
+    fixed = np.stack(
+        [tau**j for j in range(degree + 1)] + [np.exp(1j * ANNUAL_RATE * s), np.exp(-1j * ANNUAL_RATE * s)], axis=1
+    ).astype(complex)
+    q, _ = np.linalg.qr(fixed)
+    r0 = z - q @ (q.conj().T @ z)
+    cols = np.column_stack([r0, q])
+    lo, hi = 2 * math.pi / band[1], 2 * math.pi / band[0]
+    rates, d = band_grid(lo, hi, s[-1] - s[0])
+
+    def gain(f):
+        return np.abs(f[..., 0]) ** 2 / np.maximum(s.size - np.sum(np.abs(f[..., 1:]) ** 2, axis=-1), 1e-12 * s.size)
+
+    grid = gain(dtft(s, cols, rates[0], d, rates.size))
+    rate = refine_peak(lambda r: float(gain(dtft_at(s, cols, r))), rates, grid, d, lo, hi)
+    return 2 * math.pi / abs(rate)
+
+
+def _old_spectrum_period(t, z, taper, degree=2, band=CHANDLER_BAND):
+    """The spectral period as fit_spectrum(..., uncertainty=False) computed it, one series (its loop verbatim)."""
+    span = t[-1] - t[0]
+    s = t - 0.5 * (t[0] + t[-1])
+    tau = s / (0.5 * span)
+    v = np.stack([tau**j for j in range(degree + 1)], axis=1).astype(complex)
+    y = z - v @ np.linalg.lstsq(v, z, rcond=None)[0]
+    w = np.sin(np.pi * (t - t[0]) / span) ** 2 if taper == "hann" else np.ones_like(t)
+    lo, hi = 2 * math.pi / band[1], 2 * math.pi / band[0]
+    rates, d = band_grid(lo, hi, span)
+    annual_cols = np.exp(1j * ANNUAL_RATE * np.outer(s, [1.0, -1.0]))
+    ann = np.zeros(2, dtype=complex)
+    rate = math.nan
+    for _ in range(30):
+        wy = w * (y - annual_cols @ ann)
+        power = np.abs(dtft(s, wy, rates[0], d, rates.size)) ** 2
+        previous = rate
+        rate = refine_peak(lambda r: float(np.abs(dtft_at(s, wy, r)) ** 2), rates, power, d, lo, hi)
+        chandler = complex(dtft_at(s, wy, rate)) / w.sum()
+        ann = dtft_at(s, w * (y - chandler * np.exp(1j * rate * s)), np.array([ANNUAL_RATE, -ANNUAL_RATE])) / w.sum()
+        if abs(rate - previous) < 1e-3 * d:
+            break
+    return 2 * math.pi / abs(rate)
+
+
+# Uniform daily and five-day grids (block-rotated exponentials) and gappy ones (exact exponentials);
+# 30 years (Hann taper) and 5 years (no taper: under one Chandler-annual beat).
+CASES = [
+    pytest.param(30, False, 5, id="30yr-5day-bins"),
+    pytest.param(30, True, None, id="30yr-daily-gaps"),
+    pytest.param(5, False, None, id="5yr-daily"),
+    pytest.param(5, True, 5, id="5yr-5day-bins-gaps"),
+]
+
+
+@pytest.mark.parametrize(("years", "gaps", "bin_days"), CASES)
+def test_vp_periods_equal_one_series_at_a_time(years, gaps, bin_days):
+    t, zs = _columns(years, gaps=gaps, bin_days=bin_days)
+    got = vp_periods(t, zs, drift_degree=2, band=CHANDLER_BAND)
+    for k in range(zs.shape[1]):
+        old = _old_vp_period(t, zs[:, k])
+        assert got[k] == pytest.approx(old, rel=RTOL)
+        kw = {"reference_period": REFERENCE_PERIOD, "uncertainty": False}
+        assert fit_least_squares(t, zs[:, k], **kw).chandler.period == pytest.approx(old, rel=RTOL)
+
+
+@pytest.mark.parametrize(("years", "gaps", "bin_days"), CASES)
+def test_spectrum_periods_equal_one_series_at_a_time(years, gaps, bin_days):
+    t, zs = _columns(years, gaps=gaps, bin_days=bin_days)
+    taper = "hann" if years > 7 else "none"
+    got = spectrum_periods(t, zs, reference_period=REFERENCE_PERIOD, drift_degree=2, band=CHANDLER_BAND, taper=taper)
+    for k in range(zs.shape[1]):
+        old = _old_spectrum_period(t, zs[:, k], taper)
+        assert got[k] == pytest.approx(old, rel=RTOL)
+        kw = {"reference_period": REFERENCE_PERIOD, "uncertainty": False, "taper": taper}
+        assert fit_spectrum(t, zs[:, k], **kw).chandler.period == pytest.approx(old, rel=RTOL)
+
+
+def test_vp_periods_recover_exact_circles():
+    """Ground truth: records that are exactly drift + annual terms + a circle of period P_k have their
+    largest gain at P_k (the residual vanishes there): each is found within Brent's tolerance."""
+    t = DAY * np.arange(int(20 * 365.25)) - 10 * YEAR
+    s = t - 0.5 * (t[0] + t[-1])
+    periods = np.array([400.0, 418.5, 433.0, 447.25, 480.0]) * DAY
+    base = (30 - 200j) * MAS + 5 * MAS * s / s.max() + 80 * MAS * np.exp(1j * ANNUAL_RATE * s)
+    zs = base[:, None] + 150 * MAS * np.exp(1j * np.outer(s, 2 * math.pi / periods) + 0.4)
+    got = vp_periods(t, zs, drift_degree=2, band=CHANDLER_BAND)
+    _, d = band_grid(2 * math.pi / CHANDLER_BAND[1], 2 * math.pi / CHANDLER_BAND[0], s[-1] - s[0])
+    rate_tolerance = 2e-4 * d  # refine_peak's xatol is 1e-4 of the grid step
+    np.testing.assert_array_less(np.abs(2 * math.pi / got - 2 * math.pi / periods), rate_tolerance)
