@@ -85,7 +85,9 @@ class PolarMotionAnalysis:
     def __init__(self, data, least_squares, spectral, windows, spectrum, quality_factor, budget, caveats):
         """``data`` is the record (a Dataset, or the :class:`~wobble.io.eop.PoleRecord` read from a file),
         ``windows`` the :class:`~wobble.models.polar_motion.WindowedFits` and ``spectrum`` the
-        :class:`~wobble.models.polar_motion.Spectrum` of the model layer."""
+        :class:`~wobble.models.polar_motion.Spectrum` of the model layer, or a function of no arguments
+        that computes it (the JSON and the text do not show the spectrum: it is computed for the file
+        and the figure, on first use)."""
         self._record = data
         self.least_squares = least_squares
         self.spectral = spectral
@@ -115,7 +117,8 @@ class PolarMotionAnalysis:
         """Two-sided amplitude spectrum (xarray.Dataset on the dimension ``frequency``)."""
         from wobble.api.polar_motion.dataset import spectrum_dataset
 
-        return spectrum_dataset(self._spectrum)
+        spectrum = self._spectrum() if callable(self._spectrum) else self._spectrum
+        return spectrum_dataset(spectrum)
 
     @property
     def source_file(self) -> str | None:
@@ -378,7 +381,8 @@ def polar_motion_analysis(
     sp = _pm.fit_spectrum(
         t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws
     )
-    spectrum = _pm.two_sided_spectrum(t, z, reference_period=reference, drift_degree=drift_degree)
+    # Only the file and the figure show the spectrum (23,648 samples at 1,600 frequencies): computed on first use.
+    spectrum = functools.partial(_pm.two_sided_spectrum, t, z, reference_period=reference, drift_degree=drift_degree)
 
     def window_progress(done, total):
         if done % 5 == 0 or done == total:

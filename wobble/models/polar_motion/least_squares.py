@@ -123,15 +123,15 @@ def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
     return 2 * math.pi / np.abs(rate)
 
 
-def _ls_solve(s, z, half, degree, band, polish=True):
+def _ls_solve(s, z, half, fixed, band, polish=True):
     """Variable projection, then (``polish``) a full nonlinear least-squares polish.
 
-    Returns (coefficients, rate, at_edge); the coefficients are ordered as the
+    ``fixed`` are the drift and annual columns (:func:`_fixed_columns`). Returns
+    (coefficients, rate, at_edge); the coefficients are ordered as the
     columns: drift (degree + 1), annual +, annual -, Chandler.
     """
     lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
     span = s[-1] - s[0]
-    fixed = _fixed_columns(s, half, degree)
     q, r0 = _profile(s, z, fixed)
     cols = np.column_stack([r0, q])
     rates, gain, step = _grid_gain(s, cols, lo_rate, hi_rate, span)
@@ -261,8 +261,8 @@ def fit_least_squares(
     epoch = 0.5 * (t[0] + t[-1])
     half = 0.5 * (t[-1] - t[0])
     s = t - epoch
-    coeffs, rate, at_edge = _ls_solve(s, z, half, degree, band, polish=uncertainty)
     fixed = _fixed_columns(s, half, degree)
+    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, polish=uncertainty)
     resid = z - fixed @ coeffs[:-1] - coeffs[-1] * np.exp(1j * rate * s)
     caveats = span_caveats(t[-1] - t[0], beat)
     if at_edge:

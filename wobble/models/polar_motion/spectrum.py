@@ -261,14 +261,17 @@ def _prewhitened_peaks(s, y, w, lo_rate, hi_rate, span):
         rows = np.ascontiguousarray(wy.T)
         power = np.abs(dtft(s, wy, rates[0], d, rates.size)) ** 2
 
+        def exponentials(r):
+            return phases(n, r, grid) if grid is not None else np.exp(-1j * np.multiply.outer(r, s))
+
         def power_at(r, index, rows=rows):
-            phase = phases(n, r, grid) if grid is not None else np.exp(-1j * np.multiply.outer(r, s))
-            return np.abs(np.einsum("kn,kn->k", phase, rows[index])) ** 2
+            return np.abs(np.einsum("kn,kn->k", exponentials(r), rows[index])) ** 2
 
         previous = rate[i]
         rate[i] = refine_peaks(power_at, rates, power, d, lo_rate, hi_rate)
-        chandler[i] = np.einsum("kn,kn->k", np.exp(-1j * np.multiply.outer(rate[i], s)), rows) / sw
-        line = chandler[i] * np.exp(1j * np.multiply.outer(s, rate[i]))
+        phase = exponentials(rate[i])
+        chandler[i] = np.einsum("kn,kn->k", phase, rows) / sw
+        line = chandler[i] * phase.conj().T  # the Chandler term, exp(+i rate s) = conj(exp(-i rate s))
         ann[:, i] = annual_phase @ (w[:, None] * (y[:, i] - line)) / sw
         running = i[~(np.abs(rate[i] - previous) < 1e-3 * d)]
         if not running.size:
