@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR
 
-from wobble.models.polar_motion.least_squares import fit_least_squares, vp_periods
+from wobble.models.polar_motion.least_squares import fit_least_squares, vp_periods, vp_rates
 from wobble.models.polar_motion.record import ANNUAL_RATE, CHANDLER_BAND, bin_means
 from wobble.models.polar_motion.search import band_grid, refine_peak
 from wobble.models.polar_motion.spectrum import fit_spectrum, spectrum_periods
@@ -135,3 +135,33 @@ def test_vp_periods_recover_exact_circles():
     _, d = band_grid(2 * math.pi / CHANDLER_BAND[1], 2 * math.pi / CHANDLER_BAND[0], s[-1] - s[0])
     rate_tolerance = 2e-4 * d  # refine_peak's xatol is 1e-4 of the grid step
     np.testing.assert_array_less(np.abs(2 * math.pi / got - 2 * math.pi / periods), rate_tolerance)
+
+
+@pytest.mark.parametrize("gaps", [False, True])
+def test_windows_equal_one_window_at_a_time(gaps, monkeypatch):
+    """sliding_windows searches the windows that share their centred times (a gap-free daily record)
+    together; each window's result equals its own fit_least_squares, search included, to rounding.
+    The uncertainties hold the drift-model term, a difference of two periods that agree to ~1e-4:
+    their rounding shows at ~1e-8 of it (a different Brent step would show at ~1e-4)."""
+    from wobble.models.polar_motion import windows
+
+    rng = np.random.default_rng(5)
+    t = DAY * np.arange(int(16 * 365.25))
+    s = t - t.mean()
+    z = 150 * MAS * np.exp(1j * 2 * math.pi / TRUTH["period"] * s) + 90 * MAS * np.exp(1j * ANNUAL_RATE * s)
+    z = z + (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size)) * 20 * MAS
+    if gaps:
+        keep = rng.random(t.size) > 0.05
+        t, z = t[keep], z[keep]
+    calls = []
+    monkeypatch.setattr(windows, "vp_rates", lambda *a, **k: calls.append(1) or vp_rates(*a, **k))
+    w = windows.sliding_windows(t, z, 6 * YEAR, 1 * YEAR, reference_period=REFERENCE_PERIOD)
+    assert bool(calls) != gaps  # shared searches on the daily grid, none when every window has its own gaps
+    for i in range(w.centre.size):
+        m = (t >= w.start[i]) & (t <= w.end[i])
+        f = fit_least_squares(t[m], z[m], reference_period=REFERENCE_PERIOD, subspans=False, excitation_q=None)
+        assert w.period[i] == pytest.approx(f.chandler.period, rel=RTOL)
+        assert w.amplitude[i] == pytest.approx(f.chandler.amplitude, rel=RTOL)
+        assert w.annual_prograde_amplitude[i] == pytest.approx(f.annual_prograde.amplitude, rel=RTOL)
+        assert w.period_sigma[i] == pytest.approx(f.chandler.period_sigma, rel=1e-6)
+        assert w.amplitude_sigma[i] == pytest.approx(f.chandler.amplitude_sigma, rel=1e-6)

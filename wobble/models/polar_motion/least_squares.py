@@ -46,7 +46,7 @@ from wobble.numerics.phasor import uniform_grid
 from wobble.numerics.spectral import dtft, dtft_at, phases
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["fit_least_squares"]
+__all__ = ["fit_least_squares", "vp_periods", "vp_rates"]
 
 
 def _fixed_columns(s: np.ndarray, half: float, degree: int) -> np.ndarray:
@@ -102,11 +102,20 @@ def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
     """Chandler periods (s) of many series on the same times by variable projection (no polish).
 
     Column k of ``zs`` gives the period ``fit_least_squares(t, zs[:, k],
-    uncertainty=False)`` would: the drift and annual columns, their QR and their
-    Fourier sums are shared, and the grid search is one matrix product for all
-    columns (the Monte Carlo of :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`), and so
-    are the bounded Brent refinements (:func:`~wobble.models.polar_motion.search.refine_peaks`: the same
-    steps as one refinement per column, each step one array operation for all of them).
+    uncertainty=False)`` would (the Monte Carlo of
+    :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`); see :func:`vp_rates`.
+    """
+    return 2 * math.pi / np.abs(vp_rates(t, zs, drift_degree=drift_degree, band=band))
+
+
+def vp_rates(t, zs, *, drift_degree: int, band) -> np.ndarray:
+    """Chandler rates (rad/s, signed) of many series on the same times by variable projection (no polish).
+
+    Column k of ``zs`` gives the rate the search of ``fit_least_squares(t, zs[:, k])`` finds before its
+    polish: the drift and annual columns, their QR and their Fourier sums are shared, the grid search
+    is one matrix product for all columns, and so are the bounded Brent refinements
+    (:func:`~wobble.models.polar_motion.search.refine_peaks`: the same steps as one refinement per
+    column, each step one array operation for all of them).
     """
     epoch = 0.5 * (t[0] + t[-1])
     half = 0.5 * (t[-1] - t[0])
@@ -119,24 +128,27 @@ def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
     f = dtft(s, np.column_stack([r0, q]), rates[0], d, rates.size)
     denom = np.maximum(s.size - np.sum(np.abs(f[:, m:]) ** 2, axis=1), 1e-12 * s.size)
     gains = np.abs(f[:, :m]) ** 2 / denom[:, None]
-    rate = refine_peaks(_gains(s, r0, q, uniform_grid(s)), rates, gains, d, lo_rate, hi_rate)
-    return 2 * math.pi / np.abs(rate)
+    return refine_peaks(_gains(s, r0, q, uniform_grid(s)), rates, gains, d, lo_rate, hi_rate)
 
 
-def _ls_solve(s, z, half, fixed, band, polish=True):
+def _ls_solve(s, z, half, fixed, band, polish=True, rate=None):
     """Variable projection, then (``polish``) a full nonlinear least-squares polish.
 
-    ``fixed`` are the drift and annual columns (:func:`_fixed_columns`). Returns
+    ``fixed`` are the drift and annual columns (:func:`_fixed_columns`); ``rate``, when given, is
+    the variable projection's rate found already (:func:`vp_rates`). Returns
     (coefficients, rate, at_edge); the coefficients are ordered as the
     columns: drift (degree + 1), annual +, annual -, Chandler.
     """
     lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
     span = s[-1] - s[0]
-    q, r0 = _profile(s, z, fixed)
-    cols = np.column_stack([r0, q])
-    rates, gain, step = _grid_gain(s, cols, lo_rate, hi_rate, span)
-    grid = uniform_grid(s)  # the exponentials of the refinement by block rotation (a daily record's times)
-    rate = refine_peak(lambda r: float(_gain(s, cols, r, grid)), rates, gain, step, lo_rate, hi_rate)
+    if rate is None:
+        q, r0 = _profile(s, z, fixed)
+        cols = np.column_stack([r0, q])
+        rates, gain, step = _grid_gain(s, cols, lo_rate, hi_rate, span)
+        grid = uniform_grid(s)  # the exponentials of the refinement by block rotation (a daily record's times)
+        rate = refine_peak(lambda r: float(_gain(s, cols, r, grid)), rates, gain, step, lo_rate, hi_rate)
+    else:
+        step = band_grid(lo_rate, hi_rate, span)[1]
     coeffs = np.linalg.lstsq(np.column_stack([fixed, np.exp(1j * rate * s)]), z, rcond=None)[0]
     if polish:
         coeffs, rate = _polish(s, z, half, fixed, coeffs, rate)
@@ -207,6 +219,7 @@ def fit_least_squares(
     excitation_q: float | None = 100.0,
     draws: int = 64,
     seed: int = 0,
+    rates: dict | None = None,
 ) -> ChandlerFit:
     """Nonlinear least-squares fit of equation (2) to the complex pole series.
 
@@ -238,6 +251,12 @@ def fit_least_squares(
     draws, seed : int
         Monte-Carlo realisations and the seed of their generator (fixed, so
         results are reproducible).
+    rates : dict, optional
+        ``{drift degree: rate}`` (rad/s): the variable projection's rates of
+        this series found already (by :func:`vp_rates`, for many series at
+        once, as :func:`~wobble.models.polar_motion.windows.sliding_windows`
+        does); the search is skipped for those degrees (this fit's and the
+        model check's).
 
     Returns
     -------
@@ -262,7 +281,8 @@ def fit_least_squares(
     half = 0.5 * (t[-1] - t[0])
     s = t - epoch
     fixed = _fixed_columns(s, half, degree)
-    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, polish=uncertainty)
+    found = None if rates is None else rates.get(degree)
+    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, polish=uncertainty, rate=found)
     resid = z - fixed @ coeffs[:-1] - coeffs[-1] * np.exp(1j * rate * s)
     caveats = span_caveats(t[-1] - t[0], beat)
     if at_edge:
@@ -302,7 +322,9 @@ def fit_least_squares(
             )
             details["subspans"] = nsub
         base = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
-        mod = model_sensitivity(t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band)
+        mod = model_sensitivity(
+            t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band, rates=rates
+        )
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         p_exc = math.nan
         if excitation_q is not None:

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.polar_motion.least_squares import fit_least_squares
-from wobble.models.polar_motion.record import CHANDLER_BAND, DAY, MIN_SPAN, as_series, check_degree
+from wobble.models.polar_motion.least_squares import fit_least_squares, vp_rates
+from wobble.models.polar_motion.record import CHANDLER_BAND, DAY, MIN_SPAN, as_series, check_band, check_degree
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["WindowedFits", "sliding_windows"]
@@ -70,6 +70,40 @@ def _deprecated(old: str, new: str) -> None:
     )
 
 
+def _window_rates(t, z, masks, degree, band) -> dict[int, dict[int, float]]:
+    """The variable projection's Chandler rates of the windows, ``{window: {drift degree: rate}}``,
+    for the fit's degree and the model check's (one less and one more).
+
+    On a daily record most windows hold the same number of days, and then the same times about
+    their centre (and the same drift and annual columns): their searches are one
+    :func:`~wobble.models.polar_motion.least_squares.vp_rates` per degree (a QR, a grid product and
+    the Brent refinements in lockstep) instead of one per window and degree. Windows whose centred
+    times match no other's (gaps; too short to be fitted) are left to their own search.
+    """
+    try:
+        band = check_band(band)
+    except InputError:
+        return {}  # each window's fit refuses it, as it always has
+    degrees = sorted({max(degree - 1, 0), degree, degree + 1})
+    groups: dict[tuple, list[int]] = {}
+    for i, m in masks.items():
+        tw = t[m]
+        if tw[-1] - tw[0] < MIN_SPAN:
+            continue  # the fit refuses it (as_series), and the window stays empty
+        centred = tw - 0.5 * (tw[0] + tw[-1])
+        groups.setdefault((centred.tobytes(), 0.5 * (tw[-1] - tw[0])), []).append(i)
+    found: dict[int, dict[int, float]] = {}
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        tw = t[masks[members[0]]]
+        zs = np.column_stack([z[masks[i]] for i in members])
+        for d in degrees:
+            for i, rate in zip(members, vp_rates(tw, zs, drift_degree=d, band=band)):
+                found.setdefault(i, {})[d] = float(rate)
+    return found
+
+
 @one_blas_thread
 def sliding_windows(
     t,
@@ -112,13 +146,19 @@ def sliding_windows(
         for k in ("period", "period_sigma", "amplitude", "amplitude_sigma", "phase", "annual", "annual_sigma", "retro")
     }
     counts = np.zeros(n, dtype=int)
+    masks = {}
     for i, a in enumerate(starts):
         m = (t >= a) & (t <= a + window)
         counts[i] = int(m.sum())
+        if counts[i] >= 10 and t[m][-1] - t[m][0] >= 0.8 * window:
+            masks[i] = m
+    found = _window_rates(t, z, masks, check_degree(drift_degree), band)
+    for i in range(n):
         if progress is not None:
             progress(i, n)
-        if counts[i] < 10 or t[m][-1] - t[m][0] < 0.8 * window:
+        if i not in masks:
             continue
+        m = masks[i]
         try:
             f = fit_least_squares(
                 t[m],
@@ -128,6 +168,7 @@ def sliding_windows(
                 band=band,
                 subspans=False,
                 excitation_q=None,
+                rates=found.get(i),
             )
         except InputError:
             continue
