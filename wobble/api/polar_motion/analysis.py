@@ -130,6 +130,11 @@ class PolarMotionAnalysis:
         return self._record.attrs.get("source_file")
 
     @functools.cached_property
+    def published(self) -> dict:
+        """The published Chandler period beside the estimate (:func:`published_chandler_period`)."""
+        return published_chandler_period(self.budget.planet)
+
+    @functools.cached_property
     def window_columns(self) -> dict:
         """The variables of :attr:`windows` as plain arrays (MJD, mas, days, degrees), without xarray."""
         from wobble.api.polar_motion.dataset import window_columns
@@ -193,7 +198,7 @@ class PolarMotionAnalysis:
                     "sigma": sigma,
                 }
             )
-        pub = published_chandler_period()
+        pub = self.published
         rows.append(
             {
                 "name": "published (Vicente & Wilson 1997)",
@@ -240,9 +245,7 @@ class PolarMotionAnalysis:
                 }
                 for r in self.comparison()
             ],
-            "published": {
-                k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in published_chandler_period().items()
-            },
+            "published": {k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in self.published.items()},
             "caveats": list(self.caveats),
             "deprecated_keys": dict(DEPRECATED_KEYS),
         }
@@ -284,7 +287,7 @@ class PolarMotionAnalysis:
             lines.append(
                 f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}"
             )
-        pub = published_chandler_period()
+        pub = self.published
         lines.append(
             f"  model (wobble.chandler_budget('earth')) {pm(self.budget.period, self.budget.period_uncertainty, 1)} d; "
             f"published {pm(pub['period'], pub['uncertainty'], 1)} d (Vicente & Wilson 1997)"
@@ -349,7 +352,7 @@ def polar_motion_analysis(
     -------
     PolarMotionAnalysis
     """
-    from wobble.api.chandler import chandler_budget
+    from wobble.api.chandler import chandler_budget, load_planet
 
     say = progress or (lambda message: None)
     # A file (or None, the shipped C04 series) is read into plain arrays: the Dataset is built only if
@@ -373,7 +376,8 @@ def polar_motion_analysis(
             f"({span / (365.25 * _pm.DAY):.2f} yr)",
         )
     say("least-squares fit")
-    reference = published_chandler_period()["period"].to_value(u.s)
+    earth = load_planet("earth")  # read once: the reference period here, the budget and the comparison below
+    reference = published_chandler_period(earth)["period"].to_value(u.s)
     ls = _pm.fit_least_squares(
         t, z, reference_period=reference, drift_degree=drift_degree, excitation_q=q_value, draws=draws
     )
@@ -413,6 +417,6 @@ def polar_motion_analysis(
         windows=wf,
         spectrum=spectrum,
         quality_factor=qf,
-        budget=chandler_budget("earth"),
+        budget=chandler_budget(earth),
         caveats=caveats,
     )

@@ -42,16 +42,17 @@ def with_deprecated_keys(d: dict) -> dict:
     return out
 
 
-def published_chandler_period() -> dict:
+def published_chandler_period(earth=None) -> dict:
     """The published Chandler period we compare with, from the Earth catalogue.
 
     ``data/bodies/earth.toml`` (``observed_chandler_period``) holds the value,
     its uncertainty and source, so the model comparison and this one use the
-    same number.
+    same number. ``earth``: the catalogue's Earth already loaded
+    (``wobble.load_planet("earth")``), to save reading the file again.
     """
     from wobble.api.chandler import load_planet
 
-    entry = load_planet("earth").parameter("observed_chandler_period")
+    entry = load_planet(earth if earth is not None else "earth").parameter("observed_chandler_period")
     return {
         "period": entry.value.to(u.day),
         "uncertainty": entry.uncertainty.to(u.day),
