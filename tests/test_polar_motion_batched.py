@@ -165,3 +165,18 @@ def test_windows_equal_one_window_at_a_time(gaps, monkeypatch):
         assert w.annual_prograde_amplitude[i] == pytest.approx(f.annual_prograde.amplitude, rel=RTOL)
         assert w.period_sigma[i] == pytest.approx(f.chandler.period_sigma, rel=1e-6)
         assert w.amplitude_sigma[i] == pytest.approx(f.chandler.amplitude_sigma, rel=1e-6)
+
+
+@pytest.mark.parametrize(("years", "gaps"), [(12, False), (12, True), (5, False)])
+def test_spectral_model_check_equals_its_own_fits(years, gaps):
+    """fit_spectrum's drift-model term (its series of one degree less and one more go through the peak
+    search with the fit's own): the largest change against fit_spectrum at those degrees, fitted alone.
+    The term is a difference of nearly equal periods: compared in absolute terms, to rounding."""
+    t, zs = _columns(years, gaps=gaps, m=1, seed=11)
+    kw = {"reference_period": REFERENCE_PERIOD, "subspans": False, "excitation_q": None}
+    fit = fit_spectrum(t, zs[:, 0], **kw)
+    alone = [fit_spectrum(t, zs[:, 0], drift_degree=k, uncertainty=False, **kw) for k in (1, 3)]
+    period = max(abs(f.chandler.period - fit.chandler.period) for f in alone)
+    amplitude = max(abs(f.chandler.amplitude - fit.chandler.amplitude) for f in alone)
+    assert fit.period_uncertainty.model == pytest.approx(period, abs=RTOL * fit.chandler.period)
+    assert fit.amplitude_uncertainty.model == pytest.approx(amplitude, abs=RTOL * fit.chandler.amplitude)

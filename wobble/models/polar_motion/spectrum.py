@@ -33,7 +33,8 @@ from wobble.models.polar_motion.uncertainty import (
     annual_sigmas,
     combine,
     excitation_scatter,
-    model_sensitivity,
+    largest_change,
+    model_degrees,
     subspan_scatter,
 )
 from wobble.numerics.phasor import uniform_grid
@@ -165,7 +166,11 @@ def fit_spectrum(
     lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
     d = band_grid(lo_rate, hi_rate, span)[1]
     annual_cols = np.exp(1j * ANNUAL_RATE * np.outer(s, [1.0, -1.0]))
-    rates, chandlers, anns = _prewhitened_peaks(s, y[:, None], w, lo_rate, hi_rate, span)
+    # The drift model's check (one degree less and one more) searches the same times with the same
+    # taper: its series go through the prewhitening with this one (the grid's exponentials shared).
+    checks = model_degrees(degree) if uncertainty else []
+    ys = np.column_stack([y] + [_detrend(s, z, half, k)[0] for k in checks])
+    rates, chandlers, anns = _prewhitened_peaks(s, ys, w, lo_rate, hi_rate, span)
     rate, chandler, ann = float(rates[0]), complex(chandlers[0]), anns[:, 0]
     f = np.array([chandler, ann[0], ann[1]])
     coeffs = np.concatenate([drift, [f[1], f[2], f[0]]])
@@ -211,8 +216,18 @@ def fit_spectrum(
             )
             details["subspans"] = nsub
         base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
-        mod = model_sensitivity(
-            t, z, fit_spectrum, degree, base, reference_period=reference_period, band=band, taper=kind
+        # What fit_spectrum(t, z, drift_degree=k, uncertainty=False) gives for the model check's degrees.
+        mod = largest_change(
+            base,
+            [
+                {
+                    "period": 2 * math.pi / abs(rates[j]),
+                    "amplitude": abs(chandlers[j]),
+                    "annual": abs(anns[0, j]),
+                    "retrograde": abs(anns[1, j]),
+                }
+                for j in range(1, len(rates))
+            ],
         )
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         ann_sig = annual_sigmas(ann_auto, sub, mod)

@@ -43,7 +43,9 @@ __all__ = [
     "scatter",
     "tracked",
     "subspan_scatter",
+    "model_degrees",
     "model_sensitivity",
+    "largest_change",
     "annual_sigmas",
     "combine",
     "damped_oscillator",
@@ -151,13 +153,24 @@ def subspan_scatter(t, z, estimator, beat: float, **kwargs) -> tuple[dict[str, f
     return {k: scatter(v) for k, v in values.items()}, len(values["period"])
 
 
+def model_degrees(degree: int) -> list[int]:
+    """The drift degrees of the model check: one less (not below 0) and one more than ``degree``."""
+    return sorted({max(degree - 1, 0), degree + 1} - {degree})
+
+
 def model_sensitivity(t, z, estimator, degree, base: ChandlerFit, **kwargs) -> dict[str, float]:
     """Largest change of each tracked quantity with drift degree -1/+1."""
+    return largest_change(
+        base, [tracked(estimator(t, z, drift_degree=d, uncertainty=False, **kwargs)) for d in model_degrees(degree)]
+    )
+
+
+def largest_change(base: ChandlerFit, others: list[dict[str, float]]) -> dict[str, float]:
+    """Largest change of each tracked quantity from ``base`` to the ``others`` (:func:`tracked` values)."""
     ref = tracked(base)
     out = dict.fromkeys(TRACKED, 0.0)
-    for d in {max(degree - 1, 0), degree + 1} - {degree}:
-        f = estimator(t, z, drift_degree=d, uncertainty=False, **kwargs)
-        for k, v in tracked(f).items():
+    for values in others:
+        for k, v in values.items():
             out[k] = max(out[k], abs(v - ref[k]))
     return out
 
