@@ -15,7 +15,8 @@ import math
 
 import numpy as np
 import pytest
-from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR
+from polar_synthetic import DAY, MAS, REFERENCE_PERIOD, TRUTH, YEAR, damped_wobble
+from scipy import optimize
 
 from wobble.models.polar_motion.least_squares import fit_least_squares, vp_periods, vp_rates
 from wobble.models.polar_motion.record import ANNUAL_RATE, CHANDLER_BAND, bin_means
@@ -180,3 +181,48 @@ def test_spectral_model_check_equals_its_own_fits(years, gaps):
     amplitude = max(abs(f.chandler.amplitude - fit.chandler.amplitude) for f in alone)
     assert fit.period_uncertainty.model == pytest.approx(period, abs=RTOL * fit.chandler.period)
     assert fit.amplitude_uncertainty.model == pytest.approx(amplitude, abs=RTOL * fit.chandler.amplitude)
+
+
+@pytest.mark.parametrize("gaps", [False, True])
+def test_q_profile_equals_one_search_at_a_time(gaps, monkeypatch):
+    """quality_factor runs the fresh-start searches of its profile (one per Q) in lockstep on the
+    batched likelihood; with each run alone by SciPy on the one-point likelihood, as before, the
+    result is the same (and the two likelihoods agree at every point)."""
+    from wobble.models.polar_motion import quality
+
+    rng = np.random.default_rng(21)
+    n = int(30 * 365.25)
+    t = DAY * np.arange(n)
+    y = damped_wobble(rng, n, TRUTH["period"], 60.0, 150 * MAS) + rng.standard_normal(n) * 2 * MAS
+    if gaps:  # empty ten-day bins: the likelihood's sum over the lags the record holds
+        keep = np.ones(n, dtype=bool)
+        keep[1000:1040] = keep[5000:5025] = False
+        t, y = t[keep], y[keep]
+    rate = 2 * math.pi / TRUTH["period"]
+    fast = quality.quality_factor(t, y, rate)
+
+    def one_at_a_time(func, simplexes, lower, upper, **options):
+        lik = func.__self__
+        assert lik.complete != gaps
+        runs = [
+            optimize.minimize(
+                lik.nll,
+                simplex[0],
+                args=(q,),
+                method="Nelder-Mead",
+                bounds=list(zip(lower, upper)),
+                options={"initial_simplex": simplex, **options},
+            )
+            for simplex, q in zip(simplexes, quality._Q_GRID)
+        ]
+        points = rng.uniform(lower, upper, (len(runs), 3))
+        index = np.arange(len(runs))
+        np.testing.assert_allclose(
+            func(points, index), [lik.nll(x, q) for x, q in zip(points, quality._Q_GRID)], rtol=1e-12
+        )
+        return np.array([r.x for r in runs]), np.array([r.fun for r in runs])
+
+    monkeypatch.setattr(quality, "minimize_nelder_mead", one_at_a_time)
+    slow = quality.quality_factor(t, y, rate)
+    for name in ("value", "low", "high", "lower_bound_95", "period"):
+        assert getattr(fast, name) == pytest.approx(getattr(slow, name), rel=1e-12), name

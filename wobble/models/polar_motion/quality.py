@@ -13,6 +13,7 @@ from scipy import optimize
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.record import ANNUAL_RATE, DAY, TROPICAL_YEAR, as_series, bin_means
+from wobble.numerics.nelder_mead import minimize_nelder_mead
 from wobble.numerics.spectral import dtft_at
 from wobble.numerics.threads import one_blas_thread
 
@@ -96,68 +97,33 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     # Ten-day means: the line is within 0.12 cycle/yr of 0.84 cycle/yr, far below
     # the new Nyquist frequency (18 cycles/yr); the boxcar loses 0.1 % there.
     t, y = bin_means(t, y, _Q_BIN)
-    s = t - t[0]
-    counts, dt = _lag_counts(t)
-    lags = dt * np.arange(counts.size)
-    n = t.size
-    k0 = math.ceil((rate - _HALF_BAND) * span / (2 * math.pi))
-    k1 = math.floor((rate + _HALF_BAND) * span / (2 * math.pi))
-    ords = 2 * math.pi * np.arange(k0, k1 + 1) / span
-    # Leave out the annual frequency, whose fitted term leaves a notch.
-    ords = ords[np.abs(ords - ANNUAL_RATE) > _ANNUAL_NOTCH]
-    spec = np.abs(dtft_at(s, y, ords)) ** 2 / n
-    keep = counts > 0
-    lags, counts = lags[keep], counts[keep]
-    phase = (
-        None
-        if counts.size == n and np.array_equal(counts, n - np.arange(n))
-        else np.exp(-1j * np.multiply.outer(ords, lags))
-    )
-
-    # Without gaps the pair counts are n - l at lag l, and the sum over lags has a
-    # closed form (a geometric series and its derivative): O(K) instead of O(K L).
-    complete = counts.size == n and np.array_equal(counts, n - np.arange(n))
-
-    def expected(sigma0, q, power, background):
-        gamma = 0.0 if not math.isfinite(q) else sigma0 / (2 * q)
-        if complete:
-            total = 2 * _lag_sum(n, (1j * (sigma0 - ords) - gamma) * dt).real - n
-        else:
-            kern = counts * np.exp(1j * sigma0 * lags - gamma * lags)
-            # One matrix-vector product (run with one BLAS thread: see quality_factor's decorator).
-            total = 2 * (phase @ kern).real - counts[0]  # lag 0 counted once
-        return power * total / n + background
-
-    # Power and background are fitted relative to the periodogram's scale.
-    scale = float(np.mean(spec))
-
-    def nll(x, q):
-        e = expected(rate + x[0] * 2 * math.pi / span, q, scale * math.exp(x[1]) / n, scale * math.exp(x[2]))
-        if (e <= 0).any():
-            return 1e300
-        return float((np.log(e) + spec / e).sum())
-
+    lik = _Whittle(t, y, rate, span)
     fresh = np.array([0.0, math.log(4.0), math.log(0.05)])
+    offsets = np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    options = {"xatol": 1e-4, "fatol": 1e-6, "maxfev": 2000}
+    lower, upper = np.array(_Q_BOUNDS).T
+    # Two searches at each Q: a warm start from the previous Q's best, and a fresh start (a warm
+    # start alone can stay in a poor local minimum found at a very different Q). The fresh starts
+    # depend on nothing else: all their searches run at once, step by step in lockstep.
+    fresh_x, fresh_f = minimize_nelder_mead(
+        lik.nlls, np.broadcast_to(fresh + offsets, (_Q_GRID.size, 4, 3)), lower, upper, **options
+    )
     x = fresh
     profile = []
-    for q in _Q_GRID:
-        best = None
-        # Warm start from the previous Q, and a fresh start (a warm start alone
-        # can stay in a poor local minimum found at a very different Q).
-        for start in (x, fresh):
-            simplex = start + np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-            res = optimize.minimize(
-                nll,
-                start,
-                args=(q,),
-                method="Nelder-Mead",
-                bounds=_Q_BOUNDS,
-                options={"initial_simplex": simplex, "xatol": 1e-4, "fatol": 1e-6, "maxfev": 2000},
-            )
-            if best is None or res.fun < best.fun:
-                best = res
-        x = best.x
-        profile.append((best.fun, best.x[0]))
+    for j, q in enumerate(_Q_GRID):
+        res = optimize.minimize(
+            lik.nll,
+            x,
+            args=(q,),
+            method="Nelder-Mead",
+            bounds=_Q_BOUNDS,
+            options={"initial_simplex": x + offsets, **options},
+        )
+        best_x, best_f = res.x, res.fun
+        if fresh_f[j] < best_f:
+            best_x, best_f = fresh_x[j], fresh_f[j]
+        x = best_x
+        profile.append((best_f, best_x[0]))
     values = np.array([p[0] for p in profile])
     i = int(np.argmin(values))
     dev = values - values[i]
@@ -176,7 +142,78 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     ]
     if not resolved:
         caveats.append("the line is no wider than the resolution: only a lower bound on Q is meaningful")
-    return QualityFactor(value, low, high, lower95, 2 * math.pi / sigma0, int(ords.size), resolved, tuple(caveats))
+    return QualityFactor(value, low, high, lower95, 2 * math.pi / sigma0, int(lik.ords.size), resolved, tuple(caveats))
+
+
+class _Whittle:
+    """The Whittle likelihood of :func:`quality_factor` for a binned series ``(t, y)``: ``nll(x, q)`` at
+    one point, ``nlls(xs, index)`` at many (Q = ``_Q_GRID[index]``), with the same arithmetic.
+
+    x = (centre offset in resolution units, log line power, log background), both relative to
+    the periodogram's scale, at the Fourier frequencies within 0.25 cycle per year of ``rate``.
+    """
+
+    def __init__(self, t, y, rate, span):
+        s = t - t[0]
+        counts, dt = _lag_counts(t)
+        lags = dt * np.arange(counts.size)
+        n = t.size
+        k0 = math.ceil((rate - _HALF_BAND) * span / (2 * math.pi))
+        k1 = math.floor((rate + _HALF_BAND) * span / (2 * math.pi))
+        ords = 2 * math.pi * np.arange(k0, k1 + 1) / span
+        # Leave out the annual frequency, whose fitted term leaves a notch.
+        ords = ords[np.abs(ords - ANNUAL_RATE) > _ANNUAL_NOTCH]
+        self.spec = np.abs(dtft_at(s, y, ords)) ** 2 / n
+        keep = counts > 0
+        self.lags, self.counts = lags[keep], counts[keep]
+        # Without gaps the pair counts are n - l at lag l, and the sum over lags has a
+        # closed form (a geometric series and its derivative): O(K) instead of O(K L).
+        self.complete = self.counts.size == n and np.array_equal(self.counts, n - np.arange(n))
+        self.phase = None if self.complete else np.exp(-1j * np.multiply.outer(ords, self.lags))
+        self.ords, self.n, self.dt, self.rate, self.span = ords, n, dt, rate, span
+        # Power and background are fitted relative to the periodogram's scale.
+        self.scale = float(np.mean(self.spec))
+
+    def expected(self, sigma0, q, power, background):
+        """The expected periodogram E I at the ordinates (equation 3 plus the background)."""
+        n = self.n
+        gamma = 0.0 if not math.isfinite(q) else sigma0 / (2 * q)
+        if self.complete:
+            total = 2 * _lag_sum(n, (1j * (sigma0 - self.ords) - gamma) * self.dt).real - n
+        else:
+            kern = self.counts * np.exp(1j * sigma0 * self.lags - gamma * self.lags)
+            # One matrix-vector product (run with one BLAS thread: see quality_factor's decorator).
+            total = 2 * (self.phase @ kern).real - self.counts[0]  # lag 0 counted once
+        return power * total / n + background
+
+    def nll(self, x, q) -> float:
+        """sum(ln E + I/E) at x for quality factor q (1e300 where E is not positive)."""
+        scale, n = self.scale, self.n
+        e = self.expected(
+            self.rate + x[0] * 2 * math.pi / self.span, q, scale * math.exp(x[1]) / n, scale * math.exp(x[2])
+        )
+        if (e <= 0).any():
+            return 1e300
+        return float((np.log(e) + self.spec / e).sum())
+
+    def nlls(self, xs, index) -> np.ndarray:
+        """``nll(xs[j], _Q_GRID[index[j]])`` for every j: the same arithmetic, as array operations."""
+        scale, n = self.scale, self.n
+        qs = _Q_GRID[index]
+        sigma0 = self.rate + xs[:, 0] * 2 * math.pi / self.span
+        power = np.array([scale * math.exp(v) / n for v in xs[:, 1]])[:, None]
+        background = np.array([scale * math.exp(v) for v in xs[:, 2]])[:, None]
+        gamma = np.where(np.isfinite(qs), sigma0 / (2 * qs), 0.0)[:, None]
+        if self.complete:
+            total = 2 * _lag_sum(n, (1j * (sigma0[:, None] - self.ords) - gamma) * self.dt).real - n
+        else:
+            kern = self.counts * np.exp(1j * sigma0[:, None] * self.lags - gamma * self.lags)
+            total = 2 * (kern @ self.phase.T).real - self.counts[0]
+        e = power * total / n + background
+        out = np.full(len(index), 1e300)
+        good = ~(e <= 0).any(axis=1)
+        out[good] = (np.log(e[good]) + self.spec / e[good]).sum(axis=1)
+        return out
 
 
 def _lag_sum(n: int, a: np.ndarray) -> np.ndarray:
