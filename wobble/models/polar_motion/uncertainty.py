@@ -203,8 +203,10 @@ def damped_oscillator(t, rate, q, power, draws, rng) -> np.ndarray:
     xi = (rng.standard_normal((t.size, draws)) + 1j * rng.standard_normal((t.size, draws))) / math.sqrt(2.0)
     out = np.empty((t.size, draws), dtype=complex)
     out[0] = math.sqrt(power) * xi[0]
+    kick = scale[:, None] * xi[1:]  # the same products as in the loop, formed at once
     for k in range(1, t.size):
-        out[k] = lam[k - 1] * out[k - 1] + scale[k - 1] * xi[k]
+        np.multiply(lam[k - 1], out[k - 1], out=out[k])
+        out[k] += kick[k - 1]
     return out
 
 
