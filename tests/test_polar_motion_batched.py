@@ -226,3 +226,20 @@ def test_q_profile_equals_one_search_at_a_time(gaps, monkeypatch):
     slow = quality.quality_factor(t, y, rate)
     for name in ("value", "low", "high", "lower_bound_95", "period"):
         assert getattr(fast, name) == pytest.approx(getattr(slow, name), rel=1e-12), name
+
+
+@pytest.mark.parametrize("degree", [1, 3])
+def test_vp_tracked_equals_the_least_squares_solver(degree):
+    """The model check's coefficients from the shared QR (vp_tracked) against fit_least_squares at the
+    same rates (NumPy's least-squares solver), series by series: the same solution to rounding."""
+    from wobble.models.polar_motion.least_squares import vp_tracked
+    from wobble.models.polar_motion.uncertainty import tracked
+
+    t, zs = _columns(8, gaps=True, seed=4)
+    rates = vp_rates(t, zs, drift_degree=degree, band=CHANDLER_BAND)
+    got = vp_tracked(t, zs, rates, drift_degree=degree)
+    for k in range(zs.shape[1]):
+        kw = {"reference_period": REFERENCE_PERIOD, "drift_degree": degree, "uncertainty": False}
+        want = tracked(fit_least_squares(t, zs[:, k], rate=rates[k], **kw))
+        for name, value in want.items():
+            assert got[k][name] == pytest.approx(value, rel=1e-12), name

@@ -37,6 +37,7 @@ from wobble.models.polar_motion.uncertainty import (
     combine,
     excitation_scatter,
     hac_meat,
+    largest_change,
     model_sensitivity,
     scaled_inverse,
     sqrt_var,
@@ -46,7 +47,7 @@ from wobble.numerics.phasor import uniform_grid
 from wobble.numerics.spectral import dtft, dtft_at, phases
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["fit_least_squares", "vp_periods", "vp_rates"]
+__all__ = ["fit_least_squares", "vp_periods", "vp_rates", "vp_tracked"]
 
 
 def _fixed_columns(s: np.ndarray, half: float, degree: int) -> np.ndarray:
@@ -129,6 +130,35 @@ def vp_rates(t, zs, *, drift_degree: int, band) -> np.ndarray:
     denom = np.maximum(s.size - np.sum(np.abs(f[:, m:]) ** 2, axis=1), 1e-12 * s.size)
     gains = np.abs(f[:, :m]) ** 2 / denom[:, None]
     return refine_peaks(_gains(s, r0, q, uniform_grid(s)), rates, gains, d, lo_rate, hi_rate)
+
+
+def vp_tracked(t, zs, rates, *, drift_degree: int) -> list[dict[str, float]]:
+    """What ``fit_least_squares(t, zs[:, k], rate=rates[k], uncertainty=False)`` gives of the tracked
+    quantities (:func:`~wobble.models.polar_motion.uncertainty.tracked`), for many series on the same
+    times, each at its own Chandler rate.
+
+    The least-squares coefficients come from the drift and annual columns' QR, shared by all
+    series: with P the projection off those columns and e = exp(i rate s), the Chandler amplitude is
+    (P e)^H z / |P e|^2 and the others solve R a = Q^H (z - c e); the same solution as a
+    least-squares solver's, to rounding.
+    """
+    epoch = 0.5 * (t[0] + t[-1])
+    half = 0.5 * (t[-1] - t[0])
+    s = t - epoch
+    q, r = np.linalg.qr(_fixed_columns(s, half, drift_degree))
+    e = np.exp(1j * np.multiply.outer(s, rates))
+    e_off = e - q @ (q.conj().T @ e)
+    chandler = np.sum(e_off.conj() * zs, axis=0) / np.sum(np.abs(e_off) ** 2, axis=0)
+    fixed_coeffs = np.linalg.solve(r, q.conj().T @ (zs - e * chandler))
+    return [
+        {
+            "period": 2 * math.pi / abs(rates[k]),
+            "amplitude": abs(chandler[k]),
+            "annual": abs(fixed_coeffs[drift_degree + 1, k]),
+            "retrograde": abs(fixed_coeffs[drift_degree + 2, k]),
+        }
+        for k in range(len(rates))
+    ]
 
 
 def _ls_solve(s, z, half, fixed, band, polish=True, rate=None):
@@ -219,7 +249,8 @@ def fit_least_squares(
     excitation_q: float | None = 100.0,
     draws: int = 64,
     seed: int = 0,
-    rates: dict | None = None,
+    rate: float | None = None,
+    model_check: list[dict] | None = None,
 ) -> ChandlerFit:
     """Nonlinear least-squares fit of equation (2) to the complex pole series.
 
@@ -251,12 +282,15 @@ def fit_least_squares(
     draws, seed : int
         Monte-Carlo realisations and the seed of their generator (fixed, so
         results are reproducible).
-    rates : dict, optional
-        ``{drift degree: rate}`` (rad/s): the variable projection's rates of
-        this series found already (by :func:`vp_rates`, for many series at
-        once, as :func:`~wobble.models.polar_motion.windows.sliding_windows`
-        does); the search is skipped for those degrees (this fit's and the
-        model check's).
+    rate : float, optional
+        The variable projection's Chandler rate of this series (rad/s), found
+        already (by :func:`vp_rates`, for many series at once, as
+        :func:`~wobble.models.polar_motion.windows.sliding_windows` does): the
+        search is skipped.
+    model_check : list of dict, optional
+        The fits of the drift model's check (degrees one less and one more),
+        as :func:`~wobble.models.polar_motion.uncertainty.tracked` values,
+        found already (:func:`vp_tracked`); otherwise they are fitted here.
 
     Returns
     -------
@@ -281,8 +315,7 @@ def fit_least_squares(
     half = 0.5 * (t[-1] - t[0])
     s = t - epoch
     fixed = _fixed_columns(s, half, degree)
-    found = None if rates is None else rates.get(degree)
-    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, polish=uncertainty, rate=found)
+    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, polish=uncertainty, rate=rate)
     resid = z - fixed @ coeffs[:-1] - coeffs[-1] * np.exp(1j * rate * s)
     caveats = span_caveats(t[-1] - t[0], beat)
     if at_edge:
@@ -322,9 +355,10 @@ def fit_least_squares(
             )
             details["subspans"] = nsub
         base = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
-        mod = model_sensitivity(
-            t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band, rates=rates
-        )
+        if model_check is None:
+            mod = model_sensitivity(t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band)
+        else:
+            mod = largest_change(base, model_check)
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         p_exc = math.nan
         if excitation_q is not None:

@@ -12,8 +12,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.polar_motion.least_squares import fit_least_squares, vp_rates
+from wobble.models.polar_motion.least_squares import fit_least_squares, vp_rates, vp_tracked
 from wobble.models.polar_motion.record import CHANDLER_BAND, DAY, MIN_SPAN, as_series, check_band, check_degree
+from wobble.models.polar_motion.uncertainty import model_degrees
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["WindowedFits", "sliding_windows"]
@@ -70,21 +71,22 @@ def _deprecated(old: str, new: str) -> None:
     )
 
 
-def _window_rates(t, z, masks, degree, band) -> dict[int, dict[int, float]]:
-    """The variable projection's Chandler rates of the windows, ``{window: {drift degree: rate}}``,
-    for the fit's degree and the model check's (one less and one more).
+def _window_searches(t, z, masks, degree, band) -> dict[int, dict]:
+    """The variable projection's Chandler rate of each window and the fits of its drift-model check,
+    ``{window: {"rate": rate, "model_check": [tracked values at one degree less, one more]}}``.
 
     On a daily record most windows hold the same number of days, and then the same times about
     their centre (and the same drift and annual columns): their searches are one
     :func:`~wobble.models.polar_motion.least_squares.vp_rates` per degree (a QR, a grid product and
-    the Brent refinements in lockstep) instead of one per window and degree. Windows whose centred
-    times match no other's (gaps; too short to be fitted) are left to their own search.
+    the Brent refinements in lockstep), and the model check's coefficients one
+    :func:`~wobble.models.polar_motion.least_squares.vp_tracked` per degree, instead of one of each
+    per window and degree. Windows whose centred times match no other's (gaps; too short to be
+    fitted) are left to fit_least_squares alone.
     """
     try:
         band = check_band(band)
     except InputError:
         return {}  # each window's fit refuses it, as it always has
-    degrees = sorted({max(degree - 1, 0), degree, degree + 1})
     groups: dict[tuple, list[int]] = {}
     for i, m in masks.items():
         tw = t[m]
@@ -92,15 +94,18 @@ def _window_rates(t, z, masks, degree, band) -> dict[int, dict[int, float]]:
             continue  # the fit refuses it (as_series), and the window stays empty
         centred = tw - 0.5 * (tw[0] + tw[-1])
         groups.setdefault((centred.tobytes(), 0.5 * (tw[-1] - tw[0])), []).append(i)
-    found: dict[int, dict[int, float]] = {}
+    found: dict[int, dict] = {}
     for members in groups.values():
         if len(members) < 2:
             continue
         tw = t[masks[members[0]]]
         zs = np.column_stack([z[masks[i]] for i in members])
-        for d in degrees:
-            for i, rate in zip(members, vp_rates(tw, zs, drift_degree=d, band=band)):
-                found.setdefault(i, {})[d] = float(rate)
+        checks = [
+            vp_tracked(tw, zs, vp_rates(tw, zs, drift_degree=d, band=band), drift_degree=d)
+            for d in model_degrees(degree)
+        ]
+        for k, (i, rate) in enumerate(zip(members, vp_rates(tw, zs, drift_degree=degree, band=band))):
+            found[i] = {"rate": float(rate), "model_check": [check[k] for check in checks]}
     return found
 
 
@@ -152,7 +157,7 @@ def sliding_windows(
         counts[i] = int(m.sum())
         if counts[i] >= 10 and t[m][-1] - t[m][0] >= 0.8 * window:
             masks[i] = m
-    found = _window_rates(t, z, masks, check_degree(drift_degree), band)
+    found = _window_searches(t, z, masks, check_degree(drift_degree), band)
     for i in range(n):
         if progress is not None:
             progress(i, n)
@@ -168,7 +173,7 @@ def sliding_windows(
                 band=band,
                 subspans=False,
                 excitation_q=None,
-                rates=found.get(i),
+                **found.get(i, {}),
             )
         except InputError:
             continue
