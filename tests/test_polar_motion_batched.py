@@ -243,3 +243,37 @@ def test_vp_tracked_equals_the_least_squares_solver(degree):
         want = tracked(fit_least_squares(t, zs[:, k], rate=rates[k], **kw))
         for name, value in want.items():
             assert got[k][name] == pytest.approx(value, rel=1e-12), name
+
+
+@pytest.mark.parametrize("method", ["least_squares", "spectrum"])
+def test_subspans_measured_together_equal_one_at_a_time(method):
+    """subspan_scatter measures the sub-spans that share their times (a gap-free daily record's) with
+    the estimator's batch; the scatter equals that of the estimator run on each sub-span alone."""
+    import functools
+
+    from wobble.models.polar_motion.least_squares import vp_tracked
+    from wobble.models.polar_motion.record import beat_period, same_times
+    from wobble.models.polar_motion.spectrum import spectrum_tracked
+    from wobble.models.polar_motion.uncertainty import subspan_scatter
+
+    t, zs = _columns(40, gaps=False, m=1, seed=8)
+    z = zs[:, 0]
+    beat = beat_period(REFERENCE_PERIOD)
+    kw = {"reference_period": REFERENCE_PERIOD, "band": CHANDLER_BAND, "drift_degree": 2}
+    if method == "least_squares":
+        estimator = fit_least_squares
+
+        def batch(tm, zm):
+            return vp_tracked(tm, zm, vp_rates(tm, zm, drift_degree=2, band=CHANDLER_BAND), drift_degree=2)
+    else:
+        estimator = functools.partial(fit_spectrum, taper="hann")
+        batch = functools.partial(spectrum_tracked, taper="hann", **kw)
+    together, n = subspan_scatter(t, z, estimator, beat, batch, **kw)
+    alone, n_alone = subspan_scatter(t, z, estimator, beat, **kw)
+    count = int((t[-1] - t[0]) // (2 * beat))
+    assert n == n_alone == count >= 3
+    edges = t[0] + (t[-1] - t[0]) * np.arange(count + 1) / count
+    masks = {j: (t >= a) & (t <= b) for j, (a, b) in enumerate(zip(edges[:-1], edges[1:]))}
+    assert same_times(t, masks)  # the batch did measure some together
+    for name in together:
+        assert together[name] == pytest.approx(alone[name], rel=1e-9), name

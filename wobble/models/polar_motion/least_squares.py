@@ -350,8 +350,12 @@ def fit_least_squares(
         a_hac, sig_phase = amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
+
+            def batch(tm, zs):
+                return vp_tracked(tm, zs, vp_rates(tm, zs, drift_degree=degree, band=band), drift_degree=degree)
+
             sub, nsub = subspan_scatter(
-                t, z, fit_least_squares, beat, reference_period=reference_period, band=band, drift_degree=degree
+                t, z, fit_least_squares, beat, batch, reference_period=reference_period, band=band, drift_degree=degree
             )
             details["subspans"] = nsub
         base = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)

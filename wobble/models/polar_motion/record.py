@@ -37,6 +37,7 @@ __all__ = [
     "check_q",
     "span_caveats",
     "bin_means",
+    "same_times",
 ]
 
 DAY = 86400.0
@@ -154,3 +155,20 @@ def bin_means(t: np.ndarray, y: np.ndarray, width: float) -> tuple[np.ndarray, n
     keep = counts > 0
     centres = t[0] + width * (np.arange(n) + 0.5)
     return centres[keep], sums[keep] / counts[keep]
+
+
+def same_times(t: np.ndarray, masks: dict) -> list[list]:
+    """Groups (two or more) of the keys of ``masks`` whose samples ``t[mask]`` are the same times about
+    their centre: the same drift and annual columns, the same Fourier grids, so one computation for
+    all (the windows or sub-spans of a gap-free daily record; one group per length in days).
+
+    Spans shorter than :data:`MIN_SPAN`, which an estimator refuses, are in no group.
+    """
+    groups: dict[tuple, list] = {}
+    for key, m in masks.items():
+        tm = t[m]
+        if tm.size < 2 or tm[-1] - tm[0] < MIN_SPAN:
+            continue
+        centred = tm - 0.5 * (tm[0] + tm[-1])
+        groups.setdefault((centred.tobytes(), 0.5 * (tm[-1] - tm[0])), []).append(key)
+    return [g for g in groups.values() if len(g) > 1]

@@ -41,7 +41,7 @@ from wobble.numerics.phasor import uniform_grid
 from wobble.numerics.spectral import dtft, phases
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum", "spectrum_periods"]
+__all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum", "spectrum_periods", "spectrum_tracked"]
 
 _PREWHITEN = 30
 
@@ -211,8 +211,19 @@ def fit_spectrum(
             ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
+            batch = functools.partial(
+                spectrum_tracked, reference_period=reference_period, drift_degree=degree, band=band, taper=kind
+            )
             sub, nsub = subspan_scatter(
-                t, z, fit_spectrum, beat, reference_period=reference_period, band=band, drift_degree=degree, taper=kind
+                t,
+                z,
+                fit_spectrum,
+                beat,
+                batch,
+                reference_period=reference_period,
+                band=band,
+                drift_degree=degree,
+                taper=kind,
             )
             details["subspans"] = nsub
         base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
@@ -301,6 +312,28 @@ def spectrum_periods(t, zs, *, reference_period: float, drift_degree: int, band,
     (the same detrending, taper and prewhitened peak search, all columns at once: the Monte Carlo
     of :func:`~wobble.models.polar_motion.uncertainty.excitation_scatter`).
     """
+    rates, _, _ = _spectral_peaks(t, zs, reference_period, drift_degree, band, taper)
+    return 2 * math.pi / np.abs(rates)
+
+
+def spectrum_tracked(t, zs, *, reference_period: float, drift_degree: int, band, taper: str) -> list[dict]:
+    """What ``fit_spectrum(t, zs[:, k], uncertainty=False, ...)`` gives of the tracked quantities
+    (:func:`~wobble.models.polar_motion.uncertainty.tracked`), for many series on the same times at once
+    (the sub-spans of :func:`~wobble.models.polar_motion.uncertainty.subspan_scatter`)."""
+    rates, chandlers, anns = _spectral_peaks(t, zs, reference_period, drift_degree, band, taper)
+    return [
+        {
+            "period": 2 * math.pi / abs(rates[k]),
+            "amplitude": abs(chandlers[k]),
+            "annual": abs(anns[0, k]),
+            "retrograde": abs(anns[1, k]),
+        }
+        for k in range(len(rates))
+    ]
+
+
+def _spectral_peaks(t, zs, reference_period, drift_degree, band, taper):
+    """:func:`_prewhitened_peaks` of many series on the same times, detrended and tapered as by fit_spectrum."""
     t = np.asarray(t, dtype=float)
     degree = check_degree(drift_degree)
     band = check_band(band)
@@ -310,8 +343,7 @@ def spectrum_periods(t, zs, *, reference_period: float, drift_degree: int, band,
     s = t - epoch
     y, _ = _detrend(s, np.asarray(zs, dtype=complex), 0.5 * span, degree)
     lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
-    rates, _, _ = _prewhitened_peaks(s, y, _taper(t, kind), lo_rate, hi_rate, span)
-    return 2 * math.pi / np.abs(rates)
+    return _prewhitened_peaks(s, y, _taper(t, kind), lo_rate, hi_rate, span)
 
 
 def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:

@@ -32,7 +32,7 @@ from scipy import special
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty
-from wobble.models.polar_motion.record import DAY, bin_means
+from wobble.models.polar_motion.record import DAY, bin_means, same_times
 
 __all__ = [
     "HAC_MAX_B",
@@ -128,27 +128,39 @@ def tracked(f: ChandlerFit) -> dict[str, float]:
     }
 
 
-def subspan_scatter(t, z, estimator, beat: float, **kwargs) -> tuple[dict[str, float], int]:
+def subspan_scatter(t, z, estimator, beat: float, batch=None, **kwargs) -> tuple[dict[str, float], int]:
     """Scatter of ``estimator`` over n >= 3 disjoint sub-spans of >= 2 beat periods.
 
     Returns the 68 % error of the mean of each tracked quantity (Chandler
     period and amplitude, annual amplitudes) and the number of sub-spans.
+    ``batch(t, zs)``, when given, returns the :func:`tracked` values of the
+    columns of ``zs`` (many series on the same times) as ``estimator`` would:
+    sub-spans that hold the same times about their centre (a gap-free daily
+    record's) are measured by it together.
     """
     span = t[-1] - t[0]
     n = int(span // (2.0 * beat))
     if n < 3:
         return dict.fromkeys(TRACKED, math.nan), 0
     edges = t[0] + span * np.arange(n + 1) / n
-    values: dict[str, list[float]] = {k: [] for k in TRACKED}
-    for a, b in zip(edges[:-1], edges[1:]):
+    masks = {}
+    for j, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         m = (t >= a) & (t <= b)
         if m.sum() < 10 or t[m][-1] - t[m][0] < 0.8 * (b - a):
             continue
-        try:
-            f = estimator(t[m], z[m], uncertainty=False, **kwargs)
-        except InputError:
-            continue
-        for k, v in tracked(f).items():
+        masks[j] = m
+    found = {}
+    for members in same_times(t, masks) if batch is not None else []:
+        tm = t[masks[members[0]]]
+        found.update(zip(members, batch(tm, np.column_stack([z[masks[j]] for j in members]))))
+    values: dict[str, list[float]] = {k: [] for k in TRACKED}
+    for j, m in masks.items():  # in the order of the sub-spans, as the scatter's sums have always run
+        if j not in found:
+            try:
+                found[j] = tracked(estimator(t[m], z[m], uncertainty=False, **kwargs))
+            except InputError:
+                continue
+        for k, v in found[j].items():
             values[k].append(v)
     return {k: scatter(v) for k, v in values.items()}, len(values["period"])
 

@@ -13,7 +13,15 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.least_squares import fit_least_squares, vp_rates, vp_tracked
-from wobble.models.polar_motion.record import CHANDLER_BAND, DAY, MIN_SPAN, as_series, check_band, check_degree
+from wobble.models.polar_motion.record import (
+    CHANDLER_BAND,
+    DAY,
+    MIN_SPAN,
+    as_series,
+    check_band,
+    check_degree,
+    same_times,
+)
 from wobble.models.polar_motion.uncertainty import model_degrees
 from wobble.numerics.threads import one_blas_thread
 
@@ -87,17 +95,8 @@ def _window_searches(t, z, masks, degree, band) -> dict[int, dict]:
         band = check_band(band)
     except InputError:
         return {}  # each window's fit refuses it, as it always has
-    groups: dict[tuple, list[int]] = {}
-    for i, m in masks.items():
-        tw = t[m]
-        if tw[-1] - tw[0] < MIN_SPAN:
-            continue  # the fit refuses it (as_series), and the window stays empty
-        centred = tw - 0.5 * (tw[0] + tw[-1])
-        groups.setdefault((centred.tobytes(), 0.5 * (tw[-1] - tw[0])), []).append(i)
     found: dict[int, dict] = {}
-    for members in groups.values():
-        if len(members) < 2:
-            continue
+    for members in same_times(t, masks):
         tw = t[masks[members[0]]]
         zs = np.column_stack([z[masks[i]] for i in members])
         checks = [
