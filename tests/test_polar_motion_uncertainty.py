@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from polar_synthetic import REFERENCE_PERIOD, TRUTH, record
 
 from wobble.models import polar_motion as pm
@@ -27,3 +28,24 @@ def test_coverage_for_a_randomly_excited_wobble():
     assert np.all(np.abs(z) < 3.0), z
     assert 0.1 < np.mean(z**2) < 3.0, z
     assert np.mean(np.square(z_auto)) > 4 * np.mean(z**2)
+
+
+@pytest.mark.parametrize(("n", "lag_days", "gaps"), [(400, 50, False), (731, 365, True), (64, 63, False)])
+def test_hac_meat_is_the_bartlett_sum_of_autocovariances(n, lag_days, gaps):
+    """hac_meat (FFTs of the half spectrum) against its definition, sum over |k| <= L of (1 - |k|/(L+1)) x
+    the lag-k cross products of the scores, with the missing days as zeros (Newey & West 1987)."""
+    from wobble.models.polar_motion.uncertainty import hac_meat
+
+    rng = np.random.default_rng(n)
+    days = np.arange(n)
+    if gaps:
+        days = days[(rng.random(n) > 0.2) | (days == 0) | (days == n - 1)]
+    scores = rng.standard_normal((days.size, 5))
+    full = np.zeros((n, 5))
+    full[days] = scores
+    want = np.zeros((5, 5))
+    for k in range(-lag_days, lag_days + 1):
+        a, b = (full[k:], full[: n - k]) if k >= 0 else (full[: n + k], full[-k:])
+        want += (1 - abs(k) / (lag_days + 1)) * a.T @ b
+    got = hac_meat(days * 86400.0, scores, lag_days * 86400.0)
+    np.testing.assert_allclose(got, 0.5 * (want + want.T), rtol=0, atol=1e-12 * np.abs(want).max())
