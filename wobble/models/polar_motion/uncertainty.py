@@ -33,6 +33,7 @@ from scipy import special
 from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty
 from wobble.models.polar_motion.record import DAY, bin_means, same_times
+from wobble.numerics.recurrence import linear_recurrence
 
 __all__ = [
     "HAC_MAX_B",
@@ -217,9 +218,13 @@ def damped_oscillator(t, rate, q, power, draws, rng) -> np.ndarray:
     lam = np.exp((1j * rate - g) * dt)
     scale = np.sqrt(power * -np.expm1(-2.0 * g * dt))
     xi = (rng.standard_normal((t.size, draws)) + 1j * rng.standard_normal((t.size, draws))) / math.sqrt(2.0)
+    kick = scale[:, None] * xi[1:]
+    if dt.size and np.all(dt == dt[0]):
+        # A uniform grid (the Monte Carlo's five-day means of a daily record): one factor, and the
+        # recurrence by blocks of matrix products.
+        return linear_recurrence(math.sqrt(power) * xi[0], (1j * rate - g) * dt[0], kick)
     out = np.empty((t.size, draws), dtype=complex)
     out[0] = math.sqrt(power) * xi[0]
-    kick = scale[:, None] * xi[1:]  # the same products as in the loop, formed at once
     for k in range(1, t.size):
         np.multiply(lam[k - 1], out[k - 1], out=out[k])
         out[k] += kick[k - 1]
