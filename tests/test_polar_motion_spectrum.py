@@ -69,3 +69,32 @@ def test_prograde_circle_is_at_positive_frequency():
     spec = pm.two_sided_spectrum(t, p * MAS, reference_period=REFERENCE_PERIOD, drift_degree=0)
     assert spec.rate[np.argmax(spec.amplitude)] > 0
     assert spec.amplitude.max() == pytest.approx(MAS, rel=0.01)  # a circle of radius 1 mas
+
+
+def test_the_noise_ring_leaves_out_the_main_lobe_by_whole_grid_steps():
+    """The ring of the local noise level (spectrum._local_level) leaves out the peak's main lobe,
+    4 or 8 steps of its grid on either side, edges included: counted in steps, the same points
+    for every span. The float test it replaced, |grid - rate| > lobe, kept an edge point for
+    some spans and not for others (two roundings of the same number)."""
+    import math
+
+    from wobble.models.polar_motion.spectrum import _outside_lobe
+
+    year_rate = 2 * math.pi / (365.24219 * 86400.0)
+    float_test_kept = set()
+    for years in np.linspace(5.0, 60.0, 400):
+        span = years * 365.25 * 86400.0
+        for factor in (1.0, 2.0):  # boxcar, Hann
+            lobe = factor * 2 * math.pi / span
+            d = 2 * math.pi / (4 * span)
+            half = math.ceil((lobe + 0.1 * year_rate) / d)
+            count = 2 * half + 1
+            steps = round(lobe / d)
+            assert steps == 4 * factor
+            side = _outside_lobe(count, half, steps)
+            assert side.sum() == count - (2 * steps + 1)
+            assert not side[half - steps : half + steps + 1].any()
+            rate = 2 * math.pi / (433.0 * 86400.0)
+            grid = rate - half * d + d * np.arange(count)
+            float_test_kept.add(int((np.abs(grid - rate) > lobe).sum() - side.sum()))
+    assert float_test_kept != {0}  # the old test was not the same rule for every span

@@ -346,6 +346,16 @@ def _spectral_peaks(t, zs, reference_period, drift_degree, band, taper):
     return _prewhitened_peaks(s, y, _taper(t, kind), lo_rate, hi_rate, span)
 
 
+def _outside_lobe(count: int, centre: int, steps: int) -> np.ndarray:
+    """Which of ``count`` grid points lie strictly more than ``steps`` grid steps from point ``centre``.
+
+    The main lobe is a whole number of steps of the ring's grid (4 or 8 of 2 pi / (4 span)),
+    so its edge points are told apart by their index: |grid - rate| > lobe compared two
+    roundings of the same number there, and which way it went depended on the BLAS build.
+    """
+    return np.abs(np.arange(count) - centre) > steps
+
+
 def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:
     """Mean |F_w r|^2 / sum w^2 in a ring 0.1 cycle per year wide just outside the peak's main lobe.
 
@@ -359,10 +369,11 @@ def _local_level(s, wr, w, rate, span, kind, fitted=()) -> float:
     lobe = (2.0 if kind == "hann" else 1.0) * 2 * math.pi / span
     reach = lobe + 0.1 * year_rate
     d = 2 * math.pi / (4 * span)
-    count = int(2 * math.ceil(reach / d)) + 1
-    grid = rate - math.ceil(reach / d) * d + d * np.arange(count)
+    half = math.ceil(reach / d)
+    count = int(2 * half) + 1
+    grid = rate - half * d + d * np.arange(count)
     p = np.abs(dtft(s, wr, grid[0], d, count)) ** 2 / np.sum(w**2)
-    side = np.abs(grid - rate) > lobe
+    side = _outside_lobe(count, half, round(lobe / d))
     for other in fitted:
         side &= np.abs(grid - other) > lobe
     return float(np.mean(p[side]))
