@@ -51,11 +51,18 @@ def test_table_commands_skip_xarray(command):
     assert not set(loaded) & {"xarray", "pandas", "dask", "matplotlib", "numba", "astropy.utils.iers"}
 
 
-@pytest.mark.parametrize("output", [["--json"], []])
-def test_polar_motion_report_skips_xarray(output):
-    """`wobble polar-motion` (JSON or text) reads the record into plain arrays: no xarray, pandas or
-    dask (through xarray's duck-array check), which only -o and --plot need."""
-    argv = ["polar-motion", "--start", "1990", "--end", "2012", "--excitation-q", "none", *output]
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["polar-motion", "--start", "1990", "--end", "2012", "--excitation-q", "none", "--json"],
+        ["polar-motion", "--start", "1990", "--end", "2012", "--excitation-q", "none"],
+        ["excitation", "--start", "2000-01-01", "--end", "2004-12-31", "--json"],
+        ["excitation", "--start", "2000-01-01", "--end", "2004-12-31"],
+    ],
+)
+def test_polar_motion_reports_skip_xarray(argv):
+    """`wobble polar-motion` and `wobble excitation` (JSON or text) read the record into plain arrays:
+    no xarray, pandas or dask (through xarray's duck-array check), which only -o and --plot need."""
     loaded = _loaded_after(
         "import contextlib, io, wobble.cli as c; f = io.StringIO(); "
         f"contextlib.redirect_stdout(f).__enter__(); c.main({argv!r})"

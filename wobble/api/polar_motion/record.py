@@ -91,6 +91,17 @@ def read_record(file: str | os.PathLike | None = None, *, start=None, end=None) 
     keep = select_dates(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")
     if keep.sum() < 2:
         raise InputError("start/end", f"{start} to {end}", "an interval holding at least two days of data")
+    return _rows(rec, keep)
+
+
+def cut_record(rec: PoleRecord, start=None, end=None) -> PoleRecord:
+    """The days of a record from ``start`` to ``end`` inclusive, as :func:`resolve_data` cuts a Dataset."""
+    if start is None and end is None:
+        return rec
+    return _rows(rec, select_dates(rec.mjd, start, end))
+
+
+def _rows(rec: PoleRecord, keep) -> PoleRecord:
     return replace(
         rec, mjd=rec.mjd[keep], x=rec.x[keep], y=rec.y[keep], x_error=rec.x_error[keep], y_error=rec.y_error[keep]
     )
