@@ -58,11 +58,12 @@ def test_table_commands_skip_xarray(command):
         ["polar-motion", "--start", "1990", "--end", "2012", "--excitation-q", "none"],
         ["excitation", "--start", "2000-01-01", "--end", "2004-12-31", "--json"],
         ["excitation", "--start", "2000-01-01", "--end", "2004-12-31"],
+        ["forecast", "--method", "ls_ar", "--issued", "2019-01-01", "--horizon", "30d", "--no-calibration", "--json"],
     ],
 )
 def test_polar_motion_reports_skip_xarray(argv):
-    """`wobble polar-motion` and `wobble excitation` (JSON or text) read the record into plain arrays:
-    no xarray, pandas or dask (through xarray's duck-array check), which only -o and --plot need."""
+    """`wobble polar-motion`, `excitation` and `forecast` (JSON or text) read the record into plain
+    arrays: no xarray, pandas or dask (through xarray's duck-array check), which only -o and --plot need."""
     loaded = _loaded_after(
         "import contextlib, io, wobble.cli as c; f = io.StringIO(); "
         f"contextlib.redirect_stdout(f).__enter__(); c.main({argv!r})"

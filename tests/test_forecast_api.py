@@ -42,6 +42,21 @@ def test_json_layout(forecast):
     assert "split-conformal" in d["intervals"]
 
 
+def test_a_file_and_its_dataset_give_the_same_forecast(forecast):
+    """The shipped record read into plain arrays (what the JSON uses, without xarray) and the same record
+    as the Dataset of load_polar_motion give the same forecast, to the bit; so does the default latency
+    (C04: 30 d), which the file's kind decides."""
+    given = wobble.forecast_polar_motion(
+        wobble.load_polar_motion(), issued="2018-03-01", horizon=60 * u.day, method="ls_ar", latency=1 * u.day
+    )
+    assert given.to_dict() == forecast.to_dict()
+    a = wobble.forecast_polar_motion(issued="2018-03-01", horizon=5 * u.day, method="kalman", calibrated=False)
+    b = wobble.forecast_polar_motion(
+        wobble.load_polar_motion(), issued="2018-03-01", horizon=5 * u.day, method="kalman", calibrated=False
+    )
+    assert a.to_dict() == b.to_dict() and a.to_dict()["latency_days"] == 30.0
+
+
 def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
     ds = forecast.to_dataset()
     assert ds["lead_time"].attrs["standard_name"] == "forecast_period"

@@ -15,25 +15,16 @@ the Q of the Chandler budget's anelastic step, unless given.
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import check_q, default_q
-from wobble.api.polar_motion.record import (
-    MJD_J2000,
-    RAD_PER_MAS,
-    cut_record,
-    read_record,
-    record_series,
-    resolve_data,
-    series,
-)
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, pole_series
 from wobble.api.units import to_si
 from wobble.errors import InputError
-from wobble.io.dates import MJD_UNITS, iso_date
+from wobble.io.dates import MJD_UNITS, iso_date, select_dates
 from wobble.models.polar_motion import excitation as _ex
 from wobble.models.polar_motion.least_squares import fit_least_squares
 from wobble.models.polar_motion.record import DAY, MIN_SPAN, pole_xy
@@ -245,10 +236,7 @@ def geodetic_excitation(
     q_value = default_q() if q is None else check_q(q)
     # A file (or the shipped series) is read into plain arrays: the JSON and the text need no
     # Dataset, so xarray and pandas are imported only for -o and --plot (as in polar-motion).
-    from_file = data is None or isinstance(data, (str, os.PathLike))
-    full = read_record(file if data is None else data) if from_file else resolve_data(data, None, None, None)
-    mjd_all, t_all, z_all = record_series(full) if from_file else series(full)
-    source = full.path if from_file else full.attrs.get("source_file", "")
+    mjd_all, t_all, z_all, attrs = pole_series(data, file)
     if chandler_period is None:
         reference = published_chandler_period()["period"].to_value(u.s)
         if t_all[-1] - t_all[0] < MIN_SPAN:
@@ -260,15 +248,11 @@ def geodetic_excitation(
         period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
-    if start is None and end is None:
-        mjd, t, z = mjd_all, t_all, z_all
-    elif from_file:
-        mjd, t, z = record_series(cut_record(full, start, end))
-    else:
-        mjd, t, z = series(resolve_data(full, None, start, end))
+    keep = slice(None) if start is None and end is None else select_dates(mjd_all, start, end)
+    mjd, t, z = mjd_all[keep], t_all[keep], z_all[keep]
     if t.size < 3:
         raise InputError("start/end", f"{start} to {end}", "a span of at least three samples")
     sigma = _ex.chandler_frequency(period, q_value)
     chi = _ex.excitation_from_pole(t, z, sigma)
     back = _ex.pole_from_excitation(t, chi, sigma, z[0])
-    return GeodeticExcitation(mjd, z, chi, back, period, q_value, source)
+    return GeodeticExcitation(mjd, z, chi, back, period, q_value, attrs.get("source_file", ""))

@@ -37,7 +37,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, pole_series, resolve_data, series
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
@@ -71,9 +71,10 @@ def record_of(data, file):
     return ds, mjd, t, z
 
 
-def default_latency(ds) -> float:
-    """The publication delay of the record's kind, s (C04: 30 d; finals2000A: 1 d; other Datasets: 1 d)."""
-    return LATENCY.get(ds.attrs.get("source_format", ""), 1.0) * DAY
+def default_latency(attrs) -> float:
+    """The publication delay of the record's kind, s (C04: 30 d; finals2000A: 1 d; other Datasets: 1 d),
+    from the global attributes of its Dataset (``source_format``)."""
+    return LATENCY.get(attrs.get("source_format", ""), 1.0) * DAY
 
 
 @functools.lru_cache(maxsize=1)
@@ -131,10 +132,11 @@ def calibration_text(cal) -> str:
     )
 
 
-def latency_si(latency, ds) -> float:
-    """The record's publication delay in s: ``latency`` (a time Quantity, 0 d to 1 yr) or the record's default."""
+def latency_si(latency, attrs) -> float:
+    """The record's publication delay in s: ``latency`` (a time Quantity, 0 d to 1 yr) or the default of
+    the record whose Dataset's global attributes are ``attrs``."""
     if latency is None:
-        return default_latency(ds)
+        return default_latency(attrs)
     value = float(to_si(latency, "latency", u.s, shape=()))
     if not (math.isfinite(value) and 0 <= value <= 365.25 * DAY):
         raise InputError("latency", latency, "a delay from 0 d to 1 yr")
@@ -423,9 +425,8 @@ def forecast_polar_motion(
     method = _fc.check_method(method)
     horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
     q_value = default_q() if q is None else check_q(q)
-    ds = resolve_data(data, file, None, None)
-    mjd, t, z = series(ds)
-    lat = latency_si(latency, ds)
+    mjd, t, z, attrs = pole_series(data, file)  # plain arrays from a file: no xarray for the JSON
+    lat = latency_si(latency, attrs)
     if issued is None:
         issued_s = t[-1] + lat
     else:
@@ -459,4 +460,4 @@ def forecast_polar_motion(
         calibrated=calibrated,
         span=span,
     )
-    return PolarMotionForecast(raw, lat, ds.attrs.get("source_file", ""), q_value if method == "kalman" else None)
+    return PolarMotionForecast(raw, lat, attrs.get("source_file", ""), q_value if method == "kalman" else None)

@@ -357,7 +357,7 @@ def hindcast_polar_motion(
     span = calibration_span_si(calibration_span)
     ds = resolve_data(data, file, None, None)
     mjd, t, z = series(ds)
-    lat = latency_si(latency, ds)
+    lat = latency_si(latency, ds.attrs)
     a, b = to_mjd(start, "start"), to_mjd(end, "end")
     if b <= a:
         raise InputError("end", end, f"a date after start ({iso_date(a)})")

@@ -91,17 +91,6 @@ def read_record(file: str | os.PathLike | None = None, *, start=None, end=None) 
     keep = select_dates(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")
     if keep.sum() < 2:
         raise InputError("start/end", f"{start} to {end}", "an interval holding at least two days of data")
-    return _rows(rec, keep)
-
-
-def cut_record(rec: PoleRecord, start=None, end=None) -> PoleRecord:
-    """The days of a record from ``start`` to ``end`` inclusive, as :func:`resolve_data` cuts a Dataset."""
-    if start is None and end is None:
-        return rec
-    return _rows(rec, select_dates(rec.mjd, start, end))
-
-
-def _rows(rec: PoleRecord, keep) -> PoleRecord:
     return replace(
         rec, mjd=rec.mjd[keep], x=rec.x[keep], y=rec.y[keep], x_error=rec.x_error[keep], y_error=rec.y_error[keep]
     )
@@ -219,6 +208,21 @@ def resolve_data(data, file, start, end):
         return data
     keep = select_dates(mjd_values(data["time"]), start, end)
     return data.isel(time=np.nonzero(keep)[0])
+
+
+def pole_series(data, file) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """``(mjd, t, p, attrs)`` of the whole record a function was given (:func:`series`), with the
+    global attributes of its Dataset (``source_file``, ``source_format``, ...).
+
+    A file, or None for ``file`` or the shipped C04 series, is read into plain arrays
+    (:func:`read_record`), so that a command printing text or JSON imports no xarray; a
+    Dataset is taken as it is. The numbers are the same either way.
+    """
+    if data is None or isinstance(data, (str, os.PathLike)):
+        rec = read_record(file if data is None else data)
+        return (*record_series(rec), record_attrs(rec))
+    ds = resolve_data(data, None, None, None)
+    return (*series(ds), dict(ds.attrs))
 
 
 def resolve_series(data, start, end):
