@@ -135,7 +135,9 @@ def _run_cases(mode, keys, repeats, say, started) -> dict:
             "timing": "one warm-up run (its output is the one checked), then min and median of the repeats, "
             "every run once per round (interleaved); runs whose warm-up took over 2 s are timed once "
             "(their warm-up); runs under 50 ms get three times the repeats; Numba-compiled kernels "
-            "are loaded from their disk cache (or compiled) in the warm-up, which is not timed",
+            "are loaded from their disk cache (or compiled) in the warm-up, which is not timed; a garbage "
+            "collection before each timed run scans only what the runs made (what existed after the warm-ups "
+            "is frozen out of it: a full collection evicts the CPU caches a millisecond run then starts from)",
             "memory": (
                 "peak resident memory that one run of each method at its loosest setting adds to the "
                 "process, at the case's full output size (Linux VmHWM - VmRSS in a forked child after "
