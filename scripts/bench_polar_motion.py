@@ -33,7 +33,7 @@ OUT = ROOT / "docs" / "performance-polar-motion.md"
 NOTES = """Where the time of a calibrated one-year forecast goes (CPU): the Kalman model's maximum
 likelihood (L-BFGS-B on the steady-state filter, 40-220 evaluations of about 2.5 ms), the exact
 filter's weights for a ten-year span (a covariance recursion of 3653 steps, about 0.1 s), the
-Chandler period from 30 years (0.07 s), and the calibration's 157 past forecasts: one matrix product
+Chandler period from 30 years (0.015 s), and the calibration's 157 past forecasts: one matrix product
 for the Kalman model, 157 least-squares fits and 314 AR order selections for LS+AR (about 8 ms each),
 which is why the LS+AR forecast is the slower one (calibrated, close to the 1 s target on a quiet
 machine, over it on a loaded one); the Kalman forecast, the default, meets it with room. The
