@@ -18,9 +18,9 @@ tables per coefficient; here the samples go in blocks of :data:`_BLOCK` through 
 cache-resident scratch array, and the outputs are the only large memory written. Within
 a block a scalar pass gathers (the nodes' coefficients and phasors) and a second pass,
 which gathers nothing, does the rest four samples per instruction (LLVM's loop
-vectoriser; 0.64 ms against 0.83 ms in one scalar pass for 20,001 samples). The
-arithmetic is the NumPy path's, operation for operation and without fused multiply-adds,
-so the two agree bit for bit (tested, at and across block ends).
+vectoriser; with :func:`_horner6`, 0.56 ms against 0.83 ms in one scalar pass for
+20,001 samples). The arithmetic is the NumPy path's, operation for operation and without
+fused multiply-adds, so the two agree bit for bit (tested, at and across block ends).
 
 Numba is imported by this module only (~0.4 s once per process).
 """
@@ -295,6 +295,16 @@ def _horner6(typingctx, tab, ii, d):
     return signature, codegen
 
 
+@_jit
+def _turn(x, cc, sc, pc, ps, jc, js):
+    """cos and sin of a sample's phase: exp(i j A) exp(i g(node)) exp(i x) from the period's
+    phasor (jc, js), the node's (pc, ps) and the small remainder x (:func:`_cis`)."""
+    ec, es = _cis(x, cc, sc)
+    nc = pc * ec - ps * es
+    ns = pc * es + ps * ec
+    return jc * nc - js * ns, jc * ns + js * nc
+
+
 #: Samples per block of :func:`_motion`: its 37 rows of intermediates (38 kB) stay in the L1/L2
 #: caches. (512 was 2.7 times slower: rows 4 kB apart alias in the load/store unit.)
 _BLOCK = 128
@@ -312,19 +322,15 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, omega, 
     # node's and period's phasors, gathered into the block's rows; (2) everything else from those
     # rows, four samples per instruction, into more rows of the same local array (whose rows LLVM
     # knows apart); (3) the rows copied to the outputs. One pass per sample did the same
-    # arithmetic in 0.83 ms for 20,001 samples, the three passes take 0.64 ms. The operations and
+    # arithmetic in 0.83 ms for 20,001 samples, the three passes take 0.56 ms. The operations and
     # their order are those of the NumPy path, so the two still agree bit for bit.
     n = r.shape[0]
     nodes = tab.shape[0]
     s = np.empty((_ROWS, _BLOCK))
-    c0, c1, c2, c3 = cos_c[0], cos_c[1], cos_c[2], cos_c[3]
-    s0, s1, s2, s3 = sin_c[0], sin_c[1], sin_c[2], sin_c[3]
-    k0, inv_h, h, w0 = k[K0], k[INV_H], k[H], k[W0]
-    inv_tp, tp0, tp1, tp2 = k[INV_TP], k[TP0], k[TP1], k[TP2]
-    sa1, sa2, sa3, sc, soff, sp0 = k[SA1], k[SA2], k[SA3], k[SC], k[SOFF], k[SP0]
-    da1, da2, da3, dc, doff, dp0 = k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[DP0]
+    cc = (cos_c[0], cos_c[1], cos_c[2], cos_c[3])
+    sn = (sin_c[0], sin_c[1], sin_c[2], sin_c[3])
+    k0, inv_h, h = k[K0], k[INV_H], k[H]
     b_, c_, lam0, w3, w3ma = k[B_], k[C_], k[LAM0], k[W3], k[W3MA]
-    two_pi, half_inv_pi = k[TWO_PI], k[HALF_INV_PI]
     half_i1, half_i3, i1, i3, mgl = k[HALF_I1], k[HALF_I3], k[I1_], k[I3_], k[MGL]
     p_psi = i3 * w3
     for start in range(0, n, _BLOCK):
@@ -369,33 +375,11 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, omega, 
             sh = s[_SH, b]
             ch = s[_CH, b]
             dn = s[_DN, b]
-            # exp(i sigma) = exp(i j A) exp(i g(node)) exp(i (c d + v)), and the same for delta;
-            # cos and sin of the small angle by their Taylor polynomials in x^2 (_cis).
-            x = sc * dn + s[_V1, b]
-            z = x * x
-            ec = ((c3 * z + c2) * z + c1) * z + c0
-            es = (((s3 * z + s2) * z + s1) * z + s0) * x
-            nc = s[_PSC, b] * ec - s[_PSS, b] * es
-            ns = s[_PSC, b] * es + s[_PSS, b] * ec
-            cs = s[_JSC, b] * nc - s[_JSS, b] * ns
-            ss = s[_JSC, b] * ns + s[_JSS, b] * nc
-            x = dc * dn + s[_V2, b]
-            z = x * x
-            ec = ((c3 * z + c2) * z + c1) * z + c0
-            es = (((s3 * z + s2) * z + s1) * z + s0) * x
-            nc = s[_PDC, b] * ec - s[_PDS, b] * es
-            ns = s[_PDC, b] * es + s[_PDS, b] * ec
-            cd = s[_JDC, b] * nc - s[_JDS, b] * ns
-            sd = s[_JDC, b] * ns + s[_JDS, b] * nc
-            # The Euler angles (phi, psi wrapped to [-pi, pi]) from the secular phases (_secular, _wrap).
-            zs = ji * sa1
-            ns_ = np.rint(zs * inv_tp)
-            zs = ((zs - ns_ * tp0) - ns_ * tp1) - ns_ * tp2
-            sig = zs + (ji * sa2 + (ji * sa3 + (sc * (ri - w0) + soff))) + (s[_SP, b] - sp0)
-            zd = ji * da1
-            nd = np.rint(zd * inv_tp)
-            zd = ((zd - nd * tp0) - nd * tp1) - nd * tp2
-            dlt = zd + (ji * da2 + (ji * da3 + (dc * (ri - w0) + doff))) + (s[_DP, b] - dp0)
+            cs, ss = _turn(k[SC] * dn + s[_V1, b], cc, sn, s[_PSC, b], s[_PSS, b], s[_JSC, b], s[_JSS, b])
+            cd, sd = _turn(k[DC] * dn + s[_V2, b], cc, sn, s[_PDC, b], s[_PDS, b], s[_JDC, b], s[_JDS, b])
+            # The Euler angles (phi, psi wrapped to [-pi, pi]) from the secular phases.
+            sig = _secular(ji, ri, k, k[SA1], k[SA2], k[SA3], k[SC], k[SOFF], k[W0]) + (s[_SP, b] - k[SP0])
+            dlt = _secular(ji, ri, k, k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[W0]) + (s[_DP, b] - k[DP0])
             x = 2.0 * sh * sh
             y = 2.0 * ch * ch
             bx = b_ / x
@@ -403,10 +387,8 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, omega, 
             thetadot = lam0 * s[_DTH, b]
             uu = 1.0 - x if x <= 1.0 else y - 1.0
             ps = 0.5 * (b_ * ch / sh + c_ * sh / ch)  # phidot sin(theta)
-            phi = sig + dlt
-            psi = sig - dlt
-            s[_PHI, b] = phi - two_pi * np.rint(phi * half_inv_pi)
-            s[_PSI, b] = psi - two_pi * np.rint(psi * half_inv_pi)
+            s[_PHI, b] = _wrap(sig + dlt, k)
+            s[_PSI, b] = _wrap(sig - dlt, k)
             s[_THD, b] = thetadot
             s[_PHD, b] = 0.5 * (bx + cy)
             s[_PSD, b] = w3ma - 0.5 * (bx - cy)
