@@ -21,7 +21,7 @@ from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import check_q, default_q
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, pole_series
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, select_dates
@@ -236,7 +236,7 @@ def geodetic_excitation(
     q_value = default_q() if q is None else check_q(q)
     # A file (or the shipped series) is read into plain arrays: the JSON and the text need no
     # Dataset, so xarray and pandas are imported only for -o and --plot (as in polar-motion).
-    mjd_all, t_all, z_all, attrs = pole_series(data, file)
+    mjd_all, t_all, z_all, attrs = series_with_attrs(data, file)
     if chandler_period is None:
         reference = published_chandler_period()["period"].to_value(u.s)
         if t_all[-1] - t_all[0] < MIN_SPAN:

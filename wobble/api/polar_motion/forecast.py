@@ -37,7 +37,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, pole_series, resolve_data, series
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
@@ -53,7 +53,6 @@ __all__ = [
     "default_latency",
     "default_q",
     "chandler_period_before",
-    "record_of",
     "calibration_span_si",
     "calibration_text",
 ]
@@ -62,13 +61,6 @@ __all__ = [
 #: before its package date), the Rapid Service's finals2000A about a day.
 LATENCY = {"c04": 30.0, "finals2000A": 1.0}
 _PERIOD_SPAN = 30.0 * 365.25 * DAY
-
-
-def record_of(data, file):
-    """(Dataset, mjd, t, p) of the record given (Dataset, file or None for the shipped C04 series)."""
-    ds = resolve_data(data, file, None, None)
-    mjd, t, z = series(ds)
-    return ds, mjd, t, z
 
 
 def default_latency(attrs) -> float:
@@ -425,7 +417,7 @@ def forecast_polar_motion(
     method = _fc.check_method(method)
     horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
     q_value = default_q() if q is None else check_q(q)
-    mjd, t, z, attrs = pole_series(data, file)  # plain arrays from a file: no xarray for the JSON
+    mjd, t, z, attrs = series_with_attrs(data, file)  # plain arrays from a file: no xarray for the JSON
     lat = latency_si(latency, attrs)
     if issued is None:
         issued_s = t[-1] + lat

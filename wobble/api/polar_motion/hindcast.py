@@ -22,7 +22,7 @@ from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import calibration_span_si, calibration_text, check_q, default_q, latency_si
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, resolve_data, series
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
@@ -355,9 +355,8 @@ def hindcast_polar_motion(
         raise InputError("every", every, "at least 1 d")
     q_value = default_q() if q is None else check_q(q)
     span = calibration_span_si(calibration_span)
-    ds = resolve_data(data, file, None, None)
-    mjd, t, z = series(ds)
-    lat = latency_si(latency, ds.attrs)
+    mjd, t, z, attrs = series_with_attrs(data, file)
+    lat = latency_si(latency, attrs)
     a, b = to_mjd(start, "start"), to_mjd(end, "end")
     if b <= a:
         raise InputError("end", end, f"a date after start ({iso_date(a)})")
@@ -409,5 +408,5 @@ def hindcast_polar_motion(
     keep = [order.index(m) for m in methods]
     forecasts = [[row[k] for k in keep] for row in rows]
     return PolarMotionHindcast(
-        methods, forecasts, truth, persistence, ls_only, lat, q_value, ds.attrs.get("source_file", ""), calibrated, span
+        methods, forecasts, truth, persistence, ls_only, lat, q_value, attrs.get("source_file", ""), calibrated, span
     )

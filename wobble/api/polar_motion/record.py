@@ -39,6 +39,7 @@ __all__ = [
     "record_dataset",
     "record_series",
     "resolve_series",
+    "series_with_attrs",
     "series",
     "mjd_values",
     "resolve_data",
@@ -210,7 +211,7 @@ def resolve_data(data, file, start, end):
     return data.isel(time=np.nonzero(keep)[0])
 
 
-def pole_series(data, file) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+def series_with_attrs(data, file) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
     """``(mjd, t, p, attrs)`` of the whole record a function was given (:func:`series`), with the
     global attributes of its Dataset (``source_file``, ``source_format``, ...).
 
@@ -218,11 +219,8 @@ def pole_series(data, file) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
     (:func:`read_record`), so that a command printing text or JSON imports no xarray; a
     Dataset is taken as it is. The numbers are the same either way.
     """
-    if data is None or isinstance(data, (str, os.PathLike)):
-        rec = read_record(file if data is None else data)
-        return (*record_series(rec), record_attrs(rec))
-    ds = resolve_data(data, None, None, None)
-    return (*series(ds), dict(ds.attrs))
+    mjd, t, z, record = resolve_series(file if data is None else data, None, None)
+    return mjd, t, z, record_attrs(record) if isinstance(record, PoleRecord) else dict(record.attrs)
 
 
 def resolve_series(data, start, end):
