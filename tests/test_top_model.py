@@ -243,7 +243,7 @@ def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
         np.testing.assert_array_equal(getattr(mo, key), value, err_msg=key)
 
 
-@pytest.mark.parametrize("extra", [0, 1, 127, 129])
+@pytest.mark.parametrize("extra", [0, 1, 2, 127, 129])
 def test_compiled_blocks_end_where_the_samples_end(extra, monkeypatch):
     """The compiled pass works in blocks of taylor_table._BLOCK samples: sample counts at and
     just past whole blocks (and a partial last block) give the NumPy path's outputs bit for bit,
@@ -262,6 +262,21 @@ def test_compiled_blocks_end_where_the_samples_end(extra, monkeypatch):
             np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
         for key in ("energy", "p_phi", "p_psi"):
             np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 127, 128, 129, 130, 131, 20_001])
+def test_compiled_outputs_are_aligned_and_apart(n):
+    """The kernel's outputs (taylor_table._outputs) start on 32-byte boundaries, as its
+    non-temporal vector stores need whatever the sample count, and do not overlap."""
+    from wobble.numerics import taylor_table
+
+    flat, stride, omega, quat, axis = taylor_table._outputs(n)
+    assert stride % 4 == 0 and n <= stride < n + 4
+    parts = [(flat, 10 * stride), (omega, 3 * n), (quat, 4 * n), (axis, 3 * n)]
+    for part, size in parts:
+        assert part.flags.c_contiguous and part.size == size and part.ctypes.data % 32 == 0
+    spans = sorted((p.ctypes.data, p.ctypes.data + 8 * p.size) for p, _ in parts)
+    assert all(end <= start for (_, end), (start, _) in zip(spans, spans[1:]))
 
 
 def test_through_the_vertical_is_followed_through():
