@@ -234,13 +234,18 @@ def test_long_arrays_take_the_compiled_series_bit_for_bit(name, monkeypatch):
         "energy",
         "p_phi",
         "p_psi",
+        "energy_drift",
+        "p_phi_drift",
+        "p_psi_drift",
     ):
         np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
     for got, want in zip(angles, mdl.angles(t, "fourier")):
         np.testing.assert_array_equal(got, want)
-    # The one-pass invariants are HeavyTopModel.invariants of the same motion, to the bit.
+    # The one-pass invariants are HeavyTopModel.invariants of the same motion, to the bit, and
+    # the drifts their differences from the initial values.
     for key, value in mdl.invariants(mo).items():
         np.testing.assert_array_equal(getattr(mo, key), value, err_msg=key)
+        np.testing.assert_array_equal(getattr(mo, key + "_drift"), value - getattr(mdl, key), err_msg=key)
 
 
 @pytest.mark.parametrize("extra", [0, 1, 2, 127, 129])
@@ -260,7 +265,7 @@ def test_compiled_blocks_end_where_the_samples_end(extra, monkeypatch):
         numpy_path = mdl.motion(t, "fourier")
         for key in ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "omega", "quaternion", "axis", "u"):
             np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
-        for key in ("energy", "p_phi", "p_psi"):
+        for key in ("energy", "p_phi", "p_psi", "energy_drift", "p_phi_drift", "p_psi_drift"):
             np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
 
 
@@ -272,7 +277,7 @@ def test_compiled_outputs_are_aligned_and_apart(n):
 
     flat, stride, omega, quat, axis = taylor_table._outputs(n)
     assert stride % 4 == 0 and n <= stride < n + 4
-    parts = [(flat, 10 * stride), (omega, 3 * n), (quat, 4 * n), (axis, 3 * n)]
+    parts = [(flat, taylor_table._OUT_ROWS * stride), (omega, 3 * n), (quat, 4 * n), (axis, 3 * n)]
     for part, size in parts:
         assert part.flags.c_contiguous and part.size == size and part.ctypes.data % 32 == 0
     spans = sorted((p.ctypes.data, p.ctypes.data + 8 * p.size) for p, _ in parts)
@@ -422,8 +427,8 @@ def test_compiled_set_up_of_the_series_agrees_with_numpy(name):
     assert fb.compiled and not fa.compiled and fa.table.shape == fb.table.shape
     np.testing.assert_allclose(fb.start, fa.start, rtol=0, atol=1e-15)
     t = np.linspace(0.0, 40 * mdl.nutation_period, 3001)
-    inertia = (mdl.I1, mdl.I3, mdl.mgl)
-    qa, qb = fa._motion_numpy(t, inertia)["quaternion"], fb._motion_numpy(t, inertia)["quaternion"]
+    inertia, initial = (mdl.I1, mdl.I3, mdl.mgl), (mdl.energy, mdl.p_phi, mdl.p_psi)
+    qa, qb = (f._motion_numpy(t, inertia, initial)["quaternion"] for f in (fa, fb))
     assert np.max(attitude_angle(qa, qb)) < 2e-15
 
 

@@ -497,11 +497,6 @@ class HeavyTop:
         from wobble.api.dataset import build
 
         m = self._model
-        inv = {"energy": mo.energy, "p_phi": mo.p_phi, "p_psi": mo.p_psi}  # recomputed from omega and q
-        # The drifts in one allocation (a fresh array per drift costs page faults at this size).
-        drift = np.empty((3,) + np.shape(mo.energy))
-        for row, (key, start) in enumerate((("energy", m.energy), ("p_phi", m.p_phi), ("p_psi", m.p_psi))):
-            np.subtract(inv[key], start, out=drift[row])
 
         def var(name, data):  # cf.variable("top", name, data), from the registry's entries read once
             dims, attrs = _TOP_VARIABLES[name]
@@ -517,12 +512,12 @@ class HeavyTop:
             "omega": var("omega", mo.omega),
             "attitude": var("attitude", mo.quaternion),
             "symmetry_axis": var("symmetry_axis", mo.axis),
-            "energy": var("energy", inv["energy"]),
-            "energy_drift": var("energy_drift", drift[0]),
-            "p_phi": var("p_phi", inv["p_phi"]),
-            "p_phi_drift": var("p_phi_drift", drift[1]),
-            "p_psi": var("p_psi", inv["p_psi"]),
-            "p_psi_drift": var("p_psi_drift", drift[2]),
+            "energy": var("energy", mo.energy),  # recomputed from omega and q, and the drifts from t = 0
+            "energy_drift": var("energy_drift", mo.energy_drift),
+            "p_phi": var("p_phi", mo.p_phi),
+            "p_phi_drift": var("p_phi_drift", mo.p_phi_drift),
+            "p_psi": var("p_psi", mo.p_psi),
+            "p_psi_drift": var("p_psi_drift", mo.p_psi_drift),
         }
         coords = {
             "time": cf.time_coordinate(ts),

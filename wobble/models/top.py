@@ -216,8 +216,8 @@ class TopMotion:
     """The top's state at many times (SI: rad, rad/s, J, kg m^2/s), arrays of shape (N,) or (N, k).
 
     ``energy``, ``p_phi`` and ``p_psi`` are recomputed from omega and the attitude
-    (:meth:`HeavyTopModel.invariants`): their drift from the initial values measures the
-    error of the motion.
+    (:meth:`HeavyTopModel.invariants`): their drifts from the initial values
+    (``energy_drift``, ``p_phi_drift``, ``p_psi_drift``) measure the error of the motion.
     """
 
     t: np.ndarray
@@ -234,6 +234,9 @@ class TopMotion:
     energy: np.ndarray
     p_phi: np.ndarray
     p_psi: np.ndarray
+    energy_drift: np.ndarray  # energy - E at t = 0
+    p_phi_drift: np.ndarray
+    p_psi_drift: np.ndarray
 
 
 # --------------------------------------------------------------------------
@@ -388,7 +391,7 @@ class HeavyTopModel:
             return a.reshape(shape + extra)
 
         if isinstance(impl, top_series.Fourier):  # every output from the verified series, in one pass
-            c = impl.motion(flat, (self.I1, self.I3, self.mgl))
+            c = impl.motion(flat, (self.I1, self.I3, self.mgl), (self.energy, self.p_phi, self.p_psi))
             return TopMotion(t=t, **{k: r(v, v.shape[1:]) for k, v in c.items()})
         c = top_series.blocked(impl.core, flat)
         sh, ch, sig, dlt = c["sh"], c["ch"], c["sigma"], c["delta"]
@@ -408,6 +411,8 @@ class HeavyTopModel:
         spsi, cpsi = np.sin(psic), np.cos(psic)
         omega = np.stack([ps * spsi + tdc * cpsi, ps * cpsi - tdc * spsi, np.full_like(ps, self.omega3)], axis=-1)
         inv = self._invariants(omega, q, c["u"])
+        for key, start in (("energy", self.energy), ("p_phi", self.p_phi), ("p_psi", self.p_psi)):
+            inv[key + "_drift"] = inv[key] - start
         return TopMotion(
             t=t,
             theta=r(theta),

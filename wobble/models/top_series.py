@@ -150,8 +150,9 @@ class Fourier:
         acc *= dd
         return acc + coef[:, 0, :], acc, iu, d
 
-    def constants(self, inertia=(0.0, 0.0, 0.0)) -> np.ndarray:
-        """The constants of the compiled pass (:data:`wobble.numerics.taylor_table.CONSTANTS`)."""
+    def constants(self, inertia=(0.0, 0.0, 0.0), initial=(0.0, 0.0, 0.0)) -> np.ndarray:
+        """The constants of the compiled pass (:data:`wobble.numerics.taylor_table.CONSTANTS`);
+        ``initial``: E, p_phi and p_psi at t = 0, from which the drifts are measured."""
         e = self.base
         i1, i3, mgl = inertia
         s_, d_ = e.sigma_sec, e.delta_sec
@@ -183,6 +184,7 @@ class Fourier:
                 i1,
                 i3,
                 mgl,
+                *initial,
             ]
         )
 
@@ -253,9 +255,10 @@ class Fourier:
         dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
         return theta, wrap_angle(sig + dlt), wrap_angle(sig - dlt)
 
-    def motion(self, t, inertia) -> dict:
+    def motion(self, t, inertia, initial) -> dict:
         """The motion at times t (1-D): theta, phi, psi, their rates, u = cos theta, omega (body),
-        the quaternion, the symmetry axis, and E, p_phi, p_psi for ``inertia`` = (I1, I3, M g l)."""
+        the quaternion, the symmetry axis, and E, p_phi, p_psi for ``inertia`` = (I1, I3, M g l)
+        with their drifts from ``initial`` = (E, p_phi, p_psi) at t = 0."""
         if t.size >= compiled.LONG_ARRAY and compiled.available():  # one pass, bit for bit the NumPy path
             from wobble.numerics import taylor_table
 
@@ -263,16 +266,16 @@ class Fourier:
             r, j, j_range = taylor_table.phase(t, e.lam, (2 * e.K[0], 2 * e.K[1]), e.w0, self._period_pieces(), True)
             jtab, base = self.whole_periods(j, j_range)
             out, omega, quat, axis = taylor_table.motion(
-                r, j, base, self.table, self.node_r, self.phasor, jtab, _COS, _SIN, self.constants(inertia)
+                r, j, base, self.table, self.node_r, self.phasor, jtab, _COS, _SIN, self.constants(inertia, initial)
             )
-            names = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi")
-            return {**dict(zip(names, out)), "omega": omega, "quaternion": quat, "axis": axis}
-        return blocked(lambda tb: self._motion_numpy(tb, inertia), t)
+            return {**dict(zip(_MOTION_ROWS, out)), "omega": omega, "quaternion": quat, "axis": axis}
+        return blocked(lambda tb: self._motion_numpy(tb, inertia, initial), t)
 
-    def _motion_numpy(self, t, inertia) -> dict:
+    def _motion_numpy(self, t, inertia, initial) -> dict:
         """:func:`wobble.numerics.taylor_table.motion` in NumPy, operation for operation."""
         e = self.base
         i1, i3, mgl = inertia
+        e0, p_phi0, p_psi0 = initial
         r, j = e.phase(t)
         jtab, base = self.whole_periods(j)
         jj = np.arange(j.size) if base == PER_SAMPLE else j.astype(np.intp) - base
@@ -310,6 +313,9 @@ class Fourier:
         w3 = np.full_like(w1, e.omega3)
         g1 = 2.0 * (qx * qz - qw * qy)
         g2 = 2.0 * (qy * qz + qw * qx)
+        energy = ((0.5 * i1) * (w1 * w1 + w2 * w2) + (0.5 * i3) * (w3 * w3)) + mgl * u
+        p_phi = i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * u
+        p_psi = i3 * w3
         return dict(
             theta=theta,
             phi=wrap_angle(sig + dlt),
@@ -318,13 +324,34 @@ class Fourier:
             phidot=0.5 * (bx + cy),
             psidot=(e.omega3 - e.a) - 0.5 * (bx - cy),
             u=u,
-            energy=((0.5 * i1) * (w1 * w1 + w2 * w2) + (0.5 * i3) * (w3 * w3)) + mgl * u,
-            p_phi=i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * u,
-            p_psi=i3 * w3,
+            energy=energy,
+            p_phi=p_phi,
+            p_psi=p_psi,
+            energy_drift=energy - e0,
+            p_phi_drift=p_phi - p_phi0,
+            p_psi_drift=p_psi - p_psi0,
             omega=np.stack([w1, w2, w3], axis=-1),
             quaternion=np.stack([qw, qx, qy, qz], axis=-1),
             axis=np.stack([sin_t * (ss * cd + cs * sd), -(sin_t * (cs * cd - ss * sd)), u], axis=-1),
         )
+
+
+# The rows of wobble.numerics.taylor_table.motion's ``out``, by name.
+_MOTION_ROWS = (
+    "theta",
+    "phi",
+    "psi",
+    "thetadot",
+    "phidot",
+    "psidot",
+    "u",
+    "energy",
+    "p_phi",
+    "p_psi",
+    "energy_drift",
+    "p_phi_drift",
+    "p_psi_drift",
+)
 
 
 def wrap_angle(a):

@@ -89,6 +89,9 @@ CONSTANTS = (
     "I1",
     "I3",
     "mgl",
+    "E0",
+    "p_phi0",
+    "p_psi0",
 )
 _I = {name: i for i, name in enumerate(CONSTANTS)}
 (
@@ -124,6 +127,9 @@ _I = {name: i for i, name in enumerate(CONSTANTS)}
     I1_,
     I3_,
     MGL,
+    E0_,
+    PPHI0_,
+    PPSI0_,
 ) = range(len(CONSTANTS))
 
 
@@ -359,6 +365,9 @@ _BLOCK = 128
 (_R, _J, _TH, _V1, _V2, _SP, _DP, _DTH, _SH, _CH, _DN, _PSC, _PSS, _PDC, _PDS, _JSC, _JSS, _JDC, _JDS) = range(19)
 (_PHI, _PSI, _THD, _PHD, _PSD, _U, _E, _PPHI, _W1, _W2, _QW, _QX, _QY, _QZ, _AX, _AY) = range(19, 35)
 _ROWS = 35
+#: Rows of :func:`_motion`'s ``out``: theta, phi, psi, thetadot, phidot, psidot, u, E, p_phi, p_psi and
+#: the drifts of the last three from their initial values.
+_OUT_ROWS = 13
 
 
 @_jit
@@ -379,7 +388,9 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
     k0, inv_h, h = k[K0], k[INV_H], k[H]
     b_, c_, lam0, w3, w3ma = k[B_], k[C_], k[LAM0], k[W3], k[W3MA]
     half_i1, half_i3, i1, i3, mgl = k[HALF_I1], k[HALF_I3], k[I1_], k[I3_], k[MGL]
+    e0, p_phi0 = k[E0_], k[PPHI0_]
     p_psi = i3 * w3
+    p_psi_drift = p_psi - k[PPSI0_]
     for start in range(0, n, _BLOCK):
         m = min(_BLOCK, n - start)
         for b in range(m):  # (1) gather
@@ -473,6 +484,20 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             at = 9 * stride + start
             for b in range(0, m, 4):
                 _stream4(out, at + b, p_psi, p_psi, p_psi, p_psi)
+            for row, src, start_value in ((10, _E, e0), (11, _PPHI, p_phi0)):  # the drifts
+                at = row * stride + start
+                for b in range(0, m, 4):
+                    _stream4(
+                        out,
+                        at + b,
+                        s[src, b] - start_value,
+                        s[src, b + 1] - start_value,
+                        s[src, b + 2] - start_value,
+                        s[src, b + 3] - start_value,
+                    )
+            at = 12 * stride + start
+            for b in range(0, m, 4):
+                _stream4(out, at + b, p_psi_drift, p_psi_drift, p_psi_drift, p_psi_drift)
             for b in range(m):
                 _stream4(quat, 4 * (start + b), s[_QW, b], s[_QX, b], s[_QY, b], s[_QZ, b])
             for b in range(0, m, 4):
@@ -489,6 +514,9 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
                 out[row * stride + start + b] = s[src, b]
         for b in range(m):
             out[9 * stride + start + b] = p_psi
+            out[10 * stride + start + b] = s[_E, b] - e0
+            out[11 * stride + start + b] = s[_PPHI, b] - p_phi0
+            out[12 * stride + start + b] = p_psi_drift
         for b in range(m):
             at = start + b
             quat[4 * at] = s[_QW, b]
@@ -530,8 +558,8 @@ def motion(r, j, jidx, table, node_r, phasor, jtab, cos_c, sin_c, constants):
     Returns
     -------
     out, omega, quaternion, axis : numpy.ndarray
-        ``out`` (10, N), rows of a padded buffer: theta, phi, psi, thetadot, phidot, psidot, u, E,
-        p_phi, p_psi;
+        ``out`` (13, N), rows of a padded buffer: theta, phi, psi, thetadot, phidot, psidot, u, E,
+        p_phi, p_psi, and E - E0, p_phi - p_phi0, p_psi - p_psi0 (the constants' initial values);
         omega (N, 3), quaternion (N, 4), axis (N, 3).
     """
     if table.shape[1:] != (6, 6):
@@ -539,12 +567,12 @@ def motion(r, j, jidx, table, node_r, phasor, jtab, cos_c, sin_c, constants):
     n = r.size
     flat, stride, omega, quat, axis = _outputs(n)
     _motion(r, j, int(jidx), table, node_r, phasor, jtab, cos_c, sin_c, constants, flat, stride, omega, quat, axis)
-    out = flat.reshape(10, stride)[:, :n]
+    out = flat.reshape(_OUT_ROWS, stride)[:, :n]
     return out, omega.reshape(n, 3), quat.reshape(n, 4), axis.reshape(n, 3)
 
 
 def _outputs(n: int):
-    """The flat outputs of :func:`_motion` for ``n`` samples, carved from one allocation: 10 rows of
+    """The flat outputs of :func:`_motion` for ``n`` samples, carved from one allocation: 13 rows of
     ``stride`` values (n rounded up to a multiple of 4), then omega, the quaternions and the axis
     (n x 3, n x 4, n x 3 values), each starting on a 32-byte boundary as :func:`_stream4` needs.
 
@@ -552,7 +580,7 @@ def _outputs(n: int):
     (about as much as the arithmetic) whenever the allocator maps it anew.
     """
     stride = -(-n // 4) * 4
-    sizes = (10 * stride, 3 * n, 4 * n, 3 * n)
+    sizes = (_OUT_ROWS * stride, 3 * n, 4 * n, 3 * n)
     spans = [-(-size // 4) * 4 for size in sizes]  # each part padded to whole 32-byte vectors
     raw = np.empty(sum(spans) + 4)
     first = (-raw.ctypes.data // 8) % 4  # NumPy guarantees 8-byte alignment, not 32
