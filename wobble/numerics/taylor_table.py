@@ -583,13 +583,14 @@ def _outputs(n: int):
     sizes = (_OUT_ROWS * stride, 3 * n, 4 * n, 3 * n)
     spans = [-(-size // 4) * 4 for size in sizes]  # each part padded to whole 32-byte vectors
     raw = np.empty(sum(spans) + 4)
-    first = (-raw.ctypes.data // 8) % 4  # NumPy guarantees 8-byte alignment, not 32
+    address = raw.ctypes.data
+    if address % 8:
+        raise RuntimeError("taylor_table: a float64 array not 8-byte aligned")  # NumPy guarantees it
+    first = (-address // 8) % 4  # the first 32-byte boundary (NumPy guarantees 8 bytes, not 32)
     parts, at = [], first
-    for size, span in zip(sizes, spans):
+    for size, span in zip(sizes, spans):  # every span a multiple of 4 values: each part aligned too
         parts.append(raw[at : at + size])
         at += span
-    if any(part.ctypes.data % 32 for part in parts):
-        raise RuntimeError("taylor_table: outputs not 32-byte aligned")  # never: a misaligned store faults
     flat, omega, quat, axis = parts
     return flat, stride, omega, quat, axis
 
