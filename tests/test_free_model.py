@@ -156,6 +156,27 @@ def test_grid_path_equals_the_per_sample_path(moments, omega0, n):
     assert np.max(np.abs(model.omega(t) - direct)) <= bound
 
 
+@pytest.mark.parametrize("n", [10, 8192, 8193, 20_001])  # one block, at and across its end (8192)
+@pytest.mark.parametrize(
+    "moments, omega0",
+    [
+        ((1.0, 2.0, 3.0), (1.0, 0.1, 1.0)),  # generic: the shared evaluation
+        ((2.0, 3.0, 1.0), (0.1, 1.0, 1.0)),  # the same body relabelled: the shared one in the user's order
+        ((3.0, 4.0, 6.0), (1.0, 0.31, 0.5)),  # next to the separatrix
+        ((1.0, 1.0 + 1e-9, 1.5), (0.1, 0.05, 1.0)),  # a nome series: omega takes its own path
+        ((1.0, 1.0, 1.5), (0.1, 0.05, 1.0)),  # symmetric: closed forms
+    ],
+)
+def test_state_is_omega_and_attitude_bit_for_bit(moments, omega0, n):
+    """FreeRotationModel.state(t) (what FreeRotation.to_dataset uses) gives omega(t) and attitude(t)
+    to the bit, whichever path omega takes and where the blocks end."""
+    model = free_rotation(moments, omega0)
+    t = np.linspace(0.0, 300.0, n)
+    omega, q = model.state(t)
+    np.testing.assert_array_equal(omega, model.omega(t))
+    np.testing.assert_array_equal(q, model.attitude(t))
+
+
 def test_nearly_symmetric_reduces_to_symmetric_closed_form():
     """(I2 - I1)/I1 = 1e-12: matches mpmath, and the symmetric closed form within O(1e-12)."""
     c = CLOSED["nearly symmetric 1e-12"]

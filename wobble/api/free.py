@@ -269,8 +269,7 @@ class FreeRotation:
         """
         ts = self._times(t, t_end, samples)
         mdl = self._model
-        omega = mdl.omega(ts)
-        q = mdl.attitude(ts)
+        omega, q = mdl.state(ts)
         I = np.asarray(mdl.moments)
         energy = 0.5 * np.sum(I * omega * omega, axis=-1)
         lmag = np.linalg.norm(I * omega, axis=-1)

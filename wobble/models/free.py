@@ -266,6 +266,15 @@ class _Elliptic:
         return self.c_pi * (pi_inc - self.pi_over_k * lin * k) - self.c_g * (g - 0.5 * np.pi * lin)
 
     def attitude_at(self, t):
+        return self._state(t)[1]
+
+    def state_at(self, t):
+        """omega (model frame) and the attitude at times t side by side, shape t.shape + (7,): one
+        reduction and one set of Jacobi functions for both (:meth:`omega_at`'s omega, term for term)."""
+        omega, q = self._state(t)
+        return np.concatenate([omega, q], axis=-1)
+
+    def _state(self, t):
         r, j = self.phase(t)
         sn, cn, dn, sgn = self._scd(r, j)
         periodic = self._periodic(r, sn, cn, dn)
@@ -285,7 +294,7 @@ class _Elliptic:
         omega0 = self.omega_at(np.zeros(1))
         s_0 = quat.shortest_arc(omega0 * np.asarray(self.moments) / self.L, z)
         twist = np.concatenate([np.cos(half)[..., None], np.sin(half)[..., None] * z], -1)
-        return quat.multiply(quat.conjugate(s_0), quat.multiply(twist, s_t))
+        return omega, quat.multiply(quat.conjugate(s_0), quat.multiply(twist, s_t))
 
 
 # --------------------------------------------------------------------------
@@ -394,10 +403,28 @@ class FreeRotationModel:
     def attitude(self, t) -> np.ndarray:
         """Unit quaternions (w, x, y, z) rotating body vectors into the inertial frame."""
         t = np.asarray(t, dtype=float)
-        q = _blocked(self._impl.attitude_at, t, 4)
+        return self._attitude_to_user(_blocked(self._impl.attitude_at, t, 4))
+
+    def _attitude_to_user(self, q):
         out = q.copy()
         out[..., 1:] = to_user(q[..., 1:], self._order, self._signs)
         return out
+
+    def state(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`omega` and :meth:`attitude` at times ``t`` (s), bit for bit, in one evaluation.
+
+        A triaxial body far from a circular wobble (no nome series: generic bodies) evaluates its
+        Jacobi functions once for both (FreeRotation.to_dataset for 10,001 times: 10.1 against
+        10.9 ms); elsewhere omega
+        takes its own path (the nome series on a uniform grid, or closed forms) and this is the two
+        calls.
+        """
+        t = np.asarray(t, dtype=float)
+        state_at = getattr(self._impl, "state_at", None)
+        if state_at is None or getattr(self._impl, "fourier", None) is not None:
+            return self.omega(t), self.attitude(t)
+        both = _blocked(state_at, t, 7)
+        return to_user(both[..., :3], self._order, self._signs), self._attitude_to_user(both[..., 3:])
 
     def flip_times(self, t_start: float, t_end: float) -> np.ndarray:
         """Times (s) in [t_start, t_end] at which the intermediate component changes sign.
