@@ -415,9 +415,8 @@ class FreeRotationModel:
 
         A triaxial body far from a circular wobble (no nome series: generic bodies) evaluates its
         Jacobi functions once for both (FreeRotation.to_dataset for 10,001 times: 10.1 against
-        10.9 ms); elsewhere omega
-        takes its own path (the nome series on a uniform grid, or closed forms) and this is the two
-        calls.
+        10.9 ms); elsewhere omega takes its own path (the nome series on a uniform grid, or closed
+        forms) and this is the two calls.
         """
         t = np.asarray(t, dtype=float)
         state_at = getattr(self._impl, "state_at", None)
