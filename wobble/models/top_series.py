@@ -336,21 +336,9 @@ class Fourier:
         )
 
 
-# The rows of wobble.numerics.taylor_table.motion's ``out``, by name.
-_MOTION_ROWS = (
-    "theta",
-    "phi",
-    "psi",
-    "thetadot",
-    "phidot",
-    "psidot",
-    "u",
-    "energy",
-    "p_phi",
-    "p_psi",
-    "energy_drift",
-    "p_phi_drift",
-    "p_psi_drift",
+# The rows of wobble.numerics.taylor_table.motion's ``out``, by name (fields of wobble.models.top.TopMotion).
+_MOTION_ROWS = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi") + tuple(
+    name + "_drift" for name in ("energy", "p_phi", "p_psi")
 )
 
 
