@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["RESEED", "dtft", "dtft_at", "phases"]
+__all__ = ["RESEED", "dtft", "dtft_at", "exponentials", "phases"]
 
 RESEED = 64
 
@@ -97,13 +97,17 @@ def dtft_at(t: np.ndarray, z: np.ndarray, omega, grid: tuple[float, float] | Non
     flat = omega.ravel()
     out = np.empty((flat.size, cols.shape[1]), dtype=complex)
     for k0 in range(0, flat.size, RESEED):  # blocks bound the memory of the exponentials
-        if grid is None:
-            phase = np.exp(-1j * np.multiply.outer(flat[k0 : k0 + RESEED], t))
-        else:
-            phase = phases(t.size, flat[k0 : k0 + RESEED], grid)
-        np.matmul(phase, cols, out=out[k0 : k0 + RESEED])
+        np.matmul(exponentials(t, flat[k0 : k0 + RESEED], grid), cols, out=out[k0 : k0 + RESEED])
     shape = omega.shape + (() if z.ndim == 1 else (z.shape[1],))
     return out.reshape(shape)
+
+
+def exponentials(t: np.ndarray, omega, grid: tuple[float, float] | None = None) -> np.ndarray:
+    """exp(-i omega_m t_k), shape (m, n), for the 1-D angular frequencies ``omega`` (rad/s): exact, or,
+    with ``grid = (t0, dt)`` (``t`` that uniform grid), by block rotation (:func:`phases`)."""
+    if grid is not None:
+        return phases(t.size, omega, grid)
+    return np.exp(-1j * np.multiply.outer(np.asarray(omega, dtype=float).reshape(-1), t))
 
 
 def phases(n: int, omega, grid: tuple[float, float]) -> np.ndarray:

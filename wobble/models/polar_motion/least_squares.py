@@ -44,7 +44,7 @@ from wobble.models.polar_motion.uncertainty import (
     subspan_scatter,
 )
 from wobble.numerics.phasor import uniform_grid
-from wobble.numerics.spectral import dtft, dtft_at, phases
+from wobble.numerics.spectral import dtft, dtft_at, exponentials
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["fit_least_squares", "vp_periods", "vp_rates", "vp_tracked"]
@@ -83,7 +83,7 @@ def _gains(s, r0, q, grid):
     r0_rows = np.ascontiguousarray(r0.T)
 
     def gains(rates, index):
-        phase = phases(s.size, rates, grid) if grid is not None else np.exp(-1j * np.multiply.outer(rates, s))
+        phase = exponentials(s, rates, grid)
         f0 = np.einsum("kn,kn->k", phase, r0_rows[index])
         denom = s.size - np.sum(np.abs(phase @ q) ** 2, axis=-1)
         return np.abs(f0) ** 2 / np.maximum(denom, 1e-12 * s.size)

@@ -38,7 +38,7 @@ from wobble.models.polar_motion.uncertainty import (
     subspan_scatter,
 )
 from wobble.numerics.phasor import uniform_grid
-from wobble.numerics.spectral import dtft, phases
+from wobble.numerics.spectral import dtft, exponentials
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["Spectrum", "two_sided_spectrum", "fit_spectrum", "spectrum_periods", "spectrum_tracked"]
@@ -267,7 +267,7 @@ def _prewhitened_peaks(s, y, w, lo_rate, hi_rate, span):
     their exponentials by block rotation on a uniform grid), and a column leaves the loop when its
     peak stops moving.
     """
-    n, m = y.shape
+    m = y.shape[1]
     rates, d = band_grid(lo_rate, hi_rate, span)
     grid = uniform_grid(s)
     annual_cols = np.exp(1j * ANNUAL_RATE * np.outer(s, [1.0, -1.0]))
@@ -287,15 +287,12 @@ def _prewhitened_peaks(s, y, w, lo_rate, hi_rate, span):
         rows = np.ascontiguousarray(wy.T)
         power = np.abs(dtft(s, wy, rates[0], d, rates.size)) ** 2
 
-        def exponentials(r):
-            return phases(n, r, grid) if grid is not None else np.exp(-1j * np.multiply.outer(r, s))
-
         def power_at(r, index, rows=rows):
-            return np.abs(np.einsum("kn,kn->k", exponentials(r), rows[index])) ** 2
+            return np.abs(np.einsum("kn,kn->k", exponentials(s, r, grid), rows[index])) ** 2
 
         previous = rate[i]
         rate[i] = refine_peaks(power_at, rates, power, d, lo_rate, hi_rate)
-        phase = exponentials(rate[i])
+        phase = exponentials(s, rate[i], grid)
         chandler[i] = np.einsum("kn,kn->k", phase, rows) / sw
         line = chandler[i] * phase.conj().T  # the Chandler term, exp(+i rate s) = conj(exp(-i rate s))
         ann[:, i] = annual_phase @ (w[:, None] * (y[:, i] - line)) / sw
