@@ -110,11 +110,11 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     )
     x = fresh
     profile = []
-    for j, q in enumerate(_Q_GRID):
+    for j in range(_Q_GRID.size):
         res = optimize.minimize(
             lik.nll,
             x,
-            args=(q,),
+            args=(j,),
             method="Nelder-Mead",
             bounds=_Q_BOUNDS,
             options={"initial_simplex": x + offsets, **options},
@@ -146,8 +146,8 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
 
 
 class _Whittle:
-    """The Whittle likelihood of :func:`quality_factor` for a binned series ``(t, y)``: ``nll(x, q)`` at
-    one point, ``nlls(xs, index)`` at many (Q = ``_Q_GRID[index]``), with the same arithmetic.
+    """The Whittle likelihood of :func:`quality_factor` for a binned series ``(t, y)``: ``nlls(xs, index)``
+    at many points (Q = ``_Q_GRID[index]``), ``nll(x, j)`` at one.
 
     x = (centre offset in resolution units, log line power, log background), both relative to
     the periodogram's scale, at the Fourier frequencies within 0.25 cycle per year of ``rate``.
@@ -170,45 +170,32 @@ class _Whittle:
         # closed form (a geometric series and its derivative): O(K) instead of O(K L).
         self.complete = self.counts.size == n and np.array_equal(self.counts, n - np.arange(n))
         self.phase = None if self.complete else np.exp(-1j * np.multiply.outer(ords, self.lags))
-        self.ords, self.n, self.dt, self.rate, self.span = ords, n, dt, rate, span
+        self.t, self.y, self.ords, self.n, self.dt, self.rate, self.span = t, y, ords, n, dt, rate, span
         # Power and background are fitted relative to the periodogram's scale.
         self.scale = float(np.mean(self.spec))
 
-    def expected(self, sigma0, q, power, background):
-        """The expected periodogram E I at the ordinates (equation 3 plus the background)."""
-        n = self.n
-        gamma = 0.0 if not math.isfinite(q) else sigma0 / (2 * q)
-        if self.complete:
-            total = 2 * _lag_sum(n, (1j * (sigma0 - self.ords) - gamma) * self.dt).real - n
-        else:
-            kern = self.counts * np.exp(1j * sigma0 * self.lags - gamma * self.lags)
-            # One matrix-vector product (run with one BLAS thread: see quality_factor's decorator).
-            total = 2 * (self.phase @ kern).real - self.counts[0]  # lag 0 counted once
-        return power * total / n + background
-
-    def nll(self, x, q) -> float:
-        """sum(ln E + I/E) at x for quality factor q (1e300 where E is not positive)."""
-        scale, n = self.scale, self.n
-        e = self.expected(
-            self.rate + x[0] * 2 * math.pi / self.span, q, scale * math.exp(x[1]) / n, scale * math.exp(x[2])
-        )
-        if (e <= 0).any():
-            return 1e300
-        return float((np.log(e) + self.spec / e).sum())
+    def nll(self, x, j) -> float:
+        """sum(ln E + I/E) at x for the quality factor ``_Q_GRID[j]`` (1e300 where E is not positive)."""
+        return float(self.nlls(np.asarray(x, dtype=float)[None, :], np.array([j]))[0])
 
     def nlls(self, xs, index) -> np.ndarray:
-        """``nll(xs[j], _Q_GRID[index[j]])`` for every j: the same arithmetic, as array operations."""
+        """The negative log-likelihood at every point ``xs[j]`` for the quality factor ``_Q_GRID[index[j]]``.
+
+        E I, the expected periodogram at the ordinates (equation 3 plus the background), from the
+        pair counts at each lag (one matrix product, with one BLAS thread: see quality_factor's
+        decorator), or, without gaps, their closed form.
+        """
         scale, n = self.scale, self.n
         qs = _Q_GRID[index]
         sigma0 = self.rate + xs[:, 0] * 2 * math.pi / self.span
-        power = np.array([scale * math.exp(v) / n for v in xs[:, 1]])[:, None]
-        background = np.array([scale * math.exp(v) for v in xs[:, 2]])[:, None]
+        power = scale * np.exp(xs[:, 1:2]) / n
+        background = scale * np.exp(xs[:, 2:3])
         gamma = np.where(np.isfinite(qs), sigma0 / (2 * qs), 0.0)[:, None]
         if self.complete:
             total = 2 * _lag_sum(n, (1j * (sigma0[:, None] - self.ords) - gamma) * self.dt).real - n
         else:
             kern = self.counts * np.exp(1j * sigma0[:, None] * self.lags - gamma * self.lags)
-            total = 2 * (kern @ self.phase.T).real - self.counts[0]
+            total = 2 * (kern @ self.phase.T).real - self.counts[0]  # lag 0 counted once
         e = power * total / n + background
         out = np.full(len(index), 1e300)
         good = ~(e <= 0).any(axis=1)
