@@ -20,8 +20,9 @@ a block a scalar pass gathers (the nodes' coefficients and phasors) and a second
 which gathers nothing, does the rest four samples per instruction (LLVM's loop
 vectoriser; with :func:`_horner6`, 0.56 ms against 0.83 ms in one scalar pass for
 20,001 samples); a third pass writes the block out by non-temporal stores (:func:`_stream4`;
-0.49-0.50 ms in all). The arithmetic is the NumPy path's, operation for operation and without
-fused multiply-adds, so the two agree bit for bit (tested, at and across block ends).
+0.47-0.48 ms in all, best of 500; 0.50 ms since it also writes the three drifts). The
+arithmetic is the NumPy path's, operation for operation and without fused multiply-adds, so
+the two agree bit for bit (tested, at and across block ends).
 
 Numba is imported by this module only (~0.4 s once per process).
 """
@@ -310,7 +311,7 @@ def _stream4(typingctx, arr, idx, a, b, c, d):
     L2 cache): a non-temporal store writes a whole cache line without reading it first, where
     the plain copy-out read every output line before writing it, and the interleaved outputs
     (omega, the axis: three values per sample) go out as whole vectors instead of shuffled
-    scalars. The kernel took 0.56-0.57 ms with the plain copy-out and takes 0.49-0.50 ms;
+    scalars. The kernel took 0.55-0.56 ms with the plain copy-out and 0.47-0.48 ms with these stores;
     ``HeavyTop(...).motion(t)`` 1.81-1.87 against 1.73-1.77 ms (best of 400, six alternating
     runs). The Python stages around it take as long as before. ``arr`` must be C-contiguous 1-D
     float64 with ``arr[idx]`` 32-byte aligned (the caller's duty: a misaligned address faults).
@@ -378,8 +379,9 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
     # node's and period's phasors, gathered into the block's rows; (2) everything else from those
     # rows, four samples per instruction, into more rows of the same local array (whose rows LLVM
     # knows apart); (3) the rows copied to the outputs. One pass per sample did the same
-    # arithmetic in 0.83 ms for 20,001 samples, the three passes take 0.49-0.50 ms. The operations and
-    # their order are those of the NumPy path, so the two still agree bit for bit.
+    # arithmetic in 0.83 ms for 20,001 samples, the three passes take 0.47-0.48 ms (0.50 ms with
+    # the drifts' rows). The operations and their order are those of the NumPy path, so the two
+    # still agree bit for bit.
     n = r.shape[0]
     nodes = tab.shape[0]
     s = np.empty((_ROWS, _BLOCK))
