@@ -359,10 +359,10 @@ def _turn(x, cc, sc, pc, ps, jc, js):
     return jc * nc - js * ns, jc * ns + js * nc
 
 
-#: Samples per block of :func:`_motion`: its 37 rows of intermediates (38 kB) stay in the L1/L2
+#: Samples per block of :func:`_motion`: its 35 rows of intermediates (36 kB) stay in the L1/L2
 #: caches. (512 was 2.7 times slower: rows 4 kB apart alias in the load/store unit.)
 _BLOCK = 128
-# The rows of a block: what the scalar pass gathers (0-18), what the vectorised pass computes (19-36).
+# The rows of a block: what the scalar pass gathers (0-18), what the vectorised pass computes (19-34).
 (_R, _J, _TH, _V1, _V2, _SP, _DP, _DTH, _SH, _CH, _DN, _PSC, _PSS, _PDC, _PDS, _JSC, _JSS, _JDC, _JDS) = range(19)
 (_PHI, _PSI, _THD, _PHD, _PSD, _U, _E, _PPHI, _W1, _W2, _QW, _QX, _QY, _QZ, _AX, _AY) = range(19, 35)
 _ROWS = 35
