@@ -108,7 +108,12 @@ def _prefix(path: Path) -> str:
 
 def new_temporary(path: Path) -> Path:
     """An empty temporary file ``.NAME.PID.XXXXXXXX.tmp`` next to ``path`` (same folder, so the
-    rename is atomic); stale temporaries of the same target are removed first."""
+    rename is atomic); stale temporaries of the same target are removed first.
+
+    Call it inside :func:`interrupts_held` together with the statement that records the name for
+    the clean-up (``with interrupts_held(): self.tmp = new_temporary(path)``): a Ctrl-C between the
+    two would otherwise leave a file nobody removes. The same holds for :func:`new_temporary_folder`.
+    """
     folder = path.parent if str(path.parent) else Path(".")
     remove_stale_temporaries(path)
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=_prefix(path), suffix=".tmp")
@@ -186,12 +191,18 @@ def atomic_target(path: str | os.PathLike, overwrite: bool):
     removed and an existing ``path`` is untouched.
     """
     path = check_target(path, overwrite)
-    tmp = new_temporary(path)
+    tmp = None
     try:
+        # Ctrl-C between the creation of the file and the assignment of its name would leave a file the
+        # clean-up below does not know of (seen in CI): hold it until ``tmp`` is set, inside the try.
+        with interrupts_held():
+            tmp = new_temporary(path)
         yield str(tmp)
         publish(tmp, path)
     except BaseException as exc:
-        tmp.unlink(missing_ok=True)
+        if tmp is not None:
+            with interrupts_held():  # a second Ctrl-C must not cut the clean-up short
+                tmp.unlink(missing_ok=True)
         translated = write_error(exc, path)
         if translated is not None:
             raise translated from exc

@@ -297,7 +297,8 @@ class StreamingWriter:
     def begin(self) -> None:
         """Start (or restart) the temporary file."""
         self.discard()
-        self.tmp = new_temporary(self.path)
+        with interrupts_held():  # until the name is recorded for discard() (see new_temporary)
+            self.tmp = new_temporary(self.path)
         self.rows = 0
 
     def append(self, block: xr.Dataset) -> None:
@@ -360,13 +361,14 @@ class StreamingWriter:
 
     def discard(self) -> None:
         """Remove the temporary file (the target is never touched)."""
-        if self._nc is not None:
-            try:
-                self._nc.close()
-            except Exception:  # closing a broken file must not mask the real error
-                pass
-            self._nc = None
-        if self.tmp is not None:
-            Path(self.tmp).unlink(missing_ok=True)
-            self.tmp = None
-        self.rows = 0
+        with interrupts_held():  # a second Ctrl-C must not cut the clean-up short
+            if self._nc is not None:
+                try:
+                    self._nc.close()
+                except Exception:  # closing a broken file must not mask the real error
+                    pass
+                self._nc = None
+            if self.tmp is not None:
+                Path(self.tmp).unlink(missing_ok=True)
+                self.tmp = None
+            self.rows = 0

@@ -20,7 +20,7 @@ from pathlib import Path
 import xarray as xr
 
 from wobble.errors import FileFormatError, InputError, OutputExistsError
-from wobble.io.atomic import new_temporary_folder
+from wobble.io.atomic import interrupts_held, new_temporary_folder
 from wobble.io.netcdf import from_cf, to_cf
 
 __all__ = ["is_zarr_path", "open_wobble_zarr", "write_zarr_blocks"]
@@ -61,8 +61,10 @@ def write_zarr_blocks(
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise InputError("output", str(path), "a path in an existing folder")
-    tmp = new_temporary_folder(path)
+    tmp = None
     try:
+        with interrupts_held():  # until the name is recorded for the clean-up (see new_temporary)
+            tmp = new_temporary_folder(path)
         cf = to_cf(template, command=command)
         # compute=False writes the metadata and the in-memory variables only.
         cf.to_zarr(tmp, mode="w", compute=False, zarr_format=ZARR_FORMAT, consolidated=False)
@@ -70,9 +72,14 @@ def write_zarr_blocks(
         for name, index, values in blocks:
             group[name][index] = values
         zarr.consolidate_metadata(str(tmp), zarr_format=ZARR_FORMAT)
-        _replace(tmp, path)
+        # Ctrl-C between moving an old store aside and renaming the new one into place would leave the
+        # user's store under a temporary name that a later run removes: the renames go together.
+        with interrupts_held():
+            _replace(tmp, path)
     except BaseException as exc:
-        _remove(tmp)
+        if tmp is not None:
+            with interrupts_held():  # a second Ctrl-C must not cut the clean-up short
+                _remove(tmp)
         if isinstance(exc, OSError) and exc.errno and not exc.filename:  # zarr's writes do not name the store
             raise OSError(exc.errno, exc.strerror or os.strerror(exc.errno), str(path)) from exc
         raise
