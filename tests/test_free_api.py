@@ -30,7 +30,14 @@ def test_summary_properties_and_units():
     assert body.energy.to_value(u.J) == pytest.approx(2.01, rel=1e-15)
     assert body.parameter + body.complementary_parameter == pytest.approx(1.0, rel=1e-16)
     assert body.modulus == pytest.approx(np.sqrt(body.parameter))
-    assert body.time_between_flips == body.period / 2
+    # It wobbles about its major axis (the intermediate axis swings by less than 90 deg): no flips.
+    assert not body.flips and body.time_between_flips is None and body.flip_times(100 * u.s).size == 0
+    racket = FreeRotation([1, 2, 3] * KGM2, [0.01, 1, 0.01] * RAD_S)
+    assert racket.flips and racket.time_between_flips == racket.period / 2
+    assert racket.flip_times(racket.period).size == 2
+    # The files say the same (a fresh-user review found time_between_flips_s on a wobbling Earth's file).
+    assert "time_between_flips_s" not in body.to_dataset(t_end=10 * u.s, samples=3).attrs
+    assert racket.to_dataset(t_end=10 * u.s, samples=3).attrs["time_between_flips_s"] == racket.period.value / 2
     # Units other than SI give the same body.
     other = FreeRotation([1e7, 2e7, 3e7] * u.g * u.cm**2, ([1, 0.1, 1] * RAD_S).to(u.deg / u.s))
     assert other.period.value == pytest.approx(body.period.value, rel=1e-14)

@@ -61,8 +61,8 @@ class FreeRotation:
 
     Notes
     -----
-    Exact closed forms (docs/free-rotation.md): the symmetric precession of the
-    course notes section 5.6, the Jacobi elliptic solution of Landau & Lifshitz
+    Exact closed forms (docs/free-rotation.md): the symmetric precession of
+    Goldstein, Poole & Safko 2002 (sec. 5.6), the Jacobi elliptic solution of Landau & Lifshitz
     section 37 in both regimes, the separatrix, and the exact attitude.
 
     Examples
@@ -130,9 +130,11 @@ class FreeRotation:
 
     @property
     def time_between_flips(self) -> u.Quantity | None:
-        """Half period 2K/lambda between sign changes of the intermediate component, or None."""
+        """Time between tennis-racket flips, 2K/lambda (half the period), or None when the body does
+        not flip (see :attr:`flips`: for a small wobble the sign changes of the intermediate component
+        are half periods of the wobble, not flips)."""
         t = self._model.time_between_flips
-        return None if t is None else t << u.s
+        return None if t is None or not self.flips else t << u.s
 
     @property
     def intermediate_axis_swing(self) -> u.Quantity | None:
@@ -159,9 +161,12 @@ class FreeRotation:
         return swing is not None and swing.to_value(u.deg) > 90.0
 
     def flip_times(self, t_end, t_start=0 * u.s) -> u.Quantity:
-        """Times at which the intermediate-axis component of omega changes sign."""
+        """Times of the flips between ``t_start`` and ``t_end``: the sign changes of the intermediate-axis
+        component of omega; empty when the body does not flip (:attr:`flips`)."""
         t1 = to_si(t_end, "t_end", u.s, shape=())
         t0 = to_si(t_start, "t_start", u.s, shape=())
+        if not self.flips:
+            return np.empty(0) << u.s
         return self._model.flip_times(t0, t1) << u.s
 
     @property
@@ -318,6 +323,6 @@ class FreeRotation:
         )
         if np.isfinite(mdl.period):
             ds.attrs["period_s"] = mdl.period
-        if mdl.time_between_flips is not None:
+        if self.flips:  # not for a wobble, whose sign changes are not flips
             ds.attrs["time_between_flips_s"] = mdl.time_between_flips
         return ds
