@@ -184,7 +184,7 @@ def test_bad_files_are_one_line_errors(capsys, tmp_path):
     assert "variable 'rhp'" in _error(capsys, "--density", str(bad_grid), "--var", "rhp")
     pts = tmp_path / "p.csv"
     pts.write_text("m, x, y, z\n1, 0, 0, 0\n-1, 1, 0, 0\n")
-    assert "masses: got [ 1. -1.] kg; allowed: positive values" in _error(capsys, "--points", str(pts))
+    assert "masses: got (1, -1) kg; allowed: positive values" in _error(capsys, "--points", str(pts))
     pts.write_text("m, x, y, z\n1, 0, 0\n")
     assert f"{pts}, line 2" in _error(capsys, "--points", str(pts))
 

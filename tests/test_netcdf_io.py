@@ -56,7 +56,7 @@ def test_plain_xarray_reads_the_same_numbers(tmp_path):
 def test_existing_file_is_kept_without_overwrite(tmp_path):
     target = tmp_path / "out.nc"
     target.write_bytes(b"precious")
-    with pytest.raises(OutputExistsError, match="--overwrite"):
+    with pytest.raises(OutputExistsError, match="overwrite=True"):
         write_netcdf(_sample(), target)
     assert target.read_bytes() == b"precious"
     write_netcdf(_sample(), target, overwrite=True)

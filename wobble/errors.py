@@ -25,8 +25,12 @@ class WobbleError(ValueError):
 
 
 def _show(value: object) -> str:
-    # A long value keeps its start and its end: for a path, the end is the file's name.
     text = str(value)
+    if getattr(value, "ndim", 0) and hasattr(value, "unit") and hasattr(value, "value"):
+        # An array Quantity as a person types it, "(-1, 2, 3) kg m2", not NumPy's "[-1.  2.  3.] kg m2".
+        numbers = ", ".join(f"{x:g}" for x in value.value.ravel().tolist()[:20])
+        text = f"({numbers}{', ...' if value.size > 20 else ''}) {value.unit}"
+    # A long value keeps its start and its end: for a path, the end is the file's name.
     return text if len(text) <= 200 else text[:97] + "..." + text[-100:]
 
 
@@ -82,6 +86,6 @@ class OutputExistsError(WobbleError):
 
     def __init__(self, path: object):
         self.path = str(path)
-        super().__init__(
-            f"{self.path}: file exists; allowed: a new path, or --overwrite (overwrite=True) to replace it"
-        )
+        super().__init__(f"{self.path}: file exists; allowed: a new path, or overwrite=True to replace it")
+        #: The same for the command line, whose option is --overwrite.
+        self.command_line_message = f"{self.path}: file exists; allowed: a new path, or --overwrite to replace it"

@@ -1,4 +1,4 @@
-"""Rigid bodies with units: inertia tensors, principal axes, L and T (notes section 5.1).
+"""Rigid bodies with units: inertia tensors, principal axes, L and T (Goldstein, Poole & Safko 2002, sec. 5.1).
 
 :class:`RigidBody` is the public face of :mod:`wobble.models.bodies`: every
 dimensional argument is an :class:`astropy.units.Quantity`, converted to SI once on
@@ -11,7 +11,7 @@ frame**, the frame you described the body in. Later models read:
 * :attr:`RigidBody.principal_moments` -- I1 <= I2 <= I3 about the reference point;
 * :meth:`RigidBody.principal` -- moments, axes and exact differences in a chosen order;
 * :attr:`RigidBody.center_of_mass_offset` -- the vector R from the reference point to
-  the centre of mass (for a top shifted to its tip, ``l = |R|``, notes section 5.7).
+  the centre of mass (for a top shifted to its tip, ``l = |R|``, Goldstein et al. 2002, sec. 5.7).
 """
 
 from __future__ import annotations
@@ -249,7 +249,7 @@ class RigidBody:
 
     @classmethod
     def from_point_masses(cls, masses, positions, *, about=None, name: str = "") -> RigidBody:
-        """Point masses m_i at r_i: I_jk = sum_i m_i (r_i^2 delta_jk - x_ij x_ik) (notes 5.1).
+        """Point masses m_i at r_i: I_jk = sum_i m_i (r_i^2 delta_jk - x_ij x_ik) (Goldstein et al. 2002, sec. 5.1).
 
         Parameters
         ----------
@@ -458,7 +458,8 @@ class RigidBody:
 
     @property
     def center_of_mass_offset(self) -> u.Quantity:
-        """R = centre of mass - reference point (m); for a top about its tip, ``l = |R|`` (notes 5.7)."""
+        """R = centre of mass - reference point (m); for a top about its tip, ``l = |R|``
+        (Goldstein et al. 2002, sec. 5.7)."""
         return np.array(self._body.center_of_mass - self._body.reference_point) << u.m
 
     @property
@@ -568,7 +569,7 @@ class RigidBody:
         return RigidBody(self._body.rotated(_rotation(rotation), p), self.name)
 
     # ------------------------------------------------------------------
-    # Dynamics (notes 5.1)
+    # Dynamics (Goldstein, Poole & Safko 2002, sec. 5.1)
     # ------------------------------------------------------------------
 
     def angular_momentum(self, omega, frame: str = "input") -> u.Quantity:

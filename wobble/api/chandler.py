@@ -408,7 +408,7 @@ def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
 
 
 # ---------------------------------------------------------------------------
-# The rigid free precession of any body (notes sec. 5.6)
+# The rigid free precession of any body (Goldstein, Poole & Safko 2002, sec. 5.6)
 # ---------------------------------------------------------------------------
 
 
@@ -464,7 +464,7 @@ def rigid_wobble(
     dynamical_flattening: float | None = None,
     inertia_ratio: float | None = None,
 ) -> FreeWobble:
-    """Euler's free wobble of a rigid body (notes sec. 5.6).
+    """Euler's free wobble of a rigid body (Goldstein, Poole & Safko 2002, sec. 5.6).
 
     Give exactly one of ``moments``, ``dynamical_flattening`` (H = (C-A)/C) or
     ``inertia_ratio`` ((C-A)/A), and the spin about the axis of C as a rate or

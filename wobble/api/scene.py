@@ -312,15 +312,10 @@ def run(scene, *, model: str | None = None) -> xr.Dataset:
             "wobble.run_to_netcdf or `wobble run -o FILE`, which write as they go",
         )
     sink = _Collector(sc)
-    record = _scene.execute(sc, sink, model=model if model is not None else _forced(sc))
+    record = _scene.execute(sc, sink, model=model)
     ds = sink.dataset()
     ds.attrs.update(_attributes(sc, record))
     return ds
-
-
-def _forced(sc):
-    m = sc.mapping.get("model", "auto")
-    return None if m == "auto" else m
 
 
 def run_to_netcdf(
@@ -350,7 +345,7 @@ def run_to_netcdf(
     writer = StreamingWriter(path, overwrite=overwrite, command=command)
     sink = _Streamer(sc, writer)
     try:
-        record = _scene.execute(sc, sink, model=model if model is not None else _forced(sc), block_bytes=block_bytes)
+        record = _scene.execute(sc, sink, model=model, block_bytes=block_bytes)
         attrs = _attributes(sc, record)
         out = writer.close(attrs)
     except BaseException:

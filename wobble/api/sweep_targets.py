@@ -307,7 +307,7 @@ class _BaseTarget:
 
 
 class HeavyTopTarget(_BaseTarget):
-    """The heavy symmetric top's nutation over a grid (or draws) of initial states (notes section 5.7).
+    """The heavy symmetric top's nutation over a grid (or draws) of initial states (Goldstein et al. 2002, sec. 5.7).
 
     Evaluated by :func:`wobble.models.top_phase.phase_analysis`: numpy over the
     chunk, with the exact scalar model for members next to a class boundary.

@@ -1,6 +1,6 @@
 """The heavy symmetric top with units: :class:`HeavyTop` (Quantities in, xarray out).
 
-The physics is :mod:`wobble.models.top` (course notes section 5.7); this module
+The physics is :mod:`wobble.models.top` (Goldstein, Poole & Safko 2002, sec. 5.7); this module
 converts units once on the way in and once on the way out and lays the motion out
 as a CF Dataset.
 
@@ -150,7 +150,7 @@ class HeavyTop:
 
     Notes
     -----
-    Notes section 5.7 and docs/heavy-top.md: the analysis (p_psi = I1 a, p_phi = I1 b,
+    Goldstein, Poole & Safko 2002, sec. 5.7, and docs/heavy-top.md: the analysis (p_psi = I1 a, p_phi = I1 b,
     E', alpha, beta, V'(theta), the cubic f(u) and its roots, the nutation class,
     regular precession, the sleeping top) and the exact motion by Jacobi elliptic
 

@@ -129,7 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args.func(args) or 0)
     except WobbleError as exc:
-        print(f"wobble {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        text = getattr(exc, "command_line_message", None) or _one_line(exc)
+        print(f"wobble {args.command}: error: {text}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         # The reader of our output went away (`wobble ... | head`): stop quietly, the shell's way.

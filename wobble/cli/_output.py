@@ -49,10 +49,15 @@ def finish(args, document, show, written) -> int:
     return 0
 
 
-def check_outputs(args, names=("output", "plot")) -> None:
+#: File names a netCDF output may have (``-o``): a name that says another format is refused.
+NETCDF_SUFFIXES = (".nc", ".nc4")
+
+
+def check_outputs(args, names=("output", "plot"), *, zarr: bool = False) -> None:
     """Refuse, before any work, an output that exists (without --overwrite), is in a missing
-    folder, or a figure whose name says no format we write: a long run must not end in an error
-    a glance at its arguments could have given."""
+    folder, or whose name says no format we write (``-o`` is netCDF, ``.nc``; a Zarr store, ``.zarr``,
+    where ``zarr`` is true; ``--plot`` a figure): a long run must not end in an error a glance at
+    its arguments could have given."""
     from pathlib import Path
 
     from wobble.errors import InputError, OutputExistsError
@@ -66,7 +71,12 @@ def check_outputs(args, names=("output", "plot")) -> None:
             from wobble.plot.save import check_plot_path
 
             check_plot_path(path, overwrite)
-        elif str(path).rstrip("/").endswith(".zarr"):
+            continue
+        is_zarr = str(path).rstrip("/").endswith(".zarr")
+        if not (Path(path).suffix.lower() in NETCDF_SUFFIXES or (zarr and is_zarr)):
+            allowed = "a file name ending in .nc (netCDF)" + (" or a Zarr store ending in .zarr" if zarr else "")
+            raise InputError("-o/--output" if name == "output" else f"--{name}", str(path), allowed)
+        if is_zarr:
             # A Zarr store is a folder; an existing one is replaced as a whole with --overwrite.
             store = Path(path)
             if not (store.parent if str(store.parent) else Path(".")).is_dir():

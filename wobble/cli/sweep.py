@@ -67,7 +67,7 @@ def run(args) -> int:
     from wobble.cli._output import check_outputs, print_json, wrote
     from wobble.io.shipped import resolve
 
-    check_outputs(args)
+    check_outputs(args, zarr=True)
     spec = load_sweep(resolve(args.sweep, "sweeps", "SWEEP", (".toml",)))
     if args.members is not None:
         if spec.is_grid:

@@ -98,7 +98,7 @@ def run(args) -> int:
         raise InputError(f"--{exc.parameter}", exc.value, exc.allowed) from None
     summary = top.to_dict()
     written = []
-    if args.output or args.plot:
+    if args.output or args.plot or args.t_end is not None:  # a --t-end given is checked even when unused
         t1 = _span(top, args.t_end)
         summary.update(samples=args.samples, t_end_s=t1)
     if args.output:

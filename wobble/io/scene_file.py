@@ -277,7 +277,7 @@ def _planet_body(r: _Reader, name, mass, symmetric=False) -> BodyModel:
 
 
 def _solid(r: _Reader, data):
-    """A named solid from the rigid-bodies library (closed-form tensors, notes 5.1)."""
+    """A named solid from the rigid-bodies library (closed-form tensors, Goldstein et al. 2002, sec. 5.1)."""
     from wobble.models import solids
 
     name = r.string(data["solid"], "body.solid", tuple(_SOLID_LENGTHS))

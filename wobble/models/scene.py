@@ -759,7 +759,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         _applies_free_symmetric,
         _build_free("free-symmetric"),
         _floor_free,
-        "closed form for a torque-free symmetric body (notes section 5.6)",
+        "closed form for a torque-free symmetric body (Goldstein, Poole & Safko 2002, sec. 5.6)",
     ),
     Candidate(
         "free-elliptic",
@@ -775,7 +775,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         _applies_heavy_top,
         _build_heavy_top,
         lambda s: 1e-13,
-        "the exact heavy symmetric top (notes section 5.7)",
+        "the exact heavy symmetric top (Goldstein, Poole & Safko 2002, sec. 5.7)",
     ),
     Candidate(
         "splitting",
@@ -809,6 +809,9 @@ class Choice:
 def choose_model(scene: Scene, force: str | None = None) -> Choice:
     """Pick the cheapest model that applies and can reach the scene's accuracy.
 
+    ``force`` (``--model``) names the model; None takes the scene's own ``model`` key
+    (``"auto"`` when absent), and ``"auto"`` chooses whatever the scene says.
+
     Raises
     ------
     wobble.errors.InputError
@@ -818,6 +821,10 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
     """
     if force is not None and force not in MODEL_NAMES and force != "auto":
         raise InputError("model", force, f"auto or one of {', '.join(MODEL_NAMES)}")
+    origin = f"--model {force}"
+    if force is None:
+        force = scene.mapping.get("model", "auto")
+        origin = f'the scene\'s model = "{force}"'
     if force == "auto":
         force = None
     _check_summary_outputs(scene, force)
@@ -855,7 +862,7 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
         if passed:
             reason += "; passed over: " + "; ".join(passed)
         if force:
-            reason = f"forced (--model {force}): " + reason
+            reason = f"forced ({origin}): " + reason
         return Choice(cand, reason, run)
     raise scene.error(
         "accuracy",

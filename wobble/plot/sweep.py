@@ -77,7 +77,7 @@ def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
     matplotlib.figure.Figure
         Classes coloured (undulating, cusps, loops, regular precession,
         sleeping); the dashed line is the sleeping-top stability limit
-        I3^2 omega3^2 = 4 M g l I1 (notes section 5.7).
+        I3^2 omega3^2 = 4 M g l I1 (Goldstein, Poole & Safko 2002, sec. 5.7).
     """
     import matplotlib.pyplot as plt
     from matplotlib.colors import BoundaryNorm, ListedColormap

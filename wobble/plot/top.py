@@ -1,4 +1,4 @@
-"""Figures of the heavy symmetric top (notes section 5.7): the axis on the sphere for the
+"""Figures of the heavy symmetric top (Goldstein, Poole & Safko 2002, sec. 5.7): the axis on the sphere for the
 three nutation classes, the effective potential V'(theta) with the E' line, f(u) with its roots."""
 
 from __future__ import annotations
