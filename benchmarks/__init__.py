@@ -1,4 +1,4 @@
-"""Work-precision benchmarks of every solver in wobble (issues 8 and 15), from a source checkout.
+"""Work-precision benchmarks of every solver in wobble and of its public API, from a source checkout.
 
 Not part of the installed package: the benchmark reads the committed mpmath references
 (tests/references/) and its own Radau reference (benchmarks/engine_reference.json), and

@@ -1,4 +1,4 @@
-"""The exact free body's cases (issue 8): generic, near the separatrix, Earth over a century.
+"""The exact free body's cases: generic, near the separatrix, Earth over a century.
 
 wobble's exact solution (and with the attitude) against SciPy's RK45, DOP853, LSODA and
 Radau and wobble's compiled DOP853 on Euler's equations, all against the committed mpmath

@@ -1,7 +1,7 @@
-"""The heavy-top cases of issue 8 and the SciPy baselines on the same equations.
+"""The heavy-top cases and the SciPy baselines on the same equations.
 
 Shared by scripts/bench_top.py, the work-precision harness and the user-level rows. The
-top of issue 8: I1 = 1 kg m2, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s,
+top: I1 = 1 kg m2, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s,
 theta0 = 60 deg, released with phidot0 = +0.3 rad/s (undulating), 0 (cusps),
 -0.3 rad/s (loops); and a nearly sleeping top, theta0 = 1e-4 rad. References:
 tests/references/heavy_top.json (mpmath, independent of wobble).

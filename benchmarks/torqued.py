@@ -1,4 +1,4 @@
-"""The torqued cases of issue 8 (no exact solution), shared with scripts/bench_engine.py.
+"""The torqued cases (no exact solution), shared with scripts/bench_engine.py.
 
 * ``Satellite``: a spin-stabilised microsatellite (I = 0.90, 0.92, 1.20 kg m2) spinning at
   1 rad/s under the gravity-gradient torque of Earth on a 500 km circular orbit, 300 s,

@@ -1,19 +1,19 @@
-"""The public API as a user meets it, against the SciPy a user would write (issue 15).
+"""The public API as a user meets it, against the SciPy a user would write.
 
 * ``user_top``: ``HeavyTop(I1=..., I3=..., mgl=..., theta0=..., phidot0=..., omega3=...).motion(t)``,
   Quantities in and a CF Dataset out (the construction, the series of the motion, every
   variable of the Dataset: angles, rates, omega, the attitude, the axis trace, E, p_phi,
-  p_psi and their drifts), for the four tops of issue 8, 20,001 outputs over 1000
+  p_psi and their drifts), for the four tops of the top_* cases, 20,001 outputs over 1000
   nutation periods. Baseline: ``scipy.integrate.solve_ivp(method="DOP853")`` on the
   notes' Euler-angle equations in Python floats (the quaternion and omega equations for the
   nearly sleeping top, where the Euler-angle ones cancel), ``t_eval`` the same times,
   no events.
 * ``user_free``: ``FreeRotation(moments, omega0).to_dataset(t)`` for the generic body of
-  issue 8 (I = 1, 2, 3 kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10,001 outputs); the
+  the free_generic case (I = 1, 2, 3 kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10,001 outputs); the
   Dataset holds omega and the attitude, so the baseline integrates both: Euler's equations
   and q' = q (0, omega) / 2 in Python floats.
 
-The baseline's tolerance is issue 8's: rtol = 1e-12 (the tightest setting of its targets),
+The baseline's tolerance is the solver targets': rtol = 1e-12 (the tightest setting they compare),
 atol = 1e-12 times each component's scale (1 rad, max(|a|, 1) rad/s, 1 rad, 1 rad for the
 Euler angles; |omega0| and 1 for omega and the quaternion). Its error at that setting is
 measured, not assumed: the attitude angle (rad) between the run and the mpmath reference
@@ -58,8 +58,9 @@ def user_top_case(quick: bool) -> Case:
     case = Case(
         "user_top",
         "User level: HeavyTop(...).motion(t) against plain SciPy DOP853",
-        "The four tops of issue 8 (I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s; theta0 = 60 deg with "
-        "phidot0 = 0, 0.3, -0.3 rad/s, and theta0 = 1e-4 rad), 1000 nutation periods, 20,001 outputs. wobble: "
+        "The four heavy tops of the work-precision benchmark (I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 "
+        "rad/s; theta0 = 60 deg with phidot0 = 0, 0.3, -0.3 rad/s, and theta0 = 1e-4 rad), 1000 nutation periods, "
+        "20,001 outputs. wobble: "
         "HeavyTop(...) with Quantities, then .motion(t) with t a time Quantity: construction, the series of the "
         "motion and the whole CF Dataset. SciPy: solve_ivp(method='DOP853', t_eval=t) on the Euler-angle equations "
         "in Python floats (omega and quaternion equations for theta0 = 1e-4 rad), rtol 1e-12, no events.",
@@ -227,7 +228,8 @@ def user_free_case(quick: bool) -> Case:
     case = Case(
         "user_free",
         "User level: FreeRotation(...).to_dataset(t) against plain SciPy DOP853",
-        "The generic free body of issue 8: I = (1, 2, 3) kg m2, omega0 = (1, 0.1, 1) rad/s, 1000 s, 10,001 outputs. "
+        "The generic free body of the work-precision benchmark: I = (1, 2, 3) kg m2, omega0 = (1, 0.1, 1) rad/s, "
+        "1000 s, 10,001 outputs. "
         "wobble: FreeRotation(moments, omega0) with Quantities, then .to_dataset(t): construction, omega and the "
         "attitude, the CF Dataset. SciPy: solve_ivp(method='DOP853', t_eval=t) on Euler's equations and the "
         "quaternion's, in Python floats, rtol 1e-12, no events.",

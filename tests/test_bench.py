@@ -6,8 +6,11 @@ the runs are interleaved as documented, and that the command line behaves.
 
 from __future__ import annotations
 
+import gc
 import json
+import sys
 import types
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -105,6 +108,75 @@ def test_measure_interleaves_and_checks_the_warm_up_output():
     assert all(r["timed_runs"] == 6 and r["t_min"] <= r["t_median"] for r in rows)
 
 
+def test_measure_never_times_numba_compilation(monkeypatch):
+    """A run whose warm-up compiled is run once more for its time, and a timed run that compiled is run
+    again: the clock (a fake one, advanced 100 "s" by a call that compiles and 1 by one that does not)
+    shows only runs that did not compile. Before, a warm-up over ``slow_s`` was the run's only timing."""
+    nb = pytest.importorskip("numba")
+    from benchmarks import timing
+
+    now = [0.0]
+    monkeypatch.setattr(timing, "clock", lambda: now[0])
+
+    @nb.njit
+    def kernel(x):
+        return x + 1
+
+    calls = {"a": [], "b": []}
+
+    def maker(name, arg):
+        def fn():
+            before = len(kernel.signatures)
+            kernel(arg(len(calls[name])))
+            compiled = len(kernel.signatures) > before
+            calls[name].append(compiled)
+            now[0] += 100.0 if compiled else 1.0
+            return name
+
+        return fn
+
+    said = []
+    runs = [
+        # a compiles kernel(float) in its warm-up; b compiles kernel(int) in its second timed run
+        Run("a", "1", maker("a", lambda k: 1.0), lambda o: {"error": 0.0}),
+        Run("b", "1", maker("b", lambda k: 1 if k == 2 else 1.0), lambda o: {"error": 0.0}),
+    ]
+    try:
+        rows = measure(runs, repeats=2, slow_s=10.0, progress=said.append)
+    finally:
+        gc.unfreeze()
+    assert calls["a"] == [True, False, False, False]  # warm-up (compiles), its re-run, two timed runs
+    assert calls["b"] == [False, False, True, False]  # warm-up, timed, timed (compiles: discarded), again
+    for row in rows:
+        assert row["t_min"] == row["t_median"] == 1.0 and row["timed_runs"] == 2 and not row["timed_once"]
+    assert [r["warm_up_jit"] for r in rows] == ["compiled", None]
+    assert any(line.strip().startswith("compiling the Numba kernels of a") for line in said)
+
+    def compiles_every_time():
+        nb.njit(lambda: 1.0)()  # a new dispatcher: compiled at every call
+
+    try:
+        with pytest.raises(RuntimeError, match="Numba loaded or compiled"):
+            measure([Run("c", "1", compiles_every_time, lambda o: {"error": 0.0})], repeats=1)
+    finally:
+        gc.unfreeze()
+
+
+def _numba_signatures() -> int:
+    """Signatures compiled (or loaded from the disk cache) by the Numba dispatchers of wobble's modules."""
+    if "numba" not in sys.modules:
+        return 0
+    from numba.core.dispatcher import Dispatcher
+
+    return sum(
+        len(v.signatures)
+        for name, module in list(sys.modules.items())
+        if name.startswith("wobble.") and module is not None
+        for v in list(vars(module).values())
+        if isinstance(v, Dispatcher)
+    )
+
+
 def test_time_at_and_peak_memory():
     pts = [(1e-4, 1.0), (1e-8, 100.0)]
     assert time_at(pts, 1e-6) == pytest.approx(10.0)
@@ -120,7 +192,27 @@ def test_time_at_and_peak_memory():
         assert peak_memory(lambda: 1 / 0) is None  # a failing run reports nothing
 
 
-def test_wobble_bench_smoke_json(capsys, tmp_path):
+def test_wobble_bench_smoke_json(capsys, tmp_path, monkeypatch):
+    from benchmarks import harness
+
+    # Every call of every run, with the Numba signatures it added: only a warm-up may add any.
+    added = {}
+    measure = harness.measure
+
+    def watched(runs, *args, **kwargs):
+        for r in runs:
+            log = added.setdefault((r.method, r.setting), [])
+
+            def fn(fn=r.fn, log=log):
+                before = _numba_signatures()
+                out = fn()
+                log.append(_numba_signatures() - before)
+                return out
+
+            r.fn = fn
+        return measure(runs, *args, **kwargs)
+
+    monkeypatch.setattr(harness, "measure", watched)
     report = tmp_path / "perf.md"
     code = main(
         [
@@ -136,7 +228,12 @@ def test_wobble_bench_smoke_json(capsys, tmp_path):
         ]
     )
     assert code == 0
-    data = json.loads(capsys.readouterr().out)
+    out, err = capsys.readouterr()
+    data = json.loads(out)
+    assert out.startswith('{\n  "meta"')  # indented by 2, as every command's --json
+    # every file written is named on stderr (stdout is the JSON document)
+    figure = tmp_path / "figs" / "work_precision_torqued_asymmetric_top.png"
+    assert err.splitlines()[-2:] == [f"wrote {figure}", f"wrote {report}"]
     assert set(data) >= {"meta", "cases", "ensembles", "targets"}
     assert data["meta"]["mode"] == "smoke" and data["meta"]["versions"]["numpy"] == np.__version__
     (case,) = data["cases"]
@@ -152,6 +249,20 @@ def test_wobble_bench_smoke_json(capsys, tmp_path):
     assert (tmp_path / "figs" / "work_precision_torqued_asymmetric_top.png").stat().st_size > 1000
     text = report.read_text()
     assert "## Targets" in text and "figs/work_precision_torqued_asymmetric_top.png" in text
+    # no timed run compiled or loaded a Numba kernel: every run's calls after its warm-up added no signature
+    assert len(added) == len(case["rows"]) and all(len(calls) >= 2 for calls in added.values())
+    assert all(calls[1:] == [0] * (len(calls) - 1) for calls in added.values()), added
+
+
+def test_wobble_bench_names_the_files_it_writes(capsys, tmp_path, monkeypatch):
+    """Without --json, the table on stdout, then a "wrote PATH" line per file (as every command)."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["bench", "--smoke", "--case", "torqued_asymmetric_top", "-o", "r.md", "--plot", "figs"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert "Targets:" in out
+    assert out[-2:] == [f"wrote {Path('figs', 'work_precision_torqued_asymmetric_top.png')}", "wrote r.md"]
+    assert (tmp_path / "r.md").is_file() and (tmp_path / "figs" / "work_precision_torqued_asymmetric_top.png").is_file()
 
 
 @pytest.mark.parametrize(

@@ -33,7 +33,9 @@ CASE_KEYS = (
 
 EPILOG = """\
 examples:
-  wobble bench --smoke --json                       a few seconds: the harness itself, as JSON
+  wobble bench --smoke --json                       the harness itself, as JSON: 2-3 s, or about 20 s
+                                                    on the first run after installing (Numba compiles
+                                                    wobble's kernels once, then caches them on disk)
   wobble bench --quick                              fewer settings, ensembles up to 10^4 (5-8 minutes)
   wobble bench --case user_top                      HeavyTop(...).motion(t) against plain SciPy DOP853
   wobble bench --case free_generic --plot figs      one case, with its work-precision diagram
@@ -43,10 +45,12 @@ examples:
 
 For each case and method: one warm-up run (its output is checked against a reference
 independent of the method), then the minimum and median of repeated runs, methods
-interleaved. Runs from a source checkout only (git clone; pip install -e .): the benchmark
-and its mpmath and Radau references are in benchmarks/ and tests/references/ of the
-repository. MuJoCo runs only when installed (pip install "wobble[bench]"). The diagrams
-put the error on x and seconds on y.
+interleaved. No timing includes Numba's loading or compiling of wobble's kernels: a
+warm-up that loaded or compiled any is followed by one more run, which is timed. Runs
+from a source checkout only (git clone; pip install -e .): the benchmark and its mpmath
+and Radau references are in benchmarks/ and tests/references/ of the repository. MuJoCo
+runs only when installed (pip install "wobble[bench]"). The diagrams put the error on x
+and seconds on y.
 """
 
 
@@ -62,8 +66,9 @@ def add_arguments(p) -> None:
     mode.add_argument(
         "--smoke",
         action="store_true",
-        help="a few seconds (3-5 s): one setting per method on two short cases, the harness's own "
-        "test (targets not judged)",
+        help="2-3 s once wobble's compiled kernels are cached on disk; the first run after installing also "
+        "compiles them, about 20 s in all (said on stderr; not in any timing): one setting per method on two "
+        "short cases, the harness's own test (targets not judged)",
     )
     p.add_argument(
         "--case", action="append", metavar="NAME", help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}"
