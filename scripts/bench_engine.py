@@ -2,7 +2,7 @@
 
 Usage: python scripts/bench_engine.py [--quick] [--rebuild-reference]
 
-Torqued cases with no exact solution (issue 8):
+Torqued cases with no exact solution:
 
 * ``satellite``: a spin-stabilised microsatellite (I = 0.90, 0.92, 1.20 kg m2) spinning at
   1 rad/s under the gravity-gradient torque of Earth on a 500 km circular orbit, 300 s,
@@ -185,7 +185,7 @@ def scipy_time_at(points, target):
 # Energy over 10^6 steps
 # --------------------------------------------------------------------------
 def energy_drift(n_steps, orders):
-    """The heavy top of issue 8 (I1 = 1, I3 = 0.5, M g l = 1, 10 rad/s, 60 deg): relative energy error."""
+    """The benchmark's heavy top (I1 = 1, I3 = 0.5, M g l = 1, 10 rad/s, 60 deg): relative energy error."""
     moments = [1.0, 1.0, 0.5]
     gravity = [UniformGravity(1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0])]
     q0 = Q.from_axis_angle(np.array([1.0, 0, 0]), np.radians(60))
@@ -336,7 +336,7 @@ def main():
     n_steps = 100_000 if args.quick else 1_000_000
     orders = [(2, 0.01), (4, 0.02), (6, 0.03)]
     drift = energy_drift(n_steps, orders)
-    p(f"## Energy over {n_steps:.0e} splitting steps: the heavy top of issue 8")
+    p(f"## Energy over {n_steps:.0e} splitting steps: the heavy top")
     p("")
     p("I1 = I2 = 1, I3 = 0.5 kg m2, M g l = 1 J, 10 rad/s, tilt 60 deg; relative energy error |E − E0| / |E0|")
     p("over the first and the last tenth of the run, and the linear trend over the run (a secular drift would")
@@ -351,7 +351,7 @@ def main():
         p(f"| {order} | {h:g} | {steps} | {first:.2e} | {last:.2e} | {slope:.1e} | {lz:.1e} | {seconds:.1f} |")
     p("")
 
-    p("## Issue 8 targets (torqued case)")
+    p("## Targets (torqued case)")
     p("")
     lines = []
     for name in (sat.name, top.name):

@@ -7,7 +7,7 @@ repeats, DifferentialEquations.jl work-precision style):
 
 * per-sample cost of wobble's omega(t) (and omega + attitude) against
   scipy.special.ellipj on the same number of arguments;
-* the issue-8 generic case (I = 1, 2, 3 kg m2; omega0 = (1, 0.1, 1) rad/s;
+* the generic case (I = 1, 2, 3 kg m2; omega0 = (1, 0.1, 1) rad/s;
   1000 s; 10^4 outputs) against scipy.integrate.solve_ivp DOP853 at rtol 1e-12;
 * the same within 2e-12 of the separatrix (omega0 = (1e-6, 1, 1e-6), 200 s) with flip times;
 * Earth-like free wobble over 100 years with 36,526 daily outputs.
@@ -162,7 +162,7 @@ def main(argv=None):
         "`omega` is the whole exact solution (double-double phase, reduction, sn/cn/dn, scaling);",
         "`omega+attitude` adds the quaternion (Carlson R_F, R_C, R_J per sample).",
         "",
-        "## Cases of issue 8",
+        "## Cases of the work-precision benchmark",
         "",
         "| case / method | min (s) | median (s) | max relative error |",
         "|---|---|---|---|",

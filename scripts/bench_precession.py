@@ -52,7 +52,7 @@ REPORT = ROOT / "docs" / "performance-precession.md"
 FIGURE = ROOT / "docs" / "figures" / "work_precision_precession.png"
 ARCSEC_CY = 180 / math.pi * 3600 * 36525 * 86400  # rad/s -> arcsec per Julian century
 ARCSEC = 180 / math.pi * 3600
-TARGET_RATE = 1e-3  # issue 18: the mean rate to 0.1 %
+TARGET_RATE = 1e-3  # the target: the mean rate to 0.1 %
 TARGET_NUTATION = 1e-2  # the 18.6-year amplitudes to 1 %
 TIME_TARGET = 10.0  # s, on 2 cores
 
@@ -371,7 +371,7 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         "node longitude and the obliquity of the **angular momentum's direction** with a secular rate, the Moon's",
         "18.6-year node term and the Sun's and Moon's other first-order terms. Errors against:",
         "",
-        "* the **first-order averaged model** of the same scene (the issue's targets: the rate to 0.1 %, the",
+        "* the **first-order averaged model** of the same scene (what the targets compare with: the rate to 0.1 %, the",
         "  18.6-year amplitudes to 1 %); the converged run differs from it by the physics first-order averaging",
         "  leaves out, so no integrator can do better than that difference;",
         "* the **reference run** (compiled DOP853 at rtol 1e-12): the integration error itself.",
@@ -385,7 +385,7 @@ def report(rows, ref, quick, repeats, elapsed, loads, finished):
         "",
         "## Targets",
         "",
-        "| target (issue 18) | measured | status |",
+        "| target | measured | status |",
         "|---|---|---|",
     ]
     if best is not None:

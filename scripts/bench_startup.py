@@ -3,9 +3,9 @@
     python scripts/bench_startup.py            # 15 runs of each command, warm file cache
 
 Each command runs as a fresh process (what a shell loop pays every time): the minimum and
-the median wall time of the runs, after two warm-up runs. Targets (issue 15): ``wobble --help``
+the median wall time of the runs, after two warm-up runs. Targets: ``wobble --help``
 within 0.3 s and ``wobble chandler earth --json`` within 0.8 s; ``wobble modes earth mars`` within 1 s
-after start-up (issue 17): a fresh process imports what the command imports, then times the command's
+after start-up: a fresh process imports what the command imports, then times the command's
 own run in the same process; the whole process is timed too. The import profile of each command
 (``python -X importtime``) names what is loaded, so a regression is easy to find.
 """
@@ -54,7 +54,7 @@ def wall_times(argv, runs: int) -> list[float]:
     return times
 
 
-# Issue 17: the normal modes within a second after start-up. The start-up (interpreter, NumPy,
+# The target: the normal modes within a second after start-up. The start-up (interpreter, NumPy,
 # astropy, wobble's modules) is paid first; the command's own run is then timed in the process.
 AFTER_STARTUP = (("wobble modes earth mars", ["modes", "earth", "mars"], ("wobble.cli", "wobble.api.modes"), 1.0),)
 _AFTER_STARTUP_CODE = """
@@ -141,7 +141,7 @@ def report(runs: int) -> str:
         "Chandler table needs astropy.units and NumPy but not xarray, pandas, dask, matplotlib or Numba",
         "(tests/test_architecture.py checks that; this page measures the time).",
         "A row *after start-up* times the command's own run in a process that has already imported",
-        "the modules named (issue 17's reading of its target: the physics, not the interpreter and",
+        "the modules named (the target 'within a second after start-up' read as the physics, not the interpreter and",
         "astropy's import); the row without the suffix is the whole process.",
         "",
     ]

@@ -1,8 +1,8 @@
-"""Benchmark: wobble's exact heavy top against scipy's DOP853 (and Radau) on the issue-8 cases.
+"""Benchmark: wobble's exact heavy top against scipy's DOP853 (and Radau) on four tops.
 
 Usage: python scripts/bench_top.py [--quick] [--no-radau]     (writes docs/performance-top.md)
 
-Cases (issue 8): I1 = 1 kg m2, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s,
+Cases: I1 = 1 kg m2, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s,
 theta0 = 60 deg, released with phidot0 = 0 (cusps), +0.3 rad/s (undulating) and
 -0.3 rad/s (loops); and a nearly sleeping top, theta0 = 1e-4 rad. Span: 1000
 nutation periods, 20,001 equally spaced outputs.
@@ -214,7 +214,7 @@ def main(argv=None):
         "equations written as a SciPy user writes them (Python floats, benchmarks/top.py), timed "
         "without events.",
         "",
-        "Top of issue 8: I1 = 1 kg m2, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s; 1000 nutation "
+        "Heavy top: I1 = 1 kg m2, I3 = 0.5 kg m2, M g l = 1 J, omega3 = 10 rad/s; 1000 nutation "
         "periods, 20,001 outputs. Errors against mpmath (tests/references/heavy_top.json): turning "
         "angles (relative) and the attitude angle (rad) at 7 times up to 1000.25 periods. The last "
         "column compares the integrator with wobble's exact attitude at all 20,001 outputs.",
@@ -263,7 +263,7 @@ def main(argv=None):
         met_median = met_median and ratio_med >= 1000
     lines += [
         "",
-        "Issue-8 target: at least 1000 times faster than DOP853 at rtol 1e-12, at equal or better error. "
+        "Target: at least 1000 times faster than DOP853 at rtol 1e-12, at equal or better error. "
         + (
             "Met on every case above on the minima (construction included)"
             if met

@@ -1,8 +1,8 @@
-"""Benchmark: the public API as a user meets it, against plain SciPy DOP853 (issue 15); writes docs/performance-user.md.
+"""Benchmark: the public API as a user meets it, against plain SciPy DOP853; writes docs/performance-user.md.
 
 Usage: python scripts/bench_user.py [--quick] [--repeats N]
 
-``HeavyTop(...).motion(t)`` for the four tops of issue 8 and ``FreeRotation(...).to_dataset(t)``
+``HeavyTop(...).motion(t)`` for the four tops of the work-precision benchmark and ``FreeRotation(...).to_dataset(t)``
 for the generic free body, Quantities in and a CF Dataset out, against
 ``scipy.integrate.solve_ivp(method="DOP853")`` at rtol 1e-12 without events, on the
 equations a user would write (benchmarks/user_level.py says exactly which, how the

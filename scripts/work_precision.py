@@ -1,4 +1,4 @@
-"""Work-precision benchmark of every solver (issues 8 and 15); writes docs/performance.md and its figures.
+"""Work-precision benchmark of every solver; writes docs/performance.md and its figures.
 
 Usage: python scripts/work_precision.py [--quick] [--json] [--case NAME ...]
 
