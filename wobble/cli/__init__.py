@@ -126,6 +126,7 @@ def main(argv: list[str] | None = None) -> int:
     from wobble._offline import configure_astropy_offline
 
     configure_astropy_offline(forbid_all_downloads=True)
+    _announce_first_compilation(args.command)
     try:
         return int(args.func(args) or 0)
     except WobbleError as exc:
@@ -148,6 +149,24 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"wobble {args.command}: interrupted; no output was written", file=sys.stderr)
         return 130
+
+
+def _announce_first_compilation(command: str) -> None:
+    """On a terminal, one status line when Numba starts compiling wobble's kernels (the first run
+    after installing: about 20 s of silence otherwise); never in pipes, files or scripts' stderr."""
+    if not (hasattr(sys.stderr, "isatty") and sys.stderr.isatty()):
+        return
+    from wobble.numerics.compiled import on_first_compilation
+
+    def say():
+        print(
+            f"wobble {command}: compiling the numerical kernels (first run after installing only, about 20 s; "
+            "they are then cached on disk) ...",
+            file=sys.stderr,
+            flush=True,
+        )
+
+    on_first_compilation(say)
 
 
 def _silence_stdout() -> None:

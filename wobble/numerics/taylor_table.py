@@ -31,6 +31,8 @@ from __future__ import annotations
 
 import numba as nb
 import numpy as np
+
+from wobble.numerics import compiled as _compiled
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
@@ -53,6 +55,7 @@ __all__ = [
     "SAMPLE_CONSTANTS",
 ]
 
+_compiled.listen()  # a command line may announce the first compilation (10-25 s after installing)
 _jit = nb.njit(cache=True, nogil=True, error_model="numpy")
 _SPLITTER = 134217729.0  # 2^27 + 1
 
