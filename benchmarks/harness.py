@@ -30,11 +30,12 @@ from benchmarks import user_level
 from benchmarks.ensemble import best_ratio, ensemble
 from benchmarks.free import free_case
 from benchmarks.report import USER_REPORT, is_docs_page
-from benchmarks.timing import JIT, measure, measures_resident_memory, peak_memory, time_at
+from benchmarks.timing import measure, measures_resident_memory, peak_memory, time_at
 from benchmarks.torqued import torqued_case
 from wobble.cli._output import finish
 from wobble.cli.bench import CASE_KEYS, add_arguments
 from wobble.errors import InputError
+from wobble.numerics import compiled
 
 TOP = {"top_cusps": 0, "top_undulating": 1, "top_loops": 2, "top_sleeping": 3}
 # --smoke: two short cases (the torqued top's 5 s and 30 s of free-body ensembles, 100 members).
@@ -123,7 +124,7 @@ def run_benchmark(mode: str = "full", keys=None, repeats: int | None = None, pro
     try:
         # A status line when Numba starts compiling outside a warm-up (a case's references); measure()
         # says which method's kernels it compiles in a warm-up.
-        with JIT.announcing(
+        with compiled.compilation_notice(
             lambda: say("  compiling Numba kernels (first run after installing only: they are then cached on disk) ...")
         ):
             return _run_cases(mode, keys, repeats, say, started)

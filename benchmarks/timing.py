@@ -8,7 +8,7 @@ its warm-up time is its only timing (its method's cheaper settings ran before it
 caches and imports are warm), which keeps the long SciPy runs affordable.
 
 Numba's just-in-time work (importing Numba, loading a kernel from its disk cache, compiling
-it: ~20 s for the DOP853 kernels on a new install) is never timed. :data:`JIT` watches it
+it: ~20 s for the DOP853 kernels on a new install) is never timed. :mod:`wobble.numerics.compiled` watches it
 through Numba's event API; a warm-up during which any happened is not a timing, so the run
 is run once more (timed, as a timed run is) before its time decides how often it is
 repeated, and a timed run during which any happened is discarded and run again.
@@ -20,15 +20,14 @@ import ctypes
 import gc
 import os
 import statistics
-import sys
-import threading
 import time
 import tracemalloc
 from collections.abc import Callable
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+from wobble.numerics import compiled
 
 #: The environment for timing a command as a fresh process the way a user runs it: a user's Python
 #: caches the bytecode of what it imports (__pycache__); a session that sets PYTHONDONTWRITEBYTECODE
@@ -57,86 +56,9 @@ class Run:
 clock = time.perf_counter
 
 
-class JitWatch:
-    """Numba's just-in-time work in this process, seen through Numba's event API (numba.core.event).
-
-    Every kernel Numba loads from its disk cache or compiles takes its compiler lock (a
-    ``"numba:compiler_lock"`` event); a compilation proper is also a ``"numba:compile"`` event.
-    :meth:`start` imports Numba (when it is installed) to install the listeners, so that they
-    hear the first compilation; :meth:`state` installs them too once anything has imported
-    Numba, and says whether it has, so that importing Numba (~0.4 s) counts as just-in-time
-    work.
-    """
-
-    def __init__(self):
-        self._lock = threading.Lock()
-        self._installed = False
-        self.events = 0  # compiler-lock acquisitions: kernels loaded or compiled
-        self.compilations = 0  # "numba:compile" events
-        self._announce = None  # [callback, said] while announcing (see announcing())
-
-    def start(self) -> None:
-        """Listen from now on: import Numba if it is installed and install the listeners."""
-        import importlib.util
-
-        if not self._installed and ("numba" in sys.modules or importlib.util.find_spec("numba") is not None):
-            self._install()
-
-    def state(self) -> tuple:
-        """A value that changes whenever Numba is imported, loads a kernel or compiles one."""
-        imported = "numba" in sys.modules
-        if imported and not self._installed:
-            self._install()
-        return imported, self.events, self.compilations
-
-    def _install(self) -> None:
-        import numba.core.event as ev
-
-        watch = self
-
-        class _Listener(ev.Listener):
-            def __init__(self, compile_event: bool):
-                self.compile_event = compile_event
-
-            def on_start(self, event):
-                with watch._lock:
-                    if self.compile_event:
-                        watch.compilations += 1
-                    else:
-                        watch.events += 1
-                    announce = watch._announce
-                    say = self.compile_event and announce is not None and not announce[1]
-                    if say:
-                        announce[1] = True
-                if say:
-                    announce[0]()
-
-            def on_end(self, event):
-                pass
-
-        ev.register("numba:compiler_lock", _Listener(False))
-        ev.register("numba:compile", _Listener(True))
-        self._installed = True
-
-    @contextmanager
-    def announcing(self, callback):
-        """Within the block, call ``callback()`` when Numba starts its first compilation (once):
-        a status line for the long first-run compilation. Nested blocks take over, then restore.
-        Starts listening (:meth:`start`)."""
-        self.start()
-        previous, self._announce = self._announce, [callback, False]
-        try:
-            yield
-        finally:
-            self._announce = previous
-
-
-#: The process's one watch (Numba's listeners are process-wide).
-JIT = JitWatch()
-
-
 def _jit_kind(before: tuple, after: tuple) -> str | None:
-    """What Numba did between two :meth:`JitWatch.state` readings: None, "loaded" or "compiled"."""
+    """What Numba did between two :func:`wobble.numerics.compiled.activity` readings: None, "loaded" or
+    "compiled"."""
     if after == before:
         return None
     return "compiled" if after[2] != before[2] else "loaded"
@@ -147,11 +69,11 @@ def _timed(r: Run, attempts: int = 3) -> float:
     which it did is discarded and run again)."""
     for _ in range(attempts):
         gc.collect()
-        before = JIT.state()
+        before = compiled.activity()
         t0 = clock()
         r.fn()
         dt = clock() - t0
-        if JIT.state() == before:
+        if compiled.activity() == before:
             return dt
     raise RuntimeError(
         f"{r.method} [{r.setting}]: Numba loaded or compiled a kernel in each of {attempts} runs after its warm-up; "
@@ -166,7 +88,8 @@ def measure(runs: list[Run], repeats: int, slow_s: float = 2.0, progress=None) -
     loaded or compiled kernels is followed by one more run, timed, whose time stands for the
     run's (its only timing when over ``slow_s``); ``progress`` is told when Numba starts
     compiling during a warm-up (the first run after installing)."""
-    JIT.start()  # Numba's import (~0.4 s) before the warm-ups, and its listeners hearing every compilation
+    if compiled.available():  # Numba's import (~0.4 s) before the warm-ups, and its listeners hearing every compilation
+        compiled.listen()
     times: list[list[float]] = []
     for r in runs:
         gc.collect()
@@ -177,12 +100,12 @@ def measure(runs: list[Run], repeats: int, slow_s: float = 2.0, progress=None) -
                 "they are then cached on disk) ..."
             )
 
-        with JIT.announcing(compiling if progress else lambda: None):
-            before = JIT.state()
+        with compiled.compilation_notice(compiling if progress else lambda: None):
+            before = compiled.activity()
             t0 = clock()
             out = r.fn()
             dt = clock() - t0
-            jit = _jit_kind(before, JIT.state())
+            jit = _jit_kind(before, compiled.activity())
         r.result = {"method": r.method, "setting": r.setting, **r.check(out)}
         if r.work is not None:
             r.result["work"] = r.work(out)

@@ -7,16 +7,7 @@ import json
 
 import pytest
 
-from wobble.cli import main
-
-
-def _run(argv, capsys):
-    try:
-        code = main(argv)
-    except SystemExit as exc:  # argparse
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
+from cli_run import run_cli as _run
 
 
 TOP = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60", "--omega3", "10"]

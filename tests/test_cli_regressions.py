@@ -14,16 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from wobble.cli import main
-
-
-def _run(argv, capsys):
-    try:
-        code = main(argv)
-    except SystemExit as exc:  # argparse
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
+from cli_run import run_cli as _run
 
 
 def test_free_omega_whose_energy_overflows_is_an_input_error(capsys):

@@ -187,3 +187,12 @@ def test_cli_table_output(capsys):
     assert main(["free", "--inertia", "2", "2", "3", "--omega", "0.3", "0.1", "1"]) == 0
     out = capsys.readouterr().out
     assert "symmetric" in out and "period of omega" in out
+
+
+def test_flip_figure_refuses_a_body_that_does_not_flip():
+    # Was: AttributeError ('NoneType' has no 'to_value') once time_between_flips became None for a wobble.
+    from wobble.errors import InputError
+    from wobble.plot.free import flip_figure
+
+    with pytest.raises(InputError, match=r"^omega0: got .*; allowed: a spin that flips the body \(its intermediate"):
+        flip_figure([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S, 100 * u.s)

@@ -26,23 +26,22 @@ pytestmark = pytest.mark.skipif(
 )
 
 
+def _interrupting(make):
+    """``make`` (mkstemp or mkdtemp), then SIGINT to this process once the file or folder exists."""
+
+    def wrapped(*args, **kwargs):
+        made = make(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGINT)
+        return made
+
+    return wrapped
+
+
 @pytest.fixture
 def interrupt_on_create(monkeypatch):
     """SIGINT to this process right after each temporary file or folder is created."""
-    real_file, real_folder = tempfile.mkstemp, tempfile.mkdtemp
-
-    def mkstemp(*args, **kwargs):
-        made = real_file(*args, **kwargs)
-        os.kill(os.getpid(), signal.SIGINT)
-        return made
-
-    def mkdtemp(*args, **kwargs):
-        made = real_folder(*args, **kwargs)
-        os.kill(os.getpid(), signal.SIGINT)
-        return made
-
-    monkeypatch.setattr(tempfile, "mkstemp", mkstemp)
-    monkeypatch.setattr(tempfile, "mkdtemp", mkdtemp)
+    monkeypatch.setattr(tempfile, "mkstemp", _interrupting(tempfile.mkstemp))
+    monkeypatch.setattr(tempfile, "mkdtemp", _interrupting(tempfile.mkdtemp))
 
 
 def _block(n=4):
@@ -94,14 +93,7 @@ def test_streaming_writer_restarted_for_a_second_attempt(tmp_path, monkeypatch):
     writer = StreamingWriter(tmp_path / "out.nc")
     writer.begin()
     writer.append(_block())
-    real = tempfile.mkstemp
-
-    def mkstemp(*args, **kwargs):
-        made = real(*args, **kwargs)
-        os.kill(os.getpid(), signal.SIGINT)
-        return made
-
-    monkeypatch.setattr(tempfile, "mkstemp", mkstemp)
+    monkeypatch.setattr(tempfile, "mkstemp", _interrupting(tempfile.mkstemp))
     with pytest.raises(KeyboardInterrupt):
         try:
             writer.discard()

@@ -126,9 +126,9 @@ def main(argv: list[str] | None = None) -> int:
     from wobble._offline import configure_astropy_offline
 
     configure_astropy_offline(forbid_all_downloads=True)
-    _announce_first_compilation(args.command)
     try:
-        return int(args.func(args) or 0)
+        with _compilation_notice(args.command):
+            return int(args.func(args) or 0)
     except WobbleError as exc:
         text = getattr(exc, "command_line_message", None) or _one_line(exc)
         print(f"wobble {args.command}: error: {text}", file=sys.stderr)
@@ -151,12 +151,14 @@ def main(argv: list[str] | None = None) -> int:
         return 130
 
 
-def _announce_first_compilation(command: str) -> None:
+def _compilation_notice(command: str):
     """On a terminal, one status line when Numba starts compiling wobble's kernels (the first run
     after installing: about 20 s of silence otherwise); never in pipes, files or scripts' stderr."""
+    import contextlib
+
     if not (hasattr(sys.stderr, "isatty") and sys.stderr.isatty()):
-        return
-    from wobble.numerics.compiled import on_first_compilation
+        return contextlib.nullcontext()
+    from wobble.numerics.compiled import compilation_notice
 
     def say():
         print(
@@ -166,7 +168,7 @@ def _announce_first_compilation(command: str) -> None:
             flush=True,
         )
 
-    on_first_compilation(say)
+    return compilation_notice(say)
 
 
 def _silence_stdout() -> None:

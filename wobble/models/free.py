@@ -390,11 +390,17 @@ class FreeRotationModel:
         coef = (sg[0] * k[0], sg[0] * k[1], sg[1] * k[2], sg[1] * k[3], sg[2] * k[4], sg[2] * k[5])
         return nome_grid.polynomial_omega(starts, step, t.size, [self._order[i] for i in axes], coef)
 
+    def _jacobi_only(self) -> bool:
+        """Whether omega is the per-sample Jacobi evaluation (``omega_at``) whatever the times: an
+        elliptic body without a nome series, which both grid paths need (its ``grid_polynomial`` is
+        None too). :meth:`state` shares that evaluation with the attitude only then."""
+        return getattr(self._impl, "fourier", True) is None
+
     def _omega_model_frame(self, t):
         # A long uniform grid of a near-circular wobble (Earth, Mars) takes the
         # block-rotation path: no per-sample reduction, trigonometry or elliptic functions.
         on_grid = getattr(self._impl, "omega_on_grid", None)
-        if on_grid is not None and getattr(self._impl, "fourier", True) is not None:
+        if on_grid is not None and not self._jacobi_only():
             grid = uniform_grid(t)
             if grid is not None:
                 return on_grid(grid[0], grid[1], t.size)
@@ -414,13 +420,12 @@ class FreeRotationModel:
         """:meth:`omega` and :meth:`attitude` at times ``t`` (s), bit for bit, in one evaluation.
 
         A triaxial body far from a circular wobble (no nome series: generic bodies) evaluates its
-        Jacobi functions once for both (FreeRotation.to_dataset for 10,001 times: 10.1 against
-        10.9 ms); elsewhere omega takes its own path (the nome series on a uniform grid, or closed
-        forms) and this is the two calls.
+        Jacobi functions once for both, instead of once each; elsewhere omega takes its own path
+        (the nome series on a uniform grid, or closed forms) and this is the two calls.
         """
         t = np.asarray(t, dtype=float)
         state_at = getattr(self._impl, "state_at", None)
-        if state_at is None or getattr(self._impl, "fourier", None) is not None:
+        if state_at is None or not self._jacobi_only():
             return self.omega(t), self.attitude(t)
         both = _blocked(state_at, t, 7)
         return to_user(both[..., :3], self._order, self._signs), self._attitude_to_user(both[..., 3:])

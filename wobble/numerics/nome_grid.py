@@ -31,12 +31,11 @@ import numba as nb
 import numpy as np
 
 from wobble.numerics import compiled as _compiled
-
 from wobble.numerics.phasor import grid_candidate
 
 __all__ = ["polynomial_omega", "uniform_grid"]
 
-_compiled.listen()  # a command line may announce the first compilation (10-25 s after installing)
+_compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
 _jit = nb.njit(cache=True, nogil=True, error_model="numpy")
 
 

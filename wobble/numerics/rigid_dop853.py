@@ -71,7 +71,7 @@ def _cpus() -> int:
 # fastmath "contract" only: fused multiply-adds (one rounding instead of two, ~20 % faster);
 # no reassociation, no assumptions about NaN or infinity (the first-step test reads a NaN).
 _OPTIONS = {"cache": True, "nogil": True, "fastmath": {"contract"}, "error_model": "numpy"}
-_compiled.listen()  # a command line may announce the first compilation (10-25 s after installing)
+_compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
 _jit = nb.njit(**_OPTIONS)
 # The right-hand side is inlined into the stages (its ten parameter arrays are then not
 # passed, and reference-counted, at every evaluation): ~20 % faster, compiled once (~12 s)

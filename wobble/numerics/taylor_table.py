@@ -18,25 +18,23 @@ tables per coefficient; here the samples go in blocks of :data:`_BLOCK` through 
 cache-resident scratch array, and the outputs are the only large memory written. Within
 a block a scalar pass gathers (the nodes' coefficients and phasors) and a second pass,
 which gathers nothing, does the rest four samples per instruction (LLVM's loop
-vectoriser; with :func:`_horner6`, 0.56 ms against 0.83 ms in one scalar pass for
-20,001 samples); a third pass writes the block out by non-temporal stores (:func:`_stream4`;
-0.47-0.48 ms in all, best of 500; 0.50 ms since it also writes the three drifts). The
+vectoriser, with :func:`_horner6`); a third pass writes the block out by non-temporal
+stores (:func:`_stream4`). docs/heavy-top.md gives the times of each step. The
 arithmetic is the NumPy path's, operation for operation and without fused multiply-adds, so
 the two agree bit for bit (tested, at and across block ends).
 
-Numba is imported by this module only (~0.4 s once per process).
+Numba is imported only with the compiled modules (~0.4 s once per process).
 """
 
 from __future__ import annotations
 
 import numba as nb
 import numpy as np
-
-from wobble.numerics import compiled as _compiled
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
+from wobble.numerics import compiled as _compiled
 from wobble.numerics.phase import PER_SAMPLE
 
 __all__ = [
@@ -55,7 +53,7 @@ __all__ = [
     "SAMPLE_CONSTANTS",
 ]
 
-_compiled.listen()  # a command line may announce the first compilation (10-25 s after installing)
+_compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
 _jit = nb.njit(cache=True, nogil=True, error_model="numpy")
 _SPLITTER = 134217729.0  # 2^27 + 1
 
@@ -97,7 +95,6 @@ CONSTANTS = (
     "p_phi0",
     "p_psi0",
 )
-_I = {name: i for i, name in enumerate(CONSTANTS)}
 (
     K0,
     H,
@@ -310,13 +307,11 @@ def _horner6(typingctx, tab, ii, d):
 def _stream4(typingctx, arr, idx, a, b, c, d):
     """``arr[idx : idx + 4] = (a, b, c, d)``: one aligned non-temporal vector store (``vmovntpd``).
 
-    For the outputs of :func:`_motion` (3.4 MB for 20,001 samples, more than this machine's 2 MB
+    For the outputs of :func:`_motion` (3.7 MB for 20,001 samples, more than this machine's 2 MB
     L2 cache): a non-temporal store writes a whole cache line without reading it first, where
     the plain copy-out read every output line before writing it, and the interleaved outputs
     (omega, the axis: three values per sample) go out as whole vectors instead of shuffled
-    scalars. The kernel took 0.55-0.56 ms with the plain copy-out and 0.47-0.48 ms with these stores;
-    ``HeavyTop(...).motion(t)`` 1.81-1.87 against 1.73-1.77 ms (best of 400, six alternating
-    runs). The Python stages around it take as long as before. ``arr`` must be C-contiguous 1-D
+    scalars (docs/heavy-top.md: the kernel's time with and without them). ``arr`` must be C-contiguous 1-D
     float64 with ``arr[idx]`` 32-byte aligned (the caller's duty: a misaligned address faults).
     """
     if not (isinstance(arr, types.Array) and arr.ndim == 1 and arr.dtype == types.float64 and arr.layout == "C"):
@@ -365,6 +360,8 @@ def _turn(x, cc, sc, pc, ps, jc, js):
 #: Samples per block of :func:`_motion`: its 35 rows of intermediates (36 kB) stay in the L1/L2
 #: caches. (512 was 2.7 times slower: rows 4 kB apart alias in the load/store unit.)
 _BLOCK = 128
+# _stream4 writes whole 32-byte vectors: a block, like every output's stride, holds whole vectors.
+assert _BLOCK % 4 == 0
 # The rows of a block: what the scalar pass gathers (0-18), what the vectorised pass computes (19-34).
 (_R, _J, _TH, _V1, _V2, _SP, _DP, _DTH, _SH, _CH, _DN, _PSC, _PSS, _PDC, _PDS, _JSC, _JSS, _JDC, _JDS) = range(19)
 (_PHI, _PSI, _THD, _PHD, _PSD, _U, _E, _PPHI, _W1, _W2, _QW, _QX, _QY, _QZ, _AX, _AY) = range(19, 35)
@@ -381,10 +378,8 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
     # (1) scalar: the node of each sample, the Horner sums from the node's coefficients and the
     # node's and period's phasors, gathered into the block's rows; (2) everything else from those
     # rows, four samples per instruction, into more rows of the same local array (whose rows LLVM
-    # knows apart); (3) the rows copied to the outputs. One pass per sample did the same
-    # arithmetic in 0.83 ms for 20,001 samples, the three passes take 0.47-0.48 ms (0.50 ms with
-    # the drifts' rows). The operations and their order are those of the NumPy path, so the two
-    # still agree bit for bit.
+    # knows apart); (3) the rows copied to the outputs by aligned non-temporal stores. The
+    # operations and their order are those of the NumPy path, so the two agree bit for bit.
     n = r.shape[0]
     nodes = tab.shape[0]
     s = np.empty((_ROWS, _BLOCK))
@@ -589,8 +584,7 @@ def _outputs(n: int):
     spans = [-(-size // 4) * 4 for size in sizes]  # each part padded to whole 32-byte vectors
     raw = np.empty(sum(spans) + 4)
     address = raw.ctypes.data
-    if address % 8:
-        raise RuntimeError("taylor_table: a float64 array not 8-byte aligned")  # NumPy guarantees it
+    assert address % 8 == 0  # NumPy aligns float64 arrays to 8 bytes (at least)
     first = (-address // 8) % 4  # the first 32-byte boundary (NumPy guarantees 8 bytes, not 32)
     parts, at = [], first
     for size, span in zip(sizes, spans):  # every span a multiple of 4 values: each part aligned too
@@ -865,6 +859,8 @@ def _check(r, want, cos_g, sin_g, tab, node_r, phasor, k0, h, inv_h, c, cos_c, s
     nodes = tab.shape[0]
     order = tab.shape[1] - 1
     rows = tab.shape[2]
+    cc = (cos_c[0], cos_c[1], cos_c[2], cos_c[3])
+    sc = (sin_c[0], sin_c[1], sin_c[2], sin_c[3])
     miss = 0.0
     for q in range(rows):
         err[q] = 0.0
@@ -885,10 +881,7 @@ def _check(r, want, cos_g, sin_g, tab, node_r, phasor, k0, h, inv_h, c, cos_c, s
             if dev > err[q] or dev != dev:
                 err[q] = dev  # a nan stays (as np.max)
             if q == 1 or q == 2:
-                x = c[q - 1] * dn + acc
-                z = x * x
-                ec = ((cos_c[3] * z + cos_c[2]) * z + cos_c[1]) * z + cos_c[0]
-                es = (((sin_c[3] * z + sin_c[2]) * z + sin_c[1]) * z + sin_c[0]) * x
+                ec, es = _cis(c[q - 1] * dn + acc, cc, sc)
                 pc = phasor[q - 1, 0, iu]
                 ps = phasor[q - 1, 1, iu]
                 dev = np.hypot(pc * ec - ps * es - cos_g[i, q - 1], pc * es + ps * ec - sin_g[i, q - 1])

@@ -7,6 +7,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.free import FreeRotation
+from wobble.errors import InputError
 from wobble.plot._style import time_axis
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
@@ -61,8 +62,23 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
 
 
 def flip_figure(moments, omega0, t_end):
-    """Components of omega through tennis-racket (Dzhanibekov) flips, flip times marked."""
+    """Components of omega through tennis-racket (Dzhanibekov) flips, flip times marked.
+
+    Raises
+    ------
+    wobble.errors.InputError
+        A body that does not flip (its intermediate axis swings by less than 90 deg): draw it
+        with :func:`motion_figure`.
+    """
     body = FreeRotation(moments, omega0)
+    if not body.flips:
+        swing = body.intermediate_axis_swing
+        raise InputError(
+            "omega0",
+            omega0,
+            f"a spin that flips the body (its intermediate axis swings by "
+            f"{0.0 if swing is None else swing.to_value(u.deg):.3g} deg, not more than 90): see motion_figure",
+        )
     t_end_s = t_end.to_value(u.s)
     ds = body.to_dataset(t_end=t_end, samples=4001)
     fig, ax = plt.subplots(figsize=(7.0, 3.8))
