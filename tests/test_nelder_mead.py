@@ -66,7 +66,7 @@ def test_each_search_ends_where_scipy_does(kind, maxfev):
 
 def test_a_start_outside_the_box_is_refused():
     f = _family("bowl", np.zeros((1, 3)))
-    with pytest.raises(ValueError, match="within the bounds"):
+    with pytest.raises(ValueError, match=r"^initial_simplex\[0, 0\] \(x0 of search 0\): got \[4\. .*; allowed: within"):
         minimize_nelder_mead(
             f, (np.array([4.0, 0, 0]) + OFFSETS)[None], LOWER, UPPER, xatol=1e-4, fatol=1e-6, maxfev=100
         )

@@ -294,3 +294,14 @@ def test_subspans_measured_together_equal_one_at_a_time(method):
     assert same_times(t, masks)  # the batch did measure some together
     for name in together:
         assert together[name] == pytest.approx(alone[name], rel=1e-9), name
+
+
+@pytest.mark.parametrize("rate", [math.nan, -1.0, 2 * math.pi / (300 * DAY)])
+def test_a_given_rate_outside_the_band_is_refused(rate):
+    # Was: LAPACK's "DLASCL parameter number 4" and a LinAlgError for nan, a 7e-5 d period for -1.
+    from wobble.errors import InputError
+
+    t = np.arange(0.0, 12 * YEAR, DAY)
+    z = np.exp(2j * math.pi * t / (433 * DAY))
+    with pytest.raises(InputError, match=r"^rate: got .*; allowed: a rate within the band, .* rad/s$"):
+        fit_least_squares(t, z, reference_period=REFERENCE_PERIOD, uncertainty=False, rate=rate)

@@ -71,30 +71,31 @@ def test_prograde_circle_is_at_positive_frequency():
     assert spec.amplitude.max() == pytest.approx(MAS, rel=0.01)  # a circle of radius 1 mas
 
 
-def test_the_noise_ring_leaves_out_the_main_lobe_by_whole_grid_steps():
-    """The ring of the local noise level (spectrum._local_level) leaves out the peak's main lobe,
-    4 or 8 steps of its grid on either side, edges included: counted in steps, the same points
-    for every span. The float test it replaced, |grid - rate| > lobe, kept an edge point for
-    some spans and not for others (two roundings of the same number)."""
-    import math
+@pytest.mark.parametrize("kind", ["boxcar", "hann"])
+@pytest.mark.parametrize("years", [7.3, 20.0, 41.7])
+def test_the_noise_ring_is_the_mean_power_outside_the_main_lobe(kind, years):
+    """spectrum._local_level against its definition: the mean of |sum_k w_k r_k exp(-i f t_k)|^2 / sum w^2
+    over the ring's grid f = rate + j d (d = 2 pi / (4 span), |j| <= ceil((lobe + 0.1 cycle/yr) / d)),
+    leaving out the main lobe |j| <= lobe / d (4 steps boxcar, 8 Hann), edges included, counted in
+    grid steps (a float test |f - rate| > lobe kept an edge point for some spans, not others).
+    The points are summed here by definition, one frequency at a time."""
+    from wobble.models.polar_motion.spectrum import _local_level
 
-    from wobble.models.polar_motion.spectrum import _outside_lobe
+    rng = np.random.default_rng(int(years * 10))
+    t = np.arange(0.0, years * YEAR, DAY)
+    s = t - 0.5 * (t[0] + t[-1])
+    span = t[-1] - t[0]
+    w = np.hanning(t.size) if kind == "hann" else np.ones(t.size)
+    rate = 2 * math.pi / (433.0 * DAY)
+    r = rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size) + 3 * np.exp(1j * rate * s)
+    got = _local_level(s, w * r, w, rate, span, kind)
 
-    year_rate = 2 * math.pi / (365.24219 * 86400.0)
-    float_test_kept = set()
-    for years in np.linspace(5.0, 60.0, 400):
-        span = years * 365.25 * 86400.0
-        for factor in (1.0, 2.0):  # boxcar, Hann
-            lobe = factor * 2 * math.pi / span
-            d = 2 * math.pi / (4 * span)
-            half = math.ceil((lobe + 0.1 * year_rate) / d)
-            count = 2 * half + 1
-            steps = round(lobe / d)
-            assert steps == 4 * factor
-            side = _outside_lobe(count, half, steps)
-            assert side.sum() == count - (2 * steps + 1)
-            assert not side[half - steps : half + steps + 1].any()
-            rate = 2 * math.pi / (433.0 * 86400.0)
-            grid = rate - half * d + d * np.arange(count)
-            float_test_kept.add(int((np.abs(grid - rate) > lobe).sum() - side.sum()))
-    assert float_test_kept != {0}  # the old test was not the same rule for every span
+    steps = 8 if kind == "hann" else 4
+    d = 2 * math.pi / (4 * span)
+    half = math.ceil((steps * d + 0.1 * 2 * math.pi / (365.24219 * DAY)) / d)
+    ring = [j for j in range(-half, half + 1) if abs(j) > steps]
+    power = [abs(np.sum(w * r * np.exp(-1j * (rate + j * d) * s))) ** 2 / np.sum(w**2) for j in ring]
+    assert got == pytest.approx(np.mean(power), rel=1e-9)
+    # The lobe's edge point counts: with it (or without the next one) the mean is another number.
+    edge = abs(np.sum(w * r * np.exp(-1j * (rate + steps * d) * s))) ** 2 / np.sum(w**2)
+    assert abs(np.mean(power + [edge]) / np.mean(power) - 1) > 1e-6

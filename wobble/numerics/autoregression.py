@@ -107,7 +107,7 @@ def ar_forecast(fit: ARFit, history, steps: int) -> tuple[np.ndarray, np.ndarray
     the means with the constant as input and the history as initial state, the
     psi weights as the impulse response of 1 / (1 - a_1 L - ... - a_p L^p).
     """
-    from scipy.signal import lfilter  # (imported here: scipy.signal costs ~0.3 s to import)
+    from scipy.signal import lfilter  # (imported here: scipy.signal costs ~0.4 s to import)
 
     p = fit.order
     c = np.asarray(fit.coeffs, dtype=float)

@@ -10,7 +10,8 @@ the same tests and the same arithmetic as SciPy's loop would take on it alone;
 only the function is called once per step for every problem still running, so
 a caller whose function is one array operation over many problems (a Fourier sum
 at a different frequency for each of many series) pays one call per step instead
-of one per step and problem.
+of one per step and problem. Measured (SciPy's loop over the problems against this, same
+results): the periods of 64 five-day series, 0.104 against 0.059 s of CPU.
 
 Plain float64; no units. ``tests/test_bounded_brent.py`` checks that every
 problem ends at SciPy's ``x`` and ``fun`` bit for bit, on functions whose values
@@ -56,11 +57,11 @@ def minimize_bounded(func, lower, upper, xatol, maxiter: int = 500) -> tuple[np.
     a = np.array(lower, dtype=float, ndmin=1)
     b = np.array(upper, dtype=float, ndmin=1)
     if a.shape != b.shape or a.ndim != 1:
-        raise ValueError("lower and upper must be 1-D arrays of the same length")
-    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-        raise ValueError("Optimization bounds must be finite scalars.")
-    if np.any(a > b):
-        raise ValueError("The lower bound exceeds the upper bound.")
+        raise ValueError(f"lower, upper: got shapes {a.shape}, {b.shape}; allowed: 1-D arrays of one length")
+    bad = np.flatnonzero(~(np.isfinite(a) & np.isfinite(b) & (a <= b)))
+    if bad.size:
+        k = int(bad[0])
+        raise ValueError(f"bounds of problem {k}: got ({a[k]}, {b[k]}); allowed: finite, lower <= upper")
     third = np.broadcast_to(np.asarray(xatol, dtype=float), a.shape) / 3.0
     # The names are SciPy's: xf the best point so far, nfc the second best, fulc the previous
     # second best; e the step before last, rat the last step.

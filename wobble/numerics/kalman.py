@@ -109,7 +109,7 @@ def filter_steady(F, ss: SteadyState, h, y, x0) -> tuple[np.ndarray, np.ndarray]
         z0 = Vinv @ first
         z = np.empty((y.size, m), dtype=complex)
         z[0] = z0
-        from scipy.signal import lfilter  # (imported here: scipy.signal costs ~0.3 s to import)
+        from scipy.signal import lfilter  # (imported here: scipy.signal costs ~0.4 s to import)
 
         for j in range(m):
             z[1:, j], _ = lfilter([1.0], [1.0, -lam[j]], u[:, j], zi=[lam[j] * z0[j]])

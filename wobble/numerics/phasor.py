@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["GRID_ULPS", "block_parts", "block_phasors", "grid_candidate", "uniform_grid"]
+__all__ = ["GRID_ULPS", "block_length", "block_parts", "block_phasors", "grid_candidate", "uniform_grid"]
 
 #: A grid is taken as uniform when every t_k is within this many ulps of t0 + k dt.
 GRID_ULPS = 4.0
@@ -83,10 +83,16 @@ def block_phasors(phasor, t0: float, dt: float, n: int) -> np.ndarray:
     return (starts[:, None] * step[None, :]).reshape(-1)[:n]
 
 
+def block_length(n: int) -> int:
+    """B, the samples per block of a block rotation over n samples (about sqrt(n), at least 16): the
+    work is ~n/B + B exact exponentials and n products."""
+    return max(16, int(np.sqrt(n)))
+
+
 def block_parts(phasor, t0: float, dt: float, n: int):
     """The two factors of :func:`block_phasors`: ``exp(i v_{bB})`` at the ~n/B block starts
     and the B rotations ``exp(i k rate dt)``; sample ``bB + k`` is ``starts[b] * step[k]``."""
-    block = max(16, int(np.sqrt(n)))
+    block = block_length(n)
     # One call for both sets of times (the phasor's exact reduction costs ~0.1 ms a call).
     z = phasor(t0 + np.concatenate([np.arange(block, dtype=float), np.arange(0, n, block, dtype=float)]) * dt)
     first, starts = z[:block], z[block:]

@@ -34,6 +34,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wobble.numerics.phasor import block_length
+
 __all__ = ["RESEED", "dtft", "dtft_at", "exponentials", "phases"]
 
 RESEED = 64
@@ -121,7 +123,7 @@ def phases(n: int, omega, grid: tuple[float, float]) -> np.ndarray:
     """
     t0, dt = grid
     omega = np.asarray(omega, dtype=float).reshape(-1)
-    block = max(16, int(np.sqrt(n)))
+    block = block_length(n)  # as wobble.numerics.phasor's block rotation, for many frequencies here
     starts = np.exp(-1j * np.multiply.outer(omega, t0 + np.arange(0, n, block, dtype=float) * dt))
     steps = np.exp(-1j * np.multiply.outer(omega, np.arange(block, dtype=float) * dt))
     return (starts[:, :, None] * steps[:, None, :]).reshape(omega.size, -1)[:, :n]

@@ -7,7 +7,6 @@ import math
 import numpy as np
 from astropy import units as u
 
-from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.record import (
     C04_REFERENCE,
     MJD_J2000,
@@ -293,7 +292,7 @@ def analysis_dataset(a):
         a.budget.period_uncertainty.to_value(u.day),
         attrs("day", "one-sigma uncertainty of the full model's period"),
     )
-    pub = published_chandler_period()
+    pub = a.published
     ds["published_period"] = (
         (),
         pub["period"].to_value(u.day),
@@ -323,10 +322,8 @@ def analysis_dataset(a):
             f"{a.spectral.period.value:.1f} +/- {a.spectral.period_uncertainty.value:.1f} d (spectrum), "
             f"{e.start.iso[:10]} to {e.end.iso[:10]}"
         ),
-        "references": "; ".join(
-            [a.data.attrs.get("references", C04_REFERENCE), published_chandler_period()["reference"]]
-        ),
-        "source_file": a.data.attrs.get("source_file", ""),
+        "references": "; ".join([a.data.attrs.get("references", C04_REFERENCE), a.published["reference"]]),
+        "source_file": a.source_file or "",
         "comment": SIGN_NOTE
         + ". Days are days of 86400 s. Windows: "
         + f"{a.windows.attrs['window_years']:g} yr every {a.windows.attrs['step_years']:g} yr.",

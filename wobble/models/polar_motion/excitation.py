@@ -33,6 +33,7 @@ import numpy as np
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.record import DAY
+from wobble.numerics.recurrence import linear_recurrence
 
 __all__ = ["chandler_frequency", "excitation_from_pole", "pole_from_excitation", "band_amplitude"]
 
@@ -72,11 +73,10 @@ def pole_from_excitation(t, chi, sigma_c: complex, p0: complex) -> np.ndarray:
     out = np.empty(t.size, dtype=complex)
     out[0] = p0
     if np.allclose(lam, lam[0], rtol=0, atol=1e-15) and np.allclose(gain, gain[0], rtol=0, atol=1e-15):
-        # Uniform steps: the recursion is a first-order filter (scipy.signal.lfilter, compiled).
-        from scipy.signal import lfilter
-
-        out[1:], _ = lfilter([gain[0]], [1.0, -lam[0]], chi, zi=[lam[0] * p0])
-        return out
+        # Uniform steps: one factor, and the recursion by blocks of matrix products (no Python loop,
+        # and no import of scipy.signal, ~0.4 s).
+        dt0 = float(t[1] - t[0])
+        return linear_recurrence([p0], 1j * sigma_c * dt0, (gain[0] * chi)[:, None])[:, 0]
     p = complex(p0)
     for k in range(lam.size):
         p = lam[k] * p + gain[k] * chi[k]

@@ -16,6 +16,7 @@ import math
 import numpy as np
 from scipy import optimize
 
+from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty, make_fit, with_changes
 from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
@@ -28,7 +29,7 @@ from wobble.models.polar_motion.record import (
     check_q,
     span_caveats,
 )
-from wobble.models.polar_motion.search import band_grid, refine_peak, refine_peaks
+from wobble.models.polar_motion.search import band_grid, refine_peaks
 from wobble.models.polar_motion.uncertainty import (
     HAC_MAX_B,
     TRACKED,
@@ -42,9 +43,10 @@ from wobble.models.polar_motion.uncertainty import (
     scaled_inverse,
     sqrt_var,
     subspan_scatter,
+    tracked_columns,
 )
 from wobble.numerics.phasor import uniform_grid
-from wobble.numerics.spectral import dtft, dtft_at, exponentials
+from wobble.numerics.spectral import dtft, exponentials
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = ["fit_least_squares", "vp_periods", "vp_rates", "vp_tracked"]
@@ -64,19 +66,6 @@ def _profile(s, z, fixed):
     return q, r0
 
 
-def _gain(s, cols, rates, grid=None) -> np.ndarray:
-    """Drop of the residual sum of squares when exp(i rate s) joins the fixed columns.
-
-    gain = |e^H r0|^2 / (n - |Q^H e|^2) (Frisch-Waugh: the projection of e
-    orthogonal to the fixed columns), the complex generalisation of the
-    Lomb-Scargle periodogram with nuisance terms. ``cols`` is ``[r0, Q]``;
-    ``grid`` as in :func:`~wobble.numerics.spectral.dtft_at` (s a uniform grid).
-    """
-    f = dtft_at(s, cols, rates, grid)
-    denom = s.size - np.sum(np.abs(f[..., 1:]) ** 2, axis=-1)
-    return np.abs(f[..., 0]) ** 2 / np.maximum(denom, 1e-12 * s.size)
-
-
 def _gains(s, r0, q, grid):
     """``gains(rates, index)``: the gain of column ``index[j]`` of ``r0`` at ``rates[j]`` (one rate each),
     for :func:`~wobble.models.polar_motion.search.refine_peaks`."""
@@ -89,14 +78,6 @@ def _gains(s, r0, q, grid):
         return np.abs(f0) ** 2 / np.maximum(denom, 1e-12 * s.size)
 
     return gains
-
-
-def _grid_gain(s, cols, lo_rate, hi_rate, span):
-    rates, d = band_grid(lo_rate, hi_rate, span)
-    f = dtft(s, cols, rates[0], d, rates.size)
-    denom = s.size - np.sum(np.abs(f[:, 1:]) ** 2, axis=1)
-    gain = np.abs(f[:, 0]) ** 2 / np.maximum(denom, 1e-12 * s.size)
-    return rates, gain, d
 
 
 def vp_periods(t, zs, *, drift_degree: int, band) -> np.ndarray:
@@ -150,35 +131,19 @@ def vp_tracked(t, zs, rates, *, drift_degree: int) -> list[dict[str, float]]:
     e_off = e - q @ (q.conj().T @ e)
     chandler = np.sum(e_off.conj() * zs, axis=0) / np.sum(np.abs(e_off) ** 2, axis=0)
     fixed_coeffs = np.linalg.solve(r, q.conj().T @ (zs - e * chandler))
-    return [
-        {
-            "period": 2 * math.pi / abs(rates[k]),
-            "amplitude": abs(chandler[k]),
-            "annual": abs(fixed_coeffs[drift_degree + 1, k]),
-            "retrograde": abs(fixed_coeffs[drift_degree + 2, k]),
-        }
-        for k in range(len(rates))
-    ]
+    return tracked_columns(rates, chandler, fixed_coeffs[drift_degree + 1], fixed_coeffs[drift_degree + 2])
 
 
-def _ls_solve(s, z, half, fixed, band, polish=True, rate=None):
-    """Variable projection, then (``polish``) a full nonlinear least-squares polish.
+def _ls_solve(s, z, half, fixed, band, rate, polish=True):
+    """The linear fit at the variable projection's ``rate`` (:func:`vp_rates`), then (``polish``) a full
+    nonlinear least-squares polish.
 
-    ``fixed`` are the drift and annual columns (:func:`_fixed_columns`); ``rate``, when given, is
-    the variable projection's rate found already (:func:`vp_rates`). Returns
+    ``fixed`` are the drift and annual columns (:func:`_fixed_columns`). Returns
     (coefficients, rate, at_edge); the coefficients are ordered as the
     columns: drift (degree + 1), annual +, annual -, Chandler.
     """
     lo_rate, hi_rate = 2 * math.pi / band[1], 2 * math.pi / band[0]
-    span = s[-1] - s[0]
-    if rate is None:
-        q, r0 = _profile(s, z, fixed)
-        cols = np.column_stack([r0, q])
-        rates, gain, step = _grid_gain(s, cols, lo_rate, hi_rate, span)
-        grid = uniform_grid(s)  # the exponentials of the refinement by block rotation (a daily record's times)
-        rate = refine_peak(lambda r: float(_gain(s, cols, r, grid)), rates, gain, step, lo_rate, hi_rate)
-    else:
-        step = band_grid(lo_rate, hi_rate, span)[1]
+    step = band_grid(lo_rate, hi_rate, s[-1] - s[0])[1]
     coeffs = np.linalg.lstsq(np.column_stack([fixed, np.exp(1j * rate * s)]), z, rcond=None)[0]
     if polish:
         coeffs, rate = _polish(s, z, half, fixed, coeffs, rate)
@@ -310,12 +275,18 @@ def fit_least_squares(
     t, z = as_series(t, z)
     degree = check_degree(drift_degree)
     band = check_band(band)
+    if rate is not None and not (math.isfinite(rate) and 2 * math.pi / band[1] <= rate <= 2 * math.pi / band[0]):
+        raise InputError(
+            "rate", rate, f"a rate within the band, {2 * math.pi / band[1]:.6g} to {2 * math.pi / band[0]:.6g} rad/s"
+        )
     beat = beat_period(reference_period)
     epoch = 0.5 * (t[0] + t[-1])
     half = 0.5 * (t[-1] - t[0])
     s = t - epoch
     fixed = _fixed_columns(s, half, degree)
-    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, polish=uncertainty, rate=rate)
+    if rate is None:  # the search, as for many series at once (one column here)
+        rate = float(vp_rates(t, z[:, None], drift_degree=degree, band=band)[0])
+    coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, rate, polish=uncertainty)
     resid = z - fixed @ coeffs[:-1] - coeffs[-1] * np.exp(1j * rate * s)
     caveats = span_caveats(t[-1] - t[0], beat)
     if at_edge:
@@ -367,7 +338,7 @@ def fit_least_squares(
         p_exc = math.nan
         if excitation_q is not None:
             batch = functools.partial(vp_periods, drift_degree=degree, band=band)
-            p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed, batch=True)
+            p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed)
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_hac, p_sub, p_mod, p_exc)
         au = combine(a_formal, a_hac, a_sub, a_mod)

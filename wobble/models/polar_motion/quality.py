@@ -213,7 +213,7 @@ def _lag_sum(n: int, a: np.ndarray) -> np.ndarray:
     r = np.exp(a)
     w = -np.expm1(a)
     far = np.abs(n * w) >= 0.5
-    if far.all():  # the usual case: no selection to make (this runs ~7,000 times per Q profile)
+    if far.all():  # the usual case: no selection to make (this runs thousands of times per Q profile)
         return (n * w - r * (-np.expm1(n * a))) / w**2
     out = np.empty(a.shape, dtype=complex)
     rf, wf = r[far], w[far]

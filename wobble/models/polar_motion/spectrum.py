@@ -36,6 +36,7 @@ from wobble.models.polar_motion.uncertainty import (
     largest_change,
     model_degrees,
     subspan_scatter,
+    tracked_columns,
 )
 from wobble.numerics.phasor import uniform_grid
 from wobble.numerics.spectral import dtft, exponentials
@@ -228,18 +229,7 @@ def fit_spectrum(
             details["subspans"] = nsub
         base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
         # What fit_spectrum(t, z, drift_degree=k, uncertainty=False) gives for the model check's degrees.
-        mod = largest_change(
-            base,
-            [
-                {
-                    "period": 2 * math.pi / abs(rates[j]),
-                    "amplitude": abs(chandlers[j]),
-                    "annual": abs(anns[0, j]),
-                    "retrograde": abs(anns[1, j]),
-                }
-                for j in range(1, len(rates))
-            ],
-        )
+        mod = largest_change(base, tracked_columns(rates[1:], chandlers[1:], anns[0, 1:], anns[1, 1:]))
         p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         ann_sig = annual_sigmas(ann_auto, sub, mod)
         p_exc = math.nan
@@ -247,7 +237,7 @@ def fit_spectrum(
             batch = functools.partial(
                 spectrum_periods, reference_period=reference_period, drift_degree=degree, band=band, taper=kind
             )
-            p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed, batch=True)
+            p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed)
             details["excitation_q"] = float(excitation_q)
         pu = combine(p_formal, p_auto, p_sub, p_mod, p_exc)
         au = combine(a_formal, a_auto, a_sub, a_mod)
@@ -318,15 +308,7 @@ def spectrum_tracked(t, zs, *, reference_period: float, drift_degree: int, band,
     (:func:`~wobble.models.polar_motion.uncertainty.tracked`), for many series on the same times at once
     (the sub-spans of :func:`~wobble.models.polar_motion.uncertainty.subspan_scatter`)."""
     rates, chandlers, anns = _spectral_peaks(t, zs, reference_period, drift_degree, band, taper)
-    return [
-        {
-            "period": 2 * math.pi / abs(rates[k]),
-            "amplitude": abs(chandlers[k]),
-            "annual": abs(anns[0, k]),
-            "retrograde": abs(anns[1, k]),
-        }
-        for k in range(len(rates))
-    ]
+    return tracked_columns(rates, chandlers, anns[0], anns[1])
 
 
 def _spectral_peaks(t, zs, reference_period, drift_degree, band, taper):

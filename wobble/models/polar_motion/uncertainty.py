@@ -38,6 +38,7 @@ from wobble.numerics.recurrence import linear_recurrence
 __all__ = [
     "HAC_MAX_B",
     "TRACKED",
+    "tracked_columns",
     "hac_meat",
     "scaled_inverse",
     "sqrt_var",
@@ -133,6 +134,20 @@ def tracked(f: ChandlerFit) -> dict[str, float]:
     }
 
 
+def tracked_columns(rates, chandler, annual, retrograde) -> list[dict[str, float]]:
+    """:func:`tracked` values of many fits at once, from their Chandler rates (rad/s) and the complex
+    amplitudes of the Chandler and annual terms (one entry per fit)."""
+    return [
+        {
+            "period": 2 * math.pi / abs(rates[k]),
+            "amplitude": abs(chandler[k]),
+            "annual": abs(annual[k]),
+            "retrograde": abs(retrograde[k]),
+        }
+        for k in range(len(rates))
+    ]
+
+
 def subspan_scatter(t, z, estimator, beat: float, batch=None, **kwargs) -> tuple[dict[str, float], int]:
     """Scatter of ``estimator`` over n >= 3 disjoint sub-spans of >= 2 beat periods.
 
@@ -215,7 +230,6 @@ def damped_oscillator(t, rate, q, power, draws, rng) -> np.ndarray:
     """
     g = rate / (2.0 * q)
     dt = np.diff(t)
-    lam = np.exp((1j * rate - g) * dt)
     scale = np.sqrt(power * -np.expm1(-2.0 * g * dt))
     xi = (rng.standard_normal((t.size, draws)) + 1j * rng.standard_normal((t.size, draws))) / math.sqrt(2.0)
     kick = scale[:, None] * xi[1:]
@@ -223,6 +237,7 @@ def damped_oscillator(t, rate, q, power, draws, rng) -> np.ndarray:
         # A uniform grid (the Monte Carlo's five-day means of a daily record): one factor, and the
         # recurrence by blocks of matrix products.
         return linear_recurrence(math.sqrt(power) * xi[0], (1j * rate - g) * dt[0], kick)
+    lam = np.exp((1j * rate - g) * dt)
     out = np.empty((t.size, draws), dtype=complex)
     out[0] = math.sqrt(power) * xi[0]
     for k in range(1, t.size):
@@ -231,7 +246,7 @@ def damped_oscillator(t, rate, q, power, draws, rng) -> np.ndarray:
     return out
 
 
-def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, batch: bool = False, **kwargs) -> float:
+def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed) -> float:
     """RMS error of the period when the wobble is a randomly excited damped mode of quality ``q``.
 
     Parametric Monte Carlo: the fitted drift and annual terms plus ``draws``
@@ -245,8 +260,8 @@ def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, batch: bo
     with room and a 2-sigma interval stays near 95 %. With the default 64
     draws the RMS itself is uncertain by about 15 %.
 
-    With ``batch``, ``estimator(t, zs)`` returns the periods of all the columns
-    of ``zs`` at once (the least squares' shared variable projection).
+    ``estimator(t, zs)`` returns the periods of all the columns of ``zs`` at once
+    (both estimators' batched searches: ``vp_periods``, ``spectrum_periods``).
     """
     rng = np.random.default_rng(seed)
     if np.median(np.diff(t)) < _MC_BIN:
@@ -255,18 +270,8 @@ def excitation_scatter(t, fit: ChandlerFit, estimator, q, draws, seed, batch: bo
         t, _ = bin_means(t, np.zeros(t.size, dtype=complex), _MC_BIN)
     base = fit.model(t, terms=("drift", "annual_prograde", "annual_retrograde"))
     sims = damped_oscillator(t, fit.chandler.rate, q, fit.chandler.amplitude**2, draws, rng)
-    if batch:
-        # ``estimator(t, zs)`` gives the periods of all the realisations at once.
-        errors = list(estimator(t, base[:, None] + sims) - fit.chandler.period)
-    else:
-        errors = []
-        for k in range(draws):
-            try:
-                f = estimator(t, base + sims[:, k], uncertainty=False, **kwargs)
-            except InputError:
-                continue
-            errors.append(f.chandler.period - fit.chandler.period)
-    return float(np.sqrt(np.mean(np.square(errors)))) if errors else math.nan
+    errors = estimator(t, base[:, None] + sims) - fit.chandler.period
+    return float(np.sqrt(np.mean(np.square(errors)))) if errors.size else math.nan
 
 
 def amp_phase_sigma(c: complex, cov2: np.ndarray) -> tuple[float, float]:
