@@ -46,9 +46,9 @@ __all__ = [
 I1, I3, MGL, OMEGA3 = 1.0, 0.5, 1.0, 10.0
 RTOL = 1e-12
 CASES = [
-    ("cusps", "issue8 cusps", dict(theta0=np.pi / 3, phidot0=0.0)),
-    ("undulating", "issue8 undulating", dict(theta0=np.pi / 3, phidot0=0.3)),
-    ("loops", "issue8 loops", dict(theta0=np.pi / 3, phidot0=-0.3)),
+    ("cusps", "benchmark cusps", dict(theta0=np.pi / 3, phidot0=0.0)),
+    ("undulating", "benchmark undulating", dict(theta0=np.pi / 3, phidot0=0.3)),
+    ("loops", "benchmark loops", dict(theta0=np.pi / 3, phidot0=-0.3)),
     ("nearly sleeping (theta0 = 1e-4 rad)", "nearly sleeping 1e-4", dict(theta0=1e-4, phidot0=0.0)),
 ]
 

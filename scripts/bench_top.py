@@ -189,7 +189,7 @@ def main(argv=None):
     radau_line = None
     if not args.no_radau:
         mdl = heavy_top(I1, I3, MGL, np.pi / 3, omega3=OMEGA3)
-        ref = REF["issue8 cusps"]
+        ref = REF["benchmark cusps"]
         t = np.linspace(0.0, 1000 * mdl.nutation_period, 20001)
         ref_t = np.array([float(x) for x in ref["long"]["t"]])
         ref_q = np.array([[float(v) for v in r] for r in ref["long"]["quaternion"]])

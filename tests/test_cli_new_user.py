@@ -3,9 +3,15 @@ page followed as printed), each as a test of the behaviour a user should meet.""
 
 from __future__ import annotations
 
+import inspect
 import json
+import re
+from importlib import resources
+from pathlib import Path
 
 import pytest
+
+import wobble
 
 from cli_run import run_cli as _run
 
@@ -83,3 +89,33 @@ def test_an_array_quantity_is_shown_as_typed(capsys):
     # Was: "got [-1.  2.  3.] m2 kg" (NumPy's print).
     code, out, err = _run(["free", "--inertia", "-1", "2", "3", "--omega", "1", "0.1", "1"], capsys)
     assert code == 2 and err.startswith("wobble free: error: --inertia: got (-1, 2, 3) m2 kg; allowed: positive values")
+
+
+# What a user reads (help texts, public docstrings, the descriptions of shipped files that
+# `wobble run --list` prints and netCDF summaries carry) cites books and papers, never the
+# project's internal documents: the course notes and the issue tracker are not shipped.
+_INTERNAL = re.compile(r"\bnotes?'? ?(sec|p\.|pp\.|section|page)|course notes|\bissue ?#?\d", re.IGNORECASE)
+
+
+def _shipped_texts():
+    from wobble.cli import build_parser
+    from wobble.cli._examples import help_texts
+
+    data = Path(str(resources.files("wobble._data")))  # data/ in a checkout, wobble/_data installed
+    texts = {f"wobble {name} --help": text for name, text in help_texts(build_parser()).items()}
+    texts.update({str(p.relative_to(data)): p.read_text() for p in sorted(data.rglob("*.toml"))})
+    for name in wobble.__all__:
+        obj = getattr(wobble, name)
+        texts[f"wobble.{name}"] = inspect.getdoc(obj) or ""
+        for attr, member in vars(obj).items() if inspect.isclass(obj) else ():
+            if not attr.startswith("_"):
+                texts[f"wobble.{name}.{attr}"] = inspect.getdoc(member) or ""
+    return texts
+
+
+def test_user_facing_text_cites_no_internal_document():
+    # Was: "Issue 8's top ... (notes section 5.7)" in the description of the top_cusps scene.
+    texts = _shipped_texts()
+    assert len(texts) > 100 and any(k.endswith(".toml") for k in texts)
+    found = {k: m.group(0) for k, v in texts.items() if (m := _INTERNAL.search(v))}
+    assert found == {}

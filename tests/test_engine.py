@@ -141,7 +141,7 @@ _THETA0 = np.radians(60)
 
 
 def _top(theta0=_THETA0, spin=10.0, phidot=0.0):
-    """I1 = I2 = 1, I3 = 0.5 about the pivot, M g l = 1 (issue 8's top)."""
+    """I1 = I2 = 1, I3 = 0.5 about the pivot, M g l = 1 (the benchmarks' top)."""
     moments = [1.0, 1.0, 0.5]
     gravity = [UniformGravity(1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0])]
     q0 = Q.from_axis_angle(np.array([1.0, 0, 0]), theta0)

@@ -19,7 +19,7 @@ KGM2 = u.kg * u.m**2
 RAD_S = u.rad / u.s
 
 
-def issue8_top(**kw):
+def benchmark_top(**kw):
     base = dict(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
     base.update(kw)
     return HeavyTop(**base)
@@ -30,7 +30,7 @@ def test_public_name():
 
 
 def test_analysis_properties_carry_units():
-    top = issue8_top()
+    top = benchmark_top()
     assert top.nutation == "cusps"
     assert top.nutation_period.unit == u.s
     assert top.theta_min.to_value(u.deg) == pytest.approx(60.0, rel=1e-15)
@@ -55,7 +55,7 @@ def test_analysis_properties_carry_units():
 
 
 def test_units_and_spellings_give_the_same_top():
-    a = issue8_top()
+    a = benchmark_top()
     b = HeavyTop(
         I1=1e7 * u.g * u.cm**2,
         I3=5e6 * u.g * u.cm**2,
@@ -65,8 +65,8 @@ def test_units_and_spellings_give_the_same_top():
     )
     assert b.nutation_period.value == pytest.approx(a.nutation_period.value, rel=1e-14)
     # psidot0 instead of omega3: omega3 = psidot0 + phidot0 cos theta0.
-    c = issue8_top(omega3=None, psidot0=10 * RAD_S - 0.3 * RAD_S * np.cos(np.pi / 3), phidot0=0.3 * RAD_S)
-    d = issue8_top(phidot0=0.3 * RAD_S)
+    c = benchmark_top(omega3=None, psidot0=10 * RAD_S - 0.3 * RAD_S * np.cos(np.pi / 3), phidot0=0.3 * RAD_S)
+    d = benchmark_top(phidot0=0.3 * RAD_S)
     assert c.nutation_period.value == pytest.approx(d.nutation_period.value, rel=1e-14)
     # M, l, g instead of mgl (g defaults to standard gravity).
     e = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, M=0.5 * u.kg, l=0.2 * u.m, theta0=60 * u.deg, omega3=10 * RAD_S)
@@ -151,13 +151,13 @@ def test_bad_bodies(body, match):
 )
 def test_bad_input_names_the_parameter(kwargs, name):
     with pytest.raises(InputError) as err:
-        issue8_top(**kwargs)
+        benchmark_top(**kwargs)
     assert err.value.parameter == name
     assert str(err.value).startswith(name)
 
 
 def test_dataset_layout_and_conservation():
-    top = issue8_top(phidot0=-0.3 * RAD_S, thetadot0=0.1 * RAD_S, phi0=10 * u.deg)
+    top = benchmark_top(phidot0=-0.3 * RAD_S, thetadot0=0.1 * RAD_S, phi0=10 * u.deg)
     ds = top.to_dataset(t_end=20 * u.s, samples=2001)
     assert {
         "theta",
@@ -200,7 +200,7 @@ def test_dataset_layout_and_conservation():
 
 
 def test_netcdf_round_trip(tmp_path, assert_cf_compliant):
-    top = issue8_top(theta0=1e-6 * u.rad)
+    top = benchmark_top(theta0=1e-6 * u.rad)
     ds = top.to_dataset(t_end=30 * u.s, samples=3001)
     path = write_netcdf(ds, tmp_path / "top.nc")
     back = open_wobble(path)
@@ -211,7 +211,7 @@ def test_netcdf_round_trip(tmp_path, assert_cf_compliant):
 
 
 def test_from_state_matches_euler_angle_construction():
-    top = issue8_top(phidot0=0.3 * RAD_S, thetadot0=-0.2 * RAD_S)
+    top = benchmark_top(phidot0=0.3 * RAD_S, thetadot0=-0.2 * RAD_S)
     w, q = top.model.evaluate(np.array([0.0]))
     again = HeavyTop.from_state(w[0] * RAD_S, q[0], I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J)
     assert again.nutation_period.value == pytest.approx(top.nutation_period.value, rel=1e-14)
@@ -219,7 +219,7 @@ def test_from_state_matches_euler_angle_construction():
 
 
 def test_to_dict_has_the_cli_keys_and_summary_is_text():
-    top = issue8_top()
+    top = benchmark_top()
     s = top.to_dict()
     for key in (
         "u1",
@@ -238,7 +238,7 @@ def test_to_dict_has_the_cli_keys_and_summary_is_text():
 
 
 def test_memory_and_time_requests():
-    top = issue8_top()
+    top = benchmark_top()
     with pytest.raises(InputError, match="samples"):
         top.to_dataset(t_end=1 * u.s, samples=10**15)
     with pytest.raises(InputError, match="samples"):
@@ -366,7 +366,7 @@ def test_plots_build_from_real_runs():
         1 * KGM2, 0.5 * KGM2, 1 * u.J, 50 * u.deg, 6 * RAD_S, [0.2 * RAD_S, 0 * RAD_S, -0.3 * RAD_S], periods=2
     )
     assert len(fig.axes) == 3 and [a.get_title().split(":")[0] for a in fig.axes] == ["undulating", "cusps", "loops"]
-    top = issue8_top()
+    top = benchmark_top()
     for f in (fig, effective_potential_figure(top), cubic_figure(top)):
         plt.close(f)
 
@@ -402,15 +402,15 @@ def test_direct_dataset_builder_equals_the_general_constructor(monkeypatch):
 
     t = np.linspace(0.0, 20.0, 1501) * u.s
     made = [
-        lambda: issue8_top().motion(t),
-        lambda: issue8_top(theta0=1e-4 * u.rad).to_dataset(t[:5]),
+        lambda: benchmark_top().motion(t),
+        lambda: benchmark_top(theta0=1e-4 * u.rad).to_dataset(t[:5]),
         lambda: wobble.FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S).to_dataset(t),
         lambda: wobble.FreeRotation([1, 1, 2] * KGM2, [0, 0, 0] * RAD_S).to_dataset(t[:3]),
     ]
     fast = [make() for make in made]
     # Shared label indexes, not shared variables: one Dataset's attributes are its own.
     fast[0]["axis"].attrs["note"] = "mine"
-    assert "note" not in issue8_top().motion(t[:3])["axis"].attrs and "note" not in fast[2]["axis"].attrs
+    assert "note" not in benchmark_top().motion(t[:3])["axis"].attrs and "note" not in fast[2]["axis"].attrs
     del fast[0]["axis"].attrs["note"]
     monkeypatch.setattr(dataset, "build", general)
     for got, make in zip(fast, made):

@@ -24,9 +24,9 @@ CASES = {c["name"]: c for c in REF["cases"]}
 LONG = sorted(n for n, c in CASES.items() if "long" in c)
 ODE = sorted(n for n, c in CASES.items() if "ode" in c)
 EXPECTED_CLASS = {
-    "issue8 cusps": "cusps",
-    "issue8 undulating": "undulating",
-    "issue8 loops": "loops",
+    "benchmark cusps": "cusps",
+    "benchmark undulating": "undulating",
+    "benchmark loops": "loops",
     "nearly sleeping 1e-6": "cusps",
     "nearly sleeping 1e-4": "cusps",
     "sleeping stable": "sleeping",
@@ -244,7 +244,7 @@ def test_compiled_blocks_end_where_the_samples_end(extra, monkeypatch):
     on a dense grid (one exp(i j A) per period) and on a sparse one (one per sample)."""
     from wobble.numerics import compiled, taylor_table
 
-    mdl = model_of("issue8 loops")
+    mdl = model_of("benchmark loops")
     n = 64 * taylor_table._BLOCK + extra  # >= compiled.LONG_ARRAY
     assert n >= compiled.LONG_ARRAY
     grids = [np.linspace(0.0, 50 * mdl.nutation_period, n), np.linspace(0.0, 1e6 * mdl.nutation_period, n)]
@@ -318,7 +318,7 @@ def test_frozen_model_holds_no_cache_and_its_series_table_goes_with_it():
 
     from wobble.models import top_series
 
-    mdl = model_of("issue8 loops")
+    mdl = model_of("benchmark loops")
     assert all(
         not isinstance(getattr(mdl, f.name), (list, set)) and f.name != "_cache" for f in dataclasses.fields(mdl)
     )
@@ -334,7 +334,7 @@ def test_frozen_model_holds_no_cache_and_its_series_table_goes_with_it():
     assert len(top_series._TABLES) == before
 
 
-@pytest.mark.parametrize("name", ["issue8 loops", "nearly sleeping 1e-4"])
+@pytest.mark.parametrize("name", ["benchmark loops", "nearly sleeping 1e-4"])
 def test_sparse_times_over_a_million_periods(name, monkeypatch):
     """Few times spread over 10^6 nutation periods (one exp(i j A) per sample instead of one per
     period): the series agree with the direct path (Jacobi + Carlson per output, an independent
@@ -357,7 +357,7 @@ def test_sparse_times_over_a_million_periods(name, monkeypatch):
         np.testing.assert_array_equal(getattr(mo, key), getattr(numpy_path, key), err_msg=key)
 
 
-@pytest.mark.parametrize("name", ["issue8 cusps", "issue8 loops", "nearly sleeping 1e-4", "generic offsets"])
+@pytest.mark.parametrize("name", ["benchmark cusps", "benchmark loops", "nearly sleeping 1e-4", "generic offsets"])
 def test_start_of_the_periodic_parts_alone_or_with_the_series_samples(name):
     """P_+ and P_- at t = 0 (what makes the attitude at t = 0 exact) are the same whether the
     evaluator takes them alone, through the evaluation's path, or from the series' first batch
@@ -377,9 +377,9 @@ def test_start_of_the_periodic_parts_alone_or_with_the_series_samples(name):
 @pytest.mark.parametrize(
     "name",
     [
-        "issue8 cusps",
-        "issue8 undulating",
-        "issue8 loops",
+        "benchmark cusps",
+        "benchmark undulating",
+        "benchmark loops",
         "nearly sleeping 1e-4",
         "generic offsets",
         "near separatrix 1e-4",

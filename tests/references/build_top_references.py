@@ -64,9 +64,9 @@ _slow, _fast = _slow_fast(1.0, 0.5, 1.0, 10.0, DEG60)
 
 CASES = [
     # name, I1, I3, mgl, theta0, thetadot0, phidot0, omega3, phi0, psi0, long span?
-    ("issue8 cusps", 1.0, 0.5, 1.0, DEG60, 0.0, 0.0, 10.0, 0.0, 0.0, True),
-    ("issue8 undulating", 1.0, 0.5, 1.0, DEG60, 0.0, 0.3, 10.0, 0.0, 0.0, True),
-    ("issue8 loops", 1.0, 0.5, 1.0, DEG60, 0.0, -0.3, 10.0, 0.0, 0.0, True),
+    ("benchmark cusps", 1.0, 0.5, 1.0, DEG60, 0.0, 0.0, 10.0, 0.0, 0.0, True),
+    ("benchmark undulating", 1.0, 0.5, 1.0, DEG60, 0.0, 0.3, 10.0, 0.0, 0.0, True),
+    ("benchmark loops", 1.0, 0.5, 1.0, DEG60, 0.0, -0.3, 10.0, 0.0, 0.0, True),
     ("generic offsets", 1.0, 0.5, 1.0, DEG60, 0.1, 0.2, 10.0, 1.0, 0.3, True),
     ("nearly sleeping 1e-6", 1.0, 0.5, 1.0, 1e-6, 0.0, 0.0, 10.0, 0.0, 0.0, True),
     ("nearly sleeping 1e-4", 1.0, 0.5, 1.0, 1e-4, 0.0, 0.0, 10.0, 0.0, 0.0, True),

@@ -474,7 +474,7 @@ def rigid_wobble(
     ----------
     moments : Quantity, optional
         (I1, I3) of a symmetric body, or (I1, I2, I3) with the spin about axis 3.
-        For a symmetric body Omega = (I3 - I1)/I1 omega3 (notes p. 68); for a
+        For a symmetric body Omega = (I3 - I1)/I1 omega3 (Goldstein, Poole & Safko 2002 sec. 5.6); for a
         triaxial one Omega = omega3 sqrt((I3-I1)(I3-I2)/(I1 I2)).
     spin : Quantity
         omega3 (e.g. ``7.292115e-5 * u.rad / u.s``) or the rotation period
