@@ -168,7 +168,10 @@ def test_human_output(capsys):
         (("--solid", "sphere", "--mass", "2", "--radius", "1", "--about", "1", "2"), "--about: got 1 2"),
         (("--solid", "sphere", "--mass", "2", "--radius", "1", "--mass-unit", "furlong"), "--mass-unit: got furlong"),
         (("--solid", "sphere", "--mass", "2", "--radius", "1", "--tolerance", "2"), "--tolerance"),
-        (("--solid", "hollow-sphere", "--mass", "2", "--radius", "1", "--inner-radius", "3"), "inner_radius"),
+        (
+            ("--solid", "hollow-sphere", "--mass", "2", "--radius", "1", "--inner-radius", "3"),
+            "--inner-radius: got 3.0",
+        ),  # the option as typed, not the API name
         (("--points", "/nonexistent/pts.csv"), "no such file"),
         (("--density", "/nonexistent/grid.nc"), "no such file"),
     ],

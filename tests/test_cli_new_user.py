@@ -3,12 +3,15 @@ page followed as printed), each as a test of the behaviour a user should meet.""
 
 from __future__ import annotations
 
+import importlib
 import inspect
 import json
+import math
 import re
 from importlib import resources
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import wobble
@@ -104,12 +107,17 @@ def _shipped_texts():
     data = Path(str(resources.files("wobble._data")))  # data/ in a checkout, wobble/_data installed
     texts = {f"wobble {name} --help": text for name, text in help_texts(build_parser()).items()}
     texts.update({str(p.relative_to(data)): p.read_text() for p in sorted(data.rglob("*.toml"))})
-    for name in wobble.__all__:
-        obj = getattr(wobble, name)
-        texts[f"wobble.{name}"] = inspect.getdoc(obj) or ""
+    public = [(f"wobble.{name}", getattr(wobble, name)) for name in wobble.__all__]
+    for module in wobble.plot.__all__:
+        plots = importlib.import_module(f"wobble.plot.{module}")
+        public += [(f"wobble.plot.{module}", plots)] + [
+            (f"wobble.plot.{module}.{n}", getattr(plots, n)) for n in plots.__all__
+        ]
+    for name, obj in public:
+        texts[name] = inspect.getdoc(obj) or ""
         for attr, member in vars(obj).items() if inspect.isclass(obj) else ():
             if not attr.startswith("_"):
-                texts[f"wobble.{name}.{attr}"] = inspect.getdoc(member) or ""
+                texts[f"{name}.{attr}"] = inspect.getdoc(member) or ""
     return texts
 
 
@@ -119,3 +127,163 @@ def test_user_facing_text_cites_no_internal_document():
     assert len(texts) > 100 and any(k.endswith(".toml") for k in texts)
     found = {k: m.group(0) for k, v in texts.items() if (m := _INTERNAL.search(v))}
     assert found == {}
+
+
+def test_an_api_error_names_the_option_the_user_typed(capsys, tmp_path, monkeypatch):
+    # Was: "members: got 0" for --members (the Python parameter's name, which the user never typed).
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(["sweep", "mars_chandler", "--members", "0"], capsys)
+    assert code == 2 and err.startswith("wobble sweep: error: --members: got 0; allowed: a positive integer")
+    from wobble.cli import _as_typed, build_parser
+    from wobble.errors import InputError
+
+    parser = build_parser()
+    shown = _as_typed(InputError("output", "x.nc", "a path"), parser, "chandler")
+    assert str(shown) == "-o/--output: got x.nc; allowed: a path"
+    missing = _as_typed(InputError.missing("t_end", "a time"), parser, "free")
+    assert str(missing) == "--t-end: missing; allowed: a time"
+    other = InputError("moments", 1, "a Quantity")  # not an option of the command: left alone
+    assert _as_typed(other, parser, "free") is other
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs a /proc file system that refuses new files")
+def test_a_folder_that_refuses_the_file_is_named_not_the_temporary(capsys, tmp_path, monkeypatch):
+    # Was: "No such file or directory (/proc/.x.nc.14478.z_miwvgn.tmp)", a name the user never typed.
+    monkeypatch.chdir(tmp_path)
+    for argv in (
+        ["chandler", "earth", "-o", "/proc/x.nc"],
+        ["sweep", "mars_chandler", "--members", "5", "-o", "/proc/x.zarr"],
+    ):
+        code, out, err = _run(argv, capsys)
+        assert code == 2 and err.count("\n") == 1 and ".tmp" not in err and f"({argv[-1]})" in err
+
+
+def test_an_unknown_scene_is_named_before_a_missing_output(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(["run", "no_such_scene"], capsys)
+    assert code == 2 and err.startswith("wobble run: error: SCENE: got no_such_scene; allowed: an existing file")
+
+
+def test_a_unit_on_the_first_of_three_values_applies_to_all(capsys):
+    # Was: "1 g cm2" 2 3 read 2 and 3 as kg m2 and refused (1e-07, 2, 3) as unordered nonsense.
+    from astropy import units as u
+
+    from wobble.api.units import parse_quantities
+
+    assert u.allclose(parse_quantities(["1 g cm2", "2", "3"], "--inertia", u.kg * u.m**2), [1, 2, 3] * u.g * u.cm**2)
+    q = parse_quantities(["1 g cm2", "2 g cm2", "3e-7 kg m2"], "--inertia", u.kg * u.m**2)
+    assert u.allclose(q, [1, 2, 3] * u.g * u.cm**2)
+    assert parse_quantities(["1", "2", "3"], "--inertia", u.kg * u.m**2).unit == u.kg * u.m**2
+    mixed = parse_quantities(["7.292115e-11", "0", "360 deg/d"], "--omega", u.rad / u.s)  # bare values are SI
+    assert u.allclose(mixed, [7.292115e-11, 0, 2 * np.pi / 86400] * u.rad / u.s, rtol=1e-15, atol=0 * u.rad / u.s)
+    code, out, err = _run(["free", "--inertia", "1 g cm2", "2", "3", "--omega", "1", "0.1", "1", "--json"], capsys)
+    assert code == 0 and json.loads(out)["period_s"] > 0
+    code, out, err = _run(["free", "--inertia", "-1 g cm2", "2", "3", "--omega", "1", "0.1", "1"], capsys)
+    assert code == 2 and "got (-1, 2, 3) cm2 g" in err  # the user's numbers, no binary noise
+
+
+def test_inertia_text_shows_rounding_as_zero(capsys):
+    # Was: centre of mass (-3.854941e-19, 0, 0) m and an axis (-8.747885e-14, 0.7071068, -0.7071068).
+    code, out, err = _run(["inertia", "--points", "dumbbell.csv", "--length-unit", "cm"], capsys)
+    assert code == 0 and "centre of mass      (0, 0, 0) m" in out and "axis e2 = (0, 0.7071068, -0.7071068)" in out
+    code, out, err = _run(["inertia", "--points", "dumbbell.csv", "--length-unit", "cm", "--json"], capsys)
+    assert json.loads(out)["center_of_mass"][0] != 0.0  # JSON keeps the computed floats
+
+
+def test_an_empty_span_is_refused(capsys, tmp_path, monkeypatch):
+    # Was: 1001 samples all at t = 0 (a time coordinate that is not monotonic).
+    from astropy import units as u
+
+    from wobble.errors import InputError
+
+    monkeypatch.chdir(tmp_path)
+    for argv in (["free", "--inertia", "1", "2", "3", "--omega", "1", "0.1", "1"], TOP):
+        code, out, err = _run([*argv, "--t-end", "0", "-o", "x.nc"], capsys)
+        assert code == 2 and err.count("\n") == 1 and "--t-end: got 0.0 s; allowed: a positive end time" in err
+    assert list(tmp_path.iterdir()) == []
+    body = wobble.FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
+    with pytest.raises(InputError, match="t_end"):
+        body.to_dataset(t_end=0 * u.s, samples=11)
+    assert body.to_dataset(t_end=0 * u.s, samples=1).sizes["time"] == 1
+
+
+def test_top_says_how_its_span_was_chosen(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run([*TOP, "--plot", "a.png"], capsys)
+    assert code == 0 and "(10 nutation periods, the default; --t-end to change)" in out
+    code, out, err = _run([*TOP, "--plot", "b.png", "--t-end", "20"], capsys)
+    assert code == 0 and "0 to 20 s, 1001 samples (--t-end)" in out
+
+
+def test_shipped_names_are_listed_as_typed(capsys):
+    # Was: the unknown-name error listed earth.toml and mars.toml twice (bodies/ and inversions/).
+    code, out, err = _run(["example", "no_such_file"], capsys)
+    assert code == 2
+    names = err.split("a shipped file: ")[1].split(" (wobble example --list)")[0].split(", ")
+    assert len(names) == len(set(names)) and "bodies/earth.toml" in names and "inversions/earth.toml" in names
+    code, out, err = _run(["example", "--list"], capsys)
+    assert all(f"  {name} " in out for name in names)
+
+
+def test_a_scene_unit_example_reads_as_people_write_it(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert _run(["example", "tennis_racket", "s.toml"], capsys)[0] == 0
+    text = (tmp_path / "s.toml").read_text()
+    (tmp_path / "s.toml").write_text(text.replace('unit = "kg m2"', 'unit = "kg"', 1))
+    code, out, err = _run(["run", "s.toml", "-o", "x.nc"], capsys)
+    assert code == 2 and err.endswith('allowed: a unit of moment of inertia (e.g. "kg m2")\n')
+
+
+def test_plot_functions_check_their_inputs_as_the_api_does():
+    # Was: AttributeError: 'int' object has no attribute 'to_value' (and 'str' has no 'steps').
+    from astropy import units as u
+
+    from wobble.errors import InputError
+
+    body = wobble.FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
+    top = wobble.HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * u.rad / u.s
+    )
+    calls = {
+        "t_end": [
+            lambda: wobble.plot.free.motion_figure(body, 20),
+            lambda: wobble.plot.top.axis_locus_figure(top, 20),
+            lambda: wobble.plot.free.flip_figure([1, 2, 3] * u.kg * u.m**2, [1e-6, 1, 1e-6] * u.rad / u.s, 20),
+        ],
+        "budgets": [lambda: wobble.plot.chandler.budget_figure(["earth"])],
+        "moments": [lambda: wobble.plot.free.polhode_figure([1, 2, 3], [[1, 0, 1]])],
+        "body": [lambda: wobble.plot.free.motion_figure(top, 20 * u.s)],
+        "top": [lambda: wobble.plot.top.axis_locus_figure(body, 20 * u.s)],
+    }
+    for parameter, fns in calls.items():
+        for fn in fns:
+            with pytest.raises(InputError) as info:
+                fn()
+            assert info.value.parameter == parameter
+
+
+def test_a_sweep_prints_spans_as_people_read_them(capsys):
+    # Was: "precession_period: mean 504982.186 s, sd 311200.363" and percentiles to the hundredth of a second.
+    from types import SimpleNamespace
+
+    from wobble.cli.sweep import _print_distribution
+
+    day = 86400.0
+    pct = {"2.5": 1.09 * day, "16": 2.33 * day, "50": 5.24 * day, "84": 9.24 * day, "97.5": 14.56 * day}
+    summary = SimpleNamespace(
+        variable="precession_period", units="s", mean=5.84 * day, std=3.6 * day, percentiles=pct, observed=math.nan
+    )
+    _print_distribution(summary)
+    out = capsys.readouterr().out
+    assert out == (
+        "  precession_period: mean 5.8 d, sd 3.6 d\n    2.5/16/50/84/97.5 %: 1.1 / 2.3 / 5.2 / 9.2 / 14.6 d\n"
+    )
+    summary = SimpleNamespace(
+        variable="chandler_period", units="day", mean=205.857, std=2.739, percentiles=pct, observed=206.9
+    )
+    summary.percentiles = {k: 205.84 for k in pct}
+    _print_distribution(summary)
+    assert capsys.readouterr().out.splitlines()[::2] == [
+        "  chandler_period: mean 205.9 d, sd 2.7 d",
+        "  observed: 206.9 d (+0.38 sd from the mean)",
+    ]

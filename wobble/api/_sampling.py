@@ -61,5 +61,8 @@ def sample_times(t, t_end, samples, bytes_per_sample: int) -> np.ndarray:
     end = to_si(t_end, "t_end", u.s, nonnegative=True, shape=())
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
         raise InputError("samples", samples, "a whole number of samples >= 1")
+    if end == 0 and samples > 1:
+        # samples equal times would make a time coordinate that is not monotonic (invalid CF).
+        raise InputError("t_end", t_end, "a positive end time (or a single sample, the state at t = 0)")
     check_memory(int(samples), bytes_per_sample)
     return np.linspace(0.0, end, int(samples))

@@ -16,7 +16,15 @@ from astropy import units as u
 
 from wobble.errors import InputError
 
-__all__ = ["to_si", "dimensionless", "parse_quantity", "parse_angle", "describe_unit", "spin_rate_si"]
+__all__ = [
+    "to_si",
+    "dimensionless",
+    "parse_quantity",
+    "parse_quantities",
+    "parse_angle",
+    "describe_unit",
+    "spin_rate_si",
+]
 
 # Examples shown in error messages, by physical type.
 _EXAMPLES = {
@@ -216,6 +224,32 @@ def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity
     if not q.unit.is_equivalent(default_unit):
         raise InputError(name, text, describe_unit(default_unit))
     return q
+
+
+def parse_quantities(texts, name: str, default_unit: u.UnitBase) -> u.Quantity:
+    """Parse the values of a vector option (``--inertia 1 2 3``) into one Quantity.
+
+    A unit on the first value only applies to all of them, as a physicist writes a vector
+    (``"1 g cm2" 2 3`` is (1, 2, 3) g cm2, and keeps that unit, so an error about it shows
+    the user's numbers); otherwise each value is read alone, a bare number in ``default_unit``
+    (``7.292115e-11 0 "360.98 deg/d"``).
+    """
+    texts = [t.strip() for t in texts]
+    bare = [_is_number(t) for t in texts]
+    if all(bare):
+        return u.Quantity([float(t) for t in texts], default_unit)
+    first = parse_quantity(texts[0], name, default_unit)
+    if not bare[0] and all(bare[1:]):
+        return u.Quantity([first.value, *(float(t) for t in texts[1:])], first.unit)
+    return u.Quantity([parse_quantity(t, name, default_unit).to(first.unit) for t in texts])
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def parse_angle(text: str, name: str) -> u.Quantity:

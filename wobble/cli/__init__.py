@@ -63,8 +63,10 @@ examples:
   wobble example --list                 the shipped example files (planets, inputs, scenes, sweeps)
   wobble bench --quick                  work-precision benchmark: every solver, speed against error
 
-Numbers without units are SI; days are days of 86400 s. Run
-'wobble COMMAND --help' for each command's options and an example.
+A number without a unit is SI unless the option's help names another unit
+(angles: degrees; the polar-motion commands' spans and periods: days or
+years); days are days of 86400 s. Run 'wobble COMMAND --help' for each
+command's options and an example.
 """
 
 
@@ -130,7 +132,7 @@ def main(argv: list[str] | None = None) -> int:
         with _compilation_notice(args.command):
             return int(args.func(args) or 0)
     except WobbleError as exc:
-        text = getattr(exc, "command_line_message", None) or _one_line(exc)
+        text = getattr(exc, "command_line_message", None) or _one_line(_as_typed(exc, parser, args.command))
         print(f"wobble {args.command}: error: {text}", file=sys.stderr)
         return 2
     except BrokenPipeError:
@@ -169,6 +171,24 @@ def _compilation_notice(command: str):
         )
 
     return compilation_notice(say)
+
+
+def _as_typed(exc: WobbleError, parser: argparse.ArgumentParser, command: str) -> WobbleError:
+    """An InputError about a Python parameter that is one of the command's options, named as typed.
+
+    The API names its parameters (``calibration_span``); on the command line the user typed
+    ``--calibration-span``. An option's argparse ``dest`` is that Python name, so the message
+    names the option strings of the action with that dest (``-o/--output`` for ``output``).
+    """
+    from wobble.errors import InputError
+
+    if not isinstance(exc, InputError) or exc.parameter.startswith("-"):
+        return exc
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    for action in sub._actions:
+        if action.dest == exc.parameter and action.option_strings:
+            return InputError("/".join(action.option_strings), exc.value, exc.allowed)
+    return exc
 
 
 def _silence_stdout() -> None:

@@ -37,7 +37,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from wobble.cli._output import print_json, wrote
     from wobble.errors import InputError
-    from wobble.io.shipped import KINDS, copy_shipped, shipped_files
+    from wobble.io.shipped import KINDS, copy_shipped, shipped_files, shown_names
 
     if args.list or not args.name:
         if not args.list:
@@ -51,20 +51,14 @@ def run(args) -> int:
                 ]
             )
             return 0
-        counts = {}
-        for f in files:
-            counts[f.name] = counts.get(f.name, 0) + 1
-
-        def shown(f):  # a name several folders ship is given with its folder
-            return f.qualified if counts[f.name] > 1 else f.name
-
-        width = max(len(shown(f)) for f in files)
+        names = dict(zip(map(id, files), shown_names(files)))  # a name several folders ship has its folder
+        width = max(map(len, names.values()))
         for kind, label in KINDS.items():
             group = [f for f in files if f.kind == kind]
             if group:
                 print(f"{label}:")
                 for f in group:
-                    print(f"  {shown(f):<{width}}  {f.description}")
+                    print(f"  {names[id(f)]:<{width}}  {f.description}")
         return 0
     path = copy_shipped(args.name, args.dest, overwrite=args.overwrite)
     if args.json:

@@ -17,7 +17,8 @@ examples:
               --omega 7.292115e-11 0 7.292115e-5 --t-end "100 yr" --samples 36526 -o earth.nc
 
 Numbers without units are SI (kg m2, rad/s, s); a value may carry its unit in
-quotes ("2 d", "360 deg/d"). Without --t-end the span is three periods of omega.
+quotes ("2 d", "360 deg/d"); a unit on the first of three values applies to the
+other two when they are bare numbers. Without --t-end the span is three periods of omega.
 The body flips (the tennis-racket effect) when its intermediate axis swings by more
 than 90 deg; otherwise the sign changes of that axis's component are half periods of
 a wobble, and no flips are reported. --json prints SI numbers (keys end in their unit).
@@ -57,12 +58,9 @@ def register(subparsers) -> None:
 
 
 def _quantity(values, name, unit):
-    from astropy import units as u
+    from wobble.api.units import parse_quantities
 
-    from wobble.api.units import parse_quantity
-
-    qs = [parse_quantity(v, name, unit) for v in values]
-    return u.Quantity([q.to_value(unit) for q in qs], unit)
+    return parse_quantities(values, name, unit)
 
 
 def _span(body, text):
@@ -128,7 +126,7 @@ def run(args) -> int:
 
 _REGIMES = {
     "steady": "steady spin about a principal axis",
-    "symmetric": "symmetric body: uniform precession about L",
+    "symmetric": "two equal moments: uniform precession about L",
     "major-axis": "about the axis of the largest moment (L^2 > 2 E I2)",
     "minor-axis": "about the axis of the smallest moment (L^2 < 2 E I2)",
     "separatrix": "on the separatrix (L^2 = 2 E I2): one flip, never repeating",

@@ -132,23 +132,21 @@ def _refuse_unused(args, allowed: set[str], what: str) -> None:
 
 
 def _about(args, length_unit: u.UnitBase):
-    from astropy import units as u
 
-    from wobble.api.units import parse_quantity
+    from wobble.api.units import parse_quantities
 
     tokens = args.about
     if len(tokens) == 1 and tokens[0].lower() in ("com", "origin"):
         return tokens[0].lower()
     if len(tokens) == 3:
-        return u.Quantity([parse_quantity(t, "--about", length_unit) for t in tokens])
+        return parse_quantities(tokens, "--about", length_unit)
     raise InputError("--about", " ".join(tokens), "com, origin, or three coordinates X Y Z (e.g. --about 0 0 -0.06)")
 
 
 def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
-    from astropy import units as u
 
     from wobble.api.bodies import RigidBody
-    from wobble.api.units import parse_quantity
+    from wobble.api.units import parse_quantities, parse_quantity
 
     constructor_name, required, optional = SOLIDS[args.solid]
     constructor = getattr(RigidBody, constructor_name)
@@ -163,7 +161,7 @@ def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
                 raise InputError.missing(flag, f"a value; --solid {args.solid} needs {needs}")
             continue
         if dest in _TRIPLE_OPTIONS:
-            value = u.Quantity([parse_quantity(t, flag, length_unit) for t in raw])
+            value = parse_quantities(raw, flag, length_unit)
         else:
             value = parse_quantity(raw, flag, mass_unit if dest in _MASS_OPTIONS else length_unit)
         kwargs[_KEYWORD.get(dest, dest)] = value
@@ -237,14 +235,20 @@ def _report(body: RigidBody, rtol: float) -> dict:
     }
 
 
-def _vec(v) -> str:
-    return "(" + ", ".join(f"{x:.7g}" for x in v) + ")"
+def _vec(v, scale: float = 1.0) -> str:
+    """A vector to 7 digits; components below 1e-12 of ``scale`` (the rounding of sums of terms
+    of that size, such as -3.9e-19 m for a body 0.2 m across) shown as 0."""
+    return "(" + ", ".join(f"{x if abs(x) > 1e-12 * scale else 0.0:.7g}" for x in v) + ")"
 
 
 def _print_human(report: dict, label: str, out) -> None:
+    import math
+
+    # The body's radius of gyration: the length scale of its centre of mass's rounding.
+    size = math.sqrt(max(sum(report["tensor"][i][i] for i in range(3)), 0.0) / report["mass"]) if report["mass"] else 0
     print(f"wobble inertia: {label}", file=out)
     print(f"  mass                {report['mass']:.7g} kg", file=out)
-    print(f"  centre of mass      {_vec(report['center_of_mass'])} m", file=out)
+    print(f"  centre of mass      {_vec(report['center_of_mass'], size)} m", file=out)
     same = report["reference_point"] == report["center_of_mass"]
     print(f"  about               {'the centre of mass' if same else _vec(report['reference_point']) + ' m'}", file=out)
     print("  inertia tensor (kg m2, input axes x, y, z)", file=out)

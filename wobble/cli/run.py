@@ -50,13 +50,15 @@ def run(args) -> int:
         return _list(args.json)
     if not args.scene:
         raise InputError.missing("SCENE", "a scene file (TOML) or an example name (wobble run --list)")
+    from wobble.io.shipped import resolve
+
+    path = resolve(args.scene, "scenes", "SCENE")  # an unknown scene is named before a missing -o
     if not args.output:
         raise InputError.missing("-o/--output", "the netCDF file to write (e.g. -o out.nc)")
     check_outputs(args)
     from wobble.api.scene import read_scene, run_to_netcdf
-    from wobble.io.shipped import resolve
 
-    scene = read_scene(resolve(args.scene, "scenes", "SCENE"))
+    scene = read_scene(path)
     summary = run_to_netcdf(
         scene, args.output, model=args.model, overwrite=args.overwrite, command=getattr(args, "command_line", None)
     )

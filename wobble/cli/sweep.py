@@ -24,7 +24,11 @@ Members are computed chunk by chunk with the vectorised models and streamed to
 the netCDF file as they finish (bounded memory). The same seed gives the same
 numbers whatever the chunking and the number of workers. A progress bar is shown
 on a terminal unless --quiet. The Chandler sweeps draw every catalogued uncertainty,
-as 'wobble chandler' does for its +/-, so the two agree within sampling error.
+as 'wobble chandler' does for its +/-, so the two sds agree within sampling error; the
+centres differ a little: the sweep's mean and median are of the draws, 'wobble chandler'
+prints the model at the catalogued values (they differ by the model's curvature over
+the draws, e.g. 205.9 against 205.6 d for Mars). Spans print in days, hours, ... as
+they come, with digits to the sd's two significant digits; --json keeps SI.
 """
 
 
@@ -110,12 +114,23 @@ def run(args) -> int:
         print(f"    invalid: {n} ({reason})")
     if summary.classes:
         print("  " + ", ".join(f"{name}: {n}" for name, n in summary.classes.items()))
-    p = summary.percentiles
-    print(f"  {summary.variable}: mean {summary.mean:.3f} {summary.units}, sd {summary.std:.3f}")
-    print(f"    2.5/16/50/84/97.5 %: {p['2.5']:.2f} / {p['16']:.2f} / {p['50']:.2f} / {p['84']:.2f} / {p['97.5']:.2f}")
-    if not math.isnan(summary.observed):
-        z = (summary.observed - summary.mean) / summary.std if summary.std > 0 else math.nan
-        print(f"  observed: {summary.observed:.2f} {summary.units} ({z:+.2f} sd from the mean)")
+    _print_distribution(summary)
     for path in written:
         wrote(path)
     return 0
+
+
+def _print_distribution(summary) -> None:
+    """Mean, sd, percentiles (and the observed value) to the sd's two significant digits, a span
+    in the unit a person would use (a precession period of 5.8 d, not 504982.186 s)."""
+    from wobble.io.text import decimals_for, span_unit
+
+    size, units = span_unit(summary.percentiles["50"]) if summary.units == "s" else (1.0, summary.units)
+    units = {"day": "d", "days": "d"}.get(units, units)  # as every other command writes days
+    d = decimals_for(summary.std / size)
+    p = [summary.percentiles[k] / size for k in ("2.5", "16", "50", "84", "97.5")]
+    print(f"  {summary.variable}: mean {summary.mean / size:.{d}f} {units}, sd {summary.std / size:.{d}f} {units}")
+    print("    2.5/16/50/84/97.5 %: " + " / ".join(f"{x:.{d}f}" for x in p) + f" {units}")
+    if not math.isnan(summary.observed):
+        z = (summary.observed - summary.mean) / summary.std if summary.std > 0 else math.nan
+        print(f"  observed: {summary.observed / size:.{d}f} {units} ({z:+.2f} sd from the mean)")

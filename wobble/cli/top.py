@@ -99,8 +99,8 @@ def run(args) -> int:
     summary = top.to_dict()
     written = []
     if args.output or args.plot or args.t_end is not None:  # a --t-end given is checked even when unused
-        t1 = _span(top, args.t_end)
-        summary.update(samples=args.samples, t_end_s=t1)
+        t1, chosen = _span(top, args.t_end)
+        summary.update(samples=args.samples, t_end_s=t1, t_end_chosen_by=chosen)
     if args.output:
         from wobble.io.netcdf import write_netcdf
 
@@ -115,8 +115,8 @@ def run(args) -> int:
     return finish(args, summary, lambda: _print_table(summary), written)
 
 
-def _span(top, text) -> float:
-    """End of the output span in s: --t-end, or ten nutation periods."""
+def _span(top, text) -> tuple[float, str]:
+    """(end of the output span in s, how it was chosen): --t-end, or ten nutation periods."""
     import math
 
     from astropy import units as u
@@ -125,11 +125,13 @@ def _span(top, text) -> float:
 
     if text is None:
         period = top.model.nutation_period
-        return 10 * period if math.isfinite(period) else 10.0
+        if math.isfinite(period):
+            return 10 * period, "10 nutation periods, the default; --t-end to change"
+        return 10.0, "10 s, the default (the motion has no nutation period); --t-end to change"
     t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
     if not (math.isfinite(t1) and t1 >= 0):
         raise InputError("--t-end", text, "a non-negative, finite time (e.g. 100 s, 2 min)")
-    return t1
+    return t1, "--t-end"
 
 
 def _print_table(summary: dict) -> None:
@@ -159,5 +161,10 @@ def _print_table(summary: dict) -> None:
             )
         )
     if "t_end_s" in summary:
-        rows.append(("span", f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples"))
+        rows.append(
+            (
+                "span",
+                f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples ({summary['t_end_chosen_by']})",
+            )
+        )
     print_rows(rows)

@@ -116,9 +116,22 @@ def new_temporary(path: Path) -> Path:
     """
     folder = path.parent if str(path.parent) else Path(".")
     remove_stale_temporaries(path)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=_prefix(path), suffix=".tmp")
+    with _named_for(path):
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=_prefix(path), suffix=".tmp")
     os.close(fd)
     return Path(tmp)
+
+
+@contextlib.contextmanager
+def _named_for(path: Path):
+    """An OSError creating a temporary for ``path`` names ``path``, the file the user asked for
+    (``/proc/x.nc``), not the temporary's name (``/proc/.x.nc.123.abc.tmp``) they never typed."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.errno is None:
+            raise
+        raise OSError(exc.errno, exc.strerror or os.strerror(exc.errno), str(path)) from exc
 
 
 def new_temporary_folder(path: Path, suffix: str = ".tmp") -> Path:
@@ -126,7 +139,8 @@ def new_temporary_folder(path: Path, suffix: str = ".tmp") -> Path:
     folder = path.parent if str(path.parent) else Path(".")
     if suffix == ".tmp":
         remove_stale_temporaries(path)
-    return Path(tempfile.mkdtemp(dir=folder, prefix=_prefix(path), suffix=suffix))
+    with _named_for(path):
+        return Path(tempfile.mkdtemp(dir=folder, prefix=_prefix(path), suffix=suffix))
 
 
 def _alive(pid: int) -> bool:

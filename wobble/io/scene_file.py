@@ -115,7 +115,9 @@ class _Reader:
                 un = u.Unit(str(raw["unit"]), parse_strict="raise")
             except ValueError:
                 raise self.error(
-                    f"{where}.unit", raw["unit"], f'a unit of {kind} astropy can parse (e.g. "{unit.to_string()}")'
+                    f"{where}.unit",
+                    raw["unit"],
+                    f'a unit of {kind} astropy can parse (e.g. "{_example(unit).split(" ", 1)[1]}")',
                 ) from None
             try:
                 value = np.asarray(raw["value"], dtype=float)
@@ -132,7 +134,7 @@ class _Reader:
             raise self.error(
                 f"{where}" if not isinstance(raw, dict) else f"{where}.unit",
                 str(q.unit),
-                f'a unit of {kind} (e.g. "{unit.to_string()}")',
+                f'a unit of {kind} (e.g. "{_example(unit).split(" ", 1)[1]}")',
             ) from None
         self._check_array(si, raw, where, ndim, width, positive, nonnegative)
         return si

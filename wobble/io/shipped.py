@@ -21,7 +21,7 @@ from pathlib import Path
 
 from wobble.errors import InputError
 
-__all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "copy_shipped"]
+__all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "copy_shipped", "shown_names"]
 
 # Folder of data/ -> what its files are, as `wobble example --list` heads them (in this order).
 KINDS = {
@@ -116,8 +116,17 @@ def _candidates(kinds, suffixes) -> list[ShippedFile]:
     return files if suffixes is None else [f for f in files if f.name.endswith(tuple(suffixes))]
 
 
+def shown_names(files: list[ShippedFile]) -> list[str]:
+    """The names of ``files`` as a user types them: with the folder where several ship the
+    same name (``bodies/earth.toml``, ``inversions/earth.toml``), else the bare name."""
+    counts: dict[str, int] = {}
+    for f in files:
+        counts[f.name] = counts.get(f.name, 0) + 1
+    return [f.qualified if counts[f.name] > 1 else f.name for f in files]
+
+
 def _names(kinds, suffixes=None) -> str:
-    return ", ".join(f.name for f in _candidates(kinds, suffixes)) or "none"
+    return ", ".join(shown_names(_candidates(kinds, suffixes))) or "none"
 
 
 def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> str:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 import math
 
-__all__ = ["clean", "dumps", "number", "with_uncertainty", "decimals_for", "duration", "TEXT_DIGITS"]
+__all__ = ["clean", "dumps", "number", "with_uncertainty", "decimals_for", "duration", "span_unit", "TEXT_DIGITS"]
 
 JSON_INDENT = 2
 _JSON_DIGITS = 15
@@ -91,6 +91,14 @@ _JULIAN_YEAR = 365.25 * 86400.0
 _SPANS = ((120.0, 1.0, "s"), (7200.0, 60.0, "min"), (172800.0, 3600.0, "h"), (2 * _JULIAN_YEAR, 86400.0, "d"))
 
 
+def span_unit(seconds: float) -> tuple[float, str]:
+    """(length in s, symbol) of the unit a person would give the span ``seconds`` in."""
+    for limit, size, symbol in _SPANS:
+        if math.isfinite(seconds) and abs(seconds) < limit:
+            return size, symbol
+    return (_JULIAN_YEAR, "yr") if math.isfinite(seconds) else (1.0, "s")
+
+
 def duration(seconds: float | None, digits: int = TEXT_DIGITS) -> str:
     """A span in the unit a person would use, with seconds beside it.
 
@@ -104,10 +112,6 @@ def duration(seconds: float | None, digits: int = TEXT_DIGITS) -> str:
     seconds = float(seconds)
     if not math.isfinite(seconds):
         return number(seconds)
-    for limit, size, symbol in _SPANS:  # noqa: B007 - size and symbol are read after the loop
-        if abs(seconds) < limit:
-            break
-    else:
-        size, symbol = _JULIAN_YEAR, "yr"
+    size, symbol = span_unit(seconds)
     text = f"{number(seconds / size, digits)} {symbol}"
     return text if symbol == "s" else f"{text} ({number(seconds, 5)} s)"

@@ -17,7 +17,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
 
     Parameters
     ----------
-    budgets : list of wobble.ChandlerBudget
+    budgets : wobble.ChandlerBudget or list of them
         One panel each.
     path : path-like, optional
         Save the figure (PNG, PDF or SVG by suffix; 150 dpi), atomically.
@@ -28,6 +28,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     -------
     matplotlib.figure.Figure
     """
+    budgets = _budgets(budgets)
     fig, axes = plt.subplots(len(budgets), 1, figsize=(7.2, 2.3 * len(budgets) + 0.6), squeeze=False)
     for ax, b in zip(axes[:, 0], budgets):
         steps = b.steps
@@ -74,3 +75,22 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
+
+
+def _budgets(budgets) -> list:
+    """One budget or a list of them, each a :class:`wobble.ChandlerBudget`."""
+    from wobble.api.chandler import ChandlerBudget
+    from wobble.errors import InputError
+
+    items = (
+        [budgets]
+        if isinstance(budgets, ChandlerBudget)
+        else list(budgets)
+        if isinstance(budgets, (list, tuple))
+        else None
+    )
+    if not items or not all(isinstance(b, ChandlerBudget) for b in items):
+        raise InputError(
+            "budgets", budgets, 'a ChandlerBudget or a list of them (e.g. [wobble.chandler_budget("earth")])'
+        )
+    return items

@@ -7,6 +7,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.free import FreeRotation
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.plot._style import time_axis
 
@@ -28,7 +29,12 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     -------
     matplotlib.figure.Figure
     """
-    I = moments.to_value(u.kg * u.m**2)
+    I = to_si(moments, "moments", u.kg * u.m**2, positive=True, shape=(3,))
+    if isinstance(omegas, u.Quantity) and omegas.ndim == 1:
+        omegas = [omegas]  # one initial angular velocity
+    omegas = [to_si(w, "omegas", u.rad / u.s, shape=(3,)) * (u.rad / u.s) for w in omegas]
+    if not omegas:
+        raise InputError("omegas", omegas, "one or more initial angular velocities (3-vectors in rad/s)")
     fig = plt.figure(figsize=(6.4, 6.0))
     ax = fig.add_subplot(projection="3d")
     w_first = omegas[0].to_value(u.rad / u.s)
@@ -70,6 +76,7 @@ def flip_figure(moments, omega0, t_end):
         A body that does not flip (its intermediate axis swings by less than 90 deg): draw it
         with :func:`motion_figure`.
     """
+    to_si(t_end, "t_end", u.s, positive=True, shape=())  # checked before the body is built
     body = FreeRotation(moments, omega0)
     if not body.flips:
         swing = body.intermediate_axis_swing
@@ -79,7 +86,7 @@ def flip_figure(moments, omega0, t_end):
             f"a spin that flips the body (its intermediate axis swings by "
             f"{0.0 if swing is None else swing.to_value(u.deg):.3g} deg, not more than 90): see motion_figure",
         )
-    t_end_s = t_end.to_value(u.s)
+    t_end_s = to_si(t_end, "t_end", u.s, positive=True, shape=())
     ds = body.to_dataset(t_end=t_end, samples=4001)
     fig, ax = plt.subplots(figsize=(7.0, 3.8))
     for k, label in enumerate(("$\\omega_1$", "$\\omega_2$", "$\\omega_3$")):
@@ -124,7 +131,11 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     """
     from wobble.io.text import duration
 
-    t1 = t_end.to_value(u.s)
+    if not isinstance(body, FreeRotation):
+        raise InputError("body", body, "a wobble.FreeRotation")
+    t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
+        raise InputError("samples", samples, "a whole number of samples >= 2")
     t = np.linspace(0.0, t1, samples)
     w = body.omega(t * u.s).to_value(u.rad / u.s)
     I = body.moments.to_value(u.kg * u.m**2)

@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+__all__ = ["histogram", "phase_diagram", "ensemble"]
+
 
 def histogram(ds, path=None, variable: str = "chandler_period", ax=None, *, overwrite: bool = False):
     """Histogram of ``variable`` over the valid members, with the observed value marked.

@@ -11,6 +11,8 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.top import HeavyTop
+from wobble.api.units import to_si
+from wobble.errors import InputError
 
 __all__ = [
     "nutation_classes_figure",
@@ -21,17 +23,25 @@ __all__ = [
 ]
 
 
+def _check_top(top) -> None:
+    if not isinstance(top, HeavyTop):
+        raise InputError("top", top, "a wobble.HeavyTop")
+
+
 def axis_trace_axes(
     ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None, t_end=None
 ):
     """Draw the trace of the symmetry axis on the unit sphere, seen from above, on ``ax``.
 
     The trace (x, y) = sin(theta) (sin phi, -cos phi) runs between the turning circles
-    theta_min and theta_max (dashed), as in the notes' pictures of undulation, cusps
-    and loops (p. 72).
+    theta_min and theta_max (dashed), as in the textbook pictures of undulation, cusps
+    and loops (Goldstein, Poole & Safko 2002, sec. 5.7).
     """
+    _check_top(top)
     m = top.model
-    if t_end is None:
+    if t_end is not None:
+        t_end = to_si(t_end, "t_end", u.s, positive=True, shape=()) * u.s
+    else:
         t_end = (periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0) * u.s
     ds = top.to_dataset(t_end=t_end, samples=samples)
     axis = ds.symmetry_axis.values
@@ -58,6 +68,8 @@ def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, o
     """
     from wobble.io.text import duration
 
+    _check_top(top)
+    t_end = to_si(t_end, "t_end", u.s, positive=True, shape=()) * u.s
     fig, ax = plt.subplots(figsize=(5.6, 5.6))
     m = top.model
     title = (
