@@ -287,3 +287,11 @@ def test_a_sweep_prints_spans_as_people_read_them(capsys):
         "  chandler_period: mean 205.9 d, sd 2.7 d",
         "  observed: 206.9 d (+0.38 sd from the mean)",
     ]
+
+
+def test_a_negative_value_with_a_unit_is_read_as_a_value(capsys):
+    # Was: "argument --horizon: expected one argument" (argparse took -5d for an option).
+    code, out, err = _run(["forecast", "--horizon", "-5d"], capsys)
+    assert code == 2 and err.startswith("wobble forecast: error: --horizon: got -5 d; allowed:")
+    code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "-1 rad/s", "-.1", "1", "--json"], capsys)
+    assert code == 0, err

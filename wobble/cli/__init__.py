@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import shlex
 import sys
 
@@ -72,6 +73,13 @@ command's options and an example.
 
 class _Parser(argparse.ArgumentParser):
     """argparse with usage errors reported as one line and exit status 2."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # A value such as "-5d" or "-3 d" is a (negative) value, not an unknown option: argparse
+        # knows only plain numbers (-5, -.5) and said "expected one argument" for --horizon -5d.
+        # No wobble option starts with a digit, so a dash and a digit always begin a value.
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message: str):  # overrides argparse.ArgumentParser.error
         self.exit(2, f"{self.prog}: error: {_one_line(message)}\n")  # a value may hold a newline
