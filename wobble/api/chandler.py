@@ -52,6 +52,41 @@ __all__ = [
 
 DAY_NOTE = "days of 86400 s (astropy u.day); a sidereal day is 86164.1 s, 0.27 % shorter"
 
+#: Catalogue entries that are yes/no flags (1 or 0 in the file), not measured numbers.
+FLAGS = frozenset({"observed_precession_includes_geodesic"})
+
+# Units named as a geodesist writes them (astropy's hyr is the Julian century, 100 Julian years).
+_UNIT_NAMES = {"hyr": "cy", "sday": "sidereal day"}
+
+
+def unit_label(unit: u.UnitBase) -> str:
+    """A unit as a person reads it: ``""`` when dimensionless, ``arcsec / cy`` (per Julian
+    century) for astropy's ``arcsec / hyr``, ``sidereal days``, ``kg m2`` (not ``m2 kg``).
+
+    >>> unit_label(u.Unit("arcsec / hyr")), unit_label(u.Unit("kg m2")), unit_label(u.dimensionless_unscaled)
+    ('arcsec / cy', 'kg m2', '')
+    """
+    unit = u.Unit(unit)
+    if unit == u.dimensionless_unscaled:
+        return ""
+    if unit.scale != 1.0 or not unit.bases:
+        return unit.to_string()
+
+    def part(base, power) -> str:
+        name = _UNIT_NAMES.get(base.to_string(), base.to_string())
+        power = abs(power)
+        return name if power == 1 else f"{name}{power:g}" if " " not in name else f"{name}^{power:g}"
+
+    pairs = list(zip(unit.bases, unit.powers))
+    if len(pairs) == 1 and pairs[0][1] == 1:
+        name = part(*pairs[0])
+        return name + "s" if " " in name else name
+    # Numerator by increasing power (kg m2), then the denominator.
+    top = [part(b, p) for b, p in sorted(((b, p) for b, p in pairs if p > 0), key=lambda bp: bp[1])]
+    bottom = [part(b, p) for b, p in pairs if p < 0]
+    text = " ".join(top) or "1"
+    return text + (" / " + " ".join(bottom) if bottom else "")
+
 
 class Planet:
     """A planet described for the Chandler model, with every parameter's source.
@@ -97,6 +132,35 @@ class Planet:
         if p is None:
             return "CODATA 2018 via astropy.constants" if key == "gravitational_constant" else "not given"
         return p.source if p.status == "read" else f"{p.source} [{p.status}]"
+
+    def parameter_list(self) -> list[dict]:
+        """Every catalogued parameter as the file gives it, for ``--sources``.
+
+        One dict per parameter, in the file's order: ``name``, ``value``, ``uncertainty``
+        (one sigma; None for a yes/no flag, whose value is then True or False), ``unit`` (as
+        a person reads it: ``""`` when dimensionless, ``arcsec / cy`` for arcseconds per
+        Julian century), ``unit_astropy`` (the same unit as ``astropy.units.Unit`` reads it),
+        ``source`` and ``status`` (``read``, ``secondary``, ``derived``, ``assumed``).
+        """
+        out = []
+        for key, p in self.file.parameters.items():
+            flag = key in FLAGS
+            value = p.value.value
+            value = value.tolist() if np.ndim(value) else float(value)
+            sigma = p.uncertainty.to_value(p.value.unit)
+            sigma = sigma.tolist() if np.ndim(sigma) else float(sigma)
+            out.append(
+                {
+                    "name": key,
+                    "value": bool(value) if flag else value,
+                    "uncertainty": None if flag else sigma,
+                    "unit": "" if flag else unit_label(p.value.unit),
+                    "unit_astropy": "" if flag else p.value.unit.to_string(),
+                    "source": p.source,
+                    "status": p.status,
+                }
+            )
+        return out
 
     @property
     def rotation_rate(self) -> u.Quantity:

@@ -481,9 +481,11 @@ class Inversion:
             f"{'ESS':>6}  unit   prior"
         )
         for r in self.rows():
+            med, lo68, hi68, lo95, hi95 = _same_decimals(
+                (r.median, r.lower_68, r.upper_68, r.lower_95, r.upper_95), (r.upper_68 - r.lower_68) / 2
+            )
             lines.append(
-                f"  {r.name:<28} {_g(r.median):>11} {_pair(r.lower_68, r.upper_68):>25} "
-                f"{_pair(r.lower_95, r.upper_95):>25} "
+                f"  {r.name:<28} {med:>11} {f'[{lo68}, {hi68}]':>25} {f'[{lo95}, {hi95}]':>25} "
                 f"{r.r_hat:6.3f} {min(r.ess, r.ess_tail):6.0f}  {r.unit or '-':<6} {r.prior}"
             )
         published = [c for c in self.setup.comparisons]
@@ -492,7 +494,11 @@ class Inversion:
             for c in published:
                 s = self._scale(c.name)
                 if c.value is not None:
-                    val = _g(c.value / s) + ("" if c.uncertainty is None else f" +/- {_g(c.uncertainty / s)}")
+                    val = (
+                        _g(c.value / s)
+                        if c.uncertainty is None
+                        else " +/- ".join(_same_decimals((c.value / s, c.uncertainty / s), c.uncertainty / s))
+                    )
                 else:
                     val = f"{_g(c.low / s)} to {_g(c.high / s)}"
                 lines.append(f"    {c.name:<26} {val:<22} {c.source}")
@@ -500,18 +506,28 @@ class Inversion:
             f"  {'observable':<28} {'measured':>22} {'posterior predictive (68 %)':>36} {'model median':>13}  unit"
         )
         for row in self.quantity_rows():
+            # One row, one number of decimals: two significant digits of the finer of the measurement's
+            # uncertainty and the half-width of the 68 % interval shown (an FCN of -430.00 +/- 0.10 d).
             if row["measured"]:
-                # Enough digits to show the uncertainty (an FCN of -430.00 +/- 0.10 d).
-                n = _digits(row["observed"], row["observed_uncertainty"])
-                meas = f"{_g(row['observed'], n)} +/- {_g(row['observed_uncertainty'], 2)}"
-                pp = (
-                    f"{_g(row['predictive_median'], n)} [{_g(row['predictive_lower_68'], n)}, "
-                    f"{_g(row['predictive_upper_68'], n)}]"
+                spread = min(row["observed_uncertainty"], (row["predictive_upper_68"] - row["predictive_lower_68"]) / 2)
+                obs, osig, pmed, plo, phi, med = _same_decimals(
+                    (
+                        row["observed"],
+                        row["observed_uncertainty"],
+                        row["predictive_median"],
+                        row["predictive_lower_68"],
+                        row["predictive_upper_68"],
+                        row["median"],
+                    ),
+                    spread,
                 )
+                meas, pp = f"{obs} +/- {osig}", f"{pmed} [{plo}, {phi}]"
             else:
-                n = 5
-                meas, pp = "(derived)", f"{_g(row['median'])} [{_g(row['lower_68'])}, {_g(row['upper_68'])}]"
-            lines.append(f"  {row['name']:<28} {meas:>22} {pp:>36} {_g(row['median'], n):>13}  {row['unit'] or '-'}")
+                med, lo, hi = _same_decimals(
+                    (row["median"], row["lower_68"], row["upper_68"]), (row["upper_68"] - row["lower_68"]) / 2
+                )
+                meas, pp = "(derived)", f"{med} [{lo}, {hi}]"
+            lines.append(f"  {row['name']:<28} {meas:>22} {pp:>36} {med:>13}  {row['unit'] or '-'}")
         d = self.to_dict()["diagnostics"]
         lines.append(
             f"  sampler: emcee, {self.settings.walkers} walkers x {self.settings.ensembles} ensemble(s), "
@@ -687,15 +703,31 @@ def _g(x: float, digits: int = 5) -> str:
     return f"{x:.{digits}g}"
 
 
-def _digits(value: float, sigma: float) -> int:
-    """Significant digits that show ``value`` to two digits of its uncertainty (at least 5)."""
-    if not (math.isfinite(value) and math.isfinite(sigma) and value != 0 and sigma > 0):
-        return 5
-    return max(5, int(math.floor(math.log10(abs(value)))) - int(math.floor(math.log10(sigma))) + 2)
+#: Beyond this many decimals a row is written with one shared power of ten (3.1e-07, not 0.00000031).
+_MAX_DECIMALS = 6
 
 
-def _pair(a: float, b: float) -> str:
-    return f"[{_g(a)}, {_g(b)}]"
+def _same_decimals(values, spread: float) -> list[str]:
+    """``values`` (one row of the summary: a median and its intervals, a measurement and its
+    uncertainty) all to the same decimal place, two significant digits of ``spread`` (the half-width
+    of the row's 68 % interval, or an uncertainty): ``1799 [1757, 1840]``, ``0.001813 [0.001730, 0.001898]``.
+
+    Very small or very large numbers share one power of ten (``4.2e-08 [3.1e-08, 5.3e-08]``); without
+    a usable spread each value gets five significant digits.
+    """
+    from wobble.io.text import decimals_for
+
+    values = [float(v) for v in values]
+    finite = [abs(v) for v in values if math.isfinite(v)]
+    if not (math.isfinite(spread) and spread > 0) or not finite:
+        return [_g(v) for v in values]
+    d = decimals_for(spread)
+    top = max(max(finite), spread)
+    if d <= _MAX_DECIMALS and top < 1e7:
+        return [f"{v:.{d}f}" if math.isfinite(v) else _g(v) for v in values]
+    exponent = math.floor(math.log10(top))
+    m = max(0, exponent - math.floor(math.log10(spread)) + 1)
+    return [f"{v / 10.0**exponent:.{m}f}e{exponent:+03d}" if math.isfinite(v) else _g(v) for v in values]
 
 
 def _version(package: str) -> str:

@@ -310,10 +310,11 @@ class NormalModes:
         self.raw = raw
         self.figure = figure
         self.chandler_budget_period = budget_period
-        self.modes: list[FreeMode] = []
-        for m in raw.modes:
+        #: Every mode computed (the physics of the whole planet); ``modes`` are those asked for.
+        self.computed: list[FreeMode] = []
+        for m in raw.computed or raw.modes:
             key = _OBSERVED_KEY[m.name]
-            self.modes.append(
+            self.computed.append(
                 FreeMode(
                     m.name,
                     m.frame,
@@ -327,14 +328,24 @@ class NormalModes:
                     None if m.observed_period is None else planet.source(key),
                 )
             )
+        shown = {(m.name, m.frame) for m in raw.modes}
+        #: The modes asked for (``normal_modes(..., modes=...)``, ``wobble modes --mode``): what
+        #: the summary, ``to_dict`` and the Dataset show.
+        self.modes: list[FreeMode] = [m for m in self.computed if (m.name, m.frame) in shown]
 
     @property
     def body(self) -> str:
         return self.planet.name
 
+    @property
+    def shown(self) -> tuple[str, ...]:
+        """Names of the modes shown (``CW``, ``FCN``), in order."""
+        return tuple(dict.fromkeys(m.name for m in self.modes))
+
     def mode(self, name: str, frame: str = "terrestrial") -> FreeMode:
-        """The mode ``name`` (``CW``, ``FCN``) in ``frame`` (``terrestrial``, ``celestial``)."""
-        return _modes.find_mode(self.modes, name, frame)
+        """The mode ``name`` (``CW``, ``FCN``) in ``frame`` (``terrestrial``, ``celestial``): any mode
+        computed, shown or not."""
+        return _modes.find_mode(self.computed, name, frame)
 
     @property
     def core_flattening_hydrostatic(self) -> float | None:
@@ -448,7 +459,7 @@ class NormalModes:
             source = next((m.observed_source for m in self.modes if m.name == name and m.observed_source), None)
             if source:
                 lines.append(f"  observed {name}: {source}")
-        if self.core_flattening_hydrostatic is not None:
+        if self.core_flattening_hydrostatic is not None and "FCN" in self.shown:
             source = self.figure.profile if self.figure is not None else "given"
             fcn = self.mode("FCN", "celestial")
             hyd = self.core_flattening_hydrostatic
@@ -472,14 +483,15 @@ class NormalModes:
                     f": {excess} % "
                     f"against hydrostatic (put back, it gives {self.fcn_period_required.to_value(u.day):.4f} d)"
                 )
-        cw = self.mode("CW")
-        lines.append(
-            f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off "
-            f"{self.chandler_coupling_off.to_value(u.day):.2f} d "
-            f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d (FCN effect "
-            f"{self.fcn_effect_on_chandler.to_value(u.day):+.2f} d; the classic first-order formula would give "
-            f"{self.chandler_first_order.to_value(u.day):.2f} d)"
-        )
+        if "CW" in self.shown:
+            cw = self.mode("CW")
+            lines.append(
+                f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off "
+                f"{self.chandler_coupling_off.to_value(u.day):.2f} d "
+                f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d (FCN effect "
+                f"{self.fcn_effect_on_chandler.to_value(u.day):+.2f} d; the classic first-order formula would give "
+                f"{self.chandler_first_order.to_value(u.day):.2f} d)"
+            )
         if self.figure is not None:
             lines.append("  " + self.figure.summary().replace("\n", "\n  "))
         return "\n".join(lines)
@@ -610,7 +622,11 @@ def normal_modes(
         The density profile that gives the hydrostatic core flattening
         (default: the shipped profile of a catalogued body, ``prem`` for Earth).
     modes : tuple of str, optional
-        ``("CW",)`` or ``("CW", "FCN")``; default every mode the parameters support.
+        The modes to show (``summary``, ``to_dict``, the Dataset): ``("CW",)``, ``("FCN",)``
+        or ``("CW", "FCN")``; default every mode the parameters support. Only what is shown
+        changes: every supported mode is computed, so the Chandler wobble is always coupled
+        to the liquid core when the FCN can be computed (``mode()`` finds any of them).
+        A mode whose parameters are missing is an InputError naming them.
 
     Returns
     -------

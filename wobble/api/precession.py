@@ -711,6 +711,16 @@ def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -
     return f"{value:{'+' if sign else ''}.{d}f} +/- {sigma:.{d}f}"
 
 
+def _mas_per_year(rate, sigma) -> str:
+    """A rate again in mas/yr, with its uncertainty, both to the uncertainty's two significant digits
+    (``-14640 +/- 49 mas/yr``); to 0.1 mas/yr without one."""
+    value = float(rate.to_value(u.mas / u.yr))
+    s = None if sigma is None else float(sigma.to_value(u.mas / u.yr))
+    if s is None or not (math.isfinite(s) and s > 0):
+        return f"{value:+.1f} mas/yr"
+    return f"{with_uncertainty(value, s, sign=True)} mas/yr"
+
+
 def _summary(b: PrecessionBudget) -> str:
     lines = [f"{b.planet.title}: forced precession of the spin axis (arcsec per Julian century; negative = retrograde)"]
     lines.append(f"  {'term':<26}{'rate':>14}   physics (references)")
@@ -722,14 +732,14 @@ def _summary(b: PrecessionBudget) -> str:
     label = "model (with geodesic)" if b.includes_geodesic else "model (tidal; see note)"
     lines.append(
         f"  {label:<26}{with_uncertainty(rate, sigma if sigma > 0 else None, sign=True):>14}"
-        f"   = {b.rate.to_value(u.mas / u.yr):+.1f} mas/yr"
+        f"   = {_mas_per_year(b.rate, b.rate_uncertainty)}"
     )
     if b.observed is not None:
         obs = b.observed.to_value(ARCSEC_PER_CENTURY)
         osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
         lines.append(
             f"  {'observed':<26}{with_uncertainty(obs, osig, sign=True):>14}"
-            f"   = {b.observed.to_value(u.mas / u.yr):+.1f} mas/yr; {b.observed_source}"
+            f"   = {_mas_per_year(b.observed, b.observed_uncertainty)}; {b.observed_source}"
         )
         why = "; the published higher-order terms below account for it" if b.literature_steps else ""
         lines.append(

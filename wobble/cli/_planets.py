@@ -51,11 +51,12 @@ def bodies_from_args(args) -> list:
     return list(args.bodies) + files or list(known)
 
 
-def report(args, results, dataset, figure, text=None) -> int:
+def report(args, results, dataset, figure, text=None, document=None) -> int:
     """Write ``dataset(results)`` (``-o``) and the figure (``--plot``; ``figure`` names its function
     as ``"module:function"``, called ``function(results, path)``), print the
-    JSON list or the summaries (``text(result)``, default ``result.summary()``), then a
-    ``wrote PATH`` line per file. Returns the exit status, 0."""
+    JSON list (``document(result)`` per result, default ``result.to_dict()``) or the summaries
+    (``text(result)``, default ``result.summary()``), then a ``wrote PATH`` line per file.
+    Returns the exit status, 0."""
     from wobble.cli._output import finish
 
     written = []
@@ -69,5 +70,6 @@ def report(args, results, dataset, figure, text=None) -> int:
         getattr(importlib.import_module(module), name)(results, args.plot, overwrite=args.overwrite)
         written.append(args.plot)
     summary = text or (lambda r: r.summary())
-    document = [r.to_dict() for r in results] if args.json else None
-    return finish(args, document, lambda: print("\n\n".join(summary(r) for r in results)), written)
+    as_dict = document or (lambda r: r.to_dict())
+    listing = [as_dict(r) for r in results] if args.json else None
+    return finish(args, listing, lambda: print("\n\n".join(summary(r) for r in results)), written)

@@ -35,7 +35,10 @@ def register(sub) -> None:
     add_bodies(p)
     p.add_argument("--model", default="full", help="last step to include (default: full)")
     p.add_argument(
-        "--sources", action="store_true", help="also list every parameter with its value, uncertainty and source"
+        "--sources",
+        action="store_true",
+        help="also list every parameter with its value, uncertainty, unit and source (with --json: a 'parameters' "
+        "list of {name, value, uncertainty, unit, unit_astropy, source, status} per body)",
     )
     add_outputs(p, "draw the budget, step by step, against the observed period")
     p.set_defaults(func=run)
@@ -56,6 +59,7 @@ def run(args) -> int:
         chandler_dataset,
         "wobble.plot.chandler:budget_figure",
         text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]),
+        document=(lambda b: {**b.to_dict(), "parameters": b.planet.parameter_list()}) if args.sources else None,
     )
 
 
@@ -86,6 +90,19 @@ def _skipped_steps(b) -> list[str]:
     return [
         f"{step} needs {', '.join(missing_parameters(b.planet.parameters, step))}" for step in STEPS if step not in done
     ]
+
+
+def _catalogued(p: dict) -> str:
+    """A catalogued value as the file gives it: ``0.29525 +/- 0.003``, ``-5038.481507 +/- 0.0008 arcsec / cy``,
+    ``yes`` for a flag."""
+    if p["uncertainty"] is None:
+        return "yes" if p["value"] else "no"
+
+    def fmt(x, digits: int) -> str:
+        return "[" + ", ".join(fmt(v, digits) for v in x) + "]" if isinstance(x, list) else f"{x:.{digits}g}"
+
+    text = f"{fmt(p['value'], 10)} +/- {fmt(p['uncertainty'], 3)}"
+    return f"{text} {p['unit']}" if p["unit"] else text
 
 
 def _table(b, sources: bool = False, typed: str | None = None) -> str:
@@ -133,11 +150,9 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
     if b.quality_factor is not None:
         lines.append(f"  Q implied by the out-of-phase part of k2: {b.quality_factor:.0f}")
     if sources:
-        lines.append("  parameters (value +/- one sigma, unit; source [status if not read]):")
-        for key, p in b.planet.file.parameters.items():
-            unit = p.value.unit.to_string() or "1"
-            value = f"{p.value.value:.10g} +/- {p.uncertainty.value:.3g} {unit}"
-            lines.append(f"    {key}: {value}; {b.planet.source(key)}")
+        lines.append("  parameters (value +/- one sigma and unit as catalogued; source [status if not read]):")
+        for p in b.planet.parameter_list():
+            lines.append(f"    {p['name']}: {_catalogued(p)}; {b.planet.source(p['name'])}")
     else:
         where = f"--body-file {typed}" if typed else b.body
         lines.append(f"  (sources of every number: wobble chandler {where} --sources)")

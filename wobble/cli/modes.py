@@ -12,7 +12,7 @@ examples:
   wobble modes mars --json
   wobble modes earth mars -o modes.nc --overwrite
   wobble modes earth mars --plot modes.png
-  wobble modes earth --mode FCN --profile prem
+  wobble modes earth --mode FCN --profile prem    only the FCN rows (the same numbers as the full table)
   wobble example bodies/mars.toml my_mars.toml    a planet file to edit (a profile too: wobble example prem.toml), then:
   wobble modes --body-file my_mars.toml
 
@@ -46,7 +46,8 @@ def register(sub) -> None:
         "--mode",
         action="append",
         choices=("CW", "FCN"),
-        help="modes to compute (repeatable; default: every mode the body supports)",
+        help="show only this mode (repeatable; default: every mode the body supports); the numbers do not "
+        "change: every supported mode is computed, the Chandler wobble coupled to the liquid core",
     )
     add_outputs(p, "draw the mode periods against the core flattening")
     p.set_defaults(func=run)

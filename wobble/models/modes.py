@@ -479,8 +479,12 @@ class NormalModes:
     spin_rate : float
         Omega, rad/s.
     modes : tuple of Mode
-        CW (terrestrial), and with a liquid core FCN (terrestrial, celestial),
-        from the hydrostatic core flattening (a forward prediction).
+        The modes asked for (default: all): CW (terrestrial), and with a liquid core
+        FCN (terrestrial, celestial), from the hydrostatic core flattening (a forward
+        prediction).
+    computed : tuple of Mode
+        Every mode the parameters support, whichever were asked for: the physics
+        (coupling, periods, uncertainties) is always that of the whole planet.
     core_ellipticity_hydrostatic : float or None
         e_f used for the forward prediction.
     core_ellipticity_hydrostatic_sigma : float or None
@@ -514,10 +518,11 @@ class NormalModes:
     cw_rate_first_order: float
     core_flattening_excess_sigma: float | None
     contributions: dict
+    computed: tuple[Mode, ...] = ()
 
     def mode(self, name: str, frame: str = "terrestrial") -> Mode:
-        """The mode ``name`` in ``frame``."""
-        return find_mode(self.modes, name, frame)
+        """The mode ``name`` in ``frame`` (any computed mode, asked for or not)."""
+        return find_mode(self.computed or self.modes, name, frame)
 
     @property
     def core_flattening_excess(self) -> float | None:
@@ -576,24 +581,27 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
         uncertainties propagate into it (e.g. a profile rebuilt from the
         catalogued core).
     modes : tuple of str, optional
-        ``("CW",)``, ``("CW", "FCN")``; default: every mode the parameters support.
+        The modes to return in ``modes``: ``("CW",)``, ``("FCN",)``, ``("CW", "FCN")``;
+        default: every mode the parameters support. The choice never changes the
+        physics: every supported mode is computed (the Chandler wobble coupled to the
+        liquid core whenever the FCN can be computed) and kept in ``computed``.
         A requested mode whose parameters are missing is an InputError naming them.
     """
     e_of = core_ellipticity if callable(core_ellipticity) else None
     if e_of is not None:
         core_ellipticity = e_of(p)
-    if modes is None:
-        modes = supported_modes(p, core_ellipticity)
-    for name in modes:
+    supported = supported_modes(p, core_ellipticity)
+    wanted = supported if modes is None else tuple(modes)
+    for name in wanted:
         if name not in MODES:
             raise InputError("mode", name, f"one of {', '.join(MODES)}")
-    with_fcn = "FCN" in modes
-    if with_fcn:
+    if "FCN" in wanted:
         missing = _requirements(p, core_ellipticity)
         if missing:
             raise InputError(
                 missing[0].split(" ")[0], "not given", f"the free core nutation needs {', '.join(missing)}"
             )
+    with_fcn = "FCN" in supported
     e_f = core_ellipticity if with_fcn else 0.0
     spin = p.rotation_rate.value
     rates = mode_rates(p, e_f, coupled=with_fcn)
@@ -619,7 +627,7 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
     return NormalModes(
         name=p.name,
         spin_rate=spin,
-        modes=tuple(out),
+        modes=tuple(m for m in out if m.name in wanted),
         core_ellipticity_hydrostatic=core_ellipticity if with_fcn else None,
         core_ellipticity_hydrostatic_sigma=sig["e_hyd"] if with_fcn else None,
         core_ellipticity_required=required,
@@ -629,6 +637,7 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
         cw_rate_first_order=mode_rates(p, 0.0, coupled=False, second_order=False)["CW"][0],
         core_flattening_excess_sigma=sig["excess"] if required is not None else None,
         contributions=contributions,
+        computed=tuple(out),
     )
 
 
