@@ -62,9 +62,10 @@ def report(a) -> str:
         value = "unresolved (inf)" if not math.isfinite(q.value) else f"{q.value:.0f}"
         hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
         lines.append(
-            f"  Q (line shape; see caveats): ML {value}, 68 % {q.low:.0f} to {hi}, 95 % lower bound "
-            f"{q.lower_bound_95:.0f}"
+            f"  Q (line shape{'; caveats below' if q.caveats else ''}): ML {value}, 68 % {q.low:.0f} to {hi}, "
+            f"95 % lower bound {q.lower_bound_95:.0f}"
         )
+        lines += [f"    - {c}" for c in q.caveats]
     lines += ["", "  Beside the model (wobble chandler earth) and the literature; days of 86400 s:"]
     lines.append(f"  {'':<44}{'period [d]':>11}{'residual [d]':>14}")
     for r in a.comparison():

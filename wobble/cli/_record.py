@@ -1,5 +1,7 @@
 """What the commands on the IERS polar-motion record (``polar-motion``, ``excitation``, ``forecast``)
-share: the record's options, the outputs they write, and the way they report.
+share: the record's options, the outputs they write, the way they report, and the way they read
+their options as typed: :func:`parse_time` (a bare number is in the option's own unit, which its
+help states), :func:`parse_q` and :func:`as_typed` (an API error named as the option).
 
 Each command adds its own options around :func:`add_record` (or :func:`add_file`) and
 :func:`add_outputs`, builds one result object (``to_dict()``, ``summary()``, ``to_dataset()``)
@@ -8,9 +10,14 @@ and hands it to :func:`report` with its figure function.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import re
+from collections import namedtuple
 
-__all__ = ["add_file", "add_record", "add_outputs", "report"]
+from wobble.errors import InputError
+
+__all__ = ["add_file", "add_record", "add_outputs", "report", "Typed", "parse_time", "parse_q", "as_typed"]
 
 
 def add_file(p) -> None:
@@ -55,3 +62,76 @@ def report(args, result, figure: str, show=None) -> int:
         written.append(getattr(importlib.import_module(module), name)(result, args.plot, overwrite=args.overwrite))
     document = result.to_dict() if args.json else None
     return finish(args, document, show or (lambda: print(result.summary())), written)
+
+
+# An option's time as read: the Quantity, and the value as an error message shows it.
+Typed = namedtuple("Typed", ["quantity", "shown"])
+
+
+# A number as people type it, then whatever follows (the unit).
+_NUMBER_THEN_UNIT = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S.*?)\s*$")
+_UNIT_NAMES = {"d": "days", "yr": "years"}
+
+
+def parse_time(text, option: str, bare: str = "d", *, default: str | None = None) -> Typed | None:
+    """``option``'s time, e.g. 433d, 90 or 8 yr, as a :class:`Typed` (None when neither given nor defaulted).
+
+    A bare number is in ``bare`` ("d" or "yr", which the option's help states) and is shown as read
+    ("3.0 d"); a number with a unit keeps the unit typed ("5 yr", "-5 d"). ``default`` is the text
+    used when the option was not given; a message then says "(the default)".
+    """
+    if text is None:
+        if default is None:
+            return None
+        read = parse_time(default, option, bare)
+        return Typed(read.quantity, f"{read.shown} (the default)")
+    from astropy import units as u
+
+    raw = str(text).strip()
+    allowed = f"a time such as 433d, 90 or 8 yr (a bare number is {_UNIT_NAMES.get(bare, bare)})"
+    try:
+        value = float(raw)
+    except ValueError:
+        pass
+    else:
+        return Typed(value * u.Unit(bare), f"{value} {bare}")
+    try:
+        q = u.Quantity(raw)
+    except (ValueError, TypeError):
+        raise InputError(option, text, allowed) from None
+    if not q.isscalar or q.unit.physical_type != "time":
+        raise InputError(option, text, allowed)
+    match = _NUMBER_THEN_UNIT.fullmatch(raw)
+    return Typed(q, f"{match[1]} {match[2]}" if match else str(q))
+
+
+def parse_q(text):
+    """--q as a float (inf allowed); None when not given."""
+    if text is None:
+        return None
+    from wobble.api.polar_motion.forecast import Q_ALLOWED
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError("--q", text, Q_ALLOWED) from None
+    if not value >= 1.0:
+        raise InputError("--q", text, Q_ALLOWED)
+    return value
+
+
+@contextlib.contextmanager
+def as_typed(options: dict):
+    """InputErrors the API raises about its parameters, named as the options the user typed.
+
+    ``options`` maps an API parameter (``chandler_period``) to ``(option, shown)``: the option's
+    name as typed (``--period``) and its value as the user typed it (None: the API's own value,
+    e.g. a date or "121 d of data before it"). The API keeps its Python names.
+    """
+    try:
+        yield
+    except InputError as exc:
+        if exc.parameter not in options:
+            raise
+        option, shown = options[exc.parameter]
+        raise InputError(option, exc.value if shown is None else shown, exc.allowed) from None

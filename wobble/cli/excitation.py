@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from wobble.cli._record import add_outputs, add_record, report
-from wobble.errors import InputError
+from wobble.cli._record import add_outputs, add_record, as_typed, parse_q, parse_time, report
 
 EPILOG = """\
 examples:
@@ -18,9 +17,17 @@ The excitation chi = chi_1 + i chi_2 drives the pole p = x_p - i y_p through the
 Liouville equation p + (i/sigma_c) dp/dt = chi, sigma_c = 2 pi/T_c (1 + i/(2Q))
 (Munk & MacDonald 1960; Gross 1992; Brzezinski 1992), inverted exactly for daily
 data with chi constant over each day (Wilson 1985's filter without its small-step
-approximation). Running it forward rebuilds the record (round_trip_rms_mas). T_c is
-wobble's least-squares period of the record and Q that of its Chandler budget
-(anelastic Love number) unless given. Amplitudes in milliarcseconds (mas).
+approximation). Running it forward rebuilds the record (round_trip_rms_mas).
+T_c is wobble's least-squares period of the whole record in --file unless given,
+also when --start/--end choose a part of it: the period is the Earth's, and a few
+years measure it poorly (the output says which span it comes from). A given T_c
+(--period; a bare number is days) must lie from 136 d to 1217 d: a frequency of
+0.3 to 2.7 cycles per year, so that the Chandler band and the neighbourhood its
+peak is compared with lie inside the 3 cycles per year of the spectra, clear of
+the mean pole at zero frequency (the daily record itself resolves down to 2 d).
+Q is that of wobble's Chandler budget (anelastic Love number) unless given, at
+least 1 (the free wobble decays by exp(-pi/Q) a cycle) or inf. The span must be
+two years or more. Amplitudes in milliarcseconds (mas).
 """
 
 
@@ -36,10 +43,15 @@ def register(sub) -> None:
     )
     add_record(p)
     p.add_argument(
-        "--period", metavar="T", help="Chandler period T_c, e.g. 433d (default: wobble's estimate from the record)"
+        "--period",
+        metavar="T",
+        help="Chandler period T_c, from 136 d to 1217 d, e.g. 433d or 433 (a bare number is days; default: "
+        "wobble's least-squares period of the whole record, also for a part of it chosen by --start/--end)",
     )
     p.add_argument(
-        "--q", metavar="Q", help="quality factor Q > 0, or inf (default: wobble's Chandler budget, about 82)"
+        "--q",
+        metavar="Q",
+        help="quality factor Q >= 1, or inf (undamped) (default: wobble's Chandler budget, about 82)",
     )
     add_outputs(
         p,
@@ -49,46 +61,22 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def parse_q(text):
-    """--q as a float (inf allowed); None when not given."""
-    if text is None:
-        return None
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError("--q", text, "a quality factor Q > 0, e.g. 100, or inf") from None
-    if not value > 0:
-        raise InputError("--q", text, "a quality factor Q > 0, e.g. 100, or inf")
-    return value
-
-
-def parse_days(text, name):
-    """A time such as 433d, 365 d or 1 yr as a Quantity (a bare number is days); None when not given."""
-    if text is None:
-        return None
-    from astropy import units as u
-
-    raw = str(text).strip()
-    try:
-        value = float(raw)
-        return value * u.day
-    except ValueError:
-        pass
-    try:
-        q = u.Quantity(raw)
-    except (ValueError, TypeError):
-        raise InputError(name, text, "a time such as 365d, 8 yr or a number of days") from None
-    if q.unit.physical_type != "time":
-        raise InputError(name, text, "a time such as 365d, 8 yr or a number of days")
-    return q
-
-
 def run(args) -> int:
     from wobble.api.polar_motion.excitation import geodetic_excitation
     from wobble.cli._output import check_outputs
 
     q = parse_q(args.q)
-    period = parse_days(args.period, "--period")
+    period = parse_time(args.period, "--period", "d")
     check_outputs(args)
-    ex = geodetic_excitation(args.file, start=args.start, end=args.end, chandler_period=period, q=q)
+    options = {
+        "chandler_period": ("--period", period and period.shown),
+        "q": ("--q", None),
+        "start": ("--start", None),
+        "end": ("--end", None),
+        "start/end": ("--start/--end", None),
+    }
+    with as_typed(options):
+        ex = geodetic_excitation(
+            args.file, start=args.start, end=args.end, chandler_period=period and period.quantity, q=q
+        )
     return report(args, ex, "wobble.plot.excitation:save_excitation_figure")

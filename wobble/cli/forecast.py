@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 
 from wobble.cli._record import add_file, add_outputs, report
 from wobble.errors import InputError
@@ -21,19 +22,23 @@ with seasonal terms and a mean-pole drift, filtered with maximum-likelihood nois
 (Liouville equation: Munk & MacDonald 1960; Gross 1992; Kalman filter: Durbin & Koopman
 2012); ls_ar, least squares of trend, Chandler, annual and semi-annual terms plus an
 autoregressive model of the residuals (Kosek et al. 1998; Kalarus et al. 2010). Both use
-the Chandler period wobble measures before the issue date. A forecast uses the record up
-to the issue date minus its publication delay (--latency; default 30 d for C04, 1 d for
-finals2000A). The 68 % and 95 % intervals are calibrated on the method's own past
-forecasts: the same method issued every week over the --calibration-span (default 2yr)
-before, each from its own data; per lead time, the split-conformal quantile of the
-errors (over their stated sigma) whose outcomes were known at the issue date minus the
-latency (Vovk, Gammerman & Shafer 2005). --no-calibration gives the models' Gaussian
-+/- sigma instead.
+the Chandler period wobble measures by least squares in the 30 years of record before
+the issue date minus the latency (the output names that span; 'wobble polar-motion'
+measures the whole record). A forecast uses the record up to the issue date minus its
+publication delay (--latency; default 30 d for C04, 1 d for finals2000A). The 68 % and
+95 % intervals are calibrated on the method's own past forecasts: the same method issued
+every week over the --calibration-span (default 2yr) before, each from its own data; per
+lead time, the split-conformal quantile of the errors (over their stated sigma) whose
+outcomes were known at the issue date minus the latency (Vovk, Gammerman & Shafer 2005).
+--no-calibration gives the models' Gaussian +/- sigma instead. Each value is shown to
+the decimal place of its +/- (two significant digits).
 --hindcast START:END issues forecasts every --every over the span and scores them
 (MAE and RMS per component and for the 2-D pole, interval coverage, skill against
 persistence and the least-squares extrapolation) beside Dill et al. (2023); the
 2016-2020 weekly hindcast of the documentation is --hindcast 2016-01-01:2021-01-01
 --every 7d --latency 1d (about a minute of CPU on two cores).
+A bare number (no unit) in --horizon, --latency, --calibration-span and --every is
+days; dates are days (0 h UTC) of the daily record.
 """
 
 
@@ -47,38 +52,47 @@ def register(sub) -> None:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--issued", metavar="DATE", help="issue date (default: the record's last day plus the latency)")
+    p.add_argument(
+        "--issued", metavar="DATE", help="issue date, a day (default: the record's last day plus the latency)"
+    )
     p.add_argument(
         "--horizon",
         metavar="T",
-        default="365d",
-        help="how far ahead, e.g. 365d or 90 (days; default 365d, at most 3 years)",
+        help="how far ahead, from 1 d to 3 years, e.g. 365d or 90 (a bare number is days; default 365d)",
     )
     p.add_argument("--method", help="kalman (default) or ls_ar; with --hindcast: both (default), kalman or ls_ar")
     add_file(p)
     p.add_argument(
         "--latency",
         metavar="T",
-        help="publication delay of the record, e.g. 1d (default: 30 d for C04, 1 d for finals2000A)",
+        help="publication delay of the record, whole days from 0 to 365, e.g. 1d or 1 (a bare number is days; "
+        "default: 30 d for C04, 1 d for finals2000A)",
     )
     p.add_argument(
         "--q",
         metavar="Q",
-        help="quality factor of the Chandler wobble, Q > 0 (default: wobble's Chandler budget, about 82)",
+        help="quality factor of the Chandler wobble in the kalman model, Q >= 1 or inf (default: wobble's "
+        "Chandler budget, about 82)",
     )
     p.add_argument(
         "--calibration-span",
         metavar="T",
-        help="span of past issue dates whose errors calibrate the intervals (default: 2yr)",
+        help="span of past issue dates whose errors calibrate the intervals, from 26 weeks (182 d) to 30 yr, "
+        "e.g. 3yr or 400 (a bare number is days; default: 2yr)",
     )
     p.add_argument(
         "--no-calibration", action="store_true", help="the models' Gaussian intervals, not calibrated on past forecasts"
     )
     p.add_argument("--hindcast", metavar="START:END", help="issue forecasts over this span of dates and score them")
-    p.add_argument("--every", metavar="T", default="7d", help="spacing of the hindcast's issue dates (default: 7d)")
+    p.add_argument(
+        "--every",
+        metavar="T",
+        help="with --hindcast: spacing of its issue dates, whole days, e.g. 14d or 14 (a bare number is days; "
+        "default: 7d)",
+    )
     p.add_argument(
         "--scheduler",
-        help="hindcast on a dask scheduler: threads, processes, synchronous or an address (default: a local "
+        help="with --hindcast: a dask scheduler, threads, processes, synchronous or an address (default: a local "
         "process pool)",
     )
     add_outputs(
@@ -102,48 +116,73 @@ def _methods(text, hindcast: bool):
 
 def run(args) -> int:
     from wobble.cli._output import check_outputs
-    from wobble.cli.excitation import parse_days, parse_q
+    from wobble.cli._record import as_typed, parse_q, parse_time
 
-    horizon = parse_days(args.horizon, "--horizon")
-    latency = parse_days(args.latency, "--latency")
-    q = parse_q(args.q)
-    span = parse_days(args.calibration_span, "--calibration-span")
     hindcast = args.hindcast is not None
+    for option, value in (("--every", args.every), ("--scheduler", args.scheduler)):
+        if value is not None and not hindcast:
+            raise InputError(option, value, "only with --hindcast START:END (a forecast is issued once)")
+    if hindcast and args.issued is not None:
+        raise InputError("--issued", args.issued, "no --issued with --hindcast (its START:END are the issue dates)")
+    horizon = parse_time(args.horizon, "--horizon", "d", default="365d")
+    latency = parse_time(args.latency, "--latency", "d")
+    q = parse_q(args.q)
+    span = parse_time(args.calibration_span, "--calibration-span", "d", default="2yr")
+    every = parse_time(args.every, "--every", "d", default="7d")
     methods = _methods(args.method, hindcast)
+    if q is not None and "kalman" not in methods:
+        raise InputError("--q", args.q, "no --q with --method ls_ar (Q damps the kalman model's oscillator)")
     check_outputs(args)
+    options = {
+        "horizon": ("--horizon", horizon.shown),
+        "latency": ("--latency", latency and latency.shown),
+        "calibration_span": ("--calibration-span", span.shown),
+        "every": ("--every", every.shown),
+        "q": ("--q", None),
+        "issued": ("--issued", None),
+        "method": ("--method", None),
+        "methods": ("--method", None),
+        "scheduler": ("--scheduler", None),
+        "start": ("--hindcast START", None),
+        "end": ("--hindcast END", None),
+    }
+    # The API's defaults are the help's; None keeps "not given" (the latency: the record's own).
+    calibration_span = span.quantity if args.calibration_span is not None else None
     if hindcast:
         from wobble.api.polar_motion.hindcast import hindcast_polar_motion
 
         if args.hindcast.count(":") != 1:
             raise InputError("--hindcast", args.hindcast, "START:END, e.g. 2016-01-01:2021-01-01")
         start, end = args.hindcast.split(":")
-        result = hindcast_polar_motion(
-            args.file,
-            start=start,
-            end=end,
-            every=parse_days(args.every, "--every"),
-            horizon=horizon,
-            methods=methods,
-            latency=latency,
-            q=q,
-            scheduler=args.scheduler,
-            calibrated=not args.no_calibration,
-            calibration_span=span,
-        )
+        with as_typed(options):
+            result = hindcast_polar_motion(
+                args.file,
+                start=start,
+                end=end,
+                every=every.quantity,
+                horizon=horizon.quantity,
+                methods=methods,
+                latency=latency and latency.quantity,
+                q=q,
+                scheduler=args.scheduler,
+                calibrated=not args.no_calibration,
+                calibration_span=calibration_span,
+            )
     else:
         from wobble.api.polar_motion.forecast import forecast_polar_motion
 
-        if args.issued is not None and ":" in args.issued:
+        if args.issued is not None and re.match(r"\s*\d{4}[-.\d]*\s*:\s*\d{4}", args.issued):
             raise InputError("--issued", args.issued, "one date (a span of issue dates goes with --hindcast)")
-        result = forecast_polar_motion(
-            args.file,
-            issued=args.issued,
-            horizon=horizon,
-            method=methods[0],
-            latency=latency,
-            q=q,
-            calibrated=not args.no_calibration,
-            calibration_span=span,
-        )
+        with as_typed(options):
+            result = forecast_polar_motion(
+                args.file,
+                issued=args.issued,
+                horizon=horizon.quantity,
+                method=methods[0],
+                latency=latency and latency.quantity,
+                q=q,
+                calibrated=not args.no_calibration,
+                calibration_span=calibration_span,
+            )
     figure = "save_hindcast_figure" if hindcast else "save_forecast_figure"
     return report(args, result, f"wobble.plot.forecast:{figure}")

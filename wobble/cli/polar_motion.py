@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 
@@ -23,8 +24,10 @@ with the astropy-iers-data package. Dates are UTC: 2015-01-01, 2015-06, 2015 or
 positive frequency. The period is found by nonlinear least squares and,
 independently, from the peak of the two-sided spectrum; its uncertainty allows for
 the strongly autocorrelated residuals (Newey & West 1987), the scatter over
-sub-spans and a randomly excited wobble of Q = 100 (--excitation-q). Days are days
-of 86400 s; amplitudes are in milliarcseconds (mas). No network is used.
+sub-spans and a randomly excited wobble of Q = 100 (--excitation-q). A bare number
+in --window and --step is years (Julian, 365.25 d); days are days of 86400 s;
+amplitudes are in milliarcseconds (mas). Q (skipped by --no-q, and for spans under
+20 years) is printed with its caveats. No network is used.
 """
 
 
@@ -39,16 +42,29 @@ def register(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_record(p)
-    p.add_argument("--window", metavar="YEARS", default="8", help="length of the sliding windows in years (default: 8)")
-    p.add_argument("--step", metavar="YEARS", default="1", help="spacing of the windows in years (default: 1)")
     p.add_argument(
-        "--drift-degree", metavar="N", type=int, default=2, help="degree of the mean-pole polynomial (default: 2)"
+        "--window",
+        metavar="T",
+        help="length of the sliding windows, at least 2 yr, e.g. 8 or 2920d (a bare number is years; default: 8)",
+    )
+    p.add_argument(
+        "--step",
+        metavar="T",
+        help="spacing of the windows, at least 1 d, e.g. 1 or 26 week (a bare number is years; default: 1)",
+    )
+    p.add_argument(
+        "--drift-degree",
+        metavar="N",
+        type=int,
+        default=2,
+        help="degree of the mean-pole polynomial, 0 to 6 (default: 2)",
     )
     p.add_argument(
         "--excitation-q",
         metavar="Q",
         default="100",
-        help="Q of the randomly excited wobble in the Monte-Carlo part of the uncertainty, or 'none' (default: 100)",
+        help="Q of the randomly excited wobble in the Monte-Carlo part of the uncertainty, finite and above 1, or "
+        "'none' to leave that part out (default: 100)",
     )
     p.add_argument("--no-q", action="store_true", help="skip the quality-factor estimate")
     add_outputs(
@@ -59,23 +75,17 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _years(text: str, name: str):
-    from astropy import units as u
-
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(name, text, "a number of years, e.g. 8") from None
-    return value * u.yr
-
-
 def _q(text: str) -> float | None:
+    allowed = "a finite quality factor above 1, e.g. 100, or 'none'"
     if text.strip().lower() == "none":
         return None
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        raise InputError("--excitation-q", text, "a quality factor above 1, or 'none'") from None
+        raise InputError("--excitation-q", text, allowed) from None
+    if not (math.isfinite(value) and value > 1.0):
+        raise InputError("--excitation-q", text, allowed)
+    return value
 
 
 class Progress:
@@ -97,23 +107,35 @@ class Progress:
 def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
     from wobble.cli._output import check_outputs
+    from wobble.cli._record import as_typed, parse_time
 
-    window = _years(args.window, "--window")
-    step = _years(args.step, "--step")
+    window = parse_time(args.window, "--window", "yr", default="8")
+    step = parse_time(args.step, "--step", "yr", default="1")
+    excitation_q = _q(args.excitation_q)
     check_outputs(args)
+    options = {
+        "window": ("--window", window.shown),
+        "step": ("--step", step.shown),
+        "drift_degree": ("--drift-degree", None),
+        "excitation_q": ("--excitation-q", None),
+        "start": ("--start", None),
+        "end": ("--end", None),
+        "start/end": ("--start/--end", None),
+    }
     progress = Progress()
     try:
-        analysis = polar_motion_analysis(
-            args.file,
-            start=args.start,
-            end=args.end,
-            window=window,
-            step=step,
-            drift_degree=args.drift_degree,
-            excitation_q=_q(args.excitation_q),
-            quality_factor=not args.no_q,
-            progress=progress,
-        )
+        with as_typed(options):
+            analysis = polar_motion_analysis(
+                args.file,
+                start=args.start,
+                end=args.end,
+                window=window.quantity,
+                step=step.quantity,
+                drift_degree=args.drift_degree,
+                excitation_q=excitation_q,
+                quality_factor=not args.no_q,
+                progress=progress,
+            )
     finally:
         progress.done()
 

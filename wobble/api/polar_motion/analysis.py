@@ -287,6 +287,7 @@ class PolarMotionAnalysis:
             lines.append(
                 f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}"
             )
+            lines += [f"    Q caveat: {c}" for c in q.caveats]
         pub = self.published
         lines.append(
             f"  model (wobble.chandler_budget('earth')) {pm(self.budget.period, self.budget.period_uncertainty, 1)} d; "
@@ -342,7 +343,7 @@ def polar_motion_analysis(
         years and at most the span; under the 6.4-yr Chandler-annual beat
         the windows barely separate the two terms).
     step : Quantity
-        Spacing of the windows (default 1 year).
+        Spacing of the windows (default 1 year; at least 1 d, the sampling).
     quality_factor : bool
         Also estimate Q from the line shape (spans of 20 years or more).
     progress : callable, optional
@@ -358,8 +359,12 @@ def polar_motion_analysis(
     # A file (or None, the shipped C04 series) is read into plain arrays: the Dataset is built only if
     # the caller asks for it (PolarMotionAnalysis.data), so the JSON and the text never import xarray.
     mjd, t, z, record = resolve_series(data, start, end)
-    window_s = to_si(window, "window", u.s, positive=True, shape=())
-    step_s = to_si(step, "step", u.s, positive=True, shape=())
+    # Non-positive and non-finite lengths meet the range checks below (which say what is allowed).
+    window_s = to_si(window, "window", u.s, finite=False, shape=())
+    step_s = to_si(step, "step", u.s, finite=False, shape=())
+    if not (math.isfinite(step_s) and step_s >= _pm.DAY * (1 - 1e-9)):
+        # Windows moved by less than a sample are the same windows (and 0.001 yr made 64,000 of them).
+        raise InputError("step", step, "at least 1 d (the sampling of the record)")
     q_value = q_arg(excitation_q)
     span = t[-1] - t[0]
     if span < _pm.MIN_SPAN:
@@ -368,7 +373,7 @@ def polar_motion_analysis(
             f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}",
             f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)",
         )
-    if not _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9):
+    if not (math.isfinite(window_s) and _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9)):
         raise InputError(
             "window",
             window,

@@ -8,8 +8,11 @@ True
 The excitation chi = chi_1 + i chi_2 is what drives the pole through the
 Liouville equation with the complex Chandler frequency
 sigma_c = 2 pi / T_c (1 + i / (2Q)) (:mod:`wobble.models.polar_motion.excitation`).
-T_c and Q are wobble's own: the least-squares period of the whole record and
-the Q of the Chandler budget's anelastic step, unless given.
+T_c and Q are wobble's own: the least-squares period of the whole record
+given (also when ``start``/``end`` choose a part of it: the period is the
+Earth's, and a few years of record measure it poorly) and the Q of the
+Chandler budget's anelastic step, unless given. A given T_c must lie from
+136 d to 1217 d (:data:`PERIOD_RANGE`), Q at least 1 (or inf).
 """
 
 from __future__ import annotations
@@ -35,6 +38,29 @@ __all__ = ["GeodeticExcitation", "geodetic_excitation"]
 #: The prograde Chandler band of the band-passed amplitudes: +/- 0.1 cycle per year around 1/T_c.
 _BAND = 0.1 * 2 * math.pi / (365.25 * DAY)
 _YEAR = 365.25 * DAY
+#: The spectra cover -3 .. 3 cycles per year; the Chandler peak is compared with its neighbourhood
+#: 0.1 to 0.3 cycle per year away (:meth:`GeodeticExcitation.to_dict`).
+_SPECTRUM_CPY = 3.0
+_NEIGHBOURHOOD_CPY = 0.3
+#: The Chandler periods the analysis supports, s: a frequency from 0.3 to 2.7 cycles per year, so that
+#: the Chandler band and its neighbourhood lie on the prograde side of the spectra, clear of zero
+#: frequency (the mean pole) and inside their 3 cycles per year; 136 d to 1217 d, far above the
+#: 2-d Nyquist period of the daily record.
+PERIOD_RANGE = (_YEAR / (_SPECTRUM_CPY - _NEIGHBOURHOOD_CPY), _YEAR / _NEIGHBOURHOOD_CPY)
+PERIOD_ALLOWED = (
+    f"a Chandler period from {math.ceil(PERIOD_RANGE[0] / DAY):.0f} d to {math.floor(PERIOD_RANGE[1] / DAY):.0f} d "
+    f"(a frequency of {_NEIGHBOURHOOD_CPY:g} to {_SPECTRUM_CPY - _NEIGHBOURHOOD_CPY:g} cycles per year: the "
+    f"Chandler band and the neighbourhood it is compared with inside the {_SPECTRUM_CPY:g} cycles per year of the "
+    "spectra, clear of the mean pole at zero frequency)"
+)
+
+
+def check_chandler_period(chandler_period) -> float:
+    """A given T_c in s (a Quantity of time inside :data:`PERIOD_RANGE`), else InputError naming ``chandler_period``."""
+    period = float(to_si(chandler_period, "chandler_period", u.s, finite=False, shape=()))
+    if not (math.isfinite(period) and PERIOD_RANGE[0] <= period <= PERIOD_RANGE[1]):
+        raise InputError("chandler_period", chandler_period, PERIOD_ALLOWED)
+    return period
 
 
 class GeodeticExcitation:
@@ -48,16 +74,20 @@ class GeodeticExcitation:
     chi_1, chi_2 : Quantity
         The excitation, mas (NaN at the first sample, which starts the record).
     chandler_period : Quantity
+    chandler_period_source : str
+        Where T_c comes from: ``"given"``, or the span of the least-squares fit (the whole
+        record, also when the excitation is of a part of it).
     quality_factor : float
     round_trip_rms : Quantity
         RMS distance between the record and the pole rebuilt by running the
         excitation forward (a check of the pair of equations; rounding only).
     """
 
-    def __init__(self, mjd, p, chi, p_back, period, q, source):
+    def __init__(self, mjd, p, chi, p_back, period, q, source, period_source="given"):
         self.time_mjd = mjd
         self._p, self._chi, self._back = p, chi, p_back
         self.chandler_period = (period / DAY) << u.day
+        self.chandler_period_source = period_source
         self.quality_factor = q
         self.source = source
         c = np.concatenate([[np.nan + 0j], chi])
@@ -119,13 +149,17 @@ class GeodeticExcitation:
         """The JSON of ``wobble excitation --json``."""
         f, ac, ap = self.spectra()
         pc = 1 / self.chandler_period.to_value(u.yr)
-        near = np.abs(f - pc) < 0.05
-        ring = (np.abs(f - pc) > 0.1) & (np.abs(f - pc) < 0.3) & (np.abs(np.abs(f) - 1.0) > 0.05)
+        # The peak: within 0.05 cycle/yr of 1/T_c, or the nearest frequency of the grid when it is coarser
+        # (two years of record: 0.125 cycle/yr); the neighbourhood: 0.1 to 0.3 cycle/yr away, off the annual lines.
+        step = float(f[1] - f[0])
+        near = np.abs(f - pc) <= max(0.05, 0.5 * step * (1 + 1e-9))
+        ring = (np.abs(f - pc) > 0.1) & (np.abs(f - pc) < _NEIGHBOURHOOD_CPY) & (np.abs(np.abs(f) - 1.0) > 0.05)
         return {
             "start": iso_date(float(self.time_mjd[0])),
             "end": iso_date(float(self.time_mjd[-1])),
             "n_samples": int(self.time_mjd.size),
             "chandler_period_days": float(self.chandler_period.value),
+            "chandler_period_source": self.chandler_period_source,
             "quality_factor": self.quality_factor,
             "round_trip_rms_mas": float(self.round_trip_rms.value),
             "chi_1_rms_mas": float(np.sqrt(np.nanmean(self.chi_1.value**2))),
@@ -197,7 +231,7 @@ class GeodeticExcitation:
         d = self.to_dict()
         lines = [
             f"Geodetic excitation {d['start']} to {d['end']} ({d['n_samples']} samples): T_c = "
-            f"{d['chandler_period_days']:.2f} d, Q = {d['quality_factor']:.1f}",
+            f"{d['chandler_period_days']:.1f} d ({d['chandler_period_source']}), Q = {d['quality_factor']:.3g}",
             f"  chi_1 RMS {d['chi_1_rms_mas']:.1f} mas, chi_2 RMS {d['chi_2_rms_mas']:.1f} mas; round trip "
             f"(inverse then forward) RMS {d['round_trip_rms_mas']:.2e} mas",
             f"  Chandler peak over its neighbourhood: pole {d['chandler_peak_over_neighbours']['pole']:.1f}x, "
@@ -225,34 +259,41 @@ def geodetic_excitation(
     start, end : date, optional
         The span (UTC dates).
     chandler_period : Quantity, optional
-        T_c (default: wobble's least-squares period of the whole record given).
+        T_c, from 136 d to 1217 d (default: wobble's least-squares period of the whole record given, also
+        when ``start``/``end`` choose a part of it: T_c is the Earth's, not the span's).
     q : float, optional
-        Q (default: the anelastic step of ``wobble.chandler_budget('earth')``, about 82; inf: undamped).
+        Q, at least 1 (default: the anelastic step of ``wobble.chandler_budget('earth')``, about 82; inf:
+        undamped).
 
     Returns
     -------
     GeodeticExcitation
+
+    Raises
+    ------
+    wobble.errors.InputError
+        A ``chandler_period`` outside 136 d to 1217 d (:data:`PERIOD_RANGE`), Q below 1, a span
+        (``start``/``end``) shorter than two years, the span of the spectra.
     """
     q_value = default_q() if q is None else check_q(q)
+    given = None if chandler_period is None else check_chandler_period(chandler_period)
     # A file (or the shipped series) is read into plain arrays: the JSON and the text need no
     # Dataset, so xarray and pandas are imported only for -o and --plot (as in polar-motion).
     mjd_all, t_all, z_all, attrs = series_with_attrs(data, file)
-    if chandler_period is None:
-        reference = published_chandler_period()["period"].to_value(u.s)
-        if t_all[-1] - t_all[0] < MIN_SPAN:
-            raise InputError(
-                "data",
-                "a record shorter than two years",
-                "two years or more to measure the Chandler period, or chandler_period=",
-            )
-        period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
-    else:
-        period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
     keep = slice(None) if start is None and end is None else select_dates(mjd_all, start, end)
     mjd, t, z = mjd_all[keep], t_all[keep], z_all[keep]
-    if t.size < 3:
-        raise InputError("start/end", f"{start} to {end}", "a span of at least three samples")
+    if t.size < 2 or t[-1] - t[0] < MIN_SPAN:
+        # The spectra and the Chandler peak of to_dict() need two years (a period needs two cycles).
+        span = f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({(t[-1] - t[0]) / DAY:.0f} d)" if t.size else "no data"
+        allowed = f"a span of at least {MIN_SPAN / DAY:.0f} d (two years), for the spectra and the Chandler peak"
+        raise InputError("data" if start is None and end is None else "start/end", span, allowed)
+    if given is None:
+        reference = published_chandler_period()["period"].to_value(u.s)
+        period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
+        source = f"least squares of the whole record, {iso_date(mjd_all[0])} to {iso_date(mjd_all[-1])}"
+    else:
+        period, source = given, "given"
     sigma = _ex.chandler_frequency(period, q_value)
     chi = _ex.excitation_from_pole(t, z, sigma)
     back = _ex.pole_from_excitation(t, chi, sigma, z[0])
-    return GeodeticExcitation(mjd, z, chi, back, period, q_value, attrs.get("source_file", ""))
+    return GeodeticExcitation(mjd, z, chi, back, period, q_value, attrs.get("source_file", ""), source)

@@ -41,6 +41,7 @@ from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_a
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
+from wobble.io.text import with_uncertainty
 from wobble.models.polar_motion import forecast as _fc
 from wobble.models.polar_motion import forecast_calibration as _cal
 from wobble.models.polar_motion.least_squares import fit_least_squares
@@ -80,14 +81,19 @@ def default_q() -> float:
     return float(chandler_budget("earth").quality_factor)
 
 
+#: What a quality factor may be: the free wobble's amplitude falls by exp(-pi / Q) a cycle, so under
+#: Q = 1 (a factor 23 a cycle) there is no wobble left to speak of.
+Q_ALLOWED = "a quality factor Q >= 1 (e.g. 100; the free wobble decays by exp(-pi/Q) a cycle), or inf (undamped)"
+
+
 def check_q(q) -> float:
-    """Q > 0 (inf allowed: undamped)."""
+    """Q >= 1 (inf allowed: undamped)."""
     try:
         value = float(q)
     except (TypeError, ValueError):
-        raise InputError("q", q, "a quality factor Q > 0") from None
-    if not value > 0:
-        raise InputError("q", q, "a quality factor Q > 0")
+        raise InputError("q", q, Q_ALLOWED) from None
+    if not value >= 1.0:
+        raise InputError("q", q, Q_ALLOWED)
     return value
 
 
@@ -98,13 +104,20 @@ def chandler_period_before(t, z, cutoff: float) -> float:
     return fit_least_squares(t[use], z[use], reference_period=reference, uncertainty=False).chandler.period
 
 
+#: What a calibration span may be (the shortest holds MIN_COUNT forecasts a week apart).
+CALIBRATION_SPAN_ALLOWED = (
+    f"a span from {_cal.MIN_COUNT * _cal.STEP / (7 * DAY):.0f} weeks ({_cal.MIN_COUNT * _cal.STEP / DAY:g} d, "
+    f"{_cal.MIN_COUNT} past forecasts a week apart) to 30 yr"
+)
+
+
 def calibration_span_si(span) -> float:
     """The calibration span in s: from 26 weeks to 30 years (a Quantity of time; None: the default, 2 years)."""
     if span is None:
         return _cal.SPAN
     value = float(to_si(span, "calibration_span", u.s, shape=()))
     if not (math.isfinite(value) and _cal.MIN_COUNT * _cal.STEP - 1e-6 <= value <= 30 * 365.25 * DAY):
-        raise InputError("calibration_span", span, f"a span from {_cal.MIN_COUNT * _cal.STEP / DAY:g} d to 30 yr")
+        raise InputError("calibration_span", span, CALIBRATION_SPAN_ALLOWED)
     return value
 
 
@@ -124,15 +137,22 @@ def calibration_text(cal) -> str:
     )
 
 
+def whole_days(seconds: float) -> bool:
+    """Whether ``seconds`` is a whole number of days (the record is daily: a forecast issued between two
+    samples, or a latency of a day and a half, would score its past forecasts at times the record lacks)."""
+    days = float(seconds) / DAY
+    return math.isfinite(days) and abs(days - round(days)) <= 1e-9 * max(1.0, abs(days))
+
+
 def latency_si(latency, attrs) -> float:
-    """The record's publication delay in s: ``latency`` (a time Quantity, 0 d to 1 yr) or the default of
-    the record whose Dataset's global attributes are ``attrs``."""
+    """The record's publication delay in s: ``latency`` (a time Quantity, a whole number of days from 0 d to
+    365 d) or the default of the record whose Dataset's global attributes are ``attrs``."""
     if latency is None:
         return default_latency(attrs)
     value = float(to_si(latency, "latency", u.s, shape=()))
-    if not (math.isfinite(value) and 0 <= value <= 365.25 * DAY):
-        raise InputError("latency", latency, "a delay from 0 d to 1 yr")
-    return value
+    if not (math.isfinite(value) and 0 <= value <= 365 * DAY + 1e-6 and whole_days(value)):
+        raise InputError("latency", latency, "a whole number of days from 0 d to 365 d (the record is daily)")
+    return float(round(value / DAY)) * DAY
 
 
 class PolarMotionForecast:
@@ -159,12 +179,16 @@ class PolarMotionForecast:
         intervals, +/- 1 and 1.96 sigma); :meth:`bounds` gives the intervals either way.
     chandler_period : Quantity
         The Chandler period the forecast used, days.
+    chandler_period_span : tuple of str or None
+        First and last day of the record whose least squares gave it (the 30 years up to the
+        issue date minus the latency, or less of a shorter record); None: the period was given.
     raw : wobble.models.polar_motion.forecast.Forecast
         The SI result of the model layer.
     """
 
-    def __init__(self, raw: _fc.Forecast, latency: float, source: str, q: float | None):
+    def __init__(self, raw: _fc.Forecast, latency: float, source: str, q: float | None, period_span=None):
         self.raw = raw
+        self.chandler_period_span = period_span
         self.method = raw.method
         self.issued = mjd_time(MJD_J2000 + raw.issued / DAY)
         self.last_data = mjd_time(MJD_J2000 + raw.last_data / DAY)
@@ -230,6 +254,7 @@ class PolarMotionForecast:
             "latency_days": float(self.latency.value),
             "last_data": self.last_data.iso[:10],
             "chandler_period_days": float(self.chandler_period.value),
+            "chandler_period_span": None if self.chandler_period_span is None else list(self.chandler_period_span),
             "quality_factor": self.q,
             "source_file": self.source,
             "intervals": calibration_text(self.calibration),
@@ -302,7 +327,7 @@ class PolarMotionForecast:
         cal = self._calibration_dict()
         ds.attrs = {
             "title": f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}",
-            "summary": self.summary().splitlines()[0],
+            "summary": "; ".join(line.strip() for line in self.summary().splitlines()[:2]),
             "references": _REFERENCES[self.method]
             + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
             "source_file": self.source,
@@ -326,19 +351,31 @@ class PolarMotionForecast:
 
     def summary(self) -> str:
         """A few lines for a person: the forecast at a few lead times with its 68 % interval."""
+        if self.chandler_period_span is None:
+            source = "given"
+        else:
+            first, last = self.chandler_period_span
+            years = (to_mjd(last, "last") - to_mjd(first, "first")) / 365.25
+            source = f"least squares of the {years:.0f} years of record {first} to {last}"
         lines = [
             f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}, data to {self.last_data.iso[:10]} "
-            f"(latency {self.latency.value:g} d); Chandler period {self.chandler_period.value:.1f} d",
-            f"  {'lead [d]':>8}  {'date':>10}  {'x_p [mas]':>16}  {'y_p [mas]':>16}",
+            f"(latency {self.latency.value:g} d)",
+            f"  Chandler period {self.chandler_period.value:.1f} d ({source})",
+            f"  {'lead [d]':>8}  {'date':>10}  {'x_p [mas]':>17}  {'y_p [mas]':>17}",
         ]
         n = len(self.lead)
         h = self.half_width(68)
+
+        def pm(value, sigma) -> str:
+            # The value to the decimal place of its +/-'s two significant digits, aligned on the +/-.
+            number, _, plus = with_uncertainty(float(value), float(sigma)).partition(" +/- ")
+            return f"{number:>8} +/- {plus:<4}"
+
         for k in sorted({0, 4, 9, 29, 89, 179, 364, n - 1}):
             if k < n:
                 lines.append(
                     f"  {int(self.lead[k].value):8d}  {iso_date(float(self.time_mjd[k]))}  "
-                    f"{self.x[k].value:8.2f} +/- {h['x'][k].value:5.2f}  {self.y[k].value:8.2f} +/- "
-                    f"{h['y'][k].value:5.2f}"
+                    f"{pm(self.x[k].value, h['x'][k].value)}  {pm(self.y[k].value, h['y'][k].value)}".rstrip()
                 )
         if self.calibration is None:
             lines.append("  (+/- one sigma of the model: the 68 % interval if its errors are Gaussian; not calibrated)")
@@ -392,19 +429,21 @@ def forecast_polar_motion(
     file : path, optional
         A C04 or finals2000A file instead of ``data``.
     issued : date, optional
-        Issue date (UTC; default: the last day of the record plus the latency, the day its
+        Issue date, a day (0 h UTC; default: the last day of the record plus the latency, the day its
         last value became available).
     horizon : Quantity
         How far ahead, from 1 d to 3 years (default 365 d), in daily steps.
     method : str
         ``kalman`` (default) or ``ls_ar``.
     latency : Quantity, optional
-        Publication delay of the record (default: 30 d for C04, 1 d for finals2000A).
+        Publication delay of the record, a whole number of days from 0 d to 365 d (default: 30 d for
+        C04, 1 d for finals2000A).
     q : float, optional
-        Q of the Chandler wobble for the Kalman model (default: wobble's Chandler budget, about 82).
+        Q of the Chandler wobble for the Kalman model, at least 1 or inf (default: wobble's Chandler
+        budget, about 82; ``ls_ar`` has no Q).
     chandler_period : Quantity, optional
         The Chandler period (default: wobble's least-squares estimate from the 30 years before the
-        issue date minus the latency).
+        issue date minus the latency; :attr:`PolarMotionForecast.chandler_period_span` says which days).
     calibrated : bool
         Calibrate the intervals on the method's past forecasts (default) or give the model's Gaussian ones.
     calibration_span : Quantity
@@ -423,6 +462,12 @@ def forecast_polar_motion(
         issued_s = t[-1] + lat
     else:
         issued_mjd = to_mjd(issued, "issued")
+        if not whole_days(issued_mjd * DAY):
+            raise InputError(
+                "issued",
+                f"{issued} ({mjd_time(issued_mjd).iso[:16]} UTC)",
+                f"a day (0 h UTC), e.g. {iso_date(math.floor(issued_mjd))}: the record is daily",
+            )
         if not (mjd[0] <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
             raise InputError(
                 "issued",
@@ -438,8 +483,11 @@ def forecast_polar_motion(
         _cal.check_calibration_span(t, issued_s, lat, horizon_days, method, span)
     if chandler_period is None:
         period = chandler_period_before(t, z, issued_s - lat)
+        used = t[(t <= issued_s - lat + 1e-6) & (t >= issued_s - lat - _PERIOD_SPAN)]
+        period_span = (iso_date(MJD_J2000 + used[0] / DAY), iso_date(MJD_J2000 + used[-1] / DAY))
     else:
         period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
+        period_span = None
     raw = _cal.forecast(
         t,
         z,
@@ -452,4 +500,6 @@ def forecast_polar_motion(
         calibrated=calibrated,
         span=span,
     )
-    return PolarMotionForecast(raw, lat, attrs.get("source_file", ""), q_value if method == "kalman" else None)
+    return PolarMotionForecast(
+        raw, lat, attrs.get("source_file", ""), q_value if method == "kalman" else None, period_span=period_span
+    )

@@ -21,7 +21,14 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.forecast import calibration_span_si, calibration_text, check_q, default_q, latency_si
+from wobble.api.polar_motion.forecast import (
+    calibration_span_si,
+    calibration_text,
+    check_q,
+    default_q,
+    latency_si,
+    whole_days,
+)
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -273,7 +280,7 @@ class PolarMotionHindcast:
         leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
         lines = [
             f"Hindcast {iso_date(float(self.issued_mjd[0]))} to {iso_date(float(self.issued_mjd[-1]))}: "
-            f"{len(self.issued_mjd)} issues, "
+            f"{len(self.issued_mjd)} issue{'' if len(self.issued_mjd) == 1 else 's'}, "
             f"latency {self.latency.value:g} d; intervals "
             + ("calibrated on past forecasts" if self.calibrated else "of the models (not calibrated)"),
             f"  {'':<34}" + "".join(f"{d:>8} d" for d in leads),
@@ -329,7 +336,7 @@ def hindcast_polar_motion(
     start, end : date
         The span of issue dates (UTC); every forecast's outcome must be in the record.
     every : Quantity
-        Spacing of the issue dates (default 7 d).
+        Spacing of the issue dates, a whole number of days (default 7 d).
     horizon : Quantity
         Lead times 1 .. horizon days (default 365 d).
     methods : sequence of str
@@ -350,14 +357,21 @@ def hindcast_polar_motion(
             "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
         )
     horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
-    step = float(to_si(every, "every", u.s, positive=True, shape=()))
-    if step < DAY - 1e-6:
-        raise InputError("every", every, "at least 1 d")
+    step = float(to_si(every, "every", u.s, finite=False, shape=()))
+    if not (math.isfinite(step) and step >= DAY - 1e-6 and whole_days(step)):
+        raise InputError("every", every, "a whole number of days, at least 1 d (the record is daily)")
     q_value = default_q() if q is None else check_q(q)
     span = calibration_span_si(calibration_span)
     mjd, t, z, attrs = series_with_attrs(data, file)
     lat = latency_si(latency, attrs)
     a, b = to_mjd(start, "start"), to_mjd(end, "end")
+    for name, value, day in (("start", start, a), ("end", end, b)):
+        if not whole_days(day * DAY):
+            raise InputError(
+                name,
+                value,
+                f"a day (0 h UTC), e.g. {iso_date(math.floor(day))}: forecasts are issued on the days of the record",
+            )
     if b <= a:
         raise InputError("end", end, f"a date after start ({iso_date(a)})")
     issues = (a - MJD_J2000) * DAY + step * np.arange(math.ceil((b - a) * DAY / step - 1e-9))

@@ -29,6 +29,7 @@ __all__ = [
     "check_reference_period",
     "CHANDLER_BAND",
     "MIN_SPAN",
+    "MAX_DRIFT_DEGREE",
     "complex_pole",
     "pole_xy",
     "as_series",
@@ -91,10 +92,18 @@ def check_band(band) -> tuple[float, float]:
     return lo, hi
 
 
+#: The highest degree of the mean-pole polynomial.
+MAX_DRIFT_DEGREE = 6
+
+
 def check_degree(drift_degree) -> int:
-    """The degree of the mean-pole polynomial, an integer from 0 to 6."""
-    if isinstance(drift_degree, bool) or not isinstance(drift_degree, (int, np.integer)) or not 0 <= drift_degree <= 6:
-        raise InputError("drift_degree", drift_degree, "an integer from 0 (a fixed mean pole) to 6")
+    """The degree of the mean-pole polynomial, an integer from 0 to :data:`MAX_DRIFT_DEGREE`."""
+    if (
+        isinstance(drift_degree, bool)
+        or not isinstance(drift_degree, (int, np.integer))
+        or not 0 <= drift_degree <= MAX_DRIFT_DEGREE
+    ):
+        raise InputError("drift_degree", drift_degree, f"an integer from 0 (a fixed mean pole) to {MAX_DRIFT_DEGREE}")
     return int(drift_degree)
 
 

@@ -32,7 +32,7 @@ from scipy import special
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.fit import ChandlerFit, Uncertainty
-from wobble.models.polar_motion.record import DAY, bin_means, same_times
+from wobble.models.polar_motion.record import DAY, MAX_DRIFT_DEGREE, bin_means, same_times
 from wobble.numerics.recurrence import linear_recurrence
 
 __all__ = [
@@ -186,8 +186,9 @@ def subspan_scatter(t, z, estimator, beat: float, batch=None, **kwargs) -> tuple
 
 
 def model_degrees(degree: int) -> list[int]:
-    """The drift degrees of the model check: one less (not below 0) and one more than ``degree``."""
-    return sorted({max(degree - 1, 0), degree + 1} - {degree})
+    """The drift degrees of the model check: one less (not below 0) and one more (not above
+    :data:`~wobble.models.polar_motion.record.MAX_DRIFT_DEGREE`) than ``degree``."""
+    return sorted({max(degree - 1, 0), min(degree + 1, MAX_DRIFT_DEGREE)} - {degree})
 
 
 def model_sensitivity(t, z, estimator, degree, base: ChandlerFit, **kwargs) -> dict[str, float]:
