@@ -10,7 +10,8 @@ examples:
   wobble run tennis_racket -o racket.nc --plot racket.png
   wobble run tennis_racket -o racket.nc --json --overwrite   an example scene by name
   wobble run earth_free_wobble -o earth.nc --overwrite
-  wobble run satellite_gravity_gradient -o sat.nc --model dop853   force a model, to compare
+  wobble run satellite_gravity_gradient -o sat.nc --json   the model chosen, and why (predicted seconds)
+  wobble run top_cusps -o cusps.nc --model dop853       force a model, to compare with the exact top
   wobble example tossed_book my_book.toml                copy a scene to edit, then:
   wobble run my_book.toml -o book.nc
 

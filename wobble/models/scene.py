@@ -18,8 +18,12 @@ takes the first model that applies to the scene and can reach its accuracy:
    heavy top of :mod:`wobble.models.top` (notes 5.7), a hanging top included
    (body axes turned by pi about axis 1).
 4. ``splitting`` -- every torque kicks exactly (depends on time and attitude
-   only, or is linear damping) and the torques are slow against the free
-   motion: Touma & Wisdom's splitting (exact free flow between kicks).
+   only, or is linear damping) and pilot runs predict it takes less time than
+   DOP853: Touma & Wisdom's splitting (exact free flow between kicks). The
+   prediction is the calls each pilot counted times a measured cost per call of
+   the path that makes them (:data:`CALL_COST`): the compiled DOP853 costs
+   ~0.15 us an evaluation, the splitting's exact flow in Python floats ~50 us a
+   stage, so the splitting must take hundreds of times fewer calls.
 5. ``dop853`` -- anything: adaptive Runge-Kutta on Euler's equations.
 
 (An ensemble -- several members in one scene -- uses the vectorised flow map
@@ -30,8 +34,9 @@ The choice, the reason and the error estimate are recorded in the
 :class:`RunRecord`. A forced model (``--model``) must apply to the scene.
 The numerical models pick their tolerance or step from the accuracy, run with
 a companion (see :mod:`wobble.models.engine`), and tighten and rerun when the
-estimate exceeds the accuracy; an accuracy that no model can reach is an
-:class:`~wobble.errors.InputError` naming the ``accuracy`` field.
+estimate exceeds the accuracy; an integrator the chooser took that still misses
+it hands over to the other one (the reason says so); an accuracy that no model
+can reach is an :class:`~wobble.errors.InputError` naming the ``accuracy`` field.
 
 Outputs are computed block by block in time and handed to a *sink* (the
 caller's: an in-memory collector, or a streaming netCDF writer), so that a
@@ -49,6 +54,7 @@ from wobble.errors import FileFormatError, InputError
 from wobble.models import engine as eng
 from wobble.models import free as _free
 from wobble.models.free_flow import flow_sorted
+from wobble.numerics import compiled as compiled_kernels
 from wobble.numerics import quaternion as quat
 
 __all__ = [
@@ -66,6 +72,9 @@ __all__ = [
     "execute",
     "derived_outputs",
     "MODEL_NAMES",
+    "CALL_COST",
+    "KIND_COST",
+    "call_seconds",
 ]
 
 #: Every time-series output a scene may ask for (names of the netCDF variables).
@@ -410,6 +419,9 @@ class Candidate:
         ``floor(scene) -> float``: the best accuracy the model can promise.
     summary : str
         One line for the reason and the docs.
+    detail : callable or None
+        ``detail(scene) -> str``, added to the summary when the chooser picked the model
+        (not when it was forced): the predicted seconds that decided between the integrators.
     """
 
     name: str
@@ -418,6 +430,7 @@ class Candidate:
     build: Callable
     floor: Callable
     summary: str
+    detail: Callable | None = None
 
 
 def _torque_free(scene: Scene) -> bool:
@@ -575,14 +588,83 @@ class _TopRun(_ModelRun):
 
 
 # --------------------------------------------------------------------------
-# Numerical models: settings from a pilot run, cost in work units
+# Numerical models: settings from a pilot run, cost in predicted seconds
 # --------------------------------------------------------------------------
-# Work units: one evaluation of Euler's equations for all members = 1. A drift
-# (the exact free flow) costs about half an evaluation for a single member (both
-# in Python floats) and about eleven for large ensembles; a kick 0.1 to 0.45
-# (measured with scripts/bench_engine.py's per-call timings).
-def _kick_cost(members: int) -> float:
-    return 0.1 + 0.35 * members / (members + 300.0)
+# The pilots count calls: DOP853 evaluations of Euler's equations (one per member), splitting
+# stages (a kick and an exact free drift of all members). What a call costs depends on the path
+# that makes it, by two orders of magnitude: the DOP853 runs compiled (every built-in torque,
+# Numba installed: wobble.numerics.rigid_dop853), the splitting never does (its exact flow runs
+# in Python floats for one member, NumPy for an ensemble). Counting calls alone took the
+# splitting for satellite_gravity_gradient (92,736 stages at ~57 us: 5.9 s) over the compiled
+# DOP853 (295,000 evaluations at ~0.15 us: 0.05 s). So each path has a measured cost per call,
+# and a plan's cost is its calls times that: predicted seconds of the run and its companion
+# (not the start-up, the pilots or the writing). Measured with scripts/calibrate_chooser.py on
+# the shipped torqued scenes (2 CPUs, min over repeats; the table is in docs/engine.md), in us
+# per call with n members:
+#
+#   path                          model          measured
+#   dop853 compiled               0.15 n         0.17 (n = 1), 0.06-0.11 n (n = 1000, 10^4; threads)
+#   dop853 Python floats (n = 1)  18             16.9-19.7
+#   dop853 NumPy                  100 + 0.15 n   101-178 (n = 100), 224-271 (n = 1000)
+#   splitting Python floats       50             42.9-56.8
+#   splitting NumPy               600 + 1.5 n    460-580 (n = 10), 1370-2420 (n = 1000), 10600-18500 (n = 10^4)
+#
+# and per third body on a Keplerian orbit (Kepler's equation at every call; earth_precession's
+# two): 0.12 n compiled (0.39 n measured for both), 4.5 Python floats (26.3 for both), 50 + 0.2 n
+# NumPy (737 for both at n = 1000) and 5 per splitting stage in Python floats (60.7 for both);
+# the other kinds cost the same within the spread. The choice needs them within a factor of a
+# few: the compiled DOP853 and the splitting differ by 300 per call for one member, 10 to 15 for
+# large ensembles.
+@dataclass(frozen=True)
+class _CallCost:
+    """Microseconds per call: ``fixed + per_member * members``."""
+
+    fixed: float
+    per_member: float
+
+    def us(self, members: int) -> float:
+        return self.fixed + self.per_member * members
+
+
+#: Cost of one call on each path (see the table above).
+CALL_COST = {
+    "dop853 compiled": _CallCost(0.0, 0.15),
+    "dop853 Python floats": _CallCost(18.0, 0.0),
+    "dop853 NumPy": _CallCost(100.0, 0.15),
+    "splitting Python floats": _CallCost(50.0, 0.0),
+    "splitting NumPy": _CallCost(600.0, 1.5),
+}
+#: Added per torque of a kind, on each path (kinds not listed add nothing measurable).
+KIND_COST = {
+    "third_body": {
+        "dop853 compiled": _CallCost(0.0, 0.12),
+        "dop853 Python floats": _CallCost(4.5, 0.0),
+        "dop853 NumPy": _CallCost(50.0, 0.2),
+        "splitting Python floats": _CallCost(5.0, 0.0),
+    }
+}
+
+
+def _rk_path(engine) -> str:
+    """The DOP853 path a run takes: the engine's own rule (``backend="auto"``)."""
+    if engine.compilable and compiled_kernels.available():
+        return "dop853 compiled"
+    return "dop853 Python floats" if engine.scalar else "dop853 NumPy"
+
+
+def _split_path(engine) -> str:
+    return "splitting Python floats" if engine.scalar else "splitting NumPy"
+
+
+def call_seconds(engine, path: str) -> float:
+    """Predicted seconds of one call on ``path`` (an evaluation or a stage, all members)."""
+    n = engine.n
+    us = CALL_COST[path].us(n)
+    for spec in engine.specs:
+        extra = KIND_COST.get(spec.kind, {}).get(path)
+        if extra is not None:
+            us += extra.us(n)
+    return 1e-6 * us
 
 
 _PILOT_FRACTION = 1.0 / 16.0
@@ -591,18 +673,22 @@ _PILOT_SAFETY = 0.1
 _C_SPLIT = {2: 5e-2, 4: 1e-2, 6: 2e-3}  # error ~ C (h nu)^p (1 + nu T): a first guess only
 
 
-def _drift_cost(members: int) -> float:
-    return 0.5 + 10.5 * members / (members + 300.0)
-
-
 @dataclass
 class _Plan:
-    """Settings for the whole run and the predicted work, from a pilot over part of the span."""
+    """Settings for the whole run and its predicted cost, from a pilot over part of the span.
+
+    ``seconds`` is the run's with its companion on ``path``, from the pilot's counted calls
+    (:data:`CALL_COST`); ``complete`` is False for a splitting plan whose piloting stopped once
+    its cost passed DOP853's (``seconds`` is then a lower bound and the settings are not final).
+    """
 
     method: str
     settings: dict
-    work: float
+    seconds: float
     pilot_error: float
+    path: str = ""
+    calls: float = 0.0
+    complete: bool = True
 
 
 def _pilot_times(scene):
@@ -632,6 +718,7 @@ def _pilot(scene, method, settings):
 
 
 def _plan_dop853(scene) -> _Plan:
+    engine = eng.Engine(scene.body, scene.torques, members=scene.members)
     _, span, tp = _pilot_times(scene)
     rtol0 = float(min(max(scene.accuracy / 100.0, 1e-13), 1e-4))
     err, stats = _pilot(scene, "dop853", {"rtol": rtol0})
@@ -639,22 +726,46 @@ def _plan_dop853(scene) -> _Plan:
     err_full = err * growth
     rtol = rtol0 if err_full <= 0 else rtol0 * _PILOT_SAFETY * scene.accuracy / err_full
     rtol = float(min(max(rtol, 1e-13), 1e-3, 100 * rtol0))
+    # Evaluations per member over the whole run (DOP853's steps grow like rtol^(-1/8)); the
+    # companion at 10 rtol adds 10^(-1/8) = 0.75 of them.
     evals = stats.get("function_evaluations", 1) / max(scene.members, 1)
-    work = 1.75 * evals * growth * (rtol0 / rtol) ** (1.0 / 8.0)
-    return _Plan("dop853", {"rtol": rtol}, work, err)
+    calls = 1.75 * evals * growth * (rtol0 / rtol) ** (1.0 / 8.0)
+    path = _rk_path(engine)
+    return _Plan("dop853", {"rtol": rtol}, calls * call_seconds(engine, path), err, path, calls)
 
 
-def _plan_splitting(scene) -> _Plan:
+def _split_steps(scene, h) -> float:
+    """Composition steps of the main run at step h (an even number in each output interval)."""
+    gaps = np.diff(scene.times)
+    return float(np.sum(2 * np.ceil(gaps[gaps > 0] / (2 * h) * (1 - 1e-12)))) if gaps.size else 0.0
+
+
+def _plan_splitting(scene, budget: float | None = None) -> _Plan:
+    """The splitting's step from pilots, and its predicted seconds.
+
+    ``budget`` (DOP853's predicted seconds, when the chooser compares): once a pilot has failed
+    (the step can only shrink from there, and the cost only grow) and the run at the next step
+    would cost more than that, piloting stops: the plan is incomplete and DOP853 is cheaper.
+    """
     engine = eng.Engine(scene.body, scene.torques, members=scene.members)
     order = 6 if scene.accuracy < 1e-6 else 4
     _, span, tp = _pilot_times(scene)
     nu = engine.torque_rate(scene.omega0, scene.attitude0, scene.times[0])
-    if nu <= 0 or span <= 0:
+    path = _split_path(engine)
+    if not scene.torques:
         # No torque: every composition is exact (its drifts are the exact free flow), so the
         # shortest one costs least (Strang: 2 drifts a step instead of 8 to 14; a century of
         # daily Earth outputs forced onto the splitting took minutes with order 6).
-        if not scene.torques:
-            order = 2
+        order = 2
+    stages = len(_composition_stages(order))
+    per_call = call_seconds(engine, path)
+
+    def cost(h):  # the main run (1) and its companion at twice the step (0.5)
+        calls = 1.5 * _split_steps(scene, h) * stages
+        return calls * per_call, calls
+
+    complete = True
+    if nu <= 0 or span <= 0:
         h = max(span, 1.0)
         err = 0.0
     else:
@@ -681,12 +792,12 @@ def _plan_splitting(scene) -> _Plan:
             h *= min(0.5, factor)
             if h < 1e-7 * span:  # more than 10^7 steps: leave it to DOP853
                 break
+            if budget is not None and cost(h)[0] > budget:
+                complete = False  # already dearer than DOP853, and only shorter steps remain
+                break
         h = h_ok if h_ok is not None else h
-    gaps = np.diff(scene.times)
-    steps = float(np.sum(2 * np.ceil(gaps[gaps > 0] / (2 * h) * (1 - 1e-12)))) if gaps.size else 0.0
-    stages = len(_composition_stages(order))
-    work = 1.5 * steps * stages * (_drift_cost(scene.members) + _kick_cost(scene.members))
-    return _Plan("splitting", {"order": order, "step_s": h}, work, err)
+    seconds, calls = cost(h)
+    return _Plan("splitting", {"order": order, "step_s": h}, seconds, err, path, calls, complete)
 
 
 def _composition_stages(order):
@@ -699,7 +810,12 @@ _PLAN_CACHE: dict = {}
 
 
 def _plans(scene, only=None):
-    """Pilot both integrators where they apply, or ``only`` one (memoised per scene object)."""
+    """Pilot both integrators where they apply, or ``only`` one (memoised per scene object).
+
+    With both, DOP853 is piloted first and its predicted seconds bound the splitting's piloting
+    (:func:`_plan_splitting`); a splitting plan cut short that way is redone in full when the
+    splitting itself is asked for (``only="splitting"``: a forced model).
+    """
     key = id(scene)
     if key not in _PLAN_CACHE or _PLAN_CACHE[key][0] is not scene:
         while len(_PLAN_CACHE) >= 8:
@@ -708,10 +824,18 @@ def _plans(scene, only=None):
     cache = _PLAN_CACHE[key][1]
     if only in (None, "dop853") and "dop853" not in cache:
         cache["dop853"] = _plan_dop853(scene)
-    if only in (None, "splitting") and "splitting" not in cache:
-        if eng.Engine(scene.body, scene.torques, members=scene.members).splittable:
-            cache["splitting"] = _plan_splitting(scene)
+    if only in (None, "splitting"):
+        current = cache.get("splitting")
+        if current is None or (only == "splitting" and not current.complete):
+            if eng.Engine(scene.body, scene.torques, members=scene.members).splittable:
+                budget = cache["dop853"].seconds if only is None else None
+                cache["splitting"] = _plan_splitting(scene, budget)
     return cache
+
+
+def _seconds(plan: _Plan) -> str:
+    """``0.044 s (compiled)``: a plan's predicted seconds and the path that makes its calls."""
+    return f"{'at least ' if not plan.complete else ''}{plan.seconds:.2g} s ({plan.path.split(' ', 1)[1]})"
 
 
 def _applies_splitting(scene, *, forced=False):
@@ -722,9 +846,18 @@ def _applies_splitting(scene, *, forced=False):
         return None
     plans = _plans(scene)
     split, rk = plans["splitting"], plans["dop853"]
-    if not split.work < rk.work:
-        return f"predicted work {split.work:.3g} against {rk.work:.3g} for dop853 (pilot runs)"
+    if not (split.complete and split.seconds < rk.seconds):
+        return f"pilot runs predict {_seconds(split)} against {_seconds(rk)} for dop853"
     return None
+
+
+def _detail_splitting(scene):
+    plans = _plans(scene)
+    return f" (pilot runs predict {_seconds(plans['splitting'])} against {_seconds(plans['dop853'])} for dop853)"
+
+
+def _detail_dop853(scene):
+    return f" (pilot run predicts {_seconds(_plans(scene, 'dop853')['dop853'])})"
 
 
 def _integrator_floor(scene):
@@ -783,7 +916,8 @@ CANDIDATES: tuple[Candidate, ...] = (
         _applies_splitting,
         _build_splitting,
         _integrator_floor,
-        "Touma-Wisdom splitting: exact free flow between torque kicks (predicted cheaper than dop853)",
+        "Touma-Wisdom splitting: exact free flow between torque kicks",
+        _detail_splitting,
     ),
     Candidate(
         "dop853",
@@ -792,6 +926,7 @@ CANDIDATES: tuple[Candidate, ...] = (
         _build_dop853,
         _integrator_floor,
         "adaptive Dormand-Prince 8(5,3) on Euler's equations",
+        _detail_dop853,
     ),
 )
 MODEL_NAMES = tuple(c.name for c in CANDIDATES)
@@ -799,11 +934,13 @@ MODEL_NAMES = tuple(c.name for c in CANDIDATES)
 
 @dataclass
 class Choice:
-    """The chosen candidate, why, and what was passed over."""
+    """The chosen candidate, why, and what was passed over; ``forced``: named by ``--model`` or the
+    scene's ``model`` key (a forced integrator that misses the accuracy is an error, not a fallback)."""
 
     candidate: Candidate
     reason: str
     run: _ModelRun
+    forced: bool = False
 
 
 def choose_model(scene: Scene, force: str | None = None) -> Choice:
@@ -859,11 +996,13 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
             passed.append(f"{cand.name}: unavailable ({exc})")
             continue
         reason = cand.summary
+        if cand.detail is not None and not force:
+            reason += cand.detail(scene)
         if passed:
             reason += "; passed over: " + "; ".join(passed)
         if force:
             reason = f"forced ({origin}): " + reason
-        return Choice(cand, reason, run)
+        return Choice(cand, reason, run, forced=bool(force))
     raise scene.error(
         "accuracy",
         scene.accuracy,
@@ -972,6 +1111,39 @@ def execute(scene: Scene, sink, *, model: str | None = None, block_bytes: int = 
     check_outputs(scene, engine)
     per_time = max(1, scene.members) * 8 * 64
     block = int(max(1, min(scene.times.size, block_bytes // per_time)))
+    try:
+        run, est, attempts = _attempts(scene, sink, engine, choice, block)
+    except _AccuracyNotReached as exc:
+        # The integrator predicted cheaper could not reach the accuracy after all (its error
+        # did not fall with its tolerance or step as the pilot said): the other one, unless forced.
+        other = None if choice.forced else _other_integrator(scene, choice, exc.allowed)
+        if other is None:
+            raise scene.error("accuracy", scene.accuracy, exc.allowed) from None
+        sink.discard()
+        try:
+            run, est, more = _attempts(scene, sink, engine, other, block)
+        except _AccuracyNotReached as exc2:
+            raise scene.error("accuracy", scene.accuracy, f"{exc.allowed}; {exc2.allowed}") from None
+        attempts = exc.attempts + more
+        choice = other
+    stats = run.stats() if hasattr(run, "stats") else {}
+    return RunRecord(run.name, choice.reason, est, dict(run.settings), attempts, stats)
+
+
+class _AccuracyNotReached(Exception):
+    """A numerical model's estimate stayed above the accuracy: ``allowed`` says what it reached."""
+
+    def __init__(self, allowed: str, attempts: int):
+        super().__init__(allowed)
+        self.allowed = allowed
+        self.attempts = attempts
+
+
+def _attempts(scene, sink, engine, choice, block):
+    """Run the chosen model, tightening and rerunning until its estimate meets the accuracy.
+
+    Returns (run, estimate, attempts); raises :class:`_AccuracyNotReached`.
+    """
     run = choice.run
     attempts = 0
     previous = np.inf
@@ -983,28 +1155,42 @@ def execute(scene: Scene, sink, *, model: str | None = None, block_bytes: int = 
         est = run.error_estimate()
         worst = max(est["omega_relative"], est["attitude_rad"])
         if choice.candidate.kind == "exact" or worst <= scene.accuracy:
-            break
+            return run, est, attempts
         if attempts >= _MAX_ATTEMPTS or not worst < previous:
-            raise scene.error(
-                "accuracy",
-                scene.accuracy,
-                f"at least {worst:.3g} for this scene with {run.name} (estimate after {attempts} attempts)",
+            raise _AccuracyNotReached(
+                f"at least {worst:.3g} for this scene with {run.name} (estimate after {attempts} attempts)", attempts
             )
         previous = worst
         sink.discard()
-        run = _tighter(scene, run, worst)
-    stats = run.stats() if hasattr(run, "stats") else {}
-    return RunRecord(run.name, choice.reason, est, dict(run.settings), attempts, stats)
+        run = _tighter(scene, run, worst, attempts)
 
 
-def _tighter(scene, run, worst):
+def _other_integrator(scene, choice, why: str) -> Choice | None:
+    """The other numerical model, when the chosen one failed its accuracy (None: there is none)."""
+    if choice.candidate.kind != "numerical":
+        return None
+    name = "dop853" if choice.candidate.name == "splitting" else "splitting"
+    cand = next(c for c in CANDIDATES if c.name == name)
+    if name == "splitting" and _applies_splitting(scene, forced=True) is not None:
+        return None
+    if scene.accuracy < cand.floor(scene):
+        return None
+    run = cand.build(scene)
+    reason = (
+        f"{cand.summary}, after {choice.run.name} did not reach the accuracy asked ({scene.accuracy:.3g}: {why}); "
+        f"first choice: {choice.reason}"
+    )
+    return Choice(cand, reason, run)
+
+
+def _tighter(scene, run, worst, attempts=1):
     """The same numerical model with settings tightened from the measured estimate."""
     ratio = scene.accuracy / worst
     if run.method == "dop853":
         rtol = run.settings["rtol"] * _PILOT_SAFETY * ratio
         if rtol < 100 * _EPS:
-            raise scene.error(
-                "accuracy", scene.accuracy, f"at least {worst:.3g} for this scene with dop853 (tolerance floor reached)"
+            raise _AccuracyNotReached(
+                f"at least {worst:.3g} for this scene with dop853 (tolerance floor reached)", attempts
             )
         return _build_dop853(scene, {"rtol": rtol})
     order = run.settings["order"]

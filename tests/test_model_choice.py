@@ -1,0 +1,165 @@
+"""The chooser between the integrators: predicted seconds from counted calls and each path's cost per call.
+
+The pilots count calls (DOP853: evaluations per member; the splitting: stages of all members) and
+wobble.models.scene.CALL_COST prices a call on the path that makes it (measured with
+scripts/calibrate_chooser.py; docs/engine.md). Counting calls alone picked the splitting for the
+shipped satellite_gravity_gradient scene: 92,736 stages of the exact flow in Python floats (~50 us
+each: 5-6 s) over 295,000 evaluations of the compiled DOP853 (~0.15 us each: 0.04 s). No timing here:
+the tests check the counted calls, the cost model's arithmetic and the reason's numbers.
+"""
+
+from __future__ import annotations
+
+import astropy.units as u
+import pytest
+
+import wobble
+from wobble.api.scene import _as_scene
+from wobble.models import engine as eng
+from wobble.models import scene as S
+from wobble.numerics import compiled
+
+KGM2 = u.kg * u.m**2
+RAD_S = u.rad / u.s
+
+needs_compiled = pytest.mark.skipif(not compiled.available(), reason="the compiled DOP853 needs Numba")
+
+
+def _engine(scene):
+    return eng.Engine(scene.body, scene.torques, members=scene.members)
+
+
+def _counting_pilots(monkeypatch):
+    counts = {"dop853": 0, "splitting": 0}
+    pilot = S._pilot
+
+    def counted(scene, method, settings):
+        counts[method] += 1
+        return pilot(scene, method, settings)
+
+    monkeypatch.setattr(S, "_pilot", counted)
+    return counts
+
+
+@needs_compiled
+def test_the_satellite_takes_the_compiled_dop853_and_says_why_in_seconds(monkeypatch):
+    scene = _as_scene("satellite_gravity_gradient")
+    pilots = _counting_pilots(monkeypatch)
+    choice = S.choose_model(scene)
+    assert choice.candidate.name == "dop853"
+    plans = S._plans(scene)
+    rk, split = plans["dop853"], plans["splitting"]
+    assert (rk.path, split.path) == ("dop853 compiled", "splitting Python floats")
+    # The prediction is the counted calls times the path's cost per call.
+    engine = _engine(scene)
+    assert rk.seconds == pytest.approx(rk.calls * S.call_seconds(engine, rk.path), rel=1e-12)
+    assert split.seconds == pytest.approx(split.calls * S.call_seconds(engine, split.path), rel=1e-12)
+    # The splitting's piloting stopped at its first failed step, already dearer than DOP853's whole
+    # run (the step could only shrink from there): one pilot instead of the five that find its step.
+    assert not split.complete and split.seconds > rk.seconds
+    assert pilots == {"dop853": 1, "splitting": 1}
+    # The reason gives the numbers that decided, and claims nothing else.
+    assert choice.reason.startswith(
+        f"adaptive Dormand-Prince 8(5,3) on Euler's equations (pilot run predicts {rk.seconds:.2g} s (compiled))"
+    )
+    assert (
+        f"splitting: pilot runs predict at least {split.seconds:.2g} s (Python floats) against "
+        f"{rk.seconds:.2g} s (compiled) for dop853" in choice.reason
+    )
+    assert "cheaper" not in choice.reason
+
+    # Forcing the splitting redoes its piloting in full (the cut-short plan is no setting) and
+    # makes no claim about cost.
+    forced = S.choose_model(scene, "splitting")
+    assert forced.reason == "forced (--model splitting): Touma-Wisdom splitting: exact free flow between torque kicks"
+    full = S._plans(scene)["splitting"]
+    assert full.complete and pilots["splitting"] > 1
+    assert forced.run.settings == full.settings
+    # Counted work of the full splitting: 8,832 steps at the step its pilots find (0.64 s, order 6),
+    # seven stages each, and the companion at twice the step: 92,736 stages. DOP853: ~168,000
+    # evaluations in the main run and three quarters of that in its companion at 10 rtol.
+    steps = S._split_steps(scene, full.settings["step_s"])
+    assert full.calls == 1.5 * steps * 7
+    assert 80_000 < full.calls < 110_000 and 250_000 < rk.calls < 350_000
+    # Fewer calls than DOP853, but each ~300 times dearer: the splitting takes more than ten times longer.
+    assert full.calls < rk.calls and full.seconds > 10 * rk.seconds
+    assert full.seconds >= split.seconds  # what stopped the piloting was a lower bound
+
+    # The counted evaluations of the DOP853 run match its pilot's prediction.
+    run = choice.run
+    for _ in run.blocks(scene.times, scene.times.size):
+        pass
+    evals = run.stats()["function_evaluations"]
+    assert 0.7 < 1.75 * evals / rk.calls < 1.4
+    assert max(run.error_estimate()["omega_relative"], run.error_estimate()["attitude_rad"]) <= scene.accuracy
+
+
+@needs_compiled
+def test_the_splitting_is_chosen_where_it_needs_few_enough_calls():
+    """A tumbling body under a very weak damping, three outputs over 10^4 s: the exact free flow takes
+    long steps (the damping barely acts), DOP853 must follow the tumbling; 0.1 s against 0.3 s predicted."""
+    scene = _as_scene(
+        wobble.Scene(
+            body=[1.0, 2.0, 3.0] * KGM2,
+            omega0=[1.0, 0.1, 1.0] * RAD_S,
+            torques=[wobble.Torque.damping(1e-9 * u.N * u.m * u.s)],
+            t_end=1e4 * u.s,
+            samples=3,
+            accuracy=1e-6,
+        )
+    )
+    choice = S.choose_model(scene)
+    assert choice.candidate.name == "splitting"
+    plans = S._plans(scene)
+    rk, split = plans["dop853"], plans["splitting"]
+    assert split.complete and split.seconds < rk.seconds
+    assert split.calls * S.call_seconds(_engine(scene), split.path) < rk.calls * S.call_seconds(_engine(scene), rk.path)
+    assert choice.reason.startswith(
+        "Touma-Wisdom splitting: exact free flow between torque kicks (pilot runs predict "
+        f"{split.seconds:.2g} s (Python floats) against {rk.seconds:.2g} s (compiled) for dop853)"
+    )
+    ds = wobble.run(scene)
+    assert ds.attrs["model"].startswith("splitting-") and ds.attrs["error_estimate"] <= 1e-6
+
+
+def test_each_path_is_priced_per_call_and_per_torque_kind(monkeypatch):
+    scene = _as_scene("earth_precession")  # two third bodies on Keplerian orbits
+    engine = _engine(scene)
+    one = S.CALL_COST["splitting Python floats"].us(1) + 2 * S.KIND_COST["third_body"]["splitting Python floats"].us(1)
+    assert S.call_seconds(engine, "splitting Python floats") == pytest.approx(1e-6 * one)
+    ensemble = eng.Engine(scene.body, scene.torques, members=1000)
+    assert S._split_path(ensemble) == "splitting NumPy"
+    many = S.CALL_COST["dop853 compiled"].us(1000) + 2 * S.KIND_COST["third_body"]["dop853 compiled"].us(1000)
+    assert S.call_seconds(ensemble, "dop853 compiled") == pytest.approx(1e-6 * many)
+    # Without Numba (or with a torque that has no compiled form) DOP853 runs in Python floats.
+    assert S._rk_path(engine) == ("dop853 compiled" if compiled.available() else "dop853 Python floats")
+    monkeypatch.setattr(compiled, "available", lambda: False)
+    assert S._rk_path(engine) == "dop853 Python floats" and S._rk_path(ensemble) == "dop853 NumPy"
+
+
+@needs_compiled
+def test_when_the_cheaper_integrator_misses_the_accuracy_the_other_one_runs():
+    """An inverted top spinning steadily on its minor axis (body 1, 1.2, 0.5 kg m2, centre of mass above
+    the pivot): DOP853, predicted ten times cheaper, cannot certify 1e-9 (its estimate, amplified from
+    rounding by the unstable equilibrium, stays at 7e-8 down to its tolerance floor); the splitting,
+    whose drift is the exact steady rotation, reaches 5e-14. Forced, DOP853 is an error."""
+    scene = wobble.Scene(
+        body=[1.0, 1.2, 0.5] * KGM2,
+        omega0=[0, 0, 10.0] * RAD_S,
+        t_end=1 * u.s,
+        samples=3,
+        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, 1] * u.m, g=1 * u.m / u.s**2)],
+        accuracy=1e-9,
+    )
+    assert S.choose_model(_as_scene(scene)).candidate.name == "dop853"
+    ds = wobble.run(scene)
+    assert ds.attrs["model"] == "splitting-6" and ds.attrs["error_estimate"] <= 1e-9
+    assert ds.attrs["attempts"] == 2  # one DOP853 attempt (its tightening hit the floor), one splitting
+    reason = ds.attrs["model_reason"]
+    assert reason.startswith(
+        "Touma-Wisdom splitting: exact free flow between torque kicks, after dop853 did not reach the accuracy "
+        "asked (1e-09: at least "
+    )
+    assert "first choice: adaptive Dormand-Prince 8(5,3) on Euler's equations (pilot run predicts" in reason
+    with pytest.raises(wobble.InputError, match="accuracy.*with dop853"):
+        wobble.run(scene, model="dop853")
