@@ -57,7 +57,8 @@ CASES = {
         -9.287056233989217e-64,
         -15.713577916202082,
     ),
-    "hanging within 1e-16 rad of the bottom": (1.0, 0.5, 1.0, np.pi, -0.2, 0.0, 3.0),
+    "hanging within 1e-16 rad of the bottom": (1.0, 0.5, 1.0, np.nextafter(np.pi, 0.0), -0.2, 0.0, 3.0),
+    "hanging at the bottom (pi), spinning": (1.0, 0.5, 1.0, np.pi, -0.2, 0.0, 3.0),
     "free, no spin, at the bottom": (
         1.650704371191778,
         3.301408742383556,
@@ -96,6 +97,7 @@ def test_extreme_state_is_finite_and_conservative(name):
         "pendulum released at rest (b = a = 0)",
         "pendulum over the top (through both poles)",
         "hanging within 1e-16 rad of the bottom",
+        "hanging at the bottom (pi), spinning",
         "beta 1e-173, nearly regular",
         "free top, double root to 1e-60",
     ],
@@ -122,3 +124,19 @@ def test_a_state_beyond_float64_next_to_the_separatrix_is_refused():
     with pytest.raises(InputError, match="separatrix") as err:
         heavy_top(1.0, 0.5, 1.0, 0.0, 1e-200, 0.0, omega3=1.0)
     assert err.value.parameter == "thetadot0"
+
+
+def test_pi_is_the_bottom_itself():
+    """theta0 = numpy.pi (what 180 deg converts to) hangs straight down: an equilibrium spinning
+    about the vertical, not cusps 1.2e-16 rad wide about it (float pi is short of pi)."""
+    w3 = 10.0
+    mdl = heavy_top(1.0, 0.5, 1.0, np.pi, 0.0, 0.0, omega3=w3)
+    assert mdl.nutation == "regular" and mdl.theta_min == mdl.theta_max == np.pi
+    assert (mdl.u1, mdl.u2, mdl.mean_precession_rate) == (-1.0, -1.0, 0.0)
+    t = np.linspace(0.0, 5.0, 11)
+    mo = mdl.motion(t)
+    assert np.all(mo.theta == np.pi)
+    # Axis 3 points down and the body turns about it at +omega3, i.e. about -z in space: a half-turn
+    # about x, then R_z(-omega3 t): q = (cos(a/2), 0, 0, -sin(a/2)) (0, 1, 0, 0) = (0, cos(a/2), -sin(a/2), 0).
+    expected = np.stack([np.zeros_like(t), np.cos(w3 * t / 2), -np.sin(w3 * t / 2), np.zeros_like(t)], axis=-1)
+    assert np.max(angle(mo.quaternion, expected)) < 1e-14

@@ -498,7 +498,8 @@ def heavy_top(
     mgl : float
         M g l (J), >= 0.
     theta0 : float
-        Initial tilt of the symmetry axis from the upward vertical, in [0, pi] (rad).
+        Initial tilt of the symmetry axis from the upward vertical, in [0, pi] (rad);
+        ``numpy.pi`` (and so 180 deg) is pi itself, hanging straight down.
     thetadot0, phidot0 : float
         Initial nutation and precession rates (rad/s).
     omega3, psidot0 : float
@@ -528,7 +529,13 @@ def heavy_top(
     psi0 = _finite("psi0", psi0, "a finite angle (rad)")
     if (omega3 is None) == (psidot0 is None):
         raise InputError("omega3, psidot0", (omega3, psidot0), "exactly one of omega3 and psidot0")
-    sh, ch = hp.sin_cos(0.5 * theta0, DIGITS)
+    if theta0 == np.pi:
+        # The end of the range is pi itself, hanging straight down (exactly what 180 deg converts to):
+        # the float nearest pi lies 1.2e-16 short of it, which would start a nutation of that size
+        # (cusps below the bottom) instead of the equilibrium anyone writing 180 deg means.
+        sh, ch = Decimal(1), Decimal(0)
+    else:
+        sh, ch = hp.sin_cos(0.5 * theta0, DIGITS)
     with decimal.localcontext(context()):
         s0 = 2 * sh * ch
         u0 = ch * ch - sh * sh
