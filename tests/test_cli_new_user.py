@@ -295,3 +295,20 @@ def test_a_negative_value_with_a_unit_is_read_as_a_value(capsys):
     assert code == 2 and err.startswith("wobble forecast: error: --horizon: got -5 d; allowed:")
     code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "-1 rad/s", "-.1", "1", "--json"], capsys)
     assert code == 0, err
+
+
+def test_precession_takes_only_the_body_s_own_satellites_once(capsys):
+    # Was: the Moon about Mars (-5780"/cy, residual -2905 sigma), the Moon counted twice, and
+    # "the published higher-order terms below account for it" under a residual of 3445"/cy.
+    for argv, allowed in (
+        (["mars", "--perturber", "moon"], "a satellite of mars (this one orbits earth)"),
+        (["earth", "--perturber", "moon", "--perturber", "moon"], "each satellite once (it is already included)"),
+    ):
+        code, out, err = _run(["precession", *argv], capsys)
+        assert code == 2 and err == f"wobble precession: error: --perturber: got moon; allowed: {allowed}\n"
+    code, out, err = _run(["precession", "earth", "--perturber", "sun"], capsys)
+    residual = next(line for line in out.splitlines() if line.strip().startswith("residual"))
+    assert code == 0 and "account for it" not in residual
+    code, out, err = _run(["precession", "earth"], capsys)
+    residual = next(line for line in out.splitlines() if line.strip().startswith("residual"))
+    assert "the published higher-order terms below account for it" in residual

@@ -450,10 +450,34 @@ def _prepare(satellites: list[str]):
     return prepare
 
 
+def _steps_explain(b) -> bool:
+    """True when the published terms take the model to the observed rate within 3 combined sigma
+    (not, e.g., when --perturber left the Moon out: the residual is then the Moon's term)."""
+    if not b.literature_steps or b.observed is None:
+        return False
+    psi = next((s.value for s in b.literature_steps if s.name == "nonlinear_term"), b.literature_steps[-1].value)
+    total = math.hypot(b.rate_uncertainty.value, b.observed_uncertainty.value)
+    return abs((psi - b.observed).to_value(b.observed.unit)) <= 3 * total
+
+
 def _satellite_files(planet: Planet, perturbers) -> list[ParameterFile]:
     if perturbers is None:
         return perturbers_of(planet.name)
     files = [load_perturber(p) for p in perturbers]
+    seen = set()
+    for given, pf in zip(perturbers, files):
+        primary = str(pf.extra.get("primary", "")).strip().lower()
+        if pf.name == "sun":
+            continue  # the Sun is always there, on the planet's own orbit
+        if primary != planet.name.strip().lower():
+            # A satellite's orbit (its semi-major axis about its primary) means nothing about
+            # another body: the Moon about Mars gave -5780"/cy and a residual of -2905 sigma.
+            raise InputError(
+                "perturber", str(given), f"a satellite of {planet.name} (this one orbits {primary or 'nothing named'})"
+            )
+        if pf.name in seen:
+            raise InputError("perturber", str(given), "each satellite once (it is already included)")
+        seen.add(pf.name)
     return [pf for pf in files if pf.name != "sun"]
 
 
@@ -741,7 +765,7 @@ def _summary(b: PrecessionBudget) -> str:
             f"  {'observed':<26}{with_uncertainty(obs, osig, sign=True):>14}"
             f"   = {_mas_per_year(b.observed, b.observed_uncertainty)}; {b.observed_source}"
         )
-        why = "; the published higher-order terms below account for it" if b.literature_steps else ""
+        why = "; the published higher-order terms below account for it" if _steps_explain(b) else ""
         lines.append(
             f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed "
             f"uncertainties{why})"

@@ -41,8 +41,8 @@ def register(sub) -> None:
         action="append",
         default=None,
         metavar="NAME_OR_FILE",
-        help="a satellite to include (catalogue name or perturber file; repeatable); default: the catalogue's "
-        "satellites of the body",
+        help="a satellite of the body to include (catalogue name or perturber file; repeatable); the ones given "
+        "replace the default, the catalogue's satellites of the body (the Moon for Earth); the Sun is always included",
     )
     add_outputs(p, "draw each budget, term by term, against the observed rate")
     p.set_defaults(func=run)

@@ -28,7 +28,7 @@ KINDS = {
     "bodies": "planets of the catalogue (wobble chandler NAME)",
     "profiles": "radial density profiles (wobble modes --profile NAME)",
     "inversions": "inversion set-ups (wobble invert NAME)",
-    "precession": "perturbers and the IAU 2006 steps (wobble precession --perturber NAME)",
+    "precession": "perturbers (wobble precession --perturber NAME) and the published references",
     "examples": "example inputs",
     "scenes": "scenes (wobble run NAME)",
     "sweeps": "sweeps (wobble sweep NAME)",
