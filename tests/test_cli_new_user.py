@@ -312,3 +312,19 @@ def test_precession_takes_only_the_body_s_own_satellites_once(capsys):
     code, out, err = _run(["precession", "earth"], capsys)
     residual = next(line for line in out.splitlines() if line.strip().startswith("residual"))
     assert "the published higher-order terms below account for it" in residual
+
+
+def test_a_value_out_of_range_in_a_planet_file_is_named_with_its_file_and_key(capsys, tmp_path, monkeypatch):
+    # Was: "parameters: got my_planet; allowed: a parameter is outside its physical range", naming
+    # neither the file, nor the parameter, nor its value.
+    monkeypatch.chdir(tmp_path)
+    assert _run(["example", "my_planet.toml", "p.toml"], capsys)[0] == 0
+    text = (tmp_path / "p.toml").read_text()
+    head, tail = text.split("[parameters.love_number_k2]\n", 1)
+    (tmp_path / "p.toml").write_text(
+        head + "[parameters.love_number_k2]\n" + tail.replace("value = 0.3", "value = -0.3", 1)
+    )
+    code, out, err = _run(["chandler", "--body-file", "p.toml"], capsys)
+    assert code == 2 and err == (
+        "wobble chandler: error: p.toml, parameters.love_number_k2.value: got -0.3; allowed: a non-negative Love number\n"
+    )

@@ -17,6 +17,7 @@ shorter. The physics is documented in :mod:`wobble.models.chandler` and
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from dataclasses import dataclass
@@ -26,7 +27,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.units import dimensionless, spin_rate_si, to_si
-from wobble.errors import InputError
+from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import catalogue_names
 from wobble.io.catalog import load_planet as _load_planet_si
 from wobble.io.parameter_file import Parameter, ParameterFile
@@ -401,7 +402,24 @@ def chandler_budget(body: str | os.PathLike | Planet, model: str = "full") -> Ch
     planet = load_planet(body)
     if not isinstance(model, str):
         raise InputError("model", model, "a model name such as 'full' or 'rigid'")
-    return ChandlerBudget(planet, _model.chandler_budget(planet.parameters, model.strip().lower()))
+    with _in_file(planet):
+        raw = _model.chandler_budget(planet.parameters, model.strip().lower())
+    return ChandlerBudget(planet, raw)
+
+
+@contextlib.contextmanager
+def _in_file(planet: Planet):
+    """An InputError about one of the planet file's parameters, named with the file and key, as a
+    wrong unit there is (``my_planet.toml, parameters.love_number_k2.value: got -0.3; ...``)."""
+    try:
+        yield
+    except InputError as exc:
+        if planet.file.get(exc.parameter) is None:
+            raise
+        where = f"parameters.{exc.parameter}.value"
+        raise FileFormatError(
+            planet.file.path or planet.name, where, f"got {exc.value}; allowed: {exc.allowed}"
+        ) from None
 
 
 def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:

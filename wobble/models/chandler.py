@@ -376,16 +376,30 @@ class ParameterValues:
             }
         )
         bad = np.zeros(self.shape, dtype=bool)
+        for _key, _allowed, inside in self._ranges():
+            bad |= ~inside
+        self.out_of_range = bad
+
+    def _ranges(self):
+        """(key, what is allowed, mask of the members inside it) for every range-checked parameter given."""
         for key in POSITIVE_KEYS:
             if self.v[key] is not None:
-                bad |= ~(self.v[key] > 0)
+                yield key, "a positive value", self.v[key] > 0
         for key in ("love_number_k2", "love_number_k2_imaginary", "ocean_pole_tide_love_number"):
             if self.v[key] is not None:
-                bad |= self.v[key] < 0
+                yield key, "a non-negative Love number", self.v[key] >= 0
         if self.v["anelastic_exponent"] is not None:
             alpha = self.v["anelastic_exponent"]
-            bad |= ~((alpha > 0) & (alpha < 1))
-        self.out_of_range = bad
+            yield "anelastic_exponent", "an exponent in (0, 1)", (alpha > 0) & (alpha < 1)
+
+    def first_out_of_range(self):
+        """(key, value, allowed) of the first parameter outside its range (of the first member outside
+        one), for a message that names it; None when every member is inside."""
+        for key, allowed, inside in self._ranges():
+            outside = np.flatnonzero(~np.asarray(inside))
+            if outside.size:
+                return key, float(np.ravel(self.v[key])[outside[0]]), allowed
+        return None
 
     def __getitem__(self, key):
         return self.v[key]
@@ -702,7 +716,8 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
             "anelastic_exponent", p.anelastic_exponent.value, "parameters for which k2(frequency) converges"
         )
     if code == 5:
-        raise InputError("parameters", p.name, INVALID_REASONS[5])
+        key, value, allowed = values.first_out_of_range()
+        raise InputError(key, value, allowed)
 
 
 # Monte Carlo propagation of the catalogue's uncertainties (JCGM 101:2008): enough draws
