@@ -89,9 +89,13 @@ def test_an_existing_output_names_the_option_of_each_interface(capsys, tmp_path,
 
 
 def test_an_array_quantity_is_shown_as_typed(capsys):
-    # Was: "got [-1.  2.  3.] m2 kg" (NumPy's print).
+    # Was: "got [-1.  2.  3.] m2 kg" (NumPy's print). The command line shows the values as typed.
+    from astropy import units as u
+
+    with pytest.raises(wobble.InputError, match=r"^moments: got \(-1, 2, 3\) m2 kg; allowed: positive values"):
+        wobble.FreeRotation([-1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
     code, out, err = _run(["free", "--inertia", "-1", "2", "3", "--omega", "1", "0.1", "1"], capsys)
-    assert code == 2 and err.startswith("wobble free: error: --inertia: got (-1, 2, 3) m2 kg; allowed: positive values")
+    assert code == 2 and err.startswith("wobble free: error: --inertia: got -1 2 3; allowed: positive values")
 
 
 # What a user reads (help texts, public docstrings, the descriptions of shipped files that
@@ -179,7 +183,7 @@ def test_a_unit_on_the_first_of_three_values_applies_to_all(capsys):
     code, out, err = _run(["free", "--inertia", "1 g cm2", "2", "3", "--omega", "1", "0.1", "1", "--json"], capsys)
     assert code == 0 and json.loads(out)["period_s"] > 0
     code, out, err = _run(["free", "--inertia", "-1 g cm2", "2", "3", "--omega", "1", "0.1", "1"], capsys)
-    assert code == 2 and "got (-1, 2, 3) cm2 g" in err  # the user's numbers, no binary noise
+    assert code == 2 and "got -1 g cm2 2 3;" in err  # the user's numbers, no binary noise
 
 
 def test_inertia_text_shows_rounding_as_zero(capsys):
@@ -198,8 +202,11 @@ def test_an_empty_span_is_refused(capsys, tmp_path, monkeypatch):
 
     monkeypatch.chdir(tmp_path)
     for argv in (["free", "--inertia", "1", "2", "3", "--omega", "1", "0.1", "1"], TOP):
-        code, out, err = _run([*argv, "--t-end", "0", "-o", "x.nc"], capsys)
-        assert code == 2 and err.count("\n") == 1 and "--t-end: got 0.0 s; allowed: a positive end time" in err
+        for extra in (["-o", "x.nc"], []):  # without -o it printed "span 0 to 0 s, 1001 samples"
+            code, out, err = _run([*argv, "--t-end", "0", *extra], capsys)
+            assert code == 2 and err.count("\n") == 1 and "--t-end: got 0; allowed: a positive, finite time" in err
+        code, out, err = _run([*argv, "--samples", "1", "-o", "x.nc"], capsys)  # "0 to 20.8 s, 1 samples": t = 0
+        assert code == 2 and "--samples: got 1; allowed: a whole number >= 2" in err
     assert list(tmp_path.iterdir()) == []
     body = wobble.FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
     with pytest.raises(InputError, match="t_end"):
@@ -326,5 +333,12 @@ def test_a_value_out_of_range_in_a_planet_file_is_named_with_its_file_and_key(ca
     )
     code, out, err = _run(["chandler", "--body-file", "p.toml"], capsys)
     assert code == 2 and err == (
-        "wobble chandler: error: p.toml, parameters.love_number_k2.value: got -0.3; allowed: a non-negative Love number\n"
+        "wobble chandler: error: p.toml, parameters.love_number_k2.value: got -0.3; "
+        "allowed: a non-negative Love number\n"
     )
+
+
+def test_free_shows_the_moments_as_typed_in_its_errors(capsys):
+    # Was: "got (1.0000000000000001e-07, 2.0, 3.0000000000000004)", the SI floats of "1 g cm2" "2 kg m2" 3.
+    code, out, err = _run(["free", "--inertia", "1 g cm2", "2 kg m2", "3", "--omega", "1", "0.1", "1"], capsys)
+    assert code == 2 and err.startswith("wobble free: error: --inertia: got 1 g cm2 2 kg m2 3; allowed: principal")

@@ -73,8 +73,8 @@ def _span(body, text):
 
     if text is not None:
         t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
-        if not (math.isfinite(t1) and t1 >= 0):
-            raise InputError("--t-end", text, "a non-negative, finite time (e.g. 100 s, 2 d)")
+        if not (math.isfinite(t1) and t1 > 0):
+            raise InputError("--t-end", text, "a positive, finite time (e.g. 100 s, 2 d)")
         return t1, "--t-end"
     period = body.period.to_value(u.s)
     if not math.isfinite(period):
@@ -91,17 +91,18 @@ def run(args) -> int:
     from wobble.api.free import FreeRotation
     from wobble.cli._output import check_outputs, finish
 
-    if args.samples < 1:
-        raise InputError("--samples", args.samples, "a whole number >= 1")
+    if args.samples < 2:
+        raise InputError("--samples", args.samples, "a whole number >= 2 (the times from 0 to --t-end)")
     check_outputs(args)
     moments = _quantity(args.inertia, "--inertia", u.kg * u.m**2)
     omega = _quantity(args.omega, "--omega", u.rad / u.s)
     try:
         body = FreeRotation(moments, omega)
     except InputError as exc:
-        # Name the option as the user typed it.
-        option = {"moments": "--inertia", "omega0": "--omega"}.get(exc.parameter, exc.parameter)
-        raise InputError(option, exc.value, exc.allowed) from None
+        # Name the option, and show its values, as the user typed them (not their SI floats).
+        typed = {"moments": ("--inertia", args.inertia), "omega0": ("--omega", args.omega)}
+        option, values = typed.get(exc.parameter, (exc.parameter, None))
+        raise InputError(option, exc.value if values is None else " ".join(values), exc.allowed) from None
     summary = body.to_dict()
     needs_span = args.output or args.plot or args.t_end is not None or body.flips
     if needs_span:

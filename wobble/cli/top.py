@@ -74,8 +74,8 @@ def run(args) -> int:
     from wobble.cli._output import check_outputs, finish
 
     check_outputs(args)
-    if args.samples < 1:
-        raise InputError("--samples", args.samples, "a whole number >= 1")
+    if args.samples < 2:
+        raise InputError("--samples", args.samples, "a whole number >= 2 (the times from 0 to --t-end)")
     rate = u.rad / u.s
     kw = dict(
         I1=parse_quantity(args.I1, "--I1", u.kg * u.m**2),
@@ -129,8 +129,8 @@ def _span(top, text) -> tuple[float, str]:
             return 10 * period, "10 nutation periods, the default; --t-end to change"
         return 10.0, "10 s, the default (the motion has no nutation period); --t-end to change"
     t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
-    if not (math.isfinite(t1) and t1 >= 0):
-        raise InputError("--t-end", text, "a non-negative, finite time (e.g. 100 s, 2 min)")
+    if not (math.isfinite(t1) and t1 > 0):
+        raise InputError("--t-end", text, "a positive, finite time (e.g. 100 s, 2 min)")
     return t1, "--t-end"
 
 
