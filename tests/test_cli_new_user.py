@@ -342,3 +342,18 @@ def test_free_shows_the_moments_as_typed_in_its_errors(capsys):
     # Was: "got (1.0000000000000001e-07, 2.0, 3.0000000000000004)", the SI floats of "1 g cm2" "2 kg m2" 3.
     code, out, err = _run(["free", "--inertia", "1 g cm2", "2 kg m2", "3", "--omega", "1", "0.1", "1"], capsys)
     assert code == 2 and err.startswith("wobble free: error: --inertia: got 1 g cm2 2 kg m2 3; allowed: principal")
+
+
+def test_arguments_are_named_as_typed(capsys, tmp_path, monkeypatch):
+    # Was: "setup: got nope", "output: got sub/dir" and "wobble: error: unrecognized arguments: --quiet".
+    monkeypatch.chdir(tmp_path)
+    cases = {
+        ("invert", "nope"): "wobble invert: error: SETUP: got nope; allowed: ",
+        ("example", "tennis_racket", "sub/dir/"): "wobble example: error: DEST: got sub/dir/; allowed: a path in",
+        ("forecast", "--quiet"): "wobble forecast: error: unrecognized arguments: --quiet",
+        ("chandler", "earth", "--bogus", "3"): "wobble chandler: error: unrecognized arguments: --bogus 3",
+    }
+    for argv, start in cases.items():
+        code, out, err = _run(list(argv), capsys)
+        assert code == 2 and err.startswith(start) and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []

@@ -36,7 +36,7 @@ def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
     # Was: argparse repeated the value with its newline: two lines on stderr.
     code, out, err = _run(["forecast", "--start", "a\nb"], capsys)
     assert code == 2
-    assert err == "wobble: error: unrecognized arguments: --start a b\n"
+    assert err == "wobble forecast: error: unrecognized arguments: --start a b\n"
 
 
 def test_inertia_about_a_point_whose_shift_overflows_is_an_input_error(capsys):

@@ -128,7 +128,12 @@ def main(argv: list[str] | None = None) -> int:
     """
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        # Reported by the command's own parser ("wobble forecast: error: unrecognized arguments:
+        # --quiet"), not the top-level one, which does not say which command was meant.
+        sub = _subparser(parser, getattr(args, "command", None))
+        (sub or parser).error(f"unrecognized arguments: {' '.join(extra)}")
     args.command_line = "wobble " + shlex.join(argv)  # for the files' history attribute
     if not getattr(args, "func", None):
         parser.print_help(sys.stderr)
@@ -192,11 +197,18 @@ def _as_typed(exc: WobbleError, parser: argparse.ArgumentParser, command: str) -
 
     if not isinstance(exc, InputError) or exc.parameter.startswith("-"):
         return exc
-    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    sub = _subparser(parser, command)
     for action in sub._actions:
-        if action.dest == exc.parameter and action.option_strings:
-            return InputError("/".join(action.option_strings), exc.value, exc.allowed)
+        if action.dest == exc.parameter:
+            typed = "/".join(action.option_strings) or action.metavar or action.dest.upper()  # SETUP, DEST
+            return InputError(typed, exc.value, exc.allowed)
     return exc
+
+
+def _subparser(parser: argparse.ArgumentParser, command: str | None):
+    """The parser of ``command`` (None for no command)."""
+    choices = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    return choices.get(command) if command else None
 
 
 def _silence_stdout() -> None:

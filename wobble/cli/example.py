@@ -60,7 +60,12 @@ def run(args) -> int:
                 for f in group:
                     print(f"  {names[id(f)]:<{width}}  {f.description}")
         return 0
-    path = copy_shipped(args.name, args.dest, overwrite=args.overwrite)
+    try:
+        path = copy_shipped(args.name, args.dest, overwrite=args.overwrite)
+    except InputError as exc:
+        if exc.parameter != "output":
+            raise
+        raise InputError("DEST", args.dest, exc.allowed) from None  # the argument as typed ("sub/dir/")
     if args.json:
         print_json({"name": args.name, "output": str(path)})
     wrote(path, json_mode=args.json)
