@@ -357,3 +357,20 @@ def test_arguments_are_named_as_typed(capsys, tmp_path, monkeypatch):
         code, out, err = _run(list(argv), capsys)
         assert code == 2 and err.startswith(start) and err.count("\n") == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_sweep_files_cite_their_own_model_and_one_member_has_no_spread(capsys, tmp_path, monkeypatch):
+    # Was: every sweep file cited the Monte Carlo of catalogue uncertainties (JCGM 101), the top's
+    # phase-diagram grid too; a one-member sweep printed "sd nan" and "+nan sd from the mean".
+    import xarray as xr
+
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(["sweep", "mars_chandler", "--members", "1"], capsys)
+    assert code == 0 and "(no spread: 1 valid member(s))" in out and "nan" not in out
+    refs = {}
+    for name, extra in (("mars_chandler", ["--members", "10"]), ("top_phase_diagram", [])):
+        assert _run(["sweep", name, "-o", f"{name}.nc", *extra], capsys)[0] == 0
+        with xr.open_dataset(f"{name}.nc") as ds:
+            refs[name] = ds.attrs["references"]
+    assert "JCGM 101" in refs["mars_chandler"] and "JCGM" not in refs["top_phase_diagram"]
+    assert "Goldstein, Poole & Safko 2002" in refs["top_phase_diagram"]

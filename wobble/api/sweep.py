@@ -161,11 +161,19 @@ def _coords(plan: _Plan) -> dict:
     return coords
 
 
+def _references(plan: _Plan) -> str:
+    """The model's references, and for random draws of a body's catalogued uncertainties the Monte Carlo's."""
+    refs = [plan.target.references]
+    if plan.target.name == "chandler" and not plan.spec.is_grid:
+        refs.append("Monte Carlo propagation of the catalogue's uncertainties (JCGM 101:2008, GUM Supplement 1)")
+    return "; ".join(refs)
+
+
 def _attrs(plan: _Plan) -> dict:
     spec = plan.spec
     return {
         "title": spec.title,
-        "references": "Monte Carlo propagation of the catalogue's uncertainties (JCGM 101:2008, GUM Supplement 1)",
+        "references": _references(plan),
         "sweep_name": spec.name,
         "sweep_target": spec.target,
         "sweep_seed": spec.seed,

@@ -62,6 +62,7 @@ class ChandlerTarget:
     """Chandler periods of a planet whose parameters vary (vectorised model)."""
 
     name = "chandler"
+    references = "Chandler period budget: see wobble chandler --sources for every parameter's source"
     outputs = {
         "chandler_period": ("day", "modelled Chandler wobble period"),
         "wobble_rate": ("rad s-1", "signed free wobble frequency (positive: prograde)"),
@@ -314,6 +315,7 @@ class HeavyTopTarget(_BaseTarget):
     """
 
     name = "heavy_top"
+    references = "Goldstein, Poole & Safko 2002, Classical Mechanics, sec. 5.7 (the heavy symmetric top)"
     parameters = {
         "I1": ("kg m2", "transverse moment about the tip", None),
         "I3": ("kg m2", "axial moment", None),
@@ -366,6 +368,7 @@ class FreeRotationTarget(_BaseTarget):
     """
 
     name = "free_rotation"
+    references = "Landau & Lifshitz, Mechanics, sec. 37; Goldstein, Poole & Safko 2002, Classical Mechanics, sec. 5.6"
     parameters = {
         "moment_a": ("kg m2", "principal moment about body axis a", None),
         "moment_ratio_ba": ("1", "I_b / I_a", None),

@@ -28,7 +28,8 @@ as 'wobble chandler' does for its +/-, so the two sds agree within sampling erro
 centres differ a little: the sweep's mean and median are of the draws, 'wobble chandler'
 prints the model at the catalogued values (they differ by the model's curvature over
 the draws, e.g. 205.9 against 205.6 d for Mars). Spans print in days, hours, ... as
-they come, with digits to the sd's two significant digits; --json keeps SI.
+they come, with digits to the sd's two significant digits; --json keeps every digit,
+in the file's units.
 """
 
 
@@ -127,6 +128,9 @@ def _print_distribution(summary) -> None:
 
     size, units = span_unit(summary.percentiles["50"]) if summary.units == "s" else (1.0, summary.units)
     units = {"day": "d", "days": "d"}.get(units, units)  # as every other command writes days
+    if not summary.std > 0:  # one valid member (or all equal): no spread to round the digits to
+        print(f"  {summary.variable}: {summary.mean / size:.7g} {units} (no spread: {summary.valid} valid member(s))")
+        return
     d = decimals_for(summary.std / size)
     p = [summary.percentiles[k] / size for k in ("2.5", "16", "50", "84", "97.5")]
     print(f"  {summary.variable}: mean {summary.mean / size:.{d}f} {units}, sd {summary.std / size:.{d}f} {units}")
