@@ -455,6 +455,10 @@ class NormalModes:
                 f"  {m.name:<5}{m.frame:<13}{fmt(m.period, m.period_uncertainty):>22}  {m.sense:<11}"
                 f"{fmt(m.observed, m.observed_uncertainty):>22}"
             )
+        lines.append(
+            "  (+/- of the model: first-order propagation of the catalogued uncertainties; wobble chandler's is "
+            "Monte Carlo, a little wider where the period is not linear in them)"
+        )
         for name in ("CW", "FCN"):
             source = next((m.observed_source for m in self.modes if m.name == name and m.observed_source), None)
             if source:
