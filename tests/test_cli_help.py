@@ -108,3 +108,21 @@ def test_version_is_the_installed_distributions():
     import wobble
 
     assert wobble.__version__ == version("wobble") and "__version__" in dir(wobble)
+
+
+def test_help_examples_walked_in_one_folder_do_not_collide():
+    # Was: `wobble --help` wrote free.nc, racket.nc and mars.nc, so the same names in `free --help`,
+    # `run --help` and `sweep --help` then stopped with "file exists" for a user trying every example.
+    from wobble.cli._examples import help_examples
+
+    written: dict[str, str] = {}
+    for help_name, commands in help_examples().items():
+        for argv in commands:
+            targets = [argv[i + 1] for i, a in enumerate(argv[:-1]) if a in ("-o", "--output", "--plot")]
+            if argv[0] == "example" and len(argv) > 1 and not argv[1].startswith("-"):
+                rest = [a for a in argv[2:] if not a.startswith("-")]
+                targets.append(rest[0] if rest else argv[1].split("/")[-1])
+            for target in targets:
+                earlier = written.get(target)
+                assert earlier is None or "--overwrite" in argv, (target, earlier, help_name, argv)
+                written[target] = help_name

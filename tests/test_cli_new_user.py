@@ -261,6 +261,7 @@ def test_plot_functions_check_their_inputs_as_the_api_does():
         "moments": [lambda: wobble.plot.free.polhode_figure([1, 2, 3], [[1, 0, 1]])],
         "body": [lambda: wobble.plot.free.motion_figure(top, 20 * u.s)],
         "top": [lambda: wobble.plot.top.axis_locus_figure(body, 20 * u.s)],
+        "source": [lambda: wobble.plot.scene.scene_figure(3)],
     }
     for parameter, fns in calls.items():
         for fn in fns:
@@ -374,3 +375,19 @@ def test_sweep_files_cite_their_own_model_and_one_member_has_no_spread(capsys, t
             refs[name] = ds.attrs["references"]
     assert "JCGM 101" in refs["mars_chandler"] and "JCGM" not in refs["top_phase_diagram"]
     assert "Goldstein, Poole & Safko 2002" in refs["top_phase_diagram"]
+
+
+def test_text_output_reads_as_people_write(capsys, tmp_path, monkeypatch):
+    # Was: "16.66667 min (1000 s)" for --t-end 1000, "1 point masses", 5161.381 kg m2 of rounding
+    # beside 8.3e37 in the planet grid's tensor, and windows thinned without saying so.
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "1", "0.1", "1", "--t-end", "1000"], capsys)
+    assert "0 to 1000 s, 1001 samples (--t-end)" in out
+    code, out, err = _run([*TOP, "--t-end", "2 min", "--plot", "t.png"], capsys)
+    assert "0 to 2 min (120 s), 1001 samples (--t-end)" in out
+    (tmp_path / "one.csv").write_text("m,x,y,z\n1,0,0,1\n")
+    code, out, err = _run(["inertia", "--points", "one.csv"], capsys)
+    assert out.startswith("wobble inertia: 1 point mass from one.csv\n")
+    code, out, err = _run(["inertia", "--density", "planet.nc"], capsys)
+    rows = out.split("input axes x, y, z)\n")[1].splitlines()[:3]
+    assert [row.split()[1:] for row in rows[:1]] == [["0", "0"]] and rows[1].split()[0] == "0"

@@ -318,7 +318,7 @@ class FreeRotation:
                 "elliptic_parameter_m": mdl.m,
                 "elliptic_complementary_parameter": mdl.m1,
                 "kinetic_energy_J": e0,
-                "angular_momentum_magnitude": l0,
+                "angular_momentum_kg_m2_per_s": l0,
             },
         )
         if np.isfinite(mdl.period):

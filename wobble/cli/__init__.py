@@ -49,16 +49,16 @@ examples:
   wobble forecast --horizon 90d         the pole 90 days ahead, with 68 % and 95 % intervals
   wobble inertia --solid ellipsoid --mass 2 --axes 3 2 1
                                         inertia tensor, principal axes, classification
-  wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o free.nc
+  wobble free --inertia 1 2 3 --omega 1 0.1 1 --t-end 100 --samples 1001 -o spin.nc
                                         exact torque-free motion, to a CF netCDF file
   wobble top --I1 1 --I3 0.5 --mgl 1 --theta0 "60 deg" --omega3 10 --json
                                         the heavy top: turning points, nutation class, period
-  wobble sweep mars_chandler -o mars.nc
+  wobble sweep mars_chandler -o mars_sweep.nc
                                         Monte Carlo over Mars' uncertain parameters (dask)
   wobble invert mars --plot corner.png
                                         Bayesian inversion: the core radius of Mars from
                                         its Chandler period and k2 (emcee; ArviZ output)
-  wobble run tennis_racket -o racket.nc
+  wobble run tennis_racket -o tennis.nc
                                         a scene (TOML file or example name): the cheapest
                                         adequate model, streamed to CF netCDF
   wobble example --list                 the shipped example files (planets, inputs, scenes, sweeps)

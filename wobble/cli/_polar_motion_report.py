@@ -77,9 +77,14 @@ def report(a) -> str:
     w = a.window_columns  # the numbers of a.windows, without building the Dataset (no xarray)
     amp = w["chandler_amplitude"]
     mjd = w["window_time"]
-    lines += ["", f"  Windows of {a.window_attrs['window_years']:g} yr (centre: Chandler amplitude [mas], period [d]):"]
+    every = max(1, len(mjd) // 12)  # about a dozen rows; --json and -o hold every window
+    shown = f"; one in {every} of the {len(mjd)} shown, all in --json and -o" if every > 1 else ""
+    lines += [
+        "",
+        f"  Windows of {a.window_attrs['window_years']:g} yr (centre: Chandler amplitude [mas], period [d]{shown}):",
+    ]
     for k in range(len(mjd)):
-        if k % max(1, len(mjd) // 12) == 0 or k == len(mjd) - 1:
+        if k % every == 0 or k == len(mjd) - 1:
             lines.append(
                 f"    {iso_date(float(mjd[k]))}  {amp[k]:6.1f} +/- "
                 f"{w['chandler_amplitude_uncertainty'][k]:4.1f}   "

@@ -7,7 +7,7 @@ import argparse
 EPILOG = """\
 examples:
   wobble example --list                          every shipped file, with what it is
-  wobble example my_planet.toml                  a planet to edit (then: wobble chandler --body-file my_planet.toml)
+  wobble example my_planet.toml planet.toml      a planet to edit (then: wobble chandler --body-file planet.toml)
   wobble example tennis_racket my_racket.toml    a scene, under a new name
   wobble example dumbbell.csv --overwrite        point masses (wobble inertia --points dumbbell.csv --length-unit cm)
 

@@ -122,7 +122,7 @@ def run(args) -> int:
 
         written.append(motion_figure(body, t1 * u.s, path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(args.plot)
-    return finish(args, summary, lambda: _print_table(body, summary), written)
+    return finish(args, summary, lambda: _print_table(body, summary, args.t_end), written)
 
 
 _REGIMES = {
@@ -134,8 +134,8 @@ _REGIMES = {
 }
 
 
-def _print_table(body, summary: dict) -> None:
-    from wobble.cli._output import duration, number
+def _print_table(body, summary: dict, typed: str | None = None) -> None:
+    from wobble.cli._output import duration, number, span_text
     from wobble.cli._table import print_rows
 
     regime = summary["regime"]
@@ -168,7 +168,8 @@ def _print_table(body, summary: dict) -> None:
         rows.append(
             (
                 "span",
-                f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples ({summary['t_end_chosen_by']})",
+                f"0 to {span_text(summary['t_end_s'], typed)}, {summary['samples']} samples "
+                f"({summary['t_end_chosen_by']})",
             )
         )
     print_rows(rows)

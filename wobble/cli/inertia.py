@@ -188,7 +188,7 @@ def build_body(args) -> tuple[RigidBody, str]:
             length_unit=_unit_option(args.length_unit, "--length-unit", u.m),
         )  # fmt: skip
         body = RigidBody.from_point_masses(masses, positions, name=str(args.points))
-        label = f"{masses.size} point masses from {args.points}"
+        label = f"{masses.size} point mass{'' if masses.size == 1 else 'es'} from {args.points}"
     elif args.density is not None:
         from wobble.io.density_grid import open_density
 
@@ -252,8 +252,11 @@ def _print_human(report: dict, label: str, out) -> None:
     same = report["reference_point"] == report["center_of_mass"]
     print(f"  about               {'the centre of mass' if same else _vec(report['reference_point']) + ' m'}", file=out)
     print("  inertia tensor (kg m2, input axes x, y, z)", file=out)
+    # Entries below 1e-12 of the largest are the rounding of sums of terms of that size (5161 kg m2
+    # beside 8.3e37 for the shipped planet grid): shown as 0, as in _vec; --json keeps them.
+    big = max((abs(x) for row in report["tensor"] for x in row), default=0.0)
     for row in report["tensor"]:
-        print("    " + "  ".join(f"{x:>17.7g}" for x in row), file=out)
+        print("    " + "  ".join(f"{x if abs(x) > 1e-12 * big else 0.0:>17.7g}" for x in row), file=out)
     print("  principal moments (kg m2, ascending)", file=out)
     for k, (m, a) in enumerate(zip(report["principal_moments"], report["principal_axes"]), start=1):
         print(f"    I{k} = {m:<17.7g} axis e{k} = {_vec(a)}", file=out)

@@ -112,7 +112,7 @@ def run(args) -> int:
 
         written.append(axis_locus_figure(top, t1 * u.s, path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(written[-1])
-    return finish(args, summary, lambda: _print_table(summary), written)
+    return finish(args, summary, lambda: _print_table(summary, args.t_end), written)
 
 
 def _span(top, text) -> tuple[float, str]:
@@ -134,8 +134,8 @@ def _span(top, text) -> tuple[float, str]:
     return t1, "--t-end"
 
 
-def _print_table(summary: dict) -> None:
-    from wobble.cli._output import duration, number
+def _print_table(summary: dict, typed: str | None = None) -> None:
+    from wobble.cli._output import duration, number, span_text
 
     def pair(a, b, unit=""):
         return f"{number(a)}, {number(b)}{unit}"
@@ -164,7 +164,8 @@ def _print_table(summary: dict) -> None:
         rows.append(
             (
                 "span",
-                f"0 to {duration(summary['t_end_s'])}, {summary['samples']} samples ({summary['t_end_chosen_by']})",
+                f"0 to {span_text(summary['t_end_s'], typed)}, {summary['samples']} samples "
+                f"({summary['t_end_chosen_by']})",
             )
         )
     print_rows(rows)

@@ -7,6 +7,8 @@ import os
 import matplotlib.pyplot as plt
 import numpy as np
 
+from wobble.errors import InputError
+
 from wobble.plot._style import time_axis
 
 __all__ = ["scene_figure"]
@@ -38,6 +40,8 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
     import xarray as xr
 
     own = isinstance(source, (str, os.PathLike))
+    if not own and not (isinstance(source, xr.Dataset) and "time" in source.dims):
+        raise InputError("source", source, "the path of a file wobble run wrote, or a Dataset from wobble.run")
     ds = xr.open_dataset(source, engine="netcdf4", decode_times=False) if own else source
     try:
         fig = _draw(_thin(ds))
