@@ -136,7 +136,10 @@ def test_help_says_what_a_bare_number_means(command, option, unit):
             "--calibration-span: got 3.0 d; allowed: a span from 26 weeks (182 d",
         ),
         (["forecast", "--calibration-span", "0.1yr"], "--calibration-span: got 0.1 yr; allowed: a span from 26 weeks"),
-        (["forecast", "--horizon", "5yr"], "--horizon: got 5 yr; allowed: from 1 d to 1096 d"),  # was 1826.25 d
+        (
+            ["forecast", "--horizon", "5yr"],
+            "--horizon: got 5 yr; allowed: a whole number of days from 1 d to 1096 d",
+        ),  # was 1826.25 d
         (["forecast", "--horizon", "-5d"], "--horizon: got -5 d; allowed:"),
         (["forecast", "--latency", "1.5"], "--latency: got 1.5 d; allowed: a whole number of days from 0 d to 365 d"),
         (["forecast", "--latency", "1yr"], "--latency: got 1 yr; allowed: a whole number of days"),  # was "data: ..."
@@ -262,3 +265,15 @@ def test_forecast_values_carry_the_digits_of_their_uncertainty(capsys):
     for value, value_decimals, sigma, sigma_decimals in pairs:
         assert len(value_decimals) == len(sigma_decimals), (value, sigma)
         assert len(sigma.replace(".", "").lstrip("0")) == 2, sigma  # two significant digits
+
+
+def test_a_horizon_is_whole_days_and_no_calibration_takes_no_span(capsys):
+    # Was: --horizon 36h and 1.5 silently forecast 1 d; --no-calibration --calibration-span 3yr ignored the span.
+    for text in ("36h", "1.5"):
+        code, out, err = _run(["forecast", "--horizon", text], capsys)
+        assert code == 2 and "allowed: a whole number of days from 1 d to 1096 d" in err
+    code, out, err = _run(["forecast", "--no-calibration", "--calibration-span", "3yr"], capsys)
+    assert code == 2 and err == (
+        "wobble forecast: error: --calibration-span: got 3yr; allowed: no span with --no-calibration "
+        "(it calibrates nothing)\n"
+    )

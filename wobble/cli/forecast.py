@@ -122,6 +122,10 @@ def run(args) -> int:
     for option, value in (("--every", args.every), ("--scheduler", args.scheduler)):
         if value is not None and not hindcast:
             raise InputError(option, value, "only with --hindcast START:END (a forecast is issued once)")
+    if args.no_calibration and args.calibration_span is not None:
+        raise InputError(
+            "--calibration-span", args.calibration_span, "no span with --no-calibration (it calibrates nothing)"
+        )
     if hindcast and args.issued is not None:
         raise InputError("--issued", args.issued, "no --issued with --hindcast (its START:END are the issue dates)")
     horizon = parse_time(args.horizon, "--horizon", "d", default="365d")

@@ -159,9 +159,14 @@ def information_set(t, z, issued: float, latency: float, span: float, what: str)
 def check_horizon(horizon: float) -> int:
     """The horizon as a number of days, 1 to :data:`MAX_HORIZON`."""
     h = float(horizon)
-    if not (math.isfinite(h) and DAY <= h + 1e-9 <= MAX_HORIZON + 1e-9):
-        raise InputError("horizon", f"{h / DAY:g} d", f"from 1 d to {MAX_HORIZON / DAY:.0f} d (three years)")
-    return int(round(h / DAY))
+    days = h / DAY
+    # Whole days: the record is daily and the leads are 1, 2, ... days (36 h was taken as 1 d).
+    whole = math.isfinite(days) and abs(days - round(days)) <= 1e-9 * max(1.0, abs(days))
+    if not (whole and DAY <= h + 1e-9 <= MAX_HORIZON + 1e-9):
+        raise InputError(
+            "horizon", f"{days:g} d", f"a whole number of days from 1 d to {MAX_HORIZON / DAY:.0f} d (three years)"
+        )
+    return int(round(days))
 
 
 def check_method(method: str) -> str:
