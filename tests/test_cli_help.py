@@ -126,3 +126,10 @@ def test_help_examples_walked_in_one_folder_do_not_collide():
                 earlier = written.get(target)
                 assert earlier is None or "--overwrite" in argv, (target, earlier, help_name, argv)
                 written[target] = help_name
+
+
+def test_run_help_lists_every_model():
+    from wobble.models.scene import MODEL_NAMES
+
+    text = _subparsers(build_parser())["run"].format_help()
+    assert all(name in " ".join(text.split()) for name in (*MODEL_NAMES, "auto"))

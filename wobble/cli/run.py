@@ -36,7 +36,11 @@ def register(subparsers) -> None:
     p.add_argument("scene", nargs="?", metavar="SCENE", help="scene file (TOML), or the name of an example scene")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="netCDF file to write")
     p.add_argument("--plot", metavar="FILE.png", help="draw the scene's outputs against time (from the file written)")
-    p.add_argument("--model", help="force a model: free-symmetric, free-elliptic, heavy-top, splitting, dop853")
+    p.add_argument(
+        "--model",
+        help="force a model: averaged-precession, free-symmetric, free-elliptic, heavy-top, splitting, dop853 "
+        "(default auto: the cheapest that meets the scene's accuracy)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--json", action="store_true", help="print the run summary as JSON")
     p.add_argument("--list", action="store_true", help="list the example scenes with one-line descriptions and exit")
