@@ -277,3 +277,11 @@ def test_a_horizon_is_whole_days_and_no_calibration_takes_no_span(capsys):
         "wobble forecast: error: --calibration-span: got 3yr; allowed: no span with --no-calibration "
         "(it calibrates nothing)\n"
     )
+
+
+def test_an_issue_date_too_early_names_the_first_usable_day(capsys):
+    # Was: "a date from 1962-01-01 ..." although no date before 1972-02-01 could be issued (Kalman).
+    code, out, err = _run(["forecast", "--issued", "1900-01-01"], capsys)
+    assert code == 2 and "allowed: a date from 1972-02-01 to " in err and "for Kalman" in err
+    code, out, err = _run(["forecast", "--issued", "1965-01-01", "--method", "ls_ar"], capsys)
+    assert code == 2 and "allowed: a date from 1968-02-01 to " in err and "for LS+AR" in err

@@ -468,11 +468,16 @@ def forecast_polar_motion(
                 f"{issued} ({mjd_time(issued_mjd).iso[:16]} UTC)",
                 f"a day (0 h UTC), e.g. {iso_date(math.floor(issued_mjd))}: the record is daily",
             )
-        if not (mjd[0] <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
+        what = {"ls_ar": "LS+AR", "kalman": "Kalman"}[method]
+        # The first day the method can be issued: its fitting span and the latency after the record's start.
+        first = math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat) / DAY - 1e-9)
+        if not (first <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
             raise InputError(
                 "issued",
                 issued,
-                f"a date from {iso_date(mjd[0])} to {iso_date(mjd[-1] + lat / DAY)} (the record plus its latency)",
+                f"a date from {iso_date(first)} to {iso_date(mjd[-1] + lat / DAY)} for {what} (the record from "
+                f"{iso_date(mjd[0])}, after the method's {_cal.FITTING_SPAN[method] / DAY:.0f}-day fitting span, "
+                "plus the latency)",
             )
         issued_s = (issued_mjd - MJD_J2000) * DAY
     span = calibration_span_si(calibration_span)
