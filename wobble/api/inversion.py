@@ -527,7 +527,8 @@ class Inversion:
                     (row["median"], row["lower_68"], row["upper_68"]), (row["upper_68"] - row["lower_68"]) / 2
                 )
                 meas, pp = "(derived)", f"{med} [{lo}, {hi}]"
-            lines.append(f"  {row['name']:<28} {meas:>22} {pp:>36} {med:>13}  {row['unit'] or '-'}")
+            unit = (row["unit"] or "-").replace(" / ", "/")  # mas/yr, as the precession budget writes it
+            lines.append(f"  {row['name']:<28} {meas:>22} {pp:>36} {med:>13}  {unit}")
         d = self.to_dict()["diagnostics"]
         lines.append(
             f"  sampler: emcee, {self.settings.walkers} walkers x {self.settings.ensembles} ensemble(s), "
