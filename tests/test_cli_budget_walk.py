@@ -254,3 +254,13 @@ def test_invert_help_explains_the_short_examples_warnings(capsys):
     # No single example is singled out as the one that warns.
     example_lines = [line for line in out.splitlines() if line.strip().startswith("wobble invert")]
     assert not any("R-hat" in line for line in example_lines)
+
+
+def test_the_modes_figure_draws_only_the_modes_shown():
+    # Was: `wobble modes earth --mode CW --plot` still drew the FCN panel.
+    import wobble
+
+    drawn = [ax.axison for ax in wobble.plot.modes.modes_figure([wobble.normal_modes("earth", modes=("CW",))]).axes]
+    assert drawn == [True, False, True]  # profile, (no FCN), CW
+    everything = wobble.plot.modes.modes_figure([wobble.normal_modes("earth")]).axes
+    assert [ax.axison for ax in everything] == [True, True, True]

@@ -20,7 +20,8 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
     Parameters
     ----------
     results : list of wobble.NormalModes
-        Bodies whose FCN is modelled get all three panels; others only the CW.
+        Bodies whose FCN is modelled get all three panels; others only the CW. A mode not
+        shown (``modes=`` of :func:`wobble.normal_modes`, ``wobble modes --mode``) is not drawn.
     path : path-like, optional
         Save the figure (PNG, 150 dpi).
 
@@ -38,8 +39,15 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
         hyd = r.core_flattening_hydrostatic
         grid = np.linspace(0.85 * hyd, 1.15 * hyd, 61)
         periods = r.periods_against_core_flattening(grid)
-        _fcn_panel(row[1], r, grid, periods["FCN_celestial"].to_value(u.day))
-        _cw_panel(row[2], r, grid, periods["CW"].to_value(u.day))
+        # Only the modes asked for (wobble modes --mode): a panel of a mode not shown is left empty.
+        if "FCN" in r.shown:
+            _fcn_panel(row[1], r, grid, periods["FCN_celestial"].to_value(u.day))
+        else:
+            row[1].set_axis_off()
+        if "CW" in r.shown:
+            _cw_panel(row[2], r, grid, periods["CW"].to_value(u.day))
+        else:
+            row[2].set_axis_off()
     fig.tight_layout()
     if path is not None:
         from wobble.plot.save import save_figure
