@@ -124,7 +124,7 @@ def test_bad_plot_name_refused_before_the_work(tmp_path, capsys):
         (["--end", "2999"], "end: got 2999"),
         (["--start", "2010", "--end", "2005"], "a date after start"),
         (["--start", "2000", "--end", "2012", "--window", "0.5"], "window: got 0.5 yr"),
-        (["--start", "2000", "--end", "2012", "--window", "40"], "window: got 40.0 yr"),
+        (["--start", "2000", "--end", "2012", "--window", "40"], "window: got 40 yr"),
         (["--window", "eight"], "--window: got eight"),
         (["--excitation-q", "lots"], "--excitation-q: got lots"),
         (["--file", "/nonexistent/eop.txt"], "/nonexistent/eop.txt: no such file"),

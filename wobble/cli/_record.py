@@ -77,7 +77,7 @@ def parse_time(text, option: str, bare: str = "d", *, default: str | None = None
     """``option``'s time, e.g. 433d, 90 or 8 yr, as a :class:`Typed` (None when neither given nor defaulted).
 
     A bare number is in ``bare`` ("d" or "yr", which the option's help states) and is shown as read
-    ("3.0 d"); a number with a unit keeps the unit typed ("5 yr", "-5 d"). ``default`` is the text
+    ("3 d"); a number with a unit keeps the unit typed ("5 yr", "-5 d"). ``default`` is the text
     used when the option was not given; a message then says "(the default)".
     """
     if text is None:
@@ -94,7 +94,7 @@ def parse_time(text, option: str, bare: str = "d", *, default: str | None = None
     except ValueError:
         pass
     else:
-        return Typed(value * u.Unit(bare), f"{value} {bare}")
+        return Typed(value * u.Unit(bare), f"{raw} {bare}")
     try:
         q = u.Quantity(raw)
     except (ValueError, TypeError):
