@@ -170,8 +170,8 @@ def test_human_output(capsys):
         (("--solid", "sphere", "--mass", "2", "--radius", "1", "--tolerance", "2"), "--tolerance"),
         (
             ("--solid", "hollow-sphere", "--mass", "2", "--radius", "1", "--inner-radius", "3"),
-            "--inner-radius: got 3.0",
-        ),  # the option as typed, not the API name
+            "--inner-radius: got 3;",
+        ),  # the option and its value as typed, not the API name and float
         (("--points", "/nonexistent/pts.csv"), "no such file"),
         (("--density", "/nonexistent/grid.nc"), "no such file"),
     ],

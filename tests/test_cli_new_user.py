@@ -391,3 +391,15 @@ def test_text_output_reads_as_people_write(capsys, tmp_path, monkeypatch):
     code, out, err = _run(["inertia", "--density", "planet.nc"], capsys)
     rows = out.split("input axes x, y, z)\n")[1].splitlines()[:3]
     assert [row.split()[1:] for row in rows[:1]] == [["0", "0"]] and rows[1].split()[0] == "0"
+
+
+def test_a_converted_value_is_shown_as_typed(capsys):
+    # Was: "--theta0: got 200.0 deg", "--I1: got -1.0", "--tolerance: got -1.0" for 200, -1 and -1.
+    cases = {
+        ("top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "200", "--omega3", "10"): "--theta0: got 200;",
+        ("top", "--I1=-1", "--I3", "0.5", "--mgl", "1", "--theta0", "20", "--omega3", "10"): "--I1: got -1;",
+        ("inertia", "--solid", "sphere", "--mass", "1", "--radius", "1", "--tolerance", "-1"): "--tolerance: got -1;",
+    }
+    for argv, needle in cases.items():
+        code, out, err = _run(list(argv), capsys)
+        assert code == 2 and needle in err and err.count("\n") == 1

@@ -57,8 +57,7 @@ def test_a_finite_value_that_overflows_in_si_is_one_line_without_a_warning(capsy
     )
     assert code == 2 and out == ""
     assert err == (
-        "wobble inertia: error: --mass: got 1e+300 solMass; allowed: values that stay finite in kg "
-        "(at most 1.8e+308 kg)\n"
+        "wobble inertia: error: --mass: got 1e300 Msun; allowed: values that stay finite in kg (at most 1.8e+308 kg)\n"
     )
 
 

@@ -145,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
         with _compilation_notice(args.command):
             return int(args.func(args) or 0)
     except WobbleError as exc:
-        text = getattr(exc, "command_line_message", None) or _one_line(_as_typed(exc, parser, args.command))
+        text = getattr(exc, "command_line_message", None) or _one_line(_as_typed(exc, parser, args.command, argv))
         print(f"wobble {args.command}: error: {text}", file=sys.stderr)
         return 2
     except BrokenPipeError:
@@ -186,23 +186,43 @@ def _compilation_notice(command: str):
     return compilation_notice(say)
 
 
-def _as_typed(exc: WobbleError, parser: argparse.ArgumentParser, command: str) -> WobbleError:
+def _as_typed(exc: WobbleError, parser: argparse.ArgumentParser, command: str, argv: list[str] | None = None):
     """An InputError about a Python parameter that is one of the command's options, named as typed.
 
     The API names its parameters (``calibration_span``); on the command line the user typed
     ``--calibration-span``. An option's argparse ``dest`` is that Python name, so the message
-    names the option strings of the action with that dest (``-o/--output`` for ``output``).
+    names the option strings of the action with that dest (``-o/--output`` for ``output``), and a
+    number the API converted is shown as typed in ``argv`` (``--theta0: got 200``, not ``200.0 deg``).
     """
-    from wobble.errors import InputError
+    from wobble.errors import MISSING, InputError
 
-    if not isinstance(exc, InputError) or exc.parameter.startswith("-"):
+    if not isinstance(exc, InputError):
         return exc
     sub = _subparser(parser, command)
     for action in sub._actions:
-        if action.dest == exc.parameter:
-            typed = "/".join(action.option_strings) or action.metavar or action.dest.upper()  # SETUP, DEST
-            return InputError(typed, exc.value, exc.allowed)
+        names = {action.dest, "/".join(action.option_strings), *action.option_strings}
+        if exc.parameter not in names or (exc.parameter == action.dest and exc.parameter.startswith("-")):
+            continue
+        typed = "/".join(action.option_strings) or action.metavar or action.dest.upper()  # SETUP, DEST
+        value = exc.value
+        if value is not MISSING and not isinstance(value, str) and argv is not None:
+            # A number the API converted (200.0 deg, -1.0) shown as the user typed it (200, -1).
+            value = _typed_tokens(argv, action) or value
+        return InputError(typed, value, exc.allowed)
     return exc
+
+
+def _typed_tokens(argv: list[str], action: argparse.Action) -> str | None:
+    """The text typed after ``action``'s option (its last use), or None (not found, or a positional)."""
+    count = action.nargs if isinstance(action.nargs, int) else 1 if action.nargs is None else None
+    if not action.option_strings or count is None:
+        return None
+    found = None
+    for i, token in enumerate(argv):
+        option, eq, rest = token.partition("=")
+        if option in action.option_strings:
+            found = [rest] if eq and count == 1 else argv[i + 1 : i + 1 + count]
+    return " ".join(found) if found else None
 
 
 def _subparser(parser: argparse.ArgumentParser, command: str | None):
