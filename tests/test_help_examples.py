@@ -65,7 +65,9 @@ def scheduler(tmp_path_factory):
             n_workers=1,
             threads_per_worker=2,
             processes=False,
-            dashboard_address=None,
+            # ":0", not None: a scheduler without a dashboard still serves HTTP on 8787 by default, and
+            # warns (an error here) when another test's cluster holds it; ":0" takes any free port.
+            dashboard_address=":0",
         )
         try:
             yield cluster

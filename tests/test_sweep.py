@@ -60,7 +60,7 @@ def test_distributed_cluster_matches_serial():
 
     reference = run_sweep(MARS, scheduler="synchronous")
     with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0"
     ) as cluster:
         with Client(cluster) as client:
             on_cluster = run_sweep(MARS, chunk_size=600, scheduler=client)
