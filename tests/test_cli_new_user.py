@@ -148,6 +148,8 @@ def test_an_api_error_names_the_option_the_user_typed(capsys, tmp_path, monkeypa
     assert str(missing) == "--t-end: missing; allowed: a time"
     other = InputError("moments", 1, "a Quantity")  # not an option of the command: left alone
     assert _as_typed(other, parser, "free") is other
+    both = _as_typed(InputError("omega3, psidot0", (1.0, 2.0), "exactly one"), parser, "top")
+    assert str(both) == "--omega3, --psidot0: got (1.0, 2.0); allowed: exactly one"
 
 
 @pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs a /proc file system that refuses new files")

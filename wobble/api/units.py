@@ -15,6 +15,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import InputError
+from wobble.io.text import is_number
 
 __all__ = [
     "to_si",
@@ -235,21 +236,13 @@ def parse_quantities(texts, name: str, default_unit: u.UnitBase) -> u.Quantity:
     (``7.292115e-11 0 "360.98 deg/d"``).
     """
     texts = [t.strip() for t in texts]
-    bare = [_is_number(t) for t in texts]
+    bare = [is_number(t) for t in texts]
     if all(bare):
         return u.Quantity([float(t) for t in texts], default_unit)
     first = parse_quantity(texts[0], name, default_unit)
     if not bare[0] and all(bare[1:]):
         return u.Quantity([first.value, *(float(t) for t in texts[1:])], first.unit)
     return u.Quantity([parse_quantity(t, name, default_unit).to(first.unit) for t in texts])
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def parse_angle(text: str, name: str) -> u.Quantity:

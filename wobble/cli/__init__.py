@@ -198,18 +198,20 @@ def _as_typed(exc: WobbleError, parser: argparse.ArgumentParser, command: str, a
 
     if not isinstance(exc, InputError):
         return exc
-    sub = _subparser(parser, command)
-    for action in sub._actions:
-        names = {action.dest, "/".join(action.option_strings), *action.option_strings}
-        if exc.parameter not in names or (exc.parameter == action.dest and exc.parameter.startswith("-")):
-            continue
-        typed = "/".join(action.option_strings) or action.metavar or action.dest.upper()  # SETUP, DEST
-        value = exc.value
-        if value is not MISSING and not isinstance(value, str) and argv is not None:
-            # A number the API converted (200.0 deg, -1.0) shown as the user typed it (200, -1).
-            value = _typed_tokens(argv, action) or value
-        return InputError(typed, value, exc.allowed)
-    return exc
+    actions = _subparser(parser, command)._actions
+
+    def action_of(name):  # by dest (API name) or by option string (already renamed by the command)
+        return next((a for a in actions if name in (a.dest, "/".join(a.option_strings), *a.option_strings)), None)
+
+    found = [action_of(name) for name in exc.parameter.split(", ")]  # "I1, I3": both named
+    if not all(found):
+        return exc
+    typed = ", ".join("/".join(a.option_strings) or a.metavar or a.dest.upper() for a in found)  # SETUP, DEST
+    value = exc.value
+    if len(found) == 1 and value is not MISSING and not isinstance(value, str) and argv is not None:
+        # A number the API converted (200.0 deg, -1.0) shown as the user typed it (200, -1).
+        value = _typed_tokens(argv, found[0]) or value
+    return InputError(typed, value, exc.allowed)
 
 
 def _typed_tokens(argv: list[str], action: argparse.Action) -> str | None:

@@ -126,7 +126,10 @@ def as_typed(options: dict):
 
     ``options`` maps an API parameter (``chandler_period``) to ``(option, shown)``: the option's
     name as typed (``--period``) and its value as the user typed it (None: the API's own value,
-    e.g. a date or "121 d of data before it"). The API keeps its Python names.
+    e.g. a date or "121 d of data before it"). The API keeps its Python names. Only what the
+    command line's generic renaming (an API name equal to an option's dest, in wobble.cli.main)
+    cannot do belongs here: other names (``chandler_period``, ``start/end``) and values shown with
+    the unit a bare number was read in (``3 d``).
     """
     try:
         yield

@@ -70,9 +70,6 @@ def run(args) -> int:
     check_outputs(args)
     options = {
         "chandler_period": ("--period", period and period.shown),
-        "q": ("--q", None),
-        "start": ("--start", None),
-        "end": ("--end", None),
         "start/end": ("--start/--end", None),
     }
     with as_typed(options):

@@ -142,11 +142,7 @@ def run(args) -> int:
         "latency": ("--latency", latency and latency.shown),
         "calibration_span": ("--calibration-span", span.shown),
         "every": ("--every", every.shown),
-        "q": ("--q", None),
-        "issued": ("--issued", None),
-        "method": ("--method", None),
         "methods": ("--method", None),
-        "scheduler": ("--scheduler", None),
         "start": ("--hindcast START", None),
         "end": ("--hindcast END", None),
     }

@@ -99,10 +99,9 @@ def run(args) -> int:
     try:
         body = FreeRotation(moments, omega)
     except InputError as exc:
-        # Name the option, and show its values, as the user typed them (not their SI floats).
-        typed = {"moments": ("--inertia", args.inertia), "omega0": ("--omega", args.omega)}
-        option, values = typed.get(exc.parameter, (exc.parameter, None))
-        raise InputError(option, exc.value if values is None else " ".join(values), exc.allowed) from None
+        # The API's names for the options (the command line then shows the values as typed).
+        option = {"moments": "--inertia", "omega0": "--omega"}.get(exc.parameter, exc.parameter)
+        raise InputError(option, exc.value, exc.allowed) from None
     summary = body.to_dict()
     needs_span = args.output or args.plot or args.t_end is not None or body.flips
     if needs_span:

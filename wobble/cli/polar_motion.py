@@ -116,10 +116,6 @@ def run(args) -> int:
     options = {
         "window": ("--window", window.shown),
         "step": ("--step", step.shown),
-        "drift_degree": ("--drift-degree", None),
-        "excitation_q": ("--excitation-q", None),
-        "start": ("--start", None),
-        "end": ("--end", None),
         "start/end": ("--start/--end", None),
     }
     progress = Progress()

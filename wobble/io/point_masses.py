@@ -26,20 +26,13 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
+from wobble.io.text import is_number
 
 __all__ = ["read_point_masses"]
 
 _COLUMNS = ("m", "x", "y", "z")
 _ALIASES = {"mass": "m"}
 _HEADER = re.compile(r"^\s*([A-Za-z_]\w*)\s*(?:[\[(]\s*(.*?)\s*[\])])?\s*$")
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def _parse_header(path, line_no: int, fields: list[str]) -> dict[str, tuple[int, str | None]]:
@@ -121,7 +114,7 @@ def read_point_masses(
         if not fields or not "".join(fields).strip() or fields[0].lstrip().startswith("#"):
             continue
         if columns is None:
-            if all(_is_number(f) for f in fields):
+            if all(is_number(f) for f in fields):
                 columns = {c: (i, None) for i, c in enumerate(_COLUMNS)}
                 header_line = line_no
             else:

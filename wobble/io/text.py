@@ -17,7 +17,17 @@ from __future__ import annotations
 import json
 import math
 
-__all__ = ["clean", "dumps", "number", "with_uncertainty", "decimals_for", "duration", "span_unit", "TEXT_DIGITS"]
+__all__ = [
+    "clean",
+    "dumps",
+    "is_number",
+    "number",
+    "with_uncertainty",
+    "decimals_for",
+    "duration",
+    "span_unit",
+    "TEXT_DIGITS",
+]
 
 JSON_INDENT = 2
 _JSON_DIGITS = 15
@@ -52,6 +62,15 @@ def clean(obj):
 def dumps(obj) -> str:
     """``obj`` as wobble's JSON text (see the module docstring)."""
     return json.dumps(clean(obj), indent=JSON_INDENT, allow_nan=False, ensure_ascii=False)
+
+
+def is_number(text: str) -> bool:
+    """Whether ``text`` reads as a plain number (a float, without a unit)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def number(x, digits: int = TEXT_DIGITS) -> str:
