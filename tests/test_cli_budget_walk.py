@@ -127,6 +127,9 @@ def test_sources_text_speaks_units_not_astropy(body, flag, capsys):
         assert "    observed_precession_rate: -5038.481507 +/- 0.0008 arcsec / cy; " in text
         assert "    observed_fcn_period: -431.18 +/- 0.1 sidereal days; " in text
         assert "    fluid_core_equatorial_moment: 9.066e+36 +/- 9e+34 kg m2; " in text
+        # A conventional constant catalogued with uncertainty 0 was "+/- 0 s", which reads as a lost digit.
+        assert "    love_number_k2_period: 200 s (taken as exact); " in text
+    assert not any(re.search(r"\+/- 0(\.0*)?( |;)", line) for line in listing)
 
 
 def test_sources_help_names_the_json_list(capsys):

@@ -94,15 +94,20 @@ def _skipped_steps(b) -> list[str]:
 
 def _catalogued(p: dict) -> str:
     """A catalogued value as the file gives it: ``0.29525 +/- 0.003``, ``-5038.481507 +/- 0.0008 arcsec / cy``,
-    ``yes`` for a flag."""
+    ``200 s (taken as exact)`` for a value catalogued with uncertainty 0 (a conventional constant), ``yes`` for
+    a flag."""
     if p["uncertainty"] is None:
         return "yes" if p["value"] else "no"
 
     def fmt(x, digits: int) -> str:
         return "[" + ", ".join(fmt(v, digits) for v in x) + "]" if isinstance(x, list) else f"{x:.{digits}g}"
 
-    text = f"{fmt(p['value'], 10)} +/- {fmt(p['uncertainty'], 3)}"
-    return f"{text} {p['unit']}" if p["unit"] else text
+    value = fmt(p["value"], 10)
+    u = p["uncertainty"]
+    exact = not any(u) if isinstance(u, list) else u == 0  # a defined constant: "+/- 0" reads as a typo
+    text = value if exact else f"{value} +/- {fmt(p['uncertainty'], 3)}"
+    text = f"{text} {p['unit']}" if p["unit"] else text
+    return f"{text} (taken as exact)" if exact else text
 
 
 def _table(b, sources: bool = False, typed: str | None = None) -> str:
