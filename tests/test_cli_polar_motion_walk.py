@@ -281,7 +281,13 @@ def test_a_horizon_is_whole_days_and_no_calibration_takes_no_span(capsys):
 
 def test_an_issue_date_too_early_names_the_first_usable_day(capsys):
     # Was: "a date from 1962-01-01 ..." although no date before 1972-02-01 could be issued (Kalman).
-    code, out, err = _run(["forecast", "--issued", "1900-01-01"], capsys)
+    # Then: 1972-02-01 was named although a calibrated forecast could not be issued before 1975-02-24 (its past
+    # forecasts reach 1120 d further back); the first day named is now the first that works.
+    code, out, err = _run(["forecast", "--issued", "1900-01-01", "--no-calibration"], capsys)
     assert code == 2 and "allowed: a date from 1972-02-01 to " in err and "for Kalman" in err
-    code, out, err = _run(["forecast", "--issued", "1965-01-01", "--method", "ls_ar"], capsys)
+    code, out, err = _run(["forecast", "--issued", "1900-01-01"], capsys)
+    assert code == 2 and "allowed: a date from 1975-02-24 to " in err and "1120 d of past forecasts" in err
+    code, out, err = _run(["forecast", "--issued", "1965-01-01", "--method", "ls_ar", "--no-calibration"], capsys)
     assert code == 2 and "allowed: a date from 1968-02-01 to " in err and "for LS+AR" in err
+    code, out, err = _run(["forecast", "--issued", "1965-01-01", "--method", "ls_ar"], capsys)
+    assert code == 2 and "allowed: a date from 1971-02-24 to " in err and "for LS+AR" in err

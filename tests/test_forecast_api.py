@@ -120,9 +120,10 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
         ({"q": 0.0}, "q: got 0.0"),
         (
             {"issued": "1975-01-01", "calibration_span": 5 * u.yr},
-            r"calibration_span: got 5 yr; allowed: at most 1\.\d yr",
+            r"calibration_span: got 5 yr; allowed: at most 1\.\d\d yr",
         ),
-        ({"issued": "1973-06-01"}, "calibration_span: got 2 yr; allowed: a later issue date"),
+        ({"issued": "1973-06-01"}, r"issued: got 1973-06-01; allowed: a date from 1975-02-24 .* uncalibrated"),
+        ({"issued": "1973-06-01", "calibration_span": 2 * u.yr}, "calibration_span: got 2 yr; allowed: a later issue"),
         ({"calibration_span": 10 * u.day}, r"calibration_span: got 10.0 d; allowed: a span from 26 weeks \(182 d"),
         ({"calibration_span": 2.0}, "calibration_span"),
     ],
@@ -130,6 +131,15 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
 def test_bad_input(kwargs, fragment):
     with pytest.raises(InputError, match=fragment):
         wobble.forecast_polar_motion(**kwargs)
+
+
+def test_the_first_issue_date_named_for_a_calibrated_forecast_is_the_first_that_works():
+    """Kalman, 365 d, C04 latency 30 d: the record's start 1962-01-01 + the 3652.5-d fitting span + 30 d + the
+    calibration's reach (104 weekly past forecasts behind the ceil(395 / 7) = 57 weeks of horizon and latency:
+    160 weeks, 1120 d), less half a day, is 1975-02-24 (by hand)."""
+    with pytest.raises(InputError, match="issued: got 1975-02-23; allowed: a date from 1975-02-24"):
+        wobble.forecast_polar_motion(issued="1975-02-23")
+    assert wobble.forecast_polar_motion(issued="1975-02-24").to_dict()["issued"] == "1975-02-24"
 
 
 @pytest.mark.parametrize(

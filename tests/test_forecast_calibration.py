@@ -223,7 +223,7 @@ def test_hindcast_calibrations_never_read_the_future(simulated):
 def test_calibration_span_outside_the_record_is_named(simulated, setup):
     t, p = simulated
     issued = t[0] + ssm.FIT_SPAN + 2 * YEAR  # room for the forecast, not for 5 years of past forecasts
-    with pytest.raises(InputError, match=r"calibration_span: got 5 yr; allowed: at most 1\.\d yr"):
+    with pytest.raises(InputError, match=r"calibration_span: got 5 yr; allowed: at most 1\.\d\d yr"):
         fcal.forecast(t, p, issued, 30, method="kalman", chandler_period=PERIOD, q=Q, setup=setup, span=5 * YEAR)
     with pytest.raises(InputError, match="calibration_span: got 70 d"):
         fcal.count_per_lead(70 * DAY)

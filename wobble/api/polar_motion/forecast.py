@@ -471,13 +471,21 @@ def forecast_polar_motion(
         what = {"ls_ar": "LS+AR", "kalman": "Kalman"}[method]
         # The first day the method can be issued: its fitting span and the latency after the record's start.
         first = math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat) / DAY - 1e-9)
+        why = f"after the method's {_cal.FITTING_SPAN[method] / DAY:.0f}-day fitting span, plus the latency"
+        if calibrated and calibration_span is None:
+            # The default calibration is not the user's choice: the date is, so give the first one that works.
+            reach = _cal.calibration_reach(lat, horizon_days)
+            first = max(first, math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat + reach) / DAY - 0.5 - 1e-9))
+            why += (
+                f"; with calibrated intervals {horizon_days} d ahead, also the {reach / DAY:.0f} d of past "
+                "forecasts that calibrate them, or choose uncalibrated intervals"
+            )
         if not (first <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
             raise InputError(
                 "issued",
                 issued,
                 f"a date from {iso_date(first)} to {iso_date(mjd[-1] + lat / DAY)} for {what} (the record from "
-                f"{iso_date(mjd[0])}, after the method's {_cal.FITTING_SPAN[method] / DAY:.0f}-day fitting span, "
-                "plus the latency)",
+                f"{iso_date(mjd[0])}, {why})",
             )
         issued_s = (issued_mjd - MJD_J2000) * DAY
     span = calibration_span_si(calibration_span)

@@ -71,6 +71,7 @@ __all__ = [
     "FITTING_SPAN",
     "Calibration",
     "past_issue_times",
+    "calibration_reach",
     "count_per_lead",
     "calibrate",
     "known_at",
@@ -144,9 +145,13 @@ def past_issue_times(
     Lead l (days) uses k from ceil((l + latency) / step) on, ``round(span / step)``
     of them; the oldest belongs to the longest lead.
     """
-    n = count_per_lead(span, step)
-    k_last = math.ceil((horizon_days * DAY + latency) / step - 1e-9) + n - 1
+    k_last = round(calibration_reach(latency, horizon_days, span, step) / step)
     return issued - step * np.arange(k_last, 0, -1)
+
+
+def calibration_reach(latency: float, horizon_days: int, span: float = SPAN, step: float = STEP) -> float:
+    """How long before the issue date its oldest past forecast is issued, s (the same for every issue date)."""
+    return step * (math.ceil((horizon_days * DAY + latency) / step - 1e-9) + count_per_lead(span, step) - 1)
 
 
 def count_per_lead(span: float, step: float = STEP) -> int:
@@ -279,7 +284,9 @@ def check_calibration_span(
     if have < need - 0.5 * DAY:
         most = span - (need - have)
         allowed = (
-            f"at most {most / (365.25 * DAY):.1f} yr for this issue date and horizon (the oldest past forecast, issued "
+            # Rounded down, so that the span allowed never reads as the span refused (2.0 yr for 1.96).
+            f"at most {math.floor(most / (365.25 * DAY) * 100) / 100:.2f} yr for this issue date and horizon "
+            "(the oldest past forecast, issued "
             f"{(issued - oldest) / DAY:.0f} d before, needs its {need / (365.25 * DAY):.0f}-yr {_WHAT[method]} "
             "fitting span in the record)"
             if most >= MIN_COUNT * step
