@@ -100,7 +100,7 @@ def compare(t, z, mjd_issued: float) -> dict:
             args=(sigma_c, zi, x0),
             method="L-BFGS-B",
             bounds=bounds,
-            options={"maxiter": 100, "ftol": 1e-10},
+            options={"maxiter": 100, "ftol": 1e-10, "eps": ss.GRADIENT_STEP},
         )
         fits.append(res)
         print(f"  start tau {tau:5.0f} d, ratio e^{lq:+.0f}: log-likelihood {-res.fun:.2f}")

@@ -59,7 +59,7 @@ def profile(t, z) -> dict:
             rest,
             method="L-BFGS-B",
             bounds=ss._BOUNDS[1:],
-            options={"maxiter": 60, "ftol": 1e-9},
+            options={"maxiter": 60, "ftol": 1e-9, "eps": ss.GRADIENT_STEP},
         )
         out[f"tau_{tau:g}d"] = -float(res.fun)
         print(f"  correlation time held at {tau:6.1f} d: log-likelihood {-res.fun:.1f}")

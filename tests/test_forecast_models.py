@@ -241,6 +241,21 @@ def test_maximum_likelihood_finds_the_simulated_noise(simulated):
     assert noise.correlation_time == pytest.approx(truth.correlation_time, rel=0.3)
 
 
+def test_maximum_likelihood_does_not_depend_on_the_last_digits_of_its_start(simulated):
+    """Starts 1e-3 apart reach the same maximum: the gradient's finite-difference step is above the
+    likelihood's rounding noise (with SciPy's default step, 1e-8, they stopped up to ~0.5 apart)."""
+    t, p, sigma = simulated
+    use = t >= t[-1] - ssm.FIT_SPAN
+    start = ssm.DEFAULT_NOISE.ratios()
+    loglikes = [
+        ssm.fit_noise(t[use], p[use], sigma, ssm.NoiseParameters.from_ratios(start + d, ssm.DEFAULT_NOISE.excitation))[
+            1
+        ]
+        for d in (0.0, np.full(5, 1e-3), np.array([-1e-3, 1e-3, -1e-3, 1e-3, -1e-3]))
+    ]
+    assert max(loglikes) - min(loglikes) < 0.05, loglikes
+
+
 # ---------------------------------------------------------------------------
 # No forecast uses its future
 # ---------------------------------------------------------------------------
