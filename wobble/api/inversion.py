@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
@@ -58,7 +59,6 @@ __all__ = [
 RHAT_MAX = 1.01
 ESS_MIN = 400
 ACCEPTANCE_RANGE = (0.15, 0.7)
-_LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
 _REFERENCES = (
     "Foreman-Mackey et al. 2013 (emcee, PASP 125, 306); Goodman & Weare 2010 (stretch move); "
     "ter Braak 2006 and ter Braak & Vrugt 2008 (differential-evolution moves); "
@@ -130,15 +130,6 @@ class _Progress:
             sys.stderr.flush()
 
 
-def _check_scheduler(scheduler):
-    if isinstance(scheduler, str) and scheduler not in _LOCAL_SCHEDULERS and "://" not in scheduler:
-        raise InputError(
-            "scheduler",
-            scheduler,
-            "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
-        )
-
-
 def _map(function, items: list, scheduler, progress: _Progress | None):
     """``[function(*item) for item in items]``, in this process or on a dask scheduler."""
     if scheduler is None:
@@ -148,18 +139,16 @@ def _map(function, items: list, scheduler, progress: _Progress | None):
             if progress is not None and len(items) > 1:
                 progress(len(out))
         return out
-    if isinstance(scheduler, str) and scheduler in _LOCAL_SCHEDULERS:
+    if isinstance(scheduler, str) and scheduler in LOCAL:
         import dask
 
         results = dask.compute(*[dask.delayed(function, pure=True)(*item) for item in items], scheduler=scheduler)
         if progress is not None:
             progress(len(items))
         return list(results)
-    from distributed import Client, as_completed
+    from distributed import as_completed
 
-    own = isinstance(scheduler, str)
-    client = Client(scheduler) if own else scheduler
-    try:
+    with connected(scheduler) as client:
         futures = [client.submit(function, *item, pure=True) for item in items]
         done = 0
         for _ in as_completed(futures):
@@ -167,9 +156,6 @@ def _map(function, items: list, scheduler, progress: _Progress | None):
             if progress is not None:
                 progress(done)
         return [f.result() for f in futures]
-    finally:
-        if own:
-            client.close()
 
 
 def _ensemble_seed(seed: int, index: int) -> list[int]:
@@ -787,7 +773,7 @@ def invert(
         isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed <= INT64_MAX
     ):
         raise InputError("seed", seed, f"a non-negative integer {INT64_ALLOWED}")
-    _check_scheduler(scheduler)
+    check_scheduler(scheduler)
     settings = _settings(s, walkers=walkers, steps=steps, burn=burn, thin=thin, ensembles=ensembles)
     posterior = s.posterior(prior_only=prior_only)
     settings.check(posterior.ndim)
@@ -899,7 +885,7 @@ def injection_recovery(
     s = load_inversion_setup(setup)
     if isinstance(draws, bool) or not isinstance(draws, (int, np.integer)) or draws < 1:
         raise InputError("draws", draws, "a positive whole number")
-    _check_scheduler(scheduler)
+    check_scheduler(scheduler)
     settings = _settings(s, walkers=walkers, steps=steps, burn=burn, thin=thin)
     posterior = s.posterior()
     settings.check(posterior.ndim)

@@ -38,6 +38,7 @@ import numpy as np
 import xarray as xr
 
 from wobble.api.sweep_targets import TARGETS, ChandlerTarget, target_for
+from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.netcdf import write_netcdf_blocks
@@ -52,7 +53,6 @@ from wobble.models import chandler as chandler_model
 __all__ = ["load_sweep", "sweep", "run_sweep", "SweepSummary", "summarize_sweep"]
 
 DEFAULT_CHUNK = 20_000
-_LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
 
 
 def load_sweep(sweep) -> SweepSpec:
@@ -256,7 +256,7 @@ def _pool(scheduler, n_chunks: int):
 def _compute_chunks(plan: _Plan, scheduler, batch: int):
     """Yield (r0, r1, outputs) chunk by chunk, computed in parallel batches on dask."""
     chunks = list(plan.row_chunks())
-    if scheduler is None or scheduler in _LOCAL_SCHEDULERS:
+    if scheduler is None or scheduler in LOCAL:
         with _pool(scheduler, len(chunks)) as pool:
             extra = {"pool": pool} if pool is not None else {}
             for i in range(0, len(chunks), batch):
@@ -266,11 +266,9 @@ def _compute_chunks(plan: _Plan, scheduler, batch: int):
                 for (a, b), res in zip(todo, results):
                     yield a, b, res
         return
-    from distributed import Client, as_completed
+    from distributed import as_completed
 
-    own = isinstance(scheduler, str)
-    client = Client(scheduler) if own else scheduler
-    try:
+    with connected(scheduler) as client:
         pending = iter(chunks)
         futures = {}
         for a, b in [next(pending) for _ in range(min(batch, len(chunks)))]:
@@ -284,9 +282,6 @@ def _compute_chunks(plan: _Plan, scheduler, batch: int):
                 new = client.submit(_chunk, plan, *nxt, pure=True)
                 futures[new] = nxt
                 queue.add(new)
-    finally:
-        if own:
-            client.close()
 
 
 def run_sweep(
@@ -329,12 +324,7 @@ def run_sweep(
     from wobble.io.netcdf import open_wobble
 
     plan = _plan(load_sweep(spec), chunk_size)
-    if isinstance(scheduler, str) and scheduler not in _LOCAL_SCHEDULERS and "://" not in scheduler:
-        raise InputError(
-            "scheduler",
-            scheduler,
-            "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
-        )
+    check_scheduler(scheduler)
     template = sweep(plan.spec, chunk_size=chunk_size)
     batch = 2 * (os.cpu_count() or 2)
     bar = _Progress(plan.size, progress)

@@ -31,6 +31,7 @@ from wobble.api.polar_motion.forecast import (
 )
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
+from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
 from wobble.models.polar_motion import forecast as _fc
@@ -40,7 +41,6 @@ from wobble.models.polar_motion.record import DAY
 
 __all__ = ["PolarMotionHindcast", "hindcast_polar_motion", "ANCHORS"]
 
-_LOCAL = ("threads", "processes", "synchronous")
 
 #: Published results to set beside ours: (label, metric, {lead days: mas}).
 ANCHORS = (
@@ -73,22 +73,15 @@ def _run_blocks(t, z, blocks, scheduler, workers):
         context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
         with concurrent.futures.ProcessPoolExecutor(workers, mp_context=context) as pool:
             return list(pool.map(_hc.run_block, [t] * len(blocks), [z] * len(blocks), blocks))
-    if isinstance(scheduler, str) and scheduler in _LOCAL:
+    if isinstance(scheduler, str) and scheduler in LOCAL:
         import dask
 
         tasks = [dask.delayed(_hc.run_block, pure=True)(t, z, b) for b in blocks]
         return list(dask.compute(*tasks, scheduler=scheduler))
-    from distributed import Client
-
-    own = isinstance(scheduler, str)
-    client = Client(scheduler) if own else scheduler
-    try:
+    with connected(scheduler) as client:
         tt, zz = client.scatter(t, broadcast=True), client.scatter(z, broadcast=True)
         futures = [client.submit(_hc.run_block, tt, zz, b, pure=True) for b in blocks]
         return client.gather(futures)
-    finally:
-        if own:
-            client.close()
 
 
 class PolarMotionHindcast:
@@ -352,12 +345,7 @@ def hindcast_polar_motion(
     methods = tuple(_fc.check_method(m) for m in methods)
     if not methods:
         raise InputError("methods", methods, "one or more of 'ls_ar', 'kalman'")
-    if isinstance(scheduler, str) and scheduler not in _LOCAL and "://" not in scheduler:
-        raise InputError(
-            "scheduler",
-            scheduler,
-            "threads, processes, synchronous or a scheduler address such as tcp://127.0.0.1:8786",
-        )
+    check_scheduler(scheduler)
     horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
     step = float(to_si(every, "every", u.s, finite=False, shape=()))
     if not (math.isfinite(step) and step >= DAY - 1e-6 and whole_days(step)):

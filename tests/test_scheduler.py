@@ -1,0 +1,76 @@
+"""The schedulers the parallel commands accept (wobble.api._scheduler): names checked, addresses that do not answer."""
+
+from __future__ import annotations
+
+import pytest
+
+from cli_run import run_cli
+from wobble.api import _scheduler
+from wobble.errors import InputError
+
+
+@pytest.fixture
+def quick_timeout(monkeypatch):
+    monkeypatch.setattr(_scheduler, "CONNECT_TIMEOUT", 1)
+
+
+@pytest.mark.parametrize("name", ["threads", "processes", "synchronous", "tcp://127.0.0.1:8786", None])
+def test_known_schedulers_pass_the_check(name):
+    _scheduler.check_scheduler(name)
+
+
+def test_an_unknown_name_is_refused_with_what_is_allowed():
+    with pytest.raises(InputError, match="scheduler: got thread; allowed: threads, processes, synchronous or"):
+        _scheduler.check_scheduler("thread")
+
+
+def test_an_address_where_nothing_answers_is_named(quick_timeout):
+    with pytest.raises(InputError, match=r"scheduler: got tcp://127\.0\.0\.1:1; allowed: the address of a running"):
+        with _scheduler.connected("tcp://127.0.0.1:1"):
+            pass
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["forecast", "--hindcast", "2019-01-01:2019-02-01", "--horizon", "10", "--scheduler", "tcp://127.0.0.1:1"],
+        ["sweep", "mars_chandler", "--scheduler", "tcp://127.0.0.1:1"],
+    ],
+)
+def test_the_command_line_names_the_option_of_an_address_that_does_not_answer(quick_timeout, capsys, args):
+    code, out, err = run_cli(args, capsys)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and "--scheduler: got tcp://127.0.0.1:1; allowed: the address of a running" in err
+
+
+def test_a_client_given_is_used_as_it_is():
+    sentinel = object()
+    with _scheduler.connected(sentinel) as client:
+        assert client is sentinel
+
+
+def test_a_hindcast_on_a_distributed_client_equals_the_local_one():
+    distributed = pytest.importorskip("distributed")
+    import numpy as np
+    from astropy import units as u
+
+    import wobble
+
+    kwargs = dict(
+        start="2019-01-01",
+        end="2019-01-15",
+        horizon=10 * u.day,
+        latency=1 * u.day,
+        methods=("ls_ar",),
+        calibrated=False,
+    )
+    local = wobble.hindcast_polar_motion(scheduler="synchronous", **kwargs)
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=":0"
+    ) as cluster:
+        with distributed.Client(cluster) as client:
+            on_client = wobble.hindcast_polar_motion(scheduler=client, **kwargs)
+        by_address = wobble.hindcast_polar_motion(scheduler=cluster.scheduler_address, **kwargs)
+    expected = list(local.to_dict()["methods"]["ls_ar"]["rms_2d"].values())
+    for remote in (on_client, by_address):
+        np.testing.assert_array_equal(list(remote.to_dict()["methods"]["ls_ar"]["rms_2d"].values()), expected)
