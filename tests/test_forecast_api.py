@@ -69,7 +69,7 @@ def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
     assert_cf_compliant(path)
 
 
-def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
+def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
     h = wobble.hindcast_polar_motion(
         start="2019-01-01",
         end="2019-02-01",
@@ -78,7 +78,9 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
         latency=1 * u.day,
         workers=1,
         calibration_span=1 * u.yr,
+        progress=True,
     )
+    assert "100.0% 3/3 issue dates" in capsys.readouterr().err
     d = h.to_dict()
     assert d["issues"] == 3 and set(d["methods"]) == {"ls_ar", "kalman"}
     for m in ("ls_ar", "kalman"):
@@ -88,6 +90,8 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant):
     assert d["anchors"][0]["values_mas"]["10"] == 2.32
     text = h.summary()  # leads beyond the 30-day horizon are left out
     assert "10 d" in text and "40 d" not in text and "Dill et al. 2023" in text
+    row = next(line for line in text.splitlines() if line.strip().startswith("kalman 68 % interval coverage [%]"))
+    assert row.split()[-1] == f"{100 * d['methods']['kalman']['coverage_68']['10']:.1f}"  # per cent, as the docs
     path = write_netcdf(h.to_dataset(), tmp_path / "h.nc", command="test")
     back = open_wobble(path)
     assert back["rms_2d"].dims == ("method", "lead") and back["x_p_forecast"].shape == (2, 3, 30)

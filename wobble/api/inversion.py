@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
@@ -106,31 +107,7 @@ def load_inversion_setup(setup) -> InversionSetup:
 # ---------------------------------------------------------------------------
 
 
-class _Progress:
-    """A one-line progress bar on stderr (the CLI asks for it on a terminal)."""
-
-    def __init__(self, total: int, label: str, enabled: bool):
-        self.total, self.label, self.enabled, self.t0, self.last = total, label, enabled, time.perf_counter(), -1
-
-    def __call__(self, done: int, total: int | None = None):
-        if not self.enabled:
-            return
-        pct = int(1000 * done / self.total)
-        if pct == self.last and done != self.total:
-            return
-        self.last = pct
-        bar = "#" * int(30 * done / self.total)
-        elapsed = time.perf_counter() - self.t0
-        sys.stderr.write(f"\r[{bar:<30}] {done / self.total:6.1%} {done}/{self.total} {self.label}, {elapsed:.1f} s")
-        sys.stderr.flush()
-
-    def close(self):
-        if self.enabled:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
-
-
-def _map(function, items: list, scheduler, progress: _Progress | None):
+def _map(function, items: list, scheduler, progress: ProgressBar | None):
     """``[function(*item) for item in items]``, in this process or on a dask scheduler."""
     if scheduler is None:
         out = []
@@ -779,7 +756,7 @@ def invert(
     settings.check(posterior.ndim)
     seed = s.seed if seed is None else int(seed)
     total = settings.ensembles * (settings.burn + settings.steps)
-    bar = _Progress(
+    bar = ProgressBar(
         total if scheduler is None else settings.ensembles, "steps" if scheduler is None else "ensembles", progress
     )
     t0 = time.perf_counter()
@@ -889,7 +866,7 @@ def injection_recovery(
     settings = _settings(s, walkers=walkers, steps=steps, burn=burn, thin=thin)
     posterior = s.posterior()
     settings.check(posterior.ndim)
-    bar = _Progress(draws, "injections", progress)
+    bar = ProgressBar(draws, "injections", progress)
     t0 = time.perf_counter()
     try:
         recoveries = _map(recover_one, [(posterior, settings, seed, i) for i in range(draws)], scheduler, bar)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 
 from wobble.cli._record import add_file, add_outputs, report
 from wobble.errors import InputError
@@ -167,6 +168,7 @@ def run(args) -> int:
                 scheduler=args.scheduler,
                 calibrated=not args.no_calibration,
                 calibration_span=calibration_span,
+                progress=sys.stderr.isatty(),
             )
     else:
         from wobble.api.polar_motion.forecast import forecast_polar_motion

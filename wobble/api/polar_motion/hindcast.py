@@ -31,6 +31,7 @@ from wobble.api.polar_motion.forecast import (
 )
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
+from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
@@ -64,23 +65,41 @@ ANCHORS = (
 )
 
 
-def _run_blocks(t, z, blocks, scheduler, workers):
-    """Every block's forecasts, in order, computed in parallel."""
+def _run_blocks(t, z, blocks, scheduler, workers, bar: ProgressBar):
+    """Every block's forecasts, in order, computed in parallel; ``bar`` counts the issue dates done."""
     if scheduler is None:
         workers = min(workers or (os.cpu_count() or 1), len(blocks))
         if workers <= 1:
-            return [_hc.run_block(t, z, b) for b in blocks]
+            out = []
+            for b in blocks:
+                out.append(_hc.run_block(t, z, b))
+                bar(sum(len(block) for block in out))
+            return out
         context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
         with concurrent.futures.ProcessPoolExecutor(workers, mp_context=context) as pool:
-            return list(pool.map(_hc.run_block, [t] * len(blocks), [z] * len(blocks), blocks))
+            futures = {pool.submit(_hc.run_block, t, z, b): len(b.issues) for b in blocks}
+            done = 0
+            for f in concurrent.futures.as_completed(futures):
+                done += futures[f]
+                bar(done)
+            return [f.result() for f in futures]
     if isinstance(scheduler, str) and scheduler in LOCAL:
         import dask
 
         tasks = [dask.delayed(_hc.run_block, pure=True)(t, z, b) for b in blocks]
-        return list(dask.compute(*tasks, scheduler=scheduler))
+        out = list(dask.compute(*tasks, scheduler=scheduler))
+        bar(bar.total)
+        return out
+    from distributed import as_completed
+
     with connected(scheduler) as client:
         tt, zz = client.scatter(t, broadcast=True), client.scatter(z, broadcast=True)
         futures = [client.submit(_hc.run_block, tt, zz, b, pure=True) for b in blocks]
+        size = {f.key: len(b.issues) for f, b in zip(futures, blocks)}
+        done = 0
+        for f in as_completed(futures):
+            done += size[f.key]
+            bar(done)
         return client.gather(futures)
 
 
@@ -279,15 +298,18 @@ class PolarMotionHindcast:
             f"  {'':<34}" + "".join(f"{d:>8} d" for d in leads),
         ]
         for m in self.methods:
-            for metric, label in (
-                ("rms_2d", "2-D RMS [mas]"),
-                ("mae_x", "x_p MAE [mas]"),
-                ("coverage_68", "68 % coverage"),
-                ("coverage_95", "95 % coverage"),
-                ("skill_persistence", "skill vs persistence"),
+            # Coverage in per cent, as the documentation's tables give it (the JSON keeps fractions).
+            for metric, label, scale, fmt in (
+                ("rms_2d", "2-D RMS [mas]", 1.0, ".2f"),
+                ("mae_x", "x_p MAE [mas]", 1.0, ".2f"),
+                ("coverage_68", "68 % interval coverage [%]", 100.0, ".1f"),
+                ("coverage_95", "95 % interval coverage [%]", 100.0, ".1f"),
+                ("skill_persistence", "skill vs persistence", 1.0, ".2f"),
             ):
                 vals = self.at(metric, m, leads)
-                lines.append(f"  {m + ' ' + label:<34}" + "".join(f"{vals.get(d, math.nan):>10.2f}" for d in leads))
+                lines.append(
+                    f"  {m + ' ' + label:<34}" + "".join(f"{scale * vals.get(d, math.nan):>10{fmt}}" for d in leads)
+                )
         lines.append(
             f"  {'LS extrapolation 2-D RMS':<34}"
             + "".join(f"{self.scores[self.methods[0]].rms_2d_ls[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads)
@@ -321,6 +343,7 @@ def hindcast_polar_motion(
     workers: int | None = None,
     calibrated: bool = True,
     calibration_span: u.Quantity | None = None,
+    progress: bool = False,
 ) -> PolarMotionHindcast:
     """Forecasts issued every ``every`` from ``start`` up to (not including) ``end``, scored against the record.
 
@@ -341,6 +364,9 @@ def hindcast_polar_motion(
     calibrated, calibration_span
         As in :func:`wobble.forecast_polar_motion`: each forecast's intervals calibrated on the
         method's past forecasts (issued before it, outcomes known at its issue date minus the latency).
+    progress : bool
+        A progress bar on stderr, counting the blocks of issue dates done (the command line shows it on a
+        terminal).
     """
     methods = tuple(_fc.check_method(m) for m in methods)
     if not methods:
@@ -403,7 +429,11 @@ def hindcast_polar_motion(
         calibrated=methods if calibrated else (),
         calibration_span=span,
     )
-    rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers) for row in block]
+    bar = ProgressBar(sum(len(b.issues) for b in blocks), "issue dates", progress)
+    try:
+        rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers, bar) for row in block]
+    finally:
+        bar.close()
     order = ["ls_ar"] + [m for m in methods if m != "ls_ar"]
     lead = DAY * np.arange(1, horizon_days + 1)
     truth = np.array([_hc.truth_at(t, z, row[0].issued + lead) for row in rows])
