@@ -276,3 +276,18 @@ def test_inversion_seeds_beyond_64_bits_are_refused_in_the_api_and_the_setup_fil
     path.write_text(re.sub(r"(?m)^seed = .*$", f"seed = {2**64}", text))
     with pytest.raises(WobbleError, match=r"sampler\.seed: got 18446744073709551616; allowed"):
         wobble.load_inversion_setup(path)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["forecast", "--horizon", "5", "m"], "--horizon: got '5 m' as two arguments; allowed: one, 5m or '5 m'"),
+        (["forecast", "--horizon=5", "m"], "--horizon: got '5 m' as two arguments"),
+        (["excitation", "--period", "433", "d"], "--period: got '433 d' as two arguments; allowed: one, 433d"),
+        (["forecast", "--quiet"], "unrecognized arguments: --quiet"),
+    ],
+)
+def test_a_value_split_from_its_unit_names_the_option(capsys, args, message):
+    # Was: "unrecognized arguments: m", which names neither the option nor the value.
+    code, out, err = _run(args, capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1 and message in err

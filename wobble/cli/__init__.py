@@ -120,6 +120,25 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _split_value(argv: list[str], extra: list[str]) -> str | None:
+    """The message for a value typed as two words (``--horizon 5 m``), whose unit argparse calls unrecognized."""
+    i = argv.index(extra[0]) if extra[0] in argv else -1
+    if i < 1 or not re.fullmatch(r"[A-Za-z][A-Za-z0-9/*^.]*", extra[0]):
+        return None
+    if argv[i - 1].startswith("--") and "=" in argv[i - 1]:
+        option, number = argv[i - 1].split("=", 1)
+    elif i >= 2 and argv[i - 2].startswith("--"):
+        option, number = argv[i - 2], argv[i - 1]
+    else:
+        return None
+    try:
+        float(number)
+    except ValueError:
+        return None
+    value = f"{number} {extra[0]}"
+    return f"{option}: got {value!r} as two arguments; allowed: one, {number}{extra[0]} or {value!r} in quotes"
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``wobble`` console script.
 
@@ -133,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
         # Reported by the command's own parser ("wobble forecast: error: unrecognized arguments:
         # --quiet"), not the top-level one, which does not say which command was meant.
         sub = _subparser(parser, getattr(args, "command", None))
-        (sub or parser).error(f"unrecognized arguments: {' '.join(extra)}")
+        (sub or parser).error(_split_value(argv, extra) or f"unrecognized arguments: {' '.join(extra)}")
     args.command_line = "wobble " + shlex.join(argv)  # for the files' history attribute
     if not getattr(args, "func", None):
         parser.print_help(sys.stderr)
