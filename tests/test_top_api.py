@@ -418,3 +418,21 @@ def test_direct_dataset_builder_equals_the_general_constructor(monkeypatch):
     # Not the builder's kind of input: the general constructor decides (here it refuses).
     with pytest.raises(ValueError):
         build({"a": (("x",), np.zeros(2), {})}, {"x": (("x",), np.zeros(3), {})})
+
+
+@pytest.mark.parametrize(("theta0", "phidot0", "which"), [(60 * u.deg, 0.0, "min"), (60 * u.deg, 3.0, "max")])
+def test_a_start_at_a_turning_point_reads_as_typed(theta0, phidot0, which):
+    """A top released with thetadot0 = 0 turns at its start (g(u0) = 0 exactly): that turning angle is
+    the angle typed, 60 deg, not the 59.99999999999999 deg of the float round trip through rad (at rest in
+    precession it falls from there; precessing at 3 rad/s, faster than steady, it rises from there)."""
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2,
+        I3=0.5 * u.kg * u.m**2,
+        mgl=1 * u.J,
+        theta0=theta0,
+        omega3=10 * u.rad / u.s,
+        phidot0=phidot0 * u.rad / u.s,
+    )
+    turning = top.theta_min if which == "min" else top.theta_max
+    assert turning.unit == u.deg and turning.value == theta0.to_value(u.deg)
+    assert str(turning) == f"{theta0.to_value(u.deg)} deg"

@@ -206,6 +206,9 @@ class HeavyTop:
         else:
             kwargs["psidot0"] = _rate(psidot0, "psidot0")
         self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
+        # The start as typed, in deg: a turning point at the start reads 60 deg, not the 59.99999999999999 deg
+        # that the round trip through rad gives.
+        self._theta0_deg = _as_quantity(theta0).to(u.deg) if th == float(_as_quantity(theta0).to_value(u.rad)) else None
 
     @classmethod
     def from_state(cls, omega0, q0, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None):
@@ -327,12 +330,17 @@ class HeavyTop:
     @property
     def theta_min(self) -> u.Quantity:
         """Smallest tilt of the motion (turning angle at u2), in deg."""
-        return (self._model.theta_min * u.rad).to(u.deg)
+        return self._turning_angle(self._model.theta_min)
 
     @property
     def theta_max(self) -> u.Quantity:
         """Largest tilt of the motion (turning angle at u1), in deg."""
-        return (self._model.theta_max * u.rad).to(u.deg)
+        return self._turning_angle(self._model.theta_max)
+
+    def _turning_angle(self, theta: float) -> u.Quantity:
+        if getattr(self, "_theta0_deg", None) is not None and theta == self._model.theta0:
+            return self._theta0_deg.copy()
+        return (theta * u.rad).to(u.deg)
 
     @property
     def nutation(self) -> str:
