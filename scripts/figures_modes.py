@@ -22,7 +22,7 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "figures"
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     path = OUT / "modes_core_flattening.png"
-    modes_figure([wobble.normal_modes("earth"), wobble.normal_modes("mars")], path)
+    modes_figure([wobble.normal_modes("earth"), wobble.normal_modes("mars")], path, overwrite=True)
     print(f"wrote {path}")
 
 

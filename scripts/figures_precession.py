@@ -17,8 +17,8 @@ def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     earth, mars = wobble.precession_rate("earth"), wobble.precession_rate("mars")
     for name, draw in (
-        ("precession_budget.png", lambda p: budget_figure([earth, mars], p)),
-        ("precession_nutation.png", lambda p: nutation_ellipse_figure(earth, p)),
+        ("precession_budget.png", lambda p: budget_figure([earth, mars], p, overwrite=True)),
+        ("precession_nutation.png", lambda p: nutation_ellipse_figure(earth, p, overwrite=True)),
     ):
         path = OUT / name
         draw(path)
