@@ -639,3 +639,14 @@ def test_moments_about_another_point_are_accepted_when_physical():
         np.diag(tip.central_tensor.to_value(KGM2)), [md * r * r / 4, md * r * r / 4, md * r * r / 2], rtol=1e-13
     )
     assert tip.center_of_mass_offset.to_value(u.m)[2] == h
+
+
+def test_a_symmetric_set_of_point_masses_has_exact_zeros():
+    """10 g at x = -5 and +5 cm and 5 g at y = 3 cm: the centre of mass is (0, 0.6, 0) cm and the products of
+    inertia vanish by symmetry, exactly (a fused matrix product left 1e-16 cm and 7e-16 g cm2 of rounding)."""
+    body = RigidBody.from_point_masses([10, 10, 5] * u.g, [[-5, 0, 0], [5, 0, 0], [0, 3, 0]] * u.cm)
+    com = body.center_of_mass.to_value(u.cm)
+    assert com[0] == 0.0 and com[2] == 0.0 and com[1] == pytest.approx(0.6, rel=1e-15)
+    tensor = body.tensor.to_value(u.g * u.cm**2)
+    assert tensor[0, 1] == tensor[1, 0] == tensor[0, 2] == tensor[1, 2] == 0.0
+    np.testing.assert_allclose(np.diag(tensor), [36.0, 500.0, 536.0], rtol=1e-14)  # by hand: sum m (y^2 + z^2) ...

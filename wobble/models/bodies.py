@@ -679,10 +679,17 @@ def from_point_masses(masses, positions, *, about=None) -> Body:
     if not np.all(np.isfinite(r)):
         raise InputError("positions", "NaN or inf", "finite positions")
     total = float(np.sum(m))
-    com = (m @ r) / total
+    # Products rounded one by one, then summed: a matrix product may fuse them (FMA), and then the two halves of a
+    # symmetric body leave a residue of one product's rounding (1e-18 m for 10 g at +/-5 cm) instead of 0.
+    com = (m[:, None] * r).sum(axis=0) / total
     ref = com if about is None else _vector(about, "about")
     d = r - ref
-    s = (m[:, None] * d).T @ d
+    md = m[:, None] * d
+    # The same for the second moments: six sums of rounded products (memory N, not 9N), not a fused matrix product.
+    s = np.empty((3, 3))
+    for j in range(3):
+        for k in range(j, 3):
+            s[j, k] = s[k, j] = np.sum(md[:, j] * d[:, k])
     return Body(tensor_from_second_moments(s), ref, com, total)
 
 
