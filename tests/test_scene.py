@@ -297,3 +297,9 @@ def test_a_torque_free_scene_forced_onto_the_splitting_uses_the_shortest_composi
     exact = wobble.run(scene)  # the exact free body
     assert exact.attrs["model"] == "free-elliptic"
     assert float(abs(ds["omega"] - exact["omega"]).max()) < 1e-10
+
+
+def test_a_splitting_named_with_its_order_is_refused_with_where_the_order_comes_from():
+    # The output names the model splitting-6; --model splitting-6 was refused without saying why.
+    with pytest.raises(InputError, match=r"model: got splitting-6; allowed: auto or one of .*picks its order"):
+        wobble.run("satellite_gravity_gradient", model="splitting-6")

@@ -957,7 +957,11 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
         reach (the ``accuracy`` field, naming the scene file if any).
     """
     if force is not None and force not in MODEL_NAMES and force != "auto":
-        raise InputError("model", force, f"auto or one of {', '.join(MODEL_NAMES)}")
+        allowed = f"auto or one of {', '.join(MODEL_NAMES)}"
+        if str(force).startswith("splitting-"):
+            # The output names the splitting with its order (splitting-6): say where the order comes from.
+            allowed += " (the splitting picks its order: 2 without torques, else 6 for an accuracy below 1e-6, 4 above)"
+        raise InputError("model", force, allowed)
     origin = f"--model {force}"
     if force is None:
         force = scene.mapping.get("model", "auto")
