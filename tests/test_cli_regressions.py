@@ -45,7 +45,8 @@ def test_inertia_about_a_point_whose_shift_overflows_is_an_input_error(capsys):
         ["inertia", "--solid", "sphere", "--mass", "1", "--radius", "80", "--about", "1e300", "0", "0"], capsys
     )
     assert code == 2
-    assert err.startswith("wobble inertia: error: point: got (1e+300, 0.0, 0.0); allowed: a point whose parallel-axis")
+    # Then (an audit, 2026-11-28): it named the model's parameter, point, and not the option typed.
+    assert err.startswith("wobble inertia: error: --about: got 1e300 0 0; allowed: a point whose parallel-axis")
 
 
 def test_a_finite_value_that_overflows_in_si_is_one_line_without_a_warning(capsys):

@@ -202,7 +202,10 @@ def build_body(args) -> tuple[RigidBody, str]:
     else:
         body = _solid(args, mass_unit, length_unit)
         label = f"solid {args.solid}"
-    return body.shifted_to(about), label
+    from wobble.cli._record import as_typed
+
+    with as_typed({"point": ("--about", " ".join(args.about))}):
+        return body.shifted_to(about), label
 
 
 def _report(body: RigidBody, rtol: float) -> dict:
