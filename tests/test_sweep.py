@@ -215,3 +215,16 @@ def test_cli_summary_json_plot_and_errors(tmp_path, capsys):
     status = main(["sweep", "no_such_sweep"])
     err = capsys.readouterr().err
     assert status == 2 and "SWEEP: got no_such_sweep; allowed: an existing file" in err and "mars_chandler.toml" in err
+
+
+def test_a_shipped_sweep_loads_by_name_in_python_as_on_the_command_line(tmp_path, monkeypatch):
+    # Was: wobble.run_sweep("mars_chandler") raised "no such file" while `wobble sweep mars_chandler` ran.
+    from wobble.io.shipped import find_shipped
+
+    by_name = load_sweep("mars_chandler")
+    assert by_name == load_sweep(find_shipped("mars_chandler", "sweeps", (".toml",)).path())
+    # A file of the user's with that name wins, as on the command line.
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "mars_chandler").write_text("not a sweep")
+    with pytest.raises(FileFormatError):
+        load_sweep("mars_chandler")

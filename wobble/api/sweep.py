@@ -30,6 +30,7 @@ import math
 import os
 import sys
 import time
+from pathlib import Path
 from dataclasses import dataclass
 
 import dask
@@ -56,11 +57,19 @@ DEFAULT_CHUNK = 20_000
 
 
 def load_sweep(sweep) -> SweepSpec:
-    """A sweep from a path, a dict with the TOML structure, or a SweepSpec."""
+    """A sweep from a path, the name of a shipped sweep (``"mars_chandler"``), a dict with the TOML
+    structure, or a SweepSpec. A file of the user's wins over a shipped sweep of the same name, as on
+    the command line."""
     if isinstance(sweep, SweepSpec):
         return sweep
     if isinstance(sweep, dict):
         return sweep_spec_from_dict(sweep)
+    if not Path(os.fspath(sweep)).is_file():
+        from wobble.io.shipped import find_shipped
+
+        found = find_shipped(str(sweep), "sweeps", (".toml",))
+        if found is not None:
+            return read_sweep_file(found.path())
     return read_sweep_file(sweep)
 
 
