@@ -228,3 +228,20 @@ def test_a_shipped_sweep_loads_by_name_in_python_as_on_the_command_line(tmp_path
     (tmp_path / "mars_chandler").write_text("not a sweep")
     with pytest.raises(FileFormatError):
         load_sweep("mars_chandler")
+
+
+def test_members_without_a_finite_output_are_counted_apart_from_the_invalid(capsys):
+    """The top phase diagram: upright tops (theta0 = 0) spun below the sleeping threshold have no nutation
+    period (inf) but nothing invalid; the summary said 45850 valid of 45955 with no reason for the 105."""
+    ds = run_sweep("top_phase_diagram")
+    s = summarize_sweep(ds)
+    period = ds["nutation_period"]
+    missing = (ds["invalid_reason"] == 0) & ~np.isfinite(period)
+    assert s.not_finite == int(missing.sum()) > 0 and s.valid + s.not_finite == s.members - sum(
+        s.invalid_reasons.values()
+    )
+    assert bool((ds["theta0"].broadcast_like(period).where(missing) == 0).sum() == missing.sum())
+    assert not bool(ds["sleeping_stable"].where(missing, False).astype(bool).any())  # below the threshold
+    assert s.not_finite_classes == {"sleeping": s.not_finite}
+    assert main(["sweep", "top_phase_diagram"]) == 0
+    assert f"no finite nutation_period: {s.not_finite} (sleeping {s.not_finite})" in capsys.readouterr().out

@@ -381,6 +381,10 @@ class SweepSummary:
     observed: float
     invalid_reasons: dict
     classes: dict = None
+    #: Members without an invalid reason whose ``variable`` is not finite (a sleeping top has no
+    #: nutation period), left out of ``valid`` and the statistics; by class where the target has one.
+    not_finite: int = 0
+    not_finite_classes: dict = None
 
     def to_dict(self) -> dict:
         d = self.__dict__.copy()
@@ -407,7 +411,7 @@ def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary
     target = TARGETS.get(ds.attrs.get("sweep_target", "chandler"), ChandlerTarget)
     texts = chandler_model.INVALID_REASONS if target is ChandlerTarget else target.invalid_reasons
     reasons = {texts[int(c)]: int(n) for c, n in zip(*np.unique(codes[codes != 0], return_counts=True))}
-    classes = None
+    classes = not_finite_classes = None
     class_output = ds.attrs.get("sweep_class_output", "")
     if class_output and class_output in ds:
         flag = ds[class_output]
@@ -415,6 +419,8 @@ def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary
         flag_values = np.asarray(flag.attrs["flag_values"]).tolist()
         cls = np.asarray(flag.values).ravel()[codes == 0]
         classes = {meaning: int((cls == v).sum()) for v, meaning in zip(flag_values, meanings) if v >= 0}
+        gone = np.asarray(flag.values).ravel()[(codes == 0) & ~np.isfinite(values)]
+        not_finite_classes = {m: int((gone == v).sum()) for v, m in zip(flag_values, meanings) if (gone == v).any()}
     return SweepSummary(
         variable=variable,
         units=str(ds[variable].attrs.get("units", "")),
@@ -426,4 +432,6 @@ def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary
         observed=float(ds.attrs.get("observed_chandler_period_days", math.nan)),
         invalid_reasons=reasons,
         classes=classes,
+        not_finite=int(((codes == 0) & ~np.isfinite(values)).sum()),
+        not_finite_classes=not_finite_classes,
     )

@@ -113,6 +113,10 @@ def run(args) -> int:
     print(f"  members: {summary.members} ({summary.valid} valid)")
     for reason, n in summary.invalid_reasons.items():
         print(f"    invalid: {n} ({reason})")
+    if summary.not_finite:
+        # Not invalid: these members have no finite value of the output (a sleeping top has no nutation period).
+        by_class = ", ".join(f"{name} {n}" for name, n in (summary.not_finite_classes or {}).items())
+        print(f"    no finite {summary.variable}: {summary.not_finite}" + (f" ({by_class})" if by_class else ""))
     if summary.classes:
         print("  " + ", ".join(f"{name}: {n}" for name, n in summary.classes.items()))
     _print_distribution(summary)
