@@ -203,3 +203,43 @@ def test_header_unit_and_a_different_default_conflict(tmp_path):
 
 def test_public_names_are_exported():
     assert "RigidBody" in wobble.__all__ and wobble.RigidBody is RigidBody
+
+
+def test_a_parameter_without_its_uncertainty_and_an_unknown_top_level_key_are_refused(tmp_path):
+    """Every number carries its uncertainty (0 when exact), and a misspelt top-level key is not dropped:
+    both ran silently before (a walk with a planet file of one's own)."""
+    from wobble.errors import FileFormatError
+    from wobble.io.parameter_file import read_parameter_file
+
+    entry = '[parameters.gm]\nvalue = 4.28e13\n{sigma}unit = "m3 s-2"\nsource = "test"\nstatus = "assumed"\n'
+    head = 'schema = "wobble/1"\nkind = "planet"\nname = "ares"\n'
+    path = tmp_path / "ares.toml"
+    path.write_text(head + entry.format(sigma=""))
+    with pytest.raises(FileFormatError, match=r"parameters.gm: missing field\(s\) uncertainty \(uncertainty = 0 for"):
+        read_parameter_file(path, kind="planet")
+    path.write_text(head + 'colour = "red"\n' + entry.format(sigma="uncertainty = 0\n"))
+    with pytest.raises(FileFormatError, match="colour: unknown top-level key; allowed: schema, kind, name, title"):
+        read_parameter_file(path, kind="planet")
+    path.write_text(head + entry.format(sigma="uncertainty = 0\n"))
+    assert read_parameter_file(path, kind="planet").parameters["gm"].uncertainty.value == 0.0
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        ("polar_moment_factor", "1.5", "got 1.5; allowed: at most 2/3 (all the mass in a thin shell"),
+        ("fluid_core_radius", "-1830.0", "got -1830 km; allowed: a positive number"),
+    ],
+)
+def test_a_planet_value_outside_nature_is_refused_as_typed(tmp_path, key, value, message):
+    """C/(M a^2) = 1.5 ran (a 910-day Chandler period); a negative radius was shown in SI without a unit."""
+    import re
+
+    from wobble.errors import FileFormatError
+    from wobble.io.catalog import catalogue_file, load_planet
+
+    text = catalogue_file("mars").read_text()
+    path = tmp_path / "ares.toml"
+    path.write_text(re.sub(rf"(\[parameters\.{key}\]\nvalue = )[^\n]*", rf"\g<1>{value}", text))
+    with pytest.raises(FileFormatError, match=rf"ares.toml, parameters\.{key}\.value: {re.escape(message)}"):
+        load_planet(path)

@@ -103,31 +103,37 @@ kind = "planet"
 name = "blob"
 [parameters.rotation_rate]
 value = 7e-5
+uncertainty = 0
 unit = "rad s-1"
 source = "test"
 status = "assumed"
 [parameters.dynamical_flattening]
 value = 0.003
+uncertainty = 0
 unit = ""
 source = "test"
 status = "assumed"
 [parameters.equatorial_radius]
 value = 6.4e6
+uncertainty = 0
 unit = "m"
 source = "test"
 status = "assumed"
 [parameters.obliquity]
 value = {obliquity}
+uncertainty = 0
 unit = "deg"
 source = "test"
 status = "assumed"
 [parameters.orbit_semi_major_axis]
 value = 1.0
+uncertainty = 0
 unit = "AU"
 source = "test"
 status = "assumed"
 [parameters.orbit_eccentricity]
 value = {eccentricity}
+uncertainty = 0
 unit = ""
 source = "test"
 status = "assumed"
@@ -139,16 +145,19 @@ name = "pebble"
 primary = "blob"
 [parameters.gm]
 value = {gm}
+uncertainty = 0
 unit = "m3 s-2"
 source = "test"
 status = "assumed"
 [parameters.semi_major_axis]
 value = {a}
+uncertainty = 0
 unit = "km"
 source = "test"
 status = "assumed"
 [parameters.eccentricity]
 value = {e}
+uncertainty = 0
 unit = ""
 source = "test"
 status = "assumed"

@@ -107,7 +107,8 @@ def test_a_nutation_reference_without_its_coefficient_is_refused(tmp_path):
     path = tmp_path / "series.toml"
     path.write_text(
         'schema = "wobble/1"\nkind = "nutation_reference"\nname = "x"\n'
-        '[parameters.dynamical_flattening]\nvalue = 3.27e-3\nunit = ""\nsource = "test"\nstatus = "assumed"\n'
+        "[parameters.dynamical_flattening]\nvalue = 3.27e-3\nuncertainty = 0\n"
+        'unit = ""\nsource = "test"\nstatus = "assumed"\n'
     )
     with pytest.raises(FileFormatError, match="nutation_longitude"):
         load_nutation_reference(path)

@@ -59,6 +59,16 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
 }
 
 
+#: Upper bounds set by nature. C/(M a^2): mass within a of the axis gives at most 1, and a near-spherical body
+#: at most 2/3, all of it in a thin shell at the surface (a uniform sphere has 0.4).
+_AT_MOST = {
+    "polar_moment_factor": (
+        2.0 / 3.0,
+        "at most 2/3 (all the mass in a thin shell at the surface; a uniform sphere has 0.4)",
+    ),
+}
+
+
 def _bodies_dir():
     return resources.files("wobble._data") / "bodies"
 
@@ -92,8 +102,11 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
         raise FileFormatError(
             pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
         ) from None
+    typed = f"{param.value.value.item():g} {param.value.unit.to_string()}".strip()  # as in the file, with its unit
     if key in (*POSITIVE_KEYS, "rotation_period") and not value > 0:
-        raise FileFormatError(pf.path, f"{where}.value", f"got {value!r}; allowed: a positive number")
+        raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: a positive number")
+    if key in _AT_MOST and not value <= _AT_MOST[key][0]:
+        raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: {_AT_MOST[key][1]}")
     return Measured(value, sigma)
 
 

@@ -48,7 +48,9 @@ __all__ = [
 SCHEMA = "wobble/1"
 STATUSES = ("read", "secondary", "derived", "assumed")
 _REQUIRED_TOP = ("schema", "kind", "name")
-_REQUIRED_ENTRY = ("value", "unit", "source", "status")
+_REQUIRED_ENTRY = ("value", "uncertainty", "unit", "source", "status")
+#: Top-level keys a kind of file may carry besides schema, kind, name, title, description and parameters.
+_EXTRA_TOP = {"density_profile": ("body", "construction"), "perturber": ("primary",)}
 
 
 @dataclass(frozen=True)
@@ -119,7 +121,8 @@ def _parse_entry(path, key: str, entry) -> Parameter:
         raise FileFormatError(path, where, "must be a table with value, uncertainty, unit, source, status")
     missing = [k for k in _REQUIRED_ENTRY if k not in entry]
     if missing:
-        raise FileFormatError(path, where, f"missing field(s) {', '.join(missing)}")
+        hint = " (uncertainty = 0 for an exact or conventional value)" if "uncertainty" in missing else ""
+        raise FileFormatError(path, where, f"missing field(s) {', '.join(missing)}{hint}")
     unit = _parse_unit(path, where, entry["unit"])
     value = _parse_number(path, f"{where}.value", entry["value"])
     sigma = _parse_number(path, f"{where}.uncertainty", entry.get("uncertainty", 0.0))
@@ -191,6 +194,12 @@ def read_parameter_file(
             )
     params = {key: _parse_entry(path, key, entry) for key, entry in raw.items()}
     extra = {k: v for k, v in data.items() if k not in (*_REQUIRED_TOP, "title", "description", "parameters")}
+    allowed_extra = _EXTRA_TOP.get(str(data["kind"]), ())
+    unknown_top = sorted(set(extra) - set(allowed_extra))
+    if unknown_top:
+        # A misspelt top-level key (descripton, titel) must not be dropped silently, as a parameter is not.
+        allowed = ", ".join((*_REQUIRED_TOP, "title", "description", "parameters", *allowed_extra))
+        raise FileFormatError(path, unknown_top[0], f"unknown top-level key; allowed: {allowed}")
     return ParameterFile(
         kind=str(data["kind"]),
         name=str(data["name"]),
