@@ -247,3 +247,20 @@ def test_hydrostatic_core_flattening_uncertainty_reaches_mars_but_not_prem(earth
     p, _ = load_planet("mars")
     shipped = hydrostatic_figure(load_profile("mars_layered")[0], p.rotation_rate.value, p.gravitational_constant.value)
     assert mars_modes.core_flattening_hydrostatic == pytest.approx(shipped.core_dynamical_ellipticity, rel=1e-6)
+
+
+def test_a_mode_that_cannot_be_computed_says_why(tmp_path):
+    """Mars renamed: no shipped profile is tied to it, so no FCN; the table and the JSON said nothing."""
+    from wobble.io.catalog import catalogue_file
+
+    path = tmp_path / "ares.toml"
+    path.write_text(catalogue_file("mars").read_text().replace('name = "mars"', 'name = "ares"', 1))
+    ares = wobble.normal_modes(path)
+    assert [m.name for m in ares.modes] == ["CW"]
+    assert "no density profile is tied to 'ares'" in ares.not_run["FCN"] and "mars_layered" in ares.not_run["FCN"]
+    assert "FCN  not run: no density profile" in ares.summary()
+    assert ares.to_dict()["not_run"] == ares.not_run
+    # With the profile named, the FCN is there and nothing is missing.
+    named = wobble.normal_modes(path, profile="mars_layered")
+    assert named.not_run == {} and named.mode("FCN", "celestial") is not None
+    assert wobble.normal_modes("mars").not_run == {}

@@ -31,7 +31,7 @@ from astropy import units as u
 from wobble.api.chandler import Planet, load_planet
 from wobble.api.units import spin_rate_si, to_si
 from wobble.errors import InputError
-from wobble.io.density_profile import load_profile, profile_for_body
+from wobble.io.density_profile import load_profile, profile_for_body, profile_names
 from wobble.io.parameter_file import ParameterFile
 from wobble.io.text import with_uncertainty
 from wobble.models import chandler as _chandler
@@ -304,9 +304,16 @@ class NormalModes:
     """
 
     def __init__(
-        self, planet: Planet, raw: _modes.NormalModes, figure: HydrostaticFigure | None, budget_period: u.Quantity
+        self,
+        planet: Planet,
+        raw: _modes.NormalModes,
+        figure: HydrostaticFigure | None,
+        budget_period: u.Quantity,
+        not_run: dict[str, str] | None = None,
     ):
         self.planet = planet
+        #: Modes asked for but not computed, with the reason (``{"FCN": "no density profile ..."}``).
+        self.not_run: dict[str, str] = dict(not_run or {})
         self.raw = raw
         self.figure = figure
         self.chandler_budget_period = budget_period
@@ -438,6 +445,7 @@ class NormalModes:
             "chandler_first_order_days": num(self.chandler_first_order),
             "fcn_effect_on_chandler_days": num(self.fcn_effect_on_chandler),
             "hydrostatic_figure": None if self.figure is None else self.figure.to_dict(),
+            "not_run": self.not_run,
         }
 
     def summary(self) -> str:
@@ -455,6 +463,8 @@ class NormalModes:
                 f"  {m.name:<5}{m.frame:<13}{fmt(m.period, m.period_uncertainty):>22}  {m.sense:<11}"
                 f"{fmt(m.observed, m.observed_uncertainty):>22}"
             )
+        for name, why in self.not_run.items():
+            lines.append(f"  {name:<5}not run: {why}")
         lines.append(
             "  (+/- of the model: first-order propagation of the catalogued uncertainties; wobble chandler's is "
             "Monte Carlo, a little wider where the period is not linear in them)"
@@ -653,6 +663,19 @@ def normal_modes(
     e_f = None
     if profile is None and planet.parameters.fluid_core_moment is not None:
         profile = profile_for_body(planet.name)
+    not_run = {}
+    if modes is None or "FCN" in {str(m).strip().upper() for m in modes}:
+        # Say why a mode the user expects is missing, rather than leave a silent gap (or a null in the JSON).
+        if planet.parameters.fluid_core_moment is None:
+            not_run["FCN"] = (
+                "the body gives no liquid core (fluid_core_equatorial_moment, or fluid_core_radius and "
+                "fluid_core_density)"
+            )
+        elif profile is None:
+            not_run["FCN"] = (
+                f"no density profile is tied to {planet.name!r} for the core's hydrostatic flattening: give one "
+                f"(profile=, --profile on the command line; shipped: {', '.join(profile_names())})"
+            )
     if profile is not None:
         prof, pf = _profile(profile)
         rebuild = _rebuilder(prof, pf)
@@ -676,7 +699,9 @@ def normal_modes(
     raw = _modes.normal_modes(planet.parameters, e_f, modes)
     # Only the budget's period is wanted here, not its Monte Carlo uncertainty.
     budget = _chandler.chandler_budget(planet.parameters, uncertainty=False)
-    return NormalModes(planet, raw, figure, (budget.period << u.s).to(u.day))
+    computed = {m.name for m in (raw.computed or raw.modes)}
+    not_run = {k: v for k, v in not_run.items() if k not in computed}
+    return NormalModes(planet, raw, figure, (budget.period << u.s).to(u.day), not_run)
 
 
 def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
