@@ -264,3 +264,36 @@ def test_a_mode_that_cannot_be_computed_says_why(tmp_path):
     named = wobble.normal_modes(path, profile="mars_layered")
     assert named.not_run == {} and named.mode("FCN", "celestial") is not None
     assert wobble.normal_modes("mars").not_run == {}
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        (
+            "love_number_k2",
+            "-0.169",
+            r"negk2?\.toml, parameters\.love_number_k2\.value: got -0\.169; allowed: a non-neg",
+        ),
+        (
+            "equatorial_radius",
+            "4000.0",
+            r"density: got -\d+\.?\d* kg/m3; allowed: a positive density everywhere \(in the",
+        ),
+    ],
+)
+def test_a_bad_planet_file_is_named_in_modes_as_in_chandler(tmp_path, key, value, message):
+    """modes said 'love_number_k2: got -0.169' (chandler names the file and key) and, for a planet larger
+    than mars_layered's radius, 'density: got -6689 kg/m3' without the profile or the file."""
+    import re
+
+    from wobble.errors import WobbleError
+    from wobble.io.catalog import catalogue_file
+
+    path = tmp_path / "negk2.toml"
+    path.write_text(
+        re.sub(rf"(\[parameters\.{key}\]\nvalue = )[^\n]*", rf"\g<1>{value}", catalogue_file("mars").read_text())
+    )
+    with pytest.raises(WobbleError, match=message) as info:
+        wobble.normal_modes(path)
+    if key == "equatorial_radius":
+        assert "'mars_layered' rebuilt from" in str(info.value) and "negk2.toml" in str(info.value)

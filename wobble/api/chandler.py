@@ -402,13 +402,13 @@ def chandler_budget(body: str | os.PathLike | Planet, model: str = "full") -> Ch
     planet = load_planet(body)
     if not isinstance(model, str):
         raise InputError("model", model, "a model name such as 'full' or 'rigid'")
-    with _in_file(planet):
+    with in_planet_file(planet):
         raw = _model.chandler_budget(planet.parameters, model.strip().lower())
     return ChandlerBudget(planet, raw)
 
 
 @contextlib.contextmanager
-def _in_file(planet: Planet):
+def in_planet_file(planet: Planet):
     """An InputError about one of the planet file's parameters, named with the file and key, as a
     wrong unit there is (``my_planet.toml, parameters.love_number_k2.value: got -0.3; ...``)."""
     try:

@@ -28,7 +28,7 @@ import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
-from wobble.api.chandler import Planet, load_planet
+from wobble.api.chandler import Planet, in_planet_file, load_planet
 from wobble.api.units import spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.density_profile import load_profile, profile_for_body, profile_names
@@ -680,7 +680,16 @@ def normal_modes(
         prof, pf = _profile(profile)
         rebuild = _rebuilder(prof, pf)
         if rebuild is not None:
-            prof = rebuild(planet.parameters)
+            try:
+                prof = rebuild(planet.parameters)
+            except InputError as exc:
+                # The layers are re-derived from the body: say which profile and body made them.
+                raise InputError(
+                    exc.parameter,
+                    exc.value,
+                    f"{exc.allowed} (in the profile {pf.name!r} rebuilt from {planet.file.path or planet.name}: its "
+                    "core, mass and polar moment under the profile's own radius)",
+                ) from None
         else:
             _check_mass(planet, prof, pf)
         figure = HydrostaticFigure(
@@ -696,9 +705,10 @@ def normal_modes(
             e_f = _hydrostatic_core_ellipticity(rebuild, e_f, planet.parameters)
     if modes is not None:
         modes = tuple(str(m).strip().upper() for m in modes)
-    raw = _modes.normal_modes(planet.parameters, e_f, modes)
-    # Only the budget's period is wanted here, not its Monte Carlo uncertainty.
-    budget = _chandler.chandler_budget(planet.parameters, uncertainty=False)
+    with in_planet_file(planet):
+        raw = _modes.normal_modes(planet.parameters, e_f, modes)
+        # Only the budget's period is wanted here, not its Monte Carlo uncertainty.
+        budget = _chandler.chandler_budget(planet.parameters, uncertainty=False)
     computed = {m.name for m in (raw.computed or raw.modes)}
     not_run = {k: v for k, v in not_run.items() if k not in computed}
     return NormalModes(planet, raw, figure, (budget.period << u.s).to(u.day), not_run)
