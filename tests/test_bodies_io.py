@@ -243,3 +243,16 @@ def test_a_planet_value_outside_nature_is_refused_as_typed(tmp_path, key, value,
     path.write_text(re.sub(rf"(\[parameters\.{key}\]\nvalue = )[^\n]*", rf"\g<1>{value}", text))
     with pytest.raises(FileFormatError, match=rf"ares.toml, parameters\.{key}\.value: {re.escape(message)}"):
         load_planet(path)
+
+
+def test_a_number_in_quotes_is_refused_as_text(tmp_path):
+    from wobble.errors import FileFormatError
+    from wobble.io.parameter_file import read_parameter_file
+
+    path = tmp_path / "ares.toml"
+    path.write_text(
+        'schema = "wobble/1"\nkind = "planet"\nname = "ares"\n'
+        '[parameters.gm]\nvalue = "4.28e13"\nuncertainty = 0\nunit = "m3 s-2"\nsource = "test"\nstatus = "assumed"\n'
+    )
+    with pytest.raises(FileFormatError, match=r"parameters.gm.value: got '4.28e13' \(text\); allowed: a number"):
+        read_parameter_file(path)

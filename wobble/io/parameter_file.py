@@ -106,6 +106,9 @@ def _parse_unit(path, key: str, text) -> u.UnitBase:
 
 
 def _parse_number(path, where: str, raw) -> np.ndarray:
+    if isinstance(raw, str) or (isinstance(raw, list) and any(isinstance(x, str) for x in raw)):
+        # "0.169" in quotes is text in TOML: refused as "1830 s" is, not read as a number behind the user's back.
+        raise FileFormatError(path, where, f"got {raw!r} (text); allowed: a number or a list of numbers, unquoted")
     try:
         arr = np.asarray(raw, dtype=float)
     except (TypeError, ValueError):
