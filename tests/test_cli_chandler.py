@@ -138,3 +138,19 @@ def test_readme_and_docs_show_what_the_command_prints(capsys):
         text = page.read_text()
         block = re.search(r"```text\n(.*?)\n```", text[text.index(heading) :], flags=re.S).group(1)
         assert block == printed, f"{page.name} shows an old output of 'wobble chandler earth mars'"
+
+
+def test_many_unphysical_draws_are_a_warning(tmp_path, capsys):
+    """A core density of 6000 +/- 30000 kg m-3 (a unit slip) dropped 44 % of the draws with only a note."""
+    import re
+
+    from wobble.io.catalog import catalogue_file
+
+    text = catalogue_file("mars").read_text()
+    wide = re.sub(r"(\[parameters\.fluid_core_density\]\nvalue = [^\n]*\nuncertainty = )[^\n]*", r"\g<1>30000.0", text)
+    (tmp_path / "wide.toml").write_text(wide)
+    assert main(["chandler", "--body-file", str(tmp_path / "wide.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "WARNING: " in out and "of the draws were unphysical" in out
+    assert main(["chandler", "mars"]) == 0
+    assert "WARNING" not in capsys.readouterr().out  # 2.3 % dropped: a note, no warning

@@ -147,6 +147,12 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
             f"  (+/- is one sigma over {_draws():,} Monte Carlo draws of the catalogued uncertainties"
             + (f"; {dropped:.1f} % unphysical draws dropped)" if dropped >= 0.05 else ")")
         )
+        if dropped >= 10:
+            # The +/- then describes a truncated distribution: more often a wrong uncertainty or unit than physics.
+            lines.append(
+                f"  WARNING: {dropped:.0f} % of the draws were unphysical: an uncertainty reaches far outside its "
+                "parameter's range (check the uncertainties and their units; --sources lists them)"
+            )
     skipped = _skipped_steps(b)
     if skipped:
         lines.append("  steps not run (parameters missing): " + "; ".join(skipped))
