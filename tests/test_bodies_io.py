@@ -256,3 +256,24 @@ def test_a_number_in_quotes_is_refused_as_text(tmp_path):
     )
     with pytest.raises(FileFormatError, match=r"parameters.gm.value: got '4.28e13' \(text\); allowed: a number"):
         read_parameter_file(path)
+
+
+@pytest.mark.parametrize(
+    ("key", "unit", "message"),
+    [
+        ("fluid_core_density", "kg m-2", "got 'kg m-2'; allowed: a unit of kg / m3"),
+        ("love_number_k2", "kg", "got 'kg'; allowed: a pure number (unit = \"\")"),
+    ],
+)
+def test_a_wrong_unit_is_shown_as_the_file_spells_it(tmp_path, key, unit, message):
+    """It read "got 'kg / m2'" for "kg m-2" typed, and "a unit of dimensionless" for a pure number."""
+    import re
+
+    from wobble.errors import FileFormatError
+    from wobble.io.catalog import catalogue_file, load_planet
+
+    text = catalogue_file("mars").read_text()
+    path = tmp_path / "ares.toml"
+    path.write_text(re.sub(rf'(\[parameters\.{key}\]\n(?:.*\n){{2}}unit = )"[^"]*"', rf'\g<1>"{unit}"', text))
+    with pytest.raises(FileFormatError, match=re.escape(f"parameters.{key}.unit: {message}")):
+        load_planet(path)

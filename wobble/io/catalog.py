@@ -16,7 +16,7 @@ from astropy import constants as const
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
-from wobble.io.parameter_file import ParameterFile, read_parameter_file
+from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
 from wobble.models.planet import POSITIVE_KEYS, Measured, PlanetParameters
 
 __all__ = ["PLANET_UNITS", "catalogue_names", "catalogue_file", "load_planet", "planet_from_file"]
@@ -98,10 +98,7 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
         value = float(param.value.to_value(unit))
         sigma = float(param.uncertainty.to_value(unit))
     except u.UnitConversionError:
-        want = unit.to_string() or "dimensionless"
-        raise FileFormatError(
-            pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
-        ) from None
+        raise wrong_unit(pf, key, unit) from None
     typed = f"{param.value.value.item():g} {param.value.unit.to_string()}".strip()  # as in the file, with its unit
     if key in (*POSITIVE_KEYS, "rotation_period") and not value > 0:
         raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: a positive number")

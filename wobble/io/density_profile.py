@@ -25,7 +25,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
-from wobble.io.parameter_file import ParameterFile, read_parameter_file
+from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
 from wobble.models.hydrostatic import DensityProfile, check_profile
 
 __all__ = ["PROFILE_UNITS", "profile_names", "load_profile", "profile_for_body"]
@@ -64,10 +64,7 @@ def _si(pf: ParameterFile, key: str):
     try:
         return np.asarray(param.value.to_value(PROFILE_UNITS[key]), dtype=float)
     except u.UnitConversionError:
-        want = PROFILE_UNITS[key].to_string() or "dimensionless"
-        raise FileFormatError(
-            pf.path, f"parameters.{key}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
-        ) from None
+        raise wrong_unit(pf, key, PROFILE_UNITS[key]) from None
 
 
 def profile_from_file(pf: ParameterFile) -> DensityProfile:

@@ -62,6 +62,8 @@ class Parameter:
     source: str
     status: str
     note: str = ""
+    #: The unit as the file spells it ("kg m-3"), for messages: astropy's own spelling differs ("kg / m3").
+    unit_text: str = ""
 
     @property
     def relative_uncertainty(self) -> float:
@@ -143,7 +145,17 @@ def _parse_entry(path, key: str, entry) -> Parameter:
     unknown = set(entry) - {"value", "uncertainty", "unit", "source", "status", "note"}
     if unknown:
         raise FileFormatError(path, where, f"unknown field(s) {', '.join(sorted(unknown))}")
-    return Parameter(value * unit, np.broadcast_to(sigma, value.shape) * unit, source.strip(), status, str(note))
+    return Parameter(
+        value * unit, np.broadcast_to(sigma, value.shape) * unit, source.strip(), status, str(note), str(entry["unit"])
+    )
+
+
+def wrong_unit(pf: ParameterFile, key: str, unit: u.UnitBase) -> FileFormatError:
+    """The error for parameter ``key`` whose unit does not convert to ``unit``: the unit as the file spells it."""
+    param = pf.get(key)
+    want = f"a unit of {unit.to_string()}" if unit.to_string() else 'a pure number (unit = "")'
+    got = param.unit_text or param.value.unit.to_string()
+    return FileFormatError(pf.path, f"parameters.{key}.unit", f"got {got!r}; allowed: {want}")
 
 
 def read_toml(path: str | os.PathLike) -> dict:

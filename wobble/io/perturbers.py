@@ -27,7 +27,7 @@ from pathlib import Path
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
-from wobble.io.parameter_file import ParameterFile, read_parameter_file
+from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
 from wobble.models.planet import Measured
 
 __all__ = [
@@ -114,10 +114,7 @@ def measured(pf: ParameterFile, key: str, unit: u.UnitBase) -> Measured | None:
     try:
         return Measured(float(param.value.to_value(unit)), float(param.uncertainty.to_value(unit)))
     except u.UnitConversionError:
-        want = unit.to_string() or "dimensionless"
-        raise FileFormatError(
-            pf.path, f"{where}.unit", f"got {param.value.unit.to_string()!r}; allowed: a unit of {want}"
-        ) from None
+        raise wrong_unit(pf, key, unit) from None
 
 
 def _check(pf: ParameterFile) -> ParameterFile:
