@@ -225,14 +225,17 @@ def test_a_parameter_without_its_uncertainty_and_an_unknown_top_level_key_are_re
 
 
 @pytest.mark.parametrize(
-    ("key", "value", "message"),
+    ("key", "field", "typed", "message"),
     [
-        ("polar_moment_factor", "1.5", "got 1.5; allowed: at most 2/3 (all the mass in a thin shell"),
-        ("fluid_core_radius", "-1830.0", "got -1830 km; allowed: a positive number"),
+        # C/(M a^2) = 1.5 ran (a 910-day Chandler period); a negative radius was shown in SI without a unit.
+        ("polar_moment_factor", "value", "1.5", "got 1.5; allowed: at most 2/3 (all the mass in a thin shell"),
+        ("fluid_core_radius", "value", "-1830.0", "got -1830 km; allowed: a positive number"),
+        # A unit read "got 'kg / m2'" for "kg m-2" typed, and "a unit of dimensionless" for a pure number.
+        ("fluid_core_density", "unit", '"kg m-2"', "got 'kg m-2'; allowed: a unit of kg / m3"),
+        ("love_number_k2", "unit", '"kg"', "got 'kg'; allowed: a pure number (unit = \"\")"),
     ],
 )
-def test_a_planet_value_outside_nature_is_refused_as_typed(tmp_path, key, value, message):
-    """C/(M a^2) = 1.5 ran (a 910-day Chandler period); a negative radius was shown in SI without a unit."""
+def test_a_planet_entry_outside_nature_or_in_a_wrong_unit_is_refused_as_typed(tmp_path, key, field, typed, message):
     import re
 
     from wobble.errors import FileFormatError
@@ -240,8 +243,8 @@ def test_a_planet_value_outside_nature_is_refused_as_typed(tmp_path, key, value,
 
     text = catalogue_file("mars").read_text()
     path = tmp_path / "ares.toml"
-    path.write_text(re.sub(rf"(\[parameters\.{key}\]\nvalue = )[^\n]*", rf"\g<1>{value}", text))
-    with pytest.raises(FileFormatError, match=rf"ares.toml, parameters\.{key}\.value: {re.escape(message)}"):
+    path.write_text(re.sub(rf"(\[parameters\.{key}\]\n(?:.*\n)*?{field} = )[^\n]*", rf"\g<1>{typed}", text, count=1))
+    with pytest.raises(FileFormatError, match=re.escape(f"ares.toml, parameters.{key}.{field}: {message}")):
         load_planet(path)
 
 
@@ -256,24 +259,3 @@ def test_a_number_in_quotes_is_refused_as_text(tmp_path):
     )
     with pytest.raises(FileFormatError, match=r"parameters.gm.value: got '4.28e13' \(text\); allowed: a number"):
         read_parameter_file(path)
-
-
-@pytest.mark.parametrize(
-    ("key", "unit", "message"),
-    [
-        ("fluid_core_density", "kg m-2", "got 'kg m-2'; allowed: a unit of kg / m3"),
-        ("love_number_k2", "kg", "got 'kg'; allowed: a pure number (unit = \"\")"),
-    ],
-)
-def test_a_wrong_unit_is_shown_as_the_file_spells_it(tmp_path, key, unit, message):
-    """It read "got 'kg / m2'" for "kg m-2" typed, and "a unit of dimensionless" for a pure number."""
-    import re
-
-    from wobble.errors import FileFormatError
-    from wobble.io.catalog import catalogue_file, load_planet
-
-    text = catalogue_file("mars").read_text()
-    path = tmp_path / "ares.toml"
-    path.write_text(re.sub(rf'(\[parameters\.{key}\]\n(?:.*\n){{2}}unit = )"[^"]*"', rf'\g<1>"{unit}"', text))
-    with pytest.raises(FileFormatError, match=re.escape(f"parameters.{key}.unit: {message}")):
-        load_planet(path)
