@@ -296,3 +296,21 @@ def test_mars_same_seed_same_numbers_with_fcn_and_precession():
     c = wobble.invert("mars", seed=10, steps=60, burn=20, walkers=16)
     np.testing.assert_array_equal(a.samples, b.samples)
     assert not np.array_equal(a.samples, c.samples)
+
+
+def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys):
+    """wobble invert mars --body-file ares.toml (Mars' file renamed): the same numbers as the shipped body, under
+    the new name; a path that is neither a file nor a catalogued planet names --body-file."""
+    from wobble.cli import main
+    from wobble.io.catalog import catalogue_file
+
+    path = tmp_path / "ares.toml"
+    path.write_text(catalogue_file("mars").read_text().replace('name = "mars"', 'name = "ares"', 1))
+    shipped = wobble.invert("mars", seed=5, **SHORT).to_dict()
+    own = wobble.invert("mars", body=path, seed=5, **SHORT).to_dict()
+    assert own["body"] == "ares" and shipped["body"] == "mars"
+    for mine, theirs in zip(own["parameters"], shipped["parameters"]):
+        assert mine["name"] == theirs["name"] and mine["median"] == theirs["median"]
+    code = main(["invert", "mars", "--body-file", str(tmp_path / "missing.toml"), "--steps", "10"])
+    assert code == 2
+    assert "--body-file: got " in capsys.readouterr().err

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import os
+from pathlib import Path
 import sys
 import time
 import warnings
@@ -708,9 +709,31 @@ def _settings(setup: InversionSetup, **overrides) -> SamplerSettings:
     return replace(setup.settings, **given)
 
 
+def _with_body(setup, body) -> InversionSetup:
+    """The setup with its ``body`` replaced: a catalogue name or a planet file (a path relative to the caller's
+    folder, not the setup's, as ``wobble chandler --body-file`` reads it)."""
+    from wobble.io.inversion_file import resolve_setup
+    from wobble.io.parameter_file import read_toml
+
+    from wobble.io.catalog import catalogue_names
+
+    text = os.fspath(body)
+    if Path(text).is_file():
+        text = str(Path(text).resolve())
+    elif text.strip().lower() not in catalogue_names():
+        raise InputError("body", text, f"a planet file, or a catalogued planet: {', '.join(catalogue_names())}")
+    if isinstance(setup, Mapping):
+        return setup_from_dict({**setup, "body": text})
+    if isinstance(setup, (str, os.PathLike)):
+        path = resolve_setup(setup)
+        return setup_from_dict({**read_toml(path), "body": text}, path)
+    raise InputError("body", body, "with a setup given by name, file or dict (an InversionSetup has its body built in)")
+
+
 def invert(
     setup="mars",
     *,
+    body=None,
     seed: int | None = None,
     walkers: int | None = None,
     steps: int | None = None,
@@ -728,6 +751,9 @@ def invert(
     setup : str, path, dict or InversionSetup
         ``"mars"``, ``"earth"``, ``"mars_chandler_only"`` (:func:`inversion_setups`), a
         ``wobble-inversion/1`` TOML file, or a dict of the same structure.
+    body : str or path, optional
+        Replaces the setup's body: a catalogued planet's name or a planet file of your own
+        (``wobble invert --body-file``); its catalogue gives the observables the setup does not.
     seed : int, optional
         Overrides the setup's seed: the same seed gives the same numbers.
     walkers, steps, burn, thin, ensembles : int, optional
@@ -745,7 +771,7 @@ def invert(
     -------
     Inversion
     """
-    s = load_inversion_setup(setup)
+    s = load_inversion_setup(setup) if body is None else _with_body(setup, body)
     if seed is not None and (
         isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed <= INT64_MAX
     ):

@@ -15,6 +15,8 @@ examples:
   wobble invert mars --steps 500 -o mars_posterior.nc --plot mars_corner.png --overwrite
   wobble invert mars --prior-only --steps 500     the priors pushed through the model (what the data add)
   wobble invert mars --seed 7 --steps 200 --quiet     another seed, no progress bar
+  wobble example bodies/mars.toml mars_edited.toml    a planet file to edit, then:
+  wobble invert mars --body-file mars_edited.toml --steps 300 --quiet   the Mars set-up on your planet
   wobble example inversions/mars my_setup.toml    copy a shipped set-up to edit, then:
   wobble invert my_setup.toml --ensembles 2 --steps 500 --scheduler tcp://127.0.0.1:8786
 
@@ -59,6 +61,11 @@ def register(sub) -> None:
     p.add_argument(
         "--plot", metavar="FILE.png", help="corner plot of the posterior with the priors and published values"
     )
+    p.add_argument(
+        "--body-file",
+        metavar="FILE",
+        help="a planet file of your own in place of the setup's body (as in wobble chandler --body-file)",
+    )
     p.add_argument("--seed", type=int, help="random seed (default: the setup's); same seed, same numbers")
     p.add_argument("--walkers", type=int, help="walkers per ensemble (even, >= twice the parameters)")
     p.add_argument("--steps", type=int, help="steps kept per walker after the burn-in")
@@ -99,17 +106,21 @@ def run(args) -> int:
         if Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
             raise InputError("--plot", args.plot, "a file name ending in .png, .pdf or .svg")
         check_target(args.plot, args.overwrite)
-    result = invert(
-        args.setup,
-        seed=args.seed,
-        walkers=args.walkers,
-        steps=args.steps,
-        burn=args.burn,
-        ensembles=args.ensembles,
-        prior_only=args.prior_only,
-        scheduler=args.scheduler,
-        progress=not args.quiet and sys.stderr.isatty(),
-    )
+    from wobble.cli._record import as_typed
+
+    with as_typed({"body": ("--body-file", args.body_file)}):
+        result = invert(
+            args.setup,
+            body=args.body_file,
+            seed=args.seed,
+            walkers=args.walkers,
+            steps=args.steps,
+            burn=args.burn,
+            ensembles=args.ensembles,
+            prior_only=args.prior_only,
+            scheduler=args.scheduler,
+            progress=not args.quiet and sys.stderr.isatty(),
+        )
     if args.output:
         result.write(args.output, overwrite=args.overwrite)
     if args.plot:
