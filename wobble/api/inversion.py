@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 import sys
 import time
 import warnings
 from collections.abc import Mapping
+from pathlib import Path
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -37,7 +37,9 @@ from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
-from wobble.io.inversion_file import InversionSetup, read_setup, setup_from_dict, setup_names
+from wobble.io.catalog import catalogue_names
+from wobble.io.inversion_file import InversionSetup, read_setup, resolve_setup, setup_from_dict, setup_names
+from wobble.io.parameter_file import read_toml
 from wobble.models.inversion.calibration import Recovery, central_interval, coverage, recover_one
 from wobble.models.inversion.likelihood import Posterior
 from wobble.models.inversion.sampling import Chains, SamplerSettings, draw_prior, run_emcee
@@ -712,11 +714,6 @@ def _settings(setup: InversionSetup, **overrides) -> SamplerSettings:
 def _with_body(setup, body) -> InversionSetup:
     """The setup with its ``body`` replaced: a catalogue name or a planet file (a path relative to the caller's
     folder, not the setup's, as ``wobble chandler --body-file`` reads it)."""
-    from wobble.io.inversion_file import resolve_setup
-    from wobble.io.parameter_file import read_toml
-
-    from wobble.io.catalog import catalogue_names
-
     text = os.fspath(body)
     if Path(text).is_file():
         text = str(Path(text).resolve())

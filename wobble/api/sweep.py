@@ -30,8 +30,8 @@ import math
 import os
 import sys
 import time
-from pathlib import Path
 from dataclasses import dataclass
+from pathlib import Path
 
 import dask
 import dask.array as da

@@ -207,8 +207,9 @@ class HeavyTop:
             kwargs["psidot0"] = _rate(psidot0, "psidot0")
         self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
         # The start as typed, in deg: a turning point at the start reads 60 deg, not the 59.99999999999999 deg
-        # that the round trip through rad gives.
-        self._theta0_deg = _as_quantity(theta0).to(u.deg) if th == float(_as_quantity(theta0).to_value(u.rad)) else None
+        # that the round trip through rad gives (None where theta0 was clipped to pi).
+        typed = _as_quantity(theta0)
+        self._theta0_deg = typed.to(u.deg) if th == typed.to_value(u.rad) else None
 
     @classmethod
     def from_state(cls, omega0, q0, I1=None, I3=None, *, mgl=None, M=None, l=None, g=None, body=None):

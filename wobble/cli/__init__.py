@@ -131,9 +131,9 @@ def _split_value(argv: list[str], extra: list[str]) -> str | None:
         option, number = argv[i - 2], argv[i - 1]
     else:
         return None
-    try:
-        float(number)
-    except ValueError:
+    from wobble.io.text import is_number
+
+    if not is_number(number):
         return None
     value = f"{number} {extra[0]}"
     return f"{option}: got {value!r} as two arguments; allowed: one, {number}{extra[0]} or {value!r} in quotes"

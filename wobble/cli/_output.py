@@ -93,13 +93,9 @@ def check_outputs(args, names=("output", "plot"), *, zarr: bool = False) -> None
 def span_text(seconds: float, typed: str | None) -> str:
     """The end of an output span as the user gave it (``200 s``, ``100 yr (3.1557e+09 s)``), or,
     chosen by wobble, in the unit a person would use (:func:`wobble.io.text.duration`)."""
-    from wobble.io.text import duration, number
+    from wobble.io.text import duration, is_number, number
 
     if typed is None:
         return duration(seconds)
     text = " ".join(str(typed).split())
-    try:
-        float(text)
-    except ValueError:
-        return f"{text} ({number(seconds, 5)} s)"
-    return f"{text} s"
+    return f"{text} s" if is_number(text) else f"{text} ({number(seconds, 5)} s)"

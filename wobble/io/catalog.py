@@ -99,7 +99,7 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
         sigma = float(param.uncertainty.to_value(unit))
     except u.UnitConversionError:
         raise wrong_unit(pf, key, unit) from None
-    typed = f"{param.value.value.item():g} {param.value.unit.to_string()}".strip()  # as in the file, with its unit
+    typed = f"{param.value.value.item():g} {param.unit_text or param.value.unit.to_string()}".strip()  # as in the file
     if key in (*POSITIVE_KEYS, "rotation_period") and not value > 0:
         raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: a positive number")
     if key in _AT_MOST and not value <= _AT_MOST[key][0]:

@@ -70,10 +70,11 @@ def _run_blocks(t, z, blocks, scheduler, workers, bar: ProgressBar):
     if scheduler is None:
         workers = min(workers or (os.cpu_count() or 1), len(blocks))
         if workers <= 1:
-            out = []
+            out, done = [], 0
             for b in blocks:
                 out.append(_hc.run_block(t, z, b))
-                bar(sum(len(block) for block in out))
+                done += len(b.issues)
+                bar(done)
             return out
         context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
         with concurrent.futures.ProcessPoolExecutor(workers, mp_context=context) as pool:
@@ -365,8 +366,8 @@ def hindcast_polar_motion(
         As in :func:`wobble.forecast_polar_motion`: each forecast's intervals calibrated on the
         method's past forecasts (issued before it, outcomes known at its issue date minus the latency).
     progress : bool
-        A progress bar on stderr, counting the blocks of issue dates done (the command line shows it on a
-        terminal).
+        A progress bar on stderr, counting issue dates as their blocks finish (the command line shows it
+        on a terminal).
     """
     methods = tuple(_fc.check_method(m) for m in methods)
     if not methods:
