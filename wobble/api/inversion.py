@@ -724,7 +724,9 @@ def _with_body(setup, body) -> InversionSetup:
     if isinstance(setup, (str, os.PathLike)):
         path = resolve_setup(setup)
         return setup_from_dict({**read_toml(path), "body": text}, path)
-    raise InputError("body", body, "with a setup given by name, file or dict (an InversionSetup has its body built in)")
+    raise InputError(
+        "body", body, "none with an InversionSetup, whose body is built in (give the setup by name, file or dict)"
+    )
 
 
 def invert(
