@@ -82,16 +82,17 @@ def state_space_record(rng, years, period, q, noise):
     excitation, seasonal circles, a drifting mean pole, white observation noise), from its own
     transition and noise (:func:`wobble.models.polar_motion.state_space.system`)."""
     from wobble.models.polar_motion.excitation import chandler_frequency
-    from wobble.models.polar_motion.state_space import system
+    from wobble.models.polar_motion.state_space import mean_pole_index, system
 
     F, Q, h, r = system(chandler_frequency(period, q), noise)
     lam, V = np.linalg.eigh(Q)
     root = V * np.sqrt(np.clip(lam, 0.0, None))  # root @ root^H = Q (rank-deficient)
     n = int(years * 365.25)
-    x = np.zeros(8, dtype=complex)
-    x[2:6] = np.array([90, 5, 4, 1]) * MAS
-    x[6], x[7] = (40 + 300j) * MAS, (0.005 + 0.01j) * MAS
-    w = (root @ (rng.standard_normal((8, n)) + 1j * rng.standard_normal((8, n)))).T / math.sqrt(2)
+    m, mp = F.shape[0], mean_pole_index(noise.order)
+    x = np.zeros(m, dtype=complex)
+    x[mp - 4 : mp] = np.array([90, 5, 4, 1]) * MAS  # the seasonal circles
+    x[mp], x[mp + 1] = (40 + 300j) * MAS, (0.005 + 0.01j) * MAS
+    w = (root @ (rng.standard_normal((m, n)) + 1j * rng.standard_normal((m, n)))).T / math.sqrt(2)
     v = math.sqrt(r / 2) * (rng.standard_normal(n) + 1j * rng.standard_normal(n))
     out = np.empty(n, dtype=complex)
     for k in range(n):

@@ -4,6 +4,7 @@ nothing written."""
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -55,6 +56,12 @@ def test_a_file_and_its_dataset_give_the_same_forecast(forecast):
         wobble.load_polar_motion(), issued="2018-03-01", horizon=5 * u.day, method="kalman", calibrated=False
     )
     assert a.to_dict() == b.to_dict() and a.to_dict()["latency_days"] == 30.0
+    # The fitted noise names the excitation's order and its partial autocorrelations, the first being
+    # exp(-1 d / lag-one correlation time).
+    noise = a.to_dict()["details"]["noise"]
+    r = noise["excitation_partial_autocorrelations"]
+    assert noise["excitation_order"] == len(r) == 3 and all(-1 < v < 1 for v in r)
+    assert r[0] == pytest.approx(math.exp(-1.0 / noise["correlation_time_days"]), rel=1e-12)
 
 
 def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):

@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from polar_synthetic import DAY, MAS, state_space_record
 
 from wobble.errors import InputError
@@ -123,22 +125,24 @@ def test_complex_filter_equals_statsmodels():
     F, Q, h, r = ssm.system(sigma, noise)
     rng = np.random.default_rng(5)
     y = np.cumsum(rng.standard_normal(300) + 1j * rng.standard_normal(300)) * MAS
-    x0 = np.zeros(8, dtype=complex)
-    x0[6] = y[0]
-    P0 = np.diag([1e2, 1e2, 10, 10, 10, 10, 1e2, 1e-2]).astype(complex) * noise.excitation
+    m, p = F.shape[0], noise.order
+    x0 = np.zeros(m, dtype=complex)
+    x0[ssm.mean_pole_index(p)] = y[0]
+    P0 = np.diag([1e2] * (1 + p) + [10] * 4 + [1e2, 1e-2]).astype(complex) * noise.excitation
     xs, Ps, innov, svar = kalman.filter_exact(F, Q, h, r, y, x0, P0)
     Fr, Qr, Hr, Rr = _real(F, Q, h, r)
     # tolerance 0: statsmodels would otherwise declare convergence once P changes by less than
     # 1e-19 in absolute terms, which covariances in rad^2 (1e-16) do from the start.
-    kf = KalmanFilter(k_endog=2, k_states=16, tolerance=0)
+    kf = KalmanFilter(k_endog=2, k_states=2 * m, tolerance=0)
     kf.bind(np.column_stack([y.real, y.imag]))
-    kf.design, kf.transition, kf.selection, kf.state_cov, kf.obs_cov = Hr, Fr, np.eye(16), Qr, Rr
+    kf.design, kf.transition, kf.selection, kf.state_cov, kf.obs_cov = Hr, Fr, np.eye(2 * m), Qr, Rr
     # Both priors are of the first observed state (x0, P0), in the real form.
     kf.initialize_known(np.r_[x0.real, x0.imag], 0.5 * np.block([[P0.real, -P0.imag], [P0.imag, P0.real]]))
     res = kf.filter()
     np.testing.assert_allclose(kalman.log_likelihood(innov, svar), res.llf, rtol=1e-9)
-    np.testing.assert_allclose(xs.real, res.filtered_state[:8].T, rtol=1e-7, atol=1e-9 * MAS)
-    np.testing.assert_allclose(xs.imag, res.filtered_state[8:].T, rtol=1e-7, atol=1e-9 * MAS)
+    # The excitation's lags (companion form) are filtered from sums that cancel: rounding of ~3e-8 mas.
+    np.testing.assert_allclose(xs.real, res.filtered_state[:m].T, rtol=1e-7, atol=1e-7 * MAS)
+    np.testing.assert_allclose(xs.imag, res.filtered_state[m:].T, rtol=1e-7, atol=1e-7 * MAS)
 
 
 def test_window_filter_is_the_exact_filter():
@@ -165,8 +169,8 @@ def test_steady_state_filter_agrees_with_the_exact_one_after_convergence():
     F, Q, h, r = ssm.system(sigma, ssm.DEFAULT_NOISE)
     rng = np.random.default_rng(6)
     y = np.cumsum(rng.standard_normal(3000) + 1j * rng.standard_normal(3000)) * MAS
-    x0 = np.zeros(8, dtype=complex)
-    x0[6] = y[0]
+    x0 = np.zeros(F.shape[0], dtype=complex)
+    x0[ssm.mean_pole_index(ssm.DEFAULT_NOISE.order)] = y[0]
     ss = kalman.steady_state(F, Q, h, r)
     xs_s, innov_s = kalman.filter_steady(F, ss, h, y, x0)
     xs_e, Ps, innov_e, svar = kalman.filter_exact(F, Q, h, r, y, x0, ss.prior)
@@ -186,18 +190,73 @@ def test_the_excitation_of_the_simulated_wobble_is_recovered():
     sigma = chandler_frequency(433.0 * DAY, 80.0)
     noise = ssm.DEFAULT_NOISE
     F, Q, h, r = ssm.system(sigma, noise)
-    lam, phi = F[0, 0], F[1, 1].real
-    assert F[0, 1] == pytest.approx((1 - lam) * phi, rel=1e-15)  # w_k = lambda w_{k-1} + (1 - lambda) chi_k
+    p = noise.order
+    lam, phi = F[0, 0], F[1, 1 : 1 + p].real
+    # w_k = lambda w_{k-1} + (1 - lambda) chi_k with chi_k = sum_j phi_j chi_{k-j} + eta_k
+    np.testing.assert_allclose(F[0, 1 : 1 + p], (1 - lam) * phi, rtol=1e-15)
     rng = np.random.default_rng(8)
     n = 4000
     eta = (rng.standard_normal(n) + 1j * rng.standard_normal(n)) * math.sqrt(noise.excitation / 2)
-    w, chi = np.zeros(n, dtype=complex), np.zeros(n, dtype=complex)
+    w, chi = np.zeros(n, dtype=complex), np.zeros(n + p, dtype=complex)  # chi: p zeros before the first step
     for k in range(1, n):
-        chi[k] = phi * chi[k - 1] + eta[k]
-        w[k] = lam * w[k - 1] + (1 - lam) * chi[k]
+        chi[p + k] = phi @ chi[p + k - 1 : k - 1 : -1] + eta[k]  # phi_1 chi_{k-1} + ... + phi_p chi_{k-p}
+        w[k] = lam * w[k - 1] + (1 - lam) * chi[p + k]
+    chi = chi[p:]
     t = DAY * np.arange(n)
     rms = np.sqrt(np.mean(np.abs(chi) ** 2))
     np.testing.assert_allclose(excitation_from_pole(t, w, sigma), chi[1:], rtol=0, atol=1e-10 * rms)
+
+
+@pytest.mark.parametrize("partial", [(0.86,), (0.86, -0.57, 0.37), (0.3, 0.9, -0.95, 0.5)])
+def test_excitation_autoregression_against_statsmodels(partial):
+    """The coefficients from the partial autocorrelations, and the prior's stationary covariance of the
+    excitation's lags, against the theoretical autocovariances of statsmodels' ArmaProcess (whose
+    Levinson-Durbin recursion gives the partial autocorrelations back)."""
+    from statsmodels.tsa.arima_process import ArmaProcess
+    from statsmodels.tsa.stattools import levinson_durbin
+
+    phi = ssm.ar_coefficients(partial)
+    p = len(partial)
+    acov = ArmaProcess(np.r_[1.0, -phi], [1.0]).acovf(p + 1)
+    _, _, pacf, _, _ = levinson_durbin(acov, nlags=p, isacov=True)
+    np.testing.assert_allclose(pacf[1:], partial, rtol=0, atol=1e-12)
+    noise = ssm.NoiseParameters(
+        **{**ssm.DEFAULT_NOISE.__dict__, "correlation_time": -DAY / math.log(partial[0])}
+    ).with_order(1)
+    noise = ssm.NoiseParameters(**{**noise.__dict__, "partial_autocorrelations": tuple(partial[1:])})
+    _, P0 = ssm.prior(0.0, noise)
+    lags = np.abs(np.subtract.outer(np.arange(p), np.arange(p)))
+    np.testing.assert_allclose(P0[1 : 1 + p, 1 : 1 + p].real, noise.excitation * acov[lags], rtol=1e-10)
+
+
+def test_the_default_noise_has_the_chosen_order():
+    assert ssm.DEFAULT_NOISE.order == ssm.EXCITATION_ORDER
+    assert len(ssm.state_names(ssm.EXCITATION_ORDER)) == ssm.system(1e-7 + 0j, ssm.DEFAULT_NOISE)[0].shape[0]
+
+
+@given(
+    st.floats(0.2, 3000.0),
+    st.lists(st.floats(-0.99, 0.99), max_size=5),
+    st.lists(st.floats(-25.0, 4.0), min_size=4, max_size=4),
+)
+def test_noise_parameters_round_trip_through_the_free_parameters(tau_days, partial, log_ratios):
+    noise = ssm.NoiseParameters(
+        (20 * MAS) ** 2, tau_days * DAY, *((20 * MAS) ** 2 * np.exp(log_ratios)), tuple(partial)
+    )
+    back = ssm.NoiseParameters.from_ratios(noise.ratios(), noise.excitation)
+    assert back.order == noise.order == 1 + len(partial)
+    np.testing.assert_allclose(back.ratios(), noise.ratios(), rtol=1e-12, atol=1e-12)
+    assert back.with_order(noise.order + 2).partial_autocorrelations == (*back.partial_autocorrelations, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("order", [1, 3, 6])
+def test_steady_state_solves_the_riccati_equation(order):
+    """P = F (P - P h^H h P / S) F^H + Q to 1e-11 relative, for the excitation orders the model takes."""
+    F, Q, h, r = ssm.system(chandler_frequency(433.0 * DAY, 80.0), ssm.DEFAULT_NOISE.with_order(order))
+    P = kalman.steady_state(F, Q, h, r).prior
+    S = (h @ P @ h.conj()).real + r
+    nxt = F @ (P - np.outer(P @ h.conj(), h @ P) / S) @ F.conj().T + Q
+    assert np.max(np.abs(nxt - P)) <= 1e-11 * np.max(np.abs(P))
 
 
 @pytest.fixture(scope="module")
@@ -237,8 +296,11 @@ def test_maximum_likelihood_finds_the_simulated_noise(simulated):
     use = t >= t[-1] - ssm.FIT_SPAN
     noise, _ = ssm.fit_noise(t[use], p[use], sigma)
     truth = ssm.DEFAULT_NOISE
+    assert noise.order == truth.order
     assert noise.excitation == pytest.approx(truth.excitation, rel=0.1)
     assert noise.correlation_time == pytest.approx(truth.correlation_time, rel=0.3)
+    # Partial autocorrelations from ~3300 daily values: standard error ~ 1/sqrt(n) = 0.017.
+    np.testing.assert_allclose(noise.partial_autocorrelations, truth.partial_autocorrelations, rtol=0, atol=0.06)
 
 
 def test_maximum_likelihood_does_not_depend_on_the_last_digits_of_its_start(simulated):
@@ -251,7 +313,7 @@ def test_maximum_likelihood_does_not_depend_on_the_last_digits_of_its_start(simu
         ssm.fit_noise(t[use], p[use], sigma, ssm.NoiseParameters.from_ratios(start + d, ssm.DEFAULT_NOISE.excitation))[
             1
         ]
-        for d in (0.0, np.full(5, 1e-3), np.array([-1e-3, 1e-3, -1e-3, 1e-3, -1e-3]))
+        for d in (0.0, np.full(start.size, 1e-3), 1e-3 * (-1.0) ** (1 + np.arange(start.size)))
     ]
     assert max(loglikes) - min(loglikes) < 0.05, loglikes
 

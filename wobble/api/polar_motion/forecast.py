@@ -242,6 +242,11 @@ class PolarMotionForecast:
             details["noise"] = {
                 "excitation_mas": math.sqrt(noise.excitation) / RAD_PER_MAS,
                 "correlation_time_days": noise.correlation_time / DAY,
+                "excitation_order": noise.order,
+                "excitation_partial_autocorrelations": [
+                    math.exp(-DAY / noise.correlation_time),
+                    *noise.partial_autocorrelations,
+                ],
                 "seasonal_mas": math.sqrt(noise.seasonal) / RAD_PER_MAS,
                 "mean_pole_mas": math.sqrt(noise.mean_pole) / RAD_PER_MAS,
                 "mean_pole_rate_mas_per_day": math.sqrt(noise.mean_pole_rate) / RAD_PER_MAS,

@@ -3,11 +3,11 @@ per lead time.
 
 A model's stated forecast variance is only as good as the model: on the IERS
 record the 68 % intervals of least squares + autoregression held 48 % of the
-outcomes at a year, those of the state-space model 60 % at a day and 80 % at
-a month. Operational prediction centres state their accuracy from their own
-past prediction errors instead (Kalarus et al. 2010). This module does the
-same, per lead time, with nothing from the future of the forecast it
-calibrates:
+outcomes at a year, those of the state-space model with a first-order
+excitation 60 % at a day and 80 % at a month. Operational prediction centres
+state their accuracy from their own past prediction errors instead (Kalarus et
+al. 2010). This module does the same, per lead time, with nothing from the
+future of the forecast it calibrates:
 
 * the **past forecasts** are the same method's forecasts issued at
   t_i - k Delta (k = 1, 2, ...; Delta = :data:`STEP`, a week) before the
@@ -32,7 +32,7 @@ calibrates:
   errors themselves.
 
 The span, the week and the normalisation were chosen on a hindcast of
-forecasts issued 2006-2015 (both methods' 68 % intervals inside 64-72 % at
+forecasts issued 2006-2015 (both methods' 68 % intervals inside 64-73 % at
 every lead time from 1 to 365 days with a latency of 1 day, and with 30 days
 but for the Kalman model's last ten days of the year, 74 %; longer spans
 lagged the growth of the LS+AR errors over those years). The intervals are symmetric about the forecast and

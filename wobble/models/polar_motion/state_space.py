@@ -10,17 +10,22 @@ stepped once a day (Delta = 1 d):
 
       w_k = lambda w_{k-1} + (1 - lambda) chi_k,   lambda = exp(i sigma_c Delta);
 
-* its **stochastic excitation** chi, coloured: a complex AR(1) process
-  chi_k = phi chi_{k-1} + eta_k, phi = exp(-Delta / tau) with correlation
-  time tau (atmospheric, oceanic and hydrological excitation is red);
+* its **stochastic excitation** chi, coloured: a complex autoregression of
+  order p, chi_k = phi_1 chi_{k-1} + ... + phi_p chi_{k-p} + eta_k with real
+  coefficients (atmospheric, oceanic and hydrological excitation is red),
+  parametrised by its partial autocorrelations r_1 .. r_p (Durbin-Levinson;
+  stationary for |r_j| < 1; Barndorff-Nielsen & Schou 1973), r_1 = exp(-Delta /
+  tau) with the lag-one correlation time tau. p = 1 is the first-order
+  (Ornstein-Uhlenbeck) excitation; the default, :data:`EXCITATION_ORDER`, is
+  chosen on the record before 2016 (see the constant);
 * the **seasonal terms**, the response to deterministic annual and
   semi-annual excitation: four circles a_j exp(i n_j Omega_a t), n_j = +/-1,
   +/-2, whose amplitudes may drift slowly (a random walk);
 * the **mean pole** (a level and a slope, each a random walk).
 
 The observation is their sum plus white noise. The noise variances (of eta,
-the seasonal amplitudes, level, slope and the observation) and tau are
-estimated by maximum likelihood on the fitting span (the innovations of the
+the seasonal amplitudes, level, slope and the observation), tau and r_2 .. r_p
+are estimated by maximum likelihood on the fitting span (the innovations of the
 steady-state filter, :mod:`wobble.numerics.kalman`; the overall scale in
 closed form), T_c and Q are physics given to the model (wobble's own
 estimates), not fitted. Noise is circular (equal in x_p and y_p). Times in s,
@@ -33,7 +38,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
+from scipy import linalg, optimize
 
 from wobble.errors import InputError
 from wobble.models.polar_motion.excitation import chandler_frequency
@@ -46,10 +51,13 @@ from wobble.numerics.threads import one_blas_thread
 __all__ = [
     "FIT_SPAN",
     "BURN_IN",
-    "STATES",
+    "state_names",
+    "ar_coefficients",
     "NoiseParameters",
+    "EXCITATION_ORDER",
     "DEFAULT_NOISE",
     "GRADIENT_STEP",
+    "mean_pole_index",
     "system",
     "initial_state",
     "fit_noise",
@@ -64,19 +72,25 @@ __all__ = [
 FIT_SPAN = 10.0 * 365.25 * DAY
 #: Days at the start of the fitting span that initialise the filter and are left out of the likelihood.
 BURN_IN = 365
-#: The states, in order.
-STATES = (
-    "wobble",
-    "excitation",
-    "annual_prograde",
-    "annual_retrograde",
-    "semiannual_prograde",
-    "semiannual_retrograde",
-    "mean_pole",
-    "mean_pole_rate",
-)
-_H = np.array([1, 0, 1, 1, 1, 1, 1, 0], dtype=complex)
+_SEASONAL = ("annual_prograde", "annual_retrograde", "semiannual_prograde", "semiannual_retrograde")
 _MAS = math.pi / 648e6
+
+
+def state_names(order: int) -> tuple[str, ...]:
+    """The states of the model with an excitation autoregression of ``order``, in order: the wobble, the
+    excitation and its ``order - 1`` previous values, the four seasonal circles, the mean pole and its rate."""
+    lags = tuple(f"excitation_lag_{j}" for j in range(1, order))
+    return ("wobble", "excitation", *lags, *_SEASONAL, "mean_pole", "mean_pole_rate")
+
+
+def ar_coefficients(partial) -> np.ndarray:
+    """phi_1 .. phi_p of the autoregression with partial autocorrelations ``partial`` (r_1 .. r_p): the
+    Durbin-Levinson recursion phi_j^(k) = phi_j^(k-1) - r_k phi_{k-j}^(k-1), phi_k^(k) = r_k (Box, Jenkins &
+    Reinsel 2008, eq. 3.2.33); stationary when every |r_k| < 1."""
+    phi = np.zeros(0)
+    for r in partial:
+        phi = np.append(phi - r * phi[::-1], r)
+    return phi
 
 
 @dataclass(frozen=True)
@@ -88,10 +102,16 @@ class NoiseParameters:
     excitation : float
         Variance of the excitation's innovation eta (the scale of the rest).
     correlation_time : float
-        Correlation time tau of the coloured excitation, s.
+        Lag-one correlation time tau of the coloured excitation, s: its
+        first partial autocorrelation (the lag-one autocorrelation) is
+        r_1 = exp(-1 d / tau).
     seasonal, mean_pole, mean_pole_rate, observation : float
         Variances of the daily changes of each seasonal amplitude, the mean
         pole, its rate (per day), and of the observation noise.
+    partial_autocorrelations : tuple of float
+        The excitation's partial autocorrelations r_2 .. r_p beyond the
+        first (empty: a first-order excitation); the order is p = 1 + their
+        number.
     """
 
     excitation: float
@@ -100,9 +120,25 @@ class NoiseParameters:
     mean_pole: float
     mean_pole_rate: float
     observation: float
+    partial_autocorrelations: tuple[float, ...] = ()
+
+    @property
+    def order(self) -> int:
+        """Order p of the excitation's autoregression."""
+        return 1 + len(self.partial_autocorrelations)
+
+    def ar(self) -> np.ndarray:
+        """The excitation's autoregressive coefficients phi_1 .. phi_p (per daily step)."""
+        return ar_coefficients((math.exp(-DAY / self.correlation_time), *self.partial_autocorrelations))
+
+    def with_order(self, order: int) -> NoiseParameters:
+        """These parameters with an excitation of ``order``: partial autocorrelations cut or padded with 0."""
+        r = (tuple(self.partial_autocorrelations) + (0.0,) * order)[: order - 1]
+        return NoiseParameters(**{**self.__dict__, "partial_autocorrelations": r})
 
     def ratios(self) -> np.ndarray:
-        """The MLE's free parameters: ln(tau / 1 d) and the logs of the other variances over the excitation's."""
+        """The MLE's free parameters: ln(tau / 1 d), the logs of the other variances over the excitation's,
+        and artanh r_2 .. artanh r_p."""
         q = self.excitation
         return np.array(
             [
@@ -111,13 +147,14 @@ class NoiseParameters:
                 math.log(self.mean_pole / q),
                 math.log(self.mean_pole_rate / q),
                 math.log(self.observation / q),
+                *(math.atanh(r) for r in self.partial_autocorrelations),
             ]
         )
 
     @classmethod
     def from_ratios(cls, theta, scale: float = 1.0) -> NoiseParameters:
-        """The inverse of :meth:`ratios` with excitation variance ``scale``."""
-        lt, ls, lm, lr, lo = (float(v) for v in theta)
+        """The inverse of :meth:`ratios` with excitation variance ``scale`` (the order from the length of theta)."""
+        lt, ls, lm, lr, lo, *partial = (float(v) for v in theta)
         return cls(
             scale,
             math.exp(lt) * DAY,
@@ -125,24 +162,45 @@ class NoiseParameters:
             scale * math.exp(lm),
             scale * math.exp(lr),
             scale * math.exp(lo),
+            tuple(math.tanh(u) for u in partial),
         )
 
 
+#: Order of the excitation's autoregression. Chosen on forecasts issued every four weeks in 2006-2015 (before the
+#: 2016-2020 hindcast, with a latency of one day, each from its own ten years of data, the noise refitted yearly;
+#: ``scripts/excitation_order.py``): the 2-D RMS errors at 1 / 5 / 10 / 30 / 90 / 365 days were
+#: 0.78 / 2.80 / 4.54 / 9.88 / 20.97 / 38.48 mas with p = 1 and 0.67 / 2.54 / 4.18 / 9.68 / 20.86 / 37.93 with
+#: p = 3; p = 2, 4, 5, 6 and 8 did no better at 10 and 90 days (4.19-4.42 and 20.91-22.26 mas). The likelihood
+#: asks for more lags (on the ten years before 2006: +1694 from p = 1 to 3, +590 more to 6, +125 more to 8): the
+#: C04 series, combined and smoothed, rings over a few days, which the forecasts use little beyond three lags.
+EXCITATION_ORDER = 3
+
 #: The starting point of the maximum likelihood: near the optimum for the IERS 20 C04 record 2006-2015 (ten years
-#: before the first hindcast issue, 2016-01-01), rounded: the excitation and its correlation time to two digits
-#: (23.0 mas, 6.71 d at the optimum), the four small variances, which the likelihood barely determines, within a
-#: factor two (0.0012, 0.0013, 0.0010 and 0.0010 mas). From a poor start L-BFGS-B can stop in a corner where
-#: random-walk seasonal terms mimic the wobble (likelihood lower by ~5000 on ten years of data).
+#: before the first hindcast issue, 2016-01-01), rounded: the excitation, its lag-one correlation time and partial
+#: autocorrelations to two digits (17.7 mas, 6.64 d, -0.566 and 0.366 at the optimum), the four small variances,
+#: which the likelihood barely determines, to one (0.00098, 0.00098, 0.00126 and 0.00080 mas). From a poor start
+#: L-BFGS-B can stop in a corner where random-walk seasonal terms mimic the wobble (likelihood lower by ~5000 on
+#: ten years of data).
 DEFAULT_NOISE = NoiseParameters(
-    excitation=(23.0 * _MAS) ** 2,
-    correlation_time=6.7 * DAY,
-    seasonal=(0.0025 * _MAS) ** 2,
-    mean_pole=(0.0015 * _MAS) ** 2,
-    mean_pole_rate=(0.0005 * _MAS) ** 2,
-    observation=(0.0015 * _MAS) ** 2,
+    excitation=(18.0 * _MAS) ** 2,
+    correlation_time=6.6 * DAY,
+    seasonal=(0.001 * _MAS) ** 2,
+    mean_pole=(0.001 * _MAS) ** 2,
+    mean_pole_rate=(0.001 * _MAS) ** 2,
+    observation=(0.0008 * _MAS) ** 2,
+    partial_autocorrelations=(-0.57, 0.37),
 )
-# Bounds of the free parameters of the likelihood (ln tau in days, ln variance ratios).
-_BOUNDS = [(math.log(1.0), math.log(3650.0)), (-30.0, 5.0), (-30.0, 5.0), (-40.0, 0.0), (-20.0, 10.0)]
+# Bounds of the free parameters of the likelihood (ln tau in days, ln variance ratios, artanh of the partial
+# autocorrelations beyond the first: |r| <= 0.995). tau down to 0.1 d (r_1 = 5e-5): before 1996 the record's
+# day-to-day excitation is nearly white.
+_BOUNDS = [(math.log(0.1), math.log(3650.0)), (-30.0, 5.0), (-30.0, 5.0), (-40.0, 0.0), (-20.0, 10.0)]
+_PARTIAL_BOUND = (-3.0, 3.0)
+
+
+def _bounds(order: int) -> list[tuple[float, float]]:
+    return _BOUNDS + [_PARTIAL_BOUND] * (order - 1)
+
+
 #: Finite-difference step of L-BFGS-B's gradient in the (logarithmic) free parameters. SciPy's default, 1e-8,
 # divides the likelihood's rounding noise (~5e-9 on ten years) by 1e-8: gradients wrong by ~0.5 near the optimum,
 # where the variance ratios are flat, so the search stopped 0.3-0.9 short of the maximum at a point that moved
@@ -150,32 +208,50 @@ _BOUNDS = [(math.log(1.0), math.log(3650.0)), (-30.0, 5.0), (-30.0, 5.0), (-40.0
 GRADIENT_STEP = 1e-5
 
 
+def mean_pole_index(order: int) -> int:
+    """Index of the mean pole in the state of the model with an excitation of ``order`` (its rate follows)."""
+    return order + 5
+
+
 def system(sigma_c: complex, noise: NoiseParameters, dt: float = DAY):
-    """(F, Q, h, r) of the daily model: transition, process covariance, observation vector, observation variance."""
+    """(F, Q, h, r) of the daily model: transition, process covariance, observation vector, observation variance.
+
+    The state is (w_k, chi_k, chi_{k-1} .. chi_{k-p+1}, seasonal, mean pole, rate): the excitation's companion
+    form, and the wobble stepped with the new excitation, w_k = lambda w_{k-1} + (1 - lambda) chi_k.
+    """
+    p = noise.order
+    m = p + 7
     lam = np.exp(1j * sigma_c * dt)
-    phi = math.exp(-dt / noise.correlation_time)
-    F = np.zeros((8, 8), dtype=complex)
-    F[0, 0], F[0, 1], F[1, 1] = lam, (1 - lam) * phi, phi
+    phi = noise.ar()
+    F = np.zeros((m, m), dtype=complex)
+    F[0, 0] = lam
+    F[0, 1 : 1 + p] = (1 - lam) * phi
+    F[1, 1 : 1 + p] = phi
+    F[np.arange(2, 1 + p), np.arange(1, p)] = 1.0  # chi_{k-j} moves down one lag
     for j, n in enumerate((1, -1, 2, -2)):
-        F[2 + j, 2 + j] = np.exp(1j * n * ANNUAL_RATE * dt)
-    F[6, 6], F[6, 7], F[7, 7] = 1.0, 1.0, 1.0
-    g = np.zeros(8, dtype=complex)
+        F[1 + p + j, 1 + p + j] = np.exp(1j * n * ANNUAL_RATE * dt)
+    mp = mean_pole_index(p)
+    F[mp, mp], F[mp, mp + 1], F[mp + 1, mp + 1] = 1.0, 1.0, 1.0
+    g = np.zeros(m, dtype=complex)
     g[0], g[1] = 1 - lam, 1.0
     Q = noise.excitation * np.outer(g, g.conj())
-    Q[2:6, 2:6] += noise.seasonal * np.eye(4)
-    Q[6, 6] += noise.mean_pole
-    Q[7, 7] += noise.mean_pole_rate
-    return F, Q, _H.copy(), float(noise.observation)
+    Q[1 + p : mp, 1 + p : mp] += noise.seasonal * np.eye(4)
+    Q[mp, mp] += noise.mean_pole
+    Q[mp + 1, mp + 1] += noise.mean_pole_rate
+    h = np.zeros(m, dtype=complex)
+    h[0], h[1 + p : mp + 1] = 1.0, 1.0
+    return F, Q, h, float(noise.observation)
 
 
-def initial_state(t, z, sigma_c: complex) -> np.ndarray:
-    """A prior mean at the first sample from a least-squares fit of trend and harmonics to the first two years."""
+def initial_state(t, z, sigma_c: complex, order: int = 1) -> np.ndarray:
+    """A prior mean at the first sample from a least-squares fit of trend and harmonics to the first two years
+    (the excitation and its lags zero)."""
     first = t <= t[0] + 2 * 365.25 * DAY
     s = t[first] - t[0]
     cols = harmonic_columns(s, sigma_c.real)
     c, *_ = np.linalg.lstsq(cols, z[first], rcond=None)
     # Columns: 1, s/yr, Chandler, annual +, annual -, semi-annual +, semi-annual -; at s = 0 each is its coefficient.
-    return np.array([c[2], 0.0, c[3], c[4], c[5], c[6], c[0], c[1] * DAY / (365.25 * DAY)], dtype=complex)
+    return np.array([c[2], *([0.0] * order), c[3], c[4], c[5], c[6], c[0], c[1] * DAY / (365.25 * DAY)], dtype=complex)
 
 
 def _concentrated(theta, sigma_c, y, x0, burn):
@@ -200,19 +276,24 @@ def fit_noise(
 ) -> tuple[NoiseParameters, float]:
     """Maximum-likelihood noise parameters on the daily series (t, z); returns them and the log-likelihood.
 
-    The excitation variance (the overall scale) is concentrated out; the five
-    ratios are found by L-BFGS-B from ``start`` (a previous fit, when there is one).
+    The excitation variance (the overall scale) is concentrated out; the other
+    parameters (:meth:`NoiseParameters.ratios`) are found by L-BFGS-B from
+    ``start``, whose order the fit keeps.
     """
     y = np.asarray(z, dtype=complex)
-    x0 = initial_state(t, y, sigma_c)
-    theta0 = np.clip(start.ratios(), [b[0] for b in _BOUNDS], [b[1] for b in _BOUNDS])
-    res = optimize.minimize(
-        lambda th: _concentrated(th, sigma_c, y, x0, burn)[0],
-        theta0,
-        method="L-BFGS-B",
-        bounds=_BOUNDS,
-        options={"maxiter": 60, "ftol": 1e-9, "eps": GRADIENT_STEP},
-    )
+    x0 = initial_state(t, y, sigma_c, start.order)
+    bounds = _bounds(start.order)
+    theta0 = np.clip(start.ratios(), [b[0] for b in bounds], [b[1] for b in bounds])
+    # Where the likelihood has no value (_concentrated's inf), finite differences of inf give nan: L-BFGS-B
+    # backs off from there, and numpy's warnings about it say nothing to a user.
+    with np.errstate(invalid="ignore", over="ignore"):
+        res = optimize.minimize(
+            lambda th: _concentrated(th, sigma_c, y, x0, burn)[0],
+            theta0,
+            method="L-BFGS-B",
+            bounds=bounds,
+            options={"maxiter": 60, "ftol": 1e-9, "eps": GRADIENT_STEP},
+        )
     nll, scale, _ = _concentrated(res.x, sigma_c, y, x0, burn)
     if not math.isfinite(nll):
         raise InputError(
@@ -229,17 +310,33 @@ PRIOR_SD_MAS = {"wobble": 1000.0, "seasonal": 1000.0, "mean_pole": 1000.0, "mean
 
 def prior(y0: complex, noise: NoiseParameters) -> tuple[np.ndarray, np.ndarray]:
     """(x0, P0): the prior of the first state of a span whose first value is ``y0``: the mean pole there, the
-    rest zero."""
-    x0 = np.zeros(8, dtype=complex)
-    x0[6] = y0
-    phi = math.exp(-DAY / noise.correlation_time)
+    rest zero; diffuse but for the excitation, whose prior is its stationary distribution."""
+    p = noise.order
+    mp = mean_pole_index(p)
+    x0 = np.zeros(p + 7, dtype=complex)
+    x0[mp] = y0
     sd = PRIOR_SD_MAS
     var = np.array(
-        [sd["wobble"] ** 2 * _MAS**2, noise.excitation / (1.0 - phi * phi)]
+        [sd["wobble"] ** 2 * _MAS**2]
+        + [0.0] * p
         + [sd["seasonal"] ** 2 * _MAS**2] * 4
         + [sd["mean_pole"] ** 2 * _MAS**2, sd["mean_pole_rate"] ** 2 * _MAS**2]
     )
-    return x0, np.diag(var).astype(complex)
+    P0 = np.diag(var).astype(complex)
+    P0[1 : 1 + p, 1 : 1 + p] = _stationary_covariance(noise)
+    return x0, P0
+
+
+def _stationary_covariance(noise: NoiseParameters) -> np.ndarray:
+    """Covariance of (chi_k .. chi_{k-p+1}) of the stationary excitation: the discrete Lyapunov equation
+    P = A P A^T + q e_1 e_1^T of its companion matrix A."""
+    p = noise.order
+    A = np.zeros((p, p))
+    A[0] = noise.ar()
+    A[np.arange(1, p), np.arange(0, p - 1)] = 1.0
+    G = np.zeros((p, p))
+    G[0, 0] = noise.excitation
+    return linalg.solve_discrete_lyapunov(A, G)
 
 
 @dataclass(frozen=True, eq=False)
@@ -286,9 +383,10 @@ class KalmanSetup:
         )
 
     def last_states(self, spans: np.ndarray) -> np.ndarray:
-        """Filtered last states (k, 8) of ``k`` spans (k, n) of daily values: one matrix product."""
+        """Filtered last states (k, m) of ``k`` spans (k, n) of daily values: one matrix product."""
         spans = np.atleast_2d(spans)
-        return spans @ self.window.weights + np.outer(spans[:, 0], self.window.prior_map[:, 6])
+        mp = mean_pole_index(self.noise.order)
+        return spans @ self.window.weights + np.outer(spans[:, 0], self.window.prior_map[:, mp])
 
     def forecast(self, x_last: np.ndarray, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Means (k, steps) of the pole 1 .. ``steps`` days after each state, the deterministic part alone
@@ -296,9 +394,9 @@ class KalmanSetup:
         rows = kalman.forecast_map(self.F, self.h, steps)
         x = np.atleast_2d(x_last)
         base = x.copy()
-        base[:, :2] = 0.0  # without the free wobble and its excitation: the seasonal terms and the mean pole
+        base[:, : 1 + self.noise.order] = 0.0  # without the free wobble and its excitation: seasons and mean pole
         _, var = kalman.forecast(
-            self.F, self.Q, self.h, self.r, np.zeros(8, dtype=complex), self.window.posterior, steps
+            self.F, self.Q, self.h, self.r, np.zeros(self.F.shape[0], dtype=complex), self.window.posterior, steps
         )
         return x @ rows.T, base @ rows.T, var
 
@@ -416,7 +514,7 @@ def past_forecasts_kalman(
         sigma = np.array([np.stack([f.sigma_x, f.sigma_y], axis=1) for f in fs]).reshape(issues.size, horizon_days, 2)
         return PastForecasts(issues, mean, sigma)
     daily(t[int(start.min()) : int(end.max())], "Kalman")
-    states = np.empty((issues.size, 8), dtype=complex)
+    states = np.empty((issues.size, setup.F.shape[0]), dtype=complex)
     offsets = np.arange(setup.n)
     for a in range(0, issues.size, _CHUNK):
         states[a : a + _CHUNK] = setup.last_states(z[start[a : a + _CHUNK, None] + offsets[None, :]])
