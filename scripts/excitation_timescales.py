@@ -1,8 +1,9 @@
 """Does the pole record ask for a second, slow excitation time scale in the Kalman model?
 
 The state-space model of ``wobble forecast --method kalman`` drives the free
-wobble with one coloured (AR(1)) excitation; its maximum likelihood puts the
-correlation time near 7 days (atmosphere and ocean). Continental water and
+wobble with one coloured excitation (an autoregression of order
+``state_space.EXCITATION_ORDER`` whose lag-one correlation time is near 7 days:
+atmosphere and ocean). Continental water and
 the ocean's slow circulation excite the pole over months, which a second AR(1)
 process with its own variance and correlation time could carry into the 40-90
 day forecasts. This script adds that process (one more complex state) and
@@ -49,26 +50,29 @@ SLOW_BOUNDS = [(math.log(20.0), math.log(3650.0)), (-20.0, 2.0)]
 
 
 def two_timescale_system(sigma_c: complex, theta):
-    """The model's (F, Q, h, r) with a second AR(1) excitation appended as a ninth state.
+    """(F, Q, h, r) of the shipped model with a second AR(1) excitation appended as one more state.
 
-    ``theta`` is the five free parameters of :meth:`NoiseParameters.ratios`
-    followed by ln(tau_slow / 1 d) and ln(variance_slow / variance_fast).
+    ``theta`` is the free parameters of :meth:`NoiseParameters.ratios` (the
+    shipped excitation's order) followed by ln(tau_slow / 1 d) and
+    ln(variance_slow / variance_fast).
     """
-    F8, Q8, h8, r = ss.system(sigma_c, ss.NoiseParameters.from_ratios(theta[:5]))
+    Fb, Qb, hb, r = ss.system(sigma_c, ss.NoiseParameters.from_ratios(theta[:-2]))
+    m = Fb.shape[0]
     lam = np.exp(1j * sigma_c * DAY)
-    phi = math.exp(-1.0 / math.exp(theta[5]))
-    F = np.zeros((9, 9), dtype=complex)
-    F[:8, :8] = F8
-    F[0, 8], F[8, 8] = (1 - lam) * phi, phi
-    g = np.zeros(9, dtype=complex)
-    g[0], g[8] = 1 - lam, 1.0
-    Q = math.exp(theta[6]) * np.outer(g, g.conj())
-    Q[:8, :8] += Q8
-    return F, Q, np.append(h8, 0.0), r
+    phi = math.exp(-1.0 / math.exp(theta[-2]))
+    F = np.zeros((m + 1, m + 1), dtype=complex)
+    F[:m, :m] = Fb
+    F[0, m], F[m, m] = (1 - lam) * phi, phi
+    g = np.zeros(m + 1, dtype=complex)
+    g[0], g[m] = 1 - lam, 1.0
+    Q = math.exp(theta[-1]) * np.outer(g, g.conj())
+    Q[:m, :m] += Qb
+    return F, Q, np.append(hb, 0.0), r
 
 
 def neg_log_likelihood(theta, sigma_c, y, x0) -> float:
-    """The concentrated -log-likelihood of the nine-state model (the scale in closed form, as in state_space)."""
+    """The concentrated -log-likelihood of the model with the slow state (the scale in closed form, as in
+    state_space)."""
     F, Q, h, r = two_timescale_system(sigma_c, theta)
     try:
         steady = kalman.steady_state(F, Q, h, r)
@@ -90,8 +94,8 @@ def compare(t, z, mjd_issued: float) -> dict:
     period = fit_least_squares(t[use], z[use], reference_period=433 * DAY, uncertainty=False).chandler.period
     sigma_c = chandler_frequency(period, Q_FACTOR)
     one, loglike_one = ss.fit_noise(ti, zi, sigma_c)
-    x0 = np.append(ss.initial_state(ti, zi, sigma_c), 0.0)
-    bounds = ss._BOUNDS + SLOW_BOUNDS
+    x0 = np.append(ss.initial_state(ti, zi, sigma_c, one.order), 0.0)
+    bounds = ss._bounds(one.order) + SLOW_BOUNDS
     fits = []
     for tau, lq in STARTS:
         res = optimize.minimize(
@@ -116,8 +120,8 @@ def compare(t, z, mjd_issued: float) -> dict:
         "two_timescales": {
             "log_likelihood": -float(best.fun),
             "fast_correlation_time_days": math.exp(best.x[0]),
-            "slow_correlation_time_days": math.exp(best.x[5]),
-            "slow_over_fast_variance": math.exp(best.x[6]),
+            "slow_correlation_time_days": math.exp(best.x[-2]),
+            "slow_over_fast_variance": math.exp(best.x[-1]),
             "log_likelihood_of_each_start": [-float(r.fun) for r in fits],
         },
         "log_likelihood_gain": -float(best.fun) - loglike_one,

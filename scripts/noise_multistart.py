@@ -2,8 +2,9 @@
 
 ``fit_noise`` (wobble.models.polar_motion.state_space) runs L-BFGS-B from one
 starting point, the optimum of 2006-2015. On the ten years before 1996 the
-likelihood has several optima: this script (1) profiles it over the excitation's
-correlation time (the other four parameters optimised at each of eight values,
+likelihood of the first-order excitation had several optima: this script (1)
+profiles the likelihood of the shipped model there over the excitation's
+lag-one correlation time (the other parameters optimised at each of eight values,
 Chandler period 433 d, Q 81.6) and (2) runs the weekly 1996-1999 hindcast of the
 Kalman model twice, once as shipped and once with the best of four starts
 (the shipped one and correlation times of 2, 20 and 200 days) at every refit,
@@ -49,7 +50,7 @@ def profile(t, z) -> dict:
     ti, zi = information_set(t, z, issued, DAY, ss.FIT_SPAN, "Kalman")
     sigma_c = chandler_frequency(433.0 * DAY, 81.6)
     y = zi.astype(complex)
-    x0 = ss.initial_state(ti, y, sigma_c)
+    x0 = ss.initial_state(ti, y, sigma_c, ss.DEFAULT_NOISE.order)
     shipped, loglike = ss.fit_noise(ti, zi, sigma_c)
     out = {"shipped_fit": {"correlation_time_days": shipped.correlation_time / DAY, "log_likelihood": loglike}}
     rest = ss.DEFAULT_NOISE.ratios()[1:]
@@ -58,7 +59,7 @@ def profile(t, z) -> dict:
             lambda r, tau=tau: ss._concentrated(np.concatenate([[math.log(tau)], r]), sigma_c, y, x0, ss.BURN_IN)[0],
             rest,
             method="L-BFGS-B",
-            bounds=ss._BOUNDS[1:],
+            bounds=ss._bounds(ss.DEFAULT_NOISE.order)[1:],
             options={"maxiter": 60, "ftol": 1e-9, "eps": ss.GRADIENT_STEP},
         )
         out[f"tau_{tau:g}d"] = -float(res.fun)
