@@ -85,8 +85,9 @@ def state_names(order: int) -> tuple[str, ...]:
 
 def ar_coefficients(partial) -> np.ndarray:
     """phi_1 .. phi_p of the autoregression with partial autocorrelations ``partial`` (r_1 .. r_p): the
-    Durbin-Levinson recursion phi_j^(k) = phi_j^(k-1) - r_k phi_{k-j}^(k-1), phi_k^(k) = r_k (Box, Jenkins &
-    Reinsel 2008, eq. 3.2.33); stationary when every |r_k| < 1."""
+    Durbin-Levinson recursion phi_j^(k) = phi_j^(k-1) - r_k phi_{k-j}^(k-1), phi_k^(k) = r_k (Durbin 1960,
+    Rev. Int. Stat. Inst. 28, 233); stationary when every |r_k| < 1 (Barndorff-Nielsen & Schou 1973,
+    J. Multivar. Anal. 3, 408)."""
     phi = np.zeros(0)
     for r in partial:
         phi = np.append(phi - r * phi[::-1], r)
