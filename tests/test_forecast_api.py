@@ -64,6 +64,16 @@ def test_a_file_and_its_dataset_give_the_same_forecast(forecast):
     assert r[0] == pytest.approx(math.exp(-1.0 / noise["correlation_time_days"]), rel=1e-12)
 
 
+def test_a_forecast_from_the_record_s_first_decade_runs():
+    """Issued 1976-01-01 (latency 30 d), the ten-year fit reads 1965-1975, where the filter's mean-pole
+    modes sit on the unit circle to rounding (1 + 5e-10): once refused as unstable, which escaped as a
+    traceback from the command line."""
+    f = wobble.forecast_polar_motion(issued="1976-01-01", horizon=90 * u.day, method="kalman")
+    d = f.to_dict()
+    assert d["last_data"] == "1975-12-02" and len(d["forecast"]) == 90
+    assert all(np.isfinite([r["x_mas"], r["y_mas"], *r["x_68_mas"], *r["y_95_mas"]]).all() for r in d["forecast"])
+
+
 def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
     ds = forecast.to_dataset()
     assert ds["lead_time"].attrs["standard_name"] == "forecast_period"

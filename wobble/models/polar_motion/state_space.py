@@ -261,9 +261,9 @@ def _concentrated(theta, sigma_c, y, x0, burn):
     F, Q, h, r = system(sigma_c, noise)
     try:
         ss = kalman.steady_state(F, Q, h, r)
-    except (np.linalg.LinAlgError, ValueError):
+        xs, innov = kalman.filter_steady(F, ss, h, y, x0)
+    except (np.linalg.LinAlgError, ValueError):  # no stabilising solution: the likelihood has no value here
         return math.inf, None, None
-    xs, innov = kalman.filter_steady(F, ss, h, y, x0)
     e = innov[burn:]
     scale = float(np.mean(np.abs(e) ** 2)) / ss.innovation_variance
     if not (math.isfinite(scale) and scale > 0):
