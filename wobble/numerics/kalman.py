@@ -34,6 +34,7 @@ Plain complex128 arrays; no units.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -109,7 +110,13 @@ def steady_state(F, Q, h, r) -> SteadyState:
         L = F @ (P @ h.conj()) / float((h @ P @ h.conj()).real + r)
         # Bartels-Stewart on the bilinear transform: the Kronecker ("direct") solve is singular to rounding
         # when two modes of the closed loop sit near the unit circle (the mean pole and its rate).
-        refined = linalg.solve_discrete_lyapunov(F - np.outer(L, h), Q + r * np.outer(L, L.conj()), method="bilinear")
+        with warnings.catch_warnings():
+            # SciPy warns when the closed loop's modes sit near the unit circle and it perturbs the
+            # transformed problem; the residual check below judges the result either way.
+            warnings.simplefilter("ignore", RuntimeWarning)
+            refined = linalg.solve_discrete_lyapunov(
+                F - np.outer(L, h), Q + r * np.outer(L, L.conj()), method="bilinear"
+            )
         refined = 0.5 * (refined + refined.conj().T)
         new_residual = _riccati_residual(F, Q, h, r, refined)
         if not new_residual < residual:
