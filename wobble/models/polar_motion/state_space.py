@@ -172,7 +172,7 @@ class NoiseParameters:
 #: ``scripts/excitation_order.py``): the 2-D RMS errors at 1 / 5 / 10 / 30 / 90 / 365 days were
 #: 0.78 / 2.80 / 4.54 / 9.88 / 20.97 / 38.48 mas with p = 1 and 0.67 / 2.54 / 4.18 / 9.68 / 20.86 / 37.93 with
 #: p = 3; p = 2, 4, 5, 6 and 8 did no better at 10 and 90 days (4.19-4.42 and 20.91-22.26 mas). The likelihood
-#: asks for more lags (on the ten years before 2006: +1694 from p = 1 to 3, +590 more to 6, +125 more to 8): the
+#: asks for more lags (on the ten years before 2006: +1694 from p = 1 to 3, +492 more to 6, +125 more to 8): the
 #: C04 series, combined and smoothed, rings over a few days, which the forecasts use little beyond three lags.
 EXCITATION_ORDER = 3
 
