@@ -18,29 +18,28 @@ examples:
   wobble forecast --issued 2019-01-01 --horizon 90d --calibration-span 3yr
   wobble forecast --hindcast 2019-01-01:2019-07-01 --every 14d --horizon 90d --latency 1d -o hindcast.nc --overwrite
 
-Methods: kalman (default), a damped Chandler oscillator driven by coloured excitation
-with seasonal terms and a mean-pole drift, filtered with maximum-likelihood noise
-(Liouville equation: Munk & MacDonald 1960; Gross 1992; Kalman filter: Durbin & Koopman
-2012); ls_ar, least squares of trend, Chandler, annual and semi-annual terms plus an
-autoregressive model of the residuals (Kosek et al. 1998; Kalarus et al. 2010). Both use
-the Chandler period wobble measures by least squares in the 30 years of record before
-the issue date minus the latency (the output names that span; 'wobble polar-motion'
-measures the whole record). A forecast uses the record up to the issue date minus its
-publication delay (--latency; default 30 d for C04, 1 d for finals2000A). The 68 % and
-95 % intervals are calibrated on the method's own past forecasts: the same method issued
-every week over the --calibration-span (default 2yr) before, each from its own data; per
-lead time, the split-conformal quantile of the errors (over their stated sigma) whose
-outcomes were known at the issue date minus the latency (Vovk, Gammerman & Shafer 2005).
---no-calibration gives the models' Gaussian +/- sigma instead. Each value is shown to
-the decimal place of its +/- (two significant digits).
---hindcast START:END issues forecasts every --every over the span and scores them
-(MAE and RMS per component and for the 2-D pole, interval coverage, skill against
+Methods: kalman (default), a damped Chandler oscillator driven by coloured (third-order
+autoregressive) excitation with seasonal terms and a mean-pole drift, filtered with
+maximum-likelihood noise (Liouville equation: Munk & MacDonald 1960; Gross 1992; Kalman
+filter: Durbin & Koopman 2012); ls_ar, least squares of trend, Chandler, annual and
+semi-annual terms plus an autoregressive model of the residuals (Kosek et al. 1998;
+Kalarus et al. 2010). Both use the Chandler period wobble measures by least squares in
+the 30 years of record before the issue date minus the latency (the output names that
+span; 'wobble polar-motion' measures the whole record). A forecast uses the record up to
+the issue date minus its publication delay (--latency; default 30 d for C04, 1 d for
+finals2000A). The 68 % and 95 % intervals are calibrated on the method's own past
+forecasts: the same method issued every week over the --calibration-span (default 2yr)
+before, each from its own data; per lead time, the split-conformal quantile of the
+errors (over their stated sigma) whose outcomes were known at the issue date minus the
+latency (Vovk, Gammerman & Shafer 2005). --no-calibration gives the models' Gaussian +/-
+sigma instead. Each value is shown to the decimal place of its +/- (two significant
+digits). --hindcast START:END issues forecasts every --every over the span and scores
+them (MAE and RMS per component and for the 2-D pole, interval coverage, skill against
 persistence and the least-squares extrapolation) beside Dill et al. (2023); the
 2016-2020 weekly hindcast of the documentation is --hindcast 2016-01-01:2021-01-01
---every 7d --latency 1d (about 20 s on two cores).
-A bare number (no unit) in --horizon, --latency, --calibration-span and --every is
-days; dates are days (0 h UTC) of the daily record.
-"""
+--every 7d --latency 1d (about 20 s on two cores). A bare number (no unit) in --horizon,
+--latency, --calibration-span and --every is days; dates are days (0 h UTC) of the daily
+record. """
 
 
 def register(sub) -> None:

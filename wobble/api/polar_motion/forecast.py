@@ -9,8 +9,9 @@
 Two methods (:mod:`wobble.models.polar_motion`): ``ls_ar``, least squares of
 trend, Chandler, annual and semi-annual terms plus an autoregressive model of
 the residuals (the operational baseline), and ``kalman``, a damped Chandler
-oscillator driven by coloured excitation with seasonal terms and a mean-pole
-drift, filtered with maximum-likelihood noise (the physical model). Both take
+oscillator driven by coloured (third-order autoregressive) excitation with
+seasonal terms and a mean-pole drift, filtered with maximum-likelihood noise
+(the physical model). Both take
 the Chandler period wobble measures in the record before the issue date; the
 Kalman model takes Q from wobble's Chandler budget (the anelastic Love number)
 unless given.
