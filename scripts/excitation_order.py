@@ -37,7 +37,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy import linalg, optimize
+from scipy import optimize
 
 from wobble.api.polar_motion.record import MJD_J2000, read_record, record_series
 from wobble.models.polar_motion import state_space as ss
@@ -100,92 +100,61 @@ def hindcast(t, z, order: int) -> np.ndarray:
     return np.sqrt(np.mean(np.abs(e) ** 2, axis=0))
 
 
-def complex_ar(partial) -> np.ndarray:
-    """AR coefficients from complex partial autocorrelations (the complex Levinson-Durbin step
-    phi_j <- phi_j - r_k conj(phi_{k-j}), Schur-Cohn stable for |r_k| < 1)."""
-    phi = np.zeros(0, dtype=complex)
-    for r in partial:
-        phi = np.append(phi - r * np.conj(phi[::-1]), r)
-    return phi
-
-
 def rotating_system(sigma_c, theta, order: int):
     """(F, Q, h, r, phi) of the shipped model of ``order`` whose excitation coefficients are complex:
     ``theta`` is NoiseParameters.ratios() followed by the ``order`` phases (rad) of r_1 .. r_p."""
     noise = ss.NoiseParameters.from_ratios(theta[:-order])
     F, Q, h, r = ss.system(sigma_c, noise)
     moduli = np.array([math.exp(-DAY / noise.correlation_time), *noise.partial_autocorrelations])
-    phi = complex_ar(moduli * np.exp(1j * np.asarray(theta[-order:])))
+    phi = ss.ar_coefficients(moduli * np.exp(1j * np.asarray(theta[-order:])))
     F[0, 1 : 1 + order] = (1 - F[0, 0]) * phi
     F[1, 1 : 1 + order] = phi
     return F, Q, h, r, phi
 
 
-def rotating_nll(theta, sigma_c, y, x0, order):
-    """The concentrated -log-likelihood of the rotating model (as state_space's, the scale in closed form)."""
-    F, Q, h, r, _ = rotating_system(sigma_c, theta, order)
-    try:
-        steady = kalman.steady_state(F, Q, h, r)
-        _, innov = kalman.filter_steady(F, steady, h, y, x0)
-    except (np.linalg.LinAlgError, ValueError):
-        return math.inf
-    e = innov[ss.BURN_IN :]
-    scale = float(np.mean(np.abs(e) ** 2)) / steady.innovation_variance
-    if not (math.isfinite(scale) and scale > 0):
-        return math.inf
-    return e.size * (math.log(math.pi * scale * steady.innovation_variance) + 1.0)
-
-
 def fit_rotating(t, z, issued: float, order: int = 3):
-    """(period, theta, scale, log-likelihood, the real fit's log-likelihood, ti, zi) of the rotating model."""
-    period, real, loglike_real, _ = fit(t, z, issued, order)
+    """(setup, theta, log-likelihood, the real fit's log-likelihood) of the rotating model on the information
+    set of ``issued``: a KalmanSetup whose transition and filter are the rotating model's."""
+    period, real, loglike_real, n = fit(t, z, issued, order)
     ti, zi = information_set(t, z, issued, DAY, ss.FIT_SPAN, "Kalman")
     sigma_c = chandler_frequency(period, Q_FACTOR)
     x0 = ss.initial_state(ti, zi, sigma_c, order)
     with np.errstate(invalid="ignore", over="ignore"):
         res = optimize.minimize(
-            rotating_nll,
+            lambda th: ss.concentrated_likelihood(*rotating_system(sigma_c, th, order)[:4], zi, x0)[0],
             np.r_[real.ratios(), np.zeros(order)],
-            args=(sigma_c, zi, x0, order),
             method="L-BFGS-B",
-            bounds=ss._bounds(order) + [(-math.pi, math.pi)] * order,
+            bounds=ss.likelihood_bounds(order) + [(-math.pi, math.pi)] * order,
             options={"maxiter": 100, "ftol": 1e-10, "eps": ss.GRADIENT_STEP},
         )
-    F, Q, h, r, _ = rotating_system(sigma_c, res.x, order)
-    steady = kalman.steady_state(F, Q, h, r)
-    _, innov = kalman.filter_steady(F, steady, h, zi, x0)
-    scale = float(np.mean(np.abs(innov[ss.BURN_IN :]) ** 2)) / steady.innovation_variance
-    return period, res.x, scale, -float(res.fun), loglike_real, ti, zi
+    F, Q, h, r, phi = rotating_system(sigma_c, res.x, order)
+    nll, scale = ss.concentrated_likelihood(F, Q, h, r, zi, x0)
+    noise = ss.NoiseParameters.from_ratios(res.x[:-order], scale)
+    _, P0 = ss.prior(0.0, noise)
+    P0[1 : 1 + order, 1 : 1 + order] = ss.stationary_covariance(phi, scale)
+    window = kalman.window_filter(F, scale * Q, h, scale * r, P0, n)
+    setup = ss.KalmanSetup(period, Q_FACTOR, noise, n, sigma_c, F, scale * Q, h, scale * r, window)
+    return setup, res.x, -nll, loglike_real
 
 
 def hindcast_rotating(t, z, order: int = 3) -> np.ndarray:
-    """As :func:`hindcast` for the rotating model: the exact filter from the shipped prior, its excitation
-    block the stationary covariance of the complex autoregression."""
+    """As :func:`hindcast` for the rotating model (the exact filter from the shipped prior, its excitation
+    block the stationary covariance of the complex autoregression)."""
     issues = (np.arange(FIRST_MJD, END_MJD, EVERY_DAYS) - MJD_J2000) * DAY
     errors = []
-    mp = ss.mean_pole_index(order)
     for a in range(0, issues.size, REFIT):
         block = issues[a : a + REFIT]
-        period, theta, scale, _, _, _, zi = fit_rotating(t, z, float(block[0]), order)
-        F, Q, h, r, phi = rotating_system(chandler_frequency(period, Q_FACTOR), theta, order)
-        _, P0 = ss.prior(0.0, ss.NoiseParameters.from_ratios(theta[:-order], scale))
-        A = np.zeros((order, order), dtype=complex)
-        A[0], A[np.arange(1, order), np.arange(order - 1)] = phi, 1.0
-        G = np.zeros((order, order))
-        G[0, 0] = scale
-        P0[1 : 1 + order, 1 : 1 + order] = linalg.solve_discrete_lyapunov(A, G)
-        window = kalman.window_filter(F, scale * Q, h, scale * r, P0, zi.size)
-        rows = kalman.forecast_map(F, h, HORIZON + 1)
-        mean = []
-        for issued in block:
-            tj, zj = information_set(t, z, float(issued), DAY, ss.FIT_SPAN, "Kalman")
-            x = zj @ window.weights + zj[0] * window.prior_map[:, mp]
-            ahead = np.rint((issued + DAY * np.arange(1, HORIZON + 1) - tj[-1]) / DAY).astype(int)
-            mean.append((rows @ x)[ahead - 1])
+        setup = fit_rotating(t, z, float(block[0]), order)[0]
+        mean = ss.past_forecasts_kalman(t, z, block, HORIZON, setup=setup, latency=DAY).mean
         truth = truth_at(t, z, block[:, None] + DAY * np.arange(1, HORIZON + 1)[None, :])
-        errors.append(np.array(mean) - truth)
+        errors.append(mean - truth)
     e = np.concatenate(errors) / MAS
     return np.sqrt(np.mean(np.abs(e) ** 2, axis=0))
+
+
+def rms_text(rms) -> str:
+    """The 2-D RMS at LEADS as one line of the report."""
+    return " / ".join(f"{rms[d - 1]:.2f}" for d in LEADS) + f" mas at {' / '.join(map(str, LEADS))} d"
 
 
 def main() -> None:
@@ -204,14 +173,10 @@ def main() -> None:
             "excitation_mas": math.sqrt(noise.excitation) / MAS,
             "rms_2d_mas": {str(d): float(rms[d - 1]) for d in LEADS},
         }
-        print(
-            f"order {order}: log-likelihood {loglike:.1f}; 2-D RMS "
-            + " / ".join(f"{rms[d - 1]:.2f}" for d in LEADS)
-            + f" mas at {' / '.join(map(str, LEADS))} d ({time.perf_counter() - t0:.0f} s)",
-            flush=True,
-        )
+        seconds = time.perf_counter() - t0
+        print(f"order {order}: log-likelihood {loglike:.1f}; 2-D RMS {rms_text(rms)} ({seconds:.0f} s)", flush=True)
     t0 = time.perf_counter()
-    _, theta, _, loglike, loglike_real, _, _ = fit_rotating(t, z, issued)
+    _, theta, loglike, loglike_real = fit_rotating(t, z, issued)
     rms = hindcast_rotating(t, z)
     out["order_3_complex"] = {
         "log_likelihood_before_2006": loglike,
@@ -220,9 +185,8 @@ def main() -> None:
         "rms_2d_mas": {str(d): float(rms[d - 1]) for d in LEADS},
     }
     print(
-        f"order 3, complex coefficients: log-likelihood {loglike:.1f} ({loglike - loglike_real:+.1f}); 2-D RMS "
-        + " / ".join(f"{rms[d - 1]:.2f}" for d in LEADS)
-        + f" mas ({time.perf_counter() - t0:.0f} s)",
+        f"order 3, complex coefficients: log-likelihood {loglike:.1f} ({loglike - loglike_real:+.1f}); "
+        f"2-D RMS {rms_text(rms)} ({time.perf_counter() - t0:.0f} s)",
         flush=True,
     )
     out["note"] = (

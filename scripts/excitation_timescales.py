@@ -39,7 +39,6 @@ from wobble.models.polar_motion.forecast import information_set
 from wobble.models.polar_motion.hindcast import PERIOD_SPAN
 from wobble.models.polar_motion.least_squares import fit_least_squares
 from wobble.models.polar_motion.record import DAY
-from wobble.numerics import kalman
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "figures" / "excitation_timescales.json"
@@ -71,19 +70,8 @@ def two_timescale_system(sigma_c: complex, theta):
 
 
 def neg_log_likelihood(theta, sigma_c, y, x0) -> float:
-    """The concentrated -log-likelihood of the model with the slow state (the scale in closed form, as in
-    state_space)."""
-    F, Q, h, r = two_timescale_system(sigma_c, theta)
-    try:
-        steady = kalman.steady_state(F, Q, h, r)
-    except (np.linalg.LinAlgError, ValueError):
-        return math.inf
-    _, innov = kalman.filter_steady(F, steady, h, y, x0)
-    e = innov[ss.BURN_IN :]
-    scale = float(np.mean(np.abs(e) ** 2)) / steady.innovation_variance
-    if not (math.isfinite(scale) and scale > 0):
-        return math.inf
-    return e.size * (math.log(math.pi * scale * steady.innovation_variance) + 1.0)
+    """The concentrated -log-likelihood of the model with the slow state (state_space's, the scale in closed form)."""
+    return ss.concentrated_likelihood(*two_timescale_system(sigma_c, theta), y, x0)[0]
 
 
 def compare(t, z, mjd_issued: float) -> dict:
@@ -95,7 +83,7 @@ def compare(t, z, mjd_issued: float) -> dict:
     sigma_c = chandler_frequency(period, Q_FACTOR)
     one, loglike_one = ss.fit_noise(ti, zi, sigma_c)
     x0 = np.append(ss.initial_state(ti, zi, sigma_c, one.order), 0.0)
-    bounds = ss._bounds(one.order) + SLOW_BOUNDS
+    bounds = ss.likelihood_bounds(one.order) + SLOW_BOUNDS
     fits = []
     for tau, lq in STARTS:
         res = optimize.minimize(

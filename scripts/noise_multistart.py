@@ -56,10 +56,12 @@ def profile(t, z) -> dict:
     rest = ss.DEFAULT_NOISE.ratios()[1:]
     for tau in PROFILE_DAYS:
         res = optimize.minimize(
-            lambda r, tau=tau: ss._concentrated(np.concatenate([[math.log(tau)], r]), sigma_c, y, x0, ss.BURN_IN)[0],
+            lambda r, tau=tau: ss.concentrated_likelihood(
+                *ss.system(sigma_c, ss.NoiseParameters.from_ratios(np.r_[math.log(tau), r])), y, x0
+            )[0],
             rest,
             method="L-BFGS-B",
-            bounds=ss._bounds(ss.DEFAULT_NOISE.order)[1:],
+            bounds=ss.likelihood_bounds(ss.DEFAULT_NOISE.order)[1:],
             options={"maxiter": 60, "ftol": 1e-9, "eps": ss.GRADIENT_STEP},
         )
         out[f"tau_{tau:g}d"] = -float(res.fun)

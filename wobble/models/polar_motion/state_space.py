@@ -58,6 +58,9 @@ __all__ = [
     "DEFAULT_NOISE",
     "GRADIENT_STEP",
     "mean_pole_index",
+    "likelihood_bounds",
+    "concentrated_likelihood",
+    "stationary_covariance",
     "system",
     "initial_state",
     "fit_noise",
@@ -85,12 +88,14 @@ def state_names(order: int) -> tuple[str, ...]:
 
 def ar_coefficients(partial) -> np.ndarray:
     """phi_1 .. phi_p of the autoregression with partial autocorrelations ``partial`` (r_1 .. r_p): the
-    Durbin-Levinson recursion phi_j^(k) = phi_j^(k-1) - r_k phi_{k-j}^(k-1), phi_k^(k) = r_k (Durbin 1960,
-    Rev. Int. Stat. Inst. 28, 233); stationary when every |r_k| < 1 (Barndorff-Nielsen & Schou 1973,
-    J. Multivar. Anal. 3, 408)."""
-    phi = np.zeros(0)
+    Durbin-Levinson recursion phi_j^(k) = phi_j^(k-1) - r_k conj(phi_{k-j}^(k-1)), phi_k^(k) = r_k (Durbin
+    1960, Rev. Int. Stat. Inst. 28, 233; the conjugate for complex r, whose coefficients then turn the
+    excitation in the plane); stationary when every |r_k| < 1 (Barndorff-Nielsen & Schou 1973, J. Multivar.
+    Anal. 3, 408). Real for real ``partial``."""
+    partial = np.asarray(partial)
+    phi = np.zeros(0, dtype=partial.dtype if np.iscomplexobj(partial) else float)
     for r in partial:
-        phi = np.append(phi - r * phi[::-1], r)
+        phi = np.append(phi - r * np.conj(phi[::-1]), r)
     return phi
 
 
@@ -198,7 +203,8 @@ _BOUNDS = [(math.log(0.1), math.log(3650.0)), (-30.0, 5.0), (-30.0, 5.0), (-40.0
 _PARTIAL_BOUND = (-3.0, 3.0)
 
 
-def _bounds(order: int) -> list[tuple[float, float]]:
+def likelihood_bounds(order: int) -> list[tuple[float, float]]:
+    """Bounds of the free parameters (:meth:`NoiseParameters.ratios`) of the model of ``order``."""
     return _BOUNDS + [_PARTIAL_BOUND] * (order - 1)
 
 
@@ -255,21 +261,25 @@ def initial_state(t, z, sigma_c: complex, order: int = 1) -> np.ndarray:
     return np.array([c[2], *([0.0] * order), c[3], c[4], c[5], c[6], c[0], c[1] * DAY / (365.25 * DAY)], dtype=complex)
 
 
-def _concentrated(theta, sigma_c, y, x0, burn):
-    """-log-likelihood at the free parameters theta with the excitation variance in closed form, and its parts."""
-    noise = NoiseParameters.from_ratios(theta)
-    F, Q, h, r = system(sigma_c, noise)
+def concentrated_likelihood(F, Q, h, r, y, x0, burn: int = BURN_IN) -> tuple[float, float | None]:
+    """(-log-likelihood, scale) of the daily series ``y`` under the model (F, s Q, h, s r) with the scale s
+    in closed form (the mean squared innovation of the steady-state filter over its unit-scale variance),
+    the first ``burn`` innovations left out; (inf, None) where the model has no stabilising filter."""
     try:
-        ss = kalman.steady_state(F, Q, h, r)
-        xs, innov = kalman.filter_steady(F, ss, h, y, x0)
+        steady = kalman.steady_state(F, Q, h, r)
+        _, innov = kalman.filter_steady(F, steady, h, y, x0)
     except (np.linalg.LinAlgError, ValueError):  # no stabilising solution: the likelihood has no value here
-        return math.inf, None, None
+        return math.inf, None
     e = innov[burn:]
-    scale = float(np.mean(np.abs(e) ** 2)) / ss.innovation_variance
+    scale = float(np.mean(np.abs(e) ** 2)) / steady.innovation_variance
     if not (math.isfinite(scale) and scale > 0):
-        return math.inf, None, None
-    nll = e.size * (math.log(math.pi * scale * ss.innovation_variance) + 1.0)
-    return nll, scale, (ss, xs)
+        return math.inf, None
+    return e.size * (math.log(math.pi * scale * steady.innovation_variance) + 1.0), scale
+
+
+def _concentrated(theta, sigma_c, y, x0, burn):
+    """:func:`concentrated_likelihood` at the free parameters ``theta`` (:meth:`NoiseParameters.ratios`)."""
+    return concentrated_likelihood(*system(sigma_c, NoiseParameters.from_ratios(theta)), y, x0, burn)
 
 
 def fit_noise(
@@ -283,7 +293,7 @@ def fit_noise(
     """
     y = np.asarray(z, dtype=complex)
     x0 = initial_state(t, y, sigma_c, start.order)
-    bounds = _bounds(start.order)
+    bounds = likelihood_bounds(start.order)
     theta0 = np.clip(start.ratios(), [b[0] for b in bounds], [b[1] for b in bounds])
     # Where the likelihood has no value (_concentrated's inf), finite differences of inf give nan: L-BFGS-B
     # backs off from there, and numpy's warnings about it say nothing to a user.
@@ -295,7 +305,7 @@ def fit_noise(
             bounds=bounds,
             options={"maxiter": 60, "ftol": 1e-9, "eps": GRADIENT_STEP},
         )
-    nll, scale, _ = _concentrated(res.x, sigma_c, y, x0, burn)
+    nll, scale = _concentrated(res.x, sigma_c, y, x0, burn)
     if not math.isfinite(nll):
         raise InputError(
             "data", "a span where the state-space likelihood cannot be evaluated", "a daily record of the pole"
@@ -324,19 +334,21 @@ def prior(y0: complex, noise: NoiseParameters) -> tuple[np.ndarray, np.ndarray]:
         + [sd["mean_pole"] ** 2 * _MAS**2, sd["mean_pole_rate"] ** 2 * _MAS**2]
     )
     P0 = np.diag(var).astype(complex)
-    P0[1 : 1 + p, 1 : 1 + p] = _stationary_covariance(noise)
+    P0[1 : 1 + p, 1 : 1 + p] = stationary_covariance(noise.ar(), noise.excitation)
     return x0, P0
 
 
-def _stationary_covariance(noise: NoiseParameters) -> np.ndarray:
-    """Covariance of (chi_k .. chi_{k-p+1}) of the stationary excitation: the discrete Lyapunov equation
-    P = A P A^T + q e_1 e_1^T of its companion matrix A."""
-    p = noise.order
-    A = np.zeros((p, p))
-    A[0] = noise.ar()
+def stationary_covariance(phi, variance: float) -> np.ndarray:
+    """Covariance of (chi_k .. chi_{k-p+1}) of the stationary autoregression with coefficients ``phi`` and
+    innovation ``variance``: the discrete Lyapunov equation P = A P A^H + q e_1 e_1^T of its companion
+    matrix A."""
+    phi = np.asarray(phi)
+    p = phi.size
+    A = np.zeros((p, p), dtype=phi.dtype)
+    A[0] = phi
     A[np.arange(1, p), np.arange(0, p - 1)] = 1.0
     G = np.zeros((p, p))
-    G[0, 0] = noise.excitation
+    G[0, 0] = variance
     return linalg.solve_discrete_lyapunov(A, G)
 
 
