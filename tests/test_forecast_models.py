@@ -234,6 +234,16 @@ def test_the_default_noise_has_the_chosen_order():
     assert len(ssm.state_names(ssm.EXCITATION_ORDER)) == ssm.system(1e-7 + 0j, ssm.DEFAULT_NOISE)[0].shape[0]
 
 
+@given(st.lists(st.tuples(st.floats(0.0, 0.98), st.floats(-math.pi, math.pi)), min_size=1, max_size=6))
+def test_complex_partial_autocorrelations_give_a_stationary_autoregression(polar):
+    """Schur-Cohn: with every |r_k| < 1 the characteristic roots of z^p - phi_1 z^(p-1) - ... - phi_p lie inside
+    the unit circle (complex r: the conjugate step of the recursion; real r give statsmodels' coefficients)."""
+    r = np.array([m * np.exp(1j * a) for m, a in polar])
+    phi = ssm.ar_coefficients(r)
+    assert np.all(np.abs(np.roots(np.r_[1.0, -phi])) < 1.0 + 1e-9)
+    np.testing.assert_allclose(ssm.ar_coefficients(r.real), ssm.ar_coefficients(r.real.astype(complex)).real)
+
+
 @given(
     st.floats(0.2, 3000.0),
     st.lists(st.floats(-0.99, 0.99), max_size=5),
