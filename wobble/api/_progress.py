@@ -17,7 +17,7 @@ class ProgressBar:
     def __init__(self, total: int, label: str, enabled: bool):
         self.total, self.label, self.enabled, self.t0, self.last = total, label, enabled, time.perf_counter(), -1
 
-    def __call__(self, done: int, total: int | None = None):
+    def __call__(self, done: int):
         if not self.enabled:
             return
         pct = int(1000 * done / self.total)
