@@ -452,3 +452,33 @@ def test_series_table_sizes_are_the_smallest_even_5_smooth_numbers():
     sizes = [m for m in range(2, 3000) if m % 2 == 0 and smooth(m)]
     for n in range(2, 2900):
         assert _fft_size(n) == next(m for m in sizes if m >= n)
+
+
+@pytest.mark.parametrize("theta0", [1e-165, 1e-300])
+@pytest.mark.parametrize("method", ["direct", "fourier", "compiled"])
+def test_a_tilt_whose_sin_squared_underflows_moves_as_the_small_angle_limit(theta0, method, monkeypatch):
+    """Started at rest at theta0 so small that sin^2(theta0/2) underflows double precision, the top
+    moves as the linearised top to the last bit that matters: the tilt zeta = theta e^{i phi} obeys
+    zeta'' - i a zeta' - (beta/2) zeta = 0 (notes p. 72, theta -> 0), so from zeta(0) = theta0,
+    zeta'(0) = 0, zeta = theta0 (w+ e^{i w- t} - w- e^{i w+ t}) / (w+ - w-) with
+    w+- = (a +- sqrt(a^2 - 2 beta))/2, and phidot = Im(zeta'/zeta); the neglected terms are
+    O(theta0^2). (The series once divided B by x = 2 sin^2(theta/2), both zero there: NaN.)"""
+    from wobble.numerics import compiled
+
+    mdl = heavy_top(1.0, 0.5, 1.0, theta0, 0.0, 0.0, omega3=6.0)
+    assert mdl.nutation == "cusps"
+    t = np.linspace(0.0, 5 * mdl.nutation_period, 20_001 if method == "compiled" else 2_001)
+    if method != "compiled":
+        monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
+    mo = mdl.motion(t, "direct" if method == "direct" else "fourier")
+    root = np.sqrt(mdl.a**2 - 2 * mdl.beta)
+    wp, wm = (mdl.a + root) / 2, (mdl.a - root) / 2
+    zeta = (wp * np.exp(1j * wm * t) - wm * np.exp(1j * wp * t)) / (wp - wm)  # over theta0
+    dzeta = 1j * wp * wm * (np.exp(1j * wm * t) - np.exp(1j * wp * t)) / (wp - wm)
+    phidot = (dzeta / zeta).imag
+    for key in _motion_fields():
+        assert np.all(np.isfinite(getattr(mo, key))), key
+    np.testing.assert_allclose(mo.theta / theta0, np.abs(zeta), rtol=1e-12)
+    np.testing.assert_allclose(mo.phidot, phidot, rtol=0, atol=1e-12 * mdl.a)
+    np.testing.assert_allclose(mo.psidot, mdl.omega3 - phidot, rtol=0, atol=1e-12 * mdl.a)
+    np.testing.assert_allclose(mo.omega[:, 2], mdl.omega3, rtol=1e-15)

@@ -163,8 +163,12 @@ class Fourier:
                 1.0 / self.h,
                 e.w0,
                 e.lam[0],
-                e.B,
-                e.C,
+                e.hx1,
+                e.hy2,
+                e.B_x1,
+                e.C_y2,
+                e.Bp,
+                e.Cp,
                 e.omega3,
                 e.omega3 - e.a,
                 *s_.a,
@@ -299,11 +303,16 @@ class Fourier:
         dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
         x = 2.0 * sh * sh
         y = 2.0 * ch * ch
-        bx = e.B / x
-        cy = e.C / y
+        # B/x, C/y and phidot sin(theta) in the closed form's scaled terms (Elliptic.core): exact where
+        # sin^2(theta/2) underflows (a tilt under 1e-154 rad), and no 0/0 where B or C is zero.
+        sx = sh / e.hx1
+        sy = ch / e.hy2
+        zero = np.zeros_like(sx)
+        bx = e.B_x1 / (sx * sx) if e.B_x1 != 0.0 else zero
+        cy = e.C_y2 / (sy * sy) if e.C_y2 != 0.0 else zero
         thetadot = e.lam[0] * dth
         u = np.where(x <= 1.0, 1.0 - x, y - 1.0)
-        ps = 0.5 * (e.B * ch / sh + e.C * sh / ch)
+        ps = (e.Bp * sy / sx if e.Bp != 0.0 else zero) + (e.Cp * sx / sy if e.Cp != 0.0 else zero)
         qw, qx, qy, qz = ch * cs, sh * cd, sh * sd, ch * ss
         sin_t = 2.0 * sh * ch
         spsi = ss * cd - cs * sd

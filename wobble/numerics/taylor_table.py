@@ -64,8 +64,12 @@ CONSTANTS = (
     "inv_h",
     "w0",
     "lam0",
-    "B",
-    "C",
+    "hx1",
+    "hy2",
+    "B_x1",
+    "C_y2",
+    "Bp",
+    "Cp",
     "w3",
     "w3_minus_a",
     "sig_a1",
@@ -101,8 +105,12 @@ CONSTANTS = (
     INV_H,
     W0,
     LAM0,
-    B_,
-    C_,
+    HX1,
+    HY2,
+    BX1,
+    CY2,
+    BP,
+    CP,
     W3,
     W3MA,
     SA1,
@@ -386,7 +394,8 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
     cc = (cos_c[0], cos_c[1], cos_c[2], cos_c[3])
     sn = (sin_c[0], sin_c[1], sin_c[2], sin_c[3])
     k0, inv_h, h = k[K0], k[INV_H], k[H]
-    b_, c_, lam0, w3, w3ma = k[B_], k[C_], k[LAM0], k[W3], k[W3MA]
+    hx1, hy2, bx1, cy2, bp, cp = k[HX1], k[HY2], k[BX1], k[CY2], k[BP], k[CP]
+    lam0, w3, w3ma = k[LAM0], k[W3], k[W3MA]
     half_i1, half_i3, i1, i3, mgl = k[HALF_I1], k[HALF_I3], k[I1_], k[I3_], k[MGL]
     e0, p_phi0 = k[E0_], k[PPHI0_]
     p_psi = i3 * w3
@@ -440,11 +449,15 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             dlt = _secular(ji, ri, k, k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[W0]) + (s[_DP, b] - k[DP0])
             x = 2.0 * sh * sh
             y = 2.0 * ch * ch
-            bx = b_ / x
-            cy = c_ / y
+            # B/x and C/y as the closed form takes them (top_closed_form.Elliptic.core): scaled by the
+            # turning points, so that a tilt whose sin^2(theta/2) underflows still gives them.
+            sx = sh / hx1
+            sy = ch / hy2
+            bx = bx1 / (sx * sx) if bx1 != 0.0 else 0.0
+            cy = cy2 / (sy * sy) if cy2 != 0.0 else 0.0
             thetadot = lam0 * s[_DTH, b]
             uu = 1.0 - x if x <= 1.0 else y - 1.0
-            ps = 0.5 * (b_ * ch / sh + c_ * sh / ch)  # phidot sin(theta)
+            ps = (bp * sy / sx if bp != 0.0 else 0.0) + (cp * sx / sy if cp != 0.0 else 0.0)  # phidot sin(theta)
             s[_PHI, b] = _wrap(sig + dlt, k)
             s[_PSI, b] = _wrap(sig - dlt, k)
             s[_THD, b] = thetadot
