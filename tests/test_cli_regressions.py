@@ -32,6 +32,26 @@ def test_free_omega_just_inside_double_precision_still_runs(capsys):
     assert code == 0, err
 
 
+def test_a_vector_element_that_overflows_in_the_first_ones_unit_is_one_line_without_a_warning(capsys):
+    # Was (fuzz run of 2026-11-28, seed 11): 1.7e308 rad/s turned into deg/s, the unit of the first
+    # value, gave astropy's "overflow encountered in multiply" on stderr before the error line.
+    code, out, err = _run(["free", "--inertia", "1", "2", "3", "--omega", "-1 deg/s", "1.7e308", "-1 deg/d"], capsys)
+    assert code == 2 and out == ""
+    assert err == (
+        "wobble free: error: --omega: got 1.7e308; allowed: values that stay finite in deg / s "
+        "(at most 1.8e+308 deg / s)\n"
+    )
+
+
+def test_a_top_started_below_double_underflow_plots_without_warnings(capsys, tmp_path):
+    # Was (fuzz run of 2026-11-28, seed 11): theta0 = 4.892e-161 arcsec, whose sin^2(theta/2) underflows,
+    # gave "invalid value encountered in divide" and NaN precession rates in the series the plot uses.
+    argv = ["top", "--I1", "90.1069", "--I3", "42.0724", "--mgl", "81.7074 erg", "--theta0", "4.892e-161 arcsec"]
+    code, out, err = _run([*argv, "--omega3", "11.04 deg/s", "--plot", str(tmp_path / "fig.png")], capsys)
+    assert code == 0 and err == "", err
+    assert (tmp_path / "fig.png").stat().st_size > 0
+
+
 def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
     # Was: argparse repeated the value with its newline: two lines on stderr.
     code, out, err = _run(["forecast", "--start", "a\nb"], capsys)

@@ -242,7 +242,13 @@ def parse_quantities(texts, name: str, default_unit: u.UnitBase) -> u.Quantity:
     first = parse_quantity(texts[0], name, default_unit)
     if not bare[0] and all(bare[1:]):
         return u.Quantity([first.value, *(float(t) for t in texts[1:])], first.unit)
-    return u.Quantity([parse_quantity(t, name, default_unit).to(first.unit) for t in texts])
+    parts = [parse_quantity(t, name, default_unit) for t in texts]
+    with np.errstate(over="ignore"):  # a finite value that overflows in the first one's unit is refused below
+        values = [p.to(first.unit) for p in parts]
+    for text, part, value in zip(texts, parts, values):
+        if not np.isfinite(value.value) and np.isfinite(part.value):
+            raise InputError(name, text, _finite_allowed(part, first.unit))
+    return u.Quantity(values)
 
 
 def parse_angle(text: str, name: str) -> u.Quantity:
