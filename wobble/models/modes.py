@@ -170,7 +170,12 @@ def mode_rates(
     spin = abs(p.rotation_rate.value)
     beta = p.core_compliance_beta.value if p.core_compliance_beta else 0.0
     gamma = p.core_compliance_gamma.value if p.core_compliance_gamma else 0.0
-    guesses = {"CW": _cw_guess(ratios, spin)} if "CW" in which else {}
+    guesses = {}
+    if "CW" in which:
+        # The budget's check first: a spin about the intermediate axis has no periodic wobble (and no
+        # real guess), a core as large as the equatorial moment no mantle to wobble.
+        chandler.free_wobble_rate(spin, ratios["c_minus_a"], ratios["c_minus_b"], core=ratios["core"] or 0.0)
+        guesses["CW"] = _cw_guess(ratios, spin)
     if ratios["core"] is not None and coupled and "FCN" in which:
         guesses["FCN"] = -spin * (1.0 + e_f / (1.0 - ratios["core"]))
     out = {}
