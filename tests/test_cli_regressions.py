@@ -52,6 +52,39 @@ def test_a_top_started_below_double_underflow_plots_without_warnings(capsys, tmp
     assert (tmp_path / "fig.png").stat().st_size > 0
 
 
+def test_modes_of_a_planet_spinning_about_its_intermediate_axis_is_an_input_error(capsys, tmp_path):
+    # Was (fuzz run of 2026-11-28, seed 23): a planet file whose C22 makes B > C gave a traceback
+    # (math domain error in the Chandler wobble's starting guess); wobble chandler refused it.
+    from wobble.io.catalog import catalogue_file
+
+    text = Path(str(catalogue_file("mars"))).read_text()
+    path = tmp_path / "planet.toml"
+    path.write_text(text.replace("value = -8.4633e-5", "value = 5e-3", 1))
+    code, out, err = _run(["modes", "--body-file", str(path)], capsys)
+    assert code == 2 and out == ""
+    assert err == (
+        "wobble modes: error: figure: got (C-A)/C = 0.0230975, (C-B)/C = -0.0123525; allowed: C the largest "
+        "or the smallest principal moment: rotation about the intermediate axis is unstable (no periodic wobble)\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("rates", "flags"),
+    [
+        (["--I3", "87.3757", "--psidot0", "-15.69", "--phidot0", "-1e300"], "--thetadot0, --phidot0, --psidot0"),
+        (["--I3", "1e-7", "--omega3", "1e160"], "--thetadot0, --phidot0, --omega3"),
+    ],
+)
+def test_top_whose_energy_overflows_is_an_input_error(rates, flags, capsys, tmp_path):
+    # Was (fuzz run of 2026-11-28, seed 23): phidot0 = -1e300 rad/s ran with E = inf, and with
+    # --t-end an IndexError traceback (the phase's period count overflowed an integer).
+    argv = ["top", "--I1", "81.0535", "--mgl", "0.564802 N m", "--theta0", "1.1 deg", *rates]
+    code, out, err = _run([*argv, "--t-end", "20.6", "--json", "-o", str(tmp_path / "top.nc")], capsys)
+    assert code == 2 and out == "" and not (tmp_path / "top.nc").exists()
+    assert err.startswith(f"wobble top: error: {flags}: got ") and err.count("\n") == 1
+    assert "rates whose energy fits double precision" in err
+
+
 def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
     # Was: argparse repeated the value with its newline: two lines on stderr.
     code, out, err = _run(["forecast", "--start", "a\nb"], capsys)

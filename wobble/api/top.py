@@ -146,7 +146,8 @@ class HeavyTop:
     ------
     wobble.errors.InputError
         Missing or inconsistent parameters, wrong units, I1 <= 0, I3 <= 0, I3 > 2 I1,
-        I1 < M l^2, theta0 outside [0, pi]; the message names the parameter.
+        I1 < M l^2, theta0 outside [0, pi], rates whose energy overflows a double; the message
+        names the parameter.
 
     Notes
     -----

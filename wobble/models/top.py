@@ -517,7 +517,8 @@ def heavy_top(
     ------
     wobble.errors.InputError
         Bad moments (see :func:`check_top_parameters`), theta0 outside [0, pi],
-        non-finite rates, both or neither of omega3 and psidot0.
+        non-finite rates, rates whose energy or angular momentum overflows a double,
+        both or neither of omega3 and psidot0.
     """
     I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
     theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad")
@@ -544,6 +545,20 @@ def heavy_top(
         else:
             w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)")) + to_decimal(phidot0) * u0
         v0 = to_decimal(phidot0) * s0
+        td = to_decimal(thetadot0)
+        kin = td * td + v0 * v0
+        two_e = to_decimal(I1) * kin + to_decimal(I3) * w3 * w3 + 2 * to_decimal(mgl) * u0
+        l2 = to_decimal(I1) ** 2 * kin + (to_decimal(I3) * w3) ** 2
+    # As for the free body: a motion whose energy or angular momentum overflows a double has no
+    # floating-point answer (its nutation period underflows, its phases lose every digit).
+    if not (np.isfinite(float(two_e)) and np.isfinite(float(l2))):
+        spin = ("omega3", omega3) if omega3 is not None else ("psidot0", psidot0)
+        raise InputError(
+            f"thetadot0, phidot0, {spin[0]}",
+            (thetadot0, phidot0, spin[1]),
+            f"rates whose energy fits double precision: 2E = I1 (thetadot^2 + phidot^2 sin^2 theta) + I3 w3^2 "
+            f"+ 2 M g l cos theta and L^2 below {np.finfo(float).max:.4g} in SI",
+        )
     setup = TopSetup(
         I1=I1,
         I3=I3,
