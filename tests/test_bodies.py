@@ -286,6 +286,21 @@ def test_cone_centre_of_mass_is_at_the_origin():
     assert abs(first) < 1e-15
 
 
+@pytest.mark.parametrize("radius", [1e-100, 1.0, 1e100])
+@pytest.mark.parametrize("q", [0.0, 0.5, 1.0])
+def test_hollow_sphere_at_any_scale_against_exact_rationals(radius, q):
+    """2/5 M (R^5 - r^5)/(R^3 - r^3) in exact rational arithmetic (2/3 M R^2 for r = R), at radii whose
+    fourth power under- or overflows a double (was: 0 kg m2 at R = 1e-100 m, fuzz run of 2026-11-28)."""
+    from fractions import Fraction
+
+    m, big = Fraction(3), Fraction(radius)
+    small = big * Fraction(q)
+    exact = Fraction(2, 3) * m * big**2 if q == 1.0 else Fraction(2, 5) * m * (big**5 - small**5) / (big**3 - small**3)
+    body = RigidBody.hollow_sphere(3 * u.kg, radius * u.m, float(small) * u.m)
+    np.testing.assert_allclose(body.principal_moments.to_value(KGM2), float(exact), rtol=4e-16)
+    assert RigidBody.hollow_sphere(3 * u.kg, 1e-300 * u.m, 1e-300 * u.m).principal_moments.to_value(KGM2)[0] == 0.0
+
+
 def test_thin_shell_disc_and_rod_textbook():
     m, r, ell = 3.0, 0.5, 2.0
     shell = RigidBody.hollow_sphere(m * u.kg, r * u.m)  # surface integral: 2/3 M R^2

@@ -63,16 +63,15 @@ def hollow_sphere(mass: float, radius: float, inner_radius: float | None = None)
     """Uniform spherical shell between ``inner_radius`` and ``radius`` (thin shell if None).
 
     I = 2/5 M (R^5 - r^5)/(R^3 - r^3), evaluated as
-    2/5 M (R^4 + R^3 r + R^2 r^2 + R r^3 + r^4)/(R^2 + R r + r^2) (no cancellation
-    for a thin shell; r = R gives 2/3 M R^2).
+    2/5 M R^2 (1 + q + q^2 + q^3 + q^4)/(1 + q + q^2) with q = r/R (no cancellation
+    for a thin shell, where q = 1 gives 2/3 M R^2; no underflow of R^4 for a tiny R).
     """
     m, big = positive_number(mass, "mass"), positive_number(radius, "radius")
     small = big if inner_radius is None else positive_number(inner_radius, "inner_radius", allow_zero=True)
     if small > big:
         raise InputError("inner_radius", inner_radius, f"at most the outer radius ({big:g} m)")
-    num = big**4 + big**3 * small + big**2 * small**2 + big * small**3 + small**4
-    den = big**2 + big * small + small**2
-    i = 0.4 * m * num / den
+    q = small / big
+    i = 0.4 * m * big * big * (1.0 + q * (1.0 + q * (1.0 + q * (1.0 + q)))) / (1.0 + q * (1.0 + q))
     return _solid(m, [i, i, i], np.zeros((3, 3)))
 
 
