@@ -12,6 +12,7 @@ import xarray as xr
 from polar_synthetic import DAY, MAS
 
 import wobble
+from astropy import units as u
 from wobble.cli import main
 from wobble.errors import InputError
 from wobble.io.netcdf import open_wobble, write_netcdf
@@ -75,6 +76,26 @@ def test_c04_round_trip_and_broadband_excitation(c04):
     assert d["chandler_peak_over_neighbours"]["excitation"] < 2
     assert 430 < d["chandler_period_days"] < 436 and d["quality_factor"] > 0
     assert "Liouville" in d["method"]
+
+
+@pytest.mark.parametrize(("end", "resolved"), [("1979-03-03", False), ("1983-01-01", True)])
+def test_chandler_band_only_where_the_span_resolves_it(end, resolved, tmp_path):
+    """The band amplitudes come from an FFT band-pass of +/- 0.1 cycle per year: over 1975-01-01 to
+    1979-03-03 no FFT frequency falls in the band (their spacing is 0.24 cycle per year), and the
+    band was drawn as zeros on a log axis with a warning (fuzz run of 2026-11-28); now it is left out."""
+    ex = wobble.geodetic_excitation(start="1975-01-01", end=end, chandler_period=433 * u.day)
+    years = (ex.time_mjd[-1] - ex.time_mjd[0]) / 365.25
+    frequencies = np.fft.fftfreq(ex.time_mjd.size, 1 / 365.25)  # cycles per year
+    in_band = np.count_nonzero(np.abs(frequencies - 365.25 / 433) <= 0.1)
+    assert (in_band >= 2) == resolved and (years < 5) != resolved
+    assert (ex.band_chi is not None) == resolved and (ex.band_pole is not None) == resolved
+    if resolved:
+        assert np.all(ex.band_pole[365:-365] > 0)
+    else:
+        assert ex.to_dict()["chandler_band_collapse"] is None
+    from wobble.plot.excitation import save_excitation_figure
+
+    save_excitation_figure(ex, tmp_path / "excitation.png")  # warnings are errors in the tests
 
 
 def test_a_file_and_its_dataset_give_the_same_excitation(c04):

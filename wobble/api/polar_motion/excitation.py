@@ -81,6 +81,10 @@ class GeodeticExcitation:
     round_trip_rms : Quantity
         RMS distance between the record and the pole rebuilt by running the
         excitation forward (a check of the pair of equations; rounding only).
+    band_chi, band_pole : ndarray or None
+        Amplitudes (mas) of the excitation and the pole within +/- 0.1 cycle per year of
+        the Chandler frequency, against time; None for unevenly sampled records and spans
+        too short for the band to hold two of the FFT's frequencies (about ten years).
     """
 
     def __init__(self, mjd, p, chi, p_back, period, q, source, period_source="given"):
@@ -98,7 +102,10 @@ class GeodeticExcitation:
         sigma = 2 * math.pi / period
         uniform = np.allclose(np.diff(t), DAY, rtol=0, atol=1e-3)
         self.band_chi = self.band_pole = None
-        if uniform and t.size > 3 * 365:
+        # The band-pass is an FFT's: the band must hold at least two of its frequencies (a span of about
+        # ten years at +/- 0.1 cycle per year), or the "amplitude" is one sinusoid's, or nothing at all.
+        resolved = np.count_nonzero(np.abs(2 * math.pi * np.fft.fftfreq(t.size, DAY) - sigma) <= _BAND) >= 2
+        if uniform and t.size > 3 * 365 and resolved:
             self.band_chi = _ex.band_amplitude(t[1:], chi, sigma, _BAND) / RAD_PER_MAS
             self.band_pole = _ex.band_amplitude(t, p, sigma, _BAND) / RAD_PER_MAS
 
