@@ -99,6 +99,31 @@ def test_dates_must_increase(tmp_path):
         read_c04(_write(tmp_path, head + data))
 
 
+def test_a_date_that_is_not_its_mjd_is_named(tmp_path):
+    """An MJD damaged into another increasing value (the first line's 37665 made 30084, 1941) would pass as a
+    gap of decades; each line's calendar date must be that of its MJD (fuzz run of 2026-11-28)."""
+    head, data = _c04_lines()
+    assert data[0].startswith("1962   1   1") and "37665.00" in data[0]
+    moved = [data[0].replace("37665.00", "30084.00"), *data[1:]]
+    with pytest.raises(
+        FileFormatError,
+        match=rf"line {len(head) + 1}: the date in columns 1-12 \('1962   1   1'\) is "
+        r"not that of the MJD 30084.00 \(1941-03-31\)",
+    ):
+        read_c04(_write(tmp_path, head + moved))
+    lines = [ln for ln in FINALS.read_text().splitlines() if ln.strip()][:20]
+    assert lines[3].startswith("73 1 5") and lines[3][7:15] == "41687.00"
+    lines[3] = lines[3][:7] + "41687.50" + lines[3][15:]  # the same day: accepted
+    assert read_finals2000a(_write(tmp_path, lines, "f1")).mjd[3] == 41687.5
+    lines[3] = lines[3][:4] + " 6" + lines[3][6:]
+    with pytest.raises(
+        FileFormatError,
+        match=r"line 4: the date in columns 1-6 \('73 1 6'\) is not that of the MJD "
+        r"41687.50 \(1973-01-05\)",
+    ):
+        read_pole_file(_write(tmp_path, lines, "f2"))
+
+
 def test_finals_errors(tmp_path):
     lines = FINALS.read_text().splitlines()[:30]
     bad_flag = list(lines)

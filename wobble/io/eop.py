@@ -14,8 +14,8 @@ units (MJD in UTC days, pole coordinates and their errors in arcseconds);
   19-27, its error 28-36, y_p 38-46, its error 47-55. Only ``I`` rows are
   observations; predictions and the empty future rows are left out.
 
-A malformed or truncated line is an error naming the file and the line,
-never a silently shorter series. A file cut exactly at a line boundary
+A malformed or truncated line, or one whose calendar date is not that of its
+MJD, is an error naming the file and the line, never a silently shorter series. A file cut exactly at a line boundary
 cannot be told from a complete one (neither format has a trailer); its last
 date is always reported.
 """
@@ -100,6 +100,10 @@ def resolve_eop_path(path) -> Path:
 # (first, last) columns, 1-based inclusive as in the ReadMe files.
 _C04_FIELDS = {"MJD": (17, 26), "x": (27, 38), "y": (39, 50), "x error": (123, 134), "y error": (135, 146)}
 _FINALS_FIELDS = {"MJD": (8, 15), "x": (19, 27), "x error": (28, 36), "y": (38, 46), "y error": (47, 55)}
+# The calendar date each line also carries (the finals' year in two digits).
+_C04_DATE = {"year": (1, 4), "month": (5, 8), "day": (9, 12)}
+_FINALS_DATE = {"year": (1, 2), "month": (3, 4), "day": (5, 6)}
+_MJD_ZERO = np.datetime64("1858-11-17", "D")
 
 
 def _field(line: str, name: str, cols: tuple[int, int], path, lineno: int) -> float:
@@ -161,6 +165,31 @@ def _read_lines(path) -> list[str]:
         raise FileFormatError(path, None, f"cannot be read ({exc.strerror})") from None
 
 
+def _check_dates(path, lines: list[tuple[int, str]], mjd: np.ndarray, columns: dict, century: bool) -> None:
+    """Refuse a line whose calendar date is not that of its MJD: a damaged MJD that still increases would
+    otherwise pass as a gap of years in the record. ``century``: the year has its four digits."""
+    if not lines:
+        return
+    ymd = _columns(lines, columns, path)
+    sane = np.abs(mjd) < 1e9  # an MJD of millions of years has no date to compare (nor a place in a record)
+    day = _MJD_ZERO + np.floor(np.where(sane, mjd, 0.0)).astype("int64").astype("timedelta64[D]")
+    year = day.astype("datetime64[Y]").astype(int) + 1970
+    month = day.astype("datetime64[M]").astype(int) % 12 + 1
+    dom = (day - day.astype("datetime64[M]")).astype(int) + 1
+    want = np.stack([year if century else year % 100, month, dom], axis=1)
+    bad = np.nonzero(np.any(ymd != want, axis=1) | ~sane)[0]
+    if bad.size:
+        k = int(bad[0])
+        lineno, line = lines[k]
+        first, last = min(c[0] for c in columns.values()), max(c[1] for c in columns.values())
+        of_mjd = f"{mjd[k]:.2f} ({day[k]})" if sane[k] else f"{mjd[k]:g} (no calendar date)"
+        raise FileFormatError(
+            path,
+            f"line {lineno}",
+            f"the date in columns {first}-{last} ({line[first - 1 : last].strip()!r}) is not that of the MJD {of_mjd}",
+        )
+
+
 def _finish(path, numbered: list[int], data: np.ndarray, fmt: str, title: str) -> PoleRecord:
     if data.shape[0] == 0:
         raise FileFormatError(path, None, f"no data lines in the {fmt} format")
@@ -199,6 +228,7 @@ def read_c04(path=None) -> PoleRecord:
             _require_length(line, need, path, lineno, "date, x_p, y_p and their errors; see ReadMe.eopc04")
         rows.append((lineno, line))
     data = _columns(rows, _C04_FIELDS, path)  # MJD, x, y, x error, y error
+    _check_dates(path, rows, data[:, 0], _C04_DATE, century=True)
     return _finish(path, [r[0] for r in rows], data, "c04", title or "IERS C04 series")
 
 
@@ -237,6 +267,7 @@ def read_finals2000a(path) -> PoleRecord:
         else:  # predictions are not used, but a malformed one is still a broken file
             _columns([(lineno, line)], _FINALS_FIELDS, path)
     data = _columns(rows, _FINALS_FIELDS, path)[:, [0, 1, 3, 2, 4]]  # MJD, x, y, x error, y error
+    _check_dates(path, rows, data[:, 0], _FINALS_DATE, century=False)
     return _finish(
         path, [r[0] for r in rows], data, "finals2000A", "IERS Bulletin A (finals2000A), observed values only"
     )
