@@ -179,3 +179,23 @@ def test_shipped_files_are_found_by_name_from_any_folder(tmp_path, monkeypatch):
     assert str(resolve_eop_path("sub/finals2000A.all")) == "sub/finals2000A.all"
     with pytest.raises(FileFormatError, match="no such file .*finals2000A.all"):
         read_pole_file("sub/finals2000A.all")
+
+
+def test_iso_date_is_the_calendar_date_without_erfa_warnings():
+    """iso_date agrees with astropy's UTC date where ERFA has no complaint (1962-2026, every 97th day),
+    and with Python's proleptic Gregorian calendar where ERFA warns of a "dubious year" (before 1960,
+    after the leap-second table): a damaged or old file's dates print without a warning (fuzz run of
+    2026-11-28; the tests turn warnings into errors)."""
+    import datetime
+
+    from astropy.time import Time
+
+    from wobble.io.dates import iso_date
+
+    mjd = np.arange(37665.0, 61000.0, 97.0) + 0.25
+    assert [iso_date(m) for m in mjd] == [t[:10] for t in Time(mjd, format="mjd", scale="utc").iso]
+    zero = datetime.date(1858, 11, 17).toordinal()
+    for m in (-678575.0, 0.0, 30084.0, 36933.9, 80000.5, 2_000_000.0):
+        assert iso_date(m) == datetime.date.fromordinal(zero + int(np.floor(m))).isoformat()
+        assert iso_date(Time(m, format="mjd", scale="utc")) == iso_date(m)
+    assert iso_date(1e300) == "MJD 1e+300" and iso_date(float("nan")) == "MJD nan"

@@ -29,7 +29,7 @@ def report(a) -> str:
     Q, model, windows."""
     e, s = a.least_squares, a.spectral
     lines = [
-        f"Polar motion {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; "
+        f"Polar motion {iso_date(e.start)} to {iso_date(e.end)} ({e.n_samples} days; "
         f"{os.path.basename(a.source_file or '')})",
         "  p = x_p - i y_p: the Chandler term is at a positive (prograde) frequency",
         "",
@@ -54,7 +54,7 @@ def report(a) -> str:
         f"{_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
     )
     lines.append(
-        f'  mean pole at {e.epoch.iso[:10]}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '
+        f'  mean pole at {iso_date(e.epoch)}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '
         f"drifting {_fmt(e.drift_rate, 1)} mas/yr toward {_fmt(e.drift_direction, 0)} deg W"
     )
     if a.quality_factor is not None:

@@ -12,6 +12,7 @@ is an :class:`~wobble.errors.InputError` naming the parameter.
 from __future__ import annotations
 
 import datetime as _dt
+import math
 import re
 import warnings
 
@@ -56,9 +57,16 @@ def to_mjd(value, name: str) -> float:
     raise InputError(name, value, DATE_HELP)
 
 
-def iso_date(mjd: float) -> str:
-    """The calendar date (UTC) of an MJD, ``YYYY-MM-DD``."""
-    return mjd_time(mjd).iso[:10]
+def iso_date(when) -> str:
+    """The calendar date (UTC) of an MJD or an astropy Time, ``YYYY-MM-DD``.
+
+    By calendar arithmetic (MJD 0 is 1858-11-17), not ERFA's: a UTC date before 1960 or past the
+    leap-second table is exact as a date, and ERFA's "dubious year" warning would only be noise.
+    """
+    mjd = float(when.utc.mjd) if isinstance(when, Time) else float(when)
+    if not abs(mjd) < 1e9:  # millions of years from now (or not a number): no calendar date to print
+        return f"MJD {mjd:g}"
+    return str(np.datetime64("1858-11-17", "D") + np.timedelta64(math.floor(mjd), "D"))
 
 
 def mjd_time(mjd: float) -> Time:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from wobble.io.dates import iso_date
 from wobble.plot.polar_motion import save_figure
 
 __all__ = ["forecast_figure", "save_forecast_figure", "hindcast_figure", "save_hindcast_figure"]
@@ -50,7 +51,7 @@ def forecast_figure(forecast, data=None) -> Figure:
     axes[0].legend(fontsize="small", ncol=3)
     axes[1].set_xlabel("year")
     axes[0].set_title(
-        f"forecast issued {forecast.issued.iso[:10]} (dashed), data to {forecast.last_data.iso[:10]} (latency "
+        f"forecast issued {iso_date(forecast.issued)} (dashed), data to {iso_date(forecast.last_data)} (latency "
         f"{forecast.latency.value:g} d)",
         fontsize="medium",
     )

@@ -19,6 +19,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from wobble.errors import InputError
+from wobble.io.dates import iso_date
 
 __all__ = ["pole_path", "two_sided_spectrum", "windowed_wobble", "overview", "save_figure", "save_overview"]
 
@@ -231,7 +232,7 @@ def overview(analysis, *, path_span=None) -> Figure:
         model_period=analysis.budget.period.to_value(u.day),
     )
     fig.suptitle(
-        f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]}: {e.period.to_value(u.day):.1f} ± "
+        f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)}: {e.period.to_value(u.day):.1f} ± "
         f"{e.period_uncertainty.to_value(u.day):.1f} d, {e.amplitude.to_value(u.mas):.0f} mas (least squares)"
     )
     return fig

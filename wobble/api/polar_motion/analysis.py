@@ -223,8 +223,8 @@ class PolarMotionAnalysis:
             "annual_prograde_amplitude_uncertainty_mas": num(est.annual_prograde_amplitude_uncertainty),
             "annual_retrograde_amplitude_mas": num(est.annual_retrograde_amplitude),
             "annual_retrograde_amplitude_uncertainty_mas": num(est.annual_retrograde_amplitude_uncertainty),
-            "start": est.start.iso[:10],
-            "end": est.end.iso[:10],
+            "start": iso_date(est.start),
+            "end": iso_date(est.end),
             "method": est.method,
             "source_file": self.source_file,
             "sign_convention": SIGN_NOTE,
@@ -271,7 +271,8 @@ class PolarMotionAnalysis:
             return f"{x:.{digits}f} +/- {dx:.{digits}f}" if math.isfinite(dx) else f"{x:.{digits}f}"
 
         lines = [
-            f"Chandler wobble {e.start.iso[:10]} to {e.end.iso[:10]} ({e.n_samples} days; p = x_p - i y_p, prograde):",
+            f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)} "
+            f"({e.n_samples} days; p = x_p - i y_p, prograde):",
             f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, "
             f"{pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
             f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, "
@@ -299,7 +300,7 @@ class PolarMotionAnalysis:
     def __repr__(self) -> str:
         e = self.estimate
         return (
-            f"PolarMotionAnalysis({e.start.iso[:10]} to {e.end.iso[:10]}, "
+            f"PolarMotionAnalysis({iso_date(e.start)} to {iso_date(e.end)}, "
             f"period={e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d)"
         )
 

@@ -17,6 +17,7 @@ from wobble.api.polar_motion.record import (
     mjd_values,
     series,
 )
+from wobble.io.dates import iso_date
 from wobble.models import polar_motion as _pm
 
 __all__ = ["analysis_dataset", "window_columns", "window_attrs", "windows_dataset", "spectrum_dataset"]
@@ -320,7 +321,7 @@ def analysis_dataset(a):
             f"Chandler period {e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d and amplitude "
             f"{e.amplitude.value:.0f} +/- {e.amplitude_uncertainty.value:.0f} mas (least squares), "
             f"{a.spectral.period.value:.1f} +/- {a.spectral.period_uncertainty.value:.1f} d (spectrum), "
-            f"{e.start.iso[:10]} to {e.end.iso[:10]}"
+            f"{iso_date(e.start)} to {iso_date(e.end)}"
         ),
         "references": "; ".join([a.data.attrs.get("references", C04_REFERENCE), a.published["reference"]]),
         "source_file": a.source_file or "",

@@ -12,7 +12,7 @@ from astropy.time import Time
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_data, series
 from wobble.api.units import to_si
 from wobble.errors import InputError
-from wobble.io.dates import mjd_time
+from wobble.io.dates import iso_date, mjd_time
 from wobble.models import polar_motion as _pm
 
 __all__ = [
@@ -181,9 +181,9 @@ class ChandlerEstimate:
         return with_deprecated_keys(
             {
                 "method": self.method,
-                "start": self.start.iso[:10],
-                "end": self.end.iso[:10],
-                "epoch": self.epoch.iso[:10],
+                "start": iso_date(self.start),
+                "end": iso_date(self.end),
+                "epoch": iso_date(self.epoch),
                 "n_samples": self.n_samples,
                 "chandler_period_days": num(self.period),
                 "chandler_period_uncertainty_days": num(self.period_uncertainty),

@@ -254,11 +254,11 @@ class PolarMotionForecast:
                 "observation_mas": math.sqrt(noise.observation) / RAD_PER_MAS,
             }
         return {
-            "issued": self.issued.iso[:10],
+            "issued": iso_date(self.issued),
             "horizon_days": len(self.lead),
             "method": self.method,
             "latency_days": float(self.latency.value),
-            "last_data": self.last_data.iso[:10],
+            "last_data": iso_date(self.last_data),
             "chandler_period_days": float(self.chandler_period.value),
             "chandler_period_span": None if self.chandler_period_span is None else list(self.chandler_period_span),
             "quality_factor": self.q,
@@ -332,7 +332,7 @@ class PolarMotionForecast:
         ds = xr.Dataset(data, coords=coords)
         cal = self._calibration_dict()
         ds.attrs = {
-            "title": f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}",
+            "title": f"Polar-motion forecast ({self.method}) issued {iso_date(self.issued)}",
             "summary": "; ".join(line.strip() for line in self.summary().splitlines()[:2]),
             "references": _REFERENCES[self.method]
             + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
@@ -340,7 +340,7 @@ class PolarMotionForecast:
             "interval_calibration": "past_errors" if cal else "none",
             "intervals": calibration_text(self.calibration),
             "comment": (
-                f"Data used up to {self.last_data.iso[:10]} (latency {self.latency.value:g} d before the issue date). "
+                f"Data used up to {iso_date(self.last_data)} (latency {self.latency.value:g} d before the issue date). "
                 "The pole is x_p toward Greenwich, y_p toward 90 deg W."
             ),
         }
@@ -364,7 +364,7 @@ class PolarMotionForecast:
             years = (to_mjd(last, "last") - to_mjd(first, "first")) / 365.25
             source = f"least squares of the {years:.0f} years of record {first} to {last}"
         lines = [
-            f"Polar-motion forecast ({self.method}) issued {self.issued.iso[:10]}, data to {self.last_data.iso[:10]} "
+            f"Polar-motion forecast ({self.method}) issued {iso_date(self.issued)}, data to {iso_date(self.last_data)} "
             f"(latency {self.latency.value:g} d)",
             f"  Chandler period {self.chandler_period.value:.1f} d ({source})",
             f"  {'lead [d]':>8}  {'date':>10}  {'x_p [mas]':>17}  {'y_p [mas]':>17}",
@@ -395,7 +395,7 @@ class PolarMotionForecast:
         return "\n".join(lines)
 
     def __repr__(self) -> str:
-        return f"PolarMotionForecast({self.method!r}, issued={self.issued.iso[:10]}, horizon={len(self.lead)} d)"
+        return f"PolarMotionForecast({self.method!r}, issued={iso_date(self.issued)}, horizon={len(self.lead)} d)"
 
 
 _CALIBRATION_REFERENCES = (
