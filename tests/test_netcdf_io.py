@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import os
+import warnings
 
 import numpy as np
 import pytest
 import xarray as xr
+from astropy import units as u
 
+import wobble
 from wobble.errors import FileFormatError, InputError, OutputExistsError
+from wobble.io import cf
 from wobble.io.netcdf import SIMULATION_TIME_UNITS, open_wobble, write_netcdf
 
 
@@ -91,3 +95,42 @@ def test_written_files_get_the_usual_permissions(tmp_path):
     finally:
         os.umask(old)
     assert (path.stat().st_mode & 0o777) == 0o644
+
+
+def test_a_run_past_the_cf_calendar_range_keeps_a_file_xarray_opens(tmp_path):
+    """cftime and xarray decode a CF calendar time as 64-bit microseconds from its epoch (292,000 years):
+    a torque-free run over a million years wrote 'seconds since 2000-01-01 12:00:00' that
+    xr.open_dataset refused to open (fuzz run of 2026-11-28). Past that reach the coordinate is elapsed
+    time in s, the epoch kept in time_origin; inside it, calendar time as before. The decoder itself
+    is the judge: xarray's default open, on each side of the bound."""
+    scene = wobble.Scene(
+        body=[1, 1, 2] * u.kg * u.m**2, omega0=[0.1, 0, 1] * u.rad / u.s, t_end=1 * u.Myr, samples=11, outputs=["omega"]
+    )
+    ds = wobble.run(scene)
+    path = write_netcdf(ds, tmp_path / "long.nc")
+    with xr.open_dataset(path) as plain:  # default decoding
+        assert plain["time"].dtype == np.float64 and plain["time"].attrs["units"] == "s"
+        np.testing.assert_array_equal(plain["time"].values, ds["time"].values)
+    back = open_wobble(path)
+    xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
+    assert back.wobble.epoch == "2000-01-01 12:00:00"
+    assert back.wobble.quantity("time")[-1].to_value(u.yr) == pytest.approx(1e6, rel=1e-15)
+    # The checker takes any variable named time for a calendar time axis (a name heuristic, medium
+    # priority): its one remark. To CF a time coordinate needs a reference time, which no reader decodes
+    # this far, so the coordinate is a plain one in s.
+    from conftest import cf_problems
+
+    assert cf_problems(path) == [
+        "§5.1 Independent Latitude, Longitude, Vertical, and Time Axes: Coordinate variable 'time' should have "
+        "standard_name='time', found: 'None'"
+    ]
+    for reach, calendar in ((9.0e12, True), (9.3e12, False)):
+        coord = cf.time_coordinate(np.array([0.0, reach]))
+        assert ("calendar" in coord[2]) == calendar
+        small = tmp_path / f"reach_{reach:g}.nc"
+        xr.Dataset(coords={"time": coord}).to_netcdf(small)
+        with warnings.catch_warnings():
+            # xarray's notice that dates past 2262 become cftime objects, not numpy datetimes.
+            warnings.simplefilter("ignore", xr.SerializationWarning)
+            with xr.open_dataset(small) as plain:
+                assert (plain["time"].dtype != np.float64) == calendar

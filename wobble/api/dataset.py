@@ -95,8 +95,10 @@ class WobbleAccessor:
         """The epoch of the time coordinate (``"2000-01-01 12:00:00"``), or None."""
         if "time" not in self._ds.variables:
             return None
-        match = _SINCE.match(str(self._ds["time"].attrs.get("units", "")))
-        return match.group(2) if match else None
+        attrs = self._ds["time"].attrs
+        match = _SINCE.match(str(attrs.get("units", "")))
+        # A span past CF's decodable calendar range keeps its epoch apart (wobble.io.cf.time_coordinate).
+        return match.group(2) if match else attrs.get("time_origin")
 
     @property
     def model(self) -> str | None:

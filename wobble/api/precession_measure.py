@@ -257,7 +257,7 @@ def _seconds(ds) -> np.ndarray:
     if np.issubdtype(t.dtype, np.datetime64):
         return (t - t[0]).astype("timedelta64[ns]").astype(float) * 1e-9
     units = str(ds["time"].attrs.get("units", "seconds since"))
-    if not units.startswith("second"):
+    if not (units.startswith("second") or units.strip() == "s"):  # "s": elapsed time past CF's calendar range
         raise InputError("ds.time", units, "times in seconds (a wobble run's output)")
     return np.asarray(t, dtype=float)
 

@@ -20,6 +20,7 @@ the units, dimensions or names, which belong to the registry.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -37,6 +38,7 @@ __all__ = [
     "attrs",
     "variable",
     "time_coordinate",
+    "CF_DECODABLE_SECONDS",
     "label_coordinate",
     "with_member",
     "flag_attrs",
@@ -377,13 +379,42 @@ def variable(table: str, name: str, data, **extra) -> tuple:
     return s.dims, data, s.attrs(**extra)
 
 
+#: How far from its epoch a CF calendar time can be decoded: cftime (and xarray through it) counts
+#: the offset in 64-bit microseconds, 2**63 us = 9.22e12 s, about 292,000 years.
+CF_DECODABLE_SECONDS = 9.2e12
+_SINCE = re.compile(r"\s*(\S+)\s+since\s+(.+?)\s*")
+_SECONDS_PER = {"seconds": 1.0, "second": 1.0, "s": 1.0, "days": 86400.0, "day": 86400.0, "d": 86400.0}
+_BARE_UNIT = {"seconds": "s", "second": "s", "days": "d", "day": "d"}
+
+
 def time_coordinate(values, units: str = SIMULATION_TIME_UNITS, *, long_name: str = "time", **extra) -> tuple:
     """``(dims, values, attrs)`` of a CF time coordinate (float64 numbers since an epoch).
 
     Times stay numbers so that round trips are exact; ``units`` is
     ``"<unit> since <epoch>"`` (:data:`SIMULATION_TIME_UNITS`, :data:`MJD_UNITS`).
+    A span reaching past :data:`CF_DECODABLE_SECONDS` from the epoch (a run of a million
+    years) would make a file that xarray and cftime refuse to open, decoding its times; its
+    coordinate is elapsed time instead: ``units`` the bare unit (``s``), no calendar, standard
+    name or axis (to CF, a time axis is a calendar time), the epoch in ``time_origin``.
     """
+    import numpy as np  # here, not at the top: the command line imports this registry before NumPy
+
     out = {"units": units, "standard_name": "time", "long_name": long_name, "axis": "T", "calendar": "standard"}
+    match = _SINCE.fullmatch(units)
+    data = np.asarray(values, dtype=float)
+    if match and match.group(1) in _SECONDS_PER and data.size and np.any(np.isfinite(data)):
+        reach = float(np.nanmax(np.abs(data))) * _SECONDS_PER[match.group(1)]
+        if reach > CF_DECODABLE_SECONDS:
+            unit, epoch = match.groups()
+            out = {
+                "units": _BARE_UNIT.get(unit, unit),
+                "long_name": f"{long_name} since {epoch}",
+                "time_origin": epoch,
+                "comment": (
+                    "elapsed time, not a calendar time: the span reaches past 292,000 years from the epoch, "
+                    "beyond which cftime and xarray cannot decode CF calendar times (64-bit microseconds)"
+                ),
+            }
     out.update({k: v for k, v in extra.items() if v is not None})
     return ("time",), values, out
 

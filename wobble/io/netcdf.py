@@ -10,7 +10,9 @@ Layout rules every wobble file follows (see docs/netcdf.md):
 * time coordinates are float64 with CF units ``"<unit> since <epoch>"``
   (``seconds since 2000-01-01 12:00:00`` for simulations, whose epoch is
   nominal unless the scene gives one); :func:`open_wobble` keeps them as
-  numbers so round trips are exact (``xarray.decode_cf`` gives datetimes);
+  numbers so round trips are exact (``xarray.decode_cf`` gives datetimes); past
+  292,000 years from the epoch, elapsed time in ``s`` with ``time_origin``
+  (:func:`wobble.io.cf.time_coordinate`: no reader decodes calendar times that far);
 * string-valued indexes such as ``body`` or ``step`` cannot be CF coordinate
   variables (those must be numeric and monotonic), so they are stored as label
   variables ``body_name(body)`` (CF section 6.1) and turned back into indexes
