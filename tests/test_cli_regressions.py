@@ -85,6 +85,32 @@ def test_top_whose_energy_overflows_is_an_input_error(rates, flags, capsys, tmp_
     assert "rates whose energy fits double precision" in err
 
 
+@pytest.mark.parametrize("command", ["modes", "chandler"])
+@pytest.mark.parametrize(("period", "k2"), [("1e-303", "inf"), ("1e-300", "2.59748e+43")])
+def test_reference_periods_that_blow_up_the_anelastic_k2_are_named(command, period, k2, capsys, tmp_path):
+    # Was (fuzz run of 2026-11-28, seed 89): love_number_k2_imaginary_period = 1e-303 s made k2 infinite at
+    # the wobble's frequency: a LinAlgError traceback from wobble modes, overflow warnings and a refusal
+    # naming love_number_k2 (below k_s) from wobble chandler, which 1e-300 s also got (k2 = 2.6e43).
+    import re
+
+    from wobble.io.catalog import catalogue_file
+
+    text = Path(str(catalogue_file("earth"))).read_text()
+    block = text.index("[parameters.love_number_k2_imaginary_period]")
+    head, tail = text[:block], text[block:]
+    path = tmp_path / "planet.toml"
+    path.write_text(head + re.sub(r"value = [0-9.e+-]+", f"value = {period}", tail, count=1))
+    code, out, err = _run([command, "--body-file", str(path)], capsys)
+    assert code == 2 and out == ""
+    # wobble modes refuses an infinite k2 as it meets it in its iteration; the budget also knows k_s.
+    below = "" if command == "modes" and k2 == "inf" else " and below the secular Love number k_s = 0.938324"
+    assert err == (
+        f"wobble {command}: error: love_number_k2_period, love_number_k2_imaginary_period: got 200 s, {period} s "
+        f"(k2 = {k2} at the wobble); allowed: reference periods for which the anelastic k2 at the wobble's "
+        f"frequency is finite{below} (IERS 2010 eq. 6.12 scales by (f_ref/f)^alpha)\n"
+    )
+
+
 def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
     # Was: argparse repeated the value with its newline: two lines on stderr.
     code, out, err = _run(["forecast", "--start", "a\nb"], capsys)

@@ -453,7 +453,9 @@ class ParameterValues:
     def anelastic_k(self, rate):
         """(Re k2, Im k2) at the frequency abs(rate)/(2 pi), IERS 2010 eq. 6.12 form."""
         alpha = self["anelastic_exponent"]
-        with np.errstate(divide="ignore", invalid="ignore"):
+        # Overflow too: reference periods far from the wobble's make k2 infinite, which the callers refuse
+        # (dispersion_error) instead of printing NumPy's warning.
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             f = np.abs(rate) / (2.0 * math.pi)
             f_ref = 1.0 / self["love_number_k2_period"]
             f_im = 1.0 / self["love_number_k2_imaginary_period"]
@@ -510,6 +512,23 @@ def anelastic_love_number(p: PlanetParameters, rate: float) -> tuple[float, floa
         Wobble frequency, rad/s.
     """
     return anelastic_love_number_function(p)(rate)
+
+
+def dispersion_error(p: PlanetParameters, k2: float, ks: float | None = None) -> InputError:
+    """The refusal of reference periods that make k2 at the wobble's frequency (``k2``) infinite or
+    at least the secular Love number ``ks``.
+
+    The dispersion law scales by (f_ref / f)^alpha: a period of 1e-303 s (a mistyped unit) makes
+    that ratio overflow, and k2 at any wobble's frequency infinite.
+    """
+    periods = (p.love_number_k2_period, p.love_number_k2_imaginary_period)
+    below = "" if ks is None else f" and below the secular Love number k_s = {ks:.6g}"
+    return InputError(
+        "love_number_k2_period, love_number_k2_imaginary_period",
+        ", ".join("None" if q is None else f"{q.value:g} s" for q in periods) + f" (k2 = {k2:.6g} at the wobble)",
+        f"reference periods for which the anelastic k2 at the wobble's frequency is finite{below} "
+        "(IERS 2010 eq. 6.12 scales by (f_ref/f)^alpha)",
+    )
 
 
 def anelastic_love_number_function(p: PlanetParameters):
@@ -601,7 +620,16 @@ class _StepArrays:
 
 
 def _evaluate(vals: ParameterValues, steps: tuple[str, ...]):
-    """Equation (1) step by step on arrays; returns step arrays, validity code, Q."""
+    """Equation (1) step by step on arrays; returns step arrays, validity code, Q.
+
+    Members whose parameters overflow (an infinite k2 from the dispersion law, ...) get a
+    code and NaN, and the callers report them: NumPy's warnings on the way are noise.
+    """
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return _evaluate_steps(vals, steps)
+
+
+def _evaluate_steps(vals: ParameterValues, steps: tuple[str, ...]):
     omega = vals["rotation_rate"]
     ca, cb = vals.equatorial_excess()
     zeros = np.zeros(vals.shape)
@@ -705,6 +733,12 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
         )
     if code == 3:
         ks = values.secular_love_number()
+        if "anelastic" in steps:
+            # A k2 that only the dispersion law takes to k_s (or to infinity): name its cause instead.
+            ca, cb = values.equatorial_excess()
+            k_real = float(values.anelastic_k(values["rotation_rate"] * np.sqrt(np.abs(ca * cb)))[0])
+            if not math.isfinite(k_real) or (p.love_number_k2.value < float(ks) <= k_real):
+                raise dispersion_error(p, k_real, float(ks))
         raise InputError(
             "love_number_k2",
             f"{p.love_number_k2.value:.6g}",

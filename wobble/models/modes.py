@@ -184,6 +184,8 @@ def mode_rates(
         step = math.inf
         for _ in range(_K_MAX):
             k = k_at(rate)
+            if not math.isfinite(k):
+                raise chandler.dispersion_error(p, k)
             m, kmat = _matrices(ratios, k, e_f, beta, gamma, coupled, second_order)
             freqs = _signed_frequencies(m, kmat, spin)
             new = float(freqs[np.argmin(np.abs(freqs - rate))])
