@@ -154,6 +154,30 @@ def spawn_chunk(job, folder: str):
     return command, 0, {}, 0.0, [{"signature": f"interpreter died ({command})", "problem": problem, "case": case}]
 
 
+def write_cases(report: Path, failures: dict) -> str:
+    """Each failure's (minimal) input in full beside the report, ``<report>-cases/<n>/``: its files as
+    they were (the report shows only their first 600 bytes) and ``command.txt``, to run there."""
+    import shlex
+
+    import fuzz_strategies as fz
+
+    folder = report.with_name(report.stem + "-cases")
+    for k, f in enumerate(failures.values(), start=1):
+        case = f.get("minimal", f["case"])
+        target = folder / str(k)
+        target.mkdir(parents=True, exist_ok=True)
+        for name, data in case.files.items():
+            path = target / name
+            if data is None:
+                path.mkdir(parents=True, exist_ok=True)
+            else:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_bytes(data if data != fz.PREVIOUS else fz.PREVIOUS)
+        (target / "command.txt").write_text(shlex.join(["wobble", *case.argv]) + "\n")
+        f["case_folder"] = str(target)
+    return str(folder)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--count", type=int, default=10_000, help="inputs to generate and run (default 10000)")
@@ -235,6 +259,7 @@ def main(argv=None) -> int:
         with tempfile.TemporaryDirectory() as tmp:
             for sig, f in sorted(failures.items()):
                 case = f["case"] if args.no_minimize else fz.minimize(f["case"], sig, tmp)
+                f["minimal"] = case
                 f["reproduction"] = case.show()
                 print(f"\n- {sig}  ({f['count']} inputs)\n  {f['problem']}\n  " + case.show().replace("\n", "\n  "))
     else:
@@ -243,6 +268,7 @@ def main(argv=None) -> int:
             "temporary or changed file"
         )
     if args.report:
+        cases = write_cases(Path(args.report), failures) if failures else None
         summary = {
             "count": done,
             "seed": args.seed,
@@ -262,6 +288,7 @@ def main(argv=None) -> int:
                     "count": f["count"],
                     "problem": f["problem"],
                     "reproduction": f.get("reproduction", f["case"].show()),
+                    "case_folder": f.get("case_folder"),
                 }
                 for s, f in failures.items()
             ],
@@ -270,6 +297,7 @@ def main(argv=None) -> int:
                 for f in warned.values()
             ],
         }
+        summary["cases_folder"] = cases
         Path(args.report).write_text(json.dumps(summary, indent=2) + "\n")
     return 1 if failures else 0
 

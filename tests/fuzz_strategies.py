@@ -295,7 +295,9 @@ def run_case(
     if status is not None and status not in (0, 2):
         problems.append(f"exit status {status}")
     if "Traceback" in stderr:
-        problems.append("traceback on stderr")
+        # The exception's own line (the last one of the traceback) says what went wrong.
+        tail = stderr[stderr.index("Traceback") :].strip().splitlines()
+        problems.append(f"traceback on stderr: {tail[-1][:160] if tail else ''}")
     if status == 2:
         lines = [line for line in stderr.splitlines() if line.strip()]
         if len(lines) != 1 and case.command != "bench":
