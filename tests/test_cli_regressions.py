@@ -111,6 +111,21 @@ def test_reference_periods_that_blow_up_the_anelastic_k2_are_named(command, peri
     )
 
 
+def test_density_grid_whose_extent_squared_overflows_is_one_line_without_a_warning(capsys, tmp_path):
+    # Was (fuzz run of 2026-11-28, seed 71): NumPy's overflow warnings from the grid's second moments
+    # (x spanning 2e300 m) on stderr before the refusal of the infinite tensor.
+    import numpy as np
+    import xarray as xr
+
+    coords = {a: (a, np.linspace(-1.0, 1.0, 3) * (1e300 if a == "x" else 1.0), {"units": "m"}) for a in "xyz"}
+    grid = xr.Dataset({"rho": (("x", "y", "z"), np.ones((3, 3, 3)), {"units": "kg m-3"})}, coords=coords)
+    grid.to_netcdf(tmp_path / "grid.nc")
+    code, out, err = _run(["inertia", "--density", str(tmp_path / "grid.nc"), "--about", "com"], capsys)
+    assert code == 2 and out == ""
+    assert err.startswith("wobble inertia: error: tensor: got ") and err.count("\n") == 1
+    assert "the inputs overflow double precision" in err
+
+
 def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
     # Was: argparse repeated the value with its newline: two lines on stderr.
     code, out, err = _run(["forecast", "--start", "a\nb"], capsys)

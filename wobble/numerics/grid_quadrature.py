@@ -87,9 +87,12 @@ def moment_rows(n: int, step: float, rule: str) -> np.ndarray:
     """
     h = abs(step)
     w = node_weights(n, h, rule)
-    u = (np.arange(n) - 0.5 * (n - 1)) * step
-    second = u * u + (h * h / 12.0 if rule == "voxel" else 0.0)
-    return np.array([w, w * u, w * second])
+    # A grid whose extent squared overflows gives infinite rows; the tensor built from them is then
+    # refused as not finite (wobble.models.bodies), without NumPy's warning before it.
+    with np.errstate(over="ignore", invalid="ignore"):
+        u = (np.arange(n) - 0.5 * (n - 1)) * step
+        second = u * u + (h * h / 12.0 if rule == "voxel" else 0.0)
+        return np.array([w, w * u, w * second])
 
 
 def accumulate_moments(
