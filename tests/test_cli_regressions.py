@@ -126,6 +126,17 @@ def test_density_grid_whose_extent_squared_overflows_is_one_line_without_a_warni
     assert "the inputs overflow double precision" in err
 
 
+def test_top_with_an_enormous_weight_at_rest_still_runs():
+    """The overflow check is on the rates' terms: M g l = 1.7e308 J (E = M g l cos theta0 + I3 w3^2 / 2, which
+    fits) ran before it and runs still; its first form, on 2E, refused it, blaming the rates."""
+    import math
+
+    from wobble.models.top import heavy_top
+
+    mdl = heavy_top(1.0, 0.5, 1.7e308, math.radians(10.0), 0.0, 0.0, omega3=1.0)
+    assert mdl.energy == pytest.approx(1.7e308 * math.cos(math.radians(10.0)) + 0.25, rel=1e-15)
+
+
 def test_usage_error_with_a_newline_in_a_value_is_one_line(capsys):
     # Was: argparse repeated the value with its newline: two lines on stderr.
     code, out, err = _run(["forecast", "--start", "a\nb"], capsys)

@@ -547,17 +547,18 @@ def heavy_top(
         v0 = to_decimal(phidot0) * s0
         td = to_decimal(thetadot0)
         kin = td * td + v0 * v0
-        two_e = to_decimal(I1) * kin + to_decimal(I3) * w3 * w3 + 2 * to_decimal(mgl) * u0
-        l2 = to_decimal(I1) ** 2 * kin + (to_decimal(I3) * w3) ** 2
-    # As for the free body: a motion whose energy or angular momentum overflows a double has no
-    # floating-point answer (its nutation period underflows, its phases lose every digit).
-    if not (np.isfinite(float(two_e)) and np.isfinite(float(l2))):
+        energy = to_decimal(I1) * kin / 2 + to_decimal(I3) * w3 * w3 / 2 + to_decimal(mgl) * u0
+        p_psi = to_decimal(I3) * w3
+    # As for the free body: a motion whose energy, squared tilt rate or spin momentum overflows a double has
+    # no floating-point answer (its nutation period underflows, its phases lose every digit). The rates'
+    # own terms only: a heavy top of M g l = 1.7e308 J at rest is as finite as before.
+    if not all(np.isfinite(float(x)) for x in (energy, kin, p_psi)):
         spin = ("omega3", omega3) if omega3 is not None else ("psidot0", psidot0)
         raise InputError(
             f"thetadot0, phidot0, {spin[0]}",
             (thetadot0, phidot0, spin[1]),
-            f"rates whose energy fits double precision: 2E = I1 (thetadot^2 + phidot^2 sin^2 theta) + I3 w3^2 "
-            f"+ 2 M g l cos theta and L^2 below {np.finfo(float).max:.4g} in SI",
+            f"rates whose energy fits double precision: E = I1 (thetadot^2 + phidot^2 sin^2 theta)/2 + I3 w3^2/2 "
+            f"+ M g l cos theta, thetadot^2 + phidot^2 sin^2 theta and I3 w3 below {np.finfo(float).max:.4g} in SI",
         )
     setup = TopSetup(
         I1=I1,
