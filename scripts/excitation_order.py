@@ -65,13 +65,24 @@ def chandler_period(t, z, cutoff: float) -> float:
     return fit_least_squares(t[use], z[use], reference_period=433 * DAY, uncertainty=False).chandler.period
 
 
-def fit(t, z, issued: float, order: int, start: ss.NoiseParameters | None = None):
+def fit(
+    t,
+    z,
+    issued: float,
+    order: int,
+    start: ss.NoiseParameters | None = None,
+    *,
+    span: float = ss.FIT_SPAN,
+    period: float | None = None,
+    q: float = Q_FACTOR,
+):
     """(period, noise, log-likelihood, n): the model of ``order`` fitted on the information set of ``issued``
-    from ``start`` (default: the shipped starting point at this order, as a forecast fits it)."""
-    ti, zi = information_set(t, z, issued, DAY, ss.FIT_SPAN, "Kalman")
-    period = chandler_period(t, z, ti[-1])
+    from ``start`` (default: the shipped starting point at this order, as a forecast fits it), over ``span`` s,
+    with the Chandler period ``period`` s (default: least squares of the 30 years before) and ``q``."""
+    ti, zi = information_set(t, z, issued, DAY, span, "Kalman")
+    period = chandler_period(t, z, ti[-1]) if period is None else period
     start = ss.DEFAULT_NOISE.with_order(order) if start is None else start
-    noise, loglike = ss.fit_noise(ti, zi, chandler_frequency(period, Q_FACTOR), start)
+    noise, loglike = ss.fit_noise(ti, zi, chandler_frequency(period, q), start)
     return period, noise, loglike, zi.size
 
 
@@ -85,15 +96,17 @@ def nested_fit(t, z, issued: float, order: int, lower: ss.NoiseParameters | None
     return max(fits, key=lambda f: f[2])
 
 
-def hindcast(t, z, order: int) -> np.ndarray:
-    """2-D RMS error (mas) at leads 1 .. HORIZON of the four-weekly 2006-2015 forecasts of ``order``."""
+def hindcast(t, z, order: int, **settings) -> np.ndarray:
+    """2-D RMS error (mas) at leads 1 .. HORIZON of the four-weekly 2006-2015 forecasts of ``order``;
+    ``settings``: ``span``, ``period`` and ``q`` of :func:`fit` (default: the shipped ones)."""
+    span, q = settings.get("span", ss.FIT_SPAN), settings.get("q", Q_FACTOR)
     issues = (np.arange(FIRST_MJD, END_MJD, EVERY_DAYS) - MJD_J2000) * DAY
     errors = []
     for a in range(0, issues.size, REFIT):
         block = issues[a : a + REFIT]
-        period, noise, _, n = fit(t, z, float(block[0]), order)
-        setup = ss.KalmanSetup.build(period, Q_FACTOR, noise, n)
-        mean = ss.past_forecasts_kalman(t, z, block, HORIZON, setup=setup, latency=DAY).mean
+        period, noise, _, n = fit(t, z, float(block[0]), order, **settings)
+        setup = ss.KalmanSetup.build(period, q, noise, n)
+        mean = ss.past_forecasts_kalman(t, z, block, HORIZON, setup=setup, latency=DAY, fit_span=span).mean
         truth = truth_at(t, z, block[:, None] + DAY * np.arange(1, HORIZON + 1)[None, :])
         errors.append(mean - truth)
     e = np.concatenate(errors) / MAS

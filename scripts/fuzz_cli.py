@@ -166,13 +166,7 @@ def write_cases(report: Path, failures: dict) -> str:
         case = f.get("minimal", f["case"])
         target = folder / str(k)
         target.mkdir(parents=True, exist_ok=True)
-        for name, data in case.files.items():
-            path = target / name
-            if data is None:
-                path.mkdir(parents=True, exist_ok=True)
-            else:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_bytes(data if data != fz.PREVIOUS else fz.PREVIOUS)
+        fz.lay_out(case, target)
         (target / "command.txt").write_text(shlex.join(["wobble", *case.argv]) + "\n")
         f["case_folder"] = str(target)
     return str(folder)

@@ -30,14 +30,11 @@ import json
 import time
 
 import numpy as np
-from excitation_order import END_MJD, EVERY_DAYS, FIRST_MJD, HORIZON, LEADS, MAS, Q_FACTOR, REFIT, ROOT
-from excitation_order import chandler_period, rms_text
+from excitation_order import HORIZON, LEADS, MAS, Q_FACTOR, ROOT, fit, hindcast, rms_text
 
 from wobble.api.polar_motion.record import MJD_J2000, read_record, record_series
+from wobble.io.dates import iso_date
 from wobble.models.polar_motion import state_space as ss
-from wobble.models.polar_motion.excitation import chandler_frequency
-from wobble.models.polar_motion.forecast import information_set
-from wobble.models.polar_motion.hindcast import truth_at
 from wobble.models.polar_motion.record import DAY
 from wobble.numerics import kalman
 
@@ -50,37 +47,17 @@ VARIANTS = {
 }
 
 
-def hindcast(t, z, span: float = ss.FIT_SPAN, period: float | None = None, q: float = Q_FACTOR) -> np.ndarray:
-    """2-D RMS error (mas) at leads 1 .. HORIZON of the four-weekly 2006-2015 forecasts fitted on ``span`` s,
-    with the Chandler period ``period`` s (default: least squares of the 30 years before each refit) and ``q``."""
-    issues = (np.arange(FIRST_MJD, END_MJD, EVERY_DAYS) - MJD_J2000) * DAY
-    errors = []
-    for a in range(0, issues.size, REFIT):
-        block = issues[a : a + REFIT]
-        ti, zi = information_set(t, z, float(block[0]), DAY, span, "Kalman")
-        tc = chandler_period(t, z, ti[-1]) if period is None else period
-        noise, _ = ss.fit_noise(ti, zi, chandler_frequency(tc, q))
-        setup = ss.KalmanSetup.build(tc, q, noise, zi.size)
-        mean = ss.past_forecasts_kalman(t, z, block, HORIZON, setup=setup, latency=DAY, fit_span=span).mean
-        truth = truth_at(t, z, block[:, None] + DAY * np.arange(1, HORIZON + 1)[None, :])
-        errors.append(mean - truth)
-    e = np.concatenate(errors) / MAS
-    return np.sqrt(np.mean(np.abs(e) ** 2, axis=0))
-
-
 def variance_budget(t, z, issued_mjd: float = 57388.0) -> dict:
     """The model's 2-D forecast sigma (mas) at LEADS for a forecast issued ``issued_mjd`` (default 2016-01-01),
     whole and from the excitation to come alone (the filtered state taken as known)."""
-    ti, zi = information_set(t, z, (issued_mjd - MJD_J2000) * DAY, DAY, ss.FIT_SPAN, "Kalman")
-    tc = chandler_period(t, z, ti[-1])
-    noise, _ = ss.fit_noise(ti, zi, chandler_frequency(tc, Q_FACTOR))
-    s = ss.KalmanSetup.build(tc, Q_FACTOR, noise, zi.size)
+    tc, noise, _, n = fit(t, z, (issued_mjd - MJD_J2000) * DAY, ss.EXCITATION_ORDER)
+    s = ss.KalmanSetup.build(tc, Q_FACTOR, noise, n)
     x0 = np.zeros(s.F.shape[0], dtype=complex)
     _, whole = kalman.forecast(s.F, s.Q, s.h, s.r, x0, s.window.posterior, HORIZON + 1)
     _, future = kalman.forecast(s.F, s.Q, s.h, s.r, x0, 0 * s.window.posterior, HORIZON + 1)
     ahead = {d: d + 1 for d in LEADS}  # one day of latency: a lead of d days is d + 1 steps past the data
     return {
-        "issued": "2016-01-01",
+        "issued": iso_date(issued_mjd),
         "sigma_2d_mas": {str(d): float(np.sqrt(whole[k - 1]) / MAS) for d, k in ahead.items()},
         "excitation_to_come_mas": {str(d): float(np.sqrt(future[k - 1]) / MAS) for d, k in ahead.items()},
     }
@@ -93,7 +70,7 @@ def main() -> None:
         out[setting] = {}
         for label, kwargs in values.items():
             t0 = time.perf_counter()
-            rms = hindcast(t, z, **kwargs)
+            rms = hindcast(t, z, ss.EXCITATION_ORDER, **kwargs)
             out[setting][label] = {"rms_2d_mas": {str(d): float(rms[d - 1]) for d in LEADS}}
             print(f"{setting} {label}: 2-D RMS {rms_text(rms)} ({time.perf_counter() - t0:.0f} s)", flush=True)
     out["variance_budget"] = budget = variance_budget(t, z)

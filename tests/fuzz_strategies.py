@@ -231,6 +231,17 @@ def _strict_json(text: str) -> None:
     json.loads(text, parse_constant=refuse)
 
 
+def lay_out(case: Case, folder: Path) -> None:
+    """Write ``case.files`` into ``folder`` (a None entry is a folder)."""
+    for name, data in case.files.items():
+        target = folder / name
+        if data is None:
+            target.mkdir(parents=True, exist_ok=True)
+        else:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(data)
+
+
 def run_case(
     case: Case, base: str | os.PathLike | None = None, bound: float | None = None, keep: bool = False
 ) -> Outcome:
@@ -239,13 +250,7 @@ def run_case(
 
     bound = BOUNDS[case.command] if bound is None else bound
     folder = Path(tempfile.mkdtemp(prefix="fuzz-", dir=base))
-    for name, data in case.files.items():
-        target = folder / name
-        if data is None:
-            target.mkdir(parents=True, exist_ok=True)
-        else:
-            target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_bytes(data)
+    lay_out(case, folder)
     before = _snapshot(folder)
     out, err = io.StringIO(), io.StringIO()
     problems: list[str] = []
