@@ -268,6 +268,21 @@ def test_error_free_sum_and_product(a, b):
     assert Fraction(p) + Fraction(e) == Fraction(a) * Fraction(b)
 
 
+@given(
+    st.floats(min_value=2.0**990, max_value=1.7e308),
+    st.floats(min_value=1e-300, max_value=1e-2),
+    st.sampled_from([(1, 1), (1, -1), (-1, 1), (-1, -1)]),
+)
+def test_error_free_product_of_the_largest_doubles(a, b, signs):
+    """Operands above 2^996, where Veltkamp's splitting constant times a overflows, are split
+    scaled: the product stays exact, without warnings (a heavy top's phase over 1e305 s)."""
+    a, b = signs[0] * a, signs[1] * b
+    p, e = dd.two_prod(np.array([a, 1.0]), np.array([b, 1.0]))
+    assert Fraction(float(p[0])) + Fraction(float(e[0])) == Fraction(a) * Fraction(b)
+    p, e = dd.two_prod(a, b)  # NumPy scalars and Python floats take the same path
+    assert Fraction(float(p)) + Fraction(float(e)) == Fraction(a) * Fraction(b)
+
+
 @given(positive, positive, st.floats(-0.5, 0.5), st.floats(-0.5, 0.5))
 def test_double_double_operations_to_1e_30(ah, bh, fa, fb):
     """add, add_same_sign, mul, div and sqrt of double-doubles within 1e-30 relative."""

@@ -16,8 +16,9 @@ vectorised kernel: the quarter period K(m) of arrays of parameters (AGM in
 double-double, :func:`agm_k`), to reduce ``u`` modulo K without losing the
 digits of the reduced argument (:func:`wobble.numerics.elliptic.jacobi`), and
 Bulirsch's complete integral ``cel`` (:func:`wobble.numerics.elliptic.ellippi`).
-Valid for magnitudes between about 1e-290 and 1e300 (Veltkamp's split
-overflows above).
+Valid for magnitudes between about 1e-290 and the largest double (Veltkamp's split
+scales operands above 2^996 by 2^-28 first, as Hida, Li & Bailey's library does, so that
+the splitting constant's product does not overflow); a product must fit a double.
 """
 
 from __future__ import annotations
@@ -41,6 +42,10 @@ __all__ = [
 ]
 
 _SPLITTER = 134217729.0  # 2^27 + 1
+# Above 2^996 the product _SPLITTER * a overflows: such operands are split scaled by 2^-28
+# (exact, a power of two) and the halves scaled back.
+_SPLIT_THRESHOLD = 2.0**996
+_SPLIT_SCALE = 2.0**-28
 #: pi as a double-double (hi, lo).
 PI = (3.141592653589793, 1.2246467991473532e-16)
 
@@ -60,13 +65,26 @@ def quick_two_sum(a, b):
 
 
 def _split(a):
+    # A comparison and a reduction instead of np.where: the same code runs on NumPy scalars.
+    if np.any(np.abs(a) > _SPLIT_THRESHOLD):
+        return _split_scaled(a)
     c = _SPLITTER * a
     hi = c - (c - a)
     return hi, a - hi
 
 
+def _split_scaled(a):
+    """Veltkamp's split of operands some of which lie above 2^996, each scaled by 2^-28 or 1."""
+    big = np.abs(a) > _SPLIT_THRESHOLD
+    scale = 1.0 - big * (1.0 - _SPLIT_SCALE)  # exactly 2^-28 where big, 1 elsewhere
+    s = a * scale
+    c = _SPLITTER * s
+    hi = c - (c - s)
+    return hi / scale, (s - hi) / scale
+
+
 def two_prod(a, b):
-    """Dekker's error-free product: ``a * b = p + e`` exactly (``|a b| < 1e300``)."""
+    """Dekker's error-free product: ``a * b = p + e`` exactly (while ``a b`` and its halves' products fit a double)."""
     p = a * b
     ah, al = _split(a)
     bh, bl = _split(b)
