@@ -482,3 +482,48 @@ def test_a_tilt_whose_sin_squared_underflows_moves_as_the_small_angle_limit(thet
     np.testing.assert_allclose(mo.phidot, phidot, rtol=0, atol=1e-12 * mdl.a)
     np.testing.assert_allclose(mo.psidot, mdl.omega3 - phidot, rtol=0, atol=1e-12 * mdl.a)
     np.testing.assert_allclose(mo.omega[:, 2], mdl.omega3, rtol=1e-15)
+
+
+@pytest.mark.parametrize("k", [10, 30, 60])
+def test_a_fast_spin_does_not_cancel_into_phi(k):
+    """The top's exact scaling symmetry: I1 -> s I1, M g l -> M g l / s (I3 and omega3 kept)
+    takes u(t) to u(t/s) and phi(t) to phi(t/s), psi(t) to psi(t/s) + omega3 (t/s)(s - 1)
+    (notes p. 71: alpha, beta scale as 1/s^2, a and b as 1/s). With s = 2^k the scaled times
+    are exact. sigma and delta each carry +-(omega3 - a) t/2, of order omega3 s per nutation:
+    phi = sigma + delta once lost its digits to their cancellation (1e-6 rad at s = 2^30,
+    every digit at 2^50); from its own secular phase it is the unscaled top's to the last bit.
+    psi keeps its conditioning, |psidot| t eps, and stays within the stated attitude error."""
+    import mpmath as mp
+
+    s = 2.0**k
+    ref = heavy_top(1.0, 0.5, 1.0, np.pi / 3, omega3=10.0)
+    mdl = heavy_top(s, 0.5, 1.0 / s, np.pi / 3, omega3=10.0)
+    t = np.linspace(0.0, 3 * ref.nutation_period, 61)
+    want, got = ref.motion(t, "direct"), mdl.motion(s * t, "direct")
+    for key in ("theta", "axis", "u"):
+        np.testing.assert_allclose(getattr(got, key), getattr(want, key), rtol=0, atol=4e-16)
+    assert np.max(np.abs(np.angle(np.exp(1j * (got.phi - want.phi))))) <= 4e-15
+    with mp.workdps(40):
+        turn = np.array([float(mp.fmod(10 * mp.mpf(x) * (mp.mpf(s) - 1), 2 * mp.pi)) for x in t])
+    d = np.abs(np.angle(np.exp(1j * (got.psi - want.psi - turn))))
+    assert np.max(d) <= mdl.error_estimate["attitude_rad"]
+
+
+def test_the_series_of_a_fast_spin_keeps_its_stated_error():
+    """At s = 2^8 (psi turns ~400 times a nutation) the verified series is taken and its phi,
+    axis and psi stay within the stated attitude error (the scaling symmetry above)."""
+    import mpmath as mp
+
+    s = 2.0**8
+    ref = heavy_top(1.0, 0.5, 1.0, np.pi / 3, omega3=10.0)
+    mdl = heavy_top(s, 0.5, 1.0 / s, np.pi / 3, omega3=10.0)
+    t = np.linspace(0.0, 50 * ref.nutation_period, 4001)
+    want, got = ref.motion(t, "direct"), mdl.motion(s * t, "fourier")
+    assert type(mdl.evaluator(t.size, "fourier")).__name__ == "Fourier"
+    bound = mdl.error_estimate["attitude_rad"]
+    assert np.max(np.abs(np.angle(np.exp(1j * (got.phi - want.phi))))) <= bound
+    assert np.max(np.abs(got.axis - want.axis)) <= bound
+    with mp.workdps(40):
+        turn = np.array([float(mp.fmod(10 * mp.mpf(x) * (mp.mpf(s) - 1), 2 * mp.pi)) for x in t[::20]])
+    d = np.abs(np.angle(np.exp(1j * (got.psi[::20] - want.psi[::20] - turn))))
+    assert np.max(d) <= bound

@@ -398,12 +398,12 @@ class HeavyTopModel:
         flip = (sh < 0) != (ch < 0)
         theta = 2.0 * np.arctan2(np.abs(sh), np.abs(ch))
         sig_f = np.where(flip, sig + np.pi, sig)
-        phi = top_series.wrap_angle(sig_f + dlt)
+        phic = c["phi"]  # sigma + delta from its own secular phase (no fast spin to cancel)
+        phi = top_series.wrap_angle(np.where(flip, phic + np.pi, phic))
         psi = top_series.wrap_angle(sig_f - dlt)
         thetadot = np.where(flip, -c["thetadot"], c["thetadot"])
         q = np.stack([ch * np.cos(sig), sh * np.cos(dlt), sh * np.sin(dlt), ch * np.sin(sig)], axis=-1)
         sin_t = 2.0 * sh * ch
-        phic = sig + dlt
         psic = sig - dlt
         axis = np.stack([sin_t * np.sin(phic), -sin_t * np.cos(phic), c["u"]], axis=-1)
         ps = c["phidot_sin"]

@@ -18,8 +18,8 @@ everything is float64 and vectorised over the times.
   (:func:`wobble.numerics.elliptic.pi_positive_scd`, ``pi_negative_scd``).
 
 Each evaluator's ``core(t)`` returns the pieces the model assembles into the
-motion: sin and cos of theta/2 (signed through a pole), sigma, delta, the rates,
-u = cos theta and phidot sin theta.
+motion: sin and cos of theta/2 (signed through a pole), sigma, delta, phi = sigma + delta
+(from its own secular phase), the rates, u = cos theta and phidot sin theta.
 """
 
 from __future__ import annotations
@@ -69,6 +69,7 @@ class Uniform:
             ch=ch,
             sigma=sig,
             delta=dlt,
+            phi=sig + dlt,  # each reduced exactly modulo 2 pi: no large phase to cancel
             thetadot=zero,
             phidot=np.full(n, self.phidot),
             psidot=np.full(n, self.psidot),
@@ -152,6 +153,10 @@ class Elliptic:
     r0: float  # the reduced nutation phase at t = 0 (what phase(0) gives)
     sigma_sec: Secular
     delta_sec: Secular
+    # phi = sigma + delta has its own secular phase: its rate (B <1/x> + C <1/y>)/2 has no
+    # spin term, where sigma's and delta's carry +-(omega3 - a)/2, so a fast spin's large
+    # phases (c (r - w0) of order omega3 x nutation period) do not cancel into phi.
+    phi_sec: Secular
     levels: object = field(repr=False, compare=False)
 
     def phase(self, t):
@@ -254,8 +259,11 @@ class Elliptic:
         phidot = 0.5 * (bx + cy)
         psidot = (self.omega3 - self.a) - 0.5 * (bx - cy)
         p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
-        sig = self.sigma_sec(j, r, self.w0) + self.k_minus * (p_minus - self.p_minus0)
-        dlt = self.delta_sec(j, r, self.w0) + self.k_plus * (p_plus - self.p_plus0)
+        per_minus = self.k_minus * (p_minus - self.p_minus0)
+        per_plus = self.k_plus * (p_plus - self.p_plus0)
+        sig = self.sigma_sec(j, r, self.w0) + per_minus
+        dlt = self.delta_sec(j, r, self.w0) + per_plus
+        phi = self.phi_sec(j, r, self.w0) + (per_minus + per_plus)
         x = self.x1 * (sx * sx)
         y = self.y2 * (sy * sy)
         u = np.where(x <= 1.0, 1.0 - x, y - 1.0)
@@ -264,6 +272,7 @@ class Elliptic:
             ch=ch,
             sigma=sig,
             delta=dlt,
+            phi=phi,
             thetadot=thetadot,
             phidot=phidot,
             psidot=psidot,

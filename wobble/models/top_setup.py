@@ -454,6 +454,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
             sigma_sec=secular_phase(sigma_rate, lam, kdec, st.sigma0),
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
+            phi_sec=secular_phase((b_eff * mean_inv_x + c_eff * mean_inv_y) / 2, lam, kdec, st.sigma0 + st.delta0),
             levels=levels,
         )
         # The reduced phase at t = 0. The reduction of lambda t + w0
@@ -477,9 +478,14 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         kf = float(K[0])
         theta_max = theta_of(x1, y1)
         swing = abs(_f(b_eff * pi_plus / (lam * x1))) + (abs(_f(c_eff * pi_minus / (lam * y1))) if not bottom else 0.0)
+        # psi's secular phase over a period, c (r - w0) with c = (omega3 - a)/(2 lambda) + ...,
+        # is a fast spin's turns per nutation: its rounding (and that of the reduced phase r,
+        # a few ulps of K) grows with c. That is psi's own conditioning in t, |psidot| t eps
+        # for t of a period; phi = sigma + delta has no such term (its own secular phase).
+        spin = 8 * _EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
         est = {
             "theta_rad": 32 * _EPS * (1 + kf) * max(theta_max, _EPS),
-            "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing),
+            "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing) + spin,
             "turning_points_relative": 4 * _EPS,
             "period_relative": 4 * _EPS,
         }
