@@ -30,6 +30,7 @@ run stays within its bound on a busy two-core machine.
 from __future__ import annotations
 
 import contextlib
+import copy
 import io
 import json
 import math
@@ -723,6 +724,13 @@ _WORK_EDGES = [
 ]
 
 
+def _fresh(draw, values: list):
+    """One of ``values``, copied: a list or table put into a file's data and then mutated by a
+    later step must not change the shared constant (it did: later draws then differed from
+    their replays, and Hypothesis stopped the run, "the second run stopped drawing earlier")."""
+    return copy.deepcopy(draw(st.sampled_from(values)))
+
+
 def _paths(data, prefix=()):
     """Every (container, key, path) in a nested TOML mapping."""
     if isinstance(data, dict):
@@ -760,12 +768,12 @@ def mutated_toml(draw, base_text: str, mode: str = "wild"):
         op = draw(st.sampled_from(ops))
         if key in _WORK_KEYS:  # keep runs short: values that refuse or shorten, never lengthen
             if op in ("edge", "number"):
-                container[key] = draw(st.sampled_from(_WORK_EDGES))
+                container[key] = _fresh(draw, _WORK_EDGES)
                 continue
         if op == "delete" and isinstance(container, dict):
             del container[key]
         elif op == "unknown" and isinstance(container, dict):
-            container[draw(st.sampled_from(["bogus", "Value", "unit ", "extra"]))] = draw(st.sampled_from(TOML_EDGES))
+            container[draw(st.sampled_from(["bogus", "Value", "unit ", "extra"]))] = _fresh(draw, TOML_EDGES)
         elif op == "unit" and isinstance(container, dict):
             container["unit"] = draw(st.sampled_from(sum(UNITS.values(), []) + ["", "1", "???"]))
         elif op == "number":
@@ -780,9 +788,9 @@ def mutated_toml(draw, base_text: str, mode: str = "wild"):
                     else float(old * factor)
                 )
             elif mode != "valid":
-                container[key] = draw(st.sampled_from(TOML_EDGES))
+                container[key] = _fresh(draw, TOML_EDGES)
         else:
-            container[key] = draw(st.sampled_from(TOML_EDGES))
+            container[key] = _fresh(draw, TOML_EDGES)
     return dump_toml(data).encode("utf-8")
 
 

@@ -156,3 +156,20 @@ def test_in_process_runs_match_real_processes(tmp_path):
             assert real.stderr == inside.stderr, argv
         for name, data in files.items():
             assert (folder / name).read_bytes() == data
+
+
+def test_drawing_files_leaves_the_shared_edge_values_as_they_were():
+    """A list or table drawn into a file's data and mutated by a later step of the same draw once
+    changed the shared constant: later inputs then differed from their replays and Hypothesis
+    stopped the fuzzer ("the second run stopped drawing earlier than the first run")."""
+    import copy
+
+    before = copy.deepcopy((fz.TOML_EDGES, fz._WORK_EDGES))
+
+    @settings(max_examples=400, database=None, derandomize=True, suppress_health_check=list(HealthCheck))
+    @given(fz.mutated_toml("a = 1\n[b]\nsamples = 2\n", "edge"))
+    def draw(_text):
+        pass
+
+    draw()
+    assert (fz.TOML_EDGES, fz._WORK_EDGES) == before
