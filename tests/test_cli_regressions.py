@@ -397,3 +397,19 @@ def test_a_value_split_from_its_unit_names_the_option(capsys, args, message):
     # Was: "unrecognized arguments: m", which names neither the option nor the value.
     code, out, err = _run(args, capsys)
     assert code == 2 and out == "" and err.count("\n") == 1 and message in err
+
+
+_TOP = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60", "--omega3", "10"]
+
+
+@pytest.mark.parametrize("command", [["free", "--inertia", "1", "2", "3", "--omega", "1", "0", "0.1"], _TOP])
+def test_a_span_that_overflows_in_seconds_is_one_line_without_a_warning(capsys, command):
+    # Was (fuzz run of 2026-11-28, seed 107): --t-end '1.7e308 d' is 1.5e313 s; astropy's
+    # "overflow encountered in multiply" came on stderr before the refusal.
+    code, out, err = _run([*command, "--t-end", "1.7e308 d"], capsys)
+    assert code == 2 and out == ""
+    assert err.endswith(
+        "--t-end: got 1.7e308 d; allowed: a positive, finite time (e.g. 100 s, 2 "
+        + ("d)\n" if command[0] == "free" else "min)\n")
+    )
+    assert err.count("\n") == 1

@@ -22,6 +22,7 @@ __all__ = [
     "dimensionless",
     "parse_quantity",
     "parse_quantities",
+    "parse_duration",
     "parse_angle",
     "describe_unit",
     "spin_rate_si",
@@ -225,6 +226,20 @@ def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity
     if not q.unit.is_equivalent(default_unit):
         raise InputError(name, text, describe_unit(default_unit))
     return q
+
+
+def parse_duration(text: str, name: str, example: str) -> float:
+    """Parse a command-line time span (``"100"`` in s, ``"2 d"``) into seconds, positive and finite.
+
+    A finite span whose conversion to seconds overflows (``1.7e308 d``) is refused like an
+    infinite one, without NumPy's overflow warning on stderr before the line.
+    """
+    q = parse_quantity(text, name, u.s)
+    with np.errstate(over="ignore"):
+        seconds = float(q.to_value(u.s))
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise InputError(name, text, f"a positive, finite time (e.g. {example})")
+    return seconds
 
 
 def parse_quantities(texts, name: str, default_unit: u.UnitBase) -> u.Quantity:

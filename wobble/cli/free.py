@@ -69,13 +69,10 @@ def _span(body, text):
 
     from astropy import units as u
 
-    from wobble.api.units import parse_quantity
+    from wobble.api.units import parse_duration
 
     if text is not None:
-        t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
-        if not (math.isfinite(t1) and t1 > 0):
-            raise InputError("--t-end", text, "a positive, finite time (e.g. 100 s, 2 d)")
-        return t1, "--t-end"
+        return parse_duration(text, "--t-end", "100 s, 2 d"), "--t-end"
     period = body.period.to_value(u.s)
     if not math.isfinite(period):
         why = "on the separatrix the motion never repeats" if body.regime == "separatrix" else "the spin is steady"

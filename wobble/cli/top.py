@@ -115,19 +115,14 @@ def _span(top, text) -> tuple[float, str]:
     """(end of the output span in s, how it was chosen): --t-end, or ten nutation periods."""
     import math
 
-    from astropy import units as u
-
-    from wobble.api.units import parse_quantity
+    from wobble.api.units import parse_duration
 
     if text is None:
         period = top.model.nutation_period
         if math.isfinite(period):
             return 10 * period, "10 nutation periods, the default; --t-end to change"
         return 10.0, "10 s, the default (the motion has no nutation period); --t-end to change"
-    t1 = parse_quantity(text, "--t-end", u.s).to_value(u.s)
-    if not (math.isfinite(t1) and t1 > 0):
-        raise InputError("--t-end", text, "a positive, finite time (e.g. 100 s, 2 min)")
-    return t1, "--t-end"
+    return parse_duration(text, "--t-end", "100 s, 2 min"), "--t-end"
 
 
 def _print_table(summary: dict, typed: str | None = None) -> None:
