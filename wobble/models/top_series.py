@@ -189,6 +189,9 @@ class Fourier:
                 i3,
                 mgl,
                 *initial,
+                *e.phi_sec.a,
+                e.phi_sec.c,
+                e.phi_sec.offset,
             ]
         )
 
@@ -257,7 +260,8 @@ class Fourier:
         theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
         sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
         dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
-        return theta, wrap_angle(sig + dlt), wrap_angle(sig - dlt)
+        phi = e.phi_sec(j, r, e.w0) + ((sp - self.start[0]) + (dp - self.start[1]))  # no fast spin to cancel
+        return theta, wrap_angle(phi), wrap_angle(sig - dlt)
 
     def motion(self, t, inertia, initial) -> dict:
         """The motion at times t (1-D): theta, phi, psi, their rates, u = cos theta, omega (body),
@@ -301,6 +305,7 @@ class Fourier:
         (cs, ss), (cd, sd) = phases
         sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
         dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
+        phi = e.phi_sec(j, r, e.w0) + ((sp - self.start[0]) + (dp - self.start[1]))
         x = 2.0 * sh * sh
         y = 2.0 * ch * ch
         # B/x, C/y and phidot sin(theta) in the closed form's scaled terms (Elliptic.core): exact where
@@ -327,7 +332,7 @@ class Fourier:
         p_psi = i3 * w3
         return dict(
             theta=theta,
-            phi=wrap_angle(sig + dlt),
+            phi=wrap_angle(phi),
             psi=wrap_angle(sig - dlt),
             thetadot=thetadot,
             phidot=0.5 * (bx + cy),

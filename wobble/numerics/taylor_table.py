@@ -98,6 +98,11 @@ CONSTANTS = (
     "E0",
     "p_phi0",
     "p_psi0",
+    "phi_a1",
+    "phi_a2",
+    "phi_a3",
+    "phi_c",
+    "phi_off",
 )
 (
     K0,
@@ -139,6 +144,11 @@ CONSTANTS = (
     E0_,
     PPHI0_,
     PPSI0_,
+    FA1,
+    FA2,
+    FA3,
+    FC,
+    FOFF,
 ) = range(len(CONSTANTS))
 
 
@@ -233,8 +243,9 @@ def _angles(r, j, tab, k, out):
             a2 = a2 * d + tab[ii, o, 2]
         sig = _secular(j[i], r[i], k, k[SA1], k[SA2], k[SA3], k[SC], k[SOFF], k[W0]) + (a1 - k[SP0])
         dlt = _secular(j[i], r[i], k, k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[W0]) + (a2 - k[DP0])
+        phi = _secular(j[i], r[i], k, k[FA1], k[FA2], k[FA3], k[FC], k[FOFF], k[W0]) + ((a1 - k[SP0]) + (a2 - k[DP0]))
         out[0, i] = a0
-        out[1, i] = _wrap(sig + dlt, k)
+        out[1, i] = _wrap(phi, k)
         out[2, i] = _wrap(sig - dlt, k)
 
 
@@ -447,6 +458,10 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             # The Euler angles (phi, psi wrapped to [-pi, pi]) from the secular phases.
             sig = _secular(ji, ri, k, k[SA1], k[SA2], k[SA3], k[SC], k[SOFF], k[W0]) + (s[_SP, b] - k[SP0])
             dlt = _secular(ji, ri, k, k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[W0]) + (s[_DP, b] - k[DP0])
+            # phi from its own secular phase: sigma's and delta's carry a fast spin that cancels in their sum.
+            phi = _secular(ji, ri, k, k[FA1], k[FA2], k[FA3], k[FC], k[FOFF], k[W0]) + (
+                (s[_SP, b] - k[SP0]) + (s[_DP, b] - k[DP0])
+            )
             x = 2.0 * sh * sh
             y = 2.0 * ch * ch
             # B/x and C/y as the closed form takes them (top_closed_form.Elliptic.core): scaled by the
@@ -458,7 +473,7 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             thetadot = lam0 * s[_DTH, b]
             uu = 1.0 - x if x <= 1.0 else y - 1.0
             ps = (bp * sy / sx if bp != 0.0 else 0.0) + (cp * sx / sy if cp != 0.0 else 0.0)  # phidot sin(theta)
-            s[_PHI, b] = _wrap(sig + dlt, k)
+            s[_PHI, b] = _wrap(phi, k)
             s[_PSI, b] = _wrap(sig - dlt, k)
             s[_THD, b] = thetadot
             s[_PHD, b] = 0.5 * (bx + cy)
