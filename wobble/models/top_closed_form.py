@@ -157,6 +157,7 @@ class Elliptic:
     # spin term, where sigma's and delta's carry +-(omega3 - a)/2, so a fast spin's large
     # phases (c (r - w0) of order omega3 x nutation period) do not cancel into phi.
     phi_sec: Secular
+    psi_sec: Secular  # psi = sigma - delta: the series' angles take it alone
     levels: object = field(repr=False, compare=False)
 
     def phase(self, t):

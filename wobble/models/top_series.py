@@ -192,6 +192,9 @@ class Fourier:
                 *e.phi_sec.a,
                 e.phi_sec.c,
                 e.phi_sec.offset,
+                *e.psi_sec.a,
+                e.psi_sec.c,
+                e.psi_sec.offset,
             ]
         )
 
@@ -258,10 +261,12 @@ class Fourier:
         ii, _, d = self._nodes(r)
         coef = self.table[ii]
         theta, sp, dp = (self._horner(coef, row, d) for row in (0, _SIGMA, _DELTA))
-        sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
-        dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
-        phi = e.phi_sec(j, r, e.w0) + ((sp - self.start[0]) + (dp - self.start[1]))  # no fast spin to cancel
-        return theta, wrap_angle(phi), wrap_angle(sig - dlt)
+        # phi = sigma + delta and psi = sigma - delta from their own secular phases (a fast spin in
+        # sigma's and delta's would cancel into phi).
+        spr, dpr = sp - self.start[0], dp - self.start[1]
+        phi = e.phi_sec(j, r, e.w0) + (spr + dpr)
+        psi = e.psi_sec(j, r, e.w0) + (spr - dpr)
+        return theta, wrap_angle(phi), wrap_angle(psi)
 
     def motion(self, t, inertia, initial) -> dict:
         """The motion at times t (1-D): theta, phi, psi, their rates, u = cos theta, omega (body),
@@ -303,9 +308,9 @@ class Fourier:
             jc, js = np.take(jtab[p, 0], jj), np.take(jtab[p, 1], jj)
             phases.append((jc * nc - js * ns, jc * ns + js * nc))
         (cs, ss), (cd, sd) = phases
-        sig = e.sigma_sec(j, r, e.w0) + (sp - self.start[0])
-        dlt = e.delta_sec(j, r, e.w0) + (dp - self.start[1])
-        phi = e.phi_sec(j, r, e.w0) + ((sp - self.start[0]) + (dp - self.start[1]))
+        spr, dpr = sp - self.start[0], dp - self.start[1]
+        phi = e.phi_sec(j, r, e.w0) + (spr + dpr)
+        psi = e.psi_sec(j, r, e.w0) + (spr - dpr)
         x = 2.0 * sh * sh
         y = 2.0 * ch * ch
         # B/x, C/y and phidot sin(theta) in the closed form's scaled terms (Elliptic.core): exact where
@@ -333,7 +338,7 @@ class Fourier:
         return dict(
             theta=theta,
             phi=wrap_angle(phi),
-            psi=wrap_angle(sig - dlt),
+            psi=wrap_angle(psi),
             thetadot=thetadot,
             phidot=0.5 * (bx + cy),
             psidot=(e.omega3 - e.a) - 0.5 * (bx - cy),

@@ -455,6 +455,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             sigma_sec=secular_phase(sigma_rate, lam, kdec, st.sigma0),
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
             phi_sec=secular_phase((b_eff * mean_inv_x + c_eff * mean_inv_y) / 2, lam, kdec, st.sigma0 + st.delta0),
+            psi_sec=secular_phase(sigma_rate - delta_rate, lam, kdec, st.sigma0 - st.delta0),
             levels=levels,
         )
         # The reduced phase at t = 0. The reduction of lambda t + w0

@@ -103,6 +103,11 @@ CONSTANTS = (
     "phi_a3",
     "phi_c",
     "phi_off",
+    "psi_a1",
+    "psi_a2",
+    "psi_a3",
+    "psi_c",
+    "psi_off",
 )
 (
     K0,
@@ -149,6 +154,11 @@ CONSTANTS = (
     FA3,
     FC,
     FOFF,
+    QA1,
+    QA2,
+    QA3,
+    QC,
+    QOFF,
 ) = range(len(CONSTANTS))
 
 
@@ -241,12 +251,15 @@ def _angles(r, j, tab, k, out):
             a0 = a0 * d + tab[ii, o, 0]
             a1 = a1 * d + tab[ii, o, 1]
             a2 = a2 * d + tab[ii, o, 2]
-        sig = _secular(j[i], r[i], k, k[SA1], k[SA2], k[SA3], k[SC], k[SOFF], k[W0]) + (a1 - k[SP0])
-        dlt = _secular(j[i], r[i], k, k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[W0]) + (a2 - k[DP0])
-        phi = _secular(j[i], r[i], k, k[FA1], k[FA2], k[FA3], k[FC], k[FOFF], k[W0]) + ((a1 - k[SP0]) + (a2 - k[DP0]))
+        # phi = sigma + delta and psi = sigma - delta, each from its own secular phase (a fast spin in
+        # sigma's and delta's would cancel into phi).
+        sp = a1 - k[SP0]
+        dp = a2 - k[DP0]
+        phi = _secular(j[i], r[i], k, k[FA1], k[FA2], k[FA3], k[FC], k[FOFF], k[W0]) + (sp + dp)
+        psi = _secular(j[i], r[i], k, k[QA1], k[QA2], k[QA3], k[QC], k[QOFF], k[W0]) + (sp - dp)
         out[0, i] = a0
         out[1, i] = _wrap(phi, k)
-        out[2, i] = _wrap(sig - dlt, k)
+        out[2, i] = _wrap(psi, k)
 
 
 def angles(r, j, table, constants):
@@ -455,13 +468,12 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             dn = s[_DN, b]
             cs, ss = _turn(k[SC] * dn + s[_V1, b], cc, sn, s[_PSC, b], s[_PSS, b], s[_JSC, b], s[_JSS, b])
             cd, sd = _turn(k[DC] * dn + s[_V2, b], cc, sn, s[_PDC, b], s[_PDS, b], s[_JDC, b], s[_JDS, b])
-            # The Euler angles (phi, psi wrapped to [-pi, pi]) from the secular phases.
-            sig = _secular(ji, ri, k, k[SA1], k[SA2], k[SA3], k[SC], k[SOFF], k[W0]) + (s[_SP, b] - k[SP0])
-            dlt = _secular(ji, ri, k, k[DA1], k[DA2], k[DA3], k[DC], k[DOFF], k[W0]) + (s[_DP, b] - k[DP0])
-            # phi from its own secular phase: sigma's and delta's carry a fast spin that cancels in their sum.
-            phi = _secular(ji, ri, k, k[FA1], k[FA2], k[FA3], k[FC], k[FOFF], k[W0]) + (
-                (s[_SP, b] - k[SP0]) + (s[_DP, b] - k[DP0])
-            )
+            # The Euler angles (phi, psi wrapped to [-pi, pi]), each from its own secular phase: sigma's
+            # and delta's carry a fast spin that would cancel into phi = sigma + delta.
+            spr = s[_SP, b] - k[SP0]
+            dpr = s[_DP, b] - k[DP0]
+            phi = _secular(ji, ri, k, k[FA1], k[FA2], k[FA3], k[FC], k[FOFF], k[W0]) + (spr + dpr)
+            psi = _secular(ji, ri, k, k[QA1], k[QA2], k[QA3], k[QC], k[QOFF], k[W0]) + (spr - dpr)
             x = 2.0 * sh * sh
             y = 2.0 * ch * ch
             # B/x and C/y as the closed form takes them (top_closed_form.Elliptic.core): scaled by the
@@ -474,7 +486,7 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             uu = 1.0 - x if x <= 1.0 else y - 1.0
             ps = (bp * sy / sx if bp != 0.0 else 0.0) + (cp * sx / sy if cp != 0.0 else 0.0)  # phidot sin(theta)
             s[_PHI, b] = _wrap(phi, k)
-            s[_PSI, b] = _wrap(sig - dlt, k)
+            s[_PSI, b] = _wrap(psi, k)
             s[_THD, b] = thetadot
             s[_PHD, b] = 0.5 * (bx + cy)
             s[_PSD, b] = w3ma - 0.5 * (bx - cy)
