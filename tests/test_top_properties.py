@@ -93,6 +93,33 @@ def test_rotation_about_the_vertical_and_about_the_axis(p, alpha, beta):
     assert turned.nutation_period == base.nutation_period
 
 
+@settings(max_examples=30)
+@given(tops, st.sampled_from([8, 30]))
+def test_a_slower_nutation_under_the_same_spin_keeps_theta_phi_and_the_axis(p, k):
+    """I1 -> s I1, M g l -> M g l / s, thetadot0 and phidot0 -> / s, with I3 and omega3 kept, is an
+    exact symmetry (notes p. 71: alpha, beta scale as 1/s^2, a and b as 1/s): theta, phi and the
+    axis at s t are those at t, psi gains omega3 t (s - 1). s = 2^k scales exactly. The spin then
+    turns ~s times faster than the nutation: phi and the axis must not feel it (they did, through
+    sigma + delta), psi only within the stated attitude error (its conditioning)."""
+    import mpmath as mp
+
+    base = build(p)
+    s = 2.0**k
+    q = {**p, "I1": p["I1"] * s, "ratio": p["ratio"] / s, "mgl": p["mgl"] / s}
+    scaled = build(q, thetadot0=p["thetadot0"] / s, phidot0=p["phidot0"] / s)
+    period = base.nutation_period if np.isfinite(base.nutation_period) else 10.0
+    t = np.linspace(0.0, 3 * period, 17)
+    want, got = base.motion(t, "direct"), scaled.motion(s * t, "direct")
+    np.testing.assert_allclose(got.theta, want.theta, rtol=0, atol=base.error_estimate["theta_rad"] + 1e-300)
+    near_pole = np.minimum(want.theta, 1.0)  # Euler angles are ill-conditioned next to the vertical
+    assert np.max(np.abs(np.angle(np.exp(1j * (got.phi - want.phi)))) * near_pole) <= 1e-13
+    assert np.max(np.abs(got.axis - want.axis)) <= 1e-13
+    with mp.workdps(40):
+        turn = np.array([float(mp.fmod(mp.mpf(p["omega3"]) * mp.mpf(x) * (s - 1), 2 * mp.pi)) for x in t])
+    dpsi = np.abs(np.angle(np.exp(1j * (got.psi - want.psi - turn)))) * near_pole
+    assert np.max(dpsi) <= scaled.error_estimate["attitude_rad"] + base.error_estimate["attitude_rad"]
+
+
 @settings(max_examples=25)
 @given(tops, st.floats(0.1, 30.0))
 def test_restarting_from_a_later_state_continues_the_motion(p, t1):

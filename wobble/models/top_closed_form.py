@@ -54,6 +54,10 @@ class Uniform:
     delta_rate: tuple[float, float]
     sigma0: float
     delta0: float
+    # phi's own phase: sigma's and delta's, each reduced exactly for fewer than 2^26 turns, carry the
+    # spin psidot/2, whose rounding beyond that would cancel into phi (a precession, or none).
+    phi_rate: tuple[float, float]
+    phi0: float
     phidot: float
     psidot: float
 
@@ -61,6 +65,7 @@ class Uniform:
         n = t.shape
         sig, _ = reduce_phase(t, self.sigma_rate, TWO_PI_DD, self.sigma0)
         dlt, _ = reduce_phase(t, self.delta_rate, TWO_PI_DD, self.delta0)
+        phi, _ = reduce_phase(t, self.phi_rate, TWO_PI_DD, self.phi0)
         sh = np.full(n, self.sh)
         ch = np.full(n, self.ch)
         zero = np.zeros(n)
@@ -69,7 +74,7 @@ class Uniform:
             ch=ch,
             sigma=sig,
             delta=dlt,
-            phi=sig + dlt,  # each reduced exactly modulo 2 pi: no large phase to cancel
+            phi=phi,
             thetadot=zero,
             phidot=np.full(n, self.phidot),
             psidot=np.full(n, self.psidot),

@@ -309,6 +309,8 @@ def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
             delta_rate=hp.to_dd((phidot - psidot) / 2),
             sigma0=_f(st.sigma0),
             delta0=_f(st.delta0),
+            phi_rate=hp.to_dd(phidot),
+            phi0=_f(st.sigma0 + st.delta0),
             phidot=_f(phidot),
             psidot=_f(psidot),
         )

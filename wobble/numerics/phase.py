@@ -22,12 +22,14 @@ import numpy as np
 # double-double arithmetic.
 from wobble.numerics.double_double import two_prod, two_sum
 
-__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE"]
+__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE", "WHOLE_PIECES"]
 
 # The index base that means 'one table entry per sample': no dense range of whole half-periods
 # starts there (|j| stays far below 2**62); the earlier test 'base < 0' took every range over
 # negative times for it.
 PER_SAMPLE = -(2**62)
+#: Whole periods up to which j times each 26-bit piece of a split period is exact.
+WHOLE_PIECES = float(2**26)
 
 
 def split_dd(hi: float, lo: float):
@@ -49,6 +51,15 @@ def split_dd(hi: float, lo: float):
     return float(p1), float(p2), float(p3)
 
 
+def _reduce_far(x, lo, j, period):
+    """x + lo - j (period[0] + period[1]) for |j| >= 2^26, where j p1 of the three-piece split is no
+    longer exact: j period[0] by Dekker's exact product instead. x - jh is exact (Sterbenz: the two
+    agree within a factor of two), so r keeps a few ulps of the period up to |j| ~ 2^50, where the
+    neglected |j period[1]| eps ~ |x| eps^2 reaches them."""
+    jh, jl = two_prod(j, period[0])
+    return ((x - jh) - jl) + (lo - j * period[1])
+
+
 def reduce_phase(t, rate, period, offset: float = 0.0):
     """Reduce ``x = rate * t + offset`` modulo ``period``: ``x = j * period + r``.
 
@@ -67,8 +78,9 @@ def reduce_phase(t, rate, period, offset: float = 0.0):
     Returns
     -------
     r : numpy.ndarray
-        ``|r| <= period/2``, with an absolute error of a few ulps of ``period``
-        for ``|j| < 2^26`` (6.7e7 periods), independent of t.
+        ``|r| <= period/2``, with an absolute error of a few ulps of ``period``,
+        independent of t: by the three-piece split for ``|j| < 2^26`` (6.7e7 periods), by
+        Dekker's exact product ``j period`` beyond (to ``|j|`` ~ 2^50).
     j : numpy.ndarray
         Integer-valued float array.
     """
@@ -82,6 +94,9 @@ def reduce_phase(t, rate, period, offset: float = 0.0):
     j = np.rint((x + lo) / period[0])
     p1, p2, p3 = split_dd(*period)
     r = ((x - j * p1) - j * p2) + (lo - j * p3)
+    big = np.abs(j) >= WHOLE_PIECES
+    if np.any(big):
+        r = np.where(big, _reduce_far(x, lo, j, period), r)
     # rint of the rounded quotient can miss by one near r = +-period/2 (by up to
     # |j| eps period): step back inside, so that |r| <= period/2 holds as stated.
     # (Callers such as Pi(n; am r | m) from sn and |cn| are not periodic beyond it.)

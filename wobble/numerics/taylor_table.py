@@ -35,7 +35,9 @@ from numba import types
 from numba.extending import intrinsic
 
 from wobble.numerics import compiled as _compiled
-from wobble.numerics.phase import PER_SAMPLE
+from wobble.numerics.phase import PER_SAMPLE, WHOLE_PIECES
+
+_WHOLE_PIECES = WHOLE_PIECES  # a module global Numba freezes into the compiled code
 
 __all__ = [
     "phase",
@@ -163,7 +165,7 @@ CONSTANTS = (
 
 
 @_jit
-def _phase(t, lam0, lam1, w0, p1, p2, p3, period, r_out, j_out):
+def _phase(t, lam0, lam1, w0, p1, p2, p3, period, period_lo, r_out, j_out):
     # No reduction in this loop (the range of j is NumPy's min and max afterwards): a running
     # min/max is a floating-point reduction LLVM may not reorder, which kept the loop scalar
     # (0.12-0.14 ms for 20,001 times against 0.05 ms vectorised, with the min and max).
@@ -184,7 +186,18 @@ def _phase(t, lam0, lam1, w0, p1, p2, p3, period, r_out, j_out):
         e2 = (p - (x - bb)) + (w0 - bb)
         lo = e + e2
         j = np.rint((x + lo) / period)
-        r = ((x - j * p1) - j * p2) + (lo - j * p3)
+        if not abs(j) >= _WHOLE_PIECES:  # as NumPy's where(|j| >= ..., far, near), nan included
+            r = ((x - j * p1) - j * p2) + (lo - j * p3)
+        else:  # wobble.numerics.phase._reduce_far: j period by Dekker's exact product
+            jh = j * period
+            c = _SPLITTER * j
+            ah = c - (c - j)
+            al = j - ah
+            c = _SPLITTER * period
+            bh = c - (c - period)
+            bl = period - bh
+            jl = ((ah * bh - jh) + ah * bl + al * bh) + al * bl
+            r = ((x - jh) - jl) + (lo - j * period_lo)
         if r > half:
             r = ((r - p1) - p2) - p3
             j = j + 1.0
@@ -211,6 +224,7 @@ def phase(t, lam, period, offset, pieces, with_range=False):
         float(pieces[1]),
         float(pieces[2]),
         float(period[0]),
+        float(period[1]),
         r,
         j,
     )
