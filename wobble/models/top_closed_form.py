@@ -54,8 +54,8 @@ class Uniform:
     delta_rate: tuple[float, float]
     sigma0: float
     delta0: float
-    # phi's own phase: sigma's and delta's, each reduced exactly for fewer than 2^26 turns, carry the
-    # spin psidot/2, whose rounding beyond that would cancel into phi (a precession, or none).
+    # phi's own phase, as in Elliptic: sigma and delta each carry the spin psidot/2, so their sum
+    # would add two reductions' roundings to a phi that may not move at all (one rounding here).
     phi_rate: tuple[float, float]
     phi0: float
     phidot: float
