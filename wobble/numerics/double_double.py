@@ -39,6 +39,7 @@ __all__ = [
     "agm_k",
     "agm_ke",
     "split3",
+    "minus_multiple",
 ]
 
 _SPLITTER = 134217729.0  # 2^27 + 1
@@ -256,3 +257,18 @@ def split3(hi, lo):
     p2 = np.round(rest / s2) * s2
     p3 = (rest - p2) + lo
     return p1, p2, np.where(ok, p3, lo)
+
+
+def minus_multiple(x, j, hi, lo):
+    """``x - j (hi + lo)`` as a double-double, for integer-valued ``j`` of any size below 2^53.
+
+    Where a three-piece split (:func:`split3`) stops being exact (``|j| >= 2^26``), ``j hi``
+    is taken by Dekker's exact product instead. With ``|x - j (hi + lo)| <= |hi|`` (``j`` the
+    nearest multiple, or one off), ``x - fl(j hi)`` is exact (Sterbenz: the two agree within a
+    factor of two), so the result keeps a few ulps of ``hi`` while ``|j lo| eps``, about
+    ``|x| eps^2``, stays below them: to ``|j|`` ~ 2^50.
+    """
+    jh, jl = two_prod(j, hi)
+    s, e1 = two_sum(x - jh, -jl)
+    r, e2 = two_sum(s, -(j * lo))
+    return r, e1 + e2

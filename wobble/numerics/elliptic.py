@@ -78,6 +78,7 @@ import numpy as np
 from scipy import special as _sp
 
 from wobble.numerics import double_double as dd
+from wobble.numerics.phase import WHOLE_PIECES as _WHOLE_PIECES
 
 __all__ = [
     "M1_MIN",
@@ -592,7 +593,9 @@ def reduce_quarter_period(u, k_hi, k_lo=0.0):
     K is given as a double-double ``(k_hi, k_lo)`` (:func:`ellipk_dd`) and split in
     three pieces (:func:`wobble.numerics.double_double.split3`), so that
     ``x = ((u - q p1) - q p2) - q p3`` carries an error of a few ulps of ``x``
-    itself, not of ``u`` or K, for ``|q| < 2^26`` (Cody & Waite 1980): sn, cn and
+    itself, not of ``u`` or K, for ``|q| < 2^26`` (Cody & Waite 1980), and beyond,
+    where ``q K`` is Dekker's exact product (:func:`~wobble.numerics.double_double.minus_multiple`),
+    to ``|q|`` ~ 2^40, where ``q`` times K's own error (~1e-32) reaches it: sn, cn and
     dn of ``u`` then keep their relative accuracy next to their zeros however
     many periods ``u`` spans. Elements with ``K = inf`` (m1 = 0) give ``q = 0``,
     ``x = u``.
@@ -614,8 +617,13 @@ def _reduce_dd(u, k_hi, k_lo):
     p1, p2, p3 = dd.split3(np.where(finite, k_hi, 0.0), np.where(finite, k_lo, 0.0))
     with np.errstate(invalid="ignore", divide="ignore"):
         q = np.where(finite, np.rint(u / np.where(finite, k_hi, 1.0)), 0.0)
-    # u - q p1 and its difference with q p2 are exact (Cody & Waite); the last step rounds.
+    # u - q p1 and its difference with q p2 are exact (Cody & Waite) for |q| < 2^26; the last
+    # step rounds. Beyond, q K by Dekker's exact product (dd.minus_multiple).
     x, x_lo = dd.two_sum((u - q * p1) - q * p2, -(q * p3))
+    far = np.abs(q) >= _WHOLE_PIECES
+    if np.any(far):
+        fx, fx_lo = dd.minus_multiple(u, q, np.where(finite, k_hi, 0.0), np.where(finite, k_lo, 0.0))
+        x, x_lo = np.where(far, fx, x), np.where(far, fx_lo, x_lo)
     return x, x_lo, q
 
 
@@ -629,7 +637,8 @@ def reduce_amplitude(phi):
         Pi(n; phi | m) = 2 j Pi(n | m) + Pi(n; r | m).
 
     pi is carried as a double-double, so ``r`` has an error of a few ulps of ``r``
-    for ``|j| < 2^26`` (a float ``phi - j * np.pi`` is off by ``|j|`` 1.2e-16).
+    (a float ``phi - j * np.pi`` is off by ``|j|`` 1.2e-16): by three pieces of pi for
+    ``|j| < 2^26``, by Dekker's exact ``j pi`` beyond, to ``|j|`` ~ 2^40.
 
     Returns
     -------
@@ -637,15 +646,24 @@ def reduce_amplitude(phi):
     j : numpy.ndarray of float (integer values)
     """
     phi = np.asarray(phi, dtype=float)
-    p1, p2, p3 = dd.split3(dd.PI[0], dd.PI[1])
     j = np.rint(phi / dd.PI[0])
-    r = ((phi - j * p1) - j * p2) - j * p3
+    r = _minus_pi(phi, j)
     # rint of the rounded quotient can leave |r| a rounding above pi/2: step back inside.
     step = (r > 0.5 * dd.PI[0]).astype(float) - (r < -0.5 * dd.PI[0])
     if np.any(step != 0):
         j = j + step
-        r = ((phi - j * p1) - j * p2) - j * p3
+        r = _minus_pi(phi, j)
     return r, j
+
+
+def _minus_pi(phi, j):
+    """phi - j pi: Cody & Waite's three pieces for |j| < 2^26, Dekker's exact j pi beyond."""
+    p1, p2, p3 = dd.split3(dd.PI[0], dd.PI[1])
+    r = ((phi - j * p1) - j * p2) - j * p3
+    far = np.abs(j) >= _WHOLE_PIECES
+    if np.any(far):
+        r = np.where(far, dd.minus_multiple(phi, j, dd.PI[0], dd.PI[1])[0], r)
+    return r
 
 
 class _Levels:
