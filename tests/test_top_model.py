@@ -533,3 +533,22 @@ def test_the_series_of_a_fast_spin_keeps_phi_and_its_stated_error(n):
         turn = np.array([float(mp.fmod(10 * mp.mpf(x) * (mp.mpf(s) - 1), 2 * mp.pi)) for x in t[::step]])
     d = np.abs(np.angle(np.exp(1j * (got.psi[::step] - want.psi[::step] - turn))))
     assert np.max(d) <= bound
+
+
+def test_a_top_whose_span_passes_two_to_the_996_seconds_takes_the_compiled_series_without_nan():
+    """Inertia and M g l times 2^1000 and 2^-1000, rates times 2^-1000 (exact symmetries: time
+    scaled by 2^1000): 20,001 times up to 1.3e302 s. The compiled nutation phase split t by
+    Veltkamp's constant, which overflows past 2^996: 97 % of the outputs were NaN, silently."""
+    from wobble.numerics import compiled
+
+    ref = heavy_top(1.0, 0.5, 1.0, np.pi / 3, omega3=10.0)
+    s = 2.0**1000
+    mdl = heavy_top(s, 0.5 * s, 1.0 / s, np.pi / 3, omega3=10.0 / s)
+    t = np.linspace(0.0, 10 * ref.nutation_period, 20_001)
+    got, want = mdl.motion(s * t), ref.motion(t, "direct")
+    if compiled.available():
+        assert type(mdl.evaluator(t.size)).__name__ == "Fourier"
+    bound = ref.error_estimate["attitude_rad"]
+    np.testing.assert_allclose(got.theta, want.theta, rtol=0, atol=ref.error_estimate["theta_rad"])
+    assert np.max(np.abs(np.angle(np.exp(1j * (got.phi - want.phi))))) <= bound
+    assert np.max(np.abs(np.angle(np.exp(1j * (got.psi - want.psi))))) <= bound

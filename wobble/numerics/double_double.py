@@ -40,12 +40,13 @@ __all__ = [
     "agm_ke",
     "split3",
     "minus_multiple",
+    "SPLIT_THRESHOLD",
 ]
 
 _SPLITTER = 134217729.0  # 2^27 + 1
 # Above 2^996 the product _SPLITTER * a overflows: such operands are split scaled by 2^-28
 # (exact, a power of two) and the halves scaled back.
-_SPLIT_THRESHOLD = 2.0**996
+SPLIT_THRESHOLD = 2.0**996
 _SPLIT_SCALE = 2.0**-28
 #: pi as a double-double (hi, lo).
 PI = (3.141592653589793, 1.2246467991473532e-16)
@@ -67,7 +68,7 @@ def quick_two_sum(a, b):
 
 def _split(a):
     # A comparison and a reduction instead of np.where: the same code runs on NumPy scalars.
-    if np.any(np.abs(a) > _SPLIT_THRESHOLD):
+    if np.any(np.abs(a) > SPLIT_THRESHOLD):
         return _split_scaled(a)
     c = _SPLITTER * a
     hi = c - (c - a)
@@ -76,7 +77,7 @@ def _split(a):
 
 def _split_scaled(a):
     """Veltkamp's split of operands some of which lie above 2^996, each scaled by 2^-28 or 1."""
-    big = np.abs(a) > _SPLIT_THRESHOLD
+    big = np.abs(a) > SPLIT_THRESHOLD
     scale = 1.0 - big * (1.0 - _SPLIT_SCALE)  # exactly 2^-28 where big, 1 elsewhere
     s = a * scale
     c = _SPLITTER * s

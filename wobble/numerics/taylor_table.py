@@ -35,7 +35,8 @@ from numba import types
 from numba.extending import intrinsic
 
 from wobble.numerics import compiled as _compiled
-from wobble.numerics.phase import PER_SAMPLE, WHOLE_PIECES
+from wobble.numerics.double_double import SPLIT_THRESHOLD
+from wobble.numerics.phase import PER_SAMPLE, WHOLE_PIECES, reduce_phase
 
 _WHOLE_PIECES = WHOLE_PIECES  # a module global Numba freezes into the compiled code
 
@@ -165,6 +166,19 @@ CONSTANTS = (
 
 
 @_jit
+def _two_prod(a, b):
+    """Dekker's exact product a b = p + e (wobble.numerics.double_double.two_prod, operands below 2^996)."""
+    p = a * b
+    c = _SPLITTER * a
+    ah = c - (c - a)
+    al = a - ah
+    c = _SPLITTER * b
+    bh = c - (c - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+@_jit
 def _phase(t, lam0, lam1, w0, p1, p2, p3, period, period_lo, r_out, j_out):
     # No reduction in this loop (the range of j is NumPy's min and max afterwards): a running
     # min/max is a floating-point reduction LLVM may not reorder, which kept the loop scalar
@@ -172,14 +186,7 @@ def _phase(t, lam0, lam1, w0, p1, p2, p3, period, period_lo, r_out, j_out):
     half = 0.5 * period
     for i in range(t.shape[0]):
         ti = t[i]
-        p = ti * lam0
-        c = _SPLITTER * ti
-        ah = c - (c - ti)
-        al = ti - ah
-        c = _SPLITTER * lam0
-        bh = c - (c - lam0)
-        bl = lam0 - bh
-        e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+        p, e = _two_prod(ti, lam0)
         e = e + ti * lam1
         x = p + w0
         bb = x - p
@@ -189,14 +196,7 @@ def _phase(t, lam0, lam1, w0, p1, p2, p3, period, period_lo, r_out, j_out):
         if not abs(j) >= _WHOLE_PIECES:  # as NumPy's where(|j| >= ..., far, near), nan included
             r = ((x - j * p1) - j * p2) + (lo - j * p3)
         else:  # wobble.numerics.phase._reduce_far: j period by Dekker's exact product
-            jh = j * period
-            c = _SPLITTER * j
-            ah = c - (c - j)
-            al = j - ah
-            c = _SPLITTER * period
-            bh = c - (c - period)
-            bl = period - bh
-            jl = ((ah * bh - jh) + ah * bl + al * bh) + al * bl
+            jh, jl = _two_prod(j, period)
             r = ((x - jh) - jl) + (lo - j * period_lo)
         if r > half:
             r = ((r - p1) - p2) - p3
@@ -215,19 +215,24 @@ def phase(t, lam, period, offset, pieces, with_range=False):
     t = np.ascontiguousarray(t, dtype=float)
     r = np.empty_like(t)
     j = np.empty_like(t)
-    _phase(
-        t,
-        float(lam[0]),
-        float(lam[1]),
-        float(offset),
-        float(pieces[0]),
-        float(pieces[1]),
-        float(pieces[2]),
-        float(period[0]),
-        float(period[1]),
-        r,
-        j,
-    )
+    if t.size and np.max(np.abs(t)) > SPLIT_THRESHOLD:
+        # Times past 2^996 s: Veltkamp's split of t overflows here, where NumPy's scales it first
+        # (wobble.numerics.double_double); the few tops whose span reaches that take NumPy's reduction.
+        r, j = reduce_phase(t, lam, period, offset)
+    else:
+        _phase(
+            t,
+            float(lam[0]),
+            float(lam[1]),
+            float(offset),
+            float(pieces[0]),
+            float(pieces[1]),
+            float(pieces[2]),
+            float(period[0]),
+            float(period[1]),
+            r,
+            j,
+        )
     if with_range:  # a nan time gives a nan range (np.min and np.max propagate it); none: (inf, -inf)
         return r, j, (float(np.min(j)), float(np.max(j))) if j.size else (np.inf, -np.inf)
     return r, j
