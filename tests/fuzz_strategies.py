@@ -14,8 +14,9 @@ it broke the command line's contract (DEVELOPERS.md, "Errors"):
 * (apart) Python warnings it printed, which are noise for a person but no broken promise;
 * ``--json`` on success prints one strict JSON document;
 * every file the run left is a complete, valid output named on the command line (netCDF
-  that reopens, Zarr that reopens, a PNG with its end chunk, a PDF with its trailer, SVG
-  that parses, a copy equal to the shipped file, a non-empty report);
+  that reopens, without NaN from the motion commands, :data:`NAN_FREE`; Zarr that reopens,
+  a PNG with its end chunk, a PDF with its trailer, SVG that parses, a copy equal to the
+  shipped file, a non-empty report);
 * no temporary file (``.NAME.*.tmp``, ``.NAME.*.old``) is left in the folder;
 * no file that was there before is removed, and none is changed unless it is an output
   named on the command line, ``--overwrite`` was given and the exit status is 0.
@@ -178,6 +179,24 @@ def _shipped_contents() -> set[bytes]:
     return found
 
 
+#: Commands whose netCDF output holds no NaN when they succeed: a motion is finite or refused (a
+#: sweep marks invalid members with NaN, the polar-motion files mark what a span cannot measure).
+NAN_FREE = ("top", "free", "run")
+
+
+def _nan_variables(ds) -> list[str]:
+    """The floating-point variables of an open netCDF4 Dataset that hold a NaN (masks off)."""
+    import numpy as np
+
+    found = []
+    for name, var in ds.variables.items():
+        if getattr(var.dtype, "kind", "") == "f":  # string variables have the type str
+            var.set_auto_mask(False)
+            if np.isnan(var[...]).any():
+                found.append(name)
+    return found
+
+
 def _valid_file(path: Path, role: str, command: str) -> str | None:
     """None if ``path`` is a complete output of its role, else what is wrong."""
     if role == "copy" or (command == "example" and path.is_file()):
@@ -205,10 +224,11 @@ def _valid_file(path: Path, role: str, command: str) -> str | None:
         try:
             import netCDF4
 
-            netCDF4.Dataset(path).close()
+            with netCDF4.Dataset(path) as ds:
+                nan = _nan_variables(ds) if command in NAN_FREE else []
         except Exception as exc:
             return f"netCDF does not reopen: {exc!r}"
-        return None
+        return f"NaN in {', '.join(nan)} of a run that succeeded" if nan else None
     # Figures: by their content.
     if data.startswith(b"\x89PNG\r\n\x1a\n"):
         return None if data[-12:].endswith(b"IEND\xaeB`\x82") else "truncated PNG"

@@ -106,6 +106,26 @@ def test_harness_reports_lost_changed_partial_and_temporary_files(monkeypatch, t
     assert "temporary file left: .out.nc.1.abcdefgh.tmp" in problems
 
 
+def test_harness_reports_nan_in_the_output_of_a_motion_that_succeeded(monkeypatch, tmp_path):
+    """A silent NaN (as the compiled heavy-top phase once gave past 2^996 s) is a finding for the
+    motion commands; a finite file passes."""
+    import numpy as np
+    import xarray as xr
+
+    def writer(values):
+        def run(args):
+            xr.Dataset({"omega": ("time", np.asarray(values)), "note": ((), "text")}).to_netcdf("out.nc")
+            return 0
+
+        return run
+
+    case = fz.Case("free", [*FREE, "-o", "out.nc"])
+    _patched_run(monkeypatch, writer([1.0, float("nan")]))
+    assert "invalid output out.nc: NaN in omega of a run that succeeded" in fz.run_case(case, tmp_path).problems
+    _patched_run(monkeypatch, writer([1.0, 2.0]))
+    assert fz.run_case(case, tmp_path).problems == []
+
+
 def test_harness_reports_a_multi_line_failure_and_bad_json(monkeypatch, tmp_path):
     def noisy(args):
         print("{not json")
