@@ -113,7 +113,8 @@ def test_reference_periods_that_blow_up_the_anelastic_k2_are_named(command, peri
 
 def test_density_grid_whose_extent_squared_overflows_is_one_line_without_a_warning(capsys, tmp_path):
     # Was (fuzz run of 2026-11-28, seed 71): NumPy's overflow warnings from the grid's second moments
-    # (x spanning 2e300 m) on stderr before the refusal of the infinite tensor.
+    # (x spanning 2e300 m) on stderr before the refusal of the infinite tensor. Since seed 211 the
+    # moments themselves are checked, and the refusal names the density the user gave.
     import numpy as np
     import xarray as xr
 
@@ -122,8 +123,8 @@ def test_density_grid_whose_extent_squared_overflows_is_one_line_without_a_warni
     grid.to_netcdf(tmp_path / "grid.nc")
     code, out, err = _run(["inertia", "--density", str(tmp_path / "grid.nc"), "--about", "com"], capsys)
     assert code == 2 and out == ""
-    assert err.startswith("wobble inertia: error: tensor: got ") and err.count("\n") == 1
-    assert "the inputs overflow double precision" in err
+    assert err.startswith("wobble inertia: error: --density: got total mass 8e+300 kg; ") and err.count("\n") == 1
+    assert "mass and second moments fit double precision" in err
 
 
 def test_top_with_an_enormous_weight_at_rest_still_runs():
@@ -413,3 +414,23 @@ def test_a_span_that_overflows_in_seconds_is_one_line_without_a_warning(capsys, 
         + ("d)\n" if command[0] == "free" else "min)\n")
     )
     assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize(("fill", "extent"), [(1e300, 1e3), (5515.0, 1e150)])
+def test_a_density_grid_whose_mass_overflows_is_named_in_one_line(capsys, tmp_path, fill, extent):
+    # Was (fuzz run of 2026-11-28, seed 211): NumPy's overflow and invalid-value warnings from the
+    # quadrature, then a refusal of a NaN 'tensor' that named nothing the user gave.
+    import numpy as np
+    import xarray as xr
+
+    shape = (3, 4, 5)
+    coords = {a: (a, np.linspace(-extent, extent, n), {"units": "m"}) for a, n in zip("xyz", shape)}
+    rho = xr.DataArray(np.full(shape, fill), dims=("x", "y", "z"), attrs={"units": "kg m-3"})
+    path = tmp_path / "grid.nc"
+    xr.Dataset({"rho": rho}, coords=coords).to_netcdf(path)
+    code, out, err = _run(["inertia", "--density", str(path)], capsys)
+    assert code == 2 and out == ""
+    assert err == (
+        "wobble inertia: error: --density: got total mass inf kg; allowed: a density whose mass and second "
+        "moments fit double precision (below 1.8e308 in SI): the values or the grid's extent are too large\n"
+    )

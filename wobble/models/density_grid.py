@@ -99,7 +99,11 @@ def from_grid(
         if not a.spacing > 0:
             raise InputError(f"{name}.{a.name}", f"spacing {a.spacing}", "a positive grid spacing")
     rows = tuple(moment_rows(a.n, a.step, rule) for a in axes)
-    raw = accumulate_moments(_checked_slabs(slabs, names, float(density_scale), name), rows)
+    # Moments past double precision (1e300 kg/m3 over a kilometre, 5515 kg/m3 over 1e150 m) are
+    # refused below by name, without NumPy's overflow warnings first; the moments of order three
+    # and more, which the sums carry along but the tensor does not need, may overflow harmlessly.
+    with np.errstate(over="ignore", invalid="ignore"):
+        raw = accumulate_moments(_checked_slabs(slabs, names, float(density_scale), name), rows)
     xyz = [names.index(c) for c in "xyz"]  # array axis holding x, y, z
 
     def moment(*powers_xyz: int) -> float:
@@ -109,13 +113,20 @@ def from_grid(
         return float(raw[tuple(idx)])
 
     mass = moment(0, 0, 0)
-    if not mass > 0:
-        raise InputError(name, f"total mass {mass:g} kg", "a density with positive total mass")
     first = np.array([moment(*np.eye(3, dtype=int)[c]) for c in range(3)])
     second = np.empty((3, 3))
     for j in range(3):
         for k in range(3):
             second[j, k] = moment(*(np.eye(3, dtype=int)[j] + np.eye(3, dtype=int)[k]))
+    if not (np.isfinite(mass) and np.all(np.isfinite(first)) and np.all(np.isfinite(second))):
+        raise InputError(
+            name,
+            f"total mass {mass:g} kg",
+            "a density whose mass and second moments fit double precision (below 1.8e308 in SI): "
+            "the values or the grid's extent are too large",
+        )
+    if not mass > 0:
+        raise InputError(name, f"total mass {mass:g} kg", "a density with positive total mass")
     center = np.array([axes[xyz[c]].center for c in range(3)])
     offset = first / mass  # centre of mass from the grid centre
     central = tensor_from_second_moments(second - mass * np.outer(offset, offset))
