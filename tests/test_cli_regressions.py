@@ -434,3 +434,25 @@ def test_a_density_grid_whose_mass_overflows_is_named_in_one_line(capsys, tmp_pa
         "wobble inertia: error: --density: got total mass inf kg; allowed: a density whose mass and second "
         "moments fit double precision (below 1.8e308 in SI): the values or the grid's extent are too large\n"
     )
+
+
+def test_a_free_plot_over_millions_of_flips_marks_none():
+    # Was (fuzz run of 2026-11-28, seed 223): `wobble free ... --t-end '27.51 d' --plot` of a body that
+    # flips every second drew one line per flip, 2.3 million on each axis: 21 GB and no end.
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from astropy import units as u
+
+    from wobble.api.free import FreeRotation
+    from wobble.plot.free import MAX_MARKED_FLIPS, motion_figure
+
+    body = FreeRotation([27.5106, 70.4956, 45.977] * u.g * u.cm**2, [-8.94863, 4.32085, 2.16585e-17] * u.rad / u.s)
+    n = body.flip_times(27.51 * u.d).size
+    assert n > 2_000_000
+    fig = motion_figure(body, 27.51 * u.d)
+    top = fig.axes[0]
+    assert f"({n:,} flips, too close to mark)" in top.get_title()
+    assert not top.collections and not top.lines[2:]  # the two omega curves only
+    few = motion_figure(body, 20 * u.s)  # about 20 flips: each marked, in one collection
+    assert len(few.axes[0].collections) == 1 and len(few.axes[0].collections[0].get_segments()) < MAX_MARKED_FLIPS

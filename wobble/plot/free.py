@@ -91,14 +91,13 @@ def flip_figure(moments, omega0, t_end):
     fig, ax = plt.subplots(figsize=(7.0, 3.8))
     for k, label in enumerate(("$\\omega_1$", "$\\omega_2$", "$\\omega_3$")):
         ax.plot(ds.time, ds.omega[:, k], label=label)
-    for tf in body.flip_times(t_end).to_value(u.s):
-        ax.axvline(tf, color="0.6", lw=0.8, ls=":")
+    marked = _mark_flips([ax], body.flip_times(t_end).to_value(u.s), 1.0)
     ax.set_xlim(0, t_end_s)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("body-frame angular velocity (rad s$^{-1}$)")
     ax.set_title(
         f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
-        f"flip every {body.time_between_flips.to_value(u.s):.6f} s"
+        f"flip every {body.time_between_flips.to_value(u.s):.6f} s{marked}"
     )
     ax.legend(loc="upper right")
     fig.tight_layout()
@@ -154,16 +153,13 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     else:
         bottom.plot(t / scale, dominant, color="C2", label=f"$\\omega_{big + 1}$")
     bottom.ticklabel_format(axis="y", useOffset=False)
-    if body.flips:
-        for tf in body.flip_times(t_end).to_value(u.s):
-            for ax in (top, bottom):
-                ax.axvline(tf / scale, color="0.6", lw=0.8, ls=":")
+    marked = _mark_flips([top, bottom], body.flip_times(t_end).to_value(u.s), scale) if body.flips else ""
     top.set_ylabel("rad s$^{-1}$")
     bottom.set_ylabel("rad s$^{-1}$")
     bottom.set_xlabel(f"time ({unit})")
     top.legend(loc="upper right", fontsize=8)
     bottom.legend(loc="upper right", fontsize=8)
-    top.set_title(f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}", fontsize=9)
+    top.set_title(f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}{marked}", fontsize=9)
     L = I * w
     norm = np.linalg.norm(L, axis=1, keepdims=True)
     L = np.divide(L, norm, out=np.zeros_like(L), where=norm > 0)  # a body at rest: L = 0, drawn at the centre
@@ -178,6 +174,21 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
+
+
+#: Flips marked one line each up to this many in a span; more are closer than a figure resolves.
+MAX_MARKED_FLIPS = 200
+
+
+def _mark_flips(axes, times, scale: float) -> str:
+    """Dotted lines at the flip ``times`` (s, drawn in units of ``scale``) on each of ``axes``, as one
+    collection; none past :data:`MAX_MARKED_FLIPS` (a span of a million flips once drew a line
+    each: millions of artists, 20 GB and no end). Returns the title's note on what was left out."""
+    if times.size > MAX_MARKED_FLIPS:
+        return f" ({times.size:,} flips, too close to mark)"
+    for ax in axes:
+        ax.vlines(times / scale, 0, 1, transform=ax.get_xaxis_transform(), colors="0.6", lw=0.8, ls=":")
+    return ""
 
 
 def _polhode_on_sphere(ax3, L, I) -> None:
