@@ -41,6 +41,7 @@ __all__ = [
     "split3",
     "minus_multiple",
     "SPLIT_THRESHOLD",
+    "WHOLE_PIECES",
 ]
 
 _SPLITTER = 134217729.0  # 2^27 + 1
@@ -48,6 +49,9 @@ _SPLITTER = 134217729.0  # 2^27 + 1
 # (exact, a power of two) and the halves scaled back.
 SPLIT_THRESHOLD = 2.0**996
 _SPLIT_SCALE = 2.0**-28
+#: Multiples up to which j times each 26-bit piece of a split period (:func:`split3`,
+#: :func:`wobble.numerics.phase.split_dd`) is exact; past it, :func:`minus_multiple`.
+WHOLE_PIECES = float(2**26)
 #: pi as a double-double (hi, lo).
 PI = (3.141592653589793, 1.2246467991473532e-16)
 
@@ -263,7 +267,7 @@ def split3(hi, lo):
 def minus_multiple(x, j, hi, lo):
     """``x - j (hi + lo)`` as a double-double, for integer-valued ``j`` of any size below 2^53.
 
-    Where a three-piece split (:func:`split3`) stops being exact (``|j| >= 2^26``), ``j hi``
+    Where a three-piece split (:func:`split3`) stops being exact (``|j| >=`` :data:`WHOLE_PIECES`), ``j hi``
     is taken by Dekker's exact product instead. With ``|x - j (hi + lo)| <= |hi|`` (``j`` the
     nearest multiple, or one off), ``x - fl(j hi)`` is exact (Sterbenz: the two agree within a
     factor of two), so the result keeps a few ulps of ``hi`` while ``|j lo| eps``, about

@@ -78,7 +78,6 @@ import numpy as np
 from scipy import special as _sp
 
 from wobble.numerics import double_double as dd
-from wobble.numerics.phase import WHOLE_PIECES as _WHOLE_PIECES
 
 __all__ = [
     "M1_MIN",
@@ -620,7 +619,7 @@ def _reduce_dd(u, k_hi, k_lo):
     # u - q p1 and its difference with q p2 are exact (Cody & Waite) for |q| < 2^26; the last
     # step rounds. Beyond, q K by Dekker's exact product (dd.minus_multiple).
     x, x_lo = dd.two_sum((u - q * p1) - q * p2, -(q * p3))
-    far = np.abs(q) >= _WHOLE_PIECES
+    far = np.abs(q) >= dd.WHOLE_PIECES
     if np.any(far):
         fx, fx_lo = dd.minus_multiple(u, q, np.where(finite, k_hi, 0.0), np.where(finite, k_lo, 0.0))
         x, x_lo = np.where(far, fx, x), np.where(far, fx_lo, x_lo)
@@ -660,7 +659,7 @@ def _minus_pi(phi, j):
     """phi - j pi: Cody & Waite's three pieces for |j| < 2^26, Dekker's exact j pi beyond."""
     p1, p2, p3 = dd.split3(dd.PI[0], dd.PI[1])
     r = ((phi - j * p1) - j * p2) - j * p3
-    far = np.abs(j) >= _WHOLE_PIECES
+    far = np.abs(j) >= dd.WHOLE_PIECES
     if np.any(far):
         r = np.where(far, dd.minus_multiple(phi, j, dd.PI[0], dd.PI[1])[0], r)
     return r

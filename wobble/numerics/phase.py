@@ -20,16 +20,14 @@ import numpy as np
 
 # The error-free transformations (Knuth's two-sum, Dekker's two-product) are those of the
 # double-double arithmetic.
-from wobble.numerics.double_double import two_prod, two_sum
+from wobble.numerics.double_double import WHOLE_PIECES, minus_multiple, two_prod, two_sum
 
-__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE", "WHOLE_PIECES"]
+__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE"]
 
 # The index base that means 'one table entry per sample': no dense range of whole half-periods
 # starts there (|j| stays far below 2**62); the earlier test 'base < 0' took every range over
 # negative times for it.
 PER_SAMPLE = -(2**62)
-#: Whole periods up to which j times each 26-bit piece of a split period is exact.
-WHOLE_PIECES = float(2**26)
 
 
 def split_dd(hi: float, lo: float):
@@ -53,11 +51,9 @@ def split_dd(hi: float, lo: float):
 
 def _reduce_far(x, lo, j, period):
     """x + lo - j (period[0] + period[1]) for |j| >= 2^26, where j p1 of the three-piece split is no
-    longer exact: j period[0] by Dekker's exact product instead. x - jh is exact (Sterbenz: the two
-    agree within a factor of two), so r keeps a few ulps of the period up to |j| ~ 2^50, where the
-    neglected |j period[1]| eps ~ |x| eps^2 reaches them."""
-    jh, jl = two_prod(j, period[0])
-    return ((x - jh) - jl) + (lo - j * period[1])
+    longer exact: :func:`~wobble.numerics.double_double.minus_multiple` (Dekker's exact j period[0])."""
+    r, r_lo = minus_multiple(x, j, period[0], period[1])
+    return r + (r_lo + lo)
 
 
 def reduce_phase(t, rate, period, offset: float = 0.0):
