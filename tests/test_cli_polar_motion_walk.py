@@ -282,11 +282,12 @@ def test_a_horizon_is_whole_days_and_no_calibration_takes_no_span(capsys):
 def test_an_issue_date_too_early_names_the_first_usable_day(capsys):
     # Was: "a date from 1962-01-01 ..." although no date before 1972-02-01 could be issued (Kalman).
     # Then: 1972-02-01 was named although a calibrated forecast could not be issued before 1975-02-24 (its past
-    # forecasts reach 1120 d further back); the first day named is now the first that works.
+    # forecasts reach 1120 d further back); the first day named is now the first that works (since the Kalman
+    # calibration's six years, 1979-02-26: 2583 d of past forecasts).
     code, out, err = _run(["forecast", "--issued", "1900-01-01", "--no-calibration"], capsys)
     assert code == 2 and "allowed: a date from 1972-02-01 to " in err and "for Kalman" in err
     code, out, err = _run(["forecast", "--issued", "1900-01-01"], capsys)
-    assert code == 2 and "allowed: a date from 1975-02-24 to " in err and "1120 d of past forecasts" in err
+    assert code == 2 and "allowed: a date from 1979-02-26 to " in err and "2583 d of past forecasts" in err
     code, out, err = _run(["forecast", "--issued", "1965-01-01", "--method", "ls_ar", "--no-calibration"], capsys)
     assert code == 2 and "allowed: a date from 1968-02-01 to " in err and "for LS+AR" in err
     code, out, err = _run(["forecast", "--issued", "1965-01-01", "--method", "ls_ar"], capsys)

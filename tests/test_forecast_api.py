@@ -67,8 +67,11 @@ def test_a_file_and_its_dataset_give_the_same_forecast(forecast):
 def test_a_forecast_from_the_record_s_first_decade_runs():
     """Issued 1976-01-01 (latency 30 d), the ten-year fit reads 1965-1975, where the filter's mean-pole
     modes sit on the unit circle to rounding (1 + 5e-10): once refused as unstable, which escaped as a
-    traceback from the command line."""
-    f = wobble.forecast_polar_motion(issued="1976-01-01", horizon=90 * u.day, method="kalman")
+    traceback from the command line. (A one-year calibration span: the default six years of past forecasts
+    would reach before the record's first ten years.)"""
+    f = wobble.forecast_polar_motion(
+        issued="1976-01-01", horizon=90 * u.day, method="kalman", calibration_span=1 * u.yr
+    )
     d = f.to_dict()
     assert d["last_data"] == "1975-12-02" and len(d["forecast"]) == 90
     assert all(np.isfinite([r["x_mas"], r["y_mas"], *r["x_68_mas"], *r["y_95_mas"]]).all() for r in d["forecast"])
@@ -128,6 +131,30 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
     np.testing.assert_allclose(h.forecasts[0][k].half_widths(95)[1], f.raw.half_widths(95)[1], rtol=1e-12)
 
 
+def test_each_method_calibrates_on_its_own_span_by_default(tmp_path):
+    """Six years of past forecasts for the Kalman model, two for LS+AR (chosen on 2006-2015,
+    scripts/calibration_span.py); a hindcast with the default spans scores exactly the public forecasts."""
+    k = wobble.forecast_polar_motion(issued="2018-03-01", horizon=10 * u.day, latency=1 * u.day).to_dict()
+    cal = k["calibration"]
+    # round(6 x 365.25 / 7) = 313 weekly forecasts per lead; the 10-day lead's newest is ceil(11 / 7) = 2 weeks
+    # back, so the oldest is 2 + 313 - 1 = 314 weeks (2198 d) before 2018-03-01 (by hand).
+    assert cal["past_forecasts_per_lead"] == 313 and cal["span_days"] == 6 * 365.25
+    assert (cal["first_issue"], cal["last_issue"]) == ("2012-02-23", "2018-02-22")
+    h = wobble.hindcast_polar_motion(
+        start="2018-03-01", end="2018-03-02", horizon=10 * u.day, latency=1 * u.day, workers=1
+    )
+    d = h.to_dict()
+    assert d["calibration_span_days"] == {"ls_ar": 730.5, "kalman": 2191.5}
+    assert "6 yr (kalman) or 2 yr (ls_ar)" in d["intervals"] or "2 yr (ls_ar) or 6 yr (kalman)" in d["intervals"]
+    for j, m in enumerate(h.methods):
+        f = wobble.forecast_polar_motion(issued="2018-03-01", horizon=10 * u.day, latency=1 * u.day, method=m)
+        assert f.to_dict()["calibration"]["span_days"] == d["calibration_span_days"][m]
+        np.testing.assert_allclose(h.forecasts[0][j].mean, f.raw.mean, rtol=1e-12)
+        np.testing.assert_allclose(h.forecasts[0][j].half_widths(68)[0], f.raw.half_widths(68)[0], rtol=1e-12)
+    ds = h.to_dataset()
+    assert (ds.attrs["calibration_span_days_kalman"], ds.attrs["calibration_span_days_ls_ar"]) == (2191.5, 730.5)
+
+
 @pytest.mark.parametrize(
     ("kwargs", "fragment"),
     [
@@ -143,7 +170,7 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
             {"issued": "1975-01-01", "calibration_span": 5 * u.yr},
             r"calibration_span: got 5 yr; allowed: at most 1\.\d\d yr",
         ),
-        ({"issued": "1973-06-01"}, r"issued: got 1973-06-01; allowed: a date from 1975-02-24 .* uncalibrated"),
+        ({"issued": "1973-06-01"}, r"issued: got 1973-06-01; allowed: a date from 1979-02-26 .* uncalibrated"),
         ({"issued": "1973-06-01", "calibration_span": 2 * u.yr}, "calibration_span: got 2 yr; allowed: a later issue"),
         ({"calibration_span": 10 * u.day}, r"calibration_span: got 10.0 d; allowed: a span from 26 weeks \(182 d"),
         ({"calibration_span": 2.0}, "calibration_span"),
@@ -155,12 +182,17 @@ def test_bad_input(kwargs, fragment):
 
 
 def test_the_first_issue_date_named_for_a_calibrated_forecast_is_the_first_that_works():
-    """Kalman, 365 d, C04 latency 30 d: the record's start 1962-01-01 + the 3652.5-d fitting span + 30 d + the
-    calibration's reach (104 weekly past forecasts behind the ceil(395 / 7) = 57 weeks of horizon and latency:
-    160 weeks, 1120 d), less half a day, is 1975-02-24 (by hand)."""
-    with pytest.raises(InputError, match="issued: got 1975-02-23; allowed: a date from 1975-02-24"):
-        wobble.forecast_polar_motion(issued="1975-02-23")
-    assert wobble.forecast_polar_motion(issued="1975-02-24").to_dict()["issued"] == "1975-02-24"
+    """Kalman, 365 d, C04 latency 30 d: the record's start 1962-01-01 (MJD 37665) + the 3652.5-d fitting span
+    + 30 d + the calibration's reach (round(6 x 365.25 / 7) = 313 weekly past forecasts behind the
+    ceil(395 / 7) = 57 weeks of horizon and latency: 369 weeks, 2583 d), less half a day, is MJD 43930,
+    1979-02-26 (by hand). LS+AR: its
+    6-year fitting span (2191.5 d) and two years of past forecasts (160 weeks, 1120 d): MJD 41006, 1971-02-24."""
+    with pytest.raises(InputError, match="issued: got 1979-02-25; allowed: a date from 1979-02-26"):
+        wobble.forecast_polar_motion(issued="1979-02-25")
+    assert wobble.forecast_polar_motion(issued="1979-02-26").to_dict()["issued"] == "1979-02-26"
+    with pytest.raises(InputError, match="issued: got 1971-02-23; allowed: a date from 1971-02-24"):
+        wobble.forecast_polar_motion(issued="1971-02-23", method="ls_ar")
+    assert wobble.forecast_polar_motion(issued="1971-02-24", method="ls_ar").to_dict()["issued"] == "1971-02-24"
 
 
 @pytest.mark.parametrize(

@@ -28,18 +28,18 @@ the 30 years of record before the issue date minus the latency (the output names
 span; 'wobble polar-motion' measures the whole record). A forecast uses the record up to
 the issue date minus its publication delay (--latency; default 30 d for C04, 1 d for
 finals2000A). The 68 % and 95 % intervals are calibrated on the method's own past
-forecasts: the same method issued every week over the --calibration-span (default 2yr)
-before, each from its own data; per lead time, the split-conformal quantile of the
-errors (over their stated sigma) whose outcomes were known at the issue date minus the
-latency (Vovk, Gammerman & Shafer 2005). --no-calibration gives the models' Gaussian +/-
-sigma instead. Each value is shown to the decimal place of its +/- (two significant
-digits). --hindcast START:END issues forecasts every --every over the span and scores
-them (MAE and RMS per component and for the 2-D pole, interval coverage, skill against
-persistence and the least-squares extrapolation) beside Dill et al. (2023); the
-2016-2020 weekly hindcast of the documentation is --hindcast 2016-01-01:2021-01-01
---every 7d --latency 1d (about 15 s on two cores). A bare number (no unit) in --horizon,
---latency, --calibration-span and --every is days; dates are days (0 h UTC) of the daily
-record. """
+forecasts: the same method issued every week over the --calibration-span before (default
+6yr for kalman, 2yr for ls_ar, chosen on a 2006-2015 hindcast), each from its own data;
+per lead time, the split-conformal quantile of the errors (over their stated sigma)
+whose outcomes were known at the issue date minus the latency (Vovk, Gammerman & Shafer
+2005). --no-calibration gives the models' Gaussian +/- sigma instead. Each value is
+shown to the decimal place of its +/- (two significant digits). --hindcast START:END
+issues forecasts every --every over the span and scores them (MAE and RMS per component
+and for the 2-D pole, interval coverage, skill against persistence and the least-squares
+extrapolation) beside Dill et al. (2023); the 2016-2020 weekly hindcast of the
+documentation is --hindcast 2016-01-01:2021-01-01 --every 7d --latency 1d (about 25 s on
+two cores). A bare number (no unit) in --horizon, --latency, --calibration-span and
+--every is days; dates are days (0 h UTC) of the daily record. """
 
 
 def register(sub) -> None:
@@ -78,7 +78,7 @@ def register(sub) -> None:
         "--calibration-span",
         metavar="T",
         help="span of past issue dates whose errors calibrate the intervals, from 26 weeks (182 d) to 30 yr, "
-        "e.g. 3yr or 400 (a bare number is days; default: 2yr)",
+        "e.g. 3yr or 400 (a bare number is days; default: 6yr for kalman, 2yr for ls_ar)",
     )
     p.add_argument(
         "--no-calibration", action="store_true", help="the models' Gaussian intervals, not calibrated on past forecasts"
@@ -131,7 +131,7 @@ def run(args) -> int:
     horizon = parse_time(args.horizon, "--horizon", "d", default="365d")
     latency = parse_time(args.latency, "--latency", "d")
     q = parse_q(args.q)
-    span = parse_time(args.calibration_span, "--calibration-span", "d", default="2yr")
+    span = parse_time(args.calibration_span, "--calibration-span", "d")  # None: each method's own
     every = parse_time(args.every, "--every", "d", default="7d")
     methods = _methods(args.method, hindcast)
     if q is not None and "kalman" not in methods:
@@ -140,14 +140,14 @@ def run(args) -> int:
     options = {
         "horizon": ("--horizon", horizon.shown),
         "latency": ("--latency", latency and latency.shown),
-        "calibration_span": ("--calibration-span", span.shown),
+        "calibration_span": ("--calibration-span", span and span.shown),
         "every": ("--every", every.shown),
         "methods": ("--method", None),
         "start": ("--hindcast START", None),
         "end": ("--hindcast END", None),
     }
     # The API's defaults are the help's; None keeps "not given" (the latency: the record's own).
-    calibration_span = span.quantity if args.calibration_span is not None else None
+    calibration_span = span and span.quantity
     if hindcast:
         from wobble.api.polar_motion.hindcast import hindcast_polar_motion
 

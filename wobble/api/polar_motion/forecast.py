@@ -23,8 +23,8 @@ Those are the defaults (``latency``); lead times count from the issue date.
 
 **Intervals.** The 68 % and 95 % intervals are calibrated on the method's own
 past forecasts (:mod:`wobble.models.polar_motion.forecast_calibration`): the
-same method issued every week over the two years before, each from its own
-data, and for each lead time the split-conformal quantile of the absolute
+same method issued every week over the six years (Kalman) or two years
+(LS+AR) before, each from its own data, and for each lead time the split-conformal quantile of the absolute
 errors whose outcomes were known at the issue date minus the latency. With
 ``calibrated=False`` they are the model's Gaussian +/- sigma and +/- 1.96 sigma.
 """
@@ -112,10 +112,11 @@ CALIBRATION_SPAN_ALLOWED = (
 )
 
 
-def calibration_span_si(span) -> float:
-    """The calibration span in s: from 26 weeks to 30 years (a Quantity of time; None: the default, 2 years)."""
+def calibration_span_si(span) -> float | None:
+    """The calibration span in s: from 26 weeks to 30 years (a Quantity of time; None stays None: each method's own,
+    6 yr for Kalman and 2 yr for LS+AR)."""
     if span is None:
-        return _cal.SPAN
+        return None
     value = float(to_si(span, "calibration_span", u.s, shape=()))
     if not (math.isfinite(value) and _cal.MIN_COUNT * _cal.STEP - 1e-6 <= value <= 30 * 365.25 * DAY):
         raise InputError("calibration_span", span, CALIBRATION_SPAN_ALLOWED)
@@ -453,7 +454,8 @@ def forecast_polar_motion(
     calibrated : bool
         Calibrate the intervals on the method's past forecasts (default) or give the model's Gaussian ones.
     calibration_span : Quantity
-        Span of past issue dates whose errors calibrate each lead time (default 2 yr, a forecast a week).
+        Span of past issue dates whose errors calibrate each lead time, a forecast a week (default: 6 yr for
+        ``kalman``, 2 yr for ``ls_ar``; chosen on the 2006-2015 hindcast, ``docs/forecast.md``).
 
     Returns
     -------
@@ -480,7 +482,7 @@ def forecast_polar_motion(
         why = f"after the method's {_cal.FITTING_SPAN[method] / DAY:.0f}-day fitting span, plus the latency"
         if calibrated and calibration_span is None:
             # The default calibration is not the user's choice: the date is, so give the first one that works.
-            reach = _cal.calibration_reach(lat, horizon_days)
+            reach = _cal.calibration_reach(lat, horizon_days, _cal.SPANS[method])
             first = max(first, math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat + reach) / DAY - 0.5 - 1e-9))
             why += (
                 f"; with calibrated intervals {horizon_days} d ahead, also the {reach / DAY:.0f} d of past "

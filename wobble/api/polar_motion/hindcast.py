@@ -130,11 +130,12 @@ class PolarMotionHindcast:
         q,
         source,
         calibrated=True,
-        calibration_span=_cal.SPAN,
+        calibration_span=None,
     ):
         self.methods = tuple(methods)
         self.calibrated = bool(calibrated)
-        self.calibration_span = (calibration_span / DAY) << u.day
+        # Each method's own span unless one was given for all (forecast_calibration.SPANS).
+        self.calibration_spans = {m: (_cal.span_for(m, calibration_span) / DAY) << u.day for m in self.methods}
         self.forecasts = forecasts  # [issue][method] -> Forecast
         first = forecasts[0][0]
         self.issued_mjd = np.array([MJD_J2000 + row[0].issued / DAY for row in forecasts])
@@ -170,7 +171,9 @@ class PolarMotionHindcast:
             "quality_factor": self.q,
             "source_file": self.source,
             "intervals": self._intervals_text(),
-            "calibration_span_days": float(self.calibration_span.value) if self.calibrated else None,
+            "calibration_span_days": (
+                {m: float(v.value) for m, v in self.calibration_spans.items()} if self.calibrated else None
+            ),
             "methods": {},
             "anchors": [
                 {"label": a, "metric": m, "values_mas": {str(k): v for k, v in vals.items()}} for a, m, vals in ANCHORS
@@ -194,12 +197,19 @@ class PolarMotionHindcast:
             }
         return out
 
+    def _spans_text(self) -> str:
+        """``6 yr`` when every method has that span, else ``6 yr (kalman) or 2 yr (ls_ar)``."""
+        years = {m: f"{v.value / 365.25:g} yr" for m, v in self.calibration_spans.items()}
+        if len(set(years.values())) == 1:
+            return next(iter(years.values()))
+        return " or ".join(f"{y} ({m})" for m, y in years.items())
+
     def _intervals_text(self) -> str:
         if not self.calibrated:
             return calibration_text(None)
         return (
             "each forecast's intervals calibrated on the same method's past forecasts issued weekly over the "
-            f"{self.calibration_span.value / 365.25:g} yr "
+            f"{self._spans_text()} "
             "before it with outcomes known at its issue date minus the latency (split-conformal quantiles of their "
             "errors "
             "over their stated sigma, per lead time and component; Vovk, Gammerman & Shafer 2005; Lei et al. 2018)"
@@ -285,7 +295,8 @@ class PolarMotionHindcast:
             ),
         }
         if self.calibrated:
-            ds.attrs["calibration_span_days"] = float(self.calibration_span.value)
+            for m, v in self.calibration_spans.items():
+                ds.attrs[f"calibration_span_days_{m}"] = float(v.value)
         return ds
 
     def summary(self) -> str:
@@ -401,15 +412,18 @@ def hindcast_polar_motion(
             f"record's start ({iso_date(mjd[0])})",
         )
     if calibrated:
-        oldest = _cal.past_issue_times(issues[0], lat, horizon_days, span)[0]
-        if oldest - lat - t[0] < need - 0.5 * DAY:
-            first_ok = t[0] + need + lat + (issues[0] - oldest)
+        # Each method's past forecasts reach back its own calibration span, then need its own fitting span.
+        first_ok, m = max(
+            (t[0] + _cal.FITTING_SPAN[m] + lat + _cal.calibration_reach(lat, horizon_days, _cal.span_for(m, span)), m)
+            for m in methods
+        )
+        if issues[0] < first_ok - 0.5 * DAY:
             raise InputError(
                 "start",
                 start,
                 f"an issue date on or after {iso_date(MJD_J2000 + first_ok / DAY)}: the calibration's past forecasts "
-                f"({span / DAY / 365.25:g} yr of them, then the horizon) need their {need / DAY / 365.25:.0f}-yr "
-                "fitting span in the record",
+                f"({_cal.span_for(m, span) / DAY / 365.25:g} yr of them, then the horizon) need their "
+                f"{_cal.FITTING_SPAN[m] / DAY / 365.25:.0f}-yr {m} fitting span in the record",
             )
     last_needed = issues[-1] + horizon_days * DAY
     if last_needed > t[-1] + 1e-6:

@@ -20,7 +20,8 @@ future of the forecast it calibrates:
 * for lead time l the errors used are those whose outcome, at
   t_i - k Delta + l, is at or before the cut-off c = t_i - latency (known when
   the forecast is issued): the most recent ``n`` of them, from ``span``
-  (:data:`SPAN`, two years) of past issue dates;
+  of past issue dates (:data:`SPANS`: six years for the Kalman model, two
+  for LS+AR);
 * each error of x_p (likewise y_p) is divided by the sigma its own forecast
   stated, and the half-width of the p interval (p = 68.27 % or 95 %) at lead
   l is the ceil((n + 1) p)-th smallest of the n ratios times this forecast's
@@ -31,12 +32,18 @@ future of the forecast it calibrates:
   variance does not depend on the data) it is the quantile of the absolute
   errors themselves.
 
-The span, the week and the normalisation were chosen on a hindcast of
-forecasts issued 2006-2015 (both methods' 68 % intervals inside 64-73 % at
-every lead time from 1 to 365 days with a latency of 1 day, and with 30 days
-but for the Kalman model's last ten days of the year, 74 %; longer spans
-lagged the growth of the LS+AR errors over those years). The intervals are symmetric about the forecast and
-need no Gaussian assumption. Only samples of the record at or before the
+The week and the normalisation were chosen on a hindcast of forecasts issued
+2006-2015, and so were the spans: of two to ten years, each method's is the one
+with the sharpest intervals (the least mean interval score of Gneiting & Raftery
+2007, J. Am. Stat. Assoc. 102, 359, eq. 43) among those whose 68 % intervals
+held 63-73 % of the outcomes at every lead time from 1 to 365 days, with a
+latency of 1 day and of 30 days (``scripts/calibration_span.py``). The Kalman
+model's sigma does not depend on the data and its errors' ratio to it changes
+slowly, so more past errors make a steadier quantile: six years. The LS+AR's
+errors grew over those years faster than its sigma, and with spans of three
+years or more its 68 % intervals fell below 63 % at some lead times: two.
+The intervals are symmetric about the forecast and need no Gaussian
+assumption. Only samples of the record at or before the
 cut-off are read (the arrays are cut there first), so no outcome after it
 can enter. Times in s, angles in rad.
 """
@@ -63,7 +70,8 @@ from wobble.models.polar_motion.state_space import (
 from wobble.numerics.threads import one_blas_thread
 
 __all__ = [
-    "SPAN",
+    "SPANS",
+    "span_for",
     "STEP",
     "P68",
     "P95",
@@ -85,8 +93,9 @@ __all__ = [
 FITTING_SPAN = {"ls_ar": LS_SPAN, "kalman": FIT_SPAN}
 _WHAT = {"ls_ar": "LS+AR", "kalman": "Kalman"}
 
-#: Span of past issue dates whose errors calibrate each lead time (the most recent with known outcomes).
-SPAN = 2.0 * 365.25 * DAY
+#: Span of past issue dates whose errors calibrate each lead time (the most recent with known outcomes),
+#: per method (chosen on 2006-2015; see the module).
+SPANS = {"ls_ar": 2.0 * 365.25 * DAY, "kalman": 6.0 * 365.25 * DAY}
 #: Spacing of the past issue dates: a week.
 STEP = 7.0 * DAY
 #: Probabilities of the two intervals: one Gaussian sigma either side, and 95 %.
@@ -137,9 +146,12 @@ class Calibration:
         return h[:, 0], h[:, 1]
 
 
-def past_issue_times(
-    issued: float, latency: float, horizon_days: int, span: float = SPAN, step: float = STEP
-) -> np.ndarray:
+def span_for(method: str, span: float | None = None) -> float:
+    """The calibration span of ``method``: ``span`` if given, else the method's own (:data:`SPANS`), s."""
+    return SPANS[method] if span is None else float(span)
+
+
+def past_issue_times(issued: float, latency: float, horizon_days: int, span: float, step: float = STEP) -> np.ndarray:
     """Every past issue time a forecast issued at ``issued`` is calibrated with, oldest first.
 
     Lead l (days) uses k from ceil((l + latency) / step) on, ``round(span / step)``
@@ -149,7 +161,7 @@ def past_issue_times(
     return issued - step * np.arange(k_last, 0, -1)
 
 
-def calibration_reach(latency: float, horizon_days: int, span: float = SPAN, step: float = STEP) -> float:
+def calibration_reach(latency: float, horizon_days: int, span: float, step: float = STEP) -> float:
     """How long before the issue date its oldest past forecast is issued, s (the same for every issue date)."""
     return step * (math.ceil((horizon_days * DAY + latency) / step - 1e-9) + count_per_lead(span, step) - 1)
 
@@ -189,7 +201,7 @@ def calibrate(
     past: PastForecasts,
     sigma,
     *,
-    span: float = SPAN,
+    span: float,
     step: float = STEP,
 ) -> Calibration:
     """Interval half-widths per lead time for a forecast issued at ``issued`` from ``past`` (see the module).
@@ -275,9 +287,11 @@ def past_forecasts(
 
 
 def check_calibration_span(
-    t, issued: float, latency: float, horizon_days: int, method: str, span: float = SPAN, step: float = STEP
+    t, issued: float, latency: float, horizon_days: int, method: str, span: float | None = None, step: float = STEP
 ) -> None:
-    """Refuse a calibration whose oldest past forecast would need data from before the record's start."""
+    """Refuse a calibration whose oldest past forecast would need data from before the record's start
+    (``span`` None: the method's own, :data:`SPANS`)."""
+    span = span_for(method, span)
     oldest = past_issue_times(issued, latency, horizon_days, span, step)[0]
     need = FITTING_SPAN[method]
     have = oldest - latency - float(np.asarray(t)[0])
@@ -308,7 +322,7 @@ def forecast(
     q: float,
     latency: float = DAY,
     calibrated: bool = True,
-    span: float = SPAN,
+    span: float | None = None,
     noise: NoiseParameters | None = None,
     setup: KalmanSetup | None = None,
     past: PastForecasts | None = None,
@@ -319,9 +333,10 @@ def forecast(
     anything else, so neither the forecast nor its calibration can read a
     later sample. ``noise``/``setup`` (Kalman) and ``past`` let a hindcast
     share work between issues; ``calibrated=False`` keeps the model's own
-    Gaussian intervals.
+    Gaussian intervals; ``span`` None is the method's own (:data:`SPANS`).
     """
     method = check_method(method)
+    span = span_for(method, span)
     t, z = known_at(t, z, issued - latency)
     information_set(t, z, issued, latency, FITTING_SPAN[method], _WHAT[method])  # the issue date's own checks first
     if calibrated:

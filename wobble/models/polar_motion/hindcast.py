@@ -46,7 +46,7 @@ class Block:
     reference_period: float
     chandler_period: float | None = None
     calibrated: tuple[str, ...] = ()
-    calibration_span: float = fcal.SPAN
+    calibration_span: float | None = None
 
 
 def blocks(
@@ -59,11 +59,12 @@ def blocks(
     refit: int = 13,
     chandler_period=None,
     calibrated=None,
-    calibration_span=fcal.SPAN,
+    calibration_span=None,
 ) -> list[Block]:
     """The issue times cut into blocks of ``refit`` consecutive issues (the unit of parallel work).
 
-    ``calibrated`` names the methods whose intervals are calibrated (default: all).
+    ``calibrated`` names the methods whose intervals are calibrated (default: all);
+    ``calibration_span`` None gives each method its own (:data:`.forecast_calibration.SPANS`).
     """
     issues = [float(x) for x in issues]
     methods = tuple(check_method(m) for m in methods)
@@ -78,7 +79,7 @@ def blocks(
             float(reference_period),
             chandler_period,
             calibrated,
-            float(calibration_span),
+            None if calibration_span is None else float(calibration_span),
         )
         for i in range(0, len(issues), refit)
     ]
@@ -106,29 +107,26 @@ def run_block(t, z, block: Block) -> list[list[Forecast]]:
         tk, zk = fcal.known_at(t, z, cutoff)
         setup, _ = fcal.kalman_setup(tk, zk, first, block.latency, period, block.q)
     past = {}
-    if block.calibrated:
+    for method in block.calibrated:
+        span = fcal.span_for(method, block.calibration_span)
         times = np.unique(
             np.round(
                 np.concatenate(
-                    [
-                        fcal.past_issue_times(i, block.latency, block.horizon_days, block.calibration_span)
-                        for i in block.issues
-                    ]
+                    [fcal.past_issue_times(i, block.latency, block.horizon_days, span) for i in block.issues]
                 ),
                 3,
             )
         )
-        for method in block.calibrated:
-            past[method] = fcal.past_forecasts(
-                t,
-                z,
-                times,
-                block.horizon_days,
-                method=method,
-                chandler_period=period,
-                latency=block.latency,
-                setup=setup,
-            )
+        past[method] = fcal.past_forecasts(
+            t,
+            z,
+            times,
+            block.horizon_days,
+            method=method,
+            chandler_period=period,
+            latency=block.latency,
+            setup=setup,
+        )
     out = []
     for issued in block.issues:
         out.append(
