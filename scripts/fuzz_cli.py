@@ -9,6 +9,11 @@ and every distinct failure with a minimal reproduction (arguments dropped while 
     python scripts/fuzz_cli.py --count 500 --only free top --jobs 1
     python scripts/fuzz_cli.py --count 20000 --seed 7 --report fuzz.json
 
+Each chunk's interpreter has its address space limited (``--memory``, 6 GiB by default), so an
+input that asks for more memory than that fails with a MemoryError the report names, instead of
+taking the machine: the time bound (SIGALRM) cannot interrupt one long call into compiled code,
+which once drew 2.3 million lines into a figure and took 21 GB before it was stopped by hand.
+
 Exit status 0 when nothing failed, 1 otherwise.
 """
 
@@ -47,6 +52,18 @@ WEIGHTS = {
     "bench": 1,
 }
 CHUNK = 100
+#: Address space allowed to each chunk's interpreter, GiB (a wobble command takes well under 1 GiB).
+MEMORY_GIB = 6.0
+
+
+def limit_memory(gib: float) -> None:
+    """Cap this process's address space at ``gib`` GiB (0: no cap): past it, allocations raise MemoryError."""
+    import resource
+
+    if gib > 0:
+        limit = int(gib * 2**30)
+        _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        resource.setrlimit(resource.RLIMIT_AS, (limit if hard == resource.RLIM_INFINITY else min(limit, hard), hard))
 
 
 def plan(count: int, only, seed: int) -> list[tuple[str, int, int]]:
@@ -124,15 +141,16 @@ def run_chunk(job, out_path: str) -> None:
         pickle.dump((command, len(results), dict(statuses), seconds, failures), fh)
 
 
-def spawn_chunk(job, folder: str):
-    """Run one chunk in a fresh interpreter; its results, or a failure naming the input that killed it."""
+def spawn_chunk(job, folder: str, memory_gib: float = MEMORY_GIB):
+    """Run one chunk in a fresh interpreter (address space capped at ``memory_gib``); its results, or a
+    failure naming the input that killed it."""
     import pickle
     import subprocess
 
     command, n, seed = job
     out = os.path.join(folder, f"{command}-{seed}.pickle")
     proc = subprocess.run(
-        [sys.executable, __file__, "--chunk", command, str(n), str(seed), out],
+        [sys.executable, __file__, "--chunk", command, str(n), str(seed), out, str(memory_gib)],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
@@ -180,6 +198,13 @@ def main(argv=None) -> int:
     parser.add_argument("--only", nargs="+", metavar="COMMAND", help="fuzz only these subcommands")
     parser.add_argument("--report", metavar="FILE.json", help="write the summary and the failures as JSON")
     parser.add_argument("--no-minimize", action="store_true", help="report failures as generated")
+    parser.add_argument(
+        "--memory",
+        type=float,
+        default=MEMORY_GIB,
+        metavar="GIB",
+        help=f"address space of each chunk's interpreter, GiB (default {MEMORY_GIB:g}; 0: no limit)",
+    )
     args = parser.parse_args(argv)
     sys.path.insert(0, str(ROOT / "tests"))
     import fuzz_strategies as fz
@@ -199,7 +224,7 @@ def main(argv=None) -> int:
     # Each chunk runs in a fresh interpreter (threads here only wait for them).
     folder = tempfile.mkdtemp(prefix="wobble-fuzz-results-")
     pool = concurrent.futures.ThreadPoolExecutor(args.jobs)
-    futures = [pool.submit(spawn_chunk, chunk, folder) for chunk in chunks]
+    futures = [pool.submit(spawn_chunk, chunk, folder, args.memory) for chunk in chunks]
     interrupted = False
     try:
         for future in concurrent.futures.as_completed(futures):
@@ -297,7 +322,8 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 6 and sys.argv[1] == "--chunk":
+    if len(sys.argv) == 7 and sys.argv[1] == "--chunk":
+        limit_memory(float(sys.argv[6]))
         run_chunk((sys.argv[2], int(sys.argv[3]), int(sys.argv[4])), sys.argv[5])
         sys.exit(0)
     sys.exit(main())

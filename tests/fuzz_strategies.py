@@ -948,14 +948,15 @@ def _eop_lines(name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 
 @st.composite
-def eop_files(draw, mode: str = "wild"):
-    """A slice of the shipped C04 or finals2000A file (a few years to a dozen), maybe damaged."""
+def eop_files(draw, mode: str = "wild", years=(0.01, 1, 3, 8, 11, 12, 14)):
+    """A slice of the shipped C04 or finals2000A file (``years`` long: a few days to a dozen years), maybe
+    damaged."""
     name = draw(st.sampled_from(["eopc04.1962-now", "finals2000A.all"]))
     header, data = _eop_lines(name)
     if name.startswith("finals"):
         observed = [i for i, x in enumerate(data) if len(x) > 16 and x[16] == "I"]
         data = data[: observed[-1] + 1 + draw(st.integers(0, 30))]
-    years = draw(st.sampled_from([0.01, 1, 3, 8, 11, 12, 14]))
+    years = draw(st.sampled_from(list(years)))
     n = max(2, int(years * 365.25))
     start = draw(st.integers(0, max(0, len(data) - n)))
     lines = list(header) + list(data[start : start + n])
@@ -1148,11 +1149,13 @@ def pole_cases(draw, command: str):
     argv = []
     source = draw(st.sampled_from(["slice"] * 6 + ["shipped"] + (["missing"] if mode == "wild" else [])))
     if source == "slice":
-        files["pole.txt"] = draw(eop_files(mode))
+        # A calibrated Kalman forecast needs 10 years of fit, 6 of past forecasts and the horizon: 17 or more.
+        long = (0.01, 3, 12, 14, 18, 20, 20) if command == "forecast" else (0.01, 1, 3, 8, 11, 12, 14)
+        files["pole.txt"] = draw(eop_files(mode, long))
         argv += ["--file", "pole.txt"]
     elif source == "missing":
         argv += ["--file", draw(st.sampled_from(["missing.txt", "sub", "", "finals2000A.all"]))]
-    else:  # the whole shipped record, cut to a few years by dates
+    elif command != "forecast":  # the whole shipped record, cut to a few years by dates (forecast: --issued)
         year = draw(st.integers(1975, 2012))
         argv += ["--start", str(year), "--end", str(year + draw(st.sampled_from([1, 9, 11, 12])))]
     spec = _common_outputs(mode)

@@ -193,3 +193,24 @@ def test_drawing_files_leaves_the_shared_edge_values_as_they_were():
 
     draw()
     assert (fz.TOML_EDGES, fz._WORK_EDGES) == before
+
+
+def test_a_chunk_over_its_memory_limit_reports_a_memory_error(tmp_path):
+    """The fuzzer caps each chunk's address space (scripts/fuzz_cli.py --memory): an input that asks for
+    more fails with a MemoryError the harness reports, instead of taking the machine (its time bound cannot
+    interrupt one long compiled call). Run in a child process: the cap is for the whole process."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    code = f"""
+import sys
+sys.path[:0] = [{os.path.join(root, "scripts")!r}, {os.path.join(root, "tests")!r}]
+import numpy as np
+import fuzz_cli, fuzz_strategies as fz
+import wobble.cli.free
+fuzz_cli.limit_memory(2.0)
+wobble.cli.free.run = lambda args: int(np.ones(2**30).sum())  # 8 GiB of float64, over the 2 GiB cap
+outcome = fz.run_case(fz.Case("free", {FREE!r}), {str(tmp_path)!r})
+print(outcome.problems)
+"""
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "crash: MemoryError" in proc.stdout, proc.stdout
