@@ -230,3 +230,23 @@ def test_calibration_span_outside_the_record_is_named(simulated, setup):
     fcal.forecast(
         t, p, issued, 30, method="kalman", chandler_period=PERIOD, q=Q, setup=setup, span=YEAR
     )  # one year fits
+
+
+def test_shipped_spans_are_the_rule_s_choice_on_2006_2015():
+    """forecast_calibration.SPANS are what scripts/calibration_span.py's rule picks from its committed
+    2006-2015 table: of the spans whose 68 % intervals held 63-73 % at every lead with both latencies,
+    the least sum of the 68 % and 95 % interval scores. Re-applied here to the table, so a new run of the
+    script that picks otherwise, or a changed constant, fails."""
+    import json
+    from pathlib import Path
+
+    table = json.loads((Path(__file__).resolve().parents[1] / "docs/figures/calibration_span.json").read_text())
+    for method, rows in table["methods"].items():
+        eligible = {
+            int(years): sum(r["interval_score_68_mas"] + r["interval_score_95_mas"] for r in row.values())
+            for years, row in rows.items()
+            if len(row) == 2 and all(r["leads_outside_63_73"] == 0 for r in row.values())
+        }
+        chosen = min(eligible, key=eligible.get)
+        assert chosen == table["chosen_years"][method]
+        assert fcal.SPANS[method] == chosen * YEAR

@@ -24,9 +24,10 @@ Those are the defaults (``latency``); lead times count from the issue date.
 **Intervals.** The 68 % and 95 % intervals are calibrated on the method's own
 past forecasts (:mod:`wobble.models.polar_motion.forecast_calibration`): the
 same method issued every week over the six years (Kalman) or two years
-(LS+AR) before, each from its own data, and for each lead time the split-conformal quantile of the absolute
-errors whose outcomes were known at the issue date minus the latency. With
-``calibrated=False`` they are the model's Gaussian +/- sigma and +/- 1.96 sigma.
+(LS+AR) before, each from its own data, and for each lead time the
+split-conformal quantile of the absolute errors whose outcomes were known at
+the issue date minus the latency. With ``calibrated=False`` they are the
+model's Gaussian +/- sigma and +/- 1.96 sigma.
 """
 
 from __future__ import annotations

@@ -43,9 +43,9 @@ slowly, so more past errors make a steadier quantile: six years. The LS+AR's
 errors grew over those years faster than its sigma, and with spans of three
 years or more its 68 % intervals fell below 63 % at some lead times: two.
 The intervals are symmetric about the forecast and need no Gaussian
-assumption. Only samples of the record at or before the
-cut-off are read (the arrays are cut there first), so no outcome after it
-can enter. Times in s, angles in rad.
+assumption. Only samples of the record at or before the cut-off are read (the
+arrays are cut there first), so no outcome after it can enter. Times in s,
+angles in rad.
 """
 
 from __future__ import annotations
