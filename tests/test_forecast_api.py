@@ -229,3 +229,24 @@ def test_cli_json(tmp_path, capsys):
     d = json.loads(out)
     assert status == 0 and d["method"] == "kalman" and d["horizon_days"] == 30 and d["latency_days"] == 1
     assert err == f"wrote {png}\n" and png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_record_too_short_for_the_default_calibration_says_it_was_the_default(tmp_path, capsys):
+    """Fifteen years of C04: a calibrated Kalman forecast at the record's end needs 17 (10 of fit, 6 of past
+    forecasts, the horizon). The message names the span as the default, which the user did not type, and
+    how long a span this record allows; with that span the forecast runs."""
+    from wobble.io.eop import default_c04_path
+
+    lines = default_c04_path().read_text().splitlines()
+    head = [x for x in lines if x.startswith("#")]
+    data = [x for x in lines if x.strip() and not x.startswith("#")]
+    path = tmp_path / "c04_15yr.txt"
+    path.write_text("\n".join(head + data[-int(15 * 365.25) :]) + "\n")
+    assert main(["forecast", "--file", str(path), "-o", str(tmp_path / "f.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(
+        "wobble forecast: error: --calibration-span: got 6 yr (the Kalman default); allowed: at most 3."
+    )
+    assert "\n" not in err and not (tmp_path / "f.nc").exists()
+    most = float(err.split("at most ")[1].split()[0])
+    assert main(["forecast", "--file", str(path), "--calibration-span", f"{most}yr", "--json"]) == 0

@@ -163,7 +163,12 @@ def past_issue_times(issued: float, latency: float, horizon_days: int, span: flo
 
 def calibration_reach(latency: float, horizon_days: int, span: float, step: float = STEP) -> float:
     """How long before the issue date its oldest past forecast is issued, s (the same for every issue date)."""
-    return step * (math.ceil((horizon_days * DAY + latency) / step - 1e-9) + count_per_lead(span, step) - 1)
+    return step * (_steps_to_longest_lead(latency, horizon_days, step) + count_per_lead(span, step) - 1)
+
+
+def _steps_to_longest_lead(latency: float, horizon_days: int, step: float) -> int:
+    """Steps back to the newest past issue whose outcome at the longest lead is known at the cut-off."""
+    return math.ceil((horizon_days * DAY + latency) / step - 1e-9)
 
 
 def count_per_lead(span: float, step: float = STEP) -> int:
@@ -290,13 +295,19 @@ def check_calibration_span(
     t, issued: float, latency: float, horizon_days: int, method: str, span: float | None = None, step: float = STEP
 ) -> None:
     """Refuse a calibration whose oldest past forecast would need data from before the record's start
-    (``span`` None: the method's own, :data:`SPANS`)."""
+    (``span`` None: the method's own, :data:`SPANS`, which the message then calls the default: the user did
+    not choose it)."""
+    default = span is None
     span = span_for(method, span)
     oldest = past_issue_times(issued, latency, horizon_days, span, step)[0]
     need = FITTING_SPAN[method]
     have = oldest - latency - float(np.asarray(t)[0])
     if have < need - 0.5 * DAY:
-        most = span - (need - have)
+        # The most past forecasts per lead the record allows: the oldest is issued (k + n - 1) steps back, k those
+        # of the longest lead's newest (calibration_reach), so n is whole and the longest span allowed is n steps
+        # (a span holds round(span / step) forecasts; n - (need - have) / step would miss that rounding).
+        room = issued - latency - float(np.asarray(t)[0]) - need + 0.5 * DAY
+        most = step * (math.floor(room / step + 1e-9) - _steps_to_longest_lead(latency, horizon_days, step) + 1)
         allowed = (
             # Rounded down, so that the span allowed never reads as the span refused (2.0 yr for 1.96).
             f"at most {math.floor(most / (365.25 * DAY) * 100) / 100:.2f} yr for this issue date and horizon "
@@ -307,7 +318,8 @@ def check_calibration_span(
             else "a later issue date: its past forecasts need "
             f"{(issued - oldest + latency + need) / (365.25 * DAY):.1f} yr of record before it"
         )
-        raise InputError("calibration_span", f"{span / (365.25 * DAY):g} yr", allowed)
+        shown = f"{span / (365.25 * DAY):g} yr" + (f" (the {_WHAT[method]} default)" if default else "")
+        raise InputError("calibration_span", shown, allowed)
 
 
 @one_blas_thread
