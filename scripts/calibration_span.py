@@ -56,7 +56,7 @@ def interval_score(err: np.ndarray, half: np.ndarray, p: float) -> np.ndarray:
 
 
 def scores(h) -> dict:
-    """Per method: mean interval scores (mas) and the 68 % and 95 % coverage of the hindcast ``h``."""
+    """Per method: mean interval scores (mas) and the 68 % and 95 % coverage (the hindcast's own scores)."""
     out = {}
     for k, m in enumerate(h.methods):
         rows = [row[k] for row in h.forecasts]
@@ -65,11 +65,11 @@ def scores(h) -> dict:
         res = {}
         for level, p in ((68, P68), (95, P95)):
             half = np.stack([np.array([f.half_widths(level)[c] for f in rows]) for c in (0, 1)])
-            cov = (err <= half).mean(axis=(0, 1))
+            cov = getattr(h.scores[m], f"coverage_{level}")
             res[f"interval_score_{level}_mas"] = float(interval_score(err, half, p).mean() / RAD_PER_MAS)
             res[f"coverage_{level}_range"] = [float(cov.min()), float(cov.max())]
-            if level == 68:
-                res["leads_outside_63_73"] = int(np.sum((cov < BAND[0]) | (cov > BAND[1])))
+        c68 = h.scores[m].coverage_68
+        res["leads_outside_63_73"] = int(np.sum((c68 < BAND[0]) | (c68 > BAND[1])))
         out[m] = res
     return out
 

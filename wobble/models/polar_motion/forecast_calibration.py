@@ -303,9 +303,9 @@ def check_calibration_span(
     need = FITTING_SPAN[method]
     have = oldest - latency - float(np.asarray(t)[0])
     if have < need - 0.5 * DAY:
-        # The most past forecasts per lead the record allows: the oldest is issued (k + n - 1) steps back, k those
-        # of the longest lead's newest (calibration_reach), so n is whole and the longest span allowed is n steps
-        # (a span holds round(span / step) forecasts; n - (need - have) / step would miss that rounding).
+        # The most forecasts per lead the record allows, n: the oldest is issued (k + n - 1) steps back
+        # (calibration_reach) and needs its fitting span of record before it. The span offered is n whole
+        # steps: a span holds round(span / step) forecasts, so the span less the shortfall could be refused.
         room = issued - latency - float(np.asarray(t)[0]) - need + 0.5 * DAY
         most = step * (math.floor(room / step + 1e-9) - _steps_to_longest_lead(latency, horizon_days, step) + 1)
         allowed = (
