@@ -119,6 +119,7 @@ def test_prolate_body_wobbles_retrograde_and_says_so():
 def test_sphere_has_no_wobble_infinite_period_no_crash():
     res = wobble.rigid_wobble([1.0, 1.0, 1.0] * u.kg * u.m**2, spin=1 * u.rad / u.s)
     assert res.rate.value == 0 and math.isinf(res.period.value)
+    assert not math.copysign(1.0, res.rate.value) < 0, "a zero rate printed as '-0.0 rad / s'"
     assert res.sense == "none" and "no free wobble" in res.message
 
 

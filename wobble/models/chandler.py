@@ -250,7 +250,8 @@ def free_wobble_rate_array(spin, c_minus_a, c_minus_b, d=0.0, core=0.0):
     ok = code == 0
     ratio = np.divide(num, den, out=np.full(np.broadcast(num, den).shape, np.nan), where=ok)
     magnitude = np.sqrt(ratio, out=np.full_like(ratio, np.nan), where=ok & (ratio >= 0))
-    sign = np.where(ea > 0, 1.0, -1.0)  # ea == 0 means num == 0: the sign is irrelevant
+    # ea == 0 means num == 0: a rate of zero, given as +0 (not -0.0, which printed as '-0.0 rad / s' for a sphere).
+    sign = np.where(ea < 0, -1.0, 1.0)
     return sign * spin * magnitude, code
 
 

@@ -25,6 +25,9 @@ Rules (per axis, nodes ``u_i = (i - (n-1)/2) h``):
     Each sample is the mean density of a cell of size ``h`` centred on its node
     (a CT voxel). Exact for a piecewise-constant density: the cell integrals are
     ``h``, ``h u_i`` and ``h (u_i^2 + h^2/12)``. Error O(h^2) for a smooth density.
+    The cells reach h/2 beyond the outer nodes: a density that does not vanish
+    there, sampled on a region ending at the outer nodes, is a trapezoid grid
+    (read as voxels it gains the outer half cells, an O(h) error).
 
 For a density that jumps (the surface of a solid cutting through cells) no rule
 guarantees more than first order, O(h); for a smooth closed surface the cell errors
