@@ -568,9 +568,9 @@ def test_angular_momentum_and_energy_match_the_definitions():
     assert body.moment_about([1, 0, 0], frame="principal").to_value(KGM2) == pytest.approx(
         body.principal_moments[0].to_value(KGM2), rel=1e-12
     )
-    # Vectorised over many angular velocities, and 1/s is accepted as rad/s.
+    # Vectorised over many angular velocities.
     many = rng.normal(size=(5, 3))
-    energies = body.kinetic_energy(many / u.s).to_value(u.J)
+    energies = body.kinetic_energy(many * u.rad / u.s).to_value(u.J)
     for wk, ek in zip(many, energies):
         assert ek == pytest.approx(_direct_dynamics(masses, rel, wk)[1], rel=1e-13)
 
@@ -620,6 +620,9 @@ BAD = [
         "omega",
         "shape (..., 3)",
     ),
+    # Hz is cycles per second (it was read as rad/s, 2 pi off); 1/s is refused with it: a rate needs an angle unit.
+    (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).kinetic_energy([1, 2, 3] * u.Hz), "omega", "angular speed"),
+    (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).angular_momentum([1, 2, 3] / u.s), "omega", "angular speed"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).principal(order="biggest"), "order", "ascending"),
     (lambda: RigidBody.box(1 * u.kg, [1, 2, 3] * u.m).classify(rtol="loose"), "rtol", "relative tolerance"),
     (lambda: RigidBody.from_principal_moments([1, 2, 2] * KGM2, axes=np.ones((3, 3))), "axes", "proper rotation"),

@@ -147,6 +147,13 @@ def test_bad_bodies(body, match):
         (dict(mgl=None, M=1 * u.kg, l=2 * u.m), "I1"),  # I1 = 1 < M l^2 = 4: not about the tip
         (dict(mgl=1 * u.J, M=1 * u.kg, l=1 * u.m), "mgl"),
         (dict(I1=1 * u.kg), "I1"),
+        # Hz is cycles per second: read as rad/s (astropy's dimensionless_angles) it was 2 pi off. A rate needs an
+        # angle unit, as FreeRotation's and Scene's do: 1/s is refused too, 10 cycle / s is 20 pi rad / s.
+        (dict(omega3=10 * u.Hz), "omega3"),
+        (dict(omega3=10 / u.s), "omega3"),
+        (dict(omega3=None, psidot0=1 * u.Hz), "psidot0"),
+        (dict(phidot0=1 * u.Hz), "phidot0"),
+        (dict(thetadot0=1 / u.s), "thetadot0"),
     ],
 )
 def test_bad_input_names_the_parameter(kwargs, name):
@@ -154,6 +161,13 @@ def test_bad_input_names_the_parameter(kwargs, name):
         benchmark_top(**kwargs)
     assert err.value.parameter == name
     assert str(err.value).startswith(name)
+
+
+def test_a_rate_in_cycles_per_second_is_two_pi_radians_per_second():
+    top = benchmark_top(omega3=(10 / (2 * np.pi)) * u.cycle / u.s)
+    assert top.omega3.to_value(RAD_S) == pytest.approx(10.0, rel=1e-15)
+    with pytest.raises(InputError, match="^omega0"):
+        HeavyTop.from_state([0, 0, 10] * u.Hz, [1, 0, 0, 0], 1 * KGM2, 0.5 * KGM2, mgl=1 * u.J)
 
 
 def test_dataset_layout_and_conservation():

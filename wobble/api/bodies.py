@@ -80,6 +80,11 @@ class PrincipalAxes:
         return self._frame.ratio(i, j, k)
 
 
+def _angular_velocity(omega) -> np.ndarray:
+    """omega in rad/s. An angle unit is required (no dimensionless_angles(), which reads Hz and 1/s as rad/s)."""
+    return to_si(omega, "omega", u.rad / u.s)
+
+
 def _length_vector(value, name: str) -> np.ndarray:
     return to_si(value, name, u.m, shape=(3,))
 
@@ -579,12 +584,12 @@ class RigidBody:
         ``frame`` ('input' or 'principal', the ascending principal axes), and L is
         returned in the same frame (in the principal frame L_j = I_j omega_j).
         """
-        w = to_si(omega, "omega", u.rad / u.s, equivalencies=u.dimensionless_angles())
+        w = _angular_velocity(omega)
         return self._body.angular_momentum(w, frame) << (_MOI / u.s)
 
     def kinetic_energy(self, omega, frame: str = "input") -> u.Quantity:
         """T = 1/2 omega . I . omega (J) for rotation about the reference point."""
-        w = to_si(omega, "omega", u.rad / u.s, equivalencies=u.dimensionless_angles())
+        w = _angular_velocity(omega)
         return self._body.kinetic_energy(w, frame) << u.J
 
     def moment_about(self, axis, frame: str = "input") -> u.Quantity:

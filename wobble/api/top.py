@@ -41,7 +41,6 @@ __all__ = ["HeavyTop", "STANDARD_GRAVITY", "BYTES_PER_SAMPLE"]
 MOMENT_UNIT = u.kg * u.m**2
 _RATE = u.rad / u.s
 _LMOM = u.kg * u.m**2 / u.s
-_ANGLES = u.dimensionless_angles()
 STANDARD_GRAVITY = _STANDARD_GRAVITY * u.m / u.s**2  # 9.80665 m / s2 (CGPM 1901), the models' one number
 # Float64 values held per sample while a Dataset is built (outputs and temporaries), bytes.
 BYTES_PER_SAMPLE = 8 * 120
@@ -69,7 +68,8 @@ def _angle(value, name):
 def _rate(value, name):
     if value is _ZERO_RATE:
         return 0.0
-    return to_si(value, name, _RATE, equivalencies=_ANGLES)
+    # No dimensionless_angles(): it reads 1/s (and Hz, cycles per second) as rad/s, a factor 2 pi off.
+    return to_si(value, name, _RATE)
 
 
 def _from_body(body):
