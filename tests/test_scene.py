@@ -186,6 +186,28 @@ def test_unreachable_accuracy_names_the_field():
         wobble.run(free_scene([1, 2, 3], [1.0, 0.1, 1.0], accuracy=1e-17))
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "parameter", "allowed"),
+    [
+        (dict(t_end=1.0), "t_end", "unit of time"),
+        (dict(t_end=-1 * u.s), "t_end", "a time after t_start (0.0 s)"),
+        (dict(t_start=1.0), "t_start", "unit of time"),
+        (dict(t_end=None, samples=None, t=[0, 1, 2] * u.m), "t", "unit of time"),
+        (dict(samples=0), "samples", "(>= 1 when t_end = t_start)"),
+        (dict(omega0=[0, 0, 1] * u.Hz), "omega0", "angular speed"),
+        (dict(attitude0=[1, 1, 0]), "attitude0", "4 components"),
+        (dict(epoch="yesterday"), "epoch", "ISO 8601"),
+    ],
+)
+def test_python_scene_errors_name_the_python_parameter(kwargs, parameter, allowed):
+    """Scene builds a scene file's mapping: its errors named the file's keys (time.stop for t_end)."""
+    kw = dict(body=[1, 2, 3] * KGM2, omega0=[1.0, 0.1, 1.0] * RAD_S, t_end=10 * u.s, samples=11)
+    with pytest.raises(InputError) as info:
+        wobble.Scene(**{**kw, **kwargs})
+    assert info.value.parameter == parameter
+    assert str(info.value).startswith(f"{parameter}: got ") and allowed in info.value.allowed
+
+
 def test_only_the_outputs_asked_for_are_computed(monkeypatch):
     def no_attitude(*a, **k):
         raise AssertionError("the attitude was computed but not asked for")

@@ -43,6 +43,30 @@ __all__ = ["Scene", "run", "run_to_netcdf", "read_scene", "example_scenes"]
 _MOI = u.kg * u.m**2
 
 
+# The mapping's keys (those of a scene file) and the Python parameters they came from: an error names what the
+# caller typed (t_end, not time.stop).
+_PYTHON_NAMES = {
+    "initial.omega": "omega0",
+    "initial.attitude": "attitude0",
+    "time.values": "t",
+    "time.start": "t_start",
+    "time.stop": "t_end",
+    "time.samples": "samples",
+    "time.epoch": "epoch",
+}
+
+
+def _in_python_names(exc: InputError) -> InputError:
+    """``exc`` with the scene file's keys replaced by the Python parameters (``stop = start`` by t_end = t_start)."""
+
+    def rename(text: str) -> str:
+        for key, name in _PYTHON_NAMES.items():
+            text = text.replace(key, name)
+        return text.replace("stop = start", "t_end = t_start")
+
+    return InputError(rename(exc.parameter), exc.value, rename(exc.allowed))
+
+
 class Scene:
     """A simulation request built from Quantities (the same content as a scene file).
 
@@ -106,7 +130,10 @@ class Scene:
         if epoch is not None:
             time["epoch"] = epoch
         mapping["time"] = time
-        self._scene = _sf.scene_from_mapping(mapping)
+        try:
+            self._scene = _sf.scene_from_mapping(mapping)
+        except InputError as exc:
+            raise _in_python_names(exc) from None
 
     @property
     def model(self) -> _scene.Scene:
