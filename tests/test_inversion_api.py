@@ -36,6 +36,48 @@ def test_shipped_setups_are_found_by_name():
     assert {"earth", "mars", "mars_chandler_only"} <= set(wobble.inversion_setups())
 
 
+def _conjugate_setup(moves=None) -> dict:
+    """Mars's k2 alone, a normal prior and a tidal k2 measured at the reference period (where the forward model
+    is the identity): the posterior is the conjugate normal one."""
+    setup = {
+        "schema": "wobble-inversion/1",
+        "name": "conjugate",
+        "title": "k2 from a k2 measurement",
+        "description": "a linear Gaussian case",
+        "body": "mars",
+        "model": "full",
+        "sampler": {"walkers": 32, "steps": 1500, "burn": 300, "seed": 3},
+        "parameters": {"love_number_k2": {"prior": "normal", "mean": 0.16, "sd": 0.01, "unit": ""}},
+        "observables": {
+            "tidal_k2": {
+                "value": 0.169,
+                "uncertainty": 0.006,
+                "unit": "",
+                "tidal_period": {"value": 44387.6, "unit": "s"},
+            }
+        },
+    }
+    if moves is not None:
+        setup["sampler"]["moves"] = moves
+    return setup
+
+
+def test_a_well_fitted_independence_proposal_is_no_warning():
+    """On a Gaussian posterior the independence move is accepted ~3/4 of the time: the ideal, and it was
+    reported as 'the ensemble moves poorly' (> 0.7). The stretch move alone keeps the warning."""
+    r = wobble.invert(_conjugate_setup())
+    precision = 1 / 0.01**2 + 1 / 0.006**2
+    mean, sd = (0.16 / 0.01**2 + 0.169 / 0.006**2) / precision, precision**-0.5
+    x = r.samples[..., 0]
+    assert abs(x.mean() - mean) < 4 * sd / np.sqrt(r.to_dict()["parameters"][0]["ess"])
+    assert x.std() == pytest.approx(sd, rel=0.05)
+    assert np.mean(r.acceptance) > 0.7
+    assert r.warnings == []
+    stretch = wobble.invert(_conjugate_setup(moves={"stretch": 1.0}))
+    assert np.mean(stretch.acceptance) > 0.7
+    assert any("acceptance fraction" in w for w in stretch.warnings)
+
+
 def test_result_speaks_the_vocabulary(mars):
     d = mars.to_dict()
     names = [p["name"] for p in d["parameters"]]
