@@ -208,6 +208,14 @@ def test_python_scene_errors_name_the_python_parameter(kwargs, parameter, allowe
     assert str(info.value).startswith(f"{parameter}: got ") and allowed in info.value.allowed
 
 
+@pytest.mark.parametrize("g", [9.8, [0, 0, -9.8], 9.8 * u.m, [0, -9.8] * u.m / u.s**2])
+def test_gravity_errors_name_the_keyword_g(g):
+    """A vector g is the scene file's "gravity" key: its errors named that, not the Python keyword."""
+    with pytest.raises(InputError) as info:
+        wobble.Torque.gravity(0.5 * u.kg, [0, 0, 0.2] * u.m, g=g)
+    assert info.value.parameter == "g"
+
+
 def test_only_the_outputs_asked_for_are_computed(monkeypatch):
     def no_attitude(*a, **k):
         raise AssertionError("the attitude was computed but not asked for")

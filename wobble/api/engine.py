@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 from astropy import units as u
 
+from wobble.errors import InputError
 from wobble.io.scene_file import torque_from_mapping
 from wobble.models.torques import STANDARD_GRAVITY, CustomTorque
 
@@ -76,8 +77,14 @@ class Torque:
             A magnitude (gravity along the inertial -z axis) or an inertial
             acceleration vector (3,).
         """
-        key = "g" if isinstance(g, u.Quantity) and np.ndim(g) == 0 else "gravity"
-        return cls(torque_from_mapping({"kind": "gravity", "mass": mass, "center_of_mass": center_of_mass, key: g}))
+        # A scene file's gravity torque takes a magnitude "g" or a vector "gravity"; the Python keyword is g.
+        key = "g" if np.ndim(g) == 0 else "gravity"
+        try:
+            return cls(torque_from_mapping({"kind": "gravity", "mass": mass, "center_of_mass": center_of_mass, key: g}))
+        except InputError as exc:
+            if exc.parameter != "gravity":
+                raise
+            raise InputError("g", exc.value, exc.allowed) from None
 
     @classmethod
     def gravity_gradient(
