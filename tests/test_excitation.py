@@ -113,6 +113,9 @@ def test_a_file_and_its_dataset_give_the_same_excitation(c04):
 def test_netcdf_round_trip_and_cf(c04, tmp_path, assert_cf_compliant):
     ds = c04.to_dataset()
     assert ds["chi_1"].attrs["units"] == "milliarcsecond" and math.isnan(float(ds["chi_1"][0]))
+    # Cycles per Julian year (365.25 d): UDUNITS' "year" is the tropical year, 2.1e-5 shorter, so "year-1"
+    # (written until 2026-11-29) misread every frequency by that much in a UDUNITS reader (cf_units, pint).
+    assert ds["frequency"].attrs["units"] == "Julian_year-1"
     path = write_netcdf(ds, tmp_path / "chi.nc", command="test")
     back = open_wobble(path)
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))

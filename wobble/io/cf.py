@@ -282,7 +282,8 @@ EXCITATION: dict[str, Spec] = {
         ("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the excitation chi_1 + i chi_2"
     ),
     "pole_spectrum": Spec(("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the pole x_p - i y_p"),
-    "frequency": Spec(("frequency",), "year-1", "frequency in cycles per Julian year (positive: prograde)"),
+    # UDUNITS' "year" is the tropical year (365.242198781 d): cycles per Julian year are "Julian_year-1".
+    "frequency": Spec(("frequency",), "Julian_year-1", "frequency in cycles per Julian year (positive: prograde)"),
     "chandler_period": Spec((), "day", "Chandler period T_c of the complex frequency sigma_c"),
     "quality_factor": Spec((), "1", "quality factor Q of the Chandler wobble"),
     "round_trip_rms": Spec(
