@@ -57,6 +57,30 @@ def test_ar_order_equals_statsmodels_selection():
         assert select_ar(y, 12).order == (max(theirs) if theirs else 0), k
 
 
+def test_ar_selection_keeps_to_stationary_fits():
+    """A spike at the end of a red series makes the least-AIC fit explosive (a root of 1.61: its forecast would be
+    1e75 times the spike after a year); the order chosen is the least-AIC one whose fit is stationary, found here
+    by brute force (each order's AIC on the common sample, each fit's roots by numpy)."""
+    from wobble.numerics.autoregression import is_stationary
+
+    rng = np.random.default_rng(1)
+    e, y = rng.standard_normal(1096), np.zeros(1096)
+    for k in range(2, y.size):
+        y[k] = 1.95 * y[k - 1] - 0.9506 * y[k - 2] + e[k]
+    y[-1] += 1000.0
+    aic = [fit_ar(y, p, skip=30).aic for p in range(1, 31)]
+    roots = {p: np.max(np.abs(np.roots(np.r_[1.0, -fit_ar(y, p).coeffs]))) for p in range(1, 31)}
+    best = 1 + int(np.argmin(aic))
+    assert roots[best] > 1.5  # the unconstrained choice explodes
+    expected = min((p for p in roots if roots[p] < 1), key=lambda p: aic[p - 1])
+    fit = select_ar(y, 30)
+    assert fit.order == expected and is_stationary(fit.coeffs)
+    assert np.all(np.isfinite(ar_forecast(fit, y, 365)[0]))
+    assert (
+        is_stationary([0.5, 0.3]) and not is_stationary([1.0]) and not is_stationary([0.5, 0.6]) and is_stationary([])
+    )
+
+
 def test_ar_forecast_and_variance_by_hand():
     # AR(2) with c = 1, a = (0.5, 0.3), sigma^2 = 2, last values 4 (t-1) and 2 (t-2):
     # y1 = 1 + 0.5*4 + 0.3*2 = 3.6, y2 = 1 + 0.5*3.6 + 0.3*4 = 4.0; psi = 1, 0.5, 0.55.

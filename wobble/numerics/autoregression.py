@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ARFit", "fit_ar", "select_ar", "ar_forecast"]
+__all__ = ["ARFit", "fit_ar", "is_stationary", "select_ar", "ar_forecast"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,14 +78,24 @@ def fit_ar(y, p: int, *, skip: int | None = None) -> ARFit:
     return ARFit(float(beta[0]), beta[1:].copy(), sigma2, nobs, math.log(sigma2) + 2.0 * (p + 1) / nobs)
 
 
+def is_stationary(coeffs) -> bool:
+    """Whether y_t = a_1 y_{t-1} + ... + a_p y_{t-p} + e_t is stationary: every root of
+    z^p - a_1 z^{p-1} - ... - a_p (the companion matrix's eigenvalues) strictly inside the unit circle."""
+    c = np.asarray(coeffs, dtype=float)
+    return c.size == 0 or bool(np.max(np.abs(np.roots(np.r_[1.0, -c]))) < 1.0)
+
+
 def select_ar(y, max_order: int) -> ARFit:
-    """The AR order from 1 to ``max_order`` with the smallest AIC, every order fitted on the same values.
+    """The stationary AR fit of order 1 to ``max_order`` with the smallest AIC, every order compared on the same values.
 
     The models are nested (order p uses the first p + 1 columns of the design
     of order ``max_order``), so one QR decomposition gives every residual sum
     of squares: RSS_p = |y|^2 - |(Q^T y)_{0..p}|^2, with Q^T y the last column
-    of R for the design augmented by y (Q itself is never formed). The chosen
-    order is then refitted on all the values it can use.
+    of R for the design augmented by y (Q itself is never formed). The orders
+    are refitted on all the values they can use, least AIC first, until a fit
+    is stationary (:func:`is_stationary`): least squares does not guarantee it,
+    and an explosive fit's forecast grows without bound (a root of 1.08 is
+    1e12 after a year). Without any stationary order, AR(0): the mean.
     """
     y = np.asarray(y, dtype=float)
     x, target = _design(y, max_order, max_order)
@@ -97,7 +107,11 @@ def select_ar(y, max_order: int) -> ARFit:
     rss = np.maximum(float(target @ target) - proj[1:], np.finfo(float).tiny)  # orders 1 .. max_order
     orders = np.arange(1, max_order + 1)
     aic = np.log(rss / nobs) + 2.0 * (orders + 1) / nobs
-    return fit_ar(y, int(orders[np.argmin(aic)]))
+    for p in orders[np.argsort(aic, kind="stable")]:
+        fit = fit_ar(y, int(p))
+        if is_stationary(fit.coeffs):
+            return fit
+    return fit_ar(y, 0)
 
 
 def ar_forecast(fit: ARFit, history, steps: int) -> tuple[np.ndarray, np.ndarray]:
