@@ -248,6 +248,35 @@ def test_a_planet_entry_outside_nature_or_in_a_wrong_unit_is_refused_as_typed(tm
         load_planet(path)
 
 
+@pytest.mark.parametrize(
+    ("body", "key", "typed", "message"),
+    [
+        # H = 1 crashed with a TypeError deep in the budget; H = 0.6 ran (a 0.67-day "Chandler period").
+        ("earth", "dynamical_flattening", "1.0", "parameters.dynamical_flattening.value: got 1; allowed: at most 1/2"),
+        (
+            "earth",
+            "dynamical_flattening",
+            "0.6",
+            "parameters.dynamical_flattening.value: got 0.6; allowed: at most 1/2",
+        ),
+        # H from J2 / (C/(M a^2)): C20 = -0.1 gives J2 = 0.224 and, with Mars's 0.364, H = 0.61.
+        ("mars", "c20", "-0.1", "parameters (dynamical_flattening): H = 0.613"),
+    ],
+)
+def test_a_figure_beyond_the_triangle_inequality_is_refused(tmp_path, body, key, typed, message):
+    """H = (C - A)/C <= 1/2 for any body (A + B >= C), given or derived; every command reads planets this way."""
+    import re
+
+    from wobble.errors import FileFormatError
+    from wobble.io.catalog import catalogue_file, load_planet
+
+    text = catalogue_file(body).read_text()
+    path = tmp_path / "ares.toml"
+    path.write_text(re.sub(rf"(\[parameters\.{key}\]\n(?:.*\n)*?value = )[^\n]*", rf"\g<1>{typed}", text, count=1))
+    with pytest.raises(FileFormatError, match=re.escape(f"ares.toml, {message}")):
+        load_planet(path)
+
+
 def test_a_number_in_quotes_is_refused_as_text(tmp_path):
     from wobble.errors import FileFormatError
     from wobble.io.parameter_file import read_parameter_file

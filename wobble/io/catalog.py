@@ -59,9 +59,14 @@ PLANET_UNITS: dict[str, u.UnitBase] = {
 }
 
 
-#: Upper bounds set by nature. C/(M a^2): mass within a of the axis gives at most 1, and a near-spherical body
-#: at most 2/3, all of it in a thin shell at the surface (a uniform sphere has 0.4).
+#: Upper bounds set by nature. H = (C - Abar)/C: A + B >= C for any body, so H <= 1/2. C/(M a^2): mass
+#: within a of the axis gives at most 1, and a near-spherical body at most 2/3, all of it in a thin shell at the
+#: surface (a uniform sphere has 0.4).
 _AT_MOST = {
+    "dynamical_flattening": (
+        0.5,
+        "at most 1/2 (the moments' triangle inequality A + B >= C; Earth's H is 3.27e-3)",
+    ),
     "polar_moment_factor": (
         2.0 / 3.0,
         "at most 2/3 (all the mass in a thin shell at the surface; a uniform sphere has 0.4)",

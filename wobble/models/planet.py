@@ -159,6 +159,13 @@ class PlanetParameters:
             )
         if self.rotation_rate.value == 0:
             raise InputError("rotation_rate", 0.0, "a non-zero spin rate (a body at rest does not wobble)")
+        # H = (C - Abar)/C <= 1/2 for any body (A + B >= C); H = 1 made C/(M a^2) = j2/H meaningless downstream.
+        if not self.flattening <= 0.5:
+            raise InputError(
+                "dynamical_flattening",
+                f"H = {self.flattening:g}" + ("" if self.dynamical_flattening else " (j2 / polar_moment_factor)"),
+                "H = (C - A)/C at most 1/2 (the moments' triangle inequality A + B >= C)",
+            )
         self._check_core()
 
     def _check_core(self):
