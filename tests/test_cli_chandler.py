@@ -75,6 +75,16 @@ def test_netcdf_output_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
     expected = wobble.chandler_dataset([wobble.chandler_budget("earth"), wobble.chandler_budget("mars")])
     xr.testing.assert_identical(ds, expected.assign_attrs(ds.attrs))
     assert_cf_compliant(path)
+    # The Monte Carlo sigma (the text's +/-) and the linear one, each under its own name: the file held the
+    # Monte Carlo value under a "(linear propagation)" label.
+    budget = wobble.chandler_budget("earth")
+    mc, linear = (
+        ds["model_period_uncertainty"].sel(body="earth"),
+        ds["model_period_uncertainty_linear"].sel(body="earth"),
+    )
+    assert float(mc) == budget.period_uncertainty.to_value("d") and "Monte Carlo" in mc.attrs["long_name"]
+    assert float(linear) == budget.period_uncertainty_linear.to_value("d") and "linear" in linear.attrs["long_name"]
+    assert float(linear) != float(mc)
 
 
 def test_existing_output_is_not_destroyed(tmp_path, capsys):

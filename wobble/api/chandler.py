@@ -466,6 +466,9 @@ def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
             "model_period_uncertainty": var(
                 "model_period_uncertainty", per_body(lambda b: b.period_uncertainty.to_value(u.day))
             ),
+            "model_period_uncertainty_linear": var(
+                "model_period_uncertainty_linear", per_body(lambda b: b.period_uncertainty_linear.to_value(u.day))
+            ),
             "observed_period": var("observed_period", per_body(lambda b: _num(b.observed))),
             "observed_period_uncertainty": var(
                 "observed_period_uncertainty", per_body(lambda b: _num(b.observed_uncertainty))

@@ -114,7 +114,12 @@ CHANDLER: dict[str, Spec] = {
     "applied": Spec(("body", "step"), "1", "whether the body's parameters support the step"),
     "model_period": Spec(("body",), "day", "modelled Chandler period"),
     "model_period_uncertainty": Spec(
-        ("body",), "day", "one-sigma uncertainty of the modelled period (linear propagation)"
+        ("body",),
+        "day",
+        "one-sigma uncertainty of the modelled period (standard deviation over Monte Carlo draws of the inputs)",
+    ),
+    "model_period_uncertainty_linear": Spec(
+        ("body",), "day", "one-sigma uncertainty of the modelled period (first-order, linear propagation)"
     ),
     "observed_period": Spec(("body",), "day", "observed Chandler period"),
     "observed_period_uncertainty": Spec(("body",), "day", "one-sigma uncertainty of the observed period"),
