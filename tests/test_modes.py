@@ -165,6 +165,14 @@ def test_mars_fcn_against_rise(mars_modes):
     assert abs(model - observed) < 2 * math.hypot(sigma, obs_sigma)
 
 
+def test_the_fcn_is_quoted_in_the_planet_s_own_sidereal_days(mars_modes):
+    """Mars's FCN in space was also given in Earth's sidereal days (-242.3); a Mars sidereal day is 2 pi / Omega."""
+    omega = load_planet("mars")[0].rotation_rate.value
+    period = mars_modes.mode("FCN", "celestial").period.to_value(u.s)
+    line = next(x for x in mars_modes.summary().splitlines() if "core flattening e_f" in x)
+    assert f"= {period * omega / (2 * math.pi):.1f} sidereal days of Mars in space" in line
+
+
 def test_required_flattening_is_an_output_not_an_input():
     """Changing the observed period moves the required e_f and nothing else."""
     p, _ = load_planet("earth")

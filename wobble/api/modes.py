@@ -482,10 +482,14 @@ class NormalModes:
                 if not self.core_flattening_hydrostatic_uncertainty
                 else with_uncertainty(hyd, self.core_flattening_hydrostatic_uncertainty)
             )
+            # In the planet's own sidereal days (2 pi / Omega): Earth's for Earth, Mars's for Mars (a Mars
+            # FCN was printed in Earth's sidereal days).
+            sidereal_days = fcn.period.to_value(u.s) * abs(self.raw.spin_rate) / (2 * math.pi)
+            whose = "" if self.body == "earth" else f" of {self.planet.title}"
             lines.append(
                 f"  core flattening e_f: hydrostatic {hyd_text} ({source}, Clairaut) "
-                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {fcn.period.to_value(u.sday):.1f} "
-                "sidereal days in space)"
+                f"gives the FCN above ({fcn.period.to_value(u.day):.1f} d = {sidereal_days:.1f} "
+                f"sidereal days{whose} in space)"
             )
             if self.core_flattening_required is not None:
                 excess = with_uncertainty(
