@@ -323,17 +323,17 @@ class PolarMotionHindcast:
                     f"  {m + ' ' + label:<34}" + "".join(f"{scale * vals.get(d, math.nan):>10{fmt}}" for d in leads)
                 )
         lines.append(
-            f"  {'LS extrapolation 2-D RMS':<34}"
+            f"  {'LS extrapolation 2-D RMS [mas]':<34}"
             + "".join(f"{self.scores[self.methods[0]].rms_2d_ls[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads)
         )
         lines.append(
-            f"  {'persistence 2-D RMS':<34}"
+            f"  {'persistence 2-D RMS [mas]':<34}"
             + "".join(f"{self.scores[self.methods[0]].rms_2d_persistence[d - 1] / RAD_PER_MAS:>10.2f}" for d in leads)
         )
         # The anchor is 2016-2020 and used angular-momentum forecasts: say so, whatever span was scored.
         _, _, vals = ANCHORS[0]
         lines.append(
-            f"  {'Dill et al. 2023 2-D RMS':<34}"
+            f"  {'Dill et al. 2023 2-D RMS [mas]':<34}"
             + "".join(f"{vals[d]:>10.2f}" if d in vals else f"{'-':>10}" for d in leads)
             + "   (2016-2020, with angular-momentum forecasts)"
         )
