@@ -163,3 +163,15 @@ def test_help_has_examples(capsys):
     assert info.value.code == 0
     text = capsys.readouterr().out
     assert "examples:" in text and "wobble polar-motion --start" in text
+
+
+def test_report_estimates_carry_two_significant_digits_of_their_uncertainty():
+    """The amplitude column printed whole mas whatever its uncertainty: 173 +/- 8 for 8.13 (1980-2010)."""
+    from astropy import units as u
+
+    from wobble.cli._polar_motion_report import _pair
+
+    assert _pair(173.24 * u.mas, 8.13 * u.mas) == ("173.2", "8.1")
+    assert _pair(162.3 * u.mas, 10.4 * u.mas) == ("162", "10")
+    assert _pair(432.6187 * u.day, 0.553 * u.day) == ("432.62", "0.55")
+    assert _pair(122.0 * u.mas, None) == ("122.0", "-")

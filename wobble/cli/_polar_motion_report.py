@@ -13,6 +13,7 @@ import os
 from astropy import units as u
 
 from wobble.io.dates import iso_date
+from wobble.io.text import with_uncertainty
 
 __all__ = ["report"]
 
@@ -22,6 +23,15 @@ def _fmt(q, digits=1, unit=None) -> str:
         return "-"
     x = float(q.to_value(unit) if unit is not None else q.value)
     return f"{x:.{digits}f}" if math.isfinite(x) else "-"
+
+
+def _pair(q, sigma) -> tuple[str, str]:
+    """A value and its uncertainty, both to the uncertainty's two significant digits (as every other
+    +/- wobble prints: the amplitude's fixed whole mas showed 173 +/- 8 for 8.13)."""
+    if q is None or sigma is None or not math.isfinite(float(sigma.value)):
+        return _fmt(q), _fmt(sigma)
+    value, error = with_uncertainty(float(q.value), float(sigma.to_value(q.unit))).split(" +/- ")
+    return value, error
 
 
 def report(a) -> str:
@@ -36,10 +46,9 @@ def report(a) -> str:
         f"  Chandler wobble      {'period [d]':>18}  {'amplitude [mas]':>16}",
     ]
     for est, label in ((e, "least squares"), (s, "spectrum")):
-        lines.append(
-            f"  {label:<19}{_fmt(est.period):>9} +/- {_fmt(est.period_uncertainty):<5}  "
-            f"{_fmt(est.amplitude, 0):>7} +/- {_fmt(est.amplitude_uncertainty, 0):<5}"
-        )
+        period, period_sigma = _pair(est.period, est.period_uncertainty)
+        amplitude, amplitude_sigma = _pair(est.amplitude, est.amplitude_uncertainty)
+        lines.append(f"  {label:<19}{period:>9} +/- {period_sigma:<5}  {amplitude:>7} +/- {amplitude_sigma:<5}")
     parts = e.period_uncertainty_parts
     lines.append(
         "  period uncertainty (least squares): "
