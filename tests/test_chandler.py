@@ -431,8 +431,15 @@ def test_anelastic_solution_near_the_fluid_limit(mars):
         assert last.period == pytest.approx(period, rel=1e-13)
 
 
-@pytest.mark.parametrize("body", ["earth", "mars"])
-@pytest.mark.parametrize("model", ["rigid", "elastic", "fluid_core", "ocean_pole_tide", "anelastic"])
+@pytest.mark.parametrize(
+    ("body", "model"),
+    [
+        (body, model)
+        for body in ("earth", "mars")
+        for model in ("rigid", "elastic", "fluid_core", "ocean_pole_tide", "anelastic")
+        if (body, model) != ("mars", "ocean_pole_tide")  # Mars has no ocean
+    ],
+)
 def test_the_monte_carlo_draws_every_parameter_the_model_reads_and_no_other(body, model):
     """Each uncertain parameter outside parameters_used(steps) must leave the period unchanged when moved by
     +-1 sigma (checked on a planet with only that parameter moved), and each inside it drawn; an unused one
@@ -441,10 +448,7 @@ def test_the_monte_carlo_draws_every_parameter_the_model_reads_and_no_other(body
     from wobble.models.chandler import ParameterValues, _evaluate, parameters_used, resolve_model
 
     planet, _ = load_planet(body)
-    try:
-        _, steps = resolve_model(planet, model)
-    except wobble.InputError:
-        pytest.skip(f"{body} has no {model} step")
+    _, steps = resolve_model(planet, model)
     used = parameters_used(steps)
     for key, m in planet.measured_fields().items():
         if key in used or key == "observed_chandler_period":
