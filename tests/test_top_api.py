@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import astropy.units as u
 import numpy as np
@@ -353,6 +354,26 @@ def test_cli_bad_input_one_line_exit_2(argv, match, capsys, tmp_path, monkeypatc
     assert main(["top", *argv]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and match in err and "Traceback" not in err
+
+
+def test_times_past_the_closed_form_s_reach_are_refused(capsys, tmp_path, monkeypatch):
+    """The secular phases' advance per nutation period is exact for 2^26 periods; 1e20 s (7.7e19 periods of
+    this top) ran and gave meaningless phases (1e300 s: NaN, with NumPy's warnings on stderr)."""
+    top = benchmark_top()
+    period = top.nutation_period.to_value(u.s)
+    assert top.max_time.to_value(u.s) == (2**26 - 1) * period
+    top.model.motion(np.array([-top.max_time.to_value(u.s), top.max_time.to_value(u.s)]))  # the limit itself runs
+    with pytest.raises(InputError, match=r"^t: got 1e\+20 s; allowed: \|t\| up to .* 2\^26 nutation periods"):
+        top.model.motion(np.array([0.0, 1e20]))
+    with pytest.raises(InputError, match="^t_end: got 1e\\+20 s"):
+        top.to_dataset(t_end=1e20 * u.s, samples=11)
+    assert math.isinf(benchmark_top(theta0=0 * u.deg).max_time.value)  # a sleeping top's theta stays put
+    monkeypatch.chdir(tmp_path)
+    argv = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60", "--omega3", "10", "--t-end", "1e20"]
+    assert main([*argv, "-o", "x.nc"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("wobble top: error: --t-end: got 1e20; allowed: at most ") and err.count("\n") == 1
+    assert not (tmp_path / "x.nc").exists()
 
 
 def test_cli_usage_error_is_one_line_exit_2(capsys):

@@ -365,6 +365,12 @@ class HeavyTop:
         return self._model.nutation_period << u.s
 
     @property
+    def max_time(self) -> u.Quantity:
+        """Largest |t| the motion is given at (s): 2^26 - 1 nutation periods for a nutating top (the closed
+        form's secular phases are exact up to there), inf when theta is constant."""
+        return self._model.max_time << u.s
+
+    @property
     def mean_precession_rate(self) -> u.Quantity:
         """phidot averaged over a nutation period (rad/s)."""
         return self._model.mean_precession_rate << _RATE
@@ -495,10 +501,16 @@ class HeavyTop:
         ------
         wobble.errors.InputError
             Neither or both of ``t`` and ``t_end``; bad ``samples``; a request that
-            would not fit in memory.
+            would not fit in memory; times beyond :attr:`max_time`.
         """
         ts = self._times(t, t_end, samples)
-        return self._dataset(ts, self._model.motion(ts))
+        try:
+            motion = self._model.motion(ts)
+        except InputError as exc:
+            if exc.parameter != "t" or t is not None:
+                raise
+            raise InputError("t_end", t_end, exc.allowed) from None
+        return self._dataset(ts, motion)
 
     def _times(self, t, t_end, samples):
         return sample_times(t, t_end, samples, BYTES_PER_SAMPLE)

@@ -122,7 +122,16 @@ def _span(top, text) -> tuple[float, str]:
         if math.isfinite(period):
             return 10 * period, "10 nutation periods, the default; --t-end to change"
         return 10.0, "10 s, the default (the motion has no nutation period); --t-end to change"
-    return parse_duration(text, "--t-end", "100 s, 2 min"), "--t-end"
+    t_end = parse_duration(text, "--t-end", "100 s, 2 min")
+    limit = top.model.max_time
+    if t_end > limit:  # the model refuses such times; named here as the option typed
+        raise InputError(
+            "--t-end",
+            text,
+            f"at most {limit:.6g} s: 2^26 nutation periods of {top.model.nutation_period:.6g} s "
+            "(beyond, the closed form's secular phases lose their digits)",
+        )
+    return t_end, "--t-end"
 
 
 def _print_table(summary: dict, typed: str | None = None) -> None:

@@ -530,7 +530,14 @@ def _zero_torque(t):
 
 def _applies_heavy_top(scene):
     _, why = _heavy_top_geometry(scene)
-    return why
+    if why is not None:
+        return why
+    # The closed form holds to 2^26 nutation periods (HeavyTopModel.max_time); a longer span integrates.
+    limit = _build_heavy_top(scene).model.max_time
+    span = float(np.max(np.abs(np.asarray(scene.times, dtype=float) - scene.times[0])))
+    if span > limit:
+        return f"the span, {span:.6g} s, reaches past 2^26 nutation periods ({limit:.6g} s)"
+    return None
 
 
 def _build_heavy_top(scene):

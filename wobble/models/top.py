@@ -65,6 +65,7 @@ Modules: this one is the model (:class:`HeavyTopModel`, its constructors and che
 from __future__ import annotations
 
 import decimal
+import math
 from dataclasses import dataclass, field
 from decimal import Decimal
 
@@ -384,6 +385,7 @@ class HeavyTopModel:
         """
         t = np.asarray(t, dtype=float)
         flat = t.reshape(-1)
+        self._check_times(flat)
         impl = self.evaluator(flat.size, method)
         shape = t.shape
 
@@ -427,6 +429,30 @@ class HeavyTopModel:
             u=r(c["u"]),
             **{k: r(v) for k, v in inv.items()},
         )
+
+    @property
+    def max_time(self) -> float:
+        """Largest |t| (s) the motion is evaluated at: 2^26 - 1 nutation periods for a nutating top, where the
+        secular phases' advance per period, split in three 26-bit pieces, stops being exact
+        (:class:`~wobble.models.top_closed_form.Secular`); unlimited for a top whose theta is constant."""
+        if not isinstance(self._impl, Elliptic):
+            return math.inf
+        return (2.0**26 - 1.0) * self.nutation_period
+
+    def _check_times(self, t: np.ndarray) -> None:
+        """Refuse times outside [-max_time, max_time] (and non-finite ones), naming the limit."""
+        if t.size == 0:
+            return
+        if not np.all(np.isfinite(t)):
+            raise InputError("t", f"{t[~np.isfinite(t)][0]} s", "finite times")
+        worst = float(np.max(np.abs(t)))
+        if worst > self.max_time:
+            raise InputError(
+                "t",
+                f"{worst:g} s",
+                f"|t| up to {self.max_time:.6g} s: 2^26 nutation periods of {self.nutation_period:.6g} s "
+                "(beyond, the closed form's secular phases lose their digits)",
+            )
 
     def evaluate(self, t, method: str = "auto") -> tuple[np.ndarray, np.ndarray]:
         """Body angular velocity (N, 3) in rad/s and attitude quaternion (N, 4), body -> space.
