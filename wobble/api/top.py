@@ -366,8 +366,9 @@ class HeavyTop:
 
     @property
     def max_time(self) -> u.Quantity:
-        """Largest |t| the motion is given at (s): 2^26 - 1 nutation periods for a nutating top (the closed
-        form's secular phases are exact up to there), inf when theta is constant."""
+        """The largest time from t = 0, either way, at which the motion is given (s): 2^26 - 1 nutation
+        periods for a nutating top (the closed form's secular phases are exact up to there), inf when
+        theta is constant."""
         return self._model.max_time << u.s
 
     @property

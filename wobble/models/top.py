@@ -432,9 +432,10 @@ class HeavyTopModel:
 
     @property
     def max_time(self) -> float:
-        """Largest |t| (s) the motion is evaluated at: 2^26 - 1 nutation periods for a nutating top, where the
-        secular phases' advance per period, split in three 26-bit pieces, stops being exact
-        (:class:`~wobble.models.top_closed_form.Secular`); unlimited for a top whose theta is constant."""
+        """The largest time (s) from t = 0, either way, at which the motion is evaluated: 2^26 - 1 nutation
+        periods for a nutating top, where the secular phases' advance per period, split in three 26-bit
+        pieces, stops being exact (:class:`~wobble.models.top_closed_form.Secular`); unlimited for a top
+        whose theta is constant."""
         if not isinstance(self._impl, Elliptic):
             return math.inf
         return (2.0**26 - 1.0) * self.nutation_period
