@@ -83,6 +83,15 @@ def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
     expected = wobble.modes_dataset([wobble.normal_modes("earth"), wobble.normal_modes("mars")])
     xr.testing.assert_identical(ds, expected.assign_attrs(ds.attrs))
     assert_cf_compliant(path)
+    # Every uncertainty the JSON gives is in the file too (the hydrostatic e_f's and the excess's were not).
+    status, out, _ = _run(capsys, "modes", "earth", "mars", "--json")
+    for body in json.loads(out):
+        row = ds.sel(body=body["body"])
+        for key, var in (
+            ("core_flattening_hydrostatic_uncertainty", "core_flattening_hydrostatic_uncertainty"),
+            ("core_flattening_excess_percent_uncertainty", "core_flattening_excess_uncertainty"),
+        ):
+            assert float(row[var]) == pytest.approx(body[key], rel=1e-14, abs=0), (body["body"], key)  # 15 digits
 
 
 def test_body_file_runs_like_the_catalogue(tmp_path, capsys):

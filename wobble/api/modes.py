@@ -776,6 +776,9 @@ def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
             "core_flattening_hydrostatic": var(
                 "core_flattening_hydrostatic", per_body(lambda r: r.core_flattening_hydrostatic)
             ),
+            "core_flattening_hydrostatic_uncertainty": var(
+                "core_flattening_hydrostatic_uncertainty", per_body(lambda r: r.core_flattening_hydrostatic_uncertainty)
+            ),
             "core_flattening_required": var("core_flattening_required", per_body(lambda r: r.core_flattening_required)),
             "core_flattening_required_uncertainty": var(
                 "core_flattening_required_uncertainty", per_body(lambda r: r.core_flattening_required_uncertainty)
@@ -783,6 +786,16 @@ def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
             "core_flattening_excess": var(
                 "core_flattening_excess",
                 per_body(lambda r: None if r.core_flattening_excess is None else 100 * r.core_flattening_excess),
+            ),
+            "core_flattening_excess_uncertainty": var(
+                "core_flattening_excess_uncertainty",
+                per_body(
+                    lambda r: (
+                        None
+                        if r.core_flattening_excess_uncertainty is None
+                        else 100 * r.core_flattening_excess_uncertainty
+                    )
+                ),
             ),
             "fcn_period_required": var("fcn_period_required", per_body(lambda r: day(r.fcn_period_required))),
             "chandler_budget_period": var("chandler_budget_period", per_body(lambda r: day(r.chandler_budget_period))),

@@ -223,6 +223,9 @@ MODES: dict[str, Spec] = {
     "core_flattening_hydrostatic": Spec(
         ("body",), "1", "hydrostatic dynamical ellipticity of the liquid core (C_f - A_f)/A_f"
     ),
+    "core_flattening_hydrostatic_uncertainty": Spec(
+        ("body",), "1", "one-sigma uncertainty of the hydrostatic core dynamical ellipticity (0 for a fixed profile)"
+    ),
     "core_flattening_required": Spec(
         ("body",), "1", "dynamical ellipticity of the liquid core that the observed FCN period requires"
     ),
@@ -231,6 +234,9 @@ MODES: dict[str, Spec] = {
     ),
     "core_flattening_excess": Spec(
         ("body",), "percent", "required over hydrostatic core dynamical ellipticity, minus one"
+    ),
+    "core_flattening_excess_uncertainty": Spec(
+        ("body",), "percent", "one-sigma uncertainty of the core ellipticity excess (both ellipticities propagated)"
     ),
     "fcn_period_required": Spec(("body",), "day", "FCN period in space with the required core ellipticity put back"),
     "chandler_budget_period": Spec(("body",), "day", "Chandler period of the first-order budget"),
