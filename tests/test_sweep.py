@@ -245,3 +245,17 @@ def test_members_without_a_finite_output_are_counted_apart_from_the_invalid(caps
     assert s.not_finite_classes == {"sleeping": s.not_finite}
     assert main(["sweep", "top_phase_diagram"]) == 0
     assert f"no finite nutation_period: {s.not_finite} (sleeping {s.not_finite})" in capsys.readouterr().out
+
+
+def test_sweep_parameter_units_are_written_as_the_other_files_write_them():
+    """UDUNITS-style products of powers (``m3 kg-1 s-2``, as every other wobble file), not astropy's
+    ``m3 / (kg s2)``; each reads back as the same unit."""
+    from astropy import units as u
+
+    from wobble.api.sweep_targets import _unit_text
+    from wobble.io.catalog import PLANET_UNITS
+
+    for key, unit in PLANET_UNITS.items():
+        text = _unit_text(key)
+        assert "/" not in text and "(" not in text, (key, text)
+        assert u.Unit(text if text != "1" else "") == unit, key

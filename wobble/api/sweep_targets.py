@@ -179,8 +179,10 @@ class ChandlerTarget:
 
 
 def _unit_text(key: str) -> str:
-    text = PLANET_UNITS[key].to_string()
-    return text if text else "1"
+    """The UDUNITS-style string of the parameter's SI unit, as the other files write them (``rad s-1``, not
+    astropy's ``rad / s``); "1" for a pure number."""
+    unit = PLANET_UNITS[key]
+    return unit.to_string("fits") if unit.to_string() else "1"
 
 
 class _BaseTarget:
