@@ -277,6 +277,48 @@ def test_a_figure_beyond_the_triangle_inequality_is_refused(tmp_path, body, key,
         load_planet(path)
 
 
+@pytest.mark.parametrize(("h", "ks"), [("0.0", "k_s = 0 of"), ("-1e-3", "k_s = -0.")])
+def test_elastic_yielding_of_a_figure_that_is_not_oblate_is_refused(tmp_path, capsys, h, ks):
+    """H <= 0 makes k_s <= 0: any k2 > 0 yields more than a fluid. H = 0 printed an "elastic" 953-day retrograde
+    wobble of a sphere (wobble modes refused the same file); the rigid step alone still runs. (The example
+    planet gives H and C/(M a^2).)"""
+    import re
+
+    from wobble.cli import main
+
+    assert main(["example", "my_planet.toml", str(tmp_path / "base.toml")]) == 0
+    capsys.readouterr()
+    text = (tmp_path / "base.toml").read_text()
+    path = tmp_path / "ares.toml"
+    path.write_text(
+        re.sub(r"(\[parameters\.dynamical_flattening\]\n(?:.*\n)*?value = )[^\n]*", rf"\g<1>{h}", text, count=1)
+    )
+    assert main(["chandler", "--body-file", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "parameters.love_number_k2.value: got" in err and ks in err and err.count("\n") == 1
+    assert main(["chandler", "--body-file", str(path), "--model", "rigid"]) == 0
+    out = capsys.readouterr().out
+    assert ("(no free wobble)" if h == "0.0" else "(retrograde wobble)") in out
+
+
+@pytest.mark.parametrize("h", ["0.0", "-1e-3"])
+def test_a_polar_moment_factor_from_j2_over_a_non_positive_h_is_refused(tmp_path, h):
+    """Earth's file gives H and J2, so C/(M a^2) = J2 / H: H = 0 raised ZeroDivisionError, H < 0 ran with a
+    negative C/(M a^2)."""
+    import re
+
+    from wobble.errors import FileFormatError
+    from wobble.io.catalog import catalogue_file, load_planet
+
+    text = catalogue_file("earth").read_text()
+    path = tmp_path / "ares.toml"
+    path.write_text(
+        re.sub(r"(\[parameters\.dynamical_flattening\]\n(?:.*\n)*?value = )[^\n]*", rf"\g<1>{h}", text, count=1)
+    )
+    with pytest.raises(FileFormatError, match=re.escape("parameters (polar_moment_factor): C/(M a^2) = J2 / H")):
+        load_planet(path)
+
+
 def test_a_number_in_quotes_is_refused_as_text(tmp_path):
     from wobble.errors import FileFormatError
     from wobble.io.parameter_file import read_parameter_file

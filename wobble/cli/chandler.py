@@ -132,7 +132,8 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
         number, _, plus = with_uncertainty(value, err, sign=sign).partition(" +/- ")
         return f"  {name:<16}{number:>11}" + (f" +/- {plus}" if plus else "") + tail
 
-    lines.append(row("model", b.period.to_value(u.day), sigma, f" ({b.sense} wobble)"))
+    sense = " (no free wobble)" if b.sense == "none" else f" ({b.sense} wobble)"  # a sphere: "(none wobble)"
+    lines.append(row("model", b.period.to_value(u.day), sigma, sense))
     if b.observed is not None:
         obs, osig = b.observed.to_value(u.day), b.observed_uncertainty.to_value(u.day)
         lines.append(row("observed", obs, osig))

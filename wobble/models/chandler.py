@@ -655,8 +655,10 @@ def _evaluate_steps(vals: ParameterValues, steps: tuple[str, ...]):
             quality = _quality_factor(vals, omega, ca, cb, core, k, k_imag)
         d = vals.deformation(k) if name != "rigid" else zeros
         if ks is not None and name != "rigid":
-            # k2 >= k_s: the body would yield more than a fluid (no restoring torque).
-            softer = (np.asarray(ca) > 0) & (np.asarray(cb) > 0) & (d >= np.minimum(ca, cb))
+            # k2 >= k_s: the body would yield more than a fluid (no restoring torque). Without an oblate figure
+            # (H <= 0: k_s <= 0) any yielding is more than the figure holds: H = 0 gave an "elastic" 953-day
+            # retrograde wobble of a sphere, which wobble modes refused.
+            softer = (d >= np.minimum(ca, cb)) & ((np.minimum(ca, cb) > 0) | (d > 0))
             code = np.where((code == 0) & softer, 3, code)
         rate, step_code = free_wobble_rate_array(omega, ca, cb, d, core)
         code = np.where(code == 0, step_code, code)

@@ -159,6 +159,15 @@ class PlanetParameters:
             )
         if self.rotation_rate.value == 0:
             raise InputError("rotation_rate", 0.0, "a non-zero spin rate (a body at rest does not wobble)")
+        if self.polar_moment_factor is None and self.j2 is not None and self.dynamical_flattening is not None:
+            # C/(M a^2) = J2 / H: H = 0 divided by zero, H < 0 with J2 > 0 gave a negative C/(M a^2).
+            h, j2 = self.dynamical_flattening.value, self.j2.value
+            if h == 0 or not 0 < j2 / h <= 2.0 / 3.0:
+                raise InputError(
+                    "polar_moment_factor",
+                    f"C/(M a^2) = J2 / H = {j2:g} / {h:g}",
+                    "a value in (0, 2/3] (all the mass in a thin shell at the surface gives 2/3)",
+                )
         # H = (C - Abar)/C <= 1/2 for any body (A + B >= C); H = 1 made C/(M a^2) = j2/H meaningless downstream.
         if not self.flattening <= 0.5:
             raise InputError(
