@@ -494,7 +494,9 @@ class HeavyTopModel:
         qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
         g1 = 2 * (qx * qz - qw * qy)
         g2 = 2 * (qy * qz + qw * qx)
-        e = 0.5 * self.I1 * (w[..., 0] ** 2 + w[..., 1] ** 2) + 0.5 * self.I3 * w[..., 2] ** 2 + self.mgl * g3
+        # (I w) w, not I w^2: the squares of the rates of a top of I1 = 5e-324 kg m2 (1e157 rad/s) overflow.
+        l1, l2, l3 = self.I1 * w[..., 0], self.I1 * w[..., 1], self.I3 * w[..., 2]
+        e = (0.5 * (l1 * w[..., 0] + l2 * w[..., 1]) + 0.5 * (l3 * w[..., 2])) + self.mgl * g3
         p_phi = self.I1 * (w[..., 0] * g1 + w[..., 1] * g2) + self.I3 * w[..., 2] * g3
         return {"energy": e, "p_phi": p_phi, "p_psi": self.I3 * w[..., 2]}
 

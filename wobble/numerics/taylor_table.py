@@ -437,7 +437,7 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
     k0, inv_h, h = k[K0], k[INV_H], k[H]
     hx1, hy2, bx1, cy2, bp, cp = k[HX1], k[HY2], k[BX1], k[CY2], k[BP], k[CP]
     lam0, w3, w3ma = k[LAM0], k[W3], k[W3MA]
-    half_i1, half_i3, i1, i3, mgl = k[HALF_I1], k[HALF_I3], k[I1_], k[I3_], k[MGL]
+    i1, i3, mgl = k[I1_], k[I3_], k[MGL]
     e0, p_phi0 = k[E0_], k[PPHI0_]
     p_psi = i3 * w3
     p_psi_drift = p_psi - k[PPSI0_]
@@ -528,7 +528,8 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             # E, p_phi, p_psi from omega and the vertical in the body (HeavyTopModel.invariants).
             g1 = 2.0 * (qx * qz - qw * qy)
             g2 = 2.0 * (qy * qz + qw * qx)
-            s[_E, b] = (half_i1 * (w1 * w1 + w2 * w2) + half_i3 * (w3 * w3)) + mgl * uu
+            # (I w) w, not I w^2, as HeavyTopModel: the squares overflow for I1 = 5e-324 kg m2 (1e157 rad/s).
+            s[_E, b] = (0.5 * ((i1 * w1) * w1 + (i1 * w2) * w2) + 0.5 * ((i3 * w3) * w3)) + mgl * uu
             s[_PPHI, b] = i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * uu
         # (3) copy out: a whole block by aligned non-temporal stores (_stream4), four values each;
         # the last, partial block by plain ones. The omega and axis blocks (three per sample) are
