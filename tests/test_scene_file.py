@@ -85,6 +85,10 @@ def test_quantities_in_every_form_and_unit(tmp_path):
         (('stop = "10 s"\nsamples = 11', 'values = { value = [0, 2, 1], unit = "s" }'), "time.values"),
         (('stop = "10 s"\nsamples = 11', 'stop = "10 s"\nstep = "-1 s"'), "time.step"),
         (("samples = 11", "samples = 0"), "time.samples"),
+        # A grid beyond memory: samples = 1e30 raised NumPy's "Maximum allowed size exceeded" (fuzz seed 277), and
+        # a step of 1e-300 s overflowed int(floor(inf)).
+        (("samples = 11", "samples = 1000000000000000000000000000000"), "time.samples"),
+        (('stop = "10 s"\nsamples = 11', 'stop = "10 s"\nstep = "1e-300 s"'), "time.step"),
         (("samples = 11", "samples = 11\nfrequency = 3"), "time.frequency"),
         (("accuracy = 1e-9", "accuracy = 2"), "accuracy"),
         (('outputs = ["omega"]', 'outputs = ["omega", "spin_angle"]'), "outputs[1]"),

@@ -7,32 +7,15 @@ largest request this machine can take.
 
 from __future__ import annotations
 
-import os
 
 import astropy.units as u
 import numpy as np
 
 from wobble.api.units import to_si
 from wobble.errors import InputError
+from wobble.io.memory import available_memory, human_bytes
 
 __all__ = ["available_memory", "human_bytes", "sample_times"]
-
-
-def available_memory() -> int:
-    """Free physical memory in bytes (8 GiB where the platform cannot say)."""
-    try:
-        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return 2**33
-
-
-def human_bytes(nbytes: float) -> str:
-    """``1.5e9`` -> ``'1.5 GB'`` (decimal prefixes)."""
-    for unit in ("B", "kB", "MB", "GB", "TB", "PB"):
-        if nbytes < 1000:
-            return f"{nbytes:.3g} {unit}"
-        nbytes /= 1000
-    return f"{nbytes:.3g} EB"
 
 
 def check_memory(n: int, bytes_per_sample: int) -> None:

@@ -24,6 +24,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
+from wobble.io.memory import available_memory, human_bytes
 from wobble.models import torques
 from wobble.models.orbit import EphemerisTable, KeplerOrbit
 from wobble.models.rigid_frame import BodyModel, InternalFrame
@@ -610,6 +611,19 @@ _TORQUE_READERS = {
 }
 
 
+def _check_grid_memory(r, key: str, value, n: float) -> None:
+    """Refuse a time grid of ``n`` samples whose 8-byte times alone would take more than half the free memory
+    (samples = 1e30 raised NumPy's 'Maximum allowed size exceeded' with a traceback)."""
+    have = available_memory() // 2
+    if not n * 8 <= have:
+        raise r.error(
+            key,
+            value,
+            f"at most {have // 8} times here: {n:.3g} times need {human_bytes(8 * n)} of memory for the time grid "
+            f"alone and {human_bytes(have)} is usable",
+        )
+
+
 def _times(r: _Reader, data):
     if data is None:
         raise r.missing("time", "give stop with samples or step, or values")
@@ -638,11 +652,14 @@ def _times(r: _Reader, data):
         n = data["samples"]
         if isinstance(n, bool) or not isinstance(n, int) or n < 1 or (n == 1 and stop != start):
             raise r.error("time.samples", n, "a whole number >= 2 (>= 1 when stop = start)")
+        _check_grid_memory(r, "time.samples", n, n)
         return np.linspace(start, stop, n), epoch
     step = float(r.quantity(data["step"], "time.step", u.s, ndim=(0,)))
     if not step > 0:
         raise r.error("time.step", data["step"], "a positive step (the time grid may not go backwards)")
-    n = int(math.floor((stop - start) / step * (1 + 1e-12))) + 1
+    ratio = (stop - start) / step * (1 + 1e-12)
+    _check_grid_memory(r, "time.step", data["step"], ratio + 1 if math.isfinite(ratio) else math.inf)
+    n = int(math.floor(ratio)) + 1
     t = start + step * np.arange(n)
     if t[-1] < stop * (1 - 1e-15) - 1e-300 and not math.isclose(t[-1], stop):
         t = np.append(t, stop)
