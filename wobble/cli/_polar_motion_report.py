@@ -13,7 +13,7 @@ import os
 from astropy import units as u
 
 from wobble.io.dates import iso_date
-from wobble.io.text import with_uncertainty
+from wobble.io.text import decimals_for
 
 __all__ = ["report"]
 
@@ -30,8 +30,9 @@ def _pair(q, sigma) -> tuple[str, str]:
     +/- wobble prints: the amplitude's fixed whole mas showed 173 +/- 8 for 8.13)."""
     if q is None or sigma is None or not math.isfinite(float(sigma.value)):
         return _fmt(q), _fmt(sigma)
-    value, error = with_uncertainty(float(q.value), float(sigma.to_value(q.unit))).split(" +/- ")
-    return value, error
+    error = float(sigma.to_value(q.unit))
+    d = decimals_for(error)
+    return f"{float(q.value):.{d}f}", f"{error:.{d}f}"
 
 
 def report(a) -> str:

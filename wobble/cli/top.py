@@ -122,15 +122,13 @@ def _span(top, text) -> tuple[float, str]:
         if math.isfinite(period):
             return 10 * period, "10 nutation periods, the default; --t-end to change"
         return 10.0, "10 s, the default (the motion has no nutation period); --t-end to change"
+    import numpy as np
+
     t_end = parse_duration(text, "--t-end", "100 s, 2 min")
-    limit = top.model.max_time
-    if t_end > limit:  # the model refuses such times; named here as the option typed
-        raise InputError(
-            "--t-end",
-            text,
-            f"at most {limit:.6g} s: 2^26 nutation periods of {top.model.nutation_period:.6g} s "
-            "(beyond, the closed form's secular phases lose their digits)",
-        )
+    try:  # the model's own limit (HeavyTopModel.max_time), named as the option typed
+        top.model.check_times(np.array([t_end]))
+    except InputError as exc:
+        raise InputError("--t-end", text, exc.allowed) from None
     return t_end, "--t-end"
 
 

@@ -385,7 +385,7 @@ class HeavyTopModel:
         """
         t = np.asarray(t, dtype=float)
         flat = t.reshape(-1)
-        self._check_times(flat)
+        self.check_times(flat)
         impl = self.evaluator(flat.size, method)
         shape = t.shape
 
@@ -440,7 +440,7 @@ class HeavyTopModel:
             return math.inf
         return (2.0**26 - 1.0) * self.nutation_period
 
-    def _check_times(self, t: np.ndarray) -> None:
+    def check_times(self, t: np.ndarray) -> None:
         """Refuse times outside [-max_time, max_time] (and non-finite ones), naming the limit."""
         if t.size == 0:
             return
