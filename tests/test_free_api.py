@@ -196,3 +196,22 @@ def test_flip_figure_refuses_a_body_that_does_not_flip():
 
     with pytest.raises(InputError, match=r"^omega0: got .*; allowed: a spin that flips the body \(its intermediate"):
         flip_figure([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S, 100 * u.s)
+
+
+def test_times_beyond_the_phase_reductions_reach_are_refused_by_name(capsys, tmp_path, monkeypatch):
+    """The public names for the limit of FreeRotationModel.max_time: ``t`` for omega and attitude,
+    ``t_end`` for to_dataset, ``--t-end`` for the command line (one line, exit 2, nothing written)."""
+    body = FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
+    reach = body.max_time.to_value(u.s)
+    assert reach == (2.0**50 - 1) * body.model.time_between_flips  # the half-period of omega
+    with pytest.raises(InputError, match=r"^t: got 1e\+20 s"):
+        body.attitude(1e20 * u.s)
+    with pytest.raises(InputError, match=r"^t_end: got 1e\+20 s; allowed: \|t\| up to 3\.90102e\+15 s"):
+        body.to_dataset(t_end=1e20 * u.s, samples=3)
+    assert body.to_dataset(t_end=reach * u.s, samples=3).sizes["time"] == 3
+    monkeypatch.chdir(tmp_path)
+    argv = ["free", "--inertia", "1", "2", "3", "--omega", "1", "0.1", "1", "--t-end", "1e20", "-o", "x.nc"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("wobble free: error: --t-end: got 1e20; allowed: |t| up to 3.90102e+15 s, 2^50 turns")
+    assert err.count("\n") == 1 and not (tmp_path / "x.nc").exists()

@@ -17,6 +17,7 @@ from wobble.numerics import quaternion as Q
 REF = json.loads((Path(__file__).parent / "references" / "free_rotation.json").read_text())
 ODE = {c["name"]: c for c in REF["ode"]}
 CLOSED = {c["name"]: c for c in REF["closed"]}
+VERY_LONG = json.loads((Path(__file__).parent / "references" / "free_rotation_very_long.json").read_text())["closed"]
 
 
 def _case(c):
@@ -92,6 +93,69 @@ def test_long_span_phase_bound():
     assert norm < 1e-13 and comp < 1e-13
     assert norm < model.error_estimate["omega_relative"]
     assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-12
+
+
+@pytest.mark.parametrize("c", VERY_LONG, ids=[c["name"] for c in VERY_LONG])
+def test_up_to_two_to_the_fifty_half_periods(c):
+    """From just past 2^26 to 1.9 x 2^48 periods of omega (2^49.9 half-periods, the whole steps of the
+    phase reduction), against mpmath at 60 digits (``build_free_references.py --very-long``, checked
+    at 80): omega and the attitude within their stated bounds. Until 2026-11-29 the set-up formed the
+    precession rate in decimal's default 28 digits: 1.5e-12 rad at the last time, 40 times the bound."""
+    model = _case(c)
+    t = np.array([float(x) for x in c["t"]])
+    inside = t <= model.max_time  # near the separatrix the precession's turns limit first: the last time is out
+    assert np.sum(inside) >= 4
+    c = {**c, "t": c["t"][: np.sum(inside)], "omega": c["omega"][: np.sum(inside)]}
+    c.update(attitude_t=c["t"], attitude=c["attitude"][: np.sum(inside)])
+    norm, _ = _omega_error(c, model)
+    assert norm < model.error_estimate["omega_relative"]
+    err = _attitude_error(model, c, "attitude_t", "attitude")
+    assert err < model.error_estimate["attitude_rad"] and err < 1e-14
+    if not inside.all():
+        with pytest.raises(InputError, match="2\\^50 turns of its fastest phase"):
+            model.attitude(t)
+
+
+def test_the_set_up_does_not_depend_on_the_caller_s_decimal_context():
+    """A script that has set decimal's precision (here 6 digits) gets the same motion: the set-up's
+    Decimal arithmetic runs in wobble's own 50-digit context. It ran in the caller's: 6 digits gave
+    attitudes 1.5 rad off at 1.7 s, and decimal's default 28 digits the error of the test above."""
+    import decimal
+
+    c = VERY_LONG[0]
+    with decimal.localcontext(decimal.Context(prec=6)):
+        model = _case(c)
+    assert _attitude_error(model, c, "attitude_t", "attitude") < 1e-14
+    for args in (((2.0, 2.0, 3.0), (0.3, 0.1, 1.0)), ((1.0, 2.0, 3.0), (0.0, 0.0, 0.1))):  # symmetric, steady
+        with decimal.localcontext(decimal.Context(prec=6)):
+            low = free_rotation(*args)
+        ref = free_rotation(*args)
+        t = np.array([1.7, 1e9, 1e15])
+        np.testing.assert_array_equal(low.attitude(t), ref.attitude(t))
+        np.testing.assert_array_equal(low.omega(t), ref.omega(t))
+
+
+def test_times_beyond_the_reach_of_the_phase_reductions_are_refused():
+    """2^50 whole reductions of the fastest phase (a half-period of omega here): past them the phases
+    lose their digits. Until 2026-11-29 any time ran: 1e300 s gave an attitude with no meaning."""
+    model = _case(VERY_LONG[0])
+    half = model.time_between_flips
+    assert model.limiting_period == half and model.max_time == (2.0**50 - 1) * half
+    model.attitude(np.array([-model.max_time, model.max_time]))  # the limit itself runs
+    for call in (model.omega, model.attitude, model.state):
+        with pytest.raises(InputError, match=r"^t: got 1e\+300 s; allowed: \|t\| up to 3\.90102e\+15 s, 2\^50 turns"):
+            call(np.array([0.0, 1e300]))
+    with pytest.raises(InputError, match=r"^t: got 1e\+17 s"):
+        model.flip_times(-1e17, 0.0)
+    # a steady spin: 2^50 turns of its half angle |omega| t / 2; a body at rest: no limit
+    assert free_rotation([1.0, 2.0, 3.0], [0.0, 0.0, 0.1]).max_time == (2.0**50 - 1) * 4 * np.pi / 0.1
+    assert np.isinf(free_rotation([1.0, 2.0, 3.0], [0.0, 0.0, 0.0]).max_time)
+    assert np.isnan(model.omega(np.array([np.nan]))).all()  # NaN passes through, as before
+    # Earth's near-circular wobble on a long uniform grid takes the compiled nome series, which checks the
+    # grid's two ends only
+    earth = free_rotation((8.01012e37, 8.01032e37, 8.03652e37), (7.292115e-11, 0.0, 7.292115e-05))
+    with pytest.raises(InputError, match=r"^t: got 3\.6525e\+20 s; allowed: \|t\| up to 1\.94024e\+20 s"):
+        earth.omega(np.arange(36526) * 1e16)
 
 
 def test_earth_100_years_daily():

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 
 import astropy.units as u
 import numpy as np
@@ -357,23 +356,28 @@ def test_cli_bad_input_one_line_exit_2(argv, match, capsys, tmp_path, monkeypatc
 
 
 def test_times_past_the_closed_form_s_reach_are_refused(capsys, tmp_path, monkeypatch):
-    """The secular phases' advance per nutation period is exact for 2^26 periods; 1e20 s (7.7e19 periods of
-    this top) ran and gave meaningless phases (1e300 s: NaN, with NumPy's warnings on stderr)."""
+    """The phases are reduced exactly for 2^50 nutation periods (2^26 until 2026-11-29, where the
+    secular phases' three-piece products stopped being exact); 1e20 s (7.7e19 periods of this top) ran
+    and gave meaningless phases (1e300 s: NaN, with NumPy's warnings on stderr)."""
     top = benchmark_top()
     period = top.nutation_period.to_value(u.s)
-    assert top.max_time.to_value(u.s) == (2**26 - 1) * period
+    assert top.max_time.to_value(u.s) == (2**50 - 1) * period
     top.model.motion(np.array([-top.max_time.to_value(u.s), top.max_time.to_value(u.s)]))  # the limit itself runs
-    with pytest.raises(InputError, match=r"^t: got 1e\+20 s; allowed: \|t\| up to .* 2\^26 nutation periods"):
+    with pytest.raises(InputError, match=r"^t: got 1e\+20 s; allowed: \|t\| up to .*, 2\^50 nutation periods"):
         top.model.motion(np.array([0.0, 1e20]))
     with pytest.raises(InputError, match="^t_end: got 1e\\+20 s"):
         top.to_dataset(t_end=1e20 * u.s, samples=11)
-    assert math.isinf(benchmark_top(theta0=0 * u.deg).max_time.value)  # a sleeping top's theta stays put
+    # theta constant: 2^50 turns of phi or psi; a top at rest has no limit
+    assert benchmark_top(theta0=0 * u.deg).max_time.to_value(u.s) == pytest.approx((2**50 - 1) * 2 * np.pi / 10)
     monkeypatch.chdir(tmp_path)
     argv = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60", "--omega3", "10", "--t-end", "1e20"]
     assert main([*argv, "-o", "x.nc"]) == 2
     err = capsys.readouterr().err
     assert (
-        err.startswith("wobble top: error: --t-end: got 1e20; allowed: |t| up to 8.75523e+07 s: 2^26 nutation")
+        err.startswith(
+            "wobble top: error: --t-end: got 1e20; allowed: |t| up to 1.46888e+15 s, "
+            "2^50 nutation periods (1.30463 s each): beyond"
+        )
         and err.count("\n") == 1
     )
     assert not (tmp_path / "x.nc").exists()

@@ -11,15 +11,18 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from wobble.errors import InputError
 from wobble.models.top import TopMotion, heavy_top, heavy_top_from_state, regular_precession_rates
 from wobble.numerics import quaternion as Q
 
 REF = json.loads((Path(__file__).parent / "references" / "heavy_top.json").read_text())
+VERY_LONG = json.loads((Path(__file__).parent / "references" / "heavy_top_very_long.json").read_text())["cases"]
 CASES = {c["name"]: c for c in REF["cases"]}
 LONG = sorted(n for n, c in CASES.items() if "long" in c)
 ODE = sorted(n for n, c in CASES.items() if "ode" in c)
@@ -207,6 +210,72 @@ def test_motion_over_1000_nutation_periods(name, method):
         d = np.angle(np.exp(1j * (got - want)))
         # Euler angles are ill-conditioned next to the vertical: scale by 1/theta there.
         assert np.max(np.abs(d) * np.minimum(th_ref, 1.0)) < 1e-11, key
+
+
+@pytest.mark.parametrize("case", VERY_LONG, ids=[c["name"] for c in VERY_LONG])
+def test_motion_up_to_two_to_the_fifty_nutation_periods(case, monkeypatch):
+    """From just past 2^26 to 1.9 x 2^49 nutation periods, against mpmath's closed form at 60 digits
+    (``build_top_references.py --very-long``, checked at 80): every path keeps its stated error.
+    Until 2026-11-29 the secular phases' three-piece products, exact below 2^26 periods only, gave
+    1e-8 rad at 3.7e8 periods and 0.3 rad at 2^49.9 (then refused past 2^26); 2 pi itself, taken in
+    decimal's default 28 digits, would have added 1.7e-13 rad there."""
+    from wobble.numerics import compiled
+
+    mdl = model_of(case["name"])
+    t = np.array([float(x) for x in case["t"]])
+    assert np.all(np.abs(t) <= mdl.max_time)
+    q_ref = np.array([[float(v) for v in row] for row in case["quaternion"]])
+    th_ref = np.array([float(v) for v in case["theta"]])
+    grid = np.concatenate([t, np.linspace(-t[-1], t[-1], 9000)])  # long: the compiled path's length
+    for method, times in (("direct", t), ("fourier", t), ("fourier", grid)):
+        mo = mdl.motion(times, method)
+        err = np.max(attitude_angle(mo.quaternion[: t.size], q_ref))
+        assert err < 1e-13 and err <= mdl.error_estimate["attitude_rad"], (method, times.size, err)
+        assert np.max(np.abs(mo.theta[: t.size] - th_ref) / th_ref) < 1e-14
+        for key in ("phi", "psi"):
+            d = np.angle(np.exp(1j * (getattr(mo, key)[: t.size] - np.array([float(v) for v in case[key]]))))
+            assert np.max(np.abs(d)) < 1e-13, key
+    # Past 2^26 half-periods the compiled secular phase is not exact: such arrays take the NumPy path.
+    long_run = mdl.motion(grid, "fourier")
+    monkeypatch.setattr(compiled, "LONG_ARRAY", 10**9)
+    numpy_path = mdl.motion(grid, "fourier")
+    for key in ("theta", "phi", "psi", "omega", "quaternion"):
+        np.testing.assert_array_equal(getattr(long_run, key), getattr(numpy_path, key), err_msg=key)
+
+
+def test_two_pi_is_carried_to_double_double_precision():
+    """The secular phases are reduced modulo a double-double 2 pi: it must hold 2 pi to ~2^-106 of
+    itself. ``hp.to_dd(2 * hp.PI)`` multiplied in decimal's default 28 digits: 4.4e-28 off, which
+    reached 1.7e-13 rad after 2^49.9 nutation periods."""
+    import mpmath as mp
+
+    from wobble.models import free, top_closed_form
+
+    with mp.workdps(60):
+        for hi, lo in (top_closed_form.TWO_PI_DD, free._TWO_PI_DD):
+            assert abs(mp.mpf(hi) + mp.mpf(lo) - 2 * mp.pi) < mp.mpf(2) ** -104
+
+
+def test_a_steady_spin_is_given_to_two_to_the_fifty_turns_and_refused_beyond():
+    """theta constant: phi, psi advance at constant rates, reduced exactly for 2^50 turns of the faster
+    (max_time); the attitude there against mpmath. Until 2026-11-29 such a top had no limit: a
+    sleeping top at 1e300 s gave psi = 0 beside a quaternion of another angle."""
+    import mpmath as mp
+
+    mdl = heavy_top(1.0, 0.5, 1.0, 0.0, omega3=0.1)  # 0.1 is not a binary fraction: the rate has a low part
+    turn, what = mdl.limiting_period
+    assert what == "turns of phi or psi" and turn == pytest.approx(2 * np.pi / 0.1, rel=1e-15)
+    assert mdl.max_time == (2.0**50 - 1) * turn
+    t = np.array([1e9, 3.3e14, 0.999 * mdl.max_time, -mdl.max_time])
+    with mp.workdps(60):  # the attitude of a spin about the vertical at 0.1 rad/s (both floats exact)
+        ang = [mp.mpf(0.1) * mp.mpf(x) for x in t]
+        want = np.array([[float(mp.cos(a / 2)), 0.0, 0.0, float(mp.sin(a / 2))] for a in ang])
+    assert np.max(attitude_angle(mdl.motion(t).quaternion, want)) < 1e-14
+    with pytest.raises(
+        InputError, match=r"^t: got 1e\+300 s; allowed: \|t\| up to .* 2\^50 turns of phi or psi \(62.8319 s each\)"
+    ):
+        mdl.motion(np.array([1e300]))
+    assert math.isinf(heavy_top(1.0, 0.5, 1.0, np.pi, omega3=0.0).max_time)  # hanging at rest
 
 
 @pytest.mark.parametrize("name", LONG)

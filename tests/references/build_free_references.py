@@ -21,6 +21,10 @@ independent references:
   (its sign conventions checked against the ODE on the short spans), and the
   attitude's twist angle psi(t) = int_0^t [L/I_c + (D_c/I_c)/(L + I_c |omega_c|)] dt
   integrated by ``mpmath.quad`` over one period and the remainder.
+
+``python tests/references/build_free_references.py --very-long`` writes
+tests/references/free_rotation_very_long.json instead: the closed form at times from 2^26 to
+1.9 x 2^48 periods of omega, at 60 digits, checked at 80.
 """
 
 from __future__ import annotations
@@ -281,5 +285,46 @@ def main():
     print(f"wrote {OUT}")
 
 
+# ``--very-long``: times from just past 2^26 to 1.9 x 2^48 periods of omega (2^49.9 half-periods, the
+# whole 2K steps of the phase reduction), at 60 digits and again at 80 (the two must agree to 1e-30).
+OUT_VERY_LONG = OUT.with_name("free_rotation_very_long.json")
+VERY_LONG_PERIODS = (2.0**26 + 0.37, 3.7e8 + 0.61, 1.1e11 + 0.2, 1.7 * 2.0**40, 1.9 * 2.0**48)
+VERY_LONG_CASES = (
+    ("generic", (1.0, 2.0, 3.0), (1.0, 0.1, 1.0)),
+    ("minor-axis permuted", (3.0, 1.0, 2.0), (-0.2, 1.3, 0.4)),
+    ("near separatrix 1e-3", (1.0, 2.0, 3.0), (1e-3, 1.0, 1e-3)),
+)
+
+
+def very_long_main():
+    mp.mp.dps = 60
+    data = {
+        "generator": (
+            f"tests/references/build_free_references.py --very-long (mpmath {mp.__version__}, 60 digits, checked at 80)"
+        ),
+        "closed": [],
+    }
+    for name, moments, omega0 in VERY_LONG_CASES:
+        cl = Closed(moments, omega0)
+        period = 4 * cl.K / cl.lam
+        times = [float(period * f) for f in VERY_LONG_PERIODS]
+        row = closed_case(name, moments, omega0, times, times)
+        with mp.workdps(80):
+            check = Closed(moments, omega0)
+            for t, want in zip(times, row["attitude"]):
+                got = check.attitude(t)
+                assert all(abs(mp.mpf(w) - g) < mp.mpf(10) ** -24 for w, g in zip(want, got)), (name, t)
+        row["periods"] = [repr(f) for f in VERY_LONG_PERIODS]
+        data["closed"].append(row)
+        print(f"{name}: done", flush=True)
+    OUT_VERY_LONG.write_text(json.dumps(data, indent=1) + "\n")
+    print(f"wrote {OUT_VERY_LONG}")
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if sys.argv[1:] == ["--very-long"]:
+        very_long_main()
+    else:
+        main()

@@ -26,6 +26,11 @@ angles, omega_j(phi, theta, psi) of p. 70, f(u) of p. 71), at 60 digits:
   (its conventions checked here against the ODE on the short span), phi(t) and
   psi(t) by ``mpmath.quad`` of the notes' phidot(u), psidot(u) over whole periods
   (counted) plus the remainder, and the quaternion from (phi, theta, psi).
+
+``python tests/references/build_top_references.py --very-long`` writes
+tests/references/heavy_top_very_long.json instead (under a minute): the same closed form at
+times from 2^26 to 2^49.9 nutation periods, for a few cases, at 60 digits and again at 80 (the
+two must agree to 1e-30 rad, or the script stops): the reach of the model's secular phases.
 """
 
 from __future__ import annotations
@@ -37,6 +42,7 @@ from pathlib import Path
 import mpmath as mp
 
 OUT = Path(__file__).with_name("heavy_top.json")
+OUT_VERY_LONG = Path(__file__).with_name("heavy_top_very_long.json")
 DPS = 60
 
 
@@ -382,5 +388,62 @@ def main():
     print(f"wrote {OUT}")
 
 
+# Times in nutation periods from just past 2^26 (where the secular phases' three-piece products stop
+# being exact) to 2^49.9; each time is the float64 nearest to the period times the factor.
+VERY_LONG_PERIODS = (2.0**26 + 0.37, 3.7e8 + 0.61, 1.1e11 + 0.2, 1.7 * 2.0**40, 1.9 * 2.0**49)
+VERY_LONG_CASES = ("benchmark cusps", "benchmark loops", "generic offsets", "fast spin 1e4", "tall top")
+
+
+def wrapped(x):
+    """x modulo 2 pi, in (-pi, pi]."""
+    return x - 2 * mp.pi * mp.ceil((x - mp.pi) / (2 * mp.pi))
+
+
+def very_long_main():
+    data = {
+        "generator": (
+            f"tests/references/build_top_references.py --very-long (mpmath {mp.__version__}, {DPS} digits,"
+            " checked at 80)"
+        ),
+        "cases": [],
+    }
+    for name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0, _ in CASES:
+        if name not in VERY_LONG_CASES:
+            continue
+        top = Top(name, I1, I3, mgl, th, thd, phd, w3, phi0, psi0)
+        an, xs = analysis(top)
+        times = [float(mp.mpf(an["period"]) * f) for f in VERY_LONG_PERIODS]
+        states = Closed(top, xs).state(times)
+        # The same numbers (inputs and roots) evaluated at 80 digits: the quadratures and the count of
+        # whole periods (up to 1e15 of them) keep 30 digits of the phases at 60.
+        with mp.workdps(80):
+            check = Closed(top, xs).state(times)
+        for a, b in zip(states, check):
+            assert all(abs(x - y) < mp.mpf(10) ** -30 for x, y in zip(a, b)), (name, a, b)
+        data["cases"].append(
+            {
+                "name": name,
+                "inputs": {k: repr(float(v)) for k, v in top.inputs.items()},
+                "period": an["period"],
+                "periods": [repr(f) for f in VERY_LONG_PERIODS],
+                "t": [repr(t) for t in times],
+                "theta": [s(th, 25) for th, _, _ in states],
+                # phi and psi reach 1e16 rad: given modulo 2 pi, in (-pi, pi], so that 30 digits stay 30 decimals.
+                "phi": [s(wrapped(ph), 30) for _, ph, _ in states],
+                "psi": [s(wrapped(ps), 30) for _, _, ps in states],
+                "quaternion": [[s(v, 25) for v in quat_from_euler(ph, th, ps)] for th, ph, ps in states],
+            }
+        )
+        print(f"{name}: done", flush=True)
+    OUT_VERY_LONG.write_text(json.dumps(data, indent=1) + "\n")
+    print(f"wrote {OUT_VERY_LONG}")
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if sys.argv[1:] == ["--very-long"]:
+        mp.mp.dps = DPS
+        very_long_main()
+    else:
+        main()

@@ -24,6 +24,7 @@ from astropy import units as u
 
 from wobble.api._sampling import sample_times
 from wobble.api.units import to_si
+from wobble.errors import InputError
 from wobble.io import cf
 from wobble.models import free as _free
 
@@ -185,6 +186,12 @@ class FreeRotation:
         return self._model.angular_momentum_inertial << _LMOM
 
     @property
+    def max_time(self) -> u.Quantity:
+        """The largest time from t = 0, either way, at which the motion is given (s): 2^50 - 1 turns of
+        the fastest of its reduced phases (the phases are reduced exactly up to there); inf at rest."""
+        return self._model.max_time << u.s
+
+    @property
     def error_estimate(self) -> dict:
         """Error bounds of the solution: relative error of omega, attitude angle (rad)."""
         return dict(self._model.error_estimate)
@@ -270,11 +277,17 @@ class FreeRotation:
         ------
         wobble.errors.InputError
             Neither or both of ``t`` and ``t_end``; bad ``samples``; a request
-            that would not fit in memory (the message gives the size needed).
+            that would not fit in memory (the message gives the size needed); times
+            beyond :attr:`max_time`.
         """
         ts = self._times(t, t_end, samples)
         mdl = self._model
-        omega, q = mdl.state(ts)
+        try:
+            omega, q = mdl.state(ts)
+        except InputError as exc:
+            if exc.parameter != "t" or t is not None:
+                raise
+            raise InputError("t_end", t_end, exc.allowed) from None
         I = np.asarray(mdl.moments)
         energy = 0.5 * np.sum(I * omega * omega, axis=-1)
         lmag = np.linalg.norm(I * omega, axis=-1)

@@ -366,9 +366,9 @@ class HeavyTop:
 
     @property
     def max_time(self) -> u.Quantity:
-        """The largest time from t = 0, either way, at which the motion is given (s): 2^26 - 1 nutation
-        periods for a nutating top (the closed form's secular phases are exact up to there), inf when
-        theta is constant."""
+        """The largest time from t = 0, either way, at which the motion is given (s): 2^50 - 1 nutation
+        periods for a nutating top, 2^50 - 1 turns of its fastest phase when theta is constant (the
+        phases are reduced exactly up to there), inf for a top at rest."""
         return self._model.max_time << u.s
 
     @property

@@ -59,7 +59,7 @@ from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
 from wobble.numerics import quaternion as quat
 from wobble.numerics.double_double import two_prod
-from wobble.numerics.phase import reduce_phase
+from wobble.numerics.phase import REACH, reduce_phase
 from wobble.numerics.phasor import block_parts, block_phasors, uniform_grid
 
 __all__ = [
@@ -72,7 +72,7 @@ __all__ = [
 
 REGIMES = tuple(r.value for r in Regime)
 _EPS = np.finfo(float).eps
-_TWO_PI_DD = hp.to_dd(2 * hp.PI)
+_TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))  # not 2 * hp.PI: decimal's default 28 digits
 
 
 def _proper_frame(order):
@@ -84,6 +84,11 @@ def _proper_frame(order):
 # --------------------------------------------------------------------------
 # The three kinds of exact solution, each in its own right-handed frame
 # --------------------------------------------------------------------------
+def _turn(rate) -> float:
+    """Time (s) per turn of a phase of double-double ``rate`` (rad/s); inf if it does not move."""
+    return 2.0 * math.pi / abs(rate[0]) if rate[0] != 0.0 else math.inf
+
+
 @dataclass(frozen=True)
 class _Steady:
     """omega constant (principal-axis spin, sphere, zero): uniform rotation."""
@@ -93,6 +98,10 @@ class _Steady:
 
     def omega_at(self, t):
         return np.broadcast_to(np.asarray(self.omega), t.shape + (3,)).copy()
+
+    def reduction_periods(self):
+        """Time (s) per whole turn of each reduced phase: the half angle |omega| t / 2."""
+        return (_turn(self.half_rate),)
 
     def attitude_at(self, t):
         w = np.asarray(self.omega)
@@ -114,6 +123,10 @@ class _Symmetric:
     rate: tuple[float, float]  # Omega = (I3 - I1) omega3 / I1, double-double
     half_space_rate: tuple[float, float]  # L / (2 I1), double-double
     l_dir: tuple[float, float, float]  # L / |L| in this frame at t = 0
+
+    def reduction_periods(self):
+        """Time (s) per whole turn of each reduced phase: Omega t, L t / (2 I1) and -Omega t / 2."""
+        return (_turn(self.rate), _turn(self.half_space_rate), 2.0 * _turn(self.rate))
 
     def omega_at(self, t):
         phase, _ = reduce_phase(t, self.rate, _TWO_PI_DD, 0.0)
@@ -178,6 +191,12 @@ class _Elliptic:
     # Near-circular motion (m <= _FOURIER_MAX_M): pi/(2K) and the nome-series
     # coefficients (sn1, sn3, cn1, cn3, dn0, dn2) of DLMF 22.11.1-3, else None.
     fourier: tuple | None = field(default=None, repr=False, compare=False)
+
+    def reduction_periods(self):
+        """Time (s) per whole reduction of each phase: a half-period 2K / lambda of omega (none on the
+        separatrix, whose phase is not reduced) and a turn of the half precession angle Omega_psi t / 2."""
+        half = 2.0 * self.K[0] / self.lam[0] if np.isfinite(self.K[0]) else math.inf
+        return (half, _turn(self.half_prec_rate))
 
     def phase(self, t):
         """u = lambda t + u0 reduced modulo 2K: returns (r, j) with |r| <= K."""
@@ -359,12 +378,40 @@ class FreeRotationModel:
         """L in the inertial frame (kg m^2/s), equal to I omega0 since q(0) = identity."""
         return np.asarray(self.moments) * np.asarray(self.omega0)
 
+    @property
+    def limiting_period(self) -> float:
+        """The shortest time (s) of one whole reduction among the phases (:meth:`max_time`): a half-period
+        2K / lambda of omega, or a turn of a secular phase; inf when nothing turns."""
+        return min(self._impl.reduction_periods())
+
+    @property
+    def max_time(self) -> float:
+        """The largest time (s) from t = 0, either way, at which the motion is evaluated: 2^50 - 1
+        :attr:`limiting_period` (:data:`wobble.numerics.phase.REACH`), the reach of the exact phase
+        reductions; checked against mpmath at 2^49.9 half-periods (tests/references/free_rotation_very_long.json).
+        Unlimited for a body at rest."""
+        return (REACH - 1.0) * self.limiting_period
+
+    def check_times(self, t: np.ndarray) -> None:
+        """Refuse times beyond :attr:`max_time` either way, naming the limit (NaN passes through)."""
+        if t.size == 0:
+            return
+        worst = float(max(-np.min(t), np.max(t)))
+        if worst > self.max_time:
+            raise InputError(
+                "t",
+                f"{worst:g} s",
+                f"|t| up to {self.max_time:.6g} s, 2^50 turns of its fastest phase ({self.limiting_period:.6g} s "
+                "each): beyond, the exact reduction of the phases loses its digits",
+            )
+
     def omega(self, t) -> np.ndarray:
         """Body-frame angular velocity (rad/s) at times ``t`` (s), shape t.shape + (3,)."""
         t = np.asarray(t, dtype=float)
-        fast = self._omega_compiled_grid(t)
+        fast = self._omega_compiled_grid(t)  # checks the grid's two ends against max_time
         if fast is not None:
             return fast
+        self.check_times(t)
         return to_user(self._omega_model_frame(t), self._order, self._signs)
 
     def _omega_compiled_grid(self, t):
@@ -383,6 +430,7 @@ class FreeRotationModel:
         grid = nome_grid.uniform_grid(t)
         if grid is None:
             return None
+        self.check_times(t[[0, -1]])  # a uniform grid's extremes are its ends: no pass over t (12 us a century)
         starts, step = block_parts(self._impl._phasor, grid[0], grid[1], t.size)
         axes, k = parts
         # Model axis i goes to the user's column order[i] with sign signs[i] (_to_user): exact.
@@ -409,6 +457,7 @@ class FreeRotationModel:
     def attitude(self, t) -> np.ndarray:
         """Unit quaternions (w, x, y, z) rotating body vectors into the inertial frame."""
         t = np.asarray(t, dtype=float)
+        self.check_times(t)
         return self._attitude_to_user(_blocked(self._impl.attitude_at, t, 4))
 
     def _attitude_to_user(self, q):
@@ -424,6 +473,7 @@ class FreeRotationModel:
         (the nome series on a uniform grid, or closed forms) and this is the two calls.
         """
         t = np.asarray(t, dtype=float)
+        self.check_times(t)
         state_at = getattr(self._impl, "state_at", None)
         if state_at is None or not self._jacobi_only():
             return self.omega(t), self.attitude(t)
@@ -438,6 +488,7 @@ class FreeRotationModel:
         """
         if not self._flip:
             return np.empty(0)
+        self.check_times(np.array([t_start, t_end], dtype=float))
         (h_hi, h_lo), (o_hi, o_lo) = self._flip
         if not np.isfinite(h_hi):  # the separatrix: a single crossing
             t = np.array([o_hi + o_lo])
@@ -512,6 +563,16 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
         non-finite omega0.
     """
     moments, omega0 = _check(moments, omega0)
+    # Every Decimal operation of the set-up at hp.DIGITS digits: a bare one takes the caller's context
+    # (decimal's default 28 digits, or whatever a script has set). Until 2026-11-29 the rates were
+    # formed so: 28 digits (1.5e-12 rad of attitude after 2^49.9 half-periods), and a script that
+    # had set 6 digits got attitudes 1.5 rad off at 1.7 s.
+    with decimal.localcontext(hp.context()):
+        return _set_up(moments, omega0)
+
+
+def _set_up(moments, omega0) -> FreeRotationModel:
+    """:func:`free_rotation` after its checks, in ``hp.context()``."""
     order = tuple(int(i) for i in np.argsort(moments, kind="stable"))
     I = [Fraction(moments[i]) for i in order]
     w_user = [Fraction(x) for x in omega0]

@@ -464,11 +464,24 @@ def _applies_free(scene):
 
 def _build_free(name):
     def build(scene):
-        if scene.members == 1 and not _separatrix_negative(scene):
+        if _exact_single(scene):
             return _FreeSingle(scene, name)
         return _FreeEnsemble(scene, name)
 
     return build
+
+
+def _exact_single(scene) -> bool:
+    """Whether one member takes free_rotation's exact solution: not the separatrix entered with
+    omega_a < 0, and a span within its reach (FreeRotationModel.max_time); else the flow map, whose
+    float phase states its own growing bound."""
+    if scene.members != 1 or _separatrix_negative(scene):
+        return False
+    body = scene.body
+    model = _free.free_rotation(
+        np.asarray(body.moments).reshape(3), np.asarray(body.axes).reshape(3, 3) @ scene.omega0[0]
+    )
+    return float(np.max(np.abs(scene.times - scene.times[0]))) <= model.max_time
 
 
 def _separatrix_negative(scene) -> bool:
@@ -491,7 +504,7 @@ def _free_ensemble_bound(scene) -> float:
 
 
 def _floor_free(scene):
-    if scene.members == 1 and not _separatrix_negative(scene):
+    if _exact_single(scene):
         e = _FreeSingle(scene, "free").error_estimate()
         return max(e["omega_relative"], e["attitude_rad"])
     return _free_ensemble_bound(scene)
@@ -532,11 +545,11 @@ def _applies_heavy_top(scene):
     _, why = _heavy_top_geometry(scene)
     if why is not None:
         return why
-    # The closed form holds to 2^26 nutation periods (HeavyTopModel.max_time); a longer span integrates.
-    limit = _build_heavy_top(scene).model.max_time
+    # The closed form holds to 2^50 periods (HeavyTopModel.max_time); a longer span integrates.
+    model = _build_heavy_top(scene).model
     span = float(np.max(np.abs(np.asarray(scene.times, dtype=float) - scene.times[0])))
-    if span > limit:
-        return f"the span, {span:.6g} s, reaches past 2^26 nutation periods ({limit:.6g} s)"
+    if span > model.max_time:
+        return f"the span, {span:.6g} s, reaches past 2^50 {model.limiting_period[1]} ({model.max_time:.6g} s)"
     return None
 
 

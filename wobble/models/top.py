@@ -77,9 +77,11 @@ from wobble.models.top_closed_form import Elliptic
 from wobble.models.top_setup import DIGITS, TopSetup, analyse, context, to_decimal
 from wobble.numerics import compiled
 from wobble.numerics import highprec as hp
+from wobble.numerics.phase import REACH
 
 __all__ = [
     "NUTATION_CLASSES",
+    "MAX_TURNS",
     "HeavyTopModel",
     "TopMotion",
     "heavy_top",
@@ -90,6 +92,10 @@ __all__ = [
 ]
 
 NUTATION_CLASSES = ("undulating", "cusps", "loops", "regular", "sleeping")
+#: Whole periods (nutation periods, or turns of phi or psi when theta is constant) up to which the phases
+#: are reduced exactly (:data:`wobble.numerics.phase.REACH`); checked against mpmath at 1.9 x 2^49
+#: nutation periods (tests/references/heavy_top_very_long.json).
+MAX_TURNS = REACH
 _EPS = float(np.finfo(float).eps)
 
 
@@ -432,13 +438,23 @@ class HeavyTopModel:
 
     @property
     def max_time(self) -> float:
-        """The largest time (s) from t = 0, either way, at which the motion is evaluated: 2^26 - 1 nutation
-        periods for a nutating top, where the secular phases' advance per period, split in three 26-bit
-        pieces, stops being exact (:class:`~wobble.models.top_closed_form.Secular`); unlimited for a top
-        whose theta is constant."""
-        if not isinstance(self._impl, Elliptic):
-            return math.inf
-        return (2.0**26 - 1.0) * self.nutation_period
+        """The largest time (s) from t = 0, either way, at which the motion is evaluated:
+        :data:`MAX_TURNS` - 1 periods of :attr:`limiting_period`, the reach of the exact reductions of
+        the phases (:func:`wobble.numerics.phase.reduce_phase`,
+        :meth:`wobble.models.top_closed_form.Secular.far`); unlimited for a top at rest."""
+        period, _ = self.limiting_period
+        return (MAX_TURNS - 1.0) * period
+
+    @property
+    def limiting_period(self) -> tuple[float, str]:
+        """The period (s) whose count the phases' reductions limit, and what it is: the nutation period
+        of a nutating top; for theta constant, a turn of phi or psi, whichever is faster (the phases
+        reduced, phi and the half angles (phi +- psi)/2, turn no faster); inf for a top at rest."""
+        impl = self._impl
+        if isinstance(impl, Elliptic):
+            return self.nutation_period, "nutation periods"
+        fastest = max(abs(impl.phidot), abs(impl.psidot))
+        return (2.0 * math.pi / fastest if fastest > 0.0 else math.inf), "turns of phi or psi"
 
     def check_times(self, t: np.ndarray) -> None:
         """Refuse times outside [-max_time, max_time] (and non-finite ones), naming the limit."""
@@ -448,11 +464,12 @@ class HeavyTopModel:
             raise InputError("t", f"{t[~np.isfinite(t)][0]} s", "finite times")
         worst = float(np.max(np.abs(t)))
         if worst > self.max_time:
+            period, what = self.limiting_period
             raise InputError(
                 "t",
                 f"{worst:g} s",
-                f"|t| up to {self.max_time:.6g} s: 2^26 nutation periods of {self.nutation_period:.6g} s "
-                "(beyond, the closed form's secular phases lose their digits)",
+                f"|t| up to {self.max_time:.6g} s, 2^50 {what} ({period:.6g} s each): beyond, the exact "
+                "reduction of the phases loses its digits",
             )
 
     def evaluate(self, t, method: str = "auto") -> tuple[np.ndarray, np.ndarray]:

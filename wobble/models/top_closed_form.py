@@ -31,12 +31,15 @@ import numpy as np
 
 from wobble.numerics import elliptic as ell
 from wobble.numerics import highprec as hp
+from wobble.numerics.double_double import WHOLE_PIECES, minus_multiple, two_prod
 from wobble.numerics.phase import reduce_phase, split_dd
 
 __all__ = ["Uniform", "Secular", "Elliptic", "TWO_PI_DD", "TWO_PI_PIECES", "TWO_PI"]
 
 #: 2 pi as a double-double pair (the period of the secular phases).
-TWO_PI_DD = hp.to_dd(2 * hp.PI)
+# In hp.context(): a bare 2 * hp.PI takes decimal's default 28 digits, and that 2 pi was 4.4e-28 off
+# (5e-13 rad over 2^50 turns).
+TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))
 #: 2 pi in three floats of 26, 26 and the rest bits (Cody-Waite reduction: k * piece exact).
 TWO_PI_PIECES = split_dd(*TWO_PI_DD)
 #: 2 pi rounded to float64.
@@ -92,27 +95,50 @@ class Secular:
     floats so that j a1 and j a2 are exact for |j| < 2^26) and c = Omega / lambda. The product
     j a1 is reduced modulo 2 pi by Cody-Waite before the small terms are added, so the error
     is a few ulps of 2 pi whatever t is -- the bound of :func:`wobble.numerics.phase.reduce_phase`
-    at a third of its cost.
+    at a third of its cost. From 2^26 whole periods on (:meth:`far`) j a1 and j a2 are taken by
+    Dekker's exact product and each reduced by :func:`~wobble.numerics.double_double.minus_multiple`:
+    the same few ulps to 2^50 periods, the nutation phase's own reach.
     """
 
     a: tuple[float, float, float]
     c: float
     offset: float
 
+    def _near(self, j):
+        z = j * self.a[0]  # exact for |j| < 2^26
+        k = np.rint(z * (1.0 / TWO_PI))
+        return ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
+
+    def far(self, j):
+        """j A modulo 2 pi as ``z + rest`` (|z| <= 2 pi, |rest| a few radians at most) for any
+        integer-valued j below 2^50, where the three-piece products of :meth:`__call__` are not exact."""
+        a1, a2, a3 = self.a
+        p1, e1 = two_prod(j, a1)  # j a1 = p1 + e1 exactly; |e1| <= ulp(p1)/2 <= 1 for |j| < 2^50
+        r1, l1 = minus_multiple(p1, np.rint(p1 * (1.0 / TWO_PI)), *TWO_PI_DD)
+        p2, e2 = two_prod(j, a2)  # |j a2| < 2^51 pi 2^-25: reduced as well
+        r2, l2 = minus_multiple(p2, np.rint(p2 * (1.0 / TWO_PI)), *TWO_PI_DD)
+        # |j a3| <= 2 pi (a3 holds A's bits past the 52nd): one rounding of a few radians.
+        return r1 + r2, ((l1 + l2) + (e1 + e2)) + j * a3
+
     def __call__(self, j, r, w0):
         a1, a2, a3 = self.a
-        z = j * a1  # exact
-        k = np.rint(z * (1.0 / TWO_PI))
-        z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
-        return z + (j * a2 + (j * a3 + (self.c * (r - w0) + self.offset)))
+        tail = self.c * (r - w0) + self.offset
+        out = self._near(j) + (j * a2 + (j * a3 + tail))
+        big = np.abs(j) >= WHOLE_PIECES
+        if np.any(big):
+            z, rest = self.far(j)
+            out = np.where(big, z + (rest + tail), out)
+        return out
 
     def whole_periods(self, j):
         """j A modulo 2 pi (up to a few ulps of 2 pi): the advance over j whole nutation periods."""
         a1, a2, a3 = self.a
-        z = j * a1  # exact
-        k = np.rint(z * (1.0 / TWO_PI))
-        z = ((z - k * TWO_PI_PIECES[0]) - k * TWO_PI_PIECES[1]) - k * TWO_PI_PIECES[2]
-        return z + (j * a2 + j * a3)
+        out = self._near(j) + (j * a2 + j * a3)
+        big = np.abs(j) >= WHOLE_PIECES
+        if np.any(big):
+            z, rest = self.far(j)
+            out = np.where(big, z + rest, out)
+        return out
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from wobble.models.top_closed_form import TWO_PI, TWO_PI_PIECES
 from wobble.numerics import compiled
-from wobble.numerics.double_double import two_prod, two_sum
+from wobble.numerics.double_double import WHOLE_PIECES, two_prod, two_sum
 from wobble.numerics.phase import PER_SAMPLE, split_dd
 
 __all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of", "wrap_angle", "blocked"]
@@ -252,7 +252,8 @@ class Fourier:
             from wobble.numerics import taylor_table
 
             r, j = self._phase(t)
-            return tuple(taylor_table.angles(r, j, self.table, self.constants()))
+            if not _far(float(np.min(j)), float(np.max(j))):
+                return tuple(taylor_table.angles(r, j, self.table, self.constants()))
         return blocked(self._angles_numpy, t)
 
     def _angles_numpy(self, t):
@@ -277,11 +278,12 @@ class Fourier:
 
             e = self.base
             r, j, j_range = taylor_table.phase(t, e.lam, (2 * e.K[0], 2 * e.K[1]), e.w0, self._period_pieces(), True)
-            jtab, base = self.whole_periods(j, j_range)
-            out, omega, quat, axis = taylor_table.motion(
-                r, j, base, self.table, self.node_r, self.phasor, jtab, _COS, _SIN, self.constants(inertia, initial)
-            )
-            return {**dict(zip(_MOTION_ROWS, out)), "omega": omega, "quaternion": quat, "axis": axis}
+            if not _far(*j_range):
+                jtab, base = self.whole_periods(j, j_range)
+                out, omega, quat, axis = taylor_table.motion(
+                    r, j, base, self.table, self.node_r, self.phasor, jtab, _COS, _SIN, self.constants(inertia, initial)
+                )
+                return {**dict(zip(_MOTION_ROWS, out)), "omega": omega, "quaternion": quat, "axis": axis}
         return blocked(lambda tb: self._motion_numpy(tb, inertia, initial), t)
 
     def _motion_numpy(self, t, inertia, initial) -> dict:
@@ -359,6 +361,14 @@ class Fourier:
 _MOTION_ROWS = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi") + tuple(
     name + "_drift" for name in ("energy", "p_phi", "p_psi")
 )
+
+
+def _far(j_lo: float, j_hi: float) -> bool:
+    """Whether whole half-periods from ``j_lo`` to ``j_hi`` reach 2^26, past which the compiled
+    secular phase's three-piece products stop being exact: such times take the NumPy path, whose
+    :meth:`~wobble.models.top_closed_form.Secular.far` carries them to 2^50 (a branch for them in
+    the compiled loop would keep LLVM from vectorising it, as in :func:`wobble.numerics.taylor_table.phase`)."""
+    return max(abs(j_lo), abs(j_hi)) >= WHOLE_PIECES
 
 
 def wrap_angle(a):

@@ -22,7 +22,13 @@ import numpy as np
 # double-double arithmetic.
 from wobble.numerics.double_double import WHOLE_PIECES, minus_multiple, two_prod, two_sum
 
-__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE"]
+__all__ = ["split_dd", "reduce_phase", "PER_SAMPLE", "REACH"]
+
+#: Whole periods up to which :func:`reduce_phase` keeps its bound (a few ulps of the period): past
+#: 2^26 the multiple of the period is Dekker's exact product, while the double-double phase's own
+#: rounding, about ``|phase| eps^2``, stays below an ulp of the period to about here. The models
+#: refuse times beyond (``HeavyTopModel.max_time``, ``FreeRotationModel.max_time``).
+REACH = 2.0**50
 
 # The index base that means 'one table entry per sample': no dense range of whole half-periods
 # starts there (|j| stays far below 2**62); the earlier test 'base < 0' took every range over
