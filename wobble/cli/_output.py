@@ -90,6 +90,23 @@ def check_outputs(args, names=("output", "plot"), *, zarr: bool = False) -> None
             check_target(path, overwrite)
 
 
+def t_end_option(text: str, model, examples: str) -> float:
+    """``--t-end`` in seconds (:func:`wobble.api.units.parse_duration`), checked against the model's own
+    time limit (``model.check_times``: the reach of its exact phase reductions) and refused, if past it,
+    under the option's name as typed."""
+    import numpy as np
+
+    from wobble.api.units import parse_duration
+    from wobble.errors import InputError
+
+    t_end = parse_duration(text, "--t-end", examples)
+    try:
+        model.check_times(np.array([t_end]))
+    except InputError as exc:
+        raise InputError("--t-end", text, exc.allowed) from None
+    return t_end
+
+
 def span_text(seconds: float, typed: str | None) -> str:
     """The end of an output span as the user gave it (``200 s``, ``100 yr (3.1557e+09 s)``), or,
     chosen by wobble, in the unit a person would use (:func:`wobble.io.text.duration`)."""

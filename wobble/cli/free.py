@@ -69,17 +69,10 @@ def _span(body, text):
 
     from astropy import units as u
 
-    from wobble.api.units import parse_duration
+    from wobble.cli._output import t_end_option
 
-    if text is not None:
-        import numpy as np
-
-        t_end = parse_duration(text, "--t-end", "100 s, 2 d")
-        try:  # the model's own limit (FreeRotationModel.max_time), named as the option typed
-            body.model.check_times(np.array([t_end]))
-        except InputError as exc:
-            raise InputError("--t-end", text, exc.allowed) from None
-        return t_end, "--t-end"
+    if text is not None:  # within the model's own limit (FreeRotationModel.max_time)
+        return t_end_option(text, body.model, "100 s, 2 d"), "--t-end"
     period = body.period.to_value(u.s)
     if not math.isfinite(period):
         why = "on the separatrix the motion never repeats" if body.regime == "separatrix" else "the spin is steady"

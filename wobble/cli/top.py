@@ -115,21 +115,15 @@ def _span(top, text) -> tuple[float, str]:
     """(end of the output span in s, how it was chosen): --t-end, or ten nutation periods."""
     import math
 
-    from wobble.api.units import parse_duration
+    from wobble.cli._output import t_end_option
 
     if text is None:
         period = top.model.nutation_period
         if math.isfinite(period):
             return 10 * period, "10 nutation periods, the default; --t-end to change"
         return 10.0, "10 s, the default (the motion has no nutation period); --t-end to change"
-    import numpy as np
-
-    t_end = parse_duration(text, "--t-end", "100 s, 2 min")
-    try:  # the model's own limit (HeavyTopModel.max_time), named as the option typed
-        top.model.check_times(np.array([t_end]))
-    except InputError as exc:
-        raise InputError("--t-end", text, exc.allowed) from None
-    return t_end, "--t-end"
+    # within the model's own limit (HeavyTopModel.max_time)
+    return t_end_option(text, top.model, "100 s, 2 min"), "--t-end"
 
 
 def _print_table(summary: dict, typed: str | None = None) -> None:
