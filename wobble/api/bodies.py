@@ -809,7 +809,7 @@ def _parse_units(text, name: str, target: u.UnitBase, what: str) -> u.UnitBase:
         unit = u.Unit(str(text), parse_strict="raise")
     except ValueError:
         raise InputError(name, f"units {text!r}", f"{what} that astropy can parse") from None
-    if not unit.is_equivalent(target):
+    if not unit.is_equivalent(target, equivalencies=None):
         raise InputError(name, f"units {text!r}", what)
     return unit
 

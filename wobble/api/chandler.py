@@ -369,7 +369,7 @@ class ChandlerBudget:
 def _num(q) -> float | None:
     if q is None:
         return None
-    x = float(q.to_value(u.day) if q.unit.is_equivalent(u.day) else q.value)
+    x = float(q.to_value(u.day) if q.unit.is_equivalent(u.day, equivalencies=None) else q.value)
     return x if math.isfinite(x) else None
 
 

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import json
 import os
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -185,13 +184,11 @@ def _as_scene(scene) -> _scene.Scene:
     if isinstance(scene, dict):
         return _sf.scene_from_mapping(scene)
     if isinstance(scene, (str, os.PathLike)):
-        text = os.fspath(scene)
-        if Path(text).is_file() or text.endswith(".toml") or os.sep in text:
-            return _sf.read_scene(text)
-        from importlib import resources
+        # As `wobble run` reads it: a file of that name first, else the shipped scene ("tennis_racket"
+        # or "tennis_racket.toml"), else one line naming the shipped ones.
+        from wobble.io.shipped import resolve
 
-        with resources.as_file(_sf.example_scene_path(text)) as path:
-            return _sf.read_scene(path)
+        return _sf.read_scene(resolve(scene, "scenes", "scene"))
     raise InputError("scene", scene, "a wobble.Scene, a mapping, a scene file path or an example name")
 
 

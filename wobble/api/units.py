@@ -47,11 +47,11 @@ _EXAMPLES = {
 def describe_unit(unit: u.UnitBase) -> str:
     """Name the physical type of ``unit`` with examples, for error messages."""
     kind = str(unit.physical_type)
-    if unit.is_equivalent(u.m**3 / u.s**2):
+    if unit.is_equivalent(u.m**3 / u.s**2, equivalencies=None):
         kind = "gravitational parameter"
-    if unit.is_equivalent(u.rad / u.s):
+    if unit.is_equivalent(u.rad / u.s, equivalencies=None):
         kind = "angular speed"
-    if unit.is_equivalent(u.kg * u.m**2):
+    if unit.is_equivalent(u.kg * u.m**2, equivalencies=None):
         kind = "moment of inertia"
     example = _EXAMPLES.get(kind, f"1 {unit.to_string()}")
     return f"a Quantity with units of {kind} (e.g. {example})"
@@ -105,7 +105,9 @@ def to_si(
         try:
             # Plain conversion first: astropy tries it first with equivalencies too (same
             # result), and the equivalencies' set-up costs several times the conversion.
-            si = np.asarray(value.to_value(unit), dtype=float)
+            # equivalencies=None: none at all, not even any the caller enabled globally (astropy's
+            # default, [], adds those: dimensionless_angles() read 10 Hz as 10 rad/s).
+            si = np.asarray(value.to_value(unit, equivalencies=None), dtype=float)
         except u.UnitConversionError:
             if not equivalencies:
                 raise InputError(name, value, describe_unit(unit)) from None
@@ -162,7 +164,7 @@ def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool 
     """
     if isinstance(value, u.Quantity):
         try:
-            value = value.to_value(u.dimensionless_unscaled)
+            value = value.to_value(u.dimensionless_unscaled, equivalencies=None)
         except u.UnitConversionError:
             raise InputError(name, value, "a dimensionless number") from None
     try:
@@ -196,10 +198,10 @@ def spin_rate_si(spin, name: str = "spin") -> float:
     is used as it is. Signed rates are allowed (the sense of rotation matters
     for the direction of the wobble); a period must be positive.
     """
-    if isinstance(spin, u.Quantity) and spin.unit.is_equivalent(u.s):
+    if isinstance(spin, u.Quantity) and spin.unit.is_equivalent(u.s, equivalencies=None):
         period = to_si(spin, name, u.s, positive=True, shape=())
         return 2.0 * np.pi / period
-    if isinstance(spin, u.Quantity) and spin.unit.is_equivalent(u.rad / u.s):
+    if isinstance(spin, u.Quantity) and spin.unit.is_equivalent(u.rad / u.s, equivalencies=None):
         return to_si(spin, name, u.rad / u.s, shape=())
     raise InputError(
         name,
@@ -223,7 +225,7 @@ def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity
         q = u.Quantity(text)
     except (TypeError, ValueError):
         raise InputError(name, text, f"a number with an optional unit ({describe_unit(default_unit)})") from None
-    if not q.unit.is_equivalent(default_unit):
+    if not q.unit.is_equivalent(default_unit, equivalencies=None):
         raise InputError(name, text, describe_unit(default_unit))
     return q
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import re
 import shlex
 import sys
@@ -160,6 +161,11 @@ def main(argv: list[str] | None = None) -> int:
     from wobble._offline import configure_astropy_offline
 
     configure_astropy_offline(forbid_all_downloads=True)
+    if "matplotlib" not in sys.modules:
+        # The command line only writes figures to files: the Agg canvas, whatever MPLBACKEND says (a
+        # GUI backend would want a display; MPLBACKEND=nonsense made --plot crash with a traceback). The
+        # library itself (wobble.plot) leaves the backend to its caller.
+        os.environ["MPLBACKEND"] = "Agg"
     try:
         with _compilation_notice(args.command):
             return int(args.func(args) or 0)

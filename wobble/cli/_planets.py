@@ -9,6 +9,7 @@ and hands them to :func:`report` with its Dataset builder and figure function.
 from __future__ import annotations
 
 import importlib
+from pathlib import Path
 
 from wobble.errors import InputError
 
@@ -47,7 +48,8 @@ def bodies_from_args(args) -> list:
         if name.lower() not in known:
             raise InputError("BODY", name, f"one of {', '.join(known)} (files go with --body-file)")
     check_outputs(args)
-    files = [resolve(f, ("examples", "bodies"), "--body-file", (".toml",)) for f in args.body_file]
+    # Paths, not strings: a file of one's own named "earth" is that file, not the catalogued Earth.
+    files = [Path(resolve(f, ("examples", "bodies"), "--body-file", (".toml",))) for f in args.body_file]
     return list(args.bodies) + files or list(known)
 
 

@@ -118,7 +118,7 @@ def _unit_option(text: str | None, option: str, kind: u.UnitBase) -> u.UnitBase 
         raise InputError(
             option, text, f"a unit astropy can parse (e.g. {'g, kg, Msun' if kind == u.kg else 'cm, m, au'})"
         ) from None
-    if not unit.is_equivalent(kind):
+    if not unit.is_equivalent(kind, equivalencies=None):
         raise InputError(option, text, f"a unit of {kind.physical_type}")
     return unit
 

@@ -156,7 +156,9 @@ def load_planet(body: str | os.PathLike) -> tuple[PlanetParameters, ParameterFil
     Parameters
     ----------
     body : str or path-like
-        ``"earth"``, ``"Mars"``, or a path to a ``wobble/1`` planet file.
+        ``"earth"``, ``"Mars"``, or a path to a ``wobble/1`` planet file. A path object
+        (:class:`pathlib.Path`) is always a file, even one named ``earth``; a string is a
+        catalogue name first.
 
     Returns
     -------
@@ -164,7 +166,7 @@ def load_planet(body: str | os.PathLike) -> tuple[PlanetParameters, ParameterFil
         The SI description and the parsed file (values with sources).
     """
     text = os.fspath(body)
-    if text.strip().lower() in catalogue_names():
+    if not isinstance(body, os.PathLike) and text.strip().lower() in catalogue_names():
         with resources.as_file(catalogue_file(text)) as path:
             pf = read_parameter_file(path, kind="planet", known=set(PLANET_UNITS))
     elif Path(text).is_file():

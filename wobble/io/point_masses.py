@@ -66,7 +66,7 @@ def _unit(
         raise FileFormatError(
             path, f"line {line_no}", f"unit {header_unit!r} of column {column!r} is not a unit astropy can parse"
         ) from None
-    if not unit.is_equivalent(kind):
+    if not unit.is_equivalent(kind, equivalencies=None):
         raise FileFormatError(
             path,
             f"line {line_no}",

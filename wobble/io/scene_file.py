@@ -130,7 +130,7 @@ class _Reader:
                 where, raw, f'a quantity with a unit of {kind}, e.g. "{_example(unit)}" (a bare number has no unit)'
             )
         try:
-            si = np.asarray(q.to_value(unit), dtype=float)
+            si = np.asarray(q.to_value(unit, equivalencies=None), dtype=float)  # none enabled globally either
         except u.UnitConversionError:
             raise self.error(
                 f"{where}" if not isinstance(raw, dict) else f"{where}.unit",
@@ -143,7 +143,7 @@ class _Reader:
     def number(self, raw, where: str, *, ndim=None, width=None):
         if isinstance(raw, u.Quantity):
             try:
-                raw = raw.to_value(u.dimensionless_unscaled)
+                raw = raw.to_value(u.dimensionless_unscaled, equivalencies=None)
             except u.UnitConversionError:
                 raise self.error(where, str(raw), "dimensionless numbers") from None
         if isinstance(raw, (str, dict, bool)):
@@ -179,13 +179,13 @@ class _Reader:
 
 
 def _kind(unit):
-    if unit.is_equivalent(u.rad / u.s):
+    if unit.is_equivalent(u.rad / u.s, equivalencies=None):
         return "angular speed"
-    if unit.is_equivalent(_MOI):
+    if unit.is_equivalent(_MOI, equivalencies=None):
         return "moment of inertia"
-    if unit.is_equivalent(u.m**3 / u.s**2):
+    if unit.is_equivalent(u.m**3 / u.s**2, equivalencies=None):
         return "gravitational parameter"
-    if unit.is_equivalent(u.N * u.m * u.s):
+    if unit.is_equivalent(u.N * u.m * u.s, equivalencies=None):
         return "angular momentum (damping coefficient, N m s)"
     return str(unit.physical_type)
 

@@ -72,7 +72,7 @@ __all__ = [
 
 REGIMES = tuple(r.value for r in Regime)
 _EPS = np.finfo(float).eps
-_TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))  # not 2 * hp.PI: decimal's default 28 digits
+_TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))  # not 2 * hp.PI: the caller's context (28 digits)
 
 
 def _proper_frame(order):
@@ -540,6 +540,7 @@ def _fits_double(x: Fraction) -> bool:
         return False
 
 
+@hp.isolated(hp.context)
 def free_rotation(moments, omega0) -> FreeRotationModel:
     """The exact torque-free motion for principal ``moments`` (kg m^2) and ``omega0`` (rad/s).
 
@@ -562,17 +563,11 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
         Non-finite or non-positive moments, triangle inequality violated,
         non-finite omega0.
     """
+    # Every Decimal operation of the set-up at hp.DIGITS digits (hp.isolated): a bare one takes the
+    # caller's context (decimal's default 28 digits, or whatever a script has set). Until 2026-11-29
+    # the rates were formed so: 28 digits (1.5e-12 rad of attitude after 2^49.9 half-periods), and a
+    # script that had set 6 digits got attitudes 1.5 rad off at 1.7 s.
     moments, omega0 = _check(moments, omega0)
-    # Every Decimal operation of the set-up at hp.DIGITS digits: a bare one takes the caller's context
-    # (decimal's default 28 digits, or whatever a script has set). Until 2026-11-29 the rates were
-    # formed so: 28 digits (1.5e-12 rad of attitude after 2^49.9 half-periods), and a script that
-    # had set 6 digits got attitudes 1.5 rad off at 1.7 s.
-    with decimal.localcontext(hp.context()):
-        return _set_up(moments, omega0)
-
-
-def _set_up(moments, omega0) -> FreeRotationModel:
-    """:func:`free_rotation` after its checks, in ``hp.context()``."""
     order = tuple(int(i) for i in np.argsort(moments, kind="stable"))
     I = [Fraction(moments[i]) for i in order]
     w_user = [Fraction(x) for x in omega0]

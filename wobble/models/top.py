@@ -521,6 +521,7 @@ class HeavyTopModel:
 # --------------------------------------------------------------------------
 # Construction
 # --------------------------------------------------------------------------
+@hp.isolated(context)  # all of its decimal arithmetic at DIGITS digits, none in the caller's context
 def heavy_top(
     I1: float,
     I3: float,
@@ -623,6 +624,7 @@ def heavy_top(
     return HeavyTopModel(**analyse(setup))
 
 
+@hp.isolated(context)
 def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: float | None = None) -> HeavyTopModel:
     """The exact top from an engine-style state: body angular velocity and attitude (SI).
 
@@ -667,7 +669,7 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
         norm = (to_decimal(sh_f) ** 2 + to_decimal(ch_f) ** 2).sqrt()
         sh, ch = to_decimal(sh_f) / norm, to_decimal(ch_f) / norm
     phidot0 = phidot_sin / float(2 * sh * ch) if sh_f > 0 and ch_f > 0 else 0.0
-    phi0_d = to_decimal(sigma0) + to_decimal(delta0)  # the current decimal context, as always
+    phi0_d = to_decimal(sigma0) + to_decimal(delta0)  # in context() (hp.isolated), not the caller's
     psi0_d = to_decimal(sigma0) - to_decimal(delta0)
     setup = TopSetup(
         I1=I1,

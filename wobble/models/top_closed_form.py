@@ -37,13 +37,13 @@ from wobble.numerics.phase import reduce_phase, split_dd
 __all__ = ["Uniform", "Secular", "Elliptic", "TWO_PI_DD", "TWO_PI_PIECES", "TWO_PI"]
 
 #: 2 pi as a double-double pair (the period of the secular phases).
-# In hp.context(): a bare 2 * hp.PI takes decimal's default 28 digits, and that 2 pi was 4.4e-28 off
-# (5e-13 rad over 2^50 turns).
+# In hp.context(): a bare 2 * hp.PI takes the caller's context at import (decimal's default 28 digits:
+# 4.4e-28 off, 5e-13 rad over 2^50 turns; or whatever a script has set).
 TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))
 #: 2 pi in three floats of 26, 26 and the rest bits (Cody-Waite reduction: k * piece exact).
 TWO_PI_PIECES = split_dd(*TWO_PI_DD)
 #: 2 pi rounded to float64.
-TWO_PI = float(2 * hp.PI)
+TWO_PI = TWO_PI_DD[0]
 
 
 @dataclass(frozen=True)

@@ -44,7 +44,7 @@ _EPS = float(np.finfo(float).eps)
 _POLE = Decimal("1e-32")
 
 
-_CONTEXT = decimal.Context(prec=DIGITS)
+_CONTEXT = hp.make_context(DIGITS)  # every setting given: none from decimal.DefaultContext
 
 
 def context() -> decimal.Context:
@@ -55,7 +55,7 @@ def context() -> decimal.Context:
 
 def to_decimal(x) -> Decimal:
     """The exact Decimal of a float (Decimal(float) is exact; arithmetic rounds to the context)."""
-    return x if isinstance(x, Decimal) else Decimal(float(x))
+    return x if isinstance(x, Decimal) else Decimal.from_float(float(x))  # no FloatOperation signal
 
 
 def _f(x: Decimal) -> float:

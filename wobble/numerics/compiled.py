@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
+import os
 import sys
 import threading
 from functools import lru_cache
 
-__all__ = ["LONG_ARRAY", "activity", "available", "compilation_notice", "listen"]
+__all__ = ["LONG_ARRAY", "activity", "available", "compilation_notice", "listen", "njit"]
 
 #: Samples from which long evaluations (free wobble grids, heavy-top series) are compiled.
 LONG_ARRAY = 8192
@@ -24,8 +25,30 @@ LONG_ARRAY = 8192
 
 @lru_cache(maxsize=1)
 def available() -> bool:
-    """Whether Numba can be imported (looked up without importing it)."""
+    """Whether the compiled kernels run: Numba can be imported (looked up without importing it) and
+    its compiler is not switched off (``NUMBA_DISABLE_JIT``, under which the kernels' intrinsics
+    cannot run as Python: the NumPy paths, which give the same numbers, do the work)."""
+    if os.environ.get("NUMBA_DISABLE_JIT", "0").strip() not in ("", "0"):
+        return False
     return importlib.util.find_spec("numba") is not None
+
+
+def njit(**options):
+    """``numba.njit(cache=True, **options)`` as a decorator, or, where Numba finds no place to cache
+    the kernel (a read-only installation and no writable cache directory: "cannot cache function
+    ...: no locator available"), ``numba.njit(cache=False, **options)``: compiled in memory in each
+    process (about 20 s) instead of failing."""
+    import numba as nb
+
+    def decorate(fn):
+        try:
+            return nb.njit(cache=True, **options)(fn)
+        except RuntimeError as exc:
+            if "cannot cache" not in str(exc):
+                raise
+            return nb.njit(cache=False, **options)(fn)
+
+    return decorate
 
 
 class _Watch:

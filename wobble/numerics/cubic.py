@@ -55,6 +55,8 @@ import decimal
 from dataclasses import dataclass
 from decimal import Decimal
 
+from wobble.numerics import highprec as hp
+
 __all__ = ["DIGITS", "TopCubic", "TopRoots", "top_roots", "quadratic_roots"]
 
 DIGITS = 60
@@ -63,7 +65,7 @@ _MAX_ITER = 600
 
 # One template: decimal.localcontext works on a copy of it (creating a Context costs about a
 # microsecond, and the roots take dozens of contexts).
-_CONTEXT = decimal.Context(prec=DIGITS)
+_CONTEXT = hp.make_context(DIGITS)  # every setting given: none from decimal.DefaultContext
 
 
 def _ctx() -> decimal.Context:

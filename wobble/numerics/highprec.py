@@ -12,17 +12,65 @@ AGMs and complete elliptic integrals are then taken in :mod:`decimal` at
 from __future__ import annotations
 
 import decimal
+import functools
 from decimal import Decimal
 from fractions import Fraction
 
-__all__ = ["DIGITS", "PI", "context", "dec", "to_dd", "sqrt", "agm_k", "cel", "cel_many", "exact", "sin_cos"]
+__all__ = [
+    "DIGITS",
+    "PI",
+    "context",
+    "make_context",
+    "isolated",
+    "dec",
+    "to_dd",
+    "sqrt",
+    "agm_k",
+    "cel",
+    "cel_many",
+    "exact",
+    "sin_cos",
+]
 
 DIGITS = 50
 # pi to 60 digits (a constant: decimal has no trigonometry).
 PI = Decimal("3.14159265358979323846264338327950288419716939937510582097494")
 
 
-_CONTEXT = decimal.Context(prec=DIGITS)
+def make_context(prec: int) -> decimal.Context:
+    """A decimal context of ``prec`` digits with every other setting given, none copied from
+    ``decimal.DefaultContext`` (which a script may have changed): rounding half to even, the
+    standard exponent range, and traps on the three signals that would mean a bug here (invalid
+    operation, division by zero, overflow), not on inexact or float operations."""
+    return decimal.Context(
+        prec=prec,
+        rounding=decimal.ROUND_HALF_EVEN,
+        Emin=-999999,
+        Emax=999999,
+        capitals=1,
+        clamp=0,
+        flags=[],
+        traps=[decimal.InvalidOperation, decimal.DivisionByZero, decimal.Overflow],
+    )
+
+
+def isolated(template):
+    """Decorator: run the function in a copy of ``template()``, a decimal context, so that its
+    Decimal arithmetic never takes the caller's (a script's precision, rounding or traps; decimal's
+    default 28 digits) and the caller's flags stay as they were."""
+
+    def wrap(fn):
+        @functools.wraps(fn)
+        def run(*args, **kwargs):
+            with decimal.localcontext(template()):
+                return fn(*args, **kwargs)
+
+        return run
+
+    return wrap
+
+
+_CONTEXT = make_context(DIGITS)
 
 
 def context() -> decimal.Context:
@@ -58,7 +106,9 @@ def to_dd(x) -> tuple[float, float]:
     if d.is_infinite():
         return float(d), 0.0
     hi = float(d)
-    lo = float(context().subtract(d, Decimal(hi))) if hi != 0.0 else 0.0
+    # Decimal.from_float, not Decimal(hi): exact either way, but the constructor signals FloatOperation,
+    # which a caller's context may trap (this runs at import, in whatever context the caller has).
+    lo = float(context().subtract(d, Decimal.from_float(hi))) if hi != 0.0 else 0.0
     return hi, lo
 
 
@@ -127,7 +177,7 @@ def _sin_cos_series(x: Decimal, prec: int) -> tuple[Decimal, Decimal]:
     the terms of x's own), then six doublings, sin 2a = 2 sin a cos a and cos 2a = 1 - 2 sin^2 a
     (no cancellation for 2a <= pi/4; relative errors at most double per step, well inside the
     guard digits). Relative accuracy is kept down to the smallest x."""
-    with decimal.localcontext(decimal.Context(prec=prec + 10)):
+    with decimal.localcontext(make_context(prec + 10)):
         h = x / 64
         h2 = h * h
         tol = Decimal(10) ** (-prec - 8)
@@ -143,7 +193,7 @@ def _sin_cos_series(x: Decimal, prec: int) -> tuple[Decimal, Decimal]:
             k += 1
         for _ in range(6):
             s_sum, c_sum = 2 * s_sum * c_sum, 1 - 2 * s_sum * s_sum
-    with decimal.localcontext(decimal.Context(prec=prec + 5)):
+    with decimal.localcontext(make_context(prec + 5)):
         return +s_sum, +c_sum
 
 
@@ -155,7 +205,7 @@ def sin_cos(x, prec: int = DIGITS) -> tuple[Decimal, Decimal]:
     (cos(pi/2 - 1e-17) = 1e-17 to ``prec`` digits), as needed for a top next to the
     vertical or the horizontal. Taylor series; no third-party dependency.
     """
-    with decimal.localcontext(decimal.Context(prec=prec + 10)):
+    with decimal.localcontext(make_context(prec + 10)):
         d = x if isinstance(x, Decimal) else Decimal(exact(x).numerator) / Decimal(exact(x).denominator)
         if abs(d) > PI * (1 + Decimal(10) ** -40):
             raise ValueError("sin_cos takes |x| <= pi")
@@ -172,5 +222,5 @@ def sin_cos(x, prec: int = DIGITS) -> tuple[Decimal, Decimal]:
             s, c = _sin_cos_series(d, prec)
         else:
             c, s = _sin_cos_series(half_pi - d, prec)
-    with decimal.localcontext(decimal.Context(prec=prec)):
+    with decimal.localcontext(make_context(prec)):
         return +(sign * s), +(c_sign * c)

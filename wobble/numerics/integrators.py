@@ -253,7 +253,9 @@ class DOP853:
             remaining = t_end - t
             last = h_now * (1 + 1e-9) >= remaining  # no sliver of a last step
             h = np.where(last, remaining, np.minimum(h_now, remaining))
-            if np.any(h <= 16 * np.finfo(float).eps * np.maximum(np.abs(t), 1e-300)):
+            # A floor of 1e-290 s, not 1e-300: 16 eps 1e-300 is subnormal, an underflow that a caller's
+            # np.seterr(under="raise") turned into a FloatingPointError at t = 0.
+            if np.any(h <= 16 * np.finfo(float).eps * np.maximum(np.abs(t), 1e-290)):
                 raise StepLimitError(f"step size underflow at t = {t[np.argmin(h)]!r}")
             K, y_new = self._stages(t, y, f, h, ids)
             t_new = np.where(last, t_end, t + h)

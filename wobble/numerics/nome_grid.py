@@ -27,7 +27,6 @@ Numba is imported by this module only (~0.4 s once per process).
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
 from wobble.numerics import compiled as _compiled
@@ -36,7 +35,7 @@ from wobble.numerics.phasor import grid_candidate
 __all__ = ["polynomial_omega", "uniform_grid"]
 
 _compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
-_jit = nb.njit(cache=True, nogil=True, error_model="numpy")
+_jit = _compiled.njit(nogil=True, error_model="numpy")  # cached on disk where Numba can
 
 
 @_jit

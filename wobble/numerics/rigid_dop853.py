@@ -28,7 +28,6 @@ from __future__ import annotations
 import os
 from concurrent.futures import ThreadPoolExecutor
 
-import numba as nb
 import numpy as np
 
 from wobble.numerics import _dop853_tableau as _T
@@ -70,13 +69,13 @@ def _cpus() -> int:
 
 # fastmath "contract" only: fused multiply-adds (one rounding instead of two, ~20 % faster);
 # no reassociation, no assumptions about NaN or infinity (the first-step test reads a NaN).
-_OPTIONS = {"cache": True, "nogil": True, "fastmath": {"contract"}, "error_model": "numpy"}
+_OPTIONS = {"nogil": True, "fastmath": {"contract"}, "error_model": "numpy"}  # cached on disk where Numba can
 _compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
-_jit = nb.njit(**_OPTIONS)
+_jit = _compiled.njit(**_OPTIONS)
 # The right-hand side is inlined into the stages (its ten parameter arrays are then not
 # passed, and reference-counted, at every evaluation): ~20 % faster, compiled once (~12 s)
 # and cached on disk.
-_jit_inline = nb.njit(inline="always", **_OPTIONS)
+_jit_inline = _compiled.njit(inline="always", **_OPTIONS)
 
 
 @_jit_inline

@@ -28,7 +28,6 @@ Numba is imported only with the compiled modules (~0.4 s once per process).
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 from llvmlite import ir
 from numba import types
@@ -56,7 +55,7 @@ __all__ = [
 ]
 
 _compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
-_jit = nb.njit(cache=True, nogil=True, error_model="numpy")
+_jit = _compiled.njit(nogil=True, error_model="numpy")  # cached on disk where Numba can
 _SPLITTER = 134217729.0  # 2^27 + 1
 
 #: Layout of the constants vector handed to :func:`angles` and :func:`motion`.

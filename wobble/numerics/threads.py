@@ -8,7 +8,9 @@ the threads wait for one another, and the same computation was measured 5 to
 sum of the whole record on two loaded cores). :func:`single_blas_thread` limits
 the BLAS pool to one thread for the duration of a ``with`` block (threadpoolctl,
 the library scikit-learn uses for the same purpose) and restores it afterwards;
-nested blocks cost nothing.
+nested blocks cost nothing. The limit is the process's (a BLAS library has one pool): other
+threads of a caller's program also run their BLAS calls on one thread while a polar-motion
+call is under way (docs/polar-motion.md says so).
 """
 
 from __future__ import annotations

@@ -3,9 +3,6 @@ three nutation classes, the effective potential V'(theta) with the E' line, f(u)
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg", force=False)
 import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u

@@ -196,7 +196,8 @@ class Normal(Prior):
         q = np.asarray(q, dtype=float)
         if math.isinf(self.low) and math.isinf(self.high):
             return self.mean + self.sd * special.ndtri(q)
-        return stats.truncnorm.ppf(q, self._a(), self._b(), loc=self.mean, scale=self.sd)
+        with np.errstate(under="ignore"):  # SciPy's ppf underflows harmlessly in its tails (a caller may raise on it)
+            return stats.truncnorm.ppf(q, self._a(), self._b(), loc=self.mean, scale=self.sd)
 
     def describe(self, scale: float = 1.0, unit: str = "") -> str:
         text = f"normal({_fmt(self.mean, scale)}, {_fmt(self.sd, scale)})"
