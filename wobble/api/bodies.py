@@ -661,12 +661,13 @@ class RigidBody:
     def from_dataset(cls, ds) -> RigidBody:
         """Rebuild a body from :meth:`to_dataset` (or a file read with :func:`wobble.load`)."""
         try:
-            tensor = np.asarray(ds["tensor"].transpose("row", "column").values, dtype=float)
-            com = np.asarray(ds["center_of_mass"].values, dtype=float)
-            ref = np.asarray(ds["reference_point"].values, dtype=float)
-            moments = np.asarray(ds["principal_moments"].values, dtype=float)
-            axes = np.asarray(ds["principal_axes"].transpose("principal", "component").values, dtype=float)
-            pairs = np.asarray(ds["principal_moment_differences"].values, dtype=float)
+            # np.array, not np.asarray: copies, so that a later change to the Dataset leaves the body as it was.
+            tensor = np.array(ds["tensor"].transpose("row", "column").values, dtype=float)
+            com = np.array(ds["center_of_mass"].values, dtype=float)
+            ref = np.array(ds["reference_point"].values, dtype=float)
+            moments = np.array(ds["principal_moments"].values, dtype=float)
+            axes = np.array(ds["principal_axes"].transpose("principal", "component").values, dtype=float)
+            pairs = np.array(ds["principal_moment_differences"].values, dtype=float)
             mass = float(ds["mass"].values) if "mass" in ds else None
             for key in ("tensor", "principal_moments", "principal_moment_differences"):
                 if ds[key].attrs.get("units") != _CF_MOI:

@@ -28,6 +28,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.engine import Torque
+from wobble.api.units import plain_array
 from wobble.errors import InputError
 from wobble.io import cf
 from wobble.io import scene_file as _sf
@@ -111,11 +112,13 @@ class Scene:
         title: str = "",
         epoch=None,
     ):
-        mapping: dict = {"name": name, "title": title or name, "accuracy": accuracy, "outputs": list(outputs)}
+        # A single name is one output ("omega"), not its letters.
+        outputs = [outputs] if isinstance(outputs, str) else list(outputs)
+        mapping: dict = {"name": name, "title": title or name, "accuracy": accuracy, "outputs": outputs}
         mapping["body"] = _body_mapping(body)
         initial: dict = {"omega": omega0}
         if attitude0 is not None:
-            initial["attitude"] = np.asarray(attitude0, dtype=float)
+            initial["attitude"] = plain_array(attitude0, "attitude0", "unit quaternions (w, x, y, z), plain numbers")
         mapping["initial"] = initial
         mapping["torques"] = [_torque_spec(tq, i) for i, tq in enumerate(torques)]
         if (t is None) == (t_end is None):

@@ -27,7 +27,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api._sampling import sample_times
-from wobble.api.units import to_si
+from wobble.api.units import plain_array, to_si
 from wobble.errors import InputError
 from wobble.io import cf
 from wobble.models import top as _top
@@ -59,17 +59,23 @@ def _as_quantity(value):
     return value
 
 
-def _angle(value, name):
+def _angle(value, name, shape=()):
+    """An angle in rad; a scalar unless ``shape`` is None (theta0 = [60, 70] deg raised a bare ValueError)."""
     if value is _ZERO_ANGLE:
         return 0.0
-    return to_si(_as_quantity(value), name, u.rad)
+    return to_si(_as_quantity(value), name, u.rad, shape=shape)
 
 
-def _rate(value, name):
+def _rate(value, name, shape=None):
     if value is _ZERO_RATE:
         return 0.0
     # No dimensionless_angles(): it reads 1/s (and Hz, cycles per second) as rad/s, a factor 2 pi off.
-    return to_si(value, name, _RATE)
+    return to_si(value, name, _RATE, shape=shape)
+
+
+def _cosines(values, name="u_values"):
+    """u = cos theta: plain numbers or a dimensionless Quantity (a unit, 0.1 m, was dropped)."""
+    return plain_array(values, name, "u = cos(theta): plain numbers in [-1, 1]")
 
 
 def _from_body(body):
@@ -197,15 +203,15 @@ class HeavyTop:
             raise InputError("theta0", theta0, "an angle in [0, 180] deg (0 = upright, 180 = hanging down)")
         th = min(th, np.pi)
         kwargs = dict(
-            thetadot0=_rate(thetadot0, "thetadot0"),
-            phidot0=_rate(phidot0, "phidot0"),
+            thetadot0=_rate(thetadot0, "thetadot0", ()),
+            phidot0=_rate(phidot0, "phidot0", ()),
             phi0=_angle(phi0, "phi0"),
             psi0=_angle(psi0, "psi0"),
         )
         if omega3 is not None:
-            kwargs["omega3"] = _rate(omega3, "omega3")
+            kwargs["omega3"] = _rate(omega3, "omega3", ())
         else:
-            kwargs["psidot0"] = _rate(psidot0, "psidot0")
+            kwargs["psidot0"] = _rate(psidot0, "psidot0", ())
         self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
         # The start as typed, in deg: a turning point at the start reads 60 deg, not the 59.99999999999999 deg
         # that the round trip through rad gives (None where theta0 was clipped to pi).
@@ -222,7 +228,8 @@ class HeavyTop:
         i1, i3, mgl_si, ml2 = cls._parameters(I1, I3, mgl, M, l, g, body)
         w = np.atleast_1d(_rate(omega0, "omega0"))
         self = cls.__new__(cls)
-        self._model = _top.heavy_top_from_state(i1, i3, mgl_si, w, np.asarray(q0, dtype=float), ml2=ml2)
+        q = plain_array(q0, "q0", "a unit quaternion (w, x, y, z) of plain numbers")
+        self._model = _top.heavy_top_from_state(i1, i3, mgl_si, w, q, ml2=ml2)
         return self
 
     @staticmethod
@@ -393,19 +400,19 @@ class HeavyTop:
 
     def effective_potential(self, theta) -> u.Quantity:
         """V'(theta) = M g l cos theta + (I1/2)((b - a cos theta)/sin theta)^2 (J)."""
-        return self._model.effective_potential(_angle(theta, "theta")) << u.J
+        return self._model.effective_potential(_angle(theta, "theta", shape=None)) << u.J
 
     def f(self, u_values) -> u.Quantity:
         """f(u) = udot^2 (1/s2) at u = cos theta (plain numbers in [-1, 1])."""
-        return self._model.f(np.asarray(u_values, dtype=float)) << (1 / u.s**2)
+        return self._model.f(_cosines(u_values)) << (1 / u.s**2)
 
     def phidot(self, u_values) -> u.Quantity:
         """Precession rate (b - a u)/(1 - u^2) at u = cos theta (rad/s)."""
-        return self._model.phidot_of_u(np.asarray(u_values, dtype=float)) << _RATE
+        return self._model.phidot_of_u(_cosines(u_values)) << _RATE
 
     def psidot(self, u_values) -> u.Quantity:
         """Spin rate I1 a / I3 - u phidot at u = cos theta (rad/s)."""
-        return self._model.psidot_of_u(np.asarray(u_values, dtype=float)) << _RATE
+        return self._model.psidot_of_u(_cosines(u_values)) << _RATE
 
     def regular_precession_rates(self, theta=None) -> tuple[u.Quantity, u.Quantity]:
         """(slow, fast) steady precession rates at tilt ``theta`` (default theta0), rad/s."""

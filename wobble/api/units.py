@@ -15,6 +15,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import InputError
+from wobble.io.quantity_values import NotReal, float64_value
 from wobble.io.text import is_number
 
 __all__ = [
@@ -103,11 +104,13 @@ def to_si(
     # below with one line, without NumPy's overflow warning on stderr before it.
     with np.errstate(over="ignore"):
         try:
-            # Plain conversion first: astropy tries it first with equivalencies too (same
-            # result), and the equivalencies' set-up costs several times the conversion.
-            # equivalencies=None: none at all, not even any the caller enabled globally (astropy's
-            # default, [], adds those: dimensionless_angles() read 10 Hz as 10 rad/s).
-            si = np.asarray(value.to_value(unit, equivalencies=None), dtype=float)
+            # Plain conversion first (wobble.io.quantity_values: float64, a copy, no equivalencies at
+            # all, not even any the caller enabled globally: dimensionless_angles() read 10 Hz as
+            # 10 rad/s); astropy tries it first with equivalencies too (same result), and the
+            # equivalencies' set-up costs several times the conversion.
+            si = float64_value(value, unit)
+        except NotReal as exc:
+            raise InputError(name, value, f"{exc} ({describe_unit(unit)})") from None
         except u.UnitConversionError:
             if not equivalencies:
                 raise InputError(name, value, describe_unit(unit)) from None
@@ -136,12 +139,35 @@ def to_si(
     return si
 
 
+def plain_array(value, name: str, allowed: str) -> np.ndarray:
+    """A new float64 array from plain numbers or a dimensionless Quantity (a quaternion, a unit
+    vector); a Quantity with a unit, text, masked or complex values are refused naming ``name``
+    (a quaternion in degrees was taken as numbers; "identity" raised a bare ValueError)."""
+    if isinstance(value, u.Quantity):
+        try:
+            return float64_value(value, u.dimensionless_unscaled)
+        except (u.UnitConversionError, NotReal):
+            raise InputError(name, value, allowed) from None
+    try:
+        return np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(name, value, allowed) from None
+
+
 def _finite_allowed(value: u.Quantity, unit: u.UnitBase) -> str:
     """What a non-finite conversion is told: finite values, or values that fit a double in ``unit``."""
     if np.all(np.isfinite(value.value)):  # finite as typed: the conversion overflowed
         largest = np.finfo(float).max
         return f"values that stay finite in {unit.to_string()} (at most {largest:.3g} {unit.to_string()})"
     return "finite values (no NaN or inf)"
+
+
+def real_float(value) -> float:
+    """``float(value)`` of a real number (int, float, NumPy scalar, Fraction, Decimal); TypeError for
+    text, bools and complex numbers, which ``float`` reads ("0.003", True) or refuses unclearly."""
+    if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
+        raise TypeError(f"not a real number: {value!r}")
+    return float(value)
 
 
 def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool = True):
@@ -168,7 +194,7 @@ def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool 
         except u.UnitConversionError:
             raise InputError(name, value, "a dimensionless number") from None
     try:
-        x = float(value)
+        x = real_float(value)
     except (TypeError, ValueError):
         raise InputError(name, value, "a dimensionless number") from None
     bounds = _interval_text(low, high, open_interval)

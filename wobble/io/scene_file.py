@@ -15,6 +15,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
+import numbers
 import os
 import tomllib
 from importlib import resources
@@ -25,6 +26,7 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.memory import available_memory, human_bytes
+from wobble.io.quantity_values import NotReal, float64_value
 from wobble.models import torques
 from wobble.models.orbit import EphemerisTable, KeplerOrbit
 from wobble.models.rigid_frame import BodyModel, InternalFrame
@@ -130,7 +132,9 @@ class _Reader:
                 where, raw, f'a quantity with a unit of {kind}, e.g. "{_example(unit)}" (a bare number has no unit)'
             )
         try:
-            si = np.asarray(q.to_value(unit, equivalencies=None), dtype=float)  # none enabled globally either
+            si = float64_value(q, unit)  # float64, a copy of the caller's array, no equivalencies
+        except NotReal as exc:
+            raise self.error(where, str(q), str(exc)) from None
         except u.UnitConversionError:
             raise self.error(
                 f"{where}" if not isinstance(raw, dict) else f"{where}.unit",
@@ -688,6 +692,8 @@ def _members(r, named: dict) -> int:
     n = 1
     for where, arr, base in named.values():
         if arr.ndim > base:
+            if arr.shape[0] == 0:  # an empty ensemble was built, then crashed in wobble.run
+                raise r.error(where, "0 members", "at least one member (one row per member)")
             if n != 1 and arr.shape[0] != n:
                 raise r.error(where, f"{arr.shape[0]} members", f"the same number of members as elsewhere ({n})")
             n = arr.shape[0]
@@ -734,7 +740,8 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
     torques = tuple(_torque(r, i, t, body, com) for i, t in enumerate(raw_torques))
     times, epoch = _times(r, data.get("time"))
     accuracy = data.get("accuracy", 1e-9)
-    if isinstance(accuracy, bool) or not isinstance(accuracy, (int, float)) or not (0 < accuracy < 1):
+    # numbers.Real: NumPy's float32 and a Fraction too (np.float32(1e-9) was refused); not a bool.
+    if isinstance(accuracy, (bool, np.bool_)) or not isinstance(accuracy, numbers.Real) or not (0 < accuracy < 1):
         raise r.error("accuracy", accuracy, "a relative accuracy in (0, 1), e.g. 1e-9")
     outputs = data.get("outputs", ["omega", "attitude"])
     if isinstance(outputs, str) or not isinstance(outputs, (list, tuple)) or not outputs:

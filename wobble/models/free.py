@@ -311,7 +311,8 @@ class _Elliptic:
         lvec = omega * np.asarray(self.moments) / self.L
         s_t = quat.shortest_arc(lvec, z)
         omega0 = self.omega_at(np.zeros(1))
-        s_0 = quat.shortest_arc(omega0 * np.asarray(self.moments) / self.L, z)
+        # [0]: one quaternion, shape (4,), so that the result is t.shape + (4,) (a scalar t gave (1, 4)).
+        s_0 = quat.shortest_arc(omega0 * np.asarray(self.moments) / self.L, z)[0]
         twist = np.concatenate([np.cos(half)[..., None], np.sin(half)[..., None] * z], -1)
         return omega, quat.multiply(quat.conjugate(s_0), quat.multiply(twist, s_t))
 

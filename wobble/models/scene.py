@@ -45,6 +45,7 @@ run whose output exceeds memory never holds it all.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -827,6 +828,9 @@ def _composition_stages(order):
 
 
 _PLAN_CACHE: dict = {}
+# Guards the cache's entries (not the pilots): two threads evicting at once popped the same key or read
+# one just evicted (KeyError).
+_PLAN_LOCK = threading.Lock()
 
 
 def _plans(scene, only=None):
@@ -837,11 +841,13 @@ def _plans(scene, only=None):
     splitting itself is asked for (``only="splitting"``: a forced model).
     """
     key = id(scene)
-    if key not in _PLAN_CACHE or _PLAN_CACHE[key][0] is not scene:
-        while len(_PLAN_CACHE) >= 8:
-            _PLAN_CACHE.pop(next(iter(_PLAN_CACHE)))
-        _PLAN_CACHE[key] = (scene, {})
-    cache = _PLAN_CACHE[key][1]
+    with _PLAN_LOCK:
+        entry = _PLAN_CACHE.get(key)
+        if entry is None or entry[0] is not scene:
+            while len(_PLAN_CACHE) >= 8:
+                _PLAN_CACHE.pop(next(iter(_PLAN_CACHE)))
+            entry = _PLAN_CACHE[key] = (scene, {})
+    cache = entry[1]
     if only in (None, "dop853") and "dop853" not in cache:
         cache["dop853"] = _plan_dop853(scene)
     if only in (None, "splitting"):

@@ -738,20 +738,23 @@ def _taylor_table(coef, nodes, scale):
     return np.fft.irfft(spec, n=nodes, axis=0, norm="forward")
 
 
-# The table of each model, built on first use: keyed by id(model), dropped when the model is
-# collected (weakref.finalize), so a frozen model stays immutable and the cache never grows
-# with models that are gone.
-_TABLES: dict[int, Fourier | None] = {}
+# The tables of each model, built on first use: keyed by (id(model), fast), dropped when the model
+# is collected (weakref.finalize), so a frozen model stays immutable and the cache never grows
+# with models that are gone. One table per set-up path: the compiled and the NumPy set-ups agree
+# to rounding, not bit for bit, and with one table shared a call's last bits depended on which
+# call came first (4e-16 in theta, and so on the order of threads).
+_TABLES: dict[tuple[int, bool], Fourier | None] = {}
 
 
 def series_of(owner, e, est: dict, fast: bool = False) -> Fourier | None:
-    """The verified series of the evaluator ``e`` of model ``owner`` (built once), or None.
+    """The verified series of the evaluator ``e`` of model ``owner`` (built once per path), or None.
 
     ``owner`` is the object the table belongs to (the frozen model): the table lives
     here, not in it, for as long as ``owner`` does. ``fast``: set it up with the compiled
-    helpers (:func:`build`).
+    helpers (:func:`build`); the two set-ups keep their own tables, so that a call's result
+    depends on its inputs (and their number), never on the calls before it.
     """
-    key = id(owner)
+    key = (id(owner), bool(fast))
     try:
         return _TABLES[key]
     except KeyError:

@@ -40,7 +40,7 @@ from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
-from wobble.api.units import to_si
+from wobble.api.units import real_float, to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
 from wobble.io.text import with_uncertainty
@@ -91,7 +91,7 @@ Q_ALLOWED = "a quality factor Q >= 1 (e.g. 100; the free wobble decays by exp(-p
 def check_q(q) -> float:
     """Q >= 1 (inf allowed: undamped)."""
     try:
-        value = float(q)
+        value = real_float(q)  # not "80" or True
     except (TypeError, ValueError):
         raise InputError("q", q, Q_ALLOWED) from None
     if not value >= 1.0:

@@ -1,0 +1,192 @@
+"""The values a user passes to the Python API and gets back (an audit of 2026-11-29).
+
+Each test failed on the code before its fix: a scene that kept a view of the caller's array, a float32
+Quantity converted to SI in float32, masked and complex values stripped silently, a quaternion in
+degrees taken as numbers, a scalar time giving a (1, 4) attitude, an empty ensemble, a heavy top whose
+last bits depended on the calls before, a race in the scene's plan cache, and text or bools read as
+numbers. The ground truth is the same call with plain float64 inputs, or the input's refusal.
+"""
+
+from __future__ import annotations
+
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from fractions import Fraction
+
+import astropy.units as u
+import numpy as np
+import pytest
+from astropy.utils.masked import Masked
+
+import wobble
+from wobble.errors import InputError
+
+KGM2 = u.kg * u.m**2
+RAD_S = u.rad / u.s
+W = [1.0, 0.1, 1.0] * RAD_S
+
+
+def test_a_scene_and_a_torque_keep_their_own_copies_of_the_caller_s_arrays():
+    """A scene's times and moments, and a torque, changed when the caller later changed its own arrays
+    (a time of 1000 s inside the grid bypassed the check that times increase)."""
+    t = np.linspace(0.0, 30.0, 31) * u.s
+    moments = np.array([1.0, 2.0, 3.0]) * KGM2
+    scene = wobble.Scene(moments, [1e-3, 1.0, 1e-3] * RAD_S, t=t)
+    torque_value = np.array([0.0, 0.0, 2.0]) * u.N * u.m
+    torque = wobble.Torque.constant(torque_value)
+    t[5] = 1000 * u.s
+    moments[2] = 30 * KGM2
+    torque_value[2] = 99 * u.N * u.m
+    np.testing.assert_array_equal(scene.model.times, np.linspace(0.0, 30.0, 31))
+    np.testing.assert_array_equal(np.asarray(scene.model.body.moments).reshape(3), [1.0, 2.0, 3.0])
+    np.testing.assert_array_equal(np.asarray(torque.spec.torque), [0.0, 0.0, 2.0])
+
+
+def test_a_body_from_a_dataset_keeps_its_own_copy():
+    ds = wobble.RigidBody.box(2 * u.kg, [3, 2, 1] * u.m).to_dataset().copy(deep=True)
+    body = wobble.RigidBody.from_dataset(ds)
+    want = body.principal_moments.copy()
+    ds["principal_moments"].values[:] = [5.0, 6.0, 7.0]
+    np.testing.assert_array_equal(body.principal_moments, want)
+
+
+def test_float32_quantities_are_converted_in_float64():
+    """36524.25 d is exact in float32; converted to seconds in float32 it was 96 s off. The same values
+    in float32 and float64 now give the same result, bit for bit."""
+    body = wobble.FreeRotation([1.0, 2.0, 2.5] * KGM2, [1e-3, 1e-3, 1.0] * RAD_S)
+    t32 = np.array([36524.25, 0.5], np.float32) * u.d
+    np.testing.assert_array_equal(body.omega(t32).value, body.omega(t32.astype(np.float64)).value)
+    grams = np.array([1.0, 2.0, 3.0], np.float32) * u.g * u.cm**2  # refused (triangle inequality) before
+    np.testing.assert_array_equal(
+        wobble.FreeRotation(grams, W).attitude([1.0, 2.0] * u.s),
+        wobble.FreeRotation(grams.astype(np.float64), W).attitude([1.0, 2.0] * u.s),
+    )
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: wobble.FreeRotation(Masked([1.0, 2.0, 3.0], mask=[0, 1, 0]) * KGM2, W),
+        lambda: wobble.FreeRotation([1, 2, 3] * KGM2, W).omega(Masked([0.0, 1.0], mask=[0, 1]) * u.s),
+        lambda: wobble.FreeRotation([1, 2, 3] * KGM2, W).omega((0.5 + 3j) * u.s),
+        lambda: wobble.Scene([1, 2, 3] * KGM2, W, t=Masked([0.0, 1.0, 2.0], mask=[0, 0, 1]) * u.s),
+    ],
+)
+def test_masked_and_complex_values_are_refused_not_stripped(call):
+    """The masked entry (2.0) was used, and the imaginary part dropped with only a ComplexWarning."""
+    with pytest.raises(InputError, match="unmasked values|real values"):
+        call()
+
+
+@pytest.mark.parametrize("q", [[1, 0, 0, 0] * u.deg, "identity"])
+def test_a_quaternion_is_plain_numbers(q):
+    """A quaternion in degrees was taken as numbers; text raised a bare ValueError."""
+    with pytest.raises(InputError, match="^attitude0: got"):
+        wobble.Scene([1, 2, 3] * KGM2, W, t_end=1 * u.s, samples=2, attitude0=q)
+    with pytest.raises(InputError, match="^q0: got"):
+        wobble.HeavyTop.from_state([0.3, 0.2, 10] * RAD_S, q, I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J)
+
+
+def test_a_float32_unit_quaternion_starts_a_top():
+    """|q| = 1 to 1e-6, as for a scene (1e-9 refused every float32 unit quaternion); q is normalised."""
+    q = np.array([0.8, 0.3, 0.4, 0.3]) / np.linalg.norm([0.8, 0.3, 0.4, 0.3])
+    top = wobble.HeavyTop.from_state(
+        [0.3, 0.2, 10] * RAD_S, q.astype(np.float32), I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J
+    )
+    q32 = q.astype(np.float32).astype(np.float64)
+    assert np.max(np.abs(top.to_dataset(t=[0.0] * u.s).attitude.values[0] - q32 / np.linalg.norm(q32))) < 4e-16
+
+
+@pytest.mark.parametrize("moments", [[1, 2, 3], [2, 2, 3], [2, 2, 2]])
+def test_the_attitude_at_a_scalar_time_is_one_quaternion(moments):
+    """t.shape + (4,): a scalar time gave (1, 4) for an asymmetric body, (4,) for the others."""
+    body = wobble.FreeRotation(moments * KGM2, W)
+    assert body.attitude(1 * u.s).shape == (4,) and body.omega(1 * u.s).shape == (3,)
+    assert body.attitude([1.0] * u.s).shape == (1, 4) and body.attitude(np.ones((2, 3)) * u.s).shape == (2, 3, 4)
+
+
+def test_an_empty_ensemble_is_refused():
+    """Zero members built a scene that wobble.run then crashed on (a bare ValueError)."""
+    with pytest.raises(InputError, match="^omega0: got 0 members; allowed: at least one member"):
+        wobble.Scene([1, 2, 3] * KGM2, np.zeros((0, 3)) * RAD_S, t_end=1 * u.s, samples=3)
+
+
+def test_a_top_s_result_does_not_depend_on_the_calls_before():
+    """The series table was built by the compiled or the NumPy set-up, whichever call came first, and
+    shared: a 2000-sample call's theta differed by 4e-16 after a 10,000-sample one (and so between
+    threads). Each set-up now keeps its own table."""
+    kw = dict(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, phidot0=-0.3 * RAD_S, omega3=10 * RAD_S)
+    first = wobble.HeavyTop(**kw).to_dataset(t_end=1 * u.s, samples=2000)
+    other = wobble.HeavyTop(**kw)
+    other.to_dataset(t_end=100 * u.s, samples=10_000)
+    second = other.to_dataset(t_end=1 * u.s, samples=2000)
+    for name in ("theta", "phi", "psi", "attitude", "omega"):
+        np.testing.assert_array_equal(first[name].values, second[name].values, err_msg=name)
+
+
+def test_the_scene_plan_cache_is_safe_under_threads(monkeypatch):
+    """Two threads evicting at once popped the same key or read one just evicted: KeyError 7-27 times in
+    200,000 calls. The pilots are replaced by stand-ins here, so only the cache's bookkeeping runs."""
+    from wobble.models import scene as model
+
+    monkeypatch.setattr(model, "_plan_dop853", lambda scene: "plan")
+
+    class Engine:
+        splittable = False
+
+        def __init__(self, *args, **kwargs):
+            pass
+
+    class Scene:
+        body = torques = None
+        members = 1
+
+    monkeypatch.setattr(model.eng, "Engine", Engine)
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)
+    try:
+        with ThreadPoolExecutor(4) as pool:
+            results = list(pool.map(lambda _: model._plans(Scene())["dop853"], range(100_000)))
+    finally:
+        sys.setswitchinterval(interval)
+    assert results == ["plan"] * 100_000
+
+
+@pytest.mark.parametrize("q", [True, "80"])
+def test_q_is_a_number_not_text_or_a_truth_value(q):
+    """float(q) read True as Q = 1 and "80" as 80."""
+    from wobble.api.polar_motion.forecast import check_q
+
+    with pytest.raises(InputError, match="^q: got"):
+        check_q(q)
+
+
+def test_a_flattening_is_a_number_not_text():
+    with pytest.raises(InputError, match="^dynamical_flattening: got 0.003; allowed: a dimensionless number"):
+        wobble.euler_period(dynamical_flattening="0.003", spin=1 * u.sday)
+
+
+@pytest.mark.parametrize("accuracy", [np.float32(1e-6), Fraction(1, 10**6)])
+def test_an_accuracy_may_be_any_real_number(accuracy):
+    """np.float32(1e-6) and Fraction(1, 10**6) were refused as outside (0, 1)."""
+    scene = wobble.Scene([1, 2, 3] * KGM2, W, t_end=1 * u.s, samples=2, accuracy=accuracy)
+    assert scene.model.accuracy == float(accuracy)
+
+
+def test_a_single_output_name_is_one_output():
+    """outputs="omega" was split into its letters ("outputs[0]: got o")."""
+    ds = wobble.run(wobble.Scene([1, 2, 3] * KGM2, W, t_end=1 * u.s, samples=3, outputs="omega"))
+    assert "omega" in ds and "attitude" not in ds
+
+
+def test_a_top_s_initial_values_are_scalars_and_its_cosines_plain_numbers():
+    """theta0 = [60, 70] deg raised a bare ValueError ("truth value ... ambiguous"); f(u) dropped a unit."""
+    kw = dict(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, omega3=10 * RAD_S)
+    with pytest.raises(InputError, match="^theta0: got .*; allowed: a scalar"):
+        wobble.HeavyTop(theta0=[60, 70] * u.deg, **kw)
+    with pytest.raises(InputError, match="^thetadot0: got .*; allowed: a scalar"):
+        wobble.HeavyTop(theta0=60 * u.deg, thetadot0=[1, 2] * RAD_S, **kw)
+    top = wobble.HeavyTop(theta0=60 * u.deg, **kw)
+    with pytest.raises(InputError, match="^u_values: got"):
+        top.f([0.1, 0.2] * u.m)
+    np.testing.assert_array_equal(top.f([0.1, 0.2]).value, top.f(np.array([0.1, 0.2]) * u.one).value)

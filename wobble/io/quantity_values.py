@@ -1,0 +1,42 @@
+"""The plain float64 numbers of a user's Quantity in a unit, or why it has none.
+
+One rule for every place that takes a Quantity from a user (:func:`wobble.api.units.to_si`, the
+scene reader): the conversion runs in float64 whatever the input's dtype (a float32 day count
+converted to seconds in float32 was 96 s off at a century); masked and complex values are refused
+rather than stripped of their mask or imaginary part; no equivalency applies, not even one the
+caller enabled for the whole process; and the result is a copy, never a view of the caller's
+array (a scene's times or moments changed when the caller later changed its own array).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from astropy import units as u
+
+__all__ = ["float64_value", "NotReal"]
+
+
+class NotReal(ValueError):
+    """A Quantity whose values are masked or complex: the reason, for the caller's error message."""
+
+
+def float64_value(value: u.Quantity, unit: u.UnitBase) -> np.ndarray:
+    """``value`` in ``unit`` as a new float64 array (0-d for a scalar).
+
+    Raises
+    ------
+    astropy.units.UnitConversionError
+        The units are not convertible (no equivalencies).
+    NotReal
+        Masked or complex values.
+    """
+    from astropy.utils.masked import Masked
+
+    if isinstance(value, Masked):
+        raise NotReal("unmasked values (a masked Quantity's hidden entries would be used)")
+    if np.iscomplexobj(value):
+        raise NotReal("real values (an imaginary part would be dropped)")
+    if value.dtype != np.float64:  # before the conversion: a float32 day in seconds loses digits
+        value = value.astype(np.float64)
+    with np.errstate(over="ignore"):  # an overflow is inf, refused by the callers in one line
+        return np.array(value.to_value(unit, equivalencies=None), dtype=np.float64)
