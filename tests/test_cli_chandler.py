@@ -164,3 +164,31 @@ def test_many_unphysical_draws_are_a_warning(tmp_path, capsys):
     assert "WARNING: " in out and "of the draws were unphysical" in out
     assert main(["chandler", "mars"]) == 0
     assert "WARNING" not in capsys.readouterr().out  # 2.3 % dropped: a note, no warning
+
+
+def test_json_names_the_steps_a_planet_file_cannot_run(capsys):
+    """The text printed "steps not run (parameters missing)"; the JSON left the step out silently. Mars'
+    catalogue has no ocean pole tide Love number (it has no ocean)."""
+    status = main(["chandler", "earth", "mars", "--json"])
+    earth, mars = json.loads(capsys.readouterr().out)
+    assert status == 0 and earth["not_run"] == {}
+    assert mars["not_run"] == {"ocean_pole_tide": ["ocean_pole_tide_love_number"]}
+
+
+def test_sources_give_values_as_the_file_does(capsys):
+    """Ten significant digits cut Mars' rotation rate 350.891985307 deg/d to 350.8919853."""
+    import tomllib
+
+    from wobble.io.catalog import catalogue_file
+
+    status = main(["chandler", "mars", "--sources"])
+    out = capsys.readouterr().out
+    catalogued = tomllib.loads(catalogue_file("mars").read_text())["parameters"]["rotation_rate"]["value"]
+    line = next(x for x in out.splitlines() if x.strip().startswith("rotation_rate:"))
+    assert status == 0 and float(line.split()[1]) == catalogued and line.split()[1] == "350.891985307"
+    assert "love_number_k2_period: 200 s" in main_text(["chandler", "earth", "--sources"], capsys)
+
+
+def main_text(argv, capsys) -> str:
+    assert main(argv) == 0
+    return capsys.readouterr().out

@@ -179,6 +179,23 @@ def test_prior_only_run_is_wider_than_the_posterior(mars):
     assert q68["love_number_k2"] < 0.3 * p68["love_number_k2"]
     assert q68["fluid_core_radius"] < 0.5 * p68["fluid_core_radius"]
     assert "PRIOR ONLY" in prior.summary()
+    # Its predictive column is the prior's (it was headed "posterior predictive").
+    assert "prior predictive (68 %)" in prior.summary() and "posterior predictive" not in prior.summary()
+    assert "posterior predictive (68 %)" in mars.summary()
+
+
+def test_the_posterior_file_s_units_are_udunits(mars):
+    """Every units attribute of the InferenceData parses in UDUNITS (cf_units): "mas / yr", astropy's
+    string, did not (now milliarcsecond Julian_year-1, the Julian year astropy's yr is)."""
+    cf_units = pytest.importorskip("cf_units")
+    idata = mars.to_inference_data()
+    written = {}
+    for group in idata.groups():
+        for name, var in getattr(idata, group).data_vars.items():
+            if "units" in var.attrs:
+                written[name] = var.attrs["units"]
+                cf_units.Unit(var.attrs["units"])
+    assert written["precession_rate"] == "milliarcsecond Julian_year-1"
 
 
 def test_injection_recovery_runs_on_a_real_setup():

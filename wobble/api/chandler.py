@@ -356,7 +356,18 @@ class ChandlerBudget:
                 for s in self.steps
             ],
             "uncertainty_contributions_days": {k: _num(v) for k, v in self.uncertainty_contributions.items()},
+            "not_run": self.not_run,
         }
+
+    @property
+    def not_run(self) -> dict[str, list[str]]:
+        """Steps of the full model this planet's file cannot run: step -> the parameters it lacks
+        (empty for a model other than ``full``; the text prints them, and so does the JSON)."""
+        if self.model != "full":
+            return {}
+        done = {s.name for s in self.steps}
+        params = self.planet.parameters
+        return {step: list(_model.missing_parameters(params, step)) for step in _model.STEPS if step not in done}
 
     def to_dataset(self) -> xr.Dataset:
         """This budget as an xarray Dataset (dimensions body, step); see :func:`chandler_dataset`."""

@@ -477,9 +477,9 @@ class Inversion:
                 else:
                     val = f"{_g(c.low / s)} to {_g(c.high / s)}"
                 lines.append(f"    {c.name:<26} {val:<22} {c.source}")
-        lines.append(
-            f"  {'observable':<28} {'measured':>22} {'posterior predictive (68 %)':>36} {'model median':>13}  unit"
-        )
+        # A prior-only run has no posterior: its column is the prior predictive.
+        predictive = "prior predictive (68 %)" if self.prior_only else "posterior predictive (68 %)"
+        lines.append(f"  {'observable':<28} {'measured':>22} {predictive:>36} {'model median':>13}  unit")
         for row in self.quantity_rows():
             # One row, one number of decimals: two significant digits of the finer of the measurement's
             # uncertainty and the half-width of the 68 % interval shown (an FCN of -430.00 +/- 0.10 d).
@@ -566,14 +566,17 @@ class Inversion:
         return idata
 
     def _annotate(self, idata):
+        from wobble.io.cf import udunits
+
+        # UDUNITS strings, as every other file writes them ("mas / yr" is not one: milliarcsecond Julian_year-1).
         units = {
-            p.name: (p.unit or "1", f"{p.name} ({p.prior.describe(p.scale, p.unit)} prior)")
+            p.name: (udunits(p.unit), f"{p.name} ({p.prior.describe(p.scale, p.unit)} prior)")
             for p in self.posterior.parameters
         }
         for m in self.posterior.measurements:
-            units[_model_name(m)] = (m.unit or "1", f"modelled {m.model.description}")
-            units[m.name] = (m.unit or "1", m.model.description)
-            units[f"{m.name}_uncertainty"] = (m.unit or "1", f"one-sigma uncertainty of the measured {m.name}")
+            units[_model_name(m)] = (udunits(m.unit), f"modelled {m.model.description}")
+            units[m.name] = (udunits(m.unit), m.model.description)
+            units[f"{m.name}_uncertainty"] = (udunits(m.unit), f"one-sigma uncertainty of the measured {m.name}")
         units["lp"] = ("1", "log posterior density (up to the evidence)")
         for group in idata.groups():
             ds = getattr(idata, group)

@@ -58,6 +58,14 @@ __all__ = [
 CENTURY = u.def_unit("century", 100 * u.yr, doc="Julian century, 36525 d")
 ARCSEC_PER_CENTURY = u.arcsec / CENTURY
 _RATE = u.rad / u.s
+#: JSON keys that had a second, unsuffixed name holding the same value (kept for one release, as
+#: polar-motion's renamed keys): old name -> the name to use.
+DEPRECATED_KEYS = {
+    "rate_uncertainty": "rate_uncertainty_arcsec_per_century",
+    "observed": "observed_arcsec_per_century",
+    "observed_uncertainty": "observed_uncertainty_arcsec_per_century",
+}
+
 _SIGN_NOTE = (
     "rates are of the node longitude of the equator on the orbit plane, eastward (negative: retrograde); "
     "IAU's psi_A and p_A count westward, with the opposite sign"
@@ -312,11 +320,10 @@ class PrecessionBudget:
         def num(q):
             return None if q is None else float(q.to_value(ARCSEC_PER_CENTURY))
 
-        return {
+        out = {
             "body": self.body,
             "title": self.planet.title,
             "rate_arcsec_per_century": num(self.rate),
-            "rate_uncertainty": num(self.rate_uncertainty),
             "rate_uncertainty_arcsec_per_century": num(self.rate_uncertainty),
             "first_order_arcsec_per_century": num(self.first_order),
             "with_geodesic_arcsec_per_century": num(self.inertial_rate),
@@ -325,14 +332,12 @@ class PrecessionBudget:
             "terms": [
                 {
                     "name": t.name,
-                    "value": num(t.rate),
                     "value_arcsec_per_century": num(t.rate),
+                    "value": num(t.rate),  # deprecated alias (DEPRECATED_KEYS)
                     "description": t.description,
                 }
                 for t in self.terms
             ],
-            "observed": num(self.observed),
-            "observed_uncertainty": num(self.observed_uncertainty),
             "observed_arcsec_per_century": num(self.observed),
             "observed_uncertainty_arcsec_per_century": num(self.observed_uncertainty),
             "residual_arcsec_per_century": num(self.residual),
@@ -353,7 +358,11 @@ class PrecessionBudget:
             "uncertainty_contributions_arcsec_per_century": {
                 k: num(v) for k, v in self.uncertainty_contributions.items()
             },
+            "deprecated_keys": {**DEPRECATED_KEYS, "terms[].value": "terms[].value_arcsec_per_century"},
         }
+        for old, new in DEPRECATED_KEYS.items():  # the old names, same values, for one release
+            out[old] = out[new]
+        return out
 
     def summary(self) -> str:
         """The budget as text for a person."""

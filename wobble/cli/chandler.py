@@ -81,15 +81,8 @@ def _draws() -> int:
 
 
 def _skipped_steps(b) -> list[str]:
-    """Steps after the last one run that the model could add, with what they need."""
-    from wobble.models.chandler import STEPS, missing_parameters
-
-    if b.model != "full":
-        return []
-    done = {s.name for s in b.steps}
-    return [
-        f"{step} needs {', '.join(missing_parameters(b.planet.parameters, step))}" for step in STEPS if step not in done
-    ]
+    """Steps after the last one run that the model could add, with what they need (ChandlerBudget.not_run)."""
+    return [f"{step} needs {', '.join(missing)}" for step, missing in b.not_run.items()]
 
 
 def _catalogued(p: dict) -> str:
@@ -99,10 +92,18 @@ def _catalogued(p: dict) -> str:
     if p["uncertainty"] is None:
         return "yes" if p["value"] else "no"
 
-    def fmt(x, digits: int) -> str:
-        return "[" + ", ".join(fmt(v, digits) for v in x) + "]" if isinstance(x, list) else f"{x:.{digits}g}"
+    def fmt(x, digits: int | None) -> str:
+        if isinstance(x, list):
+            return "[" + ", ".join(fmt(v, digits) for v in x) + "]"
+        if digits is None:
+            # The fewest significant digits that read back as the same float, i.e. as the file gives it
+            # (10 cut Mars' rotation rate 350.891985307 to 350.8919853); 200, not 200.0.
+            digits = next(d for d in range(1, 18) if float(f"{x:.{d}g}") == float(x))
+            if 1 <= abs(x) < 1e6:  # whole digits in place up to six of them: 200 and 86400, not 2e+02
+                digits = max(digits, len(str(int(abs(x)))))
+        return f"{x:.{digits}g}"
 
-    value = fmt(p["value"], 10)
+    value = fmt(p["value"], None)
     u = p["uncertainty"]
     exact = not any(u) if isinstance(u, list) else u == 0  # a defined constant: "+/- 0" reads as a typo
     text = value if exact else f"{value} +/- {fmt(p['uncertainty'], 3)}"

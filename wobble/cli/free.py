@@ -21,7 +21,8 @@ quotes ("2 d", "360 deg/d"); a unit on the first of three values applies to the
 other two when they are bare numbers. Without --t-end the span is three periods of omega.
 The body flips (the tennis-racket effect) when its intermediate axis swings by more
 than 90 deg; otherwise the sign changes of that axis's component are half periods of
-a wobble, and no flips are reported. --json prints SI numbers (keys end in their unit).
+a wobble, and no flips are reported. --json prints SI numbers (keys end in their unit;
+the swing of the intermediate axis in degrees).
 """
 
 DEFAULT_PERIODS = 3

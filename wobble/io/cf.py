@@ -42,6 +42,7 @@ __all__ = [
     "label_coordinate",
     "with_member",
     "flag_attrs",
+    "udunits",
     "INT64_MAX",
     "INT64_ALLOWED",
 ]
@@ -450,3 +451,27 @@ def flag_attrs(meanings: Mapping[int, str]) -> dict:
     codes = sorted(meanings)
     words = [meanings[c].strip().replace(" ", "_") for c in codes]
     return {"flag_values": np.array(codes, dtype=np.int8), "flag_meanings": " ".join(words)}
+
+
+# UDUNITS names for the astropy symbols UDUNITS lacks or reads otherwise: "mas" is not a UDUNITS unit and
+# "yr" is the tropical year there (2.1e-5 shorter than astropy's Julian year).
+_UDUNITS_NAMES = {"mas": "milliarcsecond", "arcsec": "arcsecond", "yr": "Julian_year", "a": "Julian_year"}
+
+
+def udunits(unit) -> str:
+    """A unit (astropy Unit or its text) as a UDUNITS string for a netCDF ``units`` attribute:
+    ``kg m-3``, ``milliarcsecond Julian_year-1`` for astropy's ``mas / yr``, ``1`` for a pure number."""
+    from astropy import units as u
+
+    unit = u.Unit(unit or u.dimensionless_unscaled)
+    if unit == u.dimensionless_unscaled:
+        return "1"
+    try:
+        text = unit.to_string("fits")
+    except ValueError:  # a scale FITS cannot write (arcsec / cy): astropy's own string, as given
+        return unit.to_string()
+    words = []
+    for word in text.split():
+        base = word.rstrip("-0123456789")
+        words.append(_UDUNITS_NAMES.get(base, base) + word[len(base) :])
+    return " ".join(words)
