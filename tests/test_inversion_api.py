@@ -373,3 +373,17 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys):
     code = main(["invert", "mars", "--body-file", str(tmp_path / "missing.toml"), "--steps", "10"])
     assert code == 2
     assert "--body-file: got " in capsys.readouterr().err
+
+
+def test_diagnostics_report_the_measured_worst_r_hat_beside_the_thresholds(mars):
+    """The JSON's diagnostics held r_hat_max = 1.01 and ess_min = 400, the warnings' thresholds, beside
+    the measured min_ess; the measured worst R-hat was nowhere. Now max_r_hat is measured (the largest of
+    the parameters' R-hat) and the thresholds are r_hat_threshold and ess_threshold (old names kept
+    for a release, listed under deprecated_keys)."""
+    d = mars.to_dict()
+    diag = d["diagnostics"]
+    assert diag["max_r_hat"] == max(p["r_hat"] for p in d["parameters"])
+    assert diag["min_ess"] == min(min(p["ess"], p["ess_tail"]) for p in d["parameters"])
+    assert (diag["r_hat_threshold"], diag["ess_threshold"]) == (wobble.api.inversion.RHAT_MAX, 400)
+    for old, new in diag["deprecated_keys"].items():
+        assert diag[old] == diag[new]

@@ -370,6 +370,11 @@ class Inversion:
         return min(min(r.ess, r.ess_tail) for r in self.rows())
 
     @property
+    def max_r_hat(self) -> float:
+        """The worst (largest) rank-normalised split R-hat over the sampled parameters."""
+        return max(r.r_hat for r in self.rows())
+
+    @property
     def seconds_per_effective_sample(self) -> float:
         return self.seconds / self.min_ess if self.min_ess > 0 else math.inf
 
@@ -427,10 +432,16 @@ class Inversion:
                     n: float(t) * self.settings.thin for n, t in zip(self.names, self.autocorr)
                 },
                 "min_ess": self.min_ess,
+                "max_r_hat": self.max_r_hat,
                 "seconds": self.seconds,
                 "seconds_per_effective_sample": self.seconds_per_effective_sample,
+                # The thresholds the warnings apply (measured values above: min_ess, max_r_hat). They were
+                # "r_hat_max" and "ess_min", read as measurements beside min_ess: kept one release.
+                "r_hat_threshold": RHAT_MAX,
+                "ess_threshold": ESS_MIN,
                 "r_hat_max": RHAT_MAX,
                 "ess_min": ESS_MIN,
+                "deprecated_keys": {"r_hat_max": "r_hat_threshold", "ess_min": "ess_threshold"},
             },
             "warnings": list(self.warnings),
             "references": _REFERENCES,
