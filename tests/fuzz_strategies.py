@@ -1210,9 +1210,12 @@ def pole_cases(draw, command: str):
             spec.pop("--issued")
             spec.pop("--scheduler")
             spec["--every"] = _pick(mode, ["7d", "30d", "100d"], ["0", "-7", "1e-300", "nan"], ["x"])
+            # Valid spans only short ones: a drawn a:b reached 17 years (seed 307: a synchronous hindcast of
+            # 1992-2009 ran past the 60-s bound), and the fuzzer asks only for work that is refused or short.
             span = draw(
                 st.sampled_from(
-                    [f"{a}:{b}", "2019-01-01:2019-03-01"] + ([a, f"{a}:{b}:{a}", ":"] if mode == "wild" else [])
+                    ["2019-01-01:2019-03-01", "2010-06-01:2010-08-01", f"{a}:{a}"]
+                    + ([a, f"{a}:{b}:{a}", ":"] if mode == "wild" else [])
                 )
             )
             argv += ["--hindcast", span, "--scheduler", "synchronous"]
