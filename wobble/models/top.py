@@ -514,9 +514,12 @@ class HeavyTopModel:
         qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
         g1 = 2 * (qx * qz - qw * qy)
         g2 = 2 * (qy * qz + qw * qx)
-        # (I w) w, not I w^2: the squares of the rates of a top of I1 = 5e-324 kg m2 (1e157 rad/s) overflow.
-        l1, l2, l3 = self.I1 * w[..., 0], self.I1 * w[..., 1], self.I3 * w[..., 2]
-        e = (0.5 * (l1 * w[..., 0] + l2 * w[..., 1]) + 0.5 * (l3 * w[..., 2])) + self.mgl * g3
+        # (I w) w, not I w^2: the squares of the rates of a top of I1 = 5e-324 kg m2 (1e157 rad/s) overflow;
+        # in units of S (top_series.energy_terms, 1 unless the energy nears the largest double), as the
+        # compiled pass computes it, operation for operation.
+        ei1, ei3, emgl, scale = top_series.energy_terms(self.I1, self.I3, self.mgl, self.energy)
+        l1, l2, l3 = ei1 * w[..., 0], ei1 * w[..., 1], ei3 * w[..., 2]
+        e = ((0.5 * (l1 * w[..., 0] + l2 * w[..., 1]) + 0.5 * (l3 * w[..., 2])) + emgl * g3) * scale
         p_phi = self.I1 * (w[..., 0] * g1 + w[..., 1] * g2) + self.I3 * w[..., 2] * g3
         return {"energy": e, "p_phi": p_phi, "p_psi": self.I3 * w[..., 2]}
 

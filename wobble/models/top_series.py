@@ -183,8 +183,7 @@ class Fourier:
                 1.0 / TWO_PI,
                 2 * np.pi,
                 0.5 / np.pi,
-                0.5 * i1,
-                0.5 * i3,
+                *energy_terms(i1, i3, mgl, initial[0])[:2],
                 i1,
                 i3,
                 mgl,
@@ -195,6 +194,7 @@ class Fourier:
                 *e.psi_sec.a,
                 e.psi_sec.c,
                 e.psi_sec.offset,
+                *energy_terms(i1, i3, mgl, initial[0])[2:],
             ]
         )
 
@@ -334,7 +334,10 @@ class Fourier:
         w3 = np.full_like(w1, e.omega3)
         g1 = 2.0 * (qx * qz - qw * qy)
         g2 = 2.0 * (qy * qz + qw * qx)
-        energy = ((0.5 * i1) * (w1 * w1 + w2 * w2) + (0.5 * i3) * (w3 * w3)) + mgl * u
+        # The compiled pass's sum, operation for operation (energy_terms: in units of S where E nears the
+        # largest double; (I w) w, not I w^2).
+        ei1, ei3, emgl, scale = energy_terms(i1, i3, mgl, e0)
+        energy = ((0.5 * ((ei1 * w1) * w1 + (ei1 * w2) * w2) + 0.5 * ((ei3 * w3) * w3)) + emgl * u) * scale
         p_phi = i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * u
         p_psi = i3 * w3
         return dict(
@@ -361,6 +364,18 @@ class Fourier:
 _MOTION_ROWS = ("theta", "phi", "psi", "thetadot", "phidot", "psidot", "u", "energy", "p_phi", "p_psi") + tuple(
     name + "_drift" for name in ("energy", "p_phi", "p_psi")
 )
+
+
+def energy_terms(i1: float, i3: float, mgl: float, e0: float) -> tuple[float, float, float, float]:
+    """(I1, I3, M g l) / S and S for the energy the output recomputes, E = S ((I1/S w1) w1 / 2 + ... +
+    (M g l / S) cos theta), in both the NumPy and the compiled pass: S = 1 (the sum as written) unless the
+    energy's scale nears the largest double, then the power of two that keeps every partial sum finite.
+    The kinetic part alone reaches |E| + M g l: a top of M g l = 1.7e308 J overflowed (fuzz seed 307)."""
+    import math
+
+    _, exponent = math.frexp(max(abs(e0), abs(mgl)))
+    scale = math.ldexp(1.0, exponent - 1000) if exponent > 1000 else 1.0  # a power of two: exact divisions
+    return i1 / scale, i3 / scale, mgl / scale, scale
 
 
 def _far(j_lo: float, j_hi: float) -> bool:

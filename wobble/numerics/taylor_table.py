@@ -91,8 +91,8 @@ CONSTANTS = (
     "inv_two_pi",
     "two_pi",
     "half_inv_pi",
-    "half_I1",
-    "half_I3",
+    "energy_I1",
+    "energy_I3",
     "I1",
     "I3",
     "mgl",
@@ -109,6 +109,8 @@ CONSTANTS = (
     "psi_a3",
     "psi_c",
     "psi_off",
+    "energy_mgl",
+    "energy_scale",
 )
 (
     K0,
@@ -142,8 +144,8 @@ CONSTANTS = (
     INV_TP,
     TWO_PI,
     HALF_INV_PI,
-    HALF_I1,
-    HALF_I3,
+    EI1,
+    EI3,
     I1_,
     I3_,
     MGL,
@@ -160,6 +162,8 @@ CONSTANTS = (
     QA3,
     QC,
     QOFF,
+    EMGL,
+    ESCALE,
 ) = range(len(CONSTANTS))
 
 
@@ -436,7 +440,8 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
     k0, inv_h, h = k[K0], k[INV_H], k[H]
     hx1, hy2, bx1, cy2, bp, cp = k[HX1], k[HY2], k[BX1], k[CY2], k[BP], k[CP]
     lam0, w3, w3ma = k[LAM0], k[W3], k[W3MA]
-    i1, i3, mgl = k[I1_], k[I3_], k[MGL]
+    i1, i3 = k[I1_], k[I3_]
+    ei1, ei3, emgl, escale = k[EI1], k[EI3], k[EMGL], k[ESCALE]
     e0, p_phi0 = k[E0_], k[PPHI0_]
     p_psi = i3 * w3
     p_psi_drift = p_psi - k[PPSI0_]
@@ -527,8 +532,9 @@ def _motion(r, j, jidx, tab, node_r, phasor, jtab, cos_c, sin_c, k, out, stride,
             # E, p_phi, p_psi from omega and the vertical in the body (HeavyTopModel.invariants).
             g1 = 2.0 * (qx * qz - qw * qy)
             g2 = 2.0 * (qy * qz + qw * qx)
-            # (I w) w, not I w^2, as HeavyTopModel: the squares overflow for I1 = 5e-324 kg m2 (1e157 rad/s).
-            s[_E, b] = (0.5 * ((i1 * w1) * w1 + (i1 * w2) * w2) + 0.5 * ((i3 * w3) * w3)) + mgl * uu
+            # As HeavyTopModel: (I w) w, not I w^2 (the squares overflow for I1 = 5e-324 kg m2, 1e157 rad/s),
+            # in units of energy_scale (1 unless the energy nears the largest double: top_series.energy_terms).
+            s[_E, b] = ((0.5 * ((ei1 * w1) * w1 + (ei1 * w2) * w2) + 0.5 * ((ei3 * w3) * w3)) + emgl * uu) * escale
             s[_PPHI, b] = i1 * (w1 * g1 + w2 * g2) + (i3 * w3) * uu
         # (3) copy out: a whole block by aligned non-temporal stores (_stream4), four values each;
         # the last, partial block by plain ones. The omega and axis blocks (three per sample) are
