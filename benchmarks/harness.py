@@ -391,10 +391,15 @@ def targets(res: dict) -> list[dict]:
 # ---------------------------------------------------------------------------
 # Output
 # ---------------------------------------------------------------------------
+def _plain(text: str) -> str:
+    """reST literal markup (``...``), written for the docs, as plain text for a terminal."""
+    return text.replace("``", "")
+
+
 def text_table(res: dict) -> str:
     lines = []
     for c in res["cases"]:
-        lines.append(f"\n{c['title']} ({c['key']}), {c['outputs']} outputs; error: {c['error_measure']}")
+        lines.append(f"{c['title']} ({c['key']}), {c['outputs']} outputs; error: {_plain(c['error_measure'])}")
         lines.append(
             f"  {'method':<26} {'setting':<44} {'error':>9} {'min (s)':>10} {'median (s)':>10} {'peak MiB':>9}"
         )
@@ -404,8 +409,11 @@ def text_table(res: dict) -> str:
                 f"  {r['method']:<26} {r['setting'][:44]:<44} {r['error']:>9.2e} {r['t_min']:>10.4g} "
                 f"{r['t_median']:>10.4g} {mem:>9}"
             )
+        lines.append("")
     for e in res["ensembles"]:
-        lines.append(f"\n{e['title']}")
+        lines.append(e["title"])
+        # Headed like the cases' tables: the SciPy baseline has no member count (it loops over them).
+        lines.append(f"  {'method':<26} {'setting':<14} {'members':>9} {'error':>9} {'time per member':>18}  vs scipy")
         for r in e["scipy"]:
             lines.append(
                 f"  {r['method']:<26} {r['setting']:<14} {'':>9} {r['error']:>9.2e} "
@@ -417,7 +425,8 @@ def text_table(res: dict) -> str:
                 f"  {r['method']:<26} {r['setting']:<14} {r['members']:>9} {r['error']:>9.2e} "
                 f"{r['per_member_s'] * 1e6:>10.2f} us/member  {ratio}"
             )
-    lines.append("\nTargets:")
+        lines.append("")
+    lines.append("Targets:")
     for t in res["targets"]:
         status = t["status"].upper() if t["status"] == "missed" else t["status"]
         lines.append(f"  [{status}] {t['case']}: {t['target']} -- {t['measured']}")

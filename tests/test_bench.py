@@ -346,3 +346,37 @@ def test_wobble_bench_from_an_installed_copy_is_one_line(monkeypatch, tmp_path, 
     code = main(["bench", "--smoke"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "source checkout" in err
+
+
+def test_the_text_report_reads_as_text():
+    """The text began with a blank line, showed the docs' reST markup (``|omega - omega_ref|``), and its
+    ensemble rows had no header (a blank members column, an unlabelled ratio)."""
+    from benchmarks.harness import text_table
+
+    res = {
+        "cases": [{"title": "T", "key": "k", "outputs": 3, "error_measure": "max of ``|w - w_ref|``", "rows": []}],
+        "ensembles": [
+            {
+                "title": "Ensemble: E",
+                "scipy": [
+                    {"method": "scipy DOP853 (loop)", "setting": "rtol 1e-07", "error": 1e-7, "per_member_s": 4e-3}
+                ],
+                "rows": [
+                    {
+                        "method": "wobble exact flow",
+                        "setting": "free_flow",
+                        "members": 100,
+                        "error": 1e-14,
+                        "per_member_s": 4e-5,
+                        "ratio_vs_scipy": 100.0,
+                    }
+                ],
+            }
+        ],
+        "targets": [],
+    }
+    text = text_table(res)
+    assert text.startswith("T (k), 3 outputs; error: max of |w - w_ref|") and "``" not in text
+    lines = text.splitlines()
+    header = lines[lines.index("Ensemble: E") + 1]
+    assert header.split() == ["method", "setting", "members", "error", "time", "per", "member", "vs", "scipy"]
