@@ -190,3 +190,14 @@ def test_a_top_s_initial_values_are_scalars_and_its_cosines_plain_numbers():
     with pytest.raises(InputError, match="^u_values: got"):
         top.f([0.1, 0.2] * u.m)
     np.testing.assert_array_equal(top.f([0.1, 0.2]).value, top.f(np.array([0.1, 0.2]) * u.one).value)
+
+
+def test_a_scene_takes_one_bare_time_and_refuses_none_clearly():
+    """A scalar t was refused as "a list" (FreeRotation.omega takes one); an empty one was told "times
+    increasing strictly"."""
+    one = wobble.run(wobble.Scene([1, 2, 3] * KGM2, W, t=5 * u.s))
+    listed = wobble.run(wobble.Scene([1, 2, 3] * KGM2, W, t=[5] * u.s))
+    np.testing.assert_array_equal(one.omega.values, listed.omega.values)
+    assert one.omega.shape == (1, 3)
+    with pytest.raises(InputError, match="^t: got .*; allowed: at least one output time"):
+        wobble.Scene([1, 2, 3] * KGM2, W, t=[] * u.s)

@@ -638,8 +638,11 @@ def _times(r: _Reader, data):
     if "values" in data:
         if any(k in data for k in ("stop", "samples", "step")):
             raise r.error("time.values", sorted(data), "values alone, or stop with samples or step")
-        t = r.quantity(data["values"], "time.values", u.s, ndim=(1,))
-        if t.size == 0 or np.any(np.diff(t) <= 0):
+        # One time may be given bare (5 s, as FreeRotation.omega takes it): a grid of one output.
+        t = np.atleast_1d(r.quantity(data["values"], "time.values", u.s, ndim=(0, 1)))
+        if t.size == 0:
+            raise r.error("time.values", data["values"], "at least one output time (none were given)")
+        if np.any(np.diff(t) <= 0):
             raise r.error(
                 "time.values", data["values"], "times increasing strictly (the time grid may not go backwards)"
             )
