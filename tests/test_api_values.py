@@ -201,3 +201,17 @@ def test_a_scene_takes_one_bare_time_and_refuses_none_clearly():
     assert one.omega.shape == (1, 3)
     with pytest.raises(InputError, match="^t: got .*; allowed: at least one output time"):
         wobble.Scene([1, 2, 3] * KGM2, W, t=[] * u.s)
+
+
+def test_a_result_s_values_cannot_be_edited_through_what_it_hands_out():
+    """budget.period[...] = 1 d edited the budget: its to_dict then said 1.0 d. The Quantities of the
+    frozen results (budget steps, the rigid wobble, the free modes) are read-only."""
+    budget = wobble.chandler_budget("earth")
+    before = budget.to_dict()["period_days"]
+    with pytest.raises(ValueError, match="read-only"):
+        budget.period[...] = 1 * u.d
+    assert budget.to_dict()["period_days"] == before
+    wob = wobble.rigid_wobble(spin=1 * u.sday, dynamical_flattening=3.273795e-3)
+    with pytest.raises(ValueError, match="read-only"):
+        wob.rate[...] = 0 * RAD_S
+    assert (2 * budget.period).value == 2 * before  # arithmetic on them is as before

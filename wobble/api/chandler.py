@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from astropy import units as u
 
-from wobble.api.units import dimensionless, spin_rate_si, to_si
+from wobble.api.units import dimensionless, freeze_quantities, spin_rate_si, to_si
 from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import catalogue_names
 from wobble.io.catalog import load_planet as _load_planet_si
@@ -220,6 +220,9 @@ class BudgetStep:
     rate: u.Quantity
     love_number: float
     sources: dict[str, str]
+
+    def __post_init__(self):
+        freeze_quantities(self)
 
 
 class ChandlerBudget:
@@ -529,6 +532,9 @@ class FreeWobble:
     period: u.Quantity
     sense: str
     message: str
+
+    def __post_init__(self):
+        freeze_quantities(self)
 
 
 _MOMENT = u.kg * u.m**2

@@ -29,7 +29,7 @@ from astropy import constants as const
 from astropy import units as u
 
 from wobble.api.chandler import Planet, in_planet_file, load_planet
-from wobble.api.units import spin_rate_si, to_si
+from wobble.api.units import freeze_quantities, spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.density_profile import load_profile, profile_for_body, profile_names
 from wobble.io.parameter_file import ParameterFile
@@ -291,6 +291,9 @@ class FreeMode:
     observed: u.Quantity | None
     observed_uncertainty: u.Quantity | None
     observed_source: str | None
+
+    def __post_init__(self):
+        freeze_quantities(self)
 
     @property
     def label(self) -> str:

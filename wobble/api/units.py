@@ -139,6 +139,17 @@ def to_si(
     return si
 
 
+def freeze_quantities(obj) -> None:
+    """Make every Quantity field of the frozen dataclass ``obj`` read-only: a result hands out its own
+    values, and ``budget.period[...] = 1 * u.d`` edited the budget (its to_dict said 1.0 d after)."""
+    import dataclasses
+
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if isinstance(value, u.Quantity):
+            value.flags.writeable = False
+
+
 def plain_array(value, name: str, allowed: str) -> np.ndarray:
     """A new float64 array from plain numbers or a dimensionless Quantity (a quaternion, a unit
     vector); a Quantity with a unit, text, masked or complex values are refused naming ``name``
