@@ -20,6 +20,7 @@ from astropy import units as u
 from wobble.api.chandler import load_planet
 from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS
+from wobble.io.cf import udunits
 from wobble.io.sweep_file import SweepSpec, Variation
 from wobble.models import chandler as chandler_model
 from wobble.models import free_ensemble, top_phase
@@ -180,9 +181,8 @@ class ChandlerTarget:
 
 def _unit_text(key: str) -> str:
     """The UDUNITS-style string of the parameter's SI unit, as the other files write them (``rad s-1``, not
-    astropy's ``rad / s``); "1" for a pure number."""
-    unit = PLANET_UNITS[key]
-    return unit.to_string("fits") if unit.to_string() else "1"
+    astropy's ``rad / s``); "1" for a pure number (:func:`wobble.io.cf.udunits`, as the posterior files)."""
+    return udunits(PLANET_UNITS[key])
 
 
 class _BaseTarget:

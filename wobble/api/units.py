@@ -15,7 +15,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import InputError
-from wobble.io.quantity_values import NotReal, float64_value
+from wobble.io.quantity_values import NotReal, float64_value, real_float
 from wobble.io.text import is_number
 
 __all__ = [
@@ -171,14 +171,6 @@ def _finite_allowed(value: u.Quantity, unit: u.UnitBase) -> str:
         largest = np.finfo(float).max
         return f"values that stay finite in {unit.to_string()} (at most {largest:.3g} {unit.to_string()})"
     return "finite values (no NaN or inf)"
-
-
-def real_float(value) -> float:
-    """``float(value)`` of a real number (int, float, NumPy scalar, Fraction, Decimal); TypeError for
-    text, bools and complex numbers, which ``float`` reads ("0.003", True) or refuses unclearly."""
-    if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
-        raise TypeError(f"not a real number: {value!r}")
-    return float(value)
 
 
 def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool = True):

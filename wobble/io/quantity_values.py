@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from astropy import units as u
 
-__all__ = ["float64_value", "NotReal"]
+__all__ = ["float64_value", "real_float", "NotReal"]
 
 
 class NotReal(ValueError):
@@ -40,3 +40,11 @@ def float64_value(value: u.Quantity, unit: u.UnitBase) -> np.ndarray:
         value = value.astype(np.float64)
     with np.errstate(over="ignore"):  # an overflow is inf, refused by the callers in one line
         return np.array(value.to_value(unit, equivalencies=None), dtype=np.float64)
+
+
+def real_float(value) -> float:
+    """``float(value)`` of a real number (int, float, NumPy scalar, Fraction, Decimal); TypeError for
+    text, bools and complex numbers, which ``float`` reads ("0.003", True) or refuses unclearly."""
+    if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
+        raise TypeError(f"not a real number: {value!r}")
+    return float(value)

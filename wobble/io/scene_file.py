@@ -15,7 +15,6 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
-import numbers
 import os
 import tomllib
 from importlib import resources
@@ -26,7 +25,7 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.memory import available_memory, human_bytes
-from wobble.io.quantity_values import NotReal, float64_value
+from wobble.io.quantity_values import NotReal, float64_value, real_float
 from wobble.models import torques
 from wobble.models.orbit import EphemerisTable, KeplerOrbit
 from wobble.models.rigid_frame import BodyModel, InternalFrame
@@ -145,11 +144,11 @@ class _Reader:
         return si
 
     def number(self, raw, where: str, *, ndim=None, width=None):
-        if isinstance(raw, u.Quantity):
+        if isinstance(raw, u.Quantity):  # the rule of every Quantity a user gives (quantity_values)
             try:
-                raw = raw.to_value(u.dimensionless_unscaled, equivalencies=None)
-            except u.UnitConversionError:
-                raise self.error(where, str(raw), "dimensionless numbers") from None
+                raw = float64_value(raw, u.dimensionless_unscaled)
+            except (u.UnitConversionError, NotReal):
+                raise self.error(where, str(raw), "dimensionless numbers (real, unmasked)") from None
         if isinstance(raw, (str, dict, bool)):
             raise self.error(where, raw, "dimensionless numbers")
         try:
@@ -743,9 +742,13 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
     torques = tuple(_torque(r, i, t, body, com) for i, t in enumerate(raw_torques))
     times, epoch = _times(r, data.get("time"))
     accuracy = data.get("accuracy", 1e-9)
-    # numbers.Real: NumPy's float32 and a Fraction too (np.float32(1e-9) was refused); not a bool.
-    if isinstance(accuracy, (bool, np.bool_)) or not isinstance(accuracy, numbers.Real) or not (0 < accuracy < 1):
-        raise r.error("accuracy", accuracy, "a relative accuracy in (0, 1), e.g. 1e-9")
+    # Any real number (NumPy's float32, a Fraction: np.float32(1e-9) was refused); not text or a bool.
+    try:
+        accuracy = real_float(accuracy)
+    except (TypeError, ValueError):
+        accuracy = math.nan
+    if not 0 < accuracy < 1:
+        raise r.error("accuracy", data.get("accuracy"), "a relative accuracy in (0, 1), e.g. 1e-9")
     outputs = data.get("outputs", ["omega", "attitude"])
     if isinstance(outputs, str) or not isinstance(outputs, (list, tuple)) or not outputs:
         raise r.error("outputs", outputs, "a non-empty list of " + ", ".join(ALL_OUTPUTS))

@@ -72,7 +72,7 @@ __all__ = [
 
 REGIMES = tuple(r.value for r in Regime)
 _EPS = np.finfo(float).eps
-_TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))  # not 2 * hp.PI: the caller's context (28 digits)
+_TWO_PI_DD = hp.TWO_PI_DD
 
 
 def _proper_frame(order):

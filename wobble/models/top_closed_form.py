@@ -37,9 +37,7 @@ from wobble.numerics.phase import reduce_phase, split_dd
 __all__ = ["Uniform", "Secular", "Elliptic", "TWO_PI_DD", "TWO_PI_PIECES", "TWO_PI"]
 
 #: 2 pi as a double-double pair (the period of the secular phases).
-# In hp.context(): a bare 2 * hp.PI takes the caller's context at import (decimal's default 28 digits:
-# 4.4e-28 off, 5e-13 rad over 2^50 turns; or whatever a script has set).
-TWO_PI_DD = hp.to_dd(hp.context().multiply(2, hp.PI))
+TWO_PI_DD = hp.TWO_PI_DD
 #: 2 pi in three floats of 26, 26 and the rest bits (Cody-Waite reduction: k * piece exact).
 TWO_PI_PIECES = split_dd(*TWO_PI_DD)
 #: 2 pi rounded to float64.
@@ -121,7 +119,7 @@ class Secular:
         return r1 + r2, ((l1 + l2) + (e1 + e2)) + j * a3
 
     def __call__(self, j, r, w0):
-        a1, a2, a3 = self.a
+        _, a2, a3 = self.a
         tail = self.c * (r - w0) + self.offset
         out = self._near(j) + (j * a2 + (j * a3 + tail))
         big = np.abs(j) >= WHOLE_PIECES
@@ -132,7 +130,7 @@ class Secular:
 
     def whole_periods(self, j):
         """j A modulo 2 pi (up to a few ulps of 2 pi): the advance over j whole nutation periods."""
-        a1, a2, a3 = self.a
+        _, a2, a3 = self.a
         out = self._near(j) + (j * a2 + j * a3)
         big = np.abs(j) >= WHOLE_PIECES
         if np.any(big):

@@ -17,6 +17,7 @@ by the model and released with it: the frozen model itself holds no mutable stat
 from __future__ import annotations
 
 import bisect
+import math
 import weakref
 from dataclasses import dataclass, replace
 
@@ -371,8 +372,6 @@ def energy_terms(i1: float, i3: float, mgl: float, e0: float) -> tuple[float, fl
     (M g l / S) cos theta), in both the NumPy and the compiled pass: S = 1 (the sum as written) unless the
     energy's scale nears the largest double, then the power of two that keeps every partial sum finite.
     The kinetic part alone reaches |E| + M g l: a top of M g l = 1.7e308 J overflowed (fuzz seed 307)."""
-    import math
-
     _, exponent = math.frexp(max(abs(e0), abs(mgl)))
     scale = math.ldexp(1.0, exponent - 1000) if exponent > 1000 else 1.0  # a power of two: exact divisions
     return i1 / scale, i3 / scale, mgl / scale, scale
