@@ -215,3 +215,17 @@ def test_a_result_s_values_cannot_be_edited_through_what_it_hands_out():
     with pytest.raises(ValueError, match="read-only"):
         wob.rate[...] = 0 * RAD_S
     assert (2 * budget.period).value == 2 * before  # arithmetic on them is as before
+
+
+def test_a_hydrostatic_figure_s_arrays_cannot_be_edited_through_what_it_hands_out():
+    """figure.flattening[:] = 0 edited the figure (its to_dataset then wrote zeros), as the budgets'
+    Quantities did before they were made read-only."""
+    figure = wobble.hydrostatic_figure("prem", spin=1 * u.sday)
+    before = figure.to_dataset()["level_surface_flattening"].values.copy()
+    for array in (figure.flattening, figure.raw.radius, figure.raw.eta):
+        with pytest.raises(ValueError, match="read-only"):
+            array[:] = 0.0
+    with pytest.raises(TypeError):
+        figure.anchors["observed_flattening"] = (0.0, 0.0, "mine")
+    np.testing.assert_array_equal(figure.to_dataset()["level_surface_flattening"].values, before)
+    assert figure.radius[-1].to_value(u.km) > 6000  # the Quantity view is a fresh array, as before

@@ -23,6 +23,7 @@ import math
 import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
+from types import MappingProxyType
 
 import numpy as np
 from astropy import constants as const
@@ -66,15 +67,15 @@ class HydrostaticFigure:
         Name of the density profile.
     raw : wobble.models.hydrostatic.HydrostaticFigure
         The SI result.
-    anchors : dict
+    anchors : mapping
         Published values shipped with the profile (``observed_flattening``,
-        ``reference_hydrostatic_flattening``) as ``(value, uncertainty, source)``.
+        ``reference_hydrostatic_flattening``) as ``(value, uncertainty, source)``, read-only.
     """
 
     def __init__(self, profile: str, raw: _hydro.HydrostaticFigure, anchors: dict | None = None, density_profile=None):
         self.profile = profile
         self.raw = raw
-        self.anchors = anchors or {}
+        self.anchors = MappingProxyType(dict(anchors or {}))
         self._profile = density_profile
 
     @property

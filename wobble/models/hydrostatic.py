@@ -221,6 +221,12 @@ class HydrostaticFigure:
     core_moment: float | None
     radau_darwin_flattening: float
 
+    def __post_init__(self):
+        # A frozen result hands out its own arrays: figure.flattening[:] = 0 edited the figure
+        # (its to_dataset then wrote zeros). Read-only, as the budgets' and modes' Quantities.
+        for name in ("radius", "flattening", "eta"):
+            getattr(self, name).flags.writeable = False
+
 
 def core_under_linear_mantle(
     name: str, mass: float, polar_moment: float, radius: float, core_radius: float, core_density: float
