@@ -142,3 +142,23 @@ def test_bad_parameter_names_fail_before_any_work():
     missing = {**SPEC, "vary": {k: v for k, v in SPEC["vary"].items() if k != "spin_period"}}
     with pytest.raises(FileFormatError, match="missing spin_period"):
         wobble.sweep(missing)
+
+
+def test_the_ensemble_figure_of_an_ensemble_without_a_valid_member(tmp_path):
+    """A file whose spin directions are all out of range (fuzz seed 311: cos colatitude from -1e100) gave no
+    valid member: the figure warned "Mean of empty slice" and called every invalid member a triangle
+    violation. It now says there is none to draw, and counts each reason."""
+    from wobble.plot.sweep import ensemble
+
+    cos = {"distribution": "uniform", "low": 2.0, "high": 3.0}
+    bad = {**SPEC, "members": 40, "vary": {**SPEC["vary"], "spin_cos_colatitude": cos}}
+    ds = run_sweep(bad)
+    fig = ensemble(ds, tmp_path / "none.png")
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert "no member with a finite precession period" in texts
+    title = fig.axes[0].get_legend().get_title().get_text()
+    counts = {code: int(np.sum(ds["invalid_reason"].values == code)) for code in (1, 2)}
+    assert title.startswith("invalid: ") and f"{counts[2]:,} (bad moments or spin)" in title
+    assert (tmp_path / "none.png").stat().st_size > 0
+    good = ensemble(run_sweep({**SPEC, "members": 40}))
+    assert "no member" not in [t.get_text() for ax in good.axes for t in ax.texts]

@@ -155,17 +155,29 @@ def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
     lo = np.degrees(np.asarray(ds["wobble_angle_min"].values).ravel())
     hi = np.degrees(np.asarray(ds["wobble_angle_max"].values).ravel())
     ok = np.isfinite(period) & (period > 0)
-    bins = np.geomspace(np.nanpercentile(period[ok], 0.1), np.nanpercentile(period[ok], 99.9), 80)
-    for name, colour in (("major-axis", "C0"), ("minor-axis", "C1")):
-        sel = ok & (regime == codes[meanings.index(name)])
-        label = f"{name.replace('_', ' ')} ({sel.sum():,})"
-        ax1.hist(period[sel], bins=bins, histtype="step", color=colour, lw=1.5, label=label)
-        ax2.scatter(lo[sel][:4000], hi[sel][:4000], s=2, alpha=0.4, color=colour, label=label)
-    invalid = int((np.asarray(ds["invalid_reason"].values) != 0).sum())
-    ax1.set_xscale("log")
+    if ok.any():
+        bins = np.geomspace(np.percentile(period[ok], 0.1), np.percentile(period[ok], 99.9), 80)
+        for name, colour in (("major-axis", "C0"), ("minor-axis", "C1")):
+            sel = ok & (regime == codes[meanings.index(name)])
+            label = f"{name.replace('_', ' ')} ({sel.sum():,})"
+            ax1.hist(period[sel], bins=bins, histtype="step", color=colour, lw=1.5, label=label)
+            ax2.scatter(lo[sel][:4000], hi[sel][:4000], s=2, alpha=0.4, color=colour, label=label)
+        ax1.set_xscale("log")
+    else:  # every member invalid or steady (a file's ranges may allow no body): say so, not a warning
+        for ax in (ax1, ax2):
+            ax.text(
+                0.5,
+                0.5,
+                "no member with a finite precession period",
+                ha="center",
+                va="center",
+                fontsize=9,
+                transform=ax.transAxes,
+            )
     ax1.set_xlabel("precession period about L [day]")
     ax1.set_ylabel("members")
-    ax1.legend(frameon=False, fontsize=8, title=f"{invalid:,} invalid (triangle inequality)", title_fontsize=8)
+    handles = ax1.get_legend_handles_labels()[0]  # none without valid members: the title alone says why
+    ax1.legend(handles=handles, frameon=False, fontsize=8, title=_invalid_text(ds["invalid_reason"]), title_fontsize=8)
     ax2.plot([0, 90], [0, 90], color="0.6", lw=0.8)
     ax2.set_xlabel("wobble angle min [deg]")
     ax2.set_ylabel("wobble angle max [deg]")
@@ -176,3 +188,17 @@ def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
+
+
+def _invalid_text(reason) -> str:
+    """``22 invalid (triangle inequality violated), 235 (bad moments or spin)``: each reason's count, from the
+    variable's flags (the legend said "triangle inequality" for every invalid member)."""
+    values = np.asarray(reason.values).ravel()
+    meanings = str(reason.attrs["flag_meanings"]).split()
+    codes = np.asarray(reason.attrs["flag_values"]).tolist()
+    parts = [
+        f"{int(np.sum(values == code)):,} ({meaning.replace('_', ' ')})"
+        for code, meaning in zip(codes, meanings)
+        if code != 0 and np.any(values == code)
+    ]
+    return ("invalid: " + ", ".join(parts)) if parts else "0 invalid"
