@@ -172,9 +172,9 @@ def spawn_chunk(job, folder: str, memory_gib: float = MEMORY_GIB):
     return command, 0, {}, 0.0, [{"signature": f"interpreter died ({command})", "problem": problem, "case": case}]
 
 
-def write_cases(report: Path, failures: dict) -> str:
-    """Each failure's (minimal) input in full beside the report, ``<report>-cases/<n>/``: its files as
-    they were (the report shows only their first 600 bytes) and ``command.txt``, to run there."""
+def write_cases(report: Path, failures: dict, prefix: str = "") -> str:
+    """Each failure's (minimal) input in full beside the report, ``<report>-cases/<prefix><n>/``: its files
+    as they were (the report shows only their first 600 bytes) and ``command.txt``, to run there."""
     import shlex
 
     import fuzz_strategies as fz
@@ -182,7 +182,7 @@ def write_cases(report: Path, failures: dict) -> str:
     folder = report.with_name(report.stem + "-cases")
     for k, f in enumerate(failures.values(), start=1):
         case = f.get("minimal", f["case"])
-        target = folder / str(k)
+        target = folder / f"{prefix}{k}"
         target.mkdir(parents=True, exist_ok=True)
         fz.lay_out(case, target)
         (target / "command.txt").write_text(shlex.join(["wobble", *case.argv]) + "\n")
@@ -288,6 +288,8 @@ def main(argv=None) -> int:
         )
     if args.report:
         cases = write_cases(Path(args.report), failures) if failures else None
+        if warned:  # a warning's input in full too (seed 311's sweep file was cut at 600 bytes in the report)
+            cases = write_cases(Path(args.report), warned, prefix="warning-")
         summary = {
             "count": done,
             "seed": args.seed,
@@ -312,7 +314,13 @@ def main(argv=None) -> int:
                 for s, f in failures.items()
             ],
             "warnings": [
-                {"warning": f["problem"], "count": f["count"], "example": f["case"].show().splitlines()[0]}
+                {
+                    "warning": f["problem"],
+                    "count": f["count"],
+                    "example": f["case"].show().splitlines()[0],
+                    "reproduction": f["case"].show(),  # the command and the files it reads
+                    "case_folder": f.get("case_folder"),
+                }
                 for f in warned.values()
             ],
         }
