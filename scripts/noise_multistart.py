@@ -112,7 +112,7 @@ def hindcast(best_of_starts: bool) -> dict:
         )
     seconds = time.perf_counter() - t0
     print(h.summary())
-    rms = h.to_dict()["methods"]["kalman"]["rms_2d"]
+    rms = h.to_dict()["methods"]["kalman"]["rms_2d_mas"]
     return {"rms_2d_mas": {lead: rms[lead] for lead in LEADS}, "fits": log, "seconds": seconds}
 
 

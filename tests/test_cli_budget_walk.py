@@ -94,19 +94,24 @@ def test_sources_are_in_the_json(capsys):
     with_sources = json.loads(_chandler(["earth", "--json", "--sources"], capsys))[0]
     assert "parameters" not in plain
     params = with_sources.pop("parameters")
+    assert with_sources.pop("deprecated_keys") == {"parameters[].unit_astropy": "parameters[].unit"}
     assert with_sources == plain  # the existing keys are unchanged
     by_name = {p["name"]: p for p in params}
-    assert all(set(p) == {"name", "value", "uncertainty", "unit", "unit_astropy", "source", "status"} for p in params)
+    keys = {"name", "value", "uncertainty", "unit", "unit_label", "unit_astropy", "source", "status"}
+    assert all(set(p) == keys and p["unit_astropy"] == p["unit"] for p in params)
     assert by_name["love_number_k2"]["value"] == pytest.approx(0.29525)
     assert by_name["love_number_k2"]["uncertainty"] == pytest.approx(0.003)
     assert by_name["love_number_k2"]["unit"] == "" and by_name["love_number_k2"]["status"] == "secondary"
     assert by_name["observed_chandler_period"]["unit"] == "d"
     assert "Vicente & Wilson 1997" in by_name["observed_chandler_period"]["source"]
     rate = by_name["observed_precession_rate"]
-    assert rate["unit"] == "arcsec / cy" and rate["value"] == pytest.approx(-5038.481507)
+    assert rate["unit_label"] == "arcsec / cy" and rate["value"] == pytest.approx(-5038.481507)
     from astropy import units as u
 
-    assert u.Unit(rate["unit_astropy"]) == u.arcsec / (100 * u.yr)
+    # "unit" is what astropy reads: the label it held, "arcsec / cy", astropy reads as arcseconds per cycle.
+    assert u.Unit(rate["unit"]) == u.arcsec / (100 * u.yr) != u.Unit("arcsec / cy")
+    for p in params:  # every unit parses, to what the catalogue means
+        assert p["unit"] == "" or u.Unit(p["unit"]).to_string() == p["unit"]
     flag = by_name["observed_precession_includes_geodesic"]
     assert flag["value"] is True and flag["uncertainty"] is None
 

@@ -6,7 +6,9 @@ import json
 
 import pytest
 
+from wobble.api.polar_motion.analysis import JSON_RENAMES
 from wobble.cli import main
+from wobble.io.json_keys import values_at
 from wobble.io.netcdf import open_wobble
 
 # A short span without the Monte-Carlo term and Q keeps these runs quick.
@@ -57,7 +59,13 @@ def test_json_outputs_and_files(tmp_path, capsys):
     assert d["deprecated_keys"] == {
         "annual_amplitude_mas": "annual_prograde_amplitude_mas",
         "annual_amplitude_uncertainty_mas": "annual_prograde_amplitude_uncertainty_mas",
+        **JSON_RENAMES,
     }
+    # Every alias holds the new key's value, wherever it is nested (estimates.*, windows, comparison[]).
+    for old, new in d["deprecated_keys"].items():
+        assert values_at(d, old) == values_at(d, new) != [], old
+    assert d["quality_factor_estimate"] is None or isinstance(d["quality_factor_estimate"], dict)
+    assert d["published"]["period_days"] == 433.1 and d["comparison"][-1]["period_uncertainty_days"] == 1.3
     assert set(d["estimates"]) == {"least_squares", "spectrum"}
     assert d["estimates"]["least_squares"]["chandler_period_uncertainty_parts_days"]["excitation"] is None
     assert [r["kind"] for r in d["comparison"]][0] == "observed" and d["comparison"][-1]["kind"] == "published"

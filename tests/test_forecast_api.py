@@ -56,6 +56,9 @@ def test_a_file_and_its_dataset_give_the_same_forecast(forecast):
         wobble.load_polar_motion(), issued="2018-03-01", horizon=5 * u.day, method="kalman", calibrated=False
     )
     assert a.to_dict() == b.to_dict() and a.to_dict()["latency_days"] == 30.0
+    # details.q repeated the top-level quality_factor (and q is Omega^2 a^3/(GM) in modes): an alias now.
+    assert a.to_dict()["details"]["q"] == a.to_dict()["quality_factor"] == a.q
+    assert a.to_dict()["deprecated_keys"] == {"details.q": "quality_factor"}
     # The fitted noise names the excitation's order and its partial autocorrelations, the first being
     # exp(-1 d / lag-one correlation time).
     noise = a.to_dict()["details"]["noise"]
@@ -104,9 +107,12 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
     d = h.to_dict()
     assert d["issues"] == 3 and set(d["methods"]) == {"ls_ar", "kalman"}
     for m in ("ls_ar", "kalman"):
-        rms = d["methods"][m]["rms_2d"]
+        rms = d["methods"][m]["rms_2d_mas"]
         assert 0 < rms["1"] < rms["30"] < 100  # mas: errors grow with lead time
-        assert 0 <= d["methods"][m]["coverage_68"]["10"] <= 1
+        assert 0 <= d["methods"][m]["coverage_68_fraction"]["10"] <= 1
+        assert d["methods"][m]["rms_2d"] == rms  # the old name, for one release
+    assert d["deprecated_keys"]["methods.*.rms_2d"] == "methods.*.rms_2d_mas"
+    assert d["quality_factor"] is not None  # the Kalman model's Q (null when only LS+AR runs)
     assert d["anchors"][0]["values_mas"]["10"] == 2.32
     text = h.summary()  # leads beyond the 30-day horizon are left out
     assert "10 d" in text and "40 d" not in text and "Dill et al. 2023" in text
@@ -117,7 +123,7 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
     assert back["rms_2d"].dims == ("method", "lead") and back["x_p_forecast"].shape == (2, 3, 30)
     assert_cf_compliant(path)
     k = list(back["method"].values).index("kalman")
-    np.testing.assert_allclose(back["rms_2d"].values[k, 9], d["methods"]["kalman"]["rms_2d"]["10"], rtol=1e-12)
+    np.testing.assert_allclose(back["rms_2d"].values[k, 9], d["methods"]["kalman"]["rms_2d_mas"]["10"], rtol=1e-12)
     # The coverage in the file is the fraction of outcomes inside the half-widths in the file.
     inside = (np.abs(back["x_p_forecast"] - back["x_p_observed"]) <= back["x_p_half_width_68"]).values.astype(float)
     inside += (np.abs(back["y_p_forecast"] - back["y_p_observed"]) <= back["y_p_half_width_68"]).values
@@ -153,6 +159,11 @@ def test_each_method_calibrates_on_its_own_span_by_default(tmp_path):
         np.testing.assert_allclose(h.forecasts[0][j].half_widths(68)[0], f.raw.half_widths(68)[0], rtol=1e-12)
     ds = h.to_dataset()
     assert (ds.attrs["calibration_span_days_kalman"], ds.attrs["calibration_span_days_ls_ar"]) == (2191.5, 730.5)
+    # LS+AR has no Q: a hindcast of it alone said Q = 81.6 where its forecast says null.
+    alone = wobble.hindcast_polar_motion(
+        start="2018-03-01", end="2018-03-02", horizon=10 * u.day, latency=1 * u.day, workers=1, methods=("ls_ar",)
+    )
+    assert alone.to_dict()["quality_factor"] is None and d["quality_factor"] == h.q
 
 
 @pytest.mark.parametrize(

@@ -100,6 +100,9 @@ def test_result_speaks_the_vocabulary(mars):
     assert obs["chandler_period"]["observed"] == pytest.approx(206.9)
     assert obs["chandler_period"]["unit"] == "d"
     assert obs["tidal_k2"]["measured"] and not obs["chandler_quality_factor"]["measured"]
+    # Every row has the same keys: a derived quantity's measurement and predictive keys are null, not missing.
+    assert len({tuple(o) for o in d["observables"]}) == 1
+    assert obs["chandler_quality_factor"]["observed"] is None and obs["chandler_quality_factor"]["source"] is None
     # FCN and precession from the catalogue (RISE; Konopliv et al. 2016), in the units people read.
     assert obs["fcn_period"]["observed"] == pytest.approx(-243.0) and obs["fcn_period"]["unit"] == "d"
     assert "Le Maistre et al. 2023" in obs["fcn_period"]["source"]

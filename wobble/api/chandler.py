@@ -49,6 +49,7 @@ __all__ = [
     "rigid_wobble",
     "free_precession_rate",
     "euler_period",
+    "PARAMETER_RENAMES",
 ]
 
 DAY_NOTE = "days of 86400 s (astropy u.day); a sidereal day is 86164.1 s, 0.27 % shorter"
@@ -58,6 +59,11 @@ FLAGS = frozenset({"observed_precession_includes_geodesic"})
 
 # Units named as a geodesist writes them (astropy's hyr is the Julian century, 100 Julian years).
 _UNIT_NAMES = {"hyr": "cy", "sday": "sidereal day"}
+
+#: ``wobble chandler --sources --json``: keys of each ``parameters[]`` row kept under their old names for one
+#: release (README, "Commands"). ``unit`` held the label for people (``arcsec / cy``, which astropy reads as
+#: arcseconds per cycle, silently); it is now the unit astropy reads, as in ``wobble invert``.
+PARAMETER_RENAMES = {"parameters[].unit_astropy": "parameters[].unit"}
 
 
 def unit_label(unit: u.UnitBase) -> str:
@@ -139,9 +145,11 @@ class Planet:
 
         One dict per parameter, in the file's order: ``name``, ``value``, ``uncertainty``
         (one sigma; None for a yes/no flag, whose value is then True or False), ``unit`` (as
-        a person reads it: ``""`` when dimensionless, ``arcsec / cy`` for arcseconds per
-        Julian century), ``unit_astropy`` (the same unit as ``astropy.units.Unit`` reads it),
-        ``source`` and ``status`` (``read``, ``secondary``, ``derived``, ``assumed``).
+        ``astropy.units.Unit`` reads it, ``arcsec / hyr``; ``""`` when dimensionless),
+        ``unit_label`` (as a person reads it: ``arcsec / cy`` for arcseconds per Julian century,
+        which astropy would read as per cycle), ``source``, ``status`` (``read``, ``secondary``,
+        ``derived``, ``assumed``) and ``unit_astropy``, the old name of ``unit`` (kept for one
+        release, :data:`PARAMETER_RENAMES`).
         """
         out = []
         for key, p in self.file.parameters.items():
@@ -155,12 +163,13 @@ class Planet:
                     "name": key,
                     "value": bool(value) if flag else value,
                     "uncertainty": None if flag else sigma,
-                    "unit": "" if flag else unit_label(p.value.unit),
-                    "unit_astropy": "" if flag else p.value.unit.to_string(),
+                    "unit": "" if flag else p.value.unit.to_string(),
+                    "unit_label": "" if flag else unit_label(p.value.unit),
                     "source": p.source,
                     "status": p.status,
                 }
             )
+            out[-1]["unit_astropy"] = out[-1]["unit"]  # the old name (PARAMETER_RENAMES)
         return out
 
     @property

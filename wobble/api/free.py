@@ -26,6 +26,7 @@ from wobble.api._sampling import sample_times
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io import cf
+from wobble.io.json_keys import deprecate, error_estimate_renames
 from wobble.models import free as _free
 
 if TYPE_CHECKING:
@@ -201,7 +202,8 @@ class FreeRotation:
         mdl = self._model
         swing = self.intermediate_axis_swing
         flips = self.flips
-        return {
+        err = dict(mdl.error_estimate)
+        out = {
             "regime": mdl.regime,
             "moments_kg_m2": list(mdl.moments),
             "omega0_rad_per_s": list(mdl.omega0),
@@ -215,8 +217,10 @@ class FreeRotation:
             "energy_J": mdl.energy,
             "angular_momentum_kg_m2_per_s": mdl.angular_momentum,
             "precession_rate_rad_per_s": mdl.precession_rate,
-            "error_estimate": dict(mdl.error_estimate),
+            **{f"error_estimate_{k}": v for k, v in err.items()},
+            "error_estimate": {},
         }
+        return deprecate(out, error_estimate_renames(err))
 
     def summary(self) -> str:
         """The motion in words: regime, period, whether the body flips."""

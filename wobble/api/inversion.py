@@ -151,6 +151,20 @@ def _run_ensemble(posterior: Posterior, settings: SamplerSettings, seed, progres
 # ---------------------------------------------------------------------------
 
 
+# Keys of an observable's row that only a measured quantity fills (null in the others).
+_MEASURED_KEYS = (
+    "observed",
+    "observed_uncertainty",
+    "source",
+    "predictive_median",
+    "predictive_lower_68",
+    "predictive_upper_68",
+    "predictive_lower_95",
+    "predictive_upper_95",
+    "predictive_p_value",
+)
+
+
 @dataclass(frozen=True)
 class _Row:
     name: str
@@ -344,6 +358,8 @@ class Inversion:
             row["prior_lower_68"], row["prior_upper_68"] = (
                 (float(v) for v in central_interval(px, 0.68)) if px.size else (math.nan, math.nan)
             )
+            # The same keys in every row (README, "Commands"): null where the quantity has no measurement.
+            row.update(dict.fromkeys(_MEASURED_KEYS))
             if m.measured:
                 y = rep[m.name].ravel() / m.scale
                 y = y[np.isfinite(y)]

@@ -32,6 +32,7 @@ from astropy import units as u
 from wobble.api.chandler import Planet, in_planet_file, load_planet
 from wobble.api.units import freeze_quantities, spin_rate_si, to_si
 from wobble.errors import InputError
+from wobble.io.json_keys import deprecate
 from wobble.io.density_profile import load_profile, profile_for_body, profile_names
 from wobble.io.parameter_file import ParameterFile
 from wobble.io.text import with_uncertainty
@@ -54,6 +55,11 @@ _OBSERVED_KEY = {"CW": "observed_chandler_period", "FCN": "observed_fcn_period"}
 
 def _days(seconds) -> u.Quantity | None:
     return None if seconds is None else (seconds << u.s).to(u.day)
+
+
+#: Keys of the hydrostatic figure's JSON kept under their old names for one release (README, "Commands"):
+#: ``q`` (Omega^2 a^3/(GM)) is the Chandler Q in ``wobble forecast``.
+DEPRECATED_FIGURE_KEYS = {"q": "centrifugal_ratio"}
 
 
 class HydrostaticFigure:
@@ -137,13 +143,13 @@ class HydrostaticFigure:
             "j2_clairaut_theorem": self.raw.j2_clairaut,
             "dynamical_flattening": self.dynamical_flattening,
             "moment_factor": self.moment_factor,
-            "q": self.q,
+            "centrifugal_ratio": self.q,  # Omega^2 a^3/(GM); "q" is the Chandler Q in forecast
             "mass_kg": self.raw.mass,
             "core_dynamical_ellipticity": self.core_dynamical_ellipticity,
         }
         for key, (value, sigma, source) in self.anchors.items():
             out[key] = {"value": value, "uncertainty": sigma, "source": source}
-        return out
+        return deprecate(out, DEPRECATED_FIGURE_KEYS)
 
     def to_dataset(self) -> xr.Dataset:
         """eps(r), Radau's eta and the density on the sample radii, CF-ready (dimension ``radius``, km).
@@ -156,7 +162,12 @@ class HydrostaticFigure:
         xr = xarray()
         radius = self.raw.radius
         density = self._density(radius)
-        scalars = {k: v for k, v in self.to_dict().items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+        # The file keeps its attribute names (hydrostatic_q): a JSON key's new name is not added to it.
+        scalars = {
+            k: v
+            for k, v in self.to_dict().items()
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and k not in DEPRECATED_FIGURE_KEYS.values()
+        }
         ds = xr.Dataset(
             {
                 "level_surface_flattening": variable("modes", "level_surface_flattening", self.raw.flattening),

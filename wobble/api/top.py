@@ -30,6 +30,7 @@ from wobble.api._sampling import sample_times
 from wobble.api.units import plain_array, to_si
 from wobble.errors import InputError
 from wobble.io import cf
+from wobble.io.json_keys import deprecate, error_estimate_renames
 from wobble.models import top as _top
 from wobble.models.torques import STANDARD_GRAVITY as _STANDARD_GRAVITY
 
@@ -432,8 +433,9 @@ class HeavyTop:
             reg = {"slow_rad_per_s": fin(slow), "fast_rad_per_s": fin(fast)}
         except InputError:
             reg = None
-        return {
-            "nutation": m.nutation,
+        err = dict(m.error_estimate)
+        out = {
+            "nutation_class": m.nutation,
             "u1": m.u1,
             "u2": m.u2,
             "u3": fin(m.u3),
@@ -464,8 +466,10 @@ class HeavyTop:
             "thetadot0_rad_per_s": m.thetadot0,
             "phidot0_rad_per_s": m.phidot0,
             "regular_precession_at_theta0": reg,
-            "error_estimate": dict(m.error_estimate),
+            **{f"error_estimate_{k}": v for k, v in err.items()},
+            "error_estimate": {},
         }
+        return deprecate(out, {"nutation": "nutation_class", **error_estimate_renames(err)})
 
     def summary(self) -> str:
         """The motion in words: the nutation class, the turning angles and the periods."""

@@ -40,7 +40,15 @@ def wrote(path, *, json_mode: bool = False) -> None:
 
 def finish(args, document, show, written) -> int:
     """The end of a command: ``document`` as JSON under ``--json``, else ``show()`` (which prints the
-    text for people); then a ``wrote PATH`` line per file in ``written``. Returns the exit status, 0."""
+    text for people); then a ``wrote PATH`` line per file in ``written``. Returns the exit status, 0.
+
+    A JSON object gets ``output`` and ``plot`` for every file option the command has: null when not asked
+    for, so its keys do not depend on the options (README, "Commands")."""
+    if isinstance(document, dict):
+        for name in ("output", "plot"):
+            if hasattr(args, name) and name not in document:
+                path = getattr(args, name)
+                document[name] = None if not path else str(path)
     if args.json:
         print_json(document)
     else:

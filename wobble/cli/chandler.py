@@ -38,7 +38,7 @@ def register(sub) -> None:
         "--sources",
         action="store_true",
         help="also list every parameter with its value, uncertainty, unit and source (with --json: a 'parameters' "
-        "list of {name, value, uncertainty, unit, unit_astropy, source, status} per body)",
+        "list of {name, value, uncertainty, unit (as astropy reads it), unit_label, source, status} per body)",
     )
     add_outputs(p, "draw the budget, step by step, against the observed period")
     p.set_defaults(func=run)
@@ -59,8 +59,16 @@ def run(args) -> int:
         chandler_dataset,
         "wobble.plot.chandler:budget_figure",
         text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]),
-        document=(lambda b: {**b.to_dict(), "parameters": b.planet.parameter_list()}) if args.sources else None,
+        document=(lambda b: _with_sources(b)) if args.sources else None,
     )
+
+
+def _with_sources(b) -> dict:
+    """The budget's JSON with its catalogued parameters (``--sources``)."""
+    from wobble.api.chandler import PARAMETER_RENAMES
+    from wobble.io.json_keys import deprecate
+
+    return deprecate({**b.to_dict(), "parameters": b.planet.parameter_list()}, PARAMETER_RENAMES)
 
 
 def _days(q, decimals: int, sign: bool = False) -> str:
@@ -107,7 +115,7 @@ def _catalogued(p: dict) -> str:
     u = p["uncertainty"]
     exact = not any(u) if isinstance(u, list) else u == 0  # a defined constant: "+/- 0" reads as a typo
     text = value if exact else f"{value} +/- {fmt(p['uncertainty'], 3)}"
-    text = f"{text} {p['unit']}" if p["unit"] else text
+    text = f"{text} {p['unit_label']}" if p["unit_label"] else text
     return f"{text} (taken as exact)" if exact else text
 
 

@@ -83,6 +83,10 @@ def _span(body, text):
     return DEFAULT_PERIODS * period, f"{DEFAULT_PERIODS} periods, the default; --t-end to change"
 
 
+#: Flip times listed in the JSON at most (a body may flip millions of times in its span).
+MAX_LISTED_FLIPS = 1000
+
+
 def run(args) -> int:
     from astropy import units as u
 
@@ -101,12 +105,16 @@ def run(args) -> int:
         option = {"moments": "--inertia", "omega0": "--omega"}.get(exc.parameter, exc.parameter)
         raise InputError(option, exc.value, exc.allowed) from None
     summary = body.to_dict()
+    # The same keys whatever the options (README, "Commands"): null where no span was needed.
+    summary.update(t_end_s=None, t_end_chosen_by=None, samples=None, flip_times_s=[], flips_in_span=0)
     needs_span = args.output or args.plot or args.t_end is not None or body.flips
     if needs_span:
         t1, chosen = _span(body, args.t_end)
         summary.update(t_end_s=t1, t_end_chosen_by=chosen, samples=args.samples)
     if body.flips:
-        summary["flip_times_s"] = body.flip_times(t1 * u.s).to_value(u.s)[:1000].tolist()
+        flips = body.flip_times(t1 * u.s).to_value(u.s)
+        # The list stops at MAX_LISTED_FLIPS; flips_in_span says how many there are.
+        summary.update(flip_times_s=flips[:MAX_LISTED_FLIPS].tolist(), flips_in_span=int(flips.size))
     written = []
     if args.output:
         from wobble.io.netcdf import write_netcdf
@@ -149,7 +157,8 @@ def _print_table(body, summary: dict, typed: str | None = None) -> None:
         rows.append(("flips", f"yes: the intermediate axis swings by {number(swing, 4)} deg"))
         rows.append(("time between flips", duration(summary["time_between_flips_s"])))
         times = summary.get("flip_times_s", [])
-        shown = ", ".join(number(t) for t in times[:6]) + (" ..." if len(times) > 6 else "")
+        count = summary["flips_in_span"]
+        shown = ", ".join(number(t) for t in times[:6]) + (f" ... ({count} in the span)" if count > 6 else "")
         rows.append(("flip times (s)", shown or "none in the span"))
     elif swing is not None:
         rows.append(("flips", f"no: the intermediate axis swings by {number(swing, 4)} deg (a wobble)"))
@@ -161,7 +170,7 @@ def _print_table(body, summary: dict, typed: str | None = None) -> None:
         ("kinetic energy", f"{number(summary['energy_J'])} J"),
         ("|L|", f"{number(summary['angular_momentum_kg_m2_per_s'])} kg m2/s"),
     ]
-    if "t_end_s" in summary:
+    if summary["t_end_s"] is not None:
         rows.append(
             (
                 "span",

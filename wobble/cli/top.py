@@ -93,6 +93,7 @@ def run(args) -> int:
         kw["psidot0"] = parse_quantity(args.psidot0, "--psidot0", rate)
     top = HeavyTop(**kw)  # its errors name its keywords, which are the options' dests (shown as --I1, ...)
     summary = top.to_dict()
+    summary.update(samples=None, t_end_s=None, t_end_chosen_by=None)  # null without a span (the same keys always)
     written = []
     if args.output or args.plot or args.t_end is not None:  # a --t-end given is checked even when unused
         t1, chosen = _span(top, args.t_end)
@@ -133,7 +134,7 @@ def _print_table(summary: dict, typed: str | None = None) -> None:
         return f"{number(a)}, {number(b)}{unit}"
 
     rows = [
-        ("nutation", summary["nutation"]),
+        ("nutation", summary["nutation_class"]),
         ("roots u1, u2, u3", ", ".join(number(summary[k]) for k in ("u1", "u2", "u3"))),
         ("theta min, max", pair(summary["theta_min_deg"], summary["theta_max_deg"], " deg")),
         ("nutation period", duration(summary["nutation_period_s"])),
@@ -152,7 +153,7 @@ def _print_table(summary: dict, typed: str | None = None) -> None:
                 f"slow {number(reg['slow_rad_per_s'])}, fast {number(reg['fast_rad_per_s'])} rad/s",
             )
         )
-    if "t_end_s" in summary:
+    if summary["t_end_s"] is not None:
         rows.append(
             (
                 "span",

@@ -22,9 +22,26 @@ from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_datas
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
+from wobble.io.json_keys import deprecate
 from wobble.models import polar_motion as _pm
 
-__all__ = ["QualityFactorEstimate", "PolarMotionAnalysis", "polar_motion_analysis"]
+__all__ = ["QualityFactorEstimate", "PolarMotionAnalysis", "polar_motion_analysis", "JSON_RENAMES"]
+
+#: Keys of ``wobble polar-motion --json`` renamed for the vocabulary the other commands use (README, "Commands"),
+#: kept under their old names for one release: old path -> new path. ``quality_factor`` held this object where
+#: excitation and forecast hold the number; in the next release it becomes that number.
+JSON_RENAMES = {
+    "quality_factor": "quality_factor_estimate",
+    "comparison[].uncertainty_days": "comparison[].period_uncertainty_days",
+    "comparison[].residual_sigma_days": "comparison[].residual_uncertainty_days",  # a sigma in days, not a z-score
+    "published.period": "published.period_days",
+    "published.uncertainty": "published.period_uncertainty_days",
+    "published.reference": "published.source",
+    # The annual terms' old names where they are nested (ChandlerEstimate.to_dict adds them in the estimates).
+    "estimates.*.annual_amplitude_mas": "estimates.*.annual_prograde_amplitude_mas",
+    "estimates.*.annual_amplitude_uncertainty_mas": "estimates.*.annual_prograde_amplitude_uncertainty_mas",
+    "windows.annual_amplitude_mas": "windows.annual_prograde_amplitude_mas",
+}
 
 
 @dataclass(frozen=True)
@@ -232,24 +249,29 @@ class PolarMotionAnalysis:
             "estimates": {e.method: e.to_dict() for e in (self.least_squares, self.spectral)},
             "methods_agree": bool(self.methods_agree),
             "agreement_sigma": num(self.agreement),
-            "quality_factor": None if self.quality_factor is None else self.quality_factor.to_dict(),
+            # An object here (with its interval and method), a number in excitation and forecast.
+            "quality_factor_estimate": None if self.quality_factor is None else self.quality_factor.to_dict(),
             "windows": _windows_dict(self.window_columns, self.window_attrs),
             "comparison": [
                 {
                     "name": r["name"],
                     "kind": r["kind"],
                     "period_days": num(r["period"]),
-                    "uncertainty_days": num(r["uncertainty"]),
+                    "period_uncertainty_days": num(r["uncertainty"]),
                     "residual_days": num(r["residual"]),
-                    "residual_sigma_days": num(r["sigma"]),
+                    "residual_uncertainty_days": num(r["sigma"]),
                 }
                 for r in self.comparison()
             ],
-            "published": {k: (num(v) if isinstance(v, u.Quantity) else v) for k, v in self.published.items()},
+            "published": {
+                "period_days": num(self.published["period"]),
+                "period_uncertainty_days": num(self.published["uncertainty"]),
+                "source": self.published["reference"],
+            },
             "caveats": list(self.caveats),
             "deprecated_keys": dict(DEPRECATED_KEYS),
         }
-        return with_deprecated_keys(out)
+        return deprecate(with_deprecated_keys(out), JSON_RENAMES)
 
     def to_dataset(self):
         """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready
@@ -315,8 +337,6 @@ def _windows_dict(w: dict, a: dict) -> dict:
         "chandler_period_days": [num(v) for v in w["chandler_period"]],
         "chandler_period_uncertainty_days": [num(v) for v in w["chandler_period_uncertainty"]],
         "annual_prograde_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"]],
-        # Deprecated alias (one release).
-        "annual_amplitude_mas": [num(v) for v in w["annual_prograde_amplitude"]],
     }
 
 

@@ -43,6 +43,7 @@ from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_a
 from wobble.api.units import real_float, to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
+from wobble.io.json_keys import deprecate
 from wobble.io.text import with_uncertainty
 from wobble.models.polar_motion import forecast as _fc
 from wobble.models.polar_motion import forecast_calibration as _cal
@@ -58,7 +59,12 @@ __all__ = [
     "chandler_period_before",
     "calibration_span_si",
     "calibration_text",
+    "FORECAST_RENAMES",
 ]
+
+#: ``wobble forecast --json`` keys kept under their old names for one release (README, "Commands"): the Kalman
+#: model's ``details.q`` repeated the top-level ``quality_factor`` (and ``q`` is Omega^2 a^3/(GM) in modes).
+FORECAST_RENAMES = {"details.q": "quality_factor"}
 
 #: Publication delay of each kind of record, days: C04 about a month (the shipped file ends 34 days
 #: before its package date), the Rapid Service's finals2000A about a day.
@@ -255,7 +261,8 @@ class PolarMotionForecast:
                 "mean_pole_rate_mas_per_day": math.sqrt(noise.mean_pole_rate) / RAD_PER_MAS,
                 "observation_mas": math.sqrt(noise.observation) / RAD_PER_MAS,
             }
-        return {
+        details.pop("q", None)  # the Kalman model's Q: the top-level quality_factor (FORECAST_RENAMES)
+        out = {
             "issued": iso_date(self.issued),
             "horizon_days": len(self.lead),
             "method": self.method,
@@ -270,6 +277,7 @@ class PolarMotionForecast:
             "details": details,
             "forecast": rows,
         }
+        return deprecate(out, FORECAST_RENAMES)
 
     def _calibration_dict(self):
         cal = self.calibration

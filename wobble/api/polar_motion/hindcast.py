@@ -35,12 +35,21 @@ from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
+from wobble.io.json_keys import deprecate
 from wobble.models.polar_motion import forecast as _fc
 from wobble.models.polar_motion import forecast_calibration as _cal
 from wobble.models.polar_motion import hindcast as _hc
 from wobble.models.polar_motion.record import DAY
 
 __all__ = ["PolarMotionHindcast", "hindcast_polar_motion", "ANCHORS"]
+
+# The scores' JSON keys with their unit, as every other key (README, "Commands"); the old names are kept for one
+# release under deprecated_keys. Skills are ratios and keep theirs.
+_METRIC_KEYS = {
+    **{m: f"{m}_mas" for m in ("rms_2d", "mae_2d", "rms_x", "rms_y", "mae_x", "mae_y")},
+    "coverage_68": "coverage_68_fraction",
+    "coverage_95": "coverage_95_fraction",
+}
 
 
 #: Published results to set beside ours: (label, metric, {lead days: mas}).
@@ -168,7 +177,7 @@ class PolarMotionHindcast:
             "issues": len(self.issued_mjd),
             "horizon_days": len(self.lead),
             "latency_days": float(self.latency.value),
-            "quality_factor": self.q,
+            "quality_factor": self.q if "kalman" in self.methods else None,  # LS+AR has no Q
             "source_file": self.source,
             "intervals": self._intervals_text(),
             "calibration_span_days": (
@@ -181,7 +190,7 @@ class PolarMotionHindcast:
         }
         for m in self.methods:
             out["methods"][m] = {
-                metric: {str(k): v for k, v in self.at(metric, m, leads).items()}
+                _METRIC_KEYS.get(metric, metric): {str(k): v for k, v in self.at(metric, m, leads).items()}
                 for metric in (
                     "rms_2d",
                     "mae_2d",
@@ -195,7 +204,7 @@ class PolarMotionHindcast:
                     "skill_ls",
                 )
             }
-        return out
+        return deprecate(out, {f"methods.*.{old}": f"methods.*.{new}" for old, new in _METRIC_KEYS.items()})
 
     def _spans_text(self) -> str:
         """``6 yr`` when every method has that span, else ``6 yr (kalman) or 2 yr (ls_ar)``."""

@@ -1,0 +1,83 @@
+"""One rule for renamed JSON keys (wobble.io.json_keys), and the commands that follow it: each alias holds its
+new key's value, and a command's keys do not depend on its options."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from wobble.cli import main
+from wobble.io.json_keys import deprecate, values_at
+
+
+def test_deprecate_aliases_keys_in_nested_objects_lists_and_maps():
+    doc = {
+        "a_days": 1.0,
+        "rows": [{"new": 1}, {"new": 2}, {"other": 3}],
+        "methods": {"k": {"rms_mas": 4}, "l": {"rms_mas": 5}},
+        "details": {"x": 0},
+    }
+    renames = {
+        "a": "a_days",
+        "rows[].old": "rows[].new",
+        "methods.*.rms": "methods.*.rms_mas",
+        "details.q": "a_days",  # across parents: one value each
+    }
+    out = deprecate(doc, renames)
+    assert out is doc and out["a"] == 1.0 and out["details"]["q"] == 1.0
+    assert [r.get("old") for r in out["rows"]] == [1, 2, None]  # no alias where the new key is absent
+    assert values_at(out, "methods.*.rms") == [4, 5] == values_at(out, "methods.*.rms_mas")
+    assert out["deprecated_keys"] == renames
+    # A second call adds to the listing.
+    deprecate(out, {"b": "a_days"})
+    assert out["deprecated_keys"] == {**renames, "b": "a_days"} and out["b"] == 1.0
+    with pytest.raises(ValueError, match="single values"):
+        deprecate({"rows": []}, {"rows[].x": "y"})
+
+
+def _json(capsys, *args):
+    assert main([*args, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _check_aliases(doc):
+    """Every old path of ``deprecated_keys`` holds exactly what its new path holds."""
+    for old, new in doc["deprecated_keys"].items():
+        assert values_at(doc, old) == values_at(doc, new) != [], (old, new)
+
+
+def test_free_and_top_print_the_same_keys_whatever_the_options(capsys, tmp_path):
+    """free and top printed t_end_s, samples and t_end_chosen_by only with --t-end, -o or --plot, and free its
+    flip times only for a body that flips; output and plot only when written. Now null (or []) otherwise."""
+    free = ["free", "--inertia", "1", "2", "3", "--omega", "0.1", "0", "1"]
+    plain = _json(capsys, *free)
+    spanned = _json(capsys, *free, "--t-end", "10", "-o", str(tmp_path / "f.nc"))
+    assert set(plain) == set(spanned)
+    assert plain["t_end_s"] is None and plain["flip_times_s"] == [] and plain["flips_in_span"] == 0
+    assert plain["output"] is None and plain["plot"] is None and spanned["output"] == str(tmp_path / "f.nc")
+    flipping = _json(capsys, "free", "--inertia", "1", "2", "3", "--omega", "0.01", "1", "0.01", "--t-end", "1e5")
+    assert set(flipping) == set(plain) and flipping["flips_in_span"] > 1000 == len(flipping["flip_times_s"])
+    # The error estimate in run's flat form; the object it was is an alias for one release.
+    assert plain["error_estimate"]["omega_relative"] == plain["error_estimate_omega_relative"]
+    _check_aliases(plain)
+    assert main(free) == 0 and "None" not in capsys.readouterr().out  # the text has no span row without one
+
+    top = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "30", "--omega3", "10"]
+    plain = _json(capsys, *top)
+    spanned = _json(capsys, *top, "--t-end", "5")
+    assert set(plain) == set(spanned) and plain["samples"] is None and spanned["t_end_s"] == 5
+    assert plain["nutation_class"] == plain["nutation"] and plain["error_estimate_attitude_rad"] >= 0
+    _check_aliases(plain)
+    assert main(top) == 0 and "None" not in capsys.readouterr().out
+
+
+def test_renamed_keys_alias_their_new_names(capsys):
+    """modes' q (Omega^2 a^3/GM) is centrifugal_ratio, as forecast's q is the Chandler Q; chandler --sources'
+    unit is what astropy reads."""
+    (earth,) = _json(capsys, "modes", "earth")
+    figure = earth["hydrostatic_figure"]
+    assert figure["centrifugal_ratio"] == figure["q"] == pytest.approx(0.00345, rel=0.01)
+    _check_aliases(figure)
+    (budget,) = _json(capsys, "chandler", "mars", "--sources")
+    _check_aliases(budget)
