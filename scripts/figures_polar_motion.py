@@ -39,7 +39,7 @@ def main() -> None:
     right.set_title("2020-: the Chandler wobble nearly gone", fontsize="medium")
     fig.savefig(OUT / "polar_motion_path.png", dpi=100)
 
-    ax = figures.two_sided_spectrum(a.spectrum)
+    ax = figures.two_sided_spectrum(a.spectrum, chandler_period=a.spectral.period)
     ax.figure.savefig(OUT / "polar_motion_spectrum.png", dpi=100)
 
     e = a.estimate

@@ -144,7 +144,7 @@ def test_help_says_what_a_bare_number_means(command, option, unit):
         (["forecast", "--latency", "1.5"], "--latency: got 1.5 d; allowed: a whole number of days from 0 d to 365 d"),
         (["forecast", "--latency", "1yr"], "--latency: got 1 yr; allowed: a whole number of days"),  # was "data: ..."
         (["forecast", "--issued", "2019.5"], "--issued: got 2019.5 (2019-07-02 12:00 UTC); allowed: a day"),
-        (["polar-motion", "--window", "1"], "--window: got 1 yr; allowed: a length from 2 yr"),
+        (["polar-motion", "--window", "1"], "--window: got 1 yr; allowed: a length from 2.005 yr"),
         (["polar-motion", "--window", "10m"], "--window: got 10m; allowed: a time such as"),
         (["polar-motion", "--step", "0.001"], "--step: got 0.001 yr; allowed: at least 1 d"),  # was 64,000 windows
         (["polar-motion", "--step", "12h"], "--step: got 12 h; allowed: at least 1 d"),

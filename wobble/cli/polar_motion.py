@@ -45,7 +45,8 @@ def register(sub) -> None:
     p.add_argument(
         "--window",
         metavar="T",
-        help="length of the sliding windows, at least 2 yr, e.g. 8 or 2920d (a bare number is years; default: 8)",
+        help="length of the sliding windows, e.g. 8 or 2920d (a bare number is years; default: 8): longer than 2 yr, "
+        "since the samples in each must span 2 yr (on daily data, at least 732.5 d)",
     )
     p.add_argument(
         "--step",

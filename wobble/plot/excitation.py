@@ -7,9 +7,10 @@ against time show the post-2015 decline of the wobble beside its excitation.
 
 from __future__ import annotations
 
+import numpy as np
 from matplotlib.figure import Figure
 
-from wobble.plot.polar_motion import save_figure
+from wobble.plot.polar_motion import log_floor, mark_collapse, save_figure
 
 __all__ = ["excitation_figure", "save_excitation_figure"]
 
@@ -25,11 +26,14 @@ def excitation_figure(ex) -> Figure:
     ax_s.axvspan(pc - 0.1, pc + 0.1, color="0.8", alpha=0.5, label="Chandler band")
     ax_s.set_yscale("log")
     ax_s.set_xlim(-3, 3)
+    view = np.abs(f) <= 3
+    log_floor(ax_s, np.concatenate([f[view], f[view]]), np.concatenate([ap[view], ac[view]]))
     ax_s.set_xlabel("frequency [cycles per year] (negative: retrograde)")
     ax_s.set_ylabel("amplitude [mas]")
+    # The title states what is drawn, not a finding: on a short span the pole's peak may not stand out.
+    q = "inf" if ex.quality_factor is None or not np.isfinite(ex.quality_factor) else f"{ex.quality_factor:.0f}"
     ax_s.set_title(
-        f"spectra: the Chandler peak of the pole, no peak in its excitation (T_c = {ex.chandler_period.value:.1f} "
-        f"d, Q = {ex.quality_factor:.0f})",
+        f"two-sided spectra of the pole and of its excitation (T_c = {ex.chandler_period.value:.1f} d, Q = {q})",
         fontsize="medium",
     )
     ax_s.legend(fontsize="small")
@@ -38,12 +42,24 @@ def excitation_figure(ex) -> Figure:
         edge = (years > years[0] + 1) & (years < years[-1] - 1)
         ax_t.plot(years[edge], ex.band_pole[edge], color="C0", label="pole, Chandler band")
         ax_t.plot(years[1:][edge[1:]], ex.band_chi[edge[1:]], color="C3", label="excitation, Chandler band")
-        ax_t.axvline(2015.0, color="0.5", ls=":")
+        mark_collapse(ax_t, years[edge], "2015-01-01: before/after split of chandler_band_collapse")
         ax_t.set_yscale("log")
         ax_t.set_xlabel("year")
         ax_t.set_ylabel("band amplitude [mas]")
         ax_t.legend(fontsize="small")
         ax_t.set_title("amplitude within +/- 0.1 cycle per year of the Chandler frequency", fontsize="medium")
+    else:  # the band-pass needs about ten years (GeodeticExcitation.band_chi): say so, not a bare 0-1 axis
+        ax_t.set_axis_off()
+        ax_t.text(
+            0.5,
+            0.5,
+            "no Chandler-band amplitudes: the band-pass needs daily samples without gaps over about ten years\n"
+            "(two of its frequencies within +/- 0.1 cycle per year of the Chandler frequency)",
+            ha="center",
+            va="center",
+            transform=ax_t.transAxes,
+            fontsize="small",
+        )
     return fig
 
 

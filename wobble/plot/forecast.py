@@ -63,6 +63,11 @@ def save_forecast_figure(forecast, path, *, overwrite: bool = False, data=None):
     return save_figure(forecast_figure(forecast, data), path, overwrite=overwrite)
 
 
+#: One colour per method in every panel (a method's x_p and y_p, 68 % and 95 % differ by line style): from the
+#: colour cycle the same orange was kalman in one panel, ls_ar's y_p in the next and ls_ar's 95 % in a third.
+METHOD_COLOURS = {"kalman": "C0", "ls_ar": "C1"}
+
+
 def hindcast_figure(hindcast) -> Figure:
     """2-D RMS and x_p mean absolute error against lead time for each method, persistence and LS alone, with
     the anchors; and the 68 % and 95 % interval coverage."""
@@ -73,15 +78,16 @@ def hindcast_figure(hindcast) -> Figure:
     (ax_rms, ax_mae), (ax_cov, ax_skill) = fig.subplots(2, 2)
     lead = hindcast.lead.value
     first = hindcast.scores[hindcast.methods[0]]
-    for m in hindcast.methods:
+    for k, m in enumerate(hindcast.methods):
         s = hindcast.scores[m]
-        ax_rms.plot(lead, s.rms_2d / RAD_PER_MAS, lw=1.5, label=m)
-        ax_mae.plot(lead, s.mae_x / RAD_PER_MAS, lw=1.5, label=f"{m} x_p")
-        ax_mae.plot(lead, s.mae_y / RAD_PER_MAS, lw=1, ls="--", label=f"{m} y_p")
-        ax_cov.plot(lead, 100 * s.coverage_68, lw=1.5, label=f"{m} 68 %")
-        ax_cov.plot(lead, 100 * s.coverage_95, lw=1, ls="--", label=f"{m} 95 %")
-        ax_skill.plot(lead, s.skill_persistence, lw=1.5, label=f"{m} vs persistence")
-        ax_skill.plot(lead, s.skill_ls, lw=1, ls="--", label=f"{m} vs LS alone")
+        c = METHOD_COLOURS.get(m, f"C{k + 2}")
+        ax_rms.plot(lead, s.rms_2d / RAD_PER_MAS, lw=1.5, color=c, label=m)
+        ax_mae.plot(lead, s.mae_x / RAD_PER_MAS, lw=1.5, color=c, label=f"{m} x_p")
+        ax_mae.plot(lead, s.mae_y / RAD_PER_MAS, lw=1, ls="--", color=c, label=f"{m} y_p")
+        ax_cov.plot(lead, 100 * s.coverage_68, lw=1.5, color=c, label=f"{m} 68 %")
+        ax_cov.plot(lead, 100 * s.coverage_95, lw=1, ls="--", color=c, label=f"{m} 95 %")
+        ax_skill.plot(lead, s.skill_persistence, lw=1.5, color=c, label=f"{m} vs persistence")
+        ax_skill.plot(lead, s.skill_ls, lw=1, ls="--", color=c, label=f"{m} vs LS alone")
     ax_rms.plot(lead, first.rms_2d_persistence / RAD_PER_MAS, color="0.5", lw=1, label="persistence")
     ax_rms.plot(lead, first.rms_2d_ls / RAD_PER_MAS, color="0.5", lw=1, ls=":", label="LS extrapolation alone")
     markers = {"rms_2d": (ax_rms, "o"), "mae_x": (ax_mae, "s"), "mae_y": (ax_mae, "^")}
@@ -95,13 +101,13 @@ def hindcast_figure(hindcast) -> Figure:
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("lead time [d]")
-    # Errors grow with lead time, so the upper left of the RMS panel is empty; "best" put the legend over
-    # the short-range anchors (Dill et al. at 5 and 10 days).
-    ax_rms.legend(fontsize="x-small", loc="upper left")
-    ax_mae.legend(fontsize="x-small")
+    # Below the panels: inside, the legends covered the persistence curve or the short-range anchors (Dill et
+    # al. at 5 and 10 days, Lei et al. at 10), wherever the curves of a given hindcast happened to run.
+    for ax in (ax_rms, ax_mae):
+        ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
     ax_rms.set_ylabel("2-D RMS error [mas]")
     ax_mae.set_ylabel("mean absolute error [mas]")
-    ax_cov.axhspan(63, 73, color="C2", alpha=0.15, label="goal for 68 %: 63-73 %")
+    ax_cov.axhspan(63, 73, color="0.5", alpha=0.2, lw=0, label="goal for 68 %: 63-73 %")
     ax_cov.axhline(95, color="0.5", lw=0.8)
     ax_cov.set_ylim(0, 100)
     ax_cov.set_xlabel("lead time [d]")

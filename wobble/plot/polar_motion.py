@@ -21,7 +21,17 @@ from matplotlib.figure import Figure
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
 
-__all__ = ["pole_path", "two_sided_spectrum", "windowed_wobble", "overview", "save_figure", "save_overview"]
+__all__ = [
+    "pole_path",
+    "two_sided_spectrum",
+    "windowed_wobble",
+    "overview",
+    "save_figure",
+    "save_overview",
+    "mark_collapse",
+    "log_floor",
+    "COLLAPSE_YEAR",
+]
 
 _MJD_J2000 = 51544.5
 
@@ -38,6 +48,32 @@ def _published_chandler_cpy() -> float:
 
 def _decimal_year(mjd) -> np.ndarray:
     return 2000.0 + (np.asarray(mjd, dtype=float) - _MJD_J2000) / 365.25
+
+
+#: The year after which the Chandler amplitude collapsed (polar-motion.md, section 6; forecast.md), and the split
+#: of the excitation's before/after comparison: a line on the panels against time, where their span reaches it.
+COLLAPSE_YEAR = 2015.0
+
+
+def mark_collapse(ax, years, label: str = "2015 (the post-2015 amplitude collapse)") -> None:
+    """A dotted line at :data:`COLLAPSE_YEAR`, labelled, if the span ``years`` holds it (it stretched the axis of
+    a 1980-2010 figure to 2016, unexplained)."""
+    years = np.asarray(years, dtype=float)
+    finite = years[np.isfinite(years)]
+    if finite.size and finite.min() <= COLLAPSE_YEAR <= finite.max():
+        ax.axvline(COLLAPSE_YEAR, color="0.5", ls=":", lw=1, label=label)
+
+
+def log_floor(ax, freq, amp) -> None:
+    """Bottom of a log amplitude axis: half the 1st percentile of the amplitudes away from zero frequency.
+
+    With the drift removed the zero-frequency bin is ~1e-12 mas, which put the axis's bottom ten decades
+    below the spectrum and squeezed the peaks into its top fifth.
+    """
+    freq, amp = np.asarray(freq, dtype=float), np.asarray(amp, dtype=float)
+    away = amp[(freq != 0) & np.isfinite(amp) & (amp > 0)]
+    if away.size:
+        ax.set_ylim(bottom=0.5 * float(np.percentile(away, 1)))
 
 
 def _axes(ax, **kw):
@@ -93,19 +129,24 @@ def pole_path(data, *, start=None, end=None, ax=None, model=None):
     ax.invert_yaxis()
     ax.set_xlabel("x_p [mas] (toward Greenwich)")
     ax.set_ylabel("y_p [mas] (toward 90° W), downward")
-    ax.set_title("pole path, seen from above the north pole\n(counter-clockwise = prograde)", fontsize="medium")
+    span = f"{iso_date(float(mjd[keep][0]))} to {iso_date(float(mjd[keep][-1]))}" if keep.any() else "no data"
+    ax.set_title(f"pole path {span}, seen from above the north pole\n(counter-clockwise = prograde)", fontsize="medium")
     cbar = ax.figure.colorbar(points, ax=ax, shrink=0.8)
     cbar.set_label("year")
     return ax
 
 
-def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
+def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_period=None):
     """Amplitude against frequency in cycles per year, retrograde (negative) and prograde (positive).
 
     Parameters
     ----------
     spectrum : xarray.Dataset
         ``PolarMotionAnalysis.spectrum`` (``amplitude_spectrum`` on ``frequency`` in day-1).
+    chandler_period : Quantity, optional
+        The measured period (``PolarMotionAnalysis.spectral.period``): the Chandler mark goes to its
+        frequency and its label gives it. Without it the mark is the highest bin within 0.03 cycle per year
+        of the published frequency, which on a short span can be the annual peak's flank.
     """
     ax = _axes(ax, figsize=(7, 4))
     cpy = np.asarray(spectrum["frequency"].values) * 365.25
@@ -122,6 +163,9 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
         ("retrograde annual", -365.25 / 365.24219, (-40, 10)),
     ]
     for label, f, offset in marks:
+        if label == "Chandler" and chandler_period is not None:
+            _mark_measured(ax, cpy, amp, keep, chandler_period, offset)
+            continue
         near = keep & (np.abs(cpy - f) < 0.03)
         if not near.any():
             continue
@@ -138,9 +182,31 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0):
     ax.set_ylabel("amplitude [mas]")
     if log:
         ax.set_ylim(top=amp[keep].max() * 4)
+        log_floor(ax, cpy[keep], amp[keep])
     ax.set_title("two-sided spectrum of x_p - i y_p (drift removed)", fontsize="medium")
     ax.set_xlim(-max_cpy, max_cpy)
     return ax
+
+
+def _mark_measured(ax, cpy, amp, keep, period, offset) -> None:
+    """The Chandler mark at the measured period's frequency (the bin nearest it), labelled with the period."""
+    from astropy import units as u
+
+    days = period.to_value(u.day)
+    f = 365.25 / days
+    if not (np.isfinite(f) and keep.any()):
+        return
+    k = np.flatnonzero(keep)[np.argmin(np.abs(cpy[keep] - f))]
+    if abs(f - 365.25 / 365.24219) < 0.12:  # beside the annual peak (a short span's estimate): clear its label
+        offset = (offset[0] - 70, offset[1] + 10)
+    ax.plot(cpy[k], amp[k], "o", ms=4, mfc="none", color="C3", zorder=3)
+    ax.annotate(
+        f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy",
+        (cpy[k], amp[k]),
+        xytext=offset,
+        textcoords="offset points",
+        fontsize="x-small",
+    )
 
 
 def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
@@ -183,9 +249,23 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
         alpha=0.7,
         label="annual (prograde)",
     )
-    ax_a.axvline(2015.0, color="0.5", ls=":", lw=1)
+    mark_collapse(ax_a, years)
+    if not np.isfinite(np.asarray(windows["chandler_amplitude"].values, dtype=float)).any():
+        # Every window too gappy to fit: say so rather than leave two empty panels.
+        for ax in (ax_a, ax_p):
+            ax.text(
+                0.5,
+                0.5,
+                "no window could be fitted (too few samples in each)",
+                ha="center",
+                va="center",
+                transform=ax.transAxes,
+                fontsize="small",
+            )
     ax_a.set_ylabel("amplitude [mas]")
     ax_a.set_ylim(bottom=0)
+    if np.isfinite(years).any() and np.isfinite(width):  # the windows' reach, whatever their fits gave
+        ax_a.set_xlim(np.nanmin(years) - width / 2, np.nanmax(years) + width / 2)
     ax_a.legend(fontsize="small")
     ax_a.set_title(f"sliding windows of {width:g} years (plotted at their centres)", fontsize="medium")
     ax_p.errorbar(years, windows["chandler_period"], yerr=windows["chandler_period_uncertainty"], fmt="o-", ms=3, lw=1)
@@ -224,7 +304,7 @@ def overview(analysis, *, path_span=None) -> Figure:
 
         path_span = (Time(start_mjd, format="mjd"), Time(end_mjd, format="mjd"))
     pole_path(analysis.data, start=path_span[0], end=path_span[1], ax=ax_path)
-    two_sided_spectrum(analysis.spectrum, ax=ax_spec)
+    two_sided_spectrum(analysis.spectrum, ax=ax_spec, chandler_period=analysis.spectral.period)
     windowed_wobble(
         analysis.windows,
         axes=(ax_amp, ax_per),

@@ -394,13 +394,8 @@ def polar_motion_analysis(
             f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}",
             f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)",
         )
-    if not (math.isfinite(window_s) and _pm.MIN_SPAN <= window_s <= span * (1 + 1e-9)):
-        raise InputError(
-            "window",
-            window,
-            f"a length from {_pm.MIN_SPAN / (365.25 * _pm.DAY):g} yr to the span analysed "
-            f"({span / (365.25 * _pm.DAY):.2f} yr)",
-        )
+    if not (math.isfinite(window_s) and _pm.shortest_window(t) <= window_s <= span * (1 + 1e-9)):
+        raise InputError("window", window, _pm.window_allowed(t))
     say("least-squares fit")
     earth = load_planet("earth")  # read once: the reference period here, the budget and the comparison below
     reference = published_chandler_period(earth)["period"].to_value(u.s)

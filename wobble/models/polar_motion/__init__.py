@@ -96,7 +96,7 @@ from wobble.models.polar_motion.record import (
     pole_xy,
 )
 from wobble.models.polar_motion.spectrum import Spectrum, fit_spectrum, two_sided_spectrum
-from wobble.models.polar_motion.windows import WindowedFits, sliding_windows
+from wobble.models.polar_motion.windows import WindowedFits, shortest_window, sliding_windows, window_allowed
 
 __all__ = [
     "DAY",
@@ -117,6 +117,8 @@ __all__ = [
     "fit_spectrum",
     "two_sided_spectrum",
     "sliding_windows",
+    "shortest_window",
+    "window_allowed",
     "quality_factor",
     "MIN_Q_SPAN",
 ]

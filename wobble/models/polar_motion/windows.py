@@ -25,7 +25,7 @@ from wobble.models.polar_motion.record import (
 from wobble.models.polar_motion.uncertainty import model_degrees
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["WindowedFits", "sliding_windows"]
+__all__ = ["WindowedFits", "sliding_windows", "shortest_window", "window_allowed"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,6 +108,28 @@ def _window_searches(t, z, masks, degree, band) -> dict[int, dict]:
     return found
 
 
+def shortest_window(t) -> float:
+    """The shortest window whose fits can run, s: MIN_SPAN plus twice the median sample spacing.
+
+    A window [a, a + W] of samples dt apart holds samples spanning more than W - 2 dt (up to a sample
+    interval is lost at each end), and each window's fit needs MIN_SPAN of them, as the whole span's
+    does: windows of exactly two years on daily data held 730 d each, and every one came out NaN,
+    silently.
+    """
+    t = np.asarray(t, dtype=float)
+    return MIN_SPAN + (2.0 * float(np.median(np.diff(t))) if t.size > 1 else 0.0)
+
+
+def window_allowed(t) -> str:
+    """What a refused window length is told: from :func:`shortest_window` to the span of ``t``."""
+    year = 365.25 * DAY
+    shortest, span = shortest_window(t), float(t[-1] - t[0])
+    return (
+        f"a length from {shortest / year:.4g} yr ({shortest / DAY:g} d: the samples in each window must span "
+        f"{MIN_SPAN / year:g} yr) to the span analysed ({span / year:.2f} yr)"
+    )
+
+
 @one_blas_thread
 def sliding_windows(
     t,
@@ -132,12 +154,8 @@ def sliding_windows(
     t, z = as_series(t, z)
     span = t[-1] - t[0]
     window = float(window)
-    if not (math.isfinite(window) and MIN_SPAN <= window <= span * (1 + 1e-9)):
-        raise InputError(
-            "window",
-            f"{window / (365.25 * DAY):g} yr",
-            f"a length from {MIN_SPAN / (365.25 * DAY):g} yr to the span of the data ({span / (365.25 * DAY):.2f} yr)",
-        )
+    if not (math.isfinite(window) and shortest_window(t) <= window <= span * (1 + 1e-9)):
+        raise InputError("window", f"{window / (365.25 * DAY):g} yr", window_allowed(t))
     step = 365.25 * DAY if step is None else float(step)
     if not (math.isfinite(step) and step > 0):
         raise InputError("step", f"{step / DAY:g} d", "a positive, finite time")
