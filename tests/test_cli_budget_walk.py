@@ -269,6 +269,29 @@ def test_the_modes_figure_draws_only_the_modes_shown():
     import wobble
 
     drawn = [ax.axison for ax in wobble.plot.modes.modes_figure([wobble.normal_modes("earth", modes=("CW",))]).axes]
-    assert drawn == [True, False, True]  # profile, (no FCN), CW
+    assert drawn == [True, True]  # profile, CW: no empty column for the FCN (it left a blank third)
     everything = wobble.plot.modes.modes_figure([wobble.normal_modes("earth")]).axes
     assert [ax.axison for ax in everything] == [True, True, True]
+    # Every line of the CW panel is in its legend (the hydrostatic e_f line was not), and the budget line is
+    # called what the text calls it.
+    cw = everything[2]
+    assert {line.get_label() for line in cw.get_lines()} <= set(t.get_text() for t in cw.get_legend().get_texts())
+    assert "Chandler budget (coupling off)" in [t.get_text() for t in cw.get_legend().get_texts()]
+
+
+def test_the_modes_figure_of_a_body_without_a_profile_draws_its_chandler_period():
+    """wobble modes --body-file my_planet.toml printed a Chandler period of 511.89 d; its figure drew only a
+    'no density profile' panel."""
+    from astropy import units as u
+
+    import wobble
+
+    from wobble.io.shipped import find_shipped
+
+    r = wobble.normal_modes(wobble.load_planet(str(find_shipped("my_planet.toml").path())))
+    assert r.figure is None
+    profile, cw = wobble.plot.modes.modes_figure([r]).axes
+    assert not profile.axison and "no density profile" in profile.texts[0].get_text()
+    period = r.mode("CW").period.to_value(u.day)
+    (model,) = [line for line in cw.get_lines() if line.get_label() == "CW (model)"]
+    assert model.get_ydata()[0] == pytest.approx(period)

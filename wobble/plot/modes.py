@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
@@ -29,25 +31,25 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = plt.subplots(len(results), 3, figsize=(11.0, 3.1 * len(results) + 0.4), squeeze=False)
+    # A column per mode some planet shows (wobble modes --mode FCN left a blank third of the figure).
+    columns = [m for m in ("FCN", "CW") if any(m in r.shown for r in results)]
+    width = 11.0 * (1 + len(columns)) / 3
+    fig, axes = plt.subplots(len(results), 1 + len(columns), figsize=(width, 3.1 * len(results) + 0.4), squeeze=False)
     for row, r in zip(axes, results):
         _profile_panel(row[0], r)
-        if r.core_flattening_hydrostatic is None:
-            row[1].set_axis_off()
-            row[2].set_axis_off()
-            continue
+        panels = dict(zip(columns, row[1:]))
         hyd = r.core_flattening_hydrostatic
-        grid = np.linspace(0.85 * hyd, 1.15 * hyd, 61)
-        periods = r.periods_against_core_flattening(grid)
-        # Only the modes asked for (wobble modes --mode): a panel of a mode not shown is left empty.
-        if "FCN" in r.shown:
-            _fcn_panel(row[1], r, grid, periods["FCN_celestial"].to_value(u.day))
-        else:
-            row[1].set_axis_off()
-        if "CW" in r.shown:
-            _cw_panel(row[2], r, grid, periods["CW"].to_value(u.day))
-        else:
-            row[2].set_axis_off()
+        grid = None if hyd is None else np.linspace(0.85 * hyd, 1.15 * hyd, 61)
+        periods = None if grid is None else r.periods_against_core_flattening(grid)
+        for mode, ax in panels.items():
+            if mode not in r.shown or (mode == "FCN" and grid is None):
+                ax.set_axis_off()  # not asked for, or no liquid core to give the FCN
+            elif mode == "FCN":
+                _fcn_panel(ax, r, grid, periods["FCN_celestial"].to_value(u.day))
+            elif grid is None:
+                _cw_alone_panel(ax, r)
+            else:
+                _cw_panel(ax, r, grid, periods["CW"].to_value(u.day))
     fig.tight_layout()
     if path is not None:
         from wobble.plot.save import save_figure
@@ -58,9 +60,18 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
 
 
 def _profile_panel(ax, r):
-    ax.set_title(f"{r.planet.title}: hydrostatic level surfaces", fontsize=9)
+    # Wrapped: a body file's long title was cut at the figure's edge ("y planet ...").
+    ax.set_title(textwrap.fill(f"{r.planet.title}: hydrostatic level surfaces", 48), fontsize=9)
     if r.figure is None:
-        ax.text(0.5, 0.5, "no density profile", ha="center", va="center", transform=ax.transAxes)
+        ax.text(
+            0.5,
+            0.5,
+            "no density profile:\nno hydrostatic figure, no FCN",
+            ha="center",
+            va="center",
+            transform=ax.transAxes,
+        )
+        ax.set_axis_off()  # an empty 0-1 frame read as a plot of nothing
         return
     radius = r.figure.radius.to_value(u.km)
     ax.plot(radius, 1.0 / r.figure.flattening, color="C0")
@@ -91,11 +102,26 @@ def _cw_panel(ax, r, grid, period):
     ax.plot(grid * 1e3, period, color="C1", label="CW (model, coupled)")
     if cw.observed is not None:
         _band(ax, cw.observed.to_value(u.day), cw.observed_uncertainty.to_value(u.day), "0.3", "observed")
+    # The budget is this model with the core coupling off (the text's "coupling off ... = the Chandler budget"),
+    # not the first-order formula, which the text quotes apart.
     ax.axhline(
-        r.chandler_budget_period.to_value(u.day), color="C1", ls=":", lw=1, label="Chandler budget (first order)"
+        r.chandler_budget_period.to_value(u.day), color="C1", ls=":", lw=1, label="Chandler budget (coupling off)"
     )
-    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1)
+    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1, label="hydrostatic e_f")
     ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
     ax.set_ylabel("Chandler period [d]")
     ax.set_title("Chandler wobble (prograde)", fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+
+
+def _cw_alone_panel(ax, r):
+    """The Chandler period with its uncertainty beside the observed one, for a body without a liquid-core model
+    (nothing to vary it against): the text printed it and the figure drew nothing."""
+    cw = r.mode("CW")
+    _band(ax, cw.period.to_value(u.day), cw.period_uncertainty.to_value(u.day), "C1", "CW (model)")
+    if cw.observed is not None:
+        _band(ax, cw.observed.to_value(u.day), cw.observed_uncertainty.to_value(u.day), "0.3", "observed")
+    ax.set_xticks([])
+    ax.set_ylabel("Chandler period [d]")
+    ax.set_title("Chandler wobble (prograde; no liquid core to vary)", fontsize=9)
     ax.legend(fontsize=7, loc="best")
