@@ -98,6 +98,28 @@ def test_plot_is_written(tmp_path, capsys):
     assert status == 0 and path.stat().st_size > 1000
 
 
+def test_the_figure_says_what_the_text_says():
+    """The model and observed bars looked alike (Earth's -8.3 sigma residual unseen); Mars' model bar left out
+    the geodesic term its waterfall added; numbers had three decimals where the text gives the uncertainty's
+    two significant digits ("+/- 0.001" for 0.00080)."""
+    from astropy import units as u
+
+    import wobble
+    from wobble.plot.precession import budget_figure
+
+    earth, mars = wobble.precession_rate("earth"), wobble.precession_rate("mars")
+    ax_e, ax_m = budget_figure([earth, mars]).axes
+    assert "model - observed -0.289 (-8.3 σ)" in ax_e.get_title()
+    texts = [t.get_text() for t in ax_e.texts]
+    assert "-5038.48151 ± 0.00080" in texts and "-5038.770 ± 0.035" in texts
+    labels = [t.get_text() for t in ax_m.get_yticklabels()]
+    assert not mars.includes_geodesic and "geodesic (not in the model)" in labels and "model (tidal)" in labels
+    # The tidal terms' bars end where the model bar does.
+    tidal = sum(t.rate.to_value(u.arcsec / (100 * u.yr)) for t in mars.terms if t.name != "geodesic")
+    ends = [p.get_x() + p.get_width() for p in ax_m.patches[: len(mars.terms)] if p.get_facecolor()[3] > 0]
+    assert min(ends) == pytest.approx(tidal) == pytest.approx(mars.rate.to_value(u.arcsec / (100 * u.yr)))
+
+
 def test_chandler_still_lists_only_planets(capsys):
     assert catalogue_names() == ["earth", "mars"]
     status, out, _ = _run(capsys, "chandler", "--json")

@@ -180,3 +180,38 @@ def test_shipped_phase_diagram_file_is_valid():
     ds = wobble.sweep("data/sweeps/top_phase_diagram.toml")
     assert ds.nutation_class.shape == (91, 101, 5)
     assert set(NUTATION_CLASSES) == {"undulating", "cusps", "loops", "regular", "sleeping"}
+
+
+def test_the_phase_diagram_s_classes_stay_apart_for_colour_blind_readers():
+    """Simulated deuteranopia and protanopia (Machado, Oliveira & Fernandes 2009, IEEE TVCG 15, 1291, severity
+    1; applied to linear RGB) made cusps and loops both olive and undulating and regular both blue (sRGB
+    distance 0.04-0.10); every pair of classes is now at least 0.2 apart under both."""
+    import itertools
+
+    import matplotlib.colors as mcolors
+
+    from wobble.plot.sweep import _CLASS_COLOURS
+
+    machado = {
+        "deuteranopia": [
+            [0.367322, 0.860646, -0.227968],
+            [0.280085, 0.672501, 0.047413],
+            [-0.011820, 0.042940, 0.968881],
+        ],
+        "protanopia": [
+            [0.152286, 1.052583, -0.204868],
+            [0.114503, 0.786281, 0.099216],
+            [-0.003882, -0.048116, 1.051998],
+        ],
+    }
+
+    def seen(colour, matrix):
+        c = np.asarray(mcolors.to_rgb(colour))
+        linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+        out = np.clip(np.asarray(matrix) @ linear, 0, 1)
+        return np.where(out <= 0.0031308, 12.92 * out, 1.055 * out ** (1 / 2.4) - 0.055)
+
+    classes = {k: v for k, v in _CLASS_COLOURS.items() if k != "invalid"}
+    for matrix in machado.values():
+        for (a, ca), (b, cb) in itertools.combinations(classes.items(), 2):
+            assert np.linalg.norm(seen(ca, matrix) - seen(cb, matrix)) >= 0.2, (a, b)

@@ -5,8 +5,14 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 
 from wobble.api.precession import ARCSEC_PER_CENTURY
+from wobble.io.text import with_uncertainty
 
 __all__ = ["budget_figure"]
+
+
+def _number(ax, row, text):
+    """A bar's number in the column at the left edge, clear of the bars (which run left from zero)."""
+    ax.text(0.01, row, text, va="center", ha="left", fontsize=8, transform=ax.get_yaxis_transform())
 
 
 def budget_figure(budgets, path=None, *, overwrite: bool = False):
@@ -27,38 +33,28 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     )
     for ax, b in zip(axes[:, 0], budgets):
         running = 0.0
+        left_out = [] if b.includes_geodesic else ["geodesic"]  # the model compared is the tidal rate
         for i, t in enumerate(b.terms):
             value = t.rate.to_value(ARCSEC_PER_CENTURY)
-            ax.barh(i, value, left=running, color="C3" if value < 0 else "C0", height=0.6)
-            ax.text(0.01, i, f"{value:+.3f}", va="center", ha="left", fontsize=8, transform=ax.get_yaxis_transform())
-            running += value
+            if t.name in left_out:  # drawn apart, hatched, and not added: the model bar below leaves it out
+                ax.barh(i, value, left=0.0, color="none", edgecolor="0.5", hatch="///", height=0.6)
+            else:
+                ax.barh(i, value, left=running, color="C3" if value < 0 else "C0", height=0.6)
+                running += value
+            _number(ax, i, f"{value:+.3f}")
         model = b.rate.to_value(ARCSEC_PER_CENTURY)
         sigma = b.rate_uncertainty.to_value(ARCSEC_PER_CENTURY)
         n = len(b.terms)
         ax.barh(n, model, color="0.35", height=0.6)
-        ax.text(
-            0.01,
-            n,
-            f"{model:.3f} ± {sigma:.3f}",
-            va="center",
-            ha="left",
-            fontsize=8,
-            transform=ax.get_yaxis_transform(),
-        )
-        labels = [t.name.replace("_", " ") for t in b.terms] + ["model"]
+        # The digits the text prints (the uncertainty's two significant ones): "+/- 0.001" where it said 0.00080.
+        _number(ax, n, with_uncertainty(model, sigma).replace("+/-", "±"))
+        labels = [t.name.replace("_", " ") + (" (not in the model)" if t.name in left_out else "") for t in b.terms]
+        labels.append("model (with geodesic)" if b.includes_geodesic else "model (tidal)")
         if b.observed is not None:
             obs = b.observed.to_value(ARCSEC_PER_CENTURY)
             osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
             ax.barh(n + 1, obs, color="k", height=0.6)
-            ax.text(
-                0.01,
-                n + 1,
-                f"{obs:.3f} ± {osig:.3f}",
-                va="center",
-                ha="left",
-                fontsize=8,
-                transform=ax.get_yaxis_transform(),
-            )
+            _number(ax, n + 1, with_uncertainty(obs, osig).replace("+/-", "±"))
             labels.append("observed")
         ax.set_yticks(range(len(labels)), labels)
         ax.invert_yaxis()
@@ -66,7 +62,10 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         low = min(model, 0.0) * 1.6
         ax.set_xlim(low, -0.02 * low)
         ax.set_xlabel("rate of the equator's node [arcsec per Julian century]; negative = retrograde", fontsize=8)
-        ax.set_title(f"{b.planet.title}: forced precession, term by term", fontsize=10)
+        title = f"{b.planet.title}: forced precession, term by term"
+        if b.residual is not None:  # a few thousandths of the bars: written, since it cannot be seen
+            title += f"\nmodel - observed {b.residual.to_value(ARCSEC_PER_CENTURY):+.3f} ({b.residual_sigma:+.1f} σ)"
+        ax.set_title(title, fontsize=10)
     fig.tight_layout()
     if path is not None:
         from wobble.plot.save import save_figure

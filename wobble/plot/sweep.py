@@ -51,13 +51,16 @@ def histogram(ds, path=None, variable: str = "chandler_period", ax=None, *, over
     return fig
 
 
+# Okabe & Ito (2008, "Color Universal Design") colours, told apart under deuteranopia and protanopia: the
+# seaborn-like set before made cusps and loops both olive, undulating and regular both blue (Machado, Oliveira &
+# Fernandes 2009 simulation; tests/test_sweep_top.py).
 _CLASS_COLOURS = {
     "invalid": "white",
-    "undulating": "#4C72B0",
-    "cusps": "#C44E52",
-    "loops": "#55A868",
-    "regular": "#8172B2",
-    "sleeping": "#E5AE38",
+    "undulating": "#0072B2",
+    "cusps": "#D55E00",
+    "loops": "#009E73",
+    "regular": "#CC79A7",
+    "sleeping": "#E69F00",
 }
 
 
