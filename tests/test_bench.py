@@ -380,3 +380,18 @@ def test_the_text_report_reads_as_text():
     lines = text.splitlines()
     header = lines[lines.index("Ensemble: E") + 1]
     assert header.split() == ["method", "setting", "members", "error", "time", "per", "member", "vs", "scipy"]
+
+
+def test_the_work_precision_label_is_plain_wrapped_text_and_names_the_floor_only_when_used():
+    """The torqued cases' label held the docs' reST (``omega``), ran past both edges of the figure, and said
+    "(zero drawn at 1e-17)" where no error was zero."""
+    from wobble.plot.bench import ERROR_FLOOR, work_precision_figure
+
+    what = "max over the outputs of ``|omega - omega_ref| / |omega_ref|`` and of the attitude angle (rad)"
+    rows = [{"method": "a", "error": 1e-9, "t_min": 1e-3}, {"method": "a", "error": 1e-12, "t_min": 2e-3}]
+    ax = work_precision_figure("case", rows, xlabel=what).axes[0]
+    label = ax.get_xlabel()
+    assert "``" not in label and "zero drawn" not in label and max(map(len, label.splitlines())) <= 95
+    rows.append({"method": "a", "error": 0.0, "t_min": 3e-3})
+    floored = work_precision_figure("case", rows, xlabel=what).axes[0].get_xlabel()
+    assert f"(zero drawn at {ERROR_FLOOR:g})" in " ".join(floored.split())

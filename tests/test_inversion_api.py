@@ -166,6 +166,32 @@ def test_corner_plot_is_written(mars, tmp_path):
     assert path.stat().st_size > 10_000
 
 
+def test_corner_plot_draws_large_numbers_in_a_named_power_of_ten_and_one_legend(mars):
+    """The fluid core's moment (~1e36 kg m2 for Earth) was drawn with Matplotlib's offset text "1e36" over the
+    panel above; each diagonal panel had a legend over its histogram."""
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.inversion import corner_figure
+
+    earth = wobble.invert("earth", seed=5, **SHORT)
+    fig = corner_figure(earth)
+    try:
+        names = [p.name for p in earth.posterior.parameters]
+        k = names.index("fluid_core_equatorial_moment")
+        ndim = len(names)
+        bottom = fig.axes[(ndim - 1) * ndim + k]
+        assert "[1e36 kg m2]" in bottom.get_xlabel()
+        fig.canvas.draw()
+        assert bottom.xaxis.get_offset_text().get_text() == ""
+        median = np.median(earth.samples[..., k]) / earth.posterior.parameters[k].scale / 1e36
+        lo, hi = fig.axes[k * ndim + k].get_xlim()
+        assert lo < median < hi  # the panel is in the unit its label names
+        assert all(ax.get_legend() is None for ax in fig.axes) and len(fig.legends) == 1
+        assert any(t.get_text().startswith("core_flattening_excess: ") for t in fig.legends[0].get_texts())
+    finally:
+        plt.close(fig)
+
+
 def test_same_seed_same_numbers_and_dask_gives_the_same_ensembles():
     a = wobble.invert("earth", seed=3, ensembles=2, **SHORT)
     b = wobble.invert("earth", seed=3, ensembles=2, scheduler="threads", **SHORT)

@@ -7,6 +7,7 @@ Takes the plain rows of :mod:`wobble.bench` (dicts with ``method``, ``error``,
 from __future__ import annotations
 
 import math
+import textwrap
 
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -59,7 +60,11 @@ def work_precision_figure(title: str, rows: list[dict], *, xlabel: str = "error"
         )
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel(xlabel + f" (zero drawn at {ERROR_FLOOR:g})")
+    # The case's description is reST for the docs (``omega``): plain text here, wrapped to the figure's width
+    # (it was cut at both ends); the floor is named only when an error was drawn on it.
+    floored = any(r["error"] < ERROR_FLOOR for r in rows if math.isfinite(r["error"]))
+    label = xlabel.replace("``", "") + (f" (zero drawn at {ERROR_FLOOR:g})" if floored else "")
+    ax.set_xlabel(textwrap.fill(label, 95), fontsize=8)
     ax.set_ylabel("seconds per member (min)" if per_member else "seconds (min of runs)")
     ax.set_title(title, fontsize=10)
     ax.grid(True, which="major", alpha=0.3)

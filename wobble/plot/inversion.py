@@ -1,9 +1,12 @@
 """The corner plot of an inversion: every pair of parameters, the priors and the published values.
 
 Drawn with ``corner`` (Foreman-Mackey 2016, JOSS 1, 24). The diagonal shows each
-parameter's posterior (filled) over its prior (dashed), with the published values of
-the setup (``[[compare.<name>]]``) as bands; the off-diagonal panels show the 2-D
-posteriors (contours at 0.5, 1, 1.5 and 2 sigma of a 2-D Gaussian).
+parameter's posterior (a step histogram) over its prior (dashed), with the published values
+of the setup (``[[compare.<name>]]``) as lines and bands, named in one legend in the empty
+upper-right triangle; the off-diagonal panels show the 2-D posteriors (filled contours at
+0.5, 1, 1.5 and 2 sigma of a 2-D Gaussian). A parameter of a large or small magnitude is
+drawn in a power of ten of its unit, named in its label (``[1e36 kg m2]``): Matplotlib's
+offset text ("1e36") overlapped the panel above.
 """
 
 from __future__ import annotations
@@ -27,8 +30,11 @@ def corner_figure(result):
     params = result.posterior.parameters
     ndim = len(params)
     samples = np.stack([result.samples[..., i].ravel() / p.scale for i, p in enumerate(params)], axis=-1)
-    prior = np.stack([result.prior_samples[:, i] / p.scale for i, p in enumerate(params)], axis=-1)
-    labels = [f"{p.name}\n[{p.unit}]" if p.unit else p.name for p in params]
+    power = [_power_of_ten(samples[:, i]) for i in range(ndim)]
+    shown = np.array([10.0**k for k in power])
+    samples = samples / shown
+    prior = np.stack([result.prior_samples[:, i] / p.scale for i, p in enumerate(params)], axis=-1) / shown
+    labels = [_label(p, k) for p, k in zip(params, power)]
     fig = plt.figure(figsize=(2.1 * ndim + 1.0, 2.1 * ndim + 1.0))
     corner.corner(
         samples,
@@ -46,8 +52,10 @@ def corner_figure(result):
         levels=tuple(1.0 - np.exp(-0.5 * np.array([0.5, 1.0, 1.5, 2.0]) ** 2)),
     )
     axes = np.array(fig.axes).reshape(ndim, ndim)
+    named = {}  # one legend for the figure: in the diagonal panels the entries covered the histograms
     for i, p in enumerate(params):
         ax = axes[i, i]
+        unit = p.scale * shown[i]
         lo, hi = ax.get_xlim()
         inside = prior[:, i][(prior[:, i] >= lo) & (prior[:, i] <= hi)]
         if inside.size:
@@ -65,24 +73,40 @@ def corner_figure(result):
         for k, c in enumerate(x for x in result.setup.comparisons if x.name == p.name):
             colour = f"C{k + 1}"
             if c.value is not None:
-                ax.axvline(c.value / p.scale, color=colour, lw=1.2, label=c.source.split("(")[0].strip())
+                ax.axvline(c.value / unit, color=colour, lw=1.2, label=f"{p.name}: {_source(c)}")
                 if c.uncertainty is not None:
                     ax.axvspan(
-                        (c.value - c.uncertainty) / p.scale,
-                        (c.value + c.uncertainty) / p.scale,
-                        color=colour,
-                        alpha=0.15,
+                        (c.value - c.uncertainty) / unit, (c.value + c.uncertainty) / unit, color=colour, alpha=0.15
                     )
             else:
-                ax.axvspan(
-                    c.low / p.scale, c.high / p.scale, color=colour, alpha=0.15, label=c.source.split("(")[0].strip()
-                )
+                ax.axvspan(c.low / unit, c.high / unit, color=colour, alpha=0.15, label=f"{p.name}: {_source(c)}")
         ax.set_xlim(lo, hi)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=6, frameon=False, loc="upper left")
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            named.setdefault(label, handle)
+    if named:
+        fig.legend(named.values(), named.keys(), loc="upper right", bbox_to_anchor=(0.98, 0.93), fontsize=7)
     kind = "prior only" if result.prior_only else "posterior"
     fig.suptitle(f"{result.setup.title} ({kind})", fontsize=10)
     return fig
+
+
+def _power_of_ten(values) -> int:
+    """The power of ten a parameter is drawn in: that of its median magnitude outside 1e-3 to 1e4, else 0."""
+    finite = np.abs(values[np.isfinite(values)])
+    if not finite.size or np.median(finite) == 0:
+        return 0
+    k = int(np.floor(np.log10(np.median(finite))))
+    return k if not -3 <= k < 4 else 0
+
+
+def _label(p, power: int) -> str:
+    unit = f"1e{power} {p.unit}".strip() if power else p.unit
+    return f"{p.name}\n[{unit}]" if unit else p.name
+
+
+def _source(comparison) -> str:
+    """A published value's source up to its first parenthesis: the authors and year."""
+    return comparison.source.split("(")[0].strip()
 
 
 def corner_plot(result, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
