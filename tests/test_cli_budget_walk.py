@@ -295,3 +295,22 @@ def test_the_modes_figure_of_a_body_without_a_profile_draws_its_chandler_period(
     period = r.mode("CW").period.to_value(u.day)
     (model,) = [line for line in cw.get_lines() if line.get_label() == "CW (model)"]
     assert model.get_ydata()[0] == pytest.approx(period)
+
+
+def test_the_chandler_figure_marks_the_rigid_period_and_prints_the_text_s_digits():
+    """The rigid step was a bar from the axis' left edge (0.85 x the rigid period), a length that meant
+    nothing; the legend gave Mars' observed period as 206.9 +/- 0.5 where the text prints 206.90 +/- 0.50."""
+    from astropy import units as u
+
+    import wobble
+
+    earth, mars = wobble.chandler_budget("earth"), wobble.chandler_budget("mars")
+    axes = wobble.plot.chandler.budget_figure([earth, mars]).axes
+    for ax, b in zip(axes, (earth, mars)):
+        rigid = b.steps[0].period.to_value(u.day)
+        assert all(bar.get_x() != ax.get_xlim()[0] for bar in ax.patches if bar.get_height() == 0.6)
+        (mark,) = [line for line in ax.get_lines() if line.get_marker() == "D"]
+        assert mark.get_xdata()[0] == pytest.approx(rigid) and f"{rigid:.1f} d" in [t.get_text() for t in ax.texts]
+        assert ax.get_xlabel() == "period (d)"
+    labels = [t.get_text() for t in axes[1].get_legend().get_texts()]
+    assert "observed 206.90 ± 0.50 d" in labels

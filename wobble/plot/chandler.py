@@ -37,7 +37,11 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         for i, s in enumerate(steps):
             value = s.period.to_value(u.day)
             if s.name == "rigid":
-                ax.barh(i, value, color=_COLORS["rigid"], height=0.6)
+                # A mark, not a bar: the axis does not start at zero, so a bar's length would mean nothing.
+                ax.plot([value], [i], "D", color=_COLORS["rigid"], ms=7)
+                ax.annotate(
+                    f"{value:.1f} d", (value, i), xytext=(8, 0), textcoords="offset points", va="center", fontsize=8
+                )
             else:
                 color = _COLORS["lengthens"] if value > previous else _COLORS["shortens"]
                 ax.barh(i, value - previous, left=previous, color=color, height=0.6)
@@ -55,26 +59,34 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         model = b.period.to_value(u.day)
         sigma = b.period_uncertainty.to_value(u.day)
         ax.axvspan(model - sigma, model + sigma, color="C0", alpha=0.12, lw=0)
-        ax.axvline(model, color="C0", lw=1.2, label=f"model {model:.1f} ± {sigma:.1f} d")
+        # The digits the text prints (the uncertainty's two significant ones: Mars' 206.90 +/- 0.50).
+        ax.axvline(model, color="C0", lw=1.2, label=f"model {_pm(model, sigma)} d")
         if b.observed is not None:
             obs = b.observed.to_value(u.day)
             osig = b.observed_uncertainty.to_value(u.day)
             ax.axvspan(obs - osig, obs + osig, color="k", alpha=0.15, lw=0)
-            ax.axvline(obs, color="k", lw=1.5, ls="--", label=f"observed {obs:.1f} ± {osig:.1f} d")
+            ax.axvline(obs, color="k", lw=1.5, ls="--", label=f"observed {_pm(obs, osig)} d")
         ax.set_yticks(range(len(names)), names)
         ax.invert_yaxis()
         first = steps[0].period.to_value(u.day)
         top = max(s.period.to_value(u.day) for s in steps if math.isfinite(s.period.value))
         ax.set_xlim(0.85 * first, 1.18 * top)
         ax.set_title(f"{b.planet.title}: Chandler period, step by step (days of 86400 s)", fontsize=10)
-        ax.legend(loc="upper right", fontsize=8, frameon=True, framealpha=0.9, edgecolor="none")
-    axes[-1, 0].set_xlabel("period (d)")
+        # Lower left: the waterfall climbs from the rigid period, so that corner is empty (upper right hid a change).
+        ax.legend(loc="lower left", fontsize=8, frameon=True, framealpha=0.9, edgecolor="none")
+        ax.set_xlabel("period (d)")
     fig.tight_layout()
     if path is not None:
         from wobble.plot.save import save_figure
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
+
+
+def _pm(value: float, sigma: float) -> str:
+    from wobble.io.text import with_uncertainty
+
+    return with_uncertainty(value, sigma).replace("+/-", "±")
 
 
 def _budgets(budgets) -> list:
