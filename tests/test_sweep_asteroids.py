@@ -162,3 +162,12 @@ def test_the_ensemble_figure_of_an_ensemble_without_a_valid_member(tmp_path):
     assert (tmp_path / "none.png").stat().st_size > 0
     good = ensemble(run_sweep({**SPEC, "members": 40}))
     assert "no member" not in [t.get_text() for ax in good.axes for t in ax.texts]
+
+
+def test_the_ensemble_scatter_names_its_colours_where_no_member_can_be():
+    """The right panel had no legend; it sits below the diagonal, where wobble angle max < min is impossible."""
+    from wobble.plot.sweep import ensemble
+
+    ax = ensemble(run_sweep({**SPEC, "members": 200})).axes[1]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(label.startswith("major-axis") for label in labels) and ax.get_legend()._loc == 4  # lower right

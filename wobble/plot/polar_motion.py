@@ -183,6 +183,8 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
     if log:
         ax.set_ylim(top=amp[keep].max() * 4)
         log_floor(ax, cpy[keep], amp[keep])
+    else:  # room above the highest peak for its label (it ran into the title)
+        ax.set_ylim(0, amp[keep].max() * 1.25)
     ax.set_title("two-sided spectrum of x_p - i y_p (drift removed)", fontsize="medium")
     ax.set_xlim(-max_cpy, max_cpy)
     return ax

@@ -185,6 +185,8 @@ def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
     ax2.set_xlabel("wobble angle min [deg]")
     ax2.set_ylabel("wobble angle max [deg]")
     ax2.set_title("angle between circulation axis and L (4000 members each)", fontsize=8)
+    if ax2.get_legend_handles_labels()[0]:  # which colour is which mode
+        ax2.legend(frameon=False, fontsize=8, loc="lower right", markerscale=4)  # below max = min: empty
     fig.suptitle(ds.attrs.get("title", ""), fontsize=9)
     if path is not None:
         from wobble.plot.save import save_figure
