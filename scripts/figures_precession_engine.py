@@ -66,7 +66,11 @@ def main() -> None:
     along = (psi - psi[0]) * sin_eps / ARCSEC
     ax.plot(along, (eps - eps[0]) / ARCSEC, lw=0.6, color="C0")
     ax.set_xlabel("along the precession: (psi - psi0) sin(eps) [arcsec]")
-    ax.set_ylabel("eps - eps0 [arcsec]")
+    # The nutation (~10") beside 20 years of precession (~1000"): unequal scales, and the label says by how much.
+    fig.canvas.draw()
+    box = ax.get_window_extent()
+    dx, dy = np.ptp(ax.get_xlim()), np.ptp(ax.get_ylim())
+    ax.set_ylabel(f"eps - eps0 [arcsec]\n(vertical scale x {(dx / box.width) / (dy / box.height):.0f})")
     ax.set_title(
         f"Earth's spin axis in space, 20 years by brute force (wobble run earth_precession): {m.rate.value:+.2f}\"/cy",
         fontsize=9,
