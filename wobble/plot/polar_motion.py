@@ -170,14 +170,7 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
         if not near.any():
             continue
         k = np.flatnonzero(near)[np.argmax(amp[near])]
-        ax.plot(cpy[k], amp[k], "o", ms=4, mfc="none", color="C3", zorder=3)
-        ax.annotate(
-            f"{label}\n{cpy[k]:+.3f} cpy, {amp[k]:.0f} mas",
-            (cpy[k], amp[k]),
-            xytext=offset,
-            textcoords="offset points",
-            fontsize="x-small",
-        )
+        _mark(ax, cpy[k], amp[k], f"{label}\n{cpy[k]:+.3f} cpy, {amp[k]:.0f} mas", offset)
     ax.set_xlabel("frequency [cycles per year]  (negative: retrograde, positive: prograde)")
     ax.set_ylabel("amplitude [mas]")
     if log:
@@ -201,14 +194,13 @@ def _mark_measured(ax, cpy, amp, keep, period, offset) -> None:
     k = np.flatnonzero(keep)[np.argmin(np.abs(cpy[keep] - f))]
     if abs(f - 365.25 / 365.24219) < 0.12:  # beside the annual peak (a short span's estimate): clear its label
         offset = (offset[0] - 70, offset[1] + 10)
-    ax.plot(cpy[k], amp[k], "o", ms=4, mfc="none", color="C3", zorder=3)
-    ax.annotate(
-        f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy",
-        (cpy[k], amp[k]),
-        xytext=offset,
-        textcoords="offset points",
-        fontsize="x-small",
-    )
+    _mark(ax, cpy[k], amp[k], f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy", offset)
+
+
+def _mark(ax, x, y, text, offset) -> None:
+    """A peak's ring and its label, ``offset`` points away."""
+    ax.plot(x, y, "o", ms=4, mfc="none", color="C3", zorder=3)
+    ax.annotate(text, (x, y), xytext=offset, textcoords="offset points", fontsize="x-small")
 
 
 def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
