@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
-__all__ = ["time_axis"]
+import math
+
+__all__ = ["time_axis", "angle_unit"]
 
 _YEAR = 365.25 * 86400.0
+_ARCSEC = math.pi / (180.0 * 3600.0)
 
 
 def time_axis(span_s: float) -> tuple[float, str]:
@@ -22,3 +25,17 @@ def time_axis(span_s: float) -> tuple[float, str]:
         if span_s < limit:
             return size, name
     return _YEAR, "yr"
+
+
+def angle_unit(extent_rad: float) -> tuple[float, str]:
+    """(radians per unit, unit name) for angles up to ``extent_rad``: the largest of deg, arcsec, mas
+    and µas that the extent reaches once, so tick labels read 1 to a few thousand (a 2.9 deg circle in
+    deg, not as 10,000 arcsec; a 0.2 arcsec one in mas).
+
+    >>> angle_unit(math.radians(2.9))[1], angle_unit(math.radians(0.5))[1], angle_unit(1e-6)[1]
+    ('deg', 'arcsec', 'mas')
+    """
+    for size, name in ((math.radians(1.0), "deg"), (_ARCSEC, "arcsec"), (1e-3 * _ARCSEC, "mas")):
+        if extent_rad >= size:
+            return size, name
+    return 1e-6 * _ARCSEC, "µas"

@@ -9,7 +9,7 @@ from astropy import units as u
 from wobble.api.free import FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
-from wobble.plot._style import time_axis
+from wobble.plot._style import angle_unit, time_axis
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
 
@@ -207,14 +207,15 @@ def _polhode_on_sphere(ax3, L, I) -> None:
 
 
 def _polhode_from_above(ax, L, axis: int) -> None:
-    """A polhode that stays within a few degrees of a principal axis, seen down that axis."""
+    """A polhode that stays within a few degrees of a principal axis, seen down that axis: each point
+    at its angle from the axis (an azimuthal equidistant view), in the unit :func:`angle_unit` picks."""
     a, b = [k for k in range(3) if k != axis]
     sign = np.sign(L[0, axis])
     x, y = L[:, a] * sign, L[:, b] * sign
-    extent = np.max(np.hypot(x, y))
-    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):  # noqa: B007 - size and name are read after the loop
-        if extent >= 3 * size:
-            break
+    across = np.hypot(x, y)
+    stretch = np.divide(np.arctan2(across, np.abs(L[:, axis])), across, out=np.ones_like(across), where=across > 0)
+    x, y = x * stretch, y * stretch
+    size, name = angle_unit(float(np.max(np.hypot(x, y))))
     ax.plot(x / size, y / size, color="C0", lw=1.4)
     ax.plot(x[:1] / size, y[:1] / size, "o", color="C3", ms=4)
     ax.plot([0], [0], "+", color="0.3", ms=10)
