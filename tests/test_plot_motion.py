@@ -1,8 +1,12 @@
-"""What ``wobble free --plot`` draws, read back from the figure's artists (a visual audit found
-a polhode of 2.9 deg drawn as +-10,000 arcsec).
+"""What ``wobble free --plot`` draws, read back from the figure's artists and checked against the
+model's own period (a visual audit found long spans drawn from too few samples and arcsec where
+degrees read).
 
 The criteria, stated once here and in the modules' constants:
 
+* free, time panels: at least 1000 samples per period of omega, at most the first 10 periods
+  (omega repeats exactly), the title saying how many the span holds;
+* free, polhode: one period, a closed curve;
 * angles in deg from 1 deg, else arcsec, mas, µas.
 """
 
@@ -29,6 +33,62 @@ def _close_figures():
     plt.close("all")
 
 
+def _earth():
+    # The help's example (wobble free --help): Earth's moments and spin, 100 yr.
+    return FreeRotation([8.01012e37, 8.01032e37, 8.03652e37] * KGM2, [7.292115e-11, 0, 7.292115e-5] * RAD_S)
+
+
+def _time_axes(fig):
+    return fig.axes[0], fig.axes[1]
+
+
+def _seconds_per_unit(ax) -> float:
+    unit = ax.get_xlabel().split("(")[1].rstrip(")")
+    return {"s": 1.0, "min": 60.0, "h": 3600.0, "d": 86400.0, "yr": 365.25 * 86400.0}[unit]
+
+
+# -- free: the time panels ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "body, t_end",
+    [
+        (FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S), 20000 * u.s),  # 2,886 periods
+        (_earth(), 100 * u.yr),  # 120 periods
+        (FreeRotation([1, 2, 3] * KGM2, [1e-6, 1, 1e-6] * RAD_S), 20000 * u.s),  # 194 periods, 389 flips
+    ],
+    ids=["lab", "earth", "flips"],
+)
+def test_a_long_span_draws_its_first_periods_each_finely(body, t_end):
+    period = body.period.to_value(u.s)
+    count = t_end.to_value(u.s) / period
+    fig = motion_figure(body, t_end)
+    top, bottom = _time_axes(fig)
+    scale = _seconds_per_unit(bottom)
+    for ax in (top, bottom):
+        for line in ax.lines:
+            t = np.asarray(line.get_xdata()) * scale
+            assert t[0] == 0 and 1 <= t[-1] / period <= 10 * (1 + 1e-12)  # one to ten periods
+            assert np.max(np.diff(t)) <= period / 1000 * (1 + 1e-9)  # 1000 samples a period at least
+    assert f"first 10 of {count:,.0f} periods shown" in top.get_title()
+
+
+def test_a_long_span_no_longer_aliases_omega():
+    # Aliasing drew 2,000 samples over 2,886 periods: omega1's swing per period was missed. Drawn now
+    # over its first periods, each period's largest omega1 is the amplitude of the motion.
+    body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
+    period = body.period.to_value(u.s)
+    fine = body.omega(np.linspace(0, period, 100001) * u.s).to_value(RAD_S)
+    fig = motion_figure(body, 20000 * u.s)
+    top, _ = _time_axes(fig)
+    line = next(line for line in top.lines if line.get_label() == "$\\omega_1$")
+    t = np.asarray(line.get_xdata()) * _seconds_per_unit(fig.axes[1])
+    w1 = np.asarray(line.get_ydata())
+    for k in range(int(t[-1] / period)):
+        inside = (t >= k * period) & (t < (k + 1) * period)
+        assert np.max(w1[inside]) == pytest.approx(np.max(fine[:, 0]), rel=1e-4)
+
+
 # -- free: the polhode -----------------------------------------------------------------------------------
 
 
@@ -38,6 +98,34 @@ def _polhode(fig):
     if ax.name == "3d":
         return ax, np.column_stack(line.get_data_3d())
     return ax, np.column_stack(line.get_data())
+
+
+@pytest.mark.parametrize(
+    "body, t_end",
+    [
+        (FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S), 20000 * u.s),  # on the sphere
+        (_earth(), 100 * u.yr),  # seen down e3
+        (FreeRotation([1, 2, 3] * KGM2, [1e-6, 1, 1e-6] * RAD_S), 20000 * u.s),  # flipping
+    ],
+    ids=["lab", "earth", "flips"],
+)
+def test_the_polhode_of_a_long_span_is_one_closed_curve(body, t_end):
+    # It was drawn from 2,000 samples over thousands of periods: a filled patch of chords.
+    fig = motion_figure(body, t_end)
+    ax, points = _polhode(fig)
+    extent = np.max(np.abs(points))
+    assert np.max(np.abs(points[0] - points[-1])) <= 1e-9 * extent  # closed
+    # Once round, not thousands of times: its length is one circuit's, from the model over one period.
+    period = body.period.to_value(u.s)
+    moments = body.moments.to_value(KGM2)
+    L = moments * body.omega(np.linspace(0, period, 200001) * u.s).to_value(RAD_S)
+    L /= np.linalg.norm(L, axis=1, keepdims=True)
+    circuit = np.sum(np.linalg.norm(np.diff(L, axis=0), axis=1))
+    drawn = np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1))
+    if ax.name != "3d":  # seen down an axis: the drawn units (mas) back to the unit sphere's
+        drawn *= {"deg": math.radians(1), "arcsec": 1e3 * MAS, "mas": MAS}[ax.get_ylabel().split("(")[1][:-1]]
+    assert drawn == pytest.approx(circuit, rel=1e-3)
+    assert "one period, a closed curve" in ax.get_title()
 
 
 def test_a_polhode_of_three_degrees_reads_in_degrees():
@@ -69,3 +157,13 @@ def test_the_polhode_unit_is_the_largest_its_radius_reaches(degrees, unit):
     assert ax.get_ylabel() == f"L along $e_2$ ({unit})"
     fig.canvas.draw()
     assert ax.xaxis.get_offset_text().get_text() == ax.yaxis.get_offset_text().get_text() == ""
+
+
+def test_the_polhode_of_a_long_separatrix_is_resolved():
+    # The flip of a separatrix lasts seconds; over 1e5 s it was drawn from two samples (a chord).
+    body = FreeRotation([2, 5, 6] * KGM2, [1, 0.3, -1] * RAD_S)
+    fig = motion_figure(body, 1e5 * u.s)
+    _, points = _polhode(fig)
+    steps = np.degrees(np.arccos(np.clip(np.sum(points[1:] * points[:-1], axis=1), -1, 1)))
+    assert np.max(steps) < 1.0  # every step under a degree on the sphere
+    assert abs(points[-1, 1]) == pytest.approx(1.0, abs=1e-9)  # and it ends on the intermediate axis
