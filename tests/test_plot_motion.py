@@ -1,13 +1,13 @@
 """What ``wobble free --plot`` draws, read back from the figure's artists and checked against the
-model's own period (a visual audit found long spans drawn from too few samples and arcsec where
-degrees read).
+model's own period (a visual audit found long spans drawn from too few samples, offsets such as
+1e-19 hiding the numbers, arcsec where degrees read, legends on the data).
 
 The criteria, stated once here and in the modules' constants:
 
 * free, time panels: at least 1000 samples per period of omega, at most the first 10 periods
   (omega repeats exactly), the title saying how many the span holds;
 * free, polhode: one period, a closed curve;
-* angles in deg from 1 deg, else arcsec, mas, µas.
+* no offset or multiplier text on any axis; angles in deg from 1 deg, else arcsec, mas, µas.
 """
 
 from __future__ import annotations
@@ -45,6 +45,18 @@ def _time_axes(fig):
 def _seconds_per_unit(ax) -> float:
     unit = ax.get_xlabel().split("(")[1].rstrip(")")
     return {"s": 1.0, "min": 60.0, "h": 3600.0, "d": 86400.0, "yr": 365.25 * 86400.0}[unit]
+
+
+def _offsets(fig) -> list[str]:
+    """Every offset or multiplier text on the figure's 2-D axes (drawn first: formatters set them then)."""
+    fig.canvas.draw()
+    return [
+        axis.get_offset_text().get_text()
+        for ax in fig.axes
+        if ax.name == "rectilinear"
+        for axis in (ax.xaxis, ax.yaxis)
+        if axis.get_offset_text().get_text()
+    ]
 
 
 # -- free: the time panels ---------------------------------------------------------------------------------
@@ -87,6 +99,31 @@ def test_a_long_span_no_longer_aliases_omega():
     for k in range(int(t[-1] / period)):
         inside = (t >= k * period) & (t < (k + 1) * period)
         assert np.max(w1[inside]) == pytest.approx(np.max(fine[:, 0]), rel=1e-4)
+
+
+def test_earth_reads_without_offsets_as_fractions_of_the_spin():
+    body = _earth()
+    fig = motion_figure(body, 100 * u.yr)
+    assert _offsets(fig) == []  # it showed 1e-11 over omega and 1e-19 over omega3 - omega3(0)
+    top, bottom = _time_axes(fig)
+    assert top.get_ylabel() == "$10^{-6}$ $|\\omega(0)|$"
+    assert bottom.get_ylabel() == "$10^{-15}$ $|\\omega(0)|$"
+    spin = np.linalg.norm(body.omega0.to_value(RAD_S))
+    scale = _seconds_per_unit(bottom)
+    for line in top.lines:  # the numbers drawn are omega1, omega2 in units of 1e-6 |omega(0)|
+        t = np.asarray(line.get_xdata()) * scale
+        k = int(line.get_label()[-2]) - 1
+        truth = body.omega(t * u.s).to_value(RAD_S)[:, k] / (1e-6 * spin)
+        assert np.max(np.abs(line.get_ydata() - truth)) < 1e-9
+        assert 0.5 < np.max(np.abs(line.get_ydata())) < 1000
+    change = bottom.lines[0].get_ydata()
+    assert 1 < np.max(np.abs(change)) < 1000  # omega3 - omega3(0): -3.7e-15 |omega(0)|, drawn as -3.7
+
+
+def test_a_lab_body_keeps_rad_per_s():
+    fig = motion_figure(FreeRotation([1, 2, 3] * KGM2, [0.1, 0, 1] * RAD_S), 20 * u.s)
+    assert [ax.get_ylabel() for ax in _time_axes(fig)] == ["rad s$^{-1}$", "rad s$^{-1}$"]
+    assert _offsets(fig) == []
 
 
 # -- free: the polhode -----------------------------------------------------------------------------------
@@ -167,3 +204,28 @@ def test_the_polhode_of_a_long_separatrix_is_resolved():
     steps = np.degrees(np.arccos(np.clip(np.sum(points[1:] * points[:-1], axis=1), -1, 1)))
     assert np.max(steps) < 1.0  # every step under a degree on the sphere
     assert abs(points[-1, 1]) == pytest.approx(1.0, abs=1e-9)  # and it ends on the intermediate axis
+
+
+# -- free: the legends -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "moments, omega, t_end",
+    [
+        ([1, 2, 3], [0.1, 0, 1], None),  # three periods: the last peaks were under the legend
+        ([1, 2, 3], [1e-6, 1, 1e-6], 200),  # flips
+        ([2, 5, 6], [1, 0.3, -1], 20),  # the separatrix
+        ([8.01012e37, 8.01032e37, 8.03652e37], [7.292115e-11, 0, 7.292115e-5], 100 * 365.25 * 86400),
+    ],
+    ids=["wobble", "flips", "separatrix", "earth"],
+)
+def test_no_legend_covers_a_curve(moments, omega, t_end):
+    body = FreeRotation(moments * KGM2, omega * RAD_S)
+    fig = motion_figure(body, (t_end or 3 * body.period.to_value(u.s)) * u.s)
+    fig.canvas.draw()
+    for ax in _time_axes(fig):
+        box = ax.get_legend().get_window_extent()
+        for line in ax.lines:
+            xy = ax.transData.transform(np.column_stack(line.get_data()))
+            inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+            assert not inside.any(), f"{line.get_label()} under the legend of {ax.get_ylabel()}"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["time_axis", "angle_unit"]
+__all__ = ["time_axis", "angle_unit", "power_of_ten", "power_label"]
 
 _YEAR = 365.25 * 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
@@ -39,3 +39,25 @@ def angle_unit(extent_rad: float) -> tuple[float, str]:
         if extent_rad >= size:
             return size, name
     return 1e-6 * _ARCSEC, "µas"
+
+
+def power_of_ten(largest: float) -> int:
+    """The power of ten (a multiple of 3) to divide values up to ``abs(largest)`` by, so that they read
+    as plain numbers without matplotlib's offset or '1e-11' multiplier: 0 when they already do
+    (1e-3 <= |largest| < 1e4), or for zero and non-finite values.
+
+    >>> power_of_ten(7.3e-11), power_of_ten(-2.7e-19), power_of_ten(0.1), power_of_ten(0.0)
+    (-12, -21, 0, 0)
+    """
+    largest = abs(float(largest))
+    if not math.isfinite(largest) or largest == 0.0 or 1e-3 <= largest < 1e4:
+        return 0
+    return 3 * math.floor(math.log10(largest) / 3)
+
+
+def power_label(exponent: int, unit: str = "") -> str:
+    """An axis unit with its power of ten in front, as mathtext: ``$10^{-6}$ rad s$^{-1}$``; the unit
+    alone for exponent 0."""
+    if exponent == 0:
+        return unit
+    return f"$10^{{{exponent}}}$ {unit}".rstrip()

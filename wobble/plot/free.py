@@ -11,7 +11,7 @@ from astropy import units as u
 from wobble.api.free import FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
-from wobble.plot._style import angle_unit, time_axis
+from wobble.plot._style import angle_unit, power_label, power_of_ten, time_axis
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
 
@@ -124,9 +124,12 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     """omega(t) and the polhode of one body: what ``wobble free --plot`` draws.
 
     Left: the angular velocity's components against time, the largest one on its own
-    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it). Right: the
-    polhode, the path of L/|L| in the body frame, on the unit sphere with the principal
-    axes (Goldstein, Poole & Safko 2002, sec. 5.6; Landau & Lifshitz section 37).
+    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it); when the spin
+    dominates and its numbers would need a multiplier in rad/s, they are drawn as fractions
+    of the initial spin in a power of ten, 10^k |omega(0)|, named in the axis label, so no
+    offset or multiplier hides the numbers.
+    Right: the polhode, the path of L/|L| in the body frame, on the unit sphere with the
+    principal axes (Goldstein, Poole & Safko 2002, sec. 5.6; Landau & Lifshitz section 37).
 
     What is drawn of a long span: omega(t) repeats exactly every period, so the time panels
     show at most the first :data:`MAX_PERIODS_SHOWN` periods, at :data:`SAMPLES_PER_PERIOD`
@@ -245,24 +248,43 @@ def _motion_title(body: FreeRotation, t1: float, note: str) -> str:
 
 def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
     """Draw omega's components on ``top`` (the two small ones) and ``bottom`` (the largest); returns
-    the seconds per unit of the time axis."""
+    the seconds per unit of the time axis. When the spin dominates (its largest component changes by
+    less than 1e-3 of itself), the change of the largest is drawn; and when those numbers are too small
+    to read in rad/s (a planet), the components and the change are drawn as fractions of |omega(0)|,
+    each axis in a power of ten named in its label (Earth: 1e-6 and 1e-15), never as an offset."""
     scale, unit = time_axis(t[-1])
     big = int(np.argmax(np.max(np.abs(w), axis=0)))
     others = [k for k in range(3) if k != big]
-    for k in others:
-        top.plot(t / scale, w[:, k], label=f"$\\omega_{k + 1}$")
     dominant = w[:, big]
-    if np.ptp(dominant) < 1e-3 * np.max(np.abs(dominant)):
-        # A planet's spin changes by 1e-12 of itself: show the change, not the spin.
-        bottom.plot(t / scale, dominant - dominant[0], color="C2", label=f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$")
+    spin = float(np.linalg.norm(body.omega0.to_value(u.rad / u.s)))
+    steady_spin = np.ptp(dominant) < 1e-3 * np.max(np.abs(dominant))
+    change = dominant - dominant[0]
+    if steady_spin and max(power_of_ten(np.max(np.abs(w[:, others]))), power_of_ten(np.max(np.abs(change)))):
+        # A planet's spin changes by 1e-12 of itself: show the change, as fractions of the spin.
+        small, change = w[:, others] / spin, change / spin
+        label, name = "$|\\omega(0)|$", f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$"
+        legend_title = f"$|\\omega(0)|$ = {spin:.4g} rad s$^{{-1}}$"
+    elif steady_spin:  # a lab body spun about an axis: its change in rad/s reads as it is
+        small, label, legend_title = w[:, others], "rad s$^{-1}$", None
+        name = f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$"
     else:
-        bottom.plot(t / scale, dominant, color="C2", label=f"$\\omega_{big + 1}$")
-    bottom.ticklabel_format(axis="y", useOffset=False)
-    top.set_ylabel("rad s$^{-1}$")
-    bottom.set_ylabel("rad s$^{-1}$")
+        small, change = w[:, others], dominant
+        label, name, legend_title = "rad s$^{-1}$", f"$\\omega_{big + 1}$", None
+    for ax, values, names, colors in (
+        (top, small, [f"$\\omega_{k + 1}$" for k in others], ["C0", "C1"]),
+        (bottom, change[:, None], [name], ["C2"]),
+    ):
+        exponent = power_of_ten(np.max(np.abs(values)))
+        for column, text, color in zip(values.T, names, colors):
+            ax.plot(t / scale, column / 10.0**exponent, color=color, label=text)
+        ax.set_ylabel(power_label(exponent, label))
+        # Plain tick labels: the power of ten is in the unit, and no offset hides the numbers.
+        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+        # Beside the axes: any corner inside covers the curves' peaks.
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
+    if legend_title:
+        top.get_legend().set_title(legend_title, prop={"size": 7})
     bottom.set_xlabel(f"time ({unit})")
-    top.legend(loc="upper right", fontsize=8)
-    bottom.legend(loc="upper right", fontsize=8)
     return scale
 
 
