@@ -1,12 +1,14 @@
-"""What ``wobble free --plot`` draws, read back from the figure's artists and checked against the
-model's own period (a visual audit found long spans drawn from too few samples, offsets such as
-1e-19 hiding the numbers, arcsec where degrees read, legends on the data).
+"""What ``wobble free --plot`` and ``wobble top --plot`` draw, read back from the figures' artists and
+checked against the models' own periods and angles (a visual audit found long spans drawn from too
+few samples, offsets such as 1e-19 hiding the numbers, arcsec where degrees read, legends on the data).
 
 The criteria, stated once here and in the modules' constants:
 
 * free, time panels: at least 1000 samples per period of omega, at most the first 10 periods
   (omega repeats exactly), the title saying how many the span holds;
 * free, polhode: one period, a closed curve;
+* top, the axis's path: at least 200 samples per nutation period, at most 40,001 samples
+  (the first 200 nutation periods past them, the title saying so);
 * no offset or multiplier text on any axis; angles in deg from 1 deg, else arcsec, mas, µas.
 """
 
@@ -20,7 +22,9 @@ import pytest
 from astropy import units as u
 
 from wobble.api.free import FreeRotation
+from wobble.api.top import HeavyTop
 from wobble.plot.free import motion_figure
+from wobble.plot.top import axis_locus_figure
 
 KGM2 = u.kg * u.m**2
 RAD_S = u.rad / u.s
@@ -229,3 +233,52 @@ def test_no_legend_covers_a_curve(moments, omega, t_end):
             xy = ax.transData.transform(np.column_stack(line.get_data()))
             inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
             assert not inside.any(), f"{line.get_label()} under the legend of {ax.get_ylabel()}"
+
+
+# -- top: the axis's path --------------------------------------------------------------------------------
+
+
+def _trace(ax):
+    return np.column_stack(ax.lines[2].get_data())  # after the two turning circles
+
+
+def test_a_long_span_of_loops_is_drawn_with_every_loop_resolved():
+    # 4,000 samples over 1,484 nutation periods (2.7 a period): no loop could be seen.
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=30 * u.deg, phidot0=-0.3 * RAD_S, omega3=10 * RAD_S)
+    period = top.nutation_period.to_value(u.s)
+    fig = axis_locus_figure(top, 2000 * u.s)
+    ax = fig.axes[0]
+    xy = _trace(ax)
+    assert xy.shape[0] <= 40001  # bounded
+    assert f"first 200 of {2000 / period:,.0f} nutation periods drawn" in ax.get_title()
+    assert (xy.shape[0] - 1) / 200 >= 200  # 200 samples a nutation period
+    # The path drawn ends where the axis is after 200 nutation periods (the model, at that time) ...
+    end = top.to_dataset(t=[200 * period] * u.s).symmetry_axis.values[0, :2]
+    assert np.max(np.abs(xy[-1] - end)) < 1e-9
+    # ... and no step of it jumps across the band between the turning circles.
+    band = np.sin(top.model.theta_max) - np.sin(top.model.theta_min)
+    assert np.max(np.linalg.norm(np.diff(xy, axis=0), axis=1)) < 0.05 * band
+
+
+def test_a_short_span_is_drawn_whole_at_the_same_density():
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, phidot0=-0.3 * RAD_S, omega3=10 * RAD_S)
+    t_end = 20 * u.s
+    fig = axis_locus_figure(top, t_end)
+    ax = fig.axes[0]
+    xy = _trace(ax)
+    periods = (t_end / top.nutation_period).to_value(u.one)
+    assert (xy.shape[0] - 1) / periods >= 200 and "\n" not in ax.get_title()  # all of it, no note
+    end = top.to_dataset(t=[20] * u.s).symmetry_axis.values[0, :2]
+    assert np.max(np.abs(xy[-1] - end)) < 1e-9
+
+
+def test_regular_precession_is_drawn_once_round():
+    base = dict(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=40 * u.deg, omega3=10 * RAD_S)
+    slow, _ = HeavyTop(**base).regular_precession_rates()
+    top = HeavyTop(**base, phidot0=slow)
+    assert top.nutation == "regular"
+    fig = axis_locus_figure(top, 1e4 * u.s)
+    xy = _trace(fig.axes[0])
+    assert np.max(np.abs(xy[0] - xy[-1])) < 1e-9  # closed: one turn (the span holds 329)
+    assert np.allclose(np.hypot(xy[:, 0], xy[:, 1]), np.sin(np.radians(40)), rtol=1e-9)
+    assert "one turn drawn" in fig.axes[0].get_title()

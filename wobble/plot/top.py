@@ -3,6 +3,8 @@ three nutation classes, the effective potential V'(theta) with the E' line, f(u)
 
 from __future__ import annotations
 
+import math
+
 import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
@@ -14,6 +16,7 @@ from wobble.errors import InputError
 __all__ = [
     "nutation_classes_figure",
     "axis_trace_axes",
+    "locus_times",
     "axis_locus_figure",
     "effective_potential_figure",
     "cubic_figure",
@@ -25,22 +28,74 @@ def _check_top(top) -> None:
         raise InputError("top", top, "a wobble.HeavyTop")
 
 
+#: Samples per period of the axis's path: a nutation period, or a turn of the precession when the tilt
+#: is constant (regular precession). A loop takes about a third of a nutation period and a cusp's
+#: rounding less: 200 samples draw both smoothly at the figure's size.
+SAMPLES_PER_PERIOD = 200
+#: Samples of the axis's path at least (a span of a few periods is drawn finer than the rule needs).
+MIN_LOCUS_SAMPLES = 3000
+#: Samples of the axis's path at most (about 0.1 s to draw): past them, only the first
+#: MAX_LOCUS_SAMPLES / SAMPLES_PER_PERIOD = 200 nutation periods are drawn, and the title says so.
+#: By then the loops have gone round the vertical many times and later ones only fill the band.
+MAX_LOCUS_SAMPLES = 40_000
+
+
+def locus_times(top: HeavyTop, t_end: float, samples: int | None = None) -> tuple[np.ndarray, str]:
+    """(times in s, a note for the title) at which the axis's path from 0 to ``t_end`` (s) is drawn.
+
+    With ``samples`` given, that many evenly spaced times. Otherwise :data:`SAMPLES_PER_PERIOD`
+    per period of the path (the nutation period; a turn of the precession for regular precession,
+    drawn once since every turn retraces the circle), at least :data:`MIN_LOCUS_SAMPLES`; past
+    :data:`MAX_LOCUS_SAMPLES`, the first periods only, which the note names (fixed samples over a
+    long span once drew 2.6 points per nutation period, and no loop could be seen).
+    """
+    if samples is not None:
+        return np.linspace(0.0, t_end, samples), ""
+    m = top.model
+    if m.nutation == "sleeping":  # the axis stays upright: a point
+        return np.linspace(0.0, t_end, MIN_LOCUS_SAMPLES), ""
+    if m.nutation == "regular":
+        rate = abs(m.mean_precession_rate)
+        period, most, name = (2 * np.pi / rate if rate > 0 else np.inf), 1, "turns of the precession"
+    else:
+        period, most, name = m.nutation_period, MAX_LOCUS_SAMPLES // SAMPLES_PER_PERIOD, "nutation periods"
+    if not (np.isfinite(period) and period > 0):
+        return np.linspace(0.0, t_end, MIN_LOCUS_SAMPLES), ""
+    count = t_end / period
+    if count <= most:
+        n = max(MIN_LOCUS_SAMPLES, math.ceil(SAMPLES_PER_PERIOD * count) + 1)
+        return np.linspace(0.0, t_end, n), ""
+    n = max(MIN_LOCUS_SAMPLES, SAMPLES_PER_PERIOD * most + 1)
+    counted = f"{count:,.0f}" if count >= 100 else f"{count:.3g}"
+    note = "one turn drawn (each retraces it)" if most == 1 else f"first {most} of {counted} {name} drawn"
+    return np.linspace(0.0, most * period, n), note
+
+
 def axis_trace_axes(
-    ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None, t_end=None
+    ax, top: HeavyTop, *, periods: float = 6.0, samples: int | None = None, title: str | None = None, t_end=None
 ):
     """Draw the trace of the symmetry axis on the unit sphere, seen from above, on ``ax``.
 
     The trace (x, y) = sin(theta) (sin phi, -cos phi) runs between the turning circles
     theta_min and theta_max (dashed), as in the textbook pictures of undulation, cusps
-    and loops (Goldstein, Poole & Safko 2002, sec. 5.7).
+    and loops (Goldstein, Poole & Safko 2002, sec. 5.7). From 0 to ``t_end`` (default
+    ``periods`` nutation periods), sampled as :func:`locus_times` says (``samples`` fixes
+    the number).
     """
     _check_top(top)
     m = top.model
     if t_end is not None:
-        t_end = to_si(t_end, "t_end", u.s, positive=True, shape=()) * u.s
+        t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     else:
-        t_end = (periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0) * u.s
-    ds = top.to_dataset(t_end=t_end, samples=samples)
+        t1 = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
+    if samples is not None and (isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2):
+        raise InputError("samples", samples, "a whole number of samples >= 2")
+    try:  # the whole span is checked, drawn or not
+        m.check_times(np.array([0.0, t1]))
+    except InputError as exc:
+        raise InputError("t_end", t_end if t_end is not None else t1 * u.s, exc.allowed) from None
+    t, note = locus_times(top, t1, samples)
+    ds = top.to_dataset(t_end=t[-1] * u.s, samples=t.size)
     axis = ds.symmetry_axis.values
     ring = np.linspace(0, 2 * np.pi, 400)
     for th in (m.theta_min, m.theta_max):
@@ -53,14 +108,17 @@ def axis_trace_axes(
     ax.set_aspect("equal")
     ax.set_xlabel("x (horizontal)")
     ax.set_ylabel("y (horizontal)")
-    ax.set_title(title or m.nutation)
+    title = title or m.nutation
+    ax.set_title(f"{title}\n{note}" if note else title)
     return ax
 
 
-def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, overwrite: bool = False):
+def axis_locus_figure(top: HeavyTop, t_end, *, samples: int | None = None, path=None, overwrite: bool = False):
     """The path of the figure (symmetry) axis seen from above, from 0 to ``t_end``:
     what ``wobble top --plot`` draws (undulation, cusps or loops between the turning circles).
 
+    Sampled as :func:`locus_times` says (``samples`` fixes the number): a span of more than
+    200 nutation periods is drawn for its first 200, and the title says so.
     Returns the figure, or the written path when ``path`` is given (saved atomically).
     """
     from wobble.io.text import duration
