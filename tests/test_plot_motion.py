@@ -24,7 +24,7 @@ from astropy import units as u
 from wobble.api.free import FreeRotation
 from wobble.api.top import HeavyTop
 from wobble.plot.free import motion_figure
-from wobble.plot.top import axis_locus_figure
+from wobble.plot.top import axis_locus_figure, cubic_figure, effective_potential_figure
 
 KGM2 = u.kg * u.m**2
 RAD_S = u.rad / u.s
@@ -40,6 +40,11 @@ def _close_figures():
 def _earth():
     # The help's example (wobble free --help): Earth's moments and spin, 100 yr.
     return FreeRotation([8.01012e37, 8.01032e37, 8.03652e37] * KGM2, [7.292115e-11, 0, 7.292115e-5] * RAD_S)
+
+
+def _near_sleeping():
+    # The help's nearly sleeping top (wobble top --help).
+    return HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=1e-6 * u.rad, omega3=10 * RAD_S)
 
 
 def _time_axes(fig):
@@ -282,3 +287,41 @@ def test_regular_precession_is_drawn_once_round():
     assert np.max(np.abs(xy[0] - xy[-1])) < 1e-9  # closed: one turn (the span holds 329)
     assert np.allclose(np.hypot(xy[:, 0], xy[:, 1]), np.sin(np.radians(40)), rtol=1e-9)
     assert "one turn drawn" in fig.axes[0].get_title()
+
+
+def test_a_nearly_sleeping_top_reads_in_mas():
+    top = _near_sleeping()
+    fig = axis_locus_figure(top, 10 * top.nutation_period)
+    ax = fig.axes[0]
+    assert _offsets(fig) == []  # a 1e-6 multiplier sat on the title
+    assert "mas from the vertical" in ax.get_xlabel() and ax.get_ylabel() == "y (horizontal, mas)"
+    # theta from 1e-6 rad = 206.3 mas to theta_max, with four digits (it read 5.73e-05 to 6.251e-05 deg).
+    low, high = top.model.theta_min / MAS, top.model.theta_max / MAS
+    assert f"theta from {low:.4g} to {high:.4g} mas" in ax.get_title() and f"{low:.4g}" == "206.3"
+    radius = np.hypot(*_trace(ax).T)  # each point at its angle from the vertical, in mas
+    assert np.max(radius) == pytest.approx(high, rel=1e-3) and np.min(radius) == pytest.approx(low, rel=1e-3)
+
+
+def test_a_nearly_sleeping_top_s_cubic_and_potential_read_without_offsets():
+    top = _near_sleeping()
+    fig = cubic_figure(top)
+    assert _offsets(fig) == []  # the enlarged u axis read '1e-13+10e-1'
+    whole, near = fig.axes
+    assert near.get_xlabel() == "u - u2 ($10^{-15}$)"
+    m = top.model
+    assert whole.get_title().startswith(f"u1 = 1 - {m.x1:.4g}, u2 = 1 - {m.x2:.4g}")  # not 1.000000 twice
+    roots = near.lines[1].get_xdata()  # u1 - u2 and 0, in units of 1e-15
+    assert roots[0] * 1e-15 == pytest.approx(-(m.x1 - m.x2), rel=1e-12) and roots[1] == 0
+    potential = effective_potential_figure(top)
+    low, high = m.theta_min / MAS, m.theta_max / MAS
+    assert potential.axes[0].get_title() == f"Effective potential; turning angles {low:.2f} and {high:.2f} mas"
+
+
+def test_an_ordinary_top_s_figures_keep_their_units():
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
+    locus = axis_locus_figure(top, 10 * top.nutation_period)
+    assert locus.axes[0].get_xlabel() == "x (horizontal)" and " deg, 0 to " in locus.axes[0].get_title()
+    cubic = cubic_figure(top)
+    assert cubic.axes[1].get_xlabel() == "u = cos(theta)"
+    for fig in (locus, cubic, effective_potential_figure(top)):
+        assert _offsets(fig) == []
