@@ -445,14 +445,22 @@ def test_a_free_plot_over_millions_of_flips_marks_none():
     from astropy import units as u
 
     from wobble.api.free import FreeRotation
-    from wobble.plot.free import MAX_MARKED_FLIPS, motion_figure
+    from wobble.plot.free import MAX_MARKED_FLIPS, flip_figure, motion_figure
 
-    body = FreeRotation([27.5106, 70.4956, 45.977] * u.g * u.cm**2, [-8.94863, 4.32085, 2.16585e-17] * u.rad / u.s)
+    moments = [27.5106, 70.4956, 45.977] * u.g * u.cm**2
+    body = FreeRotation(moments, [-8.94863, 4.32085, 2.16585e-17] * u.rad / u.s)
     n = body.flip_times(27.51 * u.d).size
     assert n > 2_000_000
     fig = motion_figure(body, 27.51 * u.d)
     top = fig.axes[0]
-    assert f"({n:,} flips, too close to mark)" in top.get_title()
-    assert not top.collections and not top.lines[2:]  # the two omega curves only
+    # Since the plot audit of 2026-12 the time panels draw the first 10 periods (omega repeats): the flips
+    # in them are marked, in one collection, and the title counts the span's.
+    assert f"{n:,} flips in the span" in top.get_title()
+    (marks,) = top.collections
+    assert len(marks.get_segments()) <= 21 and len(top.lines) == 2  # the two omega curves only
+    assert all(line.get_xdata().size <= 10_001 for line in top.lines)
     few = motion_figure(body, 20 * u.s)  # about 20 flips: each marked, in one collection
     assert len(few.axes[0].collections) == 1 and len(few.axes[0].collections[0].get_segments()) < MAX_MARKED_FLIPS
+    # The figure drawn over the whole span still marks none past MAX_MARKED_FLIPS.
+    whole = flip_figure(moments, body.omega0, 27.51 * u.d).axes[0]
+    assert f"({n:,} flips, too close to mark)" in whole.get_title() and not whole.collections

@@ -52,7 +52,12 @@ def register(subparsers) -> None:
     )
     p.add_argument("--samples", type=int, default=1001, help="number of output times from 0 to --t-end (default 1001)")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the time series to this netCDF file")
-    p.add_argument("--plot", metavar="FILE.png", help="draw omega(t) and the polhode (the path of L in the body)")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        help="draw omega(t) (its first 10 periods when the span holds more) and the polhode (the path of L in the "
+        "body)",
+    )
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)

@@ -59,7 +59,8 @@ def register(subparsers) -> None:
     p.add_argument(
         "--plot",
         metavar="FILE.png",
-        help="draw the path of the figure axis between the turning circles (undulation, cusps or loops) over the span",
+        help="draw the path of the figure axis between the turning circles (undulation, cusps or loops) over the span "
+        "(its first 200 nutation periods when it holds more)",
     )
     p.add_argument("--overwrite", action="store_true", help="replace existing output files")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")

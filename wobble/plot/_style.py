@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
-__all__ = ["time_axis"]
+import math
+
+__all__ = ["time_axis", "angle_unit", "power_of_ten", "power_label"]
 
 _YEAR = 365.25 * 86400.0
+_ARCSEC = math.pi / (180.0 * 3600.0)
 
 
 def time_axis(span_s: float) -> tuple[float, str]:
@@ -22,3 +25,39 @@ def time_axis(span_s: float) -> tuple[float, str]:
         if span_s < limit:
             return size, name
     return _YEAR, "yr"
+
+
+def angle_unit(extent_rad: float) -> tuple[float, str]:
+    """(radians per unit, unit name) for angles up to ``extent_rad``: the largest of deg, arcsec, mas
+    and µas that the extent reaches once, so tick labels read 1 to a few thousand (a 2.9 deg circle in
+    deg, not as 10,000 arcsec; a 0.2 arcsec one in mas).
+
+    >>> angle_unit(math.radians(2.9))[1], angle_unit(math.radians(0.5))[1], angle_unit(1e-6)[1]
+    ('deg', 'arcsec', 'mas')
+    """
+    for size, name in ((math.radians(1.0), "deg"), (_ARCSEC, "arcsec"), (1e-3 * _ARCSEC, "mas")):
+        if extent_rad >= size:
+            return size, name
+    return 1e-6 * _ARCSEC, "µas"
+
+
+def power_of_ten(largest: float) -> int:
+    """The power of ten (a multiple of 3) to divide values up to ``abs(largest)`` by, so that they read
+    as plain numbers without matplotlib's offset or '1e-11' multiplier: 0 when they already do
+    (1e-3 <= |largest| < 1e4), or for zero and non-finite values.
+
+    >>> power_of_ten(7.3e-11), power_of_ten(-2.7e-19), power_of_ten(0.1), power_of_ten(0.0)
+    (-12, -21, 0, 0)
+    """
+    largest = abs(float(largest))
+    if not math.isfinite(largest) or largest == 0.0 or 1e-3 <= largest < 1e4:
+        return 0
+    return 3 * math.floor(math.log10(largest) / 3)
+
+
+def power_label(exponent: int, unit: str = "") -> str:
+    """An axis unit with its power of ten in front, as mathtext: ``$10^{-6}$ rad s$^{-1}$``; the unit
+    alone for exponent 0."""
+    if exponent == 0:
+        return unit
+    return f"$10^{{{exponent}}}$ {unit}".rstrip()

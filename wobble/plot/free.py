@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
@@ -9,7 +11,7 @@ from astropy import units as u
 from wobble.api.free import FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
-from wobble.plot._style import time_axis
+from wobble.plot._style import angle_unit, power_label, power_of_ten, time_axis
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
 
@@ -104,21 +106,45 @@ def flip_figure(moments, omega0, t_end):
     return fig
 
 
+#: Samples per period of omega in the time panels. A flip next to the separatrix is the narrowest
+#: feature: about 2.6 / lambda wide in a period of 4 K(m) / lambda, K <= 90 for the 1 - m >= 1e-75 the
+#: model accepts, so at least 1/140 of a period, 7 samples; a smooth component is drawn to 5e-6 of itself.
+SAMPLES_PER_PERIOD = 1000
+#: Periods of omega the time panels show at most (about 70 pixels each at 150 dpi). omega(t) repeats
+#: exactly, so the first periods show every later one; thousands of them in a panel only alias.
+MAX_PERIODS_SHOWN = 10
+#: Points on the polhode: one period of a periodic motion (a closed curve), or the span otherwise.
+POLHODE_SAMPLES = 4001
+#: Geometric steps per side of each instant the motion of a separatrix is refined about (the start,
+#: the end and its flip): sech and tanh change on a scale 1/lambda that may be 1e-16 of the span.
+SEPARATRIX_SAMPLES = 2000
+
+
 def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, overwrite: bool = False):
     """omega(t) and the polhode of one body: what ``wobble free --plot`` draws.
 
     Left: the angular velocity's components against time, the largest one on its own
-    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it). Right: the
-    polhode, the path of L/|L| in the body frame, on the unit sphere with the principal
-    axes (Goldstein, Poole & Safko 2002, sec. 5.6; Landau & Lifshitz section 37).
+    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it); when the spin
+    dominates and its numbers would need a multiplier in rad/s, they are drawn as fractions
+    of the initial spin in a power of ten, 10^k |omega(0)|, named in the axis label, so no
+    offset or multiplier hides the numbers.
+    Right: the polhode, the path of L/|L| in the body frame, on the unit sphere with the
+    principal axes (Goldstein, Poole & Safko 2002, sec. 5.6; Landau & Lifshitz section 37).
+
+    What is drawn of a long span: omega(t) repeats exactly every period, so the time panels
+    show at most the first :data:`MAX_PERIODS_SHOWN` periods, at :data:`SAMPLES_PER_PERIOD`
+    samples each, and the title says how many the span holds (thousands of periods in a
+    panel alias into bands). The polhode of a periodic motion is one closed curve, drawn
+    once over one period from :data:`POLHODE_SAMPLES` points. A separatrix (no period) is
+    sampled more densely about its flip and the ends of the span.
 
     Parameters
     ----------
     body : FreeRotation
     t_end : astropy.units.Quantity
-        End of the span drawn (from 0).
+        End of the span (from 0).
     samples : int
-        Points along the span.
+        Points along the time panels at least.
     path : path-like, optional
         Save the figure there (atomically); the function then returns the path.
     overwrite : bool
@@ -128,52 +154,138 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     -------
     matplotlib.figure.Figure, or the written path when ``path`` is given
     """
-    from wobble.io.text import duration
-
     if not isinstance(body, FreeRotation):
         raise InputError("body", body, "a wobble.FreeRotation")
     t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
         raise InputError("samples", samples, "a whole number of samples >= 2")
-    t = np.linspace(0.0, t1, samples)
+    t, shown, note = _time_panel_times(body, t1, int(samples))
     w = body.omega(t * u.s).to_value(u.rad / u.s)
     I = body.moments.to_value(u.kg * u.m**2)
-    scale, unit = time_axis(t1)
-    big = int(np.argmax(np.max(np.abs(w), axis=0)))
-    others = [k for k in range(3) if k != big]
     fig = plt.figure(figsize=(10.5, 4.6))
     top = fig.add_subplot(2, 2, 1)
     bottom = fig.add_subplot(2, 2, 3, sharex=top)
-    for k in others:
-        top.plot(t / scale, w[:, k], label=f"$\\omega_{k + 1}$")
-    dominant = w[:, big]
-    if np.ptp(dominant) < 1e-3 * np.max(np.abs(dominant)):
-        # A planet's spin changes by 1e-12 of itself: show the change, not the spin.
-        bottom.plot(t / scale, dominant - dominant[0], color="C2", label=f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$")
-    else:
-        bottom.plot(t / scale, dominant, color="C2", label=f"$\\omega_{big + 1}$")
-    bottom.ticklabel_format(axis="y", useOffset=False)
-    marked = _mark_flips([top, bottom], body.flip_times(t_end).to_value(u.s), scale) if body.flips else ""
-    top.set_ylabel("rad s$^{-1}$")
-    bottom.set_ylabel("rad s$^{-1}$")
-    bottom.set_xlabel(f"time ({unit})")
-    top.legend(loc="upper right", fontsize=8)
-    bottom.legend(loc="upper right", fontsize=8)
-    top.set_title(f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}{marked}", fontsize=9)
-    L = I * w
+    scale = _time_panels(top, bottom, t, w, body)
+    flips = body.flip_times(shown * u.s).to_value(u.s) if body.flips else np.empty(0)
+    marked = _mark_flips([top, bottom], flips, scale) if flips.size else ""
+    top.set_title(_motion_title(body, t1, note) + marked, fontsize=9)
+    tp = _polhode_times(body, t1)
+    L = I * body.omega(tp * u.s).to_value(u.rad / u.s)
     norm = np.linalg.norm(L, axis=1, keepdims=True)
     L = np.divide(L, norm, out=np.zeros_like(L), where=norm > 0)  # a body at rest: L = 0, drawn at the centre
     near = int(np.argmax(np.min(np.abs(L), axis=0)))
+    period = body.model.period
+    closed = "\none period, a closed curve" if np.isfinite(period) and t1 >= period else ""
     if np.min(np.abs(L[:, near])) > np.cos(np.radians(5.0)):
-        _polhode_from_above(fig.add_subplot(1, 2, 2), L, near)
+        _polhode_from_above(fig.add_subplot(1, 2, 2), L, near, closed)
     else:
-        _polhode_on_sphere(fig.add_subplot(1, 2, 2, projection="3d"), L, I)
+        _polhode_on_sphere(fig.add_subplot(1, 2, 2, projection="3d"), L, I, closed)
     fig.tight_layout()
     if path is None:
         return fig
     from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
+
+
+def _time_panel_times(body: FreeRotation, t1: float, samples: int) -> tuple[np.ndarray, float, str]:
+    """(times in s, the end of what is shown, a note for the title) of the time panels: a periodic
+    motion from 0 to at most :data:`MAX_PERIODS_SHOWN` periods with :data:`SAMPLES_PER_PERIOD` samples
+    per period; a separatrix refined about its flip; a steady spin, ``samples`` points over the span."""
+    period = body.model.period
+    if np.isfinite(period) and period > 0:
+        shown = min(t1, MAX_PERIODS_SHOWN * period)
+        n = max(samples, math.ceil(SAMPLES_PER_PERIOD * shown / period) + 1)
+        note = ""
+        if shown < t1:
+            count = t1 / period
+            note = (
+                f"first {MAX_PERIODS_SHOWN} of {count:,.0f}"
+                if count >= 100
+                else f"first {MAX_PERIODS_SHOWN} of {count:.3g}"
+            )
+            note += " periods shown (each repeats the first)"
+        return np.linspace(0.0, shown, n), shown, note
+    if body.regime == "separatrix":
+        return _separatrix_times(body, t1, samples), t1, ""
+    return np.linspace(0.0, t1, samples), t1, ""
+
+
+def _separatrix_times(body: FreeRotation, t1: float, samples: int) -> np.ndarray:
+    """``samples`` times evenly over [0, t1], and :data:`SEPARATRIX_SAMPLES` geometric steps on each
+    side of 0, t1 and the flip, down to 1e-16 of the span: the flip's sech and tanh are resolved
+    whatever their width beside the span."""
+    steps = np.geomspace(1e-16 * t1, t1, SEPARATRIX_SAMPLES)
+    anchors = [0.0, t1, *body.flip_times(t1 * u.s).to_value(u.s)]
+    t = np.concatenate([np.linspace(0.0, t1, samples)] + [a + side * steps for a in anchors for side in (-1.0, 1.0)])
+    return np.unique(t[(t >= 0.0) & (t <= t1)])
+
+
+def _polhode_times(body: FreeRotation, t1: float) -> np.ndarray:
+    """Times (s) of the polhode: one period (a closed curve; less when the span is shorter), else the span."""
+    period = body.model.period
+    if np.isfinite(period) and period > 0:
+        return np.linspace(0.0, min(t1, period), POLHODE_SAMPLES)
+    if body.regime == "separatrix":
+        return _separatrix_times(body, t1, POLHODE_SAMPLES)
+    return np.linspace(0.0, t1, 2)  # a steady spin: L stays put
+
+
+def _motion_title(body: FreeRotation, t1: float, note: str) -> str:
+    from wobble.io.text import duration
+
+    if body.regime == "separatrix":
+        head = "separatrix: omega never repeats (one flip, L tends to the intermediate axis)"
+    elif not np.isfinite(body.model.period):
+        head = f"{body.regime}: omega is constant"
+    else:
+        head = f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}"
+    if not note:
+        return head
+    flips = body.flip_times(t1 * u.s).size if body.flips else 0
+    return f"{head}\n{note}" + (f"; {flips:,} flips in the span" if flips else "")
+
+
+def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
+    """Draw omega's components on ``top`` (the two small ones) and ``bottom`` (the largest); returns
+    the seconds per unit of the time axis. When the spin dominates (its largest component changes by
+    less than 1e-3 of itself), the change of the largest is drawn; and when those numbers are too small
+    to read in rad/s (a planet), the components and the change are drawn as fractions of |omega(0)|,
+    each axis in a power of ten named in its label (Earth: 1e-6 and 1e-15), never as an offset."""
+    scale, unit = time_axis(t[-1])
+    big = int(np.argmax(np.max(np.abs(w), axis=0)))
+    others = [k for k in range(3) if k != big]
+    dominant = w[:, big]
+    spin = float(np.linalg.norm(body.omega0.to_value(u.rad / u.s)))
+    steady_spin = np.ptp(dominant) < 1e-3 * np.max(np.abs(dominant))
+    change = dominant - dominant[0]
+    if steady_spin and max(power_of_ten(np.max(np.abs(w[:, others]))), power_of_ten(np.max(np.abs(change)))):
+        # A planet's spin changes by 1e-12 of itself: show the change, as fractions of the spin.
+        small, change = w[:, others] / spin, change / spin
+        label, name = "$|\\omega(0)|$", f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$"
+        legend_title = f"$|\\omega(0)|$ = {spin:.4g} rad s$^{{-1}}$"
+    elif steady_spin:  # a lab body spun about an axis: its change in rad/s reads as it is
+        small, label, legend_title = w[:, others], "rad s$^{-1}$", None
+        name = f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$"
+    else:
+        small, change = w[:, others], dominant
+        label, name, legend_title = "rad s$^{-1}$", f"$\\omega_{big + 1}$", None
+    for ax, values, names, colors in (
+        (top, small, [f"$\\omega_{k + 1}$" for k in others], ["C0", "C1"]),
+        (bottom, change[:, None], [name], ["C2"]),
+    ):
+        exponent = power_of_ten(np.max(np.abs(values)))
+        for column, text, color in zip(values.T, names, colors):
+            ax.plot(t / scale, column / 10.0**exponent, color=color, label=text)
+        ax.set_ylabel(power_label(exponent, label))
+        # Plain tick labels: the power of ten is in the unit, and no offset hides the numbers.
+        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+        # Beside the axes: any corner inside covers the curves' peaks.
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
+    if legend_title:
+        top.get_legend().set_title(legend_title, prop={"size": 7})
+    bottom.set_xlabel(f"time ({unit})")
+    return scale
 
 
 #: Flips marked one line each up to this many in a span; more are closer than a figure resolves.
@@ -191,7 +303,7 @@ def _mark_flips(axes, times, scale: float) -> str:
     return ""
 
 
-def _polhode_on_sphere(ax3, L, I) -> None:
+def _polhode_on_sphere(ax3, L, I, note: str = "") -> None:
     uu, vv = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
     ax3.plot_wireframe(np.cos(uu) * np.sin(vv), np.sin(uu) * np.sin(vv), np.cos(vv), color="0.85", lw=0.4)
     ax3.plot(L[:, 0], L[:, 1], L[:, 2], color="C0", lw=1.4)
@@ -203,22 +315,23 @@ def _polhode_on_sphere(ax3, L, I) -> None:
         ax3.text(*e, f"$e_{k + 1}$ (I={I[k]:.3g})", fontsize=8)
     ax3.set_box_aspect((1, 1, 1))
     ax3.set_axis_off()
-    ax3.set_title("polhode: L/|L| in the body frame", fontsize=9)
+    ax3.set_title(f"polhode: L/|L| in the body frame{note}", fontsize=9)
 
 
-def _polhode_from_above(ax, L, axis: int) -> None:
-    """A polhode that stays within a few degrees of a principal axis, seen down that axis."""
+def _polhode_from_above(ax, L, axis: int, note: str = "") -> None:
+    """A polhode that stays within a few degrees of a principal axis, seen down that axis: each point
+    at its angle from the axis (an azimuthal equidistant view), in the unit :func:`angle_unit` picks."""
     a, b = [k for k in range(3) if k != axis]
     sign = np.sign(L[0, axis])
     x, y = L[:, a] * sign, L[:, b] * sign
-    extent = np.max(np.hypot(x, y))
-    for size, name in ((np.radians(1.0), "deg"), (np.radians(1 / 3600), "arcsec"), (np.radians(1e-3 / 3600), "mas")):  # noqa: B007 - size and name are read after the loop
-        if extent >= 3 * size:
-            break
+    across = np.hypot(x, y)
+    stretch = np.divide(np.arctan2(across, np.abs(L[:, axis])), across, out=np.ones_like(across), where=across > 0)
+    x, y = x * stretch, y * stretch
+    size, name = angle_unit(float(np.max(np.hypot(x, y))))
     ax.plot(x / size, y / size, color="C0", lw=1.4)
     ax.plot(x[:1] / size, y[:1] / size, "o", color="C3", ms=4)
     ax.plot([0], [0], "+", color="0.3", ms=10)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(f"L along $e_{a + 1}$ ({name} from $e_{axis + 1}$)")
     ax.set_ylabel(f"L along $e_{b + 1}$ ({name})")
-    ax.set_title(f"polhode: L/|L| in the body frame, seen down $e_{axis + 1}$", fontsize=9)
+    ax.set_title(f"polhode: L/|L| in the body frame, seen down $e_{axis + 1}${note}", fontsize=9)

@@ -3,6 +3,8 @@ three nutation classes, the effective potential V'(theta) with the E' line, f(u)
 
 from __future__ import annotations
 
+import math
+
 import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
@@ -10,10 +12,13 @@ from astropy import units as u
 from wobble.api.top import HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
+from wobble.plot._style import angle_unit, power_label, power_of_ten
 
 __all__ = [
     "nutation_classes_figure",
     "axis_trace_axes",
+    "locus_times",
+    "tilt_text",
     "axis_locus_figure",
     "effective_potential_figure",
     "cubic_figure",
@@ -25,42 +30,124 @@ def _check_top(top) -> None:
         raise InputError("top", top, "a wobble.HeavyTop")
 
 
+#: Samples per period of the axis's path: a nutation period, or a turn of the precession when the tilt
+#: is constant (regular precession). A loop takes about a third of a nutation period and a cusp's
+#: rounding less: 200 samples draw both smoothly at the figure's size.
+SAMPLES_PER_PERIOD = 200
+#: Samples of the axis's path at least (a span of a few periods is drawn finer than the rule needs).
+MIN_LOCUS_SAMPLES = 3000
+#: Samples of the axis's path at most (about 0.1 s to draw): past them, only the first
+#: MAX_LOCUS_SAMPLES / SAMPLES_PER_PERIOD = 200 nutation periods are drawn, and the title says so.
+#: By then the loops have gone round the vertical many times and later ones only fill the band.
+MAX_LOCUS_SAMPLES = 40_000
+
+
+def locus_times(top: HeavyTop, t_end: float, samples: int | None = None) -> tuple[np.ndarray, str]:
+    """(times in s, a note for the title) at which the axis's path from 0 to ``t_end`` (s) is drawn.
+
+    With ``samples`` given, that many evenly spaced times. Otherwise :data:`SAMPLES_PER_PERIOD`
+    per period of the path (the nutation period; a turn of the precession for regular precession,
+    drawn once since every turn retraces the circle), at least :data:`MIN_LOCUS_SAMPLES`; past
+    :data:`MAX_LOCUS_SAMPLES`, the first periods only, which the note names (fixed samples over a
+    long span once drew 2.6 points per nutation period, and no loop could be seen).
+    """
+    if samples is not None:
+        return np.linspace(0.0, t_end, samples), ""
+    m = top.model
+    if m.nutation == "sleeping":  # the axis stays upright: a point
+        return np.linspace(0.0, t_end, MIN_LOCUS_SAMPLES), ""
+    if m.nutation == "regular":
+        rate = abs(m.mean_precession_rate)
+        period, most, name = (2 * np.pi / rate if rate > 0 else np.inf), 1, "turns of the precession"
+    else:
+        period, most, name = m.nutation_period, MAX_LOCUS_SAMPLES // SAMPLES_PER_PERIOD, "nutation periods"
+    if not (np.isfinite(period) and period > 0):
+        return np.linspace(0.0, t_end, MIN_LOCUS_SAMPLES), ""
+    count = t_end / period
+    if count <= most:
+        n = max(MIN_LOCUS_SAMPLES, math.ceil(SAMPLES_PER_PERIOD * count) + 1)
+        return np.linspace(0.0, t_end, n), ""
+    n = max(MIN_LOCUS_SAMPLES, SAMPLES_PER_PERIOD * most + 1)
+    counted = f"{count:,.0f}" if count >= 100 else f"{count:.3g}"
+    note = "one turn drawn (each retraces it)" if most == 1 else f"first {most} of {counted} {name} drawn"
+    return np.linspace(0.0, most * period, n), note
+
+
+def _tilt_extent(m) -> float:
+    """The largest horizontal distance sin(theta) of the axis from the vertical over its motion."""
+    if m.theta_min <= np.pi / 2 <= m.theta_max:
+        return 1.0
+    return float(max(np.sin(m.theta_min), np.sin(m.theta_max)))
+
+
+def tilt_text(theta_min: float, theta_max: float, digits: str = ".4g") -> str:
+    """'A to B unit' for two tilts in rad: in deg, or in the arcsec, mas or µas that the larger reaches
+    when it is under a degree (a nearly sleeping top's 1e-6 rad reads '206.3 to 225.1 mas')."""
+    size, name = angle_unit(max(theta_min, theta_max)) if max(theta_min, theta_max) > 0 else (np.radians(1.0), "deg")
+    return f"{theta_min / size:{digits}} to {theta_max / size:{digits}} {name}"
+
+
 def axis_trace_axes(
-    ax, top: HeavyTop, *, periods: float = 6.0, samples: int = 3000, title: str | None = None, t_end=None
+    ax, top: HeavyTop, *, periods: float = 6.0, samples: int | None = None, title: str | None = None, t_end=None
 ):
     """Draw the trace of the symmetry axis on the unit sphere, seen from above, on ``ax``.
 
     The trace (x, y) = sin(theta) (sin phi, -cos phi) runs between the turning circles
     theta_min and theta_max (dashed), as in the textbook pictures of undulation, cusps
-    and loops (Goldstein, Poole & Safko 2002, sec. 5.7).
+    and loops (Goldstein, Poole & Safko 2002, sec. 5.7). From 0 to ``t_end`` (default
+    ``periods`` nutation periods), sampled as :func:`locus_times` says (``samples`` fixes
+    the number). A trace within a degree of the vertical is drawn at its angles from the
+    vertical, in the unit they reach (arcsec, mas, µas), so no offset or multiplier hides
+    the numbers.
     """
     _check_top(top)
     m = top.model
     if t_end is not None:
-        t_end = to_si(t_end, "t_end", u.s, positive=True, shape=()) * u.s
+        t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     else:
-        t_end = (periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0) * u.s
-    ds = top.to_dataset(t_end=t_end, samples=samples)
+        t1 = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
+    if samples is not None and (isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2):
+        raise InputError("samples", samples, "a whole number of samples >= 2")
+    try:  # the whole span is checked, drawn or not
+        m.check_times(np.array([0.0, t1]))
+    except InputError as exc:
+        raise InputError("t_end", t_end if t_end is not None else t1 * u.s, exc.allowed) from None
+    t, note = locus_times(top, t1, samples)
+    ds = top.to_dataset(t_end=t[-1] * u.s, samples=t.size)
     axis = ds.symmetry_axis.values
+    extent = _tilt_extent(m)
+    size, name = (1.0, "")
+    radii = np.sin([m.theta_min, m.theta_max])
+    if 0 < extent < np.sin(np.radians(1.0)):
+        # Within a degree of the vertical: each point at its angle from it (sin theta -> theta, or
+        # pi - theta hanging), in the unit that angle reaches.
+        extent = float(np.arcsin(extent))
+        size, name = angle_unit(extent)
+        across = np.hypot(axis[:, 0], axis[:, 1])
+        axis = axis[:, :2] * np.divide(np.arcsin(across), across, out=np.ones_like(across), where=across > 0)[:, None]
+        radii = np.arcsin(radii)
     ring = np.linspace(0, 2 * np.pi, 400)
-    for th in (m.theta_min, m.theta_max):
-        ax.plot(np.sin(th) * np.cos(ring), np.sin(th) * np.sin(ring), color="0.6", lw=0.8, ls="--")
-    ax.plot(axis[:, 0], axis[:, 1], color="C0", lw=1.2)
-    ax.plot(axis[:1, 0], axis[:1, 1], "o", color="C3", ms=4)
-    r = np.sin(m.theta_max) * 1.08 or 1.0  # a sleeping top (theta = 0): a unit frame, not an empty one
+    for radius in radii:
+        ax.plot(radius * np.cos(ring) / size, radius * np.sin(ring) / size, color="0.6", lw=0.8, ls="--")
+    ax.plot(axis[:, 0] / size, axis[:, 1] / size, color="C0", lw=1.2)
+    ax.plot(axis[:1, 0] / size, axis[:1, 1] / size, "o", color="C3", ms=4)
+    r = extent / size * 1.08 or 1.0  # a sleeping top (theta = 0): a unit frame, not an empty one
     ax.set_xlim(-r, r)
     ax.set_ylim(-r, r)
     ax.set_aspect("equal")
-    ax.set_xlabel("x (horizontal)")
-    ax.set_ylabel("y (horizontal)")
-    ax.set_title(title or m.nutation)
+    ax.set_xlabel(f"x (horizontal, {name} from the vertical)" if name else "x (horizontal)")
+    ax.set_ylabel(f"y (horizontal, {name})" if name else "y (horizontal)")
+    title = title or m.nutation
+    ax.set_title(f"{title}\n{note}" if note else title)
     return ax
 
 
-def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, overwrite: bool = False):
+def axis_locus_figure(top: HeavyTop, t_end, *, samples: int | None = None, path=None, overwrite: bool = False):
     """The path of the figure (symmetry) axis seen from above, from 0 to ``t_end``:
     what ``wobble top --plot`` draws (undulation, cusps or loops between the turning circles).
 
+    Sampled as :func:`locus_times` says (``samples`` fixes the number): a span of more than
+    200 nutation periods is drawn for its first 200, and the title says so.
     Returns the figure, or the written path when ``path`` is given (saved atomically).
     """
     from wobble.io.text import duration
@@ -69,10 +156,7 @@ def axis_locus_figure(top: HeavyTop, t_end, *, samples: int = 4000, path=None, o
     t_end = to_si(t_end, "t_end", u.s, positive=True, shape=()) * u.s
     fig, ax = plt.subplots(figsize=(5.6, 5.6))
     m = top.model
-    title = (
-        f"{m.nutation}: theta from {np.degrees(m.theta_min):.4g} to {np.degrees(m.theta_max):.4g} deg, "
-        f"0 to {duration(t_end.to_value(u.s), 4)}"
-    )
+    title = f"{m.nutation}: theta from {tilt_text(m.theta_min, m.theta_max)}, 0 to {duration(t_end.to_value(u.s), 4)}"
     axis_trace_axes(ax, top, samples=samples, t_end=t_end, title=title)
     ax.title.set_fontsize(9)
     fig.tight_layout()
@@ -116,17 +200,27 @@ def effective_potential_figure(top: HeavyTop):
     ax.set_xlabel("theta (deg)")
     ax.set_ylabel("energy (J)")
     ax.set_title(
-        f"Effective potential; turning angles {np.degrees(m.theta_min):.2f} and {np.degrees(m.theta_max):.2f} deg"
+        f"Effective potential; turning angles {tilt_text(m.theta_min, m.theta_max, '.2f').replace(' to ', ' and ')}"
     )
     ax.legend()
     fig.tight_layout()
     return fig
 
 
+def _u_text(u_value: float, x: float, digits: int) -> str:
+    """u = cos(theta) for a title: as 1 - x when it is too close to 1 for ``digits`` decimals to tell
+    (a nearly sleeping top's u1 and u2 both read 1.000000)."""
+    if 0 < x < 10.0 ** (2 - digits):
+        return f"1 - {x:.4g}"
+    return f"{u_value:.{digits}f}"
+
+
 def cubic_figure(top: HeavyTop):
     """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where
     f >= 0. Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so u3 > 1); right: the
-    physical interval enlarged."""
+    physical interval enlarged. An interval narrower than 1e-3 (a nearly sleeping top, a nearly
+    regular precession) is drawn against u - u2 and f in powers of ten named in the labels, so
+    no offset such as '1e-13+10e-1' hides the numbers."""
     m = top.model
     u3 = m.u3 if np.isfinite(m.u3) else 2.0
     fig, (ax, az) = plt.subplots(1, 2, figsize=(10.0, 4.0))
@@ -140,18 +234,32 @@ def cubic_figure(top: HeavyTop):
     width = max(m.u2 - m.u1, 1e-12)
     zz = np.linspace(m.u1 - 0.3 * width, min(m.u2 + 0.3 * width, 1.0), 1000)
     fz = m.f(zz)
-    az.plot(zz, fz, color="C0")
+    narrow = width < 1e-3
+    if narrow:
+        # Against u - u2 (a difference of nearby floats loses nothing); u1 - u2 as x2 - x1, with the
+        # digits that u1 and u2 lose next to the vertical.
+        ex, ey = power_of_ten(np.max(np.abs(zz - m.u2))), power_of_ten(np.max(np.abs(fz)))
+        xz, ends, fz = (zz - m.u2) / 10.0**ex, [(m.x2 - m.x1) / 10.0**ex, 0.0], fz / 10.0**ey
+    else:
+        xz, ends = zz, [m.u1, m.u2]
+    az.plot(xz, fz, color="C0")
     inside = (zz >= m.u1) & (zz <= m.u2)
-    az.fill_between(zz, 0, fz, where=inside, color="C2", alpha=0.3, label="the motion: f >= 0")
-    az.plot([m.u1, m.u2], [0, 0], "o", color="C3")
-    for a_ in (ax, az):
+    az.fill_between(xz, 0, fz, where=inside, color="C2", alpha=0.3, label="the motion: f >= 0")
+    az.plot(ends, [0, 0], "o", color="C3")
+    for a_ in (ax, az) if not narrow else (ax,):
         a_.axhline(0, color="0.3", lw=0.8)
         for x in (-1, 1):
             a_.axvline(x, color="0.6", lw=0.8, ls="--")
         a_.set_xlabel("u = cos(theta)")
-    az.set_xlim(zz[0], zz[-1])
+    if narrow:
+        az.axhline(0, color="0.3", lw=0.8)
+        az.axvline(m.x2 / 10.0**ex, color="0.6", lw=0.8, ls="--")  # u = 1, when the interval reaches it
+        az.set_xlabel("u - u2" + (f" ({power_label(ex)})" if ex else ""))
+        az.set_ylabel(f"f(u) ({power_label(ey, 's$^{-2}$')})")
+        az.ticklabel_format(style="plain", useOffset=False)
+    az.set_xlim(xz[0], xz[-1])
     ax.set_ylabel("f(u) (s$^{-2}$)")
-    ax.set_title(f"u1 = {m.u1:.6f}, u2 = {m.u2:.6f}, u3 = {u3:.4f}")
+    ax.set_title(f"u1 = {_u_text(m.u1, m.x1, 6)}, u2 = {_u_text(m.u2, m.x2, 6)}, u3 = {u3:.4f}")
     az.set_title("between the turning points")
     ax.legend(loc="lower right", fontsize=8)
     az.legend(loc="lower center", fontsize=8)

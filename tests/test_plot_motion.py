@@ -1,0 +1,327 @@
+"""What ``wobble free --plot`` and ``wobble top --plot`` draw, read back from the figures' artists and
+checked against the models' own periods and angles (a visual audit found long spans drawn from too
+few samples, offsets such as 1e-19 hiding the numbers, arcsec where degrees read, legends on the data).
+
+The criteria, stated once here and in the modules' constants:
+
+* free, time panels: at least 1000 samples per period of omega, at most the first 10 periods
+  (omega repeats exactly), the title saying how many the span holds;
+* free, polhode: one period, a closed curve;
+* top, the axis's path: at least 200 samples per nutation period, at most 40,001 samples
+  (the first 200 nutation periods past them, the title saying so);
+* no offset or multiplier text on any axis; angles in deg from 1 deg, else arcsec, mas, µas.
+"""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt  # the Agg backend: tests/conftest.py sets MPLBACKEND
+import numpy as np
+import pytest
+from astropy import units as u
+
+from wobble.api.free import FreeRotation
+from wobble.api.top import HeavyTop
+from wobble.plot.free import motion_figure
+from wobble.plot.top import axis_locus_figure, cubic_figure, effective_potential_figure
+
+KGM2 = u.kg * u.m**2
+RAD_S = u.rad / u.s
+MAS = math.radians(1 / 3.6e6)
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def _earth():
+    # The help's example (wobble free --help): Earth's moments and spin, 100 yr.
+    return FreeRotation([8.01012e37, 8.01032e37, 8.03652e37] * KGM2, [7.292115e-11, 0, 7.292115e-5] * RAD_S)
+
+
+def _near_sleeping():
+    # The help's nearly sleeping top (wobble top --help).
+    return HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=1e-6 * u.rad, omega3=10 * RAD_S)
+
+
+def _time_axes(fig):
+    return fig.axes[0], fig.axes[1]
+
+
+def _seconds_per_unit(ax) -> float:
+    unit = ax.get_xlabel().split("(")[1].rstrip(")")
+    return {"s": 1.0, "min": 60.0, "h": 3600.0, "d": 86400.0, "yr": 365.25 * 86400.0}[unit]
+
+
+def _offsets(fig) -> list[str]:
+    """Every offset or multiplier text on the figure's 2-D axes (drawn first: formatters set them then)."""
+    fig.canvas.draw()
+    return [
+        axis.get_offset_text().get_text()
+        for ax in fig.axes
+        if ax.name == "rectilinear"
+        for axis in (ax.xaxis, ax.yaxis)
+        if axis.get_offset_text().get_text()
+    ]
+
+
+# -- free: the time panels ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "body, t_end",
+    [
+        (FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S), 20000 * u.s),  # 2,886 periods
+        (_earth(), 100 * u.yr),  # 120 periods
+        (FreeRotation([1, 2, 3] * KGM2, [1e-6, 1, 1e-6] * RAD_S), 20000 * u.s),  # 194 periods, 389 flips
+    ],
+    ids=["lab", "earth", "flips"],
+)
+def test_a_long_span_draws_its_first_periods_each_finely(body, t_end):
+    period = body.period.to_value(u.s)
+    count = t_end.to_value(u.s) / period
+    fig = motion_figure(body, t_end)
+    top, bottom = _time_axes(fig)
+    scale = _seconds_per_unit(bottom)
+    for ax in (top, bottom):
+        for line in ax.lines:
+            t = np.asarray(line.get_xdata()) * scale
+            assert t[0] == 0 and 1 <= t[-1] / period <= 10 * (1 + 1e-12)  # one to ten periods
+            assert np.max(np.diff(t)) <= period / 1000 * (1 + 1e-9)  # 1000 samples a period at least
+    assert f"first 10 of {count:,.0f} periods shown" in top.get_title()
+
+
+def test_a_long_span_no_longer_aliases_omega():
+    # Aliasing drew 2,000 samples over 2,886 periods: omega1's swing per period was missed. Drawn now
+    # over its first periods, each period's largest omega1 is the amplitude of the motion.
+    body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
+    period = body.period.to_value(u.s)
+    fine = body.omega(np.linspace(0, period, 100001) * u.s).to_value(RAD_S)
+    fig = motion_figure(body, 20000 * u.s)
+    top, _ = _time_axes(fig)
+    line = next(line for line in top.lines if line.get_label() == "$\\omega_1$")
+    t = np.asarray(line.get_xdata()) * _seconds_per_unit(fig.axes[1])
+    w1 = np.asarray(line.get_ydata())
+    for k in range(int(t[-1] / period)):
+        inside = (t >= k * period) & (t < (k + 1) * period)
+        assert np.max(w1[inside]) == pytest.approx(np.max(fine[:, 0]), rel=1e-4)
+
+
+def test_earth_reads_without_offsets_as_fractions_of_the_spin():
+    body = _earth()
+    fig = motion_figure(body, 100 * u.yr)
+    assert _offsets(fig) == []  # it showed 1e-11 over omega and 1e-19 over omega3 - omega3(0)
+    top, bottom = _time_axes(fig)
+    assert top.get_ylabel() == "$10^{-6}$ $|\\omega(0)|$"
+    assert bottom.get_ylabel() == "$10^{-15}$ $|\\omega(0)|$"
+    spin = np.linalg.norm(body.omega0.to_value(RAD_S))
+    scale = _seconds_per_unit(bottom)
+    for line in top.lines:  # the numbers drawn are omega1, omega2 in units of 1e-6 |omega(0)|
+        t = np.asarray(line.get_xdata()) * scale
+        k = int(line.get_label()[-2]) - 1
+        truth = body.omega(t * u.s).to_value(RAD_S)[:, k] / (1e-6 * spin)
+        assert np.max(np.abs(line.get_ydata() - truth)) < 1e-9
+        assert 0.5 < np.max(np.abs(line.get_ydata())) < 1000
+    change = bottom.lines[0].get_ydata()
+    assert 1 < np.max(np.abs(change)) < 1000  # omega3 - omega3(0): -3.7e-15 |omega(0)|, drawn as -3.7
+
+
+def test_a_lab_body_keeps_rad_per_s():
+    fig = motion_figure(FreeRotation([1, 2, 3] * KGM2, [0.1, 0, 1] * RAD_S), 20 * u.s)
+    assert [ax.get_ylabel() for ax in _time_axes(fig)] == ["rad s$^{-1}$", "rad s$^{-1}$"]
+    assert _offsets(fig) == []
+
+
+# -- free: the polhode -----------------------------------------------------------------------------------
+
+
+def _polhode(fig):
+    ax = fig.axes[2]
+    line = ax.lines[0]
+    if ax.name == "3d":
+        return ax, np.column_stack(line.get_data_3d())
+    return ax, np.column_stack(line.get_data())
+
+
+@pytest.mark.parametrize(
+    "body, t_end",
+    [
+        (FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S), 20000 * u.s),  # on the sphere
+        (_earth(), 100 * u.yr),  # seen down e3
+        (FreeRotation([1, 2, 3] * KGM2, [1e-6, 1, 1e-6] * RAD_S), 20000 * u.s),  # flipping
+    ],
+    ids=["lab", "earth", "flips"],
+)
+def test_the_polhode_of_a_long_span_is_one_closed_curve(body, t_end):
+    # It was drawn from 2,000 samples over thousands of periods: a filled patch of chords.
+    fig = motion_figure(body, t_end)
+    ax, points = _polhode(fig)
+    extent = np.max(np.abs(points))
+    assert np.max(np.abs(points[0] - points[-1])) <= 1e-9 * extent  # closed
+    # Once round, not thousands of times: its length is one circuit's, from the model over one period.
+    period = body.period.to_value(u.s)
+    moments = body.moments.to_value(KGM2)
+    L = moments * body.omega(np.linspace(0, period, 200001) * u.s).to_value(RAD_S)
+    L /= np.linalg.norm(L, axis=1, keepdims=True)
+    circuit = np.sum(np.linalg.norm(np.diff(L, axis=0), axis=1))
+    drawn = np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1))
+    if ax.name != "3d":  # seen down an axis: the drawn units (mas) back to the unit sphere's
+        drawn *= {"deg": math.radians(1), "arcsec": 1e3 * MAS, "mas": MAS}[ax.get_ylabel().split("(")[1][:-1]]
+    assert drawn == pytest.approx(circuit, rel=1e-3)
+    assert "one period, a closed curve" in ax.get_title()
+
+
+def test_a_polhode_of_three_degrees_reads_in_degrees():
+    # A symmetric body's polhode is a circle at arctan(I1 w_perp / (I3 w3)) = arctan(0.05) = 2.86 deg
+    # from e3; it was drawn as +-10,000 arcsec (degrees only from 3 deg).
+    fig = motion_figure(FreeRotation([1, 1, 2] * KGM2, [0.1, 0, 1] * RAD_S), 20 * u.s)
+    ax, points = _polhode(fig)
+    assert "(deg from $e_3$)" in ax.get_xlabel() and ax.get_ylabel().endswith("(deg)")
+    radius = np.hypot(points[:, 0], points[:, 1])  # each point at its angle from e3
+    assert np.allclose(radius, np.degrees(np.arctan(0.05)), rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "degrees, unit",
+    [
+        (2.0, "deg"),
+        (1.01, "deg"),
+        (0.99, "arcsec"),
+        (1.01 / 3600, "arcsec"),
+        (0.99 / 3600, "mas"),
+        (0.5e-3 / 3600, "µas"),
+    ],
+)
+def test_the_polhode_unit_is_the_largest_its_radius_reaches(degrees, unit):
+    # A symmetric body [1, 1, 2] spun at w3 = 1 with w1 = 2 tan(angle): L is `degrees` from e3.
+    w1 = 2 * math.tan(math.radians(degrees))
+    fig = motion_figure(FreeRotation([1, 1, 2] * KGM2, [w1, 0, 1] * RAD_S), 20 * u.s)
+    ax, _ = _polhode(fig)
+    assert ax.get_ylabel() == f"L along $e_2$ ({unit})"
+    fig.canvas.draw()
+    assert ax.xaxis.get_offset_text().get_text() == ax.yaxis.get_offset_text().get_text() == ""
+
+
+def test_the_polhode_of_a_long_separatrix_is_resolved():
+    # The flip of a separatrix lasts seconds; over 1e5 s it was drawn from two samples (a chord).
+    body = FreeRotation([2, 5, 6] * KGM2, [1, 0.3, -1] * RAD_S)
+    fig = motion_figure(body, 1e5 * u.s)
+    _, points = _polhode(fig)
+    steps = np.degrees(np.arccos(np.clip(np.sum(points[1:] * points[:-1], axis=1), -1, 1)))
+    assert np.max(steps) < 1.0  # every step under a degree on the sphere
+    assert abs(points[-1, 1]) == pytest.approx(1.0, abs=1e-9)  # and it ends on the intermediate axis
+
+
+# -- free: the legends -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "moments, omega, t_end",
+    [
+        ([1, 2, 3], [0.1, 0, 1], None),  # three periods: the last peaks were under the legend
+        ([1, 2, 3], [1e-6, 1, 1e-6], 200),  # flips
+        ([2, 5, 6], [1, 0.3, -1], 20),  # the separatrix
+        ([8.01012e37, 8.01032e37, 8.03652e37], [7.292115e-11, 0, 7.292115e-5], 100 * 365.25 * 86400),
+    ],
+    ids=["wobble", "flips", "separatrix", "earth"],
+)
+def test_no_legend_covers_a_curve(moments, omega, t_end):
+    body = FreeRotation(moments * KGM2, omega * RAD_S)
+    fig = motion_figure(body, (t_end or 3 * body.period.to_value(u.s)) * u.s)
+    fig.canvas.draw()
+    for ax in _time_axes(fig):
+        box = ax.get_legend().get_window_extent()
+        for line in ax.lines:
+            xy = ax.transData.transform(np.column_stack(line.get_data()))
+            inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+            assert not inside.any(), f"{line.get_label()} under the legend of {ax.get_ylabel()}"
+
+
+# -- top: the axis's path --------------------------------------------------------------------------------
+
+
+def _trace(ax):
+    return np.column_stack(ax.lines[2].get_data())  # after the two turning circles
+
+
+def test_a_long_span_of_loops_is_drawn_with_every_loop_resolved():
+    # 4,000 samples over 1,484 nutation periods (2.7 a period): no loop could be seen.
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=30 * u.deg, phidot0=-0.3 * RAD_S, omega3=10 * RAD_S)
+    period = top.nutation_period.to_value(u.s)
+    fig = axis_locus_figure(top, 2000 * u.s)
+    ax = fig.axes[0]
+    xy = _trace(ax)
+    assert xy.shape[0] <= 40001  # bounded
+    assert f"first 200 of {2000 / period:,.0f} nutation periods drawn" in ax.get_title()
+    assert (xy.shape[0] - 1) / 200 >= 200  # 200 samples a nutation period
+    # The path drawn ends where the axis is after 200 nutation periods (the model, at that time) ...
+    end = top.to_dataset(t=[200 * period] * u.s).symmetry_axis.values[0, :2]
+    assert np.max(np.abs(xy[-1] - end)) < 1e-9
+    # ... and no step of it jumps across the band between the turning circles.
+    band = np.sin(top.model.theta_max) - np.sin(top.model.theta_min)
+    assert np.max(np.linalg.norm(np.diff(xy, axis=0), axis=1)) < 0.05 * band
+
+
+def test_a_short_span_is_drawn_whole_at_the_same_density():
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, phidot0=-0.3 * RAD_S, omega3=10 * RAD_S)
+    t_end = 20 * u.s
+    fig = axis_locus_figure(top, t_end)
+    ax = fig.axes[0]
+    xy = _trace(ax)
+    periods = (t_end / top.nutation_period).to_value(u.one)
+    assert (xy.shape[0] - 1) / periods >= 200 and "\n" not in ax.get_title()  # all of it, no note
+    end = top.to_dataset(t=[20] * u.s).symmetry_axis.values[0, :2]
+    assert np.max(np.abs(xy[-1] - end)) < 1e-9
+
+
+def test_regular_precession_is_drawn_once_round():
+    base = dict(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=40 * u.deg, omega3=10 * RAD_S)
+    slow, _ = HeavyTop(**base).regular_precession_rates()
+    top = HeavyTop(**base, phidot0=slow)
+    assert top.nutation == "regular"
+    fig = axis_locus_figure(top, 1e4 * u.s)
+    xy = _trace(fig.axes[0])
+    assert np.max(np.abs(xy[0] - xy[-1])) < 1e-9  # closed: one turn (the span holds 329)
+    assert np.allclose(np.hypot(xy[:, 0], xy[:, 1]), np.sin(np.radians(40)), rtol=1e-9)
+    assert "one turn drawn" in fig.axes[0].get_title()
+
+
+def test_a_nearly_sleeping_top_reads_in_mas():
+    top = _near_sleeping()
+    fig = axis_locus_figure(top, 10 * top.nutation_period)
+    ax = fig.axes[0]
+    assert _offsets(fig) == []  # a 1e-6 multiplier sat on the title
+    assert "mas from the vertical" in ax.get_xlabel() and ax.get_ylabel() == "y (horizontal, mas)"
+    # theta from 1e-6 rad = 206.3 mas to theta_max, with four digits (it read 5.73e-05 to 6.251e-05 deg).
+    low, high = top.model.theta_min / MAS, top.model.theta_max / MAS
+    assert f"theta from {low:.4g} to {high:.4g} mas" in ax.get_title() and f"{low:.4g}" == "206.3"
+    radius = np.hypot(*_trace(ax).T)  # each point at its angle from the vertical, in mas
+    assert np.max(radius) == pytest.approx(high, rel=1e-3) and np.min(radius) == pytest.approx(low, rel=1e-3)
+
+
+def test_a_nearly_sleeping_top_s_cubic_and_potential_read_without_offsets():
+    top = _near_sleeping()
+    fig = cubic_figure(top)
+    assert _offsets(fig) == []  # the enlarged u axis read '1e-13+10e-1'
+    whole, near = fig.axes
+    assert near.get_xlabel() == "u - u2 ($10^{-15}$)"
+    m = top.model
+    assert whole.get_title().startswith(f"u1 = 1 - {m.x1:.4g}, u2 = 1 - {m.x2:.4g}")  # not 1.000000 twice
+    roots = near.lines[1].get_xdata()  # u1 - u2 and 0, in units of 1e-15
+    assert roots[0] * 1e-15 == pytest.approx(-(m.x1 - m.x2), rel=1e-12) and roots[1] == 0
+    potential = effective_potential_figure(top)
+    low, high = m.theta_min / MAS, m.theta_max / MAS
+    assert potential.axes[0].get_title() == f"Effective potential; turning angles {low:.2f} and {high:.2f} mas"
+
+
+def test_an_ordinary_top_s_figures_keep_their_units():
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
+    locus = axis_locus_figure(top, 10 * top.nutation_period)
+    assert locus.axes[0].get_xlabel() == "x (horizontal)" and " deg, 0 to " in locus.axes[0].get_title()
+    cubic = cubic_figure(top)
+    assert cubic.axes[1].get_xlabel() == "u = cos(theta)"
+    for fig in (locus, cubic, effective_potential_figure(top)):
+        assert _offsets(fig) == []
