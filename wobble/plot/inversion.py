@@ -91,12 +91,12 @@ def corner_figure(result):
 
 
 def _power_of_ten(values) -> int:
-    """The power of ten a parameter is drawn in: that of its median magnitude outside 1e-3 to 1e4, else 0."""
+    """The power of ten a parameter is drawn in (:func:`wobble.plot._style.power_of_ten` of its median
+    magnitude, as the other figures choose theirs)."""
+    from wobble.plot._style import power_of_ten
+
     finite = np.abs(values[np.isfinite(values)])
-    if not finite.size or np.median(finite) == 0:
-        return 0
-    k = int(np.floor(np.log10(np.median(finite))))
-    return k if not -3 <= k < 4 else 0
+    return power_of_ten(float(np.median(finite))) if finite.size else 0
 
 
 def _label(p, power: int) -> str:
