@@ -1,0 +1,164 @@
+"""The scene figure (wobble run --plot): what its panels draw, checked against the Dataset and the physics.
+
+Sampling: a panel whose samples cannot resolve the fastest motion its quantities can carry is drawn
+with markers and a note, never as lines through an alias; the rates come from closed forms here (the
+Euler frequency (C - A)/A omega_3 of a symmetric body, a spin), never from the figure's own output.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import xarray as xr
+
+import wobble
+from wobble.io.scene_file import example_scene_path
+from wobble.plot.scene import scene_figure
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def _shipped(name: str, **time) -> dict:
+    """A shipped scene's mapping, with its [time] table replaced when ``time`` is given."""
+    with open(example_scene_path(name), "rb") as fh:
+        scene = tomllib.load(fh)
+    if time:
+        scene["time"] = time
+    return scene
+
+
+def _panels(fig) -> dict:
+    """Title -> axes of each panel."""
+    return {ax.get_title(): ax for ax in fig.axes if ax.get_title()}
+
+
+def _panel(fig, start: str):
+    found = [ax for title, ax in _panels(fig).items() if title.startswith(start)]
+    assert len(found) == 1, f"one panel titled {start!r}...: {list(_panels(fig))}"
+    return found[0]
+
+
+def _notes(ax) -> list[str]:
+    return [t.get_text() for t in ax.texts if "not resolved" in t.get_text()]
+
+
+def _curves(ax) -> list:
+    """The lines that draw data (not the legend-only entries)."""
+    return [line for line in ax.get_lines() if np.size(line.get_xdata()) > 0]
+
+
+def _as_lines(ax) -> bool:
+    curves = _curves(ax)
+    assert curves
+    return all(line.get_linestyle() not in ("None", "none", " ", "") for line in curves)
+
+
+def _as_markers(ax) -> bool:
+    curves = _curves(ax)
+    assert curves
+    return all(
+        line.get_linestyle() in ("None", "none", " ", "") and line.get_marker() not in (None, "None", "", " ")
+        for line in curves
+    )
+
+
+# --------------------------------------------------------------------------
+# Sampling: no line through an alias
+# --------------------------------------------------------------------------
+def _symmetric_wobble(gap: float, samples: int) -> dict:
+    """A free symmetric body, A = B = 1, C = 2 kg m2, omega_3 = 1 rad/s: omega_1, omega_2 turn in the body
+    at the Euler frequency (C - A)/A omega_3 = 1 rad/s (Landau & Lifshitz, Mechanics, sec. 33)."""
+    return {
+        "schema": "wobble-scene/1",
+        "accuracy": 1e-10,
+        "outputs": ["omega"],
+        "body": {"moments": {"value": [1.0, 1.0, 2.0], "unit": "kg m2"}},
+        "initial": {"omega": {"value": [0.1, 0.0, 1.0], "unit": "rad/s"}},
+        "time": {"stop": f"{gap * (samples - 1)} s", "samples": samples},
+    }
+
+
+def test_a_free_wobble_sampled_too_sparsely_is_drawn_with_markers_and_a_note():
+    rate = (2.0 - 1.0) / 1.0 * 1.0  # (C - A)/A omega_3, rad/s
+    # 6 s apart, 6 rad a sample: the samples are those of a wave turning -0.28 rad a sample, a
+    # smooth 22 s alias of the 6.28 s motion.
+    sparse = scene_figure(wobble.run(_symmetric_wobble(6.0, 11)))
+    ax = _panel(sparse, "angular velocity")
+    assert _as_markers(ax)
+    (text,) = _notes(ax)
+    assert text.startswith("samples 6 s apart") and f"~{2 * math.pi / rate:.3g} s" in text
+    # Four samples a period is where lines begin: 1.4 rad a sample draws lines, 1.7 rad markers.
+    assert rate * 1.4 < math.pi / 2 < rate * 1.7
+    dense = _panel(scene_figure(wobble.run(_symmetric_wobble(1.4, 51))), "angular velocity")
+    assert _as_lines(dense) and _notes(dense) == []
+    coarse = _panel(scene_figure(wobble.run(_symmetric_wobble(1.7, 51))), "angular velocity")
+    assert _as_markers(coarse) and len(_notes(coarse)) == 1
+
+
+def _spinning(times, spin: float) -> xr.Dataset:
+    """A hand-made Dataset (no record of its body): omega_1, omega_2 turning at the spin, as a gyroscope's."""
+    t = np.asarray(times, dtype=float)
+    omega = np.stack([0.1 * np.cos(spin * t), 0.1 * np.sin(spin * t), np.full(t.size, spin)], axis=-1)
+    return xr.Dataset(
+        {"omega": (("time", "axis"), omega, {"units": "rad s-1"})}, coords={"time": ("time", t, {"units": "s"})}
+    )
+
+
+def test_a_dataset_without_its_body_is_checked_against_twice_its_spin():
+    # Without the body the figure cannot rule torques out: a torque from a field fixed in space turns
+    # at the spin as the body sees it (quadratic fields at twice it), so the rate is 2 |omega|.
+    spin = 10.0
+    rate = 2 * math.hypot(spin, 0.1)
+    fine = _panel(scene_figure(_spinning(np.arange(0, 10, 0.05), spin)), "angular velocity")
+    assert 0.05 * rate < math.pi / 2 and _as_lines(fine) and _notes(fine) == []
+    coarse = _panel(scene_figure(_spinning(np.arange(0, 10, 0.2), spin)), "angular velocity")
+    assert _as_markers(coarse)
+    (text,) = _notes(coarse)
+    assert text.startswith("samples 0.2 s apart") and f"~{2 * math.pi / rate:.3g} s" in text
+
+
+def test_thinning_a_long_file_is_checked_at_the_spacing_drawn():
+    # 100,001 samples 0.05 s apart resolve the spin; the figure draws one in three (at most 50,000
+    # points), 0.15 s apart, which does not: it says so instead of drawing the alias.
+    spin = 10.0
+    fig = scene_figure(_spinning(np.arange(100_001) * 0.05, spin))
+    ax = _panel(fig, "angular velocity")
+    assert _as_markers(ax)
+    (text,) = _notes(ax)
+    assert text.startswith("samples 0.15 s apart (one in 3 drawn)")
+
+
+def test_the_gyroscope_sampled_as_it_was_says_its_omega_panel_is_not_resolved():
+    # 101 samples over 1 s drew a smooth 4.5 Hz wave; omega_1, omega_2 turn at the spin, ~600 rad/s.
+    scene = _shipped("gyroscope", stop="1 s", samples=101)
+    phi_dot, theta, psi_dot = 1.4553229624741815, math.radians(80.0), 599.7472858196495
+    spin = math.hypot(psi_dot + phi_dot * math.cos(theta), phi_dot * math.sin(theta))  # |omega|
+    fig = scene_figure(wobble.run(scene))
+    omega = _panel(fig, "angular velocity")
+    assert _as_markers(omega)
+    (text,) = _notes(omega)
+    assert text.startswith("samples 0.01 s apart") and f"~{2 * math.pi / (2 * spin):.3g} s" in text
+    # The axis turns at 1.46 rad/s: its panels are resolved (the torque of a symmetric top depends on
+    # its attitude through its axis only, so its energy too).
+    for title in ("energy", "angles"):
+        ax = _panel(fig, title)
+        assert _as_lines(ax) and _notes(ax) == [], title
+
+
+def test_the_satellite_sampled_as_it_was_says_no_panel_is_resolved():
+    # 49 samples over an orbit, 118 s apart: omega_1 turns in 19.7 s, the energy the gravity gradient
+    # trades (B != A) at twice the spin, period pi s.
+    fig = scene_figure(wobble.run(_shipped("satellite_gravity_gradient", stop="5677 s", samples=49)))
+    for title in ("angular velocity", "angular momentum", "energy"):
+        ax = _panel(fig, title)
+        assert _as_markers(ax), title
+        (text,) = _notes(ax)
+        assert text.startswith("samples 118 s apart") and "~3.14 s" in text
