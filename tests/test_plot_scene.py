@@ -19,6 +19,8 @@ import wobble
 from wobble.io.scene_file import example_scene_path
 from wobble.plot.scene import scene_figure
 
+ARCSEC = math.pi / 648_000
+
 
 @pytest.fixture(autouse=True)
 def _close_figures():
@@ -148,7 +150,7 @@ def test_the_gyroscope_sampled_as_it_was_says_its_omega_panel_is_not_resolved():
     assert text.startswith("samples 0.01 s apart") and f"~{2 * math.pi / (2 * spin):.3g} s" in text
     # The axis turns at 1.46 rad/s: its panels are resolved (the torque of a symmetric top depends on
     # its attitude through its axis only, so its energy too).
-    for title in ("energy", "angles"):
+    for title in ("energy", "figure axis", "tilt"):
         ax = _panel(fig, title)
         assert _as_lines(ax) and _notes(ax) == [], title
 
@@ -162,3 +164,64 @@ def test_the_satellite_sampled_as_it_was_says_no_panel_is_resolved():
         assert _as_markers(ax), title
         (text,) = _notes(ax)
         assert text.startswith("samples 118 s apart") and "~3.14 s" in text
+
+
+# --------------------------------------------------------------------------
+# The figure axis: precession and tilt, in the unit the panel names
+# --------------------------------------------------------------------------
+_UNITS = {"deg": math.pi / 180, "arcsec": ARCSEC, "mas": ARCSEC / 1000}
+
+
+def _offset_text(fig, ax) -> str:
+    fig.canvas.draw()
+    return ax.yaxis.get_offset_text().get_text()
+
+
+def test_the_axis_panels_draw_the_precession_and_nutation_of_earth_in_arcsec():
+    ds = wobble.run("earth_precession")
+    fig = scene_figure(ds)
+    e3 = ds["axis_direction"].values
+    # The axis's azimuth about the ecliptic pole (inertial z) from its start, by hand, in arcsec.
+    azimuth = np.unwrap(np.arctan2(e3[:, 1], e3[:, 0]))
+    axis = _panel(fig, "figure axis")
+    assert axis.get_ylabel() == "arcsec" and _notes(axis) == []
+    (line,) = _curves(axis)
+    np.testing.assert_allclose(line.get_ydata(), (azimuth - azimuth[0]) / ARCSEC, rtol=0, atol=1e-9)
+    # 20 years at the model's analytic rate, -5040.038 arcsec per century (the scene's description),
+    # within the nutation in longitude (17.2 arcsec amplitude).
+    assert abs(line.get_ydata()[-1] - (-5040.038 * 20 / 100)) < 20
+    # The tilt from the ecliptic pole: the obliquity, 84381.406 arcsec at the start, nutating.
+    tilt = _panel(fig, "tilt")
+    assert tilt.get_ylabel() == "arcsec" and _offset_text(fig, tilt) == ""
+    (line,) = _curves(tilt)
+    np.testing.assert_allclose(line.get_ydata(), np.arccos(e3[:, 2]) / ARCSEC, rtol=0, atol=1e-6)
+    assert line.get_ydata()[0] == pytest.approx(84381.406, abs=1e-6)
+    assert 15 < np.ptp(line.get_ydata()) < 25  # 2 x 9.2 arcsec of the 18.6-year term, and the short terms
+
+
+def test_the_gyroscope_s_axis_panel_draws_its_steady_precession_in_degrees():
+    ds = wobble.run(_shipped("gyroscope", stop="1 s", samples=201))
+    fig = scene_figure(ds)
+    axis = _panel(fig, "figure axis")
+    assert axis.get_ylabel() == "deg"
+    (line,) = _curves(axis)
+    e3 = ds["axis_direction"].values
+    azimuth = np.unwrap(np.arctan2(e3[:, 1], e3[:, 0]))
+    np.testing.assert_allclose(line.get_ydata(), np.degrees(azimuth - azimuth[0]), rtol=0, atol=1e-9)
+    # Started at the steady precession rate phi_dot = 1.4553 rad/s: the azimuth is phi_dot t.
+    t = ds["time"].values
+    np.testing.assert_allclose(line.get_ydata(), np.degrees(1.4553229624741815 * t), rtol=0, atol=1e-6)
+    tilt = _panel(fig, "tilt")
+    assert tilt.get_ylabel() == "deg" and _offset_text(fig, tilt) == ""
+    lo, hi = tilt.get_ylim()
+    assert lo < 80 < hi and hi - lo > 1  # a constant 80 deg, not its rounding spelled out
+
+
+def test_a_wobble_angle_of_a_fifth_of_an_arcsec_is_drawn_in_mas_without_offset():
+    ds = wobble.run(_shipped("earth_free_wobble", stop="400 d", step="1 d"))
+    fig = scene_figure(ds)
+    ax = _panel(fig, "wobble angle")
+    assert ax.get_ylabel() == "mas" and _offset_text(fig, ax) == ""
+    (line,) = _curves(ax)
+    np.testing.assert_allclose(line.get_ydata(), ds["wobble_angle"].values / _UNITS["mas"], rtol=1e-12)
+    assert line.get_ydata()[0] == pytest.approx(200.0, rel=1e-9)  # the scene's 0.2 arcsec

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 
 import matplotlib.pyplot as plt
@@ -14,22 +15,37 @@ from wobble.plot._style import time_axis
 
 __all__ = ["scene_figure"]
 
-# Panels in the order they are drawn (at most four), with the variables each shows.
+# Panels in the order they are drawn, with the variables each shows.
 _PANELS = (
     ("omega", "angular velocity, body frame"),
     ("angular_momentum", "angular momentum, inertial frame"),
     ("energy", "energy, relative change from the start"),
-    ("angles", "angles"),
+    ("axis", "figure axis (body axis 3): precession about the inertial z axis"),
+    ("tilt", "tilt: body axis 3 from the inertial z axis"),
+    ("wobble_angle", "wobble angle: omega from body axis 3"),
 )
+_WANTED = {
+    "omega": ("omega",),
+    "angular_momentum": ("angular_momentum",),
+    "energy": ("kinetic_energy", "total_energy"),
+    "axis": ("axis_direction",),
+    "tilt": ("tilt", "axis_direction"),
+    "wobble_angle": ("wobble_angle",),
+}
 # matplotlib's path simplification merges segments finer than a pixel and keeps their extremes, so
 # tens of thousands of points draw as fast as thousands and look like all of them; beyond this the
 # figure draws every n-th sample (and checks the sampling at that spacing).
 _MAX_POINTS = 50_000
 _MAX_MEMBERS = 20
+# Angle units, largest first (rad each).
+_ANGLE_UNITS = (("deg", math.pi / 180), ("arcsec", math.pi / 648_000), ("mas", math.pi / 648_000_000))
+# The axis's azimuth (precession angle) means little within this of the inertial z axis: there the
+# figure draws the axis's offset from z instead.
+_NEAR_POLE = math.radians(1.0)
 
 
 def scene_figure(source, *, path=None, overwrite: bool = False):
-    """Every output of a scene run against time: omega, L, energy change, tilt/wobble angles.
+    """Every output of a scene run against time: omega, L, energy change, figure axis, tilt, wobble angle.
 
     A panel whose samples are too far apart for the fastest motion its quantities can carry is drawn
     with markers alone and says so ("samples 118 s apart: motion with periods down to ~3.14 s not
@@ -43,6 +59,9 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
     axis; twice the body's rotation rate ``|omega|`` for what a torque from a field fixed in space
     drives (the field turns at ``|omega|`` as the body sees it, and tides and gravity gradients are
     quadratic in it). Details and limits: :mod:`wobble.plot._sampling`.
+
+    Angles are drawn in deg, arcsec or mas, whichever their range (or, for a constant, their size)
+    reads in, as plain numbers.
 
     Parameters
     ----------
@@ -84,17 +103,15 @@ def _draw(ds, every: int = 1):
     t = np.asarray(ds["time"].values, dtype=float)
     t = t - t[0]
     scale, unit = time_axis(t[-1] if t.size else 1.0)
-    panels = [p for p in _PANELS if _has(ds, p[0])]
+    panels = [(kind, title, None) for kind, title in _PANELS if _has(ds, kind)]
     rates = panel_rates(ds)
-    known = [rates[k] for k in ("tilt", "wobble_angle") if k in ds and rates[k] is not None]
-    rates["angles"] = max(known) if known else None
     gap = largest_gap(t)
     fig, axes = plt.subplots(
         len(panels) or 1, 1, figsize=(7.5, 2.2 * max(len(panels), 1) + 0.6), sharex=True, squeeze=False
     )
-    for ax, (kind, title) in zip(axes[:, 0], panels):
+    for ax, (kind, title, part) in zip(axes[:, 0], panels):
         lines = resolved(rates[kind], gap)
-        _PANEL_DRAW[kind](ax, ds, t / scale, lines)
+        title = _PANEL_DRAW[kind](ax, ds, t / scale, lines, unit, part) or title
         ax.set_title(title, fontsize=9)
         if not lines:
             _note(ax, note(rates[kind], gap, every))
@@ -121,18 +138,16 @@ def _note(ax, text: str) -> None:
 
 
 def _has(ds, kind: str) -> bool:
-    wanted = {
-        "omega": ("omega",),
-        "angular_momentum": ("angular_momentum",),
-        "energy": ("kinetic_energy", "total_energy"),
-        "angles": ("tilt", "wobble_angle"),
-    }[kind]
-    return any(name in ds for name in wanted)
+    return any(name in ds for name in _WANTED[kind])
 
 
 def _look(lines: bool) -> dict:
     """Lines, or markers alone when the samples are too sparse for lines."""
     return {"ls": "-"} if lines else {"ls": "none", "marker": ".", "ms": 3}
+
+
+def _legend(ax) -> None:
+    ax.legend(loc="upper right", fontsize=8)
 
 
 def _components(ax, ds, t, name: str, labels, lines: bool) -> None:
@@ -158,15 +173,15 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> None:
     ax.legend(loc="upper right", fontsize=8)
 
 
-def _omega(ax, ds, t, lines) -> None:
+def _omega(ax, ds, t, lines, unit, part=None) -> None:
     _components(ax, ds, t, "omega", [f"$\\omega_{a}$" for a in ("1", "2", "3")], lines)
 
 
-def _momentum(ax, ds, t, lines) -> None:
+def _momentum(ax, ds, t, lines, unit, part=None) -> None:
     _components(ax, ds, t, "angular_momentum", ["$L_X$", "$L_Y$", "$L_Z$"], lines)
 
 
-def _energy(ax, ds, t, lines) -> None:
+def _energy(ax, ds, t, lines, unit, part=None) -> None:
     # Relative change: members of an ensemble differ in energy by orders of magnitude.
     for k, name in enumerate(("kinetic_energy", "total_energy")):
         if name in ds:
@@ -184,19 +199,107 @@ def _energy(ax, ds, t, lines) -> None:
     ax.legend(loc="upper right", fontsize=8)
 
 
-def _angles(ax, ds, t, lines) -> None:
-    for k, name in enumerate(("tilt", "wobble_angle")):
-        if name in ds:
+def _angle_unit(radians) -> tuple[float, str]:
+    """(rad per unit, name): deg, arcsec or mas, the largest in which the angles' range is at least 1.
+
+    A constant (a range within rounding of its size) goes by its size instead; a unit that would need
+    more than six digits before the point gives way to the next larger one.
+    """
+    values = np.asarray(radians, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return _ANGLE_UNITS[0][1], _ANGLE_UNITS[0][0]
+    top = float(np.max(np.abs(values)))
+    spread = float(np.ptp(values))
+    size = spread if spread > 1e-9 * top else top
+    i = next((i for i, (_, rad) in enumerate(_ANGLE_UNITS) if size >= rad), len(_ANGLE_UNITS) - 1)
+    while i > 0 and top / _ANGLE_UNITS[i][1] >= 1e6:
+        i -= 1
+    name, rad = _ANGLE_UNITS[i]
+    return rad, name
+
+
+def _angle_curves(ax, ds, t, curves, lines: bool, label: str) -> tuple[float, str]:
+    """Draw angle series (time, members) in one unit; each member its colour."""
+    rad, name = _angle_unit(np.concatenate([c.ravel() for c in curves]))
+    members = curves[0].shape[1]
+    for values in curves:
+        for j in range(members):
             ax.plot(
                 t,
-                np.degrees(series(ds[name])[:, :, 0]),
-                color=f"C{k}",
+                values[:, j] / rad,
+                color=f"C{j % 10}",
                 lw=1.0,
-                label=name.replace("_", " "),
+                label=(label if members == 1 else f"member {_member_label(ds, j)}"),
                 **_look(lines),
             )
-    ax.set_ylabel("deg")
-    ax.legend(loc="upper right", fontsize=8)
+    ax.set_ylabel(name)
+    # Plain numbers in the unit chosen: no offset ("+8.438e4") or multiplier ("1e-5") to decode.
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+    shown = np.concatenate([c.ravel() for c in curves]) / rad
+    shown = shown[np.isfinite(shown)]
+    if shown.size and np.ptp(shown) <= 1e-9 * np.max(np.abs(shown)):
+        # Constant to rounding (a steady precession's tilt): a plain axis would spell out the rounding.
+        middle = float(np.mean(shown))
+        ax.set_ylim(middle - max(0.05 * abs(middle), 1.0), middle + max(0.05 * abs(middle), 1.0))
+    return rad, name
 
 
-_PANEL_DRAW = {"omega": _omega, "angular_momentum": _momentum, "energy": _energy, "angles": _angles}
+def _member_label(ds, j: int):
+    return ds["member"].values[j] if "member" in ds.coords else j
+
+
+def _tilt(ax, ds, t, lines, unit, part=None) -> None:
+    if "tilt" in ds:
+        _angle_curves(ax, ds, t, [series(ds["tilt"])[:, :, 0]], lines, "tilt")
+    else:
+        e3 = series(ds["axis_direction"])
+        tilt = np.arccos(np.clip(e3[..., 2], -1.0, 1.0))
+        _angle_curves(ax, ds, t, [tilt], lines, "tilt (from the axis direction)")
+    _legend(ax)
+
+
+def _wobble(ax, ds, t, lines, unit, part=None) -> None:
+    _angle_curves(ax, ds, t, [series(ds["wobble_angle"])[:, :, 0]], lines, "wobble angle")
+    _legend(ax)
+
+
+def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
+    """The figure axis's precession angle about inertial z from its start, or near z its offset from z."""
+    e3 = series(ds["axis_direction"])
+    across = np.hypot(e3[..., 0], e3[..., 1])
+    if np.min(across) < math.sin(_NEAR_POLE):
+        curves = [np.arcsin(np.clip(e3[..., i], -1.0, 1.0)) for i in (0, 1)]
+        rad, name = _angle_unit(np.concatenate([c.ravel() for c in curves]))
+        for i, values in enumerate(curves):
+            for j in range(values.shape[1]):
+                ax.plot(
+                    t,
+                    values[:, j] / rad,
+                    color=f"C{i}" if values.shape[1] == 1 else f"C{j % 10}",
+                    lw=1.0,
+                    label=f"toward inertial {'xy'[i]}" if j == 0 else None,
+                    **_look(lines),
+                )
+        ax.set_ylabel(name)
+        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+        _legend(ax)
+        return "figure axis (body axis 3): offset from the inertial z axis"
+    azimuth = np.unwrap(np.arctan2(e3[..., 1], e3[..., 0]), axis=0)
+    precession = azimuth - azimuth[:1]
+    rad, name = _angle_curves(ax, ds, t, [precession], lines, "precession angle from the start")
+    if precession.shape[1] == 1 and t.size > 1:
+        rate = np.polyfit(t, precession[:, 0] / rad, 1)[0]
+        ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {name}/{unit}")
+    _legend(ax)
+    return None
+
+
+_PANEL_DRAW = {
+    "omega": _omega,
+    "angular_momentum": _momentum,
+    "energy": _energy,
+    "axis": _axis,
+    "tilt": _tilt,
+    "wobble_angle": _wobble,
+}
