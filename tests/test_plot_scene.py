@@ -225,3 +225,33 @@ def test_a_wobble_angle_of_a_fifth_of_an_arcsec_is_drawn_in_mas_without_offset()
     (line,) = _curves(ax)
     np.testing.assert_allclose(line.get_ydata(), ds["wobble_angle"].values / _UNITS["mas"], rtol=1e-12)
     assert line.get_ydata()[0] == pytest.approx(200.0, rel=1e-9)  # the scene's 0.2 arcsec
+
+
+# --------------------------------------------------------------------------
+# Ensembles and legends
+# --------------------------------------------------------------------------
+def test_an_ensemble_s_members_are_told_apart_by_colour_one_panel_a_component():
+    ds = wobble.run("tumbling_asteroid")
+    members = ds.sizes["member"]
+    fig = scene_figure(ds)
+    for k, name in enumerate(("omega_1", "omega_2", "omega_3")):
+        ax = _panel(fig, f"angular velocity, body frame: $\\{name}$")
+        curves = _curves(ax)
+        assert len(curves) == members
+        assert len({line.get_color() for line in curves}) == members
+        for j, line in enumerate(curves):
+            np.testing.assert_array_equal(line.get_ydata(), ds["omega"].values[:, j, k])
+        labels = [text.get_text() for text in ax.get_legend().get_texts()]
+        assert labels == [f"member {j}" for j in range(members)]
+    energy = _panel(fig, "energy")
+    assert len({line.get_color() for line in _curves(energy)}) == members
+
+
+@pytest.mark.parametrize("name", ["top_cusps", "top_loops"])
+def test_legends_sit_beside_the_panels_not_on_the_curves(name):
+    fig = scene_figure(wobble.run(name))
+    fig.canvas.draw()
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        assert legend is not None, ax.get_title()
+        assert legend.get_window_extent().x0 >= ax.get_window_extent().x1, ax.get_title()

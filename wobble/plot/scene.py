@@ -37,6 +37,15 @@ _WANTED = {
 # figure draws every n-th sample (and checks the sampling at that spacing).
 _MAX_POINTS = 50_000
 _MAX_MEMBERS = 20
+# The components of the vector panels.
+_VECTORS = {
+    "omega": [f"$\\omega_{a}$" for a in ("1", "2", "3")],
+    "angular_momentum": ["$L_X$", "$L_Y$", "$L_Z$"],
+}
+# An ensemble's members by colour, its energies by line style, or by marker when the samples are
+# too sparse for lines.
+_LINESTYLES = ("-", "--", ":")
+_MARKERS = (".", "x", "+")
 # Angle units, largest first (rad each).
 _ANGLE_UNITS = (("deg", math.pi / 180), ("arcsec", math.pi / 648_000), ("mas", math.pi / 648_000_000))
 # The axis's azimuth (precession angle) means little within this of the inertial z axis: there the
@@ -61,7 +70,8 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
     quadratic in it). Details and limits: :mod:`wobble.plot._sampling`.
 
     Angles are drawn in deg, arcsec or mas, whichever their range (or, for a constant, their size)
-    reads in, as plain numbers.
+    reads in, as plain numbers; an ensemble's vectors one component a panel, its members by colour,
+    and every legend beside its panel.
 
     Parameters
     ----------
@@ -103,11 +113,11 @@ def _draw(ds, every: int = 1):
     t = np.asarray(ds["time"].values, dtype=float)
     t = t - t[0]
     scale, unit = time_axis(t[-1] if t.size else 1.0)
-    panels = [(kind, title, None) for kind, title in _PANELS if _has(ds, kind)]
+    panels = _layout(ds)
     rates = panel_rates(ds)
     gap = largest_gap(t)
     fig, axes = plt.subplots(
-        len(panels) or 1, 1, figsize=(7.5, 2.2 * max(len(panels), 1) + 0.6), sharex=True, squeeze=False
+        len(panels) or 1, 1, figsize=(9.0, 2.2 * max(len(panels), 1) + 0.6), sharex=True, squeeze=False
     )
     for ax, (kind, title, part) in zip(axes[:, 0], panels):
         lines = resolved(rates[kind], gap)
@@ -119,6 +129,22 @@ def _draw(ds, every: int = 1):
     fig.suptitle(f"{ds.attrs.get('title', 'scene')}: model {ds.attrs.get('model', '?')}", fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def _layout(ds) -> list:
+    """(kind, title, component or None) of each panel; an ensemble's vectors one component a panel."""
+    panels = []
+    for kind, title in _PANELS:
+        if not _has(ds, kind):
+            continue
+        if kind in _VECTORS and "member" in ds[kind].dims and ds.sizes["member"] > 1:
+            # Members by colour in one panel a component: 4 members x 3 components in one panel
+            # were 12 curves in 3 colours.
+            labels = _VECTORS[kind]
+            panels += [(kind, f"{title}: {labels[k]}", k) for k in range(len(labels))]
+        else:
+            panels.append((kind, title, None))
+    return panels
 
 
 def _note(ax, text: str) -> None:
@@ -141,62 +167,87 @@ def _has(ds, kind: str) -> bool:
     return any(name in ds for name in _WANTED[kind])
 
 
-def _look(lines: bool) -> dict:
-    """Lines, or markers alone when the samples are too sparse for lines."""
-    return {"ls": "-"} if lines else {"ls": "none", "marker": ".", "ms": 3}
+def _look(lines: bool, k: int) -> dict:
+    """Line style k, or marker k when the samples are too sparse for lines."""
+    if lines:
+        return {"ls": _LINESTYLES[k % len(_LINESTYLES)]}
+    return {"ls": "none", "marker": _MARKERS[k % len(_MARKERS)], "ms": 3}
 
 
-def _legend(ax) -> None:
-    ax.legend(loc="upper right", fontsize=8)
+def _legend(ax, handles=None) -> None:
+    # Outside the axes, on the right: a legend inside covered the curves of the tops' panels.
+    kw = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0, "fontsize": 8}
+    if handles is None:
+        ax.legend(**kw)
+    else:
+        ax.legend(handles=handles, **kw)
+
+
+def _member_handles(ds, n: int, kinds, lines: bool) -> list:
+    """Legend entries of an ensemble: each member's colour, then each kind's line style (or marker)."""
+    from matplotlib.lines import Line2D
+
+    labels = ds["member"].values if "member" in ds.coords else range(n)
+    handles = [Line2D([], [], color=f"C{j % 10}", label=f"member {labels[j]}") for j in range(n)]
+    return handles + [Line2D([], [], color="0.3", label=name, **_look(lines, k)) for k, name in kinds]
 
 
 def _components(ax, ds, t, name: str, labels, lines: bool) -> None:
-    values = series(ds[name])
-    size = np.max(np.abs(values), axis=(0, 1))
-    for k in range(values.shape[2]):
+    """One body's vector, a colour per component (a component 20 times the others and constant named)."""
+    values = series(ds[name])[:, 0, :]
+    size = np.max(np.abs(values), axis=0)
+    for k in range(values.shape[1]):
         others = np.max(np.delete(size, k)) if size.size > 1 else 0.0
-        if size[k] > 20 * others and np.ptp(values[:, :, k]) < 1e-3 * size[k]:
+        if size[k] > 20 * others and np.ptp(values[:, k]) < 1e-3 * size[k]:
             # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
-            ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, :, k]):.6g} (constant to 1e-3)")
+            ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, k]):.6g} (constant to 1e-3)")
             continue
-        for j in range(values.shape[1]):
-            ax.plot(
-                t,
-                values[:, j, k],
-                color=f"C{k}",
-                lw=0.9 if values.shape[1] > 1 else 1.3,
-                alpha=0.6 if values.shape[1] > 1 else 1.0,
-                label=labels[k] if j == 0 else None,
-                **_look(lines),
-            )
+        ax.plot(t, values[:, k], color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
     ax.set_ylabel(ds[name].attrs.get("units", ""))
-    ax.legend(loc="upper right", fontsize=8)
+    _legend(ax)
+
+
+def _component(ax, ds, t, name: str, k: int, lines: bool) -> None:
+    """Component k of an ensemble's vector, a colour per member."""
+    values = series(ds[name])[:, :, k]
+    for j in range(values.shape[1]):
+        ax.plot(t, values[:, j], color=f"C{j % 10}", lw=1.0, label=f"member {_member_label(ds, j)}", **_look(lines, 0))
+    ax.set_ylabel(ds[name].attrs.get("units", ""))
+    _legend(ax)
 
 
 def _omega(ax, ds, t, lines, unit, part=None) -> None:
-    _components(ax, ds, t, "omega", [f"$\\omega_{a}$" for a in ("1", "2", "3")], lines)
+    if part is None:
+        _components(ax, ds, t, "omega", _VECTORS["omega"], lines)
+    else:
+        _component(ax, ds, t, "omega", part, lines)
 
 
 def _momentum(ax, ds, t, lines, unit, part=None) -> None:
-    _components(ax, ds, t, "angular_momentum", ["$L_X$", "$L_Y$", "$L_Z$"], lines)
+    if part is None:
+        _components(ax, ds, t, "angular_momentum", _VECTORS["angular_momentum"], lines)
+    else:
+        _component(ax, ds, t, "angular_momentum", part, lines)
 
 
 def _energy(ax, ds, t, lines, unit, part=None) -> None:
     # Relative change: members of an ensemble differ in energy by orders of magnitude.
+    kinds = []
+    members = 1
     for k, name in enumerate(("kinetic_energy", "total_energy")):
-        if name in ds:
-            values = series(ds[name])[:, :, 0]
-            scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
-            ax.plot(
-                t,
-                (values - values[:1]) / scale,
-                color=f"C{k}",
-                lw=0.8,
-                label=[name.replace("_", " ")] + [None] * (values.shape[1] - 1),
-                **_look(lines),
-            )
+        if name not in ds:
+            continue
+        values = series(ds[name])[:, :, 0]
+        members = values.shape[1]
+        scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
+        change = (values - values[:1]) / scale
+        label = name.replace("_", " ")
+        kinds.append((k, label))
+        for j in range(members):
+            look = {"color": f"C{k}", **_look(lines, 0)} if members == 1 else {"color": f"C{j % 10}", **_look(lines, k)}
+            ax.plot(t, change[:, j], lw=0.8, label=label if j == 0 else None, **look)
     ax.set_ylabel("relative change")
-    ax.legend(loc="upper right", fontsize=8)
+    _legend(ax, None if members == 1 else _member_handles(ds, members, kinds, lines))
 
 
 def _angle_unit(radians) -> tuple[float, str]:
@@ -231,7 +282,7 @@ def _angle_curves(ax, ds, t, curves, lines: bool, label: str) -> tuple[float, st
                 color=f"C{j % 10}",
                 lw=1.0,
                 label=(label if members == 1 else f"member {_member_label(ds, j)}"),
-                **_look(lines),
+                **_look(lines, 0),
             )
     ax.set_ylabel(name)
     # Plain numbers in the unit chosen: no offset ("+8.438e4") or multiplier ("1e-5") to decode.
@@ -279,7 +330,7 @@ def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
                     color=f"C{i}" if values.shape[1] == 1 else f"C{j % 10}",
                     lw=1.0,
                     label=f"toward inertial {'xy'[i]}" if j == 0 else None,
-                    **_look(lines),
+                    **_look(lines, 0 if values.shape[1] == 1 else i),
                 )
         ax.set_ylabel(name)
         ax.ticklabel_format(axis="y", style="plain", useOffset=False)
