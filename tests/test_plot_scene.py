@@ -16,7 +16,7 @@ import pytest
 import xarray as xr
 
 import wobble
-from wobble.io.scene_file import example_scene_path
+from wobble.io.scene_file import example_scene_path, read_scene
 from wobble.plot.scene import scene_figure
 
 ARCSEC = math.pi / 648_000
@@ -255,3 +255,72 @@ def test_legends_sit_beside_the_panels_not_on_the_curves(name):
         legend = ax.get_legend()
         assert legend is not None, ax.get_title()
         assert legend.get_window_extent().x0 >= ax.get_window_extent().x1, ax.get_title()
+
+
+# --------------------------------------------------------------------------
+# The shipped scenes sample what they show
+# --------------------------------------------------------------------------
+def _spacing(time: dict) -> float:
+    """Sample spacing (s) of a shipped scene's [time] table."""
+    import astropy.units as u
+
+    span = u.Quantity(time["stop"]).to_value(u.s) - u.Quantity(time.get("start", "0 s")).to_value(u.s)
+    if "step" in time:
+        return u.Quantity(time["step"]).to_value(u.s)
+    return span / (time["samples"] - 1)
+
+
+def _euler_omega(initial: dict) -> np.ndarray:
+    """Body-frame omega of z-x-z Euler angles and rates (Goldstein, Poole & Safko 2002, eq. 4.87)."""
+    _, theta, psi = np.radians(initial["euler_angles"]["value"])
+    phi_dot, theta_dot, psi_dot = initial["euler_rates"]["value"]
+    return np.array(
+        [
+            phi_dot * math.sin(theta) * math.sin(psi) + theta_dot * math.cos(psi),
+            phi_dot * math.sin(theta) * math.cos(psi) - theta_dot * math.sin(psi),
+            phi_dot * math.cos(theta) + psi_dot,
+        ]
+    )
+
+
+def _fastest(name: str) -> tuple[float, str]:
+    """The fastest rate (rad/s) a shipped scene's figure draws, from its physics, and what it is."""
+    scene = _shipped(name)
+    initial = scene["initial"]
+    if name == "earth_precession":
+        # The axis's fastest visible term: the Moon's fortnightly nutation, twice its mean motion.
+        import astropy.units as u
+
+        moon = next(t for t in scene["torques"] if t["name"] == "moon")
+        return 2 * u.Quantity(moon["mean_motion"]).to_value(u.rad / u.s), "the fortnightly nutation"
+    if name in ("earth_free_wobble", "mars_free_wobble"):
+        # Euler frequency of the rigid planet sqrt((C - A)(C - B)/(A B)) omega_3; the wobble angle
+        # of a triaxial body varies at twice it.
+        body = read_scene(example_scene_path(name))
+        m = np.sort(np.asarray(body.body.moments).reshape(3))
+        spin = float(np.linalg.norm(body.omega0))  # the catalogued rate
+        return 2 * spin * math.sqrt((m[2] - m[0]) * (m[2] - m[1]) / (m[0] * m[1])), "twice the Euler frequency"
+    omega = _euler_omega(initial) if "euler_angles" in initial else np.asarray(initial["omega"]["value"], float)
+    if initial.get("omega", {}).get("unit") == "deg/h":
+        omega = np.radians(omega) / 3600
+    spin = float(np.max(np.linalg.norm(np.atleast_2d(omega), axis=-1)))
+    if scene.get("torques"):
+        # A field fixed in space turns at the spin as the body sees it; its torque up to quadratically.
+        return 2 * spin, "twice the spin"
+    # Free: omega turns in the body no faster than |omega| (|I_j - I_k| <= I_i in Euler's equations).
+    return spin, "the spin"
+
+
+@pytest.mark.parametrize("name", wobble.example_scenes())
+def test_every_shipped_scene_samples_its_fastest_motion_four_times_a_period(name):
+    rate, what = _fastest(name)
+    gap = _spacing(_shipped(name)["time"])
+    assert rate * gap <= math.pi / 2, f"{name}: {what} {rate:.4g} rad/s, samples {gap:.4g} s apart"
+
+
+def test_no_shipped_scene_figure_needs_a_note():
+    for name in wobble.example_scenes():
+        fig = scene_figure(wobble.run(name))
+        notes = {ax.get_title(): _notes(ax) for ax in fig.axes if _notes(ax)}
+        assert notes == {}, name
+        plt.close(fig)
