@@ -37,6 +37,7 @@ __all__ = [
     "SCHEMA",
     "read_scene",
     "scene_from_mapping",
+    "body_from_mapping",
     "torque_from_mapping",
     "example_scenes",
     "example_scene_path",
@@ -791,6 +792,21 @@ def scene_from_mapping(data, source: str | None = None) -> Scene:
         source=source,
         mapping=to_plain(data),
     )
+
+
+def body_from_mapping(data) -> BodyModel:
+    """The body of a scene's ``body`` table, built as :func:`scene_from_mapping` builds it.
+
+    For readers of a run's record (the ``scene`` attribute of the files ``wobble run`` writes) that
+    need only the body: the whole scene may not rebuild from the record (a torque given as a Python
+    object is recorded by its name only).
+
+    Raises
+    ------
+    wobble.errors.InputError
+        The key at fault.
+    """
+    return _body(_Reader(None), data)[0]
 
 
 def read_scene(path: str | os.PathLike) -> Scene:

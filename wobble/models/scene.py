@@ -616,7 +616,7 @@ class _TopRun(_ModelRun):
 # that makes it, by two orders of magnitude: the DOP853 runs compiled (every built-in torque,
 # Numba installed: wobble.numerics.rigid_dop853), the splitting never does (its exact flow runs
 # in Python floats for one member, NumPy for an ensemble). Counting calls alone took the
-# splitting for satellite_gravity_gradient (92,736 stages at ~57 us: 5.9 s) over the compiled
+# splitting for satellite_gravity_gradient (238,434 stages at ~50 us: 11 s) over the compiled
 # DOP853 (295,000 evaluations at ~0.15 us: 0.05 s). So each path has a measured cost per call,
 # and a plan's cost is its calls times that: predicted seconds of the run and its companion
 # (not the start-up, the pilots or the writing). Measured with scripts/calibrate_chooser.py on

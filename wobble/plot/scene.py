@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 
 import matplotlib.pyplot as plt
@@ -9,29 +10,74 @@ import numpy as np
 
 from wobble.errors import InputError
 
+from wobble.plot._sampling import largest_gap, note, panel_rates, resolved, series
 from wobble.plot._style import time_axis
 
 __all__ = ["scene_figure"]
 
-# Panels in the order they are drawn (at most four), with the variables each shows.
+# Panels in the order they are drawn, with the variables each shows.
 _PANELS = (
     ("omega", "angular velocity, body frame"),
     ("angular_momentum", "angular momentum, inertial frame"),
     ("energy", "energy, relative change from the start"),
-    ("angles", "angles"),
+    ("axis", "figure axis (body axis 3): precession about the inertial z axis"),
+    ("tilt", "tilt: body axis 3 from the inertial z axis"),
+    ("wobble_angle", "wobble angle: omega from body axis 3"),
 )
-_MAX_POINTS = 4000
+_WANTED = {
+    "omega": ("omega",),
+    "angular_momentum": ("angular_momentum",),
+    "energy": ("kinetic_energy", "total_energy"),
+    "axis": ("axis_direction",),
+    "tilt": ("tilt", "axis_direction"),
+    "wobble_angle": ("wobble_angle",),
+}
+# matplotlib's path simplification merges segments finer than a pixel and keeps their extremes, so
+# tens of thousands of points draw as fast as thousands and look like all of them; beyond this the
+# figure draws every n-th sample (and checks the sampling at that spacing).
+_MAX_POINTS = 50_000
 _MAX_MEMBERS = 20
+# The components of the vector panels.
+_VECTORS = {
+    "omega": [f"$\\omega_{a}$" for a in ("1", "2", "3")],
+    "angular_momentum": ["$L_X$", "$L_Y$", "$L_Z$"],
+}
+# An ensemble's members by colour, its energies by line style, or by marker when the samples are
+# too sparse for lines.
+_LINESTYLES = ("-", "--", ":")
+_MARKERS = (".", "x", "+")
+# Angle units, largest first (rad each).
+_ANGLE_UNITS = (("deg", math.pi / 180), ("arcsec", math.pi / 648_000), ("mas", math.pi / 648_000_000))
+# The axis's azimuth (precession angle) means little within this of the inertial z axis: there the
+# figure draws the axis's offset from z instead.
+_NEAR_POLE = math.radians(1.0)
 
 
 def scene_figure(source, *, path=None, overwrite: bool = False):
-    """Every output of a scene run against time: omega, L, energy change, tilt/wobble angles.
+    """Every output of a scene run against time: omega, L, energy change, figure axis, tilt, wobble angle.
+
+    A panel whose samples are too far apart for the fastest motion its quantities can carry is drawn
+    with markers alone and says so ("samples 118 s apart: motion with periods down to ~3.14 s not
+    resolved"), never as lines through an alias. The criterion: lines only where ``Omega dt <= pi/2``
+    (four samples per period or more; at two, Nyquist's limit, the samples are those of a slower
+    motion, and below four a line cuts the peaks by up to 29 %), ``dt`` the largest gap drawn and
+    ``Omega`` bounded from physics at the samples, not from their differences (an alias is as smooth
+    as a resolved motion): for a free body's omega the rate at which it turns in the body on its
+    polhode, from Euler's equations with the body the file records (the Euler frequency
+    (C - A)/A omega_3 of a symmetric body); ``|omega x e3|`` over the axis's excursion for the figure
+    axis; twice the body's rotation rate ``|omega|`` for what a torque from a field fixed in space
+    drives (the field turns at ``|omega|`` as the body sees it, and tides and gravity gradients are
+    quadratic in it). Details and limits: :mod:`wobble.plot._sampling`.
+
+    Angles are drawn in deg, arcsec or mas, whichever their range (or, for a constant, their size)
+    reads in, as plain numbers; an ensemble's vectors one component a panel, its members by colour,
+    and every legend beside its panel.
 
     Parameters
     ----------
     source : path-like or xarray.Dataset
-        The file ``wobble run`` wrote (read lazily, at most 4000 times and 20 members
-        drawn), or a Dataset from :func:`wobble.run`.
+        The file ``wobble run`` wrote (read lazily, at most 50,000 times and 20 members drawn), or a
+        Dataset from :func:`wobble.run`.
     path : path-like, optional
         Save the figure there (atomically); the function then returns the path.
     overwrite : bool
@@ -44,7 +90,7 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
         raise InputError("source", source, "the path of a file wobble run wrote, or a Dataset from wobble.run")
     ds = xr.open_dataset(source, engine="netcdf4", decode_times=False) if own else source
     try:
-        fig = _draw(_thin(ds))
+        fig = _draw(*_thin(ds))
     finally:
         if own:
             ds.close()
@@ -60,98 +106,251 @@ def _thin(ds):
     out = ds.isel(time=slice(None, None, step))
     if "member" in out.dims:
         out = out.isel(member=slice(0, _MAX_MEMBERS))
-    return out.load()
+    return out.load(), step
 
 
-def _series(var) -> np.ndarray:
-    """(time, members, components) whatever the variable's dims."""
-    order = [d for d in ("time", "member") if d in var.dims] + [d for d in var.dims if d not in ("time", "member")]
-    values = np.asarray(var.transpose(*order).values, dtype=float)
-    if "member" not in var.dims:
-        values = values[:, None, ...]
-    return values.reshape(values.shape[0], values.shape[1], -1)
-
-
-def _draw(ds):
+def _draw(ds, every: int = 1):
     t = np.asarray(ds["time"].values, dtype=float)
     t = t - t[0]
     scale, unit = time_axis(t[-1] if t.size else 1.0)
-    panels = [p for p in _PANELS if _has(ds, p[0])]
+    panels = _layout(ds)
+    rates = panel_rates(ds)
+    gap = largest_gap(t)
     fig, axes = plt.subplots(
-        len(panels) or 1, 1, figsize=(7.5, 2.2 * max(len(panels), 1) + 0.6), sharex=True, squeeze=False
+        len(panels) or 1, 1, figsize=(9.0, 2.2 * max(len(panels), 1) + 0.6), sharex=True, squeeze=False
     )
-    for ax, (kind, title) in zip(axes[:, 0], panels):
-        _PANEL_DRAW[kind](ax, ds, t / scale)
+    for ax, (kind, title, part) in zip(axes[:, 0], panels):
+        lines = resolved(rates[kind], gap)
+        title = _PANEL_DRAW[kind](ax, ds, t / scale, lines, unit, part) or title
         ax.set_title(title, fontsize=9)
+        if not lines:
+            _note(ax, note(rates[kind], gap, every))
     axes[-1, 0].set_xlabel(f"time ({unit})")
     fig.suptitle(f"{ds.attrs.get('title', 'scene')}: model {ds.attrs.get('model', '?')}", fontsize=10)
     fig.tight_layout()
     return fig
 
 
-def _has(ds, kind: str) -> bool:
-    wanted = {
-        "omega": ("omega",),
-        "angular_momentum": ("angular_momentum",),
-        "energy": ("kinetic_energy", "total_energy"),
-        "angles": ("tilt", "wobble_angle"),
-    }[kind]
-    return any(name in ds for name in wanted)
-
-
-def _components(ax, ds, t, name: str, labels) -> None:
-    values = _series(ds[name])
-    size = np.max(np.abs(values), axis=(0, 1))
-    for k in range(values.shape[2]):
-        others = np.max(np.delete(size, k)) if size.size > 1 else 0.0
-        if size[k] > 20 * others and np.ptp(values[:, :, k]) < 1e-3 * size[k]:
-            # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
-            ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, :, k]):.6g} (constant to 1e-3)")
+def _layout(ds) -> list:
+    """(kind, title, component or None) of each panel; an ensemble's vectors one component a panel."""
+    panels = []
+    for kind, title in _PANELS:
+        if not _has(ds, kind):
             continue
-        for j in range(values.shape[1]):
-            ax.plot(
-                t,
-                values[:, j, k],
-                color=f"C{k}",
-                lw=0.9 if values.shape[1] > 1 else 1.3,
-                alpha=0.6 if values.shape[1] > 1 else 1.0,
-                label=labels[k] if j == 0 else None,
-            )
+        if kind in _VECTORS and "member" in ds[kind].dims and ds.sizes["member"] > 1:
+            # Members by colour in one panel a component: 4 members x 3 components in one panel
+            # were 12 curves in 3 colours.
+            labels = _VECTORS[kind]
+            panels += [(kind, f"{title}: {labels[k]}", k) for k in range(len(labels))]
+        else:
+            panels.append((kind, title, None))
+    return panels
+
+
+def _note(ax, text: str) -> None:
+    # Above the data: the y range grows by a fifth to make room, so the note covers no marker.
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + 0.2 * (hi - lo))
+    ax.text(
+        0.01,
+        0.97,
+        text,
+        transform=ax.transAxes,
+        fontsize=8,
+        color="C3",
+        va="top",
+        bbox={"facecolor": "white", "edgecolor": "C3", "alpha": 0.9, "boxstyle": "round,pad=0.3"},
+    )
+
+
+def _has(ds, kind: str) -> bool:
+    return any(name in ds for name in _WANTED[kind])
+
+
+def _look(lines: bool, k: int) -> dict:
+    """Line style k, or marker k when the samples are too sparse for lines."""
+    if lines:
+        return {"ls": _LINESTYLES[k % len(_LINESTYLES)]}
+    return {"ls": "none", "marker": _MARKERS[k % len(_MARKERS)], "ms": 3}
+
+
+def _legend(ax, handles=None) -> None:
+    # Outside the axes, on the right: a legend inside covered the curves of the tops' panels.
+    kw = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0, "fontsize": 8}
+    if handles is None:
+        ax.legend(**kw)
+    else:
+        ax.legend(handles=handles, **kw)
+
+
+def _member_handles(ds, n: int, kinds, lines: bool) -> list:
+    """Legend entries of an ensemble: each member's colour, then each kind's line style (or marker)."""
+    from matplotlib.lines import Line2D
+
+    labels = ds["member"].values if "member" in ds.coords else range(n)
+    handles = [Line2D([], [], color=f"C{j % 10}", label=f"member {labels[j]}") for j in range(n)]
+    return handles + [Line2D([], [], color="0.3", label=name, **_look(lines, k)) for k, name in kinds]
+
+
+def _components(ax, ds, t, name: str, labels, lines: bool) -> None:
+    """One body's vector, a colour per component (a component 20 times the others and constant named)."""
+    values = series(ds[name])[:, 0, :]
+    size = np.max(np.abs(values), axis=0)
+    for k in range(values.shape[1]):
+        others = np.max(np.delete(size, k)) if size.size > 1 else 0.0
+        if size[k] > 20 * others and np.ptp(values[:, k]) < 1e-3 * size[k]:
+            # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
+            ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, k]):.6g} (constant to 1e-3)")
+            continue
+        ax.plot(t, values[:, k], color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
     ax.set_ylabel(ds[name].attrs.get("units", ""))
-    ax.legend(loc="upper right", fontsize=8)
+    _legend(ax)
 
 
-def _omega(ax, ds, t) -> None:
-    _components(ax, ds, t, "omega", [f"$\\omega_{a}$" for a in ("1", "2", "3")])
+def _component(ax, ds, t, name: str, k: int, lines: bool) -> None:
+    """Component k of an ensemble's vector, a colour per member."""
+    values = series(ds[name])[:, :, k]
+    for j in range(values.shape[1]):
+        ax.plot(t, values[:, j], color=f"C{j % 10}", lw=1.0, label=f"member {_member_label(ds, j)}", **_look(lines, 0))
+    ax.set_ylabel(ds[name].attrs.get("units", ""))
+    _legend(ax)
 
 
-def _momentum(ax, ds, t) -> None:
-    _components(ax, ds, t, "angular_momentum", ["$L_X$", "$L_Y$", "$L_Z$"])
+def _omega(ax, ds, t, lines, unit, part=None) -> None:
+    if part is None:
+        _components(ax, ds, t, "omega", _VECTORS["omega"], lines)
+    else:
+        _component(ax, ds, t, "omega", part, lines)
 
 
-def _energy(ax, ds, t) -> None:
+def _momentum(ax, ds, t, lines, unit, part=None) -> None:
+    if part is None:
+        _components(ax, ds, t, "angular_momentum", _VECTORS["angular_momentum"], lines)
+    else:
+        _component(ax, ds, t, "angular_momentum", part, lines)
+
+
+def _energy(ax, ds, t, lines, unit, part=None) -> None:
     # Relative change: members of an ensemble differ in energy by orders of magnitude.
+    kinds = []
+    members = 1
     for k, name in enumerate(("kinetic_energy", "total_energy")):
-        if name in ds:
-            values = _series(ds[name])[:, :, 0]
-            scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
+        if name not in ds:
+            continue
+        values = series(ds[name])[:, :, 0]
+        members = values.shape[1]
+        scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
+        change = (values - values[:1]) / scale
+        label = name.replace("_", " ")
+        kinds.append((k, label))
+        for j in range(members):
+            look = {"color": f"C{k}", **_look(lines, 0)} if members == 1 else {"color": f"C{j % 10}", **_look(lines, k)}
+            ax.plot(t, change[:, j], lw=0.8, label=label if j == 0 else None, **look)
+    ax.set_ylabel("relative change")
+    _legend(ax, None if members == 1 else _member_handles(ds, members, kinds, lines))
+
+
+def _angle_unit(radians) -> tuple[float, str]:
+    """(rad per unit, name): deg, arcsec or mas, the largest in which the angles' range is at least 1.
+
+    A constant (a range within rounding of its size) goes by its size instead; a unit that would need
+    more than six digits before the point gives way to the next larger one.
+    """
+    values = np.asarray(radians, dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return _ANGLE_UNITS[0][1], _ANGLE_UNITS[0][0]
+    top = float(np.max(np.abs(values)))
+    spread = float(np.ptp(values))
+    size = spread if spread > 1e-9 * top else top
+    i = next((i for i, (_, rad) in enumerate(_ANGLE_UNITS) if size >= rad), len(_ANGLE_UNITS) - 1)
+    while i > 0 and top / _ANGLE_UNITS[i][1] >= 1e6:
+        i -= 1
+    name, rad = _ANGLE_UNITS[i]
+    return rad, name
+
+
+def _angle_curves(ax, ds, t, curves, lines: bool, label: str) -> tuple[float, str]:
+    """Draw angle series (time, members) in one unit; each member its colour."""
+    rad, name = _angle_unit(np.concatenate([c.ravel() for c in curves]))
+    members = curves[0].shape[1]
+    for values in curves:
+        for j in range(members):
             ax.plot(
                 t,
-                (values - values[:1]) / scale,
-                color=f"C{k}",
-                lw=0.8,
-                label=[name.replace("_", " ")] + [None] * (values.shape[1] - 1),
+                values[:, j] / rad,
+                color=f"C{j % 10}",
+                lw=1.0,
+                label=(label if members == 1 else f"member {_member_label(ds, j)}"),
+                **_look(lines, 0),
             )
-    ax.set_ylabel("relative change")
-    ax.legend(loc="upper right", fontsize=8)
+    ax.set_ylabel(name)
+    # Plain numbers in the unit chosen: no offset ("+8.438e4") or multiplier ("1e-5") to decode.
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+    shown = np.concatenate([c.ravel() for c in curves]) / rad
+    shown = shown[np.isfinite(shown)]
+    if shown.size and np.ptp(shown) <= 1e-9 * np.max(np.abs(shown)):
+        # Constant to rounding (a steady precession's tilt): a plain axis would spell out the rounding.
+        middle = float(np.mean(shown))
+        ax.set_ylim(middle - max(0.05 * abs(middle), 1.0), middle + max(0.05 * abs(middle), 1.0))
+    return rad, name
 
 
-def _angles(ax, ds, t) -> None:
-    for k, name in enumerate(("tilt", "wobble_angle")):
-        if name in ds:
-            ax.plot(t, np.degrees(_series(ds[name])[:, :, 0]), color=f"C{k}", lw=1.0, label=name.replace("_", " "))
-    ax.set_ylabel("deg")
-    ax.legend(loc="upper right", fontsize=8)
+def _member_label(ds, j: int):
+    return ds["member"].values[j] if "member" in ds.coords else j
 
 
-_PANEL_DRAW = {"omega": _omega, "angular_momentum": _momentum, "energy": _energy, "angles": _angles}
+def _tilt(ax, ds, t, lines, unit, part=None) -> None:
+    if "tilt" in ds:
+        _angle_curves(ax, ds, t, [series(ds["tilt"])[:, :, 0]], lines, "tilt")
+    else:
+        e3 = series(ds["axis_direction"])
+        tilt = np.arccos(np.clip(e3[..., 2], -1.0, 1.0))
+        _angle_curves(ax, ds, t, [tilt], lines, "tilt (from the axis direction)")
+    _legend(ax)
+
+
+def _wobble(ax, ds, t, lines, unit, part=None) -> None:
+    _angle_curves(ax, ds, t, [series(ds["wobble_angle"])[:, :, 0]], lines, "wobble angle")
+    _legend(ax)
+
+
+def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
+    """The figure axis's precession angle about inertial z from its start, or near z its offset from z."""
+    e3 = series(ds["axis_direction"])
+    across = np.hypot(e3[..., 0], e3[..., 1])
+    if np.min(across) < math.sin(_NEAR_POLE):
+        curves = [np.arcsin(np.clip(e3[..., i], -1.0, 1.0)) for i in (0, 1)]
+        rad, name = _angle_unit(np.concatenate([c.ravel() for c in curves]))
+        for i, values in enumerate(curves):
+            for j in range(values.shape[1]):
+                ax.plot(
+                    t,
+                    values[:, j] / rad,
+                    color=f"C{i}" if values.shape[1] == 1 else f"C{j % 10}",
+                    lw=1.0,
+                    label=f"toward inertial {'xy'[i]}" if j == 0 else None,
+                    **_look(lines, 0 if values.shape[1] == 1 else i),
+                )
+        ax.set_ylabel(name)
+        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+        _legend(ax)
+        return "figure axis (body axis 3): offset from the inertial z axis"
+    azimuth = np.unwrap(np.arctan2(e3[..., 1], e3[..., 0]), axis=0)
+    precession = azimuth - azimuth[:1]
+    rad, name = _angle_curves(ax, ds, t, [precession], lines, "precession angle from the start")
+    if precession.shape[1] == 1 and t.size > 1:
+        rate = np.polyfit(t, precession[:, 0] / rad, 1)[0]
+        ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {name}/{unit}")
+    _legend(ax)
+    return None
+
+
+_PANEL_DRAW = {
+    "omega": _omega,
+    "angular_momentum": _momentum,
+    "energy": _energy,
+    "axis": _axis,
+    "tilt": _tilt,
+    "wobble_angle": _wobble,
+}

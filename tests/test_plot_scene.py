@@ -1,0 +1,326 @@
+"""The scene figure (wobble run --plot): what its panels draw, checked against the Dataset and the physics.
+
+Sampling: a panel whose samples cannot resolve the fastest motion its quantities can carry is drawn
+with markers and a note, never as lines through an alias; the rates come from closed forms here (the
+Euler frequency (C - A)/A omega_3 of a symmetric body, a spin), never from the figure's own output.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import xarray as xr
+
+import wobble
+from wobble.io.scene_file import example_scene_path, read_scene
+from wobble.plot.scene import scene_figure
+
+ARCSEC = math.pi / 648_000
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def _shipped(name: str, **time) -> dict:
+    """A shipped scene's mapping, with its [time] table replaced when ``time`` is given."""
+    with open(example_scene_path(name), "rb") as fh:
+        scene = tomllib.load(fh)
+    if time:
+        scene["time"] = time
+    return scene
+
+
+def _panels(fig) -> dict:
+    """Title -> axes of each panel."""
+    return {ax.get_title(): ax for ax in fig.axes if ax.get_title()}
+
+
+def _panel(fig, start: str):
+    found = [ax for title, ax in _panels(fig).items() if title.startswith(start)]
+    assert len(found) == 1, f"one panel titled {start!r}...: {list(_panels(fig))}"
+    return found[0]
+
+
+def _notes(ax) -> list[str]:
+    return [t.get_text() for t in ax.texts if "not resolved" in t.get_text()]
+
+
+def _curves(ax) -> list:
+    """The lines that draw data (not the legend-only entries)."""
+    return [line for line in ax.get_lines() if np.size(line.get_xdata()) > 0]
+
+
+def _as_lines(ax) -> bool:
+    curves = _curves(ax)
+    assert curves
+    return all(line.get_linestyle() not in ("None", "none", " ", "") for line in curves)
+
+
+def _as_markers(ax) -> bool:
+    curves = _curves(ax)
+    assert curves
+    return all(
+        line.get_linestyle() in ("None", "none", " ", "") and line.get_marker() not in (None, "None", "", " ")
+        for line in curves
+    )
+
+
+# --------------------------------------------------------------------------
+# Sampling: no line through an alias
+# --------------------------------------------------------------------------
+def _symmetric_wobble(gap: float, samples: int) -> dict:
+    """A free symmetric body, A = B = 1, C = 2 kg m2, omega_3 = 1 rad/s: omega_1, omega_2 turn in the body
+    at the Euler frequency (C - A)/A omega_3 = 1 rad/s (Landau & Lifshitz, Mechanics, sec. 33)."""
+    return {
+        "schema": "wobble-scene/1",
+        "accuracy": 1e-10,
+        "outputs": ["omega"],
+        "body": {"moments": {"value": [1.0, 1.0, 2.0], "unit": "kg m2"}},
+        "initial": {"omega": {"value": [0.1, 0.0, 1.0], "unit": "rad/s"}},
+        "time": {"stop": f"{gap * (samples - 1)} s", "samples": samples},
+    }
+
+
+def test_a_free_wobble_sampled_too_sparsely_is_drawn_with_markers_and_a_note():
+    rate = (2.0 - 1.0) / 1.0 * 1.0  # (C - A)/A omega_3, rad/s
+    # 6 s apart, 6 rad a sample: the samples are those of a wave turning -0.28 rad a sample, a
+    # smooth 22 s alias of the 6.28 s motion.
+    sparse = scene_figure(wobble.run(_symmetric_wobble(6.0, 11)))
+    ax = _panel(sparse, "angular velocity")
+    assert _as_markers(ax)
+    (text,) = _notes(ax)
+    assert text.startswith("samples 6 s apart") and f"~{2 * math.pi / rate:.3g} s" in text
+    # Four samples a period is where lines begin: 1.4 rad a sample draws lines, 1.7 rad markers.
+    assert rate * 1.4 < math.pi / 2 < rate * 1.7
+    dense = _panel(scene_figure(wobble.run(_symmetric_wobble(1.4, 51))), "angular velocity")
+    assert _as_lines(dense) and _notes(dense) == []
+    coarse = _panel(scene_figure(wobble.run(_symmetric_wobble(1.7, 51))), "angular velocity")
+    assert _as_markers(coarse) and len(_notes(coarse)) == 1
+
+
+def _spinning(times, spin: float) -> xr.Dataset:
+    """A hand-made Dataset (no record of its body): omega_1, omega_2 turning at the spin, as a gyroscope's."""
+    t = np.asarray(times, dtype=float)
+    omega = np.stack([0.1 * np.cos(spin * t), 0.1 * np.sin(spin * t), np.full(t.size, spin)], axis=-1)
+    return xr.Dataset(
+        {"omega": (("time", "axis"), omega, {"units": "rad s-1"})}, coords={"time": ("time", t, {"units": "s"})}
+    )
+
+
+def test_a_dataset_without_its_body_is_checked_against_twice_its_spin():
+    # Without the body the figure cannot rule torques out: a torque from a field fixed in space turns
+    # at the spin as the body sees it (quadratic fields at twice it), so the rate is 2 |omega|.
+    spin = 10.0
+    rate = 2 * math.hypot(spin, 0.1)
+    fine = _panel(scene_figure(_spinning(np.arange(0, 10, 0.05), spin)), "angular velocity")
+    assert 0.05 * rate < math.pi / 2 and _as_lines(fine) and _notes(fine) == []
+    coarse = _panel(scene_figure(_spinning(np.arange(0, 10, 0.2), spin)), "angular velocity")
+    assert _as_markers(coarse)
+    (text,) = _notes(coarse)
+    assert text.startswith("samples 0.2 s apart") and f"~{2 * math.pi / rate:.3g} s" in text
+
+
+def test_thinning_a_long_file_is_checked_at_the_spacing_drawn():
+    # 100,001 samples 0.05 s apart resolve the spin; the figure draws one in three (at most 50,000
+    # points), 0.15 s apart, which does not: it says so instead of drawing the alias.
+    spin = 10.0
+    fig = scene_figure(_spinning(np.arange(100_001) * 0.05, spin))
+    ax = _panel(fig, "angular velocity")
+    assert _as_markers(ax)
+    (text,) = _notes(ax)
+    assert text.startswith("samples 0.15 s apart (one in 3 drawn)")
+
+
+def test_the_gyroscope_sampled_as_it_was_says_its_omega_panel_is_not_resolved():
+    # 101 samples over 1 s drew a smooth 4.5 Hz wave; omega_1, omega_2 turn at the spin, ~600 rad/s.
+    scene = _shipped("gyroscope", stop="1 s", samples=101)
+    phi_dot, theta, psi_dot = 1.4553229624741815, math.radians(80.0), 599.7472858196495
+    spin = math.hypot(psi_dot + phi_dot * math.cos(theta), phi_dot * math.sin(theta))  # |omega|
+    fig = scene_figure(wobble.run(scene))
+    omega = _panel(fig, "angular velocity")
+    assert _as_markers(omega)
+    (text,) = _notes(omega)
+    assert text.startswith("samples 0.01 s apart") and f"~{2 * math.pi / (2 * spin):.3g} s" in text
+    # The axis turns at 1.46 rad/s: its panels are resolved (the torque of a symmetric top depends on
+    # its attitude through its axis only, so its energy too).
+    for title in ("energy", "figure axis", "tilt"):
+        ax = _panel(fig, title)
+        assert _as_lines(ax) and _notes(ax) == [], title
+
+
+def test_the_satellite_sampled_as_it_was_says_no_panel_is_resolved():
+    # 49 samples over an orbit, 118 s apart: omega_1 turns in 19.7 s, the energy the gravity gradient
+    # trades (B != A) at twice the spin, period pi s.
+    fig = scene_figure(wobble.run(_shipped("satellite_gravity_gradient", stop="5677 s", samples=49)))
+    for title in ("angular velocity", "angular momentum", "energy"):
+        ax = _panel(fig, title)
+        assert _as_markers(ax), title
+        (text,) = _notes(ax)
+        assert text.startswith("samples 118 s apart") and "~3.14 s" in text
+
+
+# --------------------------------------------------------------------------
+# The figure axis: precession and tilt, in the unit the panel names
+# --------------------------------------------------------------------------
+_UNITS = {"deg": math.pi / 180, "arcsec": ARCSEC, "mas": ARCSEC / 1000}
+
+
+def _offset_text(fig, ax) -> str:
+    fig.canvas.draw()
+    return ax.yaxis.get_offset_text().get_text()
+
+
+def test_the_axis_panels_draw_the_precession_and_nutation_of_earth_in_arcsec():
+    ds = wobble.run("earth_precession")
+    fig = scene_figure(ds)
+    e3 = ds["axis_direction"].values
+    # The axis's azimuth about the ecliptic pole (inertial z) from its start, by hand, in arcsec.
+    azimuth = np.unwrap(np.arctan2(e3[:, 1], e3[:, 0]))
+    axis = _panel(fig, "figure axis")
+    assert axis.get_ylabel() == "arcsec" and _notes(axis) == []
+    (line,) = _curves(axis)
+    np.testing.assert_allclose(line.get_ydata(), (azimuth - azimuth[0]) / ARCSEC, rtol=0, atol=1e-9)
+    # 20 years at the model's analytic rate, -5040.038 arcsec per century (the scene's description),
+    # within the nutation in longitude (17.2 arcsec amplitude).
+    assert abs(line.get_ydata()[-1] - (-5040.038 * 20 / 100)) < 20
+    # The tilt from the ecliptic pole: the obliquity, 84381.406 arcsec at the start, nutating.
+    tilt = _panel(fig, "tilt")
+    assert tilt.get_ylabel() == "arcsec" and _offset_text(fig, tilt) == ""
+    (line,) = _curves(tilt)
+    np.testing.assert_allclose(line.get_ydata(), np.arccos(e3[:, 2]) / ARCSEC, rtol=0, atol=1e-6)
+    assert line.get_ydata()[0] == pytest.approx(84381.406, abs=1e-6)
+    assert 15 < np.ptp(line.get_ydata()) < 25  # 2 x 9.2 arcsec of the 18.6-year term, and the short terms
+
+
+def test_the_gyroscope_s_axis_panel_draws_its_steady_precession_in_degrees():
+    ds = wobble.run(_shipped("gyroscope", stop="1 s", samples=201))
+    fig = scene_figure(ds)
+    axis = _panel(fig, "figure axis")
+    assert axis.get_ylabel() == "deg"
+    (line,) = _curves(axis)
+    e3 = ds["axis_direction"].values
+    azimuth = np.unwrap(np.arctan2(e3[:, 1], e3[:, 0]))
+    np.testing.assert_allclose(line.get_ydata(), np.degrees(azimuth - azimuth[0]), rtol=0, atol=1e-9)
+    # Started at the steady precession rate phi_dot = 1.4553 rad/s: the azimuth is phi_dot t.
+    t = ds["time"].values
+    np.testing.assert_allclose(line.get_ydata(), np.degrees(1.4553229624741815 * t), rtol=0, atol=1e-6)
+    tilt = _panel(fig, "tilt")
+    assert tilt.get_ylabel() == "deg" and _offset_text(fig, tilt) == ""
+    lo, hi = tilt.get_ylim()
+    assert lo < 80 < hi and hi - lo > 1  # a constant 80 deg, not its rounding spelled out
+
+
+def test_a_wobble_angle_of_a_fifth_of_an_arcsec_is_drawn_in_mas_without_offset():
+    ds = wobble.run(_shipped("earth_free_wobble", stop="400 d", step="1 d"))
+    fig = scene_figure(ds)
+    ax = _panel(fig, "wobble angle")
+    assert ax.get_ylabel() == "mas" and _offset_text(fig, ax) == ""
+    (line,) = _curves(ax)
+    np.testing.assert_allclose(line.get_ydata(), ds["wobble_angle"].values / _UNITS["mas"], rtol=1e-12)
+    assert line.get_ydata()[0] == pytest.approx(200.0, rel=1e-9)  # the scene's 0.2 arcsec
+
+
+# --------------------------------------------------------------------------
+# Ensembles and legends
+# --------------------------------------------------------------------------
+def test_an_ensemble_s_members_are_told_apart_by_colour_one_panel_a_component():
+    ds = wobble.run("tumbling_asteroid")
+    members = ds.sizes["member"]
+    fig = scene_figure(ds)
+    for k, name in enumerate(("omega_1", "omega_2", "omega_3")):
+        ax = _panel(fig, f"angular velocity, body frame: $\\{name}$")
+        curves = _curves(ax)
+        assert len(curves) == members
+        assert len({line.get_color() for line in curves}) == members
+        for j, line in enumerate(curves):
+            np.testing.assert_array_equal(line.get_ydata(), ds["omega"].values[:, j, k])
+        labels = [text.get_text() for text in ax.get_legend().get_texts()]
+        assert labels == [f"member {j}" for j in range(members)]
+    energy = _panel(fig, "energy")
+    assert len({line.get_color() for line in _curves(energy)}) == members
+
+
+@pytest.mark.parametrize("name", ["top_cusps", "top_loops"])
+def test_legends_sit_beside_the_panels_not_on_the_curves(name):
+    fig = scene_figure(wobble.run(name))
+    fig.canvas.draw()
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        assert legend is not None, ax.get_title()
+        assert legend.get_window_extent().x0 >= ax.get_window_extent().x1, ax.get_title()
+
+
+# --------------------------------------------------------------------------
+# The shipped scenes sample what they show
+# --------------------------------------------------------------------------
+def _spacing(time: dict) -> float:
+    """Sample spacing (s) of a shipped scene's [time] table."""
+    import astropy.units as u
+
+    span = u.Quantity(time["stop"]).to_value(u.s) - u.Quantity(time.get("start", "0 s")).to_value(u.s)
+    if "step" in time:
+        return u.Quantity(time["step"]).to_value(u.s)
+    return span / (time["samples"] - 1)
+
+
+def _euler_omega(initial: dict) -> np.ndarray:
+    """Body-frame omega of z-x-z Euler angles and rates (Goldstein, Poole & Safko 2002, eq. 4.87)."""
+    _, theta, psi = np.radians(initial["euler_angles"]["value"])
+    phi_dot, theta_dot, psi_dot = initial["euler_rates"]["value"]
+    return np.array(
+        [
+            phi_dot * math.sin(theta) * math.sin(psi) + theta_dot * math.cos(psi),
+            phi_dot * math.sin(theta) * math.cos(psi) - theta_dot * math.sin(psi),
+            phi_dot * math.cos(theta) + psi_dot,
+        ]
+    )
+
+
+def _fastest(name: str) -> tuple[float, str]:
+    """The fastest rate (rad/s) a shipped scene's figure draws, from its physics, and what it is."""
+    scene = _shipped(name)
+    initial = scene["initial"]
+    if name == "earth_precession":
+        # The axis's fastest visible term: the Moon's fortnightly nutation, twice its mean motion.
+        import astropy.units as u
+
+        moon = next(t for t in scene["torques"] if t["name"] == "moon")
+        return 2 * u.Quantity(moon["mean_motion"]).to_value(u.rad / u.s), "the fortnightly nutation"
+    if name in ("earth_free_wobble", "mars_free_wobble"):
+        # Euler frequency of the rigid planet sqrt((C - A)(C - B)/(A B)) omega_3; the wobble angle
+        # of a triaxial body varies at twice it.
+        body = read_scene(example_scene_path(name))
+        m = np.sort(np.asarray(body.body.moments).reshape(3))
+        spin = float(np.linalg.norm(body.omega0))  # the catalogued rate
+        return 2 * spin * math.sqrt((m[2] - m[0]) * (m[2] - m[1]) / (m[0] * m[1])), "twice the Euler frequency"
+    omega = _euler_omega(initial) if "euler_angles" in initial else np.asarray(initial["omega"]["value"], float)
+    if initial.get("omega", {}).get("unit") == "deg/h":
+        omega = np.radians(omega) / 3600
+    spin = float(np.max(np.linalg.norm(np.atleast_2d(omega), axis=-1)))
+    if scene.get("torques"):
+        # A field fixed in space turns at the spin as the body sees it; its torque up to quadratically.
+        return 2 * spin, "twice the spin"
+    # Free: omega turns in the body no faster than |omega| (|I_j - I_k| <= I_i in Euler's equations).
+    return spin, "the spin"
+
+
+@pytest.mark.parametrize("name", wobble.example_scenes())
+def test_every_shipped_scene_samples_its_fastest_motion_four_times_a_period(name):
+    rate, what = _fastest(name)
+    gap = _spacing(_shipped(name)["time"])
+    assert rate * gap <= math.pi / 2, f"{name}: {what} {rate:.4g} rad/s, samples {gap:.4g} s apart"
+
+
+def test_no_shipped_scene_figure_needs_a_note():
+    for name in wobble.example_scenes():
+        fig = scene_figure(wobble.run(name))
+        notes = {ax.get_title(): _notes(ax) for ax in fig.axes if _notes(ax)}
+        assert notes == {}, name
+        plt.close(fig)

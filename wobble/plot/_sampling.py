@@ -1,0 +1,266 @@
+"""Whether a scene figure's samples resolve the motion they stand for (its check against aliasing).
+
+Straight lines through samples ``dt`` apart draw a motion of angular frequency ``Omega`` faithfully only
+while ``Omega dt`` is small. From ``Omega dt = pi`` on (Nyquist's two samples per period) the samples are
+exactly those of a slower motion, the alias: a gyroscope's 600 rad/s body-frame wobble sampled every
+0.01 s draws a smooth 28 rad/s wave. Below it, with fewer than four samples per period
+(``Omega dt > pi/2``), the chords cut the peaks by up to ``1 - cos(pi/4)`` = 29 % of the amplitude and a
+wave sampled near its zeros draws nearly flat. So a panel is drawn with lines only where
+
+    Omega dt <= pi/2                        (:data:`LINES_LIMIT`: four samples per period or more),
+
+``dt`` the largest gap between the samples drawn, and otherwise with markers alone and a note.
+
+The samples cannot give ``Omega``: an alias is as smooth as a resolved motion, so differences between
+samples see only the alias. ``Omega`` comes from the equations of motion, evaluated at the samples, and
+from what the file records of the body (the ``scene`` attribute ``wobble run`` writes; its body is
+rebuilt with :func:`wobble.io.scene_file.body_from_mapping`):
+
+* omega of a free body: it runs on its polhode about the principal axis of largest moment (smallest,
+  when ``L^2 < 2 T I_mid``); the rate at which its components across that axis turn is its angular
+  speed about it, ``|a . (w_perp x w_perp_dot)| / |w_perp|^2`` with Euler's ``w_dot = I^-1 (I w x w)``
+  (Landau & Lifshitz, Mechanics, secs. 36-37): for a symmetric body the Euler frequency
+  ``(C - A)/A omega_3`` at every sample, however sparse the samples.
+* a series ``x`` whose derivative is known at the samples (the wobble angle of a free body, from
+  Euler's equations; the figure axis ``e3``, whose speed is ``|omega x e3| = |(omega_1, omega_2)|``
+  by kinematics, or at most ``|L x e3| / min(I_1, I_2)`` when the file has L but not omega): the
+  rate ``max |xdot| / max |x - mean x|``, the least frequency a motion of that size and speed has
+  (Bernstein's inequality, ``max |xdot| <= Omega max |x - mean|``, with equality for a sinusoid).
+  The tilt is the figure axis's too.
+* the angular momentum and the energy of a free body are constant (rate 0: what they draw is
+  rounding).
+* under torques: a torque from a field fixed in space (uniform gravity, a magnetic field: linear in
+  the field's direction; a gravity gradient or a tide: quadratic) turns with the body as the body
+  sees it, at up to ``2 |omega|``, ``|omega|`` the body's rotation rate (``|L| / I_min`` when the
+  file has no omega): the rate of omega and the wobble angle, and of the angular momentum and the
+  energy, except for a body symmetric about its axis 3, whose torque from any such field depends on
+  its attitude only through that axis (its inertia tensor is ``A 1 + (C - A) e3 e3``): those then
+  move at the figure axis's rate.
+
+A file that does not record its body (a hand-made Dataset) is taken to be under torques, the
+conservative reading. Not bounded: a torque's own time dependence (an orbit's motion, a table), slow
+against the spin in every shipped scene. A bound that cannot be had (no omega, no L) makes no claim.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from wobble.io.scene_file import body_from_mapping
+from wobble.numerics import quaternion as quat
+
+__all__ = ["LINES_LIMIT", "series", "panel_rates", "largest_gap", "resolved", "note"]
+
+LINES_LIMIT = math.pi / 2
+# Below this share of a series' size its range is rounding, not motion.
+_ROUNDING = 1e-9
+
+
+def series(var) -> np.ndarray:
+    """(time, members, components) whatever the variable's dims."""
+    order = [d for d in ("time", "member") if d in var.dims] + [d for d in var.dims if d not in ("time", "member")]
+    values = np.asarray(var.transpose(*order).values, dtype=float)
+    if "member" not in var.dims:
+        values = values[:, None, ...]
+    return values.reshape(values.shape[0], values.shape[1], -1)
+
+
+def largest_gap(times) -> float:
+    """The largest spacing of the samples drawn (s); 0 for fewer than two."""
+    t = np.asarray(times, dtype=float)
+    return float(np.max(np.diff(t))) if t.size > 1 else 0.0
+
+
+def resolved(rate: float | None, gap: float) -> bool:
+    """Whether lines through samples ``gap`` apart draw a motion of angular frequency ``rate`` (rad/s).
+
+    None (no bound from the file) counts as resolved: the figure makes no claim it cannot back.
+    """
+    return rate is None or not rate * gap > LINES_LIMIT
+
+
+def note(rate: float, gap: float, every: int = 1) -> str:
+    """What a panel drawn with markers says: the spacing and the shortest period it may miss."""
+    from wobble.io.text import number, span_unit
+
+    def span(seconds):
+        size, symbol = span_unit(seconds)
+        return f"{number(seconds / size, 3)} {symbol}"
+
+    period = span(2 * math.pi / rate) if rate > 0 and math.isfinite(rate) else "?"
+    drawn = f" (one in {every} drawn)" if every > 1 else ""
+    return f"samples {span(gap)} apart{drawn}: motion with periods down to ~{period} not resolved (markers only)"
+
+
+def _excursion(x):
+    """max |x - mean x| over time (member, component): the amplitude, even from samples that alias."""
+    return np.max(np.abs(x - np.mean(x, axis=0)), axis=0)
+
+
+def _rate(xdot, x) -> float:
+    """max |xdot| over the excursion of ``x``, per member and component (arrays (time, member, comp))."""
+    floor = _ROUNDING * np.max(np.abs(x), axis=0)
+    speed = np.max(np.abs(xdot), axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rates = np.where(speed > 0, speed / np.maximum(_excursion(x), floor), 0.0)
+    return float(np.max(rates)) if rates.size else 0.0
+
+
+class _Motion:
+    """The rates the file's data and the body it records allow (rad/s)."""
+
+    def __init__(self, ds):
+        self.ds = ds
+        self.members = ds.sizes.get("member", 1)
+        self.tensor, self.moments, self.axes, self.principal = None, None, None, False
+        self.torques = True
+        try:
+            record = json.loads(ds.attrs["scene"])
+            body = body_from_mapping(record["body"])
+            self.torques = bool(record.get("torques"))
+        except (KeyError, TypeError, ValueError):
+            return
+        moments = np.asarray(body.moments, dtype=float).reshape(-1, 3)[: self.members]
+        axes = np.asarray(body.axes, dtype=float).reshape(-1, 3, 3)[: self.members]
+        self.moments, self.axes = moments, axes
+        self.tensor = np.einsum("mki,mk,mkj->mij", axes, moments, axes)
+        self.principal = bool(np.allclose(axes, np.eye(3), rtol=0, atol=1e-12))
+
+    @property
+    def axisymmetric(self) -> bool:
+        """Symmetric about body axis 3: its torque from a field fixed in space depends on that axis only."""
+        m = self.moments
+        return self.principal and m is not None and bool(np.all(np.abs(m[:, 0] - m[:, 1]) <= 1e-12 * m[:, 2]))
+
+    def omega(self):
+        return series(self.ds["omega"]) if "omega" in self.ds else None
+
+    def spin(self) -> float | None:
+        """The body's largest rotation rate |omega|, or |L| / I_min when the file has no omega."""
+        w = self.omega()
+        if w is not None:
+            return float(np.max(np.linalg.norm(w, axis=-1)))
+        if "angular_momentum" in self.ds and self.moments is not None:
+            L = series(self.ds["angular_momentum"])
+            return float(np.max(np.linalg.norm(L, axis=-1) / np.min(self.moments, axis=-1)))
+        return None
+
+    def forced(self) -> float | None:
+        """2 |omega|: a field fixed in space as the body sees it, and its torque (up to quadratic in it)."""
+        w = self.spin()
+        return None if w is None else 2.0 * w
+
+    def omega_dot(self, w):
+        """Euler's equations of the free body at the samples (time, member, 3)."""
+        tensor = np.broadcast_to(self.tensor, (w.shape[1], 3, 3))  # one body, or one per member
+        L = np.einsum("mij,tmj->tmi", tensor, w)
+        return np.einsum("mij,tmj->tmi", np.linalg.inv(tensor), np.cross(L, w))
+
+    def polhode_rate(self, w) -> float:
+        """The largest rate at which a free body's omega turns in the body (rad/s).
+
+        omega runs on its polhode about the principal axis of largest moment when L^2 > 2 T I_mid, of
+        smallest otherwise (Landau & Lifshitz, Mechanics, sec. 37); its angular speed about that axis,
+        ``|a . (w_perp x w_perp_dot)| / |w_perp|^2`` with Euler's ``w_dot``, is the rate of the components
+        across it: the Euler frequency ``(C - A)/A omega_3`` at every sample for a symmetric body.
+        """
+        axes = np.broadcast_to(self.axes, (w.shape[1], 3, 3))
+        m = np.broadcast_to(self.moments, (w.shape[1], 3))
+        wp = np.einsum("mij,tmj->tmi", axes, w)  # principal-frame components
+        wdot = np.cross(m * wp, wp) / m
+        twice_t, l_squared = np.sum(m * wp**2, axis=-1), np.sum((m * wp) ** 2, axis=-1)
+        about_largest = l_squared > twice_t * np.median(m, axis=-1)
+        a = np.eye(3)[np.where(about_largest, np.argmax(m, axis=-1), np.argmin(m, axis=-1))]
+        perp = wp - np.sum(wp * a, axis=-1, keepdims=True) * a
+        perp_dot = wdot - np.sum(wdot * a, axis=-1, keepdims=True) * a
+        turn = np.abs(np.sum(a * np.cross(perp, perp_dot), axis=-1))
+        size = np.sum(perp**2, axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rates = np.where(size > (_ROUNDING * np.sum(wp**2, axis=-1)) ** 2, turn / size, 0.0)
+        return float(np.max(rates)) if rates.size else 0.0
+
+    def figure_axis(self):
+        """Body axis 3 in the inertial frame (time, member, 3), or None."""
+        if "axis_direction" in self.ds:
+            return series(self.ds["axis_direction"])
+        if "attitude" in self.ds:
+            return quat.rotate(series(self.ds["attitude"]), np.array([0.0, 0.0, 1.0]))
+        return None
+
+    def axis_speed(self, e3):
+        """|d e3/dt| at the samples (time, member), or None."""
+        w = self.omega()
+        if w is not None:
+            return np.hypot(w[..., 0], w[..., 1])
+        if "angular_momentum" not in self.ds or self.moments is None:
+            return None
+        L = series(self.ds["angular_momentum"])
+        if self.principal:
+            # omega's part across e3 is (L_1/I_1, L_2/I_2) in the body frame.
+            return np.linalg.norm(np.cross(L, e3), axis=-1) / np.min(self.moments[:, :2], axis=-1)
+        return np.linalg.norm(L, axis=-1) / np.min(self.moments, axis=-1)
+
+    def axis_rate(self) -> float | None:
+        """The figure axis's rate: its speed over its excursion (rad/s)."""
+        e3 = self.figure_axis()
+        if e3 is None:
+            return self.spin()
+        speed = self.axis_speed(e3)
+        if speed is None:
+            return None
+        size = np.max(_excursion(e3), axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rates = np.where(speed.max(axis=0) > 0, speed.max(axis=0) / np.maximum(size, _ROUNDING), 0.0)
+        return float(np.max(rates))
+
+    def omega_rate(self) -> float | None:
+        w = self.omega()
+        if w is None:
+            return None
+        if self.torques or self.tensor is None:
+            return self.forced()
+        return self.polhode_rate(w)
+
+    def wobble_rate(self) -> float | None:
+        if self.torques or self.tensor is None or self.omega() is None:
+            return self.forced()
+        w = self.omega()
+        wd = self.omega_dot(w)
+        across = np.hypot(w[..., 0], w[..., 1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            across_dot = np.where(
+                across > 0,
+                (w[..., 0] * wd[..., 0] + w[..., 1] * wd[..., 1]) / across,
+                np.hypot(wd[..., 0], wd[..., 1]),
+            )
+        # The wobble angle atan2(|omega across e3|, omega_3), differentiated.
+        angle_dot = (w[..., 2] * across_dot - across * wd[..., 2]) / np.sum(w * w, axis=-1)
+        return _rate(angle_dot[..., None], series(self.ds["wobble_angle"]))
+
+    def conserved_rate(self) -> float | None:
+        """The angular momentum's and the energy's rate: 0 for a free body."""
+        if not self.torques and self.tensor is not None:
+            return 0.0
+        if self.axisymmetric:
+            return self.axis_rate()
+        return self.forced()
+
+
+def panel_rates(ds) -> dict:
+    """The fastest angular frequency (rad/s) each panel kind can carry, or None where the file gives no bound.
+
+    Keys: ``omega``, ``angular_momentum``, ``energy``, ``tilt``, ``wobble_angle``, ``axis`` (see the
+    module docstring).
+    """
+    m = _Motion(ds)
+    return {
+        "omega": m.omega_rate(),
+        "angular_momentum": m.conserved_rate(),
+        "energy": m.conserved_rate(),
+        "tilt": m.axis_rate(),
+        "wobble_angle": m.wobble_rate() if "wobble_angle" in ds else None,
+        "axis": m.axis_rate(),
+    }
