@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["time_axis", "angle_unit", "power_of_ten", "power_label"]
+__all__ = ["time_axis", "ANGLE_UNITS", "angle_unit", "power_of_ten", "power_label"]
 
 _YEAR = 365.25 * 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
+#: The angle units of the figures, largest first: (name, radians per unit).
+ANGLE_UNITS = (("deg", math.radians(1.0)), ("arcsec", _ARCSEC), ("mas", 1e-3 * _ARCSEC), ("µas", 1e-6 * _ARCSEC))
 
 
 def time_axis(span_s: float) -> tuple[float, str]:
@@ -35,10 +37,10 @@ def angle_unit(extent_rad: float) -> tuple[float, str]:
     >>> angle_unit(math.radians(2.9))[1], angle_unit(math.radians(0.5))[1], angle_unit(1e-6)[1]
     ('deg', 'arcsec', 'mas')
     """
-    for size, name in ((math.radians(1.0), "deg"), (_ARCSEC, "arcsec"), (1e-3 * _ARCSEC, "mas")):
+    for name, size in ANGLE_UNITS[:-1]:
         if extent_rad >= size:
             return size, name
-    return 1e-6 * _ARCSEC, "µas"
+    return ANGLE_UNITS[-1][1], ANGLE_UNITS[-1][0]
 
 
 def power_of_ten(largest: float) -> int:

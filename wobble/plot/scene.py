@@ -11,7 +11,7 @@ import numpy as np
 from wobble.errors import InputError
 
 from wobble.plot._sampling import largest_gap, note, panel_rates, resolved, series
-from wobble.plot._style import time_axis
+from wobble.plot._style import ANGLE_UNITS, time_axis
 
 __all__ = ["scene_figure"]
 
@@ -47,7 +47,7 @@ _VECTORS = {
 _LINESTYLES = ("-", "--", ":")
 _MARKERS = (".", "x", "+")
 # Angle units, largest first (rad each).
-_ANGLE_UNITS = (("deg", math.pi / 180), ("arcsec", math.pi / 648_000), ("mas", math.pi / 648_000_000))
+_ANGLE_UNITS = ANGLE_UNITS[:3]  # deg, arcsec, mas: a scene's angles do not need micro-arcseconds
 # The axis's azimuth (precession angle) means little within this of the inertial z axis: there the
 # figure draws the axis's offset from z instead.
 _NEAR_POLE = math.radians(1.0)
