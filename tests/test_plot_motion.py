@@ -325,3 +325,14 @@ def test_an_ordinary_top_s_figures_keep_their_units():
     assert cubic.axes[1].get_xlabel() == "u = cos(theta)"
     for fig in (locus, cubic, effective_potential_figure(top)):
         assert _offsets(fig) == []
+
+
+def test_a_top_hanging_nearly_straight_down_is_titled_from_below():
+    """theta from 179.999 to 179.9991 deg was titled '180 to 180 deg'; it is measured from below now."""
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=(180 - 1e-3) * u.deg, omega3=10 * u.rad / u.s
+    )
+    title = axis_locus_figure(top, 5 * u.s).axes[0].get_title()
+    below = (np.pi - top.model.theta_max, np.pi - top.model.theta_min)
+    arcsec = math.radians(1 / 3600)
+    assert f"180 deg minus {below[0] / arcsec:.4g} to {below[1] / arcsec:.4g} arcsec" in title

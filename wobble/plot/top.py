@@ -82,7 +82,11 @@ def _tilt_extent(m) -> float:
 
 def tilt_text(theta_min: float, theta_max: float, digits: str = ".4g") -> str:
     """'A to B unit' for two tilts in rad: in deg, or in the arcsec, mas or µas that the larger reaches
-    when it is under a degree (a nearly sleeping top's 1e-6 rad reads '206.3 to 225.1 mas')."""
+    when it is under a degree (a nearly sleeping top's 1e-6 rad reads '206.3 to 225.1 mas'); a top
+    hanging within a degree of straight down is measured from below ('180 deg minus 1.03 to 3.2 arcsec',
+    where both read '180 deg' before)."""
+    if min(theta_min, theta_max) > np.pi - np.radians(1.0):
+        return "180 deg minus " + tilt_text(np.pi - theta_max, np.pi - theta_min, digits)
     size, name = angle_unit(max(theta_min, theta_max)) if max(theta_min, theta_max) > 0 else (np.radians(1.0), "deg")
     return f"{theta_min / size:{digits}} to {theta_max / size:{digits}} {name}"
 
