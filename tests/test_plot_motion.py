@@ -336,3 +336,25 @@ def test_a_top_hanging_nearly_straight_down_is_titled_from_below():
     below = (np.pi - top.model.theta_max, np.pi - top.model.theta_min)
     arcsec = math.radians(1 / 3600)
     assert f"180 deg minus {below[0] / arcsec:.4g} to {below[1] / arcsec:.4g} arcsec" in title
+
+
+def test_the_top_s_axis_path_is_drawn_from_the_model_without_xarray_and_refuses_too_many_samples():
+    """The path was taken from a Dataset (xarray imported: 0.9 s of a 3-s `wobble top --plot`); with the
+    long-span sampling, a huge ``samples`` went to np.linspace unchecked (a MemoryError, not a message)."""
+    import subprocess
+    import sys
+
+    from wobble.errors import InputError
+
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=30 * u.deg, omega3=10 * u.rad / u.s
+    )
+    with pytest.raises(InputError, match=r"^samples: got 1000000000000; allowed: at most \d+ samples here"):
+        axis_locus_figure(top, 5 * u.s, samples=10**12)
+    code = (
+        "import sys; from astropy import units as u; import wobble; from wobble.plot.top import axis_locus_figure; "
+        "t = wobble.HeavyTop(I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=30 * u.deg, "
+        "omega3=10 * u.rad / u.s); axis_locus_figure(t, 5 * u.s); print('xarray' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
