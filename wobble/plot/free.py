@@ -8,7 +8,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api.free import FreeRotation
+from wobble.api._sampling import check_memory
+from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.plot._style import angle_unit, power_label, power_of_ten, time_axis
@@ -159,6 +160,7 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
         raise InputError("samples", samples, "a whole number of samples >= 2")
+    check_memory(int(samples), BYTES_PER_SAMPLE)  # 1e12 samples was a MemoryError, not a message
     t, shown, note = _time_panel_times(body, t1, int(samples))
     w = body.omega(t * u.s).to_value(u.rad / u.s)
     I = body.moments.to_value(u.kg * u.m**2)
