@@ -354,6 +354,11 @@ def test_the_top_s_axis_path_is_drawn_from_the_model_without_xarray_and_refuses_
     body = FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
     with pytest.raises(InputError, match=r"^samples: got 1000000000000; allowed: at most \d+ samples here"):
         motion_figure(body, 5 * u.s, samples=10**12)
+    from wobble.plot.free import polhode_figure
+
+    for bad in (10**12, 1, 2.5):
+        with pytest.raises(InputError, match="^samples: got"):
+            polhode_figure([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s, samples=bad)
     code = (
         "import sys; from astropy import units as u; import wobble; from wobble.plot.top import axis_locus_figure; "
         "t = wobble.HeavyTop(I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=30 * u.deg, "

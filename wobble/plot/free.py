@@ -38,6 +38,9 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     omegas = [to_si(w, "omegas", u.rad / u.s, shape=(3,)) * (u.rad / u.s) for w in omegas]
     if not omegas:
         raise InputError("omegas", omegas, "one or more initial angular velocities (3-vectors in rad/s)")
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
+        raise InputError("samples", samples, "a whole number of samples >= 2")
+    check_memory(int(samples), BYTES_PER_SAMPLE)
     fig = plt.figure(figsize=(6.4, 6.0))
     ax = fig.add_subplot(projection="3d")
     w_first = omegas[0].to_value(u.rad / u.s)
