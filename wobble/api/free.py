@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from astropy import units as u
 
-from wobble.api._sampling import sample_times
+from wobble.api.sampling import sample_times
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io import cf

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api._sampling import check_memory
+from wobble.api.sampling import check_memory
 from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError

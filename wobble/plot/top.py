@@ -9,7 +9,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api._sampling import sample_times
+from wobble.api.sampling import sample_times
 from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError

@@ -1,7 +1,8 @@
 """Sample times for the exact solutions' Datasets, refused up front when they would not fit in memory.
 
-Shared by :class:`wobble.FreeRotation` and :class:`wobble.HeavyTop`: either explicit times
-``t`` or ``t_end`` with ``samples`` (a linspace from 0), and a memory check that names the
+Shared by :class:`wobble.FreeRotation` and :class:`wobble.HeavyTop`, and by their figures
+(:mod:`wobble.plot.free`, :mod:`wobble.plot.top`, which sample the same motions): either explicit
+times ``t`` or ``t_end`` with ``samples`` (a linspace from 0), and a memory check that names the
 largest request this machine can take.
 """
 
@@ -15,7 +16,7 @@ from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.memory import available_memory, human_bytes
 
-__all__ = ["available_memory", "human_bytes", "sample_times"]
+__all__ = ["available_memory", "human_bytes", "sample_times", "check_memory"]
 
 
 def check_memory(n: int, bytes_per_sample: int) -> None:
