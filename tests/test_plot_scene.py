@@ -105,6 +105,25 @@ def test_a_free_wobble_sampled_too_sparsely_is_drawn_with_markers_and_a_note():
     assert _as_markers(coarse) and len(_notes(coarse)) == 1
 
 
+def test_a_fast_spinner_s_small_wobble_is_not_taken_for_rounding():
+    """The rounding threshold compared |omega across the axis|^2 with the square of |omega|^2 (rad^4/s^4): at a
+    spin of 1e4 rad/s a 0.05 rad/s wobble (5e-6 of the spin) counted as rounding, rate 0, and its alias was
+    drawn as lines. The Euler frequency (C - A)/A omega_3 = 1e4 rad/s against samples 0.6 ms apart (6 rad a
+    sample) must give markers and a note."""
+    scene = _symmetric_wobble(6e-4, 11)
+    scene["initial"]["omega"]["value"] = [0.05, 0.0, 1e4]
+    ax = _panel(scene_figure(wobble.run(scene)), "angular velocity")
+    assert _as_markers(ax) and len(_notes(ax)) == 1
+
+
+def test_a_body_at_rest_draws_without_a_warning():
+    """Its wobble angle's rate divided 0 by |omega|^2 = 0 outside the error state: a RuntimeWarning."""
+    scene = _symmetric_wobble(1.0, 11)
+    scene["initial"]["omega"]["value"] = [0.0, 0.0, 0.0]
+    scene["outputs"] = ["omega", "wobble_angle"]
+    scene_figure(wobble.run(scene))  # warnings are errors in the tests
+
+
 def _spinning(times, spin: float) -> xr.Dataset:
     """A hand-made Dataset (no record of its body): omega_1, omega_2 turning at the spin, as a gyroscope's."""
     t = np.asarray(times, dtype=float)

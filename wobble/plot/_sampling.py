@@ -179,7 +179,9 @@ class _Motion:
         turn = np.abs(np.sum(a * np.cross(perp, perp_dot), axis=-1))
         size = np.sum(perp**2, axis=-1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            rates = np.where(size > (_ROUNDING * np.sum(wp**2, axis=-1)) ** 2, turn / size, 0.0)
+            # |w_perp|^2 against (rounding x |w|)^2, both in rad^2/s^2 (the square of the sum compared rad^4/s^4
+            # and let a 1e-5 wobble of a 1e4 rad/s spin pass as rounding, its alias drawn as lines).
+            rates = np.where(size > _ROUNDING**2 * np.sum(wp**2, axis=-1), turn / size, 0.0)
         return float(np.max(rates)) if rates.size else 0.0
 
     def figure_axis(self):
@@ -236,8 +238,8 @@ class _Motion:
                 (w[..., 0] * wd[..., 0] + w[..., 1] * wd[..., 1]) / across,
                 np.hypot(wd[..., 0], wd[..., 1]),
             )
-        # The wobble angle atan2(|omega across e3|, omega_3), differentiated.
-        angle_dot = (w[..., 2] * across_dot - across * wd[..., 2]) / np.sum(w * w, axis=-1)
+            # The wobble angle atan2(|omega across e3|, omega_3), differentiated (0/0 for a body at rest).
+            angle_dot = np.nan_to_num((w[..., 2] * across_dot - across * wd[..., 2]) / np.sum(w * w, axis=-1))
         return _rate(angle_dot[..., None], series(self.ds["wobble_angle"]))
 
     def conserved_rate(self) -> float | None:
