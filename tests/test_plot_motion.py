@@ -366,3 +366,19 @@ def test_the_top_s_axis_path_is_drawn_from_the_model_without_xarray_and_refuses_
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+def test_flips_are_counted_without_listing_them():
+    """`wobble free ... --t-end 1e13` listed every flip (1.9e11 of them, 1.4 TB) to count them for its JSON and
+    its figure's title; flip_count counts them, and agrees with the list wherever the list fits, its ends
+    placed on flips, between them and before the first."""
+    body = FreeRotation([1, 2, 3] * u.kg * u.m**2, [1e-6, 1, 1e-6] * u.rad / u.s)
+    listed = body.flip_times(2000 * u.s).to_value(u.s)
+    gap = body.model.time_between_flips
+    spans = [(0.0, 2000.0), (0.0, listed[0] / 2), (listed[3], listed[9]), (listed[3] + gap / 3, listed[9] - gap / 3)]
+    spans += [(listed[5], listed[5]), (-listed[4], listed[2])]
+    for t0, t1 in spans:
+        expected = body.flip_times(t1 * u.s, t0 * u.s).size
+        assert body.flip_count(t1 * u.s, t0 * u.s) == expected, (t0, t1)
+    assert body.flip_count(1e13 * u.s) == pytest.approx(1e13 / gap, abs=2)
+    assert FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s).flip_count(1e13 * u.s) == 0

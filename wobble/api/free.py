@@ -171,6 +171,13 @@ class FreeRotation:
             return np.empty(0) << u.s
         return self._model.flip_times(t0, t1) << u.s
 
+    def flip_count(self, t_end, t_start=0 * u.s) -> int:
+        """How many flips :meth:`flip_times` lists between ``t_start`` and ``t_end``, counted without listing
+        them (over a long span they would not fit in memory); 0 when the body does not flip."""
+        t1 = to_si(t_end, "t_end", u.s, shape=())
+        t0 = to_si(t_start, "t_start", u.s, shape=())
+        return self._model.flip_count(t0, t1) if self.flips else 0
+
     @property
     def energy(self) -> u.Quantity:
         """Kinetic energy T (J)."""

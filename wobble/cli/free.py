@@ -117,9 +117,11 @@ def run(args) -> int:
         t1, chosen = _span(body, args.t_end)
         summary.update(t_end_s=t1, t_end_chosen_by=chosen, samples=args.samples)
     if body.flips:
-        flips = body.flip_times(t1 * u.s).to_value(u.s)
-        # The list stops at MAX_LISTED_FLIPS; flips_in_span says how many there are.
-        summary.update(flip_times_s=flips[:MAX_LISTED_FLIPS].tolist(), flips_in_span=int(flips.size))
+        # The list stops at MAX_LISTED_FLIPS, taken from a span that holds no more than two beyond them
+        # (flips are a time_between_flips apart); flips_in_span counts them all without listing them.
+        listed = min(t1, (MAX_LISTED_FLIPS + 1) * body.model.time_between_flips)
+        flips = body.flip_times(listed * u.s).to_value(u.s)
+        summary.update(flip_times_s=flips[:MAX_LISTED_FLIPS].tolist(), flips_in_span=body.flip_count(t1 * u.s))
     written = []
     if args.output:
         from wobble.io.netcdf import write_netcdf

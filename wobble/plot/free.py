@@ -247,7 +247,7 @@ def _motion_title(body: FreeRotation, t1: float, note: str) -> str:
         head = f"{body.regime}: omega repeats every {duration(body.period.to_value(u.s), 5)}"
     if not note:
         return head
-    flips = body.flip_times(t1 * u.s).size if body.flips else 0
+    flips = body.flip_count(t1 * u.s)
     return f"{head}\n{note}" + (f"; {flips:,} flips in the span" if flips else "")
 
 
