@@ -75,6 +75,14 @@ def test_free_and_top_print_the_same_keys_whatever_the_options(capsys, tmp_path)
     assert main(top) == 0 and "None" not in capsys.readouterr().out
 
 
+def test_inertia_names_its_output_whether_or_not_it_wrote_one(capsys, tmp_path):
+    plain = _json(capsys, "inertia", "--solid", "box", "--mass", "2", "--edges", "1", "2", "3")
+    written = _json(
+        capsys, "inertia", "--solid", "box", "--mass", "2", "--edges", "1", "2", "3", "-o", str(tmp_path / "i.nc")
+    )
+    assert set(plain) == set(written) and plain["output"] is None and written["output"] == str(tmp_path / "i.nc")
+
+
 def test_renamed_keys_alias_their_new_names(capsys):
     """modes' q (Omega^2 a^3/GM) is centrifugal_ratio, as forecast's q is the Chandler Q; chandler --sources'
     unit is what astropy reads."""

@@ -218,6 +218,20 @@ def test_the_axis_panels_draw_the_precession_and_nutation_of_earth_in_arcsec():
     assert 15 < np.ptp(line.get_ydata()) < 25  # 2 x 9.2 arcsec of the 18.6-year term, and the short terms
 
 
+def test_an_unresolved_axis_panel_gives_no_fitted_rate_and_an_empty_dataset_is_refused():
+    """The precession's fitted rate was written even where the panel was marked unresolved (the alias's rate);
+    a Dataset with no times raised IndexError."""
+    from wobble.errors import InputError
+
+    coarse = scene_figure(wobble.run(_shipped("gyroscope", stop="10 s", samples=5)))  # 2.5 s a sample, 3.6 rad
+    axis = _panel(coarse, "figure axis")
+    assert _as_markers(axis) and not any(t.get_text().startswith("fitted rate") for t in axis.get_legend().get_texts())
+    fine = scene_figure(wobble.run(_shipped("gyroscope", stop="1 s", samples=2001)))
+    assert any(t.get_text().startswith("fitted rate") for t in _panel(fine, "figure axis").get_legend().get_texts())
+    with pytest.raises(InputError, match="^source: .*allowed: a run's Dataset or file with at least one time"):
+        scene_figure(_spinning(np.array([]), 1.0))
+
+
 def test_the_gyroscope_s_axis_panel_draws_its_steady_precession_in_degrees():
     ds = wobble.run(_shipped("gyroscope", stop="1 s", samples=201))
     fig = scene_figure(ds)

@@ -280,6 +280,7 @@ def run(args) -> int:
     check_outputs(args)
     body, label = build_body(args)
     report = _report(body, rtol)
+    report["output"] = None  # the same keys whatever the options (README, "Commands")
     if args.output is not None:
         from wobble.io.netcdf import write_netcdf
 

@@ -111,6 +111,8 @@ def _thin(ds):
 
 def _draw(ds, every: int = 1):
     t = np.asarray(ds["time"].values, dtype=float)
+    if t.size == 0:  # t[0] below was an IndexError
+        raise InputError("source", "a Dataset with no times", "a run's Dataset or file with at least one time")
     t = t - t[0]
     scale, unit = time_axis(t[-1] if t.size else 1.0)
     panels = _layout(ds)
@@ -339,7 +341,7 @@ def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
     azimuth = np.unwrap(np.arctan2(e3[..., 1], e3[..., 0]), axis=0)
     precession = azimuth - azimuth[:1]
     rad, name = _angle_curves(ax, ds, t, [precession], lines, "precession angle from the start")
-    if precession.shape[1] == 1 and t.size > 1:
+    if precession.shape[1] == 1 and t.size > 1 and lines:  # an unresolved panel's fit would be the alias's
         rate = np.polyfit(t, precession[:, 0] / rad, 1)[0]
         ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {name}/{unit}")
     _legend(ax)
