@@ -382,3 +382,17 @@ def test_flips_are_counted_without_listing_them():
         assert body.flip_count(t1 * u.s, t0 * u.s) == expected, (t0, t1)
     assert body.flip_count(1e13 * u.s) == pytest.approx(1e13 / gap, abs=2)
     assert FreeRotation([1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s).flip_count(1e13 * u.s) == 0
+
+
+def test_a_top_hanging_straight_down_is_a_point_not_rings_of_rounding():
+    """At theta = pi, sin(theta) is 1.2e-16: taken as a tilt, it drew rings of 2.5e-5 micro-arcseconds under
+    a '1e-5' offset text."""
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=180 * u.deg, omega3=10 * u.rad / u.s
+    )
+    fig = axis_locus_figure(top, 5 * u.s)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    assert "180 deg (straight down)" in ax.get_title()
+    assert ax.xaxis.get_offset_text().get_text() == "" == ax.yaxis.get_offset_text().get_text()
+    assert "µas" not in ax.get_xlabel()

@@ -74,11 +74,18 @@ def locus_times(top: HeavyTop, t_end: float, samples: int | None = None) -> tupl
     return np.linspace(0.0, most * period, n), note
 
 
+#: A horizontal distance sin(theta) below this is rounding: sin(pi) is 1.2e-16, not 0 (a top hanging straight
+#: down drew rings of 2.5e-5 micro-arcseconds under an offset text).
+_ROUNDING_EXTENT = 1e-15
+
+
 def _tilt_extent(m) -> float:
-    """The largest horizontal distance sin(theta) of the axis from the vertical over its motion."""
+    """The largest horizontal distance sin(theta) of the axis from the vertical over its motion (0 when
+    that is rounding)."""
     if m.theta_min <= np.pi / 2 <= m.theta_max:
         return 1.0
-    return float(max(np.sin(m.theta_min), np.sin(m.theta_max)))
+    extent = float(max(np.sin(m.theta_min), np.sin(m.theta_max)))
+    return extent if extent > _ROUNDING_EXTENT else 0.0
 
 
 def tilt_text(theta_min: float, theta_max: float, digits: str = ".4g") -> str:
@@ -87,6 +94,8 @@ def tilt_text(theta_min: float, theta_max: float, digits: str = ".4g") -> str:
     hanging within a degree of straight down is measured from below ('180 deg minus 1.03 to 3.2 arcsec',
     where both read '180 deg' before)."""
     if min(theta_min, theta_max) > np.pi - np.radians(1.0):
+        if np.pi - min(theta_min, theta_max) <= _ROUNDING_EXTENT:
+            return "180 deg (straight down)"
         return "180 deg minus " + tilt_text(np.pi - theta_max, np.pi - theta_min, digits)
     size, name = angle_unit(max(theta_min, theta_max)) if max(theta_min, theta_max) > 0 else (np.radians(1.0), "deg")
     return f"{theta_min / size:{digits}} to {theta_max / size:{digits}} {name}"
