@@ -15,7 +15,8 @@ from wobble.plot.polar_motion import COLLAPSE_YEAR, overview, two_sided_spectrum
 
 @pytest.fixture(scope="module")
 def short():
-    """Five years, windows just long enough to fit (two years of samples each)."""
+    """Five years, windows just long enough to run (two years of samples each; too short to hold a Chandler
+    term: their values are left out)."""
     return wobble.polar_motion_analysis(
         start="2015", end="2020", window=732.5 * u.day, step=1 * u.yr, excitation_q=None, quality_factor=False
     )
@@ -31,7 +32,6 @@ def test_two_year_windows_are_refused_not_left_empty():
 def test_the_chandler_mark_is_at_the_measured_period(short):
     """The mark was the highest bin within 0.03 cpy of the published frequency: on five years, the annual peak's
     flank (+0.850 cpy, where the spectral estimate said 390 d = +0.937 cpy)."""
-    assert np.isfinite(short.windows["chandler_period"].values).all()
     ax = two_sided_spectrum(short.spectrum, chandler_period=short.spectral.period)
     days = short.spectral.period.to_value(u.day)
     label = next(t.get_text() for t in ax.texts if t.get_text().startswith("Chandler"))
@@ -49,7 +49,7 @@ def test_windows_without_a_fit_say_so_and_the_axis_keeps_to_the_windows(short):
     for name in ("chandler_amplitude", "chandler_period", "annual_prograde_amplitude"):
         empty[name][:] = np.nan
     ax_a, ax_p = windowed_wobble(empty)
-    assert any("no window could be fitted" in t.get_text() for t in ax_a.texts + ax_p.texts)
+    assert any("no window has a Chandler term" in t.get_text() for t in ax_a.texts + ax_p.texts)
     years = 2000 + (short.windows["window_time"].values - 51544.5) / 365.25
     half = 732.5 / 365.25 / 2
     assert ax_a.get_xlim() == pytest.approx((years.min() - half, years.max() + half))

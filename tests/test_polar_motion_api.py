@@ -198,3 +198,22 @@ def test_netcdf_round_trip_and_cf(analysis, tmp_path, assert_cf_compliant):
     assert list(back["method"].values) == ["least_squares", "spectrum"]
     assert_cf_compliant(path)
     assert math.isinf(float(back["quality_factor_high"])) or float(back["quality_factor_high"]) > 0
+
+
+def test_a_window_without_a_chandler_term_in_the_band_is_left_out_and_said():
+    """Two-year windows found their best 'Chandler' period at 365.2 d, past the 390-500 d search band, with
+    amplitudes of 6e9 mas cancelling the annual term's, and printed them unflagged. A window whose best period
+    lies at or past the band's edge is left NaN and the caveats count them; 6-yr windows of 1980-2010 keep all."""
+    short = wobble.polar_motion_analysis(
+        start="2015", end="2020", window=733 * u.day, excitation_q=None, quality_factor=False
+    )
+    w = short.windows
+    n = w.sizes["window"]
+    assert np.isnan(w["chandler_amplitude"].values).all() and np.isnan(w["annual_prograde_amplitude"].values).all()
+    assert f"{n} of {n} windows found no Chandler term inside the search band (390-500 d)" in " ".join(short.caveats)
+    full = wobble.polar_motion_analysis(
+        start="1980", end="2010", window=6 * u.yr, excitation_q=None, quality_factor=False
+    )
+    periods = full.windows["chandler_period"].values
+    assert np.isfinite(periods).all() and ((390 < periods) & (periods < 500)).all()
+    assert not any("no Chandler term inside" in c for c in full.caveats)

@@ -192,15 +192,17 @@ def _mark_measured(ax, cpy, amp, keep, period, offset) -> None:
     if not (np.isfinite(f) and keep.any()):
         return
     k = np.flatnonzero(keep)[np.argmin(np.abs(cpy[keep] - f))]
-    if abs(f - 365.25 / 365.24219) < 0.12:  # beside the annual peak (a short span's estimate): clear its label
+    arrow = abs(f - 365.25 / 365.24219) < 0.12
+    if arrow:  # beside the annual peak (a short span's estimate): the label clears it, an arrow points back
         offset = (offset[0] - 70, offset[1] + 10)
-    _mark(ax, cpy[k], amp[k], f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy", offset)
+    _mark(ax, cpy[k], amp[k], f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy", offset, arrow)
 
 
-def _mark(ax, x, y, text, offset) -> None:
-    """A peak's ring and its label, ``offset`` points away."""
+def _mark(ax, x, y, text, offset, arrow: bool = False) -> None:
+    """A peak's ring and its label, ``offset`` points away (with an arrow to the ring when moved aside)."""
     ax.plot(x, y, "o", ms=4, mfc="none", color="C3", zorder=3)
-    ax.annotate(text, (x, y), xytext=offset, textcoords="offset points", fontsize="x-small")
+    props = {"arrowprops": {"arrowstyle": "-", "color": "C3", "lw": 0.6}} if arrow else {}
+    ax.annotate(text, (x, y), xytext=offset, textcoords="offset points", fontsize="x-small", **props)
 
 
 def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
@@ -245,12 +247,12 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
     )
     mark_collapse(ax_a, years)
     if not np.isfinite(np.asarray(windows["chandler_amplitude"].values, dtype=float)).any():
-        # Every window too gappy to fit: say so rather than leave two empty panels.
+        # No window with a Chandler term (gaps, or windows too short to resolve one): say so, not two empty panels.
         for ax in (ax_a, ax_p):
             ax.text(
                 0.5,
                 0.5,
-                "no window could be fitted (too few samples in each)",
+                "no window has a Chandler term to show (the caveats say why)",
                 ha="center",
                 va="center",
                 transform=ax.transAxes,

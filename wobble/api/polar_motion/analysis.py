@@ -417,6 +417,12 @@ def polar_motion_analysis(
         t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress
     )
     caveats = list(ls.caveats)
+    if wf.unresolved:
+        lo, hi = (b / _pm.DAY for b in _pm.CHANDLER_BAND)
+        caveats.append(
+            f"{wf.unresolved} of {wf.centre.size} windows found no Chandler term inside the search band "
+            f"({lo:.0f}-{hi:.0f} d): their values are left out"
+        )
     if window_s < _pm.beat_period(reference):
         caveats.append(
             f"windows of {window_s / (365.25 * _pm.DAY):.1f} yr are shorter than the 6.4-yr Chandler-annual beat: "

@@ -298,7 +298,7 @@ def fit_least_squares(
     sig_rate = sig_amp = sig_phase = nan
     ann_sig = [(nan, nan), (nan, nan)]
     pu = au = Uncertainty(nan, nan, nan, nan, nan)
-    details: dict = {"solver": "variable projection + scipy.optimize.least_squares (lm)"}
+    details: dict = {"solver": "variable projection + scipy.optimize.least_squares (lm)", "at_edge": bool(at_edge)}
     if uncertainty:
         jc = _jacobian_complex(s, half, fixed, coeffs, rate)
         bread = scaled_inverse((jc.conj().T @ jc).real)

@@ -50,6 +50,9 @@ class WindowedFits:
     window: float
     step: float
     drift_degree: int
+    #: Windows whose best period lay at or past the search band's edge: no Chandler term resolved there, and
+    #: their values are left NaN (two-year windows gave 365-d "Chandler" terms of 6e9 mas beside the annual).
+    unresolved: int = 0
 
     # Deprecated names (one release): the annual terms are annual_prograde_* and annual_retrograde_*.
     @property
@@ -124,6 +127,11 @@ def window_allowed(t) -> str:
     """What a refused window length is told: from :func:`shortest_window` to the span of ``t``."""
     year = 365.25 * DAY
     shortest, span = shortest_window(t), float(t[-1] - t[0])
+    if shortest > span:  # no length fits: say what span would take one (it offered an empty range)
+        return (
+            f"no window fits these {span / DAY:g} d: the samples in each must span {MIN_SPAN / year:g} yr, so "
+            f"windows need at least {shortest / DAY:g} d of data (a later end date or an earlier start)"
+        )
     return (
         f"a length from {shortest / year:.4g} yr ({shortest / DAY:g} d: the samples in each window must span "
         f"{MIN_SPAN / year:g} yr) to the span analysed ({span / year:.2f} yr)"
@@ -175,6 +183,7 @@ def sliding_windows(
         if counts[i] >= 10 and t[m][-1] - t[m][0] >= 0.8 * window:
             masks[i] = m
     found = _window_searches(t, z, masks, check_degree(drift_degree), band)
+    unresolved = 0
     for i in range(n):
         if progress is not None:
             progress(i, n)
@@ -193,6 +202,9 @@ def sliding_windows(
                 **found.get(i, {}),
             )
         except InputError:
+            continue
+        if f.details.get("at_edge"):
+            unresolved += 1
             continue
         out["period"][i] = f.chandler.period
         out["period_sigma"][i] = f.chandler.period_sigma
@@ -220,4 +232,5 @@ def sliding_windows(
         window=window,
         step=step,
         drift_degree=check_degree(drift_degree),
+        unresolved=unresolved,
     )
