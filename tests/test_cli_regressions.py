@@ -453,7 +453,7 @@ def test_a_free_plot_over_millions_of_flips_marks_none():
     assert n > 2_000_000
     fig = motion_figure(body, 27.51 * u.d)
     top = fig.axes[0]
-    # Since the plot audit of 2026-12 the time panels draw the first 10 periods (omega repeats): the flips
+    # Since the plot audit of 2026-11-29 the time panels draw the first 10 periods (omega repeats): the flips
     # in them are marked, in one collection, and the title counts the span's.
     assert f"{n:,} flips in the span" in top.get_title()
     (marks,) = top.collections

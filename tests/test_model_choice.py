@@ -77,7 +77,7 @@ def test_the_satellite_takes_the_compiled_dop853_and_says_why_in_seconds(monkeyp
     assert forced.run.settings == full.settings
     # Counted work of the full splitting: its pilots find a 0.64 s step (order 6), but each 0.5 s
     # output interval takes an even number of steps, two: 22,708 steps of 0.25 s, seven stages each,
-    # and the companion at twice the step: 238,434 stages. DOP853: ~169,000 evaluations in the main
+    # and the companion at twice the step: 238,434 stages. DOP853: ~200,900 evaluations in the main
     # run and three quarters of that in its companion at 10 rtol.
     steps = S._split_steps(scene, full.settings["step_s"])
     assert steps == 2 * (scene.times.size - 1) and full.calls == 1.5 * steps * 7

@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import re
 
+import numpy as np
+
 import pytest
 import xarray as xr
 
@@ -109,9 +111,15 @@ def test_the_figure_says_what_the_text_says():
 
     earth, mars = wobble.precession_rate("earth"), wobble.precession_rate("mars")
     ax_e, ax_m = budget_figure([earth, mars]).axes
-    assert "model - observed -0.289 (-8.3 σ)" in ax_e.get_title()
+    cy = u.arcsec / (100 * u.yr)
+    residual = (earth.rate - earth.observed).to_value(cy)
+    sigma = residual / np.hypot(earth.rate_uncertainty.to_value(cy), earth.observed_uncertainty.to_value(cy))
+    assert f"model - observed {residual:+.3f} ({sigma:+.1f} σ)" in ax_e.get_title()
+    # The figure's numbers are the ones the text prints (IAU 2006: -5038.481507"/cy, sigma 0.0008).
     texts = [t.get_text() for t in ax_e.texts]
-    assert "-5038.48151 ± 0.00080" in texts and "-5038.770 ± 0.035" in texts
+    summary = earth.summary()
+    for text in ("-5038.48151 ± 0.00080", f"{earth.rate.to_value(cy):.3f} ± {earth.rate_uncertainty.to_value(cy):.3f}"):
+        assert text in texts and text.replace("±", "+/-") in summary
     labels = [t.get_text() for t in ax_m.get_yticklabels()]
     assert not mars.includes_geodesic and "geodesic (not in the model)" in labels and "model (tidal)" in labels
     # The tidal terms' bars end where the model bar does.

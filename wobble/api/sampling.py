@@ -16,7 +16,7 @@ from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.memory import available_memory, human_bytes
 
-__all__ = ["available_memory", "human_bytes", "sample_times", "check_memory"]
+__all__ = ["available_memory", "human_bytes", "sample_times", "check_memory", "check_samples"]
 
 
 def check_memory(n: int, bytes_per_sample: int) -> None:
@@ -43,10 +43,17 @@ def sample_times(t, t_end, samples, bytes_per_sample: int) -> np.ndarray:
         check_memory(ts.size, bytes_per_sample)
         return ts.astype(float)
     end = to_si(t_end, "t_end", u.s, nonnegative=True, shape=())
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
-        raise InputError("samples", samples, "a whole number of samples >= 1")
+    check_samples(samples, bytes_per_sample, least=1)
     if end == 0 and samples > 1:
         # samples equal times would make a time coordinate that is not monotonic (invalid CF).
         raise InputError("t_end", t_end, "a positive end time (or a single sample, the state at t = 0)")
-    check_memory(int(samples), bytes_per_sample)
     return np.linspace(0.0, end, int(samples))
+
+
+def check_samples(samples, bytes_per_sample: int, *, least: int = 2) -> int:
+    """``samples`` as an int: a whole number of at least ``least`` that fits in memory at
+    ``bytes_per_sample`` each (a bool, 2.5 or 1e12 refused naming ``samples``)."""
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < least:
+        raise InputError("samples", samples, f"a whole number of samples >= {least}")
+    check_memory(int(samples), bytes_per_sample)
+    return int(samples)

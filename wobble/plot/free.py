@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api.sampling import check_memory
+from wobble.api.sampling import check_samples
 from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -38,9 +38,7 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
     omegas = [to_si(w, "omegas", u.rad / u.s, shape=(3,)) * (u.rad / u.s) for w in omegas]
     if not omegas:
         raise InputError("omegas", omegas, "one or more initial angular velocities (3-vectors in rad/s)")
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
-        raise InputError("samples", samples, "a whole number of samples >= 2")
-    check_memory(int(samples), BYTES_PER_SAMPLE)
+    samples = check_samples(samples, BYTES_PER_SAMPLE)
     fig = plt.figure(figsize=(6.4, 6.0))
     ax = fig.add_subplot(projection="3d")
     w_first = omegas[0].to_value(u.rad / u.s)
@@ -161,10 +159,8 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     if not isinstance(body, FreeRotation):
         raise InputError("body", body, "a wobble.FreeRotation")
     t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2:
-        raise InputError("samples", samples, "a whole number of samples >= 2")
-    check_memory(int(samples), BYTES_PER_SAMPLE)  # 1e12 samples was a MemoryError, not a message
-    t, shown, note = _time_panel_times(body, t1, int(samples))
+    samples = check_samples(samples, BYTES_PER_SAMPLE)  # 1e12 samples was a MemoryError, not a message
+    t, shown, note = _time_panel_times(body, t1, samples)
     w = body.omega(t * u.s).to_value(u.rad / u.s)
     I = body.moments.to_value(u.kg * u.m**2)
     fig = plt.figure(figsize=(10.5, 4.6))

@@ -9,7 +9,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api.sampling import sample_times
+from wobble.api.sampling import check_samples, sample_times
 from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -120,8 +120,8 @@ def axis_trace_axes(
         t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     else:
         t1 = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
-    if samples is not None and (isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 2):
-        raise InputError("samples", samples, "a whole number of samples >= 2")
+    if samples is not None:
+        samples = check_samples(samples, BYTES_PER_SAMPLE)
     try:  # the whole span is checked, drawn or not
         m.check_times(np.array([0.0, t1]))
     except InputError as exc:
