@@ -461,6 +461,20 @@ def test_a_free_plot_over_millions_of_flips_marks_none():
     assert all(line.get_xdata().size <= 10_001 for line in top.lines)
     few = motion_figure(body, 20 * u.s)  # about 20 flips: each marked, in one collection
     assert len(few.axes[0].collections) == 1 and len(few.axes[0].collections[0].get_segments()) < MAX_MARKED_FLIPS
-    # The figure drawn over the whole span still marks none past MAX_MARKED_FLIPS.
+    # flip_figure too (since the review of 2026-11-29) draws the first 10 periods, marks their flips and
+    # counts the span's. The marks' cap itself: past MAX_MARKED_FLIPS none is drawn, and the title says so.
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from wobble.plot.free import _mark_flips
+
+    capped = plt.figure().add_subplot()
+    assert (
+        _mark_flips([capped], np.arange(MAX_MARKED_FLIPS + 1.0), 1.0)
+        == f" ({MAX_MARKED_FLIPS + 1:,} flips, too close to mark)"
+    )
+    assert not capped.collections
     whole = flip_figure(moments, body.omega0, 27.51 * u.d).axes[0]
-    assert f"({n:,} flips, too close to mark)" in whole.get_title() and not whole.collections
+    assert f"{n:,} flips in the span" in whole.get_title()
+    (marks,) = whole.collections
+    assert len(marks.get_segments()) <= 21 < MAX_MARKED_FLIPS

@@ -396,3 +396,23 @@ def test_a_top_hanging_straight_down_is_a_point_not_rings_of_rounding():
     assert "180 deg (straight down)" in ax.get_title()
     assert ax.xaxis.get_offset_text().get_text() == "" == ax.yaxis.get_offset_text().get_text()
     assert "µas" not in ax.get_xlabel()
+
+
+def test_the_flip_figure_of_a_long_span_draws_its_first_periods_densely():
+    """flip_figure drew 4,001 samples over any span (5e-5 of a sample per flip over 1e7 s) and listed every
+    flip to mark them; it now draws the first periods as motion_figure does, and counts the span's flips."""
+    from wobble.plot.free import MAX_PERIODS_SHOWN, SAMPLES_PER_PERIOD, flip_figure
+
+    moments, omega0 = [1, 2, 3] * u.kg * u.m**2, [1e-6, 1, 1e-6] * u.rad / u.s
+    body = FreeRotation(moments, omega0)
+    period = body.period.to_value(u.s)
+    fig = flip_figure(moments, omega0, 1e7 * u.s)
+    ax = fig.axes[0]
+    t = ax.get_lines()[0].get_xdata()
+    assert (
+        t[-1] == pytest.approx(MAX_PERIODS_SHOWN * period) and np.max(np.diff(t)) <= period / SAMPLES_PER_PERIOD * 1.01
+    )
+    assert f"{body.flip_count(1e7 * u.s):,} flips in the span" in ax.get_title()
+    fig.canvas.draw()
+    assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1  # beside the axes
+    plt.close(fig)

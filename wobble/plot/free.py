@@ -91,19 +91,25 @@ def flip_figure(moments, omega0, t_end):
             f"{0.0 if swing is None else swing.to_value(u.deg):.3g} deg, not more than 90): see motion_figure",
         )
     t_end_s = to_si(t_end, "t_end", u.s, positive=True, shape=())
-    ds = body.to_dataset(t_end=t_end, samples=4001)
+    # As motion_figure's time panels: ten periods at most, densely (4,001 samples over any span aliased a
+    # long one, and every flip of it was listed to be marked).
+    t, shown, note = _time_panel_times(body, t_end_s, 4001)
+    w = body.omega(t * u.s).to_value(u.rad / u.s)
     fig, ax = plt.subplots(figsize=(7.0, 3.8))
     for k, label in enumerate(("$\\omega_1$", "$\\omega_2$", "$\\omega_3$")):
-        ax.plot(ds.time, ds.omega[:, k], label=label)
-    marked = _mark_flips([ax], body.flip_times(t_end).to_value(u.s), 1.0)
-    ax.set_xlim(0, t_end_s)
+        ax.plot(t, w[:, k], label=label)
+    marked = _mark_flips([ax], body.flip_times(shown * u.s).to_value(u.s), 1.0)
+    ax.set_xlim(0, shown)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("body-frame angular velocity (rad s$^{-1}$)")
-    ax.set_title(
+    title = (
         f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
         f"flip every {body.time_between_flips.to_value(u.s):.6f} s{marked}"
     )
-    ax.legend(loc="upper right")
+    if note:
+        title += f"\n{note}; {body.flip_count(t_end_s * u.s):,} flips in the span"
+    ax.set_title(title, fontsize=10 if note else None)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the axes: upper right hid the last flips
     fig.tight_layout()
     return fig
 
