@@ -4,7 +4,7 @@ A script may set decimal's precision, rounding or traps (or decimal.DefaultConte
 equivalencies for the whole process, make NumPy raise on underflow, pick a matplotlib backend, switch
 Numba's compiler off, or keep a file named like a catalogued planet. Each case below was found by an
 audit (2026-11-29) to change a result, accept a wrong input, crash or change the caller's state; the
-ground truth is the same call under the default state, or the input's refusal, or an mpmath value.
+ground truth is the same call under the default state, or the input's refusal.
 """
 
 from __future__ import annotations

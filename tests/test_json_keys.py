@@ -42,7 +42,8 @@ def _json(capsys, *args):
 
 
 def _check_aliases(doc):
-    """Every old path of ``deprecated_keys`` holds exactly what its new path holds."""
+    """Every old path of ``deprecated_keys`` holds exactly what its new path holds (and there is one)."""
+    assert doc["deprecated_keys"]
     for old, new in doc["deprecated_keys"].items():
         assert values_at(doc, old) == values_at(doc, new) != [], (old, new)
 
@@ -92,3 +93,8 @@ def test_renamed_keys_alias_their_new_names(capsys):
     _check_aliases(figure)
     (budget,) = _json(capsys, "chandler", "mars", "--sources")
     _check_aliases(budget)
+    assert budget["deprecated_keys"] == {"parameters[].unit_astropy": "parameters[].unit"}
+    from astropy import units as u
+
+    for p in budget["parameters"]:  # every unit is one astropy reads, to itself
+        assert p["unit"] == "" or u.Unit(p["unit"]).to_string() == p["unit"]

@@ -87,6 +87,7 @@ def test_a_long_span_draws_its_first_periods_each_finely(body, t_end):
     top, bottom = _time_axes(fig)
     scale = _seconds_per_unit(bottom)
     for ax in (top, bottom):
+        assert ax.lines  # the loop below must have something to check
         for line in ax.lines:
             t = np.asarray(line.get_xdata()) * scale
             assert t[0] == 0 and 1 <= t[-1] / period <= 10 * (1 + 1e-12)  # one to ten periods
@@ -234,6 +235,7 @@ def test_no_legend_covers_a_curve(moments, omega, t_end):
     fig.canvas.draw()
     for ax in _time_axes(fig):
         box = ax.get_legend().get_window_extent()
+        assert ax.lines
         for line in ax.lines:
             xy = ax.transData.transform(np.column_stack(line.get_data()))
             inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)

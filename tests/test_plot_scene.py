@@ -157,10 +157,27 @@ def test_thinning_a_long_file_is_checked_at_the_spacing_drawn():
     assert text.startswith("samples 0.15 s apart (one in 3 drawn)")
 
 
+def _gyroscope_precession() -> tuple[float, float, float]:
+    """(phi_dot, theta, psi_dot) of the shipped gyroscope: its initial rates, checked against the steady
+    precession of the heavy symmetric top, phi_dot = [I3 w3 - sqrt(I3^2 w3^2 - 4 I1 M g l cos theta)] /
+    (2 I1 cos theta) (Goldstein, Poole & Safko 2002, eq. 5.73 with theta_dot = 0); the file's I1 is about the
+    pivot already (m r^2/4 + m l^2, its description says)."""
+    scene = _shipped("gyroscope")
+    phi_dot, _, psi_dot = scene["initial"]["euler_rates"]["value"]
+    theta = math.radians(scene["initial"]["euler_angles"]["value"][1])
+    i1, _, i3 = scene["body"]["moments"]["value"]
+    mass, lever, g = 0.1, scene["torques"][0]["center_of_mass"]["value"][2], 9.80665
+    w3 = psi_dot + phi_dot * math.cos(theta)
+    c = math.cos(theta)
+    steady = (i3 * w3 - math.sqrt((i3 * w3) ** 2 - 4 * i1 * mass * g * lever * c)) / (2 * i1 * c)
+    assert phi_dot == pytest.approx(steady, rel=1e-9)
+    return phi_dot, theta, psi_dot
+
+
 def test_the_gyroscope_sampled_as_it_was_says_its_omega_panel_is_not_resolved():
     # 101 samples over 1 s drew a smooth 4.5 Hz wave; omega_1, omega_2 turn at the spin, ~600 rad/s.
     scene = _shipped("gyroscope", stop="1 s", samples=101)
-    phi_dot, theta, psi_dot = 1.4553229624741815, math.radians(80.0), 599.7472858196495
+    phi_dot, theta, psi_dot = _gyroscope_precession()
     spin = math.hypot(psi_dot + phi_dot * math.cos(theta), phi_dot * math.sin(theta))  # |omega|
     fig = scene_figure(wobble.run(scene))
     omega = _panel(fig, "angular velocity")
@@ -243,7 +260,7 @@ def test_the_gyroscope_s_axis_panel_draws_its_steady_precession_in_degrees():
     np.testing.assert_allclose(line.get_ydata(), np.degrees(azimuth - azimuth[0]), rtol=0, atol=1e-9)
     # Started at the steady precession rate phi_dot = 1.4553 rad/s: the azimuth is phi_dot t.
     t = ds["time"].values
-    np.testing.assert_allclose(line.get_ydata(), np.degrees(1.4553229624741815 * t), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(line.get_ydata(), np.degrees(_gyroscope_precession()[0] * t), rtol=0, atol=1e-6)
     tilt = _panel(fig, "tilt")
     assert tilt.get_ylabel() == "deg" and _offset_text(fig, tilt) == ""
     lo, hi = tilt.get_ylim()

@@ -134,7 +134,7 @@ def run(args) -> int:
 
         written.append(motion_figure(body, t1 * u.s, path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(args.plot)
-    return finish(args, summary, lambda: _print_table(body, summary, args.t_end), written)
+    return finish(args, summary, lambda: _print_table(summary, args.t_end), written)
 
 
 _REGIMES = {
@@ -146,7 +146,7 @@ _REGIMES = {
 }
 
 
-def _print_table(body, summary: dict, typed: str | None = None) -> None:
+def _print_table(summary: dict, typed: str | None = None) -> None:
     from wobble.cli._output import duration, number, span_text
     from wobble.cli._table import print_rows
 

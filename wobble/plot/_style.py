@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["time_axis", "ANGLE_UNITS", "angle_unit", "power_of_ten", "power_label"]
+__all__ = ["time_axis", "ANGLE_UNITS", "angle_unit", "power_of_ten", "power_label", "pm"]
 
 _YEAR = 365.25 * 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
@@ -63,3 +63,15 @@ def power_label(exponent: int, unit: str = "") -> str:
     if exponent == 0:
         return unit
     return f"$10^{{{exponent}}}$ {unit}".rstrip()
+
+
+def pm(value: float, sigma: float) -> str:
+    """``value ± sigma`` to the uncertainty's two significant digits, as the text output prints it
+    (:func:`wobble.io.text.with_uncertainty`, with a plus-minus sign).
+
+    >>> pm(206.9, 0.5), pm(430.6, 19.6)
+    ('206.90 ± 0.50', '431 ± 20')
+    """
+    from wobble.io.text import with_uncertainty
+
+    return with_uncertainty(value, sigma).replace("+/-", "±")

@@ -7,6 +7,8 @@ import math
 import matplotlib.pyplot as plt
 from astropy import units as u
 
+from wobble.plot._style import pm
+
 __all__ = ["budget_figure"]
 
 _COLORS = {"rigid": "0.35", "lengthens": "C0", "shortens": "C3"}
@@ -60,12 +62,12 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         sigma = b.period_uncertainty.to_value(u.day)
         ax.axvspan(model - sigma, model + sigma, color="C0", alpha=0.12, lw=0)
         # The digits the text prints (the uncertainty's two significant ones: Mars' 206.90 +/- 0.50).
-        ax.axvline(model, color="C0", lw=1.2, label=f"model {_pm(model, sigma)} d")
+        ax.axvline(model, color="C0", lw=1.2, label=f"model {pm(model, sigma)} d")
         if b.observed is not None:
             obs = b.observed.to_value(u.day)
             osig = b.observed_uncertainty.to_value(u.day)
             ax.axvspan(obs - osig, obs + osig, color="k", alpha=0.15, lw=0)
-            ax.axvline(obs, color="k", lw=1.5, ls="--", label=f"observed {_pm(obs, osig)} d")
+            ax.axvline(obs, color="k", lw=1.5, ls="--", label=f"observed {pm(obs, osig)} d")
         ax.set_yticks(range(len(names)), names)
         ax.invert_yaxis()
         first = steps[0].period.to_value(u.day)
@@ -81,12 +83,6 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
-
-
-def _pm(value: float, sigma: float) -> str:
-    from wobble.io.text import with_uncertainty
-
-    return with_uncertainty(value, sigma).replace("+/-", "±")
 
 
 def _budgets(budgets) -> list:

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from wobble.errors import InputError
+from wobble.plot._style import power_label, power_of_ten
 
 __all__ = ["corner_figure", "corner_plot"]
 
@@ -91,16 +92,13 @@ def corner_figure(result):
 
 
 def _power_of_ten(values) -> int:
-    """The power of ten a parameter is drawn in (:func:`wobble.plot._style.power_of_ten` of its median
-    magnitude, as the other figures choose theirs)."""
-    from wobble.plot._style import power_of_ten
-
+    """The power of ten a parameter is drawn in: :func:`power_of_ten` of its median magnitude."""
     finite = np.abs(values[np.isfinite(values)])
     return power_of_ten(float(np.median(finite))) if finite.size else 0
 
 
 def _label(p, power: int) -> str:
-    unit = f"1e{power} {p.unit}".strip() if power else p.unit
+    unit = power_label(power, p.unit)  # "$10^{36}$ kg m2", as the free and top figures name theirs
     return f"{p.name}\n[{unit}]" if unit else p.name
 
 

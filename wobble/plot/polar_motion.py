@@ -20,6 +20,7 @@ from matplotlib.figure import Figure
 
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
+from wobble.plot._style import pm
 
 __all__ = [
     "pole_path",
@@ -267,7 +268,7 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
     ax_p.errorbar(years, windows["chandler_period"], yerr=windows["chandler_period_uncertainty"], fmt="o-", ms=3, lw=1)
     if period is not None:
         p, s = period
-        ax_p.axhspan(p - s, p + s, color="C0", alpha=0.15, label=f"whole span {p:.1f} ± {s:.1f} d")
+        ax_p.axhspan(p - s, p + s, color="C0", alpha=0.15, label=f"whole span {pm(p, s)} d")
     if model_period is not None:
         ax_p.axhline(model_period, color="C3", ls="--", lw=1, label=f"model {model_period:.1f} d")
     if period is not None or model_period is not None:
@@ -308,8 +309,9 @@ def overview(analysis, *, path_span=None) -> Figure:
         model_period=analysis.budget.period.to_value(u.day),
     )
     fig.suptitle(
-        f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)}: {e.period.to_value(u.day):.1f} ± "
-        f"{e.period_uncertainty.to_value(u.day):.1f} d, {e.amplitude.to_value(u.mas):.0f} mas (least squares)"
+        f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)}: "
+        f"{pm(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day))} d, "
+        f"{e.amplitude.to_value(u.mas):.0f} mas (least squares)"
     )
     return fig
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 
 from wobble.api.precession import ARCSEC_PER_CENTURY
-from wobble.io.text import with_uncertainty
+from wobble.plot._style import pm
 
 __all__ = ["budget_figure"]
 
@@ -47,14 +47,14 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         n = len(b.terms)
         ax.barh(n, model, color="0.35", height=0.6)
         # The digits the text prints (the uncertainty's two significant ones): "+/- 0.001" where it said 0.00080.
-        _number(ax, n, with_uncertainty(model, sigma).replace("+/-", "±"))
+        _number(ax, n, pm(model, sigma))
         labels = [t.name.replace("_", " ") + (" (not in the model)" if t.name in left_out else "") for t in b.terms]
         labels.append("model (with geodesic)" if b.includes_geodesic else "model (tidal)")
         if b.observed is not None:
             obs = b.observed.to_value(ARCSEC_PER_CENTURY)
             osig = b.observed_uncertainty.to_value(ARCSEC_PER_CENTURY)
             ax.barh(n + 1, obs, color="k", height=0.6)
-            _number(ax, n + 1, with_uncertainty(obs, osig).replace("+/-", "±"))
+            _number(ax, n + 1, pm(obs, osig))
             labels.append("observed")
         ax.set_yticks(range(len(labels)), labels)
         ax.invert_yaxis()

@@ -11,7 +11,7 @@ import numpy as np
 from wobble.errors import InputError
 
 from wobble.plot._sampling import largest_gap, note, panel_rates, resolved, series
-from wobble.plot._style import ANGLE_UNITS, time_axis
+from wobble.plot._style import ANGLE_UNITS, angle_unit, time_axis
 
 __all__ = ["scene_figure"]
 
@@ -264,8 +264,9 @@ def _angle_unit(radians) -> tuple[float, str]:
         return _ANGLE_UNITS[0][1], _ANGLE_UNITS[0][0]
     top = float(np.max(np.abs(values)))
     spread = float(np.ptp(values))
-    size = spread if spread > 1e-9 * top else top
-    i = next((i for i, (_, rad) in enumerate(_ANGLE_UNITS) if size >= rad), len(_ANGLE_UNITS) - 1)
+    name = angle_unit(spread if spread > 1e-9 * top else top)[1]  # the figures' one rule, on the range
+    names = [n for n, _ in _ANGLE_UNITS]
+    i = names.index(name) if name in names else len(names) - 1  # micro-arcseconds: mas, a scene's smallest
     while i > 0 and top / _ANGLE_UNITS[i][1] >= 1e6:
         i -= 1
     name, rad = _ANGLE_UNITS[i]
