@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from wobble.plot.polar_motion import log_floor, mark_collapse, save_figure
+from wobble.plot.polar_motion import log_floor, mark_collapse
+from wobble.plot.save import save_figure
 
 __all__ = ["excitation_figure", "save_excitation_figure"]
 
@@ -65,4 +66,4 @@ def excitation_figure(ex) -> Figure:
 
 def save_excitation_figure(ex, path, *, overwrite: bool = False):
     """Write :func:`excitation_figure` to ``path`` (png, pdf or svg)."""
-    return save_figure(excitation_figure(ex), path, overwrite=overwrite)
+    return save_figure(excitation_figure(ex), path, overwrite=overwrite, dpi=110)

@@ -2,7 +2,7 @@
 published curves.
 
 Matplotlib ``Figure`` objects (no pyplot); files are written atomically with
-the umask's mode (:func:`wobble.plot.polar_motion.save_figure`).
+the umask's mode (:func:`wobble.plot.save.save_figure`).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from wobble.io.dates import iso_date
-from wobble.plot.polar_motion import save_figure
+from wobble.plot.save import save_figure
 
 __all__ = ["forecast_figure", "save_forecast_figure", "hindcast_figure", "save_hindcast_figure"]
 
@@ -60,7 +60,7 @@ def forecast_figure(forecast, data=None) -> Figure:
 
 def save_forecast_figure(forecast, path, *, overwrite: bool = False, data=None):
     """Write :func:`forecast_figure` to ``path`` (png, pdf or svg)."""
-    return save_figure(forecast_figure(forecast, data), path, overwrite=overwrite)
+    return save_figure(forecast_figure(forecast, data), path, overwrite=overwrite, dpi=110)
 
 
 #: One colour per method in every panel (a method's x_p and y_p, 68 % and 95 % differ by line style): from the
@@ -133,4 +133,4 @@ def hindcast_figure(hindcast) -> Figure:
 
 def save_hindcast_figure(hindcast, path, *, overwrite: bool = False):
     """Write :func:`hindcast_figure` to ``path`` (png, pdf or svg)."""
-    return save_figure(hindcast_figure(hindcast), path, overwrite=overwrite)
+    return save_figure(hindcast_figure(hindcast), path, overwrite=overwrite, dpi=110)

@@ -15,12 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from wobble.errors import InputError
 from wobble.plot._style import power_label, power_of_ten
 
 __all__ = ["corner_figure", "corner_plot"]
-
-_FORMATS = ("png", "pdf", "svg")
 
 
 def corner_figure(result):
@@ -110,22 +107,11 @@ def _source(comparison) -> str:
 def corner_plot(result, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
     """Write :func:`corner_figure` to ``path`` (PNG, PDF or SVG by its suffix), atomically.
 
-    The figure is saved under a temporary name in the target folder and renamed; an
-    existing file is replaced only with ``overwrite=True``.
+    The path is checked before anything is drawn; the figure is saved under a temporary name in the
+    target folder and renamed (:func:`wobble.plot.save.save_figure`); an existing file is replaced
+    only with ``overwrite=True``.
     """
-    from wobble.io.atomic import atomic_target, check_target
+    from wobble.plot.save import check_plot_path, save_figure
 
-    path = Path(path)
-    suffix = path.suffix.lower().lstrip(".")
-    if suffix not in _FORMATS:
-        raise InputError("plot", str(path), "a file name ending in .png, .pdf or .svg")
-    check_target(path, overwrite)
-    import matplotlib.pyplot as plt
-
-    fig = corner_figure(result)
-    try:
-        with atomic_target(path, overwrite) as tmp:
-            fig.savefig(tmp, dpi=dpi, format=suffix)
-    finally:
-        plt.close(fig)
-    return path
+    check_plot_path(path, overwrite, "path")
+    return save_figure(corner_figure(result), path, overwrite=overwrite, dpi=dpi)

@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from wobble.errors import InputError
 from wobble.io.dates import iso_date
 from wobble.plot._style import pm
+from wobble.plot.save import save_figure
 
 __all__ = [
     "pole_path",
@@ -314,25 +314,6 @@ def overview(analysis, *, path_span=None) -> Figure:
         f"{e.amplitude.to_value(u.mas):.0f} mas (least squares)"
     )
     return fig
-
-
-def save_figure(fig: Figure, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
-    """Write ``fig`` to ``path`` (png, pdf or svg, from the suffix) atomically, with the mode any output gets.
-
-    The figure is drawn into a temporary file beside ``path`` and renamed onto
-    it (:func:`wobble.io.atomic.atomic_target`), so the file gets the umask's
-    mode like every other output (0644 under umask 022), a failed draw leaves
-    nothing behind, and an existing file is replaced only with ``overwrite``.
-    """
-    from wobble.io.atomic import atomic_target, check_target
-
-    path = check_target(path, overwrite)
-    suffix = path.suffix.lower().lstrip(".")
-    if suffix not in ("png", "pdf", "svg"):
-        raise InputError("plot", str(path), "a file name ending in .png, .pdf or .svg")
-    with atomic_target(path, overwrite) as tmp:
-        fig.savefig(tmp, dpi=dpi, format=suffix)
-    return path
 
 
 def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:

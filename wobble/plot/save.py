@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 from wobble.errors import InputError
@@ -25,17 +26,30 @@ def check_plot_path(path: str | os.PathLike, overwrite: bool = False, parameter:
         raise InputError(parameter, exc.value, exc.allowed) from None
 
 
-def save_figure(fig, path: str | os.PathLike, *, overwrite: bool = False, dpi: int = 150) -> Path:
+def save_figure(
+    fig, path: str | os.PathLike, *, overwrite: bool = False, dpi: int = 150, parameter: str = "path"
+) -> Path:
     """Write ``fig`` to ``path`` (format from the suffix) under a temporary name, then rename.
 
-    The figure is closed afterwards (a command draws once; pyplot would keep it alive).
+    The path is checked first (:func:`check_plot_path`), the figure is drawn into a temporary file
+    beside it and renamed onto it (:func:`wobble.io.atomic.atomic_target`): the file gets the
+    umask's mode like every other output, a failed draw leaves nothing behind, and an existing file
+    is replaced only with ``overwrite``. A refused path is an error naming ``parameter``, the Python
+    argument (the command line checks ``--plot`` itself before any work). A figure pyplot manages is
+    closed afterwards (a command draws once; pyplot would keep it alive); a bare
+    ``matplotlib.figure.Figure`` needs no closing, and pyplot is not imported for it.
     """
-    import matplotlib.pyplot as plt
-
-    path = check_plot_path(path, overwrite)
+    path = check_plot_path(path, overwrite, parameter)
     try:
         with atomic_target(path, overwrite) as tmp:
             fig.savefig(tmp, dpi=dpi, format=path.suffix.lower().lstrip("."))
     finally:
-        plt.close(fig)
+        _close(fig)
     return path
+
+
+def _close(fig) -> None:
+    """Release ``fig`` from pyplot, if pyplot holds it (it holds only figures it made)."""
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
+        pyplot.close(fig)
