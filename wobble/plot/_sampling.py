@@ -19,8 +19,8 @@ rebuilt with :func:`wobble.io.scene_file.body_from_mapping`):
 * omega of a free body: it runs on its polhode about the principal axis of largest moment (smallest,
   when ``L^2 < 2 T I_mid``); the rate at which its components across that axis turn is its angular
   speed about it, ``|a . (w_perp x w_perp_dot)| / |w_perp|^2`` with Euler's ``w_dot = I^-1 (I w x w)``
-  (Landau & Lifshitz, Mechanics, secs. 36-37): for a symmetric body the Euler frequency
-  ``(C - A)/A omega_3`` at every sample, however sparse the samples.
+  (Landau & Lifshitz, Mechanics, secs. 36-37; :func:`wobble.models.euler_rates.polhode_turn_rate`): for a
+  symmetric body the Euler frequency ``(C - A)/A omega_3`` at every sample, however sparse the samples.
 * a series ``x`` whose derivative is known at the samples (the wobble angle of a free body, from
   Euler's equations; the figure axis ``e3``, whose speed is ``|omega x e3| = |(omega_1, omega_2)|``
   by kinematics, or at most ``|L x e3| / min(I_1, I_2)`` when the file has L but not omega): the
@@ -50,6 +50,7 @@ import math
 import numpy as np
 
 from wobble.io.scene_file import body_from_mapping
+from wobble.models import euler_rates
 from wobble.numerics import quaternion as quat
 
 __all__ = ["LINES_LIMIT", "series", "panel_rates", "largest_gap", "resolved", "note"]
@@ -115,7 +116,7 @@ class _Motion:
     def __init__(self, ds):
         self.ds = ds
         self.members = ds.sizes.get("member", 1)
-        self.tensor, self.moments, self.axes, self.principal = None, None, None, False
+        self.moments, self.axes, self.principal = None, None, False
         self.torques = True
         try:
             record = json.loads(ds.attrs["scene"])
@@ -126,7 +127,6 @@ class _Motion:
         moments = np.asarray(body.moments, dtype=float).reshape(-1, 3)[: self.members]
         axes = np.asarray(body.axes, dtype=float).reshape(-1, 3, 3)[: self.members]
         self.moments, self.axes = moments, axes
-        self.tensor = np.einsum("mki,mk,mkj->mij", axes, moments, axes)
         self.principal = bool(np.allclose(axes, np.eye(3), rtol=0, atol=1e-12))
 
     @property
@@ -155,33 +155,12 @@ class _Motion:
 
     def omega_dot(self, w):
         """Euler's equations of the free body at the samples (time, member, 3)."""
-        tensor = np.broadcast_to(self.tensor, (w.shape[1], 3, 3))  # one body, or one per member
-        L = np.einsum("mij,tmj->tmi", tensor, w)
-        return np.einsum("mij,tmj->tmi", np.linalg.inv(tensor), np.cross(L, w))
+        return euler_rates.omega_dot(self.moments, self.axes, w)
 
     def polhode_rate(self, w) -> float:
-        """The largest rate at which a free body's omega turns in the body (rad/s).
-
-        omega runs on its polhode about the principal axis of largest moment when L^2 > 2 T I_mid, of
-        smallest otherwise (Landau & Lifshitz, Mechanics, sec. 37); its angular speed about that axis,
-        ``|a . (w_perp x w_perp_dot)| / |w_perp|^2`` with Euler's ``w_dot``, is the rate of the components
-        across it: the Euler frequency ``(C - A)/A omega_3`` at every sample for a symmetric body.
-        """
-        axes = np.broadcast_to(self.axes, (w.shape[1], 3, 3))
-        m = np.broadcast_to(self.moments, (w.shape[1], 3))
-        wp = np.einsum("mij,tmj->tmi", axes, w)  # principal-frame components
-        wdot = np.cross(m * wp, wp) / m
-        twice_t, l_squared = np.sum(m * wp**2, axis=-1), np.sum((m * wp) ** 2, axis=-1)
-        about_largest = l_squared > twice_t * np.median(m, axis=-1)
-        a = np.eye(3)[np.where(about_largest, np.argmax(m, axis=-1), np.argmin(m, axis=-1))]
-        perp = wp - np.sum(wp * a, axis=-1, keepdims=True) * a
-        perp_dot = wdot - np.sum(wdot * a, axis=-1, keepdims=True) * a
-        turn = np.abs(np.sum(a * np.cross(perp, perp_dot), axis=-1))
-        size = np.sum(perp**2, axis=-1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            # |w_perp|^2 against (rounding x |w|)^2, both in rad^2/s^2 (the square of the sum compared rad^4/s^4
-            # and let a 1e-5 wobble of a 1e4 rad/s spin pass as rounding, its alias drawn as lines).
-            rates = np.where(size > _ROUNDING**2 * np.sum(wp**2, axis=-1), turn / size, 0.0)
+        """The largest rate at which a free body's omega turns in the body (rad/s):
+        :func:`wobble.models.euler_rates.polhode_turn_rate` at the samples."""
+        rates = euler_rates.polhode_turn_rate(self.moments, self.axes, w)
         return float(np.max(rates)) if rates.size else 0.0
 
     def figure_axis(self):
@@ -222,12 +201,12 @@ class _Motion:
         w = self.omega()
         if w is None:
             return None
-        if self.torques or self.tensor is None:
+        if self.torques or self.moments is None:
             return self.forced()
         return self.polhode_rate(w)
 
     def wobble_rate(self) -> float | None:
-        if self.torques or self.tensor is None or self.omega() is None:
+        if self.torques or self.moments is None or self.omega() is None:
             return self.forced()
         w = self.omega()
         wd = self.omega_dot(w)
@@ -244,7 +223,7 @@ class _Motion:
 
     def conserved_rate(self) -> float | None:
         """The angular momentum's and the energy's rate: 0 for a free body."""
-        if not self.torques and self.tensor is not None:
+        if not self.torques and self.moments is not None:
             return 0.0
         if self.axisymmetric:
             return self.axis_rate()
