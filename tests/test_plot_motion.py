@@ -418,3 +418,16 @@ def test_the_flip_figure_of_a_long_span_draws_its_first_periods_densely():
     fig.canvas.draw()
     assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1  # beside the axes
     plt.close(fig)
+
+
+def test_first_periods_cuts_a_long_span_to_its_first_periods_and_says_how_many():
+    from wobble.plot._sampling import first_periods, period_count
+
+    times, count = first_periods(10.0, 1.0, 3, 4)  # ten periods, three shown, four samples each
+    np.testing.assert_array_equal(times, np.linspace(0.0, 3.0, 13))
+    assert count == 10.0
+    times, count = first_periods(2.5, 1.0, 3, 4, least=2)  # the whole span: nothing to say
+    np.testing.assert_array_equal(times, np.linspace(0.0, 2.5, 11))
+    assert count is None
+    assert first_periods(0.1, 1.0, 3, 4, least=50)[0].size == 50  # at least ``least`` samples
+    assert [period_count(c) for c in (12345.6, 99.94, 3.0)] == ["12,346", "99.9", "3"]

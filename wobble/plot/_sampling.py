@@ -49,11 +49,10 @@ import math
 
 import numpy as np
 
-from wobble.io.scene_file import body_from_mapping
 from wobble.models import euler_rates
 from wobble.numerics import quaternion as quat
 
-__all__ = ["LINES_LIMIT", "series", "panel_rates", "largest_gap", "resolved", "note"]
+__all__ = ["LINES_LIMIT", "series", "panel_rates", "largest_gap", "resolved", "note", "first_periods", "period_count"]
 
 LINES_LIMIT = math.pi / 2
 # Below this share of a series' size its range is rounding, not motion.
@@ -96,6 +95,26 @@ def note(rate: float, gap: float, every: int = 1) -> str:
     return f"samples {span(gap)} apart{drawn}: motion with periods down to ~{period} not resolved (markers only)"
 
 
+def first_periods(t_end: float, period: float, most: float, per_period: int, least: int = 2):
+    """(times in s, the number of periods in the span or None) of a periodic motion's figure.
+
+    A motion that repeats every ``period`` shows all it does in its first periods; thousands of
+    them in a panel only alias into bands. So the times run from 0 over the span ``t_end`` or its
+    first ``most`` periods, whichever is shorter, with ``per_period`` samples a period and at least
+    ``least``; the count ``t_end / period`` is returned when the span was cut, for the title to say so
+    (:func:`period_count`), else None.
+    """
+    count = t_end / period
+    shown = min(count, most)
+    n = max(least, math.ceil(per_period * shown) + 1)
+    return np.linspace(0.0, t_end if count <= most else most * period, n), (count if count > most else None)
+
+
+def period_count(count: float) -> str:
+    """A count of periods for a title: whole and grouped from 100 on (``12,345``), else 3 digits."""
+    return f"{count:,.0f}" if count >= 100 else f"{count:.3g}"
+
+
 def _excursion(x):
     """max |x - mean x| over time (member, component): the amplitude, even from samples that alias."""
     return np.max(np.abs(x - np.mean(x, axis=0)), axis=0)
@@ -118,6 +137,9 @@ class _Motion:
         self.members = ds.sizes.get("member", 1)
         self.moments, self.axes, self.principal = None, None, False
         self.torques = True
+        # Here, not at the top: the free and top figures use this module's sampling rules, not scene files.
+        from wobble.io.scene_file import body_from_mapping
+
         try:
             record = json.loads(ds.attrs["scene"])
             body = body_from_mapping(record["body"])

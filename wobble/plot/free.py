@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -12,6 +11,7 @@ from wobble.api.sampling import check_samples
 from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
+from wobble.plot._sampling import first_periods, period_count
 from wobble.plot._style import angle_unit, power_label, power_of_ten, time_axis
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
@@ -201,18 +201,13 @@ def _time_panel_times(body: FreeRotation, t1: float, samples: int) -> tuple[np.n
     per period; a separatrix refined about its flip; a steady spin, ``samples`` points over the span."""
     period = body.model.period
     if np.isfinite(period) and period > 0:
-        shown = min(t1, MAX_PERIODS_SHOWN * period)
-        n = max(samples, math.ceil(SAMPLES_PER_PERIOD * shown / period) + 1)
-        note = ""
-        if shown < t1:
-            count = t1 / period
-            note = (
-                f"first {MAX_PERIODS_SHOWN} of {count:,.0f}"
-                if count >= 100
-                else f"first {MAX_PERIODS_SHOWN} of {count:.3g}"
-            )
-            note += " periods shown (each repeats the first)"
-        return np.linspace(0.0, shown, n), shown, note
+        times, count = first_periods(t1, period, MAX_PERIODS_SHOWN, SAMPLES_PER_PERIOD, samples)
+        note = (
+            ""
+            if count is None
+            else f"first {MAX_PERIODS_SHOWN} of {period_count(count)} periods shown (each repeats the first)"
+        )
+        return times, float(times[-1]), note
     if body.regime == "separatrix":
         return _separatrix_times(body, t1, samples), t1, ""
     return np.linspace(0.0, t1, samples), t1, ""

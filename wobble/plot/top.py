@@ -3,7 +3,6 @@ three nutation classes, the effective potential V'(theta) with the E' line, f(u)
 
 from __future__ import annotations
 
-import math
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -13,6 +12,7 @@ from wobble.api.sampling import check_samples, sample_times
 from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
+from wobble.plot._sampling import first_periods, period_count
 from wobble.plot._style import angle_unit, power_label, power_of_ten
 
 __all__ = [
@@ -64,14 +64,11 @@ def locus_times(top: HeavyTop, t_end: float, samples: int | None = None) -> tupl
         period, most, name = m.nutation_period, MAX_LOCUS_SAMPLES // SAMPLES_PER_PERIOD, "nutation periods"
     if not (np.isfinite(period) and period > 0):
         return np.linspace(0.0, t_end, MIN_LOCUS_SAMPLES), ""
-    count = t_end / period
-    if count <= most:
-        n = max(MIN_LOCUS_SAMPLES, math.ceil(SAMPLES_PER_PERIOD * count) + 1)
-        return np.linspace(0.0, t_end, n), ""
-    n = max(MIN_LOCUS_SAMPLES, SAMPLES_PER_PERIOD * most + 1)
-    counted = f"{count:,.0f}" if count >= 100 else f"{count:.3g}"
-    note = "one turn drawn (each retraces it)" if most == 1 else f"first {most} of {counted} {name} drawn"
-    return np.linspace(0.0, most * period, n), note
+    times, count = first_periods(t_end, period, most, SAMPLES_PER_PERIOD, MIN_LOCUS_SAMPLES)
+    if count is None:
+        return times, ""
+    note = "one turn drawn (each retraces it)" if most == 1 else f"first {most} of {period_count(count)} {name} drawn"
+    return times, note
 
 
 #: A horizontal distance sin(theta) below this is rounding: sin(pi) is 1.2e-16, not 0 (a top hanging straight
