@@ -83,6 +83,8 @@ class _Parser(argparse.ArgumentParser):
         self._negative_number_matcher = re.compile(r"^-\.?\d")
 
     def error(self, message: str):  # overrides argparse.ArgumentParser.error
+        # A value type's refusal (wobble.cli._types) as every other error reads: "--samples: got 2.5; ...".
+        message = re.sub(r"^argument (\S+): got ", r"\1: got ", message)
         self.exit(2, f"{self.prog}: error: {_one_line(message)}\n")  # a value may hold a newline
 
 

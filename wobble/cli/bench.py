@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import argparse
 
+from wobble.cli._types import whole_number
+
 __all__ = ["CASE_KEYS", "add_arguments", "register", "run", "harness"]
 
 #: The benchmark's cases, in the order of the report.
@@ -73,7 +75,9 @@ def add_arguments(p) -> None:
     p.add_argument(
         "--case", action="append", metavar="NAME", help=f"run only this case (repeatable): {', '.join(CASE_KEYS)}"
     )
-    p.add_argument("--repeats", type=int, help="timed runs after the warm-up (default 3; --quick 2; --smoke 1)")
+    p.add_argument(
+        "--repeats", type=whole_number, help="timed runs after the warm-up (default 3; --quick 2; --smoke 1)"
+    )
     p.add_argument("--json", action="store_true", help="print the results as JSON instead of a table")
     p.add_argument("--plot", metavar="DIR", help="write work_precision_<case>.png diagrams into DIR (replaced)")
     p.add_argument(

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from wobble.cli._types import whole_number
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -50,7 +51,9 @@ def register(subparsers) -> None:
     p.add_argument(
         "--t-end", help=f"end of the output span (s unless a unit is given; default {DEFAULT_PERIODS} periods)"
     )
-    p.add_argument("--samples", type=int, default=1001, help="number of output times from 0 to --t-end (default 1001)")
+    p.add_argument(
+        "--samples", type=whole_number, default=1001, help="number of output times from 0 to --t-end (default 1001)"
+    )
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the time series to this netCDF file")
     p.add_argument(
         "--plot",

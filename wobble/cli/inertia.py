@@ -10,6 +10,7 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
+from wobble.cli._types import real_number
 from wobble.errors import InputError
 
 if TYPE_CHECKING:  # annotations only: run() imports astropy and the API when it runs
@@ -99,7 +100,7 @@ def register(subparsers) -> None:
         else:
             p.add_argument(flag, metavar="Q", help="mass" if dest in _MASS_OPTIONS else "length")
     p.add_argument("--about", nargs="+", metavar="POINT", default=["com"], help="com (default), origin, or X Y Z")
-    p.add_argument("--tolerance", type=float, default=DEFAULT_RTOL, metavar="RTOL",
+    p.add_argument("--tolerance", type=real_number, default=DEFAULT_RTOL, metavar="RTOL",
                    help=f"relative tolerance for equal moments (default {DEFAULT_RTOL:g})")  # fmt: skip
     p.add_argument("--json", action="store_true", help="machine-readable output on stdout")
     p.add_argument("-o", "--output", metavar="FILE.nc", help="also write a CF netCDF file")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from wobble.cli._types import whole_number
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -66,11 +67,11 @@ def register(sub) -> None:
         metavar="FILE",
         help="a planet file of your own in place of the setup's body (as in wobble chandler --body-file)",
     )
-    p.add_argument("--seed", type=int, help="random seed (default: the setup's); same seed, same numbers")
-    p.add_argument("--walkers", type=int, help="walkers per ensemble (even, >= twice the parameters)")
-    p.add_argument("--steps", type=int, help="steps kept per walker after the burn-in")
-    p.add_argument("--burn", type=int, help="burn-in steps discarded per walker")
-    p.add_argument("--ensembles", type=int, help="independent ensembles, pooled (parallel with --scheduler)")
+    p.add_argument("--seed", type=whole_number, help="random seed (default: the setup's); same seed, same numbers")
+    p.add_argument("--walkers", type=whole_number, help="walkers per ensemble (even, >= twice the parameters)")
+    p.add_argument("--steps", type=whole_number, help="steps kept per walker after the burn-in")
+    p.add_argument("--burn", type=whole_number, help="burn-in steps discarded per walker")
+    p.add_argument("--ensembles", type=whole_number, help="independent ensembles, pooled (parallel with --scheduler)")
     p.add_argument("--prior-only", action="store_true", help="sample the priors only (no data): what the data add")
     p.add_argument(
         "--scheduler", help="run ensembles on dask: threads, processes, synchronous or a dask.distributed address"

@@ -8,6 +8,7 @@ import sys
 import time
 
 from wobble.cli._record import add_outputs, add_record, report
+from wobble.cli._types import whole_number
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -56,7 +57,7 @@ def register(sub) -> None:
     p.add_argument(
         "--drift-degree",
         metavar="N",
-        type=int,
+        type=whole_number,
         default=2,
         help="degree of the mean-pole polynomial, 0 to 6 (default: 2)",
     )

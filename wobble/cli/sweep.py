@@ -6,6 +6,7 @@ import argparse
 import math
 import sys
 
+from wobble.cli._types import whole_number
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -51,8 +52,8 @@ def register(sub) -> None:
         "(or a Zarr store when the name ends in .zarr; needs the zarr package)",
     )
     p.add_argument("--overwrite", action="store_true", help="replace an existing output file")
-    p.add_argument("--members", type=int, help="override the sweep's member count (random sweeps)")
-    p.add_argument("--chunk-size", type=int, help="members per dask chunk")
+    p.add_argument("--members", type=whole_number, help="override the sweep's member count (random sweeps)")
+    p.add_argument("--chunk-size", type=whole_number, help="members per dask chunk")
     p.add_argument("--scheduler", help="threads (default), processes, synchronous, or a dask.distributed address")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")

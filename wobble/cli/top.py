@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from wobble.cli._table import print_rows
+from wobble.cli._types import whole_number
 from wobble.errors import InputError
 
 EPILOG = """\
@@ -54,7 +55,9 @@ def register(subparsers) -> None:
         default=None,
         help="end of the output span for -o and --plot (s unless a unit is given; default 10 nutation periods)",
     )
-    p.add_argument("--samples", type=int, default=1001, help="number of output times from 0 to --t-end (default 1001)")
+    p.add_argument(
+        "--samples", type=whole_number, default=1001, help="number of output times from 0 to --t-end (default 1001)"
+    )
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the motion to this netCDF file")
     p.add_argument(
         "--plot",
