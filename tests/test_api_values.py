@@ -10,7 +10,6 @@ numbers. The ground truth is the same call with plain float64 inputs, or the inp
 from __future__ import annotations
 
 import contextlib
-import sys
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
