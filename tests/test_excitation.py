@@ -98,6 +98,13 @@ def test_chandler_band_only_where_the_span_resolves_it(end, resolved, tmp_path):
     save_excitation_figure(ex, tmp_path / "excitation.png")  # warnings are errors in the tests
 
 
+def test_the_whole_record_period_is_polar_motion_s_to_the_last_digit():
+    """Both say "the least-squares period of the whole record"; they differed in the 10th digit
+    (432.601783452 against 432.601783247 d) while the excitation's search went unpolished."""
+    ex_period = wobble.geodetic_excitation().to_dict()["chandler_period_days"]
+    assert ex_period == wobble.polar_motion_analysis().to_dict()["chandler_period_days"]
+
+
 def test_a_file_and_its_dataset_give_the_same_excitation(c04):
     """The shipped record read into plain arrays (no Dataset: what the JSON and the text use) and the
     same record as the Dataset of load_polar_motion give the same excitation, to the bit."""

@@ -296,7 +296,9 @@ def geodetic_excitation(
         raise InputError("data" if start is None and end is None else "start/end", span, allowed)
     if given is None:
         reference = published_chandler_period()["period"].to_value(u.s)
-        period = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False).chandler.period
+        # Polished, as wobble polar-motion's is: the same period of the same record, to the last digit.
+        fit = fit_least_squares(t_all, z_all, reference_period=reference, uncertainty=False, polish=True)
+        period = fit.chandler.period
         source = f"least squares of the whole record, {iso_date(mjd_all[0])} to {iso_date(mjd_all[-1])}"
     else:
         period, source = given, "given"
