@@ -213,8 +213,13 @@ def _offset_text(fig, ax) -> str:
     return ax.yaxis.get_offset_text().get_text()
 
 
-def test_the_axis_panels_draw_the_precession_and_nutation_of_earth_in_arcsec():
-    ds = wobble.run("earth_precession")
+@pytest.fixture(scope="module")
+def earth_precession():
+    return wobble.run("earth_precession")
+
+
+def test_the_axis_panels_draw_the_precession_and_nutation_of_earth_in_arcsec(earth_precession):
+    ds = earth_precession
     fig = scene_figure(ds)
     e3 = ds["axis_direction"].values
     # The axis's azimuth about the ecliptic pole (inertial z) from its start, by hand, in arcsec.
@@ -233,6 +238,33 @@ def test_the_axis_panels_draw_the_precession_and_nutation_of_earth_in_arcsec():
     np.testing.assert_allclose(line.get_ydata(), np.arccos(e3[:, 2]) / ARCSEC, rtol=0, atol=1e-6)
     assert line.get_ydata()[0] == pytest.approx(84381.406, abs=1e-6)
     assert 15 < np.ptp(line.get_ydata()) < 25  # 2 x 9.2 arcsec of the 18.6-year term, and the short terms
+
+
+def test_earth_s_angular_momentum_is_drawn_as_its_change_from_the_start(earth_precession):
+    """The Sun's and Moon's torques turn L by 5e-3 rad in 20 years: on an axis spanning L that drew three
+    flat lines under a '1e33'. The change is drawn, in a named power of ten, the start in the title."""
+    ds = earth_precession
+    fig = scene_figure(ds)
+    L = ds["angular_momentum"].values
+    panel = _panel(fig, "angular momentum, inertial frame: change from the start, (")
+    assert panel.get_ylabel() == "$10^{30}$ kg m2 s-1" and _offset_text(fig, panel) == ""
+    start = panel.get_title().split("(")[1].split(")")[0].split(", ")
+    np.testing.assert_allclose([float(v) * 1e33 for v in start], L[0], rtol=0, atol=1e-5 * 1e33)
+    for k, line in enumerate(_curves(panel)):
+        np.testing.assert_allclose(line.get_ydata(), (L[:, k] - L[0, k]) / 1e30, rtol=0, atol=1e-9)
+    # L turns with the figure axis about the ecliptic pole: (0, L_h, L_z) by psi gives L_X = -L_h sin(psi).
+    e3 = ds["axis_direction"].values
+    psi = np.unwrap(np.arctan2(e3[:, 1], e3[:, 0]))
+    psi -= psi[0]
+    assert L[-1, 0] - L[0, 0] == pytest.approx(-np.hypot(L[0, 0], L[0, 1]) * np.sin(psi[-1]), rel=1e-3)
+
+
+def test_a_free_body_s_constant_momentum_is_drawn_as_it_is_not_its_rounding():
+    fig = scene_figure(wobble.run("tennis_racket"))
+    panel = _panel(fig, "angular momentum")
+    assert panel.get_title() == "angular momentum, inertial frame" and _offset_text(fig, panel) == ""
+    energy = _panel(fig, "energy")
+    assert _offset_text(fig, energy) == "" and energy.get_ylabel().startswith("relative change")
 
 
 def test_an_unresolved_axis_panel_gives_no_fitted_rate_and_an_empty_dataset_is_refused():
@@ -289,8 +321,9 @@ def test_an_ensemble_s_members_are_told_apart_by_colour_one_panel_a_component():
         curves = _curves(ax)
         assert len(curves) == members
         assert len({line.get_color() for line in curves}) == members
+        assert ax.get_ylabel() == "$10^{-6}$ rad s-1" and _offset_text(fig, ax) == ""  # micro-radians per second
         for j, line in enumerate(curves):
-            np.testing.assert_array_equal(line.get_ydata(), ds["omega"].values[:, j, k])
+            np.testing.assert_allclose(line.get_ydata(), ds["omega"].values[:, j, k] / 1e-6, rtol=1e-15)
         labels = [text.get_text() for text in ax.get_legend().get_texts()]
         assert labels == [f"member {j}" for j in range(members)]
     energy = _panel(fig, "energy")

@@ -11,7 +11,7 @@ import numpy as np
 from wobble.errors import InputError
 
 from wobble.plot._sampling import largest_gap, note, panel_rates, resolved, series
-from wobble.plot._style import ANGLE_UNITS, angle_unit, time_axis
+from wobble.plot._style import ANGLE_UNITS, angle_unit, power_label, power_of_ten, time_axis
 
 __all__ = ["scene_figure"]
 
@@ -51,6 +51,11 @@ _ANGLE_UNITS = ANGLE_UNITS[:3]  # deg, arcsec, mas: a scene's angles do not need
 # The axis's azimuth (precession angle) means little within this of the inertial z axis: there the
 # figure draws the axis's offset from z instead.
 _NEAR_POLE = math.radians(1.0)
+# A vector panel whose components move by less than this share of the vector's size draws their change
+# from the start (on an axis spanning the vector, 5 % is a few pixels: flat lines); by less than the
+# second, it is constant to rounding, drawn as is.
+_SMALL_CHANGE = 0.05
+_ROUNDING_CHANGE = 1e-12
 
 
 def scene_figure(source, *, path=None, overwrite: bool = False):
@@ -194,61 +199,100 @@ def _member_handles(ds, n: int, kinds, lines: bool) -> list:
     return handles + [Line2D([], [], color="0.3", label=name, **_look(lines, k)) for k, name in kinds]
 
 
-def _components(ax, ds, t, name: str, labels, lines: bool) -> None:
-    """One body's vector, a colour per component (a component 20 times the others and constant named)."""
+def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
+    """One body's vector, a colour per component (a component 20 times the others and constant named).
+
+    A vector whose drawn components change by less than :data:`_SMALL_CHANGE` of their size is drawn as
+    its change from the start, its start in the title (the Sun's and Moon's slow work on the Earth's
+    angular momentum drew three flat lines); one constant to :data:`_ROUNDING_CHANGE` (a free body's L)
+    as it is, not its rounding.
+    Values are in a named power of ten of the unit. Returns the panel's title addition, if any.
+    """
     values = series(ds[name])[:, 0, :]
+    unit = ds[name].attrs.get("units", "")
     size = np.max(np.abs(values), axis=0)
+    # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
+    named = [
+        k
+        for k in range(values.shape[1])
+        if size.size > 1 and size[k] > 20 * np.max(np.delete(size, k)) and np.ptp(values[:, k]) < 1e-3 * size[k]
+    ]
+    kept = [k for k in range(values.shape[1]) if k not in named]
+    # Rounding is relative to the whole vector; whether a change shows, to the components drawn.
+    rounding = _ROUNDING_CHANGE * float(np.max(np.linalg.norm(values, axis=-1)))
+    biggest = float(np.max(np.linalg.norm(values[:, kept], axis=-1))) if kept else 0.0
+    moved = float(np.max(np.ptp(values[:, kept], axis=0))) if kept else 0.0
+    drawn, suffix = values, None
+    if float(np.max(np.ptp(values, axis=0))) > rounding and moved < _SMALL_CHANGE * biggest:
+        # Every component's change, a large constant one's too: the change is the scale now.
+        drawn, named, kept = values - values[0], [], list(range(values.shape[1]))
+        suffix = f"change from the start, {_start_text(values[0], unit)}"
+    exponent = power_of_ten(np.max(np.abs(drawn[:, kept]))) if kept else 0
     for k in range(values.shape[1]):
-        others = np.max(np.delete(size, k)) if size.size > 1 else 0.0
-        if size[k] > 20 * others and np.ptp(values[:, k]) < 1e-3 * size[k]:
-            # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
-            ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, k]):.6g} (constant to 1e-3)")
-            continue
-        ax.plot(t, values[:, k], color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
-    ax.set_ylabel(ds[name].attrs.get("units", ""))
+        if k in named:
+            ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, k]):.6g} {unit} (constant to 1e-3)")
+        else:
+            ax.plot(t, drawn[:, k] / 10.0**exponent, color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
+    ax.set_ylabel(power_label(exponent, unit))
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     _legend(ax)
+    return suffix
+
+
+def _start_text(start, unit: str) -> str:
+    """A vector's start for a title, to six digits of its largest component in one power of ten:
+    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``."""
+    exponent = power_of_ten(np.max(np.abs(start)))
+    scaled = np.asarray(start, dtype=float) / 10.0**exponent
+    largest = float(np.max(np.abs(scaled)))
+    decimals = max(0, 5 - math.floor(math.log10(largest))) if largest > 0 else 0
+    parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled)  # + 0.0: no "-0.00000"
+    return f"({parts}) {power_label(exponent, unit)}".rstrip()
 
 
 def _component(ax, ds, t, name: str, k: int, lines: bool) -> None:
     """Component k of an ensemble's vector, a colour per member."""
     values = series(ds[name])[:, :, k]
+    exponent = power_of_ten(np.max(np.abs(values)))
     for j in range(values.shape[1]):
-        ax.plot(t, values[:, j], color=f"C{j % 10}", lw=1.0, label=f"member {_member_label(ds, j)}", **_look(lines, 0))
-    ax.set_ylabel(ds[name].attrs.get("units", ""))
+        label = f"member {_member_label(ds, j)}"
+        ax.plot(t, values[:, j] / 10.0**exponent, color=f"C{j % 10}", lw=1.0, label=label, **_look(lines, 0))
+    ax.set_ylabel(power_label(exponent, ds[name].attrs.get("units", "")))
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     _legend(ax)
 
 
-def _omega(ax, ds, t, lines, unit, part=None) -> None:
-    if part is None:
-        _components(ax, ds, t, "omega", _VECTORS["omega"], lines)
-    else:
-        _component(ax, ds, t, "omega", part, lines)
+def _vector(kind: str):
+    """The drawer of a vector panel: one body's components together, or an ensemble's one at a time."""
 
+    def draw(ax, ds, t, lines, unit, part=None) -> str | None:
+        if part is not None:
+            _component(ax, ds, t, kind, part, lines)
+            return None
+        suffix = _components(ax, ds, t, kind, _VECTORS[kind], lines)
+        return None if suffix is None else f"{dict(_PANELS)[kind]}: {suffix}"
 
-def _momentum(ax, ds, t, lines, unit, part=None) -> None:
-    if part is None:
-        _components(ax, ds, t, "angular_momentum", _VECTORS["angular_momentum"], lines)
-    else:
-        _component(ax, ds, t, "angular_momentum", part, lines)
+    return draw
 
 
 def _energy(ax, ds, t, lines, unit, part=None) -> None:
     # Relative change: members of an ensemble differ in energy by orders of magnitude.
-    kinds = []
-    members = 1
+    kinds, changes = [], []
     for k, name in enumerate(("kinetic_energy", "total_energy")):
-        if name not in ds:
-            continue
-        values = series(ds[name])[:, :, 0]
-        members = values.shape[1]
-        scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
-        change = (values - values[:1]) / scale
-        label = name.replace("_", " ")
-        kinds.append((k, label))
+        if name in ds:
+            values = series(ds[name])[:, :, 0]
+            scale = np.where(values[:1] != 0, np.abs(values[:1]), 1.0)
+            changes.append((values - values[:1]) / scale)
+            kinds.append((k, name.replace("_", " ")))
+    members = changes[0].shape[1] if changes else 1
+    largest = max((float(np.max(np.abs(c[np.isfinite(c)]), initial=0.0)) for c in changes), default=0.0)
+    exponent = power_of_ten(largest)  # "relative change [10^-9]", not matplotlib's "1e-8" above the axis
+    for (k, label), change in zip(kinds, changes):
         for j in range(members):
             look = {"color": f"C{k}", **_look(lines, 0)} if members == 1 else {"color": f"C{j % 10}", **_look(lines, k)}
-            ax.plot(t, change[:, j], lw=0.8, label=label if j == 0 else None, **look)
-    ax.set_ylabel("relative change")
+            ax.plot(t, change[:, j] / 10.0**exponent, lw=0.8, label=label if j == 0 else None, **look)
+    ax.set_ylabel("relative change" + (f" [{power_label(exponent)}]" if exponent else ""))
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     _legend(ax, None if members == 1 else _member_handles(ds, members, kinds, lines))
 
 
@@ -350,8 +394,8 @@ def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
 
 
 _PANEL_DRAW = {
-    "omega": _omega,
-    "angular_momentum": _momentum,
+    "omega": _vector("omega"),
+    "angular_momentum": _vector("angular_momentum"),
     "energy": _energy,
     "axis": _axis,
     "tilt": _tilt,
