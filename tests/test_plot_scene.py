@@ -401,9 +401,17 @@ def test_every_shipped_scene_samples_its_fastest_motion_four_times_a_period(name
     assert rate * gap <= math.pi / 2, f"{name}: {what} {rate:.4g} rad/s, samples {gap:.4g} s apart"
 
 
-def test_no_shipped_scene_figure_needs_a_note():
+def test_no_shipped_scene_figure_needs_a_note_or_an_offset_text():
+    """No panel is unresolved, and none has matplotlib's offset or multiplier ('1e33', '+8.438e4') above
+    its axis: every unit and power of ten is in the axis label."""
     for name in wobble.example_scenes():
         fig = scene_figure(wobble.run(name))
         notes = {ax.get_title(): _notes(ax) for ax in fig.axes if _notes(ax)}
         assert notes == {}, name
+        fig.canvas.draw()
+        offsets = {
+            ax.get_title(): (ax.xaxis.get_offset_text().get_text(), ax.yaxis.get_offset_text().get_text())
+            for ax in fig.axes
+        }
+        assert {t: o for t, o in offsets.items() if o != ("", "")} == {}, name
         plt.close(fig)
