@@ -250,3 +250,27 @@ def test_shipped_spans_are_the_rule_s_choice_on_2006_2015():
         chosen = min(eligible, key=eligible.get)
         assert chosen == table["chosen_years"][method]
         assert fcal.SPANS[method] == chosen * YEAR
+
+
+def test_the_2021_table_beside_bulletin_a_quotes_its_measured_file():
+    """docs/forecast.md's 2021 table is docs/figures/forecast_2021.json (scripts/hindcast_polar_motion.py
+    --bulletin-a), rounded: the page cannot drift from the run it cites."""
+    import json
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    numbers = json.loads((root / "docs/figures/forecast_2021.json").read_text())
+    page = (root / "docs/forecast.md").read_text()
+    leads = ["1", "5", "10", "30", "90", "180", "270", "365"]
+    for comp, sym in (("mae_x", "x_p"), ("mae_y", "y_p")):
+        expected = {
+            f"kalman ${sym}$, 2021 (latency 1 d)": numbers["wobble"]["kalman"][comp],
+            f"ls_ar ${sym}$, 2021 (latency 1 d)": numbers["wobble"]["ls_ar"][comp],
+            f"IERS Bulletin A ${sym}$, 2021": numbers["bulletin_a"][f"{comp}_mas"],
+        }
+        for label, values in expected.items():
+            row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.MULTILINE)
+            assert row, label
+            assert [c.strip() for c in row.group(1).split("|")] == [f"{values[d]:.2f}" for d in leads], label
+    assert numbers["hindcast"]["issues"] == 53 and numbers["hindcast"]["latency_days"] == 1
