@@ -268,6 +268,7 @@ def test_the_2021_table_beside_bulletin_a_quotes_its_measured_file():
             f"kalman ${sym}$, 2021 (latency 1 d)": numbers["wobble"]["kalman"][comp],
             f"ls_ar ${sym}$, 2021 (latency 1 d)": numbers["wobble"]["ls_ar"][comp],
             f"IERS Bulletin A ${sym}$, 2021": numbers["bulletin_a"][f"{comp}_mas"],
+            f"Wang & Zhang's own LS+AR ${sym}$, 2021": numbers["their_ls_ar"][f"{comp}_mas"],
         }
         for label, values in expected.items():
             row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.MULTILINE)
