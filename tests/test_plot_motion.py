@@ -15,6 +15,7 @@ The criteria, stated once here and in the modules' constants:
 from __future__ import annotations
 
 import math
+import re
 
 import matplotlib.pyplot as plt  # the Agg backend: tests/conftest.py sets MPLBACKEND
 import numpy as np
@@ -431,3 +432,37 @@ def test_first_periods_cuts_a_long_span_to_its_first_periods_and_says_how_many()
     assert count is None
     assert first_periods(0.1, 1.0, 3, 4, least=50)[0].size == 50  # at least ``least`` samples
     assert [period_count(c) for c in (12345.6, 99.94, 3.0)] == ["12,346", "99.9", "3"]
+
+
+def _regular_precession(relative_offset: float = 0.0):
+    kw = dict(I1=5e-4 * KGM2, I3=1e-4 * KGM2, mgl=0.1 * u.J, theta0=30 * u.deg, omega3=200 * RAD_S)
+    slow = HeavyTop(**kw, phidot0=0 * RAD_S).model.regular_precession_rates()[0]
+    return HeavyTop(**kw, phidot0=slow * (1 + relative_offset) * RAD_S)
+
+
+@pytest.mark.parametrize(("offset", "title"), [(0.0, "u1 = u2 to rounding"), (1e-9, "closer than f's rounding")])
+def test_a_regular_precession_s_cubic_draws_its_double_root_not_rounding(offset, title):
+    """At u1 = u2 the zoom spanned 1e-12 of u, where f is rounding alone: it drew 2e-14 of noise under
+    'the motion: f >= 0'. It now spans the width over which the parabola stands clear of rounding."""
+    top = _regular_precession(offset)
+    m = top.model
+    near = cubic_figure(top).axes[1]
+    assert title in near.get_title()
+    assert [t.get_text() for t in near.get_legend().get_texts()] == ["the motion: u = u2 (theta constant)"]
+    f = near.lines[0].get_ydata()
+    # A smooth parabola below zero: its fourth differences (rounding) are under 1 % of its depth; the old
+    # zoom's were the whole of it.
+    assert np.max(f) <= 1e-3 * np.ptp(f) and np.max(np.abs(np.diff(f, 4))) <= 1e-2 * np.ptp(f)
+    # The depth at the window's edges is f''(u2)/2 (u - u2)^2, the cubic's double-root parabola.
+    x = near.lines[0].get_xdata()
+    scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", near.get_xlabel()).group(1))
+    h = 1e-2
+    curvature = (m.f(m.u2 + h) - 2 * m.f(m.u2) + m.f(m.u2 - h)) / h**2
+    ylabel_scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", near.get_ylabel()).group(1))
+    assert f[0] * ylabel_scale == pytest.approx(0.5 * curvature * (x[0] * scale) ** 2, rel=1e-3)
+
+
+def test_a_nearly_regular_precession_whose_hump_stands_clear_is_shaded():
+    near = cubic_figure(_regular_precession(1e-6)).axes[1]
+    assert near.get_title() == "between the turning points"
+    assert [t.get_text() for t in near.get_legend().get_texts()] == ["the motion: f >= 0"]
