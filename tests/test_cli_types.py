@@ -38,23 +38,44 @@ def test_a_count_that_is_not_one_is_refused_in_one_line_naming_the_option(comman
 
     typed = "2.5" if kind == "whole_number" else "nan"
     code, out, err = run_cli([command, option, typed], capsys)
-    allowed = "a whole number (1001, 1e3)" if kind == "whole_number" else "a finite number (1e-10, 0.5)"
+    allowed = (
+        "a whole number of at most 30 digits (1001, 1e3)" if kind == "whole_number" else "a finite number (1e-10, 0.5)"
+    )
     assert (code, out) == (2, "")
     assert err == f"wobble {command}: error: {option}: got {typed}; allowed: {allowed}\n"
 
 
-@pytest.mark.parametrize(("text", "value"), [("1001", 1001), ("1_000", 1000), ("1e3", 1000), ("-4", -4), ("10.0", 10)])
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("1001", 1001),
+        ("1_000", 1000),
+        ("1e3", 1000),
+        ("-4", -4),
+        ("10.0", 10),
+        (" 5 ", 5),
+        ("-0", 0),
+        ("1e16", 10**16),  # read as the decimal typed, not through a float
+        ("9007199254740993.0", 2**53 + 1),  # a float would make it 2**53
+        ("1e29", 10**29),
+    ],
+)
 def test_a_whole_number_may_be_typed_as_a_float_literal_with_no_fraction(text, value):
     from wobble.cli._types import whole_number
 
     assert whole_number(text) == value and type(whole_number(text)) is int
 
 
-@pytest.mark.parametrize("text", ["2.5", "1e300", "inf", "nan", "x", ""])
+@pytest.mark.parametrize(
+    "text",
+    ["2.5", "1e300", "inf", "nan", "x", "", "1e-400", "1.0000000000000001", "0.99999999999999999", "0x10", "_1", "1__0"]
+    + ["1e30", "1" * 31, "1e999999999"],
+)
 def test_what_is_not_a_whole_number_is_refused(text):
     import argparse
 
     from wobble.cli._types import whole_number
 
-    with pytest.raises(argparse.ArgumentTypeError, match=f"got {text}; allowed: a whole number"):
+    with pytest.raises(argparse.ArgumentTypeError, match="; allowed: a whole number of at most 30 digits") as caught:
         whole_number(text)
+    assert str(caught.value).startswith(f"got {text}")

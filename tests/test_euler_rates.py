@@ -105,3 +105,30 @@ def test_broadcasts_over_samples_and_bodies():
     assert out.shape == (5, 2, 3)
     np.testing.assert_allclose(out[3, 1], omega_dot(m[1], axes[1], w[3, 1]), rtol=1e-15, atol=1e-16)
     assert polhode_turn_rate(m, axes, w).shape == (5, 2)
+
+
+def test_a_wobble_far_above_rounding_turns_at_the_euler_frequency_however_small():
+    """A 1e-12 |omega| wobble is a wobble (omega's components carry 1e-16 of |omega|): the old 1e-9 cut
+    reported it as a spin that does not turn."""
+    A, C, w3 = 1.0, 1.3, 1e4
+    w = [1e-12 * w3, 0.0, w3]
+    assert polhode_turn_rate([A, A, C], EYE, w) == pytest.approx((C - A) / A * w3, rel=1e-9)
+    assert polhode_turn_rate([A, A, C], EYE, [1e-15 * w3, 0.0, w3]) == 0.0  # within rounding: no turn
+
+
+def test_omega_that_is_not_finite_has_no_rate():
+    rates = polhode_turn_rate([1.0, 2.0, 3.0], EYE, [[np.nan, 0.1, 1.0], [0.1, 0.2, 1.0]])
+    assert np.isnan(rates[0]) and np.isfinite(rates[1])
+
+
+def test_the_separatrix_rate_is_about_the_axis_its_comparison_picks():
+    """On the separatrix omega turns about no axis: a change in its last bit picks the largest or the
+    smallest moment's axis. With omega = (w1, 0, w3), Euler gives w1' = w3' = 0 and
+    w2' = (I3 - I1)/I2 w3 w1, so the rate is (I3 - I1)/I2 w3 about axis 3 and (I3 - I1)/I2 w1 about axis 1."""
+    m = np.array([1.0, 2.0, 3.0])
+    w3 = 1.0
+    w1 = np.sqrt(m[2] * (m[2] - m[1]) / (m[0] * (m[1] - m[0]))) * w3  # L^2 = 2 T I2
+    k = (m[2] - m[0]) / m[1]
+    # A larger w1 lowers L^2 - 2 T I2 = sum I_i (I_i - I2) w_i^2: omega then circles the smallest axis.
+    assert polhode_turn_rate(m, EYE, [w1 * (1 + 1e-15), 0.0, w3]) == pytest.approx(k * w1, rel=1e-12)
+    assert polhode_turn_rate(m, EYE, [w1 * (1 - 1e-15), 0.0, w3]) == pytest.approx(k * w3, rel=1e-12)

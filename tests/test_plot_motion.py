@@ -431,6 +431,10 @@ def test_first_periods_cuts_a_long_span_to_its_first_periods_and_says_how_many()
     np.testing.assert_array_equal(times, np.linspace(0.0, 2.5, 11))
     assert count is None
     assert first_periods(0.1, 1.0, 3, 4, least=50)[0].size == 50  # at least ``least`` samples
+    # A span of exactly ``most`` periods in floats (3 * 0.1 / 0.1 = 3.0000000000000004) is not cut: the title
+    # read "first 3 of 3 periods".
+    period = 0.1
+    assert 3 * period / period > 3 and first_periods(3 * period, period, 3, 4)[1] is None
     assert [period_count(c) for c in (12345.6, 99.94, 3.0)] == ["12,346", "99.9", "3"]
 
 

@@ -107,3 +107,25 @@ def test_a_bad_path_is_refused_before_drawing(tmp_path, name, error, words):
         save_figure(Unused(), tmp_path / name)
     assert words in str(caught.value).replace(str(tmp_path) + os.sep, "")
     assert (tmp_path / "exists.png").read_text() == "keep"
+
+
+def test_a_refused_path_releases_a_pyplot_figure(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.save import save_figure
+
+    fig = plt.figure()
+    with pytest.raises(InputError):
+        save_figure(fig, tmp_path / "a.txt")
+    assert not plt.fignum_exists(fig.number)
+
+
+def test_wobble_invert_names_plot_for_a_bad_figure_path(tmp_path, capsys):
+    """It named -o/--output (its own copy of the output check), for --plot /nonexistent/x.png."""
+    from cli_run import run_cli
+
+    code, out, err = run_cli(["invert", "mars", "--plot", str(tmp_path / "missing" / "x.png")], capsys)
+    assert code == 2 and out == "" and err.startswith("wobble invert: error: --plot: got ")

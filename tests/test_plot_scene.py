@@ -415,3 +415,30 @@ def test_no_shipped_scene_figure_needs_a_note_or_an_offset_text():
         }
         assert {t: o for t, o in offsets.items() if o != ("", "")} == {}, name
         plt.close(fig)
+
+
+def test_a_nan_sample_does_not_set_the_scale_of_a_vector_panel(earth_precession):
+    """One NaN in L switched the change-from-start rule and the power of ten off: the ticks read
+    -1000000000000000089690419062898688."""
+    ds = earth_precession.copy(deep=True)
+    ds["angular_momentum"].values[5, 0] = np.nan
+    fig = scene_figure(ds)
+    panel = _panel(fig, "angular momentum, inertial frame: change from the start")
+    assert panel.get_ylabel() == "$10^{30}$ kg m2 s-1" and _offset_text(fig, panel) == ""
+    fig.canvas.draw()
+    assert all(len(t.get_text()) < 8 for t in panel.get_yticklabels())
+
+
+@pytest.mark.parametrize(
+    ("start", "text"),
+    [
+        ((0.0, 2.330471e33, 5.375291e33), "(0.00000, 2.33047, 5.37529) $10^{33}$ kg"),
+        ((-9.9999996e32, 1e30, 0.0), "(-1.00000, 0.00100, 0.00000) $10^{33}$ kg"),  # not -1000.000 in 10^30
+        ((0.0, 0.0, 0.0), "(0, 0, 0) kg"),
+        ((-0.0, 1.5, -2.25), "(0.00000, 1.50000, -2.25000) kg"),
+    ],
+)
+def test_a_start_is_written_to_six_digits_in_one_power_of_ten(start, text):
+    from wobble.plot.scene import _start_text
+
+    assert _start_text(start, "kg") == text

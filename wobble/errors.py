@@ -7,7 +7,7 @@ key/line), the value received, and what is allowed. The command line turns any
 
 from __future__ import annotations
 
-__all__ = ["WobbleError", "InputError", "FileFormatError", "OutputExistsError"]
+__all__ = ["WobbleError", "InputError", "FileFormatError", "OutputExistsError", "shown"]
 
 
 class _Missing:
@@ -24,7 +24,8 @@ class WobbleError(ValueError):
     """Base class of wobble's own errors (a :class:`ValueError`)."""
 
 
-def _show(value: object) -> str:
+def shown(value: object) -> str:
+    """A value as an error message shows it: an array Quantity as typed, a long value cut in its middle."""
     text = str(value)
     if getattr(value, "ndim", 0) and hasattr(value, "unit") and hasattr(value, "value"):
         # An array Quantity as a person types it, "(-1, 2, 3) kg m2", not NumPy's "[-1.  2.  3.] kg m2".
@@ -51,7 +52,7 @@ class InputError(WobbleError):
         self.parameter = parameter
         self.value = value
         self.allowed = allowed
-        got = "missing" if value is MISSING else f"got {_show(value)}"
+        got = "missing" if value is MISSING else f"got {shown(value)}"
         super().__init__(f"{parameter}: {got}; allowed: {allowed}")
 
     @classmethod

@@ -102,11 +102,9 @@ def run(args) -> int:
     if args.output:
         check_target(args.output, args.overwrite)
     if args.plot:
-        from pathlib import Path
+        from wobble.plot.save import check_plot_path
 
-        if Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
-            raise InputError("--plot", args.plot, "a file name ending in .png, .pdf or .svg")
-        check_target(args.plot, args.overwrite)
+        check_plot_path(args.plot, args.overwrite)  # names --plot (check_target alone named -o/--output)
     from wobble.cli._record import as_typed
 
     with as_typed({"body": ("--body-file", args.body_file)}):

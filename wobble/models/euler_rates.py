@@ -22,9 +22,11 @@ import numpy as np
 
 __all__ = ["omega_dot", "polhode_turn_rate"]
 
-# Below this share of |omega| the part of omega across the polhode's axis is rounding: its turn rate,
-# a ratio of two rounding errors, is reported as 0 (a spin about a principal axis does not turn).
-_ROUNDING = 1e-9
+# Below this share of |omega| the part of omega across the polhode's axis is rounding (omega's components
+# carry about 1e-16 of |omega|; 1e-13 leaves a margin of a thousand): its turn rate, a ratio of two
+# rounding errors, is reported as 0 (a spin about a principal axis does not turn). A real wobble of
+# 1e-12 |omega| still turns at the Euler frequency.
+_ROUNDING = 1e-13
 
 
 def _principal(moments, axes, omega):
@@ -73,22 +75,33 @@ def polhode_turn_rate(moments, axes, omega) -> np.ndarray:
     otherwise (Landau & Lifshitz, Mechanics, sec. 37); its speed about that axis ``a`` is
     ``|a . (w_perp x w_perp_dot)| / |w_perp|^2``, ``w_perp`` the part of omega across ``a`` and its
     derivative from Euler's equations (:func:`omega_dot`). For a symmetric body, the Euler frequency
-    ``|(C - A)/A omega_3|`` (notes 5.6, p. 69); 0 for a spin about a principal axis (omega across
-    ``a`` below 1e-9 of ``|omega|``) and for a body at rest. On the separatrix, the speed about the
-    axis the tie-break picks.
+    ``|(C - A)/A omega_3|`` (notes 5.6, p. 69).
 
-    Parameters are those of :func:`omega_dot`; the result has omega's leading shape.
+    Parameters
+    ----------
+    moments, axes, omega : array_like
+        As in :func:`omega_dot`: principal moments (..., 3), all positive; their axes (..., 3, 3) in
+        the frame of ``omega``; angular velocities (..., 3), rad/s.
+
+    Returns
+    -------
+    ndarray
+        The rate (rad/s), omega's leading shape: 0 for a spin about a principal axis (omega across
+        ``a`` below 1e-13 of ``|omega|``) and for a body at rest; NaN where omega is not finite. On the
+        separatrix (``L^2 = 2 T I_mid`` exactly) omega turns about no axis; the rate about the axis the
+        comparison picks is returned, and a change of omega in its last bit can pick the other.
     """
     moments, axes, wp = _principal(moments, axes, omega)
     moments = np.broadcast_to(moments, wp.shape)
-    wdot = _principal_rates(moments, wp)
-    twice_t, l_squared = np.sum(moments * wp**2, axis=-1), np.sum((moments * wp) ** 2, axis=-1)
-    about_largest = l_squared > twice_t * np.median(moments, axis=-1)
-    a = np.eye(3)[np.where(about_largest, np.argmax(moments, axis=-1), np.argmin(moments, axis=-1))]
-    perp = wp - np.sum(wp * a, axis=-1, keepdims=True) * a
-    perp_dot = wdot - np.sum(wdot * a, axis=-1, keepdims=True) * a
-    turn = np.abs(np.sum(a * np.cross(perp, perp_dot), axis=-1))
-    size = np.sum(perp**2, axis=-1)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        wdot = _principal_rates(moments, wp)
+        twice_t, l_squared = np.sum(moments * wp**2, axis=-1), np.sum((moments * wp) ** 2, axis=-1)
+        about_largest = l_squared > twice_t * np.median(moments, axis=-1)
+        a = np.eye(3)[np.where(about_largest, np.argmax(moments, axis=-1), np.argmin(moments, axis=-1))]
+        perp = wp - np.sum(wp * a, axis=-1, keepdims=True) * a
+        perp_dot = wdot - np.sum(wdot * a, axis=-1, keepdims=True) * a
+        turn = np.abs(np.sum(a * np.cross(perp, perp_dot), axis=-1))
+        size = np.sum(perp**2, axis=-1)
         # |w_perp|^2 against (rounding x |w|)^2, both in rad^2/s^2: a small wobble of a fast spin is a wobble.
-        return np.where(size > _ROUNDING**2 * np.sum(wp**2, axis=-1), turn / size, 0.0)
+        rates = np.where(size > _ROUNDING**2 * np.sum(wp**2, axis=-1), turn / size, 0.0)
+    return np.where(np.all(np.isfinite(wp), axis=-1), rates, np.nan)

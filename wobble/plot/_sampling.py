@@ -99,15 +99,31 @@ def first_periods(t_end: float, period: float, most: float, per_period: int, lea
     """(times in s, the number of periods in the span or None) of a periodic motion's figure.
 
     A motion that repeats every ``period`` shows all it does in its first periods; thousands of
-    them in a panel only alias into bands. So the times run from 0 over the span ``t_end`` or its
-    first ``most`` periods, whichever is shorter, with ``per_period`` samples a period and at least
-    ``least``; the count ``t_end / period`` is returned when the span was cut, for the title to say so
-    (:func:`period_count`), else None.
+    them in a panel only alias into bands. So the times run from 0 over the span or its first
+    ``most`` periods, whichever is shorter.
+
+    Parameters
+    ----------
+    t_end, period : float
+        The span and the period (s), both positive.
+    most : float
+        The periods drawn at most. A span within rounding of ``most`` periods (``t_end = most *
+        period`` in floats can give 3.0000000000000004 periods) is not cut.
+    per_period, least : int
+        Samples a period, and at least ``least`` in all.
+
+    Returns
+    -------
+    times : ndarray
+        The times drawn (s), from 0.
+    count : float or None
+        ``t_end / period`` when the span was cut, for the title to say so (:func:`period_count`);
+        None otherwise.
     """
     count = t_end / period
-    shown = min(count, most)
-    n = max(least, math.ceil(per_period * shown) + 1)
-    return np.linspace(0.0, t_end if count <= most else most * period, n), (count if count > most else None)
+    cut = count > most * (1 + 1e-12)
+    n = max(least, math.ceil(per_period * min(count, most)) + 1)
+    return np.linspace(0.0, most * period if cut else t_end, n), (count if cut else None)
 
 
 def period_count(count: float) -> str:
@@ -183,7 +199,7 @@ class _Motion:
         """The largest rate at which a free body's omega turns in the body (rad/s):
         :func:`wobble.models.euler_rates.polhode_turn_rate` at the samples."""
         rates = euler_rates.polhode_turn_rate(self.moments, self.axes, w)
-        return float(np.max(rates)) if rates.size else 0.0
+        return float(np.max(rates[np.isfinite(rates)], initial=0.0))  # a NaN sample bounds nothing
 
     def figure_axis(self):
         """Body axis 3 in the inertial frame (time, member, 3), or None."""

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["time_axis", "ANGLE_UNITS", "angle_unit", "power_of_ten", "power_label", "pm"]
+import numpy as np
+
+__all__ = ["time_axis", "ANGLE_UNITS", "angle_unit", "power_of_ten", "power_label", "power_axis", "largest", "pm"]
 
 _YEAR = 365.25 * 86400.0
 _ARCSEC = math.pi / (180.0 * 3600.0)
@@ -63,6 +65,23 @@ def power_label(exponent: int, unit: str = "") -> str:
     if exponent == 0:
         return unit
     return f"$10^{{{exponent}}}$ {unit}".rstrip()
+
+
+def largest(values) -> float:
+    """The largest finite |value| (0 for none): a NaN sample must not set an axis's scale."""
+    values = np.asarray(values, dtype=float)
+    return float(np.max(np.abs(values[np.isfinite(values)]), initial=0.0))
+
+
+def power_axis(ax, biggest: float, unit: str = "", name: str | None = None) -> float:
+    """Label ``ax``'s y axis with ``unit`` in the power of ten of ``biggest`` (:func:`power_of_ten`),
+    after ``name`` in brackets when given (``relative change [$10^{-9}$]``), with plain tick labels and
+    no offset text; returns the divisor ``10**exponent`` for the values drawn."""
+    exponent = power_of_ten(biggest)
+    unit_text = power_label(exponent, unit)
+    ax.set_ylabel(unit_text if name is None else (f"{name} [{unit_text}]" if unit_text else name))
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+    return 10.0**exponent
 
 
 def pm(value: float, sigma: float) -> str:

@@ -34,13 +34,31 @@ def save_figure(
     The path is checked first (:func:`check_plot_path`), the figure is drawn into a temporary file
     beside it and renamed onto it (:func:`wobble.io.atomic.atomic_target`): the file gets the
     umask's mode like every other output, a failed draw leaves nothing behind, and an existing file
-    is replaced only with ``overwrite``. A refused path is an error naming ``parameter``, the Python
-    argument (the command line checks ``--plot`` itself before any work). A figure pyplot manages is
-    closed afterwards (a command draws once; pyplot would keep it alive); a bare
+    is replaced only with ``overwrite``. A figure pyplot manages is closed afterwards, written or
+    refused (a command draws once; pyplot would keep it alive); a bare
     ``matplotlib.figure.Figure`` needs no closing, and pyplot is not imported for it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to write.
+    path : path-like
+        The file, ending in .png, .pdf or .svg.
+    overwrite : bool
+        Replace an existing file.
+    dpi : int
+        Resolution of a PNG.
+    parameter : str
+        The name a refused path is reported under: the Python argument (the command line checks
+        ``--plot`` itself, before any work).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
     """
-    path = check_plot_path(path, overwrite, parameter)
     try:
+        path = check_plot_path(path, overwrite, parameter)
         with atomic_target(path, overwrite) as tmp:
             fig.savefig(tmp, dpi=dpi, format=path.suffix.lower().lstrip("."))
     finally:
@@ -51,5 +69,5 @@ def save_figure(
 def _close(fig) -> None:
     """Release ``fig`` from pyplot, if pyplot holds it (it holds only figures it made)."""
     pyplot = sys.modules.get("matplotlib.pyplot")
-    if pyplot is not None and getattr(fig.canvas, "manager", None) is not None:
+    if pyplot is not None and getattr(getattr(fig, "canvas", None), "manager", None) is not None:
         pyplot.close(fig)

@@ -11,7 +11,8 @@ import numpy as np
 from wobble.errors import InputError
 
 from wobble.plot._sampling import largest_gap, note, panel_rates, resolved, series
-from wobble.plot._style import ANGLE_UNITS, angle_unit, power_label, power_of_ten, time_axis
+from wobble.io.text import decimals_for
+from wobble.plot._style import ANGLE_UNITS, angle_unit, largest, power_axis, power_label, power_of_ten, time_axis
 
 __all__ = ["scene_figure"]
 
@@ -205,47 +206,53 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
     A vector whose drawn components change by less than :data:`_SMALL_CHANGE` of their size is drawn as
     its change from the start, its start in the title (the Sun's and Moon's slow work on the Earth's
     angular momentum drew three flat lines); one constant to :data:`_ROUNDING_CHANGE` (a free body's L)
-    as it is, not its rounding.
-    Values are in a named power of ten of the unit. Returns the panel's title addition, if any.
+    as it is, not its rounding. Values are in a named power of ten of the unit; sizes and ranges are
+    taken over the finite samples. Returns the panel's title addition, if any.
     """
     values = series(ds[name])[:, 0, :]
     unit = ds[name].attrs.get("units", "")
-    size = np.max(np.abs(values), axis=0)
+    size = np.array([largest(values[:, k]) for k in range(values.shape[1])])
+    spread = np.array([_finite_range(values[:, k]) for k in range(values.shape[1])])
     # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
     named = [
         k
         for k in range(values.shape[1])
-        if size.size > 1 and size[k] > 20 * np.max(np.delete(size, k)) and np.ptp(values[:, k]) < 1e-3 * size[k]
+        if size.size > 1 and size[k] > 20 * np.max(np.delete(size, k)) and spread[k] < 1e-3 * size[k]
     ]
     kept = [k for k in range(values.shape[1]) if k not in named]
     # Rounding is relative to the whole vector; whether a change shows, to the components drawn.
-    rounding = _ROUNDING_CHANGE * float(np.max(np.linalg.norm(values, axis=-1)))
-    biggest = float(np.max(np.linalg.norm(values[:, kept], axis=-1))) if kept else 0.0
-    moved = float(np.max(np.ptp(values[:, kept], axis=0))) if kept else 0.0
+    moved = float(np.max(spread[kept], initial=0.0))
     drawn, suffix = values, None
-    if float(np.max(np.ptp(values, axis=0))) > rounding and moved < _SMALL_CHANGE * biggest:
+    changing = float(np.max(spread)) > _ROUNDING_CHANGE * float(np.linalg.norm(size))
+    if changing and moved < _SMALL_CHANGE * float(np.linalg.norm(size[kept])) and np.all(np.isfinite(values[0])):
         # Every component's change, a large constant one's too: the change is the scale now.
         drawn, named, kept = values - values[0], [], list(range(values.shape[1]))
         suffix = f"change from the start, {_start_text(values[0], unit)}"
-    exponent = power_of_ten(np.max(np.abs(drawn[:, kept]))) if kept else 0
+    scale = power_axis(ax, largest(drawn[:, kept]) if kept else 0.0, unit)
     for k in range(values.shape[1]):
         if k in named:
             ax.plot([], [], " ", label=f"{labels[k]} = {np.mean(values[:, k]):.6g} {unit} (constant to 1e-3)")
         else:
-            ax.plot(t, drawn[:, k] / 10.0**exponent, color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
-    ax.set_ylabel(power_label(exponent, unit))
-    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+            ax.plot(t, drawn[:, k] / scale, color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
     _legend(ax)
     return suffix
 
 
+def _finite_range(values) -> float:
+    """max - min of the finite values (0 for fewer than one)."""
+    finite = values[np.isfinite(values)]
+    return float(np.ptp(finite)) if finite.size else 0.0
+
+
 def _start_text(start, unit: str) -> str:
     """A vector's start for a title, to six digits of its largest component in one power of ten:
-    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``."""
-    exponent = power_of_ten(np.max(np.abs(start)))
-    scaled = np.asarray(start, dtype=float) / 10.0**exponent
-    largest = float(np.max(np.abs(scaled)))
-    decimals = max(0, 5 - math.floor(math.log10(largest))) if largest > 0 else 0
+    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``. The power is chosen after rounding to six
+    digits, so that -9.9999996e32 reads -1.00000 in 10^33, not -1000.000 in 10^30."""
+    start = np.asarray(start, dtype=float)
+    exponent = power_of_ten(float(f"{largest(start):.6g}"))
+    scaled = start / 10.0**exponent
+    rounded = float(f"{largest(scaled):.6g}")
+    decimals = decimals_for(rounded, 6) if rounded > 0 else 0
     parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled)  # + 0.0: no "-0.00000"
     return f"({parts}) {power_label(exponent, unit)}".rstrip()
 
@@ -253,12 +260,10 @@ def _start_text(start, unit: str) -> str:
 def _component(ax, ds, t, name: str, k: int, lines: bool) -> None:
     """Component k of an ensemble's vector, a colour per member."""
     values = series(ds[name])[:, :, k]
-    exponent = power_of_ten(np.max(np.abs(values)))
+    scale = power_axis(ax, largest(values), ds[name].attrs.get("units", ""))
     for j in range(values.shape[1]):
         label = f"member {_member_label(ds, j)}"
-        ax.plot(t, values[:, j] / 10.0**exponent, color=f"C{j % 10}", lw=1.0, label=label, **_look(lines, 0))
-    ax.set_ylabel(power_label(exponent, ds[name].attrs.get("units", "")))
-    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+        ax.plot(t, values[:, j] / scale, color=f"C{j % 10}", lw=1.0, label=label, **_look(lines, 0))
     _legend(ax)
 
 
@@ -285,14 +290,12 @@ def _energy(ax, ds, t, lines, unit, part=None) -> None:
             changes.append((values - values[:1]) / scale)
             kinds.append((k, name.replace("_", " ")))
     members = changes[0].shape[1] if changes else 1
-    largest = max((float(np.max(np.abs(c[np.isfinite(c)]), initial=0.0)) for c in changes), default=0.0)
-    exponent = power_of_ten(largest)  # "relative change [10^-9]", not matplotlib's "1e-8" above the axis
+    # "relative change [10^-9]", not matplotlib's "1e-8" above the axis
+    scale = power_axis(ax, max((largest(c) for c in changes), default=0.0), name="relative change")
     for (k, label), change in zip(kinds, changes):
         for j in range(members):
             look = {"color": f"C{k}", **_look(lines, 0)} if members == 1 else {"color": f"C{j % 10}", **_look(lines, k)}
-            ax.plot(t, change[:, j] / 10.0**exponent, lw=0.8, label=label if j == 0 else None, **look)
-    ax.set_ylabel("relative change" + (f" [{power_label(exponent)}]" if exponent else ""))
-    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+            ax.plot(t, change[:, j] / scale, lw=0.8, label=label if j == 0 else None, **look)
     _legend(ax, None if members == 1 else _member_handles(ds, members, kinds, lines))
 
 
