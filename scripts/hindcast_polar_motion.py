@@ -100,46 +100,43 @@ def hindcast(start, end, latency, calibrated=True):
     return h, h.to_dict() | {"coverage": coverage_table(h), "seconds": seconds, "load_average": os.getloadavg()}
 
 
-#: Mean absolute error (mas) of IERS Bulletin A's polar-motion predictions over 2021 against IERS 14 C04,
-#: at lead times in days: Wang C. & Zhang P. 2023, Improving the accuracy of polar motion prediction using
-#: a hybrid least squares and long short-term memory model, Earth Planets Space 75, 153,
-#: doi:10.1186/s40623-023-01910-8, Table 2 (the "Bulletin A" columns).
-BULLETIN_A_2021 = {
-    "source": "Wang & Zhang 2023, Earth Planets Space 75, 153, Table 2 (IERS Bulletin A, 2021, against IERS 14 C04)",
-    "mae_x_mas": {1: 0.269, 5: 1.563, 10: 2.892, 15: 3.988, 20: 5.033, 30: 6.809, 45: 9.227, 60: 11.260,
-                  90: 14.619, 120: 16.819, 180: 19.148, 270: 22.318, 320: 24.096, 365: 25.770},
-    "mae_y_mas": {1: 0.196, 5: 1.073, 10: 1.843, 15: 2.480, 20: 3.077, 30: 4.261, 45: 5.904, 60: 7.454,
-                  90: 11.176, 120: 15.500, 180: 22.356, 270: 25.066, 320: 23.980, 365: 25.107},
-}  # fmt: skip
-#: The same table's least squares + autoregression of their own (the "LS + AR" columns), 2021: the baseline
-#: another group built, beside ours.
-THEIR_LS_AR_2021 = {
-    "source": "Wang & Zhang 2023, Earth Planets Space 75, 153, Table 2 (their LS + AR, 2021, against IERS 14 C04)",
-    "mae_x_mas": {1: 0.257, 5: 1.603, 10: 3.046, 15: 4.593, 20: 5.751, 30: 7.995, 45: 11.483, 60: 14.915,
-                  90: 21.950, 120: 27.506, 180: 32.933, 270: 33.364, 320: 36.116, 365: 37.491},
-    "mae_y_mas": {1: 0.197, 5: 1.099, 10: 1.940, 15: 2.751, 20: 3.607, 30: 5.407, 45: 8.292, 60: 11.382,
-                  90: 17.785, 120: 23.904, 180: 31.231, 270: 29.096, 320: 30.430, 365: 31.949},
+#: Wang C. & Zhang P. 2023, Improving the accuracy of polar motion prediction using a hybrid least squares
+#: and long short-term memory model, Earth Planets Space 75, 153, doi:10.1186/s40623-023-01910-8, Table 2:
+#: mean absolute errors (mas) over 2021 against IERS 14 C04, at these lead times (days), of IERS Bulletin
+#: A's predictions and of their own least squares + autoregression (the baseline another group built).
+WANG_ZHANG_2023 = {
+    "source": "Wang & Zhang 2023, Earth Planets Space 75, 153, Table 2 (2021, against IERS 14 C04)",
+    "lead_days": (1, 5, 10, 15, 20, 30, 45, 60, 90, 120, 180, 270, 320, 365),
+    "bulletin_a": {
+        "mae_x_mas": (0.269, 1.563, 2.892, 3.988, 5.033, 6.809, 9.227,
+                      11.260, 14.619, 16.819, 19.148, 22.318, 24.096, 25.770),
+        "mae_y_mas": (0.196, 1.073, 1.843, 2.480, 3.077, 4.261, 5.904,
+                      7.454, 11.176, 15.500, 22.356, 25.066, 23.980, 25.107),
+    },
+    "their_ls_ar": {
+        "mae_x_mas": (0.257, 1.603, 3.046, 4.593, 5.751, 7.995, 11.483,
+                      14.915, 21.950, 27.506, 32.933, 33.364, 36.116, 37.491),
+        "mae_y_mas": (0.197, 1.099, 1.940, 2.751, 3.607, 5.407, 8.292,
+                      11.382, 17.785, 23.904, 31.231, 29.096, 30.430, 31.949),
+    },
 }  # fmt: skip
 
 
 def bulletin_a() -> dict:
-    """Forecasts issued weekly in 2021 (latency 1 d), their mean absolute errors at Bulletin A's lead times."""
+    """Forecasts issued weekly in 2021 (latency 1 d), their mean absolute errors at Wang & Zhang's lead times,
+    beside Bulletin A's and their LS+AR's."""
     h, numbers = hindcast("2021-01-01", "2022-01-01", 1)
-    leads = sorted(BULLETIN_A_2021["mae_x_mas"])
+    leads = WANG_ZHANG_2023["lead_days"]
     ours = {
         m: {key: {str(d): v for d, v in h.at(key, m, leads).items()} for key in ("mae_x", "mae_y", "coverage_68")}
         for m in h.methods
     }
-
-    def keyed(table):
-        return {k: ({str(d): v for d, v in x.items()} if isinstance(x, dict) else x) for k, x in table.items()}
-
-    return {
-        "wobble": ours,
-        "bulletin_a": keyed(BULLETIN_A_2021),
-        "their_ls_ar": keyed(THEIR_LS_AR_2021),
-        "hindcast": numbers,
+    published = {
+        column: {"source": WANG_ZHANG_2023["source"]}
+        | {key: dict(zip(map(str, leads), values)) for key, values in WANG_ZHANG_2023[column].items()}
+        for column in ("bulletin_a", "their_ls_ar")
     }
+    return {"wobble": ours, **published, "hindcast": numbers}
 
 
 def main() -> None:
