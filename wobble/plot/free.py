@@ -12,7 +12,7 @@ from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.plot._sampling import first_periods, period_count
-from wobble.plot._style import angle_unit, power_label, power_of_ten, time_axis
+from wobble.plot._style import angle_unit, largest, power_axis, power_of_ten, time_axis
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
 
@@ -276,12 +276,10 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
         (top, small, [f"$\\omega_{k + 1}$" for k in others], ["C0", "C1"]),
         (bottom, change[:, None], [name], ["C2"]),
     ):
-        exponent = power_of_ten(np.max(np.abs(values)))
+        # The power of ten in the unit, plain tick labels: no offset hides the numbers.
+        divisor = power_axis(ax, largest(values), label)
         for column, text, color in zip(values.T, names, colors):
-            ax.plot(t / scale, column / 10.0**exponent, color=color, label=text)
-        ax.set_ylabel(power_label(exponent, label))
-        # Plain tick labels: the power of ten is in the unit, and no offset hides the numbers.
-        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+            ax.plot(t / scale, column / divisor, color=color, label=text)
         # Beside the axes: any corner inside covers the curves' peaks.
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
     if legend_title:
