@@ -17,7 +17,8 @@ from __future__ import annotations
 import math
 import re
 
-import matplotlib.pyplot as plt  # the Agg backend: tests/conftest.py sets MPLBACKEND
+import matplotlib.pyplot as plt
+import mpmath  # the Agg backend: tests/conftest.py sets MPLBACKEND
 import numpy as np
 import pytest
 from astropy import units as u
@@ -470,3 +471,37 @@ def test_a_nearly_regular_precession_whose_hump_stands_clear_is_shaded():
     near = cubic_figure(_regular_precession(1e-6)).axes[1]
     assert near.get_title() == "between the turning points"
     assert [t.get_text() for t in near.get_legend().get_texts()] == ["the motion: f >= 0"]
+
+
+def test_a_nearly_sleeping_top_s_potential_well_is_drawn_between_its_turning_angles():
+    """Turning angles of 206 and 225 mas could not be seen on 0-180 deg: a second panel draws the well."""
+    top = _near_sleeping()
+    m = top.model
+    fig = effective_potential_figure(top)
+    assert len(fig.axes) == 2 and _offsets(fig) == []
+    well = fig.axes[1]
+    assert well.get_xlabel() == "theta (mas)" and well.get_ylabel() == "V' - E' [$10^{-15}$ J]"
+    theta_mas, drawn = (np.asarray(v) for v in well.lines[0].get_data())
+    # mpmath at 50 digits from the inputs (I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, theta0 = 1e-6 rad, omega3 =
+    # 10 rad/s, started at rest in theta and phi): a = I3 omega3 / I1, b = a cos theta0, E' = M g l cos theta0,
+    # so V' - E' = M g l (cos theta - cos theta0) + (I1/2) a^2 (cos theta0 - cos theta)^2 / sin^2 theta (notes p. 71).
+    assert m.b == pytest.approx(m.a * math.cos(1e-6), rel=1e-15)  # the top starts at rest in theta and phi
+    with mpmath.workdps(50):
+        a, c0 = mpmath.mpf(5), mpmath.cos(mpmath.mpf("1e-6"))
+
+        def exact(theta):
+            c = mpmath.cos(mpmath.mpf(float(theta)))
+            return float((c - c0) + mpmath.mpf(0.5) * a**2 * (c0 - c) ** 2 / (1 - c**2))
+
+        truth = np.array([exact(t * MAS) for t in theta_mas])
+    depth = np.max(np.abs(truth))
+    np.testing.assert_allclose(drawn * 1e-15, truth, rtol=0, atol=1e-6 * depth)
+    # Below zero exactly between the turning angles.
+    inside = (theta_mas * MAS > m.theta_min * (1 + 1e-6)) & (theta_mas * MAS < m.theta_max * (1 - 1e-6))
+    outside = (theta_mas * MAS < m.theta_min * (1 - 1e-6)) | (theta_mas * MAS > m.theta_max * (1 + 1e-6))
+    assert np.all(drawn[inside] < 0) and np.all(drawn[outside] > 0)
+
+
+def test_an_ordinary_top_s_potential_is_one_panel():
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
+    assert len(effective_potential_figure(top).axes) == 1

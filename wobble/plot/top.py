@@ -15,7 +15,7 @@ from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.plot._sampling import first_periods, period_count
-from wobble.plot._style import angle_unit, power_label, power_of_ten
+from wobble.plot._style import angle_unit, largest, power_axis, power_label, power_of_ten
 
 __all__ = [
     "nutation_classes_figure",
@@ -199,11 +199,19 @@ def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: fl
 
 def effective_potential_figure(top: HeavyTop):
     """V'(theta) = M g l cos theta + (I1/2)((b - a cos theta)/sin theta)^2 with the E' line;
-    the motion is confined where V' <= E' (between the turning angles)."""
+    the motion is confined where V' <= E' (between the turning angles), notes p. 71.
+
+    Turning angles less than a degree apart (a nearly sleeping top's 206 and 225 mas) are not to be
+    seen on the whole range: a second panel draws V' - E' between them, in the angle unit their size
+    reads in and a power of ten of J, from the cubic's roots: V' - E' = -I1 f(u) / (2 sin^2 theta) with
+    f = beta (x1 - x)(x2 - x)(x3 - x), x = 1 - cos theta (V' - E' directly is a difference of two
+    numbers near E', and f's own terms cancel near the vertical)."""
     m = top.model
+    narrow = 0.0 < m.theta_max - m.theta_min < math.radians(1.0)
+    fig, axes = plt.subplots(1, 2 if narrow else 1, figsize=(10.0 if narrow else 6.4, 4.0), squeeze=False)
+    ax = axes[0, 0]
     th = np.linspace(1e-3, np.pi - 1e-3, 2000)
     v = m.effective_potential(th)
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
     ax.plot(np.degrees(th), v, color="C0", label="V'(theta)")
     ax.axhline(m.energy_prime, color="C3", lw=1, label="E'")
     for t_ in (m.theta_min, m.theta_max):
@@ -212,12 +220,33 @@ def effective_potential_figure(top: HeavyTop):
     ax.set_ylim(min(np.min(v), m.energy_prime) - 0.2 * abs(top_), top_)
     ax.set_xlabel("theta (deg)")
     ax.set_ylabel("energy (J)")
-    ax.set_title(
-        f"Effective potential; turning angles {tilt_text(m.theta_min, m.theta_max, '.2f').replace(' to ', ' and ')}"
-    )
+    turning = tilt_text(m.theta_min, m.theta_max, ".2f").replace(" to ", " and ")
+    ax.set_title(f"Effective potential; turning angles {turning}")
     ax.legend()
+    if narrow:
+        _potential_well(axes[0, 1], m)
     fig.tight_layout()
     return fig
+
+
+def _potential_well(ax, m) -> None:
+    """V' - E' between and about the turning angles (see :func:`effective_potential_figure`)."""
+    width = m.theta_max - m.theta_min
+    th = np.linspace(max(m.theta_min - 0.3 * width, 0.5 * m.theta_min), min(m.theta_max + 0.3 * width, np.pi), 1000)
+    # f = beta (u - u1)(u - u2)(u - u3) = beta (x1 - x)(x2 - x)(x3 - x) with x = 1 - u = 2 sin^2(theta/2): no
+    # difference of numbers near 1 (1 - cos theta, or f's own terms, lose all but 1e-4 of theirs at 1e-6 rad).
+    x = 2.0 * np.sin(0.5 * th) ** 2
+    well = -m.mgl * (m.x1 - x) * (m.x2 - x) * (m.x3 - x) / (x * (2.0 - x))
+    rad, name = angle_unit(m.theta_max)
+    divisor = power_axis(ax, largest(well), "J", name="V' - E'")
+    ax.plot(th / rad, well / divisor, color="C0")
+    ax.fill_between(th / rad, well / divisor, 0, where=well <= 0, color="C2", alpha=0.3, label="the motion: V' <= E'")
+    ax.plot([m.theta_min / rad, m.theta_max / rad], [0, 0], "o", color="C3")
+    ax.axhline(0, color="0.3", lw=0.8)
+    ax.ticklabel_format(axis="x", style="plain", useOffset=False)
+    ax.set_xlabel(f"theta ({name})")
+    ax.set_title("between the turning angles")
+    ax.legend(loc="upper center", fontsize=8)
 
 
 def _u_text(u_value: float, x: float, digits: int) -> str:
