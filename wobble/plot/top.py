@@ -257,32 +257,23 @@ def _u_text(u_value: float, x: float, digits: int) -> str:
     return f"{u_value:.{digits}f}"
 
 
-def _double_root_scales(m) -> tuple[float, float]:
-    """(window, resolved) about u2, in u: the half-width over which the cubic stands 1e4 times clear of
-    its own rounding, and the narrowest interval [u1, u2] whose hump, f'' w^2 / 8, stands 10 times
-    clear of it. Nearer a double root (a regular precession, u1 = u2) f's values are rounding alone,
-    and a zoom onto them drew noise. The rounding is measured, from f's fourth differences about u2;
-    f'' is the central second difference, exact for a cubic."""
-    h = 1e-2
-    curvature = abs(float(m.f(m.u2 + h) - 2.0 * m.f(m.u2) + m.f(m.u2 - h))) / h**2
-    # A cubic's fourth differences vanish: what they hold is rounding (variance 70 sigma^2 for white noise),
-    # sampled on the interval's own scale (or 1e-9 of u at a double root): u's own spacing near 1 (1.1e-16) times
-    # f' is part of it.
-    step = (m.u2 - m.u1 if m.u2 > m.u1 else 1e-9 * max(1.0, abs(m.u2))) / 20.0
-    fu = m.f(m.u2 + step * np.arange(-20.0, 21.0))
-    scatter = float(np.std(np.diff(fu, 4))) / math.sqrt(70.0)
-    rounding = max(scatter, np.finfo(float).tiny)
-    if not (curvature > 0 and np.isfinite(curvature)):
-        return 0.0, 0.0
-    return math.sqrt(2e4 * rounding / curvature), math.sqrt(80 * rounding / curvature)
+def _f_about_u2(m, d):
+    """f at u = u2 + d from the cubic's roots, beta (u - u1)(u - u2)(u - u3) with u - u1 = d + (x1 - x2) and
+    u - u3 = d + (x3 - x2): the roots are kept to 60 digits as x_i = 1 - u_i, so this has no cancellation at
+    any scale. Expanded in floats, f's terms cancel: 2e-14 s^-2 of rounding at a regular precession of 30 deg,
+    which a zoom onto a double root drew as the curve. For M g l = 0 (no third root) f is the quadratic."""
+    if not np.isfinite(m.x3):
+        return m.f(m.u2 + d)
+    return m.beta * (d + (m.x1 - m.x2)) * d * (d + (m.x3 - m.x2))
 
 
 def cubic_figure(top: HeavyTop):
     """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where
-    f >= 0. Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so u3 > 1); right: the
-    physical interval enlarged. An interval narrower than 1e-3 (a nearly sleeping top, a nearly
-    regular precession) is drawn against u - u2 and f in powers of ten named in the labels, so
-    no offset such as '1e-13+10e-1' hides the numbers."""
+    f >= 0 (notes p. 71). Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so u3 > 1); right: the
+    physical interval enlarged, f from its roots (:func:`_f_about_u2`). An interval narrower than 1e-3 (a
+    nearly sleeping top, a nearly regular precession) is drawn against u - u2 and f in powers of ten named
+    in the labels, so no offset such as '1e-13+10e-1' hides the numbers; a double root (u1 = u2, a
+    regular precession) is drawn over a twentieth of the way to u3, the parabola touching zero."""
     m = top.model
     u3 = m.u3 if np.isfinite(m.u3) else 2.0
     fig, (ax, az) = plt.subplots(1, 2, figsize=(10.0, 4.0))
@@ -293,26 +284,23 @@ def cubic_figure(top: HeavyTop):
     ax.plot(roots, np.zeros(len(roots)), "o", color="C3", label="roots u1, u2, u3")
     lim = np.max(np.abs(f)) * 1.05
     ax.set_ylim(-lim, lim)
-    width = m.u2 - m.u1
-    window, floor = _double_root_scales(m)
-    pad = max(0.3 * width, window if width < floor else 0.0)
-    zz = np.linspace(m.u1 - pad, min(m.u2 + pad, 1.0), 1000)
-    fz = m.f(zz)
+    width = m.x1 - m.x2  # u2 - u1, with the digits u1 and u2 lose next to the vertical
+    pad = 0.3 * width if width > 0 else 0.05 * (u3 - m.u2)
+    d = np.linspace(-width - pad, min(pad, m.x2), 1000)  # u - u2, up to u = 1
+    fz = _f_about_u2(m, d)
     narrow = width + 2 * pad < 1e-3
     if narrow:
-        # Against u - u2 (a difference of nearby floats loses nothing); u1 - u2 as x2 - x1, with the
-        # digits that u1 and u2 lose next to the vertical.
-        ex, ey = power_of_ten(np.max(np.abs(zz - m.u2))), power_of_ten(np.max(np.abs(fz)))
-        xz, ends, fz = (zz - m.u2) / 10.0**ex, [(m.x2 - m.x1) / 10.0**ex, 0.0], fz / 10.0**ey
+        ex, ey = power_of_ten(np.max(np.abs(d))), power_of_ten(np.max(np.abs(fz)))
+        xz, ends, fz = d / 10.0**ex, [-width / 10.0**ex, 0.0], fz / 10.0**ey
     else:
-        xz, ends = zz, [m.u1, m.u2]
+        xz, ends = m.u2 + d, [m.u1, m.u2]
     az.plot(xz, fz, color="C0")
-    if width >= floor:
-        inside = (zz >= m.u1) & (zz <= m.u2)
+    if width > 0:
+        inside = (d >= -width) & (d <= 0)
         az.fill_between(xz, 0, fz, where=inside, color="C2", alpha=0.3, label="the motion: f >= 0")
         az.plot(ends, [0, 0], "o", color="C3")
-    else:  # no interval to shade: the motion is the double root, u = u2, within rounding
-        az.plot(ends, [0, 0], "o", color="C3", label="the motion: u = u2 (theta constant)")
+    else:  # no interval to shade: the motion is the double root, u = u2
+        az.plot(ends[1:], [0], "o", color="C3", label="the motion: u = u2 (theta constant)")
     for a_ in (ax, az) if not narrow else (ax,):
         a_.axhline(0, color="0.3", lw=0.8)
         for x in (-1, 1):
@@ -327,13 +315,7 @@ def cubic_figure(top: HeavyTop):
     az.set_xlim(xz[0], xz[-1])
     ax.set_ylabel("f(u) (s$^{-2}$)")
     ax.set_title(f"u1 = {_u_text(m.u1, m.x1, 6)}, u2 = {_u_text(m.u2, m.x2, 6)}, u3 = {u3:.4f}")
-    az.set_title(
-        "between the turning points"
-        if width >= floor
-        else "u1 = u2 to rounding: a double root, regular precession"
-        if width == 0.0
-        else "the turning points, closer than f's rounding resolves"
-    )
+    az.set_title("between the turning points" if width > 0 else "u1 = u2: a double root, regular precession")
     ax.legend(loc="lower right", fontsize=8)
     az.legend(loc="lower center", fontsize=8)
     fig.tight_layout()
