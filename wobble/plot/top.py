@@ -233,10 +233,10 @@ def _potential_well(ax, m) -> None:
     """V' - E' between and about the turning angles (see :func:`effective_potential_figure`)."""
     width = m.theta_max - m.theta_min
     th = np.linspace(max(m.theta_min - 0.3 * width, 0.5 * m.theta_min), min(m.theta_max + 0.3 * width, np.pi), 1000)
-    # f = beta (u - u1)(u - u2)(u - u3) = beta (x1 - x)(x2 - x)(x3 - x) with x = 1 - u = 2 sin^2(theta/2): no
-    # difference of numbers near 1 (1 - cos theta, or f's own terms, lose all but 1e-4 of theirs at 1e-6 rad).
+    # f from its roots at u - u2 = x2 - x, x = 1 - u = 2 sin^2(theta/2): no difference of numbers near 1
+    # (1 - cos theta, or f's own terms, lose all but 1e-4 of theirs at 1e-6 rad).
     x = 2.0 * np.sin(0.5 * th) ** 2
-    well = -m.mgl * (m.x1 - x) * (m.x2 - x) * (m.x3 - x) / (x * (2.0 - x))
+    well = -0.5 * m.I1 * _f_about_u2(m, m.x2 - x) / (x * (2.0 - x))
     rad, name = angle_unit(m.theta_max)
     divisor = power_axis(ax, largest(well), "J", name="V' - E'")
     ax.plot(th / rad, well / divisor, color="C0")
