@@ -11,8 +11,9 @@ docs/figures/forecast_hindcast.json (the scores quoted on the page: calibrated
 intervals for the latency of the Rapid Service, 1 d, and of the C04 series,
 30 d, and the models' own Gaussian intervals for comparison); with
 ``--selection``, docs/figures/forecast_selection.json: the same hindcast over
-2006-2015, the span on which the calibration's settings (two years of weekly
-past forecasts, standardised errors) were chosen before 2016-2020 was scored; with
+2006-2015, the span on which the calibration's settings (weekly past forecasts,
+standardised errors; the spans by scripts/calibration_span.py: six years for the
+Kalman model, two for LS+AR) were chosen before 2016-2020 was scored; with
 ``--bulletin-a``, docs/figures/forecast_2021.json: forecasts issued weekly in 2021
 (latency 1 d), their mean absolute errors beside those of the IERS Rapid Service's
 operational predictions (Bulletin A) over 2021 as Wang & Zhang (2023) scored them.
@@ -127,9 +128,9 @@ def bulletin_a() -> dict:
     beside Bulletin A's and their LS+AR's."""
     h, numbers = hindcast("2021-01-01", "2022-01-01", 1)
     leads = WANG_ZHANG_2023["lead_days"]
+    keys = {"mae_x": "mae_x_mas", "mae_y": "mae_y_mas", "coverage_68": "coverage_68_fraction"}  # with their units
     ours = {
-        m: {key: {str(d): v for d, v in h.at(key, m, leads).items()} for key in ("mae_x", "mae_y", "coverage_68")}
-        for m in h.methods
+        m: {name: {str(d): v for d, v in h.at(key, m, leads).items()} for key, name in keys.items()} for m in h.methods
     }
     published = {
         column: {"source": WANG_ZHANG_2023["source"]}

@@ -123,6 +123,9 @@ def test_netcdf_round_trip_and_cf(c04, tmp_path, assert_cf_compliant):
     # Cycles per Julian year (365.25 d): UDUNITS' "year" is the tropical year, 2.1e-5 shorter, so "year-1"
     # (written until 2026-11-29) misread every frequency by that much in a UDUNITS reader (cf_units, pint).
     assert ds["frequency"].attrs["units"] == "Julian_year-1"
+    # The band amplitudes' first and last year depend on where the record ends (the band-pass wraps around).
+    for name in ("chandler_band_pole", "chandler_band_chi"):
+        assert "depend on where the record ends" in ds[name].attrs["comment"]
     path = write_netcdf(ds, tmp_path / "chi.nc", command="test")
     back = open_wobble(path)
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
