@@ -78,24 +78,48 @@ def test_c04_round_trip_and_broadband_excitation(c04):
     assert "Liouville" in d["method"]
 
 
-@pytest.mark.parametrize(("end", "resolved"), [("1979-03-03", False), ("1983-01-01", True)])
+@pytest.mark.parametrize(("end", "resolved"), [("1979-03-03", False), ("1985-12-31", False), ("1986-01-01", True)])
 def test_chandler_band_only_where_the_span_resolves_it(end, resolved, tmp_path):
-    """The band amplitudes come from an FFT band-pass of +/- 0.1 cycle per year: over 1975-01-01 to
-    1979-03-03 no FFT frequency falls in the band (their spacing is 0.24 cycle per year), and the
-    band was drawn as zeros on a log axis with a warning (fuzz run of 2026-11-28); now it is left out."""
+    """The band-pass's kernel reaches 5 years either side, and a year of amplitudes is the least: 11 years
+    of record from 1975-01-01 end on 1986-01-01 (its earlier band-pass drew zeros on a log axis, with a
+    warning, for 1975-1979: fuzz run of 2026-11-28)."""
     ex = wobble.geodetic_excitation(start="1975-01-01", end=end, chandler_period=433 * u.day)
+    reach = 1 / (2 * 0.1)  # years: the main lobe of the band-pass's sinc kernel
     years = (ex.time_mjd[-1] - ex.time_mjd[0]) / 365.25
-    frequencies = np.fft.fftfreq(ex.time_mjd.size, 1 / 365.25)  # cycles per year
-    in_band = np.count_nonzero(np.abs(frequencies - 365.25 / 433) <= 0.1)
-    assert (in_band >= 2) == resolved and (years < 5) != resolved
+    assert ex.band_reach.to_value(u.yr) == pytest.approx(reach, rel=1e-12)
+    assert (years >= 2 * reach + 1) == resolved
     assert (ex.band_chi is not None) == resolved and (ex.band_pole is not None) == resolved
     if resolved:
-        assert np.all(ex.band_pole[365:-365] > 0)
+        known = np.isfinite(ex.band_pole)
+        assert np.all(ex.band_pole[known] > 0) and 365 <= known.sum() <= 366
     else:
         assert ex.to_dict()["chandler_band_collapse"] is None
     from wobble.plot.excitation import save_excitation_figure
 
     save_excitation_figure(ex, tmp_path / "excitation.png")  # warnings are errors in the tests
+
+
+def test_the_band_pass_keeps_the_chandler_line_rejects_the_annual_and_does_not_wrap_around():
+    """Closed forms over 60 years of daily samples: a sinusoid at the centre keeps its amplitude (to the
+    Gibbs ripple of the record's truncation, 4 % in the middle and 12 % next to the unknown ends), the annual
+    line 0.16 cycle per year away is rejected (a Gaussian band of the same half-width passed a fifth of it),
+    and a wobble that stops half-way does not reappear at the record's end, as the circular band-pass used
+    until 2026-11-29 made it (0.45 of its amplitude there)."""
+    year = 365.25 * DAY
+    t = DAY * np.arange(int(60 * year / DAY))
+    centre, half = 2 * math.pi / (433 * DAY), 0.1 * 2 * math.pi / year
+    assert ex.band_reach(half) == pytest.approx(5 * year, rel=1e-12)  # the sinc's main lobe, 1/(2 x 0.1) years
+    middle = np.abs(t - t[-1] / 2) < 10 * year
+    known = (t > t[0] + 5 * year) & (t < t[-1] - 5 * year)
+    chandler = ex.band_amplitude(t, 7.0 * np.exp(1j * centre * t), centre, half)
+    assert np.all(np.isnan(chandler[~known])) and np.all(np.isfinite(chandler[known]))
+    np.testing.assert_allclose(chandler[middle], 7.0, rtol=0.05)
+    np.testing.assert_allclose(chandler[known], 7.0, rtol=0.12)
+    annual = ex.band_amplitude(t, 7.0 * np.exp(2j * math.pi * t / year), centre, half)
+    assert np.max(annual[middle]) < 0.04 * 7.0 and np.nanmax(annual) < 0.1 * 7.0
+    stops = np.where(t < t[-1] / 2, 7.0, 0.0) * np.exp(1j * centre * t)
+    late = known & (t > 0.75 * t[-1])
+    assert np.max(ex.band_amplitude(t, stops, centre, half)[late]) < 0.1 * 7.0
 
 
 def test_the_whole_record_period_is_polar_motion_s_to_the_last_digit():
@@ -123,9 +147,10 @@ def test_netcdf_round_trip_and_cf(c04, tmp_path, assert_cf_compliant):
     # Cycles per Julian year (365.25 d): UDUNITS' "year" is the tropical year, 2.1e-5 shorter, so "year-1"
     # (written until 2026-11-29) misread every frequency by that much in a UDUNITS reader (cf_units, pint).
     assert ds["frequency"].attrs["units"] == "Julian_year-1"
-    # The band amplitudes' first and last year depend on where the record ends (the band-pass wraps around).
+    # The band amplitudes are NaN within the band-pass kernel's reach of the ends, and the file says so.
     for name in ("chandler_band_pole", "chandler_band_chi"):
-        assert "depend on where the record ends" in ds[name].attrs["comment"]
+        assert "NaN within 5.0 yr of the record's ends" in ds[name].attrs["comment"]
+        assert np.isnan(ds[name].values[:365]).all() and np.isnan(ds[name].values[-365:]).all()
     path = write_netcdf(ds, tmp_path / "chi.nc", command="test")
     back = open_wobble(path)
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))

@@ -40,22 +40,30 @@ def excitation_figure(ex) -> Figure:
     ax_s.legend(fontsize="small")
     if ex.band_chi is not None:
         years = 2000.0 + (ex.time_mjd - 51544.5) / 365.25
-        edge = (years > years[0] + 1) & (years < years[-1] - 1)
-        ax_t.plot(years[edge], ex.band_pole[edge], color="C0", label="pole, Chandler band")
-        ax_t.plot(years[1:][edge[1:]], ex.band_chi[edge[1:]], color="C3", label="excitation, Chandler band")
-        mark_collapse(ax_t, years[edge], "2015-01-01: before/after split of chandler_band_collapse")
+        known = np.isfinite(ex.band_pole)  # NaN within the band-pass kernel's reach of the ends
+        ax_t.plot(years, ex.band_pole, color="C0", label="pole, Chandler band")
+        ax_t.plot(years[1:], ex.band_chi, color="C3", label="excitation, Chandler band")
+        mark_collapse(ax_t, years[known], "2015-01-01: before/after split of chandler_band_collapse")
+        ax_t.set_xlim(years[0], years[-1])
         ax_t.set_yscale("log")
         ax_t.set_xlabel("year")
         ax_t.set_ylabel("band amplitude [mas]")
         ax_t.legend(fontsize="small")
-        ax_t.set_title("amplitude within +/- 0.1 cycle per year of the Chandler frequency", fontsize="medium")
-    else:  # the band-pass needs about ten years (GeodeticExcitation.band_chi): say so, not a bare 0-1 axis
+        reach = ex.band_reach.to_value("yr")
+        ax_t.set_title(
+            "amplitude within +/- 0.1 cycle per year of the Chandler frequency; "
+            f"none within {reach:.0f} yr of the ends",
+            fontsize="medium",
+        )
+    else:  # the band-pass needs eleven years (GeodeticExcitation.band_chi): say so, not a bare 0-1 axis
         ax_t.set_axis_off()
         ax_t.text(
             0.5,
             0.5,
-            "no Chandler-band amplitudes: the band-pass needs daily samples without gaps over about ten years\n"
-            "(two of its frequencies within +/- 0.1 cycle per year of the Chandler frequency)",
+            "no Chandler-band amplitudes: the band-pass needs daily samples without gaps over "
+            f"{2 * ex.band_reach.to_value('yr') + 1:.1f} years\n"
+            f"(its kernel reaches {ex.band_reach.to_value('yr'):.1f} years either side, and a year of amplitudes "
+            "is the least)",
             ha="center",
             va="center",
             transform=ax_t.transAxes,

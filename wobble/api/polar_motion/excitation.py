@@ -35,7 +35,8 @@ from wobble.models.polar_motion.spectrum import two_sided_spectrum
 
 __all__ = ["GeodeticExcitation", "geodetic_excitation"]
 
-#: The prograde Chandler band of the band-passed amplitudes: +/- 0.1 cycle per year around 1/T_c.
+#: The prograde Chandler band of the band-passed amplitudes: +/- 0.1 cycle per year around 1/T_c
+#: (wobble.models.polar_motion.excitation.band_amplitude).
 _BAND = 0.1 * 2 * math.pi / (365.25 * DAY)
 _YEAR = 365.25 * DAY
 #: The spectra cover -3 .. 3 cycles per year; the Chandler peak is compared with its neighbourhood
@@ -82,9 +83,10 @@ class GeodeticExcitation:
         RMS distance between the record and the pole rebuilt by running the
         excitation forward (a check of the pair of equations; rounding only).
     band_chi, band_pole : ndarray or None
-        Amplitudes (mas) of the excitation and the pole within +/- 0.1 cycle per year of
-        the Chandler frequency, against time; None for unevenly sampled records and spans
-        too short for the band to hold two of the FFT's frequencies (about ten years).
+        Amplitudes (mas) of the excitation and the pole within +/- 0.1 cycle per year of the
+        Chandler frequency, against time; NaN within :attr:`band_reach` (5 yr) of the record's
+        ends, and None for unevenly sampled records and spans too short for a year of known
+        amplitudes (11 yr).
     """
 
     def __init__(self, mjd, p, chi, p_back, period, q, source, period_source="given"):
@@ -102,12 +104,18 @@ class GeodeticExcitation:
         sigma = 2 * math.pi / period
         uniform = np.allclose(np.diff(t), DAY, rtol=0, atol=1e-3)
         self.band_chi = self.band_pole = None
-        # The band-pass is an FFT's: the band must hold at least two of its frequencies (a span of about
-        # ten years at +/- 0.1 cycle per year), or the "amplitude" is one sinusoid's, or nothing at all.
-        resolved = np.count_nonzero(np.abs(2 * math.pi * np.fft.fftfreq(t.size, DAY) - sigma) <= _BAND) >= 2
-        if uniform and t.size > 3 * 365 and resolved:
+        # The band's amplitudes are known only beyond the kernel's reach of either end (5 yr): at least a
+        # year of them, or none (a span of 11 years or more).
+        resolved = t[-1] - t[0] >= 2 * _ex.band_reach(_BAND) + 365.25 * DAY
+        if uniform and resolved:
             self.band_chi = _ex.band_amplitude(t[1:], chi, sigma, _BAND) / RAD_PER_MAS
             self.band_pole = _ex.band_amplitude(t, p, sigma, _BAND) / RAD_PER_MAS
+
+    @property
+    def band_reach(self) -> u.Quantity:
+        """How far the Chandler band-pass's kernel reaches either side (its amplitudes are NaN that near
+        the record's ends; :func:`wobble.models.polar_motion.excitation.band_reach`)."""
+        return (_ex.band_reach(_BAND) / (365.25 * DAY)) << u.yr
 
     def collapse(self, split="2015-01-01") -> dict | None:
         """RMS of the Chandler-band excitation and pole before and after ``split`` (mas; None if not computed)."""
@@ -117,12 +125,12 @@ class GeodeticExcitation:
 
         cut = to_mjd(split, "split")
         mjd_chi = self.time_mjd[1:]
-        # Leave a year at each end of the record out (the band-pass wraps around).
-        inner = (mjd_chi > mjd_chi[0] + 365) & (mjd_chi < mjd_chi[-1] - 365)
+        # Where the band's amplitudes are known: beyond the kernel's reach of either end (band_amplitude).
+        inner = np.isfinite(self.band_chi)
         before, after = inner & (mjd_chi < cut), inner & (mjd_chi >= cut)
         if before.sum() < 365 or after.sum() < 365:
             return None
-        pole_inner = np.concatenate([[False], inner])
+        pole_inner = np.isfinite(self.band_pole)
         pb = pole_inner & (self.time_mjd < cut)
         pa = pole_inner & (self.time_mjd >= cut)
 
@@ -131,6 +139,8 @@ class GeodeticExcitation:
 
         return {
             "split": iso_date(cut),
+            "before": [iso_date(mjd_chi[before][0]), iso_date(mjd_chi[before][-1])],
+            "after": [iso_date(mjd_chi[after][0]), iso_date(mjd_chi[after][-1])],
             "excitation_before_mas": rms(self.band_chi[before]),
             "excitation_after_mas": rms(self.band_chi[after]),
             "pole_before_mas": rms(self.band_pole[pb]),
@@ -207,10 +217,10 @@ class GeodeticExcitation:
             "round_trip_rms": cf.variable("excitation", "round_trip_rms", float(self.round_trip_rms.value)),
         }
         if self.band_chi is not None:
-            # Said in the file: ending the record at 2024-09-29 moves the 2020 mean from 44 to 11 mas.
+            reach = self.band_reach.to_value(u.yr)
             edges = (
-                "the band-pass wraps around the record's ends: the first and last year depend on where the "
-                "record ends (chandler_band_collapse in --json leaves them out)"
+                "the band within 0.1 cycle per year of the Chandler frequency; "
+                f"NaN within {reach:.1f} yr of the record's ends, where the band-pass's kernel reaches past them"
             )
             data["chandler_band_chi"] = cf.variable(
                 "excitation", "chandler_band_chi", np.concatenate([[np.nan], self.band_chi]), comment=edges
@@ -252,8 +262,8 @@ class GeodeticExcitation:
         c = d["chandler_band_collapse"]
         if c:
             lines.append(
-                f"  Chandler band (+/- 0.1 cycle/yr), RMS before/after {c['split']}: excitation "
-                f"{c['excitation_before_mas']:.1f} / "
+                f"  Chandler band (+/- 0.1 cycle/yr), RMS {c['before'][0]} to {c['before'][1]} / "
+                f"{c['after'][0]} to {c['after'][1]}: excitation {c['excitation_before_mas']:.1f} / "
                 f"{c['excitation_after_mas']:.1f} mas, pole {c['pole_before_mas']:.1f} / {c['pole_after_mas']:.1f} mas"
             )
         return "\n".join(lines)

@@ -35,7 +35,7 @@ from wobble.errors import InputError
 from wobble.models.polar_motion.record import DAY
 from wobble.numerics.recurrence import linear_recurrence
 
-__all__ = ["chandler_frequency", "excitation_from_pole", "pole_from_excitation", "band_amplitude"]
+__all__ = ["chandler_frequency", "excitation_from_pole", "pole_from_excitation", "band_amplitude", "band_reach"]
 
 
 def chandler_frequency(period: float, q: float) -> complex:
@@ -84,18 +84,35 @@ def pole_from_excitation(t, chi, sigma_c: complex, p0: complex) -> np.ndarray:
     return out
 
 
-def band_amplitude(t, z, centre: float, half_width: float) -> np.ndarray:
-    """|z| filtered to the band centre +/- half_width (rad/s, signed: prograde > 0), for uniformly sampled z.
+def band_reach(half_width: float) -> float:
+    """How far (s) :func:`band_amplitude`'s kernel reaches for its amplitudes to count as known: the half-width
+    of its main lobe, pi / half_width (1/(2B) for a band of +/- B cycles per time; 5 years for B = 0.1 cycle
+    per year), which holds 90 % of the kernel's energy."""
+    return math.pi / half_width
 
-    A zero-phase ideal band-pass by FFT: the envelope of the series' content in
-    the band (e.g. the Chandler band of the pole or of its excitation).
+
+def band_amplitude(t, z, centre: float, half_width: float) -> np.ndarray:
+    """The envelope of ``z``'s content within ``centre`` +/- ``half_width`` (rad/s, signed: prograde > 0), for
+    uniformly sampled ``z``; NaN within :func:`band_reach` of either end.
+
+    An ideal band-pass: its sharp edges keep out lines just outside the band (the annual wobble, 0.16 cycle
+    per year from the Chandler frequency, which a Gaussian band of the same half-width lets through at a
+    fifth of its amplitude). Its kernel is a sinc envelope whose main lobe spans +/- 1/(2B) (B the half-width
+    in cycles per time): nearer an end than that, the amplitude is NaN. The convolution is linear, the
+    series padded with as many zeros: the circular one used until 2026-11-29 wrapped the record's start into
+    its end (the pole's 2020 band amplitude moved from 44 to 11 mas when the record was cut two years
+    shorter; the excitation's after 2015 read 6.8 mas, 2.5 without the wrap).
     """
     t = np.asarray(t, dtype=float)
     z = np.asarray(z, dtype=complex)
     dt = float(np.median(np.diff(t)))
     if not np.allclose(np.diff(t), dt, rtol=1e-9, atol=1e-6):
         raise InputError("t", "uneven sampling", "uniformly sampled data for the band-pass")
-    freq = 2 * math.pi * np.fft.fftfreq(t.size, dt)
-    spec = np.fft.fft(z - z.mean())
+    n = t.size
+    freq = 2 * math.pi * np.fft.fftfreq(2 * n, dt)
+    spec = np.fft.fft(z - z.mean(), 2 * n)  # zero-padded to twice the length: no wrap-around
     spec[np.abs(freq - centre) > half_width] = 0.0
-    return np.abs(np.fft.ifft(spec))
+    out = np.abs(np.fft.ifft(spec)[:n])
+    reach = band_reach(half_width)
+    out[(t < t[0] + reach) | (t > t[-1] - reach)] = np.nan
+    return out
