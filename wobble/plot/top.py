@@ -199,7 +199,8 @@ def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: fl
 
 def effective_potential_figure(top: HeavyTop):
     """V'(theta) = M g l cos theta + (I1/2)((b - a cos theta)/sin theta)^2 with the E' line;
-    the motion is confined where V' <= E' (between the turning angles), notes p. 71.
+    the motion is confined where V' <= E' (between the turning angles; Goldstein, Poole & Safko 2002,
+    sec. 5.7).
 
     Turning angles less than a degree apart (a nearly sleeping top's 206 and 225 mas) are not to be
     seen on the whole range: a second panel draws V' - E' between them, in the angle unit their size
@@ -269,8 +270,8 @@ def _f_about_u2(m, d):
 
 def cubic_figure(top: HeavyTop):
     """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where
-    f >= 0 (notes p. 71). Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so u3 > 1); right: the
-    physical interval enlarged, f from its roots (:func:`_f_about_u2`). An interval narrower than 1e-3 (a
+    f >= 0 (Goldstein, Poole & Safko 2002, sec. 5.7). Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0,
+    so u3 > 1); right: the physical interval enlarged, f from its roots (:func:`_f_about_u2`). An interval narrower than 1e-3 (a
     nearly sleeping top, a nearly regular precession) is drawn against u - u2 and f in powers of ten named
     in the labels, so no offset such as '1e-13+10e-1' hides the numbers; a double root (u1 = u2, a
     regular precession) is drawn over a twentieth of the way to u3, the parabola touching zero."""
