@@ -269,12 +269,13 @@ def _f_about_u2(m, d):
 
 
 def cubic_figure(top: HeavyTop):
-    """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where
-    f >= 0 (Goldstein, Poole & Safko 2002, sec. 5.7). Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0,
-    so u3 > 1); right: the physical interval enlarged, f from its roots (:func:`_f_about_u2`). An interval narrower than 1e-3 (a
-    nearly sleeping top, a nearly regular precession) is drawn against u - u2 and f in powers of ten named
-    in the labels, so no offset such as '1e-13+10e-1' hides the numbers; a double root (u1 = u2, a
-    regular precession) is drawn over a twentieth of the way to u3, the parabola touching zero."""
+    """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where f >= 0
+    (Goldstein, Poole & Safko 2002, sec. 5.7). Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so
+    u3 > 1); right: the physical interval enlarged, f from its roots (:func:`_f_about_u2`). An interval
+    narrower than 1e-3 (a nearly sleeping top, a nearly regular precession) is drawn against u - u2 and
+    f in powers of ten named in the labels, so no offset such as '1e-13+10e-1' hides the numbers; a
+    double root (u1 = u2, a regular precession) is drawn over a twentieth of the way to u3, the parabola
+    touching zero."""
     m = top.model
     u3 = m.u3 if np.isfinite(m.u3) else 2.0
     fig, (ax, az) = plt.subplots(1, 2, figsize=(10.0, 4.0))
