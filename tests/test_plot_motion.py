@@ -461,7 +461,7 @@ def test_a_regular_precession_s_cubic_draws_its_double_root_not_rounding():
 
 @pytest.mark.parametrize("offset", [1e-9, 1e-6])
 def test_a_nearly_regular_precession_s_hump_is_drawn_however_narrow(offset):
-    """Turning points 9.4e-11 apart in u (phidot 1e-9 off the regular rate) bound a hump of 1e-18 s^-2,
+    """Turning points 9.4e-11 apart in u (phidot 1e-9 off the regular rate) bound a hump of 2e-18 s^-2,
     far below the expanded cubic's 2e-14 of rounding: drawn from the roots, it is above zero exactly between
     them and below outside."""
     top = _regular_precession(offset)

@@ -265,6 +265,13 @@ def test_a_free_body_s_constant_momentum_is_drawn_as_it_is_not_its_rounding():
     assert panel.get_title() == "angular momentum, inertial frame" and _offset_text(fig, panel) == ""
     energy = _panel(fig, "energy")
     assert _offset_text(fig, energy) == "" and energy.get_ylabel().startswith("relative change")
+    # Conserved to rounding: said, and drawn flat (its last bits looked like data).
+    (label,) = [t.get_text() for t in energy.get_legend().get_texts()]
+    assert label.startswith("kinetic energy: constant to rounding (|change| <= ")
+    assert all(np.all(line.get_ydata() == 0) for line in _curves(energy))
+    # A component named constant says how constant, as measured (it said "to 1e-3", the naming threshold).
+    named = [t.get_text() for t in panel.get_legend().get_texts() if "constant" in t.get_text()]
+    assert len(named) == 1 and "constant to 1e-3" not in named[0]
 
 
 def test_an_unresolved_axis_panel_gives_no_fitted_rate_and_an_empty_dataset_is_refused():

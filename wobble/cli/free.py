@@ -52,7 +52,11 @@ def register(subparsers) -> None:
         "--t-end", help=f"end of the output span (s unless a unit is given; default {DEFAULT_PERIODS} periods)"
     )
     p.add_argument(
-        "--samples", type=whole_number, default=1001, help="number of output times from 0 to --t-end (default 1001)"
+        "--samples",
+        type=whole_number,
+        default=1001,
+        help="number of output times from 0 to --t-end for -o (default 1001); --plot samples the motion its own "
+        "way (1000 a period, the first 10 periods)",
     )
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the time series to this netCDF file")
     p.add_argument(

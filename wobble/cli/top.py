@@ -56,7 +56,11 @@ def register(subparsers) -> None:
         help="end of the output span for -o and --plot (s unless a unit is given; default 10 nutation periods)",
     )
     p.add_argument(
-        "--samples", type=whole_number, default=1001, help="number of output times from 0 to --t-end (default 1001)"
+        "--samples",
+        type=whole_number,
+        default=1001,
+        help="number of output times from 0 to --t-end for -o (default 1001); --plot samples the path its own "
+        "way (200 a nutation period)",
     )
     p.add_argument("-o", "--output", metavar="FILE.nc", help="write the motion to this netCDF file")
     p.add_argument(

@@ -143,7 +143,7 @@ def axis_trace_axes(
     for radius in radii:
         ax.plot(radius * np.cos(ring) / size, radius * np.sin(ring) / size, color="0.6", lw=0.8, ls="--")
     ax.plot(axis[:, 0] / size, axis[:, 1] / size, color="C0", lw=1.2)
-    ax.plot(axis[:1, 0] / size, axis[:1, 1] / size, "o", color="C3", ms=4)
+    ax.plot(axis[:1, 0] / size, axis[:1, 1] / size, "o", color="C3", ms=4, label="start")
     r = extent / size * 1.08 or 1.0  # a sleeping top (theta = 0): a unit frame, not an empty one
     ax.set_xlim(-r, r)
     ax.set_ylim(-r, r)
@@ -172,6 +172,7 @@ def axis_locus_figure(top: HeavyTop, t_end, *, samples: int | None = None, path=
     title = f"{m.nutation}: theta from {tilt_text(m.theta_min, m.theta_max)}, 0 to {duration(t_end.to_value(u.s), 4)}"
     axis_trace_axes(ax, top, samples=samples, t_end=t_end, title=title)
     ax.title.set_fontsize(9)
+    ax.legend(loc="upper right", fontsize=8)  # the red dot: where the axis starts
     fig.tight_layout()
     if path is None:
         return fig
@@ -316,6 +317,8 @@ def cubic_figure(top: HeavyTop):
         az.ticklabel_format(style="plain", useOffset=False)
     az.set_xlim(xz[0], xz[-1])
     ax.set_ylabel("f(u) (s$^{-2}$)")
+    if not narrow:
+        az.set_ylabel("f(u) (s$^{-2}$)")
     ax.set_title(f"u1 = {_u_text(m.u1, m.x1, 6)}, u2 = {_u_text(m.u2, m.x2, 6)}, u3 = {u3:.4f}")
     az.set_title("between the turning points" if width > 0 else "u1 = u2: a double root, regular precession")
     ax.legend(loc="lower right", fontsize=8)
