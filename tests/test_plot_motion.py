@@ -17,8 +17,8 @@ from __future__ import annotations
 import math
 import re
 
-import matplotlib.pyplot as plt
-import mpmath  # the Agg backend: tests/conftest.py sets MPLBACKEND
+import matplotlib.pyplot as plt  # the Agg backend: tests/conftest.py sets MPLBACKEND
+import mpmath
 import numpy as np
 import pytest
 from astropy import units as u
@@ -514,3 +514,12 @@ def test_a_nearly_sleeping_top_s_potential_well_is_drawn_between_its_turning_ang
 def test_an_ordinary_top_s_potential_is_one_panel():
     top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
     assert len(effective_potential_figure(top).axes) == 1
+
+
+def test_a_symmetric_body_s_constant_spin_says_why_its_panel_is_flat():
+    """omega_3 of a body symmetric about axis 3 is exactly constant (Euler: (I1 - I2) w1 w2 = 0): the panel
+    of its change was a flat zero line without a word."""
+    body = FreeRotation([2, 2, 3] * KGM2, [0.1, 0, 1] * RAD_S)
+    fig = motion_figure(body, 30 * u.s)
+    texts = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+    assert "$\\omega_3 - \\omega_3(0)$ = 0: constant (a symmetric body)" in texts

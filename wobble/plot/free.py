@@ -272,6 +272,9 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
     else:
         small, change = w[:, others], dominant
         label, name, legend_title = "rad s$^{-1}$", f"$\\omega_{big + 1}$", None
+    if steady_spin and not np.any(change):
+        # Exactly constant (a body symmetric about the spin axis): a flat line at zero needs its reason.
+        name += " = 0: constant" + (" (a symmetric body)" if body.regime == "symmetric" else "")
     for ax, values, names, colors in (
         (top, small, [f"$\\omega_{k + 1}$" for k in others], ["C0", "C1"]),
         (bottom, change[:, None], [name], ["C2"]),
