@@ -449,3 +449,30 @@ def test_a_start_is_written_to_six_digits_in_one_power_of_ten(start, text):
     from wobble.plot.scene import _start_text
 
     assert _start_text(start, "kg") == text
+
+
+def test_a_free_body_over_many_periods_is_drawn_for_its_first_ten():
+    """earth_free_wobble holds 120 periods of omega over 100 years: drawn whole they were solid bands. As
+    wobble free --plot does, the figure draws the first 10 (omega repeats exactly every period) and says so."""
+    ds = wobble.run("earth_free_wobble")
+    t, w2 = ds["time"].values, ds["omega"].values[:, 1]
+    # The period from the samples themselves: the spacing of omega_2's upward zero crossings.
+    k = np.flatnonzero((w2[:-1] < 0) & (w2[1:] >= 0))
+    up = t[k] - w2[k] * (t[k + 1] - t[k]) / (w2[k + 1] - w2[k])
+    period = float(np.mean(np.diff(up)))
+    fig = scene_figure(ds)
+    assert fig._suptitle.get_text().endswith(
+        f"first 10 of {(t[-1] - t[0]) / period:,.0f} periods of omega shown (each repeats the first)"
+    )
+    w1_line = _curves(_panel(fig, "angular velocity"))[0]
+    year = 365.25 * 86400
+    drawn = w1_line.get_xdata()
+    assert drawn[-1] == pytest.approx(10 * period / year, abs=float(np.median(np.diff(t))) / year)
+    np.testing.assert_allclose(w1_line.get_ydata() * 1e-12, ds["omega"].values[: drawn.size, 0], rtol=1e-12)
+
+
+def test_a_scene_with_a_figure_axis_is_drawn_over_its_whole_span():
+    """The figure axis precesses (it does not repeat with omega): no cut."""
+    ds = wobble.run("top_loops")
+    fig = scene_figure(ds)
+    assert "periods of omega shown" not in fig._suptitle.get_text()

@@ -52,7 +52,17 @@ import numpy as np
 from wobble.models import euler_rates
 from wobble.numerics import quaternion as quat
 
-__all__ = ["LINES_LIMIT", "series", "panel_rates", "largest_gap", "resolved", "note", "first_periods", "period_count"]
+__all__ = [
+    "LINES_LIMIT",
+    "series",
+    "panel_rates",
+    "largest_gap",
+    "resolved",
+    "note",
+    "first_periods",
+    "period_count",
+    "free_period",
+]
 
 LINES_LIMIT = math.pi / 2
 # Below this share of a series' size its range is rounding, not motion.
@@ -266,6 +276,22 @@ class _Motion:
         if self.axisymmetric:
             return self.axis_rate()
         return self.forced()
+
+
+def free_period(ds) -> float | None:
+    """The period (s) of omega of the one free body a file records (its ``scene`` attribute, no torques),
+    from the exact solution at the first sample; None for an ensemble, a torqued body, a file without its
+    body, or an aperiodic motion (a separatrix, a steady spin)."""
+    from wobble.models.free import free_rotation
+
+    m = _Motion(ds)
+    if m.torques or m.moments is None or m.members != 1 or "omega" not in ds:
+        return None
+    w0 = series(ds["omega"])[0, 0]
+    if not np.all(np.isfinite(w0)):
+        return None
+    period = free_rotation(m.moments[0], m.axes[0] @ w0).period
+    return period if math.isfinite(period) and period > 0 else None
 
 
 def panel_rates(ds) -> dict:

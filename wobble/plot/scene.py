@@ -10,7 +10,7 @@ import numpy as np
 
 from wobble.errors import InputError
 
-from wobble.plot._sampling import largest_gap, note, panel_rates, resolved, series
+from wobble.plot._sampling import free_period, largest_gap, note, panel_rates, period_count, resolved, series
 from wobble.io.text import decimals_for
 from wobble.plot._style import ANGLE_UNITS, angle_unit, largest, power_axis, power_label, power_of_ten, time_axis
 
@@ -37,6 +37,8 @@ _WANTED = {
 # tens of thousands of points draw as fast as thousands and look like all of them; beyond this the
 # figure draws every n-th sample (and checks the sampling at that spacing).
 _MAX_POINTS = 50_000
+#: A free body's omega over more periods than this is drawn for its first ones (each repeats the first).
+MAX_PERIODS_SHOWN = 10
 _MAX_MEMBERS = 20
 # The components of the vector panels.
 _VECTORS = {
@@ -99,7 +101,13 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
         raise InputError("source", source, "the path of a file wobble run wrote, or a Dataset from wobble.run")
     ds = xr.open_dataset(source, engine="netcdf4", decode_times=False) if own else source
     try:
-        fig = _draw(*_thin(ds))
+        shown, count = _first_periods(ds)
+        cut = (
+            ""
+            if count is None
+            else (f"first {MAX_PERIODS_SHOWN} of {period_count(count)} periods of omega shown (each repeats the first)")
+        )
+        fig = _draw(*_thin(shown), cut=cut)
     finally:
         if own:
             ds.close()
@@ -110,6 +118,23 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
     return save_figure(fig, path, overwrite=overwrite)
 
 
+def _first_periods(ds):
+    """(the Dataset to draw, the span's number of periods or None): a free body's omega repeats every period,
+    so a span of more than :data:`MAX_PERIODS_SHOWN` periods, whose panels all follow omega (no figure
+    axis or tilt, which precess), is drawn for its first periods, as ``wobble free --plot`` draws it (120
+    periods of the Earth's free wobble drew solid bands)."""
+    if any(name in ds for name in (*_WANTED["axis"], *_WANTED["tilt"])):
+        return ds, None
+    period = free_period(ds)
+    t = np.asarray(ds["time"].values, dtype=float)
+    if period is None or t.size < 2:
+        return ds, None
+    count = (t[-1] - t[0]) / period
+    if count <= MAX_PERIODS_SHOWN * (1 + 1e-12):
+        return ds, None
+    return ds.isel(time=np.flatnonzero(t <= t[0] + MAX_PERIODS_SHOWN * period)), count
+
+
 def _thin(ds):
     step = max(1, int(np.ceil(ds.sizes["time"] / _MAX_POINTS)))
     out = ds.isel(time=slice(None, None, step))
@@ -118,7 +143,7 @@ def _thin(ds):
     return out.load(), step
 
 
-def _draw(ds, every: int = 1):
+def _draw(ds, every: int = 1, cut: str = ""):
     t = np.asarray(ds["time"].values, dtype=float)
     if t.size == 0:  # t[0] below was an IndexError
         raise InputError("source", "a Dataset with no times", "a run's Dataset or file with at least one time")
@@ -137,7 +162,8 @@ def _draw(ds, every: int = 1):
         if not lines:
             _note(ax, note(rates[kind], gap, every))
     axes[-1, 0].set_xlabel(f"time ({unit})")
-    fig.suptitle(f"{ds.attrs.get('title', 'scene')}: model {ds.attrs.get('model', '?')}", fontsize=10)
+    title = f"{ds.attrs.get('title', 'scene')}: model {ds.attrs.get('model', '?')}"
+    fig.suptitle(f"{title}\n{cut}" if cut else title, fontsize=10)
     fig.tight_layout()
     return fig
 
