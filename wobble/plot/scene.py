@@ -82,7 +82,9 @@ def scene_figure(source, *, path=None, overwrite: bool = False):
 
     Angles are drawn in deg, arcsec or mas, whichever their range (or, for a constant, their size)
     reads in, as plain numbers; an ensemble's vectors one component a panel, its members by colour,
-    and every legend beside its panel.
+    and every legend beside its panel. A free body's omega over more than :data:`MAX_PERIODS_SHOWN`
+    periods is drawn for its first ones, when every panel follows omega (thousands of periods in a
+    panel are a solid band), and the title says how many the span holds.
 
     Parameters
     ----------
