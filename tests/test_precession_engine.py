@@ -269,3 +269,20 @@ def test_the_measurement_reads_files_and_speaks_the_result_vocabulary(tmp_path, 
         wobble.measure_precession(wobble.run("tennis_racket"))
     with pytest.raises(FileFormatError):
         wobble.measure_precession(tmp_path / "missing.nc")
+
+
+def test_a_span_shorter_than_the_principal_term_says_so():
+    """Over 4 years the Moon's node turning in 36 years (from the moving equinox) cannot be told from the
+    secular rate: the fit still returns them, with formal errors far smaller than their real ones, so the
+    measurement says so (it said nothing; a 15-year Earth run measured -5046.50 +/- 0.08 "/cy against the
+    model's -5040.04)."""
+    data = _short_case()
+    data["torques"][1]["node_rate"] = "-10 deg / yr"
+    m = wobble.measure_precession(wobble.run(data))
+    assert any("shorter than the principal term's period (36.1 yr)" in c for c in m.caveats)
+    assert m.to_dict()["caveats"] == m.caveats and "caveat: the span (4.0 yr)" in m.summary()
+    # The claim itself: the rate is off the averaged model by many of its formal errors.
+    assert abs(m.rate - m.analytic_rate) > 5 * m.rate_sigma
+    # With the node turning in 0.72 years the same span separates it: no such caveat.
+    short = wobble.measure_precession(wobble.run(_short_case()))
+    assert not any("principal term" in c for c in short.caveats)

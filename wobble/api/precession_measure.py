@@ -52,6 +52,7 @@ if TYPE_CHECKING:
 __all__ = ["PrecessionMeasurement", "measure_precession"]
 
 _RATE = u.rad / u.s
+_JULIAN_YEAR = 365.25 * 86400.0
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,10 @@ class PrecessionMeasurement:
         Length of the series (Julian years).
     terms : dict
         Every other fitted term: name -> (psi sin, psi cos, eps sin, eps cos) in arcsec (IAU sign for psi).
+    caveats : list of str
+        What the span could not do: separate the principal term from the secular rate (a span shorter
+        than its period, where the rate and the amplitudes may be off by more than their formal errors:
+        a 15-year Earth run's rate by 6 "/cy), or fit a term it cannot tell from another (left out).
     """
 
     rate: u.Quantity
@@ -105,6 +110,7 @@ class PrecessionMeasurement:
     samples: int
     span: u.Quantity
     terms: dict = field(default_factory=dict)
+    caveats: list = field(default_factory=list)
 
     @property
     def rate_difference(self) -> float | None:
@@ -155,6 +161,7 @@ class PrecessionMeasurement:
             "residual_rms_longitude_arcsec": arcsec(self.residual_rms_longitude),
             "residual_rms_obliquity_arcsec": arcsec(self.residual_rms_obliquity),
             "terms_arcsec": {k: list(v) for k, v in self.terms.items()},
+            "caveats": list(self.caveats),
         }
 
     def summary(self) -> str:
@@ -191,6 +198,7 @@ class PrecessionMeasurement:
             f'  fit residuals (rms): {d["residual_rms_longitude_arcsec"]:.2g}" in psi, '
             f'{d["residual_rms_obliquity_arcsec"]:.2g}" in eps ({len(self.terms)} other periodic terms fitted)'
         )
+        lines += [f"  caveat: {c}" for c in self.caveats]
         return "\n".join(lines)
 
     def to_dataset(self) -> xr.Dataset:
@@ -295,10 +303,11 @@ def _scene(ds):
         return None
 
 
-def _arguments(perturbers, psi0, psi_rate, span, principal=None):
+def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None):
     """The fitted terms' (rate, phase at t = 0) in rad/s and rad, counted from the moving equinox.
 
-    Returns (node argument or None, node perturber's name, {name: (rate, phase)}).
+    Returns (node argument or None, {name: (rate, phase)}); the names of the terms the span cannot
+    separate are appended to ``left_out``.
     """
     node = None
     extra: dict = {}
@@ -309,6 +318,8 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None):
         if all(abs(abs(rate) - abs(r)) * span >= 2 * math.pi for r in taken):
             extra[name] = (rate, phase)
             taken.append(rate)
+        elif left_out is not None:
+            left_out.append(name)
 
     eq0 = psi0 + math.pi  # the equinox: the descending node of the equator
     if principal is not None:  # first, so that a term the span cannot tell from it is left out
@@ -397,7 +408,8 @@ def measure_precession(
     fit: PrecessionFit | None = None
     node = None
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
-        node, terms = _arguments(perturbers, psi0, psi_rate, span, principal)
+        left_out: list[str] = []
+        node, terms = _arguments(perturbers, psi0, psi_rate, span, principal, left_out)
         if node_rate is not None:
             node = (
                 float(node_rate.to_value(_RATE)),
@@ -417,6 +429,15 @@ def measure_precession(
         psi0 = _intercept(t, psi, fit)
     arcsec = u.rad.to(u.arcsec)
     have_node = node is not None
+    caveats = []
+    if abs(use_node[0]) * span < 2 * math.pi:
+        period = 2 * math.pi / abs(use_node[0]) / _JULIAN_YEAR
+        caveats.append(
+            f"the span ({span / _JULIAN_YEAR:.1f} yr) is shorter than the principal term's period ({period:.1f} yr): "
+            "the secular rate and that term are not separated, and both may be off by more than their formal errors"
+        )
+    if left_out:
+        caveats.append(f"left out, the span cannot separate them from the terms fitted: {', '.join(left_out)}")
     nut = None
     if analytic is not None and principal is not None:
         nut = dict(analytic.nutation).get(principal.name)
@@ -439,6 +460,7 @@ def measure_precession(
         samples=int(t.size),
         span=(span * u.s).to(u.yr),
         terms={k: tuple(x * arcsec for x in v) for k, v in fit.terms.items()},
+        caveats=caveats,
     )
 
 
