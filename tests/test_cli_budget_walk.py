@@ -314,3 +314,24 @@ def test_the_chandler_figure_marks_the_rigid_period_and_prints_the_text_s_digits
         assert ax.get_xlabel() == "period (d)"
     labels = [t.get_text() for t in axes[1].get_legend().get_texts()]
     assert "observed 206.90 ± 0.50 d" in labels
+
+
+def test_the_modes_chandler_panel_draws_the_model_s_uncertainty_beside_the_observed():
+    """Mars' model, 205.6 +/- 2.7 d, against 206.9 +/- 0.5 d observed: with only the observed band drawn the
+    model line looked 2.6 sigma off, where the text says -0.5 sigma."""
+    import numpy as np
+
+    import wobble
+
+    r = wobble.normal_modes("mars")
+    cw = r.mode("CW")
+    panel = [ax for ax in wobble.plot.modes.modes_figure([r]).axes if ax.get_title() == "Chandler wobble (prograde)"]
+    (ax,) = panel
+    bands = [c for c in ax.collections if c.get_label() == "model +/- 1 sigma"]
+    assert len(bands) == 1
+    top, bottom = bands[0].get_paths()[0].vertices[:, 1].max(), bands[0].get_paths()[0].vertices[:, 1].min()
+    model = ax.get_lines()[0].get_ydata()
+    sigma = cw.period_uncertainty.to_value("d")
+    assert top == pytest.approx(np.max(model) + sigma, rel=1e-9) and bottom == pytest.approx(
+        np.min(model) - sigma, rel=1e-9
+    )

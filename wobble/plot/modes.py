@@ -100,6 +100,12 @@ def _fcn_panel(ax, r, grid, period):
 def _cw_panel(ax, r, grid, period):
     cw = r.mode("CW")
     ax.plot(grid * 1e3, period, color="C1", label="CW (model, coupled)")
+    # The model's own uncertainty beside the observed band: without it a 0.5-sigma miss looked like 2.6.
+    sigma = cw.period_uncertainty.to_value(u.day) if cw.period_uncertainty is not None else float("nan")
+    if np.isfinite(sigma):
+        ax.fill_between(
+            grid * 1e3, period - sigma, period + sigma, color="C1", alpha=0.15, lw=0, label="model +/- 1 sigma"
+        )
     if cw.observed is not None:
         _band(ax, cw.observed.to_value(u.day), cw.observed_uncertainty.to_value(u.day), "0.3", "observed")
     # The budget is this model with the core coupling off (the text's "coupling off ... = the Chandler budget"),
