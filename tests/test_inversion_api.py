@@ -188,6 +188,17 @@ def test_corner_plot_draws_large_numbers_in_a_named_power_of_ten_and_one_legend(
         assert lo < median < hi  # the panel is in the unit its label names
         assert all(ax.get_legend() is None for ax in fig.axes) and len(fig.legends) == 1
         assert any(t.get_text().startswith("core_flattening_excess: ") for t in fig.legends[0].get_texts())
+        # Every reference its own colour (counted per parameter, two references shared orange).
+        legend = fig.legends[0]
+        references = [
+            h.get_facecolor() if hasattr(h, "get_facecolor") and not hasattr(h, "get_xdata") else h.get_color()
+            for h, t in zip(legend.legend_handles, legend.get_texts())
+            if t.get_text() != "prior"
+        ]
+        from matplotlib.colors import to_hex
+
+        keys = [to_hex(c, keep_alpha=False) for c in references]
+        assert len(keys) >= 2 and len(set(keys)) == len(keys)
     finally:
         plt.close(fig)
 

@@ -50,6 +50,9 @@ def corner_figure(result):
         levels=tuple(1.0 - np.exp(-0.5 * np.array([0.5, 1.0, 1.5, 2.0]) ** 2)),
     )
     axes = np.array(fig.axes).reshape(ndim, ndim)
+    # One colour per reference across the figure (counted per parameter, two references shared orange);
+    # C0 is the posterior's.
+    colours = {id(c): f"C{1 + j % 9}" for j, c in enumerate(result.setup.comparisons)}
     named = {}  # one legend for the figure: in the diagonal panels the entries covered the histograms
     for i, p in enumerate(params):
         ax = axes[i, i]
@@ -68,8 +71,8 @@ def corner_figure(result):
                 ls="--",
                 label="prior",
             )
-        for k, c in enumerate(x for x in result.setup.comparisons if x.name == p.name):
-            colour = f"C{k + 1}"
+        for c in (x for x in result.setup.comparisons if x.name == p.name):
+            colour = colours[id(c)]
             if c.value is not None:
                 ax.axvline(c.value / unit, color=colour, lw=1.2, label=f"{p.name}: {_source(c)}")
                 if c.uncertainty is not None:
