@@ -70,7 +70,7 @@ def main() -> None:
     fig.canvas.draw()
     box = ax.get_window_extent()
     dx, dy = np.ptp(ax.get_xlim()), np.ptp(ax.get_ylim())
-    ax.set_ylabel(f"eps - eps0 [arcsec]\n(vertical scale x {(dx / box.width) / (dy / box.height):.0f})")
+    ax.set_ylabel(f"eps - eps0 [arcsec]\n(vertical exaggeration {(dx / box.width) / (dy / box.height):.0f}:1)")
     ax.set_title(
         f"Earth's spin axis in space, 20 years by brute force (wobble run earth_precession): {m.rate.value:+.2f}\"/cy",
         fontsize=9,
