@@ -523,3 +523,12 @@ def test_a_symmetric_body_s_constant_spin_says_why_its_panel_is_flat():
     fig = motion_figure(body, 30 * u.s)
     texts = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
     assert "$\\omega_3 - \\omega_3(0)$ = 0: constant (a symmetric body)" in texts
+
+
+def test_a_top_through_the_vertical_draws_its_well_without_a_zero_division():
+    """theta_min = 0 (started at the vertical with a small thetadot): V' - E' is 0/0 at theta = 0, and the
+    panel's grid started there (a RuntimeWarning, an error in the tests)."""
+    top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=0 * u.rad, omega3=10 * RAD_S, thetadot0=1e-3 * RAD_S)
+    assert top.model.theta_min == 0.0
+    fig = effective_potential_figure(top)
+    assert len(fig.axes) == 2 and np.all(np.isfinite(fig.axes[1].lines[0].get_ydata()))

@@ -52,7 +52,9 @@ def corner_figure(result):
     axes = np.array(fig.axes).reshape(ndim, ndim)
     # One colour per reference across the figure (counted per parameter, two references shared orange);
     # C0 is the posterior's.
-    colours = {id(c): f"C{1 + j % 9}" for j, c in enumerate(result.setup.comparisons)}
+    # C1-C9, then tab20's light shades but blue's: 18 colours, none the posterior's C0.
+    palette = [f"C{k}" for k in range(1, 10)] + [plt.get_cmap("tab20").colors[k] for k in range(3, 20, 2)]
+    colours = {id(c): palette[j % len(palette)] for j, c in enumerate(result.setup.comparisons)}
     named = {}  # one legend for the figure: in the diagonal panels the entries covered the histograms
     for i, p in enumerate(params):
         ax = axes[i, i]

@@ -234,7 +234,9 @@ def effective_potential_figure(top: HeavyTop):
 def _potential_well(ax, m) -> None:
     """V' - E' between and about the turning angles (see :func:`effective_potential_figure`)."""
     width = m.theta_max - m.theta_min
-    th = np.linspace(max(m.theta_min - 0.3 * width, 0.5 * m.theta_min), min(m.theta_max + 0.3 * width, np.pi), 1000)
+    # Not from theta = 0 (a top through the vertical, theta_min = 0): V' - E' is 0/0 there, its limit finite.
+    low = max(m.theta_min - 0.3 * width, 0.5 * m.theta_min, 1e-3 * width)
+    th = np.linspace(low, min(m.theta_max + 0.3 * width, np.pi), 1000)
     # f from its roots at u - u2 = x2 - x, x = 1 - u = 2 sin^2(theta/2): no difference of numbers near 1
     # (1 - cos theta, or f's own terms, lose all but 1e-4 of theirs at 1e-6 rad).
     x = 2.0 * np.sin(0.5 * th) ** 2

@@ -91,17 +91,20 @@ def band_reach(half_width: float) -> float:
     return math.pi / half_width
 
 
-def band_amplitude(t, z, centre: float, half_width: float) -> np.ndarray:
+def band_amplitude(t, z, centre: float, half_width: float, lines=()) -> np.ndarray:
     """The envelope of ``z``'s content within ``centre`` +/- ``half_width`` (rad/s, signed: prograde > 0), for
     uniformly sampled ``z``; NaN within :func:`band_reach` of either end.
 
-    An ideal band-pass: its sharp edges keep out lines just outside the band (the annual wobble, 0.16 cycle
-    per year from the Chandler frequency, which a Gaussian band of the same half-width lets through at a
-    fifth of its amplitude). Its kernel is a sinc envelope whose main lobe spans +/- 1/(2B) (B the half-width
-    in cycles per time): nearer an end than that, the amplitude is NaN. The convolution is linear, the
-    series padded with as many zeros: the circular one used until 2026-11-29 wrapped the record's start into
-    its end (the pole's 2020 band amplitude moved from 44 to 11 mas when the record was cut two years
-    shorter; the excitation's after 2015 read 6.8 mas, 2.5 without the wrap).
+    An ideal band-pass: its sharp edges attenuate lines just outside the band (the annual wobble, 0.16
+    cycle per year from the Chandler frequency, to 3 % in the middle of a 40-year record and up to 8 %
+    within a few years of the unknown ends; a Gaussian band of the same half-width passes a fifth of
+    it). Lines at the rates ``lines`` (rad/s, signed) are therefore fitted by least squares with constant
+    amplitudes, with the mean, and removed first. The kernel is a sinc envelope whose main lobe spans
+    +/- 1/(2B) (B the half-width in cycles per time): nearer an end than that, the amplitude is NaN; next
+    to that edge a line in the band still reads up to 12 % high or low (the record's truncation: Gibbs).
+    The convolution is linear, the series padded with as many zeros: the circular one used until
+    2026-11-29 wrapped the record's start into its end (the pole's 2020 band amplitude moved from 44 to
+    11 mas when the record was cut two years shorter; the excitation's after 2015 read 6.8 mas).
     """
     t = np.asarray(t, dtype=float)
     z = np.asarray(z, dtype=complex)
@@ -109,8 +112,11 @@ def band_amplitude(t, z, centre: float, half_width: float) -> np.ndarray:
     if not np.allclose(np.diff(t), dt, rtol=1e-9, atol=1e-6):
         raise InputError("t", "uneven sampling", "uniformly sampled data for the band-pass")
     n = t.size
+    s = t - t.mean()
+    columns = np.column_stack([np.ones(n), *(np.exp(1j * rate * s) for rate in lines)])
+    z = z - columns @ np.linalg.lstsq(columns, z, rcond=None)[0]  # the mean and the lines
     freq = 2 * math.pi * np.fft.fftfreq(2 * n, dt)
-    spec = np.fft.fft(z - z.mean(), 2 * n)  # zero-padded to twice the length: no wrap-around
+    spec = np.fft.fft(z, 2 * n)  # zero-padded to twice the length: no wrap-around
     spec[np.abs(freq - centre) > half_width] = 0.0
     out = np.abs(np.fft.ifft(spec)[:n])
     reach = band_reach(half_width)
