@@ -476,3 +476,19 @@ def test_a_scene_with_a_figure_axis_is_drawn_over_its_whole_span():
     ds = wobble.run("top_loops")
     fig = scene_figure(ds)
     assert "periods of omega shown" not in fig._suptitle.get_text()
+
+
+def test_a_tilt_under_1e_8_rad_is_drawn_not_rounded_to_zero():
+    """The tilt from the axis direction was arccos(e3_z), which reads 0 below about 1e-8 rad (cos rounds to
+    1); the engine forms it as atan2(|e3_xy|, e3_z). A tilt of 1e-9 rad (0.206 mas), by construction."""
+    t = np.linspace(0.0, 10.0, 201)
+    tilt = 1e-9 * (1 + 0.5 * np.sin(t))
+    e3 = np.stack([np.sin(tilt) * np.cos(t), np.sin(tilt) * np.sin(t), np.cos(tilt)], axis=-1)
+    ds = xr.Dataset(
+        {"axis_direction": (("time", "inertial_axis"), e3, {"units": "1"})},
+        coords={"time": ("time", t, {"units": "s"})},
+    )
+    panel = _panel(scene_figure(ds), "tilt")
+    assert panel.get_ylabel() == "mas"
+    (line,) = _curves(panel)
+    np.testing.assert_allclose(line.get_ydata() * _UNITS["mas"], tilt, rtol=1e-9)

@@ -621,3 +621,20 @@ def test_a_top_whose_span_passes_two_to_the_996_seconds_takes_the_compiled_serie
     np.testing.assert_allclose(got.theta, want.theta, rtol=0, atol=ref.error_estimate["theta_rad"])
     assert np.max(np.abs(np.angle(np.exp(1j * (got.phi - want.phi))))) <= bound
     assert np.max(np.abs(np.angle(np.exp(1j * (got.psi - want.psi))))) <= bound
+
+
+def test_f_from_the_roots_is_the_cubic_and_vanishes_at_its_roots():
+    """f_about_u2 is beta (u - u1)(u - u2)(u - u3) from the 60-digit roots: it agrees with the expanded cubic
+    where that is exact (a tenth of u away) and is zero at u1 and u2 exactly; well() is V' - E' there."""
+    import math
+
+    from wobble.models.top import heavy_top
+
+    m = heavy_top(1.0, 0.5, 1.0, math.radians(60.0), phidot0=-0.3, omega3=10.0)
+    d = np.linspace(-0.3, 0.1, 41)
+    np.testing.assert_allclose(m.f_about_u2(d), m.f(m.u2 + d), rtol=0, atol=1e-12 * np.max(np.abs(m.f(m.u2 + d))))
+    assert m.f_about_u2(0.0) == 0.0 and m.f_about_u2(-(m.x1 - m.x2)) == 0.0
+    theta = np.linspace(m.theta_min, m.theta_max, 7)[1:-1]
+    direct = m.effective_potential(theta) - m.energy_prime
+    np.testing.assert_allclose(m.well(theta), direct, rtol=0, atol=1e-12 * m.mgl)
+    assert np.all(m.well(theta) < 0)

@@ -10,7 +10,16 @@ import numpy as np
 
 from wobble.errors import InputError
 
-from wobble.plot._sampling import free_period, largest_gap, note, panel_rates, period_count, resolved, series
+from wobble.plot._sampling import (
+    first_periods,
+    free_period,
+    largest_gap,
+    note,
+    panel_rates,
+    period_count,
+    resolved,
+    series,
+)
 from wobble.io.text import decimals_for
 from wobble.plot._style import ANGLE_UNITS, angle_unit, largest, power_axis, power_label, power_of_ten, time_axis
 
@@ -131,10 +140,11 @@ def _first_periods(ds):
     t = np.asarray(ds["time"].values, dtype=float)
     if period is None or t.size < 2:
         return ds, None
-    count = (t[-1] - t[0]) / period
-    if count <= MAX_PERIODS_SHOWN * (1 + 1e-12):
+    # The free figure's rule (first_periods): where it cuts, and how many periods the span holds.
+    times, count = first_periods(t[-1] - t[0], period, MAX_PERIODS_SHOWN, 1)
+    if count is None:
         return ds, None
-    return ds.isel(time=np.flatnonzero(t <= t[0] + MAX_PERIODS_SHOWN * period)), count
+    return ds.isel(time=np.flatnonzero(t <= t[0] + times[-1])), count
 
 
 def _thin(ds):
@@ -402,7 +412,8 @@ def _tilt(ax, ds, t, lines, unit, part=None) -> None:
         _angle_curves(ax, ds, t, [series(ds["tilt"])[:, :, 0]], lines, "tilt")
     else:
         e3 = series(ds["axis_direction"])
-        tilt = np.arccos(np.clip(e3[..., 2], -1.0, 1.0))
+        # atan2, as the engine forms it: arccos of e3_z reads 0 for any tilt under 1e-8 rad (cos rounds to 1).
+        tilt = np.arctan2(np.hypot(e3[..., 0], e3[..., 1]), e3[..., 2])
         _angle_curves(ax, ds, t, [tilt], lines, "tilt (from the axis direction)")
     _legend(ax)
 

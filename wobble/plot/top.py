@@ -237,10 +237,7 @@ def _potential_well(ax, m) -> None:
     # Not from theta = 0 (a top through the vertical, theta_min = 0): V' - E' is 0/0 there, its limit finite.
     low = max(m.theta_min - 0.3 * width, 0.5 * m.theta_min, 1e-3 * width)
     th = np.linspace(low, min(m.theta_max + 0.3 * width, np.pi), 1000)
-    # f from its roots at u - u2 = x2 - x, x = 1 - u = 2 sin^2(theta/2): no difference of numbers near 1
-    # (1 - cos theta, or f's own terms, lose all but 1e-4 of theirs at 1e-6 rad).
-    x = 2.0 * np.sin(0.5 * th) ** 2
-    well = -0.5 * m.I1 * _f_about_u2(m, m.x2 - x) / (x * (2.0 - x))
+    well = m.well(th)  # from the cubic's roots: V' - E' directly is a difference of two numbers near E'
     rad, name = angle_unit(m.theta_max)
     divisor = power_axis(ax, largest(well), "J", name="V' - E'")
     ax.plot(th / rad, well / divisor, color="C0")
@@ -261,20 +258,10 @@ def _u_text(u_value: float, x: float, digits: int) -> str:
     return f"{u_value:.{digits}f}"
 
 
-def _f_about_u2(m, d):
-    """f at u = u2 + d from the cubic's roots, beta (u - u1)(u - u2)(u - u3) with u - u1 = d + (x1 - x2) and
-    u - u3 = d + (x3 - x2): the roots are kept to 60 digits as x_i = 1 - u_i, so this has no cancellation at
-    any scale. Expanded in floats, f's terms cancel: 2e-14 s^-2 of rounding at a regular precession of 30 deg,
-    which a zoom onto a double root drew as the curve. For M g l = 0 (no third root) f is the quadratic."""
-    if not np.isfinite(m.x3):
-        return m.f(m.u2 + d)
-    return m.beta * (d + (m.x1 - m.x2)) * d * (d + (m.x3 - m.x2))
-
-
 def cubic_figure(top: HeavyTop):
     """f(u) = udot^2 with its roots u1 <= u2 <= 1 < u3; the motion has u1 <= u <= u2 where f >= 0
     (Goldstein, Poole & Safko 2002, sec. 5.7). Left: the whole cubic (f(+-1) = -(b -+ a)^2 <= 0, so
-    u3 > 1); right: the physical interval enlarged, f from its roots (:func:`_f_about_u2`). An interval
+    u3 > 1); right: the physical interval enlarged, f from its roots (:meth:`HeavyTopModel.f_about_u2`). An interval
     narrower than 1e-3 (a nearly sleeping top, a nearly regular precession) is drawn against u - u2 and
     f in powers of ten named in the labels, so no offset such as '1e-13+10e-1' hides the numbers; a
     double root (u1 = u2, a regular precession) is drawn over a twentieth of the way to u3, the parabola
@@ -292,7 +279,7 @@ def cubic_figure(top: HeavyTop):
     width = m.x1 - m.x2  # u2 - u1, with the digits u1 and u2 lose next to the vertical
     pad = 0.3 * width if width > 0 else 0.05 * (u3 - m.u2)
     d = np.linspace(-width - pad, min(pad, m.x2), 1000)  # u - u2, up to u = 1
-    fz = _f_about_u2(m, d)
+    fz = m.f_about_u2(d)
     narrow = width + 2 * pad < 1e-3
     if narrow:
         ex, ey = power_of_ten(np.max(np.abs(d))), power_of_ten(np.max(np.abs(fz)))
