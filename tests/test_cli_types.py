@@ -76,6 +76,7 @@ def test_what_is_not_a_whole_number_is_refused(text):
 
     from wobble.cli._types import whole_number
 
-    with pytest.raises(argparse.ArgumentTypeError, match="; allowed: a whole number of at most 30 digits") as caught:
+    with pytest.raises(argparse.ArgumentTypeError) as caught:
         whole_number(text)
-    assert str(caught.value).startswith(f"got {text}")
+    shown = repr(text) if not text.strip() else text if len(text) <= 200 else text[:97] + "..." + text[-100:]
+    assert str(caught.value) == f"got {shown}; allowed: a whole number of at most 30 digits (1001, 1e3)"

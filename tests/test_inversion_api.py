@@ -427,3 +427,14 @@ def test_diagnostics_report_the_measured_worst_r_hat_beside_the_thresholds(mars)
     assert (diag["r_hat_threshold"], diag["ess_threshold"]) == (wobble.api.inversion.RHAT_MAX, 400)
     for old, new in diag["deprecated_keys"].items():
         assert diag[old] == diag[new]
+
+
+def test_a_run_too_large_for_memory_is_refused_before_any_work(capsys):
+    """--walkers 1e10 asked numpy for 298 GiB and ended in a traceback; --ensembles 1e20 ran without end."""
+    from cli_run import run_cli
+
+    for option in (["--walkers", "1e10"], ["--ensembles", "1e20"]):
+        code, out, err = run_cli(["invert", "mars", *option], capsys)
+        assert (code, out) == (2, "") and err.count("\n") == 1
+        assert err.startswith("wobble invert: error: walkers x (burn + steps) x ensembles: got ")
+        assert "of memory and" in err and "usable" in err

@@ -476,7 +476,7 @@ def test_a_nearly_regular_precession_s_hump_is_drawn_however_narrow(offset):
     assert 0 < width < 1e-3
     inside = (d > -width * (1 - 1e-6)) & (d < -width * 1e-6)
     outside = (d < -width * (1 + 1e-6)) | (d > width * 1e-6)
-    assert np.all(f[inside] > 0) and np.all(f[outside] < 0)
+    assert inside.any() and outside.any() and np.all(f[inside] > 0) and np.all(f[outside] < 0)
     if offset == 1e-6:  # a hump of 2e-12 s^-2: the expanded cubic's 2e-14 of rounding reads it to a few per cent
         ylabel_scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", near.get_ylabel()).group(1))
         np.testing.assert_allclose(f * ylabel_scale, m.f(m.u2 + d), rtol=0, atol=0.05 * np.max(f) * ylabel_scale)
@@ -508,7 +508,7 @@ def test_a_nearly_sleeping_top_s_potential_well_is_drawn_between_its_turning_ang
     # Below zero exactly between the turning angles.
     inside = (theta_mas * MAS > m.theta_min * (1 + 1e-6)) & (theta_mas * MAS < m.theta_max * (1 - 1e-6))
     outside = (theta_mas * MAS < m.theta_min * (1 - 1e-6)) | (theta_mas * MAS > m.theta_max * (1 + 1e-6))
-    assert np.all(drawn[inside] < 0) and np.all(drawn[outside] > 0)
+    assert inside.any() and outside.any() and np.all(drawn[inside] < 0) and np.all(drawn[outside] > 0)
 
 
 def test_an_ordinary_top_s_potential_is_one_panel():
@@ -531,4 +531,18 @@ def test_a_top_through_the_vertical_draws_its_well_without_a_zero_division():
     top = HeavyTop(I1=1 * KGM2, I3=0.5 * KGM2, mgl=1 * u.J, theta0=0 * u.rad, omega3=10 * RAD_S, thetadot0=1e-3 * RAD_S)
     assert top.model.theta_min == 0.0
     fig = effective_potential_figure(top)
-    assert len(fig.axes) == 2 and np.all(np.isfinite(fig.axes[1].lines[0].get_ydata()))
+    theta, drawn = (np.asarray(v) for v in fig.axes[1].lines[0].get_data())
+    assert len(fig.axes) == 2 and np.all(np.isfinite(drawn))
+    assert fig.axes[1].get_xlabel() == "theta (arcsec)"  # theta_max = 4.4e-4 rad = 90 arcsec
+    scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", fig.axes[1].get_ylabel()).group(1))
+    # mpmath at 50 digits from the inputs: a = I3 omega3 / I1 = 5 = b (started at the vertical),
+    # E' = M g l + I1 thetadot0^2 / 2, V' - E' = cos theta - E' + (a^2/2)(1 - cos theta)^2 / sin^2 theta.
+    with mpmath.workdps(50):
+        e_prime = 1 + mpmath.mpf("1e-3") ** 2 / 2
+
+        def exact(t):
+            c = mpmath.cos(mpmath.mpf(float(t)) * mpmath.pi / (180 * 3600))
+            return float(c - e_prime + mpmath.mpf(25) / 2 * (1 - c) ** 2 / (1 - c**2))
+
+        truth = np.array([exact(t) for t in theta])
+    np.testing.assert_allclose(drawn * scale, truth, rtol=0, atol=1e-9 * np.max(np.abs(truth)))

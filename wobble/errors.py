@@ -27,6 +27,8 @@ class WobbleError(ValueError):
 def shown(value: object) -> str:
     """A value as an error message shows it: an array Quantity as typed, a long value cut in its middle."""
     text = str(value)
+    if isinstance(value, str) and not value.strip():
+        return repr(value)  # an empty or blank value as typed: "got ''", not "got ;"
     if getattr(value, "ndim", 0) and hasattr(value, "unit") and hasattr(value, "value"):
         # An array Quantity as a person types it, "(-1, 2, 3) kg m2", not NumPy's "[-1.  2.  3.] kg m2".
         numbers = ", ".join(f"{x:g}" for x in value.value.ravel().tolist()[:20])

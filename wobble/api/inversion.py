@@ -750,6 +750,24 @@ def _settings(setup: InversionSetup, **overrides) -> SamplerSettings:
     return replace(setup.settings, **given)
 
 
+def _check_size(settings: SamplerSettings, ndim: int) -> None:
+    """Refuse, before any work, a run whose chains cannot fit in half the free memory: every walker's
+    position and log-probability at every step of every ensemble (``--walkers 1e10`` asked numpy for
+    298 GiB and failed with a traceback; ``--ensembles 1e20`` ran without end)."""
+    from wobble.io.memory import available_memory, human_bytes
+
+    per_draw = 8 * (ndim + 1)
+    draws = settings.ensembles * settings.walkers * (settings.burn + settings.steps)
+    have = available_memory() // 2
+    if draws * per_draw > have:
+        raise InputError(
+            "walkers x (burn + steps) x ensembles",
+            draws,
+            f"at most {have // per_draw} walker-steps here: {draws} need about {human_bytes(draws * per_draw)} "
+            f"of memory and {human_bytes(have)} is usable (ask for fewer walkers, steps or ensembles)",
+        )
+
+
 def _with_body(setup, body) -> InversionSetup:
     """The setup with its ``body`` replaced: a catalogue name or a planet file (a path relative to the caller's
     folder, not the setup's, as ``wobble chandler --body-file`` reads it)."""
@@ -818,6 +836,7 @@ def invert(
     settings = _settings(s, walkers=walkers, steps=steps, burn=burn, thin=thin, ensembles=ensembles)
     posterior = s.posterior(prior_only=prior_only)
     settings.check(posterior.ndim)
+    _check_size(settings, posterior.ndim)
     seed = s.seed if seed is None else int(seed)
     total = settings.ensembles * (settings.burn + settings.steps)
     bar = ProgressBar(
@@ -930,6 +949,7 @@ def injection_recovery(
     settings = _settings(s, walkers=walkers, steps=steps, burn=burn, thin=thin)
     posterior = s.posterior()
     settings.check(posterior.ndim)
+    _check_size(settings, posterior.ndim)
     bar = ProgressBar(draws, "injections", progress)
     t0 = time.perf_counter()
     try:
