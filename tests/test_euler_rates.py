@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from wobble.models.euler_rates import omega_dot, polhode_turn_rate
+from wobble.models.euler_rates import omega_dot, polhode_turn_rate, wobble_angle_rate
 from wobble.models.free import free_rotation
 
 EYE = np.eye(3)
@@ -132,3 +132,26 @@ def test_the_separatrix_rate_is_about_the_axis_its_comparison_picks():
     # A larger w1 lowers L^2 - 2 T I2 = sum I_i (I_i - I2) w_i^2: omega then circles the smallest axis.
     assert polhode_turn_rate(m, EYE, [w1 * (1 + 1e-15), 0.0, w3]) == pytest.approx(k * w1, rel=1e-12)
     assert polhode_turn_rate(m, EYE, [w1 * (1 - 1e-15), 0.0, w3]) == pytest.approx(k * w3, rel=1e-12)
+
+
+@pytest.mark.parametrize(("m", "w0"), [([1.0, 2.0, 3.0], [0.1, 0.2, 1.0]), ([3.0, 1.0, 2.5], [0.4, 0.9, -0.2])])
+def test_the_wobble_angle_rate_is_the_derivative_of_the_exact_wobble_angle(m, w0):
+    model = free_rotation(m, w0)
+    t = np.linspace(0.0, model.period, 37)
+    h = 1e-3 * model.period / (2 * np.pi)
+
+    def angle(times):
+        w = model.omega(times)
+        return np.arctan2(np.hypot(w[:, 0], w[:, 1]), w[:, 2])
+
+    numeric = (-angle(t + 2 * h) + 8 * angle(t + h) - 8 * angle(t - h) + angle(t - 2 * h)) / (12 * h)
+    scale = np.max(np.abs(numeric))
+    np.testing.assert_allclose(wobble_angle_rate(m, EYE, model.omega(t)), numeric, rtol=0, atol=1e-8 * scale)
+    assert scale > 0
+
+
+def test_a_symmetric_body_s_wobble_angle_is_constant_and_a_body_at_rest_has_no_rate():
+    # Notes 5.6: omega turns about axis 3 at a fixed angle for A = B.
+    w = np.array([[0.3, -0.2, 2.5], [0.1, 0.0, 1.0]])
+    np.testing.assert_allclose(wobble_angle_rate([1.0, 1.0, 1.3], EYE, w), 0.0, atol=1e-16)
+    assert wobble_angle_rate([1.0, 2.0, 3.0], EYE, [0.0, 0.0, 0.0]) == 0.0

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["omega_dot", "polhode_turn_rate"]
+__all__ = ["omega_dot", "polhode_turn_rate", "wobble_angle_rate"]
 
 # Below this share of |omega| the part of omega across the polhode's axis is rounding (omega's components
 # carry about 1e-16 of |omega|; 1e-13 leaves a margin of a thousand): its turn rate, a ratio of two
@@ -105,3 +105,23 @@ def polhode_turn_rate(moments, axes, omega) -> np.ndarray:
         # |w_perp|^2 against (rounding x |w|)^2, both in rad^2/s^2: a small wobble of a fast spin is a wobble.
         rates = np.where(size > _ROUNDING**2 * np.sum(wp**2, axis=-1), turn / size, 0.0)
     return np.where(np.all(np.isfinite(wp), axis=-1), rates, np.nan)
+
+
+def wobble_angle_rate(moments, axes, omega) -> np.ndarray:
+    """d/dt of the wobble angle, atan2(|(omega_1, omega_2)|, omega_3), the angle between omega and body axis 3
+    (rad/s), of a torque-free body, from Euler's equations (:func:`omega_dot`).
+
+    Parameters are those of :func:`omega_dot` (``omega`` in the body frame whose axis 3 the angle is
+    measured from); the result has omega's leading shape. Where omega lies on axis 3 (the angle's
+    derivative there is that of |omega_perp|), the rate of |(omega_1, omega_2)| over |omega|; 0 for a body
+    at rest.
+    """
+    w = np.asarray(omega, dtype=float)
+    wd = omega_dot(moments, axes, w)
+    across = np.hypot(w[..., 0], w[..., 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        across_dot = np.where(
+            across > 0, (w[..., 0] * wd[..., 0] + w[..., 1] * wd[..., 1]) / across, np.hypot(wd[..., 0], wd[..., 1])
+        )
+        # d/dt atan2(a, w3) = (w3 a' - a w3') / (a^2 + w3^2); 0/0 for a body at rest.
+        return np.nan_to_num((w[..., 2] * across_dot - across * wd[..., 2]) / np.sum(w * w, axis=-1))

@@ -201,10 +201,6 @@ class _Motion:
         w = self.spin()
         return None if w is None else 2.0 * w
 
-    def omega_dot(self, w):
-        """Euler's equations of the free body at the samples (time, member, 3)."""
-        return euler_rates.omega_dot(self.moments, self.axes, w)
-
     def polhode_rate(self, w) -> float:
         """The largest rate at which a free body's omega turns in the body (rad/s):
         :func:`wobble.models.euler_rates.polhode_turn_rate` at the samples."""
@@ -256,17 +252,7 @@ class _Motion:
     def wobble_rate(self) -> float | None:
         if self.torques or self.moments is None or self.omega() is None:
             return self.forced()
-        w = self.omega()
-        wd = self.omega_dot(w)
-        across = np.hypot(w[..., 0], w[..., 1])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            across_dot = np.where(
-                across > 0,
-                (w[..., 0] * wd[..., 0] + w[..., 1] * wd[..., 1]) / across,
-                np.hypot(wd[..., 0], wd[..., 1]),
-            )
-            # The wobble angle atan2(|omega across e3|, omega_3), differentiated (0/0 for a body at rest).
-            angle_dot = np.nan_to_num((w[..., 2] * across_dot - across * wd[..., 2]) / np.sum(w * w, axis=-1))
+        angle_dot = euler_rates.wobble_angle_rate(self.moments, self.axes, self.omega())
         return _rate(angle_dot[..., None], series(self.ds["wobble_angle"]))
 
     def conserved_rate(self) -> float | None:
