@@ -98,3 +98,34 @@ def test_renamed_keys_alias_their_new_names(capsys):
 
     for p in budget["parameters"]:  # every unit is one astropy reads, to itself
         assert p["unit"] == "" or u.Unit(p["unit"]).to_string() == p["unit"]
+
+
+def _listings(node):
+    """Every object in ``node`` (at any depth) that lists renames under ``deprecated_keys``."""
+    if isinstance(node, dict):
+        if "deprecated_keys" in node:
+            yield node
+        for value in node.values():
+            yield from _listings(value)
+    elif isinstance(node, list):
+        for value in node:
+            yield from _listings(value)
+
+
+def test_every_object_that_holds_an_alias_lists_it(capsys):
+    """polar-motion's estimates and precession's terms had their aliases added by hand (one by a helper of their
+    own, which listed nothing in the estimates): now every command goes through ``deprecate``, and each object
+    holding an old name lists it, and its listing holds."""
+    pm = _json(capsys, "polar-motion", "--start", "2000-01-01", "--end", "2012-12-31")
+    estimates = list(pm["estimates"].values())
+    assert len(list(_listings(pm))) == 1 + len(estimates) == 3
+    for estimate in estimates:
+        assert estimate["deprecated_keys"] == {
+            "annual_amplitude_mas": "annual_prograde_amplitude_mas",
+            "annual_amplitude_uncertainty_mas": "annual_prograde_amplitude_uncertainty_mas",
+        }
+    (prec,) = _json(capsys, "precession", "earth")
+    assert prec["terms"] and all(t["value"] == t["value_arcsec_per_century"] for t in prec["terms"])
+    for doc in (pm, prec):
+        for listing in _listings(doc):
+            _check_aliases(listing)

@@ -38,6 +38,7 @@ from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.catalog import catalogue_names
+from wobble.io.json_keys import deprecate
 from wobble.io.inversion_file import InversionSetup, read_setup, resolve_setup, setup_from_dict, setup_names
 from wobble.io.parameter_file import read_toml
 from wobble.models.inversion.calibration import Recovery, central_interval, coverage, recover_one
@@ -440,25 +441,25 @@ class Inversion:
             "sampler_version": _version("emcee"),
             "settings": {**self.settings.as_dict(), "seed": self.seed, "vectorize": True},
             "scheduler": self.scheduler,
-            "diagnostics": {
-                "draws": int(self.samples.shape[0] * self.samples.shape[1]),
-                "chains": int(self.samples.shape[0]),
-                "mean_acceptance_fraction": float(np.mean(self.acceptance)),
-                "autocorrelation_time_steps": {
-                    n: float(t) * self.settings.thin for n, t in zip(self.names, self.autocorr)
+            "diagnostics": deprecate(
+                {
+                    "draws": int(self.samples.shape[0] * self.samples.shape[1]),
+                    "chains": int(self.samples.shape[0]),
+                    "mean_acceptance_fraction": float(np.mean(self.acceptance)),
+                    "autocorrelation_time_steps": {
+                        n: float(t) * self.settings.thin for n, t in zip(self.names, self.autocorr)
+                    },
+                    "min_ess": self.min_ess,
+                    "max_r_hat": self.max_r_hat,
+                    "seconds": self.seconds,
+                    "seconds_per_effective_sample": self.seconds_per_effective_sample,
+                    # The thresholds the warnings apply (measured values above: min_ess, max_r_hat). They were
+                    # "r_hat_max" and "ess_min", read as measurements beside min_ess: kept one release.
+                    "r_hat_threshold": RHAT_MAX,
+                    "ess_threshold": ESS_MIN,
                 },
-                "min_ess": self.min_ess,
-                "max_r_hat": self.max_r_hat,
-                "seconds": self.seconds,
-                "seconds_per_effective_sample": self.seconds_per_effective_sample,
-                # The thresholds the warnings apply (measured values above: min_ess, max_r_hat). They were
-                # "r_hat_max" and "ess_min", read as measurements beside min_ess: kept one release.
-                "r_hat_threshold": RHAT_MAX,
-                "ess_threshold": ESS_MIN,
-                "r_hat_max": RHAT_MAX,
-                "ess_min": ESS_MIN,
-                "deprecated_keys": {"r_hat_max": "r_hat_threshold", "ess_min": "ess_threshold"},
-            },
+                {"r_hat_max": "r_hat_threshold", "ess_min": "ess_threshold"},
+            ),
             "warnings": list(self.warnings),
             "references": _REFERENCES,
         }

@@ -25,6 +25,7 @@ from astropy import units as u
 
 from wobble.api.chandler import Planet, load_planet
 from wobble.errors import FileFormatError, InputError
+from wobble.io.json_keys import deprecate
 from wobble.io.parameter_file import ParameterFile
 from wobble.io.perturbers import (
     NUTATION_REFERENCE_UNITS,
@@ -333,7 +334,6 @@ class PrecessionBudget:
                 {
                     "name": t.name,
                     "value_arcsec_per_century": num(t.rate),
-                    "value": num(t.rate),  # deprecated alias (DEPRECATED_KEYS)
                     "description": t.description,
                 }
                 for t in self.terms
@@ -358,11 +358,8 @@ class PrecessionBudget:
             "uncertainty_contributions_arcsec_per_century": {
                 k: num(v) for k, v in self.uncertainty_contributions.items()
             },
-            "deprecated_keys": {**DEPRECATED_KEYS, "terms[].value": "terms[].value_arcsec_per_century"},
         }
-        for old, new in DEPRECATED_KEYS.items():  # the old names, same values, for one release
-            out[old] = out[new]
-        return out
+        return deprecate(out, {**DEPRECATED_KEYS, "terms[].value": "terms[].value_arcsec_per_century"})
 
     def summary(self) -> str:
         """The budget as text for a person."""

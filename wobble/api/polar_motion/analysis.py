@@ -16,7 +16,6 @@ from wobble.api.polar_motion.estimate import (
     num,
     published_chandler_period,
     q_arg,
-    with_deprecated_keys,
 )
 from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series
 from wobble.api.units import to_si
@@ -37,7 +36,7 @@ JSON_RENAMES = {
     "published.period": "published.period_days",
     "published.uncertainty": "published.period_uncertainty_days",
     "published.reference": "published.source",
-    # The annual terms' old names where they are nested (ChandlerEstimate.to_dict adds them in the estimates).
+    # The annual terms' old names where they are nested (each estimate also lists them in its own deprecated_keys).
     "estimates.*.annual_amplitude_mas": "estimates.*.annual_prograde_amplitude_mas",
     "estimates.*.annual_amplitude_uncertainty_mas": "estimates.*.annual_prograde_amplitude_uncertainty_mas",
     "windows.annual_amplitude_mas": "windows.annual_prograde_amplitude_mas",
@@ -269,9 +268,8 @@ class PolarMotionAnalysis:
                 "source": self.published["reference"],
             },
             "caveats": list(self.caveats),
-            "deprecated_keys": dict(DEPRECATED_KEYS),
         }
-        return deprecate(with_deprecated_keys(out), JSON_RENAMES)
+        return deprecate(out, {**DEPRECATED_KEYS, **JSON_RENAMES})
 
     def to_dataset(self):
         """The series, the fitted model, the residuals, the windows, the spectrum and the estimates, CF-ready

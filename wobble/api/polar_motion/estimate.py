@@ -13,6 +13,7 @@ from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_da
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, mjd_time
+from wobble.io.json_keys import deprecate
 from wobble.models import polar_motion as _pm
 
 __all__ = [
@@ -22,7 +23,6 @@ __all__ = [
     "num",
     "q_arg",
     "DEPRECATED_KEYS",
-    "with_deprecated_keys",
 ]
 
 #: JSON keys renamed for one vocabulary (the annual terms are annual_prograde_* and
@@ -31,15 +31,6 @@ DEPRECATED_KEYS = {
     "annual_amplitude_mas": "annual_prograde_amplitude_mas",
     "annual_amplitude_uncertainty_mas": "annual_prograde_amplitude_uncertainty_mas",
 }
-
-
-def with_deprecated_keys(d: dict) -> dict:
-    """``d`` with the deprecated alias of every renamed key it holds (same value), for one release."""
-    out = dict(d)
-    for old, new in DEPRECATED_KEYS.items():
-        if new in d:
-            out[old] = d[new]
-    return out
 
 
 def published_chandler_period(earth=None) -> dict:
@@ -176,9 +167,10 @@ class ChandlerEstimate:
         """A JSON-ready summary (days of 86400 s, mas, deg; null where not computed).
 
         ``annual_amplitude_mas`` and ``annual_amplitude_uncertainty_mas`` are
-        deprecated aliases of the ``annual_prograde_*`` keys (one release).
+        deprecated aliases of the ``annual_prograde_*`` keys (one release), listed
+        under ``deprecated_keys`` as every command's renames are.
         """
-        return with_deprecated_keys(
+        return deprecate(
             {
                 "method": self.method,
                 "start": iso_date(self.start),
@@ -202,7 +194,8 @@ class ChandlerEstimate:
                 "drift_direction_deg_west": num(self.drift_direction),
                 "residual_rms_mas": num(self.residual_rms),
                 "caveats": list(self.caveats),
-            }
+            },
+            DEPRECATED_KEYS,
         )
 
 
