@@ -46,13 +46,14 @@ from wobble.models.precession_measure import PrecessionFit, axis_angles, fit_pre
 from wobble.models.torques import ThirdBody
 from wobble.numerics import quaternion as quat
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = ["PrecessionMeasurement", "measure_precession"]
 
 _RATE = u.rad / u.s
-_JULIAN_YEAR = 365.25 * 86400.0
 
 
 @dataclass(frozen=True)
@@ -431,9 +432,9 @@ def measure_precession(
     have_node = node is not None
     caveats = []
     if abs(use_node[0]) * span < 2 * math.pi:
-        period = 2 * math.pi / abs(use_node[0]) / _JULIAN_YEAR
+        period = 2 * math.pi / abs(use_node[0]) / JULIAN_YEAR
         caveats.append(
-            f"the span ({span / _JULIAN_YEAR:.1f} yr) is shorter than the principal term's period ({period:.1f} yr): "
+            f"the span ({span / JULIAN_YEAR:.1f} yr) is shorter than the principal term's period ({period:.1f} yr): "
             "the secular rate and that term are not separated, and both may be off by more than their formal errors"
         )
     if left_out:

@@ -17,6 +17,8 @@ from __future__ import annotations
 import json
 import math
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = [
     "clean",
     "dumps",
@@ -105,9 +107,8 @@ def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -
     return f"{fmt.format(value)} +/- {sigma:.{d}f}"
 
 
-_JULIAN_YEAR = 365.25 * 86400.0
 # (largest span shown in this unit, the unit's length in s, its symbol); beyond: years.
-_SPANS = ((120.0, 1.0, "s"), (7200.0, 60.0, "min"), (172800.0, 3600.0, "h"), (2 * _JULIAN_YEAR, 86400.0, "d"))
+_SPANS = ((120.0, 1.0, "s"), (7200.0, 60.0, "min"), (172800.0, 3600.0, "h"), (2 * JULIAN_YEAR, 86400.0, "d"))
 
 
 def span_unit(seconds: float) -> tuple[float, str]:
@@ -115,7 +116,7 @@ def span_unit(seconds: float) -> tuple[float, str]:
     for limit, size, symbol in _SPANS:
         if math.isfinite(seconds) and abs(seconds) < limit:
             return size, symbol
-    return (_JULIAN_YEAR, "yr") if math.isfinite(seconds) else (1.0, "s")
+    return (JULIAN_YEAR, "yr") if math.isfinite(seconds) else (1.0, "s")
 
 
 def duration(seconds: float | None, digits: int = TEXT_DIGITS) -> str:

@@ -423,7 +423,7 @@ def polar_motion_analysis(
         )
     if window_s < _pm.beat_period(reference):
         caveats.append(
-            f"windows of {window_s / (365.25 * _pm.DAY):.1f} yr are shorter than the 6.4-yr Chandler-annual beat: "
+            f"windows of {window_s / _pm.JULIAN_YEAR:.1f} yr are shorter than the 6.4-yr Chandler-annual beat: "
             "the windowed terms are barely separable"
         )
     qf = None

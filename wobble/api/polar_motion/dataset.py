@@ -57,7 +57,7 @@ def window_columns(wf: _pm.WindowedFits) -> dict[str, np.ndarray]:
 
 def window_attrs(wf: _pm.WindowedFits) -> dict[str, float]:
     """``window_years`` and ``step_years`` of the windows (the attributes of :func:`windows_dataset`)."""
-    return {"window_years": wf.window / (365.25 * _pm.DAY), "step_years": wf.step / (365.25 * _pm.DAY)}
+    return {"window_years": wf.window / _pm.JULIAN_YEAR, "step_years": wf.step / _pm.JULIAN_YEAR}
 
 
 def windows_dataset(wf: _pm.WindowedFits):

@@ -156,7 +156,7 @@ class ChandlerEstimate:
             annual_retrograde_amplitude_uncertainty=(fit.annual_retrograde.amplitude_sigma * rad_mas) << _MAS,
             mean_pole_x=(mean.real / RAD_PER_ARCSEC) << u.arcsec,
             mean_pole_y=(-mean.imag / RAD_PER_ARCSEC) << u.arcsec,
-            drift_rate=(math.hypot(vx, vy) * rad_mas * 365.25 * _pm.DAY) << (_MAS / u.yr),
+            drift_rate=(math.hypot(vx, vy) * rad_mas * _pm.JULIAN_YEAR) << (_MAS / u.yr),
             drift_direction=(math.degrees(math.atan2(vy, vx)) % 360.0) << u.deg,
             residual_rms=(fit.residual_rms * rad_mas) << _MAS,
             caveats=tuple(fit.caveats),

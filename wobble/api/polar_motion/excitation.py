@@ -33,15 +33,16 @@ from wobble.models.polar_motion.least_squares import fit_least_squares
 from wobble.models.polar_motion.record import DAY, MIN_SPAN, pole_xy
 from wobble.models.polar_motion.spectrum import two_sided_spectrum
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = ["GeodeticExcitation", "geodetic_excitation"]
 
 #: The prograde Chandler band of the band-passed amplitudes: +/- 0.1 cycle per year around 1/T_c
 #: (wobble.models.polar_motion.excitation.band_amplitude).
-_BAND = 0.1 * 2 * math.pi / (365.25 * DAY)
+_BAND = 0.1 * 2 * math.pi / JULIAN_YEAR
 #: The seasonal lines removed before the band-pass (prograde and retrograde annual and semi-annual, rad/s):
 #: the annual's 17 mas of excitation leaked 0.5 mas into the band's RMS after 2015 (2.5 against 2.0).
-_SEASONS = tuple(k * 2 * math.pi / (365.25 * DAY) for k in (1, -1, 2, -2))
-_YEAR = 365.25 * DAY
+_SEASONS = tuple(k * 2 * math.pi / JULIAN_YEAR for k in (1, -1, 2, -2))
 #: The spectra cover -3 .. 3 cycles per year; the Chandler peak is compared with its neighbourhood
 #: 0.1 to 0.3 cycle per year away (:meth:`GeodeticExcitation.to_dict`).
 _SPECTRUM_CPY = 3.0
@@ -50,7 +51,7 @@ _NEIGHBOURHOOD_CPY = 0.3
 #: the Chandler band and its neighbourhood lie on the prograde side of the spectra, clear of zero
 #: frequency (the mean pole) and inside their 3 cycles per year; 136 d to 1217 d, far above the
 #: 2-d Nyquist period of the daily record.
-PERIOD_RANGE = (_YEAR / (_SPECTRUM_CPY - _NEIGHBOURHOOD_CPY), _YEAR / _NEIGHBOURHOOD_CPY)
+PERIOD_RANGE = (JULIAN_YEAR / (_SPECTRUM_CPY - _NEIGHBOURHOOD_CPY), JULIAN_YEAR / _NEIGHBOURHOOD_CPY)
 PERIOD_ALLOWED = (
     f"a Chandler period from {math.ceil(PERIOD_RANGE[0] / DAY):.0f} d to {math.floor(PERIOD_RANGE[1] / DAY):.0f} d "
     f"(a frequency of {_NEIGHBOURHOOD_CPY:g} to {_SPECTRUM_CPY - _NEIGHBOURHOOD_CPY:g} cycles per year: the "
@@ -109,7 +110,7 @@ class GeodeticExcitation:
         self.band_chi = self.band_pole = None
         # The band's amplitudes are known only beyond the kernel's reach of either end (5 yr): at least a
         # year of them, or none (a span of 11 years or more).
-        resolved = t[-1] - t[1] >= 2 * _ex.band_reach(_BAND) + 365.25 * DAY  # the excitation's span: from t[1]
+        resolved = t[-1] - t[1] >= 2 * _ex.band_reach(_BAND) + JULIAN_YEAR  # the excitation's span: from t[1]
         if uniform and resolved:
             self.band_chi = _ex.band_amplitude(t[1:], chi, sigma, _BAND, _SEASONS) / RAD_PER_MAS
             self.band_pole = _ex.band_amplitude(t, p, sigma, _BAND, _SEASONS) / RAD_PER_MAS
@@ -118,7 +119,7 @@ class GeodeticExcitation:
     def band_reach(self) -> u.Quantity:
         """How far the Chandler band-pass's kernel reaches either side (its amplitudes are NaN that near
         the record's ends; :func:`wobble.models.polar_motion.excitation.band_reach`)."""
-        return (_ex.band_reach(_BAND) / (365.25 * DAY)) << u.yr
+        return (_ex.band_reach(_BAND) / JULIAN_YEAR) << u.yr
 
     def collapse(self, split="2015-01-01") -> dict | None:
         """RMS of the Chandler-band excitation and pole before and after ``split`` (mas; None if not computed)."""
@@ -158,10 +159,10 @@ class GeodeticExcitation:
         """(frequency in cycles per year, excitation amplitude spectrum, pole amplitude spectrum), mas."""
         t = (self.time_mjd - MJD_J2000) * DAY
         reference = published_chandler_period()["period"].to_value(u.s)
-        rate = max_cpy * 2 * math.pi / _YEAR
+        rate = max_cpy * 2 * math.pi / JULIAN_YEAR
         sp_p = two_sided_spectrum(t, self._p, reference_period=reference, max_rate=rate, drift_degree=2)
         sp_c = two_sided_spectrum(t[1:], self._chi, reference_period=reference, max_rate=rate, drift_degree=2)
-        f = sp_p.rate / (2 * math.pi) * _YEAR
+        f = sp_p.rate / (2 * math.pi) * JULIAN_YEAR
         amp_c = np.interp(sp_p.rate, sp_c.rate, sp_c.amplitude)
         return f, amp_c / RAD_PER_MAS, sp_p.amplitude / RAD_PER_MAS
 

@@ -50,6 +50,8 @@ from wobble.models.polar_motion import forecast_calibration as _cal
 from wobble.models.polar_motion.least_squares import fit_least_squares
 from wobble.models.polar_motion.record import DAY
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = [
     "LATENCY",
     "PolarMotionForecast",
@@ -69,7 +71,7 @@ FORECAST_RENAMES = {"details.q": "quality_factor"}
 #: Publication delay of each kind of record, days: C04 about a month (the shipped file ends 34 days
 #: before its package date), the Rapid Service's finals2000A about a day.
 LATENCY = {"c04": 30.0, "finals2000A": 1.0}
-_PERIOD_SPAN = 30.0 * 365.25 * DAY
+_PERIOD_SPAN = 30.0 * JULIAN_YEAR
 
 
 def default_latency(attrs) -> float:
@@ -125,7 +127,7 @@ def calibration_span_si(span) -> float | None:
     if span is None:
         return None
     value = float(to_si(span, "calibration_span", u.s, shape=()))
-    if not (math.isfinite(value) and _cal.MIN_COUNT * _cal.STEP - 1e-6 <= value <= 30 * 365.25 * DAY):
+    if not (math.isfinite(value) and _cal.MIN_COUNT * _cal.STEP - 1e-6 <= value <= 30 * JULIAN_YEAR):
         raise InputError("calibration_span", span, CALIBRATION_SPAN_ALLOWED)
     return value
 

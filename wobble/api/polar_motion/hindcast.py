@@ -41,6 +41,8 @@ from wobble.models.polar_motion import forecast_calibration as _cal
 from wobble.models.polar_motion import hindcast as _hc
 from wobble.models.polar_motion.record import DAY
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = ["PolarMotionHindcast", "hindcast_polar_motion", "ANCHORS"]
 
 # The scores' JSON keys with their unit, as every other key (README, "Commands"); the old names are kept for one
@@ -417,7 +419,7 @@ def hindcast_polar_motion(
         raise InputError(
             "start",
             start,
-            f"an issue date at least {need / DAY / 365.25:.0f} yr (the fitting span) plus the latency after the "
+            f"an issue date at least {need / JULIAN_YEAR:.0f} yr (the fitting span) plus the latency after the "
             f"record's start ({iso_date(mjd[0])})",
         )
     if calibrated:
@@ -431,8 +433,8 @@ def hindcast_polar_motion(
                 "start",
                 start,
                 f"an issue date on or after {iso_date(MJD_J2000 + first_ok / DAY)}: the calibration's past forecasts "
-                f"({_cal.span_for(m, span) / DAY / 365.25:g} yr of them, then the horizon) need their "
-                f"{_cal.FITTING_SPAN[m] / DAY / 365.25:.0f}-yr {m} fitting span in the record",
+                f"({_cal.span_for(m, span) / JULIAN_YEAR:g} yr of them, then the horizon) need their "
+                f"{_cal.FITTING_SPAN[m] / JULIAN_YEAR:.0f}-yr {m} fitting span in the record",
             )
     last_needed = issues[-1] + horizon_days * DAY
     if last_needed > t[-1] + 1e-6:

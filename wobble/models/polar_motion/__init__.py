@@ -89,6 +89,7 @@ from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
     CHANDLER_BAND,
     DAY,
+    JULIAN_YEAR,
     MIN_SPAN,
     TROPICAL_YEAR,
     beat_period,
@@ -100,6 +101,7 @@ from wobble.models.polar_motion.windows import WindowedFits, shortest_window, sl
 
 __all__ = [
     "DAY",
+    "JULIAN_YEAR",
     "TROPICAL_YEAR",
     "ANNUAL_RATE",
     "beat_period",

@@ -69,6 +69,8 @@ from wobble.models.polar_motion.state_space import (
 )
 from wobble.numerics.threads import one_blas_thread
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = [
     "SPANS",
     "span_for",
@@ -95,7 +97,7 @@ _WHAT = {"ls_ar": "LS+AR", "kalman": "Kalman"}
 
 #: Span of past issue dates whose errors calibrate each lead time (the most recent with known outcomes),
 #: per method (chosen on 2006-2015; see the module).
-SPANS = {"ls_ar": 2.0 * 365.25 * DAY, "kalman": 6.0 * 365.25 * DAY}
+SPANS = {"ls_ar": 2.0 * JULIAN_YEAR, "kalman": 6.0 * JULIAN_YEAR}
 #: Spacing of the past issue dates: a week.
 STEP = 7.0 * DAY
 #: Probabilities of the two intervals: one Gaussian sigma either side, and 95 %.
@@ -310,15 +312,15 @@ def check_calibration_span(
         most = step * (math.floor(room / step + 1e-9) - _steps_to_longest_lead(latency, horizon_days, step) + 1)
         allowed = (
             # Rounded down, so that the span allowed never reads as the span refused (2.0 yr for 1.96).
-            f"at most {math.floor(most / (365.25 * DAY) * 100) / 100:.2f} yr for this issue date and horizon "
+            f"at most {math.floor(most / JULIAN_YEAR * 100) / 100:.2f} yr for this issue date and horizon "
             "(the oldest past forecast, issued "
-            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / (365.25 * DAY):.0f}-yr {_WHAT[method]} "
+            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / JULIAN_YEAR:.0f}-yr {_WHAT[method]} "
             "fitting span in the record)"
             if most >= MIN_COUNT * step
             else "a later issue date: its past forecasts need "
-            f"{(issued - oldest + latency + need) / (365.25 * DAY):.1f} yr of record before it"
+            f"{(issued - oldest + latency + need) / JULIAN_YEAR:.1f} yr of record before it"
         )
-        shown = f"{span / (365.25 * DAY):g} yr" + (f" (the {_WHAT[method]} default)" if default else "")
+        shown = f"{span / JULIAN_YEAR:g} yr" + (f" (the {_WHAT[method]} default)" if default else "")
         raise InputError("calibration_span", shown, allowed)
 
 

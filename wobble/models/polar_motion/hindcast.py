@@ -25,13 +25,14 @@ import numpy as np
 from wobble.models.polar_motion import forecast_calibration as fcal
 from wobble.models.polar_motion.forecast import Forecast, check_method
 from wobble.models.polar_motion.least_squares import fit_least_squares
-from wobble.models.polar_motion.record import DAY
 from wobble.numerics.threads import one_blas_thread
+
+from wobble.numerics.calendar import JULIAN_YEAR
 
 __all__ = ["PERIOD_SPAN", "Block", "blocks", "run_block", "Scores", "score", "truth_at"]
 
 #: Span of data before each refit used to measure the Chandler period (least squares, no uncertainty).
-PERIOD_SPAN = 30.0 * 365.25 * DAY
+PERIOD_SPAN = 30.0 * JULIAN_YEAR
 
 
 @dataclass(frozen=True)

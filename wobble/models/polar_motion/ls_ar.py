@@ -31,29 +31,30 @@ from wobble.models.polar_motion.uncertainty import hac_meat
 from wobble.numerics.autoregression import ARFit, ar_forecast, select_ar
 from wobble.numerics.threads import one_blas_thread
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = ["LS_SPAN", "AR_SPAN", "MAX_ORDER", "harmonic_columns", "forecast_ls_ar", "past_forecasts_ls_ar"]
 
 #: Default fitting span of the least squares: six years (Chao 1985's optimum base for polar-motion prediction).
-LS_SPAN = 6.0 * 365.25 * DAY
+LS_SPAN = 6.0 * JULIAN_YEAR
 #: Default span of residuals the AR model is fitted to.
-AR_SPAN = 3.0 * 365.25 * DAY
+AR_SPAN = 3.0 * JULIAN_YEAR
 #: Highest AR order tried.
 MAX_ORDER = 30
-_YEAR = 365.25 * DAY
 
 
 def harmonic_columns(s, chandler_rate: float) -> np.ndarray:
     """The columns of equation (1) at times ``s`` (s from the last sample): 1, s/yr, Chandler, +/- annual,
     +/- semi-annual."""
     s = np.asarray(s, dtype=float)
-    cols = [np.ones_like(s), s / _YEAR, np.exp(1j * chandler_rate * s)]
+    cols = [np.ones_like(s), s / JULIAN_YEAR, np.exp(1j * chandler_rate * s)]
     for k in (1, 2):
         cols += [np.exp(1j * k * ANNUAL_RATE * s), np.exp(-1j * k * ANNUAL_RATE * s)]
     return np.stack(cols, axis=1).astype(complex)
 
 
 def _extrapolation_variance(
-    t, cols, resid, future_cols, carried, lag: float = 365.25 * DAY
+    t, cols, resid, future_cols, carried, lag: float = JULIAN_YEAR
 ) -> tuple[np.ndarray, np.ndarray]:
     """Variances of x_p and y_p of the LS extrapolation's error that the AR forecast does not carry.
 

@@ -17,6 +17,8 @@ from wobble.numerics.nelder_mead import minimize_nelder_mead
 from wobble.numerics.spectral import dtft_at
 from wobble.numerics.threads import one_blas_thread
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = ["QualityFactor", "MIN_Q_SPAN", "quality_factor"]
 
 
@@ -39,7 +41,7 @@ class QualityFactor:
     caveats: tuple[str, ...]
 
 
-MIN_Q_SPAN = 20.0 * 365.25 * DAY
+MIN_Q_SPAN = 20.0 * JULIAN_YEAR
 _Q_GRID = np.concatenate([np.logspace(0.5, 5.0, 22), [np.inf]])
 _Q_BIN = 10.0 * DAY
 # Centre offset (resolution units), log line power and log background (periodogram scale).
@@ -92,7 +94,7 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     span = t[-1] - t[0]
     if span < MIN_Q_SPAN:
         raise InputError(
-            "span", f"{span / (365.25 * DAY):.1f} yr", f"at least {MIN_Q_SPAN / (365.25 * DAY):.0f} yr for a Q estimate"
+            "span", f"{span / JULIAN_YEAR:.1f} yr", f"at least {MIN_Q_SPAN / JULIAN_YEAR:.0f} yr for a Q estimate"
         )
     # Ten-day means: the line is within 0.12 cycle/yr of 0.84 cycle/yr, far below
     # the new Nyquist frequency (18 cycles/yr); the boxcar loses 0.1 % there.
@@ -137,7 +139,7 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     caveats = [
         "assumes a flat excitation spectrum near the Chandler frequency and a stationary process "
         "(Yamaguchi & Furuya 2025 argue P and Q cannot be optimised from polar motion alone)",
-        f"the {span / (365.25 * DAY):.0f}-yr record spans only {span * sigma0 / 200:.1f} "
+        f"the {span / JULIAN_YEAR:.0f}-yr record spans only {span * sigma0 / 200:.1f} "
         "decay times for Q = 100 (decay time 2Q/sigma_0): the line is barely resolved",
     ]
     if not resolved:

@@ -20,9 +20,11 @@ import math
 import numpy as np
 
 from wobble.errors import InputError
+from wobble.numerics.calendar import DAY, JULIAN_YEAR, TROPICAL_YEAR
 
 __all__ = [
     "DAY",
+    "JULIAN_YEAR",
     "TROPICAL_YEAR",
     "ANNUAL_RATE",
     "beat_period",
@@ -41,14 +43,11 @@ __all__ = [
     "same_times",
 ]
 
-DAY = 86400.0
-#: Mean tropical year (s): the period of the seasonal forcing of the annual wobble.
-TROPICAL_YEAR = 365.24219 * DAY
 ANNUAL_RATE = 2.0 * math.pi / TROPICAL_YEAR
 #: Default search band for the Chandler period, s (390 to 500 days).
 CHANDLER_BAND = (390.0 * DAY, 500.0 * DAY)
 #: Shortest span analysed: two years (fewer than two Chandler cycles is not a period).
-MIN_SPAN = 2.0 * 365.25 * DAY
+MIN_SPAN = 2.0 * JULIAN_YEAR
 
 
 def complex_pole(x, y) -> np.ndarray:
@@ -148,7 +147,7 @@ def span_caveats(span: float, beat: float) -> list[str]:
     notes = []
     if span < beat:
         notes.append(
-            f"span {span / (365.25 * DAY):.1f} yr is shorter than the {beat / (365.25 * DAY):.1f}-yr beat of "
+            f"span {span / JULIAN_YEAR:.1f} yr is shorter than the {beat / JULIAN_YEAR:.1f}-yr beat of "
             "the Chandler and annual terms: the two are barely separable, and the uncertainty is widened "
             "by the drift-model and excitation terms"
         )

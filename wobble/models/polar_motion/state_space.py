@@ -48,6 +48,8 @@ from wobble.models.polar_motion.record import ANNUAL_RATE, DAY
 from wobble.numerics import kalman
 from wobble.numerics.threads import one_blas_thread
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = [
     "FIT_SPAN",
     "BURN_IN",
@@ -72,7 +74,7 @@ __all__ = [
 ]
 
 #: Default fitting span: ten years of daily values before the information set's end.
-FIT_SPAN = 10.0 * 365.25 * DAY
+FIT_SPAN = 10.0 * JULIAN_YEAR
 #: Days at the start of the fitting span that initialise the filter and are left out of the likelihood.
 BURN_IN = 365
 _SEASONAL = ("annual_prograde", "annual_retrograde", "semiannual_prograde", "semiannual_retrograde")
@@ -253,12 +255,12 @@ def system(sigma_c: complex, noise: NoiseParameters, dt: float = DAY):
 def initial_state(t, z, sigma_c: complex, order: int = 1) -> np.ndarray:
     """A prior mean at the first sample from a least-squares fit of trend and harmonics to the first two years
     (the excitation and its lags zero)."""
-    first = t <= t[0] + 2 * 365.25 * DAY
+    first = t <= t[0] + 2 * JULIAN_YEAR
     s = t[first] - t[0]
     cols = harmonic_columns(s, sigma_c.real)
     c, *_ = np.linalg.lstsq(cols, z[first], rcond=None)
     # Columns: 1, s/yr, Chandler, annual +, annual -, semi-annual +, semi-annual -; at s = 0 each is its coefficient.
-    return np.array([c[2], *([0.0] * order), c[3], c[4], c[5], c[6], c[0], c[1] * DAY / (365.25 * DAY)], dtype=complex)
+    return np.array([c[2], *([0.0] * order), c[3], c[4], c[5], c[6], c[0], c[1] * DAY / JULIAN_YEAR], dtype=complex)
 
 
 def concentrated_likelihood(F, Q, h, r, y, x0, burn: int = BURN_IN) -> tuple[float, float | None]:

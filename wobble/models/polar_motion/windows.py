@@ -25,6 +25,8 @@ from wobble.models.polar_motion.record import (
 from wobble.models.polar_motion.uncertainty import model_degrees
 from wobble.numerics.threads import one_blas_thread
 
+from wobble.numerics.calendar import JULIAN_YEAR
+
 __all__ = ["WindowedFits", "sliding_windows", "shortest_window", "window_allowed"]
 
 
@@ -125,7 +127,7 @@ def shortest_window(t) -> float:
 
 def window_allowed(t) -> str:
     """What a refused window length is told: from :func:`shortest_window` to the span of ``t``."""
-    year = 365.25 * DAY
+    year = JULIAN_YEAR
     shortest, span = shortest_window(t), float(t[-1] - t[0])
     if shortest > span:  # no length fits: say what span would take one (it offered an empty range)
         return (
@@ -163,8 +165,8 @@ def sliding_windows(
     span = t[-1] - t[0]
     window = float(window)
     if not (math.isfinite(window) and shortest_window(t) <= window <= span * (1 + 1e-9)):
-        raise InputError("window", f"{window / (365.25 * DAY):g} yr", window_allowed(t))
-    step = 365.25 * DAY if step is None else float(step)
+        raise InputError("window", f"{window / JULIAN_YEAR:g} yr", window_allowed(t))
+    step = JULIAN_YEAR if step is None else float(step)
     if not (math.isfinite(step) and step > 0):
         raise InputError("step", f"{step / DAY:g} d", "a positive, finite time")
     n = int(math.floor((span - window) / step + 1e-9)) + 1
