@@ -286,3 +286,35 @@ def test_a_span_shorter_than_the_principal_term_says_so():
     # With the node turning in 0.72 years the same span separates it: no such caveat.
     short = wobble.measure_precession(wobble.run(_short_case()))
     assert not any("principal term" in c for c in short.caveats)
+
+
+def test_a_user_s_terms_come_first_and_those_the_span_cannot_separate_are_refused():
+    """measure_precession's left-out check ignored a user's node_rate and extra terms: a perturber's term at a
+    user's term's rate was fitted beside it (two near-identical columns), and a user's term at the node's rate
+    went in unchecked. The user's terms now come first, a perturber's term the span cannot tell from one of
+    them is left out and named, and a user's term the span cannot tell from another is refused."""
+    ds = wobble.run(_short_case())
+    auto = wobble.measure_precession(ds)
+    assert "l_sun" in auto.terms  # the Sun's mean anomaly: the annual term
+    year = 2 * np.pi / (365.25 * 86400) * u.rad / u.s
+    annual = {"annual": (0.999 * year, 0 * u.rad)}  # 0.004 cycles apart over the 4 years
+    mine = wobble.measure_precession(ds, extra=annual)
+    assert "annual" in mine.terms and "l_sun" not in mine.terms
+    assert any("left out" in c and "l_sun" in c for c in mine.caveats)
+    # The same annual term, found either way: its amplitude, from the perturber's argument or the user's.
+    a, b = np.hypot(*auto.terms["l_sun"][:2]), np.hypot(*mine.terms["annual"][:2])
+    assert b == pytest.approx(a, rel=0.05)
+    assert mine.rate.to_value(u.arcsec / u.yr) == pytest.approx(auto.rate.to_value(u.arcsec / u.yr), abs=0.01)
+    # A user's node in place of the Moon's: the Moon's node is then a term like any other, here left out.
+    moon = scene_from_mapping(_short_case()).torques[1].orbit
+    nu = (moon.node_rate - auto.rate.to_value(u.rad / u.s)) * u.rad / u.s
+    given = wobble.measure_precession(ds, node_rate=nu, node_phase=0 * u.rad)
+    assert given.perturber is None and given.nutation_longitude is not None
+    with pytest.raises(
+        InputError, match=r"extra: got 'twice' at .* rad/s; allowed: terms whose rates differ from 'annual'"
+    ):
+        wobble.measure_precession(ds, extra={**annual, "twice": (year, 0 * u.rad)})
+    with pytest.raises(InputError, match="extra: .*allowed: terms whose rates differ from node_rate"):
+        wobble.measure_precession(ds, node_rate=nu, extra={"node again": (nu, 0 * u.rad)})
+    with pytest.raises(InputError, match="extra: .*allowed: terms whose rates differ from the secular rate"):
+        wobble.measure_precession(ds, extra={"slow": (1e-12 * u.rad / u.s, 0 * u.rad)})

@@ -304,18 +304,25 @@ def _scene(ds):
         return None
 
 
-def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None):
+def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, given_node=None, given=None):
     """The fitted terms' (rate, phase at t = 0) in rad/s and rad, counted from the moving equinox.
+
+    ``given_node`` (rate, phase) is the user's principal argument, in place of ``principal``'s node;
+    ``given`` ({name: (rate, phase)}) the user's own terms. Both are fitted whatever their rates
+    (:func:`_check_given` refuses those the span cannot separate) and come first, so that a
+    perturber's term the span cannot tell from one of them is left out, as from the principal node.
 
     Returns (node argument or None, {name: (rate, phase)}); the names of the terms the span cannot
     separate are appended to ``left_out``.
     """
     node = None
-    extra: dict = {}
-    taken: list[float] = [0.0]
+    extra: dict = dict(given or {})
+    taken: list[float] = [0.0, *(r for r, _ in extra.values())]
 
     def add(name, rate, phase):
         # Leave out a term the span cannot separate from one already fitted (and the secular term).
+        if name in extra:  # the user's term of that name is fitted instead
+            return
         if all(abs(abs(rate) - abs(r)) * span >= 2 * math.pi for r in taken):
             extra[name] = (rate, phase)
             taken.append(rate)
@@ -323,7 +330,11 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None):
             left_out.append(name)
 
     eq0 = psi0 + math.pi  # the equinox: the descending node of the equator
-    if principal is not None:  # first, so that a term the span cannot tell from it is left out
+    if given_node is not None:
+        node = given_node
+        taken.append(node[0])
+        principal = None  # its node is then a term like any other, fitted if the span separates it
+    elif principal is not None:  # first, so that a term the span cannot tell from it is left out
         o = principal.orbit
         node = (o.node_rate - psi_rate, o.longitude_of_node - eq0)
         taken.append(node[0])
@@ -383,7 +394,10 @@ def measure_precession(
         The principal term's argument (rate relative to the moving equinox, phase at
         t = 0), for a run whose scene has no Keplerian perturber with a regressing node.
     extra : dict, optional
-        More terms to fit: name -> (rate, phase) as Quantities.
+        More terms to fit: name -> (rate, phase) as Quantities. They are fitted first: a
+        perturber's term the span cannot tell from one of them (rates less than one cycle over
+        the span apart) is left out and named in ``caveats``. A term that close to the secular
+        rate, to ``node_rate`` or to another of ``extra`` is refused (InputError naming ``extra``).
 
     Returns
     -------
@@ -408,15 +422,16 @@ def measure_precession(
     user_extra = {k: (float(r.to_value(_RATE)), float(p.to_value(u.rad))) for k, (r, p) in (extra or {}).items()}
     fit: PrecessionFit | None = None
     node = None
+    given_node = None
+    if node_rate is not None:
+        given_node = (
+            float(node_rate.to_value(_RATE)),
+            float(u.Quantity(node_phase if node_phase is not None else 0 * u.rad).to_value(u.rad)),
+        )
+    _check_given(given_node, user_extra, span)
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
         left_out: list[str] = []
-        node, terms = _arguments(perturbers, psi0, psi_rate, span, principal, left_out)
-        if node_rate is not None:
-            node = (
-                float(node_rate.to_value(_RATE)),
-                float(u.Quantity(node_phase if node_phase is not None else 0 * u.rad).to_value(u.rad)),
-            )
-        terms.update(user_extra)
+        node, terms = _arguments(perturbers, psi0, psi_rate, span, principal, left_out, given_node, user_extra)
         use_node = node
         if use_node is None:
             if not terms:
@@ -463,6 +478,26 @@ def measure_precession(
         terms={k: tuple(x * arcsec for x in v) for k, v in fit.terms.items()},
         caveats=caveats,
     )
+
+
+def _check_given(node, extra: dict, span: float) -> None:
+    """Refuse a user's term the span cannot tell from the secular rate, the node or another of theirs.
+
+    Two terms whose rates differ by less than one cycle over the span (|Delta rate| span < 2 pi) are
+    nearly the same column of the least-squares design: their amplitudes would come out as large,
+    opposite and meaningless numbers with formal errors to match.
+    """
+    taken = [("the secular rate", 0.0)] + ([("node_rate", node[0])] if node is not None else [])
+    for name, (rate, _) in extra.items():
+        for other, r in taken:
+            if abs(abs(rate) - abs(r)) * span < 2 * math.pi:
+                raise InputError(
+                    "extra",
+                    f"{name!r} at {rate:.6g} rad/s",
+                    f"terms whose rates differ from {other} ({r:.6g} rad/s) and from each other by at least "
+                    f"one cycle over the span, 2 pi / {span:.6g} s = {2 * math.pi / span:.3g} rad/s",
+                )
+        taken.append((repr(name), rate))
 
 
 def _intercept(t, psi, fit: PrecessionFit) -> float:
