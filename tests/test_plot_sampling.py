@@ -1,0 +1,48 @@
+"""The free body's period the figures cut their spans by (wobble.plot._sampling.free_period), read from a run's
+record: the same whatever frame the body's inertia tensor is written in."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import wobble
+from wobble.models.free import free_rotation
+from wobble.plot._sampling import free_period
+
+_MOMENTS = np.array([0.0012, 0.0158, 0.0170])  # the tennis racket's (kg m2)
+_OMEGA = np.array([0.01, 12.0, 0.01])  # rad/s, about its intermediate axis
+
+
+def _scene(body: dict, omega) -> dict:
+    return {
+        "schema": "wobble-scene/1",
+        "name": "racket",
+        "body": body,
+        "initial": {"omega": {"value": list(map(float, omega)), "unit": "rad/s"}, "attitude": [1.0, 0.0, 0.0, 0.0]},
+        "time": {"start": "0 s", "stop": "4 s", "samples": 201},
+        "outputs": ["omega"],
+    }
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_the_free_period_is_the_same_in_any_frame_of_the_body(seed):
+    """A body given by its tensor R diag(I) R^T, spun at R omega, is the body of diag(I) spun at omega: the
+    period free_period reads from the record (through the record's principal axes) is the exact solution's
+    period of the principal-axes body, to rounding."""
+    exact = free_rotation(_MOMENTS, _OMEGA).period
+    assert np.isfinite(exact) and exact > 0
+    plain = wobble.run(_scene({"moments": {"value": _MOMENTS.tolist(), "unit": "kg m2"}}, _OMEGA))
+    assert free_period(plain) == pytest.approx(exact, rel=1e-12)
+    r = Rotation.random(random_state=seed).as_matrix()
+    tensor = r @ np.diag(_MOMENTS) @ r.T
+    tilted = wobble.run(_scene({"tensor": {"value": tensor.tolist(), "unit": "kg m2"}}, r @ _OMEGA))
+    assert free_period(tilted) == pytest.approx(exact, rel=1e-9)
+
+
+def test_no_free_period_for_an_ensemble():
+    """Members spun differently have different periods: no one period cuts the figure's span."""
+    data = _scene({"moments": {"value": _MOMENTS.tolist(), "unit": "kg m2"}}, _OMEGA)
+    data["initial"]["omega"] = {"value": [_OMEGA.tolist(), (1.01 * _OMEGA).tolist()], "unit": "rad/s"}
+    assert free_period(wobble.run(data)) is None
