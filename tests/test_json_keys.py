@@ -129,3 +129,17 @@ def test_every_object_that_holds_an_alias_lists_it(capsys):
     for doc in (pm, prec):
         for listing in _listings(doc):
             _check_aliases(listing)
+
+
+@pytest.mark.parametrize("command", ["chandler", "modes", "precession"])
+def test_the_planet_commands_name_their_files_in_every_body_s_object(capsys, tmp_path, command):
+    """chandler, modes and precession print a list, one object per body, and named no file they wrote (a
+    single object got output and plot; a list was passed over). Each body's object now names the files,
+    which hold every body, and null when none was asked for."""
+    plain = _json(capsys, command, "earth", "mars")
+    assert [(d["output"], d["plot"]) for d in plain] == [(None, None)] * 2
+    nc, png = tmp_path / "b.nc", tmp_path / "b.png"
+    written = _json(capsys, command, "earth", "mars", "-o", str(nc), "--plot", str(png))
+    assert [(d["output"], d["plot"]) for d in written] == [(str(nc), str(png))] * 2
+    assert nc.stat().st_size > 0 and png.stat().st_size > 0
+    assert [set(d) for d in written] == [set(d) for d in plain]

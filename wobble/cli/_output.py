@@ -42,13 +42,16 @@ def finish(args, document, show, written) -> int:
     """The end of a command: ``document`` as JSON under ``--json``, else ``show()`` (which prints the
     text for people); then a ``wrote PATH`` line per file in ``written``. Returns the exit status, 0.
 
-    A JSON object gets ``output`` and ``plot`` for every file option the command has: null when not asked
-    for, so its keys do not depend on the options (README, "Commands")."""
-    if isinstance(document, dict):
+    A JSON object, or each object of a JSON list (one per body: chandler, modes, precession, whose files
+    hold every body), gets ``output`` and ``plot`` for every file option the command has: null when not
+    asked for, so its keys do not depend on the options (README, "Commands")."""
+    for obj in document if isinstance(document, list) else [document]:
+        if not isinstance(obj, dict):
+            continue
         for name in ("output", "plot"):
-            if hasattr(args, name) and name not in document:
+            if hasattr(args, name) and name not in obj:
                 path = getattr(args, name)
-                document[name] = None if not path else str(path)
+                obj[name] = None if not path else str(path)
     if args.json:
         print_json(document)
     else:
