@@ -46,3 +46,21 @@ def test_no_free_period_for_an_ensemble():
     data = _scene({"moments": {"value": _MOMENTS.tolist(), "unit": "kg m2"}}, _OMEGA)
     data["initial"]["omega"] = {"value": [_OMEGA.tolist(), (1.01 * _OMEGA).tolist()], "unit": "rad/s"}
     assert free_period(wobble.run(data)) is None
+
+
+def test_a_perturber_s_own_motion_bounds_what_the_figure_claims_to_resolve():
+    """The Moon turns the Earth's angular momentum at its fortnightly terms (2 nu = 6.0e-6 rad/s), where the
+    figure axis alone moves at 1.1e-8 rad/s: the bound had the axis alone, and called one sample in 10 days
+    resolved. Now the field's own turn is in it: daily samples resolve the fortnightly terms, ten-day ones do
+    not."""
+    from wobble.io.scene_file import example_scene_path, read_scene
+    from wobble.models.torques import ThirdBody
+    from wobble.plot._sampling import panel_rates, resolved
+
+    ds = wobble.run("earth_precession")
+    scene = read_scene(example_scene_path("earth_precession"))
+    moon = next(s for s in scene.torques if isinstance(s, ThirdBody) and s.name == "moon")
+    rates = panel_rates(ds)
+    assert rates["angular_momentum"] == pytest.approx(rates["axis"] + 2 * moon.orbit.fastest_turn(), rel=1e-12)
+    assert 5.9e-6 < rates["angular_momentum"] < 6.1e-6 and rates["axis"] < 2e-8
+    assert resolved(rates["angular_momentum"], 86400.0) and not resolved(rates["angular_momentum"], 10 * 86400.0)

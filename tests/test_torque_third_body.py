@@ -356,3 +356,34 @@ def test_a_scene_file_cannot_hold_a_callable_and_elements_need_an_orbit(tmp_path
     )
     with pytest.raises(FileFormatError, match="x.toml, torques.0..semi_major_axis"):
         wobble.run(path)
+
+
+def _measured_turn(orbit_position, t):
+    """The direction's angular speed at times t, from central differences of the unit vectors (independent of
+    any rate formula): |u(t + h) x u(t - h)| / 2h."""
+    h = (t[1] - t[0]) * 1e-3
+    a = orbit_position(t + h)[0]
+    b = orbit_position(t - h)[0]
+    a /= np.linalg.norm(a, axis=-1, keepdims=True)
+    b /= np.linalg.norm(b, axis=-1, keepdims=True)
+    return np.arcsin(np.linalg.norm(np.cross(a, b), axis=-1)) / (2 * h)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.0549, 0.6, 0.95])
+def test_an_orbit_s_fastest_turn_is_its_periapsis_rate(e):
+    """KeplerOrbit.fastest_turn is reached at periapsis by an orbit without secular rates, and bounds one with
+    them; an ephemeris table of the same orbit measures the same turn (the figures' alias bound uses both)."""
+    n = 2 * math.pi / 86400.0
+    still = KeplerOrbit(1e7, e, 0.3, 0.2, 1.1, 0.0, mean_motion=n)
+    t = np.linspace(-600.0, 600.0, 120001)  # periapsis at t = 0, where the speed peaks
+    assert np.max(_measured_turn(still.position, t)) == pytest.approx(still.fastest_turn(), rel=1e-6)
+    turning = KeplerOrbit(1e7, e, 0.3, 0.2, 1.1, 0.0, mean_motion=n, node_rate=0.05 * n, periapsis_rate=-0.02 * n)
+    t = np.linspace(0.0, 3 * 86400.0, 300001)
+    assert np.max(_measured_turn(turning.position, t)) <= turning.fastest_turn() * (1 + 1e-9)
+    assert turning.fastest_turn() == pytest.approx(still.fastest_turn() + 0.07 * n, rel=1e-12)
+    grid = np.linspace(-0.5 * 86400, 0.5 * 86400, 4001)
+    table = EphemerisTable(grid, still.position(grid)[0])
+    assert table.fastest_turn() == pytest.approx(still.fastest_turn(), rel=1e-3 if e < 0.9 else 2e-2)
+    assert ThirdBody(1e12, orbit=still).field_turn() == still.fastest_turn()
+    assert ThirdBody(1e12, ephemeris=table).field_turn() == table.fastest_turn()
+    assert ThirdBody(1e12, position=lambda t: still.position(t)[0]).field_turn() is None

@@ -119,6 +119,20 @@ class KeplerOrbit:
         """Positions (n, 3) and distances (n,) at times t (s): :func:`wobble.numerics.kepler.position`."""
         return kepler.position(t, self.elements)
 
+    def fastest_turn(self) -> float:
+        """An upper bound on the angular speed (rad/s) of the direction to the body, in the inertial frame.
+
+        The direction is ``R3(Omega) R1(i) R3(w + nu)`` applied to the x axis: its frame turns at
+        ``dOmega/dt`` about the inertial z axis plus ``dw/dt + dnu/dt`` about the orbit normal, so its
+        speed is at most ``|dOmega/dt| + |dw/dt| + max dnu/dt``. The true anomaly runs fastest at
+        periapsis, ``dnu/dt = n (1 + e)^2 / (1 - e^2)^(3/2)`` (from the areal constant
+        ``r^2 dnu/dt = n a^2 sqrt(1 - e^2)``; Murray & Dermott 1999, ch. 2). The bound is
+        reached for an orbit without secular rates.
+        """
+        e = self.eccentricity
+        peri = self.mean_motion * (1.0 + e) ** 2 / (1.0 - e * e) ** 1.5
+        return abs(self.node_rate) + abs(self.periapsis_rate) + peri
+
 
 def _spline_coefficients(times, positions):
     """Not-a-knot cubic spline of each component: coefficients (4, K - 1, 3), highest power first."""
@@ -200,6 +214,20 @@ class EphemerisTable:
         c = self.coefficients
         r = ((c[0, k] * dt + c[1, k]) * dt + c[2, k]) * dt + c[3, k]
         return r, np.sqrt(np.sum(r * r, axis=-1))
+
+    def fastest_turn(self, per_interval: int = 16) -> float:
+        """The largest angular speed (rad/s) of the interpolated direction, ``|r x dr/dt| / |r|^2``.
+
+        Taken at ``per_interval`` points of every interval of the table and its knots: a maximum of the
+        spline measured, not bounded, and within the table's own resolution of the motion it records.
+        """
+        c = self.coefficients  # (4, K - 1, 3): r = ((c0 dt + c1) dt + c2) dt + c3 on each interval
+        h = np.diff(self.times)
+        dt = (np.linspace(0.0, 1.0, per_interval + 1)[:, None] * h)[..., None]  # (m, K - 1, 1)
+        r = ((c[0] * dt + c[1]) * dt + c[2]) * dt + c[3]
+        v = (3.0 * c[0] * dt + 2.0 * c[1]) * dt + c[2]
+        speed = np.linalg.norm(np.cross(r, v), axis=-1) / np.sum(r * r, axis=-1)
+        return float(np.max(speed))
 
     def position_one(self, t: float) -> tuple[float, float, float, float]:
         """:meth:`position` for one time in Python floats: (x, y, z, |r|)."""

@@ -138,6 +138,15 @@ class TorqueSpec(ABC):
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
         """Check the parameters against the body and return the torque in the internal frame."""
 
+    def field_turn(self) -> float | None:
+        """How fast what exerts the torque turns in the inertial frame (rad/s), at most.
+
+        0 for a field fixed in space (or in the body, or no field: damping); a perturber's orbital
+        rate; None where it cannot be known before the run (a callable). A figure's check against
+        aliasing adds it to the body's own rate (:mod:`wobble.plot._sampling`).
+        """
+        return None
+
 
 # --------------------------------------------------------------------------
 # Constant torque
@@ -185,6 +194,10 @@ class ConstantTorque(TorqueSpec):
     torque: np.ndarray
     frame: str = "body"
     kind: ClassVar[str] = "constant"
+
+    def field_turn(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+        return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
         if self.frame not in ("body", "inertial"):
@@ -248,6 +261,10 @@ class UniformGravity(TorqueSpec):
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -STANDARD_GRAVITY]))
     kind: ClassVar[str] = "gravity"
 
+    def field_turn(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+        return 0.0
+
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
         mass = member_rows(self.mass, members, 1, "mass")
         if np.any(mass <= 0):
@@ -277,6 +294,10 @@ class MagneticDipole(TorqueSpec):
     dipole: np.ndarray
     field: np.ndarray
     kind: ClassVar[str] = "magnetic"
+
+    def field_turn(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+        return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
         mu = frame.vec_in(member_rows(self.dipole, members, 3, "dipole"))
@@ -397,6 +418,10 @@ class GravityGradient(TorqueSpec):
         e1 = ref - np.dot(ref, nrm) * nrm
         e1 /= np.linalg.norm(e1)
         return e1, np.cross(nrm, e1)
+
+    def field_turn(self) -> float:
+        """The direction's mean motion, :meth:`rate` (a circular orbit turns uniformly)."""
+        return self.rate()
 
     def rate(self) -> float:
         """The mean motion n (rad/s) of the direction (0 for a fixed direction)."""
@@ -532,6 +557,16 @@ class ThirdBody(TorqueSpec):
         if self.position is not None and not callable(self.position):
             raise InputError("position", self.position, "a callable f(t) -> positions (n, 3) in m")
 
+    def field_turn(self) -> float | None:
+        """The orbit's or the table's fastest turn of the direction to the perturber (``fastest_turn`` of
+        :class:`wobble.models.orbit.KeplerOrbit` or :class:`~wobble.models.orbit.EphemerisTable`); None for a
+        ``position`` callable."""
+        if self.orbit is not None:
+            return self.orbit.fastest_turn()
+        if self.ephemeris is not None:
+            return self.ephemeris.fastest_turn()
+        return None
+
     @property
     def closest_approach(self) -> float | None:
         """The smallest distance of the perturber (m), when known in advance (an orbit, a table)."""
@@ -593,6 +628,10 @@ class LinearDamping(TorqueSpec):
 
     coefficient: np.ndarray | float
     kind: ClassVar[str] = "damping"
+
+    def field_turn(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+        return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
         c = np.asarray(self.coefficient, dtype=float)
