@@ -449,9 +449,9 @@ def test_a_nan_sample_does_not_set_the_scale_of_a_vector_panel(earth_precession)
     ],
 )
 def test_a_start_is_written_to_six_digits_in_one_power_of_ten(start, text):
-    from wobble.plot.scene import _start_text
+    from wobble.plot._style import start_text
 
-    assert _start_text(start, "kg") == text
+    assert start_text(start, "kg") == text
 
 
 def test_a_free_body_over_many_periods_is_drawn_for_its_first_ten():

@@ -6,9 +6,29 @@ import math
 
 import numpy as np
 
-__all__ = ["time_axis", "ANGLE_UNITS", "angle_unit", "power_of_ten", "power_label", "power_axis", "largest", "pm"]
+__all__ = [
+    "time_axis",
+    "ANGLE_UNITS",
+    "angle_unit",
+    "power_of_ten",
+    "power_label",
+    "power_axis",
+    "largest",
+    "pm",
+    "SMALL_CHANGE",
+    "ROUNDING_CHANGE",
+    "finite_range",
+    "constancy",
+    "start_text",
+]
 
 _YEAR = 365.25 * 86400.0
+#: A quantity whose samples move by less than this share of its size is drawn as its change from the start,
+#: its start named (on an axis spanning the quantity, 5 % is a few pixels: flat lines).
+SMALL_CHANGE = 0.05
+#: A quantity whose samples move by less than this share of its size is constant to rounding: drawn flat, or
+#: named, with its measured spread (:func:`constancy`), never as its last bits (a staircase of float steps).
+ROUNDING_CHANGE = 1e-12
 _ARCSEC = math.pi / (180.0 * 3600.0)
 #: The angle units of the figures, largest first: (name, radians per unit).
 ANGLE_UNITS = (("deg", math.radians(1.0)), ("arcsec", _ARCSEC), ("mas", 1e-3 * _ARCSEC), ("µas", 1e-6 * _ARCSEC))
@@ -94,3 +114,43 @@ def pm(value: float, sigma: float) -> str:
     from wobble.io.text import with_uncertainty
 
     return with_uncertainty(value, sigma).replace("+/-", "±")
+
+
+def finite_range(values) -> float:
+    """max - min of the finite values (0 for none): a NaN sample must not hide a constant.
+
+    >>> finite_range([1.0, float("nan"), 3.0]), finite_range([])
+    (2.0, 0.0)
+    """
+    values = np.asarray(values, dtype=float)
+    finite = values[np.isfinite(values)]
+    return float(np.ptp(finite)) if finite.size else 0.0
+
+
+def constancy(spread: float, size: float) -> str:
+    """How constant a quantity of ``size`` whose samples span ``spread`` is, as measured: 'constant' (no
+    spread at all) or 'constant to 2e-15' (the spread relative to the size).
+
+    >>> constancy(0.0, 7.3e-5), constancy(2.7e-19, 7.3e-5)
+    ('constant', 'constant to 4e-15')
+    """
+    return "constant" if spread == 0 else f"constant to {spread / size:.1g}"
+
+
+def start_text(start, unit: str) -> str:
+    """A vector's start for a title, to six digits of its largest component in one power of ten:
+    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``. The power is chosen after rounding to six
+    digits, so that -9.9999996e32 reads -1.00000 in 10^33, not -1000.000 in 10^30.
+
+    >>> start_text([0.0, -9.9999996e32, 5e32], "J")
+    '(0.00000, -1.00000, 0.50000) $10^{33}$ J'
+    """
+    from wobble.io.text import decimals_for
+
+    start = np.asarray(start, dtype=float)
+    exponent = power_of_ten(float(f"{largest(start):.6g}"))
+    scaled = start / 10.0**exponent
+    rounded = float(f"{largest(scaled):.6g}")
+    decimals = decimals_for(rounded, 6) if rounded > 0 else 0
+    parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled)  # + 0.0: no "-0.00000"
+    return f"({parts}) {power_label(exponent, unit)}".rstrip()
