@@ -139,11 +139,12 @@ def constancy(spread: float, size: float) -> str:
 
 def start_text(start, unit: str) -> str:
     """A vector's start for a title, to six digits of its largest component in one power of ten:
-    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``. The power is chosen after rounding to six
-    digits, so that -9.9999996e32 reads -1.00000 in 10^33, not -1000.000 in 10^30.
+    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``; a scalar's without the brackets. The power is
+    chosen after rounding to six digits, so that -9.9999996e32 reads -1.00000 in 10^33, not -1000.000
+    in 10^30.
 
-    >>> start_text([0.0, -9.9999996e32, 5e32], "J")
-    '(0.00000, -1.00000, 0.50000) $10^{33}$ J'
+    >>> start_text([0.0, -9.9999996e32, 5e32], "J"), start_text(7.292115e-5, "rad")
+    ('(0.00000, -1.00000, 0.50000) $10^{33}$ J', '72.9212 $10^{-6}$ rad')
     """
     from wobble.io.text import decimals_for
 
@@ -152,5 +153,5 @@ def start_text(start, unit: str) -> str:
     scaled = start / 10.0**exponent
     rounded = float(f"{largest(scaled):.6g}")
     decimals = decimals_for(rounded, 6) if rounded > 0 else 0
-    parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled)  # + 0.0: no "-0.00000"
-    return f"({parts}) {power_label(exponent, unit)}".rstrip()
+    parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled.ravel())  # + 0.0: no "-0.00000"
+    return f"{parts if scaled.ndim == 0 else f'({parts})'} {power_label(exponent, unit)}".rstrip()
