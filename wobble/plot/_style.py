@@ -20,6 +20,7 @@ __all__ = [
     "finite_range",
     "constancy",
     "start_text",
+    "legend_beside",
 ]
 
 _YEAR = 365.25 * 86400.0
@@ -102,6 +103,15 @@ def power_axis(ax, biggest: float, unit: str = "", name: str | None = None) -> f
     ax.set_ylabel(unit_text if name is None else (f"{name} [{unit_text}]" if unit_text else name))
     ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     return 10.0**exponent
+
+
+def legend_beside(ax, fontsize: float = 8, **kwargs):
+    """``ax``'s legend outside the axes, on the right, its top at the axes' top, unframed: inside, any
+    corner covered some figure's curves or bands (the free figure's peaks, the modes figure's +-1 sigma
+    bands and full-height lines). ``kwargs`` go to :meth:`matplotlib.axes.Axes.legend`."""
+    return ax.legend(
+        loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=fontsize, frameon=False, **kwargs
+    )
 
 
 def pm(value: float, sigma: float) -> str:

@@ -19,6 +19,7 @@ from wobble.plot._style import (
     constancy,
     finite_range,
     largest,
+    legend_beside,
     power_axis,
     power_of_ten,
     start_text,
@@ -302,7 +303,7 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
         for column, text, color in zip(values.T, names, colors):
             ax.plot(t / scale, column / divisor, color=color, label=text)
         # Beside the axes: any corner inside covers the curves' peaks.
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
+        legend_beside(ax)
     if legend_title:
         top.get_legend().set_title(legend_title, prop={"size": 7})
     bottom.set_xlabel(f"time ({unit})")
