@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
@@ -21,6 +22,7 @@ __all__ = [
     "constancy",
     "start_text",
     "legend_beside",
+    "unit_label",
 ]
 
 _YEAR = 365.25 * 86400.0
@@ -82,7 +84,7 @@ def power_of_ten(largest: float) -> int:
 
 def power_label(exponent: int, unit: str = "") -> str:
     """An axis unit with its power of ten in front, as mathtext: ``$10^{-6}$ rad s$^{-1}$``; the unit
-    alone for exponent 0."""
+    alone for exponent 0. ``unit`` is spelled as :func:`unit_label` spells it."""
     if exponent == 0:
         return unit
     return f"$10^{{{exponent}}}$ {unit}".rstrip()
@@ -112,6 +114,32 @@ def legend_beside(ax, fontsize: float = 8, **kwargs):
     return ax.legend(
         loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=fontsize, frameon=False, **kwargs
     )
+
+
+_UNIT_TOKEN = re.compile(r"([^\W\d_]+)(-?\d+)?")
+
+
+def unit_label(unit: str) -> str:
+    """A unit as every figure spells it: powers as mathtext superscripts, ``rad s$^{-1}$`` (drawn rad s⁻¹),
+    ``kg m$^{2}$``, from the CF and astropy spelling the files carry (``rad s-1``, ``kg m2 s-1``) or a
+    slash (``rad/s``, ``arcsec/yr``: what follows it is in the denominator). Text that is not a product of
+    named units (mathtext already, ``1``, ``%``) comes back as it is.
+
+    >>> unit_label("kg m2 s-1"), unit_label("arcsec/yr"), unit_label("J"), unit_label("1")
+    ('kg m$^{2}$ s$^{-1}$', 'arcsec yr$^{-1}$', 'J', '1')
+    """
+    if "$" in unit or unit.count("/") > 1:
+        return unit
+    numerator, _, denominator = unit.partition("/")
+    parts = []
+    for tokens, sign in ((numerator.split(), 1), (denominator.split(), -1)):
+        for token in tokens:
+            match = _UNIT_TOKEN.fullmatch(token)
+            if match is None:
+                return unit
+            power = sign * int(match.group(2) or 1)
+            parts.append(match.group(1) + ("" if power == 1 else f"$^{{{power}}}$"))
+    return " ".join(parts) if parts else unit
 
 
 def pm(value: float, sigma: float) -> str:
@@ -149,7 +177,7 @@ def constancy(spread: float, size: float) -> str:
 
 def start_text(start, unit: str) -> str:
     """A vector's start for a title, to six digits of its largest component in one power of ten:
-    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``; a scalar's without the brackets. The power is
+    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m$^{2}$ s$^{-1}$``; a scalar's without the brackets. The power is
     chosen after rounding to six digits, so that -9.9999996e32 reads -1.00000 in 10^33, not -1000.000
     in 10^30.
 

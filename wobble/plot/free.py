@@ -24,9 +24,13 @@ from wobble.plot._style import (
     power_of_ten,
     start_text,
     time_axis,
+    unit_label,
 )
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
+
+#: The unit of angular velocity as every figure spells it.
+_RAD_S = unit_label("rad s-1")
 
 
 def polhode_figure(moments, omegas, *, samples: int = 2000):
@@ -75,7 +79,7 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
         L = body.model.omega(t) * I
         color = "C3" if body.regime == "separatrix" else ("C0" if body.regime == "major-axis" else "C2")
         ax.plot(L[:, 0], L[:, 1], L[:, 2], color=color, lw=1.2)
-    ax.set_xlabel("$L_1$ (kg m$^2$ s$^{-1}$)")
+    ax.set_xlabel(f"$L_1$ ({unit_label('kg m2 s-1')})")
     ax.set_ylabel("$L_2$")
     ax.set_zlabel("$L_3$")
     ax.set_box_aspect(radii)
@@ -113,7 +117,7 @@ def flip_figure(moments, omega0, t_end):
     marked = _mark_flips([ax], body.flip_times(shown * u.s).to_value(u.s), 1.0)
     ax.set_xlim(0, shown)
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("body-frame angular velocity (rad s$^{-1}$)")
+    ax.set_ylabel(f"body-frame angular velocity ({_RAD_S})")
     title = (
         f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
         f"flip every {body.time_between_flips.to_value(u.s):.6f} s{marked}"
@@ -308,10 +312,6 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
         top.get_legend().set_title(legend_title, prop={"size": 7})
     bottom.set_xlabel(f"time ({unit})")
     return scale
-
-
-#: The unit of angular velocity as the figures spell it.
-_RAD_S = "rad s$^{-1}$"
 
 
 def _dominant_name(n: int, start: float, spread: float, size: float, flat: bool, regime: str) -> str:

@@ -31,6 +31,7 @@ from wobble.plot._style import (
     power_axis,
     start_text,
     time_axis,
+    unit_label,
 )
 
 __all__ = ["scene_figure"]
@@ -257,7 +258,7 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
     taken over the finite samples. Returns the panel's title addition, if any.
     """
     values = series(ds[name])[:, 0, :]
-    unit = ds[name].attrs.get("units", "")
+    unit = unit_label(ds[name].attrs.get("units", ""))
     size = np.array([largest(values[:, k]) for k in range(values.shape[1])])
     spread = np.array([finite_range(values[:, k]) for k in range(values.shape[1])])
     # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
@@ -293,7 +294,7 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
 def _component(ax, ds, t, name: str, k: int, lines: bool) -> None:
     """Component k of an ensemble's vector, a colour per member."""
     values = series(ds[name])[:, :, k]
-    scale = power_axis(ax, largest(values), ds[name].attrs.get("units", ""))
+    scale = power_axis(ax, largest(values), unit_label(ds[name].attrs.get("units", "")))
     for j in range(values.shape[1]):
         label = f"member {_member_label(ds, j)}"
         ax.plot(t, values[:, j] / scale, color=f"C{j % 10}", lw=1.0, label=label, **_look(lines, 0))
@@ -431,7 +432,7 @@ def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
     rad, name = _angle_curves(ax, ds, t, [precession], lines, "precession angle from the start")
     if precession.shape[1] == 1 and t.size > 1 and lines:  # an unresolved panel's fit would be the alias's
         rate = np.polyfit(t, precession[:, 0] / rad, 1)[0]
-        ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {name}/{unit}")
+        ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {unit_label(f'{name}/{unit}')}")
     _legend(ax)
     return None
 
