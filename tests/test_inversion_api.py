@@ -180,7 +180,7 @@ def test_corner_plot_draws_large_numbers_in_a_named_power_of_ten_and_one_legend(
         k = names.index("fluid_core_equatorial_moment")
         ndim = len(names)
         bottom = fig.axes[(ndim - 1) * ndim + k]
-        assert "[$10^{36}$ kg m2]" in bottom.get_xlabel()
+        assert "[$10^{36}$ kg m$^{2}$]" in bottom.get_xlabel()
         fig.canvas.draw()
         assert bottom.xaxis.get_offset_text().get_text() == ""
         median = np.median(earth.samples[..., k]) / earth.posterior.parameters[k].scale / 1e36

@@ -247,7 +247,7 @@ def test_earth_s_angular_momentum_is_drawn_as_its_change_from_the_start(earth_pr
     fig = scene_figure(ds)
     L = ds["angular_momentum"].values
     panel = _panel(fig, "angular momentum, inertial frame: change from the start, (")
-    assert panel.get_ylabel() == "$10^{30}$ kg m2 s-1" and _offset_text(fig, panel) == ""
+    assert panel.get_ylabel() == "$10^{30}$ kg m$^{2}$ s$^{-1}$" and _offset_text(fig, panel) == ""
     start = panel.get_title().split("(")[1].split(")")[0].split(", ")
     np.testing.assert_allclose([float(v) * 1e33 for v in start], L[0], rtol=0, atol=1e-5 * 1e33)
     curves = _curves(panel)
@@ -331,7 +331,7 @@ def test_an_ensemble_s_members_are_told_apart_by_colour_one_panel_a_component():
         curves = _curves(ax)
         assert len(curves) == members
         assert len({line.get_color() for line in curves}) == members
-        assert ax.get_ylabel() == "$10^{-6}$ rad s-1" and _offset_text(fig, ax) == ""  # micro-radians per second
+        assert ax.get_ylabel() == "$10^{-6}$ rad s$^{-1}$" and _offset_text(fig, ax) == ""  # micro-radians per second
         for j, line in enumerate(curves):
             np.testing.assert_allclose(line.get_ydata(), ds["omega"].values[:, j, k] / 1e-6, rtol=1e-15)
         labels = [text.get_text() for text in ax.get_legend().get_texts()]
@@ -434,7 +434,7 @@ def test_a_nan_sample_does_not_set_the_scale_of_a_vector_panel(earth_precession)
     ds["angular_momentum"].values[5, 0] = np.nan
     fig = scene_figure(ds)
     panel = _panel(fig, "angular momentum, inertial frame: change from the start")
-    assert panel.get_ylabel() == "$10^{30}$ kg m2 s-1" and _offset_text(fig, panel) == ""
+    assert panel.get_ylabel() == "$10^{30}$ kg m$^{2}$ s$^{-1}$" and _offset_text(fig, panel) == ""
     fig.canvas.draw()
     assert all(len(t.get_text()) < 8 for t in panel.get_yticklabels())
 
@@ -449,9 +449,9 @@ def test_a_nan_sample_does_not_set_the_scale_of_a_vector_panel(earth_precession)
     ],
 )
 def test_a_start_is_written_to_six_digits_in_one_power_of_ten(start, text):
-    from wobble.plot.scene import _start_text
+    from wobble.plot._style import start_text
 
-    assert _start_text(start, "kg") == text
+    assert start_text(start, "kg") == text
 
 
 def test_a_free_body_over_many_periods_is_drawn_for_its_first_ten():

@@ -12,9 +12,25 @@ from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.plot._sampling import first_periods, period_count
-from wobble.plot._style import angle_unit, largest, power_axis, power_of_ten, time_axis
+from wobble.plot._style import (
+    ROUNDING_CHANGE,
+    SMALL_CHANGE,
+    angle_unit,
+    constancy,
+    finite_range,
+    largest,
+    legend_beside,
+    power_axis,
+    power_of_ten,
+    start_text,
+    time_axis,
+    unit_label,
+)
 
 __all__ = ["polhode_figure", "flip_figure", "motion_figure"]
+
+#: The unit of angular velocity as every figure spells it.
+_RAD_S = unit_label("rad s-1")
 
 
 def polhode_figure(moments, omegas, *, samples: int = 2000):
@@ -63,7 +79,7 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
         L = body.model.omega(t) * I
         color = "C3" if body.regime == "separatrix" else ("C0" if body.regime == "major-axis" else "C2")
         ax.plot(L[:, 0], L[:, 1], L[:, 2], color=color, lw=1.2)
-    ax.set_xlabel("$L_1$ (kg m$^2$ s$^{-1}$)")
+    ax.set_xlabel(f"$L_1$ ({unit_label('kg m2 s-1')})")
     ax.set_ylabel("$L_2$")
     ax.set_zlabel("$L_3$")
     ax.set_box_aspect(radii)
@@ -101,7 +117,7 @@ def flip_figure(moments, omega0, t_end):
     marked = _mark_flips([ax], body.flip_times(shown * u.s).to_value(u.s), 1.0)
     ax.set_xlim(0, shown)
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("body-frame angular velocity (rad s$^{-1}$)")
+    ax.set_ylabel(f"body-frame angular velocity ({_RAD_S})")
     title = (
         f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
         f"flip every {body.time_between_flips.to_value(u.s):.6f} s{marked}"
@@ -132,10 +148,12 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     """omega(t) and the polhode of one body: what ``wobble free --plot`` draws.
 
     Left: the angular velocity's components against time, the largest one on its own
-    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it); when the spin
-    dominates and its numbers would need a multiplier in rad/s, they are drawn as fractions
-    of the initial spin in a power of ten, 10^k |omega(0)|, named in the axis label, so no
-    offset or multiplier hides the numbers.
+    axis (a planet's wobble is 1e-6 of its spin and would vanish beside it): its change from
+    the start when it moves by less than 5 % of itself, its start named; flat when by no more
+    than 1e-12 of |omega|, constant to rounding, its measured spread named (the rule of
+    :func:`wobble.plot.scene.scene_figure`). When the spin dominates and its numbers would
+    need a multiplier in rad/s, they are drawn as fractions of the initial spin in a power of
+    ten, 10^k |omega(0)|, named in the axis label, so no offset or multiplier hides the numbers.
     Right: the polhode, the path of L/|L| in the body frame, on the unit sphere with the
     principal axes (Goldstein, Poole & Safko 2002, sec. 5.6; Landau & Lifshitz section 37).
 
@@ -250,31 +268,36 @@ def _motion_title(body: FreeRotation, t1: float, note: str) -> str:
 
 def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
     """Draw omega's components on ``top`` (the two small ones) and ``bottom`` (the largest); returns
-    the seconds per unit of the time axis. When the spin dominates (its largest component changes by
-    less than 1e-3 of itself), the change of the largest is drawn; and when those numbers are too small
+    the seconds per unit of the time axis.
+
+    The largest component follows the scene figure's rule (:mod:`wobble.plot._style`): when it moves by
+    less than :data:`~wobble.plot._style.SMALL_CHANGE` of itself its change from the start is drawn, the
+    start named in the legend; when by no more than :data:`~wobble.plot._style.ROUNDING_CHANGE` of |omega|
+    it is constant to rounding, drawn flat with its measured spread named (the Earth's omega_3, which
+    varies by m/2 = 4e-15 of itself, drew a staircase of 20 float steps). When those numbers are too small
     to read in rad/s (a planet), the components and the change are drawn as fractions of |omega(0)|,
-    each axis in a power of ten named in its label (Earth: 1e-6 and 1e-15), never as an offset."""
+    each axis in a power of ten named in its label, never as an offset.
+    """
     scale, unit = time_axis(t[-1])
     big = int(np.argmax(np.max(np.abs(w), axis=0)))
     others = [k for k in range(3) if k != big]
     dominant = w[:, big]
     spin = float(np.linalg.norm(body.omega0.to_value(u.rad / u.s)))
-    steady_spin = np.ptp(dominant) < 1e-3 * np.max(np.abs(dominant))
-    change = dominant - dominant[0]
-    if steady_spin and max(power_of_ten(np.max(np.abs(w[:, others]))), power_of_ten(np.max(np.abs(change)))):
-        # A planet's spin changes by 1e-12 of itself: show the change, as fractions of the spin.
+    spread, size = finite_range(dominant), largest(dominant)
+    steady_spin = spread < SMALL_CHANGE * size
+    # Rounding is judged against the whole vector, as the scene figure judges it.
+    flat = steady_spin and spread <= ROUNDING_CHANGE * spin
+    change = np.zeros_like(dominant) if flat else dominant - dominant[0]
+    name = _dominant_name(big + 1, dominant[0], spread, size, flat, body.regime)
+    if steady_spin and any(power_of_ten(largest(v)) for v in (w[:, others], change)):
+        # A planet: a wobble 1e-6 of the spin, the spin's change smaller still: fractions of the spin.
         small, change = w[:, others] / spin, change / spin
-        label, name = "$|\\omega(0)|$", f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$"
-        legend_title = f"$|\\omega(0)|$ = {spin:.4g} rad s$^{{-1}}$"
+        label, legend_title = "$|\\omega(0)|$", f"$|\\omega(0)|$ = {spin:.4g} {_RAD_S}"
     elif steady_spin:  # a lab body spun about an axis: its change in rad/s reads as it is
-        small, label, legend_title = w[:, others], "rad s$^{-1}$", None
-        name = f"$\\omega_{big + 1} - \\omega_{big + 1}(0)$"
-    else:
+        small, label, legend_title = w[:, others], _RAD_S, None
+    else:  # a real wobble of the largest component: drawn as it is
         small, change = w[:, others], dominant
-        label, name, legend_title = "rad s$^{-1}$", f"$\\omega_{big + 1}$", None
-    if steady_spin and not np.any(change):
-        # Exactly constant (a body symmetric about the spin axis): a flat line at zero needs its reason.
-        name += " = 0: constant" + (" (a symmetric body)" if body.regime == "symmetric" else "")
+        label, name, legend_title = _RAD_S, f"$\\omega_{big + 1}$", None
     for ax, values, names, colors in (
         (top, small, [f"$\\omega_{k + 1}$" for k in others], ["C0", "C1"]),
         (bottom, change[:, None], [name], ["C2"]),
@@ -284,11 +307,24 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
         for column, text, color in zip(values.T, names, colors):
             ax.plot(t / scale, column / divisor, color=color, label=text)
         # Beside the axes: any corner inside covers the curves' peaks.
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, frameon=False)
+        legend_beside(ax)
     if legend_title:
         top.get_legend().set_title(legend_title, prop={"size": 7})
     bottom.set_xlabel(f"time ({unit})")
     return scale
+
+
+def _dominant_name(n: int, start: float, spread: float, size: float, flat: bool, regime: str) -> str:
+    """The legend entry of the largest component's change, omega_n - omega_n(0), with its start; drawn flat,
+    how constant it is as measured (a body symmetric about the axis: exactly, by Euler's equations)."""
+    change = f"$\\omega_{n} - \\omega_{n}(0)$"
+    at_start = f"$\\omega_{n}(0)$ = {start_text(start, _RAD_S)}"
+    if not flat:
+        return f"{change}\n{at_start}"
+    if spread == 0:
+        why = " (a symmetric body)" if regime == "symmetric" else ""
+        return f"{change} = 0: constant{why}\n{at_start}"
+    return f"{change} drawn as 0:\n{constancy(spread, size)} of itself (rounding's scale)\n{at_start}"
 
 
 #: Flips marked one line each up to this many in a span; more are closer than a figure resolves.

@@ -5,7 +5,7 @@ parameter's posterior (a step histogram) over its prior (dashed), with the publi
 of the setup (``[[compare.<name>]]``) as lines and bands, named in one legend in the empty
 upper-right triangle; the off-diagonal panels show the 2-D posteriors (filled contours at
 0.5, 1, 1.5 and 2 sigma of a 2-D Gaussian). A parameter of a large or small magnitude is
-drawn in a power of ten of its unit, named in its label (``[1e36 kg m2]``): Matplotlib's
+drawn in a power of ten of its unit, named in its label (``[$10^{36}$ kg m$^{2}$]``): Matplotlib's
 offset text ("1e36") overlapped the panel above.
 """
 
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wobble.plot._style import power_label, power_of_ten
+from wobble.plot._style import power_label, power_of_ten, unit_label
 
 __all__ = ["corner_figure", "corner_plot"]
 
@@ -100,7 +100,7 @@ def _power_of_ten(values) -> int:
 
 
 def _label(p, power: int) -> str:
-    unit = power_label(power, p.unit)  # "$10^{36}$ kg m2", as the free and top figures name theirs
+    unit = power_label(power, unit_label(p.unit))  # "$10^{36}$ kg m$^{2}$", as every figure spells units
     return f"{p.name}\n[{unit}]" if unit else p.name
 
 

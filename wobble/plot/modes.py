@@ -8,7 +8,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
+from wobble.plot._style import legend_beside
+
 __all__ = ["modes_figure"]
+
+#: Inches beside each panel for its legend ("Chandler budget (coupling off)" at 7 points).
+LEGEND_WIDTH = 1.5
 
 
 def _band(ax, value, sigma, color, label):
@@ -31,9 +36,10 @@ def modes_figure(results, path=None, *, overwrite: bool = False):
     -------
     matplotlib.figure.Figure
     """
-    # A column per mode some planet shows (wobble modes --mode FCN left a blank third of the figure).
+    # A column per mode some planet shows (wobble modes --mode FCN left a blank third of the figure), each
+    # with room for its legend beside it: inside, the legends covered the +-1 sigma bands.
     columns = [m for m in ("FCN", "CW") if any(m in r.shown for r in results)]
-    width = 11.0 * (1 + len(columns)) / 3
+    width = (11.0 / 3 + LEGEND_WIDTH) * (1 + len(columns))
     fig, axes = plt.subplots(len(results), 1 + len(columns), figsize=(width, 3.1 * len(results) + 0.4), squeeze=False)
     for row, r in zip(axes, results):
         _profile_panel(row[0], r)
@@ -80,7 +86,7 @@ def _profile_panel(ax, r):
     anchors = r.figure.anchors
     if "observed_flattening" in anchors:
         ax.axhline(1.0 / anchors["observed_flattening"][0], color="0.4", ls=":", lw=1, label="observed surface")
-        ax.legend(fontsize=7, loc="upper right")
+        legend_beside(ax, fontsize=7)
 
 
 def _fcn_panel(ax, r, grid, period):
@@ -94,7 +100,7 @@ def _fcn_panel(ax, r, grid, period):
     ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
     ax.set_ylabel("FCN period in space [d]")
     ax.set_title("free core nutation (retrograde)", fontsize=9)
-    ax.legend(fontsize=7, loc="lower right")
+    legend_beside(ax, fontsize=7)
 
 
 def _cw_panel(ax, r, grid, period):
@@ -117,7 +123,7 @@ def _cw_panel(ax, r, grid, period):
     ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
     ax.set_ylabel("Chandler period [d]")
     ax.set_title("Chandler wobble (prograde)", fontsize=9)
-    ax.legend(fontsize=7, loc="best")
+    legend_beside(ax, fontsize=7)
 
 
 def _cw_alone_panel(ax, r):
@@ -130,4 +136,4 @@ def _cw_alone_panel(ax, r):
     ax.set_xticks([])
     ax.set_ylabel("Chandler period [d]")
     ax.set_title("Chandler wobble (prograde; no liquid core to vary)", fontsize=9)
-    ax.legend(fontsize=7, loc="best")
+    legend_beside(ax, fontsize=7)

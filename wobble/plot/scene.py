@@ -20,8 +20,19 @@ from wobble.plot._sampling import (
     resolved,
     series,
 )
-from wobble.io.text import decimals_for
-from wobble.plot._style import ANGLE_UNITS, angle_unit, largest, power_axis, power_label, power_of_ten, time_axis
+from wobble.plot._style import (
+    ANGLE_UNITS,
+    ROUNDING_CHANGE,
+    SMALL_CHANGE,
+    angle_unit,
+    constancy,
+    finite_range,
+    largest,
+    power_axis,
+    start_text,
+    time_axis,
+    unit_label,
+)
 
 __all__ = ["scene_figure"]
 
@@ -63,11 +74,6 @@ _ANGLE_UNITS = ANGLE_UNITS[:3]  # deg, arcsec, mas: a scene's angles do not need
 # The axis's azimuth (precession angle) means little within this of the inertial z axis: there the
 # figure draws the axis's offset from z instead.
 _NEAR_POLE = math.radians(1.0)
-# A vector panel whose components move by less than this share of the vector's size draws their change
-# from the start (on an axis spanning the vector, 5 % is a few pixels: flat lines); by less than the
-# second, it is constant to rounding, drawn as is.
-_SMALL_CHANGE = 0.05
-_ROUNDING_CHANGE = 1e-12
 # An energy whose relative change stays within this is conserved to rounding: 64 ulp (a sum of a few terms,
 # each rounded, over many samples) and far below any integrator's error that wobble reports.
 _ENERGY_ROUNDING = 64 * np.finfo(float).eps
@@ -244,16 +250,17 @@ def _member_handles(ds, n: int, kinds, lines: bool) -> list:
 def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
     """One body's vector, a colour per component (a component 20 times the others and constant named).
 
-    A vector whose drawn components change by less than :data:`_SMALL_CHANGE` of their size is drawn as
-    its change from the start, its start in the title (the Sun's and Moon's slow work on the Earth's
-    angular momentum drew three flat lines); one constant to :data:`_ROUNDING_CHANGE` (a free body's L)
-    as it is, not its rounding. Values are in a named power of ten of the unit; sizes and ranges are
+    A vector whose drawn components change by less than :data:`~wobble.plot._style.SMALL_CHANGE` of their
+    size is drawn as its change from the start, its start in the title (the Sun's and Moon's slow work on the
+    Earth's angular momentum drew three flat lines); one constant to
+    :data:`~wobble.plot._style.ROUNDING_CHANGE` (a free body's L) as it is, not its rounding. Values are in a
+    named power of ten of the unit; sizes and ranges are
     taken over the finite samples. Returns the panel's title addition, if any.
     """
     values = series(ds[name])[:, 0, :]
-    unit = ds[name].attrs.get("units", "")
+    unit = unit_label(ds[name].attrs.get("units", ""))
     size = np.array([largest(values[:, k]) for k in range(values.shape[1])])
-    spread = np.array([_finite_range(values[:, k]) for k in range(values.shape[1])])
+    spread = np.array([finite_range(values[:, k]) for k in range(values.shape[1])])
     # A spin 1e3 times the wobble would flatten the wobble: name it instead of drawing it.
     named = [
         k
@@ -264,11 +271,11 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
     # Rounding is relative to the whole vector; whether a change shows, to the components drawn.
     moved = float(np.max(spread[kept], initial=0.0))
     drawn, suffix = values, None
-    changing = float(np.max(spread)) > _ROUNDING_CHANGE * float(np.linalg.norm(size))
-    if changing and moved < _SMALL_CHANGE * float(np.linalg.norm(size[kept])) and np.all(np.isfinite(values[0])):
+    changing = float(np.max(spread)) > ROUNDING_CHANGE * float(np.linalg.norm(size))
+    if changing and moved < SMALL_CHANGE * float(np.linalg.norm(size[kept])) and np.all(np.isfinite(values[0])):
         # Every component's change, a large constant one's too: the change is the scale now.
         drawn, named, kept = values - values[0], [], list(range(values.shape[1]))
-        suffix = f"change from the start, {_start_text(values[0], unit)}"
+        suffix = f"change from the start, {start_text(values[0], unit)}"
     scale = power_axis(ax, largest(drawn[:, kept]) if kept else 0.0, unit)
     for k in range(values.shape[1]):
         if k in named:
@@ -276,7 +283,7 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
                 [],
                 [],
                 " ",
-                label=f"{labels[k]} = {np.mean(values[:, k]):.6g} {unit} ({_constancy(spread[k], size[k])})",
+                label=f"{labels[k]} = {np.mean(values[:, k]):.6g} {unit} ({constancy(spread[k], size[k])})",
             )
         else:
             ax.plot(t, drawn[:, k] / scale, color=f"C{k}", lw=1.0, label=labels[k], **_look(lines, 0))
@@ -284,34 +291,10 @@ def _components(ax, ds, t, name: str, labels, lines: bool) -> str | None:
     return suffix
 
 
-def _constancy(spread: float, size: float) -> str:
-    """How constant a named component is, as measured: 'constant' or 'constant to 2e-15' (relative)."""
-    return "constant" if spread == 0 else f"constant to {spread / size:.1g}"
-
-
-def _finite_range(values) -> float:
-    """max - min of the finite values (0 for fewer than one)."""
-    finite = values[np.isfinite(values)]
-    return float(np.ptp(finite)) if finite.size else 0.0
-
-
-def _start_text(start, unit: str) -> str:
-    """A vector's start for a title, to six digits of its largest component in one power of ten:
-    ``(0.00000, 2.33047, 5.37529) $10^{33}$ kg m2 s-1``. The power is chosen after rounding to six
-    digits, so that -9.9999996e32 reads -1.00000 in 10^33, not -1000.000 in 10^30."""
-    start = np.asarray(start, dtype=float)
-    exponent = power_of_ten(float(f"{largest(start):.6g}"))
-    scaled = start / 10.0**exponent
-    rounded = float(f"{largest(scaled):.6g}")
-    decimals = decimals_for(rounded, 6) if rounded > 0 else 0
-    parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled)  # + 0.0: no "-0.00000"
-    return f"({parts}) {power_label(exponent, unit)}".rstrip()
-
-
 def _component(ax, ds, t, name: str, k: int, lines: bool) -> None:
     """Component k of an ensemble's vector, a colour per member."""
     values = series(ds[name])[:, :, k]
-    scale = power_axis(ax, largest(values), ds[name].attrs.get("units", ""))
+    scale = power_axis(ax, largest(values), unit_label(ds[name].attrs.get("units", "")))
     for j in range(values.shape[1]):
         label = f"member {_member_label(ds, j)}"
         ax.plot(t, values[:, j] / scale, color=f"C{j % 10}", lw=1.0, label=label, **_look(lines, 0))
@@ -449,7 +432,7 @@ def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
     rad, name = _angle_curves(ax, ds, t, [precession], lines, "precession angle from the start")
     if precession.shape[1] == 1 and t.size > 1 and lines:  # an unresolved panel's fit would be the alias's
         rate = np.polyfit(t, precession[:, 0] / rad, 1)[0]
-        ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {name}/{unit}")
+        ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {unit_label(f'{name}/{unit}')}")
     _legend(ax)
     return None
 

@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from wobble.plot._style import unit_label
+
 __all__ = ["histogram", "phase_diagram", "ensemble"]
 
 
@@ -35,7 +37,7 @@ def histogram(ds, path=None, variable: str = "chandler_period", ax=None, *, over
         fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     else:
         fig = ax.figure
-    units = ds[variable].attrs.get("units", "")
+    units = unit_label(ds[variable].attrs.get("units", ""))
     ax.hist(values[ok], bins=80, color="0.55", density=True, label=f"model ({ok.sum():,} members)")
     obs = float(ds.attrs.get("observed_chandler_period_days", math.nan))
     if variable == "chandler_period" and math.isfinite(obs):
@@ -113,10 +115,10 @@ def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
         title = ""
         if extra:
             val = float(panel[extra[0]])
-            units = ds[extra[0]].attrs.get("units", "")
+            units = unit_label(ds[extra[0]].attrs.get("units", ""))
             title = f"{extra[0]} = {val:g} {units}"
         ax.set_title(title, fontsize=9)
-        ax.set_xlabel("spin omega3 [rad/s]")
+        ax.set_xlabel(f"spin omega3 [{unit_label(ds['omega3'].attrs.get('units', 'rad s-1'))}]")
     axes[0].set_ylabel("initial tilt theta0 [deg]")
     handles = [Patch(color=_CLASS_COLOURS.get(m, "0.5"), label=m.replace("_", " ")) for m in meanings if m != "invalid"]
     handles.append(plt.Line2D([], [], color="k", ls="--", label="sleeping top stable to the right"))

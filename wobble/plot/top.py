@@ -15,7 +15,7 @@ from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.plot._sampling import first_periods, period_count
-from wobble.plot._style import angle_unit, largest, power_axis, power_label, power_of_ten
+from wobble.plot._style import angle_unit, largest, power_axis, power_label, power_of_ten, unit_label
 
 __all__ = [
     "nutation_classes_figure",
@@ -188,7 +188,7 @@ def nutation_classes_figure(I1, I3, mgl, theta0, omega3, phidots, *, periods: fl
     for ax, pd in zip(np.atleast_1d(axes), phidots):
         top = HeavyTop(I1=I1, I3=I3, mgl=mgl, theta0=theta0, omega3=omega3, phidot0=pd)
         pdv = pd.to_value(u.rad / u.s)
-        axis_trace_axes(ax, top, periods=periods, title=f"{top.nutation}: phidot0 = {pdv:g} rad/s")
+        axis_trace_axes(ax, top, periods=periods, title=f"{top.nutation}: phidot0 = {pdv:g} {unit_label('rad/s')}")
     fig.suptitle(
         "The symmetry axis on the unit sphere seen from above, between the turning circles "
         "theta_min and theta_max (dashed); red dot: start",
