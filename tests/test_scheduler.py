@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import socket
+import threading
+import time
+
 import pytest
 
 from cli_run import run_cli
@@ -28,6 +32,66 @@ def test_an_address_where_nothing_answers_is_named(quick_timeout):
     with pytest.raises(InputError, match=r"scheduler: got tcp://127\.0\.0\.1:1; allowed: the address of a running"):
         with _scheduler.connected("tcp://127.0.0.1:1"):
             pass
+
+
+@pytest.fixture
+def stranger():
+    """A TCP server on a free local port that is not a dask scheduler: ``reply`` b'' (it reads and says
+    nothing, as an HTTP server waits for its request) or bytes it sends to whoever connects."""
+    servers = []
+
+    def start(reply: bytes) -> str:
+        listener = socket.socket()
+        listener.bind(("127.0.0.1", 0))
+        listener.listen()
+        listener.settimeout(0.2)
+        stop = threading.Event()
+
+        def serve():
+            held = []
+            while not stop.is_set():
+                try:
+                    conn, _ = listener.accept()
+                except OSError:
+                    continue
+                held.append(conn)
+                if reply:
+                    conn.sendall(reply)
+            for conn in held:
+                conn.close()
+            listener.close()
+
+        thread = threading.Thread(target=serve, daemon=True)
+        thread.start()
+        servers.append((stop, thread))
+        return f"tcp://127.0.0.1:{listener.getsockname()[1]}"
+
+    yield start
+    for stop, thread in servers:
+        stop.set()
+        thread.join(5)
+
+
+@pytest.mark.parametrize(
+    ("reply", "why"),
+    [
+        (b"", "none answered there within 1 s"),
+        (b"HTTP/1.0 400 Bad Request\r\n\r\n" * 8, "what answered there is not a dask scheduler"),
+    ],
+)
+def test_an_address_held_by_something_else_is_refused_in_time(quick_timeout, stranger, reply, why):
+    """Client(address) never returned when an HTTP server held the port (past its own timeout), and died
+    with numpy's "Unable to allocate 3.07 EiB" when a stranger's bytes were read as a message length."""
+    address = stranger(reply)
+    start = time.monotonic()
+    with pytest.raises(InputError, match=f"scheduler: got {address}; allowed: the address of a running dask "):
+        with _scheduler.connected(address):
+            pass
+    assert time.monotonic() - start < 30  # a bound on a hang, not a timing: the refusal takes about 1 s
+    with pytest.raises(InputError) as info:
+        with _scheduler.connected(address):
+            pass
+    assert why in str(info.value)
 
 
 @pytest.mark.parametrize(

@@ -38,15 +38,47 @@ def connected(scheduler):
     if not isinstance(scheduler, str):
         yield scheduler
         return
-    try:
-        client = Client(scheduler, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError):
-        raise InputError(
-            "scheduler",
-            scheduler,
-            f"the address of a running dask scheduler (none answered there within {CONNECT_TIMEOUT} s)",
-        ) from None
+    answer = _identity(scheduler)
+    if not answer:
+        try:
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError):  # it answered a moment ago: gone since
+            answer = f"none answered there within {CONNECT_TIMEOUT} s"
+    if answer:
+        raise InputError("scheduler", scheduler, f"the address of a running dask scheduler ({answer})")
     try:
         yield client
     finally:
         client.close()
+
+
+def _identity(address: str) -> str:
+    """'' when a dask scheduler answers at ``address`` within :data:`CONNECT_TIMEOUT`, else what happened.
+
+    Asked before ``Client(address)``, which does not return when something other than a scheduler
+    holds the port (an HTTP server: its handshake waits without end, past its own timeout) and dies
+    in distributed's depths when that something answers (a stranger's reply read as a message
+    length: "Unable to allocate 3.07 EiB"). The scheduler's ``identity`` call, bounded by
+    ``asyncio.wait_for``, ends in time in every case.
+    """
+    import asyncio
+
+    from distributed.core import rpc
+
+    async def ask():
+        remote = rpc(address, timeout=CONNECT_TIMEOUT)
+        try:
+            return await asyncio.wait_for(remote.identity(), CONNECT_TIMEOUT)
+        finally:
+            await remote.close_rpc()
+
+    try:
+        reply = asyncio.run(ask())
+    except (OSError, TimeoutError):
+        return f"none answered there within {CONNECT_TIMEOUT} s"
+    except Exception as exc:  # anything else: what answers there does not speak dask's protocol
+        return f"what answered there is not a dask scheduler: {type(exc).__name__}"
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
+        return f"what answered there is not a dask scheduler but {kind!r}"
+    return ""
