@@ -327,7 +327,7 @@ def test_the_modes_chandler_panel_draws_the_model_s_uncertainty_beside_the_obser
     cw = r.mode("CW")
     panel = [ax for ax in wobble.plot.modes.modes_figure([r]).axes if ax.get_title() == "Chandler wobble (prograde)"]
     (ax,) = panel
-    bands = [c for c in ax.collections if c.get_label() == "model +/- 1 sigma"]
+    bands = [c for c in ax.collections if c.get_label() == "model ±1σ"]
     assert len(bands) == 1
     top, bottom = bands[0].get_paths()[0].vertices[:, 1].max(), bands[0].get_paths()[0].vertices[:, 1].min()
     model = ax.get_lines()[0].get_ydata()

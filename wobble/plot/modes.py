@@ -94,10 +94,10 @@ def _fcn_panel(ax, r, grid, period):
     ax.plot(grid * 1e3, period, color="C3", label="FCN in space (model)")
     if fcn.observed is not None:
         _band(ax, fcn.observed.to_value(u.day), fcn.observed_uncertainty.to_value(u.day), "0.3", "observed")
-    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1, label="hydrostatic e_f")
+    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1, label="hydrostatic $e_f$")
     if r.core_flattening_required is not None:
-        ax.axvline(r.core_flattening_required * 1e3, color="C2", ls="-.", lw=1, label="required e_f")
-    ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
+        ax.axvline(r.core_flattening_required * 1e3, color="C2", ls="-.", lw=1, label="required $e_f$")
+    ax.set_xlabel("core dynamical ellipticity $e_f$ [$10^{-3}$]")
     ax.set_ylabel("FCN period in space [d]")
     ax.set_title("free core nutation (retrograde)", fontsize=9)
     legend_beside(ax, fontsize=7)
@@ -109,9 +109,7 @@ def _cw_panel(ax, r, grid, period):
     # The model's own uncertainty beside the observed band: without it a 0.5-sigma miss looked like 2.6.
     sigma = cw.period_uncertainty.to_value(u.day) if cw.period_uncertainty is not None else float("nan")
     if np.isfinite(sigma):
-        ax.fill_between(
-            grid * 1e3, period - sigma, period + sigma, color="C1", alpha=0.15, lw=0, label="model +/- 1 sigma"
-        )
+        ax.fill_between(grid * 1e3, period - sigma, period + sigma, color="C1", alpha=0.15, lw=0, label="model ±1σ")
     if cw.observed is not None:
         _band(ax, cw.observed.to_value(u.day), cw.observed_uncertainty.to_value(u.day), "0.3", "observed")
     # The budget is this model with the core coupling off (the text's "coupling off ... = the Chandler budget"),
@@ -119,8 +117,8 @@ def _cw_panel(ax, r, grid, period):
     ax.axhline(
         r.chandler_budget_period.to_value(u.day), color="C1", ls=":", lw=1, label="Chandler budget (coupling off)"
     )
-    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1, label="hydrostatic e_f")
-    ax.set_xlabel("core dynamical ellipticity e_f [1e-3]")
+    ax.axvline(r.core_flattening_hydrostatic * 1e3, color="C0", ls="--", lw=1, label="hydrostatic $e_f$")
+    ax.set_xlabel("core dynamical ellipticity $e_f$ [$10^{-3}$]")
     ax.set_ylabel("Chandler period [d]")
     ax.set_title("Chandler wobble (prograde)", fontsize=9)
     legend_beside(ax, fontsize=7)
