@@ -318,3 +318,17 @@ def test_a_user_s_terms_come_first_and_those_the_span_cannot_separate_are_refuse
         wobble.measure_precession(ds, node_rate=nu, extra={"node again": (nu, 0 * u.rad)})
     with pytest.raises(InputError, match="extra: .*allowed: terms whose rates differ from the secular rate"):
         wobble.measure_precession(ds, extra={"slow": (1e-12 * u.rad / u.s, 0 * u.rad)})
+
+
+def test_run_to_netcdf_counts_the_times_it_wrote(tmp_path):
+    """An averaged run writes one time, the mean over its span; its summary (and wobble run's 'members x
+    times') said 7306, the scene's times, which the file does not hold."""
+    data = _shipped()
+    data.update(outputs=["mean_precession_rate"], accuracy=1e-3)
+    data.pop("model")
+    summary = wobble.run_to_netcdf(data, tmp_path / "mean.nc")
+    assert summary["model"] == "averaged-precession"
+    assert summary["times"] == wobble.load(tmp_path / "mean.nc").sizes["time"] == 1
+    data.update(outputs=["angular_momentum"], time={"stop": "30 d", "step": "1 d", "epoch": "2000-01-01 12:00:00"})
+    summary = wobble.run_to_netcdf(data, tmp_path / "full.nc")
+    assert summary["times"] == wobble.load(tmp_path / "full.nc").sizes["time"] == 31

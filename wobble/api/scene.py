@@ -274,15 +274,19 @@ class _Streamer:
     def __init__(self, scene, writer: StreamingWriter):
         self.scene = scene
         self.writer = writer
+        self.times = 0  # the times written: the scene's, or one for a summary output (a time mean)
 
     def begin(self):
         self.writer.begin()
+        self.times = 0  # a run retried at a tighter tolerance writes its times again
 
     def discard(self):
         self.writer.discard()
+        self.times = 0
 
     def write(self, t, outputs):
         self.writer.append(_block_dataset(self.scene, t, outputs))
+        self.times += int(np.size(t))
 
 
 _MEMORY_LIMIT = 2 * 2**30
@@ -366,7 +370,8 @@ def run_to_netcdf(
     -------
     dict
         The run summary: ``model``, ``model_reason``, ``error_estimate`` (and
-        parts), ``output``, ``members``, ``times``.
+        parts), ``output``, ``members``, ``times`` (written: one for a scene whose only output is a
+        time mean, ``mean_precession_rate``).
     """
     sc = _as_scene(scene)
     writer = StreamingWriter(path, overwrite=overwrite, command=command)
@@ -395,7 +400,7 @@ def run_to_netcdf(
             "scene": sc.name,
             "output": str(out),
             "members": sc.members,
-            "times": int(sc.times.size),
+            "times": sink.times,
             "settings": record.settings,
             "stats": record.stats,
         }
