@@ -108,13 +108,13 @@ def polhode_turn_rate(moments, axes, omega) -> np.ndarray:
 
 
 def wobble_angle_rate(moments, axes, omega) -> np.ndarray:
-    """d/dt of the wobble angle, atan2(|(omega_1, omega_2)|, omega_3), the angle between omega and body axis 3
-    (rad/s), of a torque-free body, from Euler's equations (:func:`omega_dot`).
+    """d/dt of the wobble angle, ``atan2(|(omega_1, omega_2)|, omega_3)``, the angle between omega and body
+    axis 3 (rad/s), of a torque-free body, from Euler's equations (:func:`omega_dot`).
 
     Parameters are those of :func:`omega_dot` (``omega`` in the body frame whose axis 3 the angle is
     measured from); the result has omega's leading shape. Where omega lies on axis 3 (the angle's
-    derivative there is that of |omega_perp|), the rate of |(omega_1, omega_2)| over |omega|; 0 for a body
-    at rest.
+    derivative there is that of ``|omega_perp|``), the rate of ``|(omega_1, omega_2)|`` over ``|omega|``;
+    0 for a body at rest.
     """
     w = np.asarray(omega, dtype=float)
     wd = omega_dot(moments, axes, w)
