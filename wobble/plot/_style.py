@@ -7,6 +7,8 @@ import re
 
 import numpy as np
 
+from wobble.numerics.calendar import DAY, JULIAN_YEAR
+
 __all__ = [
     "time_axis",
     "ANGLE_UNITS",
@@ -23,9 +25,9 @@ __all__ = [
     "start_text",
     "legend_beside",
     "unit_label",
+    "decimal_year",
 ]
 
-_YEAR = 365.25 * 86400.0
 #: A quantity whose samples move by less than this share of its size is drawn as its change from the start,
 #: its start named (on an axis spanning the quantity, 5 % is a few pixels: flat lines).
 SMALL_CHANGE = 0.05
@@ -47,11 +49,11 @@ def time_axis(span_s: float) -> tuple[float, str]:
         (300.0, 1.0, "s"),
         (3 * 3600.0, 60.0, "min"),
         (3 * 86400.0, 3600.0, "h"),
-        (3 * _YEAR, 86400.0, "d"),
+        (3 * JULIAN_YEAR, 86400.0, "d"),
     ):
         if span_s < limit:
             return size, name
-    return _YEAR, "yr"
+    return JULIAN_YEAR, "yr"
 
 
 def angle_unit(extent_rad: float) -> tuple[float, str]:
@@ -193,3 +195,16 @@ def start_text(start, unit: str) -> str:
     decimals = decimals_for(rounded, 6) if rounded > 0 else 0
     parts = ", ".join(f"{round(v, decimals) + 0.0:.{decimals}f}" for v in scaled.ravel())  # + 0.0: no "-0.00000"
     return f"{parts if scaled.ndim == 0 else f'({parts})'} {power_label(exponent, unit)}".rstrip()
+
+
+#: The Modified Julian Date of J2000.0 (2000-01-01 12:00 TT), where the decimal years count from 2000.0.
+_MJD_J2000 = 51544.5
+
+
+def decimal_year(mjd) -> np.ndarray:
+    """Modified Julian Dates as decimal years for a time axis: 2000.0 at J2000.0, Julian years of 365.25 d.
+
+    >>> float(decimal_year(51544.5)), float(decimal_year(51544.5 + 365.25))
+    (2000.0, 2001.0)
+    """
+    return 2000.0 + (np.asarray(mjd, dtype=float) - _MJD_J2000) / (JULIAN_YEAR / DAY)

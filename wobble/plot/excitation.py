@@ -11,7 +11,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from wobble.plot.polar_motion import log_floor, mark_collapse
-from wobble.plot.save import save_figure
+from wobble.plot._style import decimal_year
+from wobble.plot.save import WIDE_DPI, save_figure
 
 __all__ = ["excitation_figure", "save_excitation_figure"]
 
@@ -39,7 +40,7 @@ def excitation_figure(ex) -> Figure:
     )
     ax_s.legend(fontsize="small")
     if ex.band_chi is not None:
-        years = 2000.0 + (ex.time_mjd - 51544.5) / 365.25
+        years = decimal_year(ex.time_mjd)
         known = np.isfinite(ex.band_pole)  # NaN within the band-pass kernel's reach of the ends
         ax_t.plot(years, ex.band_pole, color="C0", label="pole, Chandler band")
         ax_t.plot(years[1:], ex.band_chi, color="C3", label="excitation, Chandler band")
@@ -74,4 +75,4 @@ def excitation_figure(ex) -> Figure:
 
 def save_excitation_figure(ex, path, *, overwrite: bool = False):
     """Write :func:`excitation_figure` to ``path`` (png, pdf or svg)."""
-    return save_figure(excitation_figure(ex), path, overwrite=overwrite, dpi=110)
+    return save_figure(excitation_figure(ex), path, overwrite=overwrite, dpi=WIDE_DPI)

@@ -11,13 +11,10 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from wobble.io.dates import iso_date
-from wobble.plot.save import save_figure
+from wobble.plot._style import decimal_year
+from wobble.plot.save import WIDE_DPI, save_figure
 
 __all__ = ["forecast_figure", "save_forecast_figure", "hindcast_figure", "save_hindcast_figure"]
-
-
-def _years(mjd):
-    return 2000.0 + (np.asarray(mjd, dtype=float) - 51544.5) / 365.25
 
 
 def forecast_figure(forecast, data=None) -> Figure:
@@ -33,20 +30,20 @@ def forecast_figure(forecast, data=None) -> Figure:
     mjd = mjd_values(data["time"])
     last = float(forecast.last_data.mjd)
     keep = (mjd > last - 730) & (mjd <= float(forecast.time_mjd[-1]))
-    tf = _years(forecast.time_mjd)
+    tf = decimal_year(forecast.time_mjd)
     b68, b95 = forecast.bounds(68), forecast.bounds(95)
     kind = "calibrated on past forecasts" if forecast.calibration is not None else "the model's, not calibrated"
     for ax, name, value, key in ((axes[0], "x_p", forecast.x, "x"), (axes[1], "y_p", forecast.y, "y")):
         obs = (np.asarray(data[name].values) * u.Unit(data[name].attrs["units"])).to_value(u.mas)
         used = keep & (mjd <= last)
         later = keep & (mjd > last)
-        ax.plot(_years(mjd[used]), obs[used], color="k", lw=1, label="record used")
+        ax.plot(decimal_year(mjd[used]), obs[used], color="k", lw=1, label="record used")
         if later.any():
-            ax.plot(_years(mjd[later]), obs[later], color="0.5", lw=1, ls=":", label="record after (not used)")
+            ax.plot(decimal_year(mjd[later]), obs[later], color="0.5", lw=1, ls=":", label="record after (not used)")
         ax.fill_between(tf, b95[key][0].value, b95[key][1].value, color="C0", alpha=0.15, lw=0, label=f"95 % ({kind})")
         ax.fill_between(tf, b68[key][0].value, b68[key][1].value, color="C0", alpha=0.3, lw=0, label="68 %")
         ax.plot(tf, value.value, color="C0", lw=1.5, label=f"forecast ({forecast.method})")
-        ax.axvline(_years(float(forecast.issued.mjd)), color="C3", lw=0.8, ls="--")
+        ax.axvline(decimal_year(float(forecast.issued.mjd)), color="C3", lw=0.8, ls="--")
         ax.set_ylabel(f"{name} [mas]")
     axes[0].legend(fontsize="small", ncol=3)
     axes[1].set_xlabel("year")
@@ -60,7 +57,7 @@ def forecast_figure(forecast, data=None) -> Figure:
 
 def save_forecast_figure(forecast, path, *, overwrite: bool = False, data=None):
     """Write :func:`forecast_figure` to ``path`` (png, pdf or svg)."""
-    return save_figure(forecast_figure(forecast, data), path, overwrite=overwrite, dpi=110)
+    return save_figure(forecast_figure(forecast, data), path, overwrite=overwrite, dpi=WIDE_DPI)
 
 
 #: One colour per method in every panel (a method's x_p and y_p, 68 % and 95 % differ by line style): from the
@@ -125,7 +122,7 @@ def hindcast_figure(hindcast) -> Figure:
     ax_cov.set_title(intervals, fontsize="medium")
     fig.suptitle(
         f"hindcast: {len(hindcast.issued_mjd)} forecasts issued "
-        f"{_years(hindcast.issued_mjd[0]):.1f}-{_years(hindcast.issued_mjd[-1]):.1f}, "
+        f"{decimal_year(hindcast.issued_mjd[0]):.1f}-{decimal_year(hindcast.issued_mjd[-1]):.1f}, "
         f"latency {hindcast.latency.value:g} d (anchors: published, with angular-momentum forecasts where marked)"
     )
     return fig
@@ -133,4 +130,4 @@ def hindcast_figure(hindcast) -> Figure:
 
 def save_hindcast_figure(hindcast, path, *, overwrite: bool = False):
     """Write :func:`hindcast_figure` to ``path`` (png, pdf or svg)."""
-    return save_figure(hindcast_figure(hindcast), path, overwrite=overwrite, dpi=110)
+    return save_figure(hindcast_figure(hindcast), path, overwrite=overwrite, dpi=WIDE_DPI)

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from wobble.plot._style import power_label, power_of_ten, unit_label
+from wobble.plot.save import WIDE_DPI
 
 __all__ = ["corner_figure", "corner_plot"]
 
@@ -109,7 +110,7 @@ def _source(comparison) -> str:
     return comparison.source.split("(")[0].strip()
 
 
-def corner_plot(result, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
+def corner_plot(result, path, *, overwrite: bool = False, dpi: int = WIDE_DPI) -> Path:
     """Write :func:`corner_figure` to ``path`` (PNG, PDF or SVG by its suffix), atomically.
 
     The path is checked before anything is drawn; the figure is saved under a temporary name in the

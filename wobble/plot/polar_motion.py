@@ -19,8 +19,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from wobble.io.dates import iso_date
-from wobble.plot._style import pm
-from wobble.plot.save import save_figure
+from wobble.plot._style import decimal_year, pm
+from wobble.plot.save import WIDE_DPI, save_figure
 
 __all__ = [
     "pole_path",
@@ -34,8 +34,6 @@ __all__ = [
     "COLLAPSE_YEAR",
 ]
 
-_MJD_J2000 = 51544.5
-
 
 def _published_chandler_cpy() -> float:
     """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak
@@ -45,10 +43,6 @@ def _published_chandler_cpy() -> float:
     from wobble.api.polar_motion import published_chandler_period
 
     return 365.25 / published_chandler_period()["period"].to_value(u.day)
-
-
-def _decimal_year(mjd) -> np.ndarray:
-    return 2000.0 + (np.asarray(mjd, dtype=float) - _MJD_J2000) / 365.25
 
 
 #: The year after which the Chandler amplitude collapsed (polar-motion.md, section 6; forecast.md), and the split
@@ -108,7 +102,7 @@ def pole_path(data, *, start=None, end=None, ax=None, model=None):
     keep = select_dates(mjd, start, end)
     x = (np.asarray(data["x_p"].values) * u.Unit(data["x_p"].attrs["units"])).to_value(u.mas)[keep]
     y = (np.asarray(data["y_p"].values) * u.Unit(data["y_p"].attrs["units"])).to_value(u.mas)[keep]
-    years = _decimal_year(mjd[keep])
+    years = decimal_year(mjd[keep])
     points = ax.scatter(x, y, c=years, s=2, cmap="viridis", linewidths=0)
     ax.plot(x, y, lw=0.3, color="0.6", zorder=0)
     if model is not None and "x_p_mean_pole" in model:
@@ -224,7 +218,7 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
         fig = Figure(figsize=(7, 5), layout="constrained")
         axes = fig.subplots(2, 1, sharex=True)
     ax_a, ax_p = axes
-    years = _decimal_year(windows["window_time"].values)
+    years = decimal_year(windows["window_time"].values)
     width = float(windows.attrs.get("window_years", np.nan))
     ax_a.errorbar(
         years,
@@ -316,7 +310,7 @@ def overview(analysis, *, path_span=None) -> Figure:
     return fig
 
 
-def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = 110) -> Path:
+def save_overview(analysis, path, *, overwrite: bool = False, dpi: int = WIDE_DPI) -> Path:
     """Write :func:`overview` to ``path`` (format from the suffix), atomically; refuse to replace without
     ``overwrite``."""
     return save_figure(overview(analysis), path, overwrite=overwrite, dpi=dpi)
