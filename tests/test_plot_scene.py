@@ -495,3 +495,34 @@ def test_a_tilt_under_1e_8_rad_is_drawn_not_rounded_to_zero():
     assert panel.get_ylabel() == "mas"
     (line,) = _curves(panel)
     np.testing.assert_allclose(line.get_ydata() * _UNITS["mas"], tilt, rtol=1e-9)
+
+
+def test_an_axis_near_the_pole_is_drawn_as_its_offset_toward_x_and_y():
+    """A figure axis within a few degrees of inertial z has no useful azimuth: the panel draws its offsets
+    toward inertial x and y, asin(e3_x) and asin(e3_y), in one unit (its own loop drew what the angle
+    curves draw; now it calls them). One member: a colour per offset; two: a colour per member, a line
+    style per offset, each offset named once."""
+    scene = _symmetric_wobble(0.1, 101)
+    scene["outputs"] = ["axis_direction"]
+    ds = wobble.run(scene)
+    axis = _panel(scene_figure(ds), "figure axis (body axis 3): offset")
+    e3 = ds["axis_direction"].values
+    rad = {"deg": math.radians(1.0), "arcsec": math.radians(1 / 3600)}[axis.get_ylabel()]
+    x, y = _curves(axis)
+    np.testing.assert_allclose(x.get_ydata(), np.arcsin(e3[:, 0]) / rad, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(y.get_ydata(), np.arcsin(e3[:, 1]) / rad, rtol=0, atol=1e-12)
+    assert [x.get_label(), y.get_label()] == ["toward inertial x", "toward inertial y"]
+    assert [x.get_color(), y.get_color()] == ["C0", "C1"] and x.get_linestyle() == y.get_linestyle()
+    scene["initial"]["omega"] = {"value": [[0.1, 0.0, 1.0], [0.05, 0.0, 1.0]], "unit": "rad/s"}
+    axis = _panel(scene_figure(wobble.run(scene)), "figure axis (body axis 3): offset")
+    lines = _curves(axis)
+    assert [line.get_color() for line in lines] == ["C0", "C1", "C0", "C1"]
+    assert (
+        len({line.get_linestyle() for line in lines[:2]})
+        == 1
+        != len({lines[0].get_linestyle(), lines[2].get_linestyle()})
+    )
+    assert [line.get_label() for line in lines if not line.get_label().startswith("_")] == [
+        "toward inertial x",
+        "toward inertial y",
+    ]

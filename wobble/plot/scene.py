@@ -360,20 +360,23 @@ def _angle_unit(radians) -> tuple[float, str]:
     return rad, name
 
 
-def _angle_curves(ax, ds, t, curves, lines: bool, label: str) -> tuple[float, str]:
-    """Draw angle series (time, members) in one unit; each member its colour."""
+def _angle_curves(ax, ds, t, curves, lines: bool, labels) -> tuple[float, str]:
+    """Draw angle series (time, members), all in one unit; returns (rad per unit, its name).
+
+    ``labels``: one per curve. One member: a colour per curve, each labelled. Several: a colour per
+    member and a line style per curve; one curve labels its members, several label their first member's
+    line with the curve's name.
+    """
     rad, name = _angle_unit(np.concatenate([c.ravel() for c in curves]))
     members = curves[0].shape[1]
-    for values in curves:
+    for i, (values, label) in enumerate(zip(curves, labels)):
         for j in range(members):
-            ax.plot(
-                t,
-                values[:, j] / rad,
-                color=f"C{j % 10}",
-                lw=1.0,
-                label=(label if members == 1 else f"member {_member_label(ds, j)}"),
-                **_look(lines, 0),
-            )
+            if members == 1:
+                color, look, text = f"C{i}", _look(lines, 0), label
+            else:
+                color, look = f"C{j % 10}", _look(lines, i)
+                text = f"member {_member_label(ds, j)}" if len(curves) == 1 else (label if j == 0 else None)
+            ax.plot(t, values[:, j] / rad, color=color, lw=1.0, label=text, **look)
     ax.set_ylabel(name)
     # Plain numbers in the unit chosen: no offset ("+8.438e4") or multiplier ("1e-5") to decode.
     ax.ticklabel_format(axis="y", style="plain", useOffset=False)
@@ -392,17 +395,17 @@ def _member_label(ds, j: int):
 
 def _tilt(ax, ds, t, lines, unit, part=None) -> None:
     if "tilt" in ds:
-        _angle_curves(ax, ds, t, [series(ds["tilt"])[:, :, 0]], lines, "tilt")
+        _angle_curves(ax, ds, t, [series(ds["tilt"])[:, :, 0]], lines, ["tilt"])
     else:
         e3 = series(ds["axis_direction"])
         # atan2, as the engine forms it: arccos of e3_z reads 0 for any tilt under 1e-8 rad (cos rounds to 1).
         tilt = np.arctan2(np.hypot(e3[..., 0], e3[..., 1]), e3[..., 2])
-        _angle_curves(ax, ds, t, [tilt], lines, "tilt (from the axis direction)")
+        _angle_curves(ax, ds, t, [tilt], lines, ["tilt (from the axis direction)"])
     _legend(ax)
 
 
 def _wobble(ax, ds, t, lines, unit, part=None) -> None:
-    _angle_curves(ax, ds, t, [series(ds["wobble_angle"])[:, :, 0]], lines, "wobble angle")
+    _angle_curves(ax, ds, t, [series(ds["wobble_angle"])[:, :, 0]], lines, ["wobble angle"])
     _legend(ax)
 
 
@@ -412,24 +415,12 @@ def _axis(ax, ds, t, lines, unit, part=None) -> str | None:
     across = np.hypot(e3[..., 0], e3[..., 1])
     if np.min(across) < math.sin(_NEAR_POLE):
         curves = [np.arcsin(np.clip(e3[..., i], -1.0, 1.0)) for i in (0, 1)]
-        rad, name = _angle_unit(np.concatenate([c.ravel() for c in curves]))
-        for i, values in enumerate(curves):
-            for j in range(values.shape[1]):
-                ax.plot(
-                    t,
-                    values[:, j] / rad,
-                    color=f"C{i}" if values.shape[1] == 1 else f"C{j % 10}",
-                    lw=1.0,
-                    label=f"toward inertial {'xy'[i]}" if j == 0 else None,
-                    **_look(lines, 0 if values.shape[1] == 1 else i),
-                )
-        ax.set_ylabel(name)
-        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+        _angle_curves(ax, ds, t, curves, lines, ["toward inertial x", "toward inertial y"])
         _legend(ax)
         return "figure axis (body axis 3): offset from the inertial z axis"
     azimuth = np.unwrap(np.arctan2(e3[..., 1], e3[..., 0]), axis=0)
     precession = azimuth - azimuth[:1]
-    rad, name = _angle_curves(ax, ds, t, [precession], lines, "precession angle from the start")
+    rad, name = _angle_curves(ax, ds, t, [precession], lines, ["precession angle from the start"])
     if precession.shape[1] == 1 and t.size > 1 and lines:  # an unresolved panel's fit would be the alias's
         rate = np.polyfit(t, precession[:, 0] / rad, 1)[0]
         ax.plot([], [], " ", label=f"fitted rate {rate:.5g} {unit_label(f'{name}/{unit}')}")
