@@ -179,7 +179,7 @@ def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
                 fontsize=9,
                 transform=ax.transAxes,
             )
-    ax1.set_xlabel("precession period about L [day]")
+    ax1.set_xlabel("precession period about L [d]")
     ax1.set_ylabel("members")
     handles = ax1.get_legend_handles_labels()[0]  # none without valid members: the title alone says why
     ax1.legend(handles=handles, frameon=False, fontsize=8, title=_invalid_text(ds["invalid_reason"]), title_fontsize=8)
