@@ -138,3 +138,21 @@ def test_a_hindcast_on_a_distributed_client_equals_the_local_one():
     expected = list(local.to_dict()["methods"]["ls_ar"]["rms_2d_mas"].values())
     for remote in (on_client, by_address):
         np.testing.assert_array_equal(list(remote.to_dict()["methods"]["ls_ar"]["rms_2d_mas"].values()), expected)
+
+
+def test_an_address_is_checked_from_inside_a_running_event_loop(stranger):
+    """A notebook runs its cells inside an event loop, where asyncio.run refuses to start: the check ran
+    there and called every scheduler 'not a dask scheduler: RuntimeError'. It runs on a thread of its own."""
+    import asyncio
+
+    import distributed
+
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", host="127.0.0.1", dashboard_address=":0"
+    ) as cluster:
+
+        async def in_a_notebook():
+            return _scheduler._identity(cluster.scheduler_address), _scheduler._identity(stranger(b""))
+
+        real, silent = asyncio.run(in_a_notebook())
+    assert real == "" and silent.startswith("none answered there")

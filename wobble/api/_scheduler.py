@@ -62,6 +62,7 @@ def _identity(address: str) -> str:
     ``asyncio.wait_for``, ends in time in every case.
     """
     import asyncio
+    import concurrent.futures
 
     from distributed.core import rpc
 
@@ -73,7 +74,10 @@ def _identity(address: str) -> str:
             await remote.close_rpc()
 
     try:
-        reply = asyncio.run(ask())
+        # On a thread of its own, with its own event loop: asyncio.run refuses to start inside a running loop
+        # (a Jupyter notebook's), and the caller's loop is not ours to block.
+        with concurrent.futures.ThreadPoolExecutor(max_workers=1) as pool:
+            reply = pool.submit(asyncio.run, ask()).result()
     except (OSError, TimeoutError):
         return f"none answered there within {CONNECT_TIMEOUT} s"
     except Exception as exc:  # anything else: what answers there does not speak dask's protocol
