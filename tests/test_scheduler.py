@@ -156,3 +156,41 @@ def test_an_address_is_checked_from_inside_a_running_event_loop(stranger):
 
         real, silent = asyncio.run(in_a_notebook())
     assert real == "" and silent.startswith("none answered there")
+
+
+def test_a_tls_scheduler_is_reached_with_the_configured_certificates(tmp_path):
+    """A tls:// scheduler takes its certificates from dask's configuration, as Client(address) does: the check
+    asked it without them and refused it ('not a dask scheduler: TypeError')."""
+    import shutil
+    import subprocess
+
+    import dask
+    import distributed
+    from distributed.security import Security
+
+    if shutil.which("openssl") is None:
+        pytest.skip("needs openssl to make a certificate")
+    cert, key = tmp_path / "cert.pem", tmp_path / "key.pem"
+    subprocess.run(
+        ["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "1", "-subj", "/CN=127.0.0.1"]
+        + ["-keyout", str(key), "-out", str(cert)],
+        check=True,
+        capture_output=True,
+    )
+    tls = {"distributed.comm.tls.ca-file": str(cert)}
+    for role in ("scheduler", "worker", "client"):
+        tls |= {f"distributed.comm.tls.{role}.cert": str(cert), f"distributed.comm.tls.{role}.key": str(key)}
+    with dask.config.set(tls):
+        with distributed.LocalCluster(
+            n_workers=1,
+            threads_per_worker=1,
+            processes=False,
+            protocol="tls",
+            host="127.0.0.1",
+            dashboard_address=":0",
+            security=Security(),
+        ) as cluster:
+            assert cluster.scheduler_address.startswith("tls://")
+            assert _scheduler._identity(cluster.scheduler_address) == ""
+            with _scheduler.connected(cluster.scheduler_address) as client:
+                assert client.submit(sum, [40, 2]).result() == 42

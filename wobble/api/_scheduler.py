@@ -65,9 +65,13 @@ def _identity(address: str) -> str:
     import concurrent.futures
 
     from distributed.core import rpc
+    from distributed.security import Security
+
+    # The TLS settings of dask's configuration, as Client(address) takes them (a tls:// scheduler).
+    connection_args = Security().get_connection_args("client")
 
     async def ask():
-        remote = rpc(address, timeout=CONNECT_TIMEOUT)
+        remote = rpc(address, timeout=CONNECT_TIMEOUT, connection_args=connection_args)
         try:
             return await asyncio.wait_for(remote.identity(), CONNECT_TIMEOUT)
         finally:
@@ -75,13 +79,14 @@ def _identity(address: str) -> str:
 
     try:
         # On a thread of its own, with its own event loop: asyncio.run refuses to start inside a running loop
-        # (a Jupyter notebook's), and the caller's loop is not ours to block.
+        # (a Jupyter notebook's).
         with concurrent.futures.ThreadPoolExecutor(max_workers=1) as pool:
             reply = pool.submit(asyncio.run, ask()).result()
     except (OSError, TimeoutError):
         return f"none answered there within {CONNECT_TIMEOUT} s"
     except Exception as exc:  # anything else: what answers there does not speak dask's protocol
-        return f"what answered there is not a dask scheduler: {type(exc).__name__}"
+        said = " ".join(str(exc).split())[:160]
+        return f"what answered there is not a dask scheduler: {type(exc).__name__}" + (f": {said}" if said else "")
     if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
         kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
         return f"what answered there is not a dask scheduler but {kind!r}"
