@@ -138,12 +138,14 @@ class TorqueSpec(ABC):
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
         """Check the parameters against the body and return the torque in the internal frame."""
 
-    def field_turn(self) -> float | None:
-        """How fast what exerts the torque turns in the inertial frame (rad/s), at most.
+    def field_rate(self) -> float | None:
+        """The fastest angular frequency (rad/s) of the torque's own time dependence, at a fixed attitude.
 
-        0 for a field fixed in space (or in the body, or no field: damping); a perturber's orbital
-        rate; None where it cannot be known before the run (a callable). A figure's check against
-        aliasing adds it to the body's own rate (:mod:`wobble.plot._sampling`).
+        0 for a field fixed in space (or in the body, or no field: damping); a perturber's tide,
+        quadratic in its direction and going as ``1/r^3``, at up to twice its orbital rate and the
+        harmonics of an eccentric orbit; None where it cannot be known before the run (a callable). A
+        figure's check against aliasing adds it to the rates the body's own turning gives
+        (:mod:`wobble.plot._sampling`).
         """
         return None
 
@@ -195,8 +197,8 @@ class ConstantTorque(TorqueSpec):
     frame: str = "body"
     kind: ClassVar[str] = "constant"
 
-    def field_turn(self) -> float:
-        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+    def field_rate(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
         return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
@@ -261,8 +263,8 @@ class UniformGravity(TorqueSpec):
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -STANDARD_GRAVITY]))
     kind: ClassVar[str] = "gravity"
 
-    def field_turn(self) -> float:
-        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+    def field_rate(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
         return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
@@ -295,8 +297,8 @@ class MagneticDipole(TorqueSpec):
     field: np.ndarray
     kind: ClassVar[str] = "magnetic"
 
-    def field_turn(self) -> float:
-        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+    def field_rate(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
         return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:
@@ -419,9 +421,10 @@ class GravityGradient(TorqueSpec):
         e1 /= np.linalg.norm(e1)
         return e1, np.cross(nrm, e1)
 
-    def field_turn(self) -> float:
-        """The direction's mean motion, :meth:`rate` (a circular orbit turns uniformly)."""
-        return self.rate()
+    def field_rate(self) -> float:
+        """Twice the direction's mean motion, ``2 |n|``: the torque is quadratic in the direction, which
+        turns uniformly on its circle (either way)."""
+        return 2.0 * abs(self.rate())
 
     def rate(self) -> float:
         """The mean motion n (rad/s) of the direction (0 for a fixed direction)."""
@@ -557,14 +560,14 @@ class ThirdBody(TorqueSpec):
         if self.position is not None and not callable(self.position):
             raise InputError("position", self.position, "a callable f(t) -> positions (n, 3) in m")
 
-    def field_turn(self) -> float | None:
-        """The orbit's or the table's fastest turn of the direction to the perturber (``fastest_turn`` of
+    def field_rate(self) -> float | None:
+        """The tide's fastest frequency, from the orbit or the table (``tide_rate`` of
         :class:`wobble.models.orbit.KeplerOrbit` or :class:`~wobble.models.orbit.EphemerisTable`); None for a
         ``position`` callable."""
         if self.orbit is not None:
-            return self.orbit.fastest_turn()
+            return self.orbit.tide_rate()
         if self.ephemeris is not None:
-            return self.ephemeris.fastest_turn()
+            return self.ephemeris.tide_rate()
         return None
 
     @property
@@ -629,8 +632,8 @@ class LinearDamping(TorqueSpec):
     coefficient: np.ndarray | float
     kind: ClassVar[str] = "damping"
 
-    def field_turn(self) -> float:
-        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_turn`)."""
+    def field_rate(self) -> float:
+        """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
         return 0.0
 
     def bind(self, frame: InternalFrame, members: int) -> BoundTorque:

@@ -37,14 +37,16 @@ rebuilt with :func:`wobble.io.scene_file.body_from_mapping`):
   its attitude only through that axis (its inertia tensor is ``A 1 + (C - A) e3 e3``): those then
   move at the figure axis's rate.
 
-A torque's own time dependence adds to these rates: the field of a perturber on an orbit turns in
-space at up to its orbit's fastest angular speed ``nu`` (periapsis, plus the node's and the periapsis'
-secular rates; a table's fastest turn between its samples), so the field as the body sees it turns at up
-to ``|omega| + nu`` and its quadratic torque at twice that; a symmetric body's adds ``2 nu`` to its figure
-axis's rate (the Moon's fortnightly terms in the Earth's angular momentum, 2 nu = 6.0e-6 rad/s, where
-the axis alone moves at 1.1e-8). A file that does not record its body (a hand-made Dataset) is taken to be
-under torques from a field fixed in space, the conservative reading of what it does not say. A bound
-that cannot be had (no omega, no L, a torque given as a Python callable) makes no claim.
+A torque's own time dependence adds to these rates: a perturber's tide is quadratic in its direction and
+goes as ``1/r^3``, so at a fixed attitude it runs at up to twice its orbit's mean motion and, on an
+eccentric orbit, at the harmonics of the distance and the true anomaly, counted up to the highest
+above 1e-3 of the largest (:meth:`wobble.models.orbit.KeplerOrbit.tide_rate`; a table's, measured on
+it): the Moon's ``2L + l`` and ``2L + 2l`` terms, 5 n = 1.3e-5 rad/s, in the Earth's angular
+momentum, where the figure axis alone moves at 1.1e-8 rad/s. With the body turning, the rate is
+``2 |omega|`` plus that; a symmetric body's torque, quadratic in its figure axis, runs at twice that
+axis's rate plus it. A file that does not record its body (a hand-made Dataset) is taken to be under
+torques from a field fixed in space, the conservative reading of what it does not say. A bound that
+cannot be had (no omega, no L, a torque given as a Python callable) makes no claim.
 """
 
 from __future__ import annotations
@@ -169,7 +171,7 @@ class _Motion:
         self.moments, self.axes, self.principal = None, None, False
         self.torques = True
         # A hand-made Dataset records no torque: taken as one from a field fixed in space.
-        self.field_turn: float | None = 0.0
+        self.field_rate: float | None = 0.0
         # Here, not at the top: the free and top figures use this module's sampling rules, not scene files.
         from wobble.io.scene_file import body_from_mapping
 
@@ -180,7 +182,7 @@ class _Motion:
         except (KeyError, TypeError, ValueError):
             return
         if self.torques:
-            self.field_turn = _field_turn(record)
+            self.field_rate = _field_rate(record)
         moments = np.asarray(body.moments, dtype=float).reshape(-1, 3)[: self.members]
         axes = np.asarray(body.axes, dtype=float).reshape(-1, 3, 3)[: self.members]
         self.moments, self.axes = moments, axes
@@ -206,10 +208,10 @@ class _Motion:
         return None
 
     def forced(self) -> float | None:
-        """2 (|omega| + the field's own turn): the field as the body sees it, and its torque (up to quadratic
-        in it); None where either is unknown."""
+        """2 |omega| + the torque's own rate: a field as the body sees it, turned by the body and quadratic in
+        its direction, plus the field's own time dependence; None where either is unknown."""
         w = self.spin()
-        return None if w is None or self.field_turn is None else 2.0 * (w + self.field_turn)
+        return None if w is None or self.field_rate is None else 2.0 * w + self.field_rate
 
     def polhode_rate(self, w) -> float:
         """The largest rate at which a free body's omega turns in the body (rad/s):
@@ -270,21 +272,22 @@ class _Motion:
         if not self.torques and self.moments is not None:
             return 0.0
         if self.axisymmetric:
+            # Its torque is quadratic in the figure axis (through A 1 + (C - A) e3 e3): twice the axis's rate.
             axis = self.axis_rate()
-            return None if axis is None or self.field_turn is None else axis + 2.0 * self.field_turn
+            return None if axis is None or self.field_rate is None else 2.0 * axis + self.field_rate
         return self.forced()
 
 
-def _field_turn(record: dict) -> float | None:
-    """The fastest turn (rad/s) of the fields of a recorded scene's torques
-    (:meth:`wobble.models.torques.TorqueSpec.field_turn`), None when one is unknown or unreadable."""
+def _field_rate(record: dict) -> float | None:
+    """The fastest own rate (rad/s) of a recorded scene's torques
+    (:meth:`wobble.models.torques.TorqueSpec.field_rate`), None when one is unknown or unreadable."""
     from wobble.io.scene_file import scene_from_mapping
 
     try:
-        turns = [spec.field_turn() for spec in scene_from_mapping(record).torques]
+        rates = [spec.field_rate() for spec in scene_from_mapping(record).torques]
     except (KeyError, TypeError, ValueError):  # wobble's own errors are ValueErrors
         return None
-    return None if any(x is None for x in turns) else max(turns, default=0.0)
+    return None if any(x is None for x in rates) else max(rates, default=0.0)
 
 
 def free_period(ds) -> float | None:
