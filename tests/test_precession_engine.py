@@ -332,3 +332,60 @@ def test_run_to_netcdf_counts_the_times_it_wrote(tmp_path):
     data.update(outputs=["angular_momentum"], time={"stop": "30 d", "step": "1 d", "epoch": "2000-01-01 12:00:00"})
     summary = wobble.run_to_netcdf(data, tmp_path / "full.nc")
     assert summary["times"] == wobble.load(tmp_path / "full.nc").sizes["time"] == 31
+
+
+def _sun_only(years: float = 4.0) -> dict:
+    data = copy.deepcopy(_shipped())
+    data["torques"] = [data["torques"][0]]  # the Sun: an orbit in the reference plane, no regressing node
+    data["time"] = {"stop": f"{years} yr", "step": "1 d", "epoch": "2000-01-01 12:00:00"}
+    return data
+
+
+def test_without_a_node_every_fitted_term_is_reported_and_a_user_s_term_is_kept():
+    """Without a node (the Sun alone), the first term carries the fit's principal argument: it was dropped from
+    the result, and since a user's terms come first, a user's term vanished. It is now reported with the
+    others, with the amplitudes the same term has when another carries the argument (the same least squares)."""
+    ds = wobble.run(_sun_only())
+    rate = 2 * np.pi / (365.25 * 86400) * u.rad / u.s
+    mine = {"mine": (3.3 * rate, 0 * u.rad)}
+    alone = wobble.measure_precession(ds)
+    assert "2L_sun" in alone.terms and alone.nutation_longitude is None  # the stand-in, reported
+    with_mine = wobble.measure_precession(ds, extra=mine)
+    assert "mine" in with_mine.terms and set(alone.terms) <= set(with_mine.terms)
+    # The same columns with another term carrying the argument (the first given): the same amplitudes.
+    other = {"other": (5.5 * rate, 0 * u.rad)}
+    first = wobble.measure_precession(ds, extra={**mine, **other})
+    second = wobble.measure_precession(ds, extra={**other, **mine})
+    assert set(first.terms) == set(second.terms) >= {"mine", "other", "2L_sun"}
+    for term in first.terms:  # arcsec; 1e-8 arcsec is 5e-14 rad, rounding in a fit of 1461 days
+        np.testing.assert_allclose(first.terms[term], second.terms[term], rtol=0, atol=1e-8)
+
+
+def test_a_user_s_term_at_the_principal_node_or_a_bad_term_is_refused_naming_it():
+    """A user's term at the Moon's node rate went in beside the node (a nutation of -7318 +/- 16020 arcsec
+    came out); one sample with a term divided by zero; a NaN rate reached LAPACK; a plain number, a rate in
+    metres or a lone value raised AttributeError, UnitConversionError or TypeError."""
+    ds = wobble.run(_short_case())
+    auto = wobble.measure_precession(ds)
+    moon = scene_from_mapping(_short_case()).torques[1].orbit
+    nu = (moon.node_rate - auto.rate.to_value(u.rad / u.s)) * u.rad / u.s
+    with pytest.raises(
+        InputError, match=r"extra: got 'mynode' at .*allowed: terms whose rates differ from the principal node"
+    ):
+        wobble.measure_precession(ds, extra={"mynode": (nu, 0 * u.rad)})
+    with pytest.raises(InputError, match=r"times: got 1 samples; allowed: at least 8"):
+        wobble.measure_precession(ds.isel(time=[0]), extra={"a": (1e-7 * u.rad / u.s, 0 * u.rad)})
+    for bad, where in [
+        ({"a": (np.nan * u.rad / u.s, 0 * u.rad)}, r"extra\['a'\] rate: got nan"),
+        ({"a": (1e-7, 0 * u.rad)}, r"extra\['a'\] rate: got 1e-07"),
+        ({"a": (1e-7 * u.m, 0 * u.rad)}, r"extra\['a'\] rate: got 1e-07 m"),
+        ({"a": 1e-7 * u.rad / u.s}, r"extra\['a'\]: got "),
+        ([1, 2], r"extra: got \[1, 2\]"),
+    ]:
+        with pytest.raises(InputError, match=where):
+            wobble.measure_precession(ds, extra=bad)
+    with pytest.raises(InputError, match="node_rate: got 1e-07"):
+        wobble.measure_precession(ds, node_rate=1e-7)
+    # A user's term named as a perturber's is fitted in its place, and the caveats say so.
+    named = wobble.measure_precession(ds, extra={"l_sun": (2 * np.pi / (365.25 * 86400) * u.rad / u.s, 0 * u.rad)})
+    assert any("l_sun (the user's term of that name fitted instead)" in c for c in named.caveats)

@@ -40,9 +40,10 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.precession import ARCSEC_PER_CENTURY
+from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.models.precession_averaged import averaged_precession, averaging_applies
-from wobble.models.precession_measure import PrecessionFit, axis_angles, fit_precession_nutation
+from wobble.models.precession_measure import PrecessionFit, axis_angles, check_times, fit_precession_nutation
 from wobble.models.torques import ThirdBody
 from wobble.numerics import quaternion as quat
 
@@ -317,13 +318,15 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, 
     """
     node = None
     extra: dict = dict(given or {})
-    taken: list[float] = [0.0, *(r for r, _ in extra.values())]
+    taken: list[float] = [0.0]
 
     def add(name, rate, phase):
         # Leave out a term the span cannot separate from one already fitted (and the secular term).
-        if name in extra:  # the user's term of that name is fitted instead
+        if name in extra:  # the user's term of that name is fitted instead, and the caveats say so
+            if left_out is not None:
+                left_out.append(f"{name} (the user's term of that name fitted instead)")
             return
-        if all(abs(abs(rate) - abs(r)) * span >= 2 * math.pi for r in taken):
+        if all(_separable(rate, r, span) for r in taken):
             extra[name] = (rate, phase)
             taken.append(rate)
         elif left_out is not None:
@@ -332,12 +335,14 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, 
     eq0 = psi0 + math.pi  # the equinox: the descending node of the equator
     if given_node is not None:
         node = given_node
-        taken.append(node[0])
         principal = None  # its node is then a term like any other, fitted if the span separates it
     elif principal is not None:  # first, so that a term the span cannot tell from it is left out
         o = principal.orbit
         node = (o.node_rate - psi_rate, o.longitude_of_node - eq0)
+    if node is not None:
         taken.append(node[0])
+    _check_given(node, "node_rate" if given_node is not None else "the principal node", extra, span)
+    taken.extend(r for r, _ in extra.values())
     for spec in perturbers:
         o = spec.orbit
         lam_rate = o.mean_motion + o.periapsis_rate + o.node_rate - psi_rate
@@ -396,15 +401,18 @@ def measure_precession(
     extra : dict, optional
         More terms to fit: name -> (rate, phase) as Quantities. They are fitted first: a
         perturber's term the span cannot tell from one of them (rates less than one cycle over
-        the span apart) is left out and named in ``caveats``. A term that close to the secular
-        rate, to ``node_rate`` or to another of ``extra`` is refused (InputError naming ``extra``).
+        the span apart) is left out and named in ``caveats``, as is a perturber's term whose name one
+        of them takes. A term that close to the secular rate, to the node (``node_rate`` or the
+        principal perturber's) or to another of ``extra`` is refused (InputError naming ``extra``).
+        Without a node, the first term carries the fit's principal argument; it is reported in
+        ``terms`` with the others.
 
     Returns
     -------
     PrecessionMeasurement
     """
     ds = _dataset(ds)
-    t = _seconds(ds)
+    t = check_times(_seconds(ds))
     name, vec = _vectors(ds, axis, member)
     scene = _scene(ds)
     perturbers = [
@@ -419,27 +427,25 @@ def measure_precession(
     psi_rate = float(analytic.rate[0]) if analytic is not None else float(np.polyfit(t, psi, 1)[0])
     psi0 = float(psi[0])
     principal = _principal(perturbers)
-    user_extra = {k: (float(r.to_value(_RATE)), float(p.to_value(u.rad))) for k, (r, p) in (extra or {}).items()}
+    user_extra = _user_terms(extra)
     fit: PrecessionFit | None = None
     node = None
     given_node = None
     if node_rate is not None:
-        given_node = (
-            float(node_rate.to_value(_RATE)),
-            float(u.Quantity(node_phase if node_phase is not None else 0 * u.rad).to_value(u.rad)),
-        )
-    _check_given(given_node, user_extra, span)
+        phase = node_phase if node_phase is not None else 0 * u.rad
+        given_node = (to_si(node_rate, "node_rate", _RATE), to_si(phase, "node_phase", u.rad))
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
         left_out: list[str] = []
         node, terms = _arguments(perturbers, psi0, psi_rate, span, principal, left_out, given_node, user_extra)
-        use_node = node
+        use_node, stand_in = node, None
         if use_node is None:
             if not terms:
                 raise InputError(
                     "node_rate", None, "the argument of a periodic term (the scene has no Keplerian perturber)"
                 )
-            first = next(iter(terms))
-            use_node = terms.pop(first)
+            # No node: the first term carries the fit's principal argument, and is reported with the others.
+            stand_in = next(iter(terms))
+            use_node = terms.pop(stand_in)
         fit = fit_precession_nutation(t, vec, use_node[0], use_node[1], extra=terms)
         psi_rate = fit.rate
         psi0 = _intercept(t, psi, fit)
@@ -475,22 +481,28 @@ def measure_precession(
         residual_rms_obliquity=fit.residual_rms_obliquity * arcsec * u.arcsec,
         samples=int(t.size),
         span=(span * u.s).to(u.yr),
-        terms={k: tuple(x * arcsec for x in v) for k, v in fit.terms.items()},
+        terms={k: tuple(x * arcsec for x in v) for k, v in _fitted_terms(fit, stand_in).items()},
         caveats=caveats,
     )
 
 
-def _check_given(node, extra: dict, span: float) -> None:
-    """Refuse a user's term the span cannot tell from the secular rate, the node or another of theirs.
+def _separable(rate: float, other: float, span: float) -> bool:
+    """Whether the span tells two terms apart: their rates differ by a cycle over it (|Delta rate| span >= 2 pi).
 
-    Two terms whose rates differ by less than one cycle over the span (|Delta rate| span < 2 pi) are
-    nearly the same column of the least-squares design: their amplitudes would come out as large,
-    opposite and meaningless numbers with formal errors to match.
+    Closer terms are nearly the same column of the least-squares design (a term and its opposite rate the
+    same column up to sign): their amplitudes would come out as large, opposite and meaningless numbers with
+    formal errors to match.
     """
-    taken = [("the secular rate", 0.0)] + ([("node_rate", node[0])] if node is not None else [])
+    return abs(abs(rate) - abs(other)) * span >= 2 * math.pi
+
+
+def _check_given(node, node_name: str, extra: dict, span: float) -> None:
+    """Refuse a user's term the span cannot tell from the secular rate, the node (``node_name``: the user's
+    ``node_rate`` or the principal perturber's) or another of theirs."""
+    taken = [("the secular rate", 0.0)] + ([(node_name, node[0])] if node is not None else [])
     for name, (rate, _) in extra.items():
         for other, r in taken:
-            if abs(abs(rate) - abs(r)) * span < 2 * math.pi:
+            if not _separable(rate, r, span):
                 raise InputError(
                     "extra",
                     f"{name!r} at {rate:.6g} rad/s",
@@ -498,6 +510,36 @@ def _check_given(node, extra: dict, span: float) -> None:
                     f"one cycle over the span, 2 pi / {span:.6g} s = {2 * math.pi / span:.3g} rad/s",
                 )
         taken.append((repr(name), rate))
+
+
+def _user_terms(extra) -> dict[str, tuple[float, float]]:
+    """``extra``'s terms as {name: (rate rad/s, phase rad)}, each a pair of finite Quantities."""
+    allowed = "a mapping name -> (rate, phase): an angular frequency and an angle as Quantities, both finite"
+    if extra is None:
+        return {}
+    if not hasattr(extra, "items"):
+        raise InputError("extra", extra, allowed)
+    terms = {}
+    for name, pair in extra.items():
+        if not (isinstance(pair, (tuple, list)) and len(pair) == 2):
+            raise InputError(f"extra[{name!r}]", pair, allowed)
+        rate, phase = pair
+        terms[str(name)] = (to_si(rate, f"extra[{name!r}] rate", _RATE), to_si(phase, f"extra[{name!r}] phase", u.rad))
+    return terms
+
+
+def _fitted_terms(fit: PrecessionFit, stand_in: str | None) -> dict:
+    """The fit's terms, with the one that stood in for the principal argument (when there was no node) among
+    them, in the same (psi sin, psi cos, eps sin, eps cos) form: it was missing from the result."""
+    if stand_in is None:
+        return dict(fit.terms)
+    principal = (
+        fit.nutation_longitude,
+        fit.nutation_longitude_out_of_phase,
+        fit.nutation_obliquity_out_of_phase,
+        fit.nutation_obliquity,
+    )
+    return {stand_in: principal, **fit.terms}
 
 
 def _intercept(t, psi, fit: PrecessionFit) -> float:

@@ -34,8 +34,8 @@ __all__ = ["KeplerOrbit", "EphemerisTable", "rms_radius", "TIDE_FLOOR", "tide_ha
 #: A tide's harmonics smaller than this share of its largest are not counted in its fastest frequency:
 #: below what a figure's line shows.
 TIDE_FLOOR = 1e-3
-# Samples of a table's tide at most (16 MB a component): a longer table is sampled more coarsely.
-_MOST_TABLE_SAMPLES = 2**21
+# Samples of a table's tide at most (4 MB a component, about 100 MB in all): a longer table is sampled more coarsely.
+_MOST_TABLE_SAMPLES = 2**19
 
 
 def tide_harmonic(e: float, floor: float = TIDE_FLOOR) -> int:

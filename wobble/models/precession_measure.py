@@ -34,7 +34,7 @@ import numpy as np
 
 from wobble.errors import InputError
 
-__all__ = ["axis_angles", "PrecessionFit", "fit_precession_nutation", "synthetic_axis"]
+__all__ = ["axis_angles", "check_times", "PrecessionFit", "fit_precession_nutation", "synthetic_axis"]
 
 
 def axis_angles(axis) -> tuple[np.ndarray, np.ndarray]:
@@ -103,6 +103,15 @@ class PrecessionFit:
     terms: dict[str, tuple[float, float, float, float]] = field(default_factory=dict)
 
 
+def check_times(times) -> np.ndarray:
+    """``times`` as float64 (s), refused unless at least 8 finite, strictly increasing values: what a fit of the
+    secular line and one periodic term needs, at the least."""
+    t = np.asarray(times, dtype=float)
+    if t.ndim != 1 or t.size < 8 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+        raise InputError("times", f"{t.size} samples", "at least 8 finite, strictly increasing times in s")
+    return t
+
+
 def _design(t, arguments):
     cols = [np.ones_like(t), t]
     for rate, phase in arguments:
@@ -157,9 +166,7 @@ def fit_precession_nutation(
     -------
     PrecessionFit
     """
-    t = np.asarray(times, dtype=float)
-    if t.ndim != 1 or t.size < 8 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-        raise InputError("times", f"{t.size} samples", "at least 8 finite, strictly increasing times in s")
+    t = check_times(times)
     if not (math.isfinite(node_rate) and node_rate != 0):
         raise InputError("node_rate", node_rate, "a non-zero, finite rate in rad/s")
     psi, eps = axis_angles(axis)
