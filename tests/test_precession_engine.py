@@ -310,6 +310,8 @@ def test_a_user_s_terms_come_first_and_those_the_span_cannot_separate_are_refuse
     nu = (moon.node_rate - auto.rate.to_value(u.rad / u.s)) * u.rad / u.s
     given = wobble.measure_precession(ds, node_rate=nu, node_phase=0 * u.rad)
     assert given.perturber is None and given.nutation_longitude is not None
+    assert any("left out" in c and "Omega_moon" in c for c in given.caveats)  # its node: the user's, here
+    assert given.nutation_period.to_value(u.yr) == pytest.approx(auto.nutation_period.to_value(u.yr), rel=1e-12)
     with pytest.raises(
         InputError, match=r"extra: got 'twice' at .* rad/s; allowed: terms whose rates differ from 'annual'"
     ):
