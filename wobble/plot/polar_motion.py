@@ -19,6 +19,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from wobble.io.dates import iso_date
+from wobble.numerics.calendar import DAY, JULIAN_YEAR, TROPICAL_YEAR
 from wobble.plot._style import decimal_year, pm
 from wobble.plot.save import WIDE_DPI, save_figure
 
@@ -34,6 +35,9 @@ __all__ = [
     "COLLAPSE_YEAR",
 ]
 
+#: Days in a Julian year: the spectra's frequencies are per day, their axes per Julian year.
+_JULIAN_DAYS = JULIAN_YEAR / DAY
+
 
 def _published_chandler_cpy() -> float:
     """The published Chandler frequency (Earth catalogue), cycles per Julian year: where to look for the peak
@@ -42,7 +46,7 @@ def _published_chandler_cpy() -> float:
 
     from wobble.api.polar_motion import published_chandler_period
 
-    return 365.25 / published_chandler_period()["period"].to_value(u.day)
+    return _JULIAN_DAYS / published_chandler_period()["period"].to_value(u.day)
 
 
 #: The year after which the Chandler amplitude collapsed (polar-motion.md, section 6; forecast.md), and the split
@@ -144,7 +148,7 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
         of the published frequency, which on a short span can be the annual peak's flank.
     """
     ax = _axes(ax, figsize=(7, 4))
-    cpy = np.asarray(spectrum["frequency"].values) * 365.25
+    cpy = np.asarray(spectrum["frequency"].values) * _JULIAN_DAYS
     amp = np.asarray(spectrum["amplitude_spectrum"].values)
     keep = np.abs(cpy) <= max_cpy
     ax.plot(cpy[keep], amp[keep], lw=0.8, color="C0", zorder=2)
@@ -154,8 +158,8 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
     # annual labels (0.16 cycle/yr apart) do not overlap.
     marks = [
         ("Chandler", _published_chandler_cpy(), (-60, 8)),
-        ("annual", 365.25 / 365.24219, (12, -4)),
-        ("retrograde annual", -365.25 / 365.24219, (-40, 10)),
+        ("annual", JULIAN_YEAR / TROPICAL_YEAR, (12, -4)),
+        ("retrograde annual", -JULIAN_YEAR / TROPICAL_YEAR, (-40, 10)),
     ]
     for label, f, offset in marks:
         if label == "Chandler" and chandler_period is not None:
@@ -183,11 +187,11 @@ def _mark_measured(ax, cpy, amp, keep, period, offset) -> None:
     from astropy import units as u
 
     days = period.to_value(u.day)
-    f = 365.25 / days
+    f = _JULIAN_DAYS / days
     if not (np.isfinite(f) and keep.any()):
         return
     k = np.flatnonzero(keep)[np.argmin(np.abs(cpy[keep] - f))]
-    arrow = abs(f - 365.25 / 365.24219) < 0.12
+    arrow = abs(f - JULIAN_YEAR / TROPICAL_YEAR) < 0.12
     if arrow:  # beside the annual peak (a short span's estimate): the label clears it, an arrow points back
         offset = (offset[0] - 70, offset[1] + 10)
     _mark(ax, cpy[k], amp[k], f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy", offset, arrow)
@@ -290,7 +294,7 @@ def overview(analysis, *, path_span=None) -> Figure:
     e = analysis.estimate
     if path_span is None:
         end_mjd = float(e.end.mjd)
-        start_mjd = max(float(e.start.mjd), end_mjd - 6.4 * 365.25)
+        start_mjd = max(float(e.start.mjd), end_mjd - 6.4 * _JULIAN_DAYS)
         from astropy.time import Time
 
         path_span = (Time(start_mjd, format="mjd"), Time(end_mjd, format="mjd"))

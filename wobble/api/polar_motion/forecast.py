@@ -373,7 +373,7 @@ class PolarMotionForecast:
             source = "given"
         else:
             first, last = self.chandler_period_span
-            years = (to_mjd(last, "last") - to_mjd(first, "first")) / 365.25
+            years = (to_mjd(last, "last") - to_mjd(first, "first")) / (JULIAN_YEAR / DAY)
             source = f"least squares of the {years:.0f} years of record {first} to {last}"
         lines = [
             f"Polar-motion forecast ({self.method}) issued {iso_date(self.issued)}, data to {iso_date(self.last_data)} "

@@ -210,7 +210,7 @@ class PolarMotionHindcast:
 
     def _spans_text(self) -> str:
         """``6 yr`` when every method has that span, else ``6 yr (kalman) or 2 yr (ls_ar)``."""
-        years = {m: f"{v.value / 365.25:g} yr" for m, v in self.calibration_spans.items()}
+        years = {m: f"{v.to_value(u.yr):g} yr" for m, v in self.calibration_spans.items()}
         if len(set(years.values())) == 1:
             return next(iter(years.values()))
         return " or ".join(f"{y} ({m})" for m, y in years.items())
