@@ -22,14 +22,8 @@ from wobble.io.atomic import atomic_target
 from wobble.io.netcdf import StreamingWriter, write_netcdf
 
 
-@pytest.fixture(autouse=True)
-def _python_ctrl_c():
-    """Python's own Ctrl-C handler for each test, the previous one restored after: a process started in the
-    background (``&`` in a script, nohup) inherits SIGINT ignored, and these tests are about that handler
-    (they failed, or were skipped, in a clean-clone CI run started in the background)."""
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    yield
-    signal.signal(signal.SIGINT, previous)
+# Python's own Ctrl-C handler for each test (tests/conftest.py): these tests are about it.
+pytestmark = pytest.mark.usefixtures("python_ctrl_c")
 
 
 def _interrupting(make):
