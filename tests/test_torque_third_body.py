@@ -401,3 +401,24 @@ def test_a_gravity_gradient_s_rate_is_twice_its_mean_motion_either_way():
         assert spec.field_rate() == 2e-3
     fixed = GravityGradient(gm=3.986e14, distance=7e6, direction=np.array([1.0, 0.0, 0.0]))
     assert fixed.field_rate() == 0.0
+
+
+def test_a_long_dense_table_is_not_aliased_and_a_still_one_has_no_tide():
+    """Past 2^19 samples the table was sampled more coarsely than its rows, and a 1.2-million-row table of an
+    e = 0.3 orbit read 8.5 n against its 13 n; a perturber that stands still read about 2 pi / h."""
+    n = 2 * math.pi / 86400.0
+    orbit = KeplerOrbit(1e7, 0.3, 0.3, 0.2, 1.1, 0.0, mean_motion=n)
+    grid = np.linspace(0.0, 40 * 86400.0, 1_200_001)
+    measured = _tide_highest_harmonic(orbit)
+    assert measured * n <= EphemerisTable(grid, orbit.position(grid)[0]).tide_rate() <= 1.25 * measured * n
+    still = EphemerisTable(np.linspace(0.0, 864000.0, 100), np.tile([1e8, 0.0, 0.0], (100, 1)))
+    assert still.tide_rate() == 0.0
+
+
+def test_the_tide_harmonic_of_a_nearly_parabolic_orbit_is_the_passage_width():
+    """Past 2^20 samples (e above about 0.997) the harmonic is the periapsis passage's width, 12 sqrt(1 + e) /
+    (1 - e)^1.5 + 2, larger than the FFT's count where both can be had (e = 0.997)."""
+    e = 0.999
+    assert tide_harmonic(e) == math.ceil(12 * math.sqrt(1 + e) / (1 - e) ** 1.5) + 2
+    width = 12 * math.sqrt(1.997) / 0.003**1.5 + 2
+    assert tide_harmonic(0.997) <= width
