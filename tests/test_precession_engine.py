@@ -390,4 +390,26 @@ def test_a_user_s_term_at_the_principal_node_or_a_bad_term_is_refused_naming_it(
         wobble.measure_precession(ds, node_rate=1e-7)
     # A user's term named as a perturber's is fitted in its place, and the caveats say so.
     named = wobble.measure_precession(ds, extra={"l_sun": (2 * np.pi / (365.25 * 86400) * u.rad / u.s, 0 * u.rad)})
-    assert any("l_sun (the user's term of that name fitted instead)" in c for c in named.caveats)
+    assert "left out, a term of yours has their names: l_sun" in named.caveats
+    # Rates the daily samples cannot see (past pi / day: an alias), arrays, odd names, a lone phase.
+    nyquist = np.pi / 86400 * u.rad / u.s
+    for kw, where in [
+        ({"node_rate": nyquist}, r"node_rate: got 3.63610?e-05 rad/s; allowed: rates below the samples' Nyquist"),
+        (
+            {"extra": {"fast": (1.5 * nyquist, 0 * u.rad)}},
+            r"extra\['fast'\] rate: got 5.45415e-05 rad/s; allowed: rates below",
+        ),
+        ({"node_rate": [1e-7, 2e-7] * u.rad / u.s}, r"node_rate: got "),
+        ({"extra": {"a": ([1e-7, 2e-7] * u.rad / u.s, 0 * u.rad)}}, r"extra\['a'\] rate: got "),
+        (
+            {"extra": {1: (1e-7 * u.rad / u.s, 0 * u.rad)}},
+            r"extra: got a term named 1; allowed: terms named by strings",
+        ),
+        ({"node_phase": 1 * u.rad}, r"node_phase: got 1.0 rad; allowed: a phase only with node_rate"),
+    ]:
+        with pytest.raises(InputError, match=where):
+            wobble.measure_precession(ds, **kw)
+    # A user's node is not the Moon's: no comparison with the model's Moon nutation.
+    year = 2 * np.pi / (365.25 * 86400) * u.rad / u.s
+    mine = wobble.measure_precession(ds, node_rate=2.7 * year)
+    assert mine.analytic_nutation_longitude is None and "None's node" not in mine.summary()

@@ -182,9 +182,8 @@ class PrecessionMeasurement:
         lines.append(line)
         lines.append(f"  mean obliquity {d['obliquity_deg']:.6f} deg")
         if self.nutation_longitude is not None:
-            lines.append(
-                f"  principal nutation ({self.perturber}'s node, {d['nutation_period_years']:.2f} yr), IAU convention:"
-            )
+            whose = f"{self.perturber}'s node" if self.perturber else "the node_rate given"
+            lines.append(f"  principal nutation ({whose}, {d['nutation_period_years']:.2f} yr), IAU convention:")
             for name, key in (("Delta psi", "longitude"), ("Delta eps", "obliquity")):
                 text = (
                     f'    {name} = {d[f"nutation_{key}_arcsec"]:+.5f} +/- {d[f"nutation_{key}_sigma_arcsec"]:.5f}" '
@@ -324,7 +323,7 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, 
         # Leave out a term the span cannot separate from one already fitted (and the secular term).
         if name in extra:  # the user's term of that name is fitted instead, and the caveats say so
             if left_out is not None:
-                left_out.append(f"{name} (the user's term of that name fitted instead)")
+                left_out.append(f"{name}{_REPLACED}")
             return
         if all(_separable(rate, r, span) for r in taken):
             extra[name] = (rate, phase)
@@ -431,9 +430,12 @@ def measure_precession(
     fit: PrecessionFit | None = None
     node = None
     given_node = None
+    if node_rate is None and node_phase is not None:
+        raise InputError("node_phase", node_phase, "a phase only with node_rate, the argument it is the phase of")
     if node_rate is not None:
         phase = node_phase if node_phase is not None else 0 * u.rad
-        given_node = (to_si(node_rate, "node_rate", _RATE), to_si(phase, "node_phase", u.rad))
+        given_node = (to_si(node_rate, "node_rate", _RATE, shape=()), to_si(phase, "node_phase", u.rad, shape=()))
+    _check_sampling(t, given_node, user_extra)
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
         left_out: list[str] = []
         node, terms = _arguments(perturbers, psi0, psi_rate, span, principal, left_out, given_node, user_extra)
@@ -458,10 +460,14 @@ def measure_precession(
             f"the span ({span / JULIAN_YEAR:.1f} yr) is shorter than the principal term's period ({period:.1f} yr): "
             "the secular rate and that term are not separated, and both may be off by more than their formal errors"
         )
-    if left_out:
-        caveats.append(f"left out, the span cannot separate them from the terms fitted: {', '.join(left_out)}")
+    replaced = [n.removesuffix(_REPLACED) for n in left_out if n.endswith(_REPLACED)]
+    apart = [n for n in left_out if not n.endswith(_REPLACED)]
+    if apart:
+        caveats.append(f"left out, the span cannot separate them from the terms fitted: {', '.join(apart)}")
+    if replaced:
+        caveats.append(f"left out, a term of yours has their names: {', '.join(replaced)}")
     nut = None
-    if analytic is not None and principal is not None:
+    if analytic is not None and principal is not None and given_node is None:  # a user's node is not the model's
         nut = dict(analytic.nutation).get(principal.name)
     return PrecessionMeasurement(
         rate=_arcsec_cy(fit.rate),
@@ -484,6 +490,10 @@ def measure_precession(
         terms={k: tuple(x * arcsec for x in v) for k, v in _fitted_terms(fit, stand_in).items()},
         caveats=caveats,
     )
+
+
+#: How a perturber's term left out for a user's term of the same name is listed in ``left_out``.
+_REPLACED = " (a term of yours has its name)"
 
 
 def _separable(rate: float, other: float, span: float) -> bool:
@@ -521,11 +531,33 @@ def _user_terms(extra) -> dict[str, tuple[float, float]]:
         raise InputError("extra", extra, allowed)
     terms = {}
     for name, pair in extra.items():
+        if not isinstance(name, str):
+            raise InputError("extra", f"a term named {name!r}", "terms named by strings")
         if not (isinstance(pair, (tuple, list)) and len(pair) == 2):
             raise InputError(f"extra[{name!r}]", pair, allowed)
         rate, phase = pair
-        terms[str(name)] = (to_si(rate, f"extra[{name!r}] rate", _RATE), to_si(phase, f"extra[{name!r}] phase", u.rad))
+        terms[name] = (
+            to_si(rate, f"extra[{name!r}] rate", _RATE, shape=()),
+            to_si(phase, f"extra[{name!r}] phase", u.rad, shape=()),
+        )
     return terms
+
+
+def _check_sampling(t, node, extra: dict) -> None:
+    """Refuse a user's rate at or past the sampling's Nyquist limit, pi over the largest gap: the samples see
+    it as a slower alias, which the fit would take for another term (a node at pi/day over daily samples
+    gave a nutation of -1.1e9 +/- 1.7e9 arcsec)."""
+    limit = math.pi / float(np.max(np.diff(t)))
+    given = ([("node_rate", node[0])] if node is not None else []) + [
+        (f"extra[{name!r}] rate", rate) for name, (rate, _) in extra.items()
+    ]
+    for name, rate in given:
+        if not abs(rate) < limit:
+            raise InputError(
+                name,
+                f"{rate:.6g} rad/s",
+                f"rates below the samples' Nyquist limit, pi / {np.max(np.diff(t)):.6g} s = {limit:.6g} rad/s",
+            )
 
 
 def _fitted_terms(fit: PrecessionFit, stand_in: str | None) -> dict:
