@@ -194,3 +194,26 @@ def test_a_tls_scheduler_is_reached_with_the_configured_certificates(tmp_path):
             assert _scheduler._identity(cluster.scheduler_address) == ""
             with _scheduler.connected(cluster.scheduler_address) as client:
                 assert client.submit(sum, [40, 2]).result() == 42
+
+
+def test_tls_settings_that_cannot_be_used_are_named(tmp_path):
+    """A certificate path that does not exist in dask's TLS settings raised FileNotFoundError bare (the command
+    line printed 'No such file or directory', naming nothing); a tls:// address without TLS settings was
+    called 'not a dask scheduler: TypeError'."""
+    import dask
+    import distributed  # noqa: F401  (its configuration loaded first: dask.config.set would restore it away)
+
+    missing = str(tmp_path / "no-such-cert.pem")
+    tls = {f"distributed.comm.tls.{key}": missing for key in ("ca-file", "client.cert", "client.key")}
+    with dask.config.set(tls):
+        with pytest.raises(InputError, match=r"scheduler: got tcp://127\.0\.0\.1:1; allowed: .*TLS settings"):
+            with _scheduler.connected("tcp://127.0.0.1:1"):
+                pass
+    with pytest.raises(InputError, match="a tls:// address needs dask's TLS settings"):
+        with _scheduler.connected("tls://127.0.0.1:1"):
+            pass
+
+
+def test_what_a_stranger_said_reaches_the_message_printable_and_short():
+    told = _scheduler._told(RuntimeError("\x1b]0;title\x07\x1b[31mRED\n" + "x" * 500))
+    assert told.startswith("RuntimeError: ") and told.isprintable() and len(told) <= len("RuntimeError: ") + 160

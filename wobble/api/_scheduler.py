@@ -63,12 +63,19 @@ def _identity(address: str) -> str:
     """
     import asyncio
     import concurrent.futures
+    import ssl
 
+    from distributed.comm.core import CommClosedError
     from distributed.core import rpc
     from distributed.security import Security
 
-    # The TLS settings of dask's configuration, as Client(address) takes them (a tls:// scheduler).
-    connection_args = Security().get_connection_args("client")
+    try:
+        # The TLS settings of dask's configuration, as Client(address) takes them (a tls:// scheduler).
+        connection_args = Security().get_connection_args("client")
+    except Exception as exc:  # a certificate path that does not exist, a key that does not load
+        return f"dask's TLS settings (distributed.comm.tls.*) could not be used: {_told(exc)}"
+    if address.startswith("tls://") and connection_args.get("ssl_context") is None:
+        return "a tls:// address needs dask's TLS settings (distributed.comm.tls.*), and none are set"
 
     async def ask():
         remote = rpc(address, timeout=CONNECT_TIMEOUT, connection_args=connection_args)
@@ -82,12 +89,23 @@ def _identity(address: str) -> str:
         # (a Jupyter notebook's).
         with concurrent.futures.ThreadPoolExecutor(max_workers=1) as pool:
             reply = pool.submit(asyncio.run, ask()).result()
+    except ssl.SSLError as exc:  # an OSError, but something answered
+        return f"the TLS handshake there failed: {_told(exc)}"
+    except CommClosedError as exc:  # likewise: a TLS server spoken to without TLS, among others
+        return f"what answered there closed the connection: {_told(exc)}"
     except (OSError, TimeoutError):
         return f"none answered there within {CONNECT_TIMEOUT} s"
     except Exception as exc:  # anything else: what answers there does not speak dask's protocol
-        said = " ".join(str(exc).split())[:160]
-        return f"what answered there is not a dask scheduler: {type(exc).__name__}" + (f": {said}" if said else "")
+        return f"what answered there is not a dask scheduler: {_told(exc)}"
     if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
         kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
         return f"what answered there is not a dask scheduler but {kind!r}"
     return ""
+
+
+def _told(exc: BaseException) -> str:
+    """An exception for a one-line message: its type and its printable text, at most 160 characters (what a
+    stranger's server sent must not reach the terminal as control codes)."""
+    said = "".join(ch if ch.isprintable() else " " for ch in str(exc))
+    said = " ".join(said.split())[:160]
+    return type(exc).__name__ + (f": {said}" if said else "")
