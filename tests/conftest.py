@@ -94,4 +94,5 @@ def python_ctrl_c():
     (they failed, or were skipped, in a clean-clone CI run started in the background)."""
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     yield
-    signal.signal(signal.SIGINT, previous)
+    # None: a handler not installed from Python; the default is the nearest it can be restored to.
+    signal.signal(signal.SIGINT, signal.SIG_DFL if previous is None else previous)

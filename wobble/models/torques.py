@@ -149,6 +149,13 @@ class TorqueSpec(ABC):
         """
         return None
 
+    def through_figure_axis(self) -> bool:
+        """Whether, on a body symmetric about its axis 3, this torque depends on the attitude through that
+        axis alone, so that it changes only as fast as the axis moves (and the field): a tide (the inertia
+        tensor is ``A 1 + (C - A) e3 e3``), or a lever whose arm lies on the axis. False where it cannot
+        be said (a torque fixed in the body, damping, a callable)."""
+        return False
+
 
 # --------------------------------------------------------------------------
 # Constant torque
@@ -196,6 +203,10 @@ class ConstantTorque(TorqueSpec):
     torque: np.ndarray
     frame: str = "body"
     kind: ClassVar[str] = "constant"
+
+    def through_figure_axis(self) -> bool:
+        """A torque fixed in space does not depend on the attitude at all; one fixed in the body does."""
+        return self.frame == "inertial"
 
     def field_rate(self) -> float:
         """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
@@ -263,6 +274,11 @@ class UniformGravity(TorqueSpec):
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -STANDARD_GRAVITY]))
     kind: ClassVar[str] = "gravity"
 
+    def through_figure_axis(self) -> bool:
+        """With the centre of mass on axis 3 (every member's), the arm is that axis."""
+        arm = np.asarray(self.center_of_mass, dtype=float).reshape(-1, 3)
+        return bool(np.all(arm[:, :2] == 0))
+
     def field_rate(self) -> float:
         """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
         return 0.0
@@ -296,6 +312,11 @@ class MagneticDipole(TorqueSpec):
     dipole: np.ndarray
     field: np.ndarray
     kind: ClassVar[str] = "magnetic"
+
+    def through_figure_axis(self) -> bool:
+        """With the dipole along axis 3 (every member's), the arm is that axis."""
+        arm = np.asarray(self.dipole, dtype=float).reshape(-1, 3)
+        return bool(np.all(arm[:, :2] == 0))
 
     def field_rate(self) -> float:
         """0: the torque's field does not move in space (:meth:`TorqueSpec.field_rate`)."""
@@ -420,6 +441,10 @@ class GravityGradient(TorqueSpec):
         e1 = ref - np.dot(ref, nrm) * nrm
         e1 /= np.linalg.norm(e1)
         return e1, np.cross(nrm, e1)
+
+    def through_figure_axis(self) -> bool:
+        """A tide: through the inertia tensor, ``A 1 + (C - A) e3 e3`` on a symmetric body."""
+        return True
 
     def field_rate(self) -> float:
         """Twice the direction's mean motion, ``2 |n|``: the torque is quadratic in the direction, which
@@ -559,6 +584,10 @@ class ThirdBody(TorqueSpec):
             raise InputError("orbit, ephemeris, position", given or "none", "exactly one of them")
         if self.position is not None and not callable(self.position):
             raise InputError("position", self.position, "a callable f(t) -> positions (n, 3) in m")
+
+    def through_figure_axis(self) -> bool:
+        """A tide: through the inertia tensor, ``A 1 + (C - A) e3 e3`` on a symmetric body."""
+        return True
 
     def field_rate(self) -> float | None:
         """The tide's fastest frequency, from the orbit or the table (``tide_rate`` of

@@ -33,9 +33,11 @@ rebuilt with :func:`wobble.io.scene_file.body_from_mapping`):
   the field's direction; a gravity gradient or a tide: quadratic) turns with the body as the body
   sees it, at up to ``2 |omega|``, ``|omega|`` the body's rotation rate (``|L| / I_min`` when the
   file has no omega): the rate of omega and the wobble angle, and of the angular momentum and the
-  energy, except for a body symmetric about its axis 3, whose torque from any such field depends on
-  its attitude only through that axis (its inertia tensor is ``A 1 + (C - A) e3 e3``): those then
-  move at the figure axis's rate.
+  energy, except for a body symmetric about its axis 3 under torques that depend on its attitude only
+  through that axis (a tide, through its inertia tensor ``A 1 + (C - A) e3 e3``; gravity or a magnetic
+  field on an arm along the axis: :meth:`wobble.models.torques.TorqueSpec.through_figure_axis`): those
+  then move at up to twice the figure axis's rate, the torques being at most quadratic in it. A centre
+  of mass off the axis, a torque fixed in the body or damping take the general rate.
 
 A torque's own time dependence adds to these rates: a perturber's tide is quadratic in its direction and
 goes as ``1/r^3``, so at a fixed attitude it runs at up to twice its orbit's mean motion and, on an
@@ -43,10 +45,10 @@ eccentric orbit, at the harmonics of the distance and the true anomaly, counted 
 above 1e-3 of the largest (:meth:`wobble.models.orbit.KeplerOrbit.tide_rate`; a table's, measured on
 it): the Moon's ``2L + l`` and ``2L + 2l`` terms, 5 n = 1.3e-5 rad/s, in the Earth's angular
 momentum, where the figure axis alone moves at 1.1e-8 rad/s. With the body turning, the rate is
-``2 |omega|`` plus that; a symmetric body's torque, quadratic in its figure axis, runs at twice that
-axis's rate plus it. A file that does not record its body (a hand-made Dataset) is taken to be under
-torques from a field fixed in space, the conservative reading of what it does not say. A bound that
-cannot be had (no omega, no L, a torque given as a Python callable) makes no claim.
+``2 |omega|`` plus that, or twice the figure axis's rate plus it on the symmetric body above. A file
+that does not record its body (a hand-made Dataset) is taken to be under torques from a field fixed in
+space, the conservative reading of what it does not say. A bound that cannot be had (no omega, no L, a
+torque given as a Python callable) makes no claim.
 """
 
 from __future__ import annotations
@@ -170,8 +172,9 @@ class _Motion:
         self.members = ds.sizes.get("member", 1)
         self.moments, self.axes, self.principal = None, None, False
         self.torques = True
-        # A hand-made Dataset records no torque: taken as one from a field fixed in space.
+        # A hand-made Dataset records no torque: taken as one from a field fixed in space, through the axis.
         self.field_rate: float | None = 0.0
+        self.through_axis = True
         # Here, not at the top: the free and top figures use this module's sampling rules, not scene files.
         from wobble.io.scene_file import body_from_mapping
 
@@ -182,7 +185,7 @@ class _Motion:
         except (KeyError, TypeError, ValueError):
             return
         if self.torques:
-            self.field_rate = _field_rate(record)
+            self.field_rate, self.through_axis = _torque_facts(record)
         moments = np.asarray(body.moments, dtype=float).reshape(-1, 3)[: self.members]
         axes = np.asarray(body.axes, dtype=float).reshape(-1, 3, 3)[: self.members]
         self.moments, self.axes = moments, axes
@@ -271,23 +274,26 @@ class _Motion:
         """The angular momentum's and the energy's rate: 0 for a free body."""
         if not self.torques and self.moments is not None:
             return 0.0
-        if self.axisymmetric:
+        if self.axisymmetric and self.through_axis:
             # Its torque is quadratic in the figure axis (through A 1 + (C - A) e3 e3): twice the axis's rate.
             axis = self.axis_rate()
             return None if axis is None or self.field_rate is None else 2.0 * axis + self.field_rate
         return self.forced()
 
 
-def _field_rate(record: dict) -> float | None:
-    """The fastest own rate (rad/s) of a recorded scene's torques
-    (:meth:`wobble.models.torques.TorqueSpec.field_rate`), None when one is unknown or unreadable."""
+def _torque_facts(record: dict) -> tuple[float | None, bool]:
+    """(the fastest own rate (rad/s) of a recorded scene's torques, None when one is unknown or unreadable;
+    whether they all act on a symmetric body through its figure axis alone)
+    (:meth:`wobble.models.torques.TorqueSpec.field_rate`, ``through_figure_axis``)."""
     from wobble.io.scene_file import scene_from_mapping
 
     try:
-        rates = [spec.field_rate() for spec in scene_from_mapping(record).torques]
+        specs = scene_from_mapping(record).torques
     except (KeyError, TypeError, ValueError):  # wobble's own errors are ValueErrors
-        return None
-    return None if any(x is None for x in rates) else max(rates, default=0.0)
+        return None, False
+    rates = [spec.field_rate() for spec in specs]
+    rate = None if any(x is None for x in rates) else max(rates, default=0.0)
+    return rate, all(spec.through_figure_axis() for spec in specs)
 
 
 def free_period(ds) -> float | None:
