@@ -413,3 +413,17 @@ def test_a_user_s_term_at_the_principal_node_or_a_bad_term_is_refused_naming_it(
     year = 2 * np.pi / (365.25 * 86400) * u.rad / u.s
     mine = wobble.measure_precession(ds, node_rate=2.7 * year)
     assert mine.analytic_nutation_longitude is None and "None's node" not in mine.summary()
+
+
+def test_a_perturber_s_terms_past_the_samples_nyquist_rate_are_left_out_and_named():
+    """Ten-day samples see the Moon's fortnightly terms (2L, 13.7 d) as slower aliases; they were fitted as
+    if seen, a second column for what the alias's own term fits. They are left out and named."""
+    data = _short_case()
+    data["time"]["step"] = "10 d"
+    m = wobble.measure_precession(wobble.run(data))
+    (caveat,) = [c for c in m.caveats if "Nyquist" in c]
+    assert "2L_moon" in caveat and "2L_moon" not in m.terms
+    nyquist = np.pi / (10 * 86400)
+    assert f"({nyquist:.3g} rad/s)" in caveat
+    daily = wobble.measure_precession(wobble.run(_short_case()))
+    assert "2L_moon" in daily.terms and not any("Nyquist" in c for c in daily.caveats)

@@ -304,7 +304,9 @@ def _scene(ds):
         return None
 
 
-def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, given_node=None, given=None):
+def _arguments(
+    perturbers, psi0, psi_rate, span, principal=None, left_out=None, given_node=None, given=None, nyquist=math.inf
+):
     """The fitted terms' (rate, phase at t = 0) in rad/s and rad, counted from the moving equinox.
 
     ``given_node`` (rate, phase) is the user's principal argument, in place of ``principal``'s node;
@@ -313,7 +315,8 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, 
     perturber's term the span cannot tell from one of them is left out, as from the principal node.
 
     Returns (node argument or None, {name: (rate, phase)}); the names of the terms the span cannot
-    separate are appended to ``left_out``.
+    separate, and of those at or past the samples' ``nyquist`` rate (which the samples see as slower
+    aliases), are appended to ``left_out``.
     """
     node = None
     extra: dict = dict(given or {})
@@ -324,6 +327,10 @@ def _arguments(perturbers, psi0, psi_rate, span, principal=None, left_out=None, 
         if name in extra:  # the user's term of that name is fitted instead, and the caveats say so
             if left_out is not None:
                 left_out.append(f"{name}{_REPLACED}")
+            return
+        if not abs(rate) < nyquist:  # an alias of a slower term: fitting it would fit that term twice
+            if left_out is not None:
+                left_out.append(f"{name}{_ALIASED}")
             return
         if all(_separable(rate, r, span) for r in taken):
             extra[name] = (rate, phase)
@@ -438,7 +445,9 @@ def measure_precession(
     _check_sampling(t, given_node, user_extra)
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
         left_out: list[str] = []
-        node, terms = _arguments(perturbers, psi0, psi_rate, span, principal, left_out, given_node, user_extra)
+        node, terms = _arguments(
+            perturbers, psi0, psi_rate, span, principal, left_out, given_node, user_extra, _nyquist(t)
+        )
         use_node, stand_in = node, None
         if use_node is None:
             if not terms:
@@ -461,7 +470,12 @@ def measure_precession(
             "the secular rate and that term are not separated, and both may be off by more than their formal errors"
         )
     replaced = [n.removesuffix(_REPLACED) for n in left_out if n.endswith(_REPLACED)]
-    apart = [n for n in left_out if not n.endswith(_REPLACED)]
+    aliased = [n.removesuffix(_ALIASED) for n in left_out if n.endswith(_ALIASED)]
+    apart = [n for n in left_out if not n.endswith((_REPLACED, _ALIASED))]
+    if aliased:
+        caveats.append(
+            f"left out, faster than the samples' Nyquist limit ({_nyquist(t):.3g} rad/s): {', '.join(aliased)}"
+        )
     if apart:
         caveats.append(f"left out, the span cannot separate them from the terms fitted: {', '.join(apart)}")
     if replaced:
@@ -494,6 +508,13 @@ def measure_precession(
 
 #: How a perturber's term left out for a user's term of the same name is listed in ``left_out``.
 _REPLACED = " (a term of yours has its name)"
+#: Likewise, a perturber's term at or past the samples' Nyquist rate.
+_ALIASED = " (past the Nyquist rate)"
+
+
+def _nyquist(t) -> float:
+    """pi over the largest gap between the samples (rad/s): faster motion is seen as a slower alias."""
+    return math.pi / float(np.max(np.diff(t)))
 
 
 def _separable(rate: float, other: float, span: float) -> bool:
@@ -547,7 +568,7 @@ def _check_sampling(t, node, extra: dict) -> None:
     """Refuse a user's rate at or past the sampling's Nyquist limit, pi over the largest gap: the samples see
     it as a slower alias, which the fit would take for another term (a node at pi/day over daily samples
     gave a nutation of -1.1e9 +/- 1.7e9 arcsec)."""
-    limit = math.pi / float(np.max(np.diff(t)))
+    limit = _nyquist(t)
     given = ([("node_rate", node[0])] if node is not None else []) + [
         (f"extra[{name!r}] rate", rate) for name, (rate, _) in extra.items()
     ]
