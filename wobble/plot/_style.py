@@ -7,7 +7,7 @@ import re
 
 import numpy as np
 
-from wobble.numerics.calendar import DAY, JULIAN_YEAR
+from wobble.numerics.calendar import DAY, JULIAN_YEAR, MJD_J2000
 
 __all__ = [
     "time_axis",
@@ -197,14 +197,10 @@ def start_text(start, unit: str) -> str:
     return f"{parts if scaled.ndim == 0 else f'({parts})'} {power_label(exponent, unit)}".rstrip()
 
 
-#: The Modified Julian Date of J2000.0 (2000-01-01 12:00 TT), where the decimal years count from 2000.0.
-_MJD_J2000 = 51544.5
-
-
 def decimal_year(mjd) -> np.ndarray:
     """Modified Julian Dates as decimal years for a time axis: 2000.0 at J2000.0, Julian years of 365.25 d.
 
     >>> float(decimal_year(51544.5)), float(decimal_year(51544.5 + 365.25))
     (2000.0, 2001.0)
     """
-    return 2000.0 + (np.asarray(mjd, dtype=float) - _MJD_J2000) / (JULIAN_YEAR / DAY)
+    return 2000.0 + (np.asarray(mjd, dtype=float) - MJD_J2000) / (JULIAN_YEAR / DAY)

@@ -22,6 +22,7 @@ from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, cf_time_to_mjd, select_dates
 from wobble.io.eop import PoleRecord, read_pole_file
 from wobble.models.polar_motion.record import DAY, complex_pole
+from wobble.numerics.calendar import MJD_J2000
 
 __all__ = [
     "MJD_UNITS",
@@ -46,7 +47,6 @@ __all__ = [
 ]
 
 #: MJD of 2000-01-01 12:00; the origin of the models' seconds.
-MJD_J2000 = 51544.5
 RAD_PER_ARCSEC = math.pi / (180.0 * 3600.0)
 RAD_PER_MAS = RAD_PER_ARCSEC * 1e-3
 
