@@ -354,6 +354,8 @@ def test_without_a_node_every_fitted_term_is_reported_and_a_user_s_term_is_kept(
     assert "2L_sun" in alone.terms and alone.nutation_longitude is None  # the stand-in, reported
     with_mine = wobble.measure_precession(ds, extra=mine)
     assert "mine" in with_mine.terms and set(alone.terms) <= set(with_mine.terms)
+    # The Sun's torque has no line at 3.3 cycles a year: that term fits to nothing beside the Sun's own.
+    assert np.hypot(*with_mine.terms["mine"][:2]) < 1e-3 * np.hypot(*with_mine.terms["2L_sun"][:2])
     # The same columns with another term carrying the argument (the first given): the same amplitudes.
     other = {"other": (5.5 * rate, 0 * u.rad)}
     first = wobble.measure_precession(ds, extra={**mine, **other})
@@ -427,3 +429,11 @@ def test_a_perturber_s_terms_past_the_samples_nyquist_rate_are_left_out_and_name
     assert f"({nyquist:.3g} rad/s)" in caveat
     daily = wobble.measure_precession(wobble.run(_short_case()))
     assert "2L_moon" in daily.terms and not any("Nyquist" in c for c in daily.caveats)
+
+
+@pytest.mark.parametrize("block_bytes", ["x", -1, 0, 1.5, True])
+def test_run_to_netcdf_refuses_a_block_size_that_is_not_a_positive_whole_number(tmp_path, block_bytes):
+    """'x' raised a bare TypeError; -1, 0 and 1.5 were accepted (a file was written with -1)."""
+    with pytest.raises(InputError, match="block_bytes: got .*; allowed: a positive whole number of bytes"):
+        wobble.run_to_netcdf("tennis_racket", tmp_path / "r.nc", block_bytes=block_bytes)
+    assert not (tmp_path / "r.nc").exists()

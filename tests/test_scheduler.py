@@ -217,3 +217,11 @@ def test_tls_settings_that_cannot_be_used_are_named(tmp_path):
 def test_what_a_stranger_said_reaches_the_message_printable_and_short():
     told = _scheduler._told(RuntimeError("\x1b]0;title\x07\x1b[31mRED\n" + "x" * 500))
     assert told.startswith("RuntimeError: ") and told.isprintable() and len(told) <= len("RuntimeError: ") + 160
+
+
+def test_a_typed_value_with_control_characters_reaches_stderr_printable(capsys):
+    """The value a user typed was echoed as typed: an ESC in --scheduler reached the terminal (a review found it,
+    beside the stranger's reply that _told already cleaned). Every refusal shows it escaped, on one line."""
+    code, out, err = run_cli(["sweep", "mars_chandler", "--scheduler", "tcp://\x1b[31mx\x07:1"], capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "\x1b" not in err and "\x07" not in err and r"tcp://\x1b[31mx\x07:1" in err

@@ -373,6 +373,8 @@ def run_to_netcdf(
         parts), ``output``, ``members``, ``times`` (written: one for a scene whose only output is a
         time mean, ``mean_precession_rate``).
     """
+    if isinstance(block_bytes, bool) or not isinstance(block_bytes, (int, np.integer)) or block_bytes < 1:
+        raise InputError("block_bytes", block_bytes, "a positive whole number of bytes")
     sc = _as_scene(scene)
     writer = StreamingWriter(path, overwrite=overwrite, command=command)
     sink = _Streamer(sc, writer)
