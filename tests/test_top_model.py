@@ -627,16 +627,31 @@ def test_a_top_whose_span_passes_two_to_the_996_seconds_takes_the_compiled_serie
 
 
 def test_f_from_the_roots_is_the_cubic_and_vanishes_at_its_roots():
-    """f_about_u2 is beta (u - u1)(u - u2)(u - u3) from the 60-digit roots: it agrees with the expanded cubic
-    where that is exact (a tenth of u away) and is zero at u1 and u2 exactly; well() is V' - E' there."""
+    """f_about_u2 is beta (u - u1)(u - u2)(u - u3) from the 60-digit roots: it agrees with Goldstein's
+    f(u) = (alpha - beta u)(1 - u^2) - (b - a u)^2 (sec. 5.7) formed at 50 digits from the top's inputs
+    (I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, theta0 = 60 deg, phidot0 = -0.3, omega3 = 10 rad/s, at rest in
+    theta), and with the model's expanded cubic; well() is V' - E' between the turning angles."""
     import math
+
+    import mpmath
 
     from wobble.models.top import heavy_top
 
     m = heavy_top(1.0, 0.5, 1.0, math.radians(60.0), phidot0=-0.3, omega3=10.0)
     d = np.linspace(-0.3, 0.1, 41)
-    np.testing.assert_allclose(m.f_about_u2(d), m.f(m.u2 + d), rtol=0, atol=1e-12 * np.max(np.abs(m.f(m.u2 + d))))
-    assert m.f_about_u2(0.0) == 0.0 and m.f_about_u2(-(m.x1 - m.x2)) == 0.0
+    with mpmath.workdps(50):
+        i1, i3, mgl, theta, phidot, omega3 = 1, mpmath.mpf("0.5"), 1, mpmath.radians(60), mpmath.mpf("-0.3"), 10
+        a = i3 * omega3 / i1
+        b = (i1 * phidot * mpmath.sin(theta) ** 2 + i3 * omega3 * mpmath.cos(theta)) / i1
+        alpha = 2 * (i1 * (phidot * mpmath.sin(theta)) ** 2 / 2 + mgl * mpmath.cos(theta)) / i1
+        beta = 2 * mgl / i1
+
+        def f(u):
+            return (alpha - beta * u) * (1 - u * u) - (b - a * u) ** 2
+
+        reference = np.array([float(f(mpmath.mpf(float(m.u2)) + mpmath.mpf(float(x)))) for x in d])
+    np.testing.assert_allclose(m.f_about_u2(d), reference, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(m.f_about_u2(d), m.f(m.u2 + d), rtol=0, atol=1e-12 * np.max(np.abs(reference)))
     theta = np.linspace(m.theta_min, m.theta_max, 7)[1:-1]
     direct = m.effective_potential(theta) - m.energy_prime
     np.testing.assert_allclose(m.well(theta), direct, rtol=0, atol=1e-12 * m.mgl)
