@@ -436,5 +436,7 @@ def test_a_run_too_large_for_memory_is_refused_before_any_work(capsys):
     for option in (["--walkers", "1e10"], ["--ensembles", "1e20"]):
         code, out, err = run_cli(["invert", "mars", *option], capsys)
         assert (code, out) == (2, "") and err.count("\n") == 1
-        assert err.startswith("wobble invert: error: walkers x (burn + steps) x ensembles: got ")
+        # The options that set the product are named, with their values (the message named the product alone).
+        assert err.startswith("wobble invert: error: --walkers x (--burn + --steps) x --ensembles: got ")
+        assert option[1].replace("1e10", "10000000000").replace("1e20", "1" + "0" * 20) in err
         assert "of memory and" in err and "usable" in err

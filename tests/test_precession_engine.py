@@ -269,6 +269,11 @@ def test_the_measurement_reads_files_and_speaks_the_result_vocabulary(tmp_path, 
         wobble.measure_precession(wobble.run("tennis_racket"))
     with pytest.raises(FileFormatError):
         wobble.measure_precession(tmp_path / "missing.nc")
+    # member=5 of this one-member run had been accepted, and measured member 0.
+    assert wobble.measure_precession(path, member=0).rate == m.rate
+    for member, allowed in [(5, r"0 \(the run has one member\)"), (-1, "0 "), ("0", "0 "), (True, "0 "), (0.0, "0 ")]:
+        with pytest.raises(InputError, match=f"member: got .*; allowed: {allowed}"):
+            wobble.measure_precession(path, member=member)
 
 
 def test_a_span_shorter_than_the_principal_term_says_so():

@@ -28,6 +28,26 @@ def test_an_unknown_name_is_refused_with_what_is_allowed():
         _scheduler.check_scheduler("thread")
 
 
+@pytest.mark.parametrize(
+    "address", ["tcp://localhost", "tcp://127.0.0.1:99999", "tcp://127.0.0.1:0", "tls://[::1]", "tcp://h:+1"]
+)
+def test_an_address_without_a_usable_port_is_refused_before_any_connection(address):
+    """distributed's parser had been reached: "what answered there is not a dask scheduler: ValueError" for
+    tcp://localhost and OverflowError for port 99999, as if something had answered."""
+    with pytest.raises(InputError, match="host:port address with a port from 1 to 65535"):
+        _scheduler.check_scheduler(address)
+
+
+@pytest.mark.parametrize("address", ["tcp://127.0.0.1:8786", "tls://[::1]:8786", "tcp://:8786"])
+def test_an_address_with_a_port_passes_the_check(address):
+    _scheduler.check_scheduler(address)
+
+
+def test_an_address_where_nothing_listens_says_none_answered(quick_timeout):
+    """Told apart from a server that accepts the connection and says nothing (an HTTP server)."""
+    assert _scheduler._identity("tcp://127.0.0.1:1") == "none answered there within 1 s"
+
+
 def test_an_address_where_nothing_answers_is_named(quick_timeout):
     with pytest.raises(InputError, match=r"scheduler: got tcp://127\.0\.0\.1:1; allowed: the address of a running"):
         with _scheduler.connected("tcp://127.0.0.1:1"):
@@ -75,7 +95,7 @@ def stranger():
 @pytest.mark.parametrize(
     ("reply", "why"),
     [
-        (b"", "none answered there within 1 s"),
+        (b"", "something accepted the connection there but did not answer as a dask scheduler within 1 s"),
         (b"HTTP/1.0 400 Bad Request\r\n\r\n" * 8, "what answered there is not a dask scheduler"),
     ],
 )
@@ -155,7 +175,7 @@ def test_an_address_is_checked_from_inside_a_running_event_loop(stranger):
             return _scheduler._identity(cluster.scheduler_address), _scheduler._identity(stranger(b""))
 
         real, silent = asyncio.run(in_a_notebook())
-    assert real == "" and silent.startswith("none answered there")
+    assert real == "" and silent.startswith("something accepted the connection there")
 
 
 def test_a_tls_scheduler_is_reached_with_the_configured_certificates(tmp_path):

@@ -17,6 +17,23 @@ def test_plain_float_is_refused_where_a_dimension_is_required():
         to_si(1.0, "spin_period", u.s)
 
 
+@pytest.mark.parametrize(
+    ("value", "said"),
+    [
+        ("433 d", r"got '433 d'; .*a string is not a Quantity \(u.Quantity\('433 d'\) makes one\)"),
+        (None, "got None; .*None is not a Quantity"),
+        ([1 * u.d, 2 * u.d], r"a list of Quantities is not one \(u.Quantity\(...\) makes one\)"),
+        ({"a": 1}, "a dict is not a Quantity"),
+        (np.float32(2), "a plain number has no unit"),
+        ([1, 2], "a plain number has no unit"),
+    ],
+)
+def test_what_is_not_a_quantity_is_told_what_it_is(value, said):
+    """A string was told "a plain number has no unit" and shown unquoted (got 433 d), as if it had a unit."""
+    with pytest.raises(InputError, match=f"period: (got .*)?{said}"):
+        to_si(value, "period", u.s)
+
+
 def test_incompatible_unit_names_parameter_value_and_allowed():
     with pytest.raises(InputError) as info:
         to_si(3 * u.m, "spin_period", u.s)

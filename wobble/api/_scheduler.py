@@ -21,9 +21,28 @@ CONNECT_TIMEOUT = 10
 
 
 def check_scheduler(scheduler) -> None:
-    """Refuse a scheduler name that is neither a local scheduler nor an address, before any work starts."""
-    if isinstance(scheduler, str) and scheduler not in LOCAL and "://" not in scheduler:
+    """Refuse a scheduler name that is neither a local scheduler nor an address, before any work starts.
+
+    A tcp:// or tls:// address needs a port from 1 to 65535 (distributed's own parser said "not a dask
+    scheduler: ValueError" of ``tcp://localhost`` and OverflowError of port 99999, as if something had
+    answered there).
+    """
+    if not isinstance(scheduler, str) or scheduler in LOCAL:
+        return
+    scheme, found, location = scheduler.partition("://")
+    if not found:
         raise InputError("scheduler", scheduler, _ALLOWED)
+    if scheme in ("tcp", "tls") and _port(location) is None:
+        raise InputError("scheduler", scheduler, f"a {scheme}://host:port address with a port from 1 to 65535")
+
+
+def _port(location: str) -> int | None:
+    """The port of ``host:port`` or ``[v6 host]:port``; None when there is none or it is out of range."""
+    head, colon, port = location.rpartition(":")
+    if not colon or (head.startswith("[") and not head.endswith("]")) or not (port.isascii() and port.isdigit()):
+        return None
+    number = int(port)
+    return number if 1 <= number <= 65535 else None
 
 
 @contextlib.contextmanager
@@ -78,9 +97,15 @@ def _identity(address: str) -> str:
         return "a tls:// address needs dask's TLS settings (distributed.comm.tls.*), and none are set"
 
     async def ask():
+        # A plain TCP connection first, so that an address where nothing listens ("none answered") is told
+        # from one where something accepts the connection and then says nothing (an HTTP server waiting for
+        # its request): distributed's handshake waits for a reply without a time limit of its own.
+        await _reach(address)
         remote = rpc(address, timeout=CONNECT_TIMEOUT, connection_args=connection_args)
         try:
             return await asyncio.wait_for(remote.identity(), CONNECT_TIMEOUT)
+        except TimeoutError:
+            raise _Silent from None
         finally:
             await remote.close_rpc()
 
@@ -93,6 +118,10 @@ def _identity(address: str) -> str:
         return f"the TLS handshake there failed: {_told(exc)}"
     except CommClosedError as exc:  # likewise: a TLS server spoken to without TLS, among others
         return f"what answered there closed the connection: {_told(exc)}"
+    except _Silent:
+        return (
+            f"something accepted the connection there but did not answer as a dask scheduler within {CONNECT_TIMEOUT} s"
+        )
     except (OSError, TimeoutError):
         return f"none answered there within {CONNECT_TIMEOUT} s"
     except Exception as exc:  # anything else: what answers there does not speak dask's protocol
@@ -101,6 +130,27 @@ def _identity(address: str) -> str:
         kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
         return f"what answered there is not a dask scheduler but {kind!r}"
     return ""
+
+
+class _Silent(Exception):
+    """The address accepted a connection, then sent nothing a scheduler sends in time."""
+
+
+async def _reach(address: str) -> None:
+    """Open and close a TCP connection to a tcp:// or tls:// address; OSError or TimeoutError when none is
+    accepted within :data:`CONNECT_TIMEOUT`. Other transports are left to distributed."""
+    import asyncio
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    scheme, location = parse_address(address)
+    if scheme not in ("tcp", "tls"):
+        return
+    host, port = parse_host_port(location)
+    _, writer = await asyncio.wait_for(asyncio.open_connection(host, port), CONNECT_TIMEOUT)
+    writer.close()
+    with contextlib.suppress(OSError):
+        await writer.wait_closed()
 
 
 def _told(exc: BaseException) -> str:

@@ -751,6 +751,10 @@ def _settings(setup: InversionSetup, **overrides) -> SamplerSettings:
     return replace(setup.settings, **given)
 
 
+#: The parameter an InputError names when the chains would not fit in memory: a product of four settings.
+SIZE = "walkers x (burn + steps) x ensembles"
+
+
 def _check_size(settings: SamplerSettings, ndim: int) -> None:
     """Refuse, before any work, a run whose chains cannot fit in half the free memory: every walker's
     position and log-probability at every step of every ensemble (``--walkers 1e10`` asked numpy for
@@ -761,9 +765,11 @@ def _check_size(settings: SamplerSettings, ndim: int) -> None:
     draws = settings.ensembles * settings.walkers * (settings.burn + settings.steps)
     have = available_memory() // 2
     if draws * per_draw > have:
+        # The product's factors are shown with the total, so that the message says which numbers made it.
+        s = settings
         raise InputError(
-            "walkers x (burn + steps) x ensembles",
-            draws,
+            SIZE,
+            f"{s.walkers} x ({s.burn} + {s.steps}) x {s.ensembles} = {draws} walker-steps",
             f"at most {have // per_draw} walker-steps here: {draws} need about {human_bytes(draws * per_draw)} "
             f"of memory and {human_bytes(have)} is usable (ask for fewer walkers, steps or ensembles)",
         )

@@ -271,19 +271,34 @@ def _seconds(ds) -> np.ndarray:
     return np.asarray(t, dtype=float)
 
 
+def _member(ds, member) -> int:
+    """The member index, checked against the run's members (a run without a member dimension has one).
+
+    ``member=5`` of a one-member run had been accepted, and measured member 0.
+    """
+    count = int(ds.sizes.get("member", 1))
+    if member is None:
+        return 0
+    if isinstance(member, bool) or not isinstance(member, (int, np.integer)) or not 0 <= member < count:
+        allowed = "0 (the run has one member)" if count == 1 else f"a whole number from 0 to {count - 1}"
+        raise InputError("member", member, allowed)
+    return int(member)
+
+
 def _vectors(ds, axis, member):
+    member = _member(ds, member)
     names = ("angular_momentum", "axis_direction") if axis is None else (axis,)
     for name in names:
         if name in ds:
             v = ds[name]
             if "member" in v.dims:
-                v = v.isel(member=0 if member is None else int(member))
+                v = v.isel(member=member)
             vec = np.asarray(v.values, dtype=float)
             return name, vec / np.linalg.norm(vec, axis=-1, keepdims=True)
     if "attitude" in ds and axis in (None, "axis_direction"):
         q = ds["attitude"]
         if "member" in q.dims:
-            q = q.isel(member=0 if member is None else int(member))
+            q = q.isel(member=member)
         return "axis_direction", quat.rotate(np.asarray(q.values, dtype=float), np.array([0.0, 0.0, 1.0]))
     raise InputError(
         "axis",

@@ -58,6 +58,27 @@ def describe_unit(unit: u.UnitBase) -> str:
     return f"a Quantity with units of {kind} (e.g. {example})"
 
 
+def _not_a_quantity(value, unit: u.UnitBase) -> tuple[object, str]:
+    """The value as an error shows it and what to say about it, for a value that is not a Quantity.
+
+    A string was told "a plain number has no unit" and shown unquoted (``got 433 d``), as if it had one.
+    """
+    allowed = describe_unit(unit)
+    if isinstance(value, str):
+        return repr(value), f"{allowed}; a string is not a Quantity (u.Quantity({value!r}) makes one)"
+    try:
+        numeric = np.asarray(value).dtype.kind in "biufc"
+    except Exception:  # an object NumPy cannot even hold
+        numeric = False
+    if numeric:
+        return value, f"{allowed}; a plain number has no unit"
+    if value is None:
+        return value, f"{allowed}; None is not a Quantity"
+    if isinstance(value, (list, tuple)) and any(isinstance(v, u.Quantity) for v in value):
+        return value, f"{allowed}; a {type(value).__name__} of Quantities is not one (u.Quantity(...) makes one)"
+    return value, f"{allowed}; a {type(value).__name__} is not a Quantity"
+
+
 def to_si(
     value,
     name: str,
@@ -99,7 +120,7 @@ def to_si(
     # The unit's description (for the error messages) is formed only when one is raised:
     # it costs more than the conversion itself.
     if not isinstance(value, u.Quantity):
-        raise InputError(name, value, describe_unit(unit) + "; a plain number has no unit")
+        raise InputError(name, *_not_a_quantity(value, unit))
     # A finite value whose conversion overflows (1e300 Msun in kg) becomes inf and is refused
     # below with one line, without NumPy's overflow warning on stderr before it.
     with np.errstate(over="ignore"):

@@ -81,7 +81,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from wobble.api.inversion import invert
+    from wobble.api.inversion import SIZE, invert
     from wobble.cli._output import print_json, wrote
 
     for name in ("seed", "burn"):
@@ -107,7 +107,9 @@ def run(args) -> int:
         check_plot_path(args.plot, args.overwrite)  # names --plot (check_target alone named -o/--output)
     from wobble.cli._record import as_typed
 
-    with as_typed({"body": ("--body-file", args.body_file)}):
+    # The memory refusal names the product of four settings: named here as the options that set them.
+    size = ("--walkers x (--burn + --steps) x --ensembles", None)
+    with as_typed({"body": ("--body-file", args.body_file), SIZE: size}):
         result = invert(
             args.setup,
             body=args.body_file,
