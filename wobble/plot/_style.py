@@ -7,6 +7,7 @@ import re
 
 import numpy as np
 
+from wobble.io.text import span_unit
 from wobble.numerics.calendar import DAY, JULIAN_YEAR, MJD_J2000
 
 __all__ = [
@@ -40,20 +41,15 @@ ANGLE_UNITS = (("deg", math.radians(1.0)), ("arcsec", _ARCSEC), ("mas", 1e-3 * _
 
 
 def time_axis(span_s: float) -> tuple[float, str]:
-    """(seconds per unit, unit name) for a time axis spanning ``span_s`` seconds.
+    """(seconds per unit, unit name) for a time axis spanning ``span_s`` seconds: the unit the text gives
+    that span in (:func:`wobble.io.text.span_unit`: the largest the span reaches twice), so a figure and
+    the summary beside it speak of a run in the same unit (the figures had a table of their own, with
+    other limits: a 2.5-day run was 60 h on the axis and 2.5 d in the text).
 
     >>> time_axis(200.0), time_axis(3e7)
-    ((1.0, 's'), (86400.0, 'd'))
+    ((60.0, 'min'), (86400.0, 'd'))
     """
-    for limit, size, name in (
-        (300.0, 1.0, "s"),
-        (3 * 3600.0, 60.0, "min"),
-        (3 * 86400.0, 3600.0, "h"),
-        (3 * JULIAN_YEAR, 86400.0, "d"),
-    ):
-        if span_s < limit:
-            return size, name
-    return JULIAN_YEAR, "yr"
+    return span_unit(span_s)
 
 
 def angle_unit(extent_rad: float) -> tuple[float, str]:
