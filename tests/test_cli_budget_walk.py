@@ -311,7 +311,7 @@ def test_the_chandler_figure_marks_the_rigid_period_and_prints_the_text_s_digits
         assert all(bar.get_x() != ax.get_xlim()[0] for bar in ax.patches if bar.get_height() == 0.6)
         (mark,) = [line for line in ax.get_lines() if line.get_marker() == "D"]
         assert mark.get_xdata()[0] == pytest.approx(rigid) and f"{rigid:.1f} d" in [t.get_text() for t in ax.texts]
-        assert ax.get_xlabel() == "period (d)"
+        assert ax.get_xlabel() == "period [d]"
     labels = [t.get_text() for t in axes[1].get_legend().get_texts()]
     assert "observed 206.90 ± 0.50 d" in labels
 

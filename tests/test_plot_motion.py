@@ -54,7 +54,7 @@ def _time_axes(fig):
 
 
 def _seconds_per_unit(ax) -> float:
-    unit = ax.get_xlabel().split("(")[1].rstrip(")")
+    unit = ax.get_xlabel().split("[")[1].rstrip("]")
     return {"s": 1.0, "min": 60.0, "h": 3600.0, "d": 86400.0, "yr": 365.25 * 86400.0}[unit]
 
 
@@ -309,7 +309,7 @@ def test_a_nearly_sleeping_top_s_cubic_and_potential_read_without_offsets():
     fig = cubic_figure(top)
     assert _offsets(fig) == []  # the enlarged u axis read '1e-13+10e-1'
     whole, near = fig.axes
-    assert near.get_xlabel() == "u - u2 ($10^{-15}$)"
+    assert near.get_xlabel() == "u - u2 [$10^{-15}$]"
     m = top.model
     assert whole.get_title().startswith(f"u1 = 1 - {m.x1:.4g}, u2 = 1 - {m.x2:.4g}")  # not 1.000000 twice
     roots = near.lines[1].get_xdata()  # u1 - u2 and 0, in units of 1e-15
@@ -487,7 +487,7 @@ def test_a_nearly_sleeping_top_s_potential_well_is_drawn_between_its_turning_ang
     fig = effective_potential_figure(top)
     assert len(fig.axes) == 2 and _offsets(fig) == []
     well = fig.axes[1]
-    assert well.get_xlabel() == "theta (mas)" and well.get_ylabel() == "V' - E' [$10^{-15}$ J]"
+    assert well.get_xlabel() == "theta [mas]" and well.get_ylabel() == "V' - E' [$10^{-15}$ J]"
     theta_mas, drawn = (np.asarray(v) for v in well.lines[0].get_data())
     # mpmath at 50 digits from the inputs (I1 = 1, I3 = 0.5 kg m2, M g l = 1 J, theta0 = 1e-6 rad, omega3 =
     # 10 rad/s, started at rest in theta and phi): a = I3 omega3 / I1, b = a cos theta0, E' = M g l cos theta0,
@@ -576,7 +576,7 @@ def test_a_top_through_the_vertical_draws_its_well_without_a_zero_division():
     fig = effective_potential_figure(top)
     theta, drawn = (np.asarray(v) for v in fig.axes[1].lines[0].get_data())
     assert len(fig.axes) == 2 and np.all(np.isfinite(drawn))
-    assert fig.axes[1].get_xlabel() == "theta (arcsec)"  # theta_max = 4.4e-4 rad = 90 arcsec
+    assert fig.axes[1].get_xlabel() == "theta [arcsec]"  # theta_max = 4.4e-4 rad = 90 arcsec
     scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", fig.axes[1].get_ylabel()).group(1))
     # mpmath at 50 digits from the inputs: a = I3 omega3 / I1 = 5 = b (started at the vertical),
     # E' = M g l + I1 thetadot0^2 / 2, V' - E' = cos theta - E' + (a^2/2)(1 - cos theta)^2 / sin^2 theta.

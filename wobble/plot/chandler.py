@@ -76,7 +76,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         ax.set_title(f"{b.planet.title}: Chandler period, step by step (days of 86400 s)", fontsize=10)
         # Lower left: the waterfall climbs from the rigid period, so that corner is empty (upper right hid a change).
         ax.legend(loc="lower left", fontsize=8, frameon=True, framealpha=0.9, edgecolor="none")
-        ax.set_xlabel("period (d)")
+        ax.set_xlabel("period [d]")
     fig.tight_layout()
     if path is not None:
         from wobble.plot.save import save_figure

@@ -79,7 +79,7 @@ def polhode_figure(moments, omegas, *, samples: int = 2000):
         L = body.model.omega(t) * I
         color = "C3" if body.regime == "separatrix" else ("C0" if body.regime == "major-axis" else "C2")
         ax.plot(L[:, 0], L[:, 1], L[:, 2], color=color, lw=1.2)
-    ax.set_xlabel(f"$L_1$ ({unit_label('kg m2 s-1')})")
+    ax.set_xlabel(f"$L_1$ [{unit_label('kg m2 s-1')}]")
     ax.set_ylabel("$L_2$")
     ax.set_zlabel("$L_3$")
     ax.set_box_aspect(radii)
@@ -116,8 +116,8 @@ def flip_figure(moments, omega0, t_end):
         ax.plot(t, w[:, k], label=label)
     marked = _mark_flips([ax], body.flip_times(shown * u.s).to_value(u.s), 1.0)
     ax.set_xlim(0, shown)
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel(f"body-frame angular velocity ({_RAD_S})")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"body-frame angular velocity [{_RAD_S}]")
     title = (
         f"Tennis-racket flips: 1 - m = {body.complementary_parameter:.2g}, "
         f"flip every {body.time_between_flips.to_value(u.s):.6f} s{marked}"
@@ -310,7 +310,7 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
         legend_beside(ax)
     if legend_title:
         top.get_legend().set_title(legend_title, prop={"size": 7})
-    bottom.set_xlabel(f"time ({unit})")
+    bottom.set_xlabel(f"time [{unit}]")
     return scale
 
 

@@ -179,7 +179,7 @@ def _draw(ds, every: int = 1, cut: str = ""):
         ax.set_title(title, fontsize=9)
         if not lines:
             _note(ax, note(rates[kind], gap, every))
-    axes[-1, 0].set_xlabel(f"time ({unit})")
+    axes[-1, 0].set_xlabel(f"time [{unit}]")
     title = f"{ds.attrs.get('title', 'scene')}: model {ds.attrs.get('model', '?')}"
     fig.suptitle(f"{title}\n{cut}" if cut else title, fontsize=10)
     fig.tight_layout()

@@ -220,8 +220,8 @@ def effective_potential_figure(top: HeavyTop):
         ax.axvline(np.degrees(t_), color="0.5", lw=0.8, ls=":")
     top_ = max(m.energy_prime, m.mgl) + 3 * (abs(m.energy_prime) + m.mgl)
     ax.set_ylim(min(np.min(v), m.energy_prime) - 0.2 * abs(top_), top_)
-    ax.set_xlabel("theta (deg)")
-    ax.set_ylabel("energy (J)")
+    ax.set_xlabel("theta [deg]")
+    ax.set_ylabel("energy [J]")
     turning = tilt_text(m.theta_min, m.theta_max, ".2f").replace(" to ", " and ")
     ax.set_title(f"Effective potential; turning angles {turning}")
     ax.legend()
@@ -245,7 +245,7 @@ def _potential_well(ax, m) -> None:
     ax.plot([m.theta_min / rad, m.theta_max / rad], [0, 0], "o", color="C3")
     ax.axhline(0, color="0.3", lw=0.8)
     ax.ticklabel_format(axis="x", style="plain", useOffset=False)
-    ax.set_xlabel(f"theta ({name})")
+    ax.set_xlabel(f"theta [{name}]")
     ax.set_title("between the turning angles")
     ax.legend(loc="upper center", fontsize=8)
 
@@ -301,13 +301,13 @@ def cubic_figure(top: HeavyTop):
     if narrow:
         az.axhline(0, color="0.3", lw=0.8)
         az.axvline(m.x2 / 10.0**ex, color="0.6", lw=0.8, ls="--")  # u = 1, when the interval reaches it
-        az.set_xlabel("u - u2" + (f" ({power_label(ex)})" if ex else ""))
-        az.set_ylabel(f"f(u) ({power_label(ey, 's$^{-2}$')})")
+        az.set_xlabel("u - u2" + (f" [{power_label(ex)}]" if ex else ""))
+        az.set_ylabel(f"f(u) [{power_label(ey, 's$^{-2}$')}]")
         az.ticklabel_format(style="plain", useOffset=False)
     az.set_xlim(xz[0], xz[-1])
-    ax.set_ylabel("f(u) (s$^{-2}$)")
+    ax.set_ylabel("f(u) [s$^{-2}$]")
     if not narrow:
-        az.set_ylabel("f(u) (s$^{-2}$)")
+        az.set_ylabel("f(u) [s$^{-2}$]")
     ax.set_title(f"u1 = {_u_text(m.u1, m.x1, 6)}, u2 = {_u_text(m.u2, m.x2, 6)}, u3 = {u3:.4f}")
     az.set_title("between the turning points" if width > 0 else "u1 = u2: a double root, regular precession")
     ax.legend(loc="lower right", fontsize=8)
