@@ -277,7 +277,7 @@ def test_a_figure_beyond_the_triangle_inequality_is_refused(tmp_path, body, key,
         load_planet(path)
 
 
-@pytest.mark.parametrize(("h", "ks"), [("0.0", "k_s = 0 of"), ("-1e-3", "k_s = -0.")])
+@pytest.mark.parametrize(("h", "ks"), [("0.0", "k_s = 3G(C-A)/(a^5 Omega^2), 0 here"), ("-1e-3", "Omega^2), -0.")])
 def test_elastic_yielding_of_a_figure_that_is_not_oblate_is_refused(tmp_path, capsys, h, ks):
     """H <= 0 makes k_s <= 0: any k2 > 0 yields more than a fluid. H = 0 printed an "elastic" 953-day retrograde
     wobble of a sphere (wobble modes refused the same file); the rigid step alone still runs. (The example
@@ -295,7 +295,9 @@ def test_elastic_yielding_of_a_figure_that_is_not_oblate_is_refused(tmp_path, ca
     )
     assert main(["chandler", "--body-file", str(path)]) == 2
     err = capsys.readouterr().err
-    assert "parameters.love_number_k2.value: got" in err and ks in err and err.count("\n") == 1
+    # The parameter named is the figure's (it named love_number_k2, "below k_s = -0.29": below a negative number).
+    assert "parameters.dynamical_flattening.value: got" in err and ks in err and err.count("\n") == 1
+    assert "allowed: a positive value (an oblate figure, C > A)" in err
     assert main(["chandler", "--body-file", str(path), "--model", "rigid"]) == 0
     out = capsys.readouterr().out
     assert ("(no free wobble)" if h == "0.0" else "(retrograde wobble)") in out

@@ -736,6 +736,15 @@ def _raise_for(p: PlanetParameters, code: int, steps, values: ParameterValues):
         )
     if code == 3:
         ks = values.secular_love_number()
+        if float(ks) <= 0:
+            # Not oblate (H <= 0): "k2 below k_s = -0.857" named the wrong number and asked the impossible.
+            name = "dynamical_flattening" if values["dynamical_flattening"] is not None else "j2"
+            raise InputError(
+                name,
+                f"{values[name]:.6g}",
+                f"a positive value (an oblate figure, C > A) for the steps past 'rigid': they scale the yielding by "
+                f"k_s = 3G(C-A)/(a^5 Omega^2), {float(ks):.6g} here (model 'rigid' takes any figure)",
+            )
         if "anelastic" in steps:
             # A k2 that only the dispersion law takes to k_s (or to infinity): name its cause instead.
             ca, cb = values.equatorial_excess()
