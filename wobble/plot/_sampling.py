@@ -58,6 +58,7 @@ import math
 
 import numpy as np
 
+from wobble.plot._style import norm
 from wobble.models import euler_rates
 from wobble.numerics import quaternion as quat
 
@@ -204,10 +205,10 @@ class _Motion:
         """The body's largest rotation rate |omega|, or |L| / I_min when the file has no omega."""
         w = self.omega()
         if w is not None:
-            return float(np.max(np.linalg.norm(w, axis=-1)))
+            return float(np.max(norm(w)))
         if "angular_momentum" in self.ds and self.moments is not None:
             L = series(self.ds["angular_momentum"])
-            return float(np.max(np.linalg.norm(L, axis=-1) / np.min(self.moments, axis=-1)))
+            return float(np.max(norm(L) / np.min(self.moments, axis=-1)))
         return None
 
     def forced(self) -> float | None:
@@ -240,8 +241,8 @@ class _Motion:
         L = series(self.ds["angular_momentum"])
         if self.principal:
             # omega's part across e3 is (L_1/I_1, L_2/I_2) in the body frame.
-            return np.linalg.norm(np.cross(L, e3), axis=-1) / np.min(self.moments[:, :2], axis=-1)
-        return np.linalg.norm(L, axis=-1) / np.min(self.moments, axis=-1)
+            return norm(np.cross(L, e3)) / np.min(self.moments[:, :2], axis=-1)
+        return norm(L) / np.min(self.moments, axis=-1)
 
     def axis_rate(self) -> float | None:
         """The figure axis's rate: its speed over its excursion (rad/s)."""

@@ -20,6 +20,7 @@ from wobble.plot._style import (
     finite_range,
     largest,
     legend_beside,
+    norm,
     power_axis,
     power_of_ten,
     start_text,
@@ -196,8 +197,8 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     top.set_title(_motion_title(body, t1, note) + marked, fontsize=9)
     tp = _polhode_times(body, t1)
     L = I * body.omega(tp * u.s).to_value(u.rad / u.s)
-    norm = np.linalg.norm(L, axis=1, keepdims=True)
-    L = np.divide(L, norm, out=np.zeros_like(L), where=norm > 0)  # a body at rest: L = 0, drawn at the centre
+    length = norm(L, axis=1, keepdims=True)
+    L = np.divide(L, length, out=np.zeros_like(L), where=length > 0)  # a body at rest: L = 0, drawn at the centre
     near = int(np.argmax(np.min(np.abs(L), axis=0)))
     period = body.model.period
     closed = "\none period, a closed curve" if np.isfinite(period) and t1 >= period else ""
@@ -282,7 +283,7 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
     big = int(np.argmax(np.max(np.abs(w), axis=0)))
     others = [k for k in range(3) if k != big]
     dominant = w[:, big]
-    spin = float(np.linalg.norm(body.omega0.to_value(u.rad / u.s)))
+    spin = float(norm(body.omega0.to_value(u.rad / u.s)))
     spread, size = finite_range(dominant), largest(dominant)
     steady_spin = spread < SMALL_CHANGE * size
     # Rounding is judged against the whole vector, as the scene figure judges it.
