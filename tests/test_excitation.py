@@ -3,9 +3,11 @@ excitation and on C04."""
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 
+import mpmath
 import numpy as np
 import pytest
 import xarray as xr
@@ -78,20 +80,48 @@ def test_c04_round_trip_and_broadband_excitation(c04):
     assert "Liouville" in d["method"]
 
 
+@functools.lru_cache
+def _main_lobe_days(half_width: float = 0.1) -> float:
+    """Half the main lobe of an ideal band-pass's kernel, in days, for a band of +/- ``half_width`` cycles per
+    Julian year: the first zero of its impulse response h(t) = int_{-B}^{B} cos(2 pi f t) df (the box's inverse
+    Fourier transform), integrated and solved by mpmath at 30 digits. Also checks that the lobe holds 90 % of the
+    kernel's energy (Parseval: int h^2 dt = 2B), which is why amplitudes count as known only beyond it."""
+    with mpmath.workdps(30):
+        b = mpmath.mpf(half_width) / mpmath.mpf("365.25")  # cycles per day
+
+        def h(t):
+            return mpmath.quad(lambda f: mpmath.cos(2 * mpmath.pi * f * t), [-b, b])
+
+        lo = next(k for k in range(100, 10000, 100) if h(k) < 0) - 100  # h(0) = 2B > 0: the first sign change
+        lobe = mpmath.findroot(h, (lo, lo + 100), solver="anderson")
+        energy = mpmath.quad(lambda t: h(t) ** 2, [0, lobe / 2, lobe]) * 2 / (2 * b)
+        assert 0.90 < energy < 0.91
+        return float(lobe)
+
+
 @pytest.mark.parametrize(("end", "resolved"), [("1979-03-03", False), ("1986-01-01", False), ("1986-01-02", True)])
 def test_chandler_band_only_where_the_span_resolves_it(end, resolved, tmp_path):
-    """The band-pass's kernel reaches 5 years either side, and a year of amplitudes is the least: 11 years
-    of excitation (a day shorter than the pole) from 1975-01-01 end on 1986-01-02 (its earlier band-pass
-    drew zeros on a log axis, with a warning, for 1975-1979: fuzz run of 2026-11-28)."""
+    """The band-pass's amplitudes are known where its kernel's main lobe (+/- 5 years for +/- 0.1 cycle per year,
+    measured here by mpmath) lies inside the record, and a year of them is the least: 11 years of excitation (a
+    day shorter than the pole) from 1975-01-01 end on 1986-01-02 (its earlier band-pass drew zeros on a log axis,
+    with a warning, for 1975-1979: fuzz run of 2026-11-28). The known samples are counted on the record's own
+    times against the measured lobe: 365 on 1986-01-02, 364 a day earlier."""
     ex = wobble.geodetic_excitation(start="1975-01-01", end=end, chandler_period=433 * u.day)
-    reach = 1 / (2 * 0.1)  # years: the main lobe of the band-pass's sinc kernel
-    years = (ex.time_mjd[-1] - ex.time_mjd[0]) / 365.25
-    assert ex.band_reach.to_value(u.yr) == pytest.approx(reach, rel=1e-12)
-    assert (years - 1 / 365.25 >= 2 * reach + 1) == resolved
+    lobe = _main_lobe_days()
+    assert ex.band_reach.to_value(u.day) == pytest.approx(lobe, rel=1e-12)
+    pole = ex.time_mjd - ex.time_mjd[0]  # days; the excitation starts a day after the pole
+    excitation = ex.time_mjd[1:] - ex.time_mjd[1]
+    np.testing.assert_array_equal(np.diff(ex.time_mjd), 1.0)  # daily: a year of amplitudes is 365 samples
+
+    def inside(days):  # the samples whose kernel's main lobe lies inside the record
+        return (days >= lobe) & (days <= days[-1] - lobe)
+
+    assert (np.count_nonzero(inside(excitation)) >= 365) == resolved
     assert (ex.band_chi is not None) == resolved and (ex.band_pole is not None) == resolved
     if resolved:
-        known = np.isfinite(ex.band_pole)
-        assert np.all(ex.band_pole[known] > 0) and np.count_nonzero(np.isfinite(ex.band_chi)) >= 365
+        np.testing.assert_array_equal(np.isfinite(ex.band_chi), inside(excitation))
+        np.testing.assert_array_equal(np.isfinite(ex.band_pole), inside(pole))
+        assert np.all(ex.band_pole[inside(pole)] > 0) and np.all(ex.band_chi[inside(excitation)] > 0)
     else:
         assert ex.to_dict()["chandler_band_collapse"] is None
     from wobble.plot.excitation import save_excitation_figure

@@ -437,10 +437,54 @@ def test_first_periods_cuts_a_long_span_to_its_first_periods_and_says_how_many()
     assert [period_count(c) for c in (12345.6, 99.94, 3.0)] == ["12,346", "99.9", "3"]
 
 
+_TOP = dict(I1=5e-4, I3=1e-4, mgl=0.1, theta0=math.radians(30), omega3=200.0)  # SI; started at rest in theta
+
+
+def _slow_regular_rate() -> float:
+    """The slow steady precession rate at theta0, at 50 digits from the inputs: f(u0) = f'(u0) = 0 with
+    thetadot = 0 gives I1 cos theta phidot^2 - I3 omega3 phidot + M g l = 0 (Goldstein, Poole & Safko 2002,
+    sec. 5.7), phidot = [I3 omega3 - sqrt(I3^2 omega3^2 - 4 I1 M g l cos theta)] / (2 I1 cos theta)."""
+    with mpmath.workdps(50):
+        i1, i3, mgl, w3 = (mpmath.mpf(_TOP[k]) for k in ("I1", "I3", "mgl", "omega3"))
+        c = mpmath.cos(mpmath.mpf(_TOP["theta0"]))
+        return float((i3 * w3 - mpmath.sqrt((i3 * w3) ** 2 - 4 * i1 * mgl * c)) / (2 * i1 * c))
+
+
 def _regular_precession(relative_offset: float = 0.0):
-    kw = dict(I1=5e-4 * KGM2, I3=1e-4 * KGM2, mgl=0.1 * u.J, theta0=30 * u.deg, omega3=200 * RAD_S)
-    slow = HeavyTop(**kw, phidot0=0 * RAD_S).model.regular_precession_rates()[0]
-    return HeavyTop(**kw, phidot0=slow * (1 + relative_offset) * RAD_S)
+    t = _TOP
+    return HeavyTop(
+        I1=t["I1"] * KGM2,
+        I3=t["I3"] * KGM2,
+        mgl=t["mgl"] * u.J,
+        theta0=t["theta0"] * u.rad,
+        omega3=t["omega3"] * RAD_S,
+        phidot0=_slow_regular_rate() * (1 + relative_offset) * RAD_S,
+    )
+
+
+def _goldstein_cubic(phidot0: float):
+    """f(u) = (1 - u^2)(alpha - beta u) - (b - a u)^2 of the top _TOP started with phidot0 (Goldstein, Poole &
+    Safko 2002, sec. 5.7; notes p. 71), at 50 digits from the float inputs: a = I3 omega3 / I1, b = a cos theta0 +
+    phidot0 sin^2 theta0, alpha = phidot0^2 sin^2 theta0 + beta cos theta0, beta = 2 M g l / I1. Returns f (of an
+    mpf) and its roots u1 < u2 < u3 by mpmath.polyroots, as mpf (at 50 digits, the turning points 1e-10 apart
+    keep 30 digits of their difference)."""
+    mp = mpmath.mpf
+    with mpmath.workdps(50):
+        a, beta = mp(_TOP["I3"]) * mp(_TOP["omega3"]) / mp(_TOP["I1"]), 2 * mp(_TOP["mgl"]) / mp(_TOP["I1"])
+        c, s = mpmath.cos(mp(_TOP["theta0"])), mpmath.sin(mp(_TOP["theta0"]))
+        b = a * c + mp(phidot0) * s**2
+        alpha = (mp(phidot0) * s) ** 2 + beta * c
+        roots, error = mpmath.polyroots(
+            [alpha - b * b, 2 * a * b - beta, -(alpha + a * a), beta], maxsteps=200, extraprec=200, error=True, asc=True
+        )
+        assert error < mp(10) ** -40 and all(abs(mpmath.im(r)) < mp(10) ** -40 for r in roots)
+        roots = sorted(mpmath.re(r) for r in roots)
+
+    def f(x):
+        with mpmath.workdps(50):
+            return (1 - x**2) * (alpha - beta * x) - (b - a * x) ** 2
+
+    return f, roots
 
 
 def test_a_regular_precession_s_cubic_draws_its_double_root_not_rounding():
@@ -461,23 +505,32 @@ def test_a_regular_precession_s_cubic_draws_its_double_root_not_rounding():
 def test_a_nearly_regular_precession_s_hump_is_drawn_however_narrow(offset):
     """Turning points 9.4e-11 apart in u (phidot 1e-9 off the regular rate) bound a hump of 2e-18 s^-2,
     far below the expanded cubic's 2e-14 of rounding: drawn from the roots, it is above zero exactly between
-    them and below outside."""
+    them and below outside, and it is Goldstein's f(u) formed at 50 digits from the top's inputs, whose roots
+    (mpmath.polyroots) set the window: measured, 8e-7 of the hump at 1e-9 (the float roots' rounding of the
+    width, 1.6e-7 of it), 4e-10 at 1e-6."""
     top = _regular_precession(offset)
-    m = top.model
-    near = cubic_figure(top).axes[1]
+    f_exact, (u1, u2, u3) = _goldstein_cubic(top.model.phidot0)
+    assert top.model.phidot0 == _slow_regular_rate() * (1 + offset)
+    assert top.model.regular_precession_rates()[0] == pytest.approx(_slow_regular_rate(), rel=1e-15)
+    fig = cubic_figure(top)
+    whole, near = fig.axes
     assert near.get_title() == "between the turning points"
     assert [t.get_text() for t in near.get_legend().get_texts()] == ["the motion: f >= 0"]
-    scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", near.get_xlabel()).group(1))
-    d, f = (np.asarray(v) for v in near.lines[0].get_data())
-    d = d * scale
-    width = m.x1 - m.x2
+    # The roots marked on the whole cubic: the exact ones, to the last bit of a float.
+    np.testing.assert_allclose(whole.lines[1].get_xdata(), [float(r) for r in (u1, u2, u3)], rtol=2.3e-16, atol=0)
+    xscale = int(re.search(r"10\^\{(-?\d+)\}", near.get_xlabel()).group(1))
+    fscale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", near.get_ylabel()).group(1))
+    drawn_d, f = (np.asarray(v) for v in near.lines[0].get_data())
+    width = float(u2 - u1)  # the exact turning points, not the model's
     assert 0 < width < 1e-3
+    np.testing.assert_allclose(near.lines[1].get_xdata(), [-width / 10.0**xscale, 0.0], rtol=1e-6, atol=0)
+    d = drawn_d * 10.0**xscale
     inside = (d > -width * (1 - 1e-6)) & (d < -width * 1e-6)
     outside = (d < -width * (1 + 1e-6)) | (d > width * 1e-6)
     assert inside.any() and outside.any() and np.all(f[inside] > 0) and np.all(f[outside] < 0)
-    if offset == 1e-6:  # a hump of 2e-12 s^-2: the expanded cubic's 2e-14 of rounding reads it to a few per cent
-        ylabel_scale = 10.0 ** int(re.search(r"10\^\{(-?\d+)\}", near.get_ylabel()).group(1))
-        np.testing.assert_allclose(f * ylabel_scale, m.f(m.u2 + d), rtol=0, atol=0.05 * np.max(f) * ylabel_scale)
+    # The hump itself: f at u = u2 + d, u2 the exact upper turning point.
+    truth = np.array([float(f_exact(u2 + mpmath.mpf(float(x)) * mpmath.mpf(10) ** xscale)) for x in drawn_d])
+    np.testing.assert_allclose(f * fscale, truth, rtol=0, atol=5e-6 * np.max(truth))
 
 
 def test_a_nearly_sleeping_top_s_potential_well_is_drawn_between_its_turning_angles():
