@@ -136,7 +136,7 @@ def test_bad_plot_name_refused_before_the_work(tmp_path, capsys):
         (["--window", "eight"], "--window: got eight"),
         (["--excitation-q", "lots"], "--excitation-q: got lots"),
         (["--file", "/nonexistent/eop.txt"], "/nonexistent/eop.txt: no such file"),
-        (["--start", "2000-01-01", "--end", "2001-01-01"], "at least 730 d"),
+        (["--start", "2000-01-01", "--end", "2001-01-01"], "at least 732.5 d"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, args, fragment):

@@ -10,6 +10,7 @@ import argparse
 import json
 import re
 
+import numpy as np
 import pytest
 from astropy import units as u
 
@@ -103,9 +104,26 @@ def test_excitation_span_too_short_names_start_and_end(capsys, tmp_path, monkeyp
     # Was: "series: got a span of 9 d" (the spectra's internal name).
     message = _refused(["excitation", "--start", "2020-01-01", "--end", "2020-01-10"], capsys, tmp_path, monkeypatch)
     assert message == (
-        "--start/--end: got 2020-01-01 to 2020-01-10 (9 d); allowed: a span of at least 730 d (two years), "
-        "for the spectra and the Chandler peak"
+        "--start/--end: got 2020-01-01 to 2020-01-10 (9 d); allowed: a span of at least 731.5 d: two Julian years "
+        "(730.5 d) of excitation, which begins a sample after the pole, for the spectra and the Chandler peak"
     )
+
+
+@pytest.mark.parametrize(("command", "shortest"), [("excitation", "731.5 d"), ("polar-motion", "732.5 d")])
+def test_the_least_span_stated_is_the_one_that_runs(capsys, tmp_path, monkeypatch, command, shortest):
+    """The spans told "at least 730 d" (730.5 rounded) and accepted 731 d, which the spectrum (excitation: 'series:
+    got a span of 730 d') or the window (polar-motion) then refused: the span a day short of the stated least is
+    refused naming --start/--end, the span a day past it runs."""
+    days = float(shortest.split()[0])
+    short_end = "2020-01-02" if command == "excitation" else "2020-01-03"  # 731 d and 732 d after 2018-01-01
+    message = _refused([command, "--start", "2018-01-01", "--end", short_end], capsys, tmp_path, monkeypatch)
+    assert message.startswith("--start/--end: got 2018-01-01 to ") and f"at least {shortest}" in message
+    monkeypatch.chdir(tmp_path)
+    end = np.datetime64("2018-01-01") + np.timedelta64(int(days) + 1, "D")
+    code, out, err = _run([command, "--start", "2018-01-01", "--end", str(end), "--json"], capsys)
+    assert code == 0, err
+    if command == "polar-motion":  # its default window (8 yr) is the span instead, and says so
+        assert any("the default window of 8 yr is longer than the span" in c for c in json.loads(out)["caveats"])
 
 
 # -- 2. bare numbers: each option's help says their unit, and errors show the unit meant ----------------
@@ -148,7 +166,7 @@ def test_help_says_what_a_bare_number_means(command, option, unit):
         (["polar-motion", "--window", "10m"], "--window: got 10m; allowed: a time such as"),
         (["polar-motion", "--step", "0.001"], "--step: got 0.001 yr; allowed: at least 1 d"),  # was 64,000 windows
         (["polar-motion", "--step", "12h"], "--step: got 12 h; allowed: at least 1 d"),
-        (["polar-motion", "--start", "2020", "--end", "2022-06"], "--window: got 8 yr (the default); allowed:"),
+        (["polar-motion", "--start", "2020", "--end", "2022-06", "--window", "8"], "--window: got 8 yr; allowed:"),
     ],
 )
 def test_errors_show_the_value_in_the_unit_meant(argv, start, capsys, tmp_path, monkeypatch):
@@ -182,7 +200,7 @@ def test_a_window_with_a_unit_is_read():
         (["forecast", "--every", "14"], "--every: got 14; allowed: only with --hindcast"),  # was silently ignored
         (["forecast", "--q", "50", "--method", "ls_ar"], "--q: got 50; allowed: no --q with --method ls_ar"),
         (["polar-motion", "--drift-degree", "9"], "--drift-degree: got 9; allowed: an integer from 0"),
-        (["polar-motion", "--start", "2020", "--end", "2021"], "--start/--end: got 2020-01-01 to 2021-01-01;"),
+        (["polar-motion", "--start", "2020", "--end", "2021"], "--start/--end: got 2020-01-01 to 2021-01-01 (366 d);"),
         (
             ["polar-motion", "--excitation-q", "0.5"],
             "--excitation-q: got 0.5; allowed: a finite quality factor above 1",

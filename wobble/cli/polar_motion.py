@@ -46,8 +46,8 @@ def register(sub) -> None:
     p.add_argument(
         "--window",
         metavar="T",
-        help="length of the sliding windows, e.g. 8 or 2920d (a bare number is years; default: 8): longer than 2 yr, "
-        "since the samples in each must span 2 yr (on daily data, at least 732.5 d)",
+        help="length of the sliding windows, e.g. 8 or 2920d (a bare number is years; default: 8, or the span "
+        "when shorter): longer than 2 yr, since the samples in each must span 2 yr (on daily data, at least 732.5 d)",
     )
     p.add_argument(
         "--step",
@@ -127,7 +127,7 @@ def run(args) -> int:
                 args.file,
                 start=args.start,
                 end=args.end,
-                window=window.quantity,
+                window=None if args.window is None else window.quantity,  # None: 8 yr, or the span if shorter
                 step=step.quantity,
                 drift_degree=args.drift_degree,
                 excitation_q=excitation_q,

@@ -338,12 +338,16 @@ def _windows_dict(w: dict, a: dict) -> dict:
     }
 
 
+#: The sliding windows' default length, s: 8 Julian years (the span instead, when shorter).
+DEFAULT_WINDOW = 8 * _pm.JULIAN_YEAR
+
+
 def polar_motion_analysis(
     data=None,
     *,
     start=None,
     end=None,
-    window: u.Quantity = 8 * u.yr,
+    window: u.Quantity | None = None,
     step: u.Quantity = 1 * u.yr,
     drift_degree: int = 2,
     excitation_q: float | None = 100.0,
@@ -357,10 +361,10 @@ def polar_motion_analysis(
     ----------
     data, start, end, drift_degree, excitation_q, draws
         As in :func:`chandler_wobble`.
-    window : Quantity
-        Length of the sliding windows (default 8 Julian years; at least 2
-        years and at most the span; under the 6.4-yr Chandler-annual beat
-        the windows barely separate the two terms).
+    window : Quantity, optional
+        Length of the sliding windows (default 8 Julian years, or the span when
+        it is shorter; at least 2 years of samples and at most the span; under
+        the 6.4-yr Chandler-annual beat the windows barely separate the two terms).
     step : Quantity
         Spacing of the windows (default 1 year; at least 1 d, the sampling).
     quality_factor : bool
@@ -379,20 +383,28 @@ def polar_motion_analysis(
     # the caller asks for it (PolarMotionAnalysis.data), so the JSON and the text never import xarray.
     mjd, t, z, record = resolve_series(data, start, end)
     # Non-positive and non-finite lengths meet the range checks below (which say what is allowed).
-    window_s = to_si(window, "window", u.s, finite=False, shape=())
+    window_s = None if window is None else to_si(window, "window", u.s, finite=False, shape=())
     step_s = to_si(step, "step", u.s, finite=False, shape=())
     if not (math.isfinite(step_s) and step_s >= _pm.DAY * (1 - 1e-9)):
         # Windows moved by less than a sample are the same windows (and 0.001 yr made 64,000 of them).
         raise InputError("step", step, "at least 1 d (the sampling of the record)")
     q_value = q_arg(excitation_q)
     span = t[-1] - t[0]
-    if span < _pm.MIN_SPAN:
+    shortest = _pm.shortest_window(t)
+    if span < shortest:
+        # The least span is the shortest sliding window's: two Julian years of samples in it (730.5 d, which
+        # the message had rounded to 730) and a sample at each end; 731-732 d passed this check and were
+        # refused by the window's.
         raise InputError(
             "start/end",
-            f"{iso_date(mjd[0])} to {iso_date(mjd[-1])}",
-            f"a span of at least {_pm.MIN_SPAN / _pm.DAY:.0f} d (two years)",
+            f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({span / _pm.DAY:g} d)",
+            f"a span of at least {shortest / _pm.DAY:g} d (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of "
+            "samples in each sliding window)",
         )
-    if not (math.isfinite(window_s) and _pm.shortest_window(t) <= window_s <= span * (1 + 1e-9)):
+    default_window = window_s is None
+    if default_window:  # 8 years, or the span when shorter (a five-year span was refused its default window)
+        window_s = min(DEFAULT_WINDOW, span)
+    if not (math.isfinite(window_s) and shortest <= window_s <= span * (1 + 1e-9)):
         raise InputError("window", window, _pm.window_allowed(t))
     say("least-squares fit")
     earth = load_planet("earth")  # read once: the reference period here, the budget and the comparison below
@@ -420,6 +432,11 @@ def polar_motion_analysis(
         caveats.append(
             f"{wf.unresolved} of {wf.centre.size} windows found no Chandler term inside the search band "
             f"({lo:.0f}-{hi:.0f} d): their values are left out"
+        )
+    if default_window and window_s < DEFAULT_WINDOW:
+        caveats.append(
+            f"one window, the whole span ({window_s / _pm.JULIAN_YEAR:.2f} yr): the default window of "
+            f"{DEFAULT_WINDOW / _pm.JULIAN_YEAR:g} yr is longer than the span"
         )
     if window_s < _pm.beat_period(reference):
         caveats.append(

@@ -308,10 +308,16 @@ def geodetic_excitation(
     mjd_all, t_all, z_all, attrs = series_with_attrs(data, file)
     keep = slice(None) if start is None and end is None else select_dates(mjd_all, start, end)
     mjd, t, z = mjd_all[keep], t_all[keep], z_all[keep]
-    if t.size < 2 or t[-1] - t[0] < MIN_SPAN:
-        # The spectra and the Chandler peak of to_dict() need two years (a period needs two cycles).
-        span = f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({(t[-1] - t[0]) / DAY:.0f} d)" if t.size else "no data"
-        allowed = f"a span of at least {MIN_SPAN / DAY:.0f} d (two years), for the spectra and the Chandler peak"
+    if t.size < 3 or t[-1] - t[1] < MIN_SPAN:
+        # The spectra and the Chandler peak of to_dict() need two Julian years of excitation (a period needs two
+        # cycles), which begins a sample after the pole: 731 d of daily pole had passed here and were refused
+        # by the spectrum's own check, naming 'series'.
+        span = f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({(t[-1] - t[0]) / DAY:g} d)" if t.size else "no data"
+        step = float(t[1] - t[0]) if t.size > 1 else DAY
+        allowed = (
+            f"a span of at least {(MIN_SPAN + step) / DAY:g} d: two Julian years ({MIN_SPAN / DAY:g} d) of "
+            "excitation, which begins a sample after the pole, for the spectra and the Chandler peak"
+        )
         raise InputError("data" if start is None and end is None else "start/end", span, allowed)
     if given is None:
         reference = published_chandler_period()["period"].to_value(u.s)

@@ -75,8 +75,8 @@ def as_series(t, z, name: str = "series") -> tuple[np.ndarray, np.ndarray]:
         span = 0.0 if t.size < 2 else (t[-1] - t[0]) / DAY
         raise InputError(
             name,
-            f"a span of {span:.0f} d",
-            f"a span of at least {MIN_SPAN / DAY:.0f} d (two years) to measure a period",
+            f"a span of {span:g} d",
+            f"a span of at least {MIN_SPAN / DAY:g} d (two Julian years) to measure a period",
         )
     return t, z
 
