@@ -782,7 +782,11 @@ def _with_body(setup, body) -> InversionSetup:
     if Path(text).is_file():
         text = str(Path(text).resolve())
     elif text.strip().lower() not in catalogue_names():
-        raise InputError("body", text, f"a planet file, or a catalogued planet: {', '.join(catalogue_names())}")
+        from wobble.io.shipped import resolve
+
+        # As wobble chandler --body-file reads it: a shipped planet file by name (my_planet.toml), and a
+        # missing one said to be missing (it was told "a planet file, or a catalogued planet").
+        text = str(Path(resolve(text, ("examples", "bodies"), "body", (".toml",))).resolve())
     if isinstance(setup, Mapping):
         return setup_from_dict({**setup, "body": text})
     if isinstance(setup, (str, os.PathLike)):

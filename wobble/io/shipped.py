@@ -159,10 +159,9 @@ def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> st
     found = find_shipped(str(text), kinds, suffixes)
     if found is not None:
         return str(found.path())
+    why = "it is a folder" if path.is_dir() else "there is no such file"
     raise InputError(
-        parameter,
-        os.fspath(text),
-        f"an existing file (there is no such file), or a shipped one: {_names(kinds, suffixes)}",
+        parameter, os.fspath(text), f"an existing file ({why}), or a shipped one: {_names(kinds, suffixes)}"
     )
 
 
