@@ -238,3 +238,16 @@ def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, planet, moo
 def test_unknown_body_is_refused(capsys):
     status, _, err = _run(capsys, "precession", "pluto")
     assert status == 2 and "BODY: got pluto" in err
+
+
+def test_perturbers_given_say_which_catalogued_satellites_they_leave_out(capsys):
+    """--perturber sun alone (the Sun only) printed Earth's rate without the Moon, and a residual of 3.7 million
+    sigma, without a word that the Moon had been left out."""
+    status, out, _ = _run(capsys, "precession", "--perturber", "sun", "earth", "--json")
+    (earth,) = json.loads(out)
+    assert status == 0 and [t["name"] for t in earth["terms"] if t["name"].startswith("moon")] == []
+    assert "left out: moon (the catalogue's satellites of Earth; the perturbers given replace them)" in earth["notes"]
+    status, out, _ = _run(capsys, "precession", "--perturber", "moon", "earth", "--json")
+    assert not any(n.startswith("left out") for n in json.loads(out)[0]["notes"])
+    status, out, _ = _run(capsys, "precession", "earth", "--json")  # the default: nothing left out
+    assert not any(n.startswith("left out") for n in json.loads(out)[0]["notes"])

@@ -636,6 +636,16 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     obs = planet.file.get("observed_precession_rate")
     if obs is not None and "circular" in obs.note.lower():
         notes.append(" ".join(obs.note.split()))
+    if perturbers is not None:
+        # Given perturbers replace the catalogue's satellites: say which were left out (--perturber sun alone,
+        # the Sun only, printed Earth's rate without the Moon and a residual of 3.7 million sigma, silently).
+        given = {pf.name for pf in satellites}
+        left = [pf.name for pf in perturbers_of(planet.name) if pf.name not in given]
+        if left:
+            notes.append(
+                f"left out: {', '.join(left)} (the catalogue's satellites of {planet.title}; the perturbers given "
+                "replace them)"
+            )
     return PrecessionBudget(planet, raw, nutation, steps, notes, refs)
 
 
