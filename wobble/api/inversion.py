@@ -769,8 +769,8 @@ def _check_size(settings: SamplerSettings, ndim: int) -> None:
         s = settings
         raise InputError(
             SIZE,
-            f"{s.walkers} x ({s.burn} + {s.steps}) x {s.ensembles} = {draws} walker-steps",
-            f"at most {have // per_draw} walker-steps here: {draws} need about {human_bytes(draws * per_draw)} "
+            f"{s.walkers} x ({s.burn} + {s.steps}) x {s.ensembles} = {draws:,} walker-steps",
+            f"at most {have // per_draw:,} walker-steps here: {draws:,} need about {human_bytes(draws * per_draw)} "
             f"of memory and {human_bytes(have)} is usable (ask for fewer walkers, steps or ensembles)",
         )
 
