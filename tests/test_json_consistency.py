@@ -1,0 +1,87 @@
+"""The second review of the ``--json`` outputs (2026-11-29): units in key names, ``unit`` beside a summary, the
+hindcast's anchors joined to the scores, the same keys for every body in ``modes``, uncertainties named
+``<quantity>_uncertainty_<unit>``, and ``deprecated_keys`` at the root of every command that renames a key.
+Each test reads the JSON a script reads (``--json``, or ``to_dict()``); the old keys must still hold their
+values (one release, wobble.io.json_keys)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from wobble.cli import main
+from wobble.io.json_keys import values_at
+
+
+def _json(capsys, *args):
+    assert main([*args, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _listings(node):
+    """Every object in ``node`` (at any depth) that lists renames under ``deprecated_keys``."""
+    if isinstance(node, dict):
+        if "deprecated_keys" in node:
+            yield node
+        for value in node.values():
+            yield from _listings(value)
+    elif isinstance(node, list):
+        for value in node:
+            yield from _listings(value)
+
+
+def _check_listings(doc):
+    """Every listing's old path holds exactly what its new path holds (and there is one)."""
+    for listing in _listings(doc):
+        for old, new in listing["deprecated_keys"].items():
+            assert values_at(listing, old) == values_at(listing, new) != [], (old, new)
+
+
+# --- 1. inertia: units in the keys ------------------------------------------------------------------------------------
+
+
+def test_inertia_names_its_units_in_its_keys_and_keeps_the_old_ones(capsys):
+    """A uniform ellipsoid of 2 kg, semi-axes 3, 2, 1 m: I = m (b^2 + c^2)/5, ... = 2, 4 and 5.2 kg m2."""
+    d = _json(capsys, "inertia", "--solid", "ellipsoid", "--mass", "2", "--axes", "3", "2", "1")
+    assert d["mass_kg"] == 2.0 and d["center_of_mass_m"] == [0.0, 0.0, 0.0] == d["reference_point_m"]
+    assert d["principal_moments_kg_m2"] == pytest.approx([2.0, 4.0, 5.2], rel=1e-15)
+    assert d["tensor_kg_m2"] == [pytest.approx(row, rel=1e-15, abs=0) for row in ([2, 0, 0], [0, 4, 0], [0, 0, 5.2])]
+    assert d["principal_moment_differences_kg_m2"] == pytest.approx([2.0, 1.2, 3.2], rel=1e-15)
+    assert d["principal_axes"] == [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]  # unit vectors, no unit
+    renames = {
+        "mass": "mass_kg",
+        "center_of_mass": "center_of_mass_m",
+        "reference_point": "reference_point_m",
+        "tensor": "tensor_kg_m2",
+        "principal_moments": "principal_moments_kg_m2",
+        "principal_moment_differences": "principal_moment_differences_kg_m2",
+    }
+    assert d["deprecated_keys"] == renames
+    _check_listings(d)
+    # The units map stays one release, as it was (deprecated_keys cannot list it: no new key holds its value).
+    assert d["units"] == {
+        "mass": "kg",
+        "center_of_mass": "m",
+        "reference_point": "m",
+        "tensor": "kg m2",
+        "principal_moments": "kg m2",
+        "principal_axes": "1",
+        "principal_moment_differences": "kg m2",
+    }
+    # Every key with a unit now says it: the map's keys are each an old key beside its suffixed name.
+    for old, unit in d["units"].items():
+        if unit != "1":
+            assert renames[old] == f"{old}_{unit.replace(' ', '_')}"
+
+
+def test_inertia_about_a_point_gives_the_point_in_metres(capsys):
+    d = _json(capsys, "inertia", "--solid", "cone", "--mass", "250 g", "--radius", "3 cm", "--height", "8 cm")
+    about = _json(
+        capsys, "inertia", "--solid", "cone", "--mass", "250 g", "--radius", "3 cm", "--height", "8 cm",
+        "--about", "0", "0", "-0.06",
+    )  # fmt: skip
+    assert about["reference_point_m"] == about["reference_point"] == [0.0, 0.0, -0.06] and d["mass_kg"] == 0.25
+    # Parallel axes: I_xx about the point = I_xx about the centre of mass + m d^2, d = 0.06 m.
+    assert about["tensor_kg_m2"][0][0] == pytest.approx(d["tensor_kg_m2"][0][0] + 0.25 * 0.06**2, rel=1e-14)
+    assert set(about) == set(d)
