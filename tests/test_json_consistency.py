@@ -7,8 +7,10 @@ values (one release, wobble.io.json_keys)."""
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
+from astropy import units as u
 
 from wobble.cli import main
 from wobble.io.json_keys import values_at
@@ -85,3 +87,27 @@ def test_inertia_about_a_point_gives_the_point_in_metres(capsys):
     # Parallel axes: I_xx about the point = I_xx about the centre of mass + m d^2, d = 0.06 m.
     assert about["tensor_kg_m2"][0][0] == pytest.approx(d["tensor_kg_m2"][0][0] + 0.25 * 0.06**2, rel=1e-14)
     assert set(about) == set(d)
+
+
+# --- 2. sweep: unit, as astropy writes it -----------------------------------------------------------------------------
+
+
+def test_sweep_gives_its_unit_as_astropy_writes_it(capsys):
+    d = _json(capsys, "sweep", "mars_chandler", "--members", "40", "--quiet")
+    assert d["unit"] == "d" and u.Unit(d["unit"]) == u.day and u.Unit(d["unit"]).to_string() == d["unit"]
+    assert d["units"] == d["unit"] and d["deprecated_keys"] == {"units": "unit"}
+    assert 190 < d["percentiles"]["50"] < 220  # in that unit: Mars' Chandler period in days
+    _check_listings(d)
+
+
+@pytest.mark.parametrize(("cf", "astropy_string"), [("s", "s"), ("day", "d"), ("1", ""), ("rad s-1", "rad / s")])
+def test_a_sweep_summary_s_unit_is_astropy_s_spelling(cf, astropy_string):
+    from wobble.api.sweep import SweepSummary
+
+    summary = SweepSummary(
+        variable="x", units=cf, members=2, valid=2, mean=1.0, std=0.0, percentiles={}, observed=math.nan,
+        invalid_reasons={},
+    )  # fmt: skip
+    d = summary.to_dict()
+    assert d["unit"] == d["units"] == astropy_string and u.Unit(d["unit"]) == u.Unit(cf)
+    assert summary.units == cf  # the Python attribute keeps the file's spelling
