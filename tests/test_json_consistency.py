@@ -111,3 +111,22 @@ def test_a_sweep_summary_s_unit_is_astropy_s_spelling(cf, astropy_string):
     d = summary.to_dict()
     assert d["unit"] == d["units"] == astropy_string and u.Unit(d["unit"]) == u.Unit(cf)
     assert summary.units == cf  # the Python attribute keeps the file's spelling
+
+
+# --- 3. forecast --hindcast: the anchors name the key of their score --------------------------------------------------
+
+
+def test_hindcast_anchors_join_the_scores_by_their_current_key(capsys):
+    d = _json(
+        capsys, "forecast", "--hindcast", "2019-01-01:2019-02-01", "--every", "14d", "--horizon", "10d",
+        "--latency", "1d", "--scheduler", "synchronous",
+    )  # fmt: skip
+    assert d["anchors"] and d["methods"]
+    for anchor in d["anchors"]:
+        # metric is the old name of the score's key, metric_key the key: deprecated_keys maps the one to the other.
+        assert d["deprecated_keys"][f"methods.*.{anchor['metric']}"] == f"methods.*.{anchor['metric_key']}"
+        assert anchor["metric_key"].endswith("_mas")  # the anchors' values are in mas, as the scores so named
+        for scores in d["methods"].values():
+            assert anchor["metric_key"] in scores
+    assert [a["metric_key"] for a in d["anchors"]] == ["rms_2d_mas", "rms_x_mas", "rms_y_mas", "mae_x_mas", "mae_y_mas"]
+    _check_listings(d)
