@@ -130,3 +130,18 @@ def test_hindcast_anchors_join_the_scores_by_their_current_key(capsys):
             assert anchor["metric_key"] in scores
     assert [a["metric_key"] for a in d["anchors"]] == ["rms_2d_mas", "rms_x_mas", "rms_y_mas", "mae_x_mas", "mae_y_mas"]
     _check_listings(d)
+
+
+# --- 4. modes: the same figure keys for every body --------------------------------------------------------------------
+
+
+def test_modes_gives_every_body_the_same_figure_keys(capsys):
+    earth, mars = _json(capsys, "modes", "earth", "mars")
+    figure_e, figure_m = earth["hydrostatic_figure"], mars["hydrostatic_figure"]
+    assert set(figure_e) == set(figure_m) and set(earth) == set(mars)
+    # Mars's profile ships no published flattening: null, as the README says of what does not apply.
+    assert figure_m["observed_flattening"] is None and figure_m["reference_hydrostatic_flattening"] is None
+    # Earth's are the IERS 1/f = 298.25642 and Chambat et al.'s hydrostatic 1/f = 299.8 (within its 0.05 %).
+    assert figure_e["observed_flattening"]["value"] == pytest.approx(1 / 298.25642, rel=1e-7)
+    assert figure_e["reference_hydrostatic_flattening"]["value"] == pytest.approx(1 / 299.8, rel=5e-4)
+    assert set(figure_e["observed_flattening"]) == {"value", "uncertainty", "source"}

@@ -60,6 +60,8 @@ def _days(seconds) -> u.Quantity | None:
 #: Keys of the hydrostatic figure's JSON kept under their old names for one release (README, "Commands"):
 #: ``q`` (Omega^2 a^3/(GM)) is the Chandler Q in ``wobble forecast``.
 DEPRECATED_FIGURE_KEYS = {"q": "centrifugal_ratio"}
+#: Published values a density profile may ship (``observed_flattening``, ``reference_hydrostatic_flattening``).
+FIGURE_ANCHOR_KEYS = ("observed_flattening", "reference_hydrostatic_flattening")
 
 
 class HydrostaticFigure:
@@ -147,8 +149,13 @@ class HydrostaticFigure:
             "mass_kg": self.raw.mass,
             "core_dynamical_ellipticity": self.core_dynamical_ellipticity,
         }
-        for key, (value, sigma, source) in self.anchors.items():
-            out[key] = {"value": value, "uncertainty": sigma, "source": source}
+        # Every profile's figure has both keys (README, "Commands": null where they do not apply); a profile with no
+        # published anchors (mars_layered) had neither.
+        for key in FIGURE_ANCHOR_KEYS:
+            out[key] = None
+            if key in self.anchors:
+                value, sigma, source = self.anchors[key]
+                out[key] = {"value": value, "uncertainty": sigma, "source": source}
         return deprecate(out, DEPRECATED_FIGURE_KEYS)
 
     def to_dataset(self) -> xr.Dataset:
@@ -225,7 +232,7 @@ def _anchors(pf: ParameterFile | None) -> dict:
     out = {}
     if pf is None:
         return out
-    for key in ("observed_flattening", "reference_hydrostatic_flattening"):
+    for key in FIGURE_ANCHOR_KEYS:
         p = pf.get(key)
         if p is not None:
             out[key] = (float(p.value.value), float(p.uncertainty.value), p.source)
