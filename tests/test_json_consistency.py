@@ -13,6 +13,7 @@ import pytest
 from astropy import units as u
 
 from wobble.cli import main
+from wobble.io.catalog import catalogue_file
 from wobble.io.json_keys import values_at
 
 
@@ -145,3 +146,33 @@ def test_modes_gives_every_body_the_same_figure_keys(capsys):
     assert figure_e["observed_flattening"]["value"] == pytest.approx(1 / 298.25642, rel=1e-7)
     assert figure_e["reference_hydrostatic_flattening"]["value"] == pytest.approx(1 / 299.8, rel=5e-4)
     assert set(figure_e["observed_flattening"]) == {"value", "uncertainty", "source"}
+
+
+# --- 5. modes: <quantity>_uncertainty_<unit> --------------------------------------------------------------------------
+
+
+def test_modes_names_the_excess_uncertainty_as_every_uncertainty_is(capsys):
+    import wobble
+
+    for d in _json(capsys, "modes", "earth", "mars"):
+        expected = 100 * wobble.normal_modes(d["body"]).core_flattening_excess_uncertainty
+        assert d["core_flattening_excess_uncertainty_percent"] == pytest.approx(expected, rel=1e-14)
+        assert d["core_flattening_excess_percent_uncertainty"] == d["core_flattening_excess_uncertainty_percent"]
+        assert d["deprecated_keys"] == {
+            "core_flattening_excess_percent_uncertainty": "core_flattening_excess_uncertainty_percent",
+            "hydrostatic_figure.q": "hydrostatic_figure.centrifugal_ratio",
+        }
+        assert d["hydrostatic_figure"]["deprecated_keys"] == {"q": "centrifugal_ratio"}
+        _check_listings(d)
+
+
+def test_modes_without_a_figure_lists_only_what_it_holds(capsys, tmp_path):
+    """A body with no density profile has no hydrostatic figure: its root lists no rename inside one."""
+    path = tmp_path / "ares.toml"
+    path.write_text(catalogue_file("mars").read_text().replace('name = "mars"', 'name = "ares"', 1))
+    (d,) = _json(capsys, "modes", "--body-file", str(path))
+    assert d["hydrostatic_figure"] is None and d["core_flattening_excess_uncertainty_percent"] is None
+    assert d["deprecated_keys"] == {
+        "core_flattening_excess_percent_uncertainty": "core_flattening_excess_uncertainty_percent"
+    }
+    assert d["core_flattening_excess_percent_uncertainty"] is None

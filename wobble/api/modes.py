@@ -62,6 +62,9 @@ def _days(seconds) -> u.Quantity | None:
 DEPRECATED_FIGURE_KEYS = {"q": "centrifugal_ratio"}
 #: Published values a density profile may ship (``observed_flattening``, ``reference_hydrostatic_flattening``).
 FIGURE_ANCHOR_KEYS = ("observed_flattening", "reference_hydrostatic_flattening")
+#: Keys of ``wobble modes --json`` (each body's object) kept under their old names for one release: the
+#: uncertainty of the excess in the order of period_uncertainty_days, <quantity>_uncertainty_<unit>.
+DEPRECATED_KEYS = {"core_flattening_excess_percent_uncertainty": "core_flattening_excess_uncertainty_percent"}
 
 
 class HydrostaticFigure:
@@ -435,7 +438,7 @@ class NormalModes:
         def pct(x):
             return None if x is None else 100.0 * x
 
-        return {
+        out = {
             "body": self.body,
             "title": self.planet.title,
             "day": DAY_NOTE,
@@ -460,7 +463,7 @@ class NormalModes:
             "core_flattening_required": self.core_flattening_required,
             "core_flattening_required_uncertainty": self.core_flattening_required_uncertainty,
             "core_flattening_excess_percent": pct(self.core_flattening_excess),
-            "core_flattening_excess_percent_uncertainty": pct(self.core_flattening_excess_uncertainty),
+            "core_flattening_excess_uncertainty_percent": pct(self.core_flattening_excess_uncertainty),
             "fcn_period_required_days": num(self.fcn_period_required),
             "chandler_budget_days": num(self.chandler_budget_period),
             "chandler_coupling_off_days": num(self.chandler_coupling_off),
@@ -469,6 +472,14 @@ class NormalModes:
             "hydrostatic_figure": None if self.figure is None else self.figure.to_dict(),
             "not_run": self.not_run,
         }
+        # The root lists every rename in the object, the figure's too (which its own deprecated_keys lists), as
+        # polar-motion's does; the figure's only where there is a figure.
+        nested = (
+            {}
+            if self.figure is None
+            else {f"hydrostatic_figure.{k}": f"hydrostatic_figure.{v}" for k, v in DEPRECATED_FIGURE_KEYS.items()}
+        )
+        return deprecate(out, {**DEPRECATED_KEYS, **nested})
 
     def summary(self) -> str:
         """The table a person reads (``wobble modes``)."""
