@@ -43,17 +43,16 @@ def _right_handed(axes):
 def test_ellipsoid_json_matches_the_closed_form(capsys):
     report = _json(capsys, "--solid", "ellipsoid", "--mass", "2", "--axes", "3", "2", "1")
     # I = M/5 (b^2 + c^2, a^2 + c^2, a^2 + b^2) = (2, 4, 5.2) kg m2
-    np.testing.assert_allclose(report["tensor"], np.diag([2.0, 4.0, 5.2]), rtol=1e-15, atol=0)
-    np.testing.assert_allclose(report["principal_moments"], [2.0, 4.0, 5.2], rtol=1e-15)
+    np.testing.assert_allclose(report["tensor_kg_m2"], np.diag([2.0, 4.0, 5.2]), rtol=1e-15, atol=0)
+    np.testing.assert_allclose(report["principal_moments_kg_m2"], [2.0, 4.0, 5.2], rtol=1e-15)
     assert _right_handed(report["principal_axes"])
     assert report["classification"] == "asymmetric"
-    assert report["mass"] == 2.0 and report["center_of_mass"] == [0.0, 0.0, 0.0]
-    assert report["units"]["tensor"] == "kg m2" and report["units"]["center_of_mass"] == "m"
+    assert report["mass_kg"] == 2.0 and report["center_of_mass_m"] == [0.0, 0.0, 0.0]
 
 
 def test_units_on_the_command_line(capsys):
     report = _json(capsys, "--solid", "ellipsoid", "--mass", "2 g", "--axes", "3 cm", "2 cm", "1 cm")
-    np.testing.assert_allclose(report["principal_moments"], np.array([2.0, 4.0, 5.2]) * 1e-7, rtol=1e-15)
+    np.testing.assert_allclose(report["principal_moments_kg_m2"], np.array([2.0, 4.0, 5.2]) * 1e-7, rtol=1e-15)
     same = _json(
         capsys,
         "--solid",
@@ -69,7 +68,7 @@ def test_units_on_the_command_line(capsys):
         "--length-unit",
         "cm",
     )
-    np.testing.assert_allclose(same["principal_moments"], report["principal_moments"], rtol=1e-15)
+    np.testing.assert_allclose(same["principal_moments_kg_m2"], report["principal_moments_kg_m2"], rtol=1e-15)
 
 
 def test_top_about_its_tip(capsys):
@@ -79,10 +78,10 @@ def test_top_about_its_tip(capsys):
         "--axle-length", str(ell), "--disc-height", str(h), "--about", "origin",
     )  # fmt: skip
     i1 = md * rd**2 / 4 + md * h**2 + ma * ell**2 / 3
-    np.testing.assert_allclose(report["principal_moments"], [md * rd**2 / 2, i1, i1], rtol=1e-14)
+    np.testing.assert_allclose(report["principal_moments_kg_m2"], [md * rd**2 / 2, i1, i1], rtol=1e-14)
     assert report["classification"] == "prolate"
-    assert report["reference_point"] == [0.0, 0.0, 0.0]
-    assert report["center_of_mass"][2] == pytest.approx((md * h + ma * ell / 2) / (md + ma), rel=1e-15)
+    assert report["reference_point_m"] == [0.0, 0.0, 0.0]
+    assert report["center_of_mass_m"][2] == pytest.approx((md * h + ma * ell / 2) / (md + ma), rel=1e-15)
 
 
 def test_points_csv_against_exact_arithmetic(capsys, tmp_path):
@@ -102,9 +101,9 @@ def test_points_csv_against_exact_arithmetic(capsys, tmp_path):
             for k in range(3):
                 exact[j][k] += Fraction(float(m)) * ((sum(c * c for c in d) if j == k else 0) - d[j] * d[k])
     expected = np.array([[float(x) * 1e-7 for x in row] for row in exact])
-    np.testing.assert_allclose(report["tensor"], expected, rtol=0, atol=1e-14 * np.abs(expected).max())
-    assert report["mass"] == pytest.approx(masses.sum() / 1000, rel=1e-15)
-    np.testing.assert_allclose(report["reference_point"], [0.01, 0.02, -0.03], rtol=1e-15)
+    np.testing.assert_allclose(report["tensor_kg_m2"], expected, rtol=0, atol=1e-14 * np.abs(expected).max())
+    assert report["mass_kg"] == pytest.approx(masses.sum() / 1000, rel=1e-15)
+    np.testing.assert_allclose(report["reference_point_m"], [0.01, 0.02, -0.03], rtol=1e-15)
 
 
 def _density_file(tmp_path, spacing_ok=True):
@@ -136,11 +135,11 @@ def test_density_file_and_netcdf_output(capsys, tmp_path, assert_cf_compliant):
     report = _json(capsys, "--density", str(path), "--var", "rho", "--rule", "simpson", "-o", str(out))
     # rho = 3 + x (g/cm3) on a 1 m cube: M = 3000 kg; the linear term moves the centre of mass to
     # x = (1/12 m^2 * 1000 kg/m3 ... ) / M: integral x^2 = 1/12 m^5 -> com_x = 1000/12/3000 m.
-    assert report["mass"] == pytest.approx(3000.0, rel=1e-13)
-    assert report["center_of_mass"][0] == pytest.approx(1000 / 12 / 3000, rel=1e-12)
+    assert report["mass_kg"] == pytest.approx(3000.0, rel=1e-13)
+    assert report["center_of_mass_m"][0] == pytest.approx(1000 / 12 / 3000, rel=1e-12)
     ds = open_wobble(out)
     # JSON carries 15 significant digits (what a double promises), the file every bit.
-    np.testing.assert_allclose(ds["tensor"].values, report["tensor"], rtol=1e-14, atol=1e-300)
+    np.testing.assert_allclose(ds["tensor"].values, report["tensor_kg_m2"], rtol=1e-14, atol=1e-300)
     assert_cf_compliant(out)
     capsys.readouterr()  # the compliance checker talks on stderr
     assert "wobble inertia --density" in ds.attrs["history"]

@@ -89,7 +89,7 @@ def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
         row = ds.sel(body=body["body"])
         for key, var in (
             ("core_flattening_hydrostatic_uncertainty", "core_flattening_hydrostatic_uncertainty"),
-            ("core_flattening_excess_percent_uncertainty", "core_flattening_excess_uncertainty"),
+            ("core_flattening_excess_uncertainty_percent", "core_flattening_excess_uncertainty"),
         ):
             assert float(row[var]) == pytest.approx(body[key], rel=1e-14, abs=0), (body["body"], key)  # 15 digits
 

@@ -193,7 +193,7 @@ def test_inertia_text_shows_rounding_as_zero(capsys):
     code, out, err = _run(["inertia", "--points", "dumbbell.csv", "--length-unit", "cm"], capsys)
     assert code == 0 and "centre of mass      (0, 0, 0) m" in out and "axis e2 = (0, 0.7071068, -0.7071068)" in out
     code, out, err = _run(["inertia", "--points", "dumbbell.csv", "--length-unit", "cm", "--json"], capsys)
-    assert json.loads(out)["center_of_mass"][0] != 0.0  # JSON keeps the computed floats
+    assert json.loads(out)["center_of_mass_m"][0] != 0.0  # JSON keeps the computed floats
 
 
 def test_an_empty_span_is_refused(capsys, tmp_path, monkeypatch):

@@ -64,6 +64,9 @@ __all__ = [
 RHAT_MAX = 1.01
 ESS_MIN = 400
 ACCEPTANCE_RANGE = (0.15, 0.7)
+#: ``diagnostics`` keys of the JSON kept under their old names for one release: the thresholds were "r_hat_max"
+#: and "ess_min", read as measurements beside min_ess and max_r_hat.
+DIAGNOSTICS_RENAMES = {"r_hat_max": "r_hat_threshold", "ess_min": "ess_threshold"}
 _REFERENCES = (
     "Foreman-Mackey et al. 2013 (emcee, PASP 125, 306); Goodman & Weare 2010 (stretch move); "
     "ter Braak 2006 and ter Braak & Vrugt 2008 (differential-evolution moves); "
@@ -411,7 +414,7 @@ class Inversion:
                     "source": c.source,
                 }
             )
-        return {
+        out = {
             "setup": self.setup.name,
             "title": self.setup.title,
             "body": self.setup.planet.name,
@@ -453,16 +456,18 @@ class Inversion:
                     "max_r_hat": self.max_r_hat,
                     "seconds": self.seconds,
                     "seconds_per_effective_sample": self.seconds_per_effective_sample,
-                    # The thresholds the warnings apply (measured values above: min_ess, max_r_hat). They were
-                    # "r_hat_max" and "ess_min", read as measurements beside min_ess: kept one release.
+                    # The thresholds the warnings apply (measured values above: min_ess, max_r_hat); their old
+                    # names are kept one release (DIAGNOSTICS_RENAMES).
                     "r_hat_threshold": RHAT_MAX,
                     "ess_threshold": ESS_MIN,
                 },
-                {"r_hat_max": "r_hat_threshold", "ess_min": "ess_threshold"},
+                DIAGNOSTICS_RENAMES,
             ),
             "warnings": list(self.warnings),
             "references": _REFERENCES,
         }
+        # The root lists the renames of the object it holds too (as every command's root does, README "Commands").
+        return deprecate(out, {f"diagnostics.{old}": f"diagnostics.{new}" for old, new in DIAGNOSTICS_RENAMES.items()})
 
     def _scale(self, name: str) -> float:
         for p in self.posterior.parameters:

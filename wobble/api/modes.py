@@ -60,6 +60,11 @@ def _days(seconds) -> u.Quantity | None:
 #: Keys of the hydrostatic figure's JSON kept under their old names for one release (README, "Commands"):
 #: ``q`` (Omega^2 a^3/(GM)) is the Chandler Q in ``wobble forecast``.
 DEPRECATED_FIGURE_KEYS = {"q": "centrifugal_ratio"}
+#: Published values a density profile may ship (``observed_flattening``, ``reference_hydrostatic_flattening``).
+FIGURE_ANCHOR_KEYS = ("observed_flattening", "reference_hydrostatic_flattening")
+#: Keys of ``wobble modes --json`` (each body's object) kept under their old names for one release: the
+#: uncertainty of the excess in the order of period_uncertainty_days, <quantity>_uncertainty_<unit>.
+DEPRECATED_KEYS = {"core_flattening_excess_percent_uncertainty": "core_flattening_excess_uncertainty_percent"}
 
 
 class HydrostaticFigure:
@@ -147,8 +152,13 @@ class HydrostaticFigure:
             "mass_kg": self.raw.mass,
             "core_dynamical_ellipticity": self.core_dynamical_ellipticity,
         }
-        for key, (value, sigma, source) in self.anchors.items():
-            out[key] = {"value": value, "uncertainty": sigma, "source": source}
+        # Every profile's figure has both keys (README, "Commands": null where they do not apply); a profile with no
+        # published anchors (mars_layered) had neither.
+        for key in FIGURE_ANCHOR_KEYS:
+            out[key] = None
+            if key in self.anchors:
+                value, sigma, source = self.anchors[key]
+                out[key] = {"value": value, "uncertainty": sigma, "source": source}
         return deprecate(out, DEPRECATED_FIGURE_KEYS)
 
     def to_dataset(self) -> xr.Dataset:
@@ -225,7 +235,7 @@ def _anchors(pf: ParameterFile | None) -> dict:
     out = {}
     if pf is None:
         return out
-    for key in ("observed_flattening", "reference_hydrostatic_flattening"):
+    for key in FIGURE_ANCHOR_KEYS:
         p = pf.get(key)
         if p is not None:
             out[key] = (float(p.value.value), float(p.uncertainty.value), p.source)
@@ -428,7 +438,7 @@ class NormalModes:
         def pct(x):
             return None if x is None else 100.0 * x
 
-        return {
+        out = {
             "body": self.body,
             "title": self.planet.title,
             "day": DAY_NOTE,
@@ -453,7 +463,7 @@ class NormalModes:
             "core_flattening_required": self.core_flattening_required,
             "core_flattening_required_uncertainty": self.core_flattening_required_uncertainty,
             "core_flattening_excess_percent": pct(self.core_flattening_excess),
-            "core_flattening_excess_percent_uncertainty": pct(self.core_flattening_excess_uncertainty),
+            "core_flattening_excess_uncertainty_percent": pct(self.core_flattening_excess_uncertainty),
             "fcn_period_required_days": num(self.fcn_period_required),
             "chandler_budget_days": num(self.chandler_budget_period),
             "chandler_coupling_off_days": num(self.chandler_coupling_off),
@@ -462,6 +472,14 @@ class NormalModes:
             "hydrostatic_figure": None if self.figure is None else self.figure.to_dict(),
             "not_run": self.not_run,
         }
+        # The root lists every rename in the object, the figure's too (which its own deprecated_keys lists), as
+        # polar-motion's does; the figure's only where there is a figure.
+        nested = (
+            {}
+            if self.figure is None
+            else {f"hydrostatic_figure.{k}": f"hydrostatic_figure.{v}" for k, v in DEPRECATED_FIGURE_KEYS.items()}
+        )
+        return deprecate(out, {**DEPRECATED_KEYS, **nested})
 
     def summary(self) -> str:
         """The table a person reads (``wobble modes``)."""

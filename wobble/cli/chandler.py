@@ -59,15 +59,18 @@ def run(args) -> int:
         chandler_dataset,
         "wobble.plot.chandler:budget_figure",
         text=lambda b: _table(b, sources=args.sources, typed=names[id(b)]),
-        document=(lambda b: _with_sources(b)) if args.sources else None,
+        document=lambda b: _document(b, args.sources),
     )
 
 
-def _with_sources(b) -> dict:
-    """The budget's JSON with its catalogued parameters (``--sources``)."""
+def _document(b, sources: bool) -> dict:
+    """The budget's JSON, with its catalogued parameters under ``--sources``. Its ``deprecated_keys`` lists the
+    renamed keys it holds: the parameters' (``--sources``), else none (``{}``), so that every run has the key."""
     from wobble.api.chandler import PARAMETER_RENAMES
     from wobble.io.json_keys import deprecate
 
+    if not sources:
+        return deprecate(b.to_dict(), {})
     return deprecate({**b.to_dict(), "parameters": b.planet.parameter_list()}, PARAMETER_RENAMES)
 
 

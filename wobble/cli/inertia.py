@@ -209,24 +209,41 @@ def build_body(args) -> tuple[RigidBody, str]:
         return body.shifted_to(about), label
 
 
+# The JSON keys with their unit, as every other command writes them (README, "Commands"); inertia gave the
+# units in a map beside unsuffixed keys. The old keys are aliases for one release (wobble.io.json_keys).
+# The map itself, "units", also stays one release; deprecated_keys cannot list it, since no new key holds
+# its value (each of its units is now in a key's name): docs/bodies.md says so.
+JSON_RENAMES = {
+    "mass": "mass_kg",
+    "center_of_mass": "center_of_mass_m",
+    "reference_point": "reference_point_m",
+    "tensor": "tensor_kg_m2",
+    "principal_moments": "principal_moments_kg_m2",
+    "principal_moment_differences": "principal_moment_differences_kg_m2",
+}
+
+
 def _report(body: RigidBody, rtol: float) -> dict:
     import numpy as np
     from astropy import units as u
 
+    from wobble.io.json_keys import deprecate
+
     f = body.principal("ascending", rtol)
     cls = body.classify(rtol)
     d = f.differences.to_value(u.kg * u.m**2)
-    return {
-        "mass": float(body.mass.to_value(u.kg)),
-        "center_of_mass": body.center_of_mass.to_value(u.m).tolist(),
-        "reference_point": body.reference_point.to_value(u.m).tolist(),
-        "tensor": body.tensor.to_value(u.kg * u.m**2).tolist(),
-        "principal_moments": f.moments.to_value(u.kg * u.m**2).tolist(),
-        "principal_axes": np.asarray(f.axes).tolist(),
-        "principal_moment_differences": [float(d[1, 0]), float(d[2, 1]), float(d[2, 0])],
+    out = {
+        "mass_kg": float(body.mass.to_value(u.kg)),
+        "center_of_mass_m": body.center_of_mass.to_value(u.m).tolist(),
+        "reference_point_m": body.reference_point.to_value(u.m).tolist(),
+        "tensor_kg_m2": body.tensor.to_value(u.kg * u.m**2).tolist(),
+        "principal_moments_kg_m2": f.moments.to_value(u.kg * u.m**2).tolist(),
+        "principal_axes": np.asarray(f.axes).tolist(),  # unit vectors: no unit
+        "principal_moment_differences_kg_m2": [float(d[1, 0]), float(d[2, 1]), float(d[2, 0])],
         "classification": cls.kind,
         "asymmetry": cls.asymmetry,
         "tolerance": cls.rtol,
+        # Deprecated (one release, see JSON_RENAMES): the units of the old, unsuffixed keys.
         "units": {
             "mass": "kg",
             "center_of_mass": "m",
@@ -237,6 +254,7 @@ def _report(body: RigidBody, rtol: float) -> dict:
             "principal_moment_differences": "kg m2",
         },
     }
+    return deprecate(out, JSON_RENAMES)
 
 
 def _vec(v, scale: float = 1.0) -> str:
@@ -249,20 +267,26 @@ def _print_human(report: dict, label: str, out) -> None:
     import math
 
     # The body's radius of gyration: the length scale of its centre of mass's rounding.
-    size = math.sqrt(max(sum(report["tensor"][i][i] for i in range(3)), 0.0) / report["mass"]) if report["mass"] else 0
+    size = (
+        math.sqrt(max(sum(report["tensor_kg_m2"][i][i] for i in range(3)), 0.0) / report["mass_kg"])
+        if report["mass_kg"]
+        else 0
+    )
     print(f"wobble inertia: {label}", file=out)
-    print(f"  mass                {report['mass']:.7g} kg", file=out)
-    print(f"  centre of mass      {_vec(report['center_of_mass'], size)} m", file=out)
-    same = report["reference_point"] == report["center_of_mass"]
-    print(f"  about               {'the centre of mass' if same else _vec(report['reference_point']) + ' m'}", file=out)
+    print(f"  mass                {report['mass_kg']:.7g} kg", file=out)
+    print(f"  centre of mass      {_vec(report['center_of_mass_m'], size)} m", file=out)
+    same = report["reference_point_m"] == report["center_of_mass_m"]
+    print(
+        f"  about               {'the centre of mass' if same else _vec(report['reference_point_m']) + ' m'}", file=out
+    )
     print("  inertia tensor (kg m2, input axes x, y, z)", file=out)
     # Entries below 1e-12 of the largest are the rounding of sums of terms of that size (5161 kg m2
     # beside 8.3e37 for the shipped planet grid): shown as 0, as in _vec; --json keeps them.
-    big = max((abs(x) for row in report["tensor"] for x in row), default=0.0)
-    for row in report["tensor"]:
+    big = max((abs(x) for row in report["tensor_kg_m2"] for x in row), default=0.0)
+    for row in report["tensor_kg_m2"]:
         print("    " + "  ".join(f"{x if abs(x) > 1e-12 * big else 0.0:>17.7g}" for x in row), file=out)
     print("  principal moments (kg m2, ascending)", file=out)
-    for k, (m, a) in enumerate(zip(report["principal_moments"], report["principal_axes"]), start=1):
+    for k, (m, a) in enumerate(zip(report["principal_moments_kg_m2"], report["principal_axes"]), start=1):
         print(f"    I{k} = {m:<17.7g} axis e{k} = {_vec(a)}", file=out)
     print(
         f"  classification      {report['classification']} (closest pair of moments differs by "

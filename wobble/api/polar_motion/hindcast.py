@@ -186,8 +186,16 @@ class PolarMotionHindcast:
                 {m: float(v.value) for m, v in self.calibration_spans.items()} if self.calibrated else None
             ),
             "methods": {},
+            # metric is the score's old name (an alias below, gone next release); metric_key the key that holds
+            # the score under methods, to join an anchor with it.
             "anchors": [
-                {"label": a, "metric": m, "values_mas": {str(k): v for k, v in vals.items()}} for a, m, vals in ANCHORS
+                {
+                    "label": a,
+                    "metric": m,
+                    "metric_key": _METRIC_KEYS.get(m, m),
+                    "values_mas": {str(k): v for k, v in vals.items()},
+                }
+                for a, m, vals in ANCHORS
             ],
         }
         for m in self.methods:

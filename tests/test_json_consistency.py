@@ -1,0 +1,247 @@
+"""The second review of the ``--json`` outputs (2026-11-29): units in key names, ``unit`` beside a summary, the
+hindcast's anchors joined to the scores, the same keys for every body in ``modes``, uncertainties named
+``<quantity>_uncertainty_<unit>``, and ``deprecated_keys`` at the root of every command that renames a key.
+Each test reads the JSON a script reads (``--json``, or ``to_dict()``); the old keys must still hold their
+values (one release, wobble.io.json_keys)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+from astropy import units as u
+
+from wobble.cli import main
+from wobble.io.catalog import catalogue_file
+from wobble.io.json_keys import values_at
+
+
+def _json(capsys, *args):
+    assert main([*args, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _listings(node):
+    """Every object in ``node`` (at any depth) that lists renames under ``deprecated_keys``."""
+    if isinstance(node, dict):
+        if "deprecated_keys" in node:
+            yield node
+        for value in node.values():
+            yield from _listings(value)
+    elif isinstance(node, list):
+        for value in node:
+            yield from _listings(value)
+
+
+def _check_listings(doc):
+    """Every listing's old path holds exactly what its new path holds (and there is one)."""
+    for listing in _listings(doc):
+        for old, new in listing["deprecated_keys"].items():
+            assert values_at(listing, old) == values_at(listing, new) != [], (old, new)
+
+
+# --- 1. inertia: units in the keys ------------------------------------------------------------------------------------
+
+
+def test_inertia_names_its_units_in_its_keys_and_keeps_the_old_ones(capsys):
+    """A uniform ellipsoid of 2 kg, semi-axes 3, 2, 1 m: I = m (b^2 + c^2)/5, ... = 2, 4 and 5.2 kg m2."""
+    d = _json(capsys, "inertia", "--solid", "ellipsoid", "--mass", "2", "--axes", "3", "2", "1")
+    assert d["mass_kg"] == 2.0 and d["center_of_mass_m"] == [0.0, 0.0, 0.0] == d["reference_point_m"]
+    assert d["principal_moments_kg_m2"] == pytest.approx([2.0, 4.0, 5.2], rel=1e-15)
+    assert d["tensor_kg_m2"] == [pytest.approx(row, rel=1e-15, abs=0) for row in ([2, 0, 0], [0, 4, 0], [0, 0, 5.2])]
+    assert d["principal_moment_differences_kg_m2"] == pytest.approx([2.0, 1.2, 3.2], rel=1e-15)
+    assert d["principal_axes"] == [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]  # unit vectors, no unit
+    renames = {
+        "mass": "mass_kg",
+        "center_of_mass": "center_of_mass_m",
+        "reference_point": "reference_point_m",
+        "tensor": "tensor_kg_m2",
+        "principal_moments": "principal_moments_kg_m2",
+        "principal_moment_differences": "principal_moment_differences_kg_m2",
+    }
+    assert d["deprecated_keys"] == renames
+    _check_listings(d)
+    # The units map stays one release, as it was (deprecated_keys cannot list it: no new key holds its value).
+    assert d["units"] == {
+        "mass": "kg",
+        "center_of_mass": "m",
+        "reference_point": "m",
+        "tensor": "kg m2",
+        "principal_moments": "kg m2",
+        "principal_axes": "1",
+        "principal_moment_differences": "kg m2",
+    }
+    # Every key with a unit now says it: the map's keys are each an old key beside its suffixed name.
+    for old, unit in d["units"].items():
+        if unit != "1":
+            assert renames[old] == f"{old}_{unit.replace(' ', '_')}"
+
+
+def test_inertia_about_a_point_gives_the_point_in_metres(capsys):
+    d = _json(capsys, "inertia", "--solid", "cone", "--mass", "250 g", "--radius", "3 cm", "--height", "8 cm")
+    about = _json(
+        capsys, "inertia", "--solid", "cone", "--mass", "250 g", "--radius", "3 cm", "--height", "8 cm",
+        "--about", "0", "0", "-0.06",
+    )  # fmt: skip
+    assert about["reference_point_m"] == about["reference_point"] == [0.0, 0.0, -0.06] and d["mass_kg"] == 0.25
+    # Parallel axes: I_xx about the point = I_xx about the centre of mass + m d^2, d = 0.06 m.
+    assert about["tensor_kg_m2"][0][0] == pytest.approx(d["tensor_kg_m2"][0][0] + 0.25 * 0.06**2, rel=1e-14)
+    assert set(about) == set(d)
+
+
+# --- 2. sweep: unit, as astropy writes it -----------------------------------------------------------------------------
+
+
+def test_sweep_gives_its_unit_as_astropy_writes_it(capsys):
+    d = _json(capsys, "sweep", "mars_chandler", "--members", "40", "--quiet")
+    assert d["unit"] == "d" and u.Unit(d["unit"]) == u.day and u.Unit(d["unit"]).to_string() == d["unit"]
+    assert d["units"] == d["unit"] and d["deprecated_keys"] == {"units": "unit"}
+    assert 190 < d["percentiles"]["50"] < 220  # in that unit: Mars' Chandler period in days
+    _check_listings(d)
+
+
+@pytest.mark.parametrize(("cf", "astropy_string"), [("s", "s"), ("day", "d"), ("1", ""), ("rad s-1", "rad / s")])
+def test_a_sweep_summary_s_unit_is_astropy_s_spelling(cf, astropy_string):
+    from wobble.api.sweep import SweepSummary
+
+    summary = SweepSummary(
+        variable="x", units=cf, members=2, valid=2, mean=1.0, std=0.0, percentiles={}, observed=math.nan,
+        invalid_reasons={},
+    )  # fmt: skip
+    d = summary.to_dict()
+    assert d["unit"] == d["units"] == astropy_string and u.Unit(d["unit"]) == u.Unit(cf)
+    assert summary.units == cf  # the Python attribute keeps the file's spelling
+
+
+# --- 3. forecast --hindcast: the anchors name the key of their score --------------------------------------------------
+
+
+def test_hindcast_anchors_join_the_scores_by_their_current_key(capsys):
+    d = _json(
+        capsys, "forecast", "--hindcast", "2019-01-01:2019-02-01", "--every", "14d", "--horizon", "10d",
+        "--latency", "1d", "--scheduler", "synchronous",
+    )  # fmt: skip
+    assert d["anchors"] and d["methods"]
+    for anchor in d["anchors"]:
+        # metric is the old name of the score's key, metric_key the key: deprecated_keys maps the one to the other.
+        assert d["deprecated_keys"][f"methods.*.{anchor['metric']}"] == f"methods.*.{anchor['metric_key']}"
+        assert anchor["metric_key"].endswith("_mas")  # the anchors' values are in mas, as the scores so named
+        for scores in d["methods"].values():
+            assert anchor["metric_key"] in scores
+    assert [a["metric_key"] for a in d["anchors"]] == ["rms_2d_mas", "rms_x_mas", "rms_y_mas", "mae_x_mas", "mae_y_mas"]
+    _check_listings(d)
+
+
+# --- 4. modes: the same figure keys for every body --------------------------------------------------------------------
+
+
+def test_modes_gives_every_body_the_same_figure_keys(capsys):
+    earth, mars = _json(capsys, "modes", "earth", "mars")
+    figure_e, figure_m = earth["hydrostatic_figure"], mars["hydrostatic_figure"]
+    assert set(figure_e) == set(figure_m) and set(earth) == set(mars)
+    # Mars's profile ships no published flattening: null, as the README says of what does not apply.
+    assert figure_m["observed_flattening"] is None and figure_m["reference_hydrostatic_flattening"] is None
+    # Earth's are the IERS 1/f = 298.25642 and Chambat et al.'s hydrostatic 1/f = 299.8 (within its 0.05 %).
+    assert figure_e["observed_flattening"]["value"] == pytest.approx(1 / 298.25642, rel=1e-7)
+    assert figure_e["reference_hydrostatic_flattening"]["value"] == pytest.approx(1 / 299.8, rel=5e-4)
+    assert set(figure_e["observed_flattening"]) == {"value", "uncertainty", "source"}
+
+
+# --- 5. modes: <quantity>_uncertainty_<unit> --------------------------------------------------------------------------
+
+
+def test_modes_names_the_excess_uncertainty_as_every_uncertainty_is(capsys):
+    import wobble
+
+    for d in _json(capsys, "modes", "earth", "mars"):
+        expected = 100 * wobble.normal_modes(d["body"]).core_flattening_excess_uncertainty
+        assert d["core_flattening_excess_uncertainty_percent"] == pytest.approx(expected, rel=1e-14)
+        assert d["core_flattening_excess_percent_uncertainty"] == d["core_flattening_excess_uncertainty_percent"]
+        assert d["deprecated_keys"] == {
+            "core_flattening_excess_percent_uncertainty": "core_flattening_excess_uncertainty_percent",
+            "hydrostatic_figure.q": "hydrostatic_figure.centrifugal_ratio",
+        }
+        assert d["hydrostatic_figure"]["deprecated_keys"] == {"q": "centrifugal_ratio"}
+        _check_listings(d)
+
+
+def test_modes_without_a_figure_lists_only_what_it_holds(capsys, tmp_path):
+    """A body with no density profile has no hydrostatic figure: its root lists no rename inside one."""
+    path = tmp_path / "ares.toml"
+    path.write_text(catalogue_file("mars").read_text().replace('name = "mars"', 'name = "ares"', 1))
+    (d,) = _json(capsys, "modes", "--body-file", str(path))
+    assert d["hydrostatic_figure"] is None and d["core_flattening_excess_uncertainty_percent"] is None
+    assert d["deprecated_keys"] == {
+        "core_flattening_excess_percent_uncertainty": "core_flattening_excess_uncertainty_percent"
+    }
+    assert d["core_flattening_excess_percent_uncertainty"] is None
+
+
+# --- 6. deprecated_keys at the root of every command that renames -----------------------------------------------------
+
+
+def _roots(doc):
+    """The objects a command's JSON is made of: the object, or each body's object of a list."""
+    return doc if isinstance(doc, list) else [doc]
+
+
+def _check_root_lists_every_rename(root):
+    """The root's listing holds every nested object's renames, by their path from the root."""
+    listed = root["deprecated_keys"].items()
+    for listing in _listings(root):
+        if listing is root:
+            continue
+        for old, new in listing["deprecated_keys"].items():
+            # Under the path that reaches the nested object (hydrostatic_figure.q, estimates.*.annual_amplitude_mas).
+            assert any(o.endswith(f".{old}") and n.endswith(f".{new}") for o, n in listed), (old, new)
+
+
+RENAMING_RUNS = {
+    "chandler": ["chandler", "earth", "mars"],
+    "chandler --sources": ["chandler", "mars", "--sources"],
+    "chandler rigid": ["chandler", "mars", "--model", "rigid"],
+    "modes": ["modes"],
+    "modes --mode CW": ["modes", "earth", "--mode", "CW"],
+    "precession": ["precession", "earth"],
+    "polar-motion": ["polar-motion", "--start", "2000-01-01", "--end", "2012-12-31"],
+    "forecast": ["forecast", "--issued", "2019-01-01", "--horizon", "10d"],
+    "inertia": ["inertia", "--points", "dumbbell.csv", "--length-unit", "cm"],
+    "free": ["free", "--inertia", "1", "2", "3", "--omega", "0.1", "0", "1"],
+    "top": ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", "60", "--omega3", "10"],
+    "sweep": ["sweep", "earth_chandler", "--members", "20", "--quiet"],
+    "invert": ["invert", "mars", "--prior-only", "--steps", "20", "--burn", "10", "--walkers", "16", "--quiet"],
+}
+
+
+@pytest.mark.parametrize("run", list(RENAMING_RUNS))
+def test_every_renaming_command_lists_its_renames_at_the_root_in_every_run(capsys, run):
+    doc = _json(capsys, *RENAMING_RUNS[run])
+    for root in _roots(doc):
+        assert isinstance(root["deprecated_keys"], dict), run
+        _check_root_lists_every_rename(root)
+    _check_listings(doc)
+    if run == "chandler":  # no parameters, chandler's only renamed key: nothing to list, but the key is there
+        assert [r["deprecated_keys"] for r in doc] == [{}, {}]
+
+
+def test_invert_lists_its_diagnostics_renames_at_the_root(capsys):
+    d = _json(capsys, *RENAMING_RUNS["invert"])
+    assert d["deprecated_keys"] == {
+        "diagnostics.r_hat_max": "diagnostics.r_hat_threshold",
+        "diagnostics.ess_min": "diagnostics.ess_threshold",
+    }
+    assert d["diagnostics"]["r_hat_max"] == d["diagnostics"]["r_hat_threshold"] == 1.01
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["excitation", "--start", "1990", "--end", "2020"],
+        ["example", "--list"],
+    ],
+)
+def test_commands_that_rename_nothing_list_nothing(capsys, argv):
+    """excitation, run, example and bench have renamed no key, and print no deprecated_keys (run and bench, slower
+    to run, are left out here)."""
+    assert not list(_listings(_json(capsys, *argv)))
