@@ -207,7 +207,7 @@ def test_cli_summary_json_plot_and_errors(tmp_path, capsys):
     assert status == 0 and captured.err.splitlines() == [f"wrote {out}", f"wrote {tmp_path / 'h.png'}"]
     data = json.loads(captured.out)
     assert data["members"] == 300 and data["unit"] == "d" and data["observed"] == pytest.approx(206.9)
-    assert data["units"] == "d" and data["deprecated_keys"] == {"units": "unit"}  # the old name, one release
+    assert data["units"] == "day"  # the old key, as it was, for one release
     assert open_wobble(out)["chandler_period"].shape == (300,)
     assert (tmp_path / "h.png").stat().st_size > 1000
     status = main(["sweep", "mars_chandler", "--members", "300", "-o", str(out)])

@@ -42,7 +42,6 @@ from wobble.api.sweep_targets import TARGETS, ChandlerTarget, target_for
 from wobble.api._scheduler import LOCAL, check_scheduler, connected
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
-from wobble.io.json_keys import deprecate
 from wobble.io.netcdf import write_netcdf_blocks
 from wobble.io.sweep_file import (
     SweepSpec,
@@ -391,16 +390,20 @@ class SweepSummary:
         """JSON-ready: what ``wobble sweep --json`` prints after the sweep's name and files.
 
         ``unit`` is the variable's unit as astropy writes it (``d``, ``s``; ``""`` for a pure number), the key
-        other commands' rows use; ``units`` (the file's CF spelling, ``day``) is its old name, an alias for one
-        release that now holds the same string (README, "Commands").
+        other commands' rows use. ``units``, the file's CF spelling (``day``), stays one release as it was: not
+        an alias under ``deprecated_keys``, whose old keys hold their new key's value, since a script may compare
+        it with ``"day"`` (README, "Commands").
         """
         from astropy import units as u
 
         d = self.__dict__.copy()
         d["observed"] = None if math.isnan(self.observed) else self.observed
-        d = {"unit" if k == "units" else k: v for k, v in d.items()}  # in the place units had
-        d["unit"] = u.Unit(self.units).to_string()
-        return deprecate(d, {"units": "unit"})
+        out = {}
+        for key, value in d.items():
+            if key == "units":
+                out["unit"] = u.Unit(value).to_string()
+            out[key] = value
+        return out
 
 
 def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary:
