@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import json
+import math
+import re
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -332,3 +336,98 @@ def test_a_number_in_quotes_is_refused_as_text(tmp_path):
     )
     with pytest.raises(FileFormatError, match=r"parameters.gm.value: got '4.28e13' \(text\); allowed: a number"):
         read_parameter_file(path)
+
+
+def _example_with(tmp_path, key: str, field: str, typed: str):
+    """The example planet file with one field of one parameter replaced (``value`` or ``uncertainty``)."""
+    import re
+
+    from wobble.cli import main
+
+    assert main(["example", "my_planet.toml", str(tmp_path / "base.toml")]) == 0
+    text = (tmp_path / "base.toml").read_text()
+    path = tmp_path / "edited.toml"
+    path.write_text(re.sub(rf"(\[parameters\.{key}\]\n(?:.*\n)*?{field} = )[^\n]*", rf"\g<1>{typed}", text, count=1))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("key", "typed", "command", "said"),
+    [
+        # Tracebacks: ZeroDivisionError and OverflowError forming the rate's uncertainty (2 pi sigma / P^2).
+        ("rotation_period", "1e-300", "chandler", r"parameters \(rotation_period\): Omega\^2 = inf"),
+        ("rotation_period", "1e300", "modes", r"parameters \(rotation_period\): Omega\^2 = 0"),
+        ("rotation_period", "5e-324", "precession", r"rotation_period.value: got 4.94066e-324 h; .*finite float"),
+        # A ValueError traceback: 1e300 AU is inf in metres.
+        (
+            "orbit_semi_major_axis",
+            "1e300",
+            "precession",
+            r"orbit_semi_major_axis.value: got 1e\+300 AU; .*finite in SI",
+        ),
+        # NumPy's overflow warnings, then a refusal that blamed dynamical_flattening for k_s = 0.
+        ("equatorial_radius", "1e300", "chandler", r"parameters \(gm, equatorial_radius, rotation_period\): Omega"),
+        (
+            "gm",
+            "5e-324",
+            "chandler",
+            r"parameters \(gm, equatorial_radius, rotation_period\): Omega\^2 a\^3 / GM = inf",
+        ),
+        # Ran: "k_s = inf" printed with a divide-by-zero warning; a 300-digit k_s; periods of 150 digits, +/- inf.
+        ("equatorial_radius", "1e-300", "chandler", r"parameters \(gm, equatorial_radius, rotation_period\)"),
+        (
+            "gm",
+            "1e300",
+            "modes",
+            r"parameters \(gm, equatorial_radius, rotation_period\): Omega\^2 a\^3 / GM = 1.39e-288",
+        ),
+        ("rotation_period", "1e150", "chandler", r"parameters \(rotation_period\): Omega\^2 = 3.05e-306"),
+    ],
+)
+def test_a_planet_file_whose_scales_leave_the_float_range_is_refused_naming_them(
+    tmp_path, capsys, key, typed, command, said
+):
+    """Found by hand beside the CLI fuzzer (2026-11-29): a planet file's values whose combinations (Omega^2,
+    Omega^2 a^3/GM, M a^2, the orbit's a^3) overflow or underflow, or whose squares would in the uncertainty
+    propagation, are refused with one line naming the file and the parameters, before any model runs."""
+    from wobble.cli import main
+
+    path = _example_with(tmp_path, key, "value", typed)
+    capsys.readouterr()
+    assert main([command, "--body-file", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Warning" not in err, err
+    assert re.search(rf"edited.toml, .*{said}", err), err
+
+
+def test_a_valid_but_far_planet_prints_its_secular_love_number_in_powers_of_ten(tmp_path, capsys):
+    """A rotation period of 1e70 h is inside the range: k_s = 3 GM J2/(a^3 Omega^2) is printed as 1.488e+137, not
+    as 137 digits (it was '14877...176.0000'); checked against the formula with the file's values."""
+    from wobble.cli import main
+
+    path = _example_with(tmp_path, "rotation_period", "value", "1e70")
+    capsys.readouterr()
+    assert main(["chandler", "--body-file", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    line = next(x for x in captured.out.splitlines() if "secular Love number" in x)
+    omega = 2 * math.pi / (1e70 * 3600.0)
+    gm, a, h, c = 4.0e14, 6400e3, 3.0e-3, 0.33  # the example planet's values (SI)
+    ks = 3 * gm * h * c / (a**3 * omega**2)
+    assert line == f"  secular Love number k_s = {ks:.4g}"
+
+
+def test_an_uncertainty_that_leaves_no_physical_draw_gives_no_plus_minus(tmp_path, capsys):
+    """An uncertainty of 1e300 on H left no physical Monte Carlo draw: NumPy's 'Degrees of freedom <= 0' warnings
+    and 'model 511.89 +/- nan'. No warning now, and the line says why there is no +/-."""
+    from wobble.cli import main
+
+    path = _example_with(tmp_path, "dynamical_flattening", "uncertainty", "1e300")
+    capsys.readouterr()
+    assert main(["chandler", "--body-file", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "" and "nan" not in captured.out
+    assert "no +/-: no Monte Carlo draw was physical" in captured.out
+    assert main(["chandler", "--body-file", str(path), "--json"]) == 0
+    (d,) = json.loads(capsys.readouterr().out)
+    assert d["period_uncertainty_days"] is None and d["monte_carlo_valid_fraction"] == 0.0

@@ -145,12 +145,17 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
         return f"  {name:<16}{number:>11}" + (f" +/- {plus}" if plus else "") + tail
 
     sense = " (no free wobble)" if b.sense == "none" else f" ({b.sense} wobble)"  # a sphere: "(none wobble)"
-    lines.append(row("model", b.period.to_value(u.day), sigma, sense))
+    if math.isnan(sigma) and b.raw.valid_fraction == 0:  # it printed "+/- nan"
+        lines.append(row("model", b.period.to_value(u.day), None, sense + "; no +/-: no Monte Carlo draw was physical"))
+    else:
+        lines.append(row("model", b.period.to_value(u.day), sigma, sense))
     if b.observed is not None:
         obs, osig = b.observed.to_value(u.day), b.observed_uncertainty.to_value(u.day)
         lines.append(row("observed", obs, osig))
         resid, both = b.residual.to_value(u.day), math.hypot(sigma, osig)
-        tail = f" ({100 * b.relative_residual:+.2f} %" + (f"; {resid / both:+.1f} sigma)" if both > 0 else ")")
+        if math.isnan(both):  # the model's +/- unknown (no physical draw): the residual has none either
+            both = None
+        tail = f" ({100 * b.relative_residual:+.2f} %" + (f"; {resid / both:+.1f} sigma)" if both else ")")
         lines.append(row("residual", resid, both, tail, sign=True))
     else:
         lines.append(f"  {'observed':<16}{'unknown':>11}")
@@ -170,7 +175,10 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
     if skipped:
         lines.append("  steps not run (parameters missing): " + "; ".join(skipped))
     if b.secular_love_number is not None:
-        lines.append(f"  secular Love number k_s = {b.secular_love_number:.4f}")
+        ks = b.secular_love_number  # four decimals as a Love number reads; a planet file's far scales in powers of ten
+        lines.append(
+            f"  secular Love number k_s = {ks:.4f}" if abs(ks) < 1e6 else f"  secular Love number k_s = {ks:.4g}"
+        )
     if b.quality_factor is not None:
         lines.append(f"  Q implied by the out-of-phase part of k2: {b.quality_factor:.0f}")
     if sources:

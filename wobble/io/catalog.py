@@ -12,6 +12,7 @@ import os
 from importlib import resources
 from pathlib import Path
 
+import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
@@ -91,6 +92,11 @@ def catalogue_file(name: str):
     return _bodies_dir() / f"{key}.toml"
 
 
+def _typed(param) -> str:
+    """A parameter's value as the file gives it, with the file's unit."""
+    return f"{param.value.value.item():g} {param.unit_text or param.value.unit.to_string()}".strip()
+
+
 def _si(pf: ParameterFile, key: str) -> Measured | None:
     param = pf.get(key)
     if param is None:
@@ -100,11 +106,16 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
     if param.value.size != 1:
         raise FileFormatError(pf.path, f"{where}.value", "must be a single number")
     try:
-        value = float(param.value.to_value(unit))
-        sigma = float(param.uncertainty.to_value(unit))
+        with np.errstate(over="ignore"):  # refused below, without astropy's warning first
+            value = float(param.value.to_value(unit))
+            sigma = float(param.uncertainty.to_value(unit))
     except u.UnitConversionError:
         raise wrong_unit(pf, key, unit) from None
-    typed = f"{param.value.value.item():g} {param.unit_text or param.value.unit.to_string()}".strip()  # as in the file
+    typed = _typed(param)
+    if not (math.isfinite(value) and math.isfinite(sigma)):  # 1e300 AU overflows in metres
+        raise FileFormatError(
+            pf.path, f"{where}.value", f"got {typed}; allowed: a value and uncertainty finite in SI ({unit})"
+        )
     if key in (*POSITIVE_KEYS, "rotation_period") and not value > 0:
         raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: a positive number")
     if key in _AT_MOST and not value <= _AT_MOST[key][0]:
@@ -132,7 +143,16 @@ def planet_from_file(pf: ParameterFile) -> PlanetParameters:
         period = _si(pf, "rotation_period")
         if period is None:
             raise FileFormatError(pf.path, "parameters.rotation_rate", "missing; give rotation_rate or rotation_period")
-        rate = Measured(2 * math.pi / period.value, 2 * math.pi * period.sigma / period.value**2)
+        # sigma_Omega = Omega sigma_P / P: (2 pi sigma_P) / P^2 overflowed P^2 at 1e300 s and divided by an
+        # underflowed one at 1e-300 s (tracebacks).
+        omega = 2 * math.pi / period.value
+        if not math.isfinite(omega):
+            raise FileFormatError(
+                pf.path,
+                "parameters.rotation_period.value",
+                f"got {_typed(pf.get('rotation_period'))}; allowed: a period whose rate 2 pi / P is a finite float",
+            )
+        rate = Measured(omega, omega * (period.sigma / period.value))
     j2 = _si(pf, "j2")
     c20 = _si(pf, "c20")
     if c20 is not None:
@@ -147,7 +167,10 @@ def planet_from_file(pf: ParameterFile) -> PlanetParameters:
     try:
         return PlanetParameters(name=pf.name, rotation_rate=rate, gravitational_constant=g, j2=j2, **kwargs)
     except InputError as exc:
-        raise FileFormatError(pf.path, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}") from None
+        named = exc.parameter
+        if pf.get("rotation_period") is not None:  # the rate was the file's period: name what the file gives
+            named = named.replace("rotation_rate", "rotation_period")
+        raise FileFormatError(pf.path, f"parameters ({named})", f"{exc.value}; needs {exc.allowed}") from None
 
 
 def load_planet(body: str | os.PathLike) -> tuple[PlanetParameters, ParameterFile]:

@@ -816,6 +816,8 @@ def _monte_carlo(
     }
     out, code, _ = _evaluate(ParameterValues(p.values(), overrides), steps)
     ok = code == 0
+    if np.count_nonzero(ok) < 2:  # no spread to measure (an uncertainty of 1e300 left none: NumPy's warnings, nan)
+        return math.nan, float(np.mean(ok))
     with np.errstate(divide="ignore"):
         period = np.abs(2.0 * math.pi / out[-1].rate[ok])
     return float(np.std(period, ddof=1)), float(np.mean(ok))

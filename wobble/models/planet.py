@@ -20,7 +20,10 @@ Any two of H, J2, C/(Ma^2) fix the third (H = J2 / (C/Ma^2)).
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, fields
+
+import numpy as np
 
 from wobble.errors import InputError
 
@@ -176,6 +179,45 @@ class PlanetParameters:
                 "H = (C - A)/C at most 1/2 (the moments' triangle inequality A + B >= C)",
             )
         self._check_core()
+        self._check_scales()
+
+    def _scales(self):
+        """(parameters, formula, value) of each combination the models form from the given values (NumPy
+        floats: overflow gives inf, not Python's OverflowError)."""
+        f = np.float64
+        omega = f(self.rotation_rate.value)
+        yield ("rotation_rate",), "Omega^2", omega * omega
+        if self.gm is not None and self.equatorial_radius is not None:
+            a, gm = f(self.equatorial_radius.value), f(self.gm.value)
+            # q = Omega^2 a^3/(GM): the centrifugal ratio, and 3 H C/(M a^2) over it the secular Love number k_s.
+            yield ("gm", "equatorial_radius", "rotation_rate"), "Omega^2 a^3 / GM", omega * omega * a * a * a / gm
+            yield ("gm", "equatorial_radius"), "M a^2 = (GM / G) a^2", gm / f(self.gravitational_constant.value) * a * a
+        if self.fluid_core_radius is not None:
+            r, rho = f(self.fluid_core_radius.value), f(self.fluid_core_density.value)
+            yield ("fluid_core_radius", "fluid_core_density"), "A_f = (8 pi/15) rho R^5", 8 * np.pi / 15 * rho * r**5
+        if self.orbit_semi_major_axis is not None:
+            a = f(self.orbit_semi_major_axis.value)
+            yield ("orbit_semi_major_axis",), "a^3 of the orbit", a * a * a
+
+    def _check_scales(self):
+        """Every combination of the given values that the models form is a normal float.
+
+        A planet file with a rotation period of 1e-300 s, a radius of 1e300 m or an orbit of 1e300 AU ended in
+        ZeroDivisionError or OverflowError tracebacks, NumPy's overflow warnings and k_s = inf printed, or a
+        refusal that blamed dynamical_flattening for k_s = 0 (CLI fuzzer, 2026-11-29).
+        """
+        # The square roots of the float range: the Monte Carlo's variances and the propagation's products square
+        # these scales (a period of 1e150 h passed a check at the range itself, and the draws' variance overflowed).
+        tiny, huge = math.sqrt(sys.float_info.min), math.sqrt(sys.float_info.max)
+        with np.errstate(all="ignore"):
+            for keys, formula, value in self._scales():
+                if not (np.isfinite(value) and tiny <= abs(value) <= huge):
+                    raise InputError(
+                        ", ".join(keys),
+                        f"{formula} = {float(value):.3g}",
+                        f"values whose combinations lie from {tiny:.2g} to {huge:.2g} in SI units (their squares, "
+                        "which the uncertainty propagation forms, must be finite floats)",
+                    )
 
     def _check_core(self):
         if self.fluid_core_equatorial_moment is not None and (
