@@ -17,7 +17,7 @@ from wobble.api.polar_motion.estimate import (
     published_chandler_period,
     q_arg,
 )
-from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series
+from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series, short_span_error
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
@@ -395,11 +395,13 @@ def polar_motion_analysis(
         # The least span is the shortest sliding window's: two Julian years of samples in it (730.5 d, which
         # the message had rounded to 730) and a sample at each end; 731-732 d passed this check and were
         # refused by the window's.
-        raise InputError(
-            "start/end",
-            f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({span / _pm.DAY:g} d)",
-            f"a span of at least {shortest / _pm.DAY:g} d (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of "
-            "samples in each sliding window)",
+        # --start alone is told the latest start, --end alone the earliest end (both named "--start/--end").
+        raise short_span_error(
+            mjd,
+            start,
+            end,
+            shortest / _pm.DAY,
+            f" (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of samples in each sliding window)",
         )
     default_window = window_s is None
     if default_window:  # 8 years, or the span when shorter (a five-year span was refused its default window)

@@ -1,0 +1,70 @@
+"""The edges of the record's commands found by hand beside the fuzzer (seed 419 session): a start on the record's
+last day, a two-year span whose Chandler and annual terms cannot be told apart, a one-day forecast's figure, a
+horizon given in years. Each as the behaviour a user should meet."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cli_run import run_cli as _run
+
+#: The last day of the C04 series shipped with astropy-iers-data that the tests run on.
+LAST = "2026-09-29"
+
+
+def _refused(argv, capsys, tmp_path, monkeypatch) -> str:
+    """Run ``wobble ARGV`` in an empty folder; check the refusal's contract and return its message."""
+    monkeypatch.chdir(tmp_path)
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == "", (code, out, err)
+    assert err.count("\n") == 1 and "Traceback" not in err and "Warning" not in err, err
+    prefix = f"wobble {argv[0]}: error: "
+    assert err.startswith(prefix), err
+    return err[len(prefix) :].strip()
+
+
+# -- F21: a start on (or near) the record's last day names --start ---------------------------------------------------
+
+
+@pytest.mark.parametrize("command", ["polar-motion", "excitation"])
+def test_a_start_on_the_last_day_names_start_and_the_last_day(command, capsys, tmp_path, monkeypatch):
+    # Was: "--end: got None; allowed: a date after start (2026-09-29)": the option not typed, and Python's None.
+    message = _refused([command, "--start", LAST], capsys, tmp_path, monkeypatch)
+    assert message == (
+        f"--start: got {LAST}; allowed: a date before {LAST}, the last day of the span of eopc04.1962-now"
+    ), message
+    assert "None" not in message
+
+
+@pytest.mark.parametrize(
+    ("command", "latest", "least"), [("polar-motion", "2024-09-26", "732.5 d"), ("excitation", "2024-09-27", "731.5 d")]
+)
+def test_a_start_too_near_the_end_is_told_the_latest_start_that_runs(
+    command, latest, least, capsys, tmp_path, monkeypatch
+):
+    """A start a few days before the end (no --end) was refused as "--start/--end"; it is --start that is at fault,
+    and the message gives the latest start, which runs (a day later is refused)."""
+    message = _refused([command, "--start", "2026-09-20"], capsys, tmp_path, monkeypatch)
+    assert message.startswith(f"--start: got 2026-09-20; allowed: a date on or before {latest}: "), message
+    assert f"the span to the record's last day, {LAST}, must be at least {least}" in message
+    day_after = str(np.datetime64(latest) + 1)
+    assert _refused([command, "--start", day_after], capsys, tmp_path, monkeypatch).startswith("--start: ")
+    code, out, err = _run([command, "--start", latest, "--json"], capsys)
+    assert code == 0 and err == "", err
+
+
+@pytest.mark.parametrize("command", ["polar-motion", "excitation"])
+def test_an_end_alone_is_named_as_end(command, capsys, tmp_path, monkeypatch):
+    assert _refused([command, "--end", "1962-01-01"], capsys, tmp_path, monkeypatch) == (
+        "--end: got 1962-01-01; allowed: a date after 1962-01-01, the first day of the span of eopc04.1962-now"
+    )
+    message = _refused([command, "--end", "1963"], capsys, tmp_path, monkeypatch)
+    assert message.startswith("--end: got 1963; allowed: a date on or after 1964-01-0"), message
+
+
+def test_both_dates_given_still_name_both(capsys, tmp_path, monkeypatch):
+    message = _refused(["polar-motion", "--start", "2020", "--end", "2021"], capsys, tmp_path, monkeypatch)
+    assert message.startswith("--start/--end: got 2020-01-01 to 2021-01-01 (366 d); allowed: a span of at least")
+    message = _refused(["polar-motion", "--start", "2020", "--end", "2019"], capsys, tmp_path, monkeypatch)
+    assert message == "--end: got 2019; allowed: a date after start (2020-01-01)"
