@@ -6,8 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from astropy import units as u
 
+import wobble
 from cli_run import run_cli as _run
+from wobble.errors import InputError
 
 #: The last day of the C04 series shipped with astropy-iers-data that the tests run on.
 LAST = "2026-09-29"
@@ -68,3 +71,49 @@ def test_both_dates_given_still_name_both(capsys, tmp_path, monkeypatch):
     assert message.startswith("--start/--end: got 2020-01-01 to 2021-01-01 (366 d); allowed: a span of at least")
     message = _refused(["polar-motion", "--start", "2020", "--end", "2019"], capsys, tmp_path, monkeypatch)
     assert message == "--end: got 2019; allowed: a date after start (2020-01-01)"
+
+
+# -- F24: a horizon in years is told its length in days ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("typed", "days", "whole"),
+    [("3yr", "1095.75", "1095 d or 1096 d"), ("1yr", "365.25", "365 d or 366 d"), ("2yr", "730.5", "730 d or 731 d")],
+)
+def test_a_horizon_in_years_is_told_its_days_and_the_whole_days_beside_it(
+    typed, days, whole, capsys, tmp_path, monkeypatch
+):
+    """'--horizon 3yr' was refused by a rule whose own words were "(three years)", without saying that 3 yr is
+    1095.75 d: the lead times are whole days, and a Julian year is not."""
+    message = _refused(["forecast", "--horizon", typed], capsys, tmp_path, monkeypatch)
+    shown = typed.replace("yr", " yr")
+    assert message == (
+        f"--horizon: got {shown}; allowed: a whole number of days from 1 d to 1096 d (three years); the horizon "
+        f"given is {days} d (a Julian year is 365.25 d), so give {whole}"
+    ), message
+    # What the message offers runs.
+    code, out, err = _run(["forecast", "--horizon", whole.split(" or ")[1].replace(" ", ""), "--json"], capsys)
+    assert code == 0 and err == "", err
+
+
+def test_a_horizon_past_three_years_in_years_is_told_its_days_without_a_suggestion(capsys, tmp_path, monkeypatch):
+    message = _refused(["forecast", "--horizon", "5yr"], capsys, tmp_path, monkeypatch)
+    assert message.endswith("; the horizon given is 1826.25 d (a Julian year is 365.25 d)"), message
+    assert _refused(["forecast", "--horizon", "36h"], capsys, tmp_path, monkeypatch).endswith(
+        "; the horizon given is 1.5 d, so give 1 d or 2 d"
+    )
+    # In days, the rule alone (the value already says it in days).
+    assert _refused(["forecast", "--horizon", "1097"], capsys, tmp_path, monkeypatch) == (
+        "--horizon: got 1097 d; allowed: a whole number of days from 1 d to 1096 d (three years)"
+    )
+
+
+def test_a_calibration_span_in_years_runs_and_the_python_api_says_the_same(capsys):
+    """A calibration span is a stretch of record (weekly past forecasts over it), not a count of lead days: 3 yr is
+    a span like any other."""
+    code, out, err = _run(["forecast", "--calibration-span", "3yr", "--horizon", "30", "--json"], capsys)
+    assert code == 0 and err == "", err
+    with pytest.raises(InputError, match=r"^horizon: got 3\.0 yr; .* the horizon given is 1095\.75 d"):
+        wobble.forecast_polar_motion(horizon=3 * u.yr)
+    with pytest.raises(InputError, match=r"^horizon: got 1\.0 yr; .* so give 365 d or 366 d"):
+        wobble.hindcast_polar_motion(start="2019-01-01", end="2019-03-01", horizon=1 * u.yr)
