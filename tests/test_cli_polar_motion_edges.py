@@ -4,6 +4,8 @@ horizon given in years. Each as the behaviour a user should meet."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from astropy import units as u
@@ -117,3 +119,40 @@ def test_a_calibration_span_in_years_runs_and_the_python_api_says_the_same(capsy
         wobble.forecast_polar_motion(horizon=3 * u.yr)
     with pytest.raises(InputError, match=r"^horizon: got 1\.0 yr; .* so give 365 d or 366 d"):
         wobble.hindcast_polar_motion(start="2019-01-01", end="2019-03-01", horizon=1 * u.yr)
+
+
+# -- F22: the last two years, where the Chandler and annual terms cannot be told apart --------------------------------
+
+LAST_TWO_YEARS = ["--start", "2024-09-26", "--end", LAST]
+
+
+def test_the_last_two_years_say_no_chandler_term_is_resolved_in_text_and_json(capsys, tmp_path, monkeypatch):
+    """Was: "least squares 365 +/- 76 d, 11907054 +/- 11906917 mas", an annual term of 11907109 mas, "differ by
+    0.3 sigma (agree)", a caveat on the band's edge beside the 365 d, and a window row "nan +/- nan"."""
+    monkeypatch.chdir(tmp_path)
+    code, text, err = _run(["polar-motion", *LAST_TWO_YEARS], capsys)
+    assert code == 0 and err == "", err
+    rows = {line.split()[0]: line for line in text.splitlines() if line.startswith(("  least squares", "  spectrum "))}
+    assert set(rows) == {"least", "spectrum"}
+    assert all(line.rstrip().endswith("not resolved") for line in rows.values()), rows
+    assert "the two methods are not compared: neither method resolves a Chandler term in this span" in text
+    assert "(agree)" not in text and "DISAGREE" not in text and "nan" not in text
+    assert "(prograde not separable from the Chandler term)" in text
+    assert "2025-09-27  no Chandler term resolved" in text
+
+    code, out, err = _run(["polar-motion", *LAST_TWO_YEARS, "--json"], capsys)
+    d = json.loads(out)
+    assert 390 <= d["chandler_period_days"] <= 500  # inside the search band it states (365.24 d before)
+    assert d["chandler_amplitude_mas"] < 1000 and d["annual_prograde_amplitude_mas"] < 1000
+    assert d["chandler_resolved"] is False and d["estimates"]["spectrum"]["chandler_resolved"] is False
+    assert d["methods_agree"] is None and d["agreement_sigma"] is None
+    assert [r["residual_days"] for r in d["comparison"]] == [None] * len(d["comparison"])
+    caveats = " ".join(d["caveats"])
+    assert "cannot be told from the annual terms" in caveats and "the spectral peak lies at the edge" in caveats
+
+
+def test_the_whole_record_is_resolved_and_compared_as_before(capsys):
+    code, out, err = _run(["polar-motion", "--json", "--excitation-q", "none", "--no-q"], capsys)
+    d = json.loads(out)
+    assert d["chandler_resolved"] is True and d["methods_agree"] is True and d["agreement_sigma"] < 2
+    assert all(r["residual_days"] is not None for r in d["comparison"][1:])

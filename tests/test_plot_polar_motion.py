@@ -152,3 +152,23 @@ def test_a_forecast_of_weeks_keeps_its_bands():
     ax = forecast_figure(f).axes[0]
     assert sum(isinstance(c, FillBetweenPolyCollection) for c in ax.collections) == 2
     assert not ax.containers
+
+
+def test_a_span_without_a_chandler_term_is_not_titled_with_one():
+    """Found by hand beside the fuzzer (seed 419 session): two years, 2024-09-26 to 2026-09-29, were titled
+    "365 +/- 76 d, 11907054 mas (least squares)" over a pole path 180 mas across, with a band of that period on
+    the period panel and a legend of two empty window series. The title says the term is not resolved and why;
+    no band is drawn for it; a legend lists only what is drawn."""
+    a = wobble.polar_motion_analysis(start="2024-09-26", end="2026-09-29", excitation_q=None, quality_factor=False)
+    assert not a.least_squares.resolved
+    fig = overview(a)
+    title = fig.get_suptitle()
+    assert "not resolved by the least squares" in title and "variance inflation" in title
+    assert "mas" not in title.split("\n")[0]
+    ax_path, ax_spec, ax_amp, ax_per = fig.axes[:4]
+    assert not [p for p in ax_per.patches + ax_per.collections if p.get_label().startswith("whole span")]
+    assert ax_amp.get_legend() is None  # both window series are empty (NaN): nothing to list
+    labels = [t.get_text() for t in ax_per.get_legend().get_texts()]
+    assert labels == [f"model {a.budget.period.value:.1f} d"]
+    mark = next(t.get_text() for t in ax_spec.texts if t.get_text().startswith("Chandler"))
+    assert "no peak resolved" in mark
