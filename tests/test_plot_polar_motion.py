@@ -105,3 +105,70 @@ def test_a_hindcast_figure_gives_each_method_one_colour_in_every_panel():
     for ax in fig.axes[:2]:
         box = ax.get_legend().get_bbox_to_anchor().transformed(ax.transAxes.inverted())
         assert box.y1 < 0
+
+
+@pytest.mark.parametrize("issued", ["1979-02-26", "2026-10-29"])  # the first issue date allowed, and the last
+def test_a_one_day_forecast_is_drawn_and_its_legend_hides_no_data(issued):
+    """Found by hand beside the fuzzer (seed 419 session): '--horizon 1d' drew nothing right of the issue line (a
+    band and a line of one point are empty) while the legend, inside the x_p panel, listed them over the record.
+    A forecast of a few days is drawn as points with error bars, and the legend is below the panels."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.container import ErrorbarContainer
+
+    from wobble.plot.forecast import forecast_figure
+
+    f = wobble.forecast_polar_motion(issued=issued, horizon=1 * u.day)
+    fig = forecast_figure(f)
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    b68, b95 = f.bounds(68), f.bounds(95)
+    year = 2000 + (float(f.time_mjd[0]) - 51544.5) / 365.25
+    for ax, key, value in ((fig.axes[0], "x", f.x), (fig.axes[1], "y", f.y)):
+        assert ax.get_legend() is None  # not inside a panel
+        (point,) = [line for line in ax.get_lines() if line.get_label() == "forecast (kalman)"]
+        assert point.get_marker() == "o" and point.get_ydata() == pytest.approx(value.value)
+        lo, hi = ax.get_xlim()
+        assert lo < year < hi and hi - year > 0.01 * (hi - lo)  # inside the frame, its marker not cut
+        bars = {c.get_label(): c for c in ax.containers if isinstance(c, ErrorbarContainer)}
+        for label, b in (("68 %", b68), ("95 % (calibrated on past forecasts)", b95)):
+            (segments,) = [lc.get_segments() for lc in bars[label].lines[2]]
+            (ys,) = [s[:, 1] for s in segments]
+            assert ys == pytest.approx([b[key][0][0].value, b[key][1][0].value])
+    # The figure's legend lists what the panels draw, and lies outside both of them.
+    legend = fig.legends[0]
+    drawn = {a.get_label() for ax in fig.axes for a in ax.get_lines() + list(ax.containers)}
+    assert {t.get_text() for t in legend.get_texts()} <= drawn
+    box = legend.get_window_extent(renderer)
+    for ax in fig.axes:
+        assert not box.overlaps(ax.get_window_extent(renderer))
+
+
+def test_a_forecast_of_weeks_keeps_its_bands():
+    from matplotlib.collections import FillBetweenPolyCollection
+
+    from wobble.plot.forecast import forecast_figure
+
+    f = wobble.forecast_polar_motion(issued="2020-01-01", horizon=30 * u.day, calibrated=False)
+    ax = forecast_figure(f).axes[0]
+    assert sum(isinstance(c, FillBetweenPolyCollection) for c in ax.collections) == 2
+    assert not ax.containers
+
+
+def test_a_span_without_a_chandler_term_is_not_titled_with_one():
+    """Found by hand beside the fuzzer (seed 419 session): two years, 2024-09-26 to 2026-09-29, were titled
+    "365 +/- 76 d, 11907054 mas (least squares)" over a pole path 180 mas across, with a band of that period on
+    the period panel and a legend of two empty window series. The title says the term is not resolved and why;
+    no band is drawn for it; a legend lists only what is drawn."""
+    a = wobble.polar_motion_analysis(start="2024-09-26", end="2026-09-29", excitation_q=None, quality_factor=False)
+    assert not a.least_squares.resolved
+    fig = overview(a)
+    title = fig.get_suptitle()
+    assert "not resolved by the least squares" in title and "variance inflation" in title
+    assert "mas" not in title.split("\n")[0]
+    ax_path, ax_spec, ax_amp, ax_per = fig.axes[:4]
+    assert not [p for p in ax_per.patches + ax_per.collections if p.get_label().startswith("whole span")]
+    assert ax_amp.get_legend() is None  # both window series are empty (NaN): nothing to list
+    labels = [t.get_text() for t in ax_per.get_legend().get_texts()]
+    assert labels == [f"model {a.budget.period.value:.1f} d"]
+    mark = next(t.get_text() for t in ax_spec.texts if t.get_text().startswith("Chandler"))
+    assert "no peak resolved" in mark

@@ -49,19 +49,23 @@ def report(a) -> str:
     for est, label in ((e, "least squares"), (s, "spectrum")):
         period, period_sigma = _pair(est.period, est.period_uncertainty)
         amplitude, amplitude_sigma = _pair(est.amplitude, est.amplitude_uncertainty)
-        lines.append(f"  {label:<19}{period:>9} +/- {period_sigma:<5}  {amplitude:>7} +/- {amplitude_sigma:<5}")
+        # A span that resolves no Chandler term says so on the row (the caveats below say why).
+        flag = "" if est.resolved else "  not resolved"
+        lines.append(f"  {label:<19}{period:>9} +/- {period_sigma:<5}  {amplitude:>7} +/- {amplitude_sigma:<5}{flag}")
     parts = e.period_uncertainty_parts
     lines.append(
         "  period uncertainty (least squares): "
         + ", ".join(f"{k} {_fmt(v, 2)}" for k, v in parts.items() if k != "adopted")
         + " d; adopted = max(autocorrelation, subspans, excitation) with the model term in quadrature"
     )
-    lines.append(f"  the two methods differ by {a.agreement:.1f} sigma ({'agree' if a.methods_agree else 'DISAGREE'})")
+    lines.append(f"  {a.agreement_text()}")
+    separable = e.raw.details.get("separable", True)
     lines.append(
         f"  annual wobble: prograde {_fmt(e.annual_prograde_amplitude, 1)} +/- "
         f"{_fmt(e.annual_prograde_amplitude_uncertainty, 1)} mas, "
         f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} +/- "
         f"{_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
+        + ("" if separable else " (prograde not separable from the Chandler term)")
     )
     lines.append(
         f'  mean pole at {iso_date(e.epoch)}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '
@@ -80,7 +84,12 @@ def report(a) -> str:
     lines.append(f"  {'':<44}{'period [d]':>11}{'residual [d]':>14}")
     for r in a.comparison():
         unc = "" if r["uncertainty"] is None else f" +/- {_fmt(r['uncertainty'])}"
-        res = "" if r["residual"] is None else f"{r['residual'].to_value(u.day):+.1f}"
+        if r["residual"] is not None:
+            res = f"{r['residual'].to_value(u.day):+.1f}"
+        elif r["kind"] == "observed":
+            res = "" if e.resolved else "not resolved"
+        else:  # no observed period to compare with
+            res = "-"
         if r["sigma"] is not None:
             res += f" ({abs(r['residual'] / r['sigma']).to_value(u.one):.1f} sigma)"
         lines.append(f"  {r['name']:<44}{_fmt(r['period']):>11}{unc:<9} {res}")
@@ -95,6 +104,9 @@ def report(a) -> str:
     ]
     for k in range(len(mjd)):
         if k % every == 0 or k == len(mjd) - 1:
+            if not math.isfinite(amp[k]):  # printed "nan +/- nan"; the caveats say why
+                lines.append(f"    {iso_date(float(mjd[k]))}  no Chandler term resolved")
+                continue
             lines.append(
                 f"    {iso_date(float(mjd[k]))}  {amp[k]:6.1f} +/- "
                 f"{w['chandler_amplitude_uncertainty'][k]:4.1f}   "

@@ -58,8 +58,8 @@ def register(sub) -> None:
     p.add_argument(
         "--horizon",
         metavar="T",
-        help="how far ahead, a whole number of days from 1 d to 1096 d (three years), e.g. 365d or 90 "
-        "(a bare number is days; default 365d)",
+        help="how far ahead, a whole number of days from 1 d to 1096 d (three years), e.g. 365d, 90 or 2wk "
+        "(a bare number is days; a year is 365.25 d, so 1yr is refused: 365d or 366d; default 365d)",
     )
     p.add_argument("--method", help="kalman (default) or ls_ar; with --hindcast: both (default), kalman or ls_ar")
     add_file(p)

@@ -78,7 +78,8 @@ def select_dates(mjd: np.ndarray, start, end, what: str = "the data") -> np.ndar
     """The mask of ``mjd`` from ``start`` to ``end`` inclusive (None: the first or last date).
 
     A date outside ``mjd`` is an error naming the span (``what`` says whose),
-    never a silently shorter series.
+    never a silently shorter series; so is an empty span, naming the date given
+    (``start`` when it is the only one, on or after the last day).
     """
     first, last = float(mjd[0]), float(mjd[-1])
     span = f"a date from {iso_date(first)} to {iso_date(last)} ({what})"
@@ -89,6 +90,12 @@ def select_dates(mjd: np.ndarray, start, end, what: str = "the data") -> np.ndar
     if not first <= hi <= last + 0.5:
         raise InputError("end", end, span)
     if hi <= lo:
+        # The option given is the one at fault: a start on the last day with no end had named 'end' and
+        # printed Python's None ("end: got None; allowed: a date after start").
+        if end is None:
+            raise InputError("start", start, f"a date before {iso_date(last)}, the last day of {what}")
+        if start is None:
+            raise InputError("end", end, f"a date after {iso_date(first)}, the first day of {what}")
         raise InputError("end", end, f"a date after start ({iso_date(lo)})")
     return (mjd >= lo) & (mjd <= hi)
 

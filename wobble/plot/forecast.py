@@ -14,16 +14,27 @@ from wobble.io.dates import iso_date
 from wobble.plot._style import decimal_year
 from wobble.plot.save import WIDE_DPI, save_figure
 
-__all__ = ["forecast_figure", "save_forecast_figure", "hindcast_figure", "save_hindcast_figure"]
+__all__ = ["POINTS_UP_TO", "forecast_figure", "save_forecast_figure", "hindcast_figure", "save_hindcast_figure"]
+
+
+#: A forecast of up to this many lead days is drawn as points with error bars: as bands and a line, one day (a
+#: single point) drew nothing at all right of the issue line while the legend listed it, and a few days were a
+#: sliver a few pixels wide at the edge of two years of record.
+POINTS_UP_TO = 5
 
 
 def forecast_figure(forecast, data=None) -> Figure:
-    """x_p and y_p against time: the record's last two years, the forecast, its 68 % and 95 % bands."""
+    """x_p and y_p against time: the record's last two years, the forecast, its 68 % and 95 % intervals.
+
+    Intervals are bands about the forecast's line; a forecast of up to :data:`POINTS_UP_TO` days is drawn as
+    points with error bars (thick: 68 %, thin with caps: 95 %) instead. The legend is outside the panels, below
+    them, where it hides no data.
+    """
     from astropy import units as u
 
     from wobble.api.polar_motion.record import load_polar_motion, mjd_values
 
-    fig = Figure(figsize=(9, 6), layout="constrained")
+    fig = Figure(figsize=(9, 6.5), layout="constrained")
     axes = fig.subplots(2, 1, sharex=True)
     if data is None:
         data = load_polar_motion(forecast.source or None)
@@ -33,6 +44,7 @@ def forecast_figure(forecast, data=None) -> Figure:
     tf = decimal_year(forecast.time_mjd)
     b68, b95 = forecast.bounds(68), forecast.bounds(95)
     kind = "calibrated on past forecasts" if forecast.calibration is not None else "the model's, not calibrated"
+    points = tf.size <= POINTS_UP_TO
     for ax, name, value, key in ((axes[0], "x_p", forecast.x, "x"), (axes[1], "y_p", forecast.y, "y")):
         obs = (np.asarray(data[name].values) * u.Unit(data[name].attrs["units"])).to_value(u.mas)
         used = keep & (mjd <= last)
@@ -40,12 +52,30 @@ def forecast_figure(forecast, data=None) -> Figure:
         ax.plot(decimal_year(mjd[used]), obs[used], color="k", lw=1, label="record used")
         if later.any():
             ax.plot(decimal_year(mjd[later]), obs[later], color="0.5", lw=1, ls=":", label="record after (not used)")
-        ax.fill_between(tf, b95[key][0].value, b95[key][1].value, color="C0", alpha=0.15, lw=0, label=f"95 % ({kind})")
-        ax.fill_between(tf, b68[key][0].value, b68[key][1].value, color="C0", alpha=0.3, lw=0, label="68 %")
-        ax.plot(tf, value.value, color="C0", lw=1.5, label=f"forecast ({forecast.method})")
+        v = value.value
+        (lo95, hi95), (lo68, hi68) = ((b[key][0].value, b[key][1].value) for b in (b95, b68))
+        if points:
+            ax.errorbar(
+                tf, v, yerr=[v - lo95, hi95 - v], fmt="none", ecolor="C0", alpha=0.45, elinewidth=1.2, capsize=4,
+                label=f"95 % ({kind})", zorder=3,
+            )  # fmt: skip
+            ax.errorbar(
+                tf, v, yerr=[v - lo68, hi68 - v], fmt="none", ecolor="C0", elinewidth=3.5, label="68 %", zorder=3
+            )
+            # Hollow, so the 68 % bar shows through it where the interval is smaller than the marker.
+            ax.plot(tf, v, "o", mfc="none", mec="k", mew=0.9, ms=6, label=f"forecast ({forecast.method})", zorder=4)
+        else:
+            ax.fill_between(tf, lo95, hi95, color="C0", alpha=0.15, lw=0, label=f"95 % ({kind})")
+            ax.fill_between(tf, lo68, hi68, color="C0", alpha=0.3, lw=0, label="68 %")
+            ax.plot(tf, v, color="C0", lw=1.5, label=f"forecast ({forecast.method})")
         ax.axvline(decimal_year(float(forecast.issued.mjd)), color="C3", lw=0.8, ls="--")
         ax.set_ylabel(f"{name} [mas]")
-    axes[0].legend(fontsize="small", ncol=3)
+    if points:  # room right of the last point, so its marker and caps are not cut by the frame
+        lo, hi = axes[0].get_xlim()
+        axes[0].set_xlim(lo, max(hi, float(tf[-1]) + 0.03 * (float(tf[-1]) - lo)))
+    # Below the panels: inside the top one, the legend (three columns) covered the x_p record.
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize="small", frameon=False)
     axes[1].set_xlabel("year")
     axes[0].set_title(
         f"forecast issued {iso_date(forecast.issued)} (dashed), data to {iso_date(forecast.last_data)} (latency "

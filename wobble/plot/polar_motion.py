@@ -135,7 +135,7 @@ def pole_path(data, *, start=None, end=None, ax=None, model=None):
     return ax
 
 
-def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_period=None):
+def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_period=None, resolved=True):
     """Amplitude against frequency in cycles per year, retrograde (negative) and prograde (positive).
 
     Parameters
@@ -146,6 +146,9 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
         The measured period (``PolarMotionAnalysis.spectral.period``): the Chandler mark goes to its
         frequency and its label gives it. Without it the mark is the highest bin within 0.03 cycle per year
         of the published frequency, which on a short span can be the annual peak's flank.
+    resolved : bool
+        Whether that estimate resolves a Chandler peak (``PolarMotionAnalysis.spectral.resolved``): if not (its
+        period at the search band's edge), the mark's label says so.
     """
     ax = _axes(ax, figsize=(7, 4))
     cpy = np.asarray(spectrum["frequency"].values) * _JULIAN_DAYS
@@ -163,7 +166,7 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
     ]
     for label, f, offset in marks:
         if label == "Chandler" and chandler_period is not None:
-            _mark_measured(ax, cpy, amp, keep, chandler_period, offset)
+            _mark_measured(ax, cpy, amp, keep, chandler_period, offset, resolved)
             continue
         near = keep & (np.abs(cpy - f) < 0.03)
         if not near.any():
@@ -182,8 +185,9 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
     return ax
 
 
-def _mark_measured(ax, cpy, amp, keep, period, offset) -> None:
-    """The Chandler mark at the measured period's frequency (the bin nearest it), labelled with the period."""
+def _mark_measured(ax, cpy, amp, keep, period, offset, resolved=True) -> None:
+    """The Chandler mark at the measured period's frequency (the bin nearest it), labelled with the period (and,
+    where the estimate resolves no peak, with that)."""
     from astropy import units as u
 
     days = period.to_value(u.day)
@@ -194,7 +198,8 @@ def _mark_measured(ax, cpy, amp, keep, period, offset) -> None:
     arrow = abs(f - JULIAN_YEAR / TROPICAL_YEAR) < 0.12
     if arrow:  # beside the annual peak (a short span's estimate): the label clears it, an arrow points back
         offset = (offset[0] - 70, offset[1] + 10)
-    _mark(ax, cpy[k], amp[k], f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy", offset, arrow)
+    note = "" if resolved else "\nat the band's edge: no peak resolved"
+    _mark(ax, cpy[k], amp[k], f"Chandler (spectral estimate)\n{days:.1f} d = {f:+.3f} cpy{note}", offset, arrow)
 
 
 def _mark(ax, x, y, text, offset, arrow: bool = False) -> None:
@@ -214,7 +219,8 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
     axes : (Axes, Axes), optional
         For the amplitude and the period.
     period : (float, float), optional
-        The full-record period and its uncertainty, days (a band on the period panel).
+        The full-record period and its uncertainty, days (a band on the period panel); None when the span
+        resolves no Chandler term (no band: a band at the search's edge would read as a measurement).
     model_period : float, optional
         The modelled period, days (a line on the period panel).
     """
@@ -245,12 +251,14 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
         label="annual (prograde)",
     )
     mark_collapse(ax_a, years)
-    if not np.isfinite(np.asarray(windows["chandler_amplitude"].values, dtype=float)).any():
-        # No window with a Chandler term (gaps, or windows too short to resolve one): say so, not two empty panels.
-        for ax in (ax_a, ax_p):
+    drawn = np.isfinite(np.asarray(windows["chandler_amplitude"].values, dtype=float)).any()
+    if not drawn:
+        # No window with a Chandler term (gaps, or windows too short to resolve one): say so, not two empty panels;
+        # below the middle of the period panel, where its model line (alone, so centred) would run through it.
+        for ax, y in ((ax_a, 0.5), (ax_p, 0.25)):
             ax.text(
                 0.5,
-                0.5,
+                y,
                 "no window has a Chandler term to show (the caveats say why)",
                 ha="center",
                 va="center",
@@ -261,7 +269,15 @@ def windowed_wobble(windows, *, axes=None, period=None, model_period=None):
     ax_a.set_ylim(bottom=0)
     if np.isfinite(years).any() and np.isfinite(width):  # the windows' reach, whatever their fits gave
         ax_a.set_xlim(np.nanmin(years) - width / 2, np.nanmax(years) + width / 2)
-    ax_a.legend(fontsize="small")
+    # A legend of what is drawn: series of windows without a value (all NaN) are not listed.
+    empty = {
+        label
+        for label, name in (("Chandler", "chandler_amplitude"), ("annual (prograde)", "annual_prograde_amplitude"))
+        if not np.isfinite(np.asarray(windows[name].values, dtype=float)).any()
+    }
+    listed = [(h, lab) for h, lab in zip(*ax_a.get_legend_handles_labels()) if lab not in empty]
+    if listed:
+        ax_a.legend(*zip(*listed), fontsize="small")
     ax_a.set_title(f"sliding windows of {width:g} years (plotted at their centres)", fontsize="medium")
     ax_p.errorbar(years, windows["chandler_period"], yerr=windows["chandler_period_uncertainty"], fmt="o-", ms=3, lw=1)
     if period is not None:
@@ -299,18 +315,29 @@ def overview(analysis, *, path_span=None) -> Figure:
 
         path_span = (Time(start_mjd, format="mjd"), Time(end_mjd, format="mjd"))
     pole_path(analysis.data, start=path_span[0], end=path_span[1], ax=ax_path)
-    two_sided_spectrum(analysis.spectrum, ax=ax_spec, chandler_period=analysis.spectral.period)
+    two_sided_spectrum(
+        analysis.spectrum,
+        ax=ax_spec,
+        chandler_period=analysis.spectral.period,
+        resolved=analysis.spectral.resolved,
+    )
     windowed_wobble(
         analysis.windows,
         axes=(ax_amp, ax_per),
-        period=(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day)),
+        period=(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day)) if e.resolved else None,
         model_period=analysis.budget.period.to_value(u.day),
     )
-    fig.suptitle(
-        f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)}: "
-        f"{pm(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day))} d, "
-        f"{e.amplitude.to_value(u.mas):.0f} mas (least squares)"
-    )
+    if e.resolved:
+        fig.suptitle(
+            f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)}: "
+            f"{pm(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day))} d, "
+            f"{e.amplitude.to_value(u.mas):.0f} mas (least squares)"
+        )
+    else:  # the title had given 365 +/- 76 d and 11907054 mas over a pole path 180 mas across
+        fig.suptitle(
+            f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)}: not resolved by the least squares\n"
+            f"{e.unresolved_because}"
+        )
     return fig
 
 

@@ -17,7 +17,7 @@ from wobble.api.polar_motion.estimate import (
     published_chandler_period,
     q_arg,
 )
-from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series
+from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series, short_span_error
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
@@ -170,16 +170,36 @@ class PolarMotionAnalysis:
         return self.least_squares
 
     @property
-    def methods_agree(self) -> bool:
-        """Whether the two periods differ by less than twice their combined one-sigma uncertainty (in quadrature)."""
-        return self.agreement <= 2.0
+    def comparable(self) -> bool:
+        """Whether both estimates resolve a Chandler term, so that their periods can be compared."""
+        return self.least_squares.resolved and self.spectral.resolved
+
+    @property
+    def methods_agree(self) -> bool | None:
+        """Whether the two periods differ by less than twice their combined one-sigma uncertainty (in quadrature);
+        None when either estimate resolves no Chandler term (:attr:`comparable`): a period at the band's edge, or
+        a term traded against the annual one, agrees or disagrees with nothing."""
+        return self.agreement <= 2.0 if self.comparable else None
 
     @property
     def agreement(self) -> float:
-        """``|P_ls - P_spectrum|`` / sqrt(sigma_ls^2 + sigma_spectrum^2)."""
+        """``|P_ls - P_spectrum|`` / sqrt(sigma_ls^2 + sigma_spectrum^2); NaN when not :attr:`comparable`."""
+        if not self.comparable:
+            return math.nan
         a, b = self.least_squares, self.spectral
         diff = abs((a.period - b.period).to_value(u.day))
         return diff / math.hypot(a.period_uncertainty.to_value(u.day), b.period_uncertainty.to_value(u.day))
+
+    def agreement_text(self) -> str:
+        """The methods' agreement in words, as the text and the summary print it."""
+        if self.comparable:
+            verdict = "agree" if self.methods_agree else "DISAGREE"
+            return f"the two methods differ by {self.agreement:.1f} sigma ({verdict})"
+        which = [
+            name for name, e in (("least squares", self.least_squares), ("spectrum", self.spectral)) if not e.resolved
+        ]
+        who = "neither method resolves a" if len(which) == 2 else f"the {which[0]} resolves no"
+        return f"the two methods are not compared: {who} Chandler term in this span (the caveats say why)"
 
     def comparison(self) -> list[dict]:
         """The observed period beside every step of the model and the published value.
@@ -190,6 +210,8 @@ class PolarMotionAnalysis:
         where both sides have one).
         """
         obs = self.estimate
+        # Residuals from a period the span does not resolve would measure the search, not the wobble: left out.
+        compared = obs.resolved
         rows = [
             {
                 "name": f"observed ({obs.method.replace('_', ' ')})",
@@ -203,14 +225,14 @@ class PolarMotionAnalysis:
         for step in self.budget.steps:
             final = step is self.budget.steps[-1]
             unc = self.budget.period_uncertainty if final else None
-            sigma = np.hypot(unc, obs.period_uncertainty) if final else None
+            sigma = np.hypot(unc, obs.period_uncertainty) if final and compared else None
             rows.append(
                 {
                     "name": f"model: {step.name}",
                     "kind": "model",
                     "period": step.period,
                     "uncertainty": unc,
-                    "residual": step.period - obs.period,
+                    "residual": step.period - obs.period if compared else None,
                     "sigma": sigma,
                 }
             )
@@ -221,8 +243,8 @@ class PolarMotionAnalysis:
                 "kind": "published",
                 "period": pub["period"],
                 "uncertainty": pub["uncertainty"],
-                "residual": pub["period"] - obs.period,
-                "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty),
+                "residual": pub["period"] - obs.period if compared else None,
+                "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty) if compared else None,
             }
         )
         return rows
@@ -242,11 +264,13 @@ class PolarMotionAnalysis:
             "start": iso_date(est.start),
             "end": iso_date(est.end),
             "method": est.method,
+            "chandler_resolved": est.resolved,
             "source_file": self.source_file,
             "sign_convention": SIGN_NOTE,
             "day": "days of 86400 s",
             "estimates": {e.method: e.to_dict() for e in (self.least_squares, self.spectral)},
-            "methods_agree": bool(self.methods_agree),
+            # null when either estimate resolves no Chandler term (the caveats say why): nothing to agree with.
+            "methods_agree": None if self.methods_agree is None else bool(self.methods_agree),
             "agreement_sigma": num(self.agreement),
             # An object here (with its interval and method), a number in excitation and forecast.
             "quality_factor_estimate": None if self.quality_factor is None else self.quality_factor.to_dict(),
@@ -294,14 +318,21 @@ class PolarMotionAnalysis:
             f"Chandler wobble {iso_date(e.start)} to {iso_date(e.end)} "
             f"({e.n_samples} days; p = x_p - i y_p, prograde):",
             f"  least squares {pm(e.period, e.period_uncertainty, 1)} d, "
-            f"{pm(e.amplitude, e.amplitude_uncertainty, 0)} mas",
+            f"{pm(e.amplitude, e.amplitude_uncertainty, 0)} mas{_unresolved(e)}",
             f"  spectrum      {pm(s.period, s.period_uncertainty, 1)} d, "
-            f"{pm(s.amplitude, s.amplitude_uncertainty, 0)} mas"
-            f" ({'agree' if self.methods_agree else 'DISAGREE'}: {self.agreement:.1f} sigma apart)",
+            f"{pm(s.amplitude, s.amplitude_uncertainty, 0)} mas{_unresolved(s)}"
+            + (
+                f" ({'agree' if self.methods_agree else 'DISAGREE'}: {self.agreement:.1f} sigma apart)"
+                if self.comparable
+                else ""
+            ),
             "  annual wobble: prograde "
             f"{pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
-            f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas",
+            f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas"
+            + ("" if e.raw.details.get("separable", True) else " (not separable from the Chandler term)"),
         ]
+        if not self.comparable:
+            lines.append(f"  {self.agreement_text()}")
         if self.quality_factor is not None:
             q = self.quality_factor
             hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
@@ -321,8 +352,14 @@ class PolarMotionAnalysis:
         e = self.estimate
         return (
             f"PolarMotionAnalysis({iso_date(e.start)} to {iso_date(e.end)}, "
-            f"period={e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d)"
+            f"period={e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d"
+            f"{'' if e.resolved else ', not resolved'})"
         )
+
+
+def _unresolved(estimate) -> str:
+    """ " (not resolved: why)" after an estimate that resolves no Chandler term, "" otherwise."""
+    return "" if estimate.resolved else f" (not resolved: {estimate.unresolved_because})"
 
 
 def _windows_dict(w: dict, a: dict) -> dict:
@@ -395,11 +432,13 @@ def polar_motion_analysis(
         # The least span is the shortest sliding window's: two Julian years of samples in it (730.5 d, which
         # the message had rounded to 730) and a sample at each end; 731-732 d passed this check and were
         # refused by the window's.
-        raise InputError(
-            "start/end",
-            f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({span / _pm.DAY:g} d)",
-            f"a span of at least {shortest / _pm.DAY:g} d (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of "
-            "samples in each sliding window)",
+        # --start alone is told the latest start, --end alone the earliest end (both named "--start/--end").
+        raise short_span_error(
+            mjd,
+            start,
+            end,
+            shortest / _pm.DAY,
+            f" (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of samples in each sliding window)",
         )
     default_window = window_s is None
     if default_window:  # 8 years, or the span when shorter (a five-year span was refused its default window)
@@ -427,11 +466,14 @@ def polar_motion_analysis(
         t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress
     )
     caveats = list(ls.caveats)
+    # The spectral estimate's own, where it resolves no peak (its edge caveat had stayed in its JSON alone, while
+    # the text compared its band-edge 390 d with the least squares).
+    caveats += [c for c in sp.caveats if not sp.resolved and c not in caveats and "edge" in c]
     if wf.unresolved:
         lo, hi = (b / _pm.DAY for b in _pm.CHANDLER_BAND)
         caveats.append(
             f"{wf.unresolved} of {wf.centre.size} windows found no Chandler term inside the search band "
-            f"({lo:.0f}-{hi:.0f} d): their values are left out"
+            f"({lo:.0f}-{hi:.0f} d), or none separable from the annual terms: their values are left out"
         )
     if default_window and window_s < DEFAULT_WINDOW:
         caveats.append(

@@ -263,6 +263,18 @@ def analysis_dataset(a):
     }
     for name, (unit, long_name, fn) in est.items():
         ds[name] = ("method", per_method(fn), attrs(unit, long_name))
+    # Whether each method resolves a Chandler term (the period at the search band's edge, or a least-squares term
+    # that cannot be told from the annual ones, is the search's, not the wobble's; the caveats say which).
+    ds["chandler_resolved"] = (
+        "method",
+        np.array([e.resolved for e in methods], dtype=np.int8),
+        {
+            "long_name": "whether the span resolves a Chandler term",
+            "flag_values": np.array([0, 1], dtype=np.int8),
+            "flag_meanings": "not_resolved resolved",
+            "comment": "; ".join(a.caveats),
+        },
+    )
     ds = ds.assign_coords(method=("method", [e.method for e in methods], {"long_name": "estimation method"}))
     ds["epoch"] = (
         (),
@@ -285,7 +297,8 @@ def analysis_dataset(a):
     )
     ds["model_minus_observed"] = (
         "model_step",
-        np.array([r["residual"].to_value(u.day) for r in model_rows]),
+        # NaN where the least squares resolve no Chandler term (nothing observed to compare with).
+        np.array([np.nan if r["residual"] is None else r["residual"].to_value(u.day) for r in model_rows]),
         attrs("day", "modelled minus observed (least-squares) Chandler period"),
     )
     ds["model_period_uncertainty"] = (
@@ -319,8 +332,10 @@ def analysis_dataset(a):
         "title": "Observed polar motion and the Chandler wobble",
         "summary": (
             f"Chandler period {e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d and amplitude "
-            f"{e.amplitude.value:.0f} +/- {e.amplitude_uncertainty.value:.0f} mas (least squares), "
-            f"{a.spectral.period.value:.1f} +/- {a.spectral.period_uncertainty.value:.1f} d (spectrum), "
+            f"{e.amplitude.value:.0f} +/- {e.amplitude_uncertainty.value:.0f} mas (least squares"
+            f"{'' if e.resolved else '; not resolved: ' + e.unresolved_because}), "
+            f"{a.spectral.period.value:.1f} +/- {a.spectral.period_uncertainty.value:.1f} d (spectrum"
+            f"{'' if a.spectral.resolved else '; not resolved: ' + a.spectral.unresolved_because}), "
             f"{iso_date(e.start)} to {iso_date(e.end)}"
         ),
         "references": "; ".join([a.data.attrs.get("references", C04_REFERENCE), a.published["reference"]]),

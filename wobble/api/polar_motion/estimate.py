@@ -97,6 +97,9 @@ class ChandlerEstimate:
         What limits this estimate (short span, unresolved peak, ...).
     raw : ChandlerFit
         The SI result of the model layer.
+
+    :attr:`resolved` says whether the span resolves a Chandler term at all (:attr:`unresolved_because` why
+    not): when it does not, the period and amplitudes are those of the search, not of the wobble.
     """
 
     method: str
@@ -163,6 +166,27 @@ class ChandlerEstimate:
             raw=fit,
         )
 
+    @property
+    def resolved(self) -> bool:
+        """Whether the span resolves a Chandler term (:attr:`wobble.models.polar_motion.ChandlerFit.resolved`):
+        its period inside the search band, not at an edge, and, for the least squares, its term separable from
+        the annual ones (variance inflation at most 10)."""
+        return self.raw.resolved
+
+    @property
+    def unresolved_because(self) -> str:
+        """Why no Chandler term is resolved, in a few words ("" when one is)."""
+        details = self.raw.details
+        reasons = []
+        if details.get("at_edge"):
+            lo, hi = (b / _pm.DAY for b in details.get("band", _pm.CHANDLER_BAND))
+            reasons.append(f"its period is at the edge of the search band {lo:.0f}-{hi:.0f} d")
+        if not details.get("separable", True):
+            reasons.append(
+                f"it cannot be told from the annual terms (variance inflation {details['variance_inflation']:.3g})"
+            )
+        return " and ".join(reasons)
+
     def to_dict(self) -> dict:
         """A JSON-ready summary (days of 86400 s, mas, deg; null where not computed).
 
@@ -193,6 +217,7 @@ class ChandlerEstimate:
                 "drift_rate_mas_per_year": num(self.drift_rate),
                 "drift_direction_deg_west": num(self.drift_direction),
                 "residual_rms_mas": num(self.residual_rms),
+                "chandler_resolved": self.resolved,
                 "caveats": list(self.caveats),
             },
             DEPRECATED_KEYS,

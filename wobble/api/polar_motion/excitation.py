@@ -18,13 +18,14 @@ Chandler budget's anelastic step, unless given. A given T_c must lie from
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import check_q, default_q
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs, short_span_error
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, select_dates
@@ -306,19 +307,22 @@ def geodetic_excitation(
     # A file (or the shipped series) is read into plain arrays: the JSON and the text need no
     # Dataset, so xarray and pandas are imported only for -o and --plot (as in polar-motion).
     mjd_all, t_all, z_all, attrs = series_with_attrs(data, file)
-    keep = slice(None) if start is None and end is None else select_dates(mjd_all, start, end)
+    # Named as polar-motion names it ("the span of eopc04.1962-now"), where the record came from a file.
+    whose = f"the span of {os.path.basename(attrs['source_file'])}" if attrs.get("source_file") else "the data"
+    keep = slice(None) if start is None and end is None else select_dates(mjd_all, start, end, whose)
     mjd, t, z = mjd_all[keep], t_all[keep], z_all[keep]
     if t.size < 3 or t[-1] - t[1] < MIN_SPAN:
         # The spectra and the Chandler peak of to_dict() need two Julian years of excitation (a period needs two
         # cycles), which begins a sample after the pole: 731 d of daily pole had passed here and were refused
         # by the spectrum's own check, naming 'series'.
-        span = f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({(t[-1] - t[0]) / DAY:g} d)" if t.size else "no data"
         step = float(t[1] - t[0]) if t.size > 1 else DAY
-        allowed = (
-            f"a span of at least {(MIN_SPAN + step) / DAY:g} d: two Julian years ({MIN_SPAN / DAY:g} d) of "
-            "excitation, which begins a sample after the pole, for the spectra and the Chandler peak"
+        why = (
+            f": two Julian years ({MIN_SPAN / DAY:g} d) of excitation, which begins a sample after the pole, for "
+            "the spectra and the Chandler peak"
         )
-        raise InputError("data" if start is None and end is None else "start/end", span, allowed)
+        # --start alone is told the latest start, --end alone the earliest end (both named "--start/--end").
+        name = "data" if start is None and end is None else "start/end"
+        raise short_span_error(mjd, start, end, (MIN_SPAN + step) / DAY, why, name=name)
     if given is None:
         reference = published_chandler_period()["period"].to_value(u.s)
         # Polished, as wobble polar-motion's is: the same period of the same record, to the last digit.

@@ -114,6 +114,29 @@ def chandler_period_before(t, z, cutoff: float) -> float:
     return fit_least_squares(t[use], z[use], reference_period=reference, uncertainty=False).chandler.period
 
 
+def check_horizon_days(horizon) -> int:
+    """``horizon`` (a Quantity of time) as whole days, 1 to 1096 (:func:`.forecast.check_horizon` of the models).
+
+    The lead times are whole days (the record is daily). A horizon in another unit is told its length in days
+    beside the rule: 3 yr is 1095.75 d (a Julian year is 365.25 d), and "a whole number of days ... (three years)"
+    alone read as refusing its own "three years". A calibration span needs no such rule: it is the stretch of
+    record whose weekly past forecasts calibrate the intervals, any length from 26 weeks to 30 yr.
+    """
+    seconds = to_si(horizon, "horizon", u.s, shape=())
+    try:
+        return _fc.check_horizon(seconds)
+    except InputError as exc:
+        days = seconds / DAY
+        if horizon.unit == u.day or not math.isfinite(days):
+            raise
+        julian = " (a Julian year is 365.25 d)" if horizon.unit == u.yr else ""
+        note = f"; the horizon given is {days:g} d{julian}"
+        low, high = max(1, math.floor(days)), min(round(_fc.MAX_HORIZON / DAY), math.ceil(days))
+        if low < high:  # in range, between two whole days: name them
+            note += f", so give {low} d or {high} d"
+        raise InputError(exc.parameter, horizon, exc.allowed + note) from None
+
+
 #: What a calibration span may be (the shortest holds MIN_COUNT forecasts a week apart).
 CALIBRATION_SPAN_ALLOWED = (
     f"a span from {_cal.MIN_COUNT * _cal.STEP / (7 * DAY):.0f} weeks ({_cal.MIN_COUNT * _cal.STEP / DAY:g} d, "
@@ -473,7 +496,7 @@ def forecast_polar_motion(
     PolarMotionForecast
     """
     method = _fc.check_method(method)
-    horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
+    horizon_days = check_horizon_days(horizon)
     q_value = default_q() if q is None else check_q(q)
     mjd, t, z, attrs = series_with_attrs(data, file)  # plain arrays from a file: no xarray for the JSON
     lat = latency_si(latency, attrs)

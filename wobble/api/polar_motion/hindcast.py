@@ -26,6 +26,7 @@ from wobble.api.polar_motion.forecast import (
     calibration_text,
     check_q,
     default_q,
+    check_horizon_days,
     latency_si,
     whole_days,
 )
@@ -403,7 +404,7 @@ def hindcast_polar_motion(
     if not methods:
         raise InputError("methods", methods, "one or more of 'ls_ar', 'kalman'")
     check_scheduler(scheduler)
-    horizon_days = _fc.check_horizon(to_si(horizon, "horizon", u.s, shape=()))
+    horizon_days = check_horizon_days(horizon)
     step = float(to_si(every, "every", u.s, finite=False, shape=()))
     if not (math.isfinite(step) and step >= DAY - 1e-6 and whole_days(step)):
         raise InputError("every", every, "a whole number of days, at least 1 d (the record is daily)")

@@ -19,7 +19,7 @@ from astropy import units as u
 
 from wobble.api.units import to_si
 from wobble.errors import InputError
-from wobble.io.dates import MJD_UNITS, cf_time_to_mjd, select_dates
+from wobble.io.dates import MJD_UNITS, cf_time_to_mjd, iso_date, select_dates
 from wobble.io.eop import PoleRecord, read_pole_file
 from wobble.models.polar_motion.record import DAY, complex_pole
 from wobble.numerics.calendar import MJD_J2000
@@ -44,6 +44,7 @@ __all__ = [
     "series",
     "mjd_values",
     "resolve_data",
+    "short_span_error",
 ]
 
 #: MJD of 2000-01-01 12:00; the origin of the models' seconds.
@@ -91,7 +92,10 @@ def read_record(file: str | os.PathLike | None = None, *, start=None, end=None) 
     rec = read_pole_file(file)
     keep = select_dates(rec.mjd, start, end, f"the span of {os.path.basename(rec.path)}")
     if keep.sum() < 2:
-        raise InputError("start/end", f"{start} to {end}", "an interval holding at least two days of data")
+        # The dates as given, or the file's own where one was not given (it printed "2026-09-28 to None").
+        first = start if start is not None else iso_date(rec.mjd[0])
+        given = f"{first} to {end if end is not None else iso_date(rec.mjd[-1])}"
+        raise InputError("start/end", given, "an interval holding at least two days of data")
     return replace(
         rec, mjd=rec.mjd[keep], x=rec.x[keep], y=rec.y[keep], x_error=rec.x_error[keep], y_error=rec.y_error[keep]
     )
@@ -232,3 +236,33 @@ def resolve_series(data, start, end):
         return (*record_series(rec), rec)
     ds = resolve_data(data, None, start, end)
     return (*series(ds), ds)
+
+
+def short_span_error(mjd, start, end, need_days: float, why: str, *, name: str = "start/end") -> InputError:
+    """The error for a span whose days kept, ``mjd``, span less than ``need_days``, naming the date the user gave.
+
+    ``start`` alone (the span runs to the record's last day) is told the latest start that leaves
+    ``need_days``, ``end`` alone the earliest end; both, or neither (``name`` then, e.g. ``data``), are
+    told the span. ``why`` follows the least span in the message (" (two Julian years ...)", ": ...").
+    A start three days before the record's end had been refused as "start/end", a start on its last
+    day as "end: got None".
+    """
+    least = f"at least {need_days:g} d{why}"
+    if mjd.size and start is not None and end is None:
+        latest = iso_date(math.floor(float(mjd[-1]) - need_days + 1e-9))
+        return InputError(
+            "start",
+            start,
+            f"a date on or before {latest}: the span to the record's last day, {iso_date(float(mjd[-1]))}, must be "
+            f"{least}",
+        )
+    if mjd.size and end is not None and start is None:
+        earliest = iso_date(math.ceil(float(mjd[0]) + need_days - 1e-9))
+        return InputError(
+            "end",
+            end,
+            f"a date on or after {earliest}: the span from the record's first day, {iso_date(float(mjd[0]))}, must be "
+            f"{least}",
+        )
+    span = f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({float(mjd[-1] - mjd[0]):g} d)" if mjd.size else "no data"
+    return InputError(name, span, f"a span of {least}")

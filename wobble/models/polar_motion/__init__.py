@@ -83,7 +83,7 @@ widen the error.
 from __future__ import annotations
 
 from wobble.models.polar_motion.fit import ChandlerFit, Harmonic, Uncertainty
-from wobble.models.polar_motion.least_squares import fit_least_squares
+from wobble.models.polar_motion.least_squares import MAX_VARIANCE_INFLATION, fit_least_squares
 from wobble.models.polar_motion.quality import MIN_Q_SPAN, QualityFactor, quality_factor
 from wobble.models.polar_motion.record import (
     ANNUAL_RATE,
@@ -116,6 +116,7 @@ __all__ = [
     "WindowedFits",
     "QualityFactor",
     "fit_least_squares",
+    "MAX_VARIANCE_INFLATION",
     "fit_spectrum",
     "two_sided_spectrum",
     "sliding_windows",

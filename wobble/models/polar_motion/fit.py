@@ -103,6 +103,14 @@ class ChandlerFit:
     def span(self) -> float:
         return self.end - self.start
 
+    @property
+    def resolved(self) -> bool:
+        """Whether the span resolves a Chandler term: its period inside the search band, not at an edge
+        (``details["at_edge"]``), and, for the least squares, its column separable from the annual terms'
+        (``details["separable"]``: variance inflation at most 10). Otherwise the period and the amplitudes
+        describe the search, not the wobble."""
+        return not self.details.get("at_edge", False) and self.details.get("separable", True)
+
     def mean_pole(self, t) -> np.ndarray:
         """The drift polynomial of equation (2) at times ``t`` (complex, rad)."""
         tau = (np.asarray(t, dtype=float) - self.epoch) / self.half_span

@@ -49,7 +49,13 @@ from wobble.numerics.phasor import uniform_grid
 from wobble.numerics.spectral import dtft, exponentials
 from wobble.numerics.threads import one_blas_thread
 
-__all__ = ["fit_least_squares", "vp_periods", "vp_rates", "vp_tracked"]
+__all__ = ["MAX_VARIANCE_INFLATION", "fit_least_squares", "separation", "vp_periods", "vp_rates", "vp_tracked"]
+
+#: The largest variance inflation of the Chandler column (1 / (1 - R^2) of its regression on the drift and annual
+#: columns) at which the Chandler and annual terms count as told apart: 10, the usual bound of severe collinearity
+#: (Marquardt 1970; Kutner, Nachtsheim & Neter 2004, sec. 10.5). It is 1 over whole beat periods (6.4 yr at 433 d);
+#: a Chandler term near 433 d over two years gives 4 to 8, one at the band's lower edge (390 d) 30.
+MAX_VARIANCE_INFLATION = 10.0
 
 
 def _fixed_columns(s: np.ndarray, half: float, degree: int) -> np.ndarray:
@@ -146,9 +152,27 @@ def _ls_solve(s, z, half, fixed, band, rate, polish=True):
     step = band_grid(lo_rate, hi_rate, s[-1] - s[0])[1]
     coeffs = np.linalg.lstsq(np.column_stack([fixed, np.exp(1j * rate * s)]), z, rcond=None)[0]
     if polish:
-        coeffs, rate = _polish(s, z, half, fixed, coeffs, rate)
+        polished, polished_rate = _polish(s, z, half, fixed, coeffs, rate)
+        # The polish is unbounded: from the band's edge it ran on to the annual frequency itself (two years
+        # of 2024-2026 gave a "Chandler" term of 365.2 d and 11.9 million mas cancelling an annual one of the
+        # same size). The period searched for lies in the band; outside it, the search's own optimum stands.
+        if lo_rate <= polished_rate <= hi_rate:
+            coeffs, rate = polished, polished_rate
     at_edge = not (lo_rate + 0.5 * step < rate < hi_rate - 0.5 * step)
     return coeffs, rate, at_edge
+
+
+def separation(s, fixed, rate) -> float:
+    """1 - R^2 of the Chandler column exp(i rate s) regressed on the ``fixed`` (drift and annual) columns.
+
+    The inverse of the Chandler amplitude's variance inflation: 1 when the columns are orthogonal (whole
+    Chandler-annual beat periods), near 0 when the Chandler term can hardly be told from the others, and
+    the fit's covariance then trades one amplitude for the other.
+    """
+    q, _ = np.linalg.qr(fixed)
+    e = np.exp(1j * rate * s)
+    off = e - q @ (q.conj().T @ e)
+    return float(np.sum(np.abs(off) ** 2) / np.sum(np.abs(e) ** 2))
 
 
 def _polish(s, z, half, fixed, coeffs, rate):
@@ -270,6 +294,10 @@ def fit_least_squares(
         ``method = "least_squares"``. Equal weights: the misfit (tens of mas)
         is geophysical, far above the formal errors of modern data, which
         would otherwise give the last decades nearly all the weight.
+        ``details`` holds ``at_edge`` (the period at the band's edge),
+        ``variance_inflation`` (of the Chandler column against the drift and
+        annual columns, :func:`separation`) and ``separable`` (at most
+        :data:`MAX_VARIANCE_INFLATION`); ``fit.resolved`` combines them.
 
     Notes
     -----
@@ -277,7 +305,9 @@ def fit_least_squares(
     of adding the Chandler column to the drift and annual columns), searched
     on a grid oversampled 8 times over the Rayleigh resolution and refined by
     bounded Brent; :func:`scipy.optimize.least_squares` then polishes all
-    parameters together and gives the Jacobian for the covariances.
+    parameters together and gives the Jacobian for the covariances. A
+    polished period outside the band is not taken (the polish is unbounded:
+    from the band's edge it could run on to the annual frequency).
     """
     t, z = as_series(t, z)
     degree = check_degree(drift_degree)
@@ -301,11 +331,25 @@ def fit_least_squares(
             f"the best period lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
             "no Chandler term is resolved in this span"
         )
+    inflation = 1.0 / max(separation(s, fixed, rate), 1e-300)
+    separable = inflation <= MAX_VARIANCE_INFLATION
+    if not separable:
+        caveats.append(
+            f"over this span a Chandler term of {2 * math.pi / rate / DAY:.0f} d cannot be told from the annual "
+            f"terms: its column is nearly collinear with theirs (variance inflation {inflation:.3g}, above "
+            f"{MAX_VARIANCE_INFLATION:g}), so the Chandler and annual amplitudes are not determined, only their sum"
+        )
     nan = math.nan
     sig_rate = sig_amp = sig_phase = nan
     ann_sig = [(nan, nan), (nan, nan)]
     pu = au = Uncertainty(nan, nan, nan, nan, nan)
-    details: dict = {"solver": "variable projection + scipy.optimize.least_squares (lm)", "at_edge": bool(at_edge)}
+    details: dict = {
+        "solver": "variable projection + scipy.optimize.least_squares (lm)",
+        "at_edge": bool(at_edge),
+        "band": band,
+        "variance_inflation": inflation,
+        "separable": bool(separable),
+    }
     if uncertainty:
         jc = _jacobian_complex(s, half, fixed, coeffs, rate)
         bread = scaled_inverse((jc.conj().T @ jc).real)

@@ -181,7 +181,8 @@ def fit_spectrum(
         caveats.append(
             "span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak"
         )
-    if not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d):
+    at_edge = not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d)
+    if at_edge:
         caveats.append(
             f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
             "no Chandler peak is resolved in this span"
@@ -190,7 +191,7 @@ def fit_spectrum(
     ann_sig = [(nan, nan), (nan, nan)]
     sig_rate = sig_amp = sig_phase = nan
     pu = au = Uncertainty(nan, nan, nan, nan, nan)
-    details: dict = {"taper": kind}
+    details: dict = {"taper": kind, "at_edge": bool(at_edge), "band": band}
     if uncertainty:
         fitted = (rate, ANNUAL_RATE, -ANNUAL_RATE)
         level = _local_level(s, w * resid, w, rate, span, kind, fitted)

@@ -52,8 +52,9 @@ class WindowedFits:
     window: float
     step: float
     drift_degree: int
-    #: Windows whose best period lay at or past the search band's edge: no Chandler term resolved there, and
-    #: their values are left NaN (two-year windows gave 365-d "Chandler" terms of 6e9 mas beside the annual).
+    #: Windows whose best period lay at or past the search band's edge, or whose Chandler term could not be told
+    #: from the annual terms (variance inflation above 10): no Chandler term resolved there, and their values are
+    #: left NaN (two-year windows gave 365-d "Chandler" terms of 6e9 mas beside the annual).
     unresolved: int = 0
 
     # Deprecated names (one release): the annual terms are annual_prograde_* and annual_retrograde_*.
@@ -205,7 +206,7 @@ def sliding_windows(
             )
         except InputError:
             continue
-        if f.details.get("at_edge"):
+        if not f.resolved:  # at the band's edge, or not separable from the annual terms
             unresolved += 1
             continue
         out["period"][i] = f.chandler.period
