@@ -7,6 +7,8 @@
   is steady" and "time between flips inf".
 * Above that bound E and |L| are exact closed forms at every sample, even where w^2 or (I w)^2 underflow.
 * A periodic motion whose period is past the largest double is refused (it printed "omega never repeats").
+* A default span (3 periods) past the largest double names --t-end (it warned of an overflow, then
+  complained of "--t-end: got inf s" that nobody typed).
 """
 
 from __future__ import annotations
@@ -92,3 +94,14 @@ def test_a_period_past_the_largest_double_is_refused(capsys):
     assert line.startswith("wobble free: error: --omega: got 1 0 1e-310; allowed: ")
     assert "6.28e+310 s" in line
 
+
+def test_a_default_span_past_the_largest_double_names_t_end(capsys):
+    # Period 4 K(1/2) / lambda with lambda^2 = (I3 - I2)(I3 - I1) ... of order 6.4e307 s: 3 periods overflow.
+    argv = ["free", "--inertia", "1e307", "2e307", "3e307", "--omega", "1e-307", "1e-307", "1e-307"]
+    code, out, err = run_cli([*argv, "--plot", "never.png"], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line.startswith("wobble free: error: --t-end: missing; allowed: ")
+    assert "past the largest double" in line
+    period = FreeRotation([1e307, 2e307, 3e307] * KGM2, [1e-307] * 3 * RAD_S).period.to_value(u.s)
+    assert 3 * float(period) > sys.float_info.max > period
