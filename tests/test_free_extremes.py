@@ -105,3 +105,19 @@ def test_a_default_span_past_the_largest_double_names_t_end(capsys):
     assert "past the largest double" in line
     period = FreeRotation([1e307, 2e307, 3e307] * KGM2, [1e-307] * 3 * RAD_S).period.to_value(u.s)
     assert 3 * float(period) > sys.float_info.max > period
+
+
+@pytest.mark.parametrize("samples", [1001, 3])
+def test_a_span_too_short_for_distinct_samples_is_refused(samples, capsys, tmp_path):
+    """--t-end 5e-324 wrote 1001 times with 2 distinct values (CF requires them increasing). The least span is
+    (samples - 1) times the smallest normal double, the step then being exactly that double."""
+    path = tmp_path / "f.nc"
+    argv = ["free", "--inertia", "1", "2", "3", "--omega", "1", "0.1", "1", "--t-end", "5e-324"]
+    code, out, err = run_cli([*argv, "--samples", str(samples), "-o", str(path)], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == "" and not path.exists()
+    assert line.startswith("wobble free: error: --t-end: got 5e-324; allowed: an end time of at least ")
+    assert float(line.split("at least ")[1].split()[0]) == pytest.approx((samples - 1) * TINY, rel=1e-3)
+    body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
+    t = body.to_dataset(t_end=(samples - 1) * TINY * u.s, samples=samples)["time"].values
+    np.testing.assert_array_equal(t, np.arange(samples) * TINY)

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api.sampling import check_samples, sample_times
+from wobble.api.sampling import check_samples, check_step, sample_times
 from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -121,6 +121,7 @@ def axis_trace_axes(
         t1 = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
     if samples is not None:
         samples = check_samples(samples, BYTES_PER_SAMPLE)
+    check_step(t1, samples or MIN_LOCUS_SAMPLES, t_end if t_end is not None else t1 * u.s, " of the figure")
     try:  # the whole span is checked, drawn or not
         m.check_times(np.array([0.0, t1]))
     except InputError as exc:

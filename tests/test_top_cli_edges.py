@@ -1,0 +1,53 @@
+"""`wobble top` at the edges of the float range (fuzzing review): messages, figures, -0.
+
+* --t-end too short for its samples to be distinct: refused naming --t-end and the least, (samples - 1)
+  times the smallest normal double (it wrote 1001 times with 2 values; CF needs them increasing).
+* Rates whose energy overflows: the options given, as typed, and the defaults used, named as such (it named
+  --thetadot0, --phidot0, --omega3 over a tuple of converted numbers for --phidot0 '1e300 deg/s' alone).
+* --theta0 -0.0 is 0 (it printed "theta min, max -0, -0 deg"); a subnormal tilt is refused.
+* The figure of a top tilted 1e-16 rad (or 1e-300) draws its path (a start dot in a unit frame before).
+"""
+
+from __future__ import annotations
+
+
+import astropy.units as u
+import matplotlib
+import numpy as np
+import pytest
+from cli_run import run_cli
+
+from wobble import HeavyTop
+
+matplotlib.use("Agg")
+
+TINY = np.finfo(float).tiny
+TOP = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--omega3", "10"]
+
+
+def _one_line(err):
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err and "Warning" not in err, err
+    return lines[0]
+
+
+@pytest.mark.parametrize("samples", [1001, 11])
+def test_a_span_too_short_for_distinct_samples_is_refused(samples, capsys, tmp_path):
+    path = tmp_path / "t.nc"
+    argv = [*TOP, "--theta0", "60", "--t-end", "5e-324", "--samples", str(samples), "-o", str(path)]
+    code, out, err = run_cli(argv, capsys)
+    line = _one_line(err)
+    assert code == 2 and out == "" and not path.exists()
+    assert line.startswith("wobble top: error: --t-end: got 5e-324; allowed: an end time of at least ")
+    least = float(line.split("at least ")[1].split()[0])
+    assert least == pytest.approx((samples - 1) * TINY, rel=1e-3)
+
+
+def test_the_least_span_gives_evenly_spaced_increasing_times():
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * u.rad / u.s
+    )
+    ds = top.to_dataset(t_end=1000 * TINY * u.s, samples=1001)
+    t = ds["time"].values
+    np.testing.assert_array_equal(t, np.arange(1001) * TINY)  # k 2^-1022 s, exactly
+    assert np.all(np.diff(t) > 0)
