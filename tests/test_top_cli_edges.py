@@ -51,3 +51,17 @@ def test_the_least_span_gives_evenly_spaced_increasing_times():
     t = ds["time"].values
     np.testing.assert_array_equal(t, np.arange(1001) * TINY)  # k 2^-1022 s, exactly
     assert np.all(np.diff(t) > 0)
+
+
+@pytest.mark.parametrize(
+    "extra, want",
+    [
+        (["--phidot0", "1e300 deg/s"], "--phidot0, --omega3: got 1e300 deg/s, 10 (and the default --thetadot0 0);"),
+        (["--phidot0", "1", "--thetadot0", "1e300 rad/s"], "--thetadot0, --phidot0, --omega3: got 1e300 rad/s, 1, 10;"),
+    ],
+)
+def test_an_energy_that_overflows_names_what_was_typed(extra, want, capsys):
+    code, out, err = run_cli([*TOP, "--theta0", "60", *extra], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line.startswith(f"wobble top: error: {want} allowed: rates whose energy fits double precision")
