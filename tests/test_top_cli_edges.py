@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import json
+import math
 
 import astropy.units as u
 import matplotlib
@@ -65,3 +67,25 @@ def test_an_energy_that_overflows_names_what_was_typed(extra, want, capsys):
     line = _one_line(err)
     assert code == 2 and out == ""
     assert line.startswith(f"wobble top: error: {want} allowed: rates whose energy fits double precision")
+
+
+def test_negative_zero_is_zero(capsys):
+    argv = [*TOP, "--theta0", "-0.0", "--phidot0", "-0.0", "--thetadot0", "-0.0", "--phi0", "-0.0"]
+    code, out, err = run_cli([*argv, "--mgl", "-0.0"], capsys)
+    assert code == 0 and err == ""
+    assert "theta min, max               0, 0 deg" in out, out
+    assert "-0" not in out
+    code, out, err = run_cli([*argv, "--json"], capsys)
+    doc = json.loads(out)
+    assert doc["theta_min_deg"] == 0.0 and math.copysign(1.0, doc["theta_min_deg"]) == 1.0
+    assert "-0.0" not in out
+
+
+def test_a_subnormal_tilt_is_refused(capsys):
+    code, out, err = run_cli([*TOP, "--theta0", "1e-320 rad"], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line == (
+        "wobble top: error: --theta0: got 1e-320 rad; allowed: 0 (upright) or a tilt of at least "
+        "2.225e-308 rad, the smallest normal double"
+    )
