@@ -121,3 +121,24 @@ def test_a_span_too_short_for_distinct_samples_is_refused(samples, capsys, tmp_p
     body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
     t = body.to_dataset(t_end=(samples - 1) * TINY * u.s, samples=samples)["time"].values
     np.testing.assert_array_equal(t, np.arange(samples) * TINY)
+
+
+def test_the_figure_of_a_span_of_1e_300_s_draws_omega():
+    """Over 1e-300 s omega(t) = omega(0) = (1, 0.1, 1) rad/s to rounding (omega changes at about 1 rad/s^2);
+    matplotlib drew no curve for spans below about 1e-287 s, in seconds. In units of 1e-300 s it does."""
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.free import motion_figure
+
+    body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
+    fig = motion_figure(body, 1e-300 * u.s)
+    top, bottom = fig.axes[0], fig.axes[1]
+    assert bottom.get_xlabel() == "time [$10^{-300}$ s]"
+    lines = {line.get_label(): line for line in top.get_lines()}
+    x, y = lines["$\\omega_1$"].get_data()
+    assert x[0] == 0.0 and x[-1] == pytest.approx(1.0, rel=1e-15)
+    np.testing.assert_allclose(y, 1.0, rtol=1e-15)
+    np.testing.assert_allclose(lines["$\\omega_2$"].get_ydata(), 0.1, rtol=1e-15)
+    pixels = top.transData.transform(np.column_stack([x, y]))
+    assert np.all(np.isfinite(pixels)) and np.ptp(pixels[:, 0]) > 0.9 * top.get_window_extent().width
+    plt.close(fig)
