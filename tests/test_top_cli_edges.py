@@ -89,3 +89,34 @@ def test_a_subnormal_tilt_is_refused(capsys):
         "wobble top: error: --theta0: got 1e-320 rad; allowed: 0 (upright) or a tilt of at least "
         "2.225e-308 rad, the smallest normal double"
     )
+
+
+@pytest.mark.parametrize("theta0", [1e-16, 1e-300])
+def test_the_figure_of_a_tiny_tilt_draws_its_path(theta0):
+    """Released at rest next to the vertical (notes p. 72, small theta): with x = 1 - cos theta,
+    g(x) ~ (x - x0)(2 beta x - a^2 (x - x0)), so theta_max = theta0 a / sqrt(a^2 - 2 beta) (a = I3 omega3 / I1 = 5/s,
+    beta = 2 M g l / I1 = 2/s^2), exact to O(theta^2). The path must be drawn between those circles, inside the
+    axes, in a power of ten of rad."""
+    from wobble.plot.top import axis_locus_figure
+
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=theta0 * u.rad, omega3=10 * u.rad / u.s
+    )
+    theta_max = theta0 * 5.0 / math.sqrt(25.0 - 4.0)
+    assert top.model.theta_max == pytest.approx(theta_max, rel=1e-12)
+    fig = axis_locus_figure(top, 3 * top.model.nutation_period * u.s)
+    ax = fig.axes[0]
+    path = max(ax.get_lines(), key=lambda line: len(line.get_xdata()) if line.get_color() == "C0" else 0)
+    exponent = 3 * math.floor(math.log10(theta0) / 3)
+    assert f"$10^{{{exponent}}}$ rad" in ax.get_xlabel()
+    radius = np.hypot(path.get_xdata(), path.get_ydata()) * 10.0**exponent
+    assert np.all(radius >= theta0 * (1 - 1e-9)) and np.all(radius <= theta_max * (1 + 1e-9))
+    assert np.max(radius) == pytest.approx(theta_max, rel=1e-3)  # the cusps' far circle is reached
+    # Drawn: in display coordinates the path is finite and spans much of the axes.
+    pixels = ax.transData.transform(np.column_stack([path.get_xdata(), path.get_ydata()]))
+    box = ax.get_window_extent()
+    assert np.all(np.isfinite(pixels))
+    assert np.ptp(pixels[:, 0]) > 0.1 * box.width and np.ptp(pixels[:, 1]) > 0.1 * box.height  # a dot before
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
