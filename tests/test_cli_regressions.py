@@ -71,8 +71,13 @@ def test_modes_of_a_planet_spinning_about_its_intermediate_axis_is_an_input_erro
 @pytest.mark.parametrize(
     ("rates", "flags"),
     [
-        (["--I3", "87.3757", "--psidot0", "-15.69", "--phidot0", "-1e300"], "--thetadot0, --phidot0, --psidot0"),
-        (["--I3", "1e-7", "--omega3", "1e160"], "--thetadot0, --phidot0, --omega3"),
+        # The options given, as typed, and the defaults used named as such (it named all three, with a tuple of
+        # converted values: "--thetadot0, --phidot0, --omega3: got (0.0, 1.7453292519943297e+298, 10.0)").
+        (
+            ["--I3", "87.3757", "--psidot0", "-15.69", "--phidot0", "-1e300"],
+            "--phidot0, --psidot0: got -1e300, -15.69 (and the default --thetadot0 0);",
+        ),
+        (["--I3", "1e-7", "--omega3", "1e160"], "--omega3: got 1e160 (and the defaults --thetadot0 0, --phidot0 0);"),
     ],
 )
 def test_top_whose_energy_overflows_is_an_input_error(rates, flags, capsys, tmp_path):
@@ -81,7 +86,7 @@ def test_top_whose_energy_overflows_is_an_input_error(rates, flags, capsys, tmp_
     argv = ["top", "--I1", "81.0535", "--mgl", "0.564802 N m", "--theta0", "1.1 deg", *rates]
     code, out, err = _run([*argv, "--t-end", "20.6", "--json", "-o", str(tmp_path / "top.nc")], capsys)
     assert code == 2 and out == "" and not (tmp_path / "top.nc").exists()
-    assert err.startswith(f"wobble top: error: {flags}: got ") and err.count("\n") == 1
+    assert err.startswith(f"wobble top: error: {flags}") and err.count("\n") == 1
     assert "rates whose energy fits double precision" in err
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from wobble.errors import InputError
@@ -329,7 +329,13 @@ def test_invariants_and_relabelling(i1, i2, i3, w1, w2, w3, perm):
     if sorted(I)[0] + sorted(I)[1] < sorted(I)[2]:
         return
     w = np.array([w1, w2, w3])
-    model = free_rotation(I, w)
+    try:
+        model = free_rotation(I, w)
+    except InputError as exc:
+        # The documented refusals of rates too slow for doubles (subnormal rates drawn here): a kinetic
+        # energy below the normal doubles, or a period past the largest (tests/test_free_extremes.py).
+        assume(exc.parameter == "omega0" and ("smallest normal double" in str(exc) or "period of omega" in str(exc)))
+        raise
     t = np.linspace(0.0, 37.0, 41)
     om = model.omega(t)
     q = model.attitude(t)

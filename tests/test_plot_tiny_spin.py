@@ -41,10 +41,12 @@ def test_norm_keeps_axes_and_zero_and_nan_vectors():
 
 @pytest.mark.parametrize("omega", [[1e-170, 0.0, 1e-175], [1e-170, 1e-180, 0.0]])
 def test_the_free_figure_of_a_tiny_spin_draws_it_as_any_other(omega, recwarn):
-    """Drawn as the same body at 1 rad/s: the same curves in units of |omega(0)|, and the polhode seen down e1."""
+    """Drawn as the same body at 1 rad/s: the same curves in units of |omega(0)|, and the polhode seen down e1.
+    The moments are 1e40 kg m2 and up: a body of 1 kg m2 at 1e-170 rad/s has a kinetic energy of 1e-340 J, below
+    the normal doubles, and is refused (tests/test_free_extremes.py); here E = 1e-300 J while omega^2 underflows."""
     from wobble.plot.free import motion_figure
 
-    moments = [1.0, 2.0, 2.0 + omega[1] * 1e170] * u.kg * u.m**2
+    moments = [1e40, 2e40, (2.0 + omega[1] * 1e170) * 1e40] * u.kg * u.m**2
     tiny = motion_figure(wobble.FreeRotation(moments, omega * u.rad / u.s), 10 * u.s)
     spin = math.hypot(*omega)
     legends = [ax.get_legend() for ax in tiny.axes if ax.get_legend() is not None]

@@ -300,8 +300,9 @@ class FreeRotation:
                 raise
             raise InputError("t_end", t_end, exc.allowed) from None
         I = np.asarray(mdl.moments)
-        energy = 0.5 * np.sum(I * omega * omega, axis=-1)
-        lmag = np.linalg.norm(I * omega, axis=-1)
+        energy = 0.5 * np.sum((I * omega) * omega, axis=-1)  # (I w) w: I w^2 of I = 1e300, w = 1e-300 is 1e-300
+        lw = I * omega
+        lmag = np.hypot(np.hypot(lw[..., 0], lw[..., 1]), lw[..., 2])  # no square to underflow (|L| of 1e-300)
         return self._dataset(ts, omega, q, energy, lmag)
 
     def _times(self, t, t_end, samples):

@@ -16,7 +16,9 @@ from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.memory import available_memory, human_bytes
 
-__all__ = ["available_memory", "human_bytes", "sample_times", "check_memory", "check_samples"]
+__all__ = ["available_memory", "human_bytes", "sample_times", "check_memory", "check_samples", "check_step"]
+
+_SMALLEST_NORMAL = float(np.finfo(float).tiny)
 
 
 def check_memory(n: int, bytes_per_sample: int) -> None:
@@ -47,7 +49,27 @@ def sample_times(t, t_end, samples, bytes_per_sample: int) -> np.ndarray:
     if end == 0 and samples > 1:
         # samples equal times would make a time coordinate that is not monotonic (invalid CF).
         raise InputError("t_end", t_end, "a positive end time (or a single sample, the state at t = 0)")
+    check_step(end, int(samples), t_end)
     return np.linspace(0.0, end, int(samples))
+
+
+def check_step(end: float, samples: int, shown, whose: str = "") -> None:
+    """Refuse an end time ``end`` (s) whose ``samples`` evenly spaced times from 0 are a step below the normal
+    doubles apart (``shown``: the end as the caller's error names it, under ``t_end``; ``whose``: whose samples,
+    e.g. " of the figure", which samples its own way).
+
+    Such times are not evenly spaced, and below 2^-1074 s not even distinct: t_end = 5e-324 s gave a file of
+    1001 times with 2 values (a time coordinate CF does not allow), and figures of it nothing to draw.
+    """
+    least = (samples - 1) * _SMALLEST_NORMAL
+    if samples > 1 and end < least:
+        raise InputError(
+            "t_end",
+            shown,
+            f"an end time of at least {least:.4g} s for the {samples} samples{whose}: the step t_end/(samples - 1) "
+            f"must be a normal double (at least {_SMALLEST_NORMAL:.4g} s), or the sample times are neither evenly "
+            "spaced nor distinct",
+        )
 
 
 def check_samples(samples, bytes_per_sample: int, *, least: int = 2) -> int:

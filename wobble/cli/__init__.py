@@ -233,11 +233,26 @@ def _as_typed(exc: WobbleError, parser: argparse.ArgumentParser, command: str, a
     found = [action_of(name) for name in exc.parameter.split(", ")]  # "I1, I3": both named
     if not all(found):
         return exc
-    typed = ", ".join("/".join(a.option_strings) or a.metavar or a.dest.upper() for a in found)  # SETUP, DEST
+
+    def name(a):
+        return "/".join(a.option_strings) or a.metavar or a.dest.upper()  # SETUP, DEST
+
+    typed = ", ".join(name(a) for a in found)
     value = exc.value
     if len(found) == 1 and value is not MISSING and not isinstance(value, str) and argv is not None:
         # A number the API converted (200.0 deg, -1.0) shown as the user typed it (200, -1).
         value = _typed_tokens(argv, found[0]) or value
+    elif len(found) > 1 and value is not MISSING and not isinstance(value, str) and argv is not None:
+        # Several options together (the rates whose energy overflows): each as typed, and those left at their
+        # defaults said to be so, not a tuple of converted numbers under options nobody gave.
+        tokens = [(a, _typed_tokens(argv, a)) for a in found]
+        given = [(a, t) for a, t in tokens if t is not None]
+        if given:
+            typed = ", ".join(name(a) for a, _ in given)
+            value = ", ".join(t for _, t in given)
+            defaults = [f"{name(a)} {a.default}" for a, t in tokens if t is None and a.default is not None]
+            if defaults:
+                value += f" (and the default{'s' if len(defaults) > 1 else ''} {', '.join(defaults)})"
     return InputError(typed, value, exc.allowed)
 
 

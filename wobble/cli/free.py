@@ -79,6 +79,7 @@ def _quantity(values, name, unit):
 def _span(body, text):
     """(t_end in s, how it was chosen) from --t-end, or three periods of omega."""
     import math
+    import sys
 
     from astropy import units as u
 
@@ -86,13 +87,20 @@ def _span(body, text):
 
     if text is not None:  # within the model's own limit (FreeRotationModel.max_time)
         return t_end_option(text, body.model, "100 s, 2 d"), "--t-end"
-    period = body.period.to_value(u.s)
+    period = float(body.period.to_value(u.s))
     if not math.isfinite(period):
         why = "on the separatrix the motion never repeats" if body.regime == "separatrix" else "the spin is steady"
         raise InputError.missing(
             "--t-end", f"a time span (e.g. --t-end 100): {why}, so there is no period to default to"
         )
-    return DEFAULT_PERIODS * period, f"{DEFAULT_PERIODS} periods, the default; --t-end to change"
+    t_end = DEFAULT_PERIODS * period  # a Python float: inf past the largest double, without a NumPy warning
+    if not math.isfinite(t_end):
+        raise InputError.missing(
+            "--t-end",
+            f"a time span (e.g. --t-end 1e308): the default, {DEFAULT_PERIODS} periods of omega "
+            f"({DEFAULT_PERIODS} x {period:.6g} s), is past the largest double ({sys.float_info.max:.4g} s)",
+        )
+    return t_end, f"{DEFAULT_PERIODS} periods, the default; --t-end to change"
 
 
 #: Flip times listed in the JSON at most (a body may flip millions of times in its span).

@@ -63,6 +63,8 @@ SOLIDS = {
         ("axle_radius",),
     ),
 }
+# The models' constructors (the parts of a top among them), as a refusal of their sizes names them.
+_CONSTRUCTORS = frozenset(name for name, _, _ in SOLIDS.values())
 # Relative tolerance for equal principal moments (wobble.api.bodies.DEFAULT_RTOL; tested equal).
 DEFAULT_RTOL = 1e-9
 _MASS_OPTIONS = ("mass", "disc_mass", "axle_mass")
@@ -153,6 +155,7 @@ def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
     constructor = getattr(RigidBody, constructor_name)
     _refuse_unused(args, {"mass_unit", "length_unit", *required, *optional}, f"--solid {args.solid}")
     kwargs = {}
+    typed = {}
     for dest in (*required, *optional):
         raw = getattr(args, dest)
         flag = "--" + dest.replace("_", "-")
@@ -166,7 +169,14 @@ def _solid(args, mass_unit: u.UnitBase, length_unit: u.UnitBase) -> RigidBody:
         else:
             value = parse_quantity(raw, flag, mass_unit if dest in _MASS_OPTIONS else length_unit)
         kwargs[_KEYWORD.get(dest, dest)] = value
-    return constructor(**kwargs)
+        typed[flag] = " ".join(raw) if isinstance(raw, list) else raw
+    try:
+        return constructor(**kwargs)
+    except InputError as exc:
+        # Moments past the doubles (either end) are about all the sizes together: the options as typed.
+        if exc.parameter not in _CONSTRUCTORS:
+            raise
+        raise InputError(", ".join(typed), ", ".join(typed.values()), exc.allowed) from None
 
 
 def build_body(args) -> tuple[RigidBody, str]:

@@ -105,11 +105,38 @@ def positive_number(value, name: str, *, allow_zero: bool = False) -> float:
     return x
 
 
+class BelowNormal(ArithmeticError):
+    """A moment of inertia that should be positive came out below the normal doubles (2.2e-308 kg m^2)."""
+
+
+#: The smallest normal double: a moment below it is subnormal (a few digits, or 0).
+SMALLEST_NORMAL = float(np.finfo(float).tiny)
+
+
+def check_normal(moments, may_vanish=()) -> None:
+    """Raise :class:`BelowNormal` if a moment (kg m^2) is below the normal doubles; the indices in
+    ``may_vanish`` are moments that are 0 by construction (a thin rod's axial moment)."""
+    for k, v in enumerate(np.asarray(moments, dtype=float).reshape(-1)):
+        if k not in may_vanish and v < SMALLEST_NORMAL:
+            raise BelowNormal
+
+
+def scale_of(lengths) -> float:
+    """A power of two near the largest of ``lengths`` (m): dividing by it is exact, and the squares of the
+    scaled lengths neither underflow nor overflow (a 1e-300 m box of 1e300 kg has moments of 1e-300 kg m^2,
+    though its edges squared are 0 in doubles)."""
+    big = float(np.max(np.abs(np.asarray(lengths, dtype=float))))
+    return math.ldexp(1.0, math.frexp(big)[1]) if big > 0 and math.isfinite(big) else 1.0
+
+
 def overflow_is_input_error(fn):
-    """Run a constructor with floating-point overflow as an InputError naming it.
+    """Run a constructor with floating-point overflow, or moments below the normal doubles, as an
+    InputError naming it.
 
     Finite inputs can overflow (a 1e200 m ellipsoid has moments near 1e400 kg m^2):
     that is bad input, not a bug, and must not surface as a NumPy warning or inf.
+    Tiny ones can leave the normal range (an ellipsoid of 1e-300 kg and 1e-300 m has moments
+    near 1e-900 kg m^2): printed as 0, or a subnormal with a few wrong digits among 7.
     """
 
     @functools.wraps(fn)
@@ -124,6 +151,13 @@ def overflow_is_input_error(fn):
                 "sizes whose moments of inertia fit double precision (below about 1e308 in SI); "
                 "give smaller numbers in larger units",
             ) from None
+        except BelowNormal:
+            raise InputError(
+                fn.__name__,
+                ", ".join(map(str, [*args, *kwargs.values()])),
+                f"sizes whose moments of inertia are normal doubles (at least {SMALLEST_NORMAL:.4g} in SI; "
+                "below, a double keeps only a few digits, or none); give larger numbers in smaller units",
+            ) from None
 
     return checked
 
@@ -136,11 +170,15 @@ def steiner_term(mass: float, d: np.ndarray) -> np.ndarray:
     The diagonal is formed as sums of squares, never as a difference.
     """
     d = np.asarray(d, dtype=float)
+    # In units of a power of two near |d| (exact): M d^2 of 1e300 kg at 1e-300 m is 1e-300 kg m^2, though d^2 is 0.
+    s = scale_of(d)
+    d = d / s
+    ms = (mass * s) * s
     dd = d * d
-    out = 0.0 - mass * np.outer(d, d)  # 0.0 - x: no negative zeros off the diagonal
-    out[0, 0] = mass * (dd[1] + dd[2])
-    out[1, 1] = mass * (dd[0] + dd[2])
-    out[2, 2] = mass * (dd[0] + dd[1])
+    out = 0.0 - ms * np.outer(d, d)  # 0.0 - x: no negative zeros off the diagonal
+    out[0, 0] = ms * (dd[1] + dd[2])
+    out[1, 1] = ms * (dd[0] + dd[2])
+    out[2, 2] = ms * (dd[0] + dd[1])
     return out
 
 

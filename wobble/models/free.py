@@ -105,6 +105,10 @@ class _Steady:
 
     def attitude_at(self, t):
         w = np.asarray(self.omega)
+        big = float(np.max(np.abs(w)))
+        # Scaled first: the squares of a spin of 1e-200 rad/s (a body of 1e200 kg m2) underflow, and the axis
+        # of its rotation would fall back to z.
+        w = w / big if big > 0 else w
         norm = np.linalg.norm(w)
         axis = w / norm if norm > 0 else np.array([0.0, 0.0, 1.0])
         half, _ = reduce_phase(t, self.half_rate, _TWO_PI_DD)
@@ -563,6 +567,41 @@ def _fits_double(x: Fraction) -> bool:
         return False
 
 
+def _check_energy_normal(omega0, w_user, two_e: Fraction) -> None:
+    """Refuse rates whose kinetic energy is below the normal doubles (but not zero).
+
+    The energy is reported (and written, with its drift, at every sample): below 2.2e-308 J it is
+    subnormal or 0 in float64, printed as 0 J or with a few wrong digits, and the squares of such
+    rates underflow wherever they are formed. The period of a motion this slow is also near or past
+    the largest double (|omega| = 1e-310 rad/s of a body of 1 kg m2: 6e310 s). Tiny rates of a body
+    with large moments are kept: the energy is the bound, not the rates.
+    """
+    tiny = Fraction(sys.float_info.min)
+    if 0 < two_e < 2 * tiny:
+        w2 = sum(x * x for x in w_user)
+        least = hp.sqrt(w2 * 2 * tiny / two_e)
+        least = least.quantize(decimal.Decimal(1).scaleb(least.adjusted() - 2), rounding=decimal.ROUND_CEILING)
+        raise InputError(
+            "omega0",
+            omega0,
+            f"rates whose kinetic energy 1/2 sum I w^2 is 0 or at least {sys.float_info.min:.4g} J, the "
+            f"smallest normal double (here {hp.dec(two_e / 2):.3g} J): in this direction "
+            f"|omega| >= {least:.3g} rad/s",
+        )
+
+
+def _check_period(omega0, period) -> None:
+    """Refuse a periodic motion whose period (a Decimal, s) is past the largest double: it would be
+    reported as inf, and as "never repeats", with flips "inf" apart."""
+    if not math.isfinite(float(period)):
+        raise InputError(
+            "omega0",
+            omega0,
+            f"rates whose period of omega fits double precision (here {period:.3g} s, past "
+            f"{sys.float_info.max:.4g} s): faster rates, or moments less nearly equal",
+        )
+
+
 @hp.isolated(hp.context)
 def free_rotation(moments, omega0) -> FreeRotationModel:
     """The exact torque-free motion for principal ``moments`` (kg m^2) and ``omega0`` (rad/s).
@@ -603,6 +642,7 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
             f"rates whose energy fits double precision: 2E = sum I w^2 and L^2 = sum (I w)^2 "
             f"below {sys.float_info.max:.4g} in SI",
         )
+    _check_energy_normal(omega0, w_user, two_e)
     energy = float(two_e / 2)
     big_l = float(hp.sqrt(l2)) if l2 > 0 else 0.0
     lw = [Fraction(moments[i]) * w_user[i] for i in range(3)]
@@ -702,6 +742,8 @@ def _symmetric_model(moments, omega0, I, order, common, two_e, l2):
         half_space_rate=hp.to_dd(big_l / hp.dec(2 * i_perp)),
         l_dir=l_dir,
     )
+    if rate != 0:
+        _check_period(omega0, 2 * hp.PI / abs(hp.dec(rate)))
     period = float(2 * hp.PI / abs(hp.dec(rate))) if rate != 0 else np.inf
     return FreeRotationModel(
         regime="symmetric",
@@ -820,6 +862,7 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
             / kdec
         )
         pi_over_k = float(pi_c / kdec)
+        _check_period(omega0, 4 * kdec / lam)
         period = float(4 * kdec / lam)
         half = 2 * kdec / lam
         flip = (hp.to_dd(half), hp.to_dd(-hp.dec(u0) / lam))

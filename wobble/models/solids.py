@@ -5,7 +5,10 @@ centre of mass at the origin and the symmetry axis along z, a spinning top built
 from a disc and an axle, and a planet from C/(M R^2) and H or J2 (MacCullagh's
 formula). Principal-moment differences are formed from the small quantities (two
 nearly equal semi-axes, H, J2, J22), never by subtracting large moments, and are
-carried exactly (:class:`wobble.models.bodies.Eigenbasis`).
+carried exactly (:class:`wobble.models.bodies.Eigenbasis`). Squares of lengths are taken in units of a
+power of two near the largest length (exact), and M times it twice, so a moment that is a normal double is
+computed as one (a 1e-300 m box of 1e300 kg: 1e-300 kg m^2, not 0); a moment below the normal doubles is
+refused (:func:`wobble.models.bodies.overflow_is_input_error`).
 """
 
 from __future__ import annotations
@@ -18,10 +21,12 @@ from wobble.errors import InputError
 from wobble.models.bodies import (
     Body,
     Eigenbasis,
+    check_normal,
     composite,
     from_principal_moments,
     overflow_is_input_error,
     positive_number,
+    scale_of,
     sorted_with_differences,
 )
 
@@ -39,8 +44,9 @@ __all__ = [
 ]
 
 
-def _solid(mass: float, moments_xyz, differences=None) -> Body:
+def _solid(mass: float, moments_xyz, differences=None, may_vanish=()) -> Body:
     v = np.asarray(moments_xyz, dtype=float)
+    check_normal(v, may_vanish)
     order, values, diffs = sorted_with_differences(v, differences)
     return Body(np.diag(v), np.zeros(3), np.zeros(3), mass, Eigenbasis(values, np.eye(3)[order], diffs))
 
@@ -80,9 +86,12 @@ def ellipsoid(mass: float, semi_axes) -> Body:
     """Uniform solid ellipsoid with semi-axes (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/5, ..."""
     m = positive_number(mass, "mass")
     q = np.array([positive_number(x, "semi_axes") for x in _triple(semi_axes, "semi_axes")])
+    scale = scale_of(q)
+    q = q / scale
+    k = (0.2 * m * scale) * scale
     s = q * q
-    moments = 0.2 * m * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
-    return _solid(m, moments, _two_square_differences(0.2 * m, q))
+    moments = k * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
+    return _solid(m, moments, _two_square_differences(k, q))
 
 
 @overflow_is_input_error
@@ -90,9 +99,12 @@ def box(mass: float, edges) -> Body:
     """Uniform rectangular box with edge lengths (a, b, c) along x, y, z: I_x = M (b^2 + c^2)/12, ..."""
     m = positive_number(mass, "mass")
     q = np.array([positive_number(x, "edges") for x in _triple(edges, "edges")])
+    scale = scale_of(q)
+    q = q / scale
+    k = (m / 12.0 * scale) * scale
     s = q * q
-    moments = m / 12.0 * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
-    return _solid(m, moments, _two_square_differences(m / 12.0, q))
+    moments = k * np.array([s[1] + s[2], s[0] + s[2], s[0] + s[1]])
+    return _solid(m, moments, _two_square_differences(k, q))
 
 
 def _triple(value, name: str):
@@ -112,8 +124,11 @@ def cylinder(mass: float, radius: float, height: float, inner_radius: float = 0.
     small = positive_number(inner_radius, "inner_radius", allow_zero=True)
     if small > big:
         raise InputError("inner_radius", inner_radius, f"at most the outer radius ({big:g} m)")
+    scale = scale_of([big, small, h])
+    big, small, h = big / scale, small / scale, h / scale
+    ms = (m * scale) * scale
     r2 = big * big + small * small
-    i1, i3 = m * (3.0 * r2 + h * h) / 12.0, 0.5 * m * r2
+    i1, i3 = ms * (3.0 * r2 + h * h) / 12.0, 0.5 * ms * r2
     return _solid(m, [i1, i1, i3])
 
 
@@ -125,7 +140,10 @@ def cone(mass: float, radius: float, height: float) -> Body:
     on its tip). I_3 = 3/10 M R^2; I_1 = I_2 = 3/80 M (4 R^2 + h^2).
     """
     m, r, h = positive_number(mass, "mass"), positive_number(radius, "radius"), positive_number(height, "height")
-    i1, i3 = 3.0 / 80.0 * m * (4.0 * r * r + h * h), 0.3 * m * r * r
+    scale = scale_of([r, h])
+    r, h = r / scale, h / scale
+    ms = (m * scale) * scale
+    i1, i3 = 3.0 / 80.0 * ms * (4.0 * r * r + h * h), 0.3 * ms * r * r
     return _solid(m, [i1, i1, i3])
 
 
@@ -142,7 +160,7 @@ def thin_rod(mass: float, length: float) -> Body:
     """Uniform thin rod along z: I_1 = I_2 = M L^2/12, I_3 = 0 (an idealised line)."""
     m, ell = positive_number(mass, "mass"), positive_number(length, "length")
     i = m * ell * ell / 12.0
-    return _solid(m, [i, i, 0.0])
+    return _solid(m, [i, i, 0.0], may_vanish=(2,))
 
 
 @overflow_is_input_error
@@ -173,7 +191,9 @@ def spinning_top(
     if ma > 0:
         axle = thin_rod(ma, ell) if ra == 0 else cylinder(ma, ra, ell)
         parts.append(axle.translated([0.0, 0.0, 0.5 * ell]))
-    return composite(parts)
+    top = composite(parts)
+    check_normal(np.diag(top.tensor))
+    return top
 
 
 @overflow_is_input_error

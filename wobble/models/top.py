@@ -97,6 +97,7 @@ NUTATION_CLASSES = ("undulating", "cusps", "loops", "regular", "sleeping")
 #: nutation periods (tests/references/heavy_top_very_long.json).
 MAX_TURNS = REACH
 _EPS = float(np.finfo(float).eps)
+_TINY = float(np.finfo(float).tiny)
 _COMPILED_SETUP_FROM = compiled.LONG_ARRAY
 
 
@@ -156,7 +157,7 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
                 f"I1 >= M l^2 = {ml2:g} kg m2 (the moment about the tip includes M l^2; "
                 "I1 must be about the tip, not the centre of mass)",
             )
-    return I1, I3, mgl
+    return I1, I3, mgl + 0.0  # M g l = -0.0 is 0
 
 
 def sleeping_top_stable(I1: float, I3: float, mgl: float, omega3: float) -> bool:
@@ -594,13 +595,19 @@ def heavy_top(
         both or neither of omega3 and psidot0.
     """
     I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
-    theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad")
+    # x + 0.0: a -0.0 given (--theta0 -0.0) is 0, not "theta min, max -0, -0 deg" in every report.
+    theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad") + 0.0
     if not 0.0 <= theta0 <= np.pi:
         raise InputError("theta0", theta0, "an angle in [0, pi] rad (0 = upright)")
-    thetadot0 = _finite("thetadot0", thetadot0, "a finite rate (rad/s)")
-    phidot0 = _finite("phidot0", phidot0, "a finite rate (rad/s)")
-    phi0 = _finite("phi0", phi0, "a finite angle (rad)")
-    psi0 = _finite("psi0", psi0, "a finite angle (rad)")
+    if 0.0 < theta0 < _TINY:
+        # A subnormal tilt keeps a few of its digits (1e-320 rad was reported as 5.729531e-319 deg).
+        raise InputError(
+            "theta0", theta0, f"0 (upright) or a tilt of at least {_TINY:.4g} rad, the smallest normal double"
+        )
+    thetadot0 = _finite("thetadot0", thetadot0, "a finite rate (rad/s)") + 0.0
+    phidot0 = _finite("phidot0", phidot0, "a finite rate (rad/s)") + 0.0
+    phi0 = _finite("phi0", phi0, "a finite angle (rad)") + 0.0
+    psi0 = _finite("psi0", psi0, "a finite angle (rad)") + 0.0
     if (omega3 is None) == (psidot0 is None):
         raise InputError("omega3, psidot0", (omega3, psidot0), "exactly one of omega3 and psidot0")
     if theta0 == np.pi:
@@ -614,9 +621,9 @@ def heavy_top(
         s0 = 2 * sh * ch
         u0 = ch * ch - sh * sh
         if omega3 is not None:
-            w3 = to_decimal(_finite("omega3", omega3, "a finite spin rate (rad/s)"))
+            w3 = to_decimal(_finite("omega3", omega3, "a finite spin rate (rad/s)") + 0.0)
         else:
-            w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)")) + to_decimal(phidot0) * u0
+            w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)") + 0.0) + to_decimal(phidot0) * u0
         v0 = to_decimal(phidot0) * s0
         td = to_decimal(thetadot0)
         kin = td * td + v0 * v0

@@ -191,7 +191,10 @@ def analyse(setup: TopSetup) -> dict:
         energy = i1 * kin / 2 + i3 * w3 * w3 / 2 + mg * u0
         e_prime = i1 * kin / 2 + mg * u0
         cub = cubic.TopCubic(A=A, B=B, C=C, a=a, beta=beta)
-        roots = cubic.top_roots(cub, x0, y0, g0)
+        # g'(x0) without cancellation (A + beta x0 = kin, B + a x0 = v0 s0): the offsets of the turning
+        # points from x0 keep their digits however narrow the nutation (M g l -> 0 with a fast spin).
+        dg0 = 2 * u0 * kin + beta * x0 * y0 - 2 * a * v0 * s0
+        roots = cubic.top_roots(cub, x0, y0, g0, dg0)
         stable = bool(i3 * i3 * w3 * w3 > 4 * mg * i1)
         start = _Start(
             x0=x0,
@@ -216,8 +219,8 @@ def analyse(setup: TopSetup) -> dict:
             uniform = "sleeping"
         elif thetadot0 == 0 and y0 == 0:
             uniform = "regular"  # hanging straight down, spinning
-        elif roots.x1 - roots.x2 <= Decimal(10) ** (-DIGITS + 8) * roots.x1:
-            uniform = "regular"  # a nutation below the working precision of the roots
+        elif roots.width == 0:
+            uniform = "regular"  # no nutation at all (a double root)
         elif roots.beta_gap <= 0 or roots.beta_span <= 0 or roots.beta_gap < Decimal("1e-150") * roots.beta_span:
             if regular:  # e.g. at rest without gravity (f vanishes identically): nothing moves
                 uniform = "regular"
@@ -366,6 +369,25 @@ def nutation_class(B, a, x1, x2, y1, y2, C) -> str:
     return "undulating" if s1 == s2 else "loops"
 
 
+def _mean_phidot(n2, a, width, x1, x2, y1, y2, kc, kdec) -> Decimal:
+    """The mean of phidot = (b - a u)/(1 - u^2) over a nutation period (rad/s), without cancellation.
+
+    (B <1/x> + C <1/y>)/2 cancels as the nutation narrows: each term is about a/2 and their sum the
+    slow precession, M g l/(I3 omega3) for a fast top, so at M g l = 1e-48 J (a = 5/s) the 50-digit
+    complete integrals kept no digit of it. Here b - a u = n2 + a delta, with n2 = b - a u2 (from the
+    offset x0 - x2, the caller's) and delta = x - x2 = (x1 - x2) cn^2 w, and
+
+        delta/(x y) mean = (<delta/x> + <delta/y>)/2   (x2 <1/x> = 1 - <delta/x>, y2 <1/y> = 1 + <delta/y>),
+        <delta/x> = (x1 - x2)/x1 cel(kc, x2/x1, 1, 0)/K,   <delta/y> = (x1 - x2)/y1 cel(kc, y2/y1, 1, 0)/K,
+
+    (x = x1 (cos^2 + (x2/x1) sin^2), y = y1 (cos^2 + (y2/y1) sin^2) with sin = sn w; Bulirsch's cel),
+    every term positive but n2's own, whose sign is that of phidot at the turning point u2 (notes p. 72).
+    """
+    pi_x, pi_y, c_x, c_y = hp.cel_many(kc, [(x2 / x1, 1, 1), (y2 / y1, 1, 1), (x2 / x1, 1, 0), (y2 / y1, 1, 0)])
+    with decimal.localcontext(context()):
+        return (n2 * (pi_x / x1 + pi_y / y1) + a * width * (c_x / x1 + c_y / y1)) / (2 * kdec)
+
+
 def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots) -> dict:
     """Fields of a nutating top: Jacobi functions for u(t), Pi(n; am w | m) for phi and psi."""
     from scipy.special import elliprf
@@ -376,7 +398,8 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         span, gap = roots.beta_span, roots.beta_gap
         beta = cub.beta
         B, C = cub.B, cub.C
-        m = beta * (x1 - x2) / span
+        width = roots.width  # x1 - x2 with its own digits (the roots alone lose it below 1e-60 of x)
+        m = beta * width / span
         m1 = gap / span
         if m1 < Decimal("1e-150"):
             raise InputError(
@@ -397,6 +420,8 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         mean_inv_y = pi_minus / (kdec * y1) if C != 0 else Decimal(0)
         w3ma = w3 - a
         mean_phidot = (B * mean_inv_x + C * mean_inv_y) / 2
+        if B != 0 and C != 0:
+            mean_phidot = _mean_phidot(s.v0 * st.s0 - a * roots.d_low, a, width, x1, x2, y1, y2, kc, kdec)
         mean_psidot = w3ma - (B * mean_inv_x - C * mean_inv_y) / 2
         # A pass closer to a pole than sqrt(x2/x1) = 1e-16 of theta_max (below the rounding
         # of theta) is followed as a pass through it (signed theta; the pi jumps of phi
@@ -411,9 +436,8 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         sigma_rate = (w3ma + c_eff * mean_inv_y) / 2
         delta_rate = (b_eff * mean_inv_x - w3ma) / 2
         # Initial nutation phase w0 in (-K, K]: x0 = x1 cn^2 + x2 sn^2, sn w0 of the sign of -thetadot0.
-        width = x1 - x2
-        sn0_2 = min(max((x1 - st.x0) / width, Decimal(0)), Decimal(1))
-        cn0_2 = min(max((st.x0 - x2) / width, Decimal(0)), Decimal(1))
+        sn0_2 = min(max(roots.d_high / width, Decimal(0)), Decimal(1))
+        cn0_2 = min(max(roots.d_low / width, Decimal(0)), Decimal(1))
         dn0_2 = cn0_2 + m1 * sn0_2  # = 1 - m sn0^2 without cancellation next to m = 1
         sgn = -1 if thetadot0 > 0 else 1
         sn0 = sgn * sn0_2.sqrt()
@@ -456,7 +480,12 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
             sigma_sec=secular_phase(sigma_rate, lam, kdec, st.sigma0),
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
-            phi_sec=secular_phase((b_eff * mean_inv_x + c_eff * mean_inv_y) / 2, lam, kdec, st.sigma0 + st.delta0),
+            phi_sec=secular_phase(
+                mean_phidot if not (top or bottom) else (b_eff * mean_inv_x + c_eff * mean_inv_y) / 2,
+                lam,
+                kdec,
+                st.sigma0 + st.delta0,
+            ),
             psi_sec=secular_phase(sigma_rate - delta_rate, lam, kdec, st.sigma0 - st.delta0),
             levels=levels,
         )

@@ -148,6 +148,10 @@ class TopRoots:
     ``beta_span = beta (x1 - x3) = beta (u3 - u1)`` and
     ``beta_gap = beta (x2 - x3) = beta (u3 - u2)`` are formed without cancellation
     (they stay finite for beta -> 0: beta_span -> A + a^2).
+    ``d_low = x0 - x2 >= 0`` and ``d_high = x1 - x0 >= 0`` are the turning points' offsets from the
+    initial point, each with its own relative digits: a nutation 1e-61 of x wide (a heavy top of
+    M g l = 1e-60 J) is below the digits of x1 and x2, so x1 - x2 is zero there but
+    :attr:`width` = d_low + d_high is not.
     """
 
     x1: Decimal
@@ -158,6 +162,14 @@ class TopRoots:
     y3: Decimal
     beta_span: Decimal
     beta_gap: Decimal
+    d_low: Decimal
+    d_high: Decimal
+
+    @property
+    def width(self) -> Decimal:
+        """x1 - x2 = u2 - u1 >= 0 with full relative accuracy (the sum of the offsets, no cancellation)."""
+        with decimal.localcontext(_ctx()):
+            return self.d_low + self.d_high
 
 
 def quadratic_roots(p2: Decimal, p1: Decimal, p0: Decimal) -> tuple[Decimal, Decimal]:
@@ -289,7 +301,7 @@ def _root_between(cub: TopCubic, lo: Decimal, hi: Decimal, g_x0: Decimal, x0: De
         return 2 - y, y
 
 
-def _deflated(cub: TopCubic, xr: Decimal, yr: Decimal) -> list[tuple[Decimal, Decimal]]:
+def _deflated(cub: TopCubic, xr: Decimal, yr: Decimal, dg_r: Decimal | None = None) -> list[tuple[Decimal, Decimal]]:
     """The other roots, as (x, y), once the exact root (xr, yr) is divided out.
 
     Taylor at the root: g(xr + d) = d (g'(xr) + (c2 - 3 beta xr) d - beta d^2), solved by
@@ -297,11 +309,12 @@ def _deflated(cub: TopCubic, xr: Decimal, yr: Decimal) -> list[tuple[Decimal, De
     new root lies much nearer the pole than xr; such a root is recomputed from Vieta,
     x1 x2 x3 = -B^2 / beta (y1 y2 y3 = C^2 / beta), which has no cancellation, then
     polished by Newton in the coordinate of its hemisphere (x3 < 0 is left negative).
-    For beta = 0 the cubic is a quadratic: one finite root.
+    For beta = 0 the cubic is a quadratic: one finite root. ``dg_r``: g'(xr) when the caller has it
+    without cancellation (:func:`top_roots`'s ``dg0``).
     """
     beta = cub.beta
     with decimal.localcontext(_ctx()):
-        p2, p1, p0 = -beta, cub.c2 - 3 * beta * xr, cub.dg(xr)
+        p2, p1, p0 = -beta, cub.c2 - 3 * beta * xr, cub.dg(xr) if dg_r is None else dg_r
         if p2 == 0:
             ds = [-p0 / p1] if p1 != 0 else [Decimal(0)]
         else:
@@ -343,7 +356,58 @@ def _deflated(cub: TopCubic, xr: Decimal, yr: Decimal) -> list[tuple[Decimal, De
         return out
 
 
-def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
+def _offsets(
+    cub: TopCubic, x0: Decimal, g0: Decimal, dg0: Decimal, x1: Decimal, x2: Decimal
+) -> tuple[Decimal, Decimal]:
+    """x0 - x2 >= 0 and x1 - x0 >= 0 for the turning points x2 <= x0 <= x1, each with full relative accuracy.
+
+    The difference of two 60-digit roots keeps its digits unless they lie within 1e-20 of each other
+    (relative); then the offset is solved for itself, from g's Taylor form about the initial point,
+    h(d) = g(x0 + d) = g0 + g'(x0) d + (c2 - 3 beta x0) d^2 - beta d^3 (coefficients without
+    cancellation, g0 and g'(x0) from the caller): as a root of the quadratic h(d)/d when x0 is itself
+    a turning point (g0 = 0), by safeguarded Newton on h otherwise.
+    """
+    with decimal.localcontext(_ctx()):
+        tiny = Decimal(10) ** -20
+        d_low, d_high = x0 - x2, x1 - x0
+        near_low = d_low <= tiny * max(abs(x0), abs(x2))
+        near_high = d_high <= tiny * max(abs(x0), abs(x1))
+        if not (near_low or near_high):
+            return d_low, d_high
+        p2, p1 = -cub.beta, cub.c2 - 3 * cub.beta * x0
+        if g0 == 0:
+            # x0 is a turning point; the other is the root of p2 d^2 + p1 d + g'(x0) on its side of 0: x1 is the
+            # only root above x0 when x0 = x2 (x3 < x2), x2 the larger of the two below when x0 = x1.
+            ds = [d for d in quadratic_roots(p2, p1, dg0) if d.is_finite()] if (p2, p1) != (0, 0) else []
+            above = [d for d in ds if d > 0]
+            if above:
+                return Decimal(0), (min(above) if near_high else d_high)
+            below = [d for d in ds if d <= 0]
+            return (-max(below) if below and near_low else d_low), Decimal(0)
+
+        def solve(sign: int, diff: Decimal, scale: Decimal) -> Decimal:
+            def h(e):  # h(sign e), e >= 0
+                d = sign * e
+                return g0 + d * (dg0 + d * (p1 + d * p2))
+
+            def dh(e):
+                d = sign * e
+                return sign * (dg0 + d * (2 * p1 + 3 * p2 * d))
+
+            hi = Decimal(10) ** -19 * scale  # h(0) = g0 > 0 > h(hi): the root lies within 1e-20 scale of x0
+            h_hi = h(hi)
+            if h_hi >= 0:
+                return diff
+            return _safe_newton(h, dh, Decimal(0), hi, g0, h_hi)
+
+        if near_low:
+            d_low = solve(-1, d_low, max(abs(x0), abs(x2)))
+        if near_high:
+            d_high = solve(1, d_high, max(abs(x0), abs(x1)))
+        return d_low, d_high
+
+
+def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal, dg0: Decimal | None = None) -> TopRoots:
     """The three roots of the top's cubic, given the initial point and g there.
 
     Parameters
@@ -355,6 +419,11 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
     g0 : Decimal
         g(x0) = sin^2 theta0 thetadot0^2 >= 0, known exactly (evaluating the
         polynomial there would cancel).
+    dg0 : Decimal, optional
+        g'(x0) = 2 u0 kin + beta x0 y0 - 2 a phidot0 sin^2 theta0 (kin = thetadot0^2 + phidot0^2
+        sin^2 theta0), formed without cancellation; evaluated from the polynomial when not given.
+        With it the turning points' offsets from x0 (``d_low``, ``d_high``) keep their digits
+        however narrow the nutation.
 
     Returns
     -------
@@ -391,7 +460,11 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
             else:
                 (x3, y3), (x2, y2), (x1, y1) = found
                 span, gap = beta * (x1 - x3), beta * (x2 - x3)
-            return TopRoots(x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=y3, beta_span=span, beta_gap=gap)
+            return TopRoots(
+                x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=y3, beta_span=span, beta_gap=gap, d_low=x0 - x2, d_high=x1 - x0
+            )
+        if dg0 is None:
+            dg0 = cub.dg(x0)
         exact: list[tuple[Decimal, Decimal]] = []
         if g0 == 0:
             exact.append((x0, y0))
@@ -400,7 +473,7 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
         if cub.C == 0 and all(y != 0 for _, y in exact):
             exact.append((Decimal(2), Decimal(0)))
         if exact:
-            found = [exact[0]] + _deflated(cub, *exact[0])
+            found = [exact[0]] + _deflated(cub, *exact[0], dg0 if exact[0][0] == x0 else None)
             # Snap the computed roots to the other exact ones.
             for xe, ye in exact[1:]:
                 i = min(range(1, len(found)), key=lambda k: abs(found[k][0] - xe))
@@ -412,7 +485,8 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
                 x3 = -(cub.B * cub.B) / (beta * x1 * x2)  # Vieta: beta x1 x2 x3 = -B^2
                 x3 = _polish(cub.g, cub.dg, x3)
                 found.append((x3, 2 - x3))
-        found.sort(key=lambda r: r[0])
+        # By x, ties by y: next to the bottom two roots 1e-90 apart share their 60-digit x, not their y.
+        found.sort(key=lambda r: (r[0], -r[1]))
         lo_x, hi_x = (found[0][0], found[-1][0]) if beta == 0 else (found[1][0], found[2][0])
         slack = Decimal(10) ** (-DIGITS + 10)
         if not (lo_x - slack * abs(x0) <= x0 <= hi_x + slack * abs(x0) + slack):
@@ -427,4 +501,7 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal) -> TopRoots:
             (x3, y3), (x2, y2), (x1, y1) = found
             span = beta * (x1 - x3)
             gap = beta * (x2 - x3)
-        return TopRoots(x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=y3, beta_span=span, beta_gap=gap)
+        d_low, d_high = _offsets(cub, x0, g0, dg0, x1, x2)
+        return TopRoots(
+            x1=x1, x2=x2, x3=x3, y1=y1, y2=y2, y3=y3, beta_span=span, beta_gap=gap, d_low=d_low, d_high=d_high
+        )

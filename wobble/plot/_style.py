@@ -47,10 +47,18 @@ def time_axis(span_s: float) -> tuple[float, str]:
     the summary beside it speak of a run in the same unit (the figures had a table of their own, with
     other limits: a 2.5-day run was 60 h on the axis and 2.5 d in the text).
 
-    >>> time_axis(200.0), time_axis(3e7)
-    ((60.0, 'min'), (86400.0, 'd'))
+    A span that would read below 1e-3 or from 1e4 of that unit (1e-300 s, 1e300 yr) is in a power of ten
+    of it, named in the label, as the value axes are (:func:`power_of_ten`): matplotlib drew no curve at all
+    over a span of 1e-290 s, and a multiplier such as '1e300' under the axis otherwise.
+
+    >>> time_axis(200.0), time_axis(3e7), time_axis(1e-300)
+    ((60.0, 'min'), (86400.0, 'd'), (1e-300, '$10^{-300}$ s'))
     """
-    return span_unit(span_s)
+    size, unit = span_unit(span_s)
+    exponent = power_of_ten(span_s / size) if math.isfinite(span_s) and span_s > 0 else 0
+    if exponent == 0:
+        return size, unit
+    return size * 10.0**exponent, power_label(exponent, unit)
 
 
 def angle_unit(extent_rad: float) -> tuple[float, str]:

@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api.sampling import check_samples
+from wobble.api.sampling import check_samples, check_step
 from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -108,6 +108,7 @@ def flip_figure(moments, omega0, t_end):
             f"{0.0 if swing is None else swing.to_value(u.deg):.3g} deg, not more than 90): see motion_figure",
         )
     t_end_s = to_si(t_end, "t_end", u.s, positive=True, shape=())
+    check_step(t_end_s, 4001, t_end, " of the figure")
     # As motion_figure's time panels: ten periods at most, densely (4,001 samples over any span aliased a
     # long one, and every flip of it was listed to be marked).
     t, shown, note = _time_panel_times(body, t_end_s, 4001)
@@ -185,6 +186,7 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
         raise InputError("body", body, "a wobble.FreeRotation")
     t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     samples = check_samples(samples, BYTES_PER_SAMPLE)  # 1e12 samples was a MemoryError, not a message
+    check_step(t1, samples, t_end, " of the figure")  # times a subnormal step apart: nothing to draw
     t, shown, note = _time_panel_times(body, t1, samples)
     w = body.omega(t * u.s).to_value(u.rad / u.s)
     I = body.moments.to_value(u.kg * u.m**2)

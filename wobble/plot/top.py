@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
-from wobble.api.sampling import check_samples, sample_times
+from wobble.api.sampling import check_samples, check_step, sample_times
 from wobble.api.top import BYTES_PER_SAMPLE, HeavyTop
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -80,10 +80,13 @@ _ROUNDING_EXTENT = 1e-15
 
 def _tilt_extent(m) -> float:
     """The largest horizontal distance sin(theta) of the axis from the vertical over its motion (0 when
-    that is rounding)."""
+    that is rounding). Rounding only below: pi - theta of a hanging top is known to 1.2e-16, but theta next to
+    the upward vertical keeps its own digits (a top tilted 1e-16 rad was drawn as a dot in a unit frame)."""
     if m.theta_min <= np.pi / 2 <= m.theta_max:
         return 1.0
-    extent = float(max(np.sin(m.theta_min), np.sin(m.theta_max)))
+    if m.theta_max < np.pi / 2:
+        return float(np.sin(m.theta_max))
+    extent = float(np.sin(m.theta_min))
     return extent if extent > _ROUNDING_EXTENT else 0.0
 
 
@@ -97,6 +100,8 @@ def tilt_text(theta_min: float, theta_max: float, digits: str = ".4g") -> str:
             return "180 deg (straight down)"
         return "180 deg minus " + tilt_text(np.pi - theta_max, np.pi - theta_min, digits)
     size, name = angle_unit(max(theta_min, theta_max)) if max(theta_min, theta_max) > 0 else (np.radians(1.0), "deg")
+    if 0 < max(theta_min, theta_max) < 1e-3 * size:  # under a thousandth of a µas (1e-16 rad): in rad
+        size, name, digits = 1.0, "rad", ".4g"
     return f"{theta_min / size:{digits}} to {theta_max / size:{digits}} {name}"
 
 
@@ -121,6 +126,7 @@ def axis_trace_axes(
         t1 = periods * m.nutation_period if np.isfinite(m.nutation_period) else 10.0
     if samples is not None:
         samples = check_samples(samples, BYTES_PER_SAMPLE)
+    check_step(t1, samples or MIN_LOCUS_SAMPLES, t_end if t_end is not None else t1 * u.s, " of the figure")
     try:  # the whole span is checked, drawn or not
         m.check_times(np.array([0.0, t1]))
     except InputError as exc:
@@ -136,6 +142,10 @@ def axis_trace_axes(
         # pi - theta hanging), in the unit that angle reaches.
         extent = float(np.arcsin(extent))
         size, name = angle_unit(extent)
+        if power_of_ten(extent / size):
+            # Under a thousandth of a µas (a top tilted 1e-16 rad, or 1e-300): radians in a power of ten.
+            exponent = power_of_ten(extent)
+            size, name = 10.0**exponent, power_label(exponent, "rad")
         across = np.hypot(axis[:, 0], axis[:, 1])
         axis = axis[:, :2] * np.divide(np.arcsin(across), across, out=np.ones_like(across), where=across > 0)[:, None]
         radii = np.arcsin(radii)

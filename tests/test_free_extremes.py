@@ -1,0 +1,144 @@
+"""`wobble free` at the ends of the float range (fuzzing review): closed forms, not the code's own output.
+
+* Rates whose kinetic energy E = 1/2 sum I w^2 is below the smallest normal double (2.2e-308 J) are
+  refused, naming --omega and the least |omega| in the given direction: for I = (1, 2, 3) and
+  omega = c (1, 1, 1), E = 3 c^2, so the least is c = sqrt(tiny/3), |omega| = sqrt(tiny). They printed
+  "kinetic energy 0 J", |L| = 0 in the file with a "drift" of all of |L|, or (for 1e-310 rad/s) "the spin
+  is steady" and "time between flips inf".
+* Above that bound E and |L| are exact closed forms at every sample, even where w^2 or (I w)^2 underflow.
+* A periodic motion whose period is past the largest double is refused (it printed "omega never repeats").
+* A default span (3 periods) past the largest double names --t-end (it warned of an overflow, then
+  complained of "--t-end: got inf s" that nobody typed).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import astropy.units as u
+import mpmath as mp
+import numpy as np
+import pytest
+from cli_run import run_cli
+
+from wobble import FreeRotation
+
+KGM2 = u.kg * u.m**2
+RAD_S = u.rad / u.s
+TINY = sys.float_info.min
+
+
+def _one_line(err):
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err and "Warning" not in err
+    return lines[0]
+
+
+@pytest.mark.parametrize("w", ["1e-307", "1e-310", "1e-300"])
+def test_rates_whose_energy_is_below_the_normal_doubles_are_refused(w, capsys):
+    code, out, err = run_cli(["free", "--inertia", "1", "2", "3", "--omega", w, w, w, "-o", "never.nc"], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line.startswith(f"wobble free: error: --omega: got {w} {w} {w}; allowed: ")
+    # The least |omega| in the direction (1, 1, 1): E = 3 c^2 = tiny, |omega| = sqrt(3) c = sqrt(tiny).
+    least = float(line.split("|omega| >= ")[1].split()[0])
+    assert math.sqrt(TINY) <= least <= math.sqrt(TINY) * 1.01
+
+
+def test_the_review_input_just_above_the_bound_is_exact(tmp_path):
+    c = 1e-154  # E = 3 c^2 = 3e-308 J: normal; w^2 = 1e-308 at the edge, (I w)^2 for |L| underflows
+    body = FreeRotation([1, 2, 3] * KGM2, [c, c, c] * RAD_S)
+    ds = body.to_dataset(t_end=3 * body.period, samples=101)
+    with mp.workdps(40):
+        e = float(mp.mpf(c) ** 2 * 3)
+        big_l = float(mp.mpf(c) * mp.sqrt(14))
+    assert body.energy.to_value(u.J) == pytest.approx(e, rel=4e-16)
+    assert body.angular_momentum.to_value(KGM2 / u.s) == pytest.approx(big_l, rel=4e-16)
+    np.testing.assert_allclose(ds["kinetic_energy"].values, e, rtol=1e-13)
+    np.testing.assert_allclose(ds["angular_momentum_magnitude"].values, big_l, rtol=1e-13)
+    assert np.max(np.abs(ds["angular_momentum_magnitude_drift"].values)) <= 1e-13 * big_l
+
+
+def test_tiny_rates_of_a_heavy_body_keep_energy_and_angular_momentum():
+    """I = 1e300 kg m2, omega = 1e-300 rad/s: E ~ 1e-300 J and |L| ~ 1 are ordinary numbers, though w^2 underflows."""
+    moments, omega = [1e300, 2e300, 3e300], [1e-300, 1e-301, 1e-300]
+    body = FreeRotation(moments * KGM2, omega * RAD_S)
+    ds = body.to_dataset(t_end=body.period, samples=51)
+    with mp.workdps(50):
+        I = [mp.mpf(x) for x in moments]
+        w = [mp.mpf(x) for x in omega]
+        e = float(sum(i * x * x for i, x in zip(I, w)) / 2)
+        big_l = float(mp.sqrt(sum((i * x) ** 2 for i, x in zip(I, w))))
+    np.testing.assert_allclose(ds["kinetic_energy"].values, e, rtol=1e-13)
+    np.testing.assert_allclose(ds["angular_momentum_magnitude"].values, big_l, rtol=1e-13)
+
+
+def test_steady_spin_of_tiny_rate_turns_about_its_own_axis():
+    """omega = 1e-200 rad/s about x (I = 1e200 kg m2): after 1e200 s the body has turned 1 rad about x,
+    q = (cos 1/2, sin 1/2, 0, 0). |omega|^2 underflowed and the axis fell back to z."""
+    body = FreeRotation([1e200, 2e200, 3e200] * KGM2, [1e-200, 0.0, 0.0] * RAD_S)
+    assert body.regime == "steady"
+    with mp.workdps(30):
+        angle = float(mp.mpf(1e-200) * mp.mpf(1e200))
+    q = body.attitude([1e200] * u.s)[0]
+    np.testing.assert_allclose(q, [math.cos(angle / 2), math.sin(angle / 2), 0.0, 0.0], atol=1e-15)
+
+
+def test_a_period_past_the_largest_double_is_refused(capsys):
+    # Symmetric, I1 = I2 = 1, I3 = 2: omega turns at (I3 - I1) w3 / I1 = 1e-310 rad/s, a period of 6.3e310 s.
+    code, out, err = run_cli(["free", "--inertia", "1", "1", "2", "--omega", "1", "0", "1e-310"], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line.startswith("wobble free: error: --omega: got 1 0 1e-310; allowed: ")
+    assert "6.28e+310 s" in line
+
+
+def test_a_default_span_past_the_largest_double_names_t_end(capsys):
+    # Period 4 K(1/2) / lambda with lambda^2 = (I3 - I2)(I3 - I1) ... of order 6.4e307 s: 3 periods overflow.
+    argv = ["free", "--inertia", "1e307", "2e307", "3e307", "--omega", "1e-307", "1e-307", "1e-307"]
+    code, out, err = run_cli([*argv, "--plot", "never.png"], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line.startswith("wobble free: error: --t-end: missing; allowed: ")
+    assert "past the largest double" in line
+    period = FreeRotation([1e307, 2e307, 3e307] * KGM2, [1e-307] * 3 * RAD_S).period.to_value(u.s)
+    assert 3 * float(period) > sys.float_info.max > period
+
+
+@pytest.mark.parametrize("samples", [1001, 3])
+def test_a_span_too_short_for_distinct_samples_is_refused(samples, capsys, tmp_path):
+    """--t-end 5e-324 wrote 1001 times with 2 distinct values (CF requires them increasing). The least span is
+    (samples - 1) times the smallest normal double, the step then being exactly that double."""
+    path = tmp_path / "f.nc"
+    argv = ["free", "--inertia", "1", "2", "3", "--omega", "1", "0.1", "1", "--t-end", "5e-324"]
+    code, out, err = run_cli([*argv, "--samples", str(samples), "-o", str(path)], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == "" and not path.exists()
+    assert line.startswith("wobble free: error: --t-end: got 5e-324; allowed: an end time of at least ")
+    assert float(line.split("at least ")[1].split()[0]) == pytest.approx((samples - 1) * TINY, rel=1e-3)
+    body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
+    t = body.to_dataset(t_end=(samples - 1) * TINY * u.s, samples=samples)["time"].values
+    np.testing.assert_array_equal(t, np.arange(samples) * TINY)
+
+
+def test_the_figure_of_a_span_of_1e_300_s_draws_omega():
+    """Over 1e-300 s omega(t) = omega(0) = (1, 0.1, 1) rad/s to rounding (omega changes at about 1 rad/s^2);
+    matplotlib drew no curve for spans below about 1e-287 s, in seconds. In units of 1e-300 s it does."""
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.free import motion_figure
+
+    body = FreeRotation([1, 2, 3] * KGM2, [1, 0.1, 1] * RAD_S)
+    fig = motion_figure(body, 1e-300 * u.s)
+    top, bottom = fig.axes[0], fig.axes[1]
+    assert bottom.get_xlabel() == "time [$10^{-300}$ s]"
+    lines = {line.get_label(): line for line in top.get_lines()}
+    x, y = lines["$\\omega_1$"].get_data()
+    assert x[0] == 0.0 and x[-1] == pytest.approx(1.0, rel=1e-15)
+    np.testing.assert_allclose(y, 1.0, rtol=1e-15)
+    np.testing.assert_allclose(lines["$\\omega_2$"].get_ydata(), 0.1, rtol=1e-15)
+    pixels = top.transData.transform(np.column_stack([x, y]))
+    assert np.all(np.isfinite(pixels)) and np.ptp(pixels[:, 0]) > 0.9 * top.get_window_extent().width
+    plt.close(fig)

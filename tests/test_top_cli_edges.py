@@ -1,0 +1,122 @@
+"""`wobble top` at the edges of the float range (fuzzing review): messages, figures, -0.
+
+* --t-end too short for its samples to be distinct: refused naming --t-end and the least, (samples - 1)
+  times the smallest normal double (it wrote 1001 times with 2 values; CF needs them increasing).
+* Rates whose energy overflows: the options given, as typed, and the defaults used, named as such (it named
+  --thetadot0, --phidot0, --omega3 over a tuple of converted numbers for --phidot0 '1e300 deg/s' alone).
+* --theta0 -0.0 is 0 (it printed "theta min, max -0, -0 deg"); a subnormal tilt is refused.
+* The figure of a top tilted 1e-16 rad (or 1e-300) draws its path (a start dot in a unit frame before).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import astropy.units as u
+import matplotlib
+import numpy as np
+import pytest
+from cli_run import run_cli
+
+from wobble import HeavyTop
+
+matplotlib.use("Agg")
+
+TINY = np.finfo(float).tiny
+TOP = ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--omega3", "10"]
+
+
+def _one_line(err):
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err and "Warning" not in err, err
+    return lines[0]
+
+
+@pytest.mark.parametrize("samples", [1001, 11])
+def test_a_span_too_short_for_distinct_samples_is_refused(samples, capsys, tmp_path):
+    path = tmp_path / "t.nc"
+    argv = [*TOP, "--theta0", "60", "--t-end", "5e-324", "--samples", str(samples), "-o", str(path)]
+    code, out, err = run_cli(argv, capsys)
+    line = _one_line(err)
+    assert code == 2 and out == "" and not path.exists()
+    assert line.startswith("wobble top: error: --t-end: got 5e-324; allowed: an end time of at least ")
+    least = float(line.split("at least ")[1].split()[0])
+    assert least == pytest.approx((samples - 1) * TINY, rel=1e-3)
+
+
+def test_the_least_span_gives_evenly_spaced_increasing_times():
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * u.rad / u.s
+    )
+    ds = top.to_dataset(t_end=1000 * TINY * u.s, samples=1001)
+    t = ds["time"].values
+    np.testing.assert_array_equal(t, np.arange(1001) * TINY)  # k 2^-1022 s, exactly
+    assert np.all(np.diff(t) > 0)
+
+
+@pytest.mark.parametrize(
+    "extra, want",
+    [
+        (["--phidot0", "1e300 deg/s"], "--phidot0, --omega3: got 1e300 deg/s, 10 (and the default --thetadot0 0);"),
+        (["--phidot0", "1", "--thetadot0", "1e300 rad/s"], "--thetadot0, --phidot0, --omega3: got 1e300 rad/s, 1, 10;"),
+    ],
+)
+def test_an_energy_that_overflows_names_what_was_typed(extra, want, capsys):
+    code, out, err = run_cli([*TOP, "--theta0", "60", *extra], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line.startswith(f"wobble top: error: {want} allowed: rates whose energy fits double precision")
+
+
+def test_negative_zero_is_zero(capsys):
+    argv = [*TOP, "--theta0", "-0.0", "--phidot0", "-0.0", "--thetadot0", "-0.0", "--phi0", "-0.0"]
+    code, out, err = run_cli([*argv, "--mgl", "-0.0"], capsys)
+    assert code == 0 and err == ""
+    assert "theta min, max               0, 0 deg" in out, out
+    assert "-0" not in out
+    code, out, err = run_cli([*argv, "--json"], capsys)
+    doc = json.loads(out)
+    assert doc["theta_min_deg"] == 0.0 and math.copysign(1.0, doc["theta_min_deg"]) == 1.0
+    assert "-0.0" not in out
+
+
+def test_a_subnormal_tilt_is_refused(capsys):
+    code, out, err = run_cli([*TOP, "--theta0", "1e-320 rad"], capsys)
+    line = _one_line(err)
+    assert code == 2 and out == ""
+    assert line == (
+        "wobble top: error: --theta0: got 1e-320 rad; allowed: 0 (upright) or a tilt of at least "
+        "2.225e-308 rad, the smallest normal double"
+    )
+
+
+@pytest.mark.parametrize("theta0", [1e-16, 1e-300])
+def test_the_figure_of_a_tiny_tilt_draws_its_path(theta0):
+    """Released at rest next to the vertical (notes p. 72, small theta): with x = 1 - cos theta,
+    g(x) ~ (x - x0)(2 beta x - a^2 (x - x0)), so theta_max = theta0 a / sqrt(a^2 - 2 beta) (a = I3 omega3 / I1 = 5/s,
+    beta = 2 M g l / I1 = 2/s^2), exact to O(theta^2). The path must be drawn between those circles, inside the
+    axes, in a power of ten of rad."""
+    from wobble.plot.top import axis_locus_figure
+
+    top = HeavyTop(
+        I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=theta0 * u.rad, omega3=10 * u.rad / u.s
+    )
+    theta_max = theta0 * 5.0 / math.sqrt(25.0 - 4.0)
+    assert top.model.theta_max == pytest.approx(theta_max, rel=1e-12)
+    fig = axis_locus_figure(top, 3 * top.model.nutation_period * u.s)
+    ax = fig.axes[0]
+    path = max(ax.get_lines(), key=lambda line: len(line.get_xdata()) if line.get_color() == "C0" else 0)
+    exponent = 3 * math.floor(math.log10(theta0) / 3)
+    assert f"$10^{{{exponent}}}$ rad" in ax.get_xlabel()
+    radius = np.hypot(path.get_xdata(), path.get_ydata()) * 10.0**exponent
+    assert np.all(radius >= theta0 * (1 - 1e-9)) and np.all(radius <= theta_max * (1 + 1e-9))
+    assert np.max(radius) == pytest.approx(theta_max, rel=1e-3)  # the cusps' far circle is reached
+    # Drawn: in display coordinates the path is finite and spans much of the axes.
+    pixels = ax.transData.transform(np.column_stack([path.get_xdata(), path.get_ydata()]))
+    box = ax.get_window_extent()
+    assert np.all(np.isfinite(pixels))
+    assert np.ptp(pixels[:, 0]) > 0.1 * box.width and np.ptp(pixels[:, 1]) > 0.1 * box.height  # a dot before
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
