@@ -12,6 +12,7 @@ import math
 import pytest
 from astropy import units as u
 
+from json_listings import listings as _listings
 from wobble.cli import main
 from wobble.io.catalog import catalogue_file
 from wobble.io.json_keys import values_at
@@ -20,18 +21,6 @@ from wobble.io.json_keys import values_at
 def _json(capsys, *args):
     assert main([*args, "--json"]) == 0
     return json.loads(capsys.readouterr().out)
-
-
-def _listings(node):
-    """Every object in ``node`` (at any depth) that lists renames under ``deprecated_keys``."""
-    if isinstance(node, dict):
-        if "deprecated_keys" in node:
-            yield node
-        for value in node.values():
-            yield from _listings(value)
-    elif isinstance(node, list):
-        for value in node:
-            yield from _listings(value)
 
 
 def _check_listings(doc):

@@ -7,6 +7,7 @@ import json
 
 import pytest
 
+from json_listings import listings as _listings
 from wobble.cli import main
 from wobble.io.json_keys import deprecate, values_at
 
@@ -98,18 +99,6 @@ def test_renamed_keys_alias_their_new_names(capsys):
 
     for p in budget["parameters"]:  # every unit is one astropy reads, to itself
         assert p["unit"] == "" or u.Unit(p["unit"]).to_string() == p["unit"]
-
-
-def _listings(node):
-    """Every object in ``node`` (at any depth) that lists renames under ``deprecated_keys``."""
-    if isinstance(node, dict):
-        if "deprecated_keys" in node:
-            yield node
-        for value in node.values():
-            yield from _listings(value)
-    elif isinstance(node, list):
-        for value in node:
-            yield from _listings(value)
 
 
 def test_every_object_that_holds_an_alias_lists_it(capsys):
