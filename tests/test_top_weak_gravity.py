@@ -27,16 +27,16 @@ I1, I3, OMEGA3 = 1.0, 0.5, 10.0
 THETA0 = math.radians(60.0)
 
 
-def _mean_phidot(mgl, theta0, thetadot0=0.0, phidot0=0.0, dps=60):
+def _mean_phidot(mgl, theta0, thetadot0=0.0, phidot0=0.0, dps=60, omega3=OMEGA3, polyroots=False):
     with mp.workdps(dps):
-        i1, i3, mg, th, w3, td, pd = (mp.mpf(v) for v in (I1, I3, mgl, theta0, OMEGA3, thetadot0, phidot0))
+        i1, i3, mg, th, w3, td, pd = (mp.mpf(v) for v in (I1, I3, mgl, theta0, omega3, thetadot0, phidot0))
         u0, s2 = mp.cos(th), mp.sin(th) ** 2
         a = i3 * w3 / i1
         b = pd * s2 + a * u0
         beta = 2 * mg / i1
         alpha = td**2 + pd**2 * s2 + beta * u0  # 2 E' / I1
         coeffs = [beta, -(alpha + a * a), 2 * a * b - beta, alpha - b * b]  # f(u), highest power first
-        if thetadot0 == 0:
+        if thetadot0 == 0 and not polyroots:
             q2 = coeffs[0]
             q1 = coeffs[1] + q2 * u0
             q0 = coeffs[2] + q1 * u0  # f(u) = (u - u0)(q2 u^2 + q1 u + q0)
@@ -104,3 +104,39 @@ def test_the_precession_angle_advances_at_the_reference_rate(k):
     t = np.array([1.0, 1e3, 1e6]) * top.nutation_period
     for method in ("direct", "auto"):
         np.testing.assert_allclose(top.motion(t, method).phi, want * t, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "theta0_deg, phidot0, omega3",
+    [(60.0, -3.0, 10.0), (60.0, 3.0, -10.0), (120.0, 1.0, 10.0), (120.0, -1.0, 10.0)],
+)
+@pytest.mark.parametrize("k", [0, 20, 40, 45, 50, 100])
+def test_a_looping_top_s_mean_precession_is_inside_its_stated_error(theta0_deg, phidot0, omega3, k):
+    """Loops: phidot changes sign, and the mean's two terms cancel; under weak gravity the mean is 1e-60 of
+    each. A review found M g l = 1e-50 J printed -4.6e-50 rad/s for +1.57e-51 (the wrong sign) with no bound.
+    The error estimate now bounds the mean (its terms' 45 digits), and where it leaves no digit the text says
+    'not resolved'."""
+    mgl = 10.0**-k
+    top = heavy_top(I1, I3, mgl, math.radians(theta0_deg), 0.0, phidot0, omega3=omega3)
+    want = _mean_phidot(mgl, top.theta0, 0.0, phidot0, dps=80 + 2 * k, omega3=omega3, polyroots=True)
+    bound = top.error_estimate["mean_precession_rate_rad_per_s"]
+    assert top.nutation == "loops"
+    assert abs(top.mean_precession_rate - float(want)) <= bound, (k, top.mean_precession_rate, float(want), bound)
+    if k <= 20:  # the terms are O(1) and the mean too: the bound is a rounding, the mean right to the last digits
+        assert bound <= 1e-15 * abs(float(want))
+
+
+def test_the_text_says_when_the_mean_precession_is_not_resolved(capsys):
+    from cli_run import run_cli
+
+    argv = ["top", "--I1", "1", "--I3", "0.5", "--theta0", "60", "--phidot0", "-3", "--omega3", "10", "--mgl"]
+    code, out, _ = run_cli([*argv, "1e-60"], capsys)
+    line = next(x for x in out.splitlines() if x.startswith("mean precession rate"))
+    assert code == 0 and "not resolved: |mean| below" in line and "e-50" not in line
+    code, out, _ = run_cli([*argv, "1e-40"], capsys)
+    line = next(x for x in out.splitlines() if x.startswith("mean precession rate"))
+    want = float(_mean_phidot(1e-40, math.radians(60), 0.0, -3.0, dps=160, polyroots=True))
+    shown = float(line.split()[3])
+    bound = float(line.split()[5])
+    # 1.57480e-41 +/- 5.1e-45: to the bound's second significant digit (the rounding adds at most a tenth of it).
+    assert abs(shown - want) <= 1.1 * bound and "+/-" in line and line.split()[3] == f"{shown:.6g}"

@@ -124,6 +124,21 @@ def _from_body(body):
 _TOP_VARIABLES = {name: (spec.dims, spec.attrs()) for name, spec in cf.TOP.items()}
 
 
+def mean_rate_text(rate: float, bound: float | None) -> str:
+    """The mean precession rate for a person, to the digits its error bound leaves: all seven where the bound
+    is a rounding, fewer where the set-up's terms cancelled (loops under weak gravity), and 'not resolved'
+    where none is left (a review found such a rate printed with the wrong sign and seven digits)."""
+    from wobble.io.text import number
+
+    if bound is None or not bound > 1e-14 * abs(rate):
+        return f"{number(rate)} rad/s"
+    if bound >= abs(rate):
+        return f"not resolved: |mean| below {bound:.2g} rad/s (its terms cancel past the set-up's 45 digits)"
+    # To the bound's second significant digit, as every value +/- its uncertainty is printed.
+    digits = int(np.floor(np.log10(abs(rate))) - np.floor(np.log10(bound))) + 2
+    return f"{number(rate, digits)} +/- {bound:.2g} rad/s (its terms cancel in the set-up's 45 digits)"
+
+
 class HeavyTop:
     """The heavy symmetric top with one point fixed: analysis and exact motion.
 
@@ -479,7 +494,7 @@ class HeavyTop:
         return (
             f"{m.nutation} nutation between theta = {number(np.degrees(m.theta_min))} and "
             f"{number(np.degrees(m.theta_max))} deg, period {duration(m.nutation_period)}; mean precession "
-            f"{number(m.mean_precession_rate)} rad/s"
+            f"{mean_rate_text(m.mean_precession_rate, m.error_estimate.get('mean_precession_rate_rad_per_s'))}"
         )
 
     def __repr__(self) -> str:

@@ -136,6 +136,7 @@ def _span(top, text) -> tuple[float, str]:
 
 
 def _print_table(summary: dict, typed: str | None = None) -> None:
+    from wobble.api.top import mean_rate_text
     from wobble.cli._output import duration, number, span_text
 
     def pair(a, b, unit=""):
@@ -146,7 +147,13 @@ def _print_table(summary: dict, typed: str | None = None) -> None:
         ("roots u1, u2, u3", ", ".join(number(summary[k]) for k in ("u1", "u2", "u3"))),
         ("theta min, max", pair(summary["theta_min_deg"], summary["theta_max_deg"], " deg")),
         ("nutation period", duration(summary["nutation_period_s"])),
-        ("mean precession rate", f"{number(summary['mean_precession_rate_rad_per_s'])} rad/s"),
+        (
+            "mean precession rate",
+            mean_rate_text(
+                summary["mean_precession_rate_rad_per_s"],
+                summary.get("error_estimate_mean_precession_rate_rad_per_s"),
+            ),
+        ),
         ("mean spin rate", f"{number(summary['mean_spin_rate_rad_per_s'])} rad/s"),
         ("elliptic parameter m, 1 - m", pair(summary["parameter_m"], summary["complementary_parameter_1_minus_m"])),
         ("energy E, E'", pair(summary["energy_J"], summary["energy_prime_J"], " J")),

@@ -322,6 +322,7 @@ def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
             "attitude_rad": 8 * _EPS,
             "turning_points_relative": 2 * _EPS,
             "period_relative": 4 * _EPS,
+            "mean_precession_rate_rad_per_s": 2 * _EPS * abs(_f(phidot)),  # the rate itself, rounded once
         }
         return dict(
             phidot0=_f(phidot),
@@ -369,8 +370,13 @@ def nutation_class(B, a, x1, x2, y1, y2, C) -> str:
     return "undulating" if s1 == s2 else "loops"
 
 
-def _mean_phidot(n2, a, width, x1, x2, y1, y2, kc, kdec) -> Decimal:
-    """The mean of phidot = (b - a u)/(1 - u^2) over a nutation period (rad/s), without cancellation.
+#: Digits of the mean precession rate's two terms before they are added: the complete integrals (Bulirsch's cel)
+#: run at 50 digits and the roots' offsets at 60, so 45 is what the sum can cancel into (tests at 80-400 digits).
+MEAN_RATE_DIGITS = 45
+
+
+def _mean_phidot(n2, a, width, x1, x2, y1, y2, kc, kdec) -> tuple[Decimal, Decimal]:
+    """The mean of phidot = (b - a u)/(1 - u^2) over a nutation period (rad/s), and a bound on its error.
 
     (B <1/x> + C <1/y>)/2 cancels as the nutation narrows: each term is about a/2 and their sum the
     slow precession, M g l/(I3 omega3) for a fast top, so at M g l = 1e-48 J (a = 5/s) the 50-digit
@@ -380,12 +386,19 @@ def _mean_phidot(n2, a, width, x1, x2, y1, y2, kc, kdec) -> Decimal:
         delta/(x y) mean = (<delta/x> + <delta/y>)/2   (x2 <1/x> = 1 - <delta/x>, y2 <1/y> = 1 + <delta/y>),
         <delta/x> = (x1 - x2)/x1 cel(kc, x2/x1, 1, 0)/K,   <delta/y> = (x1 - x2)/y1 cel(kc, y2/y1, 1, 0)/K,
 
-    (x = x1 (cos^2 + (x2/x1) sin^2), y = y1 (cos^2 + (y2/y1) sin^2) with sin = sn w; Bulirsch's cel),
-    every term positive but n2's own, whose sign is that of phidot at the turning point u2 (notes p. 72).
+    (x = x1 (cos^2 + (x2/x1) sin^2), y = y1 (cos^2 + (y2/y1) sin^2) with sin = sn w; Bulirsch's cel).
+    The second term is positive; the first has the sign of phidot at the turning point u2 (notes p. 72).
+    Where phidot keeps its sign (cusps, undulating) the two add; where it changes sign (loops) they
+    cancel, and under weak gravity the mean is 1e-60 of each: the bound, |terms| 10^-MEAN_RATE_DIGITS,
+    says how many of the mean's digits survive (a review found loops at M g l = 1e-50 J printed with the
+    wrong sign and no bound).
     """
     pi_x, pi_y, c_x, c_y = hp.cel_many(kc, [(x2 / x1, 1, 1), (y2 / y1, 1, 1), (x2 / x1, 1, 0), (y2 / y1, 1, 0)])
     with decimal.localcontext(context()):
-        return (n2 * (pi_x / x1 + pi_y / y1) + a * width * (c_x / x1 + c_y / y1)) / (2 * kdec)
+        first = n2 * (pi_x / x1 + pi_y / y1)
+        second = a * width * (c_x / x1 + c_y / y1)
+        bound = (abs(first) + abs(second)) / (2 * kdec) * Decimal(10) ** (-MEAN_RATE_DIGITS)
+        return (first + second) / (2 * kdec), bound
 
 
 def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots) -> dict:
@@ -420,8 +433,10 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         mean_inv_y = pi_minus / (kdec * y1) if C != 0 else Decimal(0)
         w3ma = w3 - a
         mean_phidot = (B * mean_inv_x + C * mean_inv_y) / 2
+        # One of B and C zero: a single term, no cancellation; its rounding at the precision of the integrals.
+        mean_bound = abs(mean_phidot) * Decimal(10) ** (-MEAN_RATE_DIGITS)
         if B != 0 and C != 0:
-            mean_phidot = _mean_phidot(s.v0 * st.s0 - a * roots.d_low, a, width, x1, x2, y1, y2, kc, kdec)
+            mean_phidot, mean_bound = _mean_phidot(s.v0 * st.s0 - a * roots.d_low, a, width, x1, x2, y1, y2, kc, kdec)
         mean_psidot = w3ma - (B * mean_inv_x - C * mean_inv_y) / 2
         # A pass closer to a pole than sqrt(x2/x1) = 1e-16 of theta_max (below the rounding
         # of theta) is followed as a pass through it (signed theta; the pi jumps of phi
@@ -520,6 +535,9 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing) + spin,
             "turning_points_relative": 4 * _EPS,
             "period_relative": 4 * _EPS,
+            # Its rounding to a double, or what the 45 digits of its terms leave when they cancel (loops under
+            # weak gravity): the mean itself, not phi(t), whose secular part it is only to within attitude_rad.
+            "mean_precession_rate_rad_per_s": max(_f(mean_bound), 2 * _EPS * abs(_f(mean_phidot))),
         }
         return dict(
             phidot0=_f(phidot0),
