@@ -484,7 +484,10 @@ class HeavyTop:
             **{f"error_estimate_{k}": v for k, v in err.items()},
             "error_estimate": {},
         }
-        return deprecate(out, {"nutation": "nutation_class", **error_estimate_renames(err)})
+        # The nested error_estimate object is the old form: it keeps the keys it had, not the mean rate's bound
+        # (added 2026-11-29, flat only).
+        old = [k for k in err if k != "mean_precession_rate_rad_per_s"]
+        return deprecate(out, {"nutation": "nutation_class", **error_estimate_renames(old)})
 
     def summary(self) -> str:
         """The motion in words: the nutation class, the turning angles and the periods."""
