@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 import xarray as xr
+from astropy import units as u
 
 import wobble
 from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep, sweep
@@ -260,3 +261,23 @@ def test_sweep_parameter_units_are_written_as_the_other_files_write_them():
         text = _unit_text(key)
         assert "/" not in text and "(" not in text, (key, text)
         assert u.Unit(text if text != "1" else "") == unit, key
+
+
+def test_members_whose_scales_leave_the_float_range_are_invalid_not_warned(tmp_path, capsys):
+    """A sweep bypassed the planet file's scale check (a review): spins of 1e-300 and 1e300 rad/s printed NumPy's
+    overflow warnings, an infinite spread and a valid member with a period of 2e298 d. They are invalid members
+    now, as a planet file with those values is refused; Earth's own spin is the one valid member, at the period
+    wobble chandler earth gives."""
+    spec = tmp_path / "spin_grid.toml"
+    spec.write_text(
+        'schema = "wobble-sweep/1"\nname = "spin_grid"\ntarget = "chandler"\nbody = "earth"\nmodel = "full"\n'
+        'seed = 1\noutputs = ["chandler_period"]\n\n[vary.rotation_rate]\ndistribution = "grid"\n'
+        'values = [7.292115e-5, 1e-160, 1e160, 1e-300, 1e300]\nunit = "rad/s"\n'
+    )
+    assert main(["sweep", str(spec), "--json", "--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    data = json.loads(captured.out)
+    assert (data["members"], data["valid"]) == (5, 1)
+    earth = wobble.chandler_budget("earth").period.to_value(u.day)
+    assert data["percentiles"]["50"] == pytest.approx(earth, rel=1e-6)

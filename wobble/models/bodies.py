@@ -148,15 +148,16 @@ def overflow_is_input_error(fn):
             raise InputError(
                 fn.__name__,
                 ", ".join(map(str, [*args, *kwargs.values()])),
-                "sizes whose moments of inertia fit double precision (below about 1e308 in SI); "
-                "give smaller numbers in larger units",
+                "sizes whose moments of inertia fit double precision (below about 1e308 kg m2: the moments are "
+                "computed in SI, whatever unit the sizes are given in)",
             ) from None
         except BelowNormal:
             raise InputError(
                 fn.__name__,
                 ", ".join(map(str, [*args, *kwargs.values()])),
-                f"sizes whose moments of inertia are normal doubles (at least {SMALLEST_NORMAL:.4g} in SI; "
-                "below, a double keeps only a few digits, or none); give larger numbers in smaller units",
+                f"sizes whose moments of inertia are normal doubles (at least {SMALLEST_NORMAL:.4g} kg m2: "
+                "below, a double keeps only a few digits, or none; the moments are computed in SI, whatever "
+                "unit the sizes are given in)",
             ) from None
 
     return checked
@@ -380,8 +381,8 @@ class Body:
                 raise InputError(
                     name,
                     value.tolist(),
-                    "finite values: the inputs overflow double precision "
-                    "(about 1.8e308); use larger units or smaller numbers",
+                    "finite values: the inputs overflow double precision in SI (about 1.8e308, whatever unit "
+                    "they are given in)",
                 )
         if self.mass is not None and not math.isfinite(self.mass):
             raise InputError("mass", self.mass, "a finite mass: the inputs overflow double precision")

@@ -27,7 +27,7 @@ import numpy as np
 
 from wobble.errors import InputError
 
-__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS", "POSITIVE_KEYS"]
+__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS", "POSITIVE_KEYS", "SCALE_RANGE"]
 
 FIGURE_KEYS = ("dynamical_flattening", "j2", "polar_moment_factor")
 # Parameters that are positive by their nature (catalogue checks, sweep validity).
@@ -44,6 +44,12 @@ POSITIVE_KEYS = (
     "observed_chandler_period",
     "orbit_semi_major_axis",
 )
+
+
+#: The range each scale a planet's values form must lie in (SI): the square root of the float range, so that the
+#: uncertainty propagation's squares of them stay finite (PlanetParameters checks a file; the Chandler model's
+#: members of a sweep or a Monte Carlo are marked invalid outside it).
+SCALE_RANGE = (math.sqrt(sys.float_info.min), math.sqrt(sys.float_info.max))
 
 
 @dataclass(frozen=True)
@@ -208,7 +214,7 @@ class PlanetParameters:
         """
         # The square roots of the float range: the Monte Carlo's variances and the propagation's products square
         # these scales (a period of 1e150 h passed a check at the range itself, and the draws' variance overflowed).
-        tiny, huge = math.sqrt(sys.float_info.min), math.sqrt(sys.float_info.max)
+        tiny, huge = SCALE_RANGE
         with np.errstate(all="ignore"):
             for keys, formula, value in self._scales():
                 if not (np.isfinite(value) and tiny <= abs(value) <= huge):
