@@ -138,3 +138,28 @@ def test_the_spectrum_on_the_same_short_spans_flags_its_edge():
         sp = pm.fit_spectrum(t, p, reference_period=REFERENCE_PERIOD, excitation_q=None)
         assert sp.chandler.period == pytest.approx(BAND[0]) and sp.details["at_edge"] and not sp.resolved
         assert any("the spectral peak lies at the edge of the search band 390-500 d" in c for c in sp.caveats)
+
+
+@pytest.mark.parametrize("days", [433.0, 410.0, 390.0])
+@pytest.mark.parametrize("span_years", [2.0, 6.0])
+def test_the_separation_is_the_inverse_gram_variance_ratio_with_the_drift_columns(days, span_years):
+    """Against the textbook definition, independently: the variance inflation of the Chandler coefficient is
+    [(X^H X)^-1]_cc (X^H X)_cc over the full complex design X = [drift polynomial, annual +/-, Chandler]
+    (Marquardt 1970), computed here by a plain inverse in 50-digit mpmath."""
+    import mpmath as mp
+
+    from wobble.models.polar_motion.least_squares import separation
+
+    s = np.linspace(-0.5, 0.5, 400) * span_years * TROPICAL_YEAR
+    tau = s / (0.5 * span_years * TROPICAL_YEAR)
+    drift = np.column_stack([tau**k for k in range(3)]).astype(complex)
+    fixed = np.column_stack([drift, np.exp(1j * pm.ANNUAL_RATE * np.outer(s, [1.0, -1.0]))])
+    rate = 2 * math.pi / (days * DAY)
+    with mp.workdps(50):
+        x = mp.matrix(
+            [[mp.mpc(v.real, v.imag) for v in row] for row in np.column_stack([fixed, np.exp(1j * rate * s)])]
+        )
+        gram = x.H * x
+        last = gram.rows - 1
+        inflation = (gram**-1)[last, last] * gram[last, last]
+    assert 1 / separation(s, fixed, rate) == pytest.approx(float(mp.re(inflation)), rel=1e-9)
