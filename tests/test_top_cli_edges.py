@@ -42,7 +42,7 @@ def test_a_span_too_short_for_distinct_samples_is_refused(samples, capsys, tmp_p
     assert code == 2 and out == "" and not path.exists()
     assert line.startswith("wobble top: error: --t-end: got 5e-324; allowed: an end time of at least ")
     least = float(line.split("at least ")[1].split()[0])
-    assert least == pytest.approx((samples - 1) * TINY, rel=1e-3)
+    assert least == pytest.approx((samples - 1) * TINY, rel=1e-3, abs=0)
 
 
 def test_the_least_span_gives_evenly_spaced_increasing_times():
@@ -103,7 +103,7 @@ def test_the_figure_of_a_tiny_tilt_draws_its_path(theta0):
         I1=1 * u.kg * u.m**2, I3=0.5 * u.kg * u.m**2, mgl=1 * u.J, theta0=theta0 * u.rad, omega3=10 * u.rad / u.s
     )
     theta_max = theta0 * 5.0 / math.sqrt(25.0 - 4.0)
-    assert top.model.theta_max == pytest.approx(theta_max, rel=1e-12)
+    assert top.model.theta_max == pytest.approx(theta_max, rel=1e-12, abs=0)
     fig = axis_locus_figure(top, 3 * top.model.nutation_period * u.s)
     ax = fig.axes[0]
     path = max(ax.get_lines(), key=lambda line: len(line.get_xdata()) if line.get_color() == "C0" else 0)
@@ -111,7 +111,7 @@ def test_the_figure_of_a_tiny_tilt_draws_its_path(theta0):
     assert f"$10^{{{exponent}}}$ rad" in ax.get_xlabel()
     radius = np.hypot(path.get_xdata(), path.get_ydata()) * 10.0**exponent
     assert np.all(radius >= theta0 * (1 - 1e-9)) and np.all(radius <= theta_max * (1 + 1e-9))
-    assert np.max(radius) == pytest.approx(theta_max, rel=1e-3)  # the cusps' far circle is reached
+    assert np.max(radius) == pytest.approx(theta_max, rel=1e-3, abs=0)  # the cusps' far circle is reached
     # Drawn: in display coordinates the path is finite and spans much of the axes.
     pixels = ax.transData.transform(np.column_stack([path.get_xdata(), path.get_ydata()]))
     box = ax.get_window_extent()
