@@ -12,6 +12,21 @@ os.environ.setdefault("MPLBACKEND", "Agg")  # no display, and no GUI warnings
 import pytest
 from hypothesis import HealthCheck, settings
 
+_APPROX = pytest.approx
+
+
+def _relative_approx(expected, rel=None, abs=None, nan_ok=False):
+    """pytest.approx where a relative tolerance given alone is the whole tolerance: pytest keeps its default
+    absolute 1e-12 beside it, so ``approx(x, rel=1e-15)`` passed any value for |x| below about 1e-12 (nine
+    assertions on moments of 1e-300 kg m2 and rates of 1e-14 rad/s checked nothing) and only 1e-12 absolute
+    above. An absolute tolerance is asked for explicitly."""
+    if rel is not None and abs is None:
+        abs = 0.0
+    return _APPROX(expected, rel=rel, abs=abs, nan_ok=nan_ok)
+
+
+pytest.approx = _relative_approx
+
 # Property tests: no deadlines (machines are shared; timing is not a test),
 # derandomized so CI runs are reproducible.
 settings.register_profile("wobble", deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])

@@ -259,7 +259,9 @@ def test_vp_tracked_equals_the_least_squares_solver(degree):
         kw = {"reference_period": REFERENCE_PERIOD, "drift_degree": degree, "uncertainty": False}
         want = tracked(fit_least_squares(t, zs[:, k], rate=rates[k], **kw))
         for name, value in want.items():
-            assert got[k][name] == pytest.approx(value, rel=1e-12), name
+            # 5e-12: the cubic drift's columns condition the solve; the small retrograde annual term (1e-3 of the
+            # series) differs by 1.1e-12 of itself between the two solvers (approx's abs 1e-12 had hidden it).
+            assert got[k][name] == pytest.approx(value, rel=5e-12), name
 
 
 @pytest.mark.parametrize("method", ["least_squares", "spectrum"])
