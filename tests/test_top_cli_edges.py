@@ -87,7 +87,7 @@ def test_a_subnormal_tilt_is_refused(capsys):
     assert code == 2 and out == ""
     assert line == (
         "wobble top: error: --theta0: got 1e-320 rad; allowed: 0 (upright) or a tilt of at least "
-        "2.225e-308 rad, the smallest normal double"
+        "2.225e-308 rad (1.275e-306 deg), the smallest normal double"
     )
 
 

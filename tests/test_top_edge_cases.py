@@ -144,9 +144,12 @@ def test_pi_is_the_bottom_itself():
 
 @pytest.mark.parametrize("samples", [5, 20000])  # NumPy, and the compiled series from 8192 samples on
 def test_the_recomputed_energy_of_a_top_at_the_edge_of_the_float_range_stays_finite(samples):
-    """I1 = I3 = 5e-324 kg m2 spins at 1e157 rad/s: w^2 overflowed in the energy the Dataset recomputes
-    (fuzz seed 271: NumPy's overflow warning on stderr); (I w) w does not."""
-    model = heavy_top(5e-324, 5e-324, 1e-9, np.radians(153.2), omega3=0.0)
+    """I1 = I3 = 5e-324 kg m2 spun at 1e157 rad/s: w^2 overflowed in the energy the Dataset recomputes
+    (fuzz seed 271: NumPy's overflow warning on stderr); (I w) w does not. Subnormal moments are refused now:
+    the smallest normal ones, 2.3e-308 kg m2, under M g l = 1e10 J reach 6.6e158 rad/s, and w^2 overflows the same."""
+    with pytest.raises(InputError, match="I1: got 5e-324; allowed: a moment of at least 2.225e-308 kg m2"):
+        heavy_top(5e-324, 5e-324, 1e-9, np.radians(153.2), omega3=0.0)
+    model = heavy_top(2.3e-308, 2.3e-308, 1e10, np.radians(153.2), omega3=0.0)
     mo = model.motion(np.linspace(0.0, 10 * model.nutation_period, samples))
     assert np.all(np.isfinite(mo.energy))
     np.testing.assert_allclose(mo.energy, model.energy, rtol=1e-12)

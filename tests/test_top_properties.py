@@ -7,6 +7,7 @@ slow to fast spin, all nutation classes) and checks what must hold exactly.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -48,6 +49,9 @@ def build(p, **over):
         )
     except InputError as exc:
         assume(not (exc.parameter == "thetadot0" and "separatrix" in str(exc)))
+        # Subnormal M g l and theta0 are refused (they keep a few digits, or none). Skipped here rather than kept
+        # out of the strategy, whose other draws would then change (see the known failure below).
+        assume("the smallest normal double" not in str(exc))
         raise
 
 
@@ -154,3 +158,17 @@ def test_quaternion_integration_agrees_where_euler_angles_break_down():
         wn, qn = integrate_top(1.0, 0.5, 1.0, w[0], q[0], t, rtol=1e-12)
         assert np.max(angle(q, qn)) < 1e-9
         assert np.max(np.abs(w - wn)) < 1e-9 * np.max(np.abs(w))
+
+
+@pytest.mark.xfail(strict=True, reason="known, not yet fixed: a restart next to the vertical (2026-11-29)")
+def test_restarting_a_top_that_tumbles_through_the_vertical():
+    """Found by this file's property test when its draws changed: a top without gravity and with I1 = I3, released
+    upright (theta0 = 0) with thetadot0 = 1 rad/s, tumbles through the vertical (cusps). Restarted from its own state
+    at t = 1 s (theta = 1 rad, phidot0 = 1.5e-16 rad/s of rounding) it is classed "undulating" and its attitude
+    differs by up to 3 rad. The same at 7db9f92 (before the session that found it): the pass 1e-16 from the pole
+    is not followed as the pass through it that the original makes. Strict: it fails here until that is fixed."""
+    mdl = heavy_top(1.0, 1.0, 0.0, 0.0, 1.0, 0.0, omega3=0.0)
+    w1, q1 = mdl.evaluate(np.array([1.0]))
+    again = heavy_top_from_state(mdl.I1, mdl.I3, mdl.mgl, w1[0], q1[0])
+    dt = np.array([0.0, 0.5, 2.3, 9.0])
+    assert np.max(angle(again.attitude(dt), mdl.attitude(1.0 + dt))) < 1e-10

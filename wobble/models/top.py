@@ -148,6 +148,13 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         raise InputError("I3", I3, f"I3 <= 2 I1 = {2 * I1:g} kg m2 (a real body has I3 <= I1 + I2)")
     if mgl < 0:
         raise InputError("mgl", mgl, "M g l >= 0 (J): the centre of mass on the symmetry axis, above the tip")
+    # Subnormal inputs keep a few digits, or none, and every product of them prints wrong figures (I1 = 1.2e-315
+    # kg m2 printed p_phi = 2.5e-315 to seven digits): the smallest normal double, as for theta0 and the solids.
+    for name, value in (("I1", I1), ("I3", I3)):
+        if value < _TINY:
+            raise InputError(name, value, f"a moment of at least {_TINY:.4g} kg m2, the smallest normal double")
+    if 0 < mgl < _TINY:
+        raise InputError("mgl", mgl, f"0 (no gravity) or at least {_TINY:.4g} J, the smallest normal double")
     if ml2 is not None:
         ml2 = _finite("M l^2", ml2, "a finite M l^2 (kg m2)")
         if I1 < ml2 * (1 - 8 * _EPS):
@@ -602,7 +609,10 @@ def heavy_top(
     if 0.0 < theta0 < _TINY:
         # A subnormal tilt keeps a few of its digits (1e-320 rad was reported as 5.729531e-319 deg).
         raise InputError(
-            "theta0", theta0, f"0 (upright) or a tilt of at least {_TINY:.4g} rad, the smallest normal double"
+            "theta0",
+            theta0,
+            f"0 (upright) or a tilt of at least {_TINY:.4g} rad ({np.degrees(_TINY):.4g} deg), the smallest normal "
+            "double",
         )
     thetadot0 = _finite("thetadot0", thetadot0, "a finite rate (rad/s)") + 0.0
     phidot0 = _finite("phidot0", phidot0, "a finite rate (rad/s)") + 0.0
