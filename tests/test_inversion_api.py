@@ -416,11 +416,14 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "--body-file: got " in err and "allowed: an existing file (there is no such file), or a shipped one" in err
     assert main(["invert", "mars", "--body-file", str(tmp_path), "--steps", "10"]) == 2
-    assert "(it is a folder)" in capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1 and "(it is a folder)" in captured.err
     # A shipped planet file by name, from any folder, as chandler reads it: Mars' setup needs a core density that
     # the example planet does not catalogue, and the refusal names the example's own name.
     assert main(["invert", "mars", "--body-file", "my_planet.toml", "--steps", "10"]) == 2
-    assert "my_planet does not catalogue an uncertainty for fluid_core_density" in capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert "my_planet does not catalogue an uncertainty for fluid_core_density" in captured.err
 
 
 def test_diagnostics_report_the_measured_worst_r_hat_beside_the_thresholds(mars):

@@ -67,8 +67,10 @@ def test_inertia_about_a_point_gives_the_point_in_metres(capsys):
         "--about", "0", "0", "-0.06",
     )  # fmt: skip
     assert about["reference_point_m"] == about["reference_point"] == [0.0, 0.0, -0.06] and d["mass_kg"] == 0.25
-    # Parallel axes: I_xx about the point = I_xx about the centre of mass + m d^2, d = 0.06 m.
-    assert about["tensor_kg_m2"][0][0] == pytest.approx(d["tensor_kg_m2"][0][0] + 0.25 * 0.06**2, rel=1e-14)
+    # The cone's closed form about its centre of mass, 3/80 M (4 r^2 + h^2), and the parallel axes, + M d^2.
+    m, r, h, dist = 0.25, 0.03, 0.08, 0.06
+    assert d["tensor_kg_m2"][0][0] == pytest.approx(3 / 80 * m * (4 * r * r + h * h), rel=1e-14)
+    assert about["tensor_kg_m2"][0][0] == pytest.approx(3 / 80 * m * (4 * r * r + h * h) + m * dist**2, rel=1e-14)
     assert set(about) == set(d)
 
 
@@ -137,6 +139,8 @@ def test_modes_gives_every_body_the_same_figure_keys(capsys):
 def test_modes_names_the_excess_uncertainty_as_every_uncertainty_is(capsys):
     import wobble
 
+    # Plumbing only: the key's name and its unit (per cent of the API's fraction). The value itself is the
+    # propagation tested in tests/test_modes*.py; here it is the same number under its new name.
     for d in _json(capsys, "modes", "earth", "mars"):
         expected = 100 * wobble.normal_modes(d["body"]).core_flattening_excess_uncertainty
         assert d["core_flattening_excess_uncertainty_percent"] == pytest.approx(expected, rel=1e-14)

@@ -8,6 +8,7 @@ polhode of 1e-170 rad/s about e1 was drawn as a body at rest (found by the comma
 from __future__ import annotations
 
 import math
+import re
 
 import mpmath
 import numpy as np
@@ -23,8 +24,8 @@ from wobble.plot._style import norm
 @given(st.lists(st.floats(-1e300, 1e300, allow_nan=False), min_size=3, max_size=3))
 def test_norm_is_the_euclidean_length_at_any_scale(v):
     """Against mpmath at 40 digits, to a few ulps, from subnormal components to 1e300."""
-    mpmath.mp.dps = 40
-    exact = mpmath.sqrt(sum(mpmath.mpf(float(x)) ** 2 for x in v))
+    with mpmath.workdps(40):  # not mp.dps = 40: that leaked into every later test of the worker
+        exact = mpmath.sqrt(sum(mpmath.mpf(float(x)) ** 2 for x in v))
     if exact == 0:
         assert float(norm(v)) == 0.0
         return
@@ -55,5 +56,15 @@ def test_the_free_figure_of_a_tiny_spin_draws_it_as_any_other(omega, recwarn):
     for ax in tiny.axes[:2]:
         for line in ax.get_lines():
             assert np.all(np.isfinite(line.get_ydata())), "a curve of NaN (divided by an underflowed |omega|)"
+    # The values drawn: over 10 s omega does not move (its polhode takes 1e170 s), so the two small components
+    # are omega_k(0) / |omega(0)|, here from mpmath at 30 digits, in the power of ten the axis names.
+    top = tiny.axes[0]
+    power = re.search(r"10\^\{(-?\d+)\}", top.get_ylabel())
+    scale = 10.0 ** int(power.group(1)) if power else 1.0
+    with mpmath.workdps(30):
+        norm_exact = mpmath.sqrt(sum(mpmath.mpf(w) ** 2 for w in omega))
+        want = sorted(float(mpmath.mpf(omega[k]) / norm_exact) for k in (1, 2))
+    drawn = sorted(float(np.mean(line.get_ydata())) * scale for line in top.get_lines()[:2])
+    np.testing.assert_allclose(drawn, want, rtol=1e-14, atol=1e-15)  # atol: rounding, in units of |omega(0)|
     assert tiny.axes[2].name != "3d" and "seen down $e_1$" in tiny.axes[2].get_title()
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -279,5 +280,12 @@ def test_members_whose_scales_leave_the_float_range_are_invalid_not_warned(tmp_p
     assert captured.err == ""
     data = json.loads(captured.out)
     assert (data["members"], data["valid"]) == (5, 1)
-    earth = wobble.chandler_budget("earth").period.to_value(u.day)
-    assert data["percentiles"]["50"] == pytest.approx(earth, rel=1e-6)
+    # Against nature: the observed Chandler period the catalogue cites (a published value), within the model's
+    # and the observation's sigma together (a model 10 % too soft, 460 d, fails); and the same member as the budget.
+    budget = wobble.chandler_budget("earth")
+    observed, sigma = (
+        budget.observed.to_value(u.day),
+        math.hypot(budget.period_uncertainty.to_value(u.day), budget.observed_uncertainty.to_value(u.day)),
+    )
+    assert abs(data["percentiles"]["50"] - observed) < 2 * sigma
+    assert data["percentiles"]["50"] == pytest.approx(budget.period.to_value(u.day), rel=1e-6)
