@@ -86,8 +86,7 @@ def test_moments_below_the_normal_doubles_are_refused_naming_the_options(argv, o
     assert code == 2 and out == ""
     assert err.strip().splitlines() == [
         f"wobble inertia: error: {options}: got {typed}; allowed: sizes whose moments of inertia are normal "
-        "doubles (at least 2.225e-308 kg m2: below, a double keeps only a few digits, or none; the moments are "
-        "computed in SI, whatever unit the sizes are given in)"
+        "doubles (at least 2.225e-308 kg m2: below, a double keeps only a few digits, or none)"
     ]
 
 

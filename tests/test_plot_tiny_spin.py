@@ -1,4 +1,4 @@
-"""Figures of spins so slow that squaring their components underflows (wobble.plot._style.norm).
+"""Figures of spins so slow that squaring their components underflows (wobble.numerics.scaled_norm.norm).
 
 np.linalg.norm squares before it sums: |omega| of 1e-170 rad/s came out 0 (1e-160 as 9.99994e-161). The free
 figure divided by it (NumPy's divide-by-zero warnings on stderr), drew no curves, and read |omega(0)| = 0; the
@@ -18,7 +18,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import wobble
-from wobble.plot._style import norm
+from wobble.numerics.scaled_norm import norm
 
 
 @given(st.lists(st.floats(-1e300, 1e300, allow_nan=False), min_size=3, max_size=3))

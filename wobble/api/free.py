@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from astropy import units as u
 
+from wobble.numerics.scaled_norm import norm
 from wobble.api.sampling import sample_times
 from wobble.api.units import to_si
 from wobble.errors import InputError
@@ -302,7 +303,7 @@ class FreeRotation:
         I = np.asarray(mdl.moments)
         energy = 0.5 * np.sum((I * omega) * omega, axis=-1)  # (I w) w: I w^2 of I = 1e300, w = 1e-300 is 1e-300
         lw = I * omega
-        lmag = np.hypot(np.hypot(lw[..., 0], lw[..., 1]), lw[..., 2])  # no square to underflow (|L| of 1e-300)
+        lmag = norm(lw)  # scaled: no square to underflow (|L| of 1e-300)
         return self._dataset(ts, omega, q, energy, lmag)
 
     def _times(self, t, t_end, samples):

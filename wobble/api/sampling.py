@@ -12,13 +12,12 @@ from __future__ import annotations
 import astropy.units as u
 import numpy as np
 
+from wobble.numerics.floats import TINY
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.memory import available_memory, human_bytes
 
 __all__ = ["available_memory", "human_bytes", "sample_times", "check_memory", "check_samples", "check_step"]
-
-_SMALLEST_NORMAL = float(np.finfo(float).tiny)
 
 
 def check_memory(n: int, bytes_per_sample: int) -> None:
@@ -61,13 +60,13 @@ def check_step(end: float, samples: int, shown, whose: str = "") -> None:
     Such times are not evenly spaced, and below 2^-1074 s not even distinct: t_end = 5e-324 s gave a file of
     1001 times with 2 values (a time coordinate CF does not allow), and figures of it nothing to draw.
     """
-    least = (samples - 1) * _SMALLEST_NORMAL
+    least = (samples - 1) * TINY
     if samples > 1 and end < least:
         raise InputError(
             "t_end",
             shown,
             f"an end time of at least {least:.4g} s for the {samples} samples{whose}: the step t_end/(samples - 1) "
-            f"must be a normal double (at least {_SMALLEST_NORMAL:.4g} s), or the sample times are neither evenly "
+            f"must be a normal double (at least {TINY:.4g} s), or the sample times are neither evenly "
             "spaced nor distinct",
         )
 

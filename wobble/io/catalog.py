@@ -12,12 +12,12 @@ import os
 from importlib import resources
 from pathlib import Path
 
-import numpy as np
 from astropy import constants as const
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
+from wobble.io.quantity_values import float64_value
 from wobble.models.planet import POSITIVE_KEYS, Measured, PlanetParameters
 
 __all__ = ["PLANET_UNITS", "catalogue_names", "catalogue_file", "load_planet", "planet_from_file"]
@@ -106,9 +106,9 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
     if param.value.size != 1:
         raise FileFormatError(pf.path, f"{where}.value", "must be a single number")
     try:
-        with np.errstate(over="ignore"):  # refused below, without astropy's warning first
-            value = float(param.value.to_value(unit))
-            sigma = float(param.uncertainty.to_value(unit))
+        # float64_value: no equivalencies, and an overflow is inf (refused below) without astropy's warning first.
+        value = float(float64_value(param.value, unit))
+        sigma = float(float64_value(param.uncertainty, unit))
     except u.UnitConversionError:
         raise wrong_unit(pf, key, unit) from None
     typed = _typed(param)

@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wobble.numerics.floats import HUGE, TINY
 from wobble.errors import InputError
 from wobble.numerics.symmetric_eigen import canonical_frame, degenerate_pairs, symmetric_eigen3
 
@@ -110,14 +111,13 @@ class BelowNormal(ArithmeticError):
 
 
 #: The smallest normal double: a moment below it is subnormal (a few digits, or 0).
-SMALLEST_NORMAL = float(np.finfo(float).tiny)
 
 
 def check_normal(moments, may_vanish=()) -> None:
     """Raise :class:`BelowNormal` if a moment (kg m^2) is below the normal doubles; the indices in
     ``may_vanish`` are moments that are 0 by construction (a thin rod's axial moment)."""
     for k, v in enumerate(np.asarray(moments, dtype=float).reshape(-1)):
-        if k not in may_vanish and v < SMALLEST_NORMAL:
+        if k not in may_vanish and v < TINY:
             raise BelowNormal
 
 
@@ -148,16 +148,14 @@ def overflow_is_input_error(fn):
             raise InputError(
                 fn.__name__,
                 ", ".join(map(str, [*args, *kwargs.values()])),
-                "sizes whose moments of inertia fit double precision (below about 1e308 kg m2: the moments are "
-                "computed in SI, whatever unit the sizes are given in)",
+                f"sizes whose moments of inertia fit double precision (below {HUGE:.4g} kg m2)",
             ) from None
         except BelowNormal:
             raise InputError(
                 fn.__name__,
                 ", ".join(map(str, [*args, *kwargs.values()])),
-                f"sizes whose moments of inertia are normal doubles (at least {SMALLEST_NORMAL:.4g} kg m2: "
-                "below, a double keeps only a few digits, or none; the moments are computed in SI, whatever "
-                "unit the sizes are given in)",
+                f"sizes whose moments of inertia are normal doubles (at least {TINY:.4g} kg m2: "
+                "below, a double keeps only a few digits, or none)",
             ) from None
 
     return checked
@@ -381,8 +379,7 @@ class Body:
                 raise InputError(
                     name,
                     value.tolist(),
-                    "finite values: the inputs overflow double precision in SI (about 1.8e308, whatever unit "
-                    "they are given in)",
+                    f"finite values: the inputs overflow double precision (beyond {HUGE:.4g} in SI)",
                 )
         if self.mass is not None and not math.isfinite(self.mass):
             raise InputError("mass", self.mass, "a finite mass: the inputs overflow double precision")

@@ -45,12 +45,13 @@ from __future__ import annotations
 
 import decimal
 import math
-import sys
 from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
 
+from wobble.numerics.scaled_norm import norm
+from wobble.numerics.floats import HUGE, TINY
 from wobble.errors import InputError
 from wobble.models.principal_axes import proper_signs, to_sorted, to_user
 from wobble.models.vocabulary import Regime
@@ -105,12 +106,10 @@ class _Steady:
 
     def attitude_at(self, t):
         w = np.asarray(self.omega)
-        big = float(np.max(np.abs(w)))
-        # Scaled first: the squares of a spin of 1e-200 rad/s (a body of 1e200 kg m2) underflow, and the axis
+        # A scaled norm: the squares of a spin of 1e-200 rad/s (a body of 1e200 kg m2) underflow, and the axis
         # of its rotation would fall back to z.
-        w = w / big if big > 0 else w
-        norm = np.linalg.norm(w)
-        axis = w / norm if norm > 0 else np.array([0.0, 0.0, 1.0])
+        length = float(norm(w))
+        axis = w / length if length > 0 else np.array([0.0, 0.0, 1.0])
         half, _ = reduce_phase(t, self.half_rate, _TWO_PI_DD)
         return np.concatenate([np.cos(half)[..., None], np.sin(half)[..., None] * axis], axis=-1)
 
@@ -576,7 +575,7 @@ def _check_energy_normal(omega0, w_user, two_e: Fraction) -> None:
     the largest double (|omega| = 1e-310 rad/s of a body of 1 kg m2: 6e310 s). Tiny rates of a body
     with large moments are kept: the energy is the bound, not the rates.
     """
-    tiny = Fraction(sys.float_info.min)
+    tiny = Fraction(TINY)
     if 0 < two_e < 2 * tiny:
         w2 = sum(x * x for x in w_user)
         least = hp.sqrt(w2 * 2 * tiny / two_e)
@@ -584,7 +583,7 @@ def _check_energy_normal(omega0, w_user, two_e: Fraction) -> None:
         raise InputError(
             "omega0",
             omega0,
-            f"rates whose kinetic energy 1/2 sum I w^2 is 0 or at least {sys.float_info.min:.4g} J, the "
+            f"rates whose kinetic energy 1/2 sum I w^2 is 0 or at least {TINY:.4g} J, the "
             f"smallest normal double (here {hp.dec(two_e / 2):.3g} J): in this direction "
             f"|omega| >= {least:.3g} rad/s",
         )
@@ -598,7 +597,7 @@ def _check_period(omega0, period) -> None:
             "omega0",
             omega0,
             f"rates whose period of omega fits double precision (here {period:.3g} s, past "
-            f"{sys.float_info.max:.4g} s): faster rates, or moments less nearly equal",
+            f"{HUGE:.4g} s): faster rates, or moments less nearly equal",
         )
 
 
@@ -639,8 +638,7 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
         raise InputError(
             "omega0",
             omega0,
-            f"rates whose energy fits double precision: 2E = sum I w^2 and L^2 = sum (I w)^2 "
-            f"below {sys.float_info.max:.4g} in SI",
+            f"rates whose energy fits double precision: 2E = sum I w^2 and L^2 = sum (I w)^2 below {HUGE:.4g} in SI",
         )
     _check_energy_normal(omega0, w_user, two_e)
     energy = float(two_e / 2)

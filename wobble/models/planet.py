@@ -20,11 +20,11 @@ Any two of H, J2, C/(Ma^2) fix the third (H = J2 / (C/Ma^2)).
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass, fields
 
 import numpy as np
 
+from wobble.numerics.floats import SQRT_HUGE, SQRT_TINY
 from wobble.errors import InputError
 
 __all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS", "POSITIVE_KEYS", "SCALE_RANGE"]
@@ -49,7 +49,7 @@ POSITIVE_KEYS = (
 #: The range each scale a planet's values form must lie in (SI): the square root of the float range, so that the
 #: uncertainty propagation's squares of them stay finite (PlanetParameters checks a file; the Chandler model's
 #: members of a sweep or a Monte Carlo are marked invalid outside it).
-SCALE_RANGE = (math.sqrt(sys.float_info.min), math.sqrt(sys.float_info.max))
+SCALE_RANGE = (SQRT_TINY, SQRT_HUGE)
 
 
 @dataclass(frozen=True)

@@ -77,6 +77,7 @@ from wobble.models.top_closed_form import Elliptic
 from wobble.models.top_setup import DIGITS, TopSetup, analyse, context, to_decimal
 from wobble.numerics import compiled
 from wobble.numerics import highprec as hp
+from wobble.numerics.floats import TINY
 from wobble.numerics.phase import REACH
 
 __all__ = [
@@ -97,7 +98,6 @@ NUTATION_CLASSES = ("undulating", "cusps", "loops", "regular", "sleeping")
 #: nutation periods (tests/references/heavy_top_very_long.json).
 MAX_TURNS = REACH
 _EPS = float(np.finfo(float).eps)
-_TINY = float(np.finfo(float).tiny)
 _COMPILED_SETUP_FROM = compiled.LONG_ARRAY
 
 
@@ -115,7 +115,7 @@ def _finite(name: str, value, allowed: str) -> float:
         raise InputError(name, value, allowed) from None
     if not np.isfinite(x):
         raise InputError(name, value, allowed)
-    return x
+    return x + 0.0  # -0.0 given (--theta0 -0.0) is 0, not "theta min, max -0, -0 deg" in every report
 
 
 def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = None) -> tuple[float, float, float]:
@@ -151,10 +151,10 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
     # Subnormal inputs keep a few digits, or none, and every product of them prints wrong figures (I1 = 1.2e-315
     # kg m2 printed p_phi = 2.5e-315 to seven digits): the smallest normal double, as for theta0 and the solids.
     for name, value in (("I1", I1), ("I3", I3)):
-        if value < _TINY:
-            raise InputError(name, value, f"a moment of at least {_TINY:.4g} kg m2, the smallest normal double")
-    if 0 < mgl < _TINY:
-        raise InputError("mgl", mgl, f"0 (no gravity) or at least {_TINY:.4g} J, the smallest normal double")
+        if value < TINY:
+            raise InputError(name, value, f"a moment of at least {TINY:.4g} kg m2, the smallest normal double")
+    if 0 < mgl < TINY:
+        raise InputError("mgl", mgl, f"0 (no gravity) or at least {TINY:.4g} J, the smallest normal double")
     if ml2 is not None:
         ml2 = _finite("M l^2", ml2, "a finite M l^2 (kg m2)")
         if I1 < ml2 * (1 - 8 * _EPS):
@@ -164,7 +164,7 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
                 f"I1 >= M l^2 = {ml2:g} kg m2 (the moment about the tip includes M l^2; "
                 "I1 must be about the tip, not the centre of mass)",
             )
-    return I1, I3, mgl + 0.0  # M g l = -0.0 is 0
+    return I1, I3, mgl
 
 
 def sleeping_top_stable(I1: float, I3: float, mgl: float, omega3: float) -> bool:
@@ -602,22 +602,21 @@ def heavy_top(
         both or neither of omega3 and psidot0.
     """
     I1, I3, mgl = check_top_parameters(I1, I3, mgl, ml2)
-    # x + 0.0: a -0.0 given (--theta0 -0.0) is 0, not "theta min, max -0, -0 deg" in every report.
-    theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad") + 0.0
+    theta0 = _finite("theta0", theta0, "an angle in [0, pi] rad")
     if not 0.0 <= theta0 <= np.pi:
         raise InputError("theta0", theta0, "an angle in [0, pi] rad (0 = upright)")
-    if 0.0 < theta0 < _TINY:
+    if 0.0 < theta0 < TINY:
         # A subnormal tilt keeps a few of its digits (1e-320 rad was reported as 5.729531e-319 deg).
         raise InputError(
             "theta0",
             theta0,
-            f"0 (upright) or a tilt of at least {_TINY:.4g} rad ({np.degrees(_TINY):.4g} deg), the smallest normal "
+            f"0 (upright) or a tilt of at least {TINY:.4g} rad ({np.degrees(TINY):.4g} deg), the smallest normal "
             "double",
         )
-    thetadot0 = _finite("thetadot0", thetadot0, "a finite rate (rad/s)") + 0.0
-    phidot0 = _finite("phidot0", phidot0, "a finite rate (rad/s)") + 0.0
-    phi0 = _finite("phi0", phi0, "a finite angle (rad)") + 0.0
-    psi0 = _finite("psi0", psi0, "a finite angle (rad)") + 0.0
+    thetadot0 = _finite("thetadot0", thetadot0, "a finite rate (rad/s)")
+    phidot0 = _finite("phidot0", phidot0, "a finite rate (rad/s)")
+    phi0 = _finite("phi0", phi0, "a finite angle (rad)")
+    psi0 = _finite("psi0", psi0, "a finite angle (rad)")
     if (omega3 is None) == (psidot0 is None):
         raise InputError("omega3, psidot0", (omega3, psidot0), "exactly one of omega3 and psidot0")
     if theta0 == np.pi:
@@ -631,9 +630,9 @@ def heavy_top(
         s0 = 2 * sh * ch
         u0 = ch * ch - sh * sh
         if omega3 is not None:
-            w3 = to_decimal(_finite("omega3", omega3, "a finite spin rate (rad/s)") + 0.0)
+            w3 = to_decimal(_finite("omega3", omega3, "a finite spin rate (rad/s)"))
         else:
-            w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)") + 0.0) + to_decimal(phidot0) * u0
+            w3 = to_decimal(_finite("psidot0", psidot0, "a finite spin rate (rad/s)")) + to_decimal(phidot0) * u0
         v0 = to_decimal(phidot0) * s0
         td = to_decimal(thetadot0)
         kin = td * td + v0 * v0

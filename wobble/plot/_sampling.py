@@ -58,7 +58,7 @@ import math
 
 import numpy as np
 
-from wobble.plot._style import norm
+from wobble.numerics.scaled_norm import norm
 from wobble.models import euler_rates
 from wobble.numerics import quaternion as quat
 

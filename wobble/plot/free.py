@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from astropy import units as u
 
+from wobble.numerics.scaled_norm import norm
 from wobble.api.sampling import check_samples, check_step
 from wobble.api.free import BYTES_PER_SAMPLE, FreeRotation
 from wobble.api.units import to_si
@@ -20,7 +21,6 @@ from wobble.plot._style import (
     finite_range,
     largest,
     legend_beside,
-    norm,
     power_axis,
     power_of_ten,
     start_text,
