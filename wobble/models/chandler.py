@@ -50,7 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wobble.errors import InputError
-from wobble.models.planet import FIGURE_KEYS, POSITIVE_KEYS, SCALE_RANGE, Measured, PlanetParameters
+from wobble.models.planet import FIGURE_KEYS, POSITIVE_KEYS, SCALE_RANGE, Measured, PlanetParameters, scales
 
 __all__ = [
     "STEPS",
@@ -392,24 +392,14 @@ class ParameterValues:
         if self.v["anelastic_exponent"] is not None:
             alpha = self.v["anelastic_exponent"]
             yield "anelastic_exponent", "an exponent in (0, 1)", (alpha > 0) & (alpha < 1)
-        # The scales a planet file is held to (PlanetParameters: the square root of the float range), for the
-        # members of a sweep or a Monte Carlo: a sweep's spin of 1e-300 rad/s was a valid member with a period
-        # of 2e298 d, and NumPy's overflow warnings came with an infinite spread.
+        # The scales a planet file is held to (wobble.models.planet.scales, within SCALE_RANGE), for the members of
+        # a sweep or a Monte Carlo: a sweep's spin of 1e-300 rad/s was a valid member with a period of 2e298 d,
+        # and NumPy's overflow warnings came with an infinite spread.
         lo, hi = SCALE_RANGE
-        omega = self.v["rotation_rate"]
-        if omega is not None:
-            with np.errstate(all="ignore"):
-                sq = omega * omega
-            yield (
-                "rotation_rate",
-                f"a rate whose square lies from {lo:.2g} to {hi:.2g} (rad/s)^2",
-                (sq >= lo) & (sq <= hi),
-            )
-            if self.v["gm"] is not None and self.v["equatorial_radius"] is not None:
-                a = self.v["equatorial_radius"]
-                with np.errstate(all="ignore"):
-                    q = np.abs(sq * a * a * a / self.v["gm"])
-                yield "gm", f"values whose Omega^2 a^3 / GM lies from {lo:.2g} to {hi:.2g}", (q >= lo) & (q <= hi)
+        with np.errstate(all="ignore"):
+            for keys, formula, value in scales(self.v):
+                inside = (np.abs(value) >= lo) & (np.abs(value) <= hi)
+                yield keys[0], f"values whose {formula} lies from {lo:.2g} to {hi:.2g} in SI units", inside
 
     def first_out_of_range(self):
         """(key, value, allowed) of the first parameter outside its range (of the first member outside

@@ -27,7 +27,7 @@ import numpy as np
 from wobble.numerics.floats import SQRT_HUGE, SQRT_TINY
 from wobble.errors import InputError
 
-__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS", "POSITIVE_KEYS", "SCALE_RANGE"]
+__all__ = ["Measured", "PlanetParameters", "FIGURE_KEYS", "POSITIVE_KEYS", "SCALE_RANGE", "scales"]
 
 FIGURE_KEYS = ("dynamical_flattening", "j2", "polar_moment_factor")
 # Parameters that are positive by their nature (catalogue checks, sweep validity).
@@ -50,6 +50,32 @@ POSITIVE_KEYS = (
 #: uncertainty propagation's squares of them stay finite (PlanetParameters checks a file; the Chandler model's
 #: members of a sweep or a Monte Carlo are marked invalid outside it).
 SCALE_RANGE = (SQRT_TINY, SQRT_HUGE)
+
+
+def scales(v):
+    """(parameters, formula, values) of each combination the models form from a planet's values: the mapping
+    ``v`` of :meth:`PlanetParameters.values` (scalars) or of a sweep's members (arrays), None where not given.
+
+    In NumPy floats, so that an overflow gives inf rather than Python's OverflowError; the callers hold each
+    to :data:`SCALE_RANGE` (a planet file refused, a sweep's member invalid) under ``np.errstate(all="ignore")``.
+    """
+
+    def get(key):
+        return None if v.get(key) is None else np.asarray(v[key], dtype=np.float64)
+
+    omega = get("rotation_rate")
+    yield ("rotation_rate",), "Omega^2", omega * omega
+    gm, a = get("gm"), get("equatorial_radius")
+    if gm is not None and a is not None:
+        # q = Omega^2 a^3/(GM): the centrifugal ratio, and 3 H C/(M a^2) over it the secular Love number k_s.
+        yield ("gm", "equatorial_radius", "rotation_rate"), "Omega^2 a^3 / GM", omega * omega * a * a * a / gm
+        yield ("gm", "equatorial_radius"), "M a^2 = (GM / G) a^2", gm / get("gravitational_constant") * a * a
+    r, rho = get("fluid_core_radius"), get("fluid_core_density")
+    if r is not None and rho is not None:
+        yield ("fluid_core_radius", "fluid_core_density"), "A_f = (8 pi/15) rho R^5", 8 * np.pi / 15 * rho * r**5
+    orbit = get("orbit_semi_major_axis")
+    if orbit is not None:
+        yield ("orbit_semi_major_axis",), "a^3 of the orbit", orbit * orbit * orbit
 
 
 @dataclass(frozen=True)
@@ -187,24 +213,6 @@ class PlanetParameters:
         self._check_core()
         self._check_scales()
 
-    def _scales(self):
-        """(parameters, formula, value) of each combination the models form from the given values (NumPy
-        floats: overflow gives inf, not Python's OverflowError)."""
-        f = np.float64
-        omega = f(self.rotation_rate.value)
-        yield ("rotation_rate",), "Omega^2", omega * omega
-        if self.gm is not None and self.equatorial_radius is not None:
-            a, gm = f(self.equatorial_radius.value), f(self.gm.value)
-            # q = Omega^2 a^3/(GM): the centrifugal ratio, and 3 H C/(M a^2) over it the secular Love number k_s.
-            yield ("gm", "equatorial_radius", "rotation_rate"), "Omega^2 a^3 / GM", omega * omega * a * a * a / gm
-            yield ("gm", "equatorial_radius"), "M a^2 = (GM / G) a^2", gm / f(self.gravitational_constant.value) * a * a
-        if self.fluid_core_radius is not None:
-            r, rho = f(self.fluid_core_radius.value), f(self.fluid_core_density.value)
-            yield ("fluid_core_radius", "fluid_core_density"), "A_f = (8 pi/15) rho R^5", 8 * np.pi / 15 * rho * r**5
-        if self.orbit_semi_major_axis is not None:
-            a = f(self.orbit_semi_major_axis.value)
-            yield ("orbit_semi_major_axis",), "a^3 of the orbit", a * a * a
-
     def _check_scales(self):
         """Every combination of the given values that the models form is a normal float.
 
@@ -216,7 +224,7 @@ class PlanetParameters:
         # these scales (a period of 1e150 h passed a check at the range itself, and the draws' variance overflowed).
         tiny, huge = SCALE_RANGE
         with np.errstate(all="ignore"):
-            for keys, formula, value in self._scales():
+            for keys, formula, value in scales(self.values()):
                 if not (np.isfinite(value) and tiny <= abs(value) <= huge):
                     raise InputError(
                         ", ".join(keys),
