@@ -59,13 +59,11 @@ def report(a) -> str:
         + " d; adopted = max(autocorrelation, subspans, excitation) with the model term in quadrature"
     )
     lines.append(f"  {a.agreement_text()}")
-    separable = e.raw.details.get("separable", True)
     lines.append(
         f"  annual wobble: prograde {_fmt(e.annual_prograde_amplitude, 1)} +/- "
         f"{_fmt(e.annual_prograde_amplitude_uncertainty, 1)} mas, "
         f"retrograde {_fmt(e.annual_retrograde_amplitude, 1)} +/- "
-        f"{_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas"
-        + ("" if separable else " (prograde not separable from the Chandler term)")
+        f"{_fmt(e.annual_retrograde_amplitude_uncertainty, 1)} mas" + e.annual_note
     )
     lines.append(
         f'  mean pole at {iso_date(e.epoch)}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '

@@ -329,7 +329,7 @@ class PolarMotionAnalysis:
             "  annual wobble: prograde "
             f"{pm(e.annual_prograde_amplitude, e.annual_prograde_amplitude_uncertainty, 1)} mas, "
             f"retrograde {pm(e.annual_retrograde_amplitude, e.annual_retrograde_amplitude_uncertainty, 1)} mas"
-            + ("" if e.raw.details.get("separable", True) else " (prograde not separable from the Chandler term)"),
+            + e.annual_note,
         ]
         if not self.comparable:
             lines.append(f"  {self.agreement_text()}")

@@ -174,6 +174,12 @@ class ChandlerEstimate:
         return self.raw.resolved
 
     @property
+    def annual_note(self) -> str:
+        """What to say after the annual terms: where the Chandler term cannot be told from the prograde annual one,
+        that; else "" (one wording for the text report and the summary)."""
+        return "" if self.raw.details.get("separable", True) else " (prograde not separable from the Chandler term)"
+
+    @property
     def unresolved_because(self) -> str:
         """Why no Chandler term is resolved, in a few words ("" when one is)."""
         details = self.raw.details
