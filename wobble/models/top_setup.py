@@ -463,6 +463,12 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         else:
             w0 = _f(sn0) * float(elliprf(_f(cn0_2), _f(dn0_2), 1.0))
         hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
+        # Through the bottom, cos(theta/2) is carried signed, hy2 sn(w): negative at t = 0 when the top
+        # starts towards the bottom (sn w0 < 0). The quaternion (ch cos sigma, sh cos delta, sh sin delta,
+        # ch sin sigma) is then the start's only if sigma carries pi more; without it a top released with
+        # thetadot0 > 0 (a planar pendulum swinging down) started mirrored, R_x(-theta0) for R_x(theta0).
+        # (Through the top sin(theta/2) = hx1 cn(w) needs nothing: cn w0 >= 0 for |w0| <= K.)
+        sigma0 = st.sigma0 + (hp.PI if bottom and sn0 < 0 else 0)
         impl0 = dict(
             hx1=_f(hx1),
             hy2=_f(hy2),
@@ -493,15 +499,15 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             pi_minus_over_k=_f(pi_minus / kdec),
             k_plus=_f(b_eff / (2 * lam * x1)),
             k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
-            sigma_sec=secular_phase(sigma_rate, lam, kdec, st.sigma0),
+            sigma_sec=secular_phase(sigma_rate, lam, kdec, sigma0),
             delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
             phi_sec=secular_phase(
                 mean_phidot if not (top or bottom) else (b_eff * mean_inv_x + c_eff * mean_inv_y) / 2,
                 lam,
                 kdec,
-                st.sigma0 + st.delta0,
+                sigma0 + st.delta0,
             ),
-            psi_sec=secular_phase(sigma_rate - delta_rate, lam, kdec, st.sigma0 - st.delta0),
+            psi_sec=secular_phase(sigma_rate - delta_rate, lam, kdec, sigma0 - st.delta0),
             levels=levels,
         )
         # The reduced phase at t = 0. The reduction of lambda t + w0
