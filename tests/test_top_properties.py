@@ -221,3 +221,9 @@ def test_a_planar_swing_starts_where_it_is_put(mgl, thetadot0):
     assert mo.thetadot[0] == pytest.approx(thetadot0, rel=1e-15)
     # omega in the body frame: thetadot along the line of nodes, (cos psi, -sin psi, 0) in body axes.
     assert np.allclose(mo.omega[0], thetadot0 * np.array([np.cos(psi0), -np.sin(psi0), 0.0]), rtol=0, atol=1e-15)
+    # ... and then moves as the equations of motion say (DOP853 on omega and q from the given state, not the model's).
+    t = np.linspace(0.0, 2.5 * mdl.nutation_period, 51)
+    w0 = thetadot0 * np.array([np.cos(psi0), -np.sin(psi0), 0.0])
+    q0 = euler_quaternion(phi0, np.array(theta0), psi0)
+    wn, qn = integrate_top(1.3, 0.6, mgl, w0, q0, t, rtol=1e-12)
+    assert np.max(angle(mdl.attitude(t), qn)) < 1e-9
