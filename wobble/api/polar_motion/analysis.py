@@ -468,7 +468,9 @@ def polar_motion_analysis(
     caveats = list(ls.caveats)
     # The spectral estimate's own, where it resolves no peak (its edge caveat had stayed in its JSON alone, while
     # the text compared its band-edge 390 d with the least squares).
-    caveats += [c for c in sp.caveats if not sp.resolved and c not in caveats and "edge" in c]
+    edge = sp.details.get("edge_caveat")
+    if edge and edge not in caveats:
+        caveats.append(edge)
     if wf.unresolved:
         lo, hi = (b / _pm.DAY for b in _pm.CHANDLER_BAND)
         caveats.append(

@@ -182,16 +182,23 @@ def fit_spectrum(
             "span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak"
         )
     at_edge = not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d)
+    edge_caveat = (
+        f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
+        "no Chandler peak is resolved in this span"
+    )
     if at_edge:
-        caveats.append(
-            f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
-            "no Chandler peak is resolved in this span"
-        )
+        caveats.append(edge_caveat)
     nan = math.nan
     ann_sig = [(nan, nan), (nan, nan)]
     sig_rate = sig_amp = sig_phase = nan
     pu = au = Uncertainty(nan, nan, nan, nan, nan)
-    details: dict = {"taper": kind, "at_edge": bool(at_edge), "band": band}
+    # The edge caveat by itself too: the analysis passes on this one of the spectrum's caveats (not its span's).
+    details: dict = {
+        "taper": kind,
+        "at_edge": bool(at_edge),
+        "band": band,
+        "edge_caveat": edge_caveat if at_edge else None,
+    }
     if uncertainty:
         fitted = (rate, ANNUAL_RATE, -ANNUAL_RATE)
         level = _local_level(s, w * resid, w, rate, span, kind, fitted)
