@@ -388,6 +388,12 @@ def test_ratios_keep_precision_when_given_directly():
     # M/5 = 1. Its size, not its sign: the pair lies within the frame's tolerance (rtol), so which of the two
     # axes carries which moment is the canonical frame's convention (the sign was hidden by approx's abs 1e-12).
     assert abs(d[0, 1]) == pytest.approx((b - a) * (b + a), rel=1e-15)
+    # With a tolerance below the pair's splitting (1.8e-13 of I) the frame resolves it, and the physics fixes the
+    # sign: x carries I_x = M (b^2 + c^2)/5, y carries I_y = M (a^2 + c^2)/5, so I_x - I_y = M (b^2 - a^2)/5 > 0.
+    resolved = e.principal(order="input", rtol=1e-14)
+    np.testing.assert_array_equal(resolved.axes, np.eye(3))
+    assert resolved.differences.to_value(KGM2)[0, 1] == pytest.approx((b - a) * (b + a), rel=1e-15)
+    assert resolved.differences.to_value(KGM2)[1, 0] == pytest.approx(-(b - a) * (b + a), rel=1e-15)
     # Moments given in g cm2 that differ in the 13th digit: the difference survives the unit change.
     moments = [8.0e44, 8.0e44 * (1 + 1e-12), 8.03e44] * u.g * u.cm**2
     body = RigidBody.from_principal_moments(moments)

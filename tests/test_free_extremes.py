@@ -95,16 +95,38 @@ def test_a_period_past_the_largest_double_is_refused(capsys):
     assert "6.28e+310 s" in line
 
 
+def _closed_form_period(moments, omega) -> mp.mpf:
+    """omega's period 4 K(k^2) / lambda from the moments and omega(0), at 40 digits (Landau & Lifshitz,
+    Mechanics, sec. 37): lambda^2 = (I3 - I2)(L^2 - 2T I1) / (I1 I2 I3),
+    k^2 = (I2 - I1)(2T I3 - L^2) / ((I3 - I2)(L^2 - 2T I1)) for I1 < I2 < I3 and L^2 > 2T I2
+    (I1 and I3 exchanged below it)."""
+    with mp.workdps(40):
+        inertia = [mp.mpf(x) for x in moments]
+        w = [mp.mpf(x) for x in omega]
+        two_t = sum(i * x * x for i, x in zip(inertia, w))
+        l2 = sum((i * x) ** 2 for i, x in zip(inertia, w))
+        i1, i2, i3 = inertia if l2 > two_t * inertia[1] else inertia[::-1]
+        lam = mp.sqrt((i3 - i2) * (l2 - two_t * i1) / (i1 * i2 * i3))
+        k2 = (i2 - i1) * (two_t * i3 - l2) / ((i3 - i2) * (l2 - two_t * i1))
+        return 4 * mp.ellipk(k2) / lam
+
+
 def test_a_default_span_past_the_largest_double_names_t_end(capsys):
-    # Period 4 K(1/2) / lambda with lambda^2 = (I3 - I2)(I3 - I1) ... of order 6.4e307 s: 3 periods overflow.
+    # Period 4 K(1/2) / lambda = 6.4227e307 s (L^2 = 14, 2T = 6e-307, k^2 = 1/2): 3 periods overflow.
+    moments, omega = [1e307, 2e307, 3e307], [1e-307] * 3
+    with mp.workdps(40):
+        exact = _closed_form_period(moments, omega)
+        assert 3 * exact > mp.mpf(sys.float_info.max) > exact  # the closed form says the default overflows
     argv = ["free", "--inertia", "1e307", "2e307", "3e307", "--omega", "1e-307", "1e-307", "1e-307"]
     code, out, err = run_cli([*argv, "--plot", "never.png"], capsys)
     line = _one_line(err)
     assert code == 2 and out == ""
     assert line.startswith("wobble free: error: --t-end: missing; allowed: ")
     assert "past the largest double" in line
-    period = FreeRotation([1e307, 2e307, 3e307] * KGM2, [1e-307] * 3 * RAD_S).period.to_value(u.s)
-    assert 3 * float(period) > sys.float_info.max > period
+    # The period the message names (6 digits) and the one the refusal was decided on are the closed form's.
+    assert float(line.split("3 x ")[1].split()[0]) == pytest.approx(float(exact), rel=5e-6)
+    period = FreeRotation(moments * KGM2, omega * RAD_S).period.to_value(u.s)
+    assert period == pytest.approx(float(exact), rel=1e-13)
 
 
 @pytest.mark.parametrize("samples", [1001, 3])

@@ -3,6 +3,9 @@ record: the same whatever frame the body's inertia tensor is written in."""
 
 from __future__ import annotations
 
+import math
+
+import astropy.units as u
 import mpmath
 import numpy as np
 import pytest
@@ -83,10 +86,63 @@ def test_a_perturber_s_own_motion_bounds_what_the_figure_claims_to_resolve():
     assert resolved(rates["angular_momentum"], 86400.0) and not resolved(rates["angular_momentum"], 3 * 86400.0)
 
 
+def _gyroscope_inputs(data: dict) -> dict:
+    """The heavy top a gyroscope scene describes, in SI from its own entries (astropy for the units)."""
+    body, lever, start = data["body"], data["torques"][0], data["initial"]
+    return {
+        "moments": u.Quantity(body["moments"]["value"], body["moments"]["unit"]).to_value(u.kg * u.m**2),
+        "weight": u.Quantity(body["mass"]).to_value(u.kg) * u.Quantity(lever["g"]).to_value(u.m / u.s**2),
+        "lever": u.Quantity(lever["center_of_mass"]["value"], lever["center_of_mass"]["unit"]).to_value(u.m),
+        "angles": u.Quantity(start["euler_angles"]["value"], start["euler_angles"]["unit"]).to_value(u.rad),
+        "rates": u.Quantity(start["euler_rates"]["value"], start["euler_rates"]["unit"]).to_value(u.rad / u.s),
+    }
+
+
+def _heavy_top_omega(data: dict, times) -> np.ndarray:
+    """omega(t) in the body (rad/s) of a scene's top under uniform gravity, from its inputs alone: the
+    Euler-Poisson equations I w' = I w x w + M g n x r, n' = n x w (n the upward vertical in the body, r the
+    centre of mass), from omega(0) and n(0) of the z-x-z Euler angles and rates (omega_1 = phi_dot sin theta
+    sin psi + theta_dot cos psi, ...: the notes, sec. 5.7), integrated by SciPy's DOP853 at rtol 1e-11: no wobble
+    code (it agrees with wobble's run to 1e-12)."""
+    from scipy.integrate import solve_ivp
+
+    top = _gyroscope_inputs(data)
+    i1, i2, i3 = top["moments"]
+    mg = top["weight"]
+    x, y, z = top["lever"]
+    _, theta, psi = top["angles"]
+    dphi, dtheta, dpsi = top["rates"]
+    w0 = [
+        dphi * math.sin(theta) * math.sin(psi) + dtheta * math.cos(psi),
+        dphi * math.sin(theta) * math.cos(psi) - dtheta * math.sin(psi),
+        dphi * math.cos(theta) + dpsi,
+    ]
+    n0 = [math.sin(theta) * math.sin(psi), math.sin(theta) * math.cos(psi), math.cos(theta)]
+
+    def rhs(_, s):
+        w1, w2, w3, n1, n2, n3 = s
+        return [
+            (mg * (n2 * z - n3 * y) + (i2 - i3) * w2 * w3) / i1,
+            (mg * (n3 * x - n1 * z) + (i3 - i1) * w3 * w1) / i2,
+            (mg * (n1 * y - n2 * x) + (i1 - i2) * w1 * w2) / i3,
+            n2 * w3 - n3 * w2,
+            n3 * w1 - n1 * w3,
+            n1 * w2 - n2 * w1,
+        ]
+
+    sol = solve_ivp(rhs, (0.0, times[-1]), w0 + n0, method="DOP853", t_eval=times, rtol=1e-11, atol=1e-14)
+    assert sol.success
+    return sol.y[:3].T
+
+
 def test_a_symmetric_top_with_its_centre_of_mass_off_the_axis_takes_the_general_bound():
     """A symmetric body's torque changes only with its figure axis when it is a tide or a lever along the axis;
     the rule took any symmetric body, and a gyroscope with its centre of mass 1 cm off the axis got 4.9 rad/s
-    where its angular momentum carries its 600 rad/s spin (called resolved at 5 ms samples)."""
+    where its angular momentum carries its 600 rad/s spin (called resolved at 5 ms samples).
+
+    Both bounds from the top's inputs, not from the run: on the axis, twice the figure axis's rate (its speed
+    over its excursion) on the closed-form steady precession; off it, 2 |omega| with omega from the
+    Euler-Poisson equations integrated here, and above the spin line the offset puts in the angular momentum."""
     import tomllib
 
     from wobble.io.scene_file import example_scene_path
@@ -95,9 +151,32 @@ def test_a_symmetric_top_with_its_centre_of_mass_off_the_axis_takes_the_general_
     data = tomllib.loads(example_scene_path("gyroscope").read_text())
     data["outputs"] = ["omega", "attitude", "axis_direction", "angular_momentum"]
     data["time"] = {"stop": "1 s", "samples": 201}
-    on_axis = panel_rates(wobble.run(data))
-    spin = float(np.max(np.linalg.norm(wobble.run(data)["omega"].values, axis=-1)))
-    assert on_axis["angular_momentum"] < 0.1 * spin  # the axis's slow precession and nutation
+    top = _gyroscope_inputs(data)
+    i1, _, i3 = top["moments"]
+    phi_dot, _, psi_dot = top["rates"]
+    theta = top["angles"][1]
+    w3 = psi_dot + phi_dot * math.cos(theta)
+    c, mgl = math.cos(theta), top["weight"] * top["lever"][2]
+    # The shipped start is the slow steady precession (Goldstein, Poole & Safko 2002, eq. 5.73 with theta_dot = 0).
+    assert phi_dot == pytest.approx((i3 * w3 - math.sqrt((i3 * w3) ** 2 - 4 * i1 * mgl * c)) / (2 * i1 * c), rel=1e-9)
+
+    ds = wobble.run(data)
+    t = ds["time"].values
+    # On the axis: the figure axis e3 = (sin theta sin phi, -sin theta cos phi, cos theta), phi = phi_dot t, moves
+    # at phi_dot sin theta; its rate is that over its largest excursion about its mean, and the torque, M g l
+    # z x e3, is at most quadratic in e3 (here linear; the field is fixed: no rate of its own): twice that.
+    e3 = np.stack([np.sin(theta) * np.sin(phi_dot * t), -np.sin(theta) * np.cos(phi_dot * t), np.full_like(t, c)], -1)
+    excursion = np.max(np.abs(e3 - e3.mean(axis=0)))
+    on_axis = panel_rates(ds)["angular_momentum"]
+    assert on_axis == pytest.approx(2 * phi_dot * math.sin(theta) / excursion, rel=1e-7)
+    assert phi_dot < on_axis < 0.1 * w3  # above L's own turn about the vertical (phi_dot), far below the spin
+
     data["torques"][0]["center_of_mass"] = {"value": [0.01, 0.0, 0.04], "unit": "m"}
-    off_axis = panel_rates(wobble.run(data))
-    assert off_axis["angular_momentum"] == pytest.approx(2 * spin, rel=1e-3)  # 2 |omega|: the general rule
+    ds = wobble.run(data)
+    off_axis = panel_rates(ds)["angular_momentum"]
+    # The general rule: 2 |omega|, its largest at the samples, omega from the equations of motion written out.
+    spin = np.max(np.linalg.norm(_heavy_top_omega(data, ds["time"].values), axis=-1))
+    assert off_axis == pytest.approx(2 * spin, rel=1e-9)
+    # The offset across the axis turns with the body, so the torque's part M g (R r_perp) x (-z) runs at
+    # psi_dot +- phi_dot in space (598.3 and 601.2 rad/s, to first order in the offset): the bound covers both.
+    assert off_axis > psi_dot + phi_dot

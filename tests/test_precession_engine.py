@@ -403,7 +403,15 @@ def test_a_user_s_terms_come_first_and_those_the_span_cannot_separate_are_refuse
     given = wobble.measure_precession(ds, node_rate=nu, node_phase=0 * u.rad)
     assert given.perturber is None and given.nutation_longitude is not None
     assert any("left out" in c and "Omega_moon" in c for c in given.caveats)  # its node: the user's, here
-    assert given.nutation_period.to_value(u.yr) == pytest.approx(auto.nutation_period.to_value(u.yr), rel=1e-12)
+    # The principal term's period from the inputs, in Julian years of 365.25 d (the unit the result names):
+    # a user's node, 2 pi/|nu| of the rate given; the Moon's, 2 pi/|Omega_dot - psi_dot| from the scene's node rate
+    # (-500 deg/yr) against the equinox moving at the first-order averaged rate written out (_formula), which
+    # the measured rate meets to 1e-3 of 50 arcsec/yr: 3e-8 of the node's 500 deg/yr.
+    julian_year = 365.25 * 86400.0
+    assert given.nutation_period.to_value(u.yr) == pytest.approx(2 * math.pi / abs(nu.value) / julian_year, rel=1e-14)
+    node_rate = _q(_short_case()["torques"][1]["node_rate"], u.rad / u.s)
+    from_inputs = 2 * math.pi / abs(node_rate - _formula(scene_from_mapping(_short_case()))) / julian_year
+    assert auto.nutation_period.to_value(u.yr) == pytest.approx(from_inputs, rel=1e-7)
     with pytest.raises(
         InputError, match=r"extra: got 'twice' at .* rad/s; allowed: terms whose rates differ from 'annual'"
     ):
