@@ -418,6 +418,11 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys):
     assert main(["invert", "mars", "--body-file", str(tmp_path), "--steps", "10"]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.count("\n") == 1 and "(it is a folder)" in captured.err
+    # An empty path is said to be one (it was called a folder: Path("") is the current folder).
+    assert main(["invert", "mars", "--body-file", "", "--steps", "10"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert "--body-file: got ''; allowed: an existing file (an empty path was given)" in captured.err
     # A shipped planet file by name, from any folder, as chandler reads it: Mars' setup needs a core density that
     # the example planet does not catalogue, and the refusal names the example's own name.
     assert main(["invert", "mars", "--body-file", "my_planet.toml", "--steps", "10"]) == 2
