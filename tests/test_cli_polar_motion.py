@@ -135,7 +135,10 @@ def test_bad_plot_name_refused_before_the_work(tmp_path, capsys):
         (["--start", "2000", "--end", "2012", "--window", "40"], "window: got 40 yr"),
         (["--window", "eight"], "--window: got eight"),
         (["--excitation-q", "lots"], "--excitation-q: got lots"),
-        (["--file", "/nonexistent/eop.txt"], "/nonexistent/eop.txt: no such file"),
+        (
+            ["--file", "/nonexistent/eop.txt"],
+            "--file: got /nonexistent/eop.txt; allowed: an IERS C04 or finals2000A file (there is no such file)",
+        ),
         (["--start", "2000-01-01", "--end", "2001-01-01"], "at least 732.5 d"),
     ],
 )
