@@ -431,6 +431,21 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys):
     assert "my_planet does not catalogue an uncertainty for fluid_core_density" in captured.err
 
 
+def test_a_broken_planet_file_is_named_as_typed(tmp_path, monkeypatch, capsys):
+    """wobble invert mars --body-file ./sub/bad.toml named /abs/path/sub/bad.toml (made absolute so that the
+    setup's folder does not change a relative path's meaning): named as typed, as wobble chandler names it."""
+    from wobble.cli import main
+
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "bad.toml").write_text("garbage = [\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["invert", "mars", "--body-file", "./sub/bad.toml", "--steps", "10", "-o", "out.nc"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert captured.err.startswith("wobble invert: error: ./sub/bad.toml: not valid TOML"), captured.err
+    assert str(tmp_path) not in captured.err and not (tmp_path / "out.nc").exists()
+
+
 def test_diagnostics_report_the_measured_worst_r_hat_beside_the_thresholds(mars):
     """The JSON's diagnostics held r_hat_max = 1.01 and ess_min = 400, the warnings' thresholds, beside
     the measured min_ess; the measured worst R-hat was nowhere. Now max_r_hat is measured (the largest of
