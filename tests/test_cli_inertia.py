@@ -183,7 +183,17 @@ def test_bad_files_are_one_line_errors(capsys, tmp_path):
     bad_grid = _density_file(tmp_path, spacing_ok=False)
     assert "density.x: got spacings" in _error(capsys, "--density", str(bad_grid), "--var", "rho")
     assert "several density candidates" in _error(capsys, "--density", str(bad_grid))
-    assert "variable 'rhp'" in _error(capsys, "--density", str(bad_grid), "--var", "rhp")
+    # Was "PATH, variable 'rhp': not in the file; allowed: ...": the option not named.
+    assert _error(capsys, "--density", str(bad_grid), "--var", "rhp") == (
+        "wobble inertia: error: --var: got rhp; allowed: a data variable of grid.nc: rho, temperature\n"
+    )
+    # A coordinate is in the file but is not a density; an empty name is shown as typed.
+    assert "--var: got x; allowed: a data variable of grid.nc" in _error(
+        capsys, "--density", str(bad_grid), "--var", "x"
+    )
+    assert "--var: got ''; allowed: a data variable of planet.nc: rho" in _error(
+        capsys, "--density", "planet.nc", "--var", ""
+    )
     pts = tmp_path / "p.csv"
     pts.write_text("m, x, y, z\n1, 0, 0, 0\n-1, 1, 0, 0\n")
     assert "masses: got (1, -1) kg; allowed: positive values" in _error(capsys, "--points", str(pts))
