@@ -201,6 +201,21 @@ def test_bad_files_are_one_line_errors(capsys, tmp_path):
     assert f"{pts}, line 2" in _error(capsys, "--points", str(pts))
 
 
+@pytest.mark.parametrize(
+    ("row", "where"),
+    [("1, nan, 0, 1", "line 3, column 'x': got 'nan'"), ("inf, 0, 0, 1", "line 3, column 'm': got 'inf'")],
+)
+def test_a_value_that_is_not_finite_names_the_file_as_typed_its_line_and_column(
+    capsys, tmp_path, monkeypatch, row, where
+):
+    # Was "positions: got (0, 0, 0, nan, 0, 1) m; allowed: finite values": neither the file nor where in it.
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "p.csv").write_text(f"m [g], x [cm], y [cm], z [cm]\n1, 0, 0, 0\n{row}\n")
+    err = _error(capsys, "--points", "./p.csv", "-o", "out.nc")
+    assert err == f"wobble inertia: error: ./p.csv, {where}; allowed: a finite number\n"
+    assert not (tmp_path / "out.nc").exists()
+
+
 def test_usage_errors_exit_2_with_one_line(capsys):
     with pytest.raises(SystemExit) as info:
         main(["inertia", "--solid", "dodecahedron"])
