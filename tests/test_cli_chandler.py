@@ -104,6 +104,8 @@ def test_existing_output_is_not_destroyed(tmp_path, capsys):
         (["chandler", "earth", "--model", "bogus"], "model: got bogus"),
         (["chandler", "mars", "--model", "ocean"], "mars supports"),
         (["chandler", "--body-file", "/nonexistent.toml"], "--body-file: got /nonexistent.toml"),
+        # Was "(it is a folder)": Path("") is the current folder.
+        (["chandler", "--body-file", ""], "--body-file: got ''; allowed: an existing file (an empty path was given)"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, args, fragment):

@@ -183,12 +183,37 @@ def test_bad_files_are_one_line_errors(capsys, tmp_path):
     bad_grid = _density_file(tmp_path, spacing_ok=False)
     assert "density.x: got spacings" in _error(capsys, "--density", str(bad_grid), "--var", "rho")
     assert "several density candidates" in _error(capsys, "--density", str(bad_grid))
-    assert "variable 'rhp'" in _error(capsys, "--density", str(bad_grid), "--var", "rhp")
+    # Was "PATH, variable 'rhp': not in the file; allowed: ...": the option not named.
+    assert _error(capsys, "--density", str(bad_grid), "--var", "rhp") == (
+        "wobble inertia: error: --var: got rhp; allowed: a data variable of grid.nc: rho, temperature\n"
+    )
+    # A coordinate is in the file but is not a density; an empty name is shown as typed.
+    assert "--var: got x; allowed: a data variable of grid.nc" in _error(
+        capsys, "--density", str(bad_grid), "--var", "x"
+    )
+    assert "--var: got ''; allowed: a data variable of planet.nc: rho" in _error(
+        capsys, "--density", "planet.nc", "--var", ""
+    )
     pts = tmp_path / "p.csv"
     pts.write_text("m, x, y, z\n1, 0, 0, 0\n-1, 1, 0, 0\n")
     assert "masses: got (1, -1) kg; allowed: positive values" in _error(capsys, "--points", str(pts))
     pts.write_text("m, x, y, z\n1, 0, 0\n")
     assert f"{pts}, line 2" in _error(capsys, "--points", str(pts))
+
+
+@pytest.mark.parametrize(
+    ("row", "where"),
+    [("1, nan, 0, 1", "line 3, column 'x': got 'nan'"), ("inf, 0, 0, 1", "line 3, column 'm': got 'inf'")],
+)
+def test_a_value_that_is_not_finite_names_the_file_as_typed_its_line_and_column(
+    capsys, tmp_path, monkeypatch, row, where
+):
+    # Was "positions: got (0, 0, 0, nan, 0, 1) m; allowed: finite values": neither the file nor where in it.
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "p.csv").write_text(f"m [g], x [cm], y [cm], z [cm]\n1, 0, 0, 0\n{row}\n")
+    err = _error(capsys, "--points", "./p.csv", "-o", "out.nc")
+    assert err == f"wobble inertia: error: ./p.csv, {where}; allowed: a finite number\n"
+    assert not (tmp_path / "out.nc").exists()
 
 
 def test_usage_errors_exit_2_with_one_line(capsys):

@@ -116,7 +116,17 @@ def test_plot_option_draws_the_figure(tmp_path, capsys):
     [
         (["modes", "pluto"], "BODY: got pluto"),
         (["modes", "mars", "--profile", "prem"], "density profile mass"),
-        (["modes", "earth", "--profile", "/nonexistent.toml"], "profile: got /nonexistent.toml"),
+        # Said why the path is not read (it was told only the names, as for a folder).
+        (
+            ["modes", "earth", "--profile", "/nonexistent.toml"],
+            "--profile: got /nonexistent.toml; allowed: one of mars_layered, prem, or the path of a density-profile "
+            "file (there is no such file)",
+        ),
+        (
+            ["modes", "earth", "--profile", "."],
+            "--profile: got .; allowed: one of mars_layered, prem, or the path of a "
+            "density-profile file (it is a folder)",
+        ),
     ],
 )
 def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, args, fragment):

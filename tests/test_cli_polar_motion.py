@@ -135,8 +135,18 @@ def test_bad_plot_name_refused_before_the_work(tmp_path, capsys):
         (["--start", "2000", "--end", "2012", "--window", "40"], "window: got 40 yr"),
         (["--window", "eight"], "--window: got eight"),
         (["--excitation-q", "lots"], "--excitation-q: got lots"),
-        (["--file", "/nonexistent/eop.txt"], "/nonexistent/eop.txt: no such file"),
+        (
+            ["--file", "/nonexistent/eop.txt"],
+            "--file: got /nonexistent/eop.txt; allowed: an IERS C04 or finals2000A file (there is no such file)",
+        ),
         (["--start", "2000-01-01", "--end", "2001-01-01"], "at least 732.5 d"),
+        # 1e400 reads as inf: it was told "at least 1 d", which it is.
+        (
+            ["--step", "1e400"],
+            "--step: got 1e400 yr; allowed: a finite time (not NaN, inf, or past the largest double, 1.798e+308), "
+            "at least 1 d (the sampling of the record)",
+        ),
+        (["--step", "0.001"], "--step: got 0.001 yr; allowed: at least 1 d (the sampling of the record)"),
     ],
 )
 def test_bad_input_exit_2_one_line(capsys, args, fragment):

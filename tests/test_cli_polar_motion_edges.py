@@ -75,6 +75,25 @@ def test_both_dates_given_still_name_both(capsys, tmp_path, monkeypatch):
     assert message == "--end: got 2019; allowed: a date after start (2020-01-01)"
 
 
+# -- --file that names no file: said so, naming --file, before any work ------------------------------------------------
+
+
+@pytest.mark.parametrize("command", ["polar-motion", "excitation", "forecast"])
+@pytest.mark.parametrize(
+    ("typed", "why"),
+    [(".", "it is a folder"), ("", "an empty path was given"), ("missing.txt", "there is no such file")],
+)
+def test_a_file_that_is_not_a_file_names_file_and_says_why(command, typed, why, capsys, tmp_path, monkeypatch):
+    # Was: ".: no such file (the files of astropy-iers-data are found by name: ...)", of a folder, without --file.
+    out = tmp_path / "out.nc"
+    message = _refused([command, "--file", typed, "-o", str(out)], capsys, tmp_path, monkeypatch)
+    assert message == (
+        f"--file: got {typed or repr(typed)}; allowed: an IERS C04 or finals2000A file ({why}), "
+        "or by name one of astropy-iers-data: eopc04.1962-now, finals2000A.all"
+    ), message
+    assert not out.exists()
+
+
 # -- F24: a horizon in years is told its length in days ---------------------------------------------------------------
 
 

@@ -94,7 +94,9 @@ def test_the_python_api_names_its_parameters():
 
 
 @pytest.mark.parametrize("command", ["excitation", "forecast"])
-@pytest.mark.parametrize("q", ["0.5", "0", "-1", "nan", "lots"])
+# -inf, -Infinity and -nan reach the option's own check (argparse took them for options: "argument --q: expected one
+# argument"), as -1 and -1e3 do.
+@pytest.mark.parametrize("q", ["0.5", "0", "-1", "-1e3", "nan", "-nan", "-inf", "-Infinity", "lots"])
 def test_q_below_one_is_refused(command, q, capsys, tmp_path, monkeypatch):
     message = _refused([command, "--q", q], capsys, tmp_path, monkeypatch)
     assert message.startswith(f"--q: got {q}; allowed: a quality factor Q >= 1"), message

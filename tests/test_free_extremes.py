@@ -5,6 +5,7 @@
   omega = c (1, 1, 1), E = 3 c^2, so the least is c = sqrt(tiny/3), |omega| = sqrt(tiny). They printed
   "kinetic energy 0 J", |L| = 0 in the file with a "drift" of all of |L|, or (for 1e-310 rad/s) "the spin
   is steady" and "time between flips inf".
+* Subnormal moments (below 2.2e-308 kg m2) are refused naming --inertia, as the heavy top's are.
 * Above that bound E and |L| are exact closed forms at every sample, even where w^2 or (I w)^2 underflow.
 * A periodic motion whose period is past the largest double is refused (it printed "omega never repeats").
 * A default span (3 periods) past the largest double names --t-end (it warned of an overflow, then
@@ -22,6 +23,7 @@ import numpy as np
 import pytest
 from cli_run import run_cli
 
+import wobble.errors
 from wobble import FreeRotation
 
 KGM2 = u.kg * u.m**2
@@ -45,6 +47,24 @@ def test_rates_whose_energy_is_below_the_normal_doubles_are_refused(w, capsys):
     # The least |omega| in the direction (1, 1, 1): E = 3 c^2 = tiny, |omega| = sqrt(3) c = sqrt(tiny).
     least = float(line.split("|omega| >= ")[1].split()[0])
     assert math.sqrt(TINY) <= least <= math.sqrt(TINY) * 1.01
+
+
+@pytest.mark.parametrize(
+    ("moments", "omega"),
+    [(["1e-320", "2e-320", "3e-320"], ["1e7", "1e6", "1e7"]), (["1", "2", "3e-320"], ["1", "0.1", "1"])],
+)
+def test_subnormal_moments_are_refused_naming_inertia(moments, omega, capsys, tmp_path):
+    # Was accepted: 1e-320 2e-320 3e-320 kg m2 ran, printing |L| = 3.168561e-313 to seven digits that subnormals
+    # do not hold. Refused as the heavy top refuses a subnormal I1 or I3.
+    path = tmp_path / "never.nc"
+    code, out, err = run_cli(["free", "--inertia", *moments, "--omega", *omega, "-o", str(path)], capsys)
+    assert code == 2 and out == "" and not path.exists()
+    assert _one_line(err) == (
+        f"wobble free: error: --inertia: got {' '.join(moments)}; allowed: three principal moments of at least "
+        "2.225e-308 kg m2 each, the smallest normal double"
+    )
+    with pytest.raises(wobble.errors.InputError, match=r"^moments: got .*; allowed: three principal moments of at"):
+        FreeRotation([1e-320, 2e-320, 3e-320] * KGM2, [1e7, 1e6, 1e7] * RAD_S)
 
 
 def test_the_review_input_just_above_the_bound_is_exact(tmp_path):

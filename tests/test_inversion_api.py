@@ -418,12 +418,32 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys):
     assert main(["invert", "mars", "--body-file", str(tmp_path), "--steps", "10"]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.count("\n") == 1 and "(it is a folder)" in captured.err
+    # An empty path is said to be one (it was called a folder: Path("") is the current folder).
+    assert main(["invert", "mars", "--body-file", "", "--steps", "10"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert "--body-file: got ''; allowed: an existing file (an empty path was given)" in captured.err
     # A shipped planet file by name, from any folder, as chandler reads it: Mars' setup needs a core density that
     # the example planet does not catalogue, and the refusal names the example's own name.
     assert main(["invert", "mars", "--body-file", "my_planet.toml", "--steps", "10"]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.count("\n") == 1
     assert "my_planet does not catalogue an uncertainty for fluid_core_density" in captured.err
+
+
+def test_a_broken_planet_file_is_named_as_typed(tmp_path, monkeypatch, capsys):
+    """wobble invert mars --body-file ./sub/bad.toml named /abs/path/sub/bad.toml (made absolute so that the
+    setup's folder does not change a relative path's meaning): named as typed, as wobble chandler names it."""
+    from wobble.cli import main
+
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "bad.toml").write_text("garbage = [\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["invert", "mars", "--body-file", "./sub/bad.toml", "--steps", "10", "-o", "out.nc"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert captured.err.startswith("wobble invert: error: ./sub/bad.toml: not valid TOML"), captured.err
+    assert str(tmp_path) not in captured.err and not (tmp_path / "out.nc").exists()
 
 
 def test_diagnostics_report_the_measured_worst_r_hat_beside_the_thresholds(mars):

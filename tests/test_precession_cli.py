@@ -235,6 +235,20 @@ def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, planet, moo
     assert not (tmp_path / "out.nc").exists() and not (tmp_path / "out.png").exists()
 
 
+@pytest.mark.parametrize(("typed", "why"), [("./missing.toml", "there is no such file"), (".", "it is a folder")])
+def test_a_perturber_path_that_is_not_a_file_says_why(tmp_path, monkeypatch, capsys, typed, why):
+    # Was "--perturber: got ./missing.toml; allowed: one of moon, sun, or the path of a perturber file", for a
+    # missing file and a folder alike.
+    monkeypatch.chdir(tmp_path)
+    status, out, err = _run(capsys, "precession", "earth", "--perturber", typed, "-o", "out.nc")
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err == (
+        f"wobble precession: error: --perturber: got {typed}; allowed: one of moon, sun, or the path of a perturber "
+        f"file ({why})\n"
+    )
+    assert not (tmp_path / "out.nc").exists()
+
+
 def test_unknown_body_is_refused(capsys):
     status, _, err = _run(capsys, "precession", "pluto")
     assert status == 2 and "BODY: got pluto" in err

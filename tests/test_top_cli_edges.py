@@ -4,7 +4,8 @@
   times the smallest normal double (it wrote 1001 times with 2 values; CF needs them increasing).
 * Rates whose energy overflows: the options given, as typed, and the defaults used, named as such (it named
   --thetadot0, --phidot0, --omega3 over a tuple of converted numbers for --phidot0 '1e300 deg/s' alone).
-* --theta0 -0.0 is 0 (it printed "theta min, max -0, -0 deg"); a subnormal tilt is refused.
+* --theta0 -0.0 is 0 (it printed "theta min, max -0, -0 deg"); a subnormal tilt is refused, and a subnormal
+  moment is blamed on its own option (a subnormal --I1 was blamed on --I3 through I3 <= 2 I1).
 * The figure of a top tilted 1e-16 rad (or 1e-300) draws its path (a start dot in a unit frame before).
 """
 
@@ -88,6 +89,22 @@ def test_a_subnormal_tilt_is_refused(capsys):
     assert line == (
         "wobble top: error: --theta0: got 1e-320 rad; allowed: 0 (upright) or a tilt of at least "
         "2.225e-308 rad (1.275e-306 deg), the smallest normal double"
+    )
+
+
+@pytest.mark.parametrize(
+    ("moments", "option", "typed"),
+    [(["--I1", "1e-320", "--I3", "0.5"], "--I1", "1e-320"), (["--I1", "1", "--I3", "1e-320"], "--I3", "1e-320")],
+)
+def test_a_subnormal_moment_is_blamed_on_its_own_option(moments, option, typed, capsys, tmp_path):
+    # Was, for --I1 1e-320: "--I3: got 0.5; allowed: I3 <= 2 I1 = 1.99998e-320 kg m2", blaming the sound I3.
+    path = tmp_path / "t.nc"
+    argv = ["top", *moments, "--mgl", "1", "--omega3", "10", "--theta0", "60", "-o", str(path)]
+    code, out, err = run_cli(argv, capsys)
+    assert code == 2 and out == "" and not path.exists()
+    assert _one_line(err) == (
+        f"wobble top: error: {option}: got {typed}; allowed: a moment of at least 2.225e-308 kg m2, the smallest "
+        "normal double"
     )
 
 

@@ -35,7 +35,7 @@ import numpy as np
 
 from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected
-from wobble.errors import InputError
+from wobble.errors import FileFormatError, InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.catalog import catalogue_names
 from wobble.io.json_keys import deprecate
@@ -783,7 +783,8 @@ def _check_size(settings: SamplerSettings, ndim: int) -> None:
 def _with_body(setup, body) -> InversionSetup:
     """The setup with its ``body`` replaced: a catalogue name or a planet file (a path relative to the caller's
     folder, not the setup's, as ``wobble chandler --body-file`` reads it)."""
-    text = os.fspath(body)
+    typed = os.fspath(body)
+    text = typed
     if Path(text).is_file():
         text = str(Path(text).resolve())
     elif text.strip().lower() not in catalogue_names():
@@ -792,11 +793,18 @@ def _with_body(setup, body) -> InversionSetup:
         # As wobble chandler --body-file reads it: a shipped planet file by name (my_planet.toml), and a
         # missing one said to be missing (it was told "a planet file, or a catalogued planet").
         text = str(Path(resolve(text, ("examples", "bodies"), "body", (".toml",))).resolve())
-    if isinstance(setup, Mapping):
-        return setup_from_dict({**setup, "body": text})
-    if isinstance(setup, (str, os.PathLike)):
-        path = resolve_setup(setup)
-        return setup_from_dict({**read_toml(path), "body": text}, path)
+    try:
+        if isinstance(setup, Mapping):
+            return setup_from_dict({**setup, "body": text})
+        if isinstance(setup, (str, os.PathLike)):
+            path = resolve_setup(setup)
+            return setup_from_dict({**read_toml(path), "body": text}, path)
+    except FileFormatError as exc:
+        if exc.path != text:
+            raise
+        # The planet file named as the caller typed it (wobble chandler's way), not as made absolute above so
+        # that the setup's folder does not change what a relative path means.
+        raise FileFormatError(typed, exc.where, exc.problem) from None
     raise InputError(
         "body", body, "none with an InversionSetup, whose body is built in (give the setup by name, file or dict)"
     )

@@ -79,8 +79,10 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         # A value such as "-5d" or "-3 d" is a (negative) value, not an unknown option: argparse
         # knows only plain numbers (-5, -.5) and said "expected one argument" for --horizon -5d.
-        # No wobble option starts with a digit, so a dash and a digit always begin a value.
-        self._negative_number_matcher = re.compile(r"^-\.?\d")
+        # No wobble option starts with a digit, so a dash and a digit always begin a value; nor is
+        # one called -inf or -nan, which Python's float reads (--q -inf reached argparse's "expected
+        # one argument", not the option's own refusal naming --q).
+        self._negative_number_matcher = re.compile(r"^-(?:\.?\d|(?:inf(?:inity)?|nan)(?![\w-]))", re.IGNORECASE)
 
     def error(self, message: str):  # overrides argparse.ArgumentParser.error
         # A value type's refusal (wobble.cli._types) as every other error reads: "--samples: got 2.5; ...".

@@ -17,7 +17,17 @@ from collections import namedtuple
 
 from wobble.errors import InputError
 
-__all__ = ["add_file", "add_record", "add_outputs", "report", "Typed", "parse_time", "parse_q", "as_typed"]
+__all__ = [
+    "add_file",
+    "check_file",
+    "add_record",
+    "add_outputs",
+    "report",
+    "Typed",
+    "parse_time",
+    "parse_q",
+    "as_typed",
+]
 
 
 def add_file(p) -> None:
@@ -25,6 +35,15 @@ def add_file(p) -> None:
     p.add_argument(
         "--file", metavar="PATH", help="an IERS C04 or finals2000A file (default: the C04 series of astropy-iers-data)"
     )
+
+
+def check_file(args) -> None:
+    """Refuse a ``--file`` that names no file (a folder, an empty path, none there) before any work,
+    naming ``--file`` as ``--body-file`` is named (the reader said "no such file" of a folder)."""
+    if args.file is not None:
+        from wobble.io.eop import existing_eop_path
+
+        existing_eop_path(args.file, "--file")
 
 
 def add_record(p) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from wobble.cli._record import add_outputs, add_record, as_typed, parse_q, parse_time, report
+from wobble.cli._record import add_outputs, add_record, as_typed, check_file, parse_q, parse_time, report
 
 EPILOG = """\
 examples:
@@ -68,6 +68,7 @@ def run(args) -> int:
     q = parse_q(args.q)
     period = parse_time(args.period, "--period", "d")
     check_outputs(args)
+    check_file(args)
     options = {
         "chandler_period": ("--period", period and period.shown),
         "start/end": ("--start/--end", None),

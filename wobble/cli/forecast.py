@@ -117,7 +117,7 @@ def _methods(text, hindcast: bool):
 
 def run(args) -> int:
     from wobble.cli._output import check_outputs
-    from wobble.cli._record import as_typed, parse_q, parse_time
+    from wobble.cli._record import as_typed, check_file, parse_q, parse_time
 
     hindcast = args.hindcast is not None
     for option, value in (("--every", args.every), ("--scheduler", args.scheduler)):
@@ -138,6 +138,7 @@ def run(args) -> int:
     if q is not None and "kalman" not in methods:
         raise InputError("--q", args.q, "no --q with --method ls_ar (Q damps the kalman model's oscillator)")
     check_outputs(args)
+    check_file(args)
     options = {
         "horizon": ("--horizon", horizon.shown),
         "latency": ("--latency", latency and latency.shown),

@@ -109,12 +109,13 @@ class Progress:
 def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
     from wobble.cli._output import check_outputs
-    from wobble.cli._record import as_typed, parse_time
+    from wobble.cli._record import as_typed, check_file, parse_time
 
     window = parse_time(args.window, "--window", "yr", default="8")
     step = parse_time(args.step, "--step", "yr", default="1")
     excitation_q = _q(args.excitation_q)
     check_outputs(args)
+    check_file(args)
     options = {
         "window": ("--window", window.shown),
         "step": ("--step", step.shown),

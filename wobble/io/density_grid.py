@@ -15,7 +15,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from wobble.errors import FileFormatError
+from wobble.errors import FileFormatError, InputError
 
 __all__ = ["open_density"]
 
@@ -39,7 +39,9 @@ def open_density(path: str | os.PathLike, var: str | None = None) -> Iterator[xr
     Raises
     ------
     wobble.errors.FileFormatError
-        Missing or unreadable file, unknown variable, or no (or several) candidate variables.
+        Missing or unreadable file, or no (or several) candidate variables.
+    wobble.errors.InputError
+        ``var`` is not a data variable of the file (named ``var``).
     """
     path = Path(path)
     if not path.is_file():
@@ -57,8 +59,10 @@ def open_density(path: str | os.PathLike, var: str | None = None) -> Iterator[xr
 def _choose(path: Path, ds: xr.Dataset, var: str | None) -> str:
     if var is not None:
         if var not in ds.data_vars:
+            # The parameter, as every other refusal names it (wobble inertia --var): the message had read
+            # "PATH, variable 'rhp': not in the file", naming the shipped file's installed path and not --var.
             names = ", ".join(map(str, ds.data_vars)) or "none"
-            raise FileFormatError(path, f"variable {var!r}", f"not in the file; allowed: {names}")
+            raise InputError("var", var, f"a data variable of {path.name}: {names}")
         return var
     candidates = [str(n) for n, v in ds.data_vars.items() if sorted(map(str, v.dims)) == ["x", "y", "z"]]
     if not candidates:

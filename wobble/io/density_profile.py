@@ -26,6 +26,7 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
+from wobble.io.shipped import not_a_file
 from wobble.models.hydrostatic import DensityProfile, check_profile
 
 __all__ = ["PROFILE_UNITS", "profile_names", "load_profile", "profile_for_body"]
@@ -113,7 +114,12 @@ def load_profile(profile: str | os.PathLike) -> tuple[DensityProfile, ParameterF
     elif Path(text).is_file():
         pf = _read(text)
     else:
-        raise InputError("profile", text, f"one of {', '.join(profile_names())}, or the path of a density-profile file")
+        # Why the path is not read, as --body-file says it (a missing file and a folder were told only the names).
+        raise InputError(
+            "profile",
+            text,
+            f"one of {', '.join(profile_names())}, or the path of a density-profile file ({not_a_file(text)})",
+        )
     return profile_from_file(pf), pf
 
 

@@ -28,13 +28,15 @@ from pathlib import Path
 
 import numpy as np
 
-from wobble.errors import FileFormatError
+from wobble.errors import FileFormatError, InputError
+from wobble.io.shipped import not_a_file
 
 __all__ = [
     "PoleRecord",
     "SHIPPED_FILES",
     "default_c04_path",
     "resolve_eop_path",
+    "existing_eop_path",
     "read_c04",
     "read_finals2000a",
     "read_pole_file",
@@ -97,6 +99,23 @@ def resolve_eop_path(path) -> Path:
     return shipped if shipped.is_file() else path
 
 
+def existing_eop_path(path, parameter: str) -> Path:
+    """:func:`resolve_eop_path`, refusing a path that names no file to read before anything is read.
+
+    The refusal is an :class:`~wobble.errors.InputError` naming ``parameter`` (the option, ``--file``),
+    the path as typed and why it is not a file (it is a folder, is empty or does not exist).
+    """
+    resolved = resolve_eop_path(path)
+    if os.fspath(path) and resolved.is_file():
+        return resolved
+    raise InputError(
+        parameter,
+        os.fspath(path),
+        f"an IERS C04 or finals2000A file ({not_a_file(path)}), or by name one of astropy-iers-data: "
+        f"{', '.join(SHIPPED_FILES)}",
+    )
+
+
 # (first, last) columns, 1-based inclusive as in the ReadMe files.
 _C04_FIELDS = {"MJD": (17, 26), "x": (27, 38), "y": (39, 50), "x error": (123, 134), "y error": (135, 146)}
 _FINALS_FIELDS = {"MJD": (8, 15), "x": (19, 27), "x error": (28, 36), "y": (38, 46), "y error": (47, 55)}
@@ -154,7 +173,9 @@ def _read_lines(path) -> list[str]:
     path = Path(path)
     if not path.is_file():
         raise FileFormatError(
-            path, None, f"no such file (the files of astropy-iers-data are found by name: {', '.join(SHIPPED_FILES)})"
+            path,
+            None,
+            f"{not_a_file(path)} (the files of astropy-iers-data are found by name: {', '.join(SHIPPED_FILES)})",
         )
     try:
         with open(path, encoding="ascii") as fh:

@@ -28,6 +28,7 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
+from wobble.io.shipped import not_a_file
 from wobble.models.planet import Measured
 
 __all__ = [
@@ -160,7 +161,12 @@ def load_perturber(name: str | os.PathLike) -> ParameterFile:
             return _check(_read(path, "perturber", PERTURBER_UNITS))
     if Path(text).is_file():
         return _check(_read(text, "perturber", PERTURBER_UNITS))
-    raise InputError("perturber", text, f"one of {', '.join(perturber_names())}, or the path of a perturber file")
+    # Why the path is not read, as --body-file says it (a missing file and a folder were told only the names).
+    raise InputError(
+        "perturber",
+        text,
+        f"one of {', '.join(perturber_names())}, or the path of a perturber file ({not_a_file(text)})",
+    )
 
 
 def perturbers_of(body: str) -> list[ParameterFile]:

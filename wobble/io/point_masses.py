@@ -18,6 +18,7 @@ default for the same column is an error rather than a guess.
 from __future__ import annotations
 
 import csv
+import math
 import os
 import re
 from pathlib import Path
@@ -99,11 +100,12 @@ def read_point_masses(
     Raises
     ------
     wobble.errors.FileFormatError
-        Naming the file and line: missing file, bad header, a row that is not four numbers.
+        Naming the file and line: missing file, bad header, a row that is not four numbers, or a value
+        that is not finite (NaN, inf; named with its column too).
     """
-    path = Path(path)
+    path = os.fspath(path)  # messages name the file as the caller gave it (Path() drops a leading ./)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8")
     except FileNotFoundError:
         raise FileFormatError(path, None, "no such file") from None
     except (OSError, UnicodeDecodeError) as exc:
@@ -129,6 +131,15 @@ def read_point_masses(
             values = [float(f) for f in fields]
         except ValueError:
             raise FileFormatError(path, f"line {line_no}", f"got {','.join(fields)!r}; allowed: numbers") from None
+        for c in _COLUMNS:
+            if not math.isfinite(values[columns[c][0]]):
+                # Named here, where the line and the column are known: the model's refusal named neither
+                # ("positions: got (0, 0, 0, nan, 0, 1) m").
+                raise FileFormatError(
+                    path,
+                    f"line {line_no}, column {c!r}",
+                    f"got {fields[columns[c][0]].strip()!r}; allowed: a finite number",
+                )
         rows.append([values[columns[c][0]] for c in _COLUMNS])
     if not rows:
         raise FileFormatError(path, None, "no point masses (expected rows m, x, y, z)")

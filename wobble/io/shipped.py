@@ -21,7 +21,16 @@ from pathlib import Path
 
 from wobble.errors import InputError
 
-__all__ = ["KINDS", "ShippedFile", "shipped_files", "find_shipped", "resolve", "copy_shipped", "shown_names"]
+__all__ = [
+    "KINDS",
+    "ShippedFile",
+    "shipped_files",
+    "find_shipped",
+    "resolve",
+    "copy_shipped",
+    "shown_names",
+    "not_a_file",
+]
 
 # Folder of data/ -> what its files are, as `wobble example --list` heads them (in this order).
 KINDS = {
@@ -129,6 +138,17 @@ def _names(kinds, suffixes=None) -> str:
     return ", ".join(shown_names(_candidates(kinds, suffixes))) or "none"
 
 
+def not_a_file(text: str | os.PathLike) -> str:
+    """Why ``text``, which names no file to read, is refused, as a refusal's parenthesis says it.
+
+    ``"an empty path was given"``, ``"it is a folder"`` or ``"there is no such file"``. An empty
+    path is told so first: ``Path("")`` is the current folder, and "" was called a folder.
+    """
+    if not os.fspath(text):
+        return "an empty path was given"
+    return "it is a folder" if Path(os.fspath(text)).is_dir() else "there is no such file"
+
+
 def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> str:
     """A path to read for ``text``: the user's file if it exists, else the shipped one.
 
@@ -153,15 +173,14 @@ def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> st
     wobble.errors.InputError
         Neither a file nor a shipped name; the message lists the shipped names.
     """
-    path = Path(os.fspath(text))
-    if path.is_file():
-        return str(path)
-    found = find_shipped(str(text), kinds, suffixes)
+    text = os.fspath(text)
+    if text and Path(text).is_file():
+        return text  # as typed, so that a message about the file names it as the user did
+    found = find_shipped(text, kinds, suffixes) if text.strip() else None
     if found is not None:
         return str(found.path())
-    why = "it is a folder" if path.is_dir() else "there is no such file"
     raise InputError(
-        parameter, os.fspath(text), f"an existing file ({why}), or a shipped one: {_names(kinds, suffixes)}"
+        parameter, text, f"an existing file ({not_a_file(text)}), or a shipped one: {_names(kinds, suffixes)}"
     )
 
 

@@ -547,6 +547,12 @@ def _check(moments, omega0):
     omega0 = tuple(float(x) for x in np.asarray(omega0, dtype=float).reshape(-1))
     if len(moments) != 3 or not all(np.isfinite(moments)) or min(moments) <= 0:
         raise InputError("moments", moments, "three positive, finite principal moments (kg m2)")
+    if min(moments) < TINY:
+        # Subnormal moments keep a few digits, or none (1e-320 kg m2 ran and printed |L| = 3.168561e-313 to seven
+        # digits): the smallest normal double, as the heavy top's I1 and I3 are refused.
+        raise InputError(
+            "moments", moments, f"three principal moments of at least {TINY:.4g} kg m2 each, the smallest normal double"
+        )
     srt = sorted(moments)
     # A lamina has I1 + I2 = I3 exactly; allow the few ulps a unit conversion adds.
     if srt[0] + srt[1] < srt[2] * (1 - 8 * _EPS):
@@ -621,7 +627,7 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
     Raises
     ------
     wobble.errors.InputError
-        Non-finite or non-positive moments, triangle inequality violated,
+        Non-finite, non-positive or subnormal moments, triangle inequality violated,
         non-finite omega0.
     """
     # Every Decimal operation of the set-up at hp.DIGITS digits (hp.isolated): a bare one takes the

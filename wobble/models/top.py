@@ -144,15 +144,16 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         raise InputError("I1", I1, "a positive moment of inertia about the tip (kg m2)")
     if I3 <= 0:
         raise InputError("I3", I3, "a positive moment of inertia about the symmetry axis (kg m2)")
+    # Subnormal inputs keep a few digits, or none, and every product of them prints wrong figures (I1 = 1.2e-315
+    # kg m2 printed p_phi = 2.5e-315 to seven digits): the smallest normal double, as for theta0 and the solids.
+    # Before I3 <= 2 I1, which blamed I3 = 0.5 for a subnormal I1 ("I3 <= 2 I1 = 1.99998e-320 kg m2").
+    for name, value in (("I1", I1), ("I3", I3)):
+        if value < TINY:
+            raise InputError(name, value, f"a moment of at least {TINY:.4g} kg m2, the smallest normal double")
     if I3 > 2 * I1 * (1 + 8 * _EPS):
         raise InputError("I3", I3, f"I3 <= 2 I1 = {2 * I1:g} kg m2 (a real body has I3 <= I1 + I2)")
     if mgl < 0:
         raise InputError("mgl", mgl, "M g l >= 0 (J): the centre of mass on the symmetry axis, above the tip")
-    # Subnormal inputs keep a few digits, or none, and every product of them prints wrong figures (I1 = 1.2e-315
-    # kg m2 printed p_phi = 2.5e-315 to seven digits): the smallest normal double, as for theta0 and the solids.
-    for name, value in (("I1", I1), ("I3", I3)):
-        if value < TINY:
-            raise InputError(name, value, f"a moment of at least {TINY:.4g} kg m2, the smallest normal double")
     if 0 < mgl < TINY:
         raise InputError("mgl", mgl, f"0 (no gravity) or at least {TINY:.4g} J, the smallest normal double")
     if ml2 is not None:

@@ -23,8 +23,12 @@ from wobble.errors import InputError
 from wobble.io.dates import iso_date
 from wobble.io.json_keys import deprecate
 from wobble.models import polar_motion as _pm
+from wobble.numerics.floats import HUGE
 
 __all__ = ["QualityFactorEstimate", "PolarMotionAnalysis", "polar_motion_analysis", "JSON_RENAMES"]
+
+# What the windows' spacing is allowed to be (finite besides).
+_STEP = "at least 1 d (the sampling of the record)"
 
 #: Keys of ``wobble polar-motion --json`` renamed for the vocabulary the other commands use (README, "Commands"),
 #: kept under their old names for one release: old path -> new path. ``quality_factor`` held this object where
@@ -422,9 +426,12 @@ def polar_motion_analysis(
     # Non-positive and non-finite lengths meet the range checks below (which say what is allowed).
     window_s = None if window is None else to_si(window, "window", u.s, finite=False, shape=())
     step_s = to_si(step, "step", u.s, finite=False, shape=())
-    if not (math.isfinite(step_s) and step_s >= _pm.DAY * (1 - 1e-9)):
+    if not math.isfinite(step_s):
+        # 1e400 (inf once read) had been told "at least 1 d", which it is: the fault is that it is not a number.
+        raise InputError("step", step, f"a finite time (not NaN, inf, or past the largest double, {HUGE:.4g}), {_STEP}")
+    if not step_s >= _pm.DAY * (1 - 1e-9):
         # Windows moved by less than a sample are the same windows (and 0.001 yr made 64,000 of them).
-        raise InputError("step", step, "at least 1 d (the sampling of the record)")
+        raise InputError("step", step, _STEP)
     q_value = q_arg(excitation_q)
     span = t[-1] - t[0]
     shortest = _pm.shortest_window(t)
