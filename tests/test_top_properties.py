@@ -227,3 +227,60 @@ def test_a_planar_swing_starts_where_it_is_put(mgl, thetadot0):
     q0 = euler_quaternion(phi0, np.array(theta0), psi0)
     wn, qn = integrate_top(1.3, 0.6, mgl, w0, q0, t, rtol=1e-12)
     assert np.max(angle(mdl.attitude(t), qn)) < 1e-9
+
+
+@settings(max_examples=40)
+@given(
+    I1=st.floats(0.3, 3.0),
+    ratio=st.floats(0.05, 2.0),
+    mgl=st.floats(0.0, 4.0),
+    delta=st.floats(-np.pi, np.pi),
+    omega=st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3),
+)
+def test_a_top_started_hanging_straight_down_keeps_its_whole_sideways_rate(I1, ratio, mgl, delta, omega):
+    """Started exactly at theta = pi (q = (0, cos delta, sin delta, 0): only phi - psi is defined there) with any
+    angular velocity, the top's state at t = 0 is the one given and its motion is the equations of motion's (DOP853
+    on omega and q). Until 2026-11-29 psi0 followed from atan2(0, 0), and the part of the sideways rate it put
+    into phidot sin(theta) = 0 was lost: a pendulum kicked from rest at the bottom never moved (found by an audit
+    of exact special cases; the engine turns every hanging top into this state)."""
+    w0 = np.array(omega)
+    q0 = np.array([0.0, np.cos(delta), np.sin(delta), 0.0])
+    mdl = heavy_top_from_state(I1, ratio * I1, mgl, w0, q0)
+    t = np.linspace(0.0, 3.0, 31)
+    w, q = mdl.evaluate(t)
+    scale = 1.0 + np.max(np.abs(w0))
+    assert np.max(np.abs(w[0] - w0)) < 1e-15 * scale
+    assert angle(q[0], q0) < 1e-15
+    wn, qn = integrate_top(I1, ratio * I1, mgl, w0, q0, t, rtol=1e-12)
+    assert np.max(angle(q, qn)) < 1e-9
+    assert np.max(np.abs(w - wn)) < 1e-9 * scale
+
+
+def test_a_hanging_top_kicked_sideways_swings_through_the_engine():
+    """The audit's case through the public engine: a top hanging at rest from its tip (centre of mass 0.2 m below)
+    kicked at 1 rad/s about a horizontal axis. Its energy is I1 w^2/2 - M g l = -1.5 J throughout; it was reported
+    at rest, omega = 0 and -2 J (the energy of the hanging top at rest)."""
+    import astropy.units as u
+
+    import wobble
+
+    scene = wobble.Scene(
+        body=[1.0, 1.0, 0.5] * u.kg * u.m**2,
+        omega0=[0.0, 1.0, 0.0] * u.rad / u.s,
+        torques=[wobble.Torque.gravity(1 * u.kg, [0, 0, -0.2] * u.m, 10 * u.m / u.s**2)],
+        t_end=6 * u.s,
+        samples=7,
+        accuracy=1e-10,
+        outputs=["omega", "attitude", "total_energy"],
+    )
+    ds = wobble.run(scene)
+    assert np.allclose(ds["omega"].values[0], [0.0, 1.0, 0.0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ds["total_energy"].values, -1.5, rtol=1e-12)
+    # The swing: I1 theta'' = -M g l sin(theta) from theta = 0 (hanging), theta'(0) = 1 rad/s, by SciPy's DOP853.
+    from scipy.integrate import solve_ivp
+
+    t = ds["time"].values  # s from the start
+    sol = solve_ivp(
+        lambda _, s: [s[1], -2.0 * np.sin(s[0])], (0.0, 6.0), [0.0, 1.0], "DOP853", t, rtol=1e-12, atol=1e-14
+    )
+    np.testing.assert_allclose(ds["omega"].values[:, 1], sol.y[1], rtol=0, atol=1e-9)

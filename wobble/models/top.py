@@ -699,11 +699,20 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     ch_f = float(np.hypot(q[0], q[3]))
     theta0 = 2.0 * float(np.arctan2(sh_f, ch_f))
     sigma0 = float(np.arctan2(q[3], q[0]))
-    if sh_f > 0:
+    sideways = w[0] != 0 or w[1] != 0
+    if ch_f == 0:
+        # Hanging straight down: only delta = (phi - psi)/2 is defined, sigma = atan2(0, 0) is not. psi0 is chosen
+        # so that the sideways rate is all thetadot, leaving the bottom (thetadot <= 0); from sigma's arbitrary value
+        # part of it went into phidot sin(theta), which is 0 there, and was lost (a pendulum kicked from rest at
+        # the bottom did not move).
+        delta0 = float(np.arctan2(q[2], q[1]))
+        psi0 = float(np.arctan2(w[1], -w[0])) if sideways else 0.0
+        sigma0 = psi0 + delta0
+    elif sh_f > 0:
         delta0 = float(np.arctan2(q[2], q[1]))
         psi0 = sigma0 - delta0
     else:  # upright: choose psi0 so that the axis leaves the vertical with thetadot >= 0
-        psi0 = float(np.arctan2(-w[1], w[0])) if (w[0] != 0 or w[1] != 0) else 0.0
+        psi0 = float(np.arctan2(-w[1], w[0])) if sideways else 0.0
         delta0 = sigma0 - psi0
     cpsi, spsi = np.cos(psi0), np.sin(psi0)
     thetadot0 = float(w[0] * cpsi - w[1] * spsi)
