@@ -697,6 +697,16 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     q = q / np.linalg.norm(q)
     sh_f = float(np.hypot(q[1], q[2]))
     ch_f = float(np.hypot(q[0], q[3]))
+    # A tilt from a pole below the rounding of the attitude (2 sin(theta/2) or 2 cos(theta/2) under eps) is the
+    # pole itself: followed from there, a sideways rate sent the axis off along the start's azimuth instead of
+    # its own (3 rad off from 1e-16 rad; an audit of exact special cases). Moving the start onto the pole
+    # changes the attitude by less than its own rounding.
+    if 0 < ch_f and 2 * ch_f < _EPS * sh_f:
+        q = np.array([0.0, q[1], q[2], 0.0]) / sh_f
+        sh_f, ch_f = 1.0, 0.0
+    elif 0 < sh_f and 2 * sh_f < _EPS * ch_f:
+        q = np.array([q[0], 0.0, 0.0, q[3]]) / ch_f
+        sh_f, ch_f = 0.0, 1.0
     theta0 = 2.0 * float(np.arctan2(sh_f, ch_f))
     sigma0 = float(np.arctan2(q[3], q[0]))
     sideways = w[0] != 0 or w[1] != 0

@@ -536,9 +536,23 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         # a few ulps of K) grows with c. That is psi's own conditioning in t, |psidot| t eps
         # for t of a period; phi = sigma + delta has no such term (its own secular phase).
         spin = 8 * _EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
+        # The start's phase w0 is a double (a few ulps of it off the exact one), and phi and psi are anchored to
+        # the start there: next to a pole the azimuth turns at |B|/(2 x0) + |C|/(2 y0) rad/s, so that rounding
+        # turns the whole motion by that rate times w0's error / lambda (a start 1e-9 rad from the vertical moving
+        # sideways at 1 rad/s: 3e-6 rad, which the estimate had put at 4e-13; an audit of exact special cases).
+        # A pass followed as one through the pole (top, bottom) leaves from the start's azimuth, where the true
+        # path leaves along its own: they differ by about the pass's distance from the pole over the start's,
+        # sqrt(x2 / x0) (or sqrt(y1 / y0)), which is small unless the start itself lies next to the pole.
+        with decimal.localcontext(context()):
+            turn = (abs(b_eff) / st.x0 if st.x0 else Decimal(0)) + (abs(c_eff) / st.y0 if st.y0 else Decimal(0))
+            anchor = _f(Decimal(16 * _EPS * abs(w0)) * turn / (2 * lam))
+            if top and x2 != 0 and st.x0 != 0:
+                anchor += _f((x2 / st.x0).sqrt())
+            if bottom and y1 != 0 and st.y0 != 0:
+                anchor += _f((y1 / st.y0).sqrt())
         est = {
             "theta_rad": 32 * _EPS * (1 + kf) * max(theta_max, _EPS),
-            "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing) + spin,
+            "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing) + spin + anchor,
             "turning_points_relative": 4 * _EPS,
             "period_relative": 4 * _EPS,
             # Its rounding to a double, or what the 45 digits of its terms leave when they cancel (loops under

@@ -274,31 +274,35 @@ def _polish(fn, dfn, x: Decimal, steps: int = 3) -> Decimal:
         return x
 
 
-def _root_between(cub: TopCubic, lo: Decimal, hi: Decimal, g_x0: Decimal, x0: Decimal) -> tuple[Decimal, Decimal]:
-    """The root of g in [lo, hi], one end of which is x0 with g(x0) = g_x0 > 0, as (x, y).
+def _root_between(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal, towards_top: bool) -> tuple[Decimal, Decimal]:
+    """The root of g between the initial point and the vertical (``towards_top``: x in [0, x0]) or the bottom
+    (x in [x0, 2], y in [0, y0]), where g(x0) = g0 > 0, as (x, y).
 
-    The bracket is split at x = 1 (the horizontal); a root in the upper half is
-    found in x, one in the lower half in y, so either keeps its relative digits.
-    g(0) = -B^2 < 0 and g(2) = -C^2 < 0 here (B, C != 0).
+    The bracket is split at x = 1 (the horizontal); a root in the upper half is found in x, one in the lower
+    half in y, so either keeps its relative digits. The initial point's end is x0 in x and y0 in y, each with
+    its own digits: 2 - x0 is 0 at 60 digits for a start within 1e-30 rad of the bottom, where the bracket
+    [2 - x0, 0] held no root. g(0) = -B^2 < 0 and g(2) = -C^2 < 0 here (B, C != 0).
     """
     with decimal.localcontext(_ctx()):
+        one = Decimal(1)
+        start, start_other, fn, dfn, fn_other, dfn_other = (
+            (x0, y0, cub.g, cub.dg, cub.G, cub.dG) if towards_top else (y0, x0, cub.G, cub.dG, cub.g, cub.dg)
+        )
 
-        def val(x):
-            return g_x0 if x == x0 else cub.g(x)
+        def pair(value, in_x):
+            return (value, 2 - value) if in_x else (2 - value, value)
 
-        if lo < 1 < hi:
-            g_one = cub.g(Decimal(1))
-            if g_one == 0:
-                return Decimal(1), Decimal(1)
-            if (g_one > 0) != (val(lo) > 0):
-                hi = Decimal(1)
-            else:
-                lo = Decimal(1)
-        if hi <= 1:
-            x = _safe_newton(cub.g, cub.dg, lo, hi, val(lo), val(hi))
-            return x, 2 - x
-        y = _safe_newton(cub.G, cub.dG, 2 - hi, 2 - lo, val(hi), val(lo))
-        return 2 - y, y
+        # In the coordinate that is 0 at the pole it moves towards (x at the vertical, y at the bottom):
+        # from the pole (-B^2 or -C^2) to the start (g0), unless the start lies past the horizontal.
+        if start <= 1:
+            return pair(_safe_newton(fn, dfn, Decimal(0), start, None, g0), towards_top)
+        g_one = cub.g(one)
+        if g_one == 0:
+            return one, one
+        if g_one > 0:  # between the pole and the horizontal
+            return pair(_safe_newton(fn, dfn, Decimal(0), one, None, g_one), towards_top)
+        # Between the horizontal and the start, in the start's own coordinate.
+        return pair(_safe_newton(fn_other, dfn_other, start_other, one, g0, g_one), not towards_top)
 
 
 def _deflated(cub: TopCubic, xr: Decimal, yr: Decimal, dg_r: Decimal | None = None) -> list[tuple[Decimal, Decimal]]:
@@ -479,7 +483,7 @@ def top_roots(cub: TopCubic, x0: Decimal, y0: Decimal, g0: Decimal, dg0: Decimal
                 i = min(range(1, len(found)), key=lambda k: abs(found[k][0] - xe))
                 found[i] = (xe, ye)
         else:
-            found = [_root_between(cub, Decimal(0), x0, g0, x0), _root_between(cub, x0, Decimal(2), g0, x0)]
+            found = [_root_between(cub, x0, y0, g0, True), _root_between(cub, x0, y0, g0, False)]
             if beta != 0:
                 x1, x2 = max(found[0][0], found[1][0]), min(found[0][0], found[1][0])
                 x3 = -(cub.B * cub.B) / (beta * x1 * x2)  # Vieta: beta x1 x2 x3 = -B^2
