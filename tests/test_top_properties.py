@@ -336,3 +336,14 @@ def test_the_engine_integrates_a_top_started_next_to_the_vertical_when_the_close
     ds = wobble.run(scene)
     _, qn = integrate_top(1.0, 0.5, 2.0, w0, q0, ds["time"].values, rtol=1e-13)
     assert np.max(angle(ds["attitude"].values.reshape(-1, 4), qn)) < 1e-9
+
+
+@pytest.mark.parametrize(("theta0", "thetadot0"), [(0.0, -1.0), (0.0, 1.0), (np.pi, 1.0), (np.pi, -1.0)])
+def test_a_start_at_a_pole_reports_the_rate_it_was_given(theta0, thetadot0):
+    """A start at a pole moving 'outwards' across it is analysed as the same motion with theta0's sign turned, and
+    the model (and `wobble top --json`'s thetadot0_rad_per_s) reported the turned rate: 1 for -1 (an audit)."""
+    mdl = heavy_top(1.0, 0.5, 1.0, theta0, thetadot0, 0.0, omega3=3.0)
+    assert mdl.thetadot0 == thetadot0
+    # The motion describes the same state with theta's sign turned (phi + pi): its body rates are the given ones,
+    # (thetadot cos psi0, -thetadot sin psi0, omega3) with psi0 = 0.
+    np.testing.assert_allclose(mdl.motion(np.array([0.0])).omega[0], [thetadot0, 0.0, 3.0], rtol=0, atol=1e-15)

@@ -227,7 +227,7 @@ def analyse(setup: TopSetup) -> dict:
             elif roots.beta_gap <= 0:
                 raise InputError(
                     "thetadot0",
-                    _f(thetadot0),
+                    _f(s.thetadot0),
                     "an initial state off the separatrix (the motion "
                     "would approach an unstable equilibrium for ever; 1 - m = 0)",
                 )
@@ -236,7 +236,7 @@ def analyse(setup: TopSetup) -> dict:
             I3=s.I3,
             mgl=s.mgl,
             theta0=s.theta0,
-            thetadot0=_f(thetadot0),
+            thetadot0=_f(s.thetadot0),  # as given: a start across a pole is analysed with its sign turned
             phi0=_f(s.phi0),
             psi0=_f(s.psi0),
             omega3=_f(w3),
