@@ -349,6 +349,7 @@ class FreeRotation:
         )
         if np.isfinite(mdl.period):
             ds.attrs["period_s"] = mdl.period
-        if self.flips:  # not for a wobble, whose sign changes are not flips
+        # Not for a wobble, whose sign changes are not flips, nor on the separatrix (one flip: None), as period_s.
+        if self.flips and mdl.time_between_flips is not None:
             ds.attrs["time_between_flips_s"] = mdl.time_between_flips
         return ds

@@ -133,8 +133,10 @@ def run(args) -> int:
         summary.update(t_end_s=t1, t_end_chosen_by=chosen, samples=args.samples)
     if body.flips:
         # The list stops at MAX_LISTED_FLIPS, taken from a span that holds no more than two beyond them
-        # (flips are a time_between_flips apart); flips_in_span counts them all without listing them.
-        listed = min(t1, (MAX_LISTED_FLIPS + 1) * body.model.time_between_flips)
+        # (flips are a time_between_flips apart; the separatrix has one flip and no such time, None);
+        # flips_in_span counts them all without listing them.
+        between = body.model.time_between_flips
+        listed = t1 if between is None else min(t1, (MAX_LISTED_FLIPS + 1) * between)
         flips = body.flip_times(listed * u.s).to_value(u.s)
         summary.update(flip_times_s=flips[:MAX_LISTED_FLIPS].tolist(), flips_in_span=body.flip_count(t1 * u.s))
     written = []

@@ -819,6 +819,14 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
     if d[1] <= 0:
         a, b, c = 0, 1, 2  # L^2 >= 2 E I2: omega circulates about the axis of largest moment
         regime = "major-axis" if d[1] < 0 else "separatrix"
+        if regime == "separatrix" and wf[a] < 0:
+            # On the separatrix omega_a = A_a sech u never changes sign (K is infinite: no u0 = 2K - f
+            # reaches omega_a < 0). The rotation by pi about the intermediate axis, omega -> (-w_a, w_b, -w_c),
+            # maps Euler's equations to themselves and the attitude q to (q_w, R q_xyz): the same motion
+            # is the solution in the model frame with the signs of axes a and c turned (still proper).
+            signs = (-signs[0], signs[1], -signs[2])
+            w = to_sorted(np.asarray(omega0), frame, signs)
+            wf = [Fraction(float(x)) for x in w]
     else:
         a, b, c = 2, 1, 0
         regime = "minor-axis"

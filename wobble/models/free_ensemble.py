@@ -9,7 +9,9 @@ sum_i I_i omega_i^2 (I_j - I_i) (formed without cancellation):
   the body's shortest axis: short-axis mode (SAM; ``major-axis`` in
   :mod:`wobble.models.free`); D_1 > 0: about the axis of smallest moment,
   the longest axis: long-axis mode (LAM); D_1 = 0: the separatrix;
-  omega along a principal axis: steady spin.
+  omega along a principal axis (the intermediate one too: an unstable
+  equilibrium, which never leaves it) or a sphere: steady spin, as
+  :func:`wobble.models.free.free_rotation` has it.
 * In the solution's frame (a, b, c), c the circulation axis,
   omega_a = A_a cn u, omega_b = A_b sn u, omega_c = A_c dn u, u = lambda t + u0,
   lambda^2 = (I_c - I_b)(-D_a) / (I0 I1 I2),
@@ -133,7 +135,11 @@ def _analyse(moments, omega):
     ia, ic = np.where(minor, i2, i0), np.where(minor, i0, i2)
     da, dc = np.where(minor, big_d2, big_d0), np.where(minor, big_d0, big_d2)
     ib = i1
-    steady = (dc == 0) | (da == 0)
+    # Steady spin: omega in one eigenspace of the inertia tensor. D_c = 0 or D_a = 0 holds
+    # for a spin about the largest or the smallest moment (and a sphere); a spin about a
+    # distinct intermediate axis has D_1 = 0 but D_0, D_2 != 0, and is told by e0 = e2 = 0
+    # (it is an equilibrium, unstable, not the separatrix's asymptotic motion).
+    steady = (dc == 0) | (da == 0) | ((e0 == 0) & (e2 == 0))
     sep = (big_d1 == 0) & ~steady
     ica, icb, iba = ic - ia, ic - ib, ib - ia
     den = icb * (-da)
