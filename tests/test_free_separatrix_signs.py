@@ -117,3 +117,25 @@ def test_the_command_line_runs_the_audits_case(capsys, tmp_path):
         np.testing.assert_allclose(ds.omega.values[0], [-1.0, 0.4, 0.5], rtol=0, atol=1e-15)
     code, stdout, stderr = run_cli(argv[:-1], capsys)
     assert code == 0 and "separatrix" in stdout and "Traceback" not in stderr
+
+
+@pytest.mark.parametrize(("moments", "omega"), CASES[:3])
+def test_the_engine_runs_the_exact_separatrix_for_every_sign(moments, omega):
+    """The engine sent the separatrix entered with omega_a < 0 to the flow map, the one start free_rotation could
+    not take; it now takes the exact solution, which meets its estimate against DOP853 from the same state."""
+    import wobble
+
+    scene = wobble.Scene(
+        body=np.array(moments) * u.kg * u.m**2,
+        omega0=np.array(omega) * u.rad / u.s,
+        t_end=3 * u.s,
+        samples=31,
+        accuracy=1e-9,
+        outputs=["omega"],
+    )
+    ds = wobble.run(scene)
+    t = ds["time"].values
+    y0 = np.concatenate([omega, [1.0, 0.0, 0.0, 0.0]])
+    sol = solve_ivp(_rhs, (0.0, 3.0), y0, "DOP853", t_eval=t, rtol=1e-12, atol=1e-14, args=(np.asarray(moments),))
+    w = sol.y[:3].T
+    assert np.max(np.abs(ds["omega"].values.reshape(-1, 3) - w)) < 1e-11

@@ -473,28 +473,16 @@ def _build_free(name):
 
 
 def _exact_single(scene) -> bool:
-    """Whether one member takes free_rotation's exact solution: not the separatrix entered with
-    omega_a < 0, and a span within its reach (FreeRotationModel.max_time); else the flow map, whose
-    float phase states its own growing bound."""
-    if scene.members != 1 or _separatrix_negative(scene):
+    """Whether one member takes free_rotation's exact solution: a span within its reach
+    (FreeRotationModel.max_time); else the flow map, whose float phase states its own growing bound.
+    (The separatrix entered with omega_a < 0 went to the flow map until free_rotation took it, 2026-11-29.)"""
+    if scene.members != 1:
         return False
     body = scene.body
     model = _free.free_rotation(
         np.asarray(body.moments).reshape(3), np.asarray(body.axes).reshape(3, 3) @ scene.omega0[0]
     )
     return float(np.max(np.abs(scene.times - scene.times[0]))) <= model.max_time
-
-
-def _separatrix_negative(scene) -> bool:
-    """The one input free_rotation cannot take: the exact separatrix entered with omega_a < 0."""
-    body = scene.body
-    w = np.asarray(body.axes).reshape(3, 3) @ scene.omega0[0]
-    I = np.asarray(body.moments).reshape(3)
-    order = np.argsort(I, kind="stable")
-    i0, i1, i2 = I[order]
-    w0, w1, w2 = w[order]
-    d1 = i0 * w0 * w0 * (i1 - i0) + i2 * w2 * w2 * (i1 - i2)
-    return bool(d1 == 0 and w0 * w2 != 0)
 
 
 def _free_ensemble_bound(scene) -> float:
