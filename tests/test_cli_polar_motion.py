@@ -143,8 +143,8 @@ def test_bad_plot_name_refused_before_the_work(tmp_path, capsys):
         # 1e400 reads as inf: it was told "at least 1 d", which it is.
         (
             ["--step", "1e400"],
-            "--step: got 1e400 yr; allowed: a finite time (not NaN, inf, or past the largest double, 1.798e+308), "
-            "at least 1 d (the sampling of the record)",
+            "--step: got 1e400 yr; allowed: a finite time (not NaN, inf, or past the largest double of seconds, "
+            "1.798e+308 s), at least 1 d (the sampling of the record)",
         ),
         (["--step", "0.001"], "--step: got 0.001 yr; allowed: at least 1 d (the sampling of the record)"),
     ],

@@ -5,6 +5,7 @@ horizon given in years. Each as the behaviour a user should meet."""
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -175,3 +176,22 @@ def test_the_whole_record_is_resolved_and_compared_as_before(capsys):
     d = json.loads(out)
     assert d["chandler_resolved"] is True and d["methods_agree"] is True and d["agreement_sigma"] < 2
     assert all(r["residual_days"] is not None for r in d["comparison"][1:])
+
+
+@pytest.mark.parametrize(
+    ("typed", "shown", "why"),
+    [
+        ("", "''", "an empty path was given"),
+        (".", ".", "it is a folder"),
+        (os.devnull, os.devnull, "it is not a regular file"),
+    ],
+)
+def test_the_python_reader_says_why_a_path_is_not_a_file(typed, shown, why):
+    """read_pole_file as the command line: "" read ".: it is a folder" (resolve_eop_path makes it Path(".")), and a
+    device such as /dev/null "there is no such file"."""
+    from wobble.errors import FileFormatError
+    from wobble.io.eop import read_pole_file
+
+    with pytest.raises(FileFormatError) as info:
+        read_pole_file(typed)
+    assert str(info.value).startswith(f"{shown}: {why} (")

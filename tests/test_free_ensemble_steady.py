@@ -101,3 +101,12 @@ def test_a_sweep_spinning_about_the_intermediate_axis_is_steady():
     np.testing.assert_array_equal(ds.nutation_period.values, np.inf)
     np.testing.assert_allclose(ds.omega_final.values[:, 0], rate, rtol=1e-15)
     np.testing.assert_array_equal(ds.omega_final.values[:, 1:], 0.0)
+
+
+@pytest.mark.parametrize("omega", [(1e-200, 2.0, 1e-200), (0.0, 2.0, 1e-170), (1e-170, 2.0, 0.0)])
+def test_a_spin_off_the_intermediate_axis_by_less_than_squares_resolve_is_not_steady(omega):
+    """Steady spin about the intermediate axis is omega_0 = omega_2 = 0 exactly: a component of 1e-170 rad/s, whose
+    square underflows, leaves the axis (the body never returns to it), so it is not steady; the test had read the
+    squares I_i omega_i^2 and called it steady."""
+    out = free_ensemble(np.array([[3.0, 4.0, 6.0]]), np.array([omega]))
+    assert out["regime"][0] != 0

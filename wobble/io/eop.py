@@ -169,13 +169,16 @@ def _columns(lines: list[tuple[int, str]], fields: dict, path) -> np.ndarray:
     return out  # pragma: no cover - the loop above raises first
 
 
-def _read_lines(path) -> list[str]:
+def _read_lines(path, typed=None) -> list[str]:
+    """The file's lines; a path that names no file is refused as ``typed`` (the caller's text, before
+    :func:`resolve_eop_path`, which turns "" into the current folder)."""
     path = Path(path)
     if not path.is_file():
+        shown = path if typed is None else os.fspath(typed)
         raise FileFormatError(
-            path,
+            shown or "''",
             None,
-            f"{not_a_file(path)} (the files of astropy-iers-data are found by name: {', '.join(SHIPPED_FILES)})",
+            f"{not_a_file(shown)} (the files of astropy-iers-data are found by name: {', '.join(SHIPPED_FILES)})",
         )
     try:
         with open(path, encoding="ascii") as fh:
@@ -306,8 +309,8 @@ def read_pole_file(path=None) -> PoleRecord:
     """
     if path is None:
         return read_c04()
-    path = resolve_eop_path(path)
-    for lineno, line in enumerate(_read_lines(path), start=1):
+    typed, path = path, resolve_eop_path(path)
+    for lineno, line in enumerate(_read_lines(path, typed), start=1):
         if line.startswith("#") or not line.strip():
             continue
         head = line[:4].strip()

@@ -141,12 +141,16 @@ def _names(kinds, suffixes=None) -> str:
 def not_a_file(text: str | os.PathLike) -> str:
     """Why ``text``, which names no file to read, is refused, as a refusal's parenthesis says it.
 
-    ``"an empty path was given"``, ``"it is a folder"`` or ``"there is no such file"``. An empty
-    path is told so first: ``Path("")`` is the current folder, and "" was called a folder.
+    ``"an empty path was given"``, ``"it is a folder"``, ``"it is not a regular file"`` (a device such
+    as /dev/null) or ``"there is no such file"``. An empty path is told so first: ``Path("")`` is the
+    current folder, and "" was called a folder.
     """
     if not os.fspath(text):
         return "an empty path was given"
-    return "it is a folder" if Path(os.fspath(text)).is_dir() else "there is no such file"
+    path = Path(os.fspath(text))
+    if path.is_dir():
+        return "it is a folder"
+    return "it is not a regular file" if path.exists() else "there is no such file"
 
 
 def resolve(text: str | os.PathLike, kinds, parameter: str, suffixes=None) -> str:

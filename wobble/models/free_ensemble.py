@@ -137,9 +137,10 @@ def _analyse(moments, omega):
     ib = i1
     # Steady spin: omega in one eigenspace of the inertia tensor. D_c = 0 or D_a = 0 holds
     # for a spin about the largest or the smallest moment (and a sphere); a spin about a
-    # distinct intermediate axis has D_1 = 0 but D_0, D_2 != 0, and is told by e0 = e2 = 0
-    # (it is an equilibrium, unstable, not the separatrix's asymptotic motion).
-    steady = (dc == 0) | (da == 0) | ((e0 == 0) & (e2 == 0))
+    # distinct intermediate axis has D_1 = 0 but D_0, D_2 != 0, and is told by omega_0 = omega_2 = 0
+    # (it is an equilibrium, unstable, not the separatrix's asymptotic motion). The components, not
+    # e0 and e2: their squares underflow below 1e-162 rad/s, which made a spin 1e-200 off the axis steady.
+    steady = (dc == 0) | (da == 0) | ((w[:, 0] == 0) & (w[:, 2] == 0))
     sep = (big_d1 == 0) & ~steady
     ica, icb, iba = ic - ia, ic - ib, ib - ia
     den = icb * (-da)

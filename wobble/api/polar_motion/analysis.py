@@ -428,7 +428,9 @@ def polar_motion_analysis(
     step_s = to_si(step, "step", u.s, finite=False, shape=())
     if not math.isfinite(step_s):
         # 1e400 (inf once read) had been told "at least 1 d", which it is: the fault is that it is not a number.
-        raise InputError("step", step, f"a finite time (not NaN, inf, or past the largest double, {HUGE:.4g}), {_STEP}")
+        raise InputError(
+            "step", step, f"a finite time (not NaN, inf, or past the largest double of seconds, {HUGE:.4g} s), {_STEP}"
+        )
     if not step_s >= _pm.DAY * (1 - 1e-9):
         # Windows moved by less than a sample are the same windows (and 0.001 yr made 64,000 of them).
         raise InputError("step", step, _STEP)
