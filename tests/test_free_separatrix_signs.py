@@ -121,8 +121,9 @@ def test_the_command_line_runs_the_audits_case(capsys, tmp_path):
 
 @pytest.mark.parametrize(("moments", "omega"), CASES[:3])
 def test_the_engine_runs_the_exact_separatrix_for_every_sign(moments, omega):
-    """The engine sent the separatrix entered with omega_a < 0 to the flow map, the one start free_rotation could
-    not take; it now takes the exact solution, which meets its estimate against DOP853 from the same state."""
+    """An accuracy guard: the engine on the separatrix, every sign of omega_a, against DOP853 from the same state
+    (the flow map it used for omega_a < 0 and the exact solution it uses now agree to 2e-13, so this does not tell
+    which path ran)."""
     import wobble
 
     scene = wobble.Scene(

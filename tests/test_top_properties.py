@@ -170,7 +170,8 @@ def test_restarting_a_top_that_tumbles_through_the_vertical():
     w1, q1 = mdl.evaluate(np.array([1.0]))
     again = heavy_top_from_state(mdl.I1, mdl.I3, mdl.mgl, w1[0], q1[0])
     dt = np.array([0.0, 0.5, 2.3, 9.0])
-    assert np.max(angle(again.attitude(dt), mdl.attitude(1.0 + dt))) < 1e-10
+    # Free rotation about the body's x axis at 1 rad/s from the identity: R_x(1 + dt).
+    assert np.max(angle(again.attitude(dt), euler_quaternion(0.0, 1.0 + dt, 0.0))) < 1e-12
 
 
 def euler_quaternion(phi, theta, psi):
@@ -307,8 +308,11 @@ def test_a_start_next_to_a_pole_states_its_error(pole, tilt):
     t = np.linspace(0.0, 4.0, 41)
     w, q = mdl.evaluate(t)
     wn, qn = integrate_top(1.0, 0.5, 2.0, w0, q0, t, rtol=1e-13)
-    # The reference's own error over 4 s is about 1e-12 rad.
-    assert np.max(angle(q, qn)) <= mdl.error_estimate["attitude_rad"] + 2e-12
+    # The reference's own error over 4 s is about 1e-12 rad. The estimate bounds the error and is not loose by more
+    # than 1e3 (measured 5 to 360), so a wrong motion cannot hide under an inflated estimate.
+    err, est = np.max(angle(q, qn)), mdl.error_estimate["attitude_rad"]
+    assert err <= est + 2e-12
+    assert est <= 1e3 * max(err, 1e-12)
     assert angle(q[0], q0) <= max(tilt, 1e-15)
     if tilt <= 1e-16:
         assert mdl.error_estimate["attitude_rad"] < 1e-12
@@ -334,6 +338,7 @@ def test_the_engine_integrates_a_top_started_next_to_the_vertical_when_the_close
         outputs=["omega", "attitude"],
     )
     ds = wobble.run(scene)
+    assert ds.attrs["model"] != "heavy-top"
     _, qn = integrate_top(1.0, 0.5, 2.0, w0, q0, ds["time"].values, rtol=1e-13)
     assert np.max(angle(ds["attitude"].values.reshape(-1, 4), qn)) < 1e-9
 
