@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wobble.numerics.floats import HUGE, TINY
+from wobble.numerics.floats import EPS, HUGE, TINY
 from wobble.errors import InputError
 from wobble.numerics.symmetric_eigen import canonical_frame, degenerate_pairs, symmetric_eigen3
 
@@ -73,8 +73,6 @@ DEFAULT_RTOL = 1e-9
 ORDERS = ("ascending", "descending", "input", "symmetry")
 #: Classification names.
 CLASSES = ("spherical", "oblate", "prolate", "asymmetric")
-
-_EPS = np.finfo(float).eps
 
 
 # ---------------------------------------------------------------------------
@@ -413,7 +411,7 @@ class Body:
             values, axes = symmetric_eigen3(self.tensor, rtol)
             # A mass distribution's tensor is positive semi-definite: a negative
             # eigenvalue can only be rounding (a line of point masses).
-            tiny = 8.0 * _EPS * float(np.max(np.abs(values)))
+            tiny = 8.0 * EPS * float(np.max(np.abs(values)))
             values = np.where((values < 0) & (values >= -tiny), 0.0, values)
             diffs = _differences(values)
         frame = PrincipalFrame(_readonly(values), _readonly(axes), _readonly(diffs), "ascending")

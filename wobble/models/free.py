@@ -51,7 +51,7 @@ from fractions import Fraction
 import numpy as np
 
 from wobble.numerics.scaled_norm import norm
-from wobble.numerics.floats import HUGE, TINY
+from wobble.numerics.floats import EPS, HUGE, TINY
 from wobble.errors import InputError
 from wobble.models.principal_axes import proper_signs, to_sorted, to_user
 from wobble.models.vocabulary import Regime
@@ -72,7 +72,6 @@ __all__ = [
 ]
 
 REGIMES = tuple(r.value for r in Regime)
-_EPS = np.finfo(float).eps
 _TWO_PI_DD = hp.TWO_PI_DD
 
 
@@ -555,7 +554,7 @@ def _check(moments, omega0):
         )
     srt = sorted(moments)
     # A lamina has I1 + I2 = I3 exactly; allow the few ulps a unit conversion adds.
-    if srt[0] + srt[1] < srt[2] * (1 - 8 * _EPS):
+    if srt[0] + srt[1] < srt[2] * (1 - 8 * EPS):
         raise InputError(
             "moments", moments, "principal moments obeying the triangle inequality I1 + I2 >= I3 (a real body)"
         )
@@ -668,7 +667,7 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
             m1=1.0,
             period=np.inf,
             time_between_flips=None,
-            error_estimate={"omega_relative": 0.0, "attitude_rad": 4 * _EPS},
+            error_estimate={"omega_relative": 0.0, "attitude_rad": 4 * EPS},
             precession_rate=float(hp.sqrt(norm2)) if norm2 > 0 else 0.0,
             _order=order,
             _signs=signs,
@@ -755,7 +754,7 @@ def _symmetric_model(moments, omega0, I, order, common, two_e, l2):
         m1=1.0,
         period=period,
         time_between_flips=None,
-        error_estimate={"omega_relative": 4 * _EPS, "attitude_rad": 8 * _EPS},
+        error_estimate={"omega_relative": 4 * EPS, "attitude_rad": 8 * EPS},
         precession_rate=float(big_l / hp.dec(i_perp)),
         _order=frame,
         _signs=signs,
@@ -907,7 +906,7 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
         fourier=_nome_series(m, kdec) if (kdec is not None and 0 < m <= _FOURIER_MAX_M) else None,
     )
     kf = K[0] if np.isfinite(K[0]) else 1.0
-    est = {"omega_relative": 16 * _EPS * (1 + kf), "attitude_rad": 64 * _EPS * (1 + kf)}
+    est = {"omega_relative": 16 * EPS * (1 + kf), "attitude_rad": 64 * EPS * (1 + kf)}
     # Omega_psi is the mean rate of the attitude angle measured from the shortest-arc frame,
     # which turns once per period 4K/lambda about L (forwards circulating about the major
     # axis, backwards about the minor one): L&L's mean phidot is Omega_psi +- 2 pi / period.

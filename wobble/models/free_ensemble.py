@@ -43,6 +43,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import special as _sp
 
+from wobble.numerics.floats import EPS
 from wobble.models.free_flow import free_flow
 from wobble.models.principal_axes import proper_sort
 from wobble.models.vocabulary import Regime
@@ -58,7 +59,6 @@ INVALID_REASONS = {
     1: "principal moments violate the triangle inequality I1 + I2 >= I3 (no real body)",
     2: "a moment is not positive and finite, or omega0 or the time is not finite",
 }
-_EPS = float(np.finfo(float).eps)
 
 
 def free_ensemble(moments, omega0, t=None) -> dict[str, np.ndarray]:
@@ -93,7 +93,7 @@ def free_ensemble(moments, omega0, t=None) -> dict[str, np.ndarray]:
         finite = np.all(np.isfinite(moments), -1) & np.all(np.isfinite(omega0), -1) & (srt[:, 0] > 0)
         if t is not None:
             finite &= np.isfinite(np.broadcast_to(np.asarray(t, dtype=float), (n,)))
-        triangle = srt[:, 0] + srt[:, 1] >= srt[:, 2] * (1 - 8 * _EPS)
+        triangle = srt[:, 0] + srt[:, 1] >= srt[:, 2] * (1 - 8 * EPS)
     reason = np.where(~finite, 2, np.where(~triangle, 1, 0)).astype(np.int8)
     ok = reason == 0
     out = {

@@ -21,14 +21,13 @@ import math
 import numpy as np
 from scipy import special as _sp
 
+from wobble.numerics.floats import EPS
 from wobble.errors import InputError
 from wobble.models.principal_axes import proper_sort, to_sorted, to_user
 from wobble.numerics import elliptic as ell
 from wobble.numerics import quaternion as quat
 
 __all__ = ["free_flow", "flow_sorted", "flow_many", "flow_one", "proper_sort"]
-
-_EPS = np.finfo(float).eps
 
 
 def free_flow(moments, omega, q=None, h=0.0):
@@ -329,7 +328,7 @@ def flow_many(I, omega, h, attitude):
 def _landen_one(m, m1):
     a, b, c = 1.0, math.sqrt(m1), math.sqrt(m)
     levels = []
-    while c > 0.5 * _EPS * a and len(levels) < 40:
+    while c > 0.5 * EPS * a and len(levels) < 40:
         a, b, c = 0.5 * (a + b), math.sqrt(a * b), 0.5 * (a - b)
         levels.append((c / a, b / a))
     return 0.5 * math.pi / a, (2.0 ** len(levels)) * a, levels

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wobble.numerics.floats import EPS
 from wobble.errors import InputError
 from wobble.models.principal_axes import proper_sort
 from wobble.numerics import quaternion as quat
@@ -35,8 +36,6 @@ __all__ = [
     "to_body",
     "to_body_components",
 ]
-
-_EPS = np.finfo(float).eps
 
 
 # --------------------------------------------------------------------------
@@ -188,7 +187,7 @@ def check_moments(m):
     if not np.all(np.isfinite(m)) or np.any(m <= 0):
         raise InputError("moments", np.asarray(m).tolist(), "positive, finite principal moments (kg m2)")
     s = np.sort(m, axis=-1)
-    if np.any(s[..., 0] + s[..., 1] < s[..., 2] * (1 - 8 * _EPS)):
+    if np.any(s[..., 0] + s[..., 1] < s[..., 2] * (1 - 8 * EPS)):
         raise InputError("moments", np.asarray(m).tolist(), "moments obeying the triangle inequality I1 + I2 >= I3")
 
 

@@ -77,6 +77,7 @@ import math
 import numpy as np
 from scipy import special as _sp
 
+from wobble.numerics.floats import EPS
 from wobble.numerics import double_double as dd
 
 __all__ = [
@@ -103,7 +104,6 @@ __all__ = [
     "jacobi_quarter_inverse",
 ]
 
-_EPS = np.finfo(float).eps
 #: The smallest 1 - m (other than 0, the separatrix) whose integrals of the third kind the
 #: kernels evaluate: below it SciPy's R_J overflows inside (its value near 1e155 and more),
 #: and a state closer to the separatrix than sqrt(M1_MIN) ~ 1e-75 leaves double precision.
@@ -153,7 +153,7 @@ class LandenLevels:
         scale = np.ones_like(m)
         ratios_b = []
         for _ in range(_MAX_LEVELS):
-            if not np.any(c > _EPS * a * 0.5):
+            if not np.any(c > EPS * a * 0.5):
                 break
             a, b, c = 0.5 * (a + b), np.sqrt(a * b), 0.5 * (a - b)
             ratios.append(c / a)
@@ -177,7 +177,7 @@ class LandenLevels:
         c = math.sqrt(mf) if m1f > 0 else 0.0
         ratios, ratios_b, scale = [], [], 1.0
         for _ in range(_MAX_LEVELS):
-            if not c > _EPS * a * 0.5:
+            if not c > EPS * a * 0.5:
                 break
             a, b, c = 0.5 * (a + b), math.sqrt(a * b), 0.5 * (a - b)
             ratios.append(np.float64(c / a))
@@ -257,7 +257,7 @@ def ellipe(m, m1=None):
 
 def _carlson_args(phi, m, m1):
     phi = np.asarray(phi, dtype=float)
-    if np.any(np.abs(phi) > 0.5 * np.pi * (1 + 4 * _EPS)):
+    if np.any(np.abs(phi) > 0.5 * np.pi * (1 + 4 * EPS)):
         raise ValueError("incomplete integrals take |phi| <= pi/2; add multiples of the complete one")
     s = np.sin(phi)
     c = np.cos(phi)
@@ -744,7 +744,7 @@ def _jacobi_parts(u, m, m1):
     m, m1 = np.broadcast_arrays(m, m1)
     sep = m1 == 0
     imag = m1 < 0.5
-    direct = _Levels(np.sqrt(m1), np.where(sep, 0.0, np.sqrt(m)), 0.5 * _EPS)
+    direct = _Levels(np.sqrt(m1), np.where(sep, 0.0, np.sqrt(m)), 0.5 * EPS)
     with np.errstate(divide="ignore"):
         k = np.where(sep, np.inf, 0.5 * np.pi / direct.a)
     x, x_lo, q = _quarter_reduce(u, m, m1, k)
@@ -766,7 +766,7 @@ def _quarter_reduce(u, m, m1, k):
     digits (:func:`ellipk_dd`). Where every ``|u| <= K/2`` (``k``: K in float64)
     nothing needs reducing.
     """
-    if np.all(np.abs(u) <= 0.5 * k * (1.0 - 4.0 * _EPS)):
+    if np.all(np.abs(u) <= 0.5 * k * (1.0 - 4.0 * EPS)):
         shape = np.broadcast_shapes(u.shape, k.shape)
         return np.broadcast_to(u, shape).copy(), np.zeros(shape), np.zeros(shape)
     return _reduce_dd(u, *ellipk_dd(m, m1))

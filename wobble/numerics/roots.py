@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["bracketed_root"]
+from wobble.numerics.floats import EPS
 
-_EPS = 2.220446049250313e-16
+__all__ = ["bracketed_root"]
 
 
 def bracketed_root(
@@ -80,6 +80,6 @@ def bracketed_root(
             m = 1.0 - fc / fa
             fb = fb * (m if m > 0 else 0.5)
             a, fa = c, fc
-        if abs(b - a) <= xtol + 4 * _EPS * abs(c):
+        if abs(b - a) <= xtol + 4 * EPS * abs(c):
             return c
     raise ValueError("no convergence within the evaluation budget")
