@@ -17,6 +17,7 @@ from astropy import units as u
 from wobble.errors import InputError
 from wobble.io.quantity_values import NotReal, float64_value, real_float
 from wobble.io.text import is_number
+from wobble.numerics.floats import HUGE
 
 __all__ = [
     "to_si",
@@ -189,8 +190,7 @@ def plain_array(value, name: str, allowed: str) -> np.ndarray:
 def _finite_allowed(value: u.Quantity, unit: u.UnitBase) -> str:
     """What a non-finite conversion is told: finite values, or values that fit a double in ``unit``."""
     if np.all(np.isfinite(value.value)):  # finite as typed: the conversion overflowed
-        largest = np.finfo(float).max
-        return f"values that stay finite in {unit.to_string()} (at most {largest:.3g} {unit.to_string()})"
+        return f"values that stay finite in {unit.to_string()} (at most {HUGE:.3g} {unit.to_string()})"
     return "finite values (no NaN or inf)"
 
 

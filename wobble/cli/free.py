@@ -79,7 +79,7 @@ def _quantity(values, name, unit):
 def _span(body, text):
     """(t_end in s, how it was chosen) from --t-end, or three periods of omega."""
     import math
-    import sys
+    from wobble.numerics.floats import HUGE
 
     from astropy import units as u
 
@@ -98,7 +98,7 @@ def _span(body, text):
         raise InputError.missing(
             "--t-end",
             f"a time span (e.g. --t-end 1e308): the default, {DEFAULT_PERIODS} periods of omega "
-            f"({DEFAULT_PERIODS} x {period:.6g} s), is past the largest double ({sys.float_info.max:.4g} s)",
+            f"({DEFAULT_PERIODS} x {period:.6g} s), is past the largest double ({HUGE:.4g} s)",
         )
     return t_end, f"{DEFAULT_PERIODS} periods, the default; --t-end to change"
 
