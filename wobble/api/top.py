@@ -127,17 +127,15 @@ _TOP_VARIABLES = {name: (spec.dims, spec.attrs()) for name, spec in cf.TOP.items
 def mean_rate_text(rate: float, bound: float | None) -> str:
     """The mean precession rate for a person, to the digits its error bound leaves: all seven where the bound
     is a rounding, fewer where the set-up's terms cancelled (loops under weak gravity), and 'not resolved'
-    where none is left (a review found such a rate printed with the wrong sign and seven digits)."""
-    from wobble.io.text import number
+    where none is left (its sign then is not known either)."""
+    from wobble.io.text import number, with_uncertainty_g
     from wobble.models.top_setup import MEAN_RATE_DIGITS as digits_kept
 
     if bound is None or not bound > 1e-14 * abs(rate):
         return f"{number(rate)} rad/s"
     if bound >= abs(rate):
         return f"not resolved: |mean| below {bound:.2g} rad/s (its terms cancel past the set-up's {digits_kept} digits)"
-    # To the bound's second significant digit, as every value +/- its uncertainty is printed.
-    digits = int(np.floor(np.log10(abs(rate))) - np.floor(np.log10(bound))) + 2
-    return f"{number(rate, digits)} +/- {bound:.2g} rad/s (its terms cancel in the set-up's {digits_kept} digits)"
+    return f"{with_uncertainty_g(rate, bound)} rad/s (its terms cancel in the set-up's {digits_kept} digits)"
 
 
 class HeavyTop:

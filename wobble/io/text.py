@@ -107,6 +107,21 @@ def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -
     return f"{fmt.format(value)} +/- {sigma:.{d}f}"
 
 
+def with_uncertainty_g(value: float, sigma: float) -> str:
+    """``value +/- sigma`` in significant digits: the value to the place of the uncertainty's second one.
+
+    For values whose size varies over many decades (a rate of 1e-9 rad/s would print as zeros in the
+    fixed decimals of :func:`with_uncertainty`). ``sigma`` must be positive and below ``|value|``.
+
+    >>> with_uncertainty_g(1.2345678e-9, 3.1e-12)
+    '1.2346e-09 +/- 3.1e-12'
+    >>> with_uncertainty_g(-0.754321, 0.02)
+    '-0.754 +/- 0.02'
+    """
+    digits = math.floor(math.log10(abs(value))) - math.floor(math.log10(sigma)) + 2
+    return f"{number(value, digits)} +/- {sigma:.2g}"
+
+
 # (largest span shown in this unit, the unit's length in s, its symbol); beyond: years.
 _SPANS = ((120.0, 1.0, "s"), (7200.0, 60.0, "min"), (172800.0, 3600.0, "h"), (2 * JULIAN_YEAR, 86400.0, "d"))
 
