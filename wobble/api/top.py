@@ -483,8 +483,8 @@ class HeavyTop:
             **{f"error_estimate_{k}": v for k, v in err.items()},
             "error_estimate": {},
         }
-        # The nested error_estimate object is the old form: it keeps the keys it had, not the mean rate's bound
-        # (added 2026-11-29, flat only).
+        # The nested error_estimate object is the deprecated form: it keeps the keys it had; the mean rate's
+        # bound is newer than it and is given flat only.
         old = [k for k in err if k != "mean_precession_rate_rad_per_s"]
         return deprecate(out, {"nutation": "nutation_class", **error_estimate_renames(old)})
 

@@ -630,9 +630,9 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
         non-finite omega0.
     """
     # Every Decimal operation of the set-up at hp.DIGITS digits (hp.isolated): a bare one takes the
-    # caller's context (decimal's default 28 digits, or whatever a script has set). Until 2026-11-29
-    # the rates were formed so: 28 digits (1.5e-12 rad of attitude after 2^49.9 half-periods), and a
-    # script that had set 6 digits got attitudes 1.5 rad off at 1.7 s.
+    # caller's context (decimal's default 28 digits, or whatever a script has set): 28 digits leave
+    # 1.5e-12 rad of attitude after 2^49.9 half-periods, and a script that had set 6 digits would get
+    # attitudes 1.5 rad off at 1.7 s.
     moments, omega0 = _check(moments, omega0)
     order = tuple(int(i) for i in np.argsort(moments, kind="stable"))
     I = [Fraction(moments[i]) for i in order]

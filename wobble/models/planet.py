@@ -216,9 +216,9 @@ class PlanetParameters:
     def _check_scales(self):
         """Every combination of the given values that the models form is a normal float.
 
-        A planet file with a rotation period of 1e-300 s, a radius of 1e300 m or an orbit of 1e300 AU ended in
-        ZeroDivisionError or OverflowError tracebacks, NumPy's overflow warnings and k_s = inf printed, or a
-        refusal that blamed dynamical_flattening for k_s = 0 (CLI fuzzer, 2026-11-29).
+        Without it a planet file with a rotation period of 1e-300 s, a radius of 1e300 m or an orbit of 1e300 AU
+        would end in ZeroDivisionError or OverflowError, NumPy's overflow warnings and k_s = inf printed, or a
+        refusal that blames dynamical_flattening for k_s = 0.
         """
         # The square roots of the float range: the Monte Carlo's variances and the propagation's products square
         # these scales (a period of 1e150 h passed a check at the range itself, and the draws' variance overflowed).

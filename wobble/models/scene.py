@@ -475,7 +475,7 @@ def _build_free(name):
 def _exact_single(scene) -> bool:
     """Whether one member takes free_rotation's exact solution: a span within its reach
     (FreeRotationModel.max_time); else the flow map, whose float phase states its own growing bound.
-    (The separatrix entered with omega_a < 0 went to the flow map until free_rotation took it, 2026-11-29.)"""
+    The separatrix, entered with either sign of omega_a, is among the exact solutions."""
     if scene.members != 1:
         return False
     body = scene.body

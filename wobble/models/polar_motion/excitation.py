@@ -102,9 +102,9 @@ def band_amplitude(t, z, centre: float, half_width: float, lines=()) -> np.ndarr
     amplitudes, with the mean, and removed first. The kernel is a sinc envelope whose main lobe spans
     +/- 1/(2B) (B the half-width in cycles per time): nearer an end than that, the amplitude is NaN; next
     to that edge a line in the band still reads up to 12 % high or low (the record's truncation: Gibbs).
-    The convolution is linear, the series padded with as many zeros: the circular one used until
-    2026-11-29 wrapped the record's start into its end (the pole's 2020 band amplitude moved from 44 to
-    11 mas when the record was cut two years shorter; the excitation's after 2015 read 6.8 mas).
+    The convolution is linear, the series padded with as many zeros: a circular one wraps the record's
+    start into its end (the pole's 2020 band amplitude then moves from 44 to 11 mas when the record is
+    cut two years shorter, and the excitation's after 2015 reads 6.8 mas instead of 2.0).
     """
     t = np.asarray(t, dtype=float)
     z = np.asarray(z, dtype=complex)
