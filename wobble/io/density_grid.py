@@ -59,8 +59,8 @@ def open_density(path: str | os.PathLike, var: str | None = None) -> Iterator[xr
 def _choose(path: Path, ds: xr.Dataset, var: str | None) -> str:
     if var is not None:
         if var not in ds.data_vars:
-            # The parameter, as every other refusal names it (wobble inertia --var): the message had read
-            # "PATH, variable 'rhp': not in the file", naming the shipped file's installed path and not --var.
+            # A refusal of the parameter var, as every other one names its parameter, and the file by its name:
+            # a shipped file's installed path means nothing to the person who typed its name.
             names = ", ".join(map(str, ds.data_vars)) or "none"
             raise InputError("var", var, f"a data variable of {path.name}: {names}")
         return var

@@ -114,7 +114,7 @@ def load_profile(profile: str | os.PathLike) -> tuple[DensityProfile, ParameterF
     elif Path(text).is_file():
         pf = _read(text)
     else:
-        # Why the path is not read, as --body-file says it (a missing file and a folder were told only the names).
+        # Why the path is not read (missing, a folder, empty), in the words every file option uses.
         raise InputError(
             "profile",
             text,

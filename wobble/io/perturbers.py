@@ -161,7 +161,7 @@ def load_perturber(name: str | os.PathLike) -> ParameterFile:
             return _check(_read(path, "perturber", PERTURBER_UNITS))
     if Path(text).is_file():
         return _check(_read(text, "perturber", PERTURBER_UNITS))
-    # Why the path is not read, as --body-file says it (a missing file and a folder were told only the names).
+    # Why the path is not read (missing, a folder, empty), in the words every file option uses.
     raise InputError(
         "perturber",
         text,
