@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
+
+import mpmath as mp
 
 import numpy as np
 import pytest
@@ -11,7 +14,7 @@ import xarray as xr
 
 import wobble
 from wobble.cli import main
-from wobble.io.catalog import catalogue_file
+from wobble.io.catalog import catalogue_file, load_planet
 
 JSON_MODE_KEYS = {
     "mode",
@@ -92,6 +95,69 @@ def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
             ("core_flattening_excess_uncertainty_percent", "core_flattening_excess_uncertainty"),
         ):
             assert float(row[var]) == pytest.approx(body[key], rel=1e-14, abs=0), (body["body"], key)  # 15 digits
+
+
+def _liouville_root(p, k2, e_f, guess):
+    """A root omega (rad/s, signed) of det(i omega M + Omega K) = 0, the Liouville equations (M) of
+    docs/modes.md section 1 for a triaxial mantle and a Poincare core, built here in mpmath from
+    the catalogued J2, C22, S22, C/(Ma^2), GM, a and A_f (independent of wobble.models.modes)."""
+    mp.mp.dps = 30
+    big_c = mp.mpf(p.c_factor)
+    c22 = mp.sqrt(5 / mp.mpf(12)) * mp.hypot(p.c22.value if p.c22 else 0, p.s22.value if p.s22 else 0)
+    ca = mp.mpf(p.flattening) + 2 * c22 / big_c  # (C - A)/C, units of C: Abar = (A + B)/2 and B - A = 4 C22 M a^2
+    cb = mp.mpf(p.flattening) - 2 * c22 / big_c
+    spin, a, gm = (mp.mpf(x) for x in (p.rotation_rate.value, p.equatorial_radius.value, p.gm.value))
+    d = mp.mpf(k2) * a**3 * spin**2 / (3 * gm * big_c)  # D/C, D = k2 a^5 Omega^2/(3 G)
+    af = mp.mpf(p.fluid_core_moment) / (big_c * gm / mp.mpf(p.gravitational_constant.value) * a**2)
+    beta, gamma, ef = mp.mpf(p.core_compliance_beta.value), mp.mpf(p.core_compliance_gamma.value), mp.mpf(e_f)
+    f = af * (1 + gamma)
+    m = mp.matrix(
+        [[1 - ca + d, 0, f, 0], [0, 1 - cb + d, 0, f], [1 + gamma, 0, 1 + beta, 0], [0, 1 + gamma, 0, 1 + beta]]
+    )
+    k = mp.matrix([[0, cb - d, 0, -f], [-(ca - d), 0, f, 0], [0, 0, 0, -(1 + ef)], [0, 0, 1 + ef, 0]])
+    return mp.findroot(lambda w: mp.re(mp.det(1j * w * m + spin * k)), mp.mpf(guess))
+
+
+def test_netcdf_values_against_independent_references(tmp_path, capsys):
+    """The file's numbers against the physics, not against the API: the rates are roots of the
+    Liouville equations solved here (mpmath), with Earth's core flattening from an independent
+    Clairaut solution of PREM (tests/references/clairaut.json); the periods are 2 pi/rate in days of
+    86400 s; the celestial FCN is the terrestrial one plus one turn; the observations are the
+    published values (Krasna et al. 2013: -431.18 +- 0.10 sidereal days; Le Maistre et al. 2023)."""
+    path = tmp_path / "modes.nc"
+    assert _run(capsys, "modes", "earth", "mars", "-o", str(path))[0] == 0
+    ds = wobble.load(path)
+    assert ds["period"].attrs["units"] == "day" and ds["rate"].attrs["units"] == "rad s-1"
+    clairaut = json.loads((Path(__file__).parent / "references" / "clairaut.json").read_text())
+    prem = next(f for f in clairaut["figures"] if f["profile"] == "prem")
+    earth = ds.sel(body="earth")
+    assert float(earth["core_flattening_hydrostatic"]) == pytest.approx(
+        float(prem["core_dynamical_ellipticity"]), rel=1e-11
+    )
+    assert float(earth["surface_flattening_hydrostatic"]) == pytest.approx(float(prem["surface_flattening"]), rel=1e-11)
+    assert float(earth["dynamical_flattening_hydrostatic"]) == pytest.approx(
+        float(prem["j2"]) / float(prem["moment_factor"]), rel=1e-11
+    )
+    spins = {"earth": 7.292115e-5, "mars": 350.891985307 * math.pi / 180 / 86400}
+    for body, spin in spins.items():
+        row = ds.sel(body=body)
+        p, _ = load_planet(body)
+        e_f = float(row["core_flattening_hydrostatic"])
+        for label, sense in (("CW_terrestrial", 1), ("FCN_terrestrial", -1), ("FCN_celestial", -1)):
+            rate, period = float(row["rate"].sel(mode=label)), float(row["period"].sel(mode=label))
+            assert period == pytest.approx(2 * math.pi / rate / 86400, rel=1e-15)
+            assert int(row["sense"].sel(mode=label)) == sense == np.sign(period)
+        terrestrial = float(row["rate"].sel(mode="FCN_terrestrial"))
+        assert float(row["rate"].sel(mode="FCN_celestial")) - terrestrial == pytest.approx(spin, rel=1e-13)
+        for label, tolerance in (("CW_terrestrial", 1e-10), ("FCN_terrestrial", 1e-12)):
+            rate, k2 = float(row["rate"].sel(mode=label)), float(row["love_number_k2"].sel(mode=label))
+            assert rate == pytest.approx(float(_liouville_root(p, k2, e_f, rate)), rel=tolerance), (body, label)
+    observed = ds["observed_period"].sel(mode="FCN_celestial")
+    assert float(observed.sel(body="earth")) == pytest.approx(-431.18 * 86164.0905 / 86400, rel=1e-9)
+    assert float(ds["observed_period_uncertainty"].sel(body="earth", mode="FCN_celestial")) == pytest.approx(
+        0.10 * 86164.0905 / 86400, rel=1e-9
+    )
+    assert float(observed.sel(body="mars")) == -243.0
 
 
 def test_body_file_runs_like_the_catalogue(tmp_path, capsys):
