@@ -242,6 +242,129 @@ def test_bad_profile_file_exit_2_one_line_nothing_written(tmp_path, capsys):
     assert not out_file.exists()
 
 
+def _prem_text():
+    from wobble.io.density_profile import load_profile
+
+    return Path(load_profile("prem")[1].path).read_text()
+
+
+_CORE = "[parameters.fluid_core_outer_radius]\nvalue = 3480.0"
+_INNER = "[parameters.fluid_core_inner_radius]\nvalue = 1221.5"
+
+
+@pytest.mark.parametrize(
+    ("edit", "fragments"),
+    [
+        (("[2.600, 0.0, 0.0, 0.0]", "[-2.600, 0.0, 0.0, 0.0]"), ("(density)", "-2600 kg/m3", "positive density")),
+        (("[1221.5, 3480.0, 5701.0", "[1221.5, 5701.0, 3480.0"), ("(layer_top_radius)", "3480000.0", "increasing")),
+        ((_CORE, _CORE.replace("3480.0", "7000.0")), ("(fluid_core_outer_radius)", "7000 km", "inside the planet")),
+        ((_INNER, _INNER.replace("1221.5", "-5.0")), ("(fluid_core_inner_radius)", "-5 km", "at least 0")),
+        (("[2.900, 0.0, 0.0, 0.0]", "[nan, 0.0, 0.0, 0.0]"), ("density_coefficients", "nan", "finite numbers")),
+        (("6368.0, 6371.0]", "6368.0, nan]"), ("layer_top_radius", "nan", "finite numbers")),
+        ((_CORE, _CORE.replace("3480.0", "nan")), ("fluid_core_outer_radius", "nan", "finite numbers")),
+    ],
+)
+def test_bad_profile_file_is_one_line_naming_file_parameter_value_and_rule(tmp_path, capsys, edit, fragments):
+    text = _prem_text()
+    assert edit[0] in text
+    bad = tmp_path / "bad_prem.toml"
+    bad.write_text(text.replace(edit[0], edit[1], 1))
+    out_file = tmp_path / "modes.nc"
+    status, _, err = _run(capsys, "modes", "earth", "--profile", str(bad), "-o", str(out_file))
+    assert status == 2 and err.count("\n") == 1 and "Traceback" not in err, err
+    assert "bad_prem.toml" in err and all(f in err for f in fragments), err
+    assert not out_file.exists()
+
+
+def test_zero_rotation_is_one_line(tmp_path, capsys):
+    import re
+
+    path = tmp_path / "still.toml"
+    text = Path(str(catalogue_file("earth"))).read_text()
+    path.write_text(re.sub(r"(\[parameters\.rotation_rate\]\nvalue = )[^\n]*", r"\g<1>0.0", text))
+    status, _, err = _run(capsys, "modes", "--body-file", str(path), "--profile", "prem")
+    assert status == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert "still.toml" in err and "rotation_rate" in err and "0.0" in err and "non-zero" in err
+
+
+def test_a_tiny_liquid_core_runs_and_gives_the_closed_form(tmp_path, capsys):
+    """A 3 km uniform core under a uniform mantle: the figure stopped with a StepLimitError traceback
+    (step size underflow at the core-mantle boundary). Its e_f is the core's level-surface flattening,
+    eps(b) = (P b^5 + Q)/(b^2 (rho_m b^3 + K)) scaled by the surface condition (mpmath)."""
+    text = Path(str(catalogue_file("mars"))).read_text()
+    b, a, rho_c, rho_m = 3.0e3, 3389.5e3, 8000.0, 3933.0
+    profile = tmp_path / "tiny_core.toml"
+    profile.write_text(
+        f"""schema = "wobble/1"
+kind = "density_profile"
+name = "tiny_core"
+
+[parameters.layer_top_radius]
+value = [{b / 1e3}, {a / 1e3}]
+unit = "km"
+uncertainty = 0.0
+source = "test"
+status = "assumed"
+
+[parameters.density_coefficients]
+value = [[{rho_c}], [{rho_m}]]
+unit = "kg m-3"
+uncertainty = 0.0
+source = "test"
+status = "assumed"
+
+[parameters.normalising_radius]
+value = {a / 1e3}
+unit = "km"
+uncertainty = 0.0
+source = "test"
+status = "assumed"
+
+[parameters.fluid_core_inner_radius]
+value = 0.0
+unit = "km"
+uncertainty = 0.0
+source = "test"
+status = "assumed"
+
+[parameters.fluid_core_outer_radius]
+value = {b / 1e3}
+unit = "km"
+uncertainty = 0.0
+source = "test"
+status = "assumed"
+
+[parameters.mass_tolerance]
+value = 0.1
+unit = ""
+uncertainty = 0.0
+source = "test"
+status = "assumed"
+"""
+    )
+    body = tmp_path / "mars_tiny.toml"
+    body.write_text(text)
+    status, out, err = _run(capsys, "modes", "--body-file", str(body), "--profile", str(profile), "--json")
+    assert status == 0, err
+    got = json.loads(out)[0]["core_flattening_hydrostatic"]
+    mp.mp.dps = 40
+    p, _ = load_planet("mars")
+    bb, aa, rc, rm = (mp.mpf(x) for x in (b, a, rho_c, rho_m))
+    k = (rc - rm) * bb**3
+    q = (
+        mp.mpf(p.rotation_rate.value) ** 2
+        * aa**3
+        / (mp.mpf(p.gravitational_constant.value) * 4 * mp.pi / 3 * (rm * aa**3 + k))
+    )
+    big_q = 3 * k * bb**5 / (5 * rm * bb**3 + 2 * k)  # eps'(b) = 0: the core is uniform
+
+    def shape(r):
+        return (r**5 + big_q) / (r**2 * (rm * r**3 + k))
+
+    e_f = shape(bb) * (5 * q / 2) / (aa * mp.diff(shape, aa) + 2 * shape(aa))
+    assert got == pytest.approx(float(e_f), rel=1e-10)
+
+
 def test_hydrostatic_figure_netcdf_round_trip_and_cf(tmp_path, assert_cf_compliant):
     from astropy import units as u
 
