@@ -72,7 +72,18 @@ def test_homogeneous_body_is_the_maclaurin_limit():
 
 
 @pytest.mark.parametrize(
-    ("b", "rho_c", "rho_m"), [(3.48e6, 11000.0, 4400.0), (1.83e6, 6000.0, 3500.0), (5.0e6, 5000.0, 4999.0)]
+    ("b", "rho_c", "rho_m"),
+    [
+        (3.48e6, 11000.0, 4400.0),
+        (1.83e6, 6000.0, 3500.0),
+        (5.0e6, 5000.0, 4999.0),
+        # Small liquid cores: the core's moment (~ b^5) is far below the body's. e_f was 2.5e-5 off at
+        # b = 0.003 a (the moment integral's absolute tolerance), and b <= 0.001 a stopped with
+        # "step size underflow" at the core-mantle boundary.
+        (1.92e4, 8000.0, 4000.0),
+        (6.4e3, 8000.0, 4000.0),
+        (6.4e3, 1e9, 1000.0),
+    ],
 )
 def test_two_layer_body_matches_the_closed_form_to_1e_10(b, rho_c, rho_m):
     a = 6.4e6
@@ -185,6 +196,8 @@ def _two(rho_c=11000.0, rho_m=4400.0, core=(0.0, 3.48e6), b=3.48e6):
         (_two(rho_m=-1.0), "density", "positive"),
         (_two(rho_c=3000.0), "density", "does not increase outward"),
         (_two(core=(0.0, 7.0e6)), "fluid_core_outer_radius", "inside the planet"),
+        # A negative inner radius was blamed on the outer one ("fluid_core_outer_radius: got 3480 km").
+        (_two(core=(-5.0e3, 3.48e6)), "fluid_core_inner_radius", "at least 0"),
         (_two(core=(0.0, 3.0e6)), "fluid_core_outer_radius", "layer boundary"),
         (
             DensityProfile("x", (0.0, 3.48e6, 6.4e6), ((9000.0, 0.0, 3000.0), (4000.0,)), 6.4e6, (0.0, 3.48e6)),

@@ -96,6 +96,49 @@ def test_axisymmetric_modes_are_the_roots_of_the_sos_determinant(name):
     assert cw > 0 and -1.01 < fcn < -1
 
 
+@pytest.mark.parametrize("name", ["earth", "mars"])
+@pytest.mark.parametrize(
+    ("e_f", "k2_scale", "core_scale", "compliance_scale"),
+    [
+        (0.0, 1.0, 1.0, 1.0),  # a spherical core: the FCN sits at -1 + (A/A_m) beta, prograde in space
+        (0.05, 1.0, 1.0, 1.0),  # twenty times flatter than hydrostatic
+        (2.6e-3, 1.0, 1e-6, 1.0),  # a core 1e-6 of the catalogued one
+        (2.6e-3, 0.0, 1.0, 1.0),  # k2 = 0: a rigid mantle
+        (2.6e-3, 1.0, 1.0, 0.0),  # beta = gamma = 0: a rigid core
+        (0.0, 0.0, 1e-6, 0.0),  # all at once: sigma_FCN = -1 to rounding
+    ],
+)
+def test_modes_at_the_edges_are_the_roots_of_the_sos_determinant(name, e_f, k2_scale, core_scale, compliance_scale):
+    """Both code paths, the 4 x 4 eigenproblem and the closed-form biquadratic of the batched
+    models, against the SOS quadratic (mpmath) where the coupling terms vanish or dominate."""
+    from wobble.models.modes import mode_rates_samples
+
+    p = _symmetric_elastic(name)
+
+    def scaled(m, factor):
+        return replace(m, value=m.value * factor)
+
+    p = replace(
+        p,
+        love_number_k2=scaled(p.love_number_k2, k2_scale),
+        core_compliance_beta=scaled(p.core_compliance_beta, compliance_scale),
+        core_compliance_gamma=scaled(p.core_compliance_gamma, compliance_scale),
+    )
+    if p.fluid_core_equatorial_moment is not None:
+        p = replace(p, fluid_core_equatorial_moment=scaled(p.fluid_core_equatorial_moment, core_scale))
+    else:
+        p = replace(p, fluid_core_density=scaled(p.fluid_core_density, core_scale))
+    cw, fcn = (float(x) for x in _sos_roots(p, e_f))
+    spin = p.rotation_rate.value
+    rates = mode_rates(p, e_f)
+    batched = mode_rates_samples(p, {}, e_f)
+    for got in (rates["CW"][0], float(batched["CW"][0])):
+        assert got / spin == pytest.approx(cw, rel=1e-13)
+    for got in (rates["FCN"][0], float(batched["FCN"][0])):
+        assert got / spin == pytest.approx(fcn, rel=1e-14)
+    assert cw > 0 and fcn < 0
+
+
 def test_rigid_mantle_fcn_is_the_poincare_frequency():
     # No deformation: sigma_FCN = -1 - (A/A_m) e_f to first order (Sasao et al. 1980).
     p = _symmetric_elastic("earth")

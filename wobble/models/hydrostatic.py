@@ -150,7 +150,11 @@ def _layer_end_densities(profile):
 
 def _check_core(profile, edges):
     inner, outer = profile.fluid_core
-    if not (0.0 <= inner < outer):
+    if not inner >= 0.0:
+        raise InputError(
+            "fluid_core_inner_radius", f"{inner / 1e3:.6g} km", "a radius of at least 0 (0: no solid inner core)"
+        )
+    if not inner < outer:
         raise InputError(
             "fluid_core_outer_radius", f"{outer / 1e3:.6g} km", f"larger than the inner radius {inner / 1e3:.6g} km"
         )

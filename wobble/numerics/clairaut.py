@@ -92,7 +92,7 @@ def _horner(coeffs: tuple, x: float) -> float:
     return out
 
 
-def _rhs_factory(edges, coeffs, scale, layer):
+def _rhs_factory(edges, coeffs, scale, layer, moment_unit=1.0):
     c_arr = _powers(coeffs, scale)[layer][::-1]  # highest power first
     lo = float(edges[layer])
     below = float(np.sum(layer_integrals(edges[: layer + 1], coeffs[:layer], scale, 2))) if layer else 0.0
@@ -115,12 +115,12 @@ def _rhs_factory(edges, coeffs, scale, layer):
 
     def rhs(t, y):
         r = math.exp(t)
-        eta, log_eps = float(y[0]), float(y[1])
+        eta, log_eps = float(y[0]) - 1.0, float(y[1])
         rho = _horner(c, r)
         rr = ratio(r, rho)
         deta = 6.0 - 6.0 * rr * (eta + 1.0) - eta * (eta - 1.0)
-        # d(ln eps)/dt = eta; the moment integrand rho r^5 e^L (5 + eta) dt.
-        dmom = rho * r**5 * math.exp(log_eps) * (5.0 + eta)
+        # d(ln eps)/dt = eta; the moment integrand rho r^5 e^L (5 + eta) dt, in the layer's own unit.
+        dmom = rho * r**5 * math.exp(log_eps) * (5.0 + eta) / moment_unit
         return [deta, eta, dmom]
 
     return rhs
@@ -156,23 +156,33 @@ def radau_profile(edges, coeffs, scale, sample_radii=(), rtol: float = RTOL):
     mom_e = np.zeros(n_layers + 1)
     eta_s = np.full(samples.shape, np.nan)
     log_s = np.full(samples.shape, np.nan)
-    y = np.zeros((1, 3))
+    # State (eta + 1, L, moment): eta stays 0 through a uniform layer, where a relative scale means
+    # nothing (the first step chosen from it underflows at the next interface); eta + 1 is O(1),
+    # and eps feels the absolute error of eta.
+    y = np.array([[1.0, 0.0, 0.0]])
     for i in range(n_layers):
         lo = edges[i] if i else edges[1] * _START
         hi = edges[i + 1]
         inside = (samples > lo) & (samples <= hi) if i else (samples <= hi)
         pts = np.log(np.maximum(samples[inside], lo))
-        rhs = _rhs_factory(edges, coeffs, scale, i)
+        # The moment integral restarts at 0 in each layer, in units of the layer's own size
+        # max|rho| hi^5 e^L(lo), so that the relative tolerance holds for every layer's share: one
+        # running integral under the absolute floor _ATOL loses a small core's moment (~ b^5).
+        rho_size = float(np.max(np.abs(_powers(coeffs, scale)[i] * hi ** np.arange(coeffs.shape[1]))))
+        unit = (rho_size if rho_size > 0 else 1.0) * hi**5 * math.exp(y[0, 1])
+        rhs = _rhs_factory(edges, coeffs, scale, i, unit)
+        y[0, 2] = 0.0
         solver = DOP853(
             lambda t, yy, idx, rhs=rhs: np.array([rhs(float(t[0]), yy[0])]), math.log(lo), y, rtol=rtol, atol=_ATOL
         )
         order = np.argsort(pts)
         out = solver.advance(np.concatenate([pts[order], [math.log(hi)]]))
         y = out[-1].copy()
-        eta_e[i + 1], log_e[i + 1], mom_e[i + 1] = y[0]
+        eta_e[i + 1], log_e[i + 1] = y[0, 0] - 1.0, y[0, 1]
+        mom_e[i + 1] = mom_e[i] + y[0, 2] * unit
         if pts.size:
             idx = np.flatnonzero(inside)[order]
-            eta_s[idx] = out[:-1, 0, 0]
+            eta_s[idx] = out[:-1, 0, 0] - 1.0
             log_s[idx] = out[:-1, 0, 1]
     return {"eta_edges": eta_e, "log_edges": log_e, "moment_edges": mom_e, "eta": eta_s, "log": log_s}
 
