@@ -180,6 +180,11 @@ class Elliptic:
     k_plus: float  # B / (2 lambda x1): delta = ... + k_plus P_+(w)
     k_minus: float  # C / (2 lambda y1): sigma = ... + k_minus P_-(w)
     r0: float  # the reduced nutation phase at t = 0 (what phase(0) gives)
+    # What sigma's and delta's periodic parts miss at the start by taking the double r0 for the exact w0
+    # (wobble.models.top_setup: k (P(w0) - P(r0)), or a pass through a pole's turn already made): next to a
+    # pole these parts turn by pi over a phase of the tilt, so the ulp of w0 turned the whole motion.
+    anchor_sigma: float
+    anchor_delta: float
     sigma_sec: Secular
     delta_sec: Secular
     # phi = sigma + delta has its own secular phase: its rate (B <1/x> + C <1/y>)/2 has no
@@ -289,8 +294,8 @@ class Elliptic:
         phidot = 0.5 * (bx + cy)
         psidot = (self.omega3 - self.a) - 0.5 * (bx - cy)
         p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
-        per_minus = self.k_minus * (p_minus - self.p_minus0)
-        per_plus = self.k_plus * (p_plus - self.p_plus0)
+        per_minus = self.k_minus * (p_minus - self.p_minus0) - self.anchor_sigma
+        per_plus = self.k_plus * (p_plus - self.p_plus0) - self.anchor_delta
         sig = self.sigma_sec(j, r, self.w0) + per_minus
         dlt = self.delta_sec(j, r, self.w0) + per_plus
         phi = self.phi_sec(j, r, self.w0) + (per_minus + per_plus)

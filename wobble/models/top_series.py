@@ -472,7 +472,8 @@ def _half_node_samples(e, sample, r_check):
         if want is None:
             both, raw = sample(np.concatenate([r_half, r_check, [e.r0]]))
             part, want = both[:, : half + 1], both[:, half + 1 : -1].T
-            start = (float(both[_SIGMA, -1]), float(both[_DELTA, -1]))
+            # sigma's and delta's anchors: their periodic parts at the exact start (Elliptic.core's).
+            start = (float(both[_SIGMA, -1]) + e.anchor_sigma, float(both[_DELTA, -1]) + e.anchor_delta)
         else:
             part, raw = sample(r_half)[0], None
         yield n, part, want, start, raw

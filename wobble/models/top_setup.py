@@ -12,8 +12,10 @@ model reports and what its evaluators (:mod:`wobble.models.top_closed_form`) nee
 * the nutation class from the sign of phidot = (b - a u)/(1 - u^2) at the turning
   points (notes p. 72), the parameter m and 1 - m without cancellation, K(m), the
   nutation period 4 K / sqrt(beta (u3 - u1)), the complete Pi(n|m) and the mean
-  precession and spin rates (Goldstein, Poole & Safko 2002, sec. 5.7), the initial
-  nutation phase and the secular phase rates as double-double pairs.
+  precession and spin rates (Goldstein, Poole & Safko 2002, sec. 5.7), the secular phase
+  rates as double-double pairs, and the initial nutation phase w0, whose rest past its double
+  the periodic parts of the half angles take up at the start (the anchors): next to a pole
+  it would turn the whole motion.
 
 Everything is decimal at :data:`DIGITS` digits until it is rounded once to float64;
 Decimal(float) is exact, so the inputs enter without rounding.
@@ -401,10 +403,94 @@ def _mean_phidot(n2, a, width, x1, x2, y1, y2, kc, kdec) -> tuple[Decimal, Decim
         return (first + second) / (2 * kdec), bound
 
 
+def carlson_rf(x: Decimal, y: Decimal, z: Decimal) -> Decimal:
+    """Carlson's R_F(x, y, z) at :data:`DIGITS` digits (x, y, z >= 0, at most one zero).
+
+    Duplication until the arguments agree to 1e-12, then the fifth-order series, whose remainder is of
+    the sixth power of their spread (B. C. Carlson, Numer. Algorithms 10, 13 (1995), eq. 2.2).
+    """
+    with decimal.localcontext(context()):
+        tol = Decimal("1e-12")
+        while True:
+            mean = (x + y + z) / 3
+            if max(abs(mean - x), abs(mean - y), abs(mean - z)) <= tol * mean:
+                break
+            sx, sy, sz = x.sqrt(), y.sqrt(), z.sqrt()
+            lam = sx * sy + sy * sz + sz * sx
+            x, y, z = (x + lam) / 4, (y + lam) / 4, (z + lam) / 4
+        dx, dy = 1 - x / mean, 1 - y / mean
+        dz = -(dx + dy)
+        e2 = dx * dy - dz * dz
+        e3 = dx * dy * dz
+        series = 1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44
+        return series / mean.sqrt()
+
+
+def _step_anchor(rate: Decimal, linear: Decimal, p1, p2, sn0, cn0, dn0, h: tuple[Decimal, Decimal]) -> float:
+    """k (P(w0) - P(w0 - h)) for a periodic part k P with k P' = rate / q(w) - linear, q = p1 cn^2 + p2 sn^2
+    (x = 1 - u for delta's, y = 1 + u for sigma's), over a step h far below the period (rad). ``h`` is the
+    pair (step of Pi's argument, step of the secular term): they differ where the evaluation mirrors r0.
+
+    Over the step sn and cn are linear in s = w - w0 to O(s^2): sn = sn0 + s cn0 dn0, cn = cn0 - s sn0 dn0
+    (Jacobi's addition theorems), so q is the quadratic Q(s) = C + 2 B s + A s^2 with C = q(w0),
+    B = p2 sn0 cn0 dn0 - p1 cn0 sn0 dn0 and A C - B^2 = (sqrt(p1 p2) dn0)^2 = D^2, whose integral is exact:
+
+        int_{-h}^0 ds / Q(s) = atan2(h D, C - h B) / D.
+
+    The neglected terms are relative h^2 (1e-34) of cn (and h^3 absolute), so this holds next to a pole too,
+    where q(w0) may be 1e-32 of p1 and P turns by pi over a phase of sqrt(p2 / p1) about the pass: there the
+    rest of w0 past its double is what turned the whole motion.
+    """
+    h, h_lin = h
+    if rate == 0:
+        return 0.0
+    with decimal.localcontext(context()):
+        c = p1 * cn0 * cn0 + p2 * sn0 * sn0
+        b = (p2 - p1) * sn0 * cn0 * dn0
+        d = (p1 * p2).sqrt() * dn0
+        num, den = h * d, c - h * b
+        if den > 0 and abs(num) < Decimal("1e-30") * den:
+            z = num / den
+            integral = h / den * (1 - z * z / 3)  # arctan z / z to 1e-120
+        else:
+            big = max(abs(num), abs(den))
+            integral = Decimal(float(np.arctan2(_f(num / big), _f(den / big)))) / d
+        return _f(rate * integral - linear * h_lin)
+
+
+def _through_anchor(n_pole: Decimal, scale: Decimal, sn0, across: Decimal, along: Decimal, top: bool) -> float:
+    """The turn a pass followed as one through a pole misses when the start lies within the pass (rad).
+
+    Passed at sqrt(p2) << sqrt(p1) from the pole, sigma (bottom) or delta (top) turns by pi over a phase of
+    about sqrt(p2 / p1) about the pass (w = K at the top, where x = x1 cn^2 + x2 sn^2; w = 0 at the bottom,
+    where y = y1 cn^2 + y2 sn^2). Followed through the pole, that turn is the fold's step of pi at the pass,
+    exact for a start outside the pass; a start inside it has made part of the turn already. In t = sc of the
+    phase from the pass, n / (2 x) dt = n / (2 lambda) dn dt / (x1 m1 t^2 + x2) (top) and
+    n / (2 y) dt = n / (2 lambda) dt / (dn (y1 + y2 t^2)) (bottom); with dn = 1 the part made is
+
+        top:    n / (2 lambda sqrt(x1 x2 m1)) atan2(|sn0| sqrt(x2), cn0 sqrt(x1)),
+        bottom: n / (2 lambda sqrt(y1 y2)) atan2(cn0 sqrt(y1), |sn0| sqrt(y2)),
+
+    signed by sn0 (the bottom's fold adds its pi at sn0 < 0), each factor n / (2 lambda sqrt(...)) being +-1 to
+    O(x2) (f(u) at u = +-1). Taking dn = 1 is exact to 2 sqrt(x2 / (x1 m1)) (or sqrt(y1 / (y2 m1))).
+    ``n_pole`` is B (top) or C (bottom), ``scale`` lambda sqrt(x1 x2 m1) or lambda sqrt(y1 y2), ``across``
+    cn0 sqrt(x1) (or sqrt(y1)) and ``along`` sqrt(x2) (or sqrt(y2)).
+    """
+    if n_pole == 0 or scale == 0:
+        return 0.0
+    with decimal.localcontext(context()):
+        side = -1 if sn0 < 0 else 1
+        f = n_pole / (2 * scale)
+        big = max(abs(sn0) * along, across)
+        if top:
+            angle = np.arctan2(_f(abs(sn0) * along / big), _f(across / big))
+            return _f(side * f * Decimal(float(angle)))
+        angle = np.arctan2(_f(across / big), _f(abs(sn0) * along / big))
+        return _f(-side * f * Decimal(float(angle)))
+
+
 def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots) -> dict:
     """Fields of a nutating top: Jacobi functions for u(t), Pi(n; am w | m) for phi and psi."""
-    from scipy.special import elliprf
-
     w3, a, thetadot0 = s.omega3, st.a, st.thetadot0
     with decimal.localcontext(context()):
         x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
@@ -458,10 +544,10 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         sn0 = sgn * sn0_2.sqrt()
         # The fold K - |r| uses the 60-digit K of the reduction, given at construction.
         levels = ell.landen_levels(_f(m), _f(m1), K=K[0])
-        if cn0_2 == 0:
-            w0 = sgn * K[0]
-        else:
-            w0 = _f(sn0) * float(elliprf(_f(cn0_2), _f(dn0_2), 1.0))
+        # w0 = sn0 R_F(cn0^2, dn0^2, 1) at DIGITS digits, rounded once: the evaluation takes the double, and
+        # the anchors below make up for the rest (w0_dec - r0), which next to a pole turns the whole motion.
+        w0_dec = sgn * kdec if cn0_2 == 0 else sn0 * carlson_rf(cn0_2, dn0_2, Decimal(1))
+        w0 = _f(w0_dec)
         hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
         # Through the bottom, cos(theta/2) is carried signed, hy2 sn(w): negative at t = 0 when the top
         # starts towards the bottom (sn w0 < 0). The quaternion (ch cos sigma, sh cos delta, sh sin delta,
@@ -517,10 +603,31 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         # parts there (the attitude at t = 0 is q0 to the last bit) are taken by the evaluator
         # when first needed, through the evaluation's own path.
         if abs(w0) <= K[0]:
-            r0 = 0.0 + w0
+            r0, j0 = 0.0 + w0, 0.0
         else:
-            r0 = float(reduce_phase(np.zeros(1), impl0["lam"], (2 * K[0], 2 * K[1]), w0)[0][0])
-        impl = Elliptic(r0=r0, **impl0)
+            r_, j_ = reduce_phase(np.zeros(1), impl0["lam"], (2 * K[0], 2 * K[1]), w0)
+            r0, j0 = float(r_[0]), float(j_[0])
+        # The periodic parts are anchored at the exact start: P(w0_dec) - P(r0) over the sub-ulp step between them.
+        # A double r0 past +-K by less than an ulp (K rounded up) is evaluated as the phase mirrored about +-K
+        # (sn and |cn|: Pi(n; am r) takes cn >= 0) with the secular term at r0 itself.
+        r0_dec = Decimal.from_float(r0)
+        r0_seen = r0_dec if abs(r0_dec) <= kdec else (2 * kdec if r0 > 0 else -2 * kdec) - r0_dec
+        w0_red = w0_dec - 2 * kdec * Decimal(j0)
+        h = (w0_red - r0_seen, w0_red - r0_dec)
+        sn0_, cn0_, dn0_ = sn0, cn0_2.sqrt(), dn0_2.sqrt()
+        if top:
+            anchor_delta = _through_anchor(B, lam * (x1 * x2 * m1).sqrt(), sn0_, cn0_ * x1.sqrt(), x2.sqrt(), True)
+        else:
+            anchor_delta = _step_anchor(
+                B / (2 * lam), pi_plus / kdec * b_eff / (2 * lam * x1), x1, x2, sn0_, cn0_, dn0_, h
+            )
+        if bottom:
+            anchor_sigma = _through_anchor(C, lam * (y1 * y2).sqrt(), sn0_, cn0_ * y1.sqrt(), y2.sqrt(), False)
+        else:
+            anchor_sigma = _step_anchor(
+                C / (2 * lam), pi_minus / kdec * c_eff / (2 * lam * y1), y1, y2, sn0_, cn0_, dn0_, h
+            )
+        impl = Elliptic(r0=r0, anchor_sigma=anchor_sigma, anchor_delta=anchor_delta, **impl0)
         u1, u2, u3 = _report_roots(roots)
         nut = nutation_class(B, a, x1, x2, y1, y2, C)
         if st.s0 != 0:
@@ -536,20 +643,16 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         # a few ulps of K) grows with c. That is psi's own conditioning in t, |psidot| t eps
         # for t of a period; phi = sigma + delta has no such term (its own secular phase).
         spin = 8 * _EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
-        # The start's phase w0 is a double (a few ulps of it off the exact one), and phi and psi are anchored to
-        # the start there: next to a pole the azimuth turns at |B|/(2 x0) + |C|/(2 y0) rad/s, so that rounding
-        # turns the whole motion by that rate times w0's error / lambda (a start 1e-9 rad from the vertical moving
-        # sideways at 1 rad/s: 3e-6 rad, which the estimate had put at 4e-13; an audit of exact special cases).
-        # A pass followed as one through the pole (top, bottom) leaves from the start's azimuth, where the true
-        # path leaves along its own: they differ by about the pass's distance from the pole over the start's,
-        # sqrt(x2 / x0) (or sqrt(y1 / y0)), which is small unless the start itself lies next to the pole.
+        # The anchors (the periodic parts' offsets at the exact start, above) are rounded once from their
+        # closed forms and take an atan2 in float64: a few eps of themselves. A start within a pass followed as
+        # one through a pole takes its turn with dn = 1 across the pass, exact to 2 sqrt(x2 / (x1 m1)) (or
+        # 2 sqrt(y1 / (y2 m1))): below 1e-16 rad unless the motion also lies next to the separatrix.
+        anchor = 4 * _EPS * (abs(anchor_sigma) + abs(anchor_delta))
         with decimal.localcontext(context()):
-            turn = (abs(b_eff) / st.x0 if st.x0 else Decimal(0)) + (abs(c_eff) / st.y0 if st.y0 else Decimal(0))
-            anchor = _f(Decimal(16 * _EPS * abs(w0)) * turn / (2 * lam))
-            if top and x2 != 0 and st.x0 != 0:
-                anchor += _f((x2 / st.x0).sqrt())
-            if bottom and y1 != 0 and st.y0 != 0:
-                anchor += _f((y1 / st.y0).sqrt())
+            if top and x2 != 0:
+                anchor += _f(2 * (x2 / (x1 * m1)).sqrt())
+            if bottom and y1 != 0:
+                anchor += _f(2 * (y1 / (y2 * m1)).sqrt())
         est = {
             "theta_rad": 32 * _EPS * (1 + kf) * max(theta_max, _EPS),
             "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing) + spin + anchor,
