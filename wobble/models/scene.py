@@ -543,9 +543,8 @@ def _applies_heavy_top(scene):
 
 
 def _floor_heavy_top(scene) -> float:
-    """What the exact top promises for this scene: its own error estimate, at least 1e-13. A start next to a pole
-    moving sideways can promise far less (docs/heavy-top.md); it had been taken for 1e-13 whatever the top's own
-    estimate said (R_x(1e-12) with a sideways kick: 6e-3 rad stated, 1.7e-5 rad off, at an accuracy of 1e-9)."""
+    """What the exact top promises for this scene: its own error estimate, at least 1e-13 (a constant floor
+    would hide a set-up whose own estimate is larger, such as a long span's growing phase error)."""
     return max(1e-13, _build_heavy_top(scene).error_estimate()["omega_relative"])  # the larger of its two
 
 

@@ -198,7 +198,8 @@ class Elliptic:
         return reduce_phase(t, self.lam, (2 * self.K[0], 2 * self.K[1]), self.w0)
 
     # P_+ and P_- at t = 0, through the very path the evaluation takes (so that the attitude
-    # at t = 0 is q0 to the last bit): computed on first use, or taken from the series' first
+    # at t = 0 is q0 but for the anchors, the parts' change over the sub-ulp rest of w0, which
+    # show only next to a pole, at about 6e-16 rad): computed on first use, or taken from the series' first
     # batch of NumPy samples, which holds r0 (wobble.models.top_series.build). Elementwise
     # NumPy and SciPy give each element the same value whatever the batch.
     @cached_property

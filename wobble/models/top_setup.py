@@ -600,8 +600,8 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         # (wobble.numerics.phase.reduce_phase) forms x = 0 + w0 with no error term and, for
         # |w0| <= K (x / 2K in [-1/2, 1/2], which rint takes to 0, ties to even), j = 0 and
         # r = x: it is 0.0 + w0 exactly (the sum turns -0.0 into +0.0, as there). The periodic
-        # parts there (the attitude at t = 0 is q0 to the last bit) are taken by the evaluator
-        # when first needed, through the evaluation's own path.
+        # parts there are taken by the evaluator when first needed, through the evaluation's own
+        # path, so the attitude at t = 0 is q0 but for the anchors below.
         if abs(w0) <= K[0]:
             r0, j0 = 0.0 + w0, 0.0
         else:
