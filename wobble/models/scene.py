@@ -544,7 +544,7 @@ def _applies_heavy_top(scene):
 
 def _floor_heavy_top(scene) -> float:
     """What the exact top promises for this scene: its own error estimate, at least 1e-13 (a constant floor
-    would hide a set-up whose own estimate is larger, such as a long span's growing phase error)."""
+    would hide a set-up whose own estimate is larger)."""
     return max(1e-13, _build_heavy_top(scene).error_estimate()["omega_relative"])  # the larger of its two
 
 
