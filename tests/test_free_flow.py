@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import given, reject, settings
 from hypothesis import strategies as st
+from reference_odes import attitude_angle as angle
 
 from wobble.errors import InputError
 from wobble.models.free import free_rotation
@@ -17,11 +18,6 @@ from wobble.models.free_flow import flow_many, flow_one, flow_sorted, free_flow
 from wobble.numerics import quaternion as Q
 
 EPS = np.finfo(float).eps
-
-
-def angle(a, b):
-    d = Q.multiply(a, Q.conjugate(b))
-    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 
 CASES = [

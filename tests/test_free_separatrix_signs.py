@@ -17,6 +17,7 @@ from astropy import units as u
 from scipy.integrate import solve_ivp
 
 from cli_run import run_cli
+from reference_odes import euler_quaternion_rhs
 from wobble import FreeRotation
 
 # Exactly on the separatrix in floats: D_1 = I0 (I1 - I0) w0^2 - I2 (I2 - I1) w2^2 = 0 holds for w0 = +-2 w2 with
@@ -38,15 +39,8 @@ CASES = [
 TIMES = np.linspace(-2.0, 3.0, 26)
 
 
-def _rhs(_t, y, moments):
-    w, q = y[:3], y[3:]
-    i1, i2, i3 = moments
-    dw = [(i2 - i3) * w[1] * w[2] / i1, (i3 - i1) * w[2] * w[0] / i2, (i1 - i2) * w[0] * w[1] / i3]
-    # q' = q (x) (0, w) / 2: body vectors to inertial, omega in the body frame.
-    q0, qv = q[0], q[1:]
-    dq0 = -0.5 * np.dot(qv, w)
-    dqv = 0.5 * (q0 * w + np.cross(qv, w))
-    return np.concatenate([dw, [dq0], dqv])
+def _rhs(t, y, moments):
+    return euler_quaternion_rhs(moments)(t, y)
 
 
 def _reference(moments, omega0, times):

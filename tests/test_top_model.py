@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference_odes import attitude_angle
 
 from wobble.errors import InputError
 from wobble.models.top import TopMotion, heavy_top, heavy_top_from_state, regular_precession_rates
@@ -64,12 +65,6 @@ def model_of(name):
 def rel(a, b):
     b = float(b)
     return abs(a - b) / abs(b) if b != 0 else abs(a)
-
-
-def attitude_angle(q1, q2):
-    """Rotation angle (rad) between unit quaternions (either sign)."""
-    d = Q.multiply(q1, Q.conjugate(q2))
-    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

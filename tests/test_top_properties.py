@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from reference_odes import attitude_angle as angle, euler_quaternion_rhs
 
 from wobble.errors import InputError
 from wobble.models.top import heavy_top, heavy_top_from_state
@@ -53,11 +54,6 @@ def build(p, **over):
         # out of the strategy, whose other draws would then change.
         assume("the smallest normal double" not in str(exc))
         raise
-
-
-def angle(q1, q2):
-    d = Q.multiply(q1, Q.conjugate(q2))
-    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 
 @settings(max_examples=60)
@@ -302,24 +298,15 @@ def _pole_start(pole, tilt, kind):
 
 
 def _euler_rhs(I1, I3, mgl):
-    """Euler's equations of the symmetric top about its tip with the quaternion kinematics, written out here
-    (body rates w, q body -> space; gamma = R^T e_z; tau = M g l e3 x gamma): independent of the library."""
-    k, g = (I1 - I3) / I1, mgl / I1
+    """Euler's equations of the symmetric top about its tip (tests/reference_odes.py) with gravity's torque
+    tau = l e3 x (-M g gamma), gamma = R^T e_z the vertical in the body frame: independent of the library."""
 
-    def f(t, y):
-        w1, w2, w3, a, b, c, d = y
+    def gravity(_t, _w, q):
+        a, b, c, d = q
         g1, g2 = 2 * (b * d - a * c), 2 * (c * d + a * b)
-        return [
-            k * w2 * w3 + g * g2,
-            -k * w3 * w1 - g * g1,
-            0 * w3,
-            (-b * w1 - c * w2 - d * w3) / 2,
-            (a * w1 + c * w3 - d * w2) / 2,
-            (a * w2 - b * w3 + d * w1) / 2,
-            (a * w3 + b * w2 - c * w1) / 2,
-        ]
+        return mgl * g2, -mgl * g1, 0 * g1
 
-    return f
+    return euler_quaternion_rhs((I1, I1, I3), gravity)
 
 
 def _dop853(I1, I3, mgl, w0, q0, t):
