@@ -256,7 +256,10 @@ _INNER = "[parameters.fluid_core_inner_radius]\nvalue = 1221.5"
     ("edit", "fragments"),
     [
         (("[2.600, 0.0, 0.0, 0.0]", "[-2.600, 0.0, 0.0, 0.0]"), ("(density)", "-2600 kg/m3", "positive density")),
-        (("[1221.5, 3480.0, 5701.0", "[1221.5, 5701.0, 3480.0"), ("(layer_top_radius)", "3480000.0", "increasing")),
+        (
+            ("[1221.5, 3480.0, 5701.0", "[1221.5, 5701.0, 3480.0"),
+            ("(layer_top_radius)", "5701, 3480,", ") km", "increasing"),
+        ),
         ((_CORE, _CORE.replace("3480.0", "7000.0")), ("(fluid_core_outer_radius)", "7000 km", "inside the planet")),
         ((_INNER, _INNER.replace("1221.5", "-5.0")), ("(fluid_core_inner_radius)", "-5 km", "at least 0")),
         (("[2.900, 0.0, 0.0, 0.0]", "[nan, 0.0, 0.0, 0.0]"), ("density_coefficients", "nan", "finite numbers")),

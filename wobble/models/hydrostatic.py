@@ -118,7 +118,8 @@ def check_profile(profile: DensityProfile) -> None:
     """
     edges = np.asarray(profile.edges, dtype=float)
     if edges.ndim != 1 or edges.size < 2 or edges[0] != 0.0 or not np.all(np.diff(edges) > 0):
-        raise InputError("layer_top_radius", profile.edges, "layer radii increasing from the centre")
+        tops = ", ".join(f"{r / 1e3:.6g}" for r in np.ravel(edges)[1:])  # the file's tops; the centre's 0 is implied
+        raise InputError("layer_top_radius", f"({tops}) km", "layer radii increasing from the centre")
     if len(profile.coeffs) != edges.size - 1:
         raise InputError(
             "density_coefficients", f"{len(profile.coeffs)} layers", f"one polynomial per layer ({edges.size - 1})"
