@@ -1,6 +1,6 @@
 """Benchmark: the engine's integrators against SciPy at matched error; writes docs/performance-engine.md.
 
-Usage: python scripts/bench_engine.py [--quick] [--rebuild-reference]
+Usage: python scripts/bench_engine.py [--quick] [--rebuild-reference] [--estimate-cost]
 
 Torqued cases with no exact solution:
 
@@ -22,11 +22,16 @@ log-log interpolation of each method's time-against-error curve.
 
 Also: ensembles of 10^2 to 10^4 satellites (per-member cost against a loop of SciPy's
 DOP853), and the energy error of the splitting over 10^6 steps of the heavy top.
+
+``--estimate-cost`` measures only what a run's error estimate costs (the rows above run without
+it): each case's splitting with its Richardson companion alone and with the rounding twins too,
+against the bare run, in one process; it prints a Markdown table and writes nothing.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import statistics
 import sys
@@ -224,15 +229,80 @@ def fmt(x, digits=3):
     return "-" if x is None else f"{x:.{digits}g}"
 
 
+def estimate_cost(repeats):
+    """Rows (case, setting, bare s, Richardson-only s, with twins s): the splitting's error estimate, timed.
+
+    "Richardson only" is the same estimate with the rounding twins switched off (no seeds), so
+    the three columns differ only by the companion and the twins.
+    """
+    from wobble.models import engine as engine_module
+
+    seeds = engine_module.ROUNDING_SEEDS
+    chaotic = Engine(
+        BodyModel.from_moments([1.0, 2.0, 3.0]), [UniformGravity(2.0, [0.1, 0.05, 0.2], [0.0, 0.0, -9.80665])]
+    )
+    cases = [
+        ("satellite", Satellite(), 0.4),
+        ("asymmetric top", AsymmetricTop(), 0.01),
+        ("chaotic body (50 s)", None, 0.005),
+    ]
+    rows = []
+    for name, case, h in cases:
+        if case is None:
+            eng, w0, q0, t = chaotic, np.array([0.3, 0.8, 1.2]), np.array([1.0, 0, 0, 0]), np.linspace(0, 50, 51)
+        else:
+            eng, w0, q0, t = case.engine, case.w0, case.q0, case.t
+        reps = 1 if case is None else max(repeats, 5)  # short runs: more repeats against a busy machine
+
+        def go(estimate, eng=eng, w0=w0, q0=q0, t=t, h=h):
+            return lambda: eng.integrate(w0, q0, t, method="splitting", step=h, order=6, estimate=estimate)
+
+        _, bare, _ = timed(go(False), reps)
+        try:
+            engine_module.ROUNDING_SEEDS = ()
+            _, richardson, _ = timed(go(True), reps)
+        finally:
+            engine_module.ROUNDING_SEEDS = seeds
+        _, twins, _ = timed(go(True), reps)
+        rows.append((name, f"splitting-6, h {h:g} s", bare, richardson, twins))
+        print(f"  {name}: {bare:.3g} s, {richardson:.3g} s, {twins:.3g} s", flush=True)
+    return rows
+
+
+def estimate_cost_table(repeats):
+    """Markdown lines of :func:`estimate_cost`."""
+    lines = [
+        "| case | setting | bare run | with Richardson's companion | with the rounding twins too | twins' extra |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, setting, bare, rich, twins in estimate_cost(repeats):
+        lines.append(
+            f"| {name} | {setting} | {bare:.3g} s | {rich:.3g} s ({rich / bare:.2f}x) | "
+            f"{twins:.3g} s ({twins / bare:.2f}x) | {twins / rich - 1:+.0%} |"
+        )
+    return lines
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer settings, 10^5 steps, small ensembles")
     parser.add_argument(
         "--rebuild-reference", action="store_true", help="recompute the Radau reference of the satellite"
     )
+    parser.add_argument(
+        "--estimate-cost",
+        action="store_true",
+        help="only time the splitting's error estimate (companion, rounding twins) against the bare run; "
+        "prints a table, writes nothing",
+    )
     parser.add_argument("--output", default=str(ROOT / "docs" / "performance-engine.md"))
     args = parser.parse_args()
     repeats = 2 if args.quick else 3
+    if args.estimate_cost:
+        load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+        print(f"1-minute load at the start: {load:.2f}")
+        print("\n".join(estimate_cost_table(repeats)))
+        return
     out = []
     p = out.append
     p("# Performance of the engine (torqued rigid bodies)")
@@ -351,6 +421,14 @@ def main():
         p(f"| {order} | {h:g} | {steps} | {first:.2e} | {last:.2e} | {slope:.1e} | {lz:.1e} | {seconds:.1f} |")
     p("")
 
+    print("estimate cost", flush=True)
+    p("## The splitting's error estimate: its cost")
+    p("")
+    p("The rows above run without an error estimate. A run's estimate adds Richardson's companion (half a")
+    p("run) and two rounding twins of it (half a run each): 2.5 runs' work instead of 1.5, +67 %.")
+    p("")
+    out.extend(estimate_cost_table(repeats))
+    p("")
     p("## Targets (torqued case)")
     p("")
     lines = []

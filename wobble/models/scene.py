@@ -271,50 +271,47 @@ class _FreeEnsemble(_ModelRun):
 class _Numerical(_ModelRun):
     """DOP853 or the splitting, with a companion run for the error estimate."""
 
-    def __init__(self, scene: Scene, method: str, settings: dict):
+    def __init__(self, scene: Scene, method: str, settings: dict, rounding: bool = True):
         self.scene = scene
         self.method = method
+        self.rounding = rounding
         self.name = method if method == "dop853" else f"splitting-{settings['order']}"
         self.settings = dict(settings)
         self.engine = eng.Engine(scene.body, scene.torques, members=scene.members)
-        self._acc = None
+        self._run = None
         self._stats = {}
 
     def blocks(self, times, block):
         s = self.scene
-        kw = dict(attitude=s.needs_attitude)
         if self.method == "dop853":
-            rtol = self.settings["rtol"]
-            prop = self.engine.propagator(s.omega0, s.attitude0, times[0], method="dop853", rtol=rtol, **kw)
-            comp = self.engine.propagator(
-                s.omega0, s.attitude0, times[0], method="dop853", rtol=min(10 * rtol, 1e-3), **kw
-            )
-            factor = 1.0
+            kw = dict(rtol=self.settings["rtol"])
         else:
-            step, order = self.settings["step_s"], self.settings["order"]
-            prop = self.engine.propagator(
-                s.omega0, s.attitude0, times[0], method="splitting", step=step, order=order, multiple=2, **kw
-            )
-            comp = self.engine.propagator(
-                s.omega0, s.attitude0, times[0], method="splitting", step=2 * step, order=order, **kw
-            )
-            factor = 1.0 / (2**order - 1)
-        self._acc = eng.ErrorAccumulator(s.members, factor)
-        self._method = eng.error_estimate_method(self.method, self.settings.get("order", 8))
+            kw = dict(rtol=None, step=self.settings["step_s"], order=self.settings["order"])
+        self._run = eng.CheckedRun(
+            self.engine,
+            s.omega0,
+            s.attitude0,
+            times,
+            method=self.method,
+            attitude=s.needs_attitude,
+            rounding=self.rounding,
+            **kw,
+        )
         for tb in _blocks_of(times, block):
-            w, q = prop.advance(tb)
-            wc, qc = comp.advance(tb)
-            self._acc.add(w, wc, q, qc)
+            w, q = self._run.advance(tb)
             yield tb, w, q
-        self._stats = prop.stats()
+        self._stats = self._run.stats()
 
     def error_estimate(self):
-        e = self._acc.result(self._method)
-        return {
+        e = self._run.error()
+        out = {
             "omega_relative": float(np.max(e.omega_relative)),
             "attitude_rad": float(np.max(e.attitude)),
             "method": e.method,
         }
+        if e.rounding is not None:
+            out["rounding"] = float(np.max(e.rounding))
+        return out
 
     def stats(self):
         return dict(self._stats)
@@ -725,7 +722,9 @@ def _pilot(scene, method, settings):
         outputs=scene.outputs,
         ensemble=scene.ensemble,
     )
-    run = _Numerical(sub, method, settings)
+    # The pilots choose a step from the truncation: the splitting's rounding floor (its twins) cannot
+    # be lowered by a shorter step, and over the pilot's span it would only drive the step down.
+    run = _Numerical(sub, method, settings, rounding=False)
     for _ in run.blocks(sub.times, sub.times.size):
         pass
     e = run.error_estimate()
@@ -775,8 +774,8 @@ def _plan_splitting(scene, budget: float | None = None) -> _Plan:
     stages = len(_composition_stages(order))
     per_call = call_seconds(engine, path)
 
-    def cost(h):  # the main run (1) and its companion at twice the step (0.5)
-        calls = 1.5 * _split_steps(scene, h) * stages
+    def cost(h):  # the main run (1), its companion at twice the step (0.5) and two rounding twins of it (0.5 each)
+        calls = 2.5 * _split_steps(scene, h) * stages
         return calls * per_call, calls
 
     complete = True
@@ -1180,6 +1179,15 @@ def _attempts(scene, sink, engine, choice, block):
         worst = max(est["omega_relative"], est["attitude_rad"])
         if choice.candidate.kind == "exact" or worst <= scene.accuracy:
             return run, est, attempts
+        rounding = est.get("rounding", 0.0)
+        if rounding > scene.accuracy:
+            # Amplified rounding: a shorter step only adds steps, and their rounding.
+            raise _AccuracyNotReached(
+                f"at least {rounding:.3g} for this scene with {run.name} (rounding floor: the motion amplifies "
+                f"float64 rounding to that, and a shorter step only adds rounding; estimate {worst:.3g} after "
+                f"{attempts} attempts)",
+                attempts,
+            )
         if attempts >= _MAX_ATTEMPTS or not worst < previous:
             raise _AccuracyNotReached(
                 f"at least {worst:.3g} for this scene with {run.name} (estimate after {attempts} attempts)", attempts
@@ -1211,12 +1219,13 @@ def _tighter(scene, run, worst, attempts=1):
     """The same numerical model with settings tightened from the measured estimate."""
     ratio = scene.accuracy / worst
     if run.method == "dop853":
-        rtol = run.settings["rtol"] * _PILOT_SAFETY * ratio
-        if rtol < 100 * _EPS:
+        floor = 100 * _EPS  # the tightest tolerance DOP853 takes
+        if run.settings["rtol"] <= floor:
             raise _AccuracyNotReached(
                 f"at least {worst:.3g} for this scene with dop853 (tolerance floor reached)", attempts
             )
-        return _build_dop853(scene, {"rtol": rtol})
+        # A step past the floor tries the floor itself: its estimate may still meet the accuracy.
+        return _build_dop853(scene, {"rtol": max(run.settings["rtol"] * _PILOT_SAFETY * ratio, floor)})
     order = run.settings["order"]
     step = run.settings["step_s"] * (_PILOT_SAFETY * ratio) ** (1.0 / order)
     return _build_splitting(scene, {"order": order, "step_s": step})
