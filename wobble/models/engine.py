@@ -54,6 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from wobble.numerics.floats import EPS
 from wobble.errors import InputError
 from wobble.models.free_flow import flow_one, flow_sorted
 from wobble.models.rigid_frame import BodyModel, InternalFrame, normalize, qmul_one, take_rows
@@ -104,7 +105,6 @@ BACKENDS = ("auto", "compiled", "python")
 #: fraction of |omega| if it stays smaller (float64 cannot resolve a component that is
 #: zero up to rounding relative to itself).
 COMPONENT_FLOOR = 1e-6
-_EPS = np.finfo(float).eps
 #: The splitting's rounding twins add ``ROUNDING_GAIN`` eps of relative noise to every component after
 #: every drift (:class:`CheckedRun`), a few times a run's own rounding: one realisation of amplified noise
 #: is a Gaussian draw along the growing direction (10 times below its spread about 8 % of the time), and
@@ -695,7 +695,7 @@ class CheckedRun:
         self.twins = []
         if estimate and split and rounding:
             self.twins = [
-                engine.propagator(omega0, q0, times[0], **loose, **kw, jitter=ROUNDING_GAIN * _EPS, jitter_seed=seed)
+                engine.propagator(omega0, q0, times[0], **loose, **kw, jitter=ROUNDING_GAIN * EPS, jitter_seed=seed)
                 for seed in ROUNDING_SEEDS
             ]
         self.twin_accs = [ErrorAccumulator(engine.n, 1.0) for _ in self.twins]
@@ -747,7 +747,7 @@ class _RKPropagator:
         tau0 = np.linalg.norm(engine.torque(t0, w, q), axis=-1) / np.min(engine.moments, axis=-1)
         char = np.maximum(np.maximum(scale_w, tau0), 1e-300)
         atol = np.empty_like(y0)
-        atol[:, :3] = ((rtol * COMPONENT_FLOOR + 32 * _EPS) * char)[:, None]
+        atol[:, :3] = ((rtol * COMPONENT_FLOOR + 32 * EPS) * char)[:, None]
         if q is not None:
             atol[:, 3:] = rtol
 

@@ -51,6 +51,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wobble.numerics.floats import EPS
 from wobble.errors import FileFormatError, InputError
 from wobble.models import engine as eng
 from wobble.models import free as _free
@@ -100,7 +101,6 @@ ALL_OUTPUTS = OUTPUTS + tuple(sorted(SUMMARY_OUTPUTS))
 ATTITUDE_OUTPUTS = frozenset(
     {"attitude", "angular_momentum", "axis_direction", "tilt", "potential_energy", "total_energy"}
 )
-_EPS = np.finfo(float).eps
 # Integrators are not asked for less than this (relative): rounding over a run.
 _INTEGRATOR_FLOOR = 1e-13
 _MAX_ATTEMPTS = 5
@@ -486,7 +486,7 @@ def _free_ensemble_bound(scene) -> float:
     """A float phase lambda t carries eps * lambda t (docs/engine.md; tests/test_free_flow.py)."""
     span = float(np.max(np.abs(scene.times - scene.times[0])))
     rate = float(np.max(np.linalg.norm(scene.omega0, axis=-1)))
-    return 64 * _EPS * (1.0 + rate * span)
+    return 64 * EPS * (1.0 + rate * span)
 
 
 def _floor_free(scene):
@@ -1219,7 +1219,7 @@ def _tighter(scene, run, worst, attempts=1):
     """The same numerical model with settings tightened from the measured estimate."""
     ratio = scene.accuracy / worst
     if run.method == "dop853":
-        floor = 100 * _EPS  # the tightest tolerance DOP853 takes
+        floor = 100 * EPS  # the tightest tolerance DOP853 takes
         if run.settings["rtol"] <= floor:
             raise _AccuracyNotReached(
                 f"at least {worst:.3g} for this scene with dop853 (tolerance floor reached)", attempts

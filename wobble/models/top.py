@@ -77,7 +77,7 @@ from wobble.models.top_closed_form import Elliptic
 from wobble.models.top_setup import DIGITS, TopSetup, analyse, context, to_decimal
 from wobble.numerics import compiled
 from wobble.numerics import highprec as hp
-from wobble.numerics.floats import TINY
+from wobble.numerics.floats import EPS, TINY
 from wobble.numerics.phase import REACH
 
 __all__ = [
@@ -97,7 +97,6 @@ NUTATION_CLASSES = ("undulating", "cusps", "loops", "regular", "sleeping")
 #: are reduced exactly (:data:`wobble.numerics.phase.REACH`); checked against mpmath at 1.9 x 2^49
 #: nutation periods (tests/references/heavy_top_very_long.json).
 MAX_TURNS = REACH
-_EPS = float(np.finfo(float).eps)
 _COMPILED_SETUP_FROM = compiled.LONG_ARRAY
 
 
@@ -150,7 +149,7 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
     for name, value in (("I1", I1), ("I3", I3)):
         if value < TINY:
             raise InputError(name, value, f"a moment of at least {TINY:.4g} kg m2, the smallest normal double")
-    if I3 > 2 * I1 * (1 + 8 * _EPS):
+    if I3 > 2 * I1 * (1 + 8 * EPS):
         raise InputError("I3", I3, f"I3 <= 2 I1 = {2 * I1:g} kg m2 (a real body has I3 <= I1 + I2)")
     if mgl < 0:
         raise InputError("mgl", mgl, "M g l >= 0 (J): the centre of mass on the symmetry axis, above the tip")
@@ -158,7 +157,7 @@ def check_top_parameters(I1: float, I3: float, mgl: float, ml2: float | None = N
         raise InputError("mgl", mgl, f"0 (no gravity) or at least {TINY:.4g} J, the smallest normal double")
     if ml2 is not None:
         ml2 = _finite("M l^2", ml2, "a finite M l^2 (kg m2)")
-        if I1 < ml2 * (1 - 8 * _EPS):
+        if I1 < ml2 * (1 - 8 * EPS):
             raise InputError(
                 "I1",
                 I1,
@@ -701,10 +700,10 @@ def heavy_top_from_state(I1: float, I3: float, mgl: float, omega0, q0, *, ml2: f
     # pole itself: followed from there, a sideways rate sent the axis off along the start's azimuth instead of
     # its own (3 rad off from 1e-16 rad; an audit of exact special cases). Moving the start onto the pole
     # changes the attitude by less than its own rounding.
-    if 0 < ch_f and 2 * ch_f < _EPS * sh_f:
+    if 0 < ch_f and 2 * ch_f < EPS * sh_f:
         q = np.array([0.0, q[1], q[2], 0.0]) / sh_f
         sh_f, ch_f = 1.0, 0.0
-    elif 0 < sh_f and 2 * sh_f < _EPS * ch_f:
+    elif 0 < sh_f and 2 * sh_f < EPS * ch_f:
         q = np.array([q[0], 0.0, 0.0, q[3]]) / ch_f
         sh_f, ch_f = 0.0, 1.0
     theta0 = 2.0 * float(np.arctan2(sh_f, ch_f))

@@ -51,6 +51,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import special as _sp
 
+from wobble.numerics.floats import EPS
 from wobble.errors import InputError
 from wobble.models import top as _top
 from wobble.numerics import elliptic as ell
@@ -70,7 +71,6 @@ _MARGIN = 1e-4
 _POLE = 1e-6
 _REGULAR = 1e-8
 _CODES = {name: i for i, name in enumerate(NUTATION_CLASSES)}
-_EPS = float(np.finfo(float).eps)
 
 
 def _theta_of(x):
@@ -106,7 +106,7 @@ def _vectorised(I1, I3, mgl, theta0, phidot0, omega3):
             | (disc <= _MARGIN * (P * P + 4.0 * beta * np.abs(Q)))  # near the separatrix
             | ((v != 0) & (np.abs(v) <= _MARGIN * scale0))  # near a cusp at u0
             | (np.abs(n_o) <= _MARGIN * scale_o)  # near a cusp at the other turning point
-            | (np.abs(n_o) <= 1e3 * _EPS * (np.abs(v) + np.abs(a * d_s)))  # its sign lost in rounding
+            | (np.abs(n_o) <= 1e3 * EPS * (np.abs(v) + np.abs(a * d_s)))  # its sign lost in rounding
             | (x2 <= _POLE * x1)  # next to the upward vertical
             | (np.minimum(y0, y_o) <= _POLE * np.maximum(y0, y_o))  # next to the bottom
             | (np.abs(d_s) <= _MARGIN * x1)  # a nutation too small for float64 rounding of x
@@ -205,7 +205,7 @@ def phase_analysis(I1, I3, mgl, theta0, omega3, phidot0=0.0, thetadot0=0.0) -> d
             & (i1 > 0)
             & (i3 > 0)
             & (mg >= 0)
-            & (i3 <= 2 * i1 * (1 + 8 * _EPS))
+            & (i3 <= 2 * i1 * (1 + 8 * EPS))
         )
         bad_state = ~(np.isfinite(th) & (th >= 0) & (th <= np.pi) & np.isfinite(w3) & np.isfinite(pd) & np.isfinite(td))
     reason = np.where(bad_top, 1, np.where(bad_state, 2, 0)).astype(np.int8)

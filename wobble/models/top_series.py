@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from wobble.numerics.floats import EPS
 from wobble.models.top_closed_form import TWO_PI, TWO_PI_PIECES
 from wobble.numerics import compiled
 from wobble.numerics.double_double import WHOLE_PIECES, two_prod, two_sum
@@ -30,7 +31,6 @@ from wobble.numerics.phase import PER_SAMPLE, split_dd
 
 __all__ = ["MIN_SAMPLES", "Fourier", "build", "series_of", "wrap_angle", "blocked"]
 
-_EPS = float(np.finfo(float).eps)
 _ORDER = 5  # degree of the Taylor polynomials
 # The tabulated rows: theta (even), the periodic parts k_- P_- of sigma and k_+ P_+ of delta
 # (odd), dtheta/dr (odd), sin(theta/2) and cos(theta/2) (even).
@@ -425,7 +425,7 @@ def build(e, est: dict, fast: bool = False) -> Fourier | None:
     if e.through_top or e.through_bottom:
         return None
     k = e.K[0]
-    noise = 8 * _EPS  # the FFT of exact values has a noise floor of a few eps
+    noise = 8 * EPS  # the FFT of exact values has a noise floor of a few eps
     sample, fast = _sampler(e, fast)
     if fast:
         return _build_compiled(e, est, sample)
@@ -494,7 +494,7 @@ def _build_compiled(e, est, sample):
         vals, scales = tt.prepare(part, n, _PARITY[:, 0])
         spectra = np.fft.rfft(vals, axis=-1) / n
         status, coef, need, slope_s, slope_d = tt.coefficients(
-            spectra, scales, n, 8 * _EPS, _COS_ROWS, 0.25 * _EPS, _FOURIER_MAX_TERMS, scale
+            spectra, scales, n, 8 * EPS, _COS_ROWS, 0.25 * EPS, _FOURIER_MAX_TERMS, scale
         )
         if status == 0:
             continue
@@ -584,7 +584,7 @@ def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
     coef = np.where(cos_rows[:, None], 2 * spectra.real, -2 * spectra.imag)
     coef[:, 0] = np.where(cos_rows, spectra[:, 0].real, 0.0)
     big = np.max(np.abs(coef) / np.asarray(scales)[:, None], axis=0)
-    keep = np.nonzero(big > 0.25 * _EPS)[0]
+    keep = np.nonzero(big > 0.25 * EPS)[0]
     last = int(keep.max()) if keep.size else 1
     if last > _FOURIER_MAX_TERMS:
         return None
@@ -594,7 +594,7 @@ def _fourier_from_spectra(e, spectra, scales, k, start=(0.0, 0.0), fast=False):
     # |f^(6)| (h/2)^6 / 6! <= sum_k |c_k| (k pi / S)^6 / 720, below each row's rounding (eps times
     # its scale); S the smallest FFT-friendly size (2^a 3^b 5^c, even) from 256 on.
     moment = np.sum(np.abs(coef) * np.arange(last + 1.0) ** 6, axis=1)
-    need = np.pi * float(np.max((moment / (720 * _EPS * np.asarray(scales))) ** (1 / 6)))
+    need = np.pi * float(np.max((moment / (720 * EPS * np.asarray(scales))) ** (1 / 6)))
     nodes = _fft_size(max(256, int(np.ceil(need)) if np.isfinite(need) else 1 << 30))
     return _tabulate(
         Fourier(base=e, coef=coef, scale=scale, table=np.empty((0, 0, 0)), h=0.0, start=start, compiled=fast), nodes
@@ -683,13 +683,13 @@ def _check_limits(est, scales, k):
     """How far the table may stray from the direct values, per tabulated row: theta and the phases
     sigma, delta by the solution's error estimate; dtheta/dr, sin(theta/2) and cos(theta/2) relative to
     their scales."""
-    rel = 32 * _EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
+    rel = 32 * EPS * (1 + k)  # theta's own standard (est["theta_rad"] / theta_max), for sin and cos of theta/2
     return np.array(
         [
             est["theta_rad"],
             est["attitude_rad"],
             est["attitude_rad"],
-            64 * _EPS * (1 + k) * scales[3],
+            64 * EPS * (1 + k) * scales[3],
             rel * scales[4],
             rel * scales[5],
         ]

@@ -29,6 +29,7 @@ from decimal import Decimal
 
 import numpy as np
 
+from wobble.numerics.floats import EPS
 from wobble.errors import InputError
 from wobble.models.top_closed_form import Elliptic, Secular, Uniform
 from wobble.numerics import cubic
@@ -40,7 +41,6 @@ __all__ = ["DIGITS", "TopSetup", "analyse", "context", "to_decimal"]
 
 #: Working precision of the set-up (significant digits).
 DIGITS = cubic.DIGITS
-_EPS = float(np.finfo(float).eps)
 # x2/x1 (or y1/y2) below this: the axis passes the pole closer than sqrt(_POLE) theta_max,
 # i.e. below the rounding of theta_max, and the motion is followed as a pass through it.
 _POLE = Decimal("1e-32")
@@ -216,7 +216,7 @@ def analyse(setup: TopSetup) -> dict:
         # Regular precession to rounding (the bracket of df/du vanishes within the rounding of
         # the inputs): reported as such (u1 = u2 = u0, m = 0), but the motion keeps the
         # exact, tiny nutation of the given floats, so the phases stay exact over long spans.
-        regular = thetadot0 == 0 and abs(e0) <= 16 * Decimal(_EPS) * e0_scale
+        regular = thetadot0 == 0 and abs(e0) <= 16 * Decimal(EPS) * e0_scale
         if thetadot0 == 0 and x0 == 0:
             uniform = "sleeping"
         elif thetadot0 == 0 and y0 == 0:
@@ -320,11 +320,11 @@ def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
             psidot=_f(psidot),
         )
         est = {
-            "theta_rad": 4 * _EPS * max(theta0, _EPS),
-            "attitude_rad": 8 * _EPS,
-            "turning_points_relative": 2 * _EPS,
-            "period_relative": 4 * _EPS,
-            "mean_precession_rate_rad_per_s": 2 * _EPS * abs(_f(phidot)),  # the rate itself, rounded once
+            "theta_rad": 4 * EPS * max(theta0, EPS),
+            "attitude_rad": 8 * EPS,
+            "turning_points_relative": 2 * EPS,
+            "period_relative": 4 * EPS,
+            "mean_precession_rate_rad_per_s": 2 * EPS * abs(_f(phidot)),  # the rate itself, rounded once
         }
         return dict(
             phidot0=_f(phidot),
@@ -362,7 +362,7 @@ def nutation_class(B, a, x1, x2, y1, y2, C) -> str:
         else:  # ... and next to u = -1
             n = C - a * y
             scale = abs(C) + abs(a * y)
-        if abs(n) <= 64 * Decimal(_EPS) * scale:
+        if abs(n) <= 64 * Decimal(EPS) * scale:
             return 0
         return 1 if n > 0 else -1
 
@@ -642,25 +642,25 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         # is a fast spin's turns per nutation: its rounding (and that of the reduced phase r,
         # a few ulps of K) grows with c. That is psi's own conditioning in t, |psidot| t eps
         # for t of a period; phi = sigma + delta has no such term (its own secular phase).
-        spin = 8 * _EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
+        spin = 8 * EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
         # The anchors (the periodic parts' offsets at the exact start, above) are rounded once from their
         # closed forms and take an atan2 in float64: a few eps of themselves. A start within a pass followed as
         # one through a pole takes its turn with dn = 1 across the pass, exact to 2 sqrt(x2 / (x1 m1)) (or
         # 2 sqrt(y1 / (y2 m1))): below 1e-16 rad unless the motion also lies next to the separatrix.
-        anchor = 4 * _EPS * (abs(anchor_sigma) + abs(anchor_delta))
+        anchor = 4 * EPS * (abs(anchor_sigma) + abs(anchor_delta))
         with decimal.localcontext(context()):
             if top and x2 != 0:
                 anchor += _f(2 * (x2 / (x1 * m1)).sqrt())
             if bottom and y1 != 0:
                 anchor += _f(2 * (y1 / (y2 * m1)).sqrt())
         est = {
-            "theta_rad": 32 * _EPS * (1 + kf) * max(theta_max, _EPS),
-            "attitude_rad": 64 * _EPS * (1 + kf) * (1 + swing) + spin + anchor,
-            "turning_points_relative": 4 * _EPS,
-            "period_relative": 4 * _EPS,
+            "theta_rad": 32 * EPS * (1 + kf) * max(theta_max, EPS),
+            "attitude_rad": 64 * EPS * (1 + kf) * (1 + swing) + spin + anchor,
+            "turning_points_relative": 4 * EPS,
+            "period_relative": 4 * EPS,
             # Its rounding to a double, or what the 45 digits of its terms leave when they cancel (loops under
             # weak gravity): the mean itself, not phi(t), whose secular part it is only to within attitude_rad.
-            "mean_precession_rate_rad_per_s": max(_f(mean_bound), 2 * _EPS * abs(_f(mean_phidot))),
+            "mean_precession_rate_rad_per_s": max(_f(mean_bound), 2 * EPS * abs(_f(mean_phidot))),
         }
         return dict(
             phidot0=_f(phidot0),

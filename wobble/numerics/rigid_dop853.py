@@ -30,6 +30,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from wobble.numerics.floats import EPS
 from wobble.numerics import _dop853_tableau as _T
 from wobble.numerics import compiled as _compiled
 from wobble.numerics import kepler as _kepler
@@ -52,10 +53,9 @@ _SAFETY = 0.9
 _MIN_FACTOR = 0.2
 _MAX_FACTOR = 10.0
 _EXPONENT = -1.0 / 8.0
-_EPS = float(np.finfo(float).eps)
 _TWO_PI = 2.0 * np.pi
 _KEPLER_ITERATIONS = _kepler.MAX_ITERATIONS
-_KEPLER_TOL = 4.0 * _EPS
+_KEPLER_TOL = 4.0 * EPS
 
 _MEMBERS_PER_THREAD = 256
 
@@ -305,7 +305,7 @@ def _member(
         remaining = t_end - ti
         last = hi * (1.0 + 1e-9) >= remaining  # no sliver of a last step
         hs = remaining if last else min(hi, remaining)
-        if hs <= 16.0 * _EPS * max(abs(ti), 1e-300):
+        if hs <= 16.0 * EPS * max(abs(ti), 1e-300):
             t[i], h[i] = ti, hs
             return STEP_UNDERFLOW
         # The twelve stages.
@@ -483,7 +483,7 @@ class RigidDOP853:
         # Writable C-ordered copies: Numba compiles (and caches) one version per array
         # type, and a read-only broadcast view is another type.
         self.rtol = np.array(np.broadcast_to(np.asarray(rtol, dtype=float), (n,)), order="C")
-        if np.any(self.rtol < 100 * _EPS):
+        if np.any(self.rtol < 100 * EPS):
             raise ValueError("rtol below 100 eps cannot be met in float64")
         self.atol = np.array(np.broadcast_to(np.asarray(atol, dtype=float), (n, d)), order="C")
         self.max_steps = int(max_steps)
