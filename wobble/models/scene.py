@@ -45,6 +45,7 @@ run whose output exceeds memory never holds it all.
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -554,8 +555,6 @@ def _build_heavy_top(scene):
     body axes turned by pi about axis 1, so that axis 3 points to the centre of
     mass: omega' = (w1, -w2, -w3), q' = q (x) (0, 1, 0, 0); :class:`_TopRun` turns back.
     """
-    from wobble.models import top
-
     (i1, i3, mgl), _ = _heavy_top_geometry(scene)
     w0 = np.asarray(scene.omega0[0], dtype=float).reshape(3)
     q0 = np.asarray(scene.attitude0[0], dtype=float).reshape(4)
@@ -563,7 +562,17 @@ def _build_heavy_top(scene):
     if flip:
         w0 = w0 * _FLIP_W
         q0 = quat.multiply(q0, _FLIP_Q)
-    return _TopRun(top.heavy_top_from_state(i1, i3, abs(mgl), w0, q0), scene, flip)
+    return _TopRun(_exact_top(i1, i3, abs(mgl), tuple(w0.tolist()), tuple(q0.tolist())), scene, flip)
+
+
+@functools.lru_cache(maxsize=16)
+def _exact_top(i1: float, i3: float, mgl: float, w0: tuple, q0: tuple):
+    """The exact top from its state, kept for the few calls of one model choice: the chooser asks whether it
+    applies (its span), what it promises (its estimate) and then runs it, and each set-up takes some 10 ms of
+    60-digit arithmetic. The model is immutable, and the key is the set-up's floats themselves."""
+    from wobble.models import top
+
+    return top.heavy_top_from_state(i1, i3, mgl, np.array(w0), np.array(q0))
 
 
 _FLIP_W = np.array([1.0, -1.0, -1.0])
