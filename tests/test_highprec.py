@@ -95,3 +95,21 @@ def test_floats_enter_exactly(x):
     else:
         assert abs(Fraction(d) - Fraction(x)) <= abs(Fraction(x)) * Fraction(1, 10**49)
     assert hp.dec(7) == 7 and hp.dec(Decimal("0.1")) == Decimal("0.1")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [(0.3, 0.7, 1.0), (1e-30, 0.5, 1.0), (0.0, 1e-20, 1.0), (2.0, 3.0, 4.0), (1.0, 1.0, 1.0), (0.999999, 1.0, 1.0)],
+)
+def test_carlson_rf_against_mpmath(args):
+    """R_F at 60 digits against mpmath's elliprf at 80, to 1e-57 relative (the top's start phase uses it)."""
+    import decimal
+
+    import mpmath
+
+    ctx = hp.make_context(60)
+    got = hp.carlson_rf(*args, ctx)
+    with mpmath.workdps(80):
+        want = mpmath.elliprf(*(mpmath.mpf(a) for a in args))
+        assert abs(mpmath.mpf(str(got)) / want - 1) < mpmath.mpf("1e-57")
+    assert isinstance(got, decimal.Decimal)

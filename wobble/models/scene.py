@@ -562,17 +562,21 @@ def _build_heavy_top(scene):
     if flip:
         w0 = w0 * _FLIP_W
         q0 = quat.multiply(q0, _FLIP_Q)
-    return _TopRun(_exact_top(i1, i3, abs(mgl), tuple(w0.tolist()), tuple(q0.tolist())), scene, flip)
+    # Keyed by the floats' bits (hex): -0.0 == 0.0 would share a key, while the set-up's atan2 sees a zero's
+    # sign; a run must not take another scene's model, whatever ran before it.
+    key = tuple(float(v).hex() for v in (i1, i3, abs(mgl), *w0.tolist(), *q0.tolist()))
+    return _TopRun(_exact_top(key), scene, flip)
 
 
 @functools.lru_cache(maxsize=16)
-def _exact_top(i1: float, i3: float, mgl: float, w0: tuple, q0: tuple):
-    """The exact top from its state, kept for the few calls of one model choice: the chooser asks whether it
-    applies (its span), what it promises (its estimate) and then runs it, and each set-up takes some 10 ms of
-    60-digit arithmetic. The model is immutable, and the key is the set-up's floats themselves."""
+def _exact_top(key: tuple[str, ...]):
+    """The exact top from its state (I1, I3, M g l, omega0, q0 as float.hex strings), kept for the few calls
+    of one model choice: the chooser asks whether it applies (its span), what it promises (its estimate) and
+    then runs it, and each set-up takes some 10 ms of 60-digit arithmetic. The model is immutable."""
     from wobble.models import top
 
-    return top.heavy_top_from_state(i1, i3, mgl, np.array(w0), np.array(q0))
+    i1, i3, mgl, *state = (float.fromhex(v) for v in key)
+    return top.heavy_top_from_state(i1, i3, mgl, np.array(state[:3]), np.array(state[3:]))
 
 
 _FLIP_W = np.array([1.0, -1.0, -1.0])

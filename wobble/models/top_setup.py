@@ -403,29 +403,6 @@ def _mean_phidot(n2, a, width, x1, x2, y1, y2, kc, kdec) -> tuple[Decimal, Decim
         return (first + second) / (2 * kdec), bound
 
 
-def carlson_rf(x: Decimal, y: Decimal, z: Decimal) -> Decimal:
-    """Carlson's R_F(x, y, z) at :data:`DIGITS` digits (x, y, z >= 0, at most one zero).
-
-    Duplication until the arguments agree to 1e-12, then the fifth-order series, whose remainder is of
-    the sixth power of their spread (B. C. Carlson, Numer. Algorithms 10, 13 (1995), eq. 2.2).
-    """
-    with decimal.localcontext(context()):
-        tol = Decimal("1e-12")
-        while True:
-            mean = (x + y + z) / 3
-            if max(abs(mean - x), abs(mean - y), abs(mean - z)) <= tol * mean:
-                break
-            sx, sy, sz = x.sqrt(), y.sqrt(), z.sqrt()
-            lam = sx * sy + sy * sz + sz * sx
-            x, y, z = (x + lam) / 4, (y + lam) / 4, (z + lam) / 4
-        dx, dy = 1 - x / mean, 1 - y / mean
-        dz = -(dx + dy)
-        e2 = dx * dy - dz * dz
-        e3 = dx * dy * dz
-        series = 1 - e2 / 10 + e3 / 14 + e2 * e2 / 24 - 3 * e2 * e3 / 44
-        return series / mean.sqrt()
-
-
 def _step_anchor(rate: Decimal, linear: Decimal, p1, p2, sn0, cn0, dn0, h: tuple[Decimal, Decimal]) -> float:
     """k (P(w0) - P(w0 - h)) for a periodic part k P with k P' = rate / q(w) - linear, q = p1 cn^2 + p2 sn^2
     (x = 1 - u for delta's, y = 1 + u for sigma's), over a step h far below the period (rad). ``h`` is the
@@ -546,7 +523,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
         levels = ell.landen_levels(_f(m), _f(m1), K=K[0])
         # w0 = sn0 R_F(cn0^2, dn0^2, 1) at DIGITS digits, rounded once: the evaluation takes the double, and
         # the anchors below make up for the rest (w0_dec - r0), which next to a pole turns the whole motion.
-        w0_dec = sgn * kdec if cn0_2 == 0 else sn0 * carlson_rf(cn0_2, dn0_2, Decimal(1))
+        w0_dec = sgn * kdec if cn0_2 == 0 else sn0 * hp.carlson_rf(cn0_2, dn0_2, Decimal(1), context())
         w0 = _f(w0_dec)
         hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
         # Through the bottom, cos(theta/2) is carried signed, hy2 sn(w): negative at t = 0 when the top
