@@ -97,11 +97,11 @@ def test_netcdf_round_trip_and_cf(tmp_path, capsys, assert_cf_compliant):
             assert float(row[var]) == pytest.approx(body[key], rel=1e-14, abs=0), (body["body"], key)  # 15 digits
 
 
+@mp.workdps(30)  # a decorator, not mp.mp.dps = 30: that would leave mpmath at 30 digits for later tests
 def _liouville_root(p, k2, e_f, guess):
     """A root omega (rad/s, signed) of det(i omega M + Omega K) = 0, the Liouville equations (M) of
     docs/modes.md section 1 for a triaxial mantle and a Poincare core, built here in mpmath from
     the catalogued J2, C22, S22, C/(Ma^2), GM, a and A_f (independent of wobble.models.modes)."""
-    mp.mp.dps = 30
     big_c = mp.mpf(p.c_factor)
     c22 = mp.sqrt(5 / mp.mpf(12)) * mp.hypot(p.c22.value if p.c22 else 0, p.s22.value if p.s22 else 0)
     ca = mp.mpf(p.flattening) + 2 * c22 / big_c  # (C - A)/C, units of C: Abar = (A + B)/2 and B - A = 4 C22 M a^2
@@ -297,74 +297,44 @@ def test_a_tiny_liquid_core_runs_and_gives_the_closed_form(tmp_path, capsys):
     text = Path(str(catalogue_file("mars"))).read_text()
     b, a, rho_c, rho_m = 3.0e3, 3389.5e3, 8000.0, 3933.0
     profile = tmp_path / "tiny_core.toml"
+
+    def param(name, value, unit):
+        rest = 'uncertainty = 0.0\nsource = "test"\nstatus = "assumed"\n'
+        return f'[parameters.{name}]\nvalue = {value}\nunit = "{unit}"\n' + rest
+
     profile.write_text(
-        f"""schema = "wobble/1"
-kind = "density_profile"
-name = "tiny_core"
-
-[parameters.layer_top_radius]
-value = [{b / 1e3}, {a / 1e3}]
-unit = "km"
-uncertainty = 0.0
-source = "test"
-status = "assumed"
-
-[parameters.density_coefficients]
-value = [[{rho_c}], [{rho_m}]]
-unit = "kg m-3"
-uncertainty = 0.0
-source = "test"
-status = "assumed"
-
-[parameters.normalising_radius]
-value = {a / 1e3}
-unit = "km"
-uncertainty = 0.0
-source = "test"
-status = "assumed"
-
-[parameters.fluid_core_inner_radius]
-value = 0.0
-unit = "km"
-uncertainty = 0.0
-source = "test"
-status = "assumed"
-
-[parameters.fluid_core_outer_radius]
-value = {b / 1e3}
-unit = "km"
-uncertainty = 0.0
-source = "test"
-status = "assumed"
-
-[parameters.mass_tolerance]
-value = 0.1
-unit = ""
-uncertainty = 0.0
-source = "test"
-status = "assumed"
-"""
+        'schema = "wobble/1"\nkind = "density_profile"\nname = "tiny_core"\n\n'
+        + "\n".join(
+            [
+                param("layer_top_radius", [b / 1e3, a / 1e3], "km"),
+                param("density_coefficients", [[rho_c], [rho_m]], "kg m-3"),
+                param("normalising_radius", a / 1e3, "km"),
+                param("fluid_core_inner_radius", 0.0, "km"),
+                param("fluid_core_outer_radius", b / 1e3, "km"),
+                param("mass_tolerance", 0.1, ""),
+            ]
+        )
     )
     body = tmp_path / "mars_tiny.toml"
     body.write_text(text)
     status, out, err = _run(capsys, "modes", "--body-file", str(body), "--profile", str(profile), "--json")
     assert status == 0, err
     got = json.loads(out)[0]["core_flattening_hydrostatic"]
-    mp.mp.dps = 40
     p, _ = load_planet("mars")
-    bb, aa, rc, rm = (mp.mpf(x) for x in (b, a, rho_c, rho_m))
-    k = (rc - rm) * bb**3
-    q = (
-        mp.mpf(p.rotation_rate.value) ** 2
-        * aa**3
-        / (mp.mpf(p.gravitational_constant.value) * 4 * mp.pi / 3 * (rm * aa**3 + k))
-    )
-    big_q = 3 * k * bb**5 / (5 * rm * bb**3 + 2 * k)  # eps'(b) = 0: the core is uniform
+    with mp.workdps(40):  # not mp.mp.dps = 40: that would leave mpmath at 40 digits for every later test
+        bb, aa, rc, rm = (mp.mpf(x) for x in (b, a, rho_c, rho_m))
+        k = (rc - rm) * bb**3
+        q = (
+            mp.mpf(p.rotation_rate.value) ** 2
+            * aa**3
+            / (mp.mpf(p.gravitational_constant.value) * 4 * mp.pi / 3 * (rm * aa**3 + k))
+        )
+        big_q = 3 * k * bb**5 / (5 * rm * bb**3 + 2 * k)  # eps'(b) = 0: the core is uniform
 
-    def shape(r):
-        return (r**5 + big_q) / (r**2 * (rm * r**3 + k))
+        def shape(r):
+            return (r**5 + big_q) / (r**2 * (rm * r**3 + k))
 
-    e_f = shape(bb) * (5 * q / 2) / (aa * mp.diff(shape, aa) + 2 * shape(aa))
+        e_f = shape(bb) * (5 * q / 2) / (aa * mp.diff(shape, aa) + 2 * shape(aa))
     assert got == pytest.approx(float(e_f), rel=1e-10)
 
 
