@@ -25,6 +25,7 @@ __all__ = [
     "is_number",
     "number",
     "with_uncertainty",
+    "with_uncertainty_g",
     "decimals_for",
     "duration",
     "span_unit",
