@@ -160,7 +160,7 @@ def test_a_hindcast_on_a_distributed_client_equals_the_local_one():
         np.testing.assert_array_equal(list(remote.to_dict()["methods"]["ls_ar"]["rms_2d_mas"].values()), expected)
 
 
-def test_an_address_is_checked_from_inside_a_running_event_loop(stranger):
+def test_an_address_is_checked_from_inside_a_running_event_loop(quick_timeout, stranger):
     """A notebook runs its cells inside an event loop, where asyncio.run refuses to start: the check ran
     there and called every scheduler 'not a dask scheduler: RuntimeError'. It runs on a thread of its own."""
     import asyncio
