@@ -96,3 +96,22 @@ def test_free_body_estimate_bounds_its_rounding_and_is_not_inflated(moments, ome
     err_q = np.max(attitude_angle(run.attitude[:, 0], exact.attitude(t)))
     assert err_w <= run.error.omega_relative[0] < 1e3 * err_w
     assert err_q <= run.error.attitude[0] < 1e3 * err_q
+
+
+def test_the_rounding_floor_is_written_beside_the_estimate(tmp_path):
+    """The splitting's rounding part reaches the file's attributes and the summary (JSON), and is
+    part of the estimate (added in quadrature); DOP853 does not measure it: no attribute, None."""
+    scene = wobble.Scene(
+        body=[1.0, 2.0, 3.0] * u.kg * u.m**2,
+        omega0=[1.0, 0.1, 1.0] * u.rad / u.s,
+        t_end=20 * u.s,
+        samples=21,
+        accuracy=1e-6,
+        outputs=["omega"],
+    )
+    split = wobble.run_to_netcdf(scene, tmp_path / "split.nc", model="splitting")
+    attrs = wobble.load(tmp_path / "split.nc").attrs
+    assert 0 < attrs["error_estimate_rounding"] == split["error_estimate_rounding"] <= attrs["error_estimate"]
+    dop = wobble.run_to_netcdf(scene, tmp_path / "dop.nc", model="dop853")
+    assert dop["error_estimate_rounding"] is None
+    assert "error_estimate_rounding" not in wobble.load(tmp_path / "dop.nc").attrs

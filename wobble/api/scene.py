@@ -230,6 +230,9 @@ def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
 def _attributes(scene: _scene.Scene, record: _scene.RunRecord) -> dict:
     est = record.error_estimate
     worst = max(est["omega_relative"], est["attitude_rad"])
+    # The splitting's rounding floor (the part a shorter step cannot lower), where it was measured:
+    # a netCDF attribute cannot be None, so a run without the measurement has no such attribute.
+    rounding = {"error_estimate_rounding": est["rounding"]} if "rounding" in est else {}
     return {
         "title": scene.title or scene.name,
         "summary": scene.description or f"wobble scene {scene.name}",
@@ -244,6 +247,7 @@ def _attributes(scene: _scene.Scene, record: _scene.RunRecord) -> dict:
         "error_estimate_omega_relative": est["omega_relative"],
         "error_estimate_attitude_rad": est["attitude_rad"],
         "error_estimate_method": est["method"],
+        **rounding,
         "accuracy_requested": scene.accuracy,
         "attempts": record.attempts,
     }
@@ -370,8 +374,9 @@ def run_to_netcdf(
     -------
     dict
         The run summary: ``model``, ``model_reason``, ``error_estimate`` (and
-        parts), ``output``, ``members``, ``times`` (written: one for a scene whose only output is a
-        time mean, ``mean_precession_rate``).
+        parts; ``error_estimate_rounding`` is the splitting's rounding floor, included in the
+        estimate, or None where not measured), ``output``, ``members``, ``times`` (written: one for
+        a scene whose only output is a time mean, ``mean_precession_rate``).
     """
     if isinstance(block_bytes, bool) or not isinstance(block_bytes, (int, np.integer)) or block_bytes < 1:
         raise InputError("block_bytes", block_bytes, "a positive whole number of bytes")
@@ -399,6 +404,7 @@ def run_to_netcdf(
     }
     summary.update(
         {
+            "error_estimate_rounding": attrs.get("error_estimate_rounding"),
             "scene": sc.name,
             "output": str(out),
             "members": sc.members,
