@@ -122,7 +122,7 @@ def _perturber(moving=True):
 RUNS = [
     ("dop853", {"rtol": 1e-12, "backend": "compiled"}),
     ("dop853", {"rtol": 1e-12, "backend": "python"}),
-    ("splitting", {"step": 2e-3, "order": 6}),
+    ("splitting", {"step": 5e-3, "order": 6}),
 ]
 
 
