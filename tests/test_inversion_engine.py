@@ -199,10 +199,12 @@ def test_injection_recovery_covers_at_the_nominal_rate_on_the_linear_problem():
     """Simulation-based calibration in small: 40 truths from the prior, each inverted.
 
     Per parameter the number of 68 % intervals holding the truth is Binomial(40, 0.68)
-    for a calibrated inversion (sd 2.95 draws); 3.5 sd either side is the band.
+    for a calibrated inversion (sd 2.95 draws); 3.5 sd either side is the band. 150 steps after 50 of
+    burn-in: the hits were 25/38 and 24/39 (68 %/95 %, per parameter), against 26/38 and 24/39 with 300
+    after 100, at half the time.
     """
     post = linear_posterior()
-    s = SamplerSettings(walkers=8, steps=300, burn=100)
+    s = SamplerSettings(walkers=8, steps=150, burn=50)
     recoveries = [recover_one(post, s, seed=2024, index=i) for i in range(40)]
     cov = coverage(recoveries, post.names)
     for name in post.names:
