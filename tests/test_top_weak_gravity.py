@@ -54,7 +54,9 @@ def _mean_phidot(mgl, theta0, thetadot0=0.0, phidot0=0.0, dps=60, omega3=OMEGA3,
         return num / den
 
 
-@pytest.mark.parametrize("k", list(range(0, 61)) + [100, 200, 300])
+# Every power of ten to 1e-20 J, then every fourth to 1e-60 J, for the suite's time (each case's reference
+# is a quadrature at 60 + 2k digits; every k to 60 passed when this was thinned).
+@pytest.mark.parametrize("k", list(range(0, 21)) + list(range(24, 61, 4)) + [100, 200, 300])
 def test_mean_precession_of_a_fast_top_down_to_vanishing_gravity(k):
     mgl = 10.0**-k
     top = heavy_top(I1, I3, mgl, THETA0, omega3=OMEGA3)
