@@ -15,13 +15,14 @@ examples:
   wobble invert mars_chandler_only --steps 1000   the Chandler period alone: how little one period says
   wobble invert mars --steps 500 -o mars_posterior.nc --plot mars_corner.png --overwrite
   wobble invert mars --prior-only --steps 500     the priors pushed through the model (what the data add)
-  wobble invert mars --seed 7 --steps 200 --quiet     another seed, no progress bar
+  wobble invert mars --seed 7 --steps 200 --burn 100 --quiet     another seed, a shorter burn-in, no progress bar
   wobble example bodies/mars.toml mars_edited.toml    a planet file to edit, then:
-  wobble invert mars --body-file mars_edited.toml --steps 300 --quiet   the Mars set-up on your planet
+  wobble invert mars --body-file mars_edited.toml --steps 300 --burn 100 --quiet   the Mars set-up on your planet
   wobble example inversions/mars my_setup.toml    copy a shipped set-up to edit, then:
-  wobble invert my_setup.toml --ensembles 2 --steps 500 --scheduler tcp://127.0.0.1:8786
+  wobble invert my_setup.toml --ensembles 2 --steps 300 --burn 100 --scheduler tcp://127.0.0.1:8786
 
-The examples with --steps are cut short so that they finish in seconds, and their
+The examples with --steps are cut short so that they finish in seconds (--burn
+shortens the burn-in too: 500 or 1000 steps in the shipped setups), and their
 summaries warn, rightly, that R-hat is above 1.01 (and that there are too few
 autocorrelation times): R-hat is about 1 + tau/N for N steps and an autocorrelation
 time tau of some 10 steps (Mars), so a few hundred steps do not converge, and their
