@@ -9,6 +9,18 @@ import socket
 
 os.environ.setdefault("MPLBACKEND", "Agg")  # no display, and no GUI warnings
 
+# One BLAS thread per test process (and, through the environment, per process a test starts), unless the
+# caller chose: the suite runs one process per core (pytest-xdist), and OpenBLAS's own pool of one thread
+# per core in each of them oversubscribes the cores. Its threads then wait for one another on the many
+# small products: a state-space maximum-likelihood fit took 12.7 s in the suite against 0.86 s with one
+# thread, and test_forecast_models.py 33 s against 15. wobble limits the pool itself around its
+# polar-motion calls (wobble.numerics.threads); the tests also call the models below those.
+if "OPENBLAS_NUM_THREADS" not in os.environ:
+    os.environ["OPENBLAS_NUM_THREADS"] = "1"
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")  # NumPy's BLAS may be loaded already (by a plugin)
+
 import pytest
 from hypothesis import HealthCheck, settings
 
