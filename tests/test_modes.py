@@ -200,6 +200,22 @@ def test_required_core_flattening_round_trip_gives_the_observed_period(name):
     assert modes.fcn_period_required.to_value(u.s) == pytest.approx(p.observed_fcn_period.value, rel=1e-12)
 
 
+@pytest.mark.parametrize("rotation", [1e-12, 1e-30])
+def test_an_fcn_period_out_of_reach_names_the_periods_the_planet_reaches(rotation):
+    """Earth's observed FCN on an Earth spun 1e8 times slower is out of reach: the refusal named only the
+    observed period and an e_f range; it now gives the periods the model reaches there (the forward model at
+    the range's ends) and the rotation rate, the input that is off."""
+    p, _ = load_planet("earth")
+    slow = replace(p, rotation_rate=replace(p.rotation_rate, value=rotation))
+    guess = 3e-3 * (rotation / p.rotation_rate.value) ** 2
+    with pytest.raises(InputError, match="observed_fcn_period") as info:
+        required_core_ellipticity(slow, 2 * math.pi / p.observed_fcn_period.value, guess)
+    spaces = [mode_rates(slow, e, which=("FCN",))["FCN"][0] + rotation for e in (0.2 * guess, 5.0 * guess)]
+    days = [f"{2 * math.pi / r / 86400:.6g} d" if r != 0 else "an infinite period" for r in spaces]
+    assert f"it reaches {days[0] if days[0] == days[1] else days[0] + ' to ' + days[1]} there" in str(info.value)
+    assert f"rotation rate {rotation:.6g} rad/s" in str(info.value)
+
+
 def test_mars_fcn_against_rise(mars_modes):
     fcn = mars_modes.mode("FCN", "celestial")
     model, sigma = fcn.period.to_value(u.day), fcn.period_uncertainty.to_value(u.day)

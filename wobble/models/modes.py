@@ -411,13 +411,20 @@ def required_core_ellipticity(p: PlanetParameters, observed_space_rate: float, g
     so that putting it back gives the observed period exactly.
     """
     lo, hi = 0.2 * guess, 5.0 * guess
-    f_lo = _fcn_space_rate(p, lo) - observed_space_rate
-    f_hi = _fcn_space_rate(p, hi) - observed_space_rate
-    if f_lo * f_hi > 0:
+    rates = [_fcn_space_rate(p, lo), _fcn_space_rate(p, hi)]
+    f_lo, f_hi = (r - observed_space_rate for r in rates)
+    if not f_lo * f_hi <= 0:  # no sign change, or no FCN at an end (NaN)
+        # The periods the model does reach say which input is off: often not the period but the
+        # planet it is compared with (a rotation rate far from the one the period was measured on).
+        reach = ""
+        if all(math.isfinite(r) for r in rates):
+            days = [f"{2 * math.pi / r / 86400:.6g} d" if r != 0 else "an infinite period" for r in rates]
+            span = days[0] if days[0] == days[1] else f"{days[0]} to {days[1]}"
+            reach = f"; it reaches {span} there, with this planet's rotation rate {p.rotation_rate.value:.6g} rad/s"
         raise InputError(
             "observed_fcn_period",
             f"{2 * math.pi / observed_space_rate / 86400:.6g} d",
-            f"a period this model reaches with e_f between {lo:.3g} and {hi:.3g}",
+            f"a period this model reaches with e_f between {lo:.3g} and {hi:.3g}{reach}",
         )
     return bracketed_root(lambda e: _fcn_space_rate(p, e) - observed_space_rate, lo, hi, f_lo=f_lo, f_hi=f_hi)
 
