@@ -6,6 +6,9 @@ import ipaddress
 import os
 import signal
 import socket
+import subprocess
+import sys
+from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")  # no display, and no GUI warnings
 
@@ -123,3 +126,30 @@ def python_ctrl_c():
     yield
     # None: a handler not installed from Python; the default is the nearest it can be restored to.
     signal.signal(signal.SIGINT, signal.SIG_DFL if previous is None else previous)
+
+
+# ---------------------------------------------------------------------------
+# Numba's disk cache, written once (tests/_warm_numba.py)
+# ---------------------------------------------------------------------------
+_WARM_UP: subprocess.Popen | None = None
+
+
+def pytest_configure(config):
+    """In the process that controls the pytest-xdist workers (no work of its own while they run),
+    compile wobble's Numba kernels in the background while the workers collect: on a fresh checkout
+    both workers otherwise compiled the same kernels at once when their first engine test came."""
+    global _WARM_UP
+    if hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None):
+        return
+    _WARM_UP = subprocess.Popen(
+        [sys.executable, str(Path(__file__).with_name("_warm_numba.py"))],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        cwd=Path(__file__).parent,
+    )
+
+
+def pytest_unconfigure(config):
+    if _WARM_UP is not None and _WARM_UP.poll() is None:
+        _WARM_UP.kill()
+        _WARM_UP.wait()
