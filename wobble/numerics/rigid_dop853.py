@@ -70,7 +70,7 @@ def _cpus() -> int:
 # fastmath "contract" only: fused multiply-adds (one rounding instead of two, ~20 % faster);
 # no reassociation, no assumptions about NaN or infinity (the first-step test reads a NaN).
 _OPTIONS = {"nogil": True, "fastmath": {"contract"}, "error_model": "numpy"}  # cached on disk where Numba can
-_compiled.listen()  # a command line may announce the first compilation (about 20 s after installing)
+_compiled.listen()  # a command line may announce the first compilation (20 to 50 s after installing)
 _jit = _compiled.njit(**_OPTIONS)
 # The right-hand side is inlined into the stages (its ten parameter arrays are then not
 # passed, and reference-counted, at every evaluation): ~20 % faster, compiled once (~12 s)
