@@ -304,6 +304,32 @@ def test_quality_factor_is_plausible():
     assert 30 < q < 180
 
 
+def test_a_wobble_without_dissipation_has_an_infinite_q_not_none(tmp_path, capsys):
+    """k2 with no out-of-phase part: sigma is real, Q = Re sigma / (2 |Im sigma|) is infinite. It was None, as
+    for a model without an anelastic step, and the text said nothing; a rigid model still has none."""
+    from wobble.cli import main
+    from wobble.io.catalog import catalogue_file
+
+    text = catalogue_file("earth").read_text()
+    block = text.index("[parameters.love_number_k2_imaginary]")
+    end = text.index("\n[", block + 1)
+    lossless = (
+        text[:block]
+        + text[block:end].replace("value = 5.796e-4", "value = 0.0").replace("uncertainty = 6e-5", "uncertainty = 0.0")
+        + text[end:]
+    )
+    assert lossless != text
+    path = tmp_path / "lossless.toml"
+    path.write_text(lossless)
+    assert wobble.chandler_budget(path).quality_factor == math.inf
+    assert wobble.chandler_budget(path, "core").quality_factor is None
+    assert main(["chandler", "--body-file", str(path)]) == 0
+    assert "Q implied by the out-of-phase part of k2: infinite" in capsys.readouterr().out
+    assert main(["chandler", "--body-file", str(path), "-o", str(tmp_path / "q.nc")]) == 0
+    capsys.readouterr()
+    assert wobble.load(tmp_path / "q.nc")["quality_factor"].values.tolist() == [math.inf]
+
+
 # -- models, body files and bad input -----------------------------------------------
 
 

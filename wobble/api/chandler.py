@@ -323,7 +323,9 @@ class ChandlerBudget:
 
     @property
     def quality_factor(self) -> float | None:
-        """Q of the wobble implied by the out-of-phase k2 (anelastic step), or None."""
+        """Q of the wobble implied by the out-of-phase k2 (anelastic step): inf where k2 has no
+        out-of-phase part, None without an anelastic step (JSON: null in both cases; the netCDF
+        variable holds inf and NaN)."""
         return self.raw.quality_factor
 
     @property
@@ -497,7 +499,11 @@ def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
                 "observed_period_uncertainty", per_body(lambda b: _num(b.observed_uncertainty))
             ),
             "residual": var("residual", per_body(lambda b: _num(b.residual))),
-            "quality_factor": var("quality_factor", per_body(lambda b: b.quality_factor)),
+            "quality_factor": var(
+                "quality_factor",
+                per_body(lambda b: b.quality_factor),
+                comment="inf: k2 has no out-of-phase part (no dissipation); NaN: the model has no anelastic step",
+            ),
             "secular_love_number": var("secular_love_number", per_body(lambda b: b.secular_love_number)),
             "spin_rate": var("spin_rate", per_body(lambda b: b.planet.rotation_rate.to_value(u.rad / u.s))),
         },

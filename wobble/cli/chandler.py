@@ -180,7 +180,9 @@ def _table(b, sources: bool = False, typed: str | None = None) -> str:
             f"  secular Love number k_s = {ks:.4f}" if abs(ks) < 1e6 else f"  secular Love number k_s = {ks:.4g}"
         )
     if b.quality_factor is not None:
-        lines.append(f"  Q implied by the out-of-phase part of k2: {b.quality_factor:.0f}")
+        q = b.quality_factor
+        q_text = f"{q:.0f}" if math.isfinite(q) else "infinite (k2 has no out-of-phase part: no dissipation)"
+        lines.append(f"  Q implied by the out-of-phase part of k2: {q_text}")
     if sources:
         lines.append("  parameters (value +/- one sigma and unit as catalogued; source [status if not read]):")
         for p in b.planet.parameter_list():

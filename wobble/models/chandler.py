@@ -164,7 +164,8 @@ class Budget:
     secular_love_number : float or None
         k_s of equation (1), when the scale of the body is known.
     quality_factor : float or None
-        Q = Re sigma / (2 abs(Im sigma)) from the out-of-phase k2 (anelastic step).
+        Q = Re sigma / (2 abs(Im sigma)) from the out-of-phase k2 (anelastic step); inf
+        where k2 has no out-of-phase part (no dissipation), None without an anelastic step.
     period_sigma : float
         One-sigma uncertainty of the final period, s: the standard deviation over
         :data:`MC_DRAWS` Monte Carlo draws of every uncertain parameter (the model is
@@ -912,7 +913,9 @@ def chandler_budget(p: PlanetParameters, model: str = "full", *, uncertainty: bo
         steps=tuple(out),
         spin_rate=p.rotation_rate.value,
         secular_love_number=None if ks is None else float(ks),
-        quality_factor=q if math.isfinite(q) else None,
+        # inf (k2 without an out-of-phase part: no dissipation) is a value, told apart from "no anelastic
+        # step" (NaN -> None): both were None, and the text then said nothing of a dissipation-free wobble.
+        quality_factor=None if math.isnan(q) else q,
         period_sigma=sigma,
         contributions=contributions,
         observed=p.observed_chandler_period,
