@@ -7,7 +7,6 @@ import math
 from pathlib import Path
 
 import mpmath as mp
-
 import numpy as np
 import pytest
 import xarray as xr

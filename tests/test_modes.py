@@ -216,6 +216,23 @@ def test_an_fcn_period_out_of_reach_names_the_periods_the_planet_reaches(rotatio
     assert f"rotation rate {rotation:.6g} rad/s" in str(info.value)
 
 
+def test_an_fcn_period_out_of_reach_is_one_line_from_the_command_line(tmp_path, capsys):
+    """The same refusal through `wobble modes --body-file`: exit 2, one line naming the file, the parameter and
+    what the model reaches, no traceback."""
+    import re
+
+    from wobble.cli import main
+    from wobble.io.catalog import catalogue_file
+
+    path = tmp_path / "slow_earth.toml"
+    text = catalogue_file("earth").read_text()
+    path.write_text(re.sub(r"(\[parameters\.rotation_rate\]\nvalue = )[^\n]*", r"\g<1>1e-12", text))
+    assert main(["modes", "--body-file", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert all(f in err for f in ("slow_earth.toml", "observed_fcn_period", "it reaches", "1e-12 rad/s")), err
+
+
 def test_mars_fcn_against_rise(mars_modes):
     fcn = mars_modes.mode("FCN", "celestial")
     model, sigma = fcn.period.to_value(u.day), fcn.period_uncertainty.to_value(u.day)

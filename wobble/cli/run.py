@@ -94,15 +94,15 @@ def _print_summary(summary: dict) -> None:
     from wobble.cli._output import number
     from wobble.cli._table import print_rows
 
-    estimate = f"{number(summary['error_estimate'], 3)} (asked {number(summary['accuracy_requested'], 3)}"
-    if summary.get("error_estimate_rounding") is not None:
-        estimate += f"; rounding floor {number(summary['error_estimate_rounding'], 3)}"
+    asked = f"asked {number(summary['accuracy_requested'], 3)}"
+    if summary.get("error_estimate_rounding") is not None:  # the splitting's: a shorter step cannot lower it
+        asked += f"; rounding floor {number(summary['error_estimate_rounding'], 3)}"
     print_rows(
         [
             ("scene", summary["scene"]),
             ("model", summary["model"]),
             ("why", summary["model_reason"]),
-            ("error estimate", estimate + ")"),
+            ("error estimate", f"{number(summary['error_estimate'], 3)} ({asked})"),
             ("members x times", f"{summary['members']} x {summary['times']}"),
         ]
     )
