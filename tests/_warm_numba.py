@@ -1,7 +1,7 @@
 """Compile (or load) wobble's Numba kernels once, in a process of their own (tests/conftest.py).
 
 On a fresh checkout Numba's disk cache is empty, and every test process that reaches a compiled
-kernel before the cache is written compiles it again: about 45 s for the compiled DOP853 and the heavy
+kernel before the cache is written compiles it again: about 30 s for the compiled DOP853 and the heavy
 top's Taylor tables on 2 cores, in both pytest-xdist workers at once (and in the processes some tests
 start). Started by the controlling process while the workers collect, this run writes the cache
 first; a warm checkout only loads it (about a second). Not a test: nothing here is checked.

@@ -1,7 +1,7 @@
 """Numba's just-in-time work is seen through its event API, and its first compilation is announced
 on a terminal, once, and nowhere else.
 
-On the first run after installing, Numba compiles wobble's kernels (20 to 50 s); the command line
+On the first run after installing, Numba compiles wobble's kernels (15 to 35 s); the command line
 then prints one status line on a terminal, and the benchmarks leave that work out of every timing.
 numerics prints nothing itself: :mod:`wobble.numerics.compiled` counts Numba's events and calls
 what the caller registered for the block.

@@ -197,7 +197,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _compilation_notice(command: str):
     """On a terminal, one status line when Numba starts compiling wobble's kernels (the first run
-    after installing: 20 to 50 s of silence otherwise); never in pipes, files or scripts' stderr."""
+    after installing: 15 to 35 s of silence otherwise); never in pipes, files or scripts' stderr."""
     import contextlib
 
     if not (hasattr(sys.stderr, "isatty") and sys.stderr.isatty()):
@@ -206,7 +206,7 @@ def _compilation_notice(command: str):
 
     def say():
         print(
-            f"wobble {command}: compiling the numerical kernels (first run after installing only, 20 to 50 s; "
+            f"wobble {command}: compiling the numerical kernels (first run after installing only, 15 to 35 s; "
             "they are then cached on disk) ...",
             file=sys.stderr,
             flush=True,

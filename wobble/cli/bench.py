@@ -35,7 +35,7 @@ CASE_KEYS = (
 
 EPILOG = """\
 examples:
-  wobble bench --smoke --json                       the harness itself, as JSON: 2-3 s, or 20 to 50 s
+  wobble bench --smoke --json                       the harness itself, as JSON: 2-3 s, or 15 to 35 s
                                                     on the first run after installing (Numba compiles
                                                     wobble's kernels once, then caches them on disk)
   wobble bench --quick                              fewer settings, ensembles up to 10^4 (5-8 minutes)
@@ -69,7 +69,7 @@ def add_arguments(p) -> None:
         "--smoke",
         action="store_true",
         help="2-3 s once wobble's compiled kernels are cached on disk; the first run after installing also "
-        "compiles them, 20 to 50 s in all (said on stderr; not in any timing): one setting per method on two "
+        "compiles them, 15 to 35 s in all (said on stderr; not in any timing): one setting per method on two "
         "short cases, the harness's own test (targets not judged)",
     )
     p.add_argument(

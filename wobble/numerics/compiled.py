@@ -2,7 +2,7 @@
 
 The compiled kernels (:mod:`wobble.numerics.rigid_dop853`, :mod:`wobble.numerics.nome_grid`,
 :mod:`wobble.numerics.taylor_table`) import Numba, which costs ~0.4 s once per process
-(and a compilation of 20 to 50 s the first time after installing; the result is cached on
+(and a compilation of 15 to 35 s the first time after installing; the result is cached on
 disk). So arrays are handed to them only from :data:`LONG_ARRAY` samples on, where they
 save more than NumPy's temporaries cost, and only when Numba is installed: without it
 the NumPy paths, which give the same numbers, do the work.
@@ -37,7 +37,7 @@ def njit(**options):
     """``numba.njit(cache=True, **options)`` as a decorator, or, where Numba finds no place to cache
     the kernel (a read-only installation and no writable cache directory: "cannot cache function
     ...: no locator available"), ``numba.njit(cache=False, **options)``: compiled in memory in each
-    process (20 to 50 s) instead of failing."""
+    process (15 to 35 s) instead of failing."""
     import numba as nb
 
     def decorate(fn):
@@ -116,7 +116,7 @@ def activity() -> tuple[bool, int, int]:
 @contextlib.contextmanager
 def compilation_notice(callback):
     """Within the block, call ``callback()`` once when Numba starts compiling (the first run after
-    installing: 20 to 50 s; the kernels are cached on disk afterwards), for a caller that announces it.
+    installing: 15 to 35 s; the kernels are cached on disk afterwards), for a caller that announces it.
     This layer prints nothing. An inner block takes over from an outer one until it ends."""
     previous, _WATCH.notice = _WATCH.notice, [callback, False]
     try:

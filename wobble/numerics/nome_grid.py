@@ -34,7 +34,7 @@ from wobble.numerics.phasor import grid_candidate
 
 __all__ = ["polynomial_omega", "uniform_grid"]
 
-_compiled.listen()  # a command line may announce the first compilation (20 to 50 s after installing)
+_compiled.listen()  # a command line may announce the first compilation (15 to 35 s after installing)
 _jit = _compiled.njit(nogil=True, error_model="numpy")  # cached on disk where Numba can
 
 

@@ -54,7 +54,7 @@ __all__ = [
     "SAMPLE_CONSTANTS",
 ]
 
-_compiled.listen()  # a command line may announce the first compilation (20 to 50 s after installing)
+_compiled.listen()  # a command line may announce the first compilation (15 to 35 s after installing)
 _jit = _compiled.njit(nogil=True, error_model="numpy")  # cached on disk where Numba can
 _SPLITTER = 134217729.0  # 2^27 + 1
 
