@@ -203,6 +203,32 @@ def test_ctrl_c_during_a_hindcast_writes_nothing(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == []
 
 
+_INTERRUPTED_WITH_A_BUSY_THREAD = """
+import sys, threading
+import wobble.cli as cli
+
+def interrupted():
+    # A worker thread that never finishes, as a threaded scheduler's task still running after Ctrl-C:
+    # non-daemon, so Python's exit would join it for ever.
+    threading.Thread(target=threading.Event().wait).start()
+    print("wobble hindcast: interrupted; no output was written", file=sys.stderr)
+    return 130
+
+cli.main = interrupted
+sys.exit(cli.console())
+"""
+
+
+def test_an_interrupted_command_exits_without_waiting_for_its_worker_threads():
+    """After Ctrl-C the command line exits once its message is out, not when the threaded scheduler's
+    running tasks end (a weekly hindcast took 6 s more; this thread never ends)."""
+    proc = subprocess.run(
+        [sys.executable, "-c", _INTERRUPTED_WITH_A_BUSY_THREAD], capture_output=True, text=True, timeout=60
+    )
+    assert proc.returncode == 130, proc.stderr
+    assert proc.stderr == "wobble hindcast: interrupted; no output was written\n"
+
+
 @pytest.mark.slow
 def test_ctrl_c_during_a_benchmark_writes_no_report(tmp_path):  # the suite runs from a checkout, where bench runs
     proc = _start(["bench", "--quick", "-o", "report.md", "--plot", "figs"], tmp_path)

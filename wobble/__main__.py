@@ -2,6 +2,6 @@
 
 import sys
 
-from wobble.cli import main
+from wobble.cli import console
 
-sys.exit(main())
+sys.exit(console())
