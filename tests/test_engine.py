@@ -246,7 +246,7 @@ def test_long_splitting_run_has_no_secular_energy_drift():
     L.z errors stay bounded.
 
     (The benchmark, scripts/bench_engine.py, runs orders 2, 4 and 6 for 10^6 steps; the splitting
-    is a Python loop, about 0.1 ms a step, so the suite keeps to a tenth of that: the whole suite
+    is a Python loop, about 0.05 ms a step, so the suite keeps to a tenth of that: the whole suite
     must stay under 10 minutes on 2 cores.)
     """
     moments, gravity, w0, q0 = _top()

@@ -631,7 +631,7 @@ class _TopRun(_ModelRun):
 #   dop853 compiled               0.15 n         0.17 (n = 1), 0.06-0.11 n (n = 1000, 10^4; threads)
 #   dop853 Python floats (n = 1)  18             16.9-19.7
 #   dop853 NumPy                  100 + 0.15 n   101-178 (n = 100), 224-271 (n = 1000)
-#   splitting Python floats       50             42.9-56.8
+#   splitting Python floats       50             42.9-56.8; 45.0-47.7 (2026-11-30, 82.6 before flow_one's float test)
 #   splitting NumPy               600 + 1.5 n    460-580 (n = 10), 1370-2420 (n = 1000), 10600-18500 (n = 10^4)
 #
 # and per third body on a Keplerian orbit (Kepler's equation at every call; earth_precession's
