@@ -44,7 +44,6 @@ OK, STEP_UNDERFLOW, STEP_LIMIT = 0, 1, 2
 _NS = _T.N_STAGES  # 12
 _T_EXT = _T.N_STAGES_EXTENDED  # 16: the stages with the three of the dense output
 _A = np.ascontiguousarray(_T.A)  # (16, 16)
-_B = np.ascontiguousarray(_T.B)  # (12,)
 _C = np.ascontiguousarray(_T.C)  # (16,)
 _E3 = np.ascontiguousarray(_T.E3)  # (13,)
 _E5 = np.ascontiguousarray(_T.E5)  # (13,)
@@ -359,7 +358,7 @@ def _member(
                 ytmp[c] = yi[c] + hs * acc
             ts = ti + _C[s] * hs
             if s == _NS:
-                # y_new = y + h sum_j b_j K[j]: the thirteenth stage's weights are b (FSAL).
+                # y_new = y + h sum_j b_j K[j]: the thirteenth stage's weights are b (the tableau's B is A[12, :12]).
                 for c in range(d):
                     ynew[c] = ytmp[c]
                 ts = t_new
