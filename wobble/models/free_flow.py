@@ -135,6 +135,12 @@ def _increment(moments, w0, w1, inv_l, s, fl, dpsi, xp):
     return dq_w, dq_a, dq_b, dq_c
 
 
+def _unrepresentable_one(omega, energies, m1) -> bool:
+    """:func:`_check_representable`'s test for one unsteady member in floats (the arrays cost 40 % of a
+    splitting stage, 82.6 us against 45-48, scripts/calibrate_chooser.py): the same two conditions."""
+    return 0.0 < m1 < ell.M1_MIN or any(w != 0.0 and abs(e) < _TINY for w, e in zip(omega, energies))
+
+
 def _check_representable(omega, energies, m1, steady) -> None:
     """Refuse states the float64 formulas cannot carry (an InputError naming the member).
 
@@ -404,9 +410,7 @@ def flow_one(moments, omega, h, attitude=True):
         m1, m = 1.0 - m_dir, m_dir
     m1, m = min(max(m1, 0.0), 1.0), min(max(m, 0.0), 1.0)
     sep = m1 == 0.0
-    # _check_representable's test in floats, its arrays only to raise the message: in arrays the test took
-    # 40 % of a splitting stage (82.6 us a stage against 45-48 without; scripts/calibrate_chooser.py).
-    if 0.0 < m1 < ell.M1_MIN or any(w != 0.0 and abs(e) < _TINY for w, e in ((w0, e0), (w1, e1), (w2, e2))):
+    if _unrepresentable_one((w0, w1, w2), (e0, e1, e2), m1):  # the arrays only to raise the message
         _check_representable(
             np.array([[w0, w1, w2]]),
             (np.array([e0]), np.array([e1]), np.array([e2])),
