@@ -113,3 +113,13 @@ def test_carlson_rf_against_mpmath(args):
         want = mpmath.elliprf(*(mpmath.mpf(a) for a in args))
         assert abs(mpmath.mpf(str(got)) / want - 1) < mpmath.mpf("1e-57")
     assert isinstance(got, decimal.Decimal)
+
+
+@pytest.mark.parametrize(
+    "args", [(-1e-30, 0.5, 1.0), (0.0, 0.0, 1.0), (float("nan"), 1.0, 1.0), (float("inf"), 1.0, 1.0)]
+)
+def test_carlson_rf_outside_its_domain_is_refused(args):
+    """A negative or non-finite argument, or two zeros (where R_F is infinite), is an error that names the
+    arguments, not a Decimal InvalidOperation from a square root or a loop that quarters to underflow."""
+    with pytest.raises(ValueError, match=r"carlson_rf takes finite x, y, z >= 0 with at most one zero"):
+        hp.carlson_rf(*args)

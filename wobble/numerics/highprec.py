@@ -151,6 +151,10 @@ def carlson_rf(x, y, z, ctx: decimal.Context | None = None) -> Decimal:
     with decimal.localcontext(ctx or context()):
         # Exact inputs (Decimal(float) is exact); the arithmetic below rounds to the context.
         x, y, z = (v if isinstance(v, Decimal) else Decimal.from_float(float(v)) for v in (x, y, z))
+        # Outside the domain the duplication would take the square root of a negative or, with two zeros,
+        # quarter the third argument until it underflows: refuse instead.
+        if not all(v.is_finite() and v >= 0 for v in (x, y, z)) or (x == 0) + (y == 0) + (z == 0) > 1:
+            raise ValueError(f"carlson_rf takes finite x, y, z >= 0 with at most one zero, not ({x}, {y}, {z})")
         tol = Decimal("1e-12")
         while True:
             mean = (x + y + z) / 3
