@@ -276,6 +276,30 @@ def test_uncertainty_is_propagated_like_the_budget(earth_modes):
     assert earth_modes.mode("FCN", "celestial").period_uncertainty > 0 * u.day
 
 
+@pytest.mark.parametrize(("name", "e_f"), [("earth", 2.6e-3), ("mars", 4.3e-3)])
+def test_an_uncertain_spin_moves_the_fcn_in_space_by_its_own_derivative(name, e_f):
+    """The FCN's rate in space is the terrestrial one plus the spin, so an uncertain spin moves it by
+    d(Omega (1 + s))/dOmega, not by the terrestrial rate's d(Omega s)/dOmega, which is about 1/s', some 450
+    times (Earth) and 240 times (Mars) larger. Only the spin uncertain, 1e-3 of itself; reference: the SOS
+    determinant's root s in mpmath at 40 digits, the same +-1 sigma central difference."""
+    p = _symmetric_elastic(name)
+    given = {k: replace(m, sigma=0.0) for k, m in p.measured_fields().items()}
+    given["rotation_rate"] = replace(p.rotation_rate, sigma=1e-3 * p.rotation_rate.value)
+    q = replace(p, **given)
+    got = normal_modes(q, e_f)
+
+    def rate(spin, frame):
+        spun = replace(q, rotation_rate=replace(q.rotation_rate, value=float(spin)))
+        s = _sos_roots(spun, e_f)[1]
+        return spin * (s if frame == "terrestrial" else 1 + s)
+
+    spin, sigma = mp.mpf(q.rotation_rate.value), mp.mpf(q.rotation_rate.sigma)
+    for frame in ("terrestrial", "celestial"):
+        want = abs(rate(spin + sigma, frame) - rate(spin - sigma, frame)) / 2
+        assert got.mode("FCN", frame).rate_sigma == pytest.approx(float(want), rel=1e-9)
+    assert got.mode("FCN", "celestial").rate_sigma < got.mode("FCN").rate_sigma / 200
+
+
 def test_missing_parameter_for_a_requested_mode_names_it():
     p, _ = load_planet("earth")
     with pytest.raises(InputError, match="core_compliance_beta"):

@@ -516,8 +516,9 @@ class NormalModes:
     core_flattening_excess_sigma : float or None
         One-sigma uncertainty of required/hydrostatic - 1 (shared parameters correlated).
     contributions : dict
-        Signed change, for +1 sigma of each parameter, of each mode's rate (rad/s),
-        of the required e_f, the hydrostatic e_f and the excess.
+        Signed change, for +1 sigma of each parameter, of each mode's rate (rad/s; the FCN's
+        in both frames, ``FCN`` and ``FCN_celestial``), of the required e_f, the hydrostatic
+        e_f and the excess.
     """
 
     name: str
@@ -627,7 +628,8 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
     required = required_core_ellipticity(p, 2 * math.pi / obs_fcn.value, e_f) if obs_fcn is not None else None
     contributions = _contributions(p, e_f, with_fcn, obs_fcn, required, e_of if with_fcn else None)
     sig = {
-        k: math.sqrt(sum(v[k] ** 2 for v in contributions.values())) for k in ("CW", "FCN", "e_f", "e_hyd", "excess")
+        k: math.sqrt(sum(v[k] ** 2 for v in contributions.values()))
+        for k in ("CW", "FCN", "FCN_celestial", "e_f", "e_hyd", "excess")
     }
     cw_obs = p.observed_chandler_period
     # Observed periods are catalogued relative to the spin (the Chandler period unsigned, prograde).
@@ -636,7 +638,7 @@ def normal_modes(p: PlanetParameters, core_ellipticity, modes: tuple[str, ...] |
     if with_fcn:
         fcn, k_fcn = rates["FCN"]
         out.append(Mode("FCN", "terrestrial", fcn, sig["FCN"], k_fcn, *_terrestrial(shown, spin), spin_sign=sign))
-        out.append(Mode("FCN", "celestial", fcn + spin, sig["FCN"], k_fcn, *_obs(shown), spin_sign=sign))
+        out.append(Mode("FCN", "celestial", fcn + spin, sig["FCN_celestial"], k_fcn, *_obs(shown), spin_sign=sign))
     round_trip = sign * 2 * math.pi / _fcn_space_rate(p, required) if required is not None else None
     return NormalModes(
         name=p.name,
@@ -690,12 +692,17 @@ def _contributions(p, e_f, with_fcn, obs_fcn, required, e_of=None):
         row = {
             "CW": 0.5 * (r_plus["CW"][0] - r_minus["CW"][0]),
             "FCN": 0.0,
+            "FCN_celestial": 0.0,
             "e_f": 0.0,
             "e_hyd": 0.5 * (e_plus - e_minus),
             "excess": 0.0,
         }
         if with_fcn:
             row["FCN"] = 0.5 * (r_plus["FCN"][0] - r_minus["FCN"][0])
+            # In space the rate is the terrestrial one plus the spin: an uncertain spin moves the two differently.
+            row["FCN_celestial"] = 0.5 * (
+                (r_plus["FCN"][0] + plus.rotation_rate.value) - (r_minus["FCN"][0] + minus.rotation_rate.value)
+            )
             if slope is not None:
                 dfdp = 0.5 * (_fcn_space_rate(plus, required) - _fcn_space_rate(minus, required))
                 row["e_f"] = -dfdp / slope
@@ -708,6 +715,7 @@ def _contributions(p, e_f, with_fcn, obs_fcn, required, e_of=None):
         out["observed_fcn_period"] = {
             "CW": 0.0,
             "FCN": 0.0,
+            "FCN_celestial": 0.0,
             "e_f": d_obs / slope,
             "e_hyd": 0.0,
             "excess": d_obs / slope / e_f,
