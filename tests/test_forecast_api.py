@@ -192,6 +192,15 @@ def test_bad_input(kwargs, fragment):
         wobble.forecast_polar_motion(**kwargs)
 
 
+@pytest.mark.parametrize("function", [wobble.forecast_polar_motion, wobble.geodetic_excitation])
+def test_a_record_given_twice_is_refused(function):
+    """data and file together: the file was silently ignored (a forecast from C04 data given with a finals
+    file took C04's 30-day latency)."""
+    data = wobble.load_polar_motion(start="2000-01-01", end="2010-01-01")
+    with pytest.raises(InputError, match=r"file: got finals2000A\.all; allowed: either data or file, not both"):
+        function(data, file="finals2000A.all")
+
+
 def test_the_first_issue_date_named_for_a_calibrated_forecast_is_the_first_that_works():
     """Kalman, 365 d, C04 latency 30 d: the record's start 1962-01-01 (MJD 37665) + the 3652.5-d fitting span
     + 30 d + the calibration's reach (round(6 x 365.25 / 7) = 313 weekly past forecasts behind the

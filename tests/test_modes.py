@@ -300,6 +300,13 @@ def test_an_uncertain_spin_moves_the_fcn_in_space_by_its_own_derivative(name, e_
     assert got.mode("FCN", "celestial").rate_sigma < got.mode("FCN").rate_sigma / 200
 
 
+def test_one_mode_by_name_is_that_mode_not_its_letters():
+    """modes="CW" is ("CW",): it was iterated into "C" and "W" and refused as the mode "C"."""
+    one = wobble.normal_modes("earth", modes="CW")
+    assert [m.name for m in one.modes] == ["CW"]
+    assert one.mode("CW").period == wobble.normal_modes("earth", modes=("CW",)).mode("CW").period
+
+
 def test_missing_parameter_for_a_requested_mode_names_it():
     p, _ = load_planet("earth")
     with pytest.raises(InputError, match="core_compliance_beta"):

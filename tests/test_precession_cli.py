@@ -265,3 +265,10 @@ def test_perturbers_given_say_which_catalogued_satellites_they_leave_out(capsys)
     assert not any(n.startswith("left out") for n in json.loads(out)[0]["notes"])
     status, out, _ = _run(capsys, "precession", "earth", "--json")  # the default: nothing left out
     assert not any(n.startswith("left out") for n in json.loads(out)[0]["notes"])
+
+
+def test_one_perturber_by_name_is_that_perturber_not_its_letters():
+    """perturbers="moon" is ["moon"]: it was iterated into "m", "o", ... and refused as the perturber "m"."""
+    one = wobble.precession_rate("earth", perturbers="moon")
+    listed = wobble.precession_rate("earth", perturbers=["moon"])
+    assert one.rate == listed.rate and one.to_dict()["notes"] == listed.to_dict()["notes"]

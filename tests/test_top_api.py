@@ -170,6 +170,48 @@ def test_a_rate_in_cycles_per_second_is_two_pi_radians_per_second():
         HeavyTop.from_state([0, 0, 10] * u.Hz, [1, 0, 0, 0], 1 * KGM2, 0.5 * KGM2, mgl=1 * u.J)
 
 
+def test_functions_of_u_take_scalars_and_refuse_cosines_no_angle_has():
+    """f, phidot and psidot at u = cos theta against the notes' formulas (p. 71-72) with alpha, beta, a, b
+    from the initial state, for a scalar and an array; a scalar f raised a raw astropy TypeError, and
+    phidot(2.0) gave 2.5 rad/s for a cosine no angle has."""
+    I1, I3, mgl, w3, th0 = 1.0, 0.5, 1.0, 10.0, np.radians(60.0)
+    top = HeavyTop(I1 * KGM2, I3 * KGM2, mgl=mgl * u.J, theta0=60 * u.deg, omega3=w3 * RAD_S)
+    a = I3 * w3 / I1
+    b = a * np.cos(th0)  # released from rest: p_phi = p_psi cos theta0
+    alpha, beta = 2 * mgl * np.cos(th0) / I1, 2 * mgl / I1  # E' = M g l cos theta0 at rest
+
+    def f(x):
+        return (1 - x * x) * (alpha - beta * x) - (b - a * x) ** 2
+
+    for x in (0.3, np.array([-0.2, 0.4, 0.9])):
+        assert top.f(x).unit == u.s**-2
+        np.testing.assert_allclose(top.f(x).to_value(u.s**-2), f(x), rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(top.phidot(x).to_value(RAD_S), (b - a * x) / (1 - x * x), rtol=1e-14)
+        np.testing.assert_allclose(
+            top.psidot(x).to_value(RAD_S), I1 * a / I3 - x * (b - a * x) / (1 - x * x), rtol=1e-14
+        )
+    for bad in (2.0, -1.5, [0.5, float("nan")]):
+        for method in (top.f, top.phidot, top.psidot):
+            with pytest.raises(
+                InputError, match=r"u_values: got .*allowed: u = cos\(theta\): plain numbers in \[-1, 1\]"
+            ):
+                method(bad)
+
+
+def test_phidot_at_the_pole_a_top_passes_through_is_the_limit():
+    """A sleeping top (theta0 = 0: b = a) has phidot = (b - a u)/(1 - u^2) = a/(1 + u), a/2 at u = 1, where
+    the formula is 0/0; a pole the top cannot reach gives the formula's infinity, without a warning."""
+    top = HeavyTop(1 * KGM2, 0.5 * KGM2, mgl=1 * u.J, theta0=0 * u.deg, omega3=10 * RAD_S)
+    a = 0.5 * 10.0 / 1.0
+    assert top.phidot(1.0).to_value(RAD_S) == a / 2
+    # psidot = I1 a/I3 - u phidot, and omega3 = psidot + phidot cos(theta) = 10 rad/s at the vertical.
+    assert top.psidot(1.0).to_value(RAD_S) == pytest.approx(1.0 * a / 0.5 - a / 2, rel=1e-15)
+    assert (top.psidot(1.0) + top.phidot(1.0)).to_value(RAD_S) == pytest.approx(10.0, rel=1e-15)
+    assert top.phidot(0.25).to_value(RAD_S) == pytest.approx(a / 1.25, rel=1e-15)
+    tilted = HeavyTop(1 * KGM2, 0.5 * KGM2, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
+    assert np.isinf(tilted.phidot(-1.0).value) and np.isinf(tilted.phidot(1.0).value)
+
+
 def test_dataset_layout_and_conservation():
     top = benchmark_top(phidot0=-0.3 * RAD_S, thetadot0=0.1 * RAD_S, phi0=10 * u.deg)
     ds = top.to_dataset(t_end=20 * u.s, samples=2001)

@@ -672,7 +672,7 @@ def normal_modes(
     profile : str, path-like or DensityProfile, optional
         The density profile that gives the hydrostatic core flattening
         (default: the shipped profile of a catalogued body, ``prem`` for Earth).
-    modes : tuple of str, optional
+    modes : str or tuple of str, optional
         The modes to show (``summary``, ``to_dict``, the Dataset): ``("CW",)``, ``("FCN",)``
         or ``("CW", "FCN")``; default every mode the parameters support. Only what is shown
         changes: every supported mode is computed, so the Chandler wobble is always coupled
@@ -695,6 +695,8 @@ def normal_modes(
     >>> print(f"{mars.mode('FCN', 'celestial').period:.0f}, observed {mars.mode('FCN', 'celestial').observed:.0f}")
     -242 d, observed -243 d
     """
+    if isinstance(modes, str):  # one mode by name: "CW" is ("CW",), not the letters C and W
+        modes = (modes,)
     planet = load_planet(body)
     figure = None
     e_f = None

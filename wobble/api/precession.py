@@ -469,6 +469,8 @@ def _steps_explain(b) -> bool:
 def _satellite_files(planet: Planet, perturbers) -> list[ParameterFile]:
     if perturbers is None:
         return perturbers_of(planet.name)
+    if isinstance(perturbers, (str, os.PathLike)):  # one perturber: "moon" is ["moon"], not its letters
+        perturbers = [perturbers]
     files = [load_perturber(p) for p in perturbers]
     seen = set()
     for given, pf in zip(perturbers, files):
@@ -576,7 +578,7 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
         A catalogue name (``"earth"``, ``"mars"``), a planet file with
         ``obliquity``, ``orbit_semi_major_axis`` and ``orbit_eccentricity``,
         or a :class:`~wobble.Planet`.
-    perturbers : list of str or path-like, optional
+    perturbers : str, path-like or a list of them, optional
         Satellites to include (catalogue names or perturber files). Default:
         the catalogued perturbers whose ``primary`` is the body (the Moon for
         Earth). The Sun is always included, on the body's own orbit.

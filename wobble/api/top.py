@@ -75,8 +75,14 @@ def _rate(value, name, shape=None):
 
 
 def _cosines(values, name="u_values"):
-    """u = cos theta: plain numbers or a dimensionless Quantity (a unit, 0.1 m, was dropped)."""
-    return plain_array(values, name, "u = cos(theta): plain numbers in [-1, 1]")
+    """u = cos theta: plain numbers or a dimensionless Quantity (a unit, 0.1 m, was dropped) in [-1, 1]
+    (phidot(2.0) gave 2.5 rad/s for a cosine no angle has)."""
+    allowed = "u = cos(theta): plain numbers in [-1, 1]"
+    out = plain_array(values, name, allowed)
+    if not np.all((out >= -1.0) & (out <= 1.0)):  # NaN fails both comparisons
+        bad = out[~((out >= -1.0) & (out <= 1.0))]
+        raise InputError(name, bad.flat[0] if out.ndim else float(out), allowed)
+    return out
 
 
 def _from_body(body):
@@ -419,7 +425,7 @@ class HeavyTop:
 
     def f(self, u_values) -> u.Quantity:
         """f(u) = udot^2 (1/s2) at u = cos theta (plain numbers in [-1, 1])."""
-        return self._model.f(_cosines(u_values)) << (1 / u.s**2)
+        return self._model.f(_cosines(u_values)) << u.s**-2  # a unit: 1 / u.s**2 is a Quantity, and a float << it fails
 
     def phidot(self, u_values) -> u.Quantity:
         """Precession rate (b - a u)/(1 - u^2) at u = cos theta (rad/s)."""

@@ -375,9 +375,18 @@ class HeavyTopModel:
             return self.mgl * np.cos(theta) + 0.5 * self.I1 * ((self.b - self.a * np.cos(theta)) / np.sin(theta)) ** 2
 
     def phidot_of_u(self, u) -> np.ndarray:
-        """Precession rate phidot = (b - a u)/(1 - u^2) (rad/s), notes p. 72."""
+        """Precession rate phidot = (b - a u)/(1 - u^2) (rad/s), notes p. 72.
+
+        At a pole the formula is 0/0 for a top whose axis passes through it (b = a at u = 1,
+        b = -a at u = -1), where phidot is the limit a/(1 + u) = a/2, or -a/(1 - u) = -a/2
+        (as :func:`~wobble.models.top_setup.nutation_class` takes it); at a pole the top cannot
+        reach (f(u) < 0 there) it is the formula's infinity.
+        """
         u = np.asarray(u, dtype=float)
-        return (self.b - self.a * u) / (1 - u * u)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = (self.b - self.a * u) / (1 - u * u)
+        out = np.where((u == 1.0) & (self.b == self.a), 0.5 * self.a, out)
+        return np.where((u == -1.0) & (self.b == -self.a), -0.5 * self.a, out)
 
     def psidot_of_u(self, u) -> np.ndarray:
         """Spin rate psidot = I1 a / I3 - u phidot (rad/s), notes p. 71."""

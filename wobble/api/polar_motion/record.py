@@ -198,10 +198,18 @@ def mjd_values(time) -> np.ndarray:
     return cf_time_to_mjd(time.values, time.attrs.get("units", ""))
 
 
+def check_one_source(data, file) -> None:
+    """Refuse a record given twice: ``data`` (a Dataset or a path) and ``file`` together would
+    leave one of them silently unused."""
+    if data is not None and file is not None:
+        raise InputError("file", str(file), "either data or file, not both (data was given too)")
+
+
 def resolve_data(data, file, start, end):
     """The record a function was given: a Dataset (cut to start/end), a file, or None for the shipped C04 series."""
     from wobble.api.dataset import xarray
 
+    check_one_source(data, file)
     xr = xarray()
     if data is None:
         return load_polar_motion(file, start=start, end=end)
@@ -223,6 +231,7 @@ def series_with_attrs(data, file) -> tuple[np.ndarray, np.ndarray, np.ndarray, d
     (:func:`read_record`), so that a command printing text or JSON imports no xarray; a
     Dataset is taken as it is. The numbers are the same either way.
     """
+    check_one_source(data, file)
     mjd, t, z, record = resolve_series(file if data is None else data, None, None)
     return mjd, t, z, record_attrs(record) if isinstance(record, PoleRecord) else dict(record.attrs)
 
