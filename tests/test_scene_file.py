@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+import datetime as _dt
 import math
+
+import cftime
 
 import numpy as np
 import pytest
+import xarray as xr
+from astropy import units as u
+from astropy.time import Time
+
+import wobble
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import load_planet
@@ -257,3 +265,37 @@ def test_example_scenes_parse(name):
         isinstance(t, (eng.ConstantTorque, eng.UniformGravity, eng.GravityGradient, eng.ThirdBody, eng.LinearDamping))
         for t in scene.torques
     )
+
+
+@pytest.mark.parametrize(
+    ("epoch", "reference"),
+    [
+        ("2020-01-01 06:00:00.5", "2020-01-01T06:00:00.5"),  # the half second was cut
+        ("0001-01-01", "0001-01-01T00:00:00"),  # written "1-01-01"
+        (Time("2020-01-01T00:01:09.184", scale="tt"), "2020-01-01T00:00:00"),  # TT - UTC = 69.184 s in 2020
+        (_dt.datetime(2024, 3, 20, 3, 6, 0, 250000), "2024-03-20T03:06:00.25"),
+    ],
+)
+def test_the_file_s_times_decode_to_the_epoch_plus_t(tmp_path, epoch, reference):
+    """The CF times of a scene's file, decoded by xarray, are the epoch (in UTC) plus t, to the microsecond."""
+    kgm2, rad_s = u.kg * u.m**2, u.rad / u.s
+    scene = wobble.Scene([1, 2, 3] * kgm2, [1e-3, 1, 1e-3] * rad_s, t_end=2 * u.s, samples=3, epoch=epoch)
+    path = tmp_path / "epoch.nc"
+    wobble.run_to_netcdf(scene, path)
+    with xr.open_dataset(path, decode_times=False) as ds:
+        time = ds["time"]
+        # Before 1582-10-15 CF's "standard" calendar is the Julian one: wobble's dates are proleptic Gregorian.
+        assert time.attrs["calendar"] == ("proleptic_gregorian" if reference < "1582-10-15" else "standard")
+        decoded = cftime.num2date(
+            time.values, time.attrs["units"], time.attrs["calendar"], only_use_cftime_datetimes=True
+        )
+    got = [np.datetime64(d.isoformat(), "us") for d in decoded]  # cftime's proleptic Gregorian is numpy's calendar
+    want = np.datetime64(reference, "us") + np.array([0, 1, 2]) * np.timedelta64(1, "s")
+    assert np.all(np.array(got) == want)
+
+
+def test_an_array_of_times_is_not_an_epoch():
+    with pytest.raises(InputError, match="epoch.*one date-time"):
+        wobble.Scene(
+            [1, 2, 3] * u.kg * u.m**2, [0, 0, 1] * u.rad / u.s, t_end=1 * u.s, samples=2, epoch=Time(["2020-01-01"] * 2)
+        )

@@ -91,8 +91,9 @@ class Scene:
     outputs : sequence of str
         From ``wobble.models.scene.OUTPUTS``.
     name, title : str
-    epoch : str, optional
-        ISO date-time (UTC) of t = 0 for the CF time units.
+    epoch : str, datetime or astropy Time, optional
+        The date-time of t = 0 for the CF time units: ISO 8601 text (UTC), a datetime, or a
+        scalar astropy Time in any scale (converted to UTC); fractions of a second are kept.
     """
 
     def __init__(

@@ -398,6 +398,7 @@ CF_DECODABLE_SECONDS = 9.2e12
 _SINCE = re.compile(r"\s*(\S+)\s+since\s+(.+?)\s*")
 _SECONDS_PER = {"seconds": 1.0, "second": 1.0, "s": 1.0, "days": 86400.0, "day": 86400.0, "d": 86400.0}
 _BARE_UNIT = {"seconds": "s", "second": "s", "days": "d", "day": "d"}
+_EPOCH_DATE = re.compile(r"(-?\d+)-(\d+)-(\d+)")
 
 
 def time_coordinate(values, units: str = SIMULATION_TIME_UNITS, *, long_name: str = "time", **extra) -> tuple:
@@ -412,8 +413,8 @@ def time_coordinate(values, units: str = SIMULATION_TIME_UNITS, *, long_name: st
     """
     import numpy as np  # here, not at the top: the command line imports this registry before NumPy
 
-    out = {"units": units, "standard_name": "time", "long_name": long_name, "axis": "T", "calendar": "standard"}
     match = _SINCE.fullmatch(units)
+    out = {"units": units, "standard_name": "time", "long_name": long_name, "axis": "T", "calendar": _calendar(match)}
     data = np.asarray(values, dtype=float)
     if match and match.group(1) in _SECONDS_PER and data.size and np.any(np.isfinite(data)):
         reach = float(np.nanmax(np.abs(data))) * _SECONDS_PER[match.group(1)]
@@ -430,6 +431,19 @@ def time_coordinate(values, units: str = SIMULATION_TIME_UNITS, *, long_name: st
             }
     out.update({k: v for k, v in extra.items() if v is not None})
     return ("time",), values, out
+
+
+def _calendar(match) -> str:
+    """CF's "standard" calendar, or "proleptic_gregorian" for an epoch before 1582-10-15.
+
+    wobble's dates are proleptic Gregorian (Python's datetime, astropy's ISO times); CF's "standard"
+    calendar is the Julian one before the Gregorian reform, where a reader would have decoded an epoch
+    of 0001-01-01 two days away from the date meant.
+    """
+    date = _EPOCH_DATE.match(match.group(2)) if match else None
+    if date is not None and tuple(int(v) for v in date.groups()) < (1582, 10, 15):
+        return "proleptic_gregorian"
+    return "standard"
 
 
 def label_coordinate(dim: str) -> tuple:

@@ -674,8 +674,15 @@ def _times(r: _Reader, data):
 
 
 def _epoch(r: _Reader, raw) -> str:
+    """The epoch as CF's reference time in UTC, ``YYYY-MM-DD hh:mm:ss[.ffffff]``: the fraction of a second
+    is kept (it was cut, so the times decoded from a file came out up to a second early) and the year is
+    four digits (year 1 was written "1-01-01")."""
     dt = _dt
 
+    if _is_astropy_time(raw):
+        if raw.ndim != 0:
+            raise r.error("time.epoch", raw, "one date-time (a scalar astropy Time), not an array of them")
+        raw = raw.utc.to_datetime()
     if isinstance(raw, (dt.datetime, dt.date)):
         value = raw if isinstance(raw, dt.datetime) else dt.datetime(raw.year, raw.month, raw.day)
     elif isinstance(raw, str):
@@ -687,7 +694,13 @@ def _epoch(r: _Reader, raw) -> str:
         raise r.error("time.epoch", raw, 'an ISO 8601 date-time in UTC, e.g. "2000-01-01 12:00:00"')
     if value.tzinfo is not None:
         value = value.astimezone(dt.timezone.utc).replace(tzinfo=None)
-    return value.strftime("%Y-%m-%d %H:%M:%S")
+    text = f"{value.year:04d}-{value.month:02d}-{value.day:02d} {value.hour:02d}:{value.minute:02d}:{value.second:02d}"
+    return text + (f".{value.microsecond:06d}".rstrip("0") if value.microsecond else "")
+
+
+def _is_astropy_time(value) -> bool:
+    """An astropy Time, tested without importing astropy.time for the common string epoch."""
+    return type(value).__module__.startswith("astropy.time") and hasattr(value, "utc")
 
 
 def _members(r, named: dict) -> int:
