@@ -134,3 +134,17 @@ def test_a_run_past_the_cf_calendar_range_keeps_a_file_xarray_opens(tmp_path):
             warnings.simplefilter("ignore", xr.SerializationWarning)
             with xr.open_dataset(small) as plain:
                 assert (plain["time"].dtype != np.float64) == calendar
+
+
+@pytest.mark.parametrize(
+    "unit",
+    ["mas / yr", "1 / yr", "yr", "mas", "arcsec", "arcsec / yr", "kg / m3", "rad / s", "d", "deg", "km3 / s2", "J"],
+)
+def test_every_units_attribute_wobble_writes_reads_back_as_its_unit(unit):
+    """udunits() writes astropy's yr as Julian_year and mas as milliarcsecond; wobble.quantity refused
+    its own 'Julian_year-1' (the excitation file's frequency) and 'milliarcsecond Julian_year-1'."""
+    from wobble.io.cf import udunits
+
+    var = xr.DataArray([1.5, 2.5], dims="x", name="v", attrs={"units": udunits(unit)})
+    got = wobble.quantity(var)
+    assert got.unit == u.Unit(unit) and list(got.value) == [1.5, 2.5]

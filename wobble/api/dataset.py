@@ -27,6 +27,7 @@ import xarray as xr
 from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
+from wobble.io.cf import astropy_unit_text
 from wobble.io.netcdf import open_wobble
 
 __all__ = ["load", "quantity", "WobbleAccessor", "xarray", "build"]
@@ -52,6 +53,7 @@ def _unit(text: str, name: str) -> u.UnitBase:
     if match:
         text = match.group(1)
     text = _TIME_WORDS.get(text.strip(), text)
+    text = astropy_unit_text(text)  # the UDUNITS names wobble writes (Julian_year, milliarcsecond)
     try:
         return u.Unit(text if text.strip() != "1" else "", parse_strict="raise")
     except ValueError:

@@ -489,3 +489,17 @@ def udunits(unit) -> str:
         base = word.rstrip("-0123456789")
         words.append(_UDUNITS_NAMES.get(base, base) + word[len(base) :])
     return " ".join(words)
+
+
+#: The UDUNITS names :func:`udunits` writes, back to astropy's (which has no "Julian_year").
+_ASTROPY_NAMES = {"milliarcsecond": "mas", "arcsecond": "arcsec", "Julian_year": "yr"}
+
+
+def astropy_unit_text(text: str) -> str:
+    """A ``units`` attribute as text astropy parses: :func:`udunits`'s names mapped back
+    (``milliarcsecond Julian_year-1`` is ``mas yr-1``); other words unchanged."""
+    words = []
+    for word in text.split():
+        base = word.rstrip("-0123456789")
+        words.append(_ASTROPY_NAMES.get(base, base) + word[len(base) :])
+    return " ".join(words)
