@@ -12,6 +12,7 @@ import json
 import tomllib
 from importlib import resources
 
+import netCDF4
 import numpy as np
 import pytest
 
@@ -149,6 +150,15 @@ def test_inference_data_round_trip_with_arviz_and_xarray(mars, tmp_path):
     )
     assert back.observed_data["chandler_period"].values.tolist() == pytest.approx([206.9])
     assert back.posterior_predictive["chandler_period"].dims == ("chain", "draw", "chandler_period_dim_0")
+    # The root group, which ArviZ leaves empty, carries every wobble file's global attributes; wobble.load,
+    # which reads the root group, says how to open the groups instead of returning an empty Dataset.
+    with netCDF4.Dataset(path) as nc:
+        root = {k: nc.getncattr(k) for k in nc.ncattrs()}
+    assert root["Conventions"] == "CF-1.10" and root["source"].startswith("wobble")
+    assert root["title"] == f"wobble inversion: {mars.setup.title}" and "wobble" in root["history"]
+    assert root["inference_data_groups"].split() == list(idata.groups())
+    with pytest.raises(FileFormatError, match=r"an inference-data file of wobble invert .* arviz\.from_netcdf"):
+        wobble.load(path)
 
 
 def test_write_refuses_to_replace_and_leaves_no_temporary(mars, tmp_path):

@@ -148,3 +148,11 @@ def test_every_units_attribute_wobble_writes_reads_back_as_its_unit(unit):
     var = xr.DataArray([1.5, 2.5], dims="x", name="v", attrs={"units": udunits(unit)})
     got = wobble.quantity(var)
     assert got.unit == u.Unit(unit) and list(got.value) == [1.5, 2.5]
+
+
+def test_a_folder_is_not_a_netcdf_file_and_says_what_opens_it(tmp_path):
+    """A Zarr store of wobble sweep is a folder: wobble.load said "no such file" for one that exists."""
+    store = tmp_path / "sweep.zarr"
+    store.mkdir()
+    with pytest.raises(FileFormatError, match=r"a folder, not a netCDF file .*open_wobble_zarr or xarray\.open_zarr"):
+        wobble.load(store)

@@ -640,14 +640,17 @@ class Inversion:
         for group in idata.groups():
             getattr(idata, group).attrs.update(attrs)
 
-    def write(self, path, *, overwrite: bool = False):
+    def write(self, path, *, overwrite: bool = False, command: str | None = None):
         """Save :meth:`to_inference_data` as netCDF (ArviZ's groups), atomically.
 
         Written under a temporary name in the target folder and renamed; an existing
-        file is replaced only with ``overwrite=True``. Reopen with
+        file is replaced only with ``overwrite=True``. The root group, which ArviZ leaves
+        empty, carries the global attributes of every wobble file (``Conventions``,
+        ``title``, ``source``, ``history``, naming ``command``). Reopen with
         ``arviz.from_netcdf(path)`` (or ``xarray.open_dataset(path, group="posterior")``).
         """
         from wobble.io.atomic import atomic_target, interrupts_held
+        from wobble.io.netcdf import mark_inference_data
 
         idata = self.to_inference_data()
         with atomic_target(path, overwrite) as tmp:
@@ -655,6 +658,7 @@ class Inversion:
             # after a failed write (a full disk), and the interpreter then crashes closing them.
             with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
                 idata.to_netcdf(tmp, engine="netcdf4")
+                mark_inference_data(tmp, f"wobble inversion: {self.setup.title}", idata.groups(), command=command)
         from pathlib import Path
 
         return Path(path)

@@ -124,7 +124,7 @@ def run(args) -> int:
             progress=not args.quiet and sys.stderr.isatty(),
         )
     if args.output:
-        result.write(args.output, overwrite=args.overwrite)
+        result.write(args.output, overwrite=args.overwrite, command=args.command_line)
     if args.plot:
         result.plot(args.plot, overwrite=args.overwrite)
     if args.json:

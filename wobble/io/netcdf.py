@@ -250,6 +250,13 @@ def open_wobble(path: str | os.PathLike) -> xr.Dataset:
         Missing, unreadable, or not written by wobble.
     """
     path = Path(path)
+    if path.is_dir():
+        raise FileFormatError(
+            path,
+            None,
+            "a folder, not a netCDF file (a Zarr store of wobble sweep opens with "
+            "wobble.io.zarr_store.open_wobble_zarr or xarray.open_zarr)",
+        )
     if not path.is_file():
         raise FileFormatError(path, None, "no such file")
     try:
@@ -260,7 +267,39 @@ def open_wobble(path: str | os.PathLike) -> xr.Dataset:
     source = str(ds.attrs.get("source", ""))
     if not source.startswith("wobble"):
         raise FileFormatError(path, "global attribute 'source'", f"got {source!r}; allowed: a file written by wobble")
+    if ds.attrs.get(INFERENCE_DATA_ATTR):
+        raise FileFormatError(
+            path,
+            None,
+            "an inference-data file of wobble invert (ArviZ groups, nothing in the root group): open it with "
+            "arviz.from_netcdf(path) or xarray.open_dataset(path, group='posterior')",
+        )
     return from_cf(ds)
+
+
+#: Root-group attribute that marks a file of ArviZ groups (wobble invert's posterior file).
+INFERENCE_DATA_ATTR = "inference_data_groups"
+
+
+def mark_inference_data(path, title: str, groups, *, command: str | None = None) -> None:
+    """Give a file of ArviZ InferenceData groups the global attributes of every wobble file
+    (``Conventions``, ``title``, ``source``, ``history``) in its root group, which ArviZ leaves empty,
+    and name its groups there (:data:`INFERENCE_DATA_ATTR`)."""
+    import netCDF4
+
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    with netCDF4.Dataset(path, "a") as nc:
+        nc.setncatts(
+            {
+                "Conventions": CONVENTIONS,
+                "title": title,
+                "source": f"wobble {_version()}",
+                "history": f"{stamp} wobble {_version()}" + (f": {command}" if command else ""),
+                INFERENCE_DATA_ATTR: " ".join(groups),
+                "comment": "ArviZ InferenceData groups: open with arviz.from_netcdf(path), or one group with "
+                "xarray.open_dataset(path, group='posterior')",
+            }
+        )
 
 
 def is_label_index(values: np.ndarray) -> bool:
