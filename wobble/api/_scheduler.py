@@ -11,7 +11,7 @@ import contextlib
 
 from wobble.errors import InputError
 
-__all__ = ["LOCAL", "check_scheduler", "connected"]
+__all__ = ["LOCAL", "check_scheduler", "connected", "process_pool"]
 
 #: dask's local schedulers, by the names dask gives them.
 LOCAL = ("threads", "processes", "synchronous")
@@ -159,3 +159,41 @@ def _told(exc: BaseException) -> str:
     said = "".join(ch if ch.isprintable() else " " for ch in str(exc))
     said = " ".join(said.split())[:160]
     return type(exc).__name__ + (f": {said}" if said else "")
+
+
+def _worker_signals() -> None:
+    """In a pool's worker: Ctrl-C is the parent's to handle (it stops the pool), and SIGTERM and SIGHUP
+    end the worker quietly, as the system's default (a forked worker inherited the command line's
+    handlers, which raise an exception there and print its traceback)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+
+
+@contextlib.contextmanager
+def process_pool(workers: int, context):
+    """A ``concurrent.futures.ProcessPoolExecutor`` whose workers stop at once when the block is left by
+    an exception (Ctrl-C, SIGTERM, an error).
+
+    Leaving the executor's own ``with`` block waits for every task already submitted: after Ctrl-C a
+    weekly five-year hindcast went on for 73 s before the process exited (measured 2026-11-30). Here
+    queued tasks are cancelled and the workers terminated; their results are not wanted.
+    """
+    import concurrent.futures
+
+    pool = concurrent.futures.ProcessPoolExecutor(workers, mp_context=context, initializer=_worker_signals)
+    try:
+        yield pool
+    except BaseException:
+        # The executor has no public way to stop running workers before Python 3.14 (terminate_workers).
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()
+        for process in processes:
+            process.join(timeout=10)
+        raise
+    pool.shutdown(wait=True)

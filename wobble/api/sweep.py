@@ -39,7 +39,7 @@ import numpy as np
 import xarray as xr
 
 from wobble.api.sweep_targets import TARGETS, ChandlerTarget, target_for
-from wobble.api._scheduler import LOCAL, check_scheduler, connected
+from wobble.api._scheduler import LOCAL, check_scheduler, connected, process_pool
 from wobble.errors import InputError
 from wobble.io.cf import INT64_ALLOWED, INT64_MAX
 from wobble.io.netcdf import write_netcdf_blocks
@@ -254,11 +254,10 @@ def _pool(scheduler, n_chunks: int):
     if scheduler != "processes" or n_chunks <= 1:
         yield None
         return
-    import concurrent.futures
     import multiprocessing
 
     workers = min(os.cpu_count() or 1, n_chunks)
-    with concurrent.futures.ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with process_pool(workers, multiprocessing.get_context("spawn")) as pool:
         yield pool
 
 

@@ -190,9 +190,16 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print(f"wobble {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"wobble {args.command}: interrupted; no output was written", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        signum = getattr(exc, "signum", None)  # wobble.io.atomic.Terminated: SIGTERM or SIGHUP
+        if signum is None:
+            print(f"wobble {args.command}: interrupted; no output was written", file=sys.stderr)
+            return 130
+        import signal
+
+        name = signal.Signals(signum).name
+        print(f"wobble {args.command}: terminated ({name}); no output was written", file=sys.stderr)
+        return 128 + signum
 
 
 def console() -> int:
@@ -206,14 +213,19 @@ def console() -> int:
     (temporary files removed, clients closed), so nothing those threads would finish is wanted.
     Only the command line does this: a caller of :func:`main` keeps its process.
     """
+    from wobble.io.atomic import TERMINATING, terminate_as_interrupt
+
+    # SIGTERM (timeout, kill, a batch system) and SIGHUP (a closed terminal) get Ctrl-C's clean-up: they
+    # ended the process at once and left a half-written temporary file next to the output.
+    terminate_as_interrupt()
     code = main()
-    if code == 130 and _worker_threads_alive():
+    if code in (130, *(128 + s for s in TERMINATING)) and _worker_threads_alive():
         for stream in (sys.stdout, sys.stderr):
             try:
                 stream.flush()
             except (OSError, ValueError):  # a closed or broken pipe: nothing left to say
                 pass
-        os._exit(130)
+        os._exit(code)
     return code
 
 

@@ -53,31 +53,63 @@ _NO_ROOM = {errno.ENOSPC, errno.EFBIG, errno.EDQUOT}
 _NEARLY_FULL = 1 << 20
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where the command line turned them into exceptions
+    (:func:`terminate_as_interrupt`), so that the clean-up of Ctrl-C runs for them too: a
+    ``timeout`` or a closed terminal left a half-written temporary file behind."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated(signum)
+
+
+#: The signals :func:`terminate_as_interrupt` turns into :class:`Terminated`.
+TERMINATING = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+def terminate_as_interrupt() -> None:
+    """Raise :class:`Terminated` on SIGTERM and SIGHUP (the command line's; a library leaves them alone)."""
+    for signum in TERMINATING:
+        signal.signal(signum, _raise_terminated)
+
+
 @contextlib.contextmanager
 def interrupts_held():
-    """Hold Ctrl-C (SIGINT) while the block runs, then raise the ``KeyboardInterrupt`` it was for.
+    """Hold Ctrl-C (SIGINT), and SIGTERM and SIGHUP where they raise, while the block runs, then
+    raise the ``KeyboardInterrupt`` (or :class:`Terminated`) it was for.
 
     xarray's writers take a non-reentrant lock around the netCDF library and take it again in
     their clean-up: a ``KeyboardInterrupt`` raised between the two deadlocks the process (seen
     with Ctrl-C early in a large sweep's file), or is lost in a clean-up that swallows it and the
     run goes on. Holding the signal over such a call costs at most the call's own duration; the
     interrupt then arrives where wobble's clean-up (:func:`atomic_target`) removes the temporary.
+    A signal whose handler is the system's (SIGTERM outside the command line) is not held.
     Outside the main thread (where signal handlers cannot be set) the block runs unchanged.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     received: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append(signum))
+    previous = {}
+    for signum in (signal.SIGINT, *TERMINATING):
+        handler = signal.getsignal(signum)
+        if signum == signal.SIGINT or callable(handler):
+            previous[signum] = signal.signal(signum, lambda number, frame: received.append(number))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
-    if received:
-        if previous is signal.default_int_handler:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
+    for signum in dict.fromkeys(received):  # each signal once, in the order they came
+        handler = previous[signum]
+        if handler is signal.default_int_handler:
             raise KeyboardInterrupt
-        if callable(previous):
-            previous(signal.SIGINT, None)
+        if callable(handler):
+            handler(signum, None)
 
 
 def _umask() -> int:

@@ -33,7 +33,7 @@ from wobble.api.polar_motion.forecast import (
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
 from wobble.api.units import to_si
 from wobble.api._progress import ProgressBar
-from wobble.api._scheduler import LOCAL, check_scheduler, connected
+from wobble.api._scheduler import LOCAL, check_scheduler, connected, process_pool
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, to_mjd
 from wobble.io.json_keys import deprecate
@@ -89,7 +89,7 @@ def _run_blocks(t, z, blocks, scheduler, workers, bar: ProgressBar):
                 bar(done)
             return out
         context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
-        with concurrent.futures.ProcessPoolExecutor(workers, mp_context=context) as pool:
+        with process_pool(workers, context) as pool:
             futures = {pool.submit(_hc.run_block, t, z, b): len(b.issues) for b in blocks}
             done = 0
             for f in concurrent.futures.as_completed(futures):
