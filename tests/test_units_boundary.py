@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from astropy import units as u
@@ -92,3 +94,35 @@ def test_parse_quantity_defaults_to_si_and_checks_units():
         parse_quantity("2 m", "t", u.s)
     with pytest.raises(InputError, match="t: got abc"):
         parse_quantity("abc", "t", u.s)
+
+
+@pytest.mark.parametrize(
+    ("plural", "singular"),
+    [
+        ("90 days", "90 d"),
+        ("3 years", "3 yr"),
+        ("2 hours", "2 h"),
+        ("100 seconds", "100 s"),
+        ("60 degrees", "60 deg"),
+        ("2 weeks", "2 wk"),
+        ("5 minutes", "5 min"),
+        ("3 yrs", "3 yr"),
+        ("360 degrees / days", "360 deg / d"),
+        ("2 mas", "2 mas"),  # known as it is: never made singular ("ma")
+        ("3 Ms", "3 Ms"),  # megaseconds, not "M"
+    ],
+)
+def test_units_in_the_plural_read_as_people_write_them(plural, singular):
+    """'--horizon 90 days' was refused, with a suggestion ('90days' or '90 days' in quotes) that was refused too:
+    astropy knows "day" but not "days"."""
+    from wobble.io.quantity_values import quantity_from_text
+
+    got, want = quantity_from_text(plural), u.Quantity(singular)
+    assert got.unit == want.unit and got.value == want.value
+
+
+def test_the_command_line_reads_a_horizon_in_days(capsys):
+    from wobble.cli import main
+
+    assert main(["forecast", "--horizon", "30 days", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["horizon_days"] == 30

@@ -15,7 +15,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.errors import InputError
-from wobble.io.quantity_values import NotReal, float64_value, real_float
+from wobble.io.quantity_values import NotReal, float64_value, quantity_from_text, real_float
 from wobble.io.text import is_number
 from wobble.numerics.floats import HUGE
 
@@ -272,7 +272,7 @@ def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity
     except ValueError:
         pass
     try:
-        q = u.Quantity(text)
+        q = quantity_from_text(text)
     except (TypeError, ValueError):
         raise InputError(name, text, f"a number with an optional unit ({describe_unit(default_unit)})") from None
     if not q.unit.is_equivalent(default_unit, equivalencies=None):

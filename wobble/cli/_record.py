@@ -114,8 +114,10 @@ def parse_time(text, option: str, bare: str = "d", *, default: str | None = None
         pass
     else:
         return Typed(value * u.Unit(bare), f"{raw} {bare}")
+    from wobble.io.quantity_values import quantity_from_text
+
     try:
-        q = u.Quantity(raw)
+        q = quantity_from_text(raw)
     except (ValueError, TypeError):
         raise InputError(option, text, allowed) from None
     if not q.isscalar or q.unit.physical_type != "time":

@@ -10,10 +10,12 @@ array (a scene's times or moments changed when the caller later changed its own 
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 from astropy import units as u
 
-__all__ = ["float64_value", "real_float", "NotReal"]
+__all__ = ["float64_value", "real_float", "NotReal", "quantity_from_text"]
 
 
 class NotReal(ValueError):
@@ -48,3 +50,40 @@ def real_float(value) -> float:
     if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
         raise TypeError(f"not a real number: {value!r}")
     return float(value)
+
+
+_UNIT_WORD = re.compile(r"[A-Za-z_]+")
+
+
+def _known_unit(word: str) -> bool:
+    try:
+        u.Unit(word, parse_strict="raise")
+    except ValueError:
+        return False
+    return True
+
+
+def _singular(match: re.Match) -> str:
+    word = match.group(0)
+    if word.endswith("s") and len(word) > 2 and not _known_unit(word) and _known_unit(word[:-1]):
+        return word[:-1]
+    return word
+
+
+def quantity_from_text(text: str) -> u.Quantity:
+    """``u.Quantity(text)``, also for units in the plural as people write them ("90 days", "3 years",
+    "60 degrees", "2 hours"), which astropy does not parse: a word astropy does not know but knows
+    without its final s is read in the singular. A word astropy knows (``mas``, ``Ms``) is never changed.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As ``u.Quantity`` for text that is not a quantity either way.
+    """
+    try:
+        return u.Quantity(text)
+    except (TypeError, ValueError):
+        singular = _UNIT_WORD.sub(_singular, text)
+        if singular == text:
+            raise
+        return u.Quantity(singular)

@@ -25,7 +25,7 @@ from astropy import units as u
 
 from wobble.errors import FileFormatError, InputError
 from wobble.io.memory import available_memory, human_bytes
-from wobble.io.quantity_values import NotReal, float64_value, real_float
+from wobble.io.quantity_values import NotReal, float64_value, quantity_from_text, real_float
 from wobble.models import torques
 from wobble.models.orbit import EphemerisTable, KeplerOrbit
 from wobble.models.rigid_frame import BodyModel, InternalFrame
@@ -107,7 +107,7 @@ class _Reader:
             q = raw
         elif isinstance(raw, str):
             try:
-                q = u.Quantity(raw)
+                q = quantity_from_text(raw)
             except (TypeError, ValueError):
                 raise self.error(where, raw, f'a number with a unit of {kind} (e.g. "{_example(unit)}")') from None
         elif isinstance(raw, dict):
