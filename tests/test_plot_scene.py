@@ -277,6 +277,24 @@ def test_a_free_body_s_constant_momentum_is_drawn_as_it_is_not_its_rounding():
     assert len(named) == 1 and "constant to 1e-3" not in named[0]
 
 
+def _is_rate(text: str) -> bool:
+    return text.startswith(("straight-line rate", "mean rate"))
+
+
+def test_earth_s_precession_rate_in_the_legend_is_the_measured_one():
+    """A straight line over the 20 years of earth_precession took up part of the 18.6-year nutation and showed
+    -50.902"/yr; the legend now gives wobble.measure_precession's rate of the figure axis, to its five digits."""
+    from astropy import units as u
+
+    ds = wobble.run(_shipped("earth_precession"))
+    want = wobble.measure_precession(ds, axis="axis_direction").rate.to_value(u.arcsec / u.yr)
+    (label,) = [
+        t.get_text() for t in _panel(scene_figure(ds), "figure axis").get_legend().get_texts() if _is_rate(t.get_text())
+    ]
+    assert label.startswith(f"mean rate {want:.5g} ") and label.endswith("(nutation fitted)")
+    assert abs(want + 50.40) < 0.01  # and not the straight line's -50.90
+
+
 def test_an_unresolved_axis_panel_gives_no_fitted_rate_and_an_empty_dataset_is_refused():
     """The precession's fitted rate was written even where the panel was marked unresolved (the alias's rate);
     a Dataset with no times raised IndexError."""
@@ -284,9 +302,12 @@ def test_an_unresolved_axis_panel_gives_no_fitted_rate_and_an_empty_dataset_is_r
 
     coarse = scene_figure(wobble.run(_shipped("gyroscope", stop="10 s", samples=5)))  # 2.5 s a sample, 3.6 rad
     axis = _panel(coarse, "figure axis")
-    assert _as_markers(axis) and not any(t.get_text().startswith("fitted rate") for t in axis.get_legend().get_texts())
+    assert _as_markers(axis) and not any(_is_rate(t.get_text()) for t in axis.get_legend().get_texts())
     fine = scene_figure(wobble.run(_shipped("gyroscope", stop="1 s", samples=2001)))
-    assert any(t.get_text().startswith("fitted rate") for t in _panel(fine, "figure axis").get_legend().get_texts())
+    # No perturber to fit a nutation of: a straight line's slope, and it says so.
+    assert any(
+        t.get_text().startswith("straight-line rate") for t in _panel(fine, "figure axis").get_legend().get_texts()
+    )
     with pytest.raises(InputError, match="^source: .*allowed: a run's Dataset or file with at least one time"):
         scene_figure(_spinning(np.array([]), 1.0))
 
