@@ -65,7 +65,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         title = f"{b.planet.title}: forced precession, term by term"
         if b.residual is not None:  # a few thousandths of the bars: written, since it cannot be seen
             title += (
-                f"\nfirst-order model - observed {b.residual.to_value(ARCSEC_PER_CENTURY):+.3f} "
+                f"\nmodel - observed {b.residual.to_value(ARCSEC_PER_CENTURY):+.3f} "
                 f"({b.residual_sigma:+.1f} σ)"
             )
         ax.set_title(title, fontsize=10)
