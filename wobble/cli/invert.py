@@ -20,6 +20,7 @@ examples:
   wobble invert mars --body-file mars_edited.toml --steps 300 --burn 100 --quiet   the Mars set-up on your planet
   wobble example inversions/mars my_setup.toml    copy a shipped set-up to edit, then:
   wobble invert my_setup.toml --ensembles 2 --steps 300 --burn 100 --scheduler tcp://127.0.0.1:8786
+                                                  on a running dask.distributed cluster
 
 The examples with --steps are cut short so that they finish in seconds (--burn
 shortens the burn-in too: 500 or 1000 steps in the shipped setups), and their
