@@ -123,6 +123,13 @@ def test_sphere_has_no_wobble_infinite_period_no_crash():
     assert res.sense == "none" and "no free wobble" in res.message
 
 
+def test_a_body_at_rest_is_not_called_spherical():
+    """Zero spin gives no wobble for any body: Earth's moments at rest were reported as a spherical body."""
+    res = wobble.rigid_wobble([8.0101e37, 8.0365e37] * u.kg * u.m**2, spin=0 * u.rad / u.s)
+    assert res.rate.value == 0 and math.isinf(res.period.value) and res.sense == "none"
+    assert res.message.startswith("no spin") and "spherical" not in res.message
+
+
 def test_ratio_inputs_agree_with_moments():
     spin = 1 * u.sday
     h = 3.273795e-3

@@ -635,7 +635,9 @@ def rigid_wobble(
         e = dimensionless(inertia_ratio, "inertia_ratio", low=-1, high=1)
         ca = cb = e / (1.0 + e)  # (C-A)/C from (C-A)/A
     rate = _model.free_wobble_rate(omega, ca, cb)
-    if rate == 0:
+    if rate == 0 and omega == 0:
+        sense, message = "none", "no spin: a body at rest has no free wobble, the period is infinite"
+    elif rate == 0:
         sense, message = "none", "spherical body (I1 = I3): no free wobble, the period is infinite"
     elif (rate > 0) == (omega > 0):
         sense, message = "prograde", "oblate body (C largest): the wobble is prograde, with the spin"

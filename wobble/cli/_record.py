@@ -107,7 +107,9 @@ def parse_time(text, option: str, bare: str = "d", *, default: str | None = None
     from astropy import units as u
 
     raw = str(text).strip()
-    allowed = f"a time such as 433d, 90 or 8 yr (a bare number is {_UNIT_NAMES.get(bare, bare)})"
+    # Examples in the option's own default unit: "90" would be 90 years for --window.
+    examples = "433d, 90 or 8 yr" if bare == "d" else "8, 8 yr or 3000d"
+    allowed = f"a time such as {examples} (a bare number is {_UNIT_NAMES.get(bare, bare)})"
     try:
         value = float(raw)
     except ValueError:

@@ -64,10 +64,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         ax.set_xlabel("rate of the equator's node [arcsec per Julian century]; negative = retrograde", fontsize=8)
         title = f"{b.planet.title}: forced precession, term by term"
         if b.residual is not None:  # a few thousandths of the bars: written, since it cannot be seen
-            title += (
-                f"\nmodel - observed {b.residual.to_value(ARCSEC_PER_CENTURY):+.3f} "
-                f"({b.residual_sigma:+.1f} σ)"
-            )
+            title += f"\nmodel - observed {b.residual.to_value(ARCSEC_PER_CENTURY):+.3f} ({b.residual_sigma:+.1f} σ)"
         ax.set_title(title, fontsize=10)
     fig.tight_layout()
     if path is not None:
