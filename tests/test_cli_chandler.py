@@ -101,6 +101,8 @@ def test_existing_output_is_not_destroyed(tmp_path, capsys):
     ("args", "fragment"),
     [
         (["chandler", "pluto"], "BODY: got pluto; allowed: one of earth, mars"),
+        # Printed twice and written as two "earth" rows, which wobble.load turned into a duplicate index.
+        (["chandler", "earth", "Earth"], "BODY: got Earth (given twice); allowed: each body once"),
         (["chandler", "earth", "--model", "bogus"], "model: got bogus"),
         (["chandler", "mars", "--model", "ocean"], "mars supports"),
         (["chandler", "--body-file", "/nonexistent.toml"], "--body-file: got /nonexistent.toml"),

@@ -44,9 +44,13 @@ def bodies_from_args(args) -> list:
     from wobble.io.shipped import resolve
 
     known = known_planets()
+    seen = set()
     for name in args.bodies:
         if name.lower() not in known:
             raise InputError("BODY", name, f"one of {', '.join(known)} (files go with --body-file)")
+        if name.lower() in seen:  # twice in a file's body index made wobble.load build a duplicate index
+            raise InputError("BODY", f"{name} (given twice)", "each body once")
+        seen.add(name.lower())
     check_outputs(args)
     # Paths, not strings: a file of one's own named "earth" is that file, not the catalogued Earth.
     files = [Path(resolve(f, ("examples", "bodies"), "--body-file", (".toml",))) for f in args.body_file]
