@@ -72,6 +72,14 @@ samples = 3
         (["run", "tennis_racket", "-o", "{out}", "--model", "rk4"], ["model", "rk4"]),
         (["run", "no_such_example", "-o", "{out}"], ["SCENE", "tennis_racket"]),
         (["run", "tennis_racket"], ["-o/--output"]),
+        # What is wrong with the scene or --model comes before a missing -o (both said "-o/--output: missing").
+        (["run", "{bad}"], ["bad.toml", "body.moments.unit"]),
+        (["run", "tennis_racket", "--model", "rk4"], ["--model: got rk4"]),
+        # A shipped scene's accuracy is not the user's to edit: the message says how to ask for another one.
+        (
+            ["run", "tennis_racket", "--model", "splitting", "-o", "{out}"],
+            ["accuracy", "after 1 run)", "wobble example tennis_racket my_tennis_racket.toml"],
+        ),
         (["run", "tennis_racket", "-o", "{folder}/deep/x.nc"], ["existing folder"]),
     ],
 )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 EPILOG = """\
 examples:
@@ -58,15 +59,33 @@ def run(args) -> int:
     from wobble.io.shipped import resolve
 
     path = resolve(args.scene, "scenes", "SCENE")  # an unknown scene is named before a missing -o
+    from wobble.api.scene import read_scene, run_to_netcdf
+    from wobble.errors import FileFormatError
+    from wobble.models.scene import MODEL_NAMES
+
+    # What is wrong with the scene or the model is said before a missing -o (it was "-o/--output: missing"
+    # for a broken scene file and for --model rk4).
+    scene = read_scene(path)
+    if args.model is not None and args.model not in ("auto", *MODEL_NAMES):
+        raise InputError("--model", args.model, f"auto or one of {', '.join(MODEL_NAMES)}")
     if not args.output:
         raise InputError.missing("-o/--output", "the netCDF file to write (e.g. -o out.nc)")
     check_outputs(args)
-    from wobble.api.scene import read_scene, run_to_netcdf
-
-    scene = read_scene(path)
-    summary = run_to_netcdf(
-        scene, args.output, model=args.model, overwrite=args.overwrite, command=getattr(args, "command_line", None)
-    )
+    try:
+        summary = run_to_netcdf(
+            scene, args.output, model=args.model, overwrite=args.overwrite, command=getattr(args, "command_line", None)
+        )
+    except FileFormatError as exc:
+        if exc.where != "accuracy" or not _is_shipped(path):
+            raise
+        # The installed file is not the user's to edit: say how to ask for another accuracy.
+        name = Path(path).stem
+        raise FileFormatError(
+            exc.path,
+            exc.where,
+            f"{exc.problem}; for another accuracy copy the scene (wobble example {name} "
+            f"my_{name}.toml) and edit its accuracy",
+        ) from None
     written = [summary["output"]]
     if args.plot:
         from wobble.plot.scene import scene_figure
@@ -74,6 +93,13 @@ def run(args) -> int:
         written.append(scene_figure(summary["output"], path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(written[-1])
     return finish(args, summary, lambda: _print_summary(summary), written)
+
+
+def _is_shipped(path) -> bool:
+    from wobble.io.shipped import find_shipped
+
+    found = find_shipped(Path(path).name, "scenes")
+    return found is not None and Path(str(found.path())).resolve() == Path(path).resolve()
 
 
 def _list(as_json: bool) -> int:

@@ -1198,16 +1198,21 @@ def _attempts(scene, sink, engine, choice, block):
             raise _AccuracyNotReached(
                 f"at least {rounding:.3g} for this scene with {run.name} (rounding floor: the motion amplifies "
                 f"float64 rounding to that, and a shorter step only adds rounding; estimate {worst:.3g} after "
-                f"{attempts} attempts)",
+                f"{_count(attempts, 'run')})",
                 attempts,
             )
         if attempts >= _MAX_ATTEMPTS or not worst < previous:
             raise _AccuracyNotReached(
-                f"at least {worst:.3g} for this scene with {run.name} (estimate after {attempts} attempts)", attempts
+                f"at least {worst:.3g} for this scene with {run.name} (estimate after {_count(attempts, 'run')})",
+                attempts,
             )
         previous = worst
         sink.discard()
         run = _tighter(scene, run, worst, attempts)
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
 
 
 def _other_integrator(scene, choice, why: str) -> Choice | None:
