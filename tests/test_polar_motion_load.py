@@ -35,7 +35,8 @@ def test_load_finals_file():
         ({"end": "2099-01-01"}, "end: got 2099-01-01; allowed: a date from 1962-01-01"),
         ({"start": "2010-01-01", "end": "2009-01-01"}, "a date after start"),
         ({"start": "yesterday"}, "start: got yesterday; allowed: a UTC date"),
-        ({"start": 2015}, "allowed: a UTC date"),
+        # A number is refused, saying why: the help lists 2015 and 2015.5 as text.
+        ({"start": 2015}, r"allowed: a UTC date .*; a year as text \('2015'\), not a number \(a year or an MJD\?\)"),
     ],
 )
 def test_dates_outside_the_data_are_errors(kwargs, fragment):

@@ -54,6 +54,9 @@ def to_mjd(value, name: str) -> float:
                 return float(Time(text, scale="utc").mjd)
     except (ValueError, TypeError):
         pass
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        # The help lists 2015 and 2015.5, as text: a number could be a year or an MJD, so it is not guessed.
+        raise InputError(name, value, f"{DATE_HELP}; a year as text ('2015'), not a number (a year or an MJD?)")
     raise InputError(name, value, DATE_HELP)
 
 
