@@ -259,3 +259,12 @@ def test_core_under_linear_mantle_reproduces_mass_and_moment():
         core_under_linear_mantle(
             "x", mass, 0.2 * mass * radius**2, radius, 1.83e6, 6000.0
         )  # mantle denser than the core
+
+
+def test_a_spin_past_break_up_is_refused():
+    """At 1e-2 rad/s PREM came out with a surface flattening of 62.7 (the repr said 1/0.00). Break-up is
+    Omega^2 a^3/(G M) = 1: q scales as Omega^2 from Earth's, so 0.01 rad/s is q = 64.9."""
+    earth = wobble.hydrostatic_figure("prem", spin=7.292115e-5 * u.rad / u.s)
+    q = float(earth.q) * (1e-2 / 7.292115e-5) ** 2
+    with pytest.raises(InputError, match=rf"spin: got 0\.01 rad/s; allowed: a spin well below break-up.*here {q:.3g}"):
+        wobble.hydrostatic_figure("prem", spin=1e-2 * u.rad / u.s)

@@ -322,6 +322,16 @@ def hydrostatic_figure(
     q = spin_rate**2 * a**3 / (gravitational_constant * mass)
     eta_a = float(sol["eta_edges"][-1])
     eps_a = 2.5 * q / (eta_a + 2.0)
+    if not (q < 1.0 and eps_a < 1.0):
+        # Past break-up the equator is unbound, and a flattening of 1 or more has no pole: at 1e-2 rad/s
+        # PREM came out with a flattening of 62.7 and no word that first-order theory had long stopped.
+        period_h = 2.0 * math.pi / math.sqrt(gravitational_constant * mass / a**3) / 3600.0
+        raise InputError(
+            "spin",
+            f"{spin_rate:.6g} rad/s",
+            f"a spin well below break-up, Omega^2 a^3/(G M) < 1 (here {q:.3g}; first-order Clairaut theory "
+            f"wants it small, and gives a flattening of {eps_a:.3g}): a rotation period above {period_h:.3g} h",
+        )
     log_a = float(sol["log_edges"][-1])
     eps = eps_a * np.exp(sol["log"] - log_a)
     # C - A = (8 pi/15) rho_mean a^5 eps(a) e^{-L(a)} int rho^ r^4 e^L (5 + eta) dr^
