@@ -493,3 +493,10 @@ def test_the_monte_carlo_draws_every_parameter_the_model_reads_and_no_other(body
     if model == "rigid":
         budget = wobble.chandler_budget(body, model="rigid")
         assert budget.to_dict()["monte_carlo_valid_fraction"] == 1.0
+
+
+@pytest.mark.parametrize("body", [None, 3, 2.5])
+def test_a_body_that_is_not_a_name_or_a_path_is_named(body):
+    """None or 3 raised a bare TypeError from os.fspath."""
+    with pytest.raises(InputError, match=r"^body: got .*; allowed: one of earth, mars, or the path of a planet file"):
+        wobble.chandler_budget(body)

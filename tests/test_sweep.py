@@ -14,7 +14,7 @@ from astropy import units as u
 import wobble
 from wobble.api.sweep import load_sweep, run_sweep, summarize_sweep, sweep
 from wobble.cli import main
-from wobble.errors import FileFormatError
+from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import load_planet
 from wobble.io.netcdf import open_wobble
 from wobble.models.chandler import chandler_budget
@@ -289,3 +289,10 @@ def test_members_whose_scales_leave_the_float_range_are_invalid_not_warned(tmp_p
     )
     assert abs(data["percentiles"]["50"] - observed) < 2 * sigma
     assert data["percentiles"]["50"] == pytest.approx(budget.period.to_value(u.day), rel=1e-6)
+
+
+@pytest.mark.parametrize("chunk_size", [0, -5, 10.5, True])
+def test_a_chunk_size_that_is_not_a_positive_integer_is_refused(chunk_size):
+    """chunk_size=0 was read as 'not given' and ran with the default, while 10.5 was refused."""
+    with pytest.raises(InputError, match=r"^chunk_size: got .*; allowed: a positive integer"):
+        wobble.sweep("mars_chandler", chunk_size=chunk_size)

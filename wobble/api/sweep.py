@@ -106,7 +106,8 @@ class _Plan:
 
 def _plan(spec: SweepSpec, chunk_size: int | None) -> _Plan:
     target = target_for(spec)
-    chunk = chunk_size or spec.chunk_size or DEFAULT_CHUNK
+    # "is None", not "or": chunk_size=0 was taken as "not given" and ran with the default.
+    chunk = chunk_size if chunk_size is not None else (spec.chunk_size or DEFAULT_CHUNK)
     if not isinstance(chunk, int) or isinstance(chunk, bool) or chunk <= 0:
         raise InputError("chunk_size", chunk, "a positive integer")
     if spec.is_grid:

@@ -188,6 +188,8 @@ def load_planet(body: str | os.PathLike) -> tuple[PlanetParameters, ParameterFil
     (PlanetParameters, ParameterFile)
         The SI description and the parsed file (values with sources).
     """
+    if not isinstance(body, (str, os.PathLike)):  # None or 3 raised a bare TypeError from os.fspath
+        raise InputError("body", repr(body), f"one of {', '.join(catalogue_names())}, or the path of a planet file")
     text = os.fspath(body)
     if not isinstance(body, os.PathLike) and text.strip().lower() in catalogue_names():
         with resources.as_file(catalogue_file(text)) as path:
