@@ -500,3 +500,11 @@ def test_a_body_that_is_not_a_name_or_a_path_is_named(body):
     """None or 3 raised a bare TypeError from os.fspath."""
     with pytest.raises(InputError, match=r"^body: got .*; allowed: one of earth, mars, or the path of a planet file"):
         wobble.chandler_budget(body)
+
+
+def test_chandler_dataset_takes_one_budget_and_names_what_is_not_one():
+    mars = wobble.chandler_budget("mars")
+    one, listed = wobble.chandler_dataset(mars), wobble.chandler_dataset([mars])
+    assert one.identical(listed)
+    with pytest.raises(InputError, match=r"^budgets: got 'earth'; allowed: ChandlerBudgets"):
+        wobble.chandler_dataset(["earth"])

@@ -156,3 +156,16 @@ def test_a_folder_is_not_a_netcdf_file_and_says_what_opens_it(tmp_path):
     store.mkdir()
     with pytest.raises(FileFormatError, match=r"a folder, not a netCDF file .*open_wobble_zarr or xarray\.open_zarr"):
         wobble.load(store)
+
+
+def test_what_is_not_a_dataset_or_a_variable_is_named(tmp_path):
+    """write_netcdf of a dict or a DataArray, and quantity of a bare number, raised AttributeError from
+    inside; an xarray Variable (ds.variables['x']) has no name and is read all the same."""
+    for bad, fragment in (({"a": 1}, "got dict; allowed: an xarray Dataset$"), (xr.DataArray([1.0]), "to_dataset")):
+        with pytest.raises(InputError, match=f"^ds: {fragment}" if fragment.startswith("got") else fragment):
+            wobble.write_netcdf(bad, tmp_path / "x.nc")
+    assert list(tmp_path.iterdir()) == []
+    var = xr.Variable("x", [1.0, 2.0], {"units": "km"})
+    assert list(wobble.quantity(var).to_value(u.m)) == [1000.0, 2000.0]
+    with pytest.raises(InputError, match=r"^var: got int; allowed: a variable of a Dataset"):
+        wobble.quantity(3)

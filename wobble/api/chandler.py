@@ -457,8 +457,13 @@ def chandler_dataset(budgets: list[ChandlerBudget]) -> xr.Dataset:
     from wobble.io.cf import flag_attrs, variable
 
     xr = xarray()
+    if isinstance(budgets, ChandlerBudget):  # one budget: a list of it (it raised TypeError: not iterable)
+        budgets = [budgets]
     if not budgets:
         raise InputError("budgets", "[]", "at least one ChandlerBudget")
+    for b in budgets:
+        if not isinstance(b, ChandlerBudget):  # ["earth"] raised AttributeError
+            raise InputError("budgets", repr(b), "ChandlerBudgets, from wobble.chandler_budget(body)")
     steps = [s for s in _model.STEPS if any(s in [x.name for x in b.steps] for b in budgets)]
     shape = (len(budgets), len(steps))
     period = np.full(shape, np.nan)

@@ -68,7 +68,9 @@ def quantity(var: xr.DataArray) -> u.Quantity:
     wobble.errors.InputError
         The variable has no ``units`` attribute, or one astropy cannot parse.
     """
-    name = str(var.name)
+    if not isinstance(var, (xr.DataArray, xr.Variable)):
+        raise InputError("var", type(var).__name__, "a variable of a Dataset (ds['name'])")
+    name = str(getattr(var, "name", None) or "variable")  # an xarray Variable has no name
     units = var.attrs.get("units")
     if units is None:
         raise InputError(name, var.attrs, "a variable with a units attribute")

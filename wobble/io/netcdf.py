@@ -176,8 +176,11 @@ def write_netcdf(
     wobble.errors.OutputExistsError
         ``path`` exists and ``overwrite`` is false.
     wobble.errors.InputError
-        The folder does not exist or ``path`` is a folder.
+        The folder does not exist or ``path`` is a folder, or ``ds`` is not a Dataset.
     """
+    if not isinstance(ds, xr.Dataset):  # a dict or a DataArray raised AttributeError from inside to_cf
+        hint = " (ds = array.to_dataset())" if isinstance(ds, xr.DataArray) else ""
+        raise InputError("ds", type(ds).__name__, f"an xarray Dataset{hint}")
     path = Path(path)
     with atomic_target(path, overwrite) as tmp:
         cf = to_cf(ds, command=command)
