@@ -270,3 +270,13 @@ def test_a_record_too_short_for_the_default_calibration_says_it_was_the_default(
     assert "\n" not in err and not (tmp_path / "f.nc").exists()
     most = float(err.split("at most ")[1].split()[0])
     assert main(["forecast", "--file", str(path), "--calibration-span", f"{most}yr", "--json"]) == 0
+
+
+def test_the_text_says_when_the_issue_date_is_the_default_one_in_the_past():
+    """With no issue date the forecast is issued at the record's end plus its latency, a month before today for
+    the C04 series; 'wobble forecast --horizon 90d' read as 90 days from today."""
+    default = wobble.forecast_polar_motion(horizon=10 * u.day, calibrated=False)
+    given = wobble.forecast_polar_motion(issued="2020-01-01", horizon=10 * u.day, calibrated=False)
+    assert default.issued_by_default and not given.issued_by_default
+    assert "by default issued at the data's end plus the latency, not today" in default.summary().splitlines()[0]
+    assert given.summary().splitlines()[0].endswith("(latency 30 d)")

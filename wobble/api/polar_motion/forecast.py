@@ -237,6 +237,8 @@ class PolarMotionForecast:
         self.calibration = raw.calibration
         self.q = q
         self.source = source
+        #: True when no issue date was given: the record's end plus the latency, which lies in the past.
+        self.issued_by_default = False
 
     def half_width(self, level: int) -> dict:
         """``{"x": ..., "y": ...}`` half-widths of the ``level`` % interval (68 or 95), mas."""
@@ -398,9 +400,12 @@ class PolarMotionForecast:
             first, last = self.chandler_period_span
             years = (to_mjd(last, "last") - to_mjd(first, "first")) / (JULIAN_YEAR / DAY)
             source = f"least squares of the {years:.0f} years of record {first} to {last}"
+        # The default issue date lies in the past: said, or a forecast "90 days ahead" that starts a month ago
+        # reads as one from today.
+        default = "; by default issued at the data's end plus the latency, not today" if self.issued_by_default else ""
         lines = [
             f"Polar-motion forecast ({self.method}) issued {iso_date(self.issued)}, data to {iso_date(self.last_data)} "
-            f"(latency {self.latency.value:g} d)",
+            f"(latency {self.latency.value:g} d{default})",
             f"  Chandler period {self.chandler_period.value:.1f} d ({source})",
             f"  {'lead [d]':>8}  {'date':>10}  {'x_p [mas]':>17}  {'y_p [mas]':>17}",
         ]
@@ -555,6 +560,8 @@ def forecast_polar_motion(
         calibrated=calibrated,
         span=span,
     )
-    return PolarMotionForecast(
+    out = PolarMotionForecast(
         raw, lat, attrs.get("source_file", ""), q_value if method == "kalman" else None, period_span=period_span
     )
+    out.issued_by_default = issued is None
+    return out
