@@ -196,7 +196,7 @@ def test_bad_files_are_one_line_errors(capsys, tmp_path):
     )
     pts = tmp_path / "p.csv"
     pts.write_text("m, x, y, z\n1, 0, 0, 0\n-1, 1, 0, 0\n")
-    assert "masses: got (1, -1) kg; allowed: positive values" in _error(capsys, "--points", str(pts))
+    assert f"{pts}, line 3, column 'm': got '-1'; allowed: a positive mass" in _error(capsys, "--points", str(pts))
     pts.write_text("m, x, y, z\n1, 0, 0\n")
     assert f"{pts}, line 2" in _error(capsys, "--points", str(pts))
 
@@ -214,6 +214,15 @@ def test_a_value_that_is_not_finite_names_the_file_as_typed_its_line_and_column(
     err = _error(capsys, "--points", "./p.csv", "-o", "out.nc")
     assert err == f"wobble inertia: error: ./p.csv, {where}; allowed: a finite number\n"
     assert not (tmp_path / "out.nc").exists()
+
+
+@pytest.mark.parametrize("mass", ["-1", "0"])
+def test_a_mass_that_is_not_positive_names_the_file_its_line_and_column(capsys, tmp_path, monkeypatch, mass):
+    # Was "masses: got (1, -1) kg; allowed: positive values": neither the file nor the line.
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "p.csv").write_text(f"m, x, y, z\n1, 0, 0, 1\n{mass}, 0, 0, -1\n")
+    err = _error(capsys, "--points", "./p.csv")
+    assert err == f"wobble inertia: error: ./p.csv, line 3, column 'm': got '{mass}'; allowed: a positive mass\n"
 
 
 def test_usage_errors_exit_2_with_one_line(capsys):

@@ -100,8 +100,8 @@ def read_point_masses(
     Raises
     ------
     wobble.errors.FileFormatError
-        Naming the file and line: missing file, bad header, a row that is not four numbers, or a value
-        that is not finite (NaN, inf; named with its column too).
+        Naming the file and line: missing file, bad header, a row that is not four numbers, a value
+        that is not finite (NaN, inf; named with its column too), or a mass that is not positive.
     """
     path = os.fspath(path)  # messages name the file as the caller gave it (Path() drops a leading ./)
     try:
@@ -140,6 +140,12 @@ def read_point_masses(
                     f"line {line_no}, column {c!r}",
                     f"got {fields[columns[c][0]].strip()!r}; allowed: a finite number",
                 )
+        if not values[columns["m"][0]] > 0:  # the model's refusal named neither ("masses: got (1, -1) kg")
+            raise FileFormatError(
+                path,
+                f"line {line_no}, column 'm'",
+                f"got {fields[columns['m'][0]].strip()!r}; allowed: a positive mass",
+            )
         rows.append([values[columns[c][0]] for c in _COLUMNS])
     if not rows:
         raise FileFormatError(path, None, "no point masses (expected rows m, x, y, z)")

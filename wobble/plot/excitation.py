@@ -44,7 +44,7 @@ def excitation_figure(ex) -> Figure:
         known = np.isfinite(ex.band_pole)  # NaN within the band-pass kernel's reach of the ends
         ax_t.plot(years, ex.band_pole, color="C0", label="pole, Chandler band")
         ax_t.plot(years[1:], ex.band_chi, color="C3", label="excitation, Chandler band")
-        mark_collapse(ax_t, years[known], "2015-01-01: before/after split of chandler_band_collapse")
+        mark_collapse(ax_t, years[known], "2015-01-01, where the before/after comparison splits")
         ax_t.set_xlim(years[0], years[-1])
         ax_t.set_yscale("log")
         ax_t.set_xlabel("year")
