@@ -205,3 +205,9 @@ def test_cli_json_and_bad_q(tmp_path, capsys):
     _, err = capsys.readouterr()
     assert status == 2 and err.startswith("wobble excitation: error: --q: got -3") and err.count("\n") == 1
     assert not nc.exists()
+
+
+def test_the_repr_says_what_the_excitation_holds():
+    """It was the default <... object at 0x...>."""
+    ex = wobble.geodetic_excitation(start="1990-01-01", end="2000-01-01", chandler_period=433 * u.day, q=80)
+    assert repr(ex) == "GeodeticExcitation(1990-01-01 to 2000-01-01, 3653 days, T_c=433.0 d, Q=80)"

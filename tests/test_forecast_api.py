@@ -280,3 +280,11 @@ def test_the_text_says_when_the_issue_date_is_the_default_one_in_the_past():
     assert default.issued_by_default and not given.issued_by_default
     assert "by default issued at the data's end plus the latency, not today" in default.summary().splitlines()[0]
     assert given.summary().splitlines()[0].endswith("(latency 30 d)")
+
+
+def test_the_hindcast_s_repr_says_what_it_holds():
+    """It was the default <... object at 0x...>."""
+    h = wobble.hindcast_polar_motion(
+        start="2016-01-01", end="2016-03-01", horizon=30 * u.day, latency=1 * u.day, calibrated=False, workers=1
+    )
+    assert repr(h) == "PolarMotionHindcast(ls_ar, kalman, 9 issues 2016-01-01 to 2016-02-26, latency=1 d)"

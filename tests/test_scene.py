@@ -333,3 +333,12 @@ def test_a_splitting_named_with_its_order_is_refused_with_where_the_order_comes_
     # The output names the model splitting-6; --model splitting-6 was refused without saying why.
     with pytest.raises(InputError, match=r"model: got splitting-6; allowed: auto or one of .*picks its order"):
         wobble.run("satellite_gravity_gradient", model="splitting-6")
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "given"), [({}, "neither"), ({"direction": [1, 0, 0], "orbit_normal": [0, 0, 1]}, "both")]
+)
+def test_a_gravity_gradient_needs_exactly_one_direction(kwargs, given):
+    """Without a direction the refusal showed the mapping's keys as the value: got ['distance', 'gm', ...]."""
+    with pytest.raises(InputError, match=rf"^direction: got {given}; allowed: exactly one of direction"):
+        wobble.Torque.gravity_gradient(3.986e14 * u.m**3 / u.s**2, 7e6 * u.m, **kwargs)

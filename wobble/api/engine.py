@@ -107,6 +107,11 @@ class Torque:
         mean_motion : Quantity, optional
             Angular rate of the direction; default sqrt(GM / d^3).
         """
+        if (direction is None) == (orbit_normal is None):  # the mapping's check named its keys as the value
+            given = "both" if direction is not None else "neither"
+            raise InputError(
+                "direction", given, "exactly one of direction (a fixed direction) and orbit_normal (a circular orbit)"
+            )
         mapping = {"kind": "gravity_gradient", "gm": gm, "distance": distance, "phase": phase}
         for key, value in (("direction", direction), ("orbit_normal", orbit_normal), ("mean_motion", mean_motion)):
             if value is not None:

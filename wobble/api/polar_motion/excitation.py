@@ -253,6 +253,13 @@ class GeodeticExcitation:
         }
         return ds
 
+    def __repr__(self) -> str:
+        first, last = iso_date(float(self.time_mjd[0])), iso_date(float(self.time_mjd[-1]))
+        return (
+            f"GeodeticExcitation({first} to {last}, {self.time_mjd.size} days, "
+            f"T_c={self.chandler_period.value:.1f} d, Q={self.quality_factor:g})"
+        )
+
     def summary(self) -> str:
         """A few lines: sigma_c, the round trip, the excitation's size, the Chandler band before and after 2015."""
         d = self.to_dict()

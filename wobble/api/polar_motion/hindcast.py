@@ -319,6 +319,13 @@ class PolarMotionHindcast:
                 ds.attrs[f"calibration_span_days_{m}"] = float(v.value)
         return ds
 
+    def __repr__(self) -> str:
+        first, last = iso_date(float(self.issued_mjd[0])), iso_date(float(self.issued_mjd[-1]))
+        return (
+            f"PolarMotionHindcast({', '.join(self.methods)}, {self.issued_mjd.size} issues {first} to {last}, "
+            f"latency={self.latency.value:g} d)"
+        )
+
     def summary(self) -> str:
         """The 2-D RMS, x_p mean absolute error and coverage at a few lead times, beside the published anchors."""
         leads = tuple(d for d in (5, 10, 40, 90, 365) if d <= len(self.lead)) or (len(self.lead),)
