@@ -215,3 +215,20 @@ def test_times_beyond_the_phase_reductions_reach_are_refused_by_name(capsys, tmp
     err = capsys.readouterr().err
     assert err.startswith("wobble free: error: --t-end: got 1e20; allowed: |t| up to 3.90102e+15 s, 2^50 turns")
     assert err.count("\n") == 1 and not (tmp_path / "x.nc").exists()
+
+
+@pytest.mark.parametrize(
+    ("inertia", "omega", "says"),
+    [
+        ("1 2 3", "0 1 0", "about axis 2, the intermediate one: unstable"),  # Euler: the middle axis is unstable
+        ("1 2 3", "0 0 2", "about axis 3, of the largest moment: stable"),
+        ("3 1 2", "1 0 0", "about axis 1, of the largest moment: stable"),  # the axis, not its place in the list
+        ("1 2 3", "3 0 0", "about axis 1, of the smallest moment: stable"),
+        ("2 2 3", "1 0 0", "steady spin about a principal axis"),  # a shared moment: any axis of its plane
+    ],
+)
+def test_the_table_says_which_axis_a_steady_spin_is_about_and_if_it_is_stable(capsys, inertia, omega, says):
+    """'steady spin about a principal axis' did not say that a spin about the intermediate axis flips."""
+    assert main(["free", "--inertia", *inertia.split(), "--omega", *omega.split()]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith("regime") and says in first

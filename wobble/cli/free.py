@@ -163,6 +163,21 @@ _REGIMES = {
 }
 
 
+def _steady_axis(summary: dict) -> str:
+    """Which principal axis a steady spin is about, and whether a disturbance grows: the intermediate
+    axis's spin is unstable (the tennis racket), which "steady spin about a principal axis" did not say."""
+    moments = list(summary["moments_kg_m2"])
+    omega = summary["omega0_rad_per_s"]
+    axis = max(range(3), key=lambda k: abs(omega[k]))
+    if moments.count(moments[axis]) > 1:
+        return _REGIMES["steady"]  # a moment shared with another axis: every axis of their plane is principal
+    order = sorted(range(3), key=lambda k: moments[k])
+    if axis == order[1]:
+        return f"steady spin about axis {axis + 1}, the intermediate one: unstable, the least disturbance flips it"
+    which = "largest" if axis == order[2] else "smallest"
+    return f"steady spin about axis {axis + 1}, of the {which} moment: stable"
+
+
 def _print_table(summary: dict, typed: str | None = None) -> None:
     from wobble.cli._output import duration, number, span_text
     from wobble.cli._table import print_rows
@@ -173,7 +188,8 @@ def _print_table(summary: dict, typed: str | None = None) -> None:
         if summary["period_s"]
         else ("none: omega is constant" if regime == "steady" else "none: omega never repeats")
     )
-    rows = [("regime", f"{regime}: {_REGIMES[regime]}"), ("period of omega", period)]
+    rows = [("regime", f"{regime}: {_steady_axis(summary) if regime == 'steady' else _REGIMES[regime]}")]
+    rows.append(("period of omega", period))
     swing = summary.get("intermediate_axis_swing_deg")
     if regime == "steady":
         pass
