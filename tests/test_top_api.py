@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import astropy.units as u
 import numpy as np
@@ -520,3 +521,14 @@ def test_a_start_at_a_turning_point_reads_as_typed(theta0, phidot0, which):
     turning = top.theta_min if which == "min" else top.theta_max
     assert turning.unit == u.deg and turning.value == theta0.to_value(u.deg)
     assert str(turning) == f"{theta0.to_value(u.deg)} deg"
+
+
+def test_a_refused_value_is_shown_with_the_unit_it_was_given_in():
+    """The model works in SI floats: mgl=-1 J was shown as 'mgl: got -1.0', and 2500 g m2 as '2.5'."""
+    with pytest.raises(InputError, match=r"^mgl: got -1\.0 J; allowed: M g l >= 0"):
+        HeavyTop(1 * KGM2, 0.5 * KGM2, mgl=-1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)
+    i3 = 2500 * u.g * u.m**2
+    with pytest.raises(
+        InputError, match=rf"^I3: got {re.escape(str(i3))}; allowed: I3 <= 2 I1"
+    ):  # astropy's "2500.0 m2 g"
+        HeavyTop(1 * KGM2, i3, mgl=1 * u.J, theta0=60 * u.deg, omega3=10 * RAD_S)

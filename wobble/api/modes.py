@@ -30,7 +30,7 @@ from astropy import constants as const
 from astropy import units as u
 
 from wobble.api.chandler import Planet, in_planet_file, load_planet
-from wobble.api.units import freeze_quantities, spin_rate_si, to_si
+from wobble.api.units import as_given, freeze_quantities, spin_rate_si, to_si
 from wobble.errors import InputError
 from wobble.io.json_keys import deprecate
 from wobble.io.density_profile import load_profile, profile_for_body, profile_names
@@ -276,7 +276,9 @@ def hydrostatic_figure(
         else to_si(gravitational_constant, "gravitational_constant", u.m**3 / (u.kg * u.s**2), positive=True, shape=())
     )
     prof, pf = _profile(profile)
-    return HydrostaticFigure(prof.name, _hydro.hydrostatic_figure(prof, omega, g), _anchors(pf), prof)
+    with as_given(spin=spin):
+        figure = _hydro.hydrostatic_figure(prof, omega, g)
+    return HydrostaticFigure(prof.name, figure, _anchors(pf), prof)
 
 
 @dataclass(frozen=True)

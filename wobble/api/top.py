@@ -27,7 +27,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.sampling import sample_times
-from wobble.api.units import plain_array, to_si
+from wobble.api.units import as_given, plain_array, to_si
 from wobble.errors import InputError
 from wobble.io import cf
 from wobble.io.json_keys import deprecate, error_estimate_renames
@@ -214,7 +214,8 @@ class HeavyTop:
         phi0=_ZERO_ANGLE,
         psi0=_ZERO_ANGLE,
     ):
-        i1, i3, mgl_si, ml2 = self._parameters(I1, I3, mgl, M, l, g, body)
+        with as_given(I1=I1, I3=I3, mgl=mgl, M=M, l=l, g=g):
+            i1, i3, mgl_si, ml2 = self._parameters(I1, I3, mgl, M, l, g, body)
         if theta0 is None:
             raise InputError("theta0", None, "the initial tilt, an angle in [0, 180] deg")
         if (omega3 is None) == (psidot0 is None):
@@ -233,7 +234,8 @@ class HeavyTop:
             kwargs["omega3"] = _rate(omega3, "omega3", ())
         else:
             kwargs["psidot0"] = _rate(psidot0, "psidot0", ())
-        self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
+        with as_given(I1=I1, I3=I3, mgl=mgl, omega3=omega3, psidot0=psidot0, thetadot0=thetadot0, phidot0=phidot0):
+            self._model = _top.heavy_top(i1, i3, mgl_si, th, ml2=ml2, **kwargs)
         # The start as typed, in deg: a turning point at the start reads 60 deg, not the 59.99999999999999 deg
         # that the round trip through rad gives (None where theta0 was clipped to pi).
         typed = _as_quantity(theta0)

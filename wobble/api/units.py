@@ -9,6 +9,7 @@ never a guess. The command line reads its dimensional arguments with
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import numpy as np
@@ -258,6 +259,23 @@ def spin_rate_si(spin, name: str = "spin") -> float:
         spin,
         "an angular speed (e.g. 7.292115e-05 rad / s) or a rotation period (e.g. 1 sday, 24.6229 h)",
     )
+
+
+@contextlib.contextmanager
+def as_given(**given):
+    """Show a model's refusal of one of ``given`` with the value as the caller gave it, unit and all.
+
+    The models work in SI floats, so their InputError showed ``mgl: got -1.0`` for ``mgl=-1 * u.J``
+    (and ``I3: got 2.5`` for a moment given in kg m2). A refusal naming another parameter, or one whose
+    value is text, passes unchanged.
+    """
+    try:
+        yield
+    except InputError as exc:
+        typed = given.get(exc.parameter)
+        if not isinstance(typed, u.Quantity) or isinstance(exc.value, (str, u.Quantity)):
+            raise
+        raise InputError(exc.parameter, typed, exc.allowed) from None
 
 
 def parse_quantity(text: str, name: str, default_unit: u.UnitBase) -> u.Quantity:
