@@ -217,3 +217,15 @@ def test_a_window_without_a_chandler_term_in_the_band_is_left_out_and_said():
     periods = full.windows["chandler_period"].values
     assert np.isfinite(periods).all() and ((390 < periods) & (periods < 500)).all()
     assert not any("no Chandler term inside" in c for c in full.caveats)
+
+
+def test_no_attribute_of_the_dataset_is_empty(analysis):
+    """chandler_resolved carried comment = '' when the span had no caveat (a compliance checker's complaint)."""
+    ds = analysis.to_dataset()
+    empty = [
+        (name, key)
+        for name, var in [("", ds), *ds.variables.items()]
+        for key, value in var.attrs.items()
+        if isinstance(value, str) and not value.strip()
+    ]
+    assert empty == []
