@@ -40,6 +40,7 @@ import shlex
 import shutil
 import signal
 import tempfile
+import threading
 import time
 import tomllib
 import traceback
@@ -129,6 +130,20 @@ class Hang(BaseException):
 
 def _alarm(signum, frame):
     raise Hang()
+
+
+def _watchdog(bound: float) -> threading.Timer:
+    """SIGALRM to the main thread after ``bound`` seconds, by ``pthread_kill``.
+
+    A process-wide timer (``setitimer``) may have its signal taken by another thread of the process (an
+    idle pool thread), and then the main thread's sleep is not interrupted: a run meant to stop at 0.5 s
+    went its full 30 s once in CI, and the late handler raised Hang in pytest's teardown. Sent to the
+    main thread, the signal interrupts whatever it waits in.
+    """
+    timer = threading.Timer(bound, signal.pthread_kill, (threading.main_thread().ident, signal.SIGALRM))
+    timer.daemon = True
+    timer.start()
+    return timer
 
 
 def output_roles(case: Case) -> dict[str, str]:
@@ -287,7 +302,7 @@ def run_case(
             warnings.catch_warnings(record=True) as caught,
         ):
             warnings.simplefilter("always")
-            signal.setitimer(signal.ITIMER_REAL, bound)
+            watchdog = _watchdog(bound)
             try:
                 status = main(list(case.argv))
             except SystemExit as exc:  # argparse: --help (0), usage errors (2)
@@ -308,7 +323,7 @@ def run_case(
                 )
                 problems.append(f"crash: {type(exc).__name__} at {where}: {str(exc)[:200]}")
             finally:
-                signal.setitimer(signal.ITIMER_REAL, 0)
+                watchdog.cancel()
     finally:
         signal.signal(signal.SIGALRM, previous_handler)
         os.chdir(cwd)
