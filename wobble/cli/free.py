@@ -166,16 +166,14 @@ _REGIMES = {
 def _steady_axis(summary: dict) -> str:
     """Which principal axis a steady spin is about, and whether a disturbance grows: the intermediate
     axis's spin is unstable (the tennis racket), which "steady spin about a principal axis" did not say."""
-    moments = list(summary["moments_kg_m2"])
-    omega = summary["omega0_rad_per_s"]
-    axis = max(range(3), key=lambda k: abs(omega[k]))
-    if moments.count(moments[axis]) > 1:
-        return _REGIMES["steady"]  # a moment shared with another axis: every axis of their plane is principal
-    order = sorted(range(3), key=lambda k: moments[k])
-    if axis == order[1]:
+    from wobble.models.free import steady_axis
+
+    axis, kind = steady_axis(summary["moments_kg_m2"], summary["omega0_rad_per_s"])
+    if kind is None:
+        return _REGIMES["steady"]
+    if kind == "intermediate":
         return f"steady spin about axis {axis + 1}, the intermediate one: unstable, the least disturbance flips it"
-    which = "largest" if axis == order[2] else "smallest"
-    return f"steady spin about axis {axis + 1}, of the {which} moment: stable"
+    return f"steady spin about axis {axis + 1}, of the {kind} moment: stable"
 
 
 def _print_table(summary: dict, typed: str | None = None) -> None:

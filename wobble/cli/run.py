@@ -61,13 +61,12 @@ def run(args) -> int:
     path = resolve(args.scene, "scenes", "SCENE")  # an unknown scene is named before a missing -o
     from wobble.api.scene import read_scene, run_to_netcdf
     from wobble.errors import FileFormatError
-    from wobble.models.scene import MODEL_NAMES
+    from wobble.models.scene import check_model_name
 
     # What is wrong with the scene or the model is said before a missing -o (it was "-o/--output: missing"
     # for a broken scene file and for --model rk4).
     scene = read_scene(path)
-    if args.model is not None and args.model not in ("auto", *MODEL_NAMES):
-        raise InputError("--model", args.model, f"auto or one of {', '.join(MODEL_NAMES)}")
+    check_model_name(args.model)
     if not args.output:
         raise InputError.missing("-o/--output", "the netCDF file to write (e.g. -o out.nc)")
     check_outputs(args)

@@ -484,22 +484,23 @@ def udunits(unit) -> str:
         text = unit.to_string("fits")
     except ValueError:  # a scale FITS cannot write (arcsec / cy): astropy's own string, as given
         return unit.to_string()
+    return _renamed(text, _UDUNITS_NAMES)
+
+
+def _renamed(text: str, names: dict) -> str:
+    """``text``'s unit words renamed by ``names``, each keeping its exponent (``yr-1`` -> ``Julian_year-1``)."""
     words = []
     for word in text.split():
         base = word.rstrip("-0123456789")
-        words.append(_UDUNITS_NAMES.get(base, base) + word[len(base) :])
+        words.append(names.get(base, base) + word[len(base) :])
     return " ".join(words)
 
 
 #: The UDUNITS names :func:`udunits` writes, back to astropy's (which has no "Julian_year").
-_ASTROPY_NAMES = {"milliarcsecond": "mas", "arcsecond": "arcsec", "Julian_year": "yr"}
+_ASTROPY_NAMES = {udunits_name: name for name, udunits_name in _UDUNITS_NAMES.items() if name != "a"}
 
 
 def astropy_unit_text(text: str) -> str:
     """A ``units`` attribute as text astropy parses: :func:`udunits`'s names mapped back
     (``milliarcsecond Julian_year-1`` is ``mas yr-1``); other words unchanged."""
-    words = []
-    for word in text.split():
-        base = word.rstrip("-0123456789")
-        words.append(_ASTROPY_NAMES.get(base, base) + word[len(base) :])
-    return " ".join(words)
+    return _renamed(text, _ASTROPY_NAMES)

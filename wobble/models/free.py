@@ -65,6 +65,7 @@ from wobble.numerics.phasor import block_parts, block_phasors, uniform_grid
 
 __all__ = [
     "intermediate_axis_alignment",
+    "steady_axis",
     "FreeRotationModel",
     "free_rotation",
     "symmetric_from_energy",
@@ -677,6 +678,19 @@ def free_rotation(moments, omega0) -> FreeRotationModel:
     if I[0] == I[1] or I[1] == I[2]:
         return _symmetric_model(moments, omega0, I, order, common, two_e, l2)
     return _elliptic_model(moments, omega0, I, order, common, two_e, l2)
+
+
+def steady_axis(moments, omega0) -> tuple[int, str | None]:
+    """The principal axis (0, 1, 2, in the order given) a steady spin ``omega0`` is about, and its kind:
+    ``"largest"`` or ``"smallest"`` moment (stable) or ``"intermediate"`` (unstable: the least disturbance
+    grows into the tennis-racket flip; Landau & Lifshitz section 37), or None where the axis's moment is
+    shared with another axis (every axis of their plane is principal)."""
+    axis = max(range(3), key=lambda k: abs(omega0[k]))
+    moments = list(moments)
+    if moments.count(moments[axis]) > 1:
+        return axis, None
+    order = sorted(range(3), key=lambda k: moments[k])
+    return axis, ("smallest", "intermediate", "largest")[order.index(axis)]
 
 
 def intermediate_axis_alignment(moments, omega0) -> float | None:

@@ -975,6 +975,16 @@ class Choice:
     forced: bool = False
 
 
+def check_model_name(force: str | None) -> None:
+    """Refuse a forced model that is not ``auto`` or one of :data:`MODEL_NAMES` (None: not forced)."""
+    if force is not None and force not in MODEL_NAMES and force != "auto":
+        allowed = f"auto or one of {', '.join(MODEL_NAMES)}"
+        if str(force).startswith("splitting-"):
+            # The output names the splitting with its order (splitting-6): say where the order comes from.
+            allowed += " (the splitting picks its order: 2 without torques, else 6 for an accuracy below 1e-6, 4 above)"
+        raise InputError("model", force, allowed)
+
+
 def choose_model(scene: Scene, force: str | None = None) -> Choice:
     """Pick the cheapest model that applies and can reach the scene's accuracy.
 
@@ -988,12 +998,7 @@ def choose_model(scene: Scene, force: str | None = None) -> Choice:
         ``model``); the accuracy is below what every applicable model can
         reach (the ``accuracy`` field, naming the scene file if any).
     """
-    if force is not None and force not in MODEL_NAMES and force != "auto":
-        allowed = f"auto or one of {', '.join(MODEL_NAMES)}"
-        if str(force).startswith("splitting-"):
-            # The output names the splitting with its order (splitting-6): say where the order comes from.
-            allowed += " (the splitting picks its order: 2 without torques, else 6 for an accuracy below 1e-6, 4 above)"
-        raise InputError("model", force, allowed)
+    check_model_name(force)
     origin = f"--model {force}"
     if force is None:
         force = scene.mapping.get("model", "auto")
