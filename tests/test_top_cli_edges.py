@@ -137,3 +137,21 @@ def test_the_figure_of_a_tiny_tilt_draws_its_path(theta0):
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+def test_a_horizontal_top_has_one_steady_precession_rate(capsys):
+    """--theta0 90 is horizontal: u2, E' and p_phi print as 0 (not 6.1e-17, the cosine of the float
+    nearest pi/2), and the fast steady precession, infinite there, is said to be absent (it printed
+    "fast 8.16562e+16 rad/s")."""
+    code, out, err = run_cli([*TOP, "--theta0", "90"], capsys)
+    assert code == 0, err
+    # At rest with u0 = 0: alpha = 2E'/I1 = 0 and b = 0, so f(u) = -beta u (1 - u^2) - a^2 u^2 (notes p. 71)
+    # has the roots 0 and (a^2 -+ sqrt(a^4 + 4 beta^2)) / (2 beta), with a = I3 omega3 / I1 = 5, beta = 2.
+    a, beta = 5.0, 2.0
+    u1, u3 = ((a * a + s * math.sqrt(a**4 + 4 * beta**2)) / (2 * beta) for s in (-1, 1))
+    assert f"roots u1, u2, u3             {u1:.7g}, 0, {u3:.7g}" in out
+    assert "energy E, E'                 25, 0 J" in out and "p_phi, p_psi                 0, 5 kg m2/s" in out
+    assert "slow 0.2 rad/s (no fast one: the axis is horizontal)" in out and "e+16" not in out
+    code, out, err = run_cli([*TOP, "--theta0", "90", "--json"], capsys)
+    reg = json.loads(out)["regular_precession_at_theta0"]
+    assert reg == {"slow_rad_per_s": 0.2, "fast_rad_per_s": None}

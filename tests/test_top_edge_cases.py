@@ -137,6 +137,22 @@ def test_pi_is_the_bottom_itself():
     assert np.max(angle(mo.quaternion, expected)) < 1e-14
 
 
+def test_a_right_angle_is_horizontal_itself():
+    """theta0 = the float nearest pi/2 (what 90 deg converts to) is a horizontal axis: cos theta0 = 0,
+    so p_phi = I1 phidot0 sin^2 theta0 + p_psi cos theta0 = 0 at rest, E' = E - I3 omega3^2 / 2 = Mgl u0
+    = 0, the turning point u0 = 0 is a root, and steady precession has one finite rate, Mgl / (I3 omega3)
+    (notes p. 72: the fast root I3 omega3 / (I1 cos theta) has gone to infinity)."""
+    I1, I3, mgl, w3 = 1.0, 0.5, 1.0, 10.0
+    mdl = heavy_top(I1, I3, mgl, np.pi / 2, 0.0, 0.0, omega3=w3)
+    assert mdl.u2 == 0.0 and mdl.energy_prime == 0.0 and mdl.p_phi == 0.0
+    slow, fast = mdl.regular_precession_rates()
+    assert slow == pytest.approx(mgl / (I3 * w3), rel=1e-15) and fast == np.inf
+    # The neighbouring double is read as it is: its cosine, 1.6e-16, is not rounded away.
+    below = heavy_top(I1, I3, mgl, np.nextafter(np.pi / 2, 0.0), 0.0, 0.0, omega3=w3)
+    assert below.u2 == pytest.approx(np.cos(np.nextafter(np.pi / 2, 0.0)), rel=1e-12) and below.u2 > 0
+    assert np.isfinite(below.regular_precession_rates()[1])
+
+
 @pytest.mark.parametrize("samples", [5, 20000])  # NumPy, and the compiled series from 8192 samples on
 def test_the_recomputed_energy_of_a_top_at_the_edge_of_the_float_range_stays_finite(samples):
     """I1 = I3 = 5e-324 kg m2 spun at 1e157 rad/s: w^2 overflowed in the energy the Dataset recomputes

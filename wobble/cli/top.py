@@ -165,7 +165,10 @@ def _print_table(summary: dict, typed: str | None = None) -> None:
         rows.append(
             (
                 "steady precession at theta0",
-                f"slow {number(reg['slow_rad_per_s'])}, fast {number(reg['fast_rad_per_s'])} rad/s",
+                f"slow {number(reg['slow_rad_per_s'])}, fast {number(reg['fast_rad_per_s'])} rad/s"
+                if reg["fast_rad_per_s"] is not None
+                # A horizontal axis (cos theta0 = 0): the fast root has gone to infinity; the slow one is Mgl/(I3 w3).
+                else f"slow {number(reg['slow_rad_per_s'])} rad/s (no fast one: the axis is horizontal)",
             )
         )
     if summary["t_end_s"] is not None:

@@ -107,6 +107,27 @@ def _f(x: Decimal) -> float:
 # --------------------------------------------------------------------------
 # Parameters and checks
 # --------------------------------------------------------------------------
+def _sin_cos_of_tilt(theta: float, halved: bool = False) -> tuple[Decimal, Decimal]:
+    """sin and cos of theta (of theta / 2 when ``halved``) to DIGITS digits, reading a right angle as exact.
+
+    The float nearest pi/2 (what 90 deg converts to) stands for pi/2 itself, and numpy.pi (180 deg)
+    for pi: those floats lie 6.1e-17 and 1.2e-16 rad short of the angles anyone writing 90 or 180
+    deg means, and taken literally they gave a horizontal top cos theta = 6.1e-17, a fast steady
+    precession of 8.2e16 rad/s instead of none, and a top hanging straight down a nutation of
+    1.2e-16 rad (cusps below the bottom) instead of its equilibrium. No double lies nearer those
+    angles, so nothing else is read differently.
+    """
+    if theta == np.pi:
+        return (Decimal(1), Decimal(0)) if halved else (Decimal(0), Decimal(-1))
+    if theta == np.pi / 2:
+        if not halved:
+            return Decimal(1), Decimal(0)
+        with decimal.localcontext(context()):
+            root_half = (Decimal(1) / 2).sqrt()
+        return root_half, root_half
+    return hp.sin_cos(0.5 * theta if halved else theta, DIGITS)
+
+
 def _finite(name: str, value, allowed: str) -> float:
     try:
         x = float(value)
@@ -202,7 +223,7 @@ def regular_precession_rates(I1: float, I3: float, mgl: float, omega3: float, th
     if not 0 <= theta <= np.pi:
         raise InputError("theta", theta, "an angle in [0, pi] rad")
     with decimal.localcontext(context()):
-        s, c = hp.sin_cos(theta, DIGITS)
+        s, c = _sin_cos_of_tilt(theta)
         a = to_decimal(I3) * to_decimal(omega3) / to_decimal(I1)
         beta = 2 * to_decimal(mgl) / to_decimal(I1)
         disc = a * a - 2 * c * beta
@@ -589,7 +610,8 @@ def heavy_top(
         M g l (J), >= 0.
     theta0 : float
         Initial tilt of the symmetry axis from the upward vertical, in [0, pi] (rad);
-        ``numpy.pi`` (and so 180 deg) is pi itself, hanging straight down.
+        ``numpy.pi`` (and so 180 deg) is pi itself, hanging straight down, and the float nearest
+        pi/2 (90 deg) is pi/2 itself, a horizontal axis.
     thetadot0, phidot0 : float
         Initial nutation and precession rates (rad/s).
     omega3, psidot0 : float
@@ -628,13 +650,7 @@ def heavy_top(
     psi0 = _finite("psi0", psi0, "a finite angle (rad)")
     if (omega3 is None) == (psidot0 is None):
         raise InputError("omega3, psidot0", (omega3, psidot0), "exactly one of omega3 and psidot0")
-    if theta0 == np.pi:
-        # The end of the range is pi itself, hanging straight down (exactly what 180 deg converts to):
-        # the float nearest pi lies 1.2e-16 short of it, which would start a nutation of that size
-        # (cusps below the bottom) instead of the equilibrium anyone writing 180 deg means.
-        sh, ch = Decimal(1), Decimal(0)
-    else:
-        sh, ch = hp.sin_cos(0.5 * theta0, DIGITS)
+    sh, ch = _sin_cos_of_tilt(theta0, halved=True)
     with decimal.localcontext(context()):
         s0 = 2 * sh * ch
         u0 = ch * ch - sh * sh
