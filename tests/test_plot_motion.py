@@ -24,6 +24,7 @@ import pytest
 from astropy import units as u
 
 from wobble.api.free import FreeRotation
+from wobble.errors import InputError
 from wobble.api.top import HeavyTop
 from wobble.plot.free import motion_figure
 from wobble.plot.top import axis_locus_figure, cubic_figure, effective_potential_figure
@@ -642,3 +643,35 @@ def test_a_top_through_the_vertical_draws_its_well_without_a_zero_division():
 
         truth = np.array([exact(t) for t in theta])
     np.testing.assert_allclose(drawn * scale, truth, rtol=0, atol=1e-9 * np.max(np.abs(truth)))
+
+
+def test_the_time_axis_speaks_the_unit_the_span_was_given_in(tmp_path, capsys, monkeypatch):
+    """--t-end 200 is in seconds, and so is the figure (its axis read 0 to 3.5 min beside flip times and a
+    span printed in s); '3.5 minutes' draws minutes; without a unit given, the unit a person would use."""
+    from cli_run import run_cli
+
+    body = FreeRotation([1, 2, 3] * KGM2, [1e-6, 1, 1e-6] * RAD_S)
+    for unit, label in [(None, "time [min]"), (u.s, "time [s]"), ("d", "time [d]")]:
+        fig = motion_figure(body, 200 * u.s, time_unit=unit)
+        top, bottom = _time_axes(fig)
+        assert bottom.get_xlabel() == label
+        # The flips the model gives are drawn where they fall on that axis (the first near 26.87 s).
+        first = body.flip_times(200 * u.s)[0].to_value(u.s) / _seconds_per_unit(bottom)
+        marks = [seg[0, 0] for coll in bottom.collections for seg in coll.get_segments()]
+        assert min(abs(x - first) for x in marks) < 1e-9 * first
+        plt.close(fig)
+    with pytest.raises(InputError, match="time_unit"):
+        motion_figure(body, 200 * u.s, time_unit=u.m)
+    import wobble.plot.save
+
+    labels, save = [], wobble.plot.save.save_figure
+    monkeypatch.setattr(
+        wobble.plot.save,
+        "save_figure",
+        lambda fig, *a, **k: (labels.append(fig.axes[1].get_xlabel()), save(fig, *a, **k))[1],
+    )
+    argv = ["free", "--inertia", "1", "2", "3", "--omega", "1e-6", "1", "1e-6", "--plot"]
+    for t_end in ("200", "3.5 minutes"):
+        code, _, err = run_cli([*argv, str(tmp_path / "f.png"), "--overwrite", "--t-end", t_end], capsys)
+        assert code == 0, err
+    assert labels == ["time [s]", "time [min]"]

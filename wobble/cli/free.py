@@ -76,6 +76,16 @@ def _quantity(values, name, unit):
     return parse_quantities(values, name, unit)
 
 
+def _typed_unit(text: str):
+    """The unit --t-end was given in: seconds for a bare number (already parsed, so valid)."""
+    from astropy import units as u
+
+    from wobble.io.quantity_values import quantity_from_text
+    from wobble.io.text import is_number
+
+    return u.s if is_number(text) else quantity_from_text(text).unit
+
+
 def _span(body, text):
     """(t_end in s, how it was chosen) from --t-end, or three periods of omega."""
     import math
@@ -149,7 +159,8 @@ def run(args) -> int:
     if args.plot:
         from wobble.plot.free import motion_figure
 
-        written.append(motion_figure(body, t1 * u.s, path=args.plot, overwrite=args.overwrite))
+        unit = None if args.t_end is None else _typed_unit(args.t_end)  # the figure's axis in the user's unit
+        written.append(motion_figure(body, t1 * u.s, time_unit=unit, path=args.plot, overwrite=args.overwrite))
         summary["plot"] = str(args.plot)
     return finish(args, summary, lambda: _print_table(summary, args.t_end), written)
 

@@ -40,7 +40,7 @@ _ARCSEC = math.pi / (180.0 * 3600.0)
 ANGLE_UNITS = (("deg", math.radians(1.0)), ("arcsec", _ARCSEC), ("mas", 1e-3 * _ARCSEC), ("µas", 1e-6 * _ARCSEC))
 
 
-def time_axis(span_s: float) -> tuple[float, str]:
+def time_axis(span_s: float, unit: tuple[float, str] | None = None) -> tuple[float, str]:
     """(seconds per unit, unit name) for a time axis spanning ``span_s`` seconds: the unit the text gives
     that span in (:func:`wobble.io.text.span_unit`: the largest the span reaches twice), so a figure and
     the summary beside it speak of a run in the same unit (the figures had a table of their own, with
@@ -50,14 +50,17 @@ def time_axis(span_s: float) -> tuple[float, str]:
     of it, named in the label, as the value axes are (:func:`power_of_ten`): matplotlib drew no curve at all
     over a span of 1e-290 s, and a multiplier such as '1e300' under the axis otherwise.
 
-    >>> time_axis(200.0), time_axis(3e7), time_axis(1e-300)
-    ((60.0, 'min'), (86400.0, 'd'), (1e-300, '$10^{-300}$ s'))
+    ``unit``, (seconds per unit, its name), is the unit the user gave the span in (``--t-end 200`` is in
+    seconds, so its figure too: the text said 200 s and the axis 3.3 min); the power of ten still applies.
+
+    >>> time_axis(200.0), time_axis(200.0, (1.0, 's')), time_axis(3e7), time_axis(1e-300)
+    ((60.0, 'min'), (1.0, 's'), (86400.0, 'd'), (1e-300, '$10^{-300}$ s'))
     """
-    size, unit = span_unit(span_s)
+    size, name = span_unit(span_s) if unit is None else unit
     exponent = power_of_ten(span_s / size) if math.isfinite(span_s) and span_s > 0 else 0
     if exponent == 0:
-        return size, unit
-    return size * 10.0**exponent, power_label(exponent, unit)
+        return size, name
+    return size * 10.0**exponent, power_label(exponent, name)
 
 
 def angle_unit(extent_rad: float) -> tuple[float, str]:

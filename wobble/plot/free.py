@@ -146,7 +146,9 @@ POLHODE_SAMPLES = 4001
 SEPARATRIX_SAMPLES = 2000
 
 
-def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, overwrite: bool = False):
+def motion_figure(
+    body: FreeRotation, t_end, *, samples: int = 2000, time_unit=None, path=None, overwrite: bool = False
+):
     """omega(t) and the polhode of one body: what ``wobble free --plot`` draws.
 
     Left: the angular velocity's components against time, the largest one on its own
@@ -173,6 +175,9 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
         End of the span (from 0).
     samples : int
         Points along the time panels at least.
+    time_unit : astropy.units.Unit, optional
+        The time axis's unit (``wobble free --t-end`` passes the one it was given in); by default the
+        unit a person would use for the span (:func:`wobble.io.text.span_unit`).
     path : path-like, optional
         Save the figure there (atomically); the function then returns the path.
     overwrite : bool
@@ -187,13 +192,14 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     t1 = to_si(t_end, "t_end", u.s, positive=True, shape=())
     samples = check_samples(samples, BYTES_PER_SAMPLE)  # 1e12 samples was a MemoryError, not a message
     check_step(t1, samples, t_end, " of the figure")  # times a subnormal step apart: nothing to draw
+    axis_unit = None if time_unit is None else _time_unit(time_unit)
     t, shown, note = _time_panel_times(body, t1, samples)
     w = body.omega(t * u.s).to_value(u.rad / u.s)
     I = body.moments.to_value(u.kg * u.m**2)
     fig = plt.figure(figsize=(10.5, 4.6))
     top = fig.add_subplot(2, 2, 1)
     bottom = fig.add_subplot(2, 2, 3, sharex=top)
-    scale = _time_panels(top, bottom, t, w, body)
+    scale = _time_panels(top, bottom, t, w, body, axis_unit)
     flips = body.flip_times(shown * u.s).to_value(u.s) if body.flips else np.empty(0)
     marked = _mark_flips([top, bottom], flips, scale) if flips.size else ""
     top.set_title(_motion_title(body, t1, note) + marked, fontsize=9)
@@ -214,6 +220,16 @@ def motion_figure(body: FreeRotation, t_end, *, samples: int = 2000, path=None, 
     from wobble.plot.save import save_figure
 
     return save_figure(fig, path, overwrite=overwrite)
+
+
+def _time_unit(unit) -> tuple[float, str]:
+    """(seconds per unit, its name) of ``time_unit``, refused unless a unit of time."""
+    try:
+        unit = u.Unit(unit)
+        seconds = float(unit.to(u.s))
+    except (TypeError, ValueError, u.UnitsError):
+        raise InputError("time_unit", unit, "a unit of time (astropy.units.s, 'min', 'd', 'yr')") from None
+    return seconds, unit.to_string()
 
 
 def _time_panel_times(body: FreeRotation, t1: float, samples: int) -> tuple[np.ndarray, float, str]:
@@ -269,7 +285,7 @@ def _motion_title(body: FreeRotation, t1: float, note: str) -> str:
     return f"{head}\n{note}" + (f"; {flips:,} flips in the span" if flips else "")
 
 
-def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
+def _time_panels(top, bottom, t, w, body: FreeRotation, axis_unit: tuple[float, str] | None = None) -> float:
     """Draw omega's components on ``top`` (the two small ones) and ``bottom`` (the largest); returns
     the seconds per unit of the time axis.
 
@@ -281,7 +297,7 @@ def _time_panels(top, bottom, t, w, body: FreeRotation) -> float:
     to read in rad/s (a planet), the components and the change are drawn as fractions of |omega(0)|,
     each axis in a power of ten named in its label, never as an offset.
     """
-    scale, unit = time_axis(t[-1])
+    scale, unit = time_axis(t[-1], axis_unit)
     big = int(np.argmax(np.max(np.abs(w), axis=0)))
     others = [k for k in range(3) if k != big]
     dominant = w[:, big]
