@@ -317,6 +317,21 @@ def test_the_chandler_figure_marks_the_rigid_period_and_prints_the_text_s_digits
     assert "observed 206.90 ± 0.50 d" in labels
 
 
+def test_the_chandler_figure_s_legend_covers_no_bar_nor_change():
+    """my_planet.toml has two steps, rigid and elastic: the legend in the lower left, the corner Earth's
+    waterfall leaves empty, covered its one bar. It now stands beside the axes for every planet."""
+    import wobble
+    from wobble.api.examples import example_path
+
+    budgets = [wobble.chandler_budget(example_path("my_planet.toml")), wobble.chandler_budget("earth")]
+    fig = wobble.plot.chandler.budget_figure(budgets)
+    fig.canvas.draw()
+    for ax in fig.axes:
+        legend = ax.get_legend().get_window_extent()
+        assert legend.x0 >= ax.get_window_extent().x1
+        assert len(ax.patches) >= 1 and not any(legend.overlaps(p.get_window_extent()) for p in ax.patches)
+
+
 def test_the_modes_chandler_panel_draws_the_model_s_uncertainty_beside_the_observed():
     """Mars' model, 205.6 +/- 2.7 d, against 206.9 +/- 0.5 d observed: with only the observed band drawn the
     model line looked 2.6 sigma off, where the text says -0.5 sigma."""

@@ -31,7 +31,7 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     matplotlib.figure.Figure
     """
     budgets = _budgets(budgets)
-    fig, axes = plt.subplots(len(budgets), 1, figsize=(7.2, 2.3 * len(budgets) + 0.6), squeeze=False)
+    fig, axes = plt.subplots(len(budgets), 1, figsize=(8.8, 2.3 * len(budgets) + 0.6), squeeze=False)
     for ax, b in zip(axes[:, 0], budgets):
         steps = b.steps
         names = [s.name.replace("_", " ") for s in steps]
@@ -74,8 +74,9 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
         top = max(s.period.to_value(u.day) for s in steps if math.isfinite(s.period.value))
         ax.set_xlim(0.85 * first, 1.18 * top)
         ax.set_title(f"{b.planet.title}: Chandler period, step by step (days of 86400 s)", fontsize=10)
-        # Lower left: the waterfall climbs from the rigid period, so that corner is empty (upper right hid a change).
-        ax.legend(loc="lower left", fontsize=8, frameon=True, framealpha=0.9, edgecolor="none")
+        # Beside the axes: no corner inside is empty for every planet (upper right hid a change on Earth's,
+        # lower left the one bar of a planet with two steps).
+        ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8, frameon=False)
         ax.set_xlabel("period [d]")
     fig.tight_layout()
     if path is not None:
