@@ -197,6 +197,14 @@ def test_netcdf_round_trip_and_cf(analysis, tmp_path, assert_cf_compliant):
     xr.testing.assert_identical(back, ds.assign_attrs(back.attrs))
     assert list(back["method"].values) == ["least_squares", "spectrum"]
     assert_cf_compliant(path)
+    # CF 7.1: the boundary variable is the coordinate's metadata: no long_name differing from the coordinate's,
+    # no _FillValue (IOOS's checker warned of both), and each window's centre lies between its ends.
+    import netCDF4
+
+    with netCDF4.Dataset(path) as nc:
+        assert nc["window_time_bounds"].ncattrs() == []
+    lo, hi = back["window_time_bounds"].values.T
+    assert np.all((lo < back["window_time"].values) & (back["window_time"].values < hi))
     assert math.isinf(float(back["quality_factor_high"])) or float(back["quality_factor_high"]) > 0
 
 

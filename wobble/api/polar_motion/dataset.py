@@ -72,12 +72,6 @@ def windows_dataset(wf: _pm.WindowedFits):
     )
     return xr.Dataset(
         {
-            # CF 7.1: a boundary variable takes its units and calendar from its coordinate.
-            "window_time_bounds": (
-                ("window", "nv"),
-                c["window_time_bounds"],
-                {"long_name": "first and last day of each window"},
-            ),
             "chandler_amplitude": (
                 "window",
                 c["chandler_amplitude"],
@@ -136,6 +130,11 @@ def windows_dataset(wf: _pm.WindowedFits):
                     "bounds": "window_time_bounds",
                 },
             ),
+            # CF 7.1: a boundary variable is part of its coordinate's metadata and takes its units,
+            # calendar and meaning from it; it has no long_name of its own (IOOS's checker flagged one that
+            # differed from the coordinate's) and no fill value, and as a coordinate it is not named in
+            # every variable's 'coordinates' attribute.
+            "window_time_bounds": (("window", "nv"), c["window_time_bounds"]),
         },
         attrs=window_attrs(wf),
     )
