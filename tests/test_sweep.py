@@ -71,6 +71,19 @@ def test_distributed_cluster_matches_serial():
     xr.testing.assert_identical(reference, by_address)
 
 
+def test_a_model_dimension_comes_only_with_the_output_that_has_it(tmp_path):
+    """Without step_period the Chandler budget's ``step`` dimension had no variable: xarray wrote its
+    coordinate as a global 'coordinates' attribute, which CF does not define."""
+    import netCDF4
+
+    alone = {**MARS, "members": 50, "outputs": ["chandler_period"]}
+    assert "step" not in run_sweep(alone).dims and "step" in run_sweep({**MARS, "members": 50}).dims
+    path = tmp_path / "alone.nc"
+    run_sweep(alone, path)
+    with netCDF4.Dataset(path) as nc:
+        assert "coordinates" not in nc.ncattrs() and "step" not in nc.dimensions
+
+
 def test_streamed_file_equals_memory_and_is_cf(tmp_path, assert_cf_compliant):
     path = tmp_path / "mars.nc"
     in_memory = run_sweep(MARS, chunk_size=1000)

@@ -157,14 +157,17 @@ def _layout(plan: _Plan):
     return layout
 
 
-def _coords(plan: _Plan) -> dict:
+def _coords(plan: _Plan, layout: dict) -> dict:
+    """The sweep's coordinates, and the model's own dimensions (a Chandler budget's ``step``) of the outputs
+    in ``layout`` only: a dimension no variable had was a dangling coordinate, which xarray wrote as a
+    global ``coordinates`` attribute, a name CF gives no meaning."""
     coords = {}
     if plan.spec.is_grid:
         for v in plan.target.variations:
             coords[v.name] = (v.name, np.asarray(v.values), {"units": v.unit, "long_name": f"grid of {v.name}"})
     else:
         coords["member"] = ("member", np.arange(plan.shape[0]), {"long_name": "member index", "units": "1"})
-    for name in plan.target.outputs:
+    for name in layout:
         for dim, values in plan.target.extra_dims(name):
             attrs = getattr(plan.target, "coord_attrs", {}).get(dim, {"long_name": f"{dim} of the model"})
             coords[dim] = (dim, values, attrs)
@@ -221,7 +224,7 @@ def sweep(spec, *, chunk_size: int | None = None) -> xr.Dataset:
         name: (dims, da.concatenate(parts[name], axis=0), _var_attrs(plan, name))
         for name, (dims, shape, dtype) in layout.items()
     }
-    return xr.Dataset(data, coords=_coords(plan), attrs=_attrs(plan))
+    return xr.Dataset(data, coords=_coords(plan, layout), attrs=_attrs(plan))
 
 
 # ---------------------------------------------------------------------------
