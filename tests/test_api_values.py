@@ -277,3 +277,47 @@ def test_a_hydrostatic_figure_s_arrays_cannot_be_edited_through_what_it_hands_ou
         figure.anchors["observed_flattening"] = (0.0, 0.0, "mine")
     np.testing.assert_array_equal(figure.to_dataset()["level_surface_flattening"].values, before)
     assert figure.radius[-1].to_value(u.km) > 6000  # the Quantity view is a fresh array, as before
+
+
+def test_a_torque_s_repr_is_its_call_with_the_values_given():
+    """It was Torque.gravity_gradient(...), whatever the values: two torques could not be told apart."""
+    import numpy as np
+    from astropy import units as u
+
+    from wobble import Torque
+
+    gg = Torque.gravity_gradient(3.986e14 * u.m**3 / u.s**2, 7000 * u.km, direction=[1, 0, 0])
+    assert (
+        repr(gg) == "Torque.gravity_gradient(gm=3.986e+14 m3 / s2, distance=7000 km, phase=0 rad, direction=[1, 0, 0])"
+    )
+    assert repr(Torque.gravity(2 * u.kg, [0, 0, 10] * u.cm)) == (
+        "Torque.gravity(mass=2 kg, center_of_mass=[0, 0, 10] cm, g=9.80665 m / s2)"
+    )
+    table = Torque.third_body(
+        1e20 * u.m**3 / u.s**2,
+        ephemeris_times=np.linspace(0, 10, 20) * u.s,
+        ephemeris_positions=np.ones((20, 3)) * u.km,
+    )
+    assert "ephemeris={'times': <array of shape (20,)> s, 'positions': <array of shape (20, 3)> km}" in repr(table)
+
+    def drag(t, omega, q):
+        return -omega
+
+    assert repr(Torque.custom(drag, name="air")) == "Torque.custom(drag, frame='body', name='air')"
+
+
+def test_principal_axes_repr_gives_the_moments_and_axes_one_a_line():
+    """The dataclass repr printed the internal frame and the differences, twice, over ten lines."""
+    from astropy import units as u
+
+    from wobble import RigidBody
+
+    # A box's moments, m (b^2 + c^2) / 12 etc. (Goldstein, Poole & Safko 2002, table of moments), ascending;
+    # each axis as the model gives it (its sign is the model's choice of a proper rotation).
+    pa = RigidBody.box(mass=12 * u.kg, edges=[1, 2, 3] * u.m).principal()
+    axes = [", ".join(f"{c:.7g}" for c in row + 0.0) for row in pa.axes]
+    assert repr(pa) == (
+        f"<PrincipalAxes (ascending):\n  I1 = 5 kg m2, axis ({axes[0]})\n  I2 = 10 kg m2, axis ({axes[1]})\n"
+        f"  I3 = 13 kg m2, axis ({axes[2]})>"
+    )
+    assert sorted(abs(pa.axes).argmax(axis=1)) == [0, 1, 2] and abs(pa.axes[0, 2]) == 1.0

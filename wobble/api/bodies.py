@@ -79,6 +79,16 @@ class PrincipalAxes:
         """(I_i - I_j)/I_k with 1-based indices (k defaults to j), a plain float."""
         return self._frame.ratio(i, j, k)
 
+    def __repr__(self) -> str:
+        """The moments and axes to seven digits, one axis a line (the default repr printed the internal frame
+        and the 3 x 3 differences twice, over ten lines)."""
+        I = self.moments.to_value(u.kg * u.m**2)
+        lines = [
+            f"  I{k + 1} = {I[k]:.7g} kg m2, axis ({', '.join(f'{c:.7g}' for c in self.axes[k] + 0.0)})"
+            for k in range(3)
+        ]
+        return f"<PrincipalAxes ({self.order}):\n" + "\n".join(lines) + ">"
+
 
 def _angular_velocity(omega) -> np.ndarray:
     """omega in rad/s. An angle unit is required (no dimensionless_angles(), which reads Hz and 1/s as rad/s)."""

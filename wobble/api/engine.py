@@ -30,6 +30,25 @@ __all__ = ["Torque"]
 _TORQUE = u.N * u.m
 
 
+def _shown(value) -> str:
+    """A constructor argument for a repr: numbers to six digits with their unit, a long array by its shape."""
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k!r}: {_shown(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, str) or callable(value):
+        return repr(value) if isinstance(value, str) else getattr(value, "__name__", type(value).__name__)
+    unit = f" {value.unit.to_string()}" if isinstance(value, u.Quantity) and value.unit != u.one else ""
+    data = np.asarray(value.value if isinstance(value, u.Quantity) else value)
+    if data.size > 6:
+        return f"<array of shape {data.shape}>{unit}"
+    return _nested(data) + unit
+
+
+def _nested(data: np.ndarray) -> str:
+    if data.ndim == 0:
+        return f"{data.item():.6g}"
+    return "[" + ", ".join(_nested(row) for row in data) + "]"
+
+
 class Torque:
     """A torque acting on a scene's body (build with the class methods).
 
@@ -41,10 +60,15 @@ class Torque:
         The SI specification in :mod:`wobble.models.engine`.
     """
 
-    __slots__ = ("spec",)
+    __slots__ = ("spec", "_given")
 
-    def __init__(self, spec):
+    def __init__(self, spec, given: dict | None = None):
         self.spec = spec
+        self._given = given  # the arguments as the user gave them, for the repr
+
+    @classmethod
+    def _of(cls, mapping: dict) -> Torque:
+        return cls(torque_from_mapping(mapping), {k: v for k, v in mapping.items() if k != "kind"})
 
     @property
     def kind(self) -> str:
@@ -52,7 +76,13 @@ class Torque:
         return self.spec.kind
 
     def __repr__(self) -> str:
-        return f"Torque.{self.kind}(...)"
+        """The constructor call with the values as given: ``Torque.damping(coefficient=0.001 kg m2 / s)``."""
+        if self._given is None:  # a custom torque: its function is named, not shown
+            spec = self.spec
+            name = getattr(spec.function, "__name__", type(spec.function).__name__)
+            return f"Torque.custom({name}, frame={spec.frame!r}, name={spec.name!r})"
+        args = ", ".join(f"{k}={_shown(v)}" for k, v in self._given.items())
+        return f"Torque.{self.kind}({args})"
 
     @classmethod
     def constant(cls, torque, frame: str = "body") -> Torque:
@@ -60,7 +90,7 @@ class Torque:
 
         ``torque`` has shape (3,) or (N, 3) (one per ensemble member).
         """
-        return cls(torque_from_mapping({"kind": "constant", "torque": torque, "frame": frame}))
+        return cls._of({"kind": "constant", "torque": torque, "frame": frame})
 
     @classmethod
     def gravity(cls, mass, center_of_mass, g=STANDARD_GRAVITY * u.m / u.s**2) -> Torque:
@@ -80,7 +110,7 @@ class Torque:
         # A scene file's gravity torque takes a magnitude "g" or a vector "gravity"; the Python keyword is g.
         key = "g" if np.ndim(g) == 0 else "gravity"
         try:
-            return cls(torque_from_mapping({"kind": "gravity", "mass": mass, "center_of_mass": center_of_mass, key: g}))
+            return cls._of({"kind": "gravity", "mass": mass, "center_of_mass": center_of_mass, key: g})
         except InputError as exc:
             if exc.parameter != "gravity":
                 raise
@@ -116,7 +146,7 @@ class Torque:
         for key, value in (("direction", direction), ("orbit_normal", orbit_normal), ("mean_motion", mean_motion)):
             if value is not None:
                 mapping[key] = value
-        return cls(torque_from_mapping(mapping))
+        return cls._of(mapping)
 
     @classmethod
     def third_body(
@@ -192,7 +222,7 @@ class Torque:
             }
         if position is not None:
             mapping["position"] = position
-        return cls(torque_from_mapping(mapping))
+        return cls._of(mapping)
 
     @classmethod
     def magnetic(cls, dipole, field) -> Torque:
@@ -205,12 +235,12 @@ class Torque:
         field : Quantity, shape (3,)
             The magnetic flux density (T), inertial frame.
         """
-        return cls(torque_from_mapping({"kind": "magnetic", "dipole": dipole, "field": field}))
+        return cls._of({"kind": "magnetic", "dipole": dipole, "field": field})
 
     @classmethod
     def damping(cls, coefficient) -> Torque:
         """Linear damping ``tau = -c omega``; c in N m s, one value or one per principal body axis."""
-        return cls(torque_from_mapping({"kind": "damping", "coefficient": coefficient}))
+        return cls._of({"kind": "damping", "coefficient": coefficient})
 
     @classmethod
     def custom(
