@@ -181,6 +181,12 @@ def test_a_file_and_its_dataset_give_the_same_excitation(c04):
 def test_netcdf_round_trip_and_cf(c04, tmp_path, assert_cf_compliant):
     ds = c04.to_dataset()
     assert ds["chi_1"].attrs["units"] == "milliarcsecond" and math.isnan(float(ds["chi_1"][0]))
+    # Both components are unknown at the first sample (chi_2 was 0.0 there, from nan + 0j, and that zero
+    # entered chi_2_rms_mas), and the RMS of the JSON is that of the rest.
+    assert math.isnan(float(ds["chi_2"][0])) and math.isnan(c04.chi_2[0].value)
+    rest = ds["chi_2"].values[1:]
+    assert np.isfinite(rest).all()
+    assert c04.to_dict()["chi_2_rms_mas"] == pytest.approx(float(np.sqrt(np.mean(rest**2))), rel=1e-14)
     # Cycles per Julian year (365.25 d): UDUNITS' "year" is the tropical year, 2.1e-5 shorter, so "year-1"
     # (written until 2026-11-29) misread every frequency by that much in a UDUNITS reader (cf_units, pint).
     assert ds["frequency"].attrs["units"] == "Julian_year-1"

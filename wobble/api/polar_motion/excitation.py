@@ -101,7 +101,7 @@ class GeodeticExcitation:
         self.chandler_period_source = period_source
         self.quality_factor = q
         self.source = source
-        c = np.concatenate([[np.nan + 0j], chi])
+        c = np.concatenate([[complex(np.nan, np.nan)], chi])  # nan + 0j had chi_2 = 0 at the first sample
         self.chi_1 = (c.real / RAD_PER_MAS) << u.mas
         self.chi_2 = (c.imag / RAD_PER_MAS) << u.mas
         self.round_trip_rms = (float(np.sqrt(np.mean(np.abs(p_back - p) ** 2))) / RAD_PER_MAS) << u.mas
