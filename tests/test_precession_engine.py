@@ -279,7 +279,7 @@ def test_the_measurement_reads_files_and_speaks_the_result_vocabulary(tmp_path, 
 def test_a_span_shorter_than_the_principal_term_says_so():
     """Over 4 years the Moon's node turning in 36 years (from the moving equinox) cannot be told from the
     secular rate: the fit still returns them, with formal errors far smaller than their real ones, so the
-    measurement says so (it said nothing; a 15-year Earth run measured -5046.50 +/- 0.08 "/cy against the
+    measurement says so (it said nothing; a 15-year Earth run measured -5046.49 +/- 0.08 "/cy against the
     model's -5040.04)."""
     data = _short_case()
     data["torques"][1]["node_rate"] = "-10 deg / yr"
