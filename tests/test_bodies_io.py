@@ -422,3 +422,65 @@ def test_an_uncertainty_that_leaves_no_physical_draw_gives_no_plus_minus(tmp_pat
     assert main(["chandler", "--body-file", str(path), "--json"]) == 0
     (d,) = json.loads(capsys.readouterr().out)
     assert d["period_uncertainty_days"] is None and d["monte_carlo_valid_fraction"] == 0.0
+
+
+def _with_parameters(tmp_path, name, extra: str):
+    """The example planet (H, C/(M a^2), GM, a 6400 km radius) with parameter tables appended."""
+    from wobble.api.examples import example_path
+
+    path = tmp_path / name
+    path.write_text(example_path("my_planet.toml").read_text() + extra)
+    return path
+
+
+def _table(key, value, unit='""', sigma=0.0):
+    return (
+        f'\n[parameters.{key}]\nvalue = {value}\nuncertainty = {sigma}\nunit = {unit}\nsource = "test"\n'
+        'status = "assumed"\n'
+    )
+
+
+def test_an_overdetermined_figure_must_agree_with_itself(tmp_path):
+    """H, J2 and C/(M a^2) all given: the models read H and C/(M a^2) and never J2, so a J2 that disagreed was
+    ignored without a word (H = 0.01 beside J2 / C = 0.00625 gave an 82.5-day rigid period from H alone). The
+    example planet has H = 3.0e-3 +- 1e-5 and C/(M a^2) = 0.33 +- 0.005: J2 = H C/(M a^2) = 9.9e-4 agrees."""
+    from wobble.io.catalog import load_planet
+
+    planet, _ = load_planet(_with_parameters(tmp_path, "ok.toml", _table("j2", 9.9e-4, sigma=1e-7)))
+    assert planet.flattening == 3.0e-3
+    bad = _with_parameters(tmp_path, "bad.toml", _table("j2", 6.6e-4, sigma=1e-7))
+    with pytest.raises(
+        FileFormatError,
+        match=re.escape(
+            "bad.toml, parameters (dynamical_flattening, j2, "
+            "polar_moment_factor): H = 0.003 but J2 / (C/(M a^2)) = "
+            "0.00066 / 0.33 = 0.002"
+        ),
+    ):
+        load_planet(bad)
+
+
+@pytest.mark.parametrize(
+    ("radius_km", "message"),
+    [
+        (
+            "9000",
+            "parameters (fluid_core_radius): 9000 km; needs a radius smaller than the planet's equatorial "
+            "radius (6400 km)",
+        ),
+        # A uniform core of 6300 km at 13000 kg/m3, (8 pi/15) rho R^5, outweighs A = (1 - H) C/(M a^2) M a^2.
+        (
+            "6300",
+            "parameters (fluid_core_radius, fluid_core_density): the core's moment A_f = 2.162e+38 kg m2, "
+            "2.68 times the planet's A = 8.077e+37 kg m2",
+        ),
+    ],
+)
+def test_a_liquid_core_larger_than_its_planet_is_refused_naming_the_file_and_keys(tmp_path, radius_km, message):
+    """It was refused later by the model as 'fluid_core: got A_f/C = 5.44653', naming neither file nor key."""
+    from wobble.io.catalog import load_planet
+
+    extra = _table("fluid_core_radius", radius_km, '"km"') + _table("fluid_core_density", 13000, '"kg m-3"')
+    path = _with_parameters(tmp_path, "big_core.toml", extra)
+    with pytest.raises(FileFormatError, match=re.escape(f"big_core.toml, {message}")):
+        load_planet(path)

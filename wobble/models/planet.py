@@ -203,6 +203,8 @@ class PlanetParameters:
                     f"C/(M a^2) = J2 / H = {j2:g} / {h:g}",
                     "a value in (0, 2/3] (all the mass in a thin shell at the surface gives 2/3)",
                 )
+        if len(given) == 3:
+            self._check_figure_agrees()
         # H = (C - Abar)/C <= 1/2 for any body (A + B >= C); H = 1 made C/(M a^2) = j2/H meaningless downstream.
         if not self.flattening <= 0.5:
             raise InputError(
@@ -212,6 +214,23 @@ class PlanetParameters:
             )
         self._check_core()
         self._check_scales()
+        self._check_core_size()  # after the scales: A = (1 - H) C M a^2 overflowed for a radius of 1e300 m
+
+    def _check_figure_agrees(self):
+        """H, J2 and C/(M a^2) all given: H = J2 / (C/(M a^2)) within three combined sigmas and 0.1 % (values
+        printed to four digits). The models take H and C/(M a^2) and never read J2, so a file whose J2 disagreed
+        ran on H alone without a word (H = 0.01 beside J2/C = 0.00625 halved a Chandler period)."""
+        h, j2, c = self.dynamical_flattening, self.j2, self.polar_moment_factor
+        if c.value == 0:
+            return  # refused as a scale below
+        implied = j2.value / c.value
+        sigma = math.hypot(h.sigma, math.hypot(j2.sigma, implied * c.sigma) / abs(c.value))
+        if abs(h.value - implied) > 3.0 * sigma + 1e-3 * abs(implied):
+            raise InputError(
+                "dynamical_flattening, j2, polar_moment_factor",
+                f"H = {h.value:.6g} but J2 / (C/(M a^2)) = {j2.value:.6g} / {c.value:.6g} = {implied:.6g}",
+                "two of H, j2 and polar_moment_factor, or all three with H = J2 / (C/(M a^2)) within 3 sigma and 0.1 %",
+            )
 
     def _check_scales(self):
         """Every combination of the given values that the models form is a normal float.
@@ -246,6 +265,41 @@ class PlanetParameters:
             raise InputError(
                 "fluid_core", "only one of radius and density", "both fluid_core_radius and fluid_core_density"
             )
+
+    def _check_core_size(self):
+        """A liquid core inside the planet: its radius below the planet's, its moment below A."""
+        radius = self.equatorial_radius.value if self.equatorial_radius is not None else None
+        if self.fluid_core_radius is not None and radius is not None and not self.fluid_core_radius.value < radius:
+            raise InputError(
+                "fluid_core_radius",
+                f"{self.fluid_core_radius.value / 1e3:g} km",
+                f"a radius smaller than the planet's equatorial radius ({radius / 1e3:g} km)",
+            )
+        core, equatorial = self.fluid_core_moment, self._equatorial_moment()
+        if core is not None and equatorial is not None and not core < equatorial:
+            # The model refused it later as "A_f/C = 5.4 ... (A_f < A)", naming neither the file's keys nor A.
+            keys = (
+                "fluid_core_equatorial_moment"
+                if self.fluid_core_equatorial_moment is not None
+                else ("fluid_core_radius, fluid_core_density")
+            )
+            raise InputError(
+                keys,
+                f"the core's moment A_f = {core:.4g} kg m2, {core / equatorial:.3g} times the planet's A = "
+                f"{equatorial:.4g} kg m2",
+                "a liquid core smaller than the planet that holds it (A_f < A = (1 - H) C, C = C/(M a^2) GM/G a^2)",
+            )
+
+    def _equatorial_moment(self) -> float | None:
+        """A = (1 - H) C in kg m^2, when the file gives C/(M a^2) (or J2 and H), GM and the radius; else None."""
+        c = self.c_factor
+        if c is None or self.gm is None or self.equatorial_radius is None:
+            return None
+        try:
+            mass = self.gm.value / self.gravitational_constant.value
+            return (1.0 - self.flattening) * c * mass * self.equatorial_radius.value**2
+        except (OverflowError, ZeroDivisionError):  # past the float range: nothing to compare the core with
+            return None
 
     def values(self) -> dict[str, float | None]:
         """Every parameter's value (SI) by name, None where not given."""
