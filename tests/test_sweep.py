@@ -309,3 +309,34 @@ def test_a_chunk_size_that_is_not_a_positive_integer_is_refused(chunk_size):
     """chunk_size=0 was read as 'not given' and ran with the default, while 10.5 was refused."""
     with pytest.raises(InputError, match=r"^chunk_size: got .*; allowed: a positive integer"):
         wobble.sweep("mars_chandler", chunk_size=chunk_size)
+
+
+def test_numbers_for_a_parameter_with_a_dimension_need_their_unit():
+    """A core radius of 5000 without a unit was read in SI, a 5 m core, without a word (the planet file gives
+    it in km); a pure number (k2, the anelastic exponent) needs none, and the catalogue's own values none."""
+    core = {**MARS, "members": 50, "vary": {"fluid_core_radius": {"distribution": "normal", "mean": 1800, "sd": 50}}}
+    with pytest.raises(
+        FileFormatError,
+        match=r"vary\.fluid_core_radius\.unit: missing; allowed: the unit of the "
+        r"numbers given \(a unit of length",
+    ):
+        run_sweep(core)
+    core["vary"]["fluid_core_radius"]["unit"] = "km"
+    drawn = run_sweep(core)["fluid_core_radius"].values
+    assert abs(drawn.mean() - 1.8e6) < 4 * 5e4 / math.sqrt(50)
+    catalogued = {**MARS, "members": 50, "vary": {"love_number_k2": {"distribution": "normal"}}}
+    assert run_sweep(catalogued).sizes["member"] == 50
+    top = {
+        "schema": "wobble-sweep/1",
+        "name": "t",
+        "target": "heavy_top",
+        "base": {k: {"value": 1.0, "unit": un, "uncertainty": 0} for k, un in (("I1", "kg m2"), ("mgl", "J"))}
+        | {"I3": {"value": 0.5, "unit": "kg m2", "uncertainty": 0}},
+        "vary": {
+            "theta0": {"distribution": "grid", "values": [30, 60]},
+            "omega3": {"distribution": "grid", "values": [10.0], "unit": "rad/s"},
+            "phidot0": {"distribution": "grid", "values": [0.0], "unit": "rad/s"},
+        },
+    }
+    with pytest.raises(FileFormatError, match=r"vary\.theta0\.unit: missing"):
+        run_sweep(top)

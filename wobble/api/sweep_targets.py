@@ -110,6 +110,7 @@ class ChandlerTarget:
     def _si(self, spec: SweepSpec, v: Variation) -> _Resolved:
         where = f"vary.{v.parameter}"
         si = PLANET_UNITS[v.parameter]
+        require_unit(spec, v, si)
         try:
             unit = si if v.unit is None else u.Unit(v.unit or u.dimensionless_unscaled)
             scale = (1.0 * unit).to_value(si)
@@ -177,6 +178,22 @@ class ChandlerTarget:
             "chandler_model": self.model,
             "observed_chandler_period_days": float(obs.to_value(u.day)) if obs is not None else math.nan,
         }
+
+
+def require_unit(spec: SweepSpec, v: Variation, si) -> None:
+    """A variation that gives numbers for a parameter with a dimension says their unit.
+
+    Read in SI without one, a core radius of 5000 (meant in km, as the planet file gives it) was a 5 m core,
+    and the run said nothing; the planet and base tables already require a unit ("" for a pure number).
+    """
+    numbers = any(x is not None for x in (v.mean, v.sd, v.low, v.high, v.values))
+    if v.unit is None and numbers and si.physical_type != "dimensionless":
+        raise FileFormatError(
+            sweep_source(spec),
+            f"vary.{v.parameter}.unit",
+            f"missing; allowed: the unit of the numbers given (a unit of {si.physical_type}, e.g. "
+            f'unit = "{si.to_string()}")',
+        )
 
 
 def _unit_text(key: str) -> str:
@@ -248,6 +265,7 @@ class _BaseTarget:
     def _si(self, spec: SweepSpec, v: Variation) -> _Resolved:
         where = f"vary.{v.parameter}"
         unit_text = self.parameters[v.parameter][0]
+        require_unit(spec, v, u.Unit(unit_text))
         scale = 1.0 if v.unit is None else self._scale(spec, f"{where}.unit", v.unit, v.parameter)
         if v.distribution == "normal":
             if v.mean is None or v.sd is None:
