@@ -48,13 +48,16 @@ class FreeRotation:
 
     Parameters
     ----------
-    moments : astropy.units.Quantity or object with ``principal_moments``
+    moments : astropy.units.Quantity or wobble.RigidBody
         The three principal moments of inertia in any order (e.g.
-        ``[1, 2, 3] * u.kg * u.m**2``), or a rigid body exposing a
-        ``principal_moments`` Quantity. Outputs keep this axis order.
+        ``[1, 2, 3] * u.kg * u.m**2``), or a rigid body, whose principal moments are
+        taken in ascending order (``body.principal_moments``). Outputs keep this axis order.
     omega0 : astropy.units.Quantity
-        Angular velocity at t = 0 in the body (principal) frame, 3 components
-        in rad/s or any angular-speed unit. Zero is allowed (no motion).
+        Angular velocity at t = 0, 3 components in rad/s or any angular-speed unit, in the
+        principal frame of the moments given; for a rigid body, in the body's own (input)
+        frame, as :func:`wobble.run` reads it, turned here into principal components
+        (``body.principal_axes @ omega0``; :attr:`principal_axes` keeps that matrix). Zero is
+        allowed (no motion).
 
     Raises
     ------
@@ -84,11 +87,23 @@ class FreeRotation:
     """
 
     def __init__(self, moments, omega0):
+        axes = np.eye(3)
         if not isinstance(moments, u.Quantity) and hasattr(moments, "principal_moments"):
+            # A body's omega0 is in its own frame, as wobble.run reads it: taken as principal components it
+            # spun a box with edges (1, 2, 3) given omega along x about its z axis (ascending order puts the
+            # smallest moment first), and a body with products of inertia about no axis it was given.
+            axes = np.asarray(getattr(moments, "principal_axes", axes), dtype=float)
             moments = moments.principal_moments
         I = to_si(moments, "moments", MOMENT_UNIT, positive=True, shape=(3,))
-        w = to_si(omega0, "omega0", _RATE, shape=(3,))
+        w = axes @ to_si(omega0, "omega0", _RATE, shape=(3,))
+        self._axes = axes
         self._model = _free.free_rotation(I, w)
+
+    @property
+    def principal_axes(self) -> np.ndarray:
+        """Rows: the principal axes of the outputs in the frame ``omega0`` was given in (the identity unless a
+        rigid body was given); ``principal_axes.T @ v`` takes an output vector back to that frame."""
+        return self._axes.copy()
 
     # -- summary quantities -------------------------------------------------
     @property
