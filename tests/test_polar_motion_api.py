@@ -173,6 +173,18 @@ def test_short_span_analysis_says_so():
     assert a.estimate.period_uncertainty_parts["model"] > 1 * u.day
 
 
+def test_chandler_wobble_on_too_short_a_span_names_the_dates_given():
+    """The estimators' own check named their argument 'series', which the caller of chandler_wobble never saw."""
+    with pytest.raises(
+        InputError,
+        match=r"^start/end: got 2018-01-01 to 2019-01-01 \(365 d\); allowed: a span of "
+        r"at least 730.5 d \(two Julian years\)",
+    ):
+        wobble.chandler_wobble(start="2018-01-01", end="2019-01-01")
+    with pytest.raises(InputError, match=r"^start: got 2026-01-01; allowed: a date on or before [-0-9]{10}: the span"):
+        wobble.chandler_wobble(start="2026-01-01")
+
+
 # ---------------------------------------------------------------------------
 # netCDF
 # ---------------------------------------------------------------------------

@@ -9,7 +9,7 @@ import numpy as np
 from astropy import units as u
 from astropy.time import Time
 
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_data, series
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_ARCSEC, resolve_data, series, short_span_error
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date, mjd_time
@@ -292,7 +292,12 @@ def chandler_wobble(
     ChandlerEstimate
     """
     ds = resolve_data(data, None, start, end)
-    _, t, z = series(ds)
+    mjd, t, z = series(ds)
+    if t.size < 2 or t[-1] - t[0] < _pm.MIN_SPAN:
+        # The estimators' own check named their argument, 'series', which the caller never saw.
+        why = " (two Julian years) to measure a period"
+        name = "data" if start is None and end is None else "start/end"
+        raise short_span_error(mjd, start, end, _pm.MIN_SPAN / _pm.DAY, why, name=name)
     estimator = {"least_squares": _pm.fit_least_squares, "spectrum": _pm.fit_spectrum}.get(method)
     if estimator is None:
         raise InputError("method", method, "'least_squares' or 'spectrum'")
