@@ -249,3 +249,16 @@ def test_no_attribute_of_the_dataset_is_empty(analysis):
         if isinstance(value, str) and not value.strip()
     ]
     assert empty == []
+
+
+def test_the_chandler_estimate_s_repr_says_what_was_measured():
+    """The dataclass repr ran to 3,000 characters of raw SI fit; now the span and the term, in the text's digits."""
+    from wobble.io.text import with_uncertainty
+
+    e = wobble.chandler_wobble(start="2000-01-01", end="2010-01-01")
+    period = with_uncertainty(e.period.to_value(u.day), e.period_uncertainty.to_value(u.day))
+    assert repr(e).startswith(
+        f"<ChandlerEstimate (least_squares) 2000-01-01 to 2010-01-01, {e.n_samples} samples: "
+        f"period {period} d, amplitude "
+    )
+    assert len(repr(e)) < 200 and e.resolved and "not resolved" not in repr(e)

@@ -193,6 +193,22 @@ class ChandlerEstimate:
             )
         return " and ".join(reasons)
 
+    def __repr__(self) -> str:
+        """The span and the Chandler term with their uncertainties (the dataclass repr was 3,000 characters of
+        raw SI fit)."""
+        from wobble.io.text import with_uncertainty
+
+        def text(q, sigma, unit):
+            return f"{with_uncertainty(q.to_value(unit), sigma.to_value(unit))} {unit}"
+
+        span = f"{iso_date(float(self.start.mjd))} to {iso_date(float(self.end.mjd))}"
+        unresolved = "" if self.resolved else f", not resolved: {self.unresolved_because}"
+        return (
+            f"<ChandlerEstimate ({self.method}) {span}, {self.n_samples} samples: period "
+            f"{text(self.period, self.period_uncertainty, 'd')}, amplitude "
+            f"{text(self.amplitude, self.amplitude_uncertainty, 'mas')}{unresolved}>"
+        )
+
     def to_dict(self) -> dict:
         """A JSON-ready summary (days of 86400 s, mas, deg; null where not computed).
 
