@@ -321,3 +321,12 @@ def test_principal_axes_repr_gives_the_moments_and_axes_one_a_line():
         f"  I3 = 13 kg m2, axis ({axes[2]})>"
     )
     assert sorted(abs(pa.axes).argmax(axis=1)) == [0, 1, 2] and abs(pa.axes[0, 2]) == 1.0
+
+
+def test_an_array_for_a_scalar_ratio_is_told_it_must_be_a_scalar():
+    """An array of flattenings was told 'allowed: a dimensionless number', which it is."""
+    with pytest.raises(InputError, match=r"dynamical_flattening: got \[0.001 0.003\]; allowed: a scalar: one "):
+        wobble.free_precession_rate(dynamical_flattening=np.array([1e-3, 3e-3]), spin=1 * u.sday)
+    # H Omega for a rigid body (notes: Euler's free precession, omega_p = (C - A)/A Omega ~ H Omega for small H).
+    rate = wobble.free_precession_rate(dynamical_flattening=np.array(1e-3), spin=1 * u.sday)
+    assert rate.to_value(u.rad / u.s) == pytest.approx(1e-3 / (1 - 1e-3) * 2 * np.pi / 86164.0905, rel=1e-6)

@@ -218,6 +218,8 @@ def dimensionless(value, name: str, *, low=None, high=None, open_interval: bool 
             value = value.to_value(u.dimensionless_unscaled, equivalencies=None)
         except u.UnitConversionError:
             raise InputError(name, value, "a dimensionless number") from None
+    if np.ndim(value) != 0:  # an array of ratios was told "a dimensionless number", which it is
+        raise InputError(name, value, "a scalar: one dimensionless number")
     try:
         x = real_float(value)
     except (TypeError, ValueError):
