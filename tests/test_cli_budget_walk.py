@@ -351,3 +351,21 @@ def test_the_modes_chandler_panel_draws_the_model_s_uncertainty_beside_the_obser
     assert top == pytest.approx(np.max(model) + sigma, rel=1e-9) and bottom == pytest.approx(
         np.min(model) - sigma, rel=1e-9
     )
+
+
+def test_the_budget_s_summary_is_the_command_s_table(capsys):
+    """ChandlerBudget had no text form in Python (print(budget) gave its repr), while the modes, the
+    precession and the polar motion all had summary(). It is the command's table, but for its last line."""
+    import wobble
+    from wobble.cli import main
+    from wobble.io.text import with_uncertainty
+
+    budget = wobble.chandler_budget("mars")
+    assert main(["chandler", "mars"]) == 0
+    printed = capsys.readouterr().out.rstrip("\n").splitlines()
+    text = budget.summary().splitlines()
+    assert text[:-1] == printed[:-1] and printed[-1] == "  (sources of every number: wobble chandler mars --sources)"
+    assert text[-1] == "  (sources of every number: summary(sources=True))"
+    model = with_uncertainty(budget.period.to_value("d"), budget.period_uncertainty.to_value("d"))
+    assert any(line.split()[:4] == ["model", *model.split()] for line in text)
+    assert "love_number_k2: 0.169 +/- 0.006" in budget.summary(sources=True)

@@ -387,6 +387,14 @@ class ChandlerBudget:
         """This budget as an xarray Dataset (dimensions body, step); see :func:`chandler_dataset`."""
         return chandler_dataset([self])
 
+    def summary(self, sources: bool = False) -> str:
+        """The budget as ``wobble chandler`` prints it: each step's period, change, k2 and physics with its
+        references, the model against the observed period, Q and the secular Love number; ``sources`` lists
+        every catalogued number with its source."""
+        from wobble.api.chandler_text import budget_text
+
+        return budget_text(self, sources)
+
     def __repr__(self) -> str:
         return f"ChandlerBudget({self.body!r}, model={self.model!r}, period={self.period:.2f})"
 
