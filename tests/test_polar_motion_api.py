@@ -249,6 +249,13 @@ def test_no_attribute_of_the_dataset_is_empty(analysis):
         if isinstance(value, str) and not value.strip()
     ]
     assert empty == []
+    # docs/netcdf.md: every numeric variable has units (chandler_resolved, a flag, had none); bounds take theirs
+    # from their coordinate.
+    bounds = {v.attrs["bounds"] for v in ds.variables.values() if "bounds" in v.attrs}
+    missing = [
+        n for n, v in ds.variables.items() if v.dtype.kind in "biuf" and n not in bounds and "units" not in v.attrs
+    ]
+    assert missing == []
 
 
 def test_the_chandler_estimate_s_repr_says_what_was_measured():

@@ -268,6 +268,7 @@ def analysis_dataset(a):
         "method",
         np.array([e.resolved for e in methods], dtype=np.int8),
         {
+            "units": "1",  # as every numeric variable, and the sweeps' invalid_reason flags
             "long_name": "whether the span resolves a Chandler term",
             "flag_values": np.array([0, 1], dtype=np.int8),
             "flag_meanings": "not_resolved resolved",
