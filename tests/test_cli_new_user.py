@@ -96,6 +96,9 @@ def test_an_array_quantity_is_shown_as_typed(capsys):
         wobble.FreeRotation([-1, 2, 3] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
     code, out, err = _run(["free", "--inertia", "-1", "2", "3", "--omega", "1", "0.1", "1"], capsys)
     assert code == 2 and err.startswith("wobble free: error: --inertia: got -1 2 3; allowed: positive values")
+    # One value in an array is bracketed as a list: "(1.1) m2 kg" read as a number in parentheses.
+    with pytest.raises(wobble.InputError, match=r"^moments: got \[1.1\] m2 kg; allowed: shape \(3,\)"):
+        wobble.FreeRotation([1.1] * u.kg * u.m**2, [1, 0.1, 1] * u.rad / u.s)
 
 
 # What a user reads (help texts, public docstrings, the descriptions of shipped files that

@@ -32,7 +32,9 @@ def shown(value: object) -> str:
     if getattr(value, "ndim", 0) and hasattr(value, "unit") and hasattr(value, "value"):
         # An array Quantity as a person types it, "(-1, 2, 3) kg m2", not NumPy's "[-1.  2.  3.] kg m2".
         numbers = ", ".join(f"{x:g}" for x in value.value.ravel().tolist()[:20])
-        text = f"({numbers}{', ...' if value.size > 20 else ''}) {value.unit}"
+        # One value is bracketed as a list, "[1.1] kg m2": "(1.1)" read as a number in parentheses.
+        opening, closing = ("[", "]") if value.size == 1 else ("(", ")")
+        text = f"{opening}{numbers}{', ...' if value.size > 20 else ''}{closing} {value.unit}"
     # Control characters as escapes: a typed value must not reach the terminal as one (ESC, BEL, a newline).
     text = "".join(ch if ch.isprintable() else repr(ch)[1:-1] for ch in text)
     # A long value keeps its start and its end: for a path, the end is the file's name.
