@@ -97,7 +97,9 @@ def test_side_by_side_with_the_model(analysis):
         assert row["period"] == step.period
         assert row["residual"].to_value(u.day) == pytest.approx((step.period - obs).to_value(u.day))
     expected = np.hypot(budget.period_uncertainty, analysis.estimate.period_uncertainty)
-    assert model_rows[-1]["sigma"].to_value(u.day) == pytest.approx(expected.to_value(u.day))
+    assert model_rows[-1]["residual_uncertainty"].to_value(u.day) == pytest.approx(expected.to_value(u.day))
+    # The JSON's names; the older ones ("sigma" read as a number of sigmas) are kept beside them.
+    assert all(r["sigma"] is r["residual_uncertainty"] and r["uncertainty"] is r["period_uncertainty"] for r in rows)
     assert rows[-1]["kind"] == "published"
     text = analysis.summary()
     for word in ("least squares", "spectrum", "annual wobble", "model", "Vicente & Wilson 1997"):

@@ -208,10 +208,11 @@ class PolarMotionAnalysis:
     def comparison(self) -> list[dict]:
         """The observed period beside every step of the model and the published value.
 
-        Each row: ``name``, ``period`` (Quantity, d), ``uncertainty`` (or None),
-        ``residual`` = period - observed (Quantity, d, or None for the
-        observed row) and ``sigma`` (the combined one-sigma of the residual
-        where both sides have one).
+        Each row: ``name``, ``kind``, ``period`` (Quantity, d), ``period_uncertainty`` (or None),
+        ``residual`` = period - observed (Quantity, d, or None for the observed row) and
+        ``residual_uncertainty`` (the combined one-sigma of the residual, in days, where both sides
+        have one), the names of the JSON. ``uncertainty`` and ``sigma``, their older names, are kept
+        (``sigma`` is a one-sigma in days, not a number of sigmas).
         """
         obs = self.estimate
         # Residuals from a period the span does not resolve would measure the search, not the wobble: left out.
@@ -251,6 +252,8 @@ class PolarMotionAnalysis:
                 "sigma": np.hypot(pub["uncertainty"], obs.period_uncertainty) if compared else None,
             }
         )
+        for r in rows:
+            r.update(period_uncertainty=r["uncertainty"], residual_uncertainty=r["sigma"])
         return rows
 
     def to_dict(self) -> dict:
