@@ -275,30 +275,49 @@ def test_plot_functions_check_their_inputs_as_the_api_does():
             assert info.value.parameter == parameter
 
 
-def test_a_sweep_prints_spans_as_people_read_them(capsys):
+def test_a_sweep_prints_spans_as_people_read_them():
     # Was: "precession_period: mean 504982.186 s, sd 311200.363" and percentiles to the hundredth of a second.
-    from types import SimpleNamespace
-
-    from wobble.cli.sweep import _print_distribution
+    from wobble.api.sweep import SweepSummary
 
     day = 86400.0
     pct = {"2.5": 1.09 * day, "16": 2.33 * day, "50": 5.24 * day, "84": 9.24 * day, "97.5": 14.56 * day}
-    summary = SimpleNamespace(
-        variable="precession_period", units="s", mean=5.84 * day, std=3.6 * day, percentiles=pct, observed=math.nan
+    common = dict(members=100, valid=100, invalid_reasons={})
+    summary = SweepSummary(
+        "precession_period", "s", mean=5.84 * day, std=3.6 * day, percentiles=pct, observed=math.nan, **common
     )
-    _print_distribution(summary)
-    out = capsys.readouterr().out
-    assert out == (
-        "  precession_period: mean 5.8 d, sd 3.6 d\n    2.5/16/50/84/97.5 %: 1.1 / 2.3 / 5.2 / 9.2 / 14.6 d\n"
+    assert summary.summary().splitlines()[1:] == [
+        "  precession_period: mean 5.8 d, sd 3.6 d",
+        "    2.5/16/50/84/97.5 %: 1.1 / 2.3 / 5.2 / 9.2 / 14.6 d",
+    ]
+    summary = SweepSummary(
+        "chandler_period",
+        "day",
+        mean=205.857,
+        std=2.739,
+        percentiles={k: 205.84 for k in pct},
+        observed=206.9,
+        **common,
     )
-    summary = SimpleNamespace(
-        variable="chandler_period", units="day", mean=205.857, std=2.739, percentiles=pct, observed=206.9
-    )
-    summary.percentiles = {k: 205.84 for k in pct}
-    _print_distribution(summary)
-    assert capsys.readouterr().out.splitlines()[::2] == [
+    assert summary.summary().splitlines()[1::2] == [
         "  chandler_period: mean 205.9 d, sd 2.7 d",
         "  observed: 206.9 d (+0.38 sd from the mean)",
+    ]
+    # A grid's points are chosen, not drawn: its range, and where the observed value falls in it.
+    grid = SweepSummary(
+        "chandler_period",
+        "day",
+        mean=206.9,
+        std=3.6,
+        percentiles={k: 207.17 for k in pct},
+        observed=206.9,
+        grid=True,
+        minimum=200.43,
+        maximum=213.06,
+        **common,
+    )
+    assert grid.summary().splitlines()[1:] == [
+        "  chandler_period over the grid: 200.4 to 213.1 d (median 207.2 d)",
+        "  observed: 206.9 d (inside the grid's range)",
     ]
 
 

@@ -340,3 +340,16 @@ def test_numbers_for_a_parameter_with_a_dimension_need_their_unit():
     }
     with pytest.raises(FileFormatError, match=r"vary\.theta0\.unit: missing"):
         run_sweep(top)
+
+
+def test_a_grid_sweep_is_summarised_by_its_range():
+    """A grid's members are chosen points: its summary gives their range (min, max of the grid's values) and
+    the text no 'sd from the mean' (it printed the observed period '-0.01 sd' from a grid's mean)."""
+    grid = {**MARS, "vary": {"love_number_k2": {"distribution": "grid", "values": [0.15, 0.17, 0.19]}}}
+    grid.pop("members")
+    ds = run_sweep(grid)
+    s = summarize_sweep(ds)
+    periods = ds["chandler_period"].values
+    assert s.grid and (s.minimum, s.maximum) == (periods.min(), periods.max()) and s.members == 3
+    assert "over the grid" in s.summary() and "sd from the mean" not in s.summary()
+    assert not summarize_sweep(run_sweep({**MARS, "members": 50})).grid

@@ -388,6 +388,58 @@ class SweepSummary:
     #: nutation period), left out of ``valid`` and the statistics; by class where the target has one.
     not_finite: int = 0
     not_finite_classes: dict = None
+    #: A grid sweep: its members are grid points, not draws, so their range (``minimum``, ``maximum``) is
+    #: what the text reports; the mean, sd and percentiles are of the grid's points, not of a distribution.
+    grid: bool = False
+    minimum: float = math.nan
+    maximum: float = math.nan
+
+    def summary(self, title: str = "") -> str:
+        """The text ``wobble sweep`` prints: members, invalid ones by reason, classes, and the output's
+        distribution (a random sweep) or its range over the grid (a grid sweep) beside the observed value."""
+        lines = [title] if title else []
+        lines.append(f"  members: {self.members} ({self.valid} valid)")
+        lines += [f"    invalid: {n} ({reason})" for reason, n in self.invalid_reasons.items()]
+        if self.not_finite:
+            # Not invalid: these members have no finite value of the output (a sleeping top has no nutation period).
+            by_class = ", ".join(f"{name} {n}" for name, n in (self.not_finite_classes or {}).items())
+            lines.append(f"    no finite {self.variable}: {self.not_finite}" + (f" ({by_class})" if by_class else ""))
+        if self.classes:
+            lines.append("  " + ", ".join(f"{name}: {n}" for name, n in self.classes.items()))
+        return "\n".join(lines + self._distribution())
+
+    def __str__(self) -> str:
+        return self.summary()
+
+    def _distribution(self) -> list[str]:
+        """Mean, sd, percentiles (and the observed value) to the sd's two significant digits, a span in the unit
+        a person would use (a precession period of 5.8 d, not 504982.186 s); a grid's range instead."""
+        from wobble.io.text import decimals_for, span_unit
+
+        size, units = span_unit(self.percentiles["50"]) if self.units == "s" else (1.0, self.units)
+        units = {"day": "d", "days": "d"}.get(units, units)  # as every other command writes days
+        if not self.std > 0:  # one valid member (or all equal): no spread to round the digits to
+            return [f"  {self.variable}: {self.mean / size:.7g} {units} (no spread: {self.valid} valid member(s))"]
+        d = decimals_for(self.std / size)
+        if self.grid:
+            # Grid points are chosen, not drawn: a mean, an sd and "+0.01 sd from the mean" would describe the
+            # grid's spacing, not an uncertainty.
+            lo, hi, mid = self.minimum / size, self.maximum / size, self.percentiles["50"] / size
+            out = [f"  {self.variable} over the grid: {lo:.{d}f} to {hi:.{d}f} {units} (median {mid:.{d}f} {units})"]
+            if not math.isnan(self.observed):
+                obs = self.observed / size
+                where = "inside" if lo <= obs <= hi else "below" if obs < lo else "above"
+                out.append(f"  observed: {obs:.{d}f} {units} ({where} the grid's range)")
+            return out
+        p = [self.percentiles[k] / size for k in ("2.5", "16", "50", "84", "97.5")]
+        out = [
+            f"  {self.variable}: mean {self.mean / size:.{d}f} {units}, sd {self.std / size:.{d}f} {units}",
+            "    2.5/16/50/84/97.5 %: " + " / ".join(f"{x:.{d}f}" for x in p) + f" {units}",
+        ]
+        if not math.isnan(self.observed):
+            z = (self.observed - self.mean) / self.std
+            out.append(f"  observed: {self.observed / size:.{d}f} {units} ({z:+.2f} sd from the mean)")
+        return out
 
     def to_dict(self) -> dict:
         """JSON-ready: what ``wobble sweep --json`` prints after the sweep's name and files.
@@ -451,4 +503,7 @@ def summarize_sweep(ds: xr.Dataset, variable: str | None = None) -> SweepSummary
         classes=classes,
         not_finite=int(((codes == 0) & ~np.isfinite(values)).sum()),
         not_finite_classes=not_finite_classes,
+        grid="member" not in ds[variable].dims,
+        minimum=float(good.min()) if good.size else math.nan,
+        maximum=float(good.max()) if good.size else math.nan,
     )

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
 from wobble.cli._types import whole_number
@@ -110,36 +109,7 @@ def run(args) -> int:
         for path in written:
             wrote(path, json_mode=True)
         return 0
-    print(f"{spec.title}")
-    print(f"  members: {summary.members} ({summary.valid} valid)")
-    for reason, n in summary.invalid_reasons.items():
-        print(f"    invalid: {n} ({reason})")
-    if summary.not_finite:
-        # Not invalid: these members have no finite value of the output (a sleeping top has no nutation period).
-        by_class = ", ".join(f"{name} {n}" for name, n in (summary.not_finite_classes or {}).items())
-        print(f"    no finite {summary.variable}: {summary.not_finite}" + (f" ({by_class})" if by_class else ""))
-    if summary.classes:
-        print("  " + ", ".join(f"{name}: {n}" for name, n in summary.classes.items()))
-    _print_distribution(summary)
+    print(summary.summary(spec.title))
     for path in written:
         wrote(path)
     return 0
-
-
-def _print_distribution(summary) -> None:
-    """Mean, sd, percentiles (and the observed value) to the sd's two significant digits, a span
-    in the unit a person would use (a precession period of 5.8 d, not 504982.186 s)."""
-    from wobble.io.text import decimals_for, span_unit
-
-    size, units = span_unit(summary.percentiles["50"]) if summary.units == "s" else (1.0, summary.units)
-    units = {"day": "d", "days": "d"}.get(units, units)  # as every other command writes days
-    if not summary.std > 0:  # one valid member (or all equal): no spread to round the digits to
-        print(f"  {summary.variable}: {summary.mean / size:.7g} {units} (no spread: {summary.valid} valid member(s))")
-        return
-    d = decimals_for(summary.std / size)
-    p = [summary.percentiles[k] / size for k in ("2.5", "16", "50", "84", "97.5")]
-    print(f"  {summary.variable}: mean {summary.mean / size:.{d}f} {units}, sd {summary.std / size:.{d}f} {units}")
-    print("    2.5/16/50/84/97.5 %: " + " / ".join(f"{x:.{d}f}" for x in p) + f" {units}")
-    if not math.isnan(summary.observed):
-        z = (summary.observed - summary.mean) / summary.std if summary.std > 0 else math.nan
-        print(f"  observed: {summary.observed / size:.{d}f} {units} ({z:+.2f} sd from the mean)")
