@@ -289,31 +289,18 @@ def test_a_sweep_prints_spans_as_people_read_them():
         "  precession_period: mean 5.8 d, sd 3.6 d",
         "    2.5/16/50/84/97.5 %: 1.1 / 2.3 / 5.2 / 9.2 / 14.6 d",
     ]
-    summary = SweepSummary(
-        "chandler_period",
-        "day",
-        mean=205.857,
-        std=2.739,
-        percentiles={k: 205.84 for k in pct},
-        observed=206.9,
-        **common,
-    )
+
+    def chandler(**kwargs):
+        return SweepSummary("chandler_period", "day", observed=206.9, **common, **kwargs)
+
+    summary = chandler(mean=205.857, std=2.739, percentiles={k: 205.84 for k in pct})
     assert summary.summary().splitlines()[1::2] == [
         "  chandler_period: mean 205.9 d, sd 2.7 d",
         "  observed: 206.9 d (+0.38 sd from the mean)",
     ]
     # A grid's points are chosen, not drawn: its range, and where the observed value falls in it.
-    grid = SweepSummary(
-        "chandler_period",
-        "day",
-        mean=206.9,
-        std=3.6,
-        percentiles={k: 207.17 for k in pct},
-        observed=206.9,
-        grid=True,
-        minimum=200.43,
-        maximum=213.06,
-        **common,
+    grid = chandler(
+        mean=206.9, std=3.6, percentiles={k: 207.17 for k in pct}, grid=True, minimum=200.43, maximum=213.06
     )
     assert grid.summary().splitlines()[1:] == [
         "  chandler_period over the grid: 200.4 to 213.1 d (median 207.2 d)",
