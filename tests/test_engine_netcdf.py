@@ -159,3 +159,18 @@ def test_outputs_too_large_for_memory_are_sent_to_the_streaming_writer(monkeypat
     monkeypatch.setattr("wobble.api.scene._MEMORY_LIMIT", 1000)
     with pytest.raises(InputError, match="run_to_netcdf"):
         wobble.run("tennis_racket")
+
+
+def test_flags_are_not_quantities():
+    """ds.wobble.quantities() turned a sweep's invalid_reason codes (int8, units "1") into floats 0.0, 3.0;
+    flags (CF flag_values) are labels and are left out; the numbers keep their units."""
+    from wobble.api.sweep import run_sweep
+
+    spec = {
+        "schema": "wobble-sweep/1", "name": "f", "target": "chandler", "body": "mars", "members": 20, "seed": 1,
+        "outputs": ["chandler_period"], "vary": {"love_number_k2": {"distribution": "normal"}},
+    }  # fmt: skip
+    ds = run_sweep(spec)
+    got = ds.wobble.quantities()
+    assert "invalid_reason" not in got and "flag_values" in ds["invalid_reason"].attrs
+    assert got["chandler_period"].unit == u.day and got["love_number_k2"].unit == u.dimensionless_unscaled

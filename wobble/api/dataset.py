@@ -91,8 +91,14 @@ class WobbleAccessor:
         return quantity(self._ds[name])
 
     def quantities(self) -> dict:
-        """Every data variable with units, as Quantities."""
-        return {str(k): quantity(v) for k, v in self._ds.data_vars.items() if "units" in v.attrs}
+        """Every data variable with units, as Quantities; flags (CF ``flag_values``: ``applied``,
+        ``invalid_reason``, ``chandler_resolved``) are labels, not quantities, and are left out (a Quantity
+        turned their integer codes into floats)."""
+        return {
+            str(k): quantity(v)
+            for k, v in self._ds.data_vars.items()
+            if "units" in v.attrs and "flag_values" not in v.attrs
+        }
 
     @property
     def epoch(self) -> str | None:
