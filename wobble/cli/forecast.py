@@ -37,7 +37,7 @@ shown to the decimal place of its +/- (two significant digits). --hindcast START
 issues forecasts every --every over the span and scores them (MAE and RMS per component
 and for the 2-D pole, interval coverage, skill against persistence and the least-squares
 extrapolation) beside Dill et al. (2023); the 2016-2020 weekly hindcast of the
-documentation is --hindcast 2016-01-01:2021-01-01 --every 7d --latency 1d (about 25 s on
+documentation is --hindcast 2016-01-01:2021-01-01 --every 7d --latency 1d (20 to 40 s on
 two cores). A bare number (no unit) in --horizon, --latency, --calibration-span and
 --every is days; dates are days (0 h UTC) of the daily record. """
 
