@@ -460,27 +460,37 @@ def test_an_overdetermined_figure_must_agree_with_itself(tmp_path):
         load_planet(bad)
 
 
-@pytest.mark.parametrize(
-    ("radius_km", "message"),
-    [
-        (
-            "9000",
-            "parameters (fluid_core_radius): 9000 km; needs a radius smaller than the planet's equatorial "
-            "radius (6400 km)",
-        ),
-        # A uniform core of 6300 km at 13000 kg/m3, (8 pi/15) rho R^5, outweighs A = (1 - H) C/(M a^2) M a^2.
-        (
-            "6300",
-            "parameters (fluid_core_radius, fluid_core_density): the core's moment A_f = 2.162e+38 kg m2, "
-            "2.68 times the planet's A = 8.077e+37 kg m2",
-        ),
-    ],
-)
-def test_a_liquid_core_larger_than_its_planet_is_refused_naming_the_file_and_keys(tmp_path, radius_km, message):
-    """It was refused later by the model as 'fluid_core: got A_f/C = 5.44653', naming neither file nor key."""
+def _uniform_core_and_planet_a(radius_km: float) -> tuple[float, float]:
+    """A_f = (8 pi/15) rho R^5 of a uniform core at 13000 kg/m3, and the example planet's A = (1 - H) C with
+    C = C/(M a^2) (GM/G) a^2 (H = 3.0e-3, C/(M a^2) = 0.33, GM = 4.0e14 m3/s2, a = 6400 km; G of CODATA 2018)."""
+    core = 8 * math.pi / 15 * 13000.0 * (radius_km * 1e3) ** 5
+    return core, (1 - 3.0e-3) * 0.33 * 4.0e14 / 6.67430e-11 * 6.4e6**2
+
+
+@pytest.mark.parametrize("radius_km", [9000, 6300])
+def test_a_liquid_core_larger_than_its_planet_is_refused_naming_the_file_and_keys(tmp_path, radius_km):
+    """It was refused later by the model as 'fluid_core: got A_f/C = 5.44653', naming neither file nor key. A core
+    past the planet's radius is named by its radius; one inside it but heavier than A by its moment."""
     from wobble.io.catalog import load_planet
 
     extra = _table("fluid_core_radius", radius_km, '"km"') + _table("fluid_core_density", 13000, '"kg m-3"')
     path = _with_parameters(tmp_path, "big_core.toml", extra)
+    core, a = _uniform_core_and_planet_a(radius_km)
+    if radius_km > 6400:
+        message = f"parameters (fluid_core_radius): {radius_km} km; needs a radius smaller than the planet's equatorial"
+    else:
+        message = (
+            f"parameters (fluid_core_radius, fluid_core_density): the core's moment A_f = {core:.4g} kg m2, "
+            f"{core / a:.3g} times the planet's A = {a:.4g} kg m2"
+        )
     with pytest.raises(FileFormatError, match=re.escape(f"big_core.toml, {message}")):
         load_planet(path)
+    # A core of 3000 km (A_f / A well below 1) is a planet like any other.
+    assert _uniform_core_and_planet_a(3000)[0] < 0.1 * a
+    load_planet(
+        _with_parameters(
+            tmp_path,
+            "core.toml",
+            _table("fluid_core_radius", 3000, '"km"') + _table("fluid_core_density", 13000, '"kg m-3"'),
+        )
+    )

@@ -77,13 +77,12 @@ def _quantity(values, name, unit):
 
 
 def _typed_unit(text: str):
-    """The unit --t-end was given in: seconds for a bare number (already parsed, so valid)."""
+    """The unit --t-end was given in: seconds for a bare number (the text was parsed by _span already)."""
     from astropy import units as u
 
-    from wobble.io.quantity_values import quantity_from_text
-    from wobble.io.text import is_number
+    from wobble.api.units import parse_quantity
 
-    return u.s if is_number(text) else quantity_from_text(text).unit
+    return parse_quantity(text, "--t-end", u.s).unit
 
 
 def _span(body, text):
