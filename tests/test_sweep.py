@@ -129,10 +129,13 @@ def test_grid_sweep_equals_the_scalar_model_point_by_point():
     }
     ds = run_sweep(spec, chunk_size=4)
     assert ds["chandler_period"].dims == ("love_number_k2", "fluid_core_radius")
+    # The grid is written as the file gave it (km), the model run in SI.
+    assert ds.fluid_core_radius.attrs["units"] == "km" and ds.love_number_k2.attrs["units"] == "1"
+    assert ds.fluid_core_radius.values.tolist() == [1700.0, 1750.0, 1800.0, 1850.0, 1900.0]
     mars = load_planet("mars")[0]
     for k2 in ds.love_number_k2.values:
         for rc in ds.fluid_core_radius.values:
-            p = replace(mars, love_number_k2=Measured(k2), fluid_core_radius=Measured(rc))
+            p = replace(mars, love_number_k2=Measured(k2), fluid_core_radius=Measured(rc * 1e3))
             got = float(ds["chandler_period"].sel(love_number_k2=k2, fluid_core_radius=rc))
             assert got == pytest.approx(chandler_budget(p).period / 86400, rel=1e-13)
 
@@ -322,8 +325,9 @@ def test_numbers_for_a_parameter_with_a_dimension_need_their_unit():
     ):
         run_sweep(core)
     core["vary"]["fluid_core_radius"]["unit"] = "km"
-    drawn = run_sweep(core)["fluid_core_radius"].values
-    assert abs(drawn.mean() - 1.8e6) < 4 * 5e4 / math.sqrt(50)
+    drawn = run_sweep(core)["fluid_core_radius"]
+    assert drawn.attrs["units"] == "km" and "normal(mean=1800, sd=50) in km" in drawn.attrs["comment"]
+    assert abs(drawn.values.mean() - 1800) < 4 * 50 / math.sqrt(50)
     catalogued = {**MARS, "members": 50, "vary": {"love_number_k2": {"distribution": "normal"}}}
     assert run_sweep(catalogued).sizes["member"] == 50
     top = {

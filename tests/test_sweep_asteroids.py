@@ -5,10 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
+from astropy import units as u
 
 import wobble
 from wobble.api.sweep import run_sweep
 from wobble.errors import FileFormatError
+from wobble.io.cf import astropy_unit_text
 from wobble.models.free import free_rotation
 from wobble.models.free_ensemble import free_ensemble
 
@@ -34,14 +36,19 @@ def ens():
     return run_sweep(SPEC, chunk_size=700)
 
 
+def _si(var, unit):
+    """A drawn value in ``unit``: the sweep writes draws in the unit the file gave (h, deg)."""
+    return (float(var) * u.Unit(astropy_unit_text(var.attrs["units"]))).to_value(unit)
+
+
 def _member(ds, j):
     m = ds.isel(member=j)
     ia = 1e17
     ib = ia * float(m.moment_ratio_ba)
     ic = ib * float(m.moment_ratio_cb)
-    cz, lon = float(m.spin_cos_colatitude), float(m.spin_longitude)
+    cz, lon = float(m.spin_cos_colatitude), _si(m.spin_longitude, u.rad)
     sz = np.sqrt(1 - cz * cz)
-    w = 2 * np.pi / float(m.spin_period) * np.array([sz * np.cos(lon), sz * np.sin(lon), cz])
+    w = 2 * np.pi / _si(m.spin_period, u.s) * np.array([sz * np.cos(lon), sz * np.sin(lon), cz])
     return (ia, ib, ic), w
 
 

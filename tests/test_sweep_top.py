@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -68,7 +69,7 @@ def test_every_grid_point_agrees_with_the_exact_model(grid):
     assert names[1] == "cusps" and names[3] == "regular"
     vectorised = 0
     for idx in np.ndindex(grid.nutation_class.shape):
-        th = float(grid.theta0[idx[0]])
+        th = math.radians(float(grid.theta0[idx[0]]))  # written in deg, as the sweep gave it
         w = float(grid.omega3[idx[1]])
         pd = float(grid.phidot0[idx[2]])
         pt = grid.isel(theta0=idx[0], omega3=idx[1], phidot0=idx[2])
@@ -215,3 +216,30 @@ def test_the_phase_diagram_s_classes_stay_apart_for_colour_blind_readers():
     for matrix in machado.values():
         for (a, ca), (b, cb) in itertools.combinations(classes.items(), 2):
             assert np.linalg.norm(seen(ca, matrix) - seen(cb, matrix)) >= 0.2, (a, b)
+
+
+def test_the_grid_speaks_the_files_unit_and_the_diagram_reads_it():
+    """theta0 given in degrees is written in degrees (it was written in rad); the same grid given in rad is
+    written in rad, the numbers of both are the same tops, and the phase diagram draws both in degrees."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from wobble.plot.sweep import phase_diagram
+
+    omega3 = {"distribution": "grid", "values": [2.0, 6.0], "unit": "rad/s"}
+    deg = run_sweep(_spec(theta0={"distribution": "grid", "values": [30.0, 60.0], "unit": "deg"}, omega3=omega3))
+    rad = run_sweep(
+        _spec(theta0={"distribution": "grid", "values": [math.pi / 6, math.pi / 3], "unit": "rad"}, omega3=omega3)
+    )
+    assert deg.theta0.attrs["units"] == "degree" and deg.theta0.values.tolist() == [30.0, 60.0]
+    assert rad.theta0.attrs["units"] == "rad"
+    np.testing.assert_allclose(deg.theta_min.values, rad.theta_min.values, rtol=1e-14)
+    meshes = []
+    for ds in (deg, rad):
+        fig = phase_diagram(ds)
+        meshes.append(fig.axes[0].collections[0].get_coordinates()[:, 0, 1])  # the y of the cells' corners
+        plt.close(fig)
+    np.testing.assert_allclose(meshes[0], meshes[1], rtol=1e-12)
+    np.testing.assert_allclose(meshes[0], [15.0, 45.0, 75.0], rtol=1e-12)  # cells centred on 30 and 60 deg

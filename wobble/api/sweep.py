@@ -125,8 +125,8 @@ def _plan(spec: SweepSpec, chunk_size: int | None) -> _Plan:
 def _chunk(plan: _Plan, r0: int, r1: int) -> dict[str, np.ndarray]:
     over = plan.overrides(r0, r1)
     out = plan.target.evaluate(over)
-    if not plan.spec.is_grid:
-        out.update(over)  # keep each member's drawn values
+    if not plan.spec.is_grid:  # keep each member's drawn values, in the unit the file gave them in
+        out.update({v.name: v.shown_draws(over[v.name]) for v in plan.target.variations})
     return out
 
 
@@ -137,12 +137,14 @@ def _var_attrs(plan: _Plan, name: str) -> dict:
     if name in target.outputs:
         return target.output_attrs(name)
     var = next(v for v in target.variations if v.name == name)
+    k = 1.0 / var.scale
     how = (
-        f"normal(mean={var.mean:.10g}, sd={var.sd:.6g})"
+        f"normal(mean={var.mean * k:.10g}, sd={var.sd * k:.6g})"
         if var.distribution == "normal"
-        else f"uniform({var.low:.10g}, {var.high:.10g})"
+        else f"uniform({var.low * k:.10g}, {var.high * k:.10g})"
     )
-    return {"units": var.unit, "long_name": f"sampled {name}", "comment": f"drawn from {how} in SI units"}
+    unit = "" if var.shown_units == "1" else f" in {var.shown_units}"
+    return {"units": var.shown_units, "long_name": f"sampled {name}", "comment": f"drawn from {how}{unit}"}
 
 
 def _layout(plan: _Plan):
@@ -164,7 +166,7 @@ def _coords(plan: _Plan, layout: dict) -> dict:
     coords = {}
     if plan.spec.is_grid:
         for v in plan.target.variations:
-            coords[v.name] = (v.name, np.asarray(v.values), {"units": v.unit, "long_name": f"grid of {v.name}"})
+            coords[v.name] = (v.name, v.shown_grid(), {"units": v.shown_units, "long_name": f"grid of {v.name}"})
     else:
         coords["member"] = ("member", np.arange(plan.shape[0]), {"long_name": "member index", "units": "1"})
     for name in layout:

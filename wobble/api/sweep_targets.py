@@ -42,7 +42,8 @@ def _stream_id(name: str) -> int:
 
 @dataclass(frozen=True)
 class _Resolved:
-    """A variation with its numbers in SI."""
+    """A variation with its numbers in SI (``unit``), and the unit the file gave them in (``shown``, ``scale``
+    SI per shown unit: a grid or draws given in km are written in km, as the user speaks; the model gets SI)."""
 
     name: str
     distribution: str
@@ -52,6 +53,22 @@ class _Resolved:
     high: float = math.nan
     values: tuple[float, ...] = ()
     unit: str = ""
+    shown: str = ""
+    scale: float = 1.0
+    shown_values: tuple[float, ...] = ()
+
+    @property
+    def shown_units(self) -> str:
+        """The ``units`` attribute of this parameter's coordinate or variable in the output."""
+        return self.shown or self.unit
+
+    def shown_grid(self) -> np.ndarray:
+        """The grid as the file gave it (not SI and back, which may move a value by a rounding)."""
+        return np.asarray(self.shown_values if self.shown_values else self.values, dtype=float)
+
+    def shown_draws(self, si: np.ndarray) -> np.ndarray:
+        """Drawn values (SI) in the shown unit."""
+        return si if self.scale == 1.0 else si / self.scale
 
     def member_values(self, seed: int, start: int, stop: int) -> np.ndarray:
         if self.distribution == "normal":
@@ -128,12 +145,8 @@ class ChandlerTarget:
                 raise FileFormatError(
                     sweep_source(spec), where, f"{self.planet.name} does not catalogue {v.parameter}; give mean and sd"
                 )
-            return _Resolved(v.parameter, "normal", mean=mean, sd=sd, unit=_unit_text(v.parameter))
-        if v.distribution == "uniform":
-            return _Resolved(
-                v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=_unit_text(v.parameter)
-            )
-        return _Resolved(v.parameter, "grid", values=tuple(x * scale for x in v.values), unit=_unit_text(v.parameter))
+            return _resolved(v, _unit_text(v.parameter), scale, mean=mean, sd=sd)
+        return _resolved(v, _unit_text(v.parameter), scale)
 
     def evaluate(self, overrides: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """Outputs for one chunk of members (plain arrays; SI except periods in days)."""
@@ -194,6 +207,22 @@ def require_unit(spec: SweepSpec, v: Variation, si) -> None:
             f"missing; allowed: the unit of the numbers given (a unit of {si.physical_type}, e.g. "
             f'unit = "{si.to_string()}")',
         )
+
+
+def _resolved(v: Variation, unit_text: str, scale: float, **normal) -> _Resolved:
+    """``v`` in SI (``scale``: SI per unit of the file), remembering the file's unit for the output.
+
+    ``normal`` gives a normal distribution's mean and sd in SI where they are not the file's (a
+    catalogued default)."""
+    shown = {} if v.unit is None else {"shown": udunits(v.unit), "scale": scale}
+    if v.distribution == "normal":
+        mean, sd = normal.get("mean", v.mean * scale if v.mean is not None else None), normal.get("sd")
+        sd = v.sd * scale if sd is None else sd
+        return _Resolved(v.parameter, "normal", mean=mean, sd=sd, unit=unit_text, **shown)
+    if v.distribution == "uniform":
+        return _Resolved(v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=unit_text, **shown)
+    values = tuple(x * scale for x in v.values)
+    return _Resolved(v.parameter, "grid", values=values, unit=unit_text, shown_values=tuple(v.values), **shown)
 
 
 def _unit_text(key: str) -> str:
@@ -267,15 +296,9 @@ class _BaseTarget:
         unit_text = self.parameters[v.parameter][0]
         require_unit(spec, v, u.Unit(unit_text))
         scale = 1.0 if v.unit is None else self._scale(spec, f"{where}.unit", v.unit, v.parameter)
-        if v.distribution == "normal":
-            if v.mean is None or v.sd is None:
-                raise FileFormatError(
-                    sweep_source(spec), where, f"target {self.name} has no catalogue; give mean and sd"
-                )
-            return _Resolved(v.parameter, "normal", mean=v.mean * scale, sd=v.sd * scale, unit=unit_text)
-        if v.distribution == "uniform":
-            return _Resolved(v.parameter, "uniform", low=v.low * scale, high=v.high * scale, unit=unit_text)
-        return _Resolved(v.parameter, "grid", values=tuple(x * scale for x in v.values), unit=unit_text)
+        if v.distribution == "normal" and (v.mean is None or v.sd is None):
+            raise FileFormatError(sweep_source(spec), where, f"target {self.name} has no catalogue; give mean and sd")
+        return _resolved(v, unit_text, scale)
 
     def values(self, overrides: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """Every parameter for the chunk's members (SI), broadcast to the chunk's shape."""

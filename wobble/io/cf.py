@@ -467,9 +467,15 @@ def flag_attrs(meanings: Mapping[int, str]) -> dict:
     return {"flag_values": np.array(codes, dtype=np.int8), "flag_meanings": " ".join(words)}
 
 
-# UDUNITS names for the astropy symbols UDUNITS lacks or reads otherwise: "mas" is not a UDUNITS unit and
-# "yr" is the tropical year there (2.1e-5 shorter than astropy's Julian year).
-_UDUNITS_NAMES = {"mas": "milliarcsecond", "arcsec": "arcsecond", "yr": "Julian_year", "a": "Julian_year"}
+# UDUNITS names for the astropy symbols UDUNITS lacks or reads otherwise: "mas" and "deg" are not UDUNITS
+# units and "yr" is the tropical year there (2.1e-5 shorter than astropy's Julian year).
+_UDUNITS_NAMES = {
+    "mas": "milliarcsecond",
+    "arcsec": "arcsecond",
+    "deg": "degree",
+    "yr": "Julian_year",
+    "a": "Julian_year",
+}
 
 
 def udunits(unit) -> str:

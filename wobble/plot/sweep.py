@@ -103,7 +103,7 @@ def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
         fig = plt.figure(figsize=(3.0 * len(panels) + 1.6, 3.6), constrained_layout=True)
     axes = fig.subplots(1, len(panels), sharey=True, squeeze=False)[0]
     w = np.asarray(ds["omega3"].values)
-    th = np.degrees(np.asarray(ds["theta0"].values))
+    th = _in(ds["theta0"], "deg")  # the grid is in the unit the sweep file gave it in
     stable = ds.get("sleeping_stable")
     for ax, panel in zip(axes, panels):
         ax.pcolormesh(w, th, panel.transpose("theta0", "omega3").values, cmap=cmap, norm=norm, shading="nearest")
@@ -129,6 +129,16 @@ def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
 
         save_figure(fig, path, overwrite=overwrite)
     return fig
+
+
+def _in(coord, unit: str) -> np.ndarray:
+    """A coordinate's values in ``unit``, read from its ``units`` attribute (UDUNITS text)."""
+    from astropy import units as u
+
+    from wobble.io.cf import astropy_unit_text
+
+    given = u.Unit(astropy_unit_text(str(coord.attrs.get("units", "rad"))))
+    return (np.asarray(coord.values, dtype=float) * given).to_value(unit)
 
 
 def ensemble(ds, path=None, fig=None, *, overwrite: bool = False):
