@@ -206,7 +206,10 @@ class HydrostaticFigure:
             f"hydrostatic figure ({self.profile}; Clairaut's equation to first order): "
             f"surface flattening 1/{1 / self.surface_flattening:.2f} (Radau-Darwin "
             f"1/{1 / self.radau_darwin_flattening:.2f}), "
-            f"J2 = {self.j2:.7g}, H = {self.dynamical_flattening:.7g}, C/(Ma^2) = {self.moment_factor:.5f}"
+            f"J2 = {self.j2:.7g}, H = {self.dynamical_flattening:.7g}, C/(Ma^2) = {self.moment_factor:.5f} "
+            # The profile's outer radius, which may differ from the catalogue's reference radius (Mars:
+            # 3389.5 km against R0 = 3396 km), so that J2 and C/(Ma^2) are not read against the wrong a.
+            f"(a = {float(self.radius[-1].to_value(u.km)):.1f} km, the profile's outer radius)"
         ]
         for key, label in (
             ("observed_flattening", "observed"),
