@@ -189,7 +189,7 @@ def test_netcdf_round_trip_and_cf(c04, tmp_path, assert_cf_compliant):
     assert c04.to_dict()["chi_2_rms_mas"] == pytest.approx(float(np.sqrt(np.mean(rest**2))), rel=1e-14)
     # Cycles per Julian year (365.25 d): UDUNITS' "year" is the tropical year, 2.1e-5 shorter, so "year-1"
     # (written until 2026-11-29) misread every frequency by that much in a UDUNITS reader (cf_units, pint).
-    assert ds["frequency"].attrs["units"] == "Julian_year-1"
+    assert ds["frequency"].attrs["units"] == "julian_year-1"
     # The band amplitudes are NaN within the band-pass kernel's reach of the ends, and the file says so.
     for name in ("chandler_band_pole", "chandler_band_chi"):
         assert "NaN within 5.0 yr of the record's ends" in ds[name].attrs["comment"]

@@ -33,7 +33,7 @@ def test_json_layout(forecast):
         assert r["x_95_mas"][0] < r["x_68_mas"][0] < r["x_mas"] < r["x_68_mas"][1] < r["x_95_mas"][1]
     # The pole moves a few mas a day: the first day's forecast is within 5 mas of the record.
     obs = wobble.load_polar_motion(start="2018-03-02", end="2018-03-03")
-    assert abs(first["x_mas"] - float(obs["x_p"][0]) * 1e3) < 5
+    assert abs(first["x_mas"] - float(obs["x_p"][0])) < 5  # the record in mas, as the forecast
     # Calibrated on 104 weekly past forecasts per lead (two years), issued up to a week before,
     # scored on outcomes up to the last day of data.
     cal = d["calibration"]
@@ -85,6 +85,7 @@ def test_netcdf_round_trip_and_cf(forecast, tmp_path, assert_cf_compliant):
     assert ds["lead_time"].attrs["standard_name"] == "forecast_period"
     assert ds["forecast_reference_time"].attrs["standard_name"] == "forecast_reference_time"
     assert ds["x_p_bounds_68"].dims == ("lead", "bounds")
+    assert ds.attrs["forecast_method"] == forecast.method  # not only in the title
     assert ds.attrs["interval_calibration"] == "past_errors" and ds.attrs["calibration_past_forecasts_per_lead"] == 104
     path = write_netcdf(ds, tmp_path / "f.nc", command="test")
     back = open_wobble(path)

@@ -150,6 +150,19 @@ def test_every_units_attribute_wobble_writes_reads_back_as_its_unit(unit):
     assert got.unit == u.Unit(unit) and list(got.value) == [1.5, 2.5]
 
 
+def test_the_julian_year_is_written_as_pint_and_udunits_read_it_and_older_files_still_read():
+    """'Julian_year' (files before 2026-11-30) is not a pint unit, so cf_xarray's registry refused the
+    excitation's frequency; 'julian_year' is 365.25 d in UDUNITS and in pint alike."""
+    from wobble.io.cf import udunits
+
+    assert udunits("mas / yr") == "milliarcsecond julian_year-1"
+    for text in ("milliarcsecond julian_year-1", "milliarcsecond Julian_year-1"):
+        var = xr.DataArray([1.0], dims="x", attrs={"units": text})
+        assert wobble.quantity(var).unit == u.mas / u.yr
+    cf_units = pytest.importorskip("cf_units")
+    assert cf_units.Unit("julian_year").convert(1.0, "day") == 365.25
+
+
 def test_a_folder_is_not_a_netcdf_file_and_says_what_opens_it(tmp_path):
     """A Zarr store of wobble sweep is a folder: wobble.load said "no such file" for one that exists."""
     store = tmp_path / "sweep.zarr"

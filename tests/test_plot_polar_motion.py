@@ -40,7 +40,7 @@ def test_the_chandler_mark_is_at_the_measured_period(short):
     label = next(t.get_text() for t in ax.texts if t.get_text().startswith("Chandler"))
     assert f"{days:.1f} d = {365.25 / days:+.3f} cpy" in label
     marked = next(t.xy[0] for t in ax.texts if t.get_text().startswith("Chandler"))
-    cpy = short.spectrum["frequency"].values * 365.25
+    cpy = short.spectrum["frequency"].values  # cycles per Julian year
     assert abs(marked - 365.25 / days) <= np.min(np.abs(cpy - 365.25 / days)) + 1e-12
     # The log axis starts near the spectrum, not at the drift-removed zero bin (~1e-12 mas).
     amp = short.spectrum["amplitude_spectrum"].values[(np.abs(cpy) <= 3) & (cpy != 0)]

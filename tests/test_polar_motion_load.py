@@ -16,8 +16,28 @@ def test_load_gives_a_cf_dataset_with_units():
     assert ds["time"].attrs["units"] == MJD_UNITS and ds["time"].attrs["calendar"] == "standard"
     assert ds["time"].values[0] == Time("2010-01-01", scale="utc").mjd
     for name in ("x_p", "y_p", "x_p_error", "y_p_error"):
-        assert ds[name].attrs["units"] == "arcsec" and ds[name].attrs["long_name"]
+        assert ds[name].attrs["units"] == "milliarcsecond" and ds[name].attrs["long_name"]
     assert ds["x_p"].attrs["ancillary_variables"] == "x_p_error"
+
+
+def test_the_pole_in_mas_is_the_files_decimal():
+    """The file's arcsec (6 decimals) times 1000 is written as the double nearest the decimal in mas, not an
+    ulp beside it (0.098670 * 1000 is 98.67 exactly in decimal; in floats the product can miss it)."""
+    from decimal import Decimal
+
+    from wobble.io.eop import default_c04_path
+
+    ds = wobble.load_polar_motion(start="2010-01-01", end="2010-12-31")
+    rows = {}
+    with open(default_c04_path()) as fh:
+        for line in fh:
+            fields = line.split()
+            if len(fields) > 6 and fields[4].replace(".", "").isdigit() and 55197 <= float(fields[4]) <= 55561:
+                rows[float(fields[4])] = (fields[5], fields[6])
+    assert len(rows) == 365
+    for k, mjd in enumerate(ds["time"].values):
+        x, y = rows[float(mjd)]
+        assert ds["x_p"].values[k] == float(Decimal(x) * 1000) and ds["y_p"].values[k] == float(Decimal(y) * 1000)
     assert "C04" in ds.attrs["references"] and "x_p - i y_p" in ds.attrs["comment"]
 
 

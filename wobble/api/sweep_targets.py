@@ -258,12 +258,17 @@ class _BaseTarget:
             raise FileFormatError(where, "vary_all_uncertain", f"only for target chandler, not {self.name}")
         allowed = ", ".join(self.parameters)
         self.base = {}
+        self._base_text = {}
         for bv in spec.base:
             if bv.parameter not in self.parameters:
                 raise FileFormatError(
                     where, f"base.{bv.parameter}", f"unknown parameter of target {self.name}; allowed: {allowed}"
                 )
             self.base[bv.parameter] = bv.value * self._scale(spec, f"base.{bv.parameter}.unit", bv.unit, bv.parameter)
+            # As the file gave it (10 d, not 864000 s), for the file's sweep_base attribute.
+            self._base_text[bv.parameter] = (
+                f"{bv.value:.10g} {self.parameters[bv.parameter][0] if bv.unit is None else udunits(bv.unit)}"
+            )
         out = {}
         for v in spec.variations:
             if v.parameter not in self.parameters:
@@ -341,12 +346,13 @@ class _BaseTarget:
         return attrs
 
     def attrs(self) -> dict:
-        base = "; ".join(f"{k} = {v:.10g} {self.parameters[k][0]}" for k, v in self.base.items())
+        base = "; ".join(f"{k} = {text}" for k, text in self._base_text.items())
         return {
             "sweep_main_output": self.main_output,
             "sweep_class_output": self.class_output,
             "sweep_base": base,
-            "comment": "SI units (angles in rad). Random draws depend only on (seed, parameter, member).",
+            "comment": "Outputs in SI units (angles in rad); the varied and fixed parameters in the units the sweep "
+            "file gave them (see each one's units). Random draws depend only on (seed, parameter, member).",
         }
 
 

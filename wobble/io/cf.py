@@ -294,8 +294,8 @@ EXCITATION: dict[str, Spec] = {
         ("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the excitation chi_1 + i chi_2"
     ),
     "pole_spectrum": Spec(("frequency",), "milliarcsecond", "two-sided amplitude spectrum of the pole x_p - i y_p"),
-    # UDUNITS' "year" is the tropical year (365.242198781 d): cycles per Julian year are "Julian_year-1".
-    "frequency": Spec(("frequency",), "Julian_year-1", "frequency in cycles per Julian year (positive: prograde)"),
+    # UDUNITS' "year" is the tropical year (365.242198781 d): cycles per Julian year are "julian_year-1".
+    "frequency": Spec(("frequency",), "julian_year-1", "frequency in cycles per Julian year (positive: prograde)"),
     "chandler_period": Spec((), "day", "Chandler period T_c of the complex frequency sigma_c"),
     "quality_factor": Spec((), "1", "quality factor Q of the Chandler wobble"),
     "round_trip_rms": Spec(
@@ -468,13 +468,15 @@ def flag_attrs(meanings: Mapping[int, str]) -> dict:
 
 
 # UDUNITS names for the astropy symbols UDUNITS lacks or reads otherwise: "mas" and "deg" are not UDUNITS
-# units and "yr" is the tropical year there (2.1e-5 shorter than astropy's Julian year).
+# units and "yr" is the tropical year there (2.1e-5 shorter than astropy's Julian year). The Julian year is
+# spelled in lower case, which UDUNITS (cf-units) and pint (cf_xarray's registry) both read as 365.25 d;
+# pint has no "Julian_year", which files before 2026-11-30 carry (read back below).
 _UDUNITS_NAMES = {
     "mas": "milliarcsecond",
     "arcsec": "arcsecond",
     "deg": "degree",
-    "yr": "Julian_year",
-    "a": "Julian_year",
+    "yr": "julian_year",
+    "a": "julian_year",
 }
 
 
@@ -490,7 +492,10 @@ def udunits(unit) -> str:
         text = unit.to_string("fits")
     except ValueError:  # a scale FITS cannot write (arcsec / cy): astropy's own string, as given
         return unit.to_string()
-    return _renamed(text, _UDUNITS_NAMES)
+    # FITS orders by power (m2 kg); a moment of inertia is written kg m2 everywhere else.
+    words = text.split()
+    words.sort(key=lambda w: not (w.rstrip("0123456789") == "kg"))
+    return _renamed(" ".join(words), _UDUNITS_NAMES)
 
 
 def _renamed(text: str, names: dict) -> str:
@@ -504,6 +509,7 @@ def _renamed(text: str, names: dict) -> str:
 
 #: The UDUNITS names :func:`udunits` writes, back to astropy's (which has no "Julian_year").
 _ASTROPY_NAMES = {udunits_name: name for name, udunits_name in _UDUNITS_NAMES.items() if name != "a"}
+_ASTROPY_NAMES["Julian_year"] = "yr"  # the spelling of older files
 
 
 def astropy_unit_text(text: str) -> str:

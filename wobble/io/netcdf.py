@@ -73,6 +73,10 @@ def to_cf(ds: xr.Dataset, *, command: str | None = None) -> xr.Dataset:
     gains a timestamped line naming ``command``).
     """
     out = ds.copy()
+    # CF 7.1: a boundary variable takes everything from its coordinate; xarray would name the coordinates
+    # of its dimension in a 'coordinates' attribute on it.
+    for name in {str(v.attrs["bounds"]) for v in out.variables.values() if "bounds" in v.attrs} & set(out.variables):
+        out.variables[name].encoding = {**out.variables[name].encoding, "coordinates": None}
     label_dims = [name for name in out.indexes if name in out.dims and is_label_index(out[name].values)]
     if label_dims:
         out = out.rename_vars({d: f"{d}_name" for d in label_dims})
@@ -122,15 +126,17 @@ def _time_chunks(dims, shape, itemsize, time_chunk) -> tuple:
 
 
 def _encoding(ds: xr.Dataset, *, streaming: bool = False, time_chunk: int = 4096) -> dict:
-    """Compression and time chunking for large variables; no fill value on coordinates.
+    """Compression and time chunking for large variables; no fill value on coordinates and bounds.
 
     A streamed file compresses and chunks every numeric variable along time
     (its final size is not known when it is created).
     """
     encoding: dict = {}
+    # CF 7.1: boundary variables take everything from their coordinate and have no fill value.
+    bounds = {str(v.attrs["bounds"]) for v in ds.variables.values() if "bounds" in v.attrs}
     for name, var in ds.variables.items():
         enc: dict = {}
-        if var.dtype.kind == "f" and name in ds.coords:
+        if var.dtype.kind == "f" and (name in ds.coords or name in bounds):
             enc["_FillValue"] = None
         if streaming and "time" in var.dims and var.dtype.kind in "fiu":
             enc.update(zlib=True, complevel=4, shuffle=True)

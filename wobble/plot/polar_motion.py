@@ -141,7 +141,7 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
     Parameters
     ----------
     spectrum : xarray.Dataset
-        ``PolarMotionAnalysis.spectrum`` (``amplitude_spectrum`` on ``frequency`` in day-1).
+        ``PolarMotionAnalysis.spectrum`` (``amplitude_spectrum`` on ``frequency`` in cycles per Julian year).
     chandler_period : Quantity, optional
         The measured period (``PolarMotionAnalysis.spectral.period``): the Chandler mark goes to its
         frequency and its label gives it. Without it the mark is the highest bin within 0.03 cycle per year
@@ -151,7 +151,8 @@ def two_sided_spectrum(spectrum, *, ax=None, log=True, max_cpy=3.0, chandler_per
         period at the search band's edge), the mark's label says so.
     """
     ax = _axes(ax, figsize=(7, 4))
-    cpy = np.asarray(spectrum["frequency"].values) * _JULIAN_DAYS
+    freq = spectrum["frequency"]  # cycles per Julian year; files before 2026-11-30 wrote day-1
+    cpy = np.asarray(freq.values) * (_JULIAN_DAYS if freq.attrs.get("units") == "day-1" else 1.0)
     amp = np.asarray(spectrum["amplitude_spectrum"].values)
     keep = np.abs(cpy) <= max_cpy
     ax.plot(cpy[keep], amp[keep], lw=0.8, color="C0", zorder=2)

@@ -17,6 +17,7 @@ from wobble.api.polar_motion.record import (
     mjd_values,
     series,
 )
+from wobble.io.cf import astropy_unit_text, udunits
 from wobble.io.dates import iso_date
 from wobble.models import polar_motion as _pm
 
@@ -117,24 +118,26 @@ def windows_dataset(wf: _pm.WindowedFits):
                 c["window_samples"],
                 attrs("1", "number of daily samples in the window"),
             ),
+            # CF 7.1: a boundary variable is part of its coordinate's metadata and takes its units,
+            # calendar and meaning from it; it has no long_name of its own (IOOS's checker flagged one that
+            # differed from the coordinate's) and no fill value (the writer gives bounds none). A data
+            # variable, not a coordinate: no variable has its (window, nv), so xarray wrote a coordinate
+            # of it into a global 'coordinates' attribute, which CF does not define.
+            "window_time_bounds": (("window", "nv"), c["window_time_bounds"]),
         },
         coords={
+            # No standard_name "time": the record's time axis has it, and a second one made
+            # cf_xarray's ds.cf["T"] ambiguous; the units ("days since ...") make this a time all the same.
             "window_time": (
                 "window",
                 c["window_time"],
                 {
                     "units": MJD_UNITS,
                     "calendar": "standard",
-                    "standard_name": "time",
                     "long_name": "centre of the window (UTC)",
                     "bounds": "window_time_bounds",
                 },
             ),
-            # CF 7.1: a boundary variable is part of its coordinate's metadata and takes its units,
-            # calendar and meaning from it; it has no long_name of its own (IOOS's checker flagged one that
-            # differed from the coordinate's) and no fill value, and as a coordinate it is not named in
-            # every variable's 'coordinates' attribute.
-            "window_time_bounds": (("window", "nv"), c["window_time_bounds"]),
         },
         attrs=window_attrs(wf),
     )
@@ -146,7 +149,8 @@ def spectrum_dataset(sp: _pm.Spectrum):
 
     xr = xarray()
     rad_mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
-    freq = sp.rate / (2 * math.pi) * _pm.DAY  # cycles per day
+    # Cycles per Julian year, as the excitation's spectrum (one name, one unit in every file)
+    freq = sp.rate / (2 * math.pi) * _pm.JULIAN_YEAR
     return xr.Dataset(
         {
             "amplitude_spectrum": (
@@ -164,9 +168,21 @@ def spectrum_dataset(sp: _pm.Spectrum):
             "frequency": (
                 "frequency",
                 freq,
-                attrs("day-1", "frequency in cycles per day (positive: prograde, negative: retrograde)"),
+                attrs(
+                    udunits("1/yr"), "frequency in cycles per Julian year (positive: prograde, negative: retrograde)"
+                ),
             )
         },
+    )
+
+
+def _in_mas(var):
+    """A pole variable in mas (its values converted from its ``units``, which become ``milliarcsecond``)."""
+    unit = u.Unit(astropy_unit_text(str(var.attrs.get("units", "mas"))))
+    if unit == u.mas:
+        return var
+    return var.copy(data=(np.asarray(var.values, dtype=float) * unit).to_value(u.mas)).assign_attrs(
+        units="milliarcsecond"
     )
 
 
@@ -179,11 +195,11 @@ def analysis_dataset(a):
     fit = a.least_squares.raw
     model = fit.model(t)
     mean = fit.mean_pole(t)
-    arcsec = 1.0 / RAD_PER_ARCSEC
+    mas = 1.0 / (RAD_PER_ARCSEC * 1e-3)
 
     def xy(p):
         x, y = _pm.pole_xy(p)
-        return x * arcsec, y * arcsec
+        return x * mas, y * mas
 
     mx, my = xy(model)
     rx, ry = xy(z - model)
@@ -191,14 +207,16 @@ def analysis_dataset(a):
     observed = a.data.isel(time=np.nonzero(np.isin(mjd_values(a.data["time"]), mjd))[0])[
         ["x_p", "y_p", "x_p_error", "y_p_error"]
     ]
+    # The pole in mas, as every wobble file writes it, whatever unit a Dataset of the caller's own gave.
+    observed = observed.assign({name: _in_mas(observed[name]) for name in observed.data_vars})
     ls_note = "nonlinear least-squares fit of drift, Chandler and annual terms (wobble.models.polar_motion)"
     ds = observed.assign(
-        x_p_model=("time", mx, attrs("arcsec", "fitted model of x_p", comment=ls_note)),
-        y_p_model=("time", my, attrs("arcsec", "fitted model of y_p", comment=ls_note)),
-        x_p_residual=("time", rx, attrs("arcsec", "x_p minus its fitted model")),
-        y_p_residual=("time", ry, attrs("arcsec", "y_p minus its fitted model")),
-        x_p_mean_pole=("time", px, attrs("arcsec", "x_p of the fitted mean-pole drift")),
-        y_p_mean_pole=("time", py, attrs("arcsec", "y_p of the fitted mean-pole drift")),
+        x_p_model=("time", mx, attrs("milliarcsecond", "fitted model of x_p", comment=ls_note)),
+        y_p_model=("time", my, attrs("milliarcsecond", "fitted model of y_p", comment=ls_note)),
+        x_p_residual=("time", rx, attrs("milliarcsecond", "x_p minus its fitted model")),
+        y_p_residual=("time", ry, attrs("milliarcsecond", "y_p minus its fitted model")),
+        x_p_mean_pole=("time", px, attrs("milliarcsecond", "x_p of the fitted mean-pole drift")),
+        y_p_mean_pole=("time", py, attrs("milliarcsecond", "y_p of the fitted mean-pole drift")),
     )
     # The windowed estimates share names with the whole-span ones (on "method"):
     # in the file they carry a window_ prefix, so neither hides the other.

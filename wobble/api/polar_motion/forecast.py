@@ -374,6 +374,8 @@ class PolarMotionForecast:
             "references": _REFERENCES[self.method]
             + ("; interval calibration: " + _CALIBRATION_REFERENCES if cal else ""),
             "source_file": self.source,
+            # The JSON's "method": a pipeline combining forecasts reads it here, not from the title.
+            "forecast_method": self.method,
             "interval_calibration": "past_errors" if cal else "none",
             "intervals": calibration_text(self.calibration),
             "comment": (

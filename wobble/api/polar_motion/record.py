@@ -112,17 +112,32 @@ def record_attrs(rec: PoleRecord) -> dict:
     }
 
 
+def _in_mas(arcsec: np.ndarray) -> np.ndarray:
+    """File values (arcsec, at most 6 decimals) in mas, as the decimal the file wrote: times 1000 alone can end
+    an ulp off (123.45600000000002); rounding to 1e-6 mas, far below the file's 1e-3, gives the nearest double."""
+    return np.round(np.asarray(arcsec, dtype=float) * 1e3, 6)
+
+
 def record_dataset(rec: PoleRecord):
     """A record from :func:`read_record` as the xarray Dataset of :func:`load_polar_motion`."""
     from wobble.api.dataset import xarray
 
     xr = xarray()
+    mas = _in_mas
     ds = xr.Dataset(
         {
-            "x_p": ("time", rec.x, attrs("arcsec", "pole coordinate x_p (toward the Greenwich meridian)")),
-            "y_p": ("time", rec.y, attrs("arcsec", "pole coordinate y_p (toward 90 deg W longitude)")),
-            "x_p_error": ("time", rec.x_error, attrs("arcsec", "one-sigma error of x_p given in the file")),
-            "y_p_error": ("time", rec.y_error, attrs("arcsec", "one-sigma error of y_p given in the file")),
+            "x_p": ("time", mas(rec.x), attrs("milliarcsecond", "pole coordinate x_p (toward the Greenwich meridian)")),
+            "y_p": ("time", mas(rec.y), attrs("milliarcsecond", "pole coordinate y_p (toward 90 deg W longitude)")),
+            "x_p_error": (
+                "time",
+                mas(rec.x_error),
+                attrs("milliarcsecond", "one-sigma error of x_p given in the file"),
+            ),
+            "y_p_error": (
+                "time",
+                mas(rec.y_error),
+                attrs("milliarcsecond", "one-sigma error of y_p given in the file"),
+            ),
         },
         coords={"time": time_coord(rec.mjd)},
         attrs=record_attrs(rec),
@@ -147,7 +162,8 @@ def load_polar_motion(file: str | os.PathLike | None = None, *, start=None, end=
     Returns
     -------
     xarray.Dataset
-        ``x_p``, ``y_p``, ``x_p_error``, ``y_p_error`` (arcsec) on a ``time``
+        ``x_p``, ``y_p``, ``x_p_error``, ``y_p_error`` (milliarcsecond, as every wobble file writes the
+        pole; the IERS files give arcsec) on a ``time``
         coordinate in MJD (CF units ``days since 1858-11-17 00:00:00``).
 
     Examples
@@ -155,7 +171,7 @@ def load_polar_motion(file: str | os.PathLike | None = None, *, start=None, end=
     >>> import wobble
     >>> pm = wobble.load_polar_motion(start="2020-01-01", end="2020-12-31")
     >>> pm.sizes["time"], list(pm.data_vars), pm["x_p"].attrs["units"]
-    (366, ['x_p', 'y_p', 'x_p_error', 'y_p_error'], 'arcsec')
+    (366, ['x_p', 'y_p', 'x_p_error', 'y_p_error'], 'milliarcsecond')
     """
     return record_dataset(read_record(file, start=start, end=end))
 
@@ -174,7 +190,10 @@ def record_series(rec: PoleRecord) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     The same numbers as :func:`series` of its Dataset (the same conversion, without xarray).
     """
-    return _pole_series(np.asarray(rec.mjd, dtype=float), [("x_p", rec.x, "arcsec"), ("y_p", rec.y, "arcsec")])
+    # Through the Dataset's mas (rounded as there), so that a file and its Dataset give the same bits.
+    return _pole_series(
+        np.asarray(rec.mjd, dtype=float), [("x_p", _in_mas(rec.x), "mas"), ("y_p", _in_mas(rec.y), "mas")]
+    )
 
 
 def _pole_series(mjd: np.ndarray, columns) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
