@@ -203,6 +203,10 @@ def test_grid_path_equals_the_per_sample_path(moments, omega0, n):
     from wobble.models.free import _blocked
     from wobble.models.principal_axes import to_user
 
+    from wobble.numerics import compiled
+
+    if n >= compiled.LONG_ARRAY and compiled.available():
+        import numba  # noqa: F401  (the compiled grid runs only where Numba is loaded already)
     model = free_rotation(moments, omega0)
     # Exactly representable times (k/4 s): both paths see the same instants, so they agree to rounding.
     t = np.arange(n) * 0.25

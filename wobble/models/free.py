@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import decimal
 import math
+import sys
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -422,9 +423,13 @@ class FreeRotationModel:
         """The grid path compiled (:mod:`wobble.numerics.nome_grid`), in the user's frame; None where it
         does not apply (grids shorter than :data:`wobble.numerics.compiled.LONG_ARRAY` or not uniform,
         m > 1e-7, no Numba) and the NumPy paths take over. A century of days: ~0.5-0.7 ms against
-        ~1.3-1.9 ms in NumPy, measured with a garbage collection before each call."""
+        ~1.3-1.9 ms in NumPy, measured with a garbage collection before each call. Only where Numba is
+        loaded already (a scene run, a sweep): importing it and loading the kernel costs about a second,
+        which a millisecond a call never repays in a `wobble free` (3.9 s against 3.2 s, 2026-11-30)."""
         poly = getattr(self._impl, "grid_polynomial", None)
-        if poly is None or t.ndim != 1 or t.size < compiled.LONG_ARRAY or not compiled.available():
+        if poly is None or t.ndim != 1 or t.size < compiled.LONG_ARRAY or "numba" not in sys.modules:
+            return None
+        if not compiled.available():
             return None
         parts = poly()
         if parts is None:

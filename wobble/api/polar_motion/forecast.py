@@ -84,11 +84,13 @@ def default_latency(attrs) -> float:
 def default_q() -> float:
     """Q of the Chandler wobble from wobble's own model: the anelastic step of ``chandler_budget('earth')``.
 
-    Computed once per process (the budget's Monte Carlo costs about half a second; the catalogue is shipped).
+    The nominal model alone (no Monte Carlo of the uncertainties, which costs 0.2-0.5 s and does not
+    change Q), once per process.
     """
-    from wobble.api.chandler import chandler_budget
+    from wobble.api.chandler import load_planet
+    from wobble.models.chandler import chandler_budget
 
-    return float(chandler_budget("earth").quality_factor)
+    return float(chandler_budget(load_planet("earth").parameters, "full", uncertainty=False).quality_factor)
 
 
 #: What a quality factor may be: the free wobble's amplitude falls by exp(-pi / Q) a cycle, so under
