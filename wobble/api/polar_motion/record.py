@@ -3,7 +3,7 @@
 >>> import wobble
 >>> data = wobble.load_polar_motion(start="2000-01-01", end="2004-12-31")
 >>> data["x_p"].attrs["units"], data.sizes["time"]
-('arcsec', 1827)
+('milliarcsecond', 1827)
 >>> data["time"].attrs["units"]
 'days since 1858-11-17 00:00:00'
 """
