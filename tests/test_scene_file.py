@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import datetime as _dt
+import json
 import math
 
 import cftime
@@ -299,3 +300,20 @@ def test_an_array_of_times_is_not_an_epoch():
         wobble.Scene(
             [1, 2, 3] * u.kg * u.m**2, [0, 0, 1] * u.rad / u.s, t_end=1 * u.s, samples=2, epoch=Time(["2020-01-01"] * 2)
         )
+
+
+def test_explicit_times_of_a_linspace_grid_are_kept_as_start_stop_samples():
+    """A Scene given t = np.linspace(0, 100, 200001) s wrote all 200,001 times into the file's 'scene'
+    attribute (2 MB of JSON). linspace's own grid is now kept as start, stop and samples, which give back
+    exactly those times; other explicit times (minutes scaled to s, uneven ones) are kept as given."""
+    body, w0 = [1.0, 2.0, 3.0] * u.kg * u.m**2, [1.0, 0.1, 1.0] * u.rad / u.s
+    t = np.linspace(0.0, 100.0, 200_001) * u.s
+    scene = wobble.Scene(body=body, omega0=w0, t=t)
+    assert np.array_equal(scene._scene.times, t.value)
+    ds = wobble.run(wobble.Scene(body=body, omega0=w0, t=t[:2001]))
+    assert len(ds.attrs["scene"]) < 1000
+    assert json.loads(ds.attrs["scene"])["time"]["samples"] == 2001
+    assert np.array_equal(ds["time"].values, t[:2001].value)  # seconds since the epoch, the same bits
+    for given in (np.linspace(0.0, 10.0, 101) * u.min, [0.0, 1.0, 3.0, 7.0] * u.s):
+        kept = json.loads(wobble.run(wobble.Scene(body=body, omega0=w0, t=given)).attrs["scene"])["time"]
+        assert "values" in kept and len(kept["values"]["value"]) == len(given)
