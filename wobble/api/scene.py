@@ -233,7 +233,11 @@ def _uniform_grid(t) -> dict | None:
     grid), else None: the scene is kept in every file's ``scene`` attribute, where 200,001 explicit times
     took 2 MB. Anything else (a plain float, a grid that is not linspace's) stays as given, and is read
     and refused or taken as before."""
-    if not isinstance(t, u.Quantity) or t.ndim != 1 or t.size < 3 or not t.unit.is_equivalent(u.s):
+    # A plain Quantity of real numbers only: a Masked one (or complex times) goes to the reader, which refuses
+    # it, where to_value would strip the mask.
+    if type(t) is not u.Quantity or t.dtype.kind not in "fi" or t.ndim != 1 or t.size < 3:
+        return None
+    if not t.unit.is_equivalent(u.s):
         return None
     seconds = t.to_value(u.s)
     if not np.all(np.isfinite(seconds)):
