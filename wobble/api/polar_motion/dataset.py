@@ -176,7 +176,7 @@ def spectrum_dataset(sp: _pm.Spectrum):
     )
 
 
-def _in_mas(var):
+def _pole_in_mas(var):
     """A pole variable in mas (its values converted from its ``units``, which become ``milliarcsecond``)."""
     unit = u.Unit(astropy_unit_text(str(var.attrs.get("units", "mas"))))
     if unit == u.mas:
@@ -208,7 +208,7 @@ def analysis_dataset(a):
         ["x_p", "y_p", "x_p_error", "y_p_error"]
     ]
     # The pole in mas, as every wobble file writes it, whatever unit a Dataset of the caller's own gave.
-    observed = observed.assign({name: _in_mas(observed[name]) for name in observed.data_vars})
+    observed = observed.assign({name: _pole_in_mas(observed[name]) for name in observed.data_vars})
     ls_note = "nonlinear least-squares fit of drift, Chandler and annual terms (wobble.models.polar_motion)"
     ds = observed.assign(
         x_p_model=("time", mx, attrs("milliarcsecond", "fitted model of x_p", comment=ls_note)),
