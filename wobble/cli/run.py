@@ -59,8 +59,8 @@ def run(args) -> int:
     from wobble.io.shipped import resolve
 
     path = resolve(args.scene, "scenes", "SCENE")  # an unknown scene is named before a missing -o
-    from wobble.api.scene import read_scene, run_to_netcdf
     from wobble.errors import FileFormatError
+    from wobble.io.scene_file import read_scene  # (not wobble.api.scene's: that imports xarray, ~1 s)
     from wobble.models.scene import check_model_name
 
     # What is wrong with the scene or the model is said before a missing -o (it was "-o/--output: missing"
@@ -70,6 +70,8 @@ def run(args) -> int:
     if not args.output:
         raise InputError.missing("-o/--output", "the netCDF file to write (e.g. -o out.nc)")
     check_outputs(args)
+    from wobble.api.scene import run_to_netcdf
+
     try:
         summary = run_to_netcdf(
             scene, args.output, model=args.model, overwrite=args.overwrite, command=getattr(args, "command_line", None)
