@@ -178,6 +178,15 @@ def test_a_file_and_its_dataset_give_the_same_excitation(c04):
         np.testing.assert_array_equal(ds_a[name].values, ds_b[name].values, err_msg=name)
 
 
+def test_the_observed_pole_merges_with_the_record(c04):
+    """The excitation's x_p, y_p came back from radians an ulp off the record's (-37.49799999999999 against
+    -37.498 mas): xr.merge of the two refused them as conflicting. Now both hold the files' decimals."""
+    record = wobble.load_polar_motion(start="2000-01-01", end="2019-12-31")[["x_p", "y_p"]]
+    merged = xr.merge([record, c04.to_dataset()[["x_p", "y_p"]]], join="inner", compat="no_conflicts")
+    assert merged.sizes["time"] == record.sizes["time"]
+    xr.testing.assert_equal(merged, record)
+
+
 def test_netcdf_round_trip_and_cf(c04, tmp_path, assert_cf_compliant):
     ds = c04.to_dataset()
     assert ds["chi_1"].attrs["units"] == "milliarcsecond" and math.isnan(float(ds["chi_1"][0]))

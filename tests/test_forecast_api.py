@@ -129,6 +129,10 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
     inside = (np.abs(back["x_p_forecast"] - back["x_p_observed"]) <= back["x_p_half_width_68"]).values.astype(float)
     inside += (np.abs(back["y_p_forecast"] - back["y_p_observed"]) <= back["y_p_half_width_68"]).values
     np.testing.assert_allclose(inside.mean(axis=1) / 2, back["coverage_68"].values, rtol=1e-12)
+    # The outcomes are the record's own numbers (the files' decimals in mas, not an ulp off through radians).
+    record = wobble.load_polar_motion(start="2019-01-02", end="2019-02-01")["x_p"]
+    first = back["x_p_observed"].isel(issue=0).values
+    np.testing.assert_array_equal(first, record.values[: first.size])
     # The hindcast scores the public forecast: its first issue (where the period and noise are
     # estimated, as a single forecast estimates them) is wobble.forecast_polar_motion's.
     f = wobble.forecast_polar_motion(

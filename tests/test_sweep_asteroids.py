@@ -178,3 +178,5 @@ def test_the_ensemble_scatter_names_its_colours_where_no_member_can_be():
     ax = ensemble(run_sweep({**SPEC, "members": 200})).axes[1]
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any(label.startswith("major-axis") for label in labels) and ax.get_legend()._loc == 4  # lower right
+    # 200 members are all drawn: the title said "4000 members each" whatever the ensemble held.
+    assert ax.get_title() == "angle between circulation axis and L (every member)"

@@ -25,7 +25,13 @@ from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.forecast import check_q, default_q
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs, short_span_error
+from wobble.api.polar_motion.record import (
+    MJD_J2000,
+    RAD_PER_MAS,
+    observed_mas,
+    series_with_attrs,
+    short_span_error,
+)
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, select_dates
@@ -206,8 +212,8 @@ class GeodeticExcitation:
         x, y = pole_xy(self._p)
         xb, yb = pole_xy(self._back)
         data = {
-            "x_p": cf.variable("excitation", "x_p", x * mas),
-            "y_p": cf.variable("excitation", "y_p", y * mas),
+            "x_p": cf.variable("excitation", "x_p", observed_mas(x)),
+            "y_p": cf.variable("excitation", "y_p", observed_mas(y)),
             "chi_1": cf.variable(
                 "excitation",
                 "chi_1",

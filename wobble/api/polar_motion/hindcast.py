@@ -30,7 +30,7 @@ from wobble.api.polar_motion.forecast import (
     latency_si,
     whole_days,
 )
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, observed_mas, series_with_attrs
 from wobble.api.units import to_si
 from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected, process_pool
@@ -261,8 +261,8 @@ class PolarMotionHindcast:
             "y_p_half_width_68": cf.variable("forecast", "y_p_half_width_68", half(68, 1)),
             "x_p_half_width_95": cf.variable("forecast", "x_p_half_width_95", half(95, 0)),
             "y_p_half_width_95": cf.variable("forecast", "y_p_half_width_95", half(95, 1)),
-            "x_p_observed": cf.variable("forecast", "x_p_observed", self.truth.real * mas),
-            "y_p_observed": cf.variable("forecast", "y_p_observed", -self.truth.imag * mas),
+            "x_p_observed": cf.variable("forecast", "x_p_observed", observed_mas(self.truth.real)),
+            "y_p_observed": cf.variable("forecast", "y_p_observed", observed_mas(-self.truth.imag)),
             "latency": cf.variable("forecast", "latency", float(self.latency.value)),
         }
         first = self.methods[0]

@@ -118,6 +118,13 @@ def _in_mas(arcsec: np.ndarray) -> np.ndarray:
     return np.round(np.asarray(arcsec, dtype=float) * 1e3, 6)
 
 
+def observed_mas(rad: np.ndarray) -> np.ndarray:
+    """An observed pole coordinate (rad, from a record) in mas as the record's Dataset holds it: rounded to
+    1e-6 mas, the files' decimals (their 1e-3 mas and below), not the ulps the trip through radians adds, so
+    that the excitation's and a hindcast's observed pole equal :func:`load_polar_motion`'s and merge with it."""
+    return np.round(np.asarray(rad, dtype=float) / RAD_PER_MAS, 6)
+
+
 def record_dataset(rec: PoleRecord):
     """A record from :func:`read_record` as the xarray Dataset of :func:`load_polar_motion`."""
     from wobble.api.dataset import xarray
