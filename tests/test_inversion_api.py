@@ -156,6 +156,7 @@ def test_inference_data_round_trip_with_arviz_and_xarray(mars, tmp_path):
         root = {k: nc.getncattr(k) for k in nc.ncattrs()}
     assert root["Conventions"] == "CF-1.10" and root["source"].startswith("wobble")
     assert root["title"] == f"wobble inversion: {mars.setup.title}" and "wobble" in root["history"]
+    assert "emcee" in root["references"] and "Vehtari" in root["references"]  # the groups' references, at the root too
     assert root["inference_data_groups"].split() == list(idata.groups())
     with pytest.raises(FileFormatError, match=r"an inference-data file of wobble invert .* arviz\.from_netcdf"):
         wobble.load(path)

@@ -658,7 +658,13 @@ class Inversion:
             # after a failed write (a full disk), and the interpreter then crashes closing them.
             with interrupts_held():  # Ctrl-C inside xarray's locked writer can deadlock it
                 idata.to_netcdf(tmp, engine="netcdf4")
-                mark_inference_data(tmp, f"wobble inversion: {self.setup.title}", idata.groups(), command=command)
+                mark_inference_data(
+                    tmp,
+                    f"wobble inversion: {self.setup.title}",
+                    idata.groups(),
+                    command=command,
+                    references=_REFERENCES,  # the groups' own, where a reader of the root looks first
+                )
         from pathlib import Path
 
         return Path(path)

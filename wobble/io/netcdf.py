@@ -290,10 +290,10 @@ def open_wobble(path: str | os.PathLike) -> xr.Dataset:
 INFERENCE_DATA_ATTR = "inference_data_groups"
 
 
-def mark_inference_data(path, title: str, groups, *, command: str | None = None) -> None:
+def mark_inference_data(path, title: str, groups, *, command: str | None = None, references: str | None = None) -> None:
     """Give a file of ArviZ InferenceData groups the global attributes of every wobble file
-    (``Conventions``, ``title``, ``source``, ``history``) in its root group, which ArviZ leaves empty,
-    and name its groups there (:data:`INFERENCE_DATA_ATTR`)."""
+    (``Conventions``, ``title``, ``source``, ``history``, and ``references`` when given) in its root group,
+    which ArviZ leaves empty, and name its groups there (:data:`INFERENCE_DATA_ATTR`)."""
     import netCDF4
 
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
@@ -302,6 +302,7 @@ def mark_inference_data(path, title: str, groups, *, command: str | None = None)
             {
                 "Conventions": CONVENTIONS,
                 "title": title,
+                **({"references": references} if references else {}),
                 "source": f"wobble {_version()}",
                 "history": f"{stamp} wobble {_version()}" + (f": {command}" if command else ""),
                 INFERENCE_DATA_ATTR: " ".join(groups),
