@@ -32,6 +32,7 @@ def test_zarr_store_equals_the_netcdf_file_whatever_the_chunking(tmp_path, name,
     zs = wobble.run_sweep(spec, tmp_path / "a.zarr", chunk_size=chunks[1])
     _same(nc, zs)
     _same(zs, open_wobble_zarr(tmp_path / "a.zarr"))  # save-reopen round trip
+    _same(zs, wobble.load(tmp_path / "a.zarr"))  # wobble.load reads a store too (it refused it by name)
 
 
 def test_zarr_output_is_atomic(tmp_path):

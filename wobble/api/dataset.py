@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 import re
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -211,7 +212,8 @@ def _general(data_vars, coords, attrs):
 
 
 def load(path: str | os.PathLike) -> xr.Dataset:
-    """Read a netCDF file written by wobble (units via ``ds.wobble.quantity(name)``).
+    """Read a netCDF file (or a Zarr store of ``wobble sweep``) written by wobble (units via
+    ``ds.wobble.quantity(name)``).
 
     Raises
     ------
@@ -233,7 +235,14 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     205.6 d model, 206.9 d observed
     >>> folder.cleanup()
     """
-    ds = open_wobble(path)
+    folder = Path(path)
+    if folder.is_dir() and ((folder / ".zgroup").is_file() or (folder / "zarr.json").is_file()):
+        # A Zarr store of wobble sweep: read it as open_wobble_zarr does (it was refused here, by name).
+        from wobble.io.zarr_store import open_wobble_zarr
+
+        ds = open_wobble_zarr(folder)
+    else:
+        ds = open_wobble(path)
     if "Conventions" not in ds.attrs:
         raise FileFormatError(path, "global attribute 'Conventions'", "missing; allowed: a CF file written by wobble")
     return ds

@@ -263,7 +263,7 @@ def open_wobble(path: str | os.PathLike) -> xr.Dataset:
         raise FileFormatError(
             path,
             None,
-            "a folder, not a netCDF file (a Zarr store of wobble sweep opens with "
+            "a folder, not a netCDF file (a Zarr store of wobble sweep opens with wobble.load, "
             "wobble.io.zarr_store.open_wobble_zarr or xarray.open_zarr)",
         )
     if not path.is_file():
