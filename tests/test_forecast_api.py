@@ -122,6 +122,9 @@ def test_small_hindcast_scores_and_file(tmp_path, assert_cf_compliant, capsys):
     path = write_netcdf(h.to_dataset(), tmp_path / "h.nc", command="test")
     back = open_wobble(path)
     assert back["rms_2d"].dims == ("method", "lead") and back["x_p_forecast"].shape == (2, 3, 30)
+    # Each forecast's valid time (MJD), as the forecast file's "time": issue time plus lead time.
+    assert back["time"].dims == ("issue", "lead") and back["time"].attrs["standard_name"] == "time"
+    np.testing.assert_array_equal(back["time"].values, back["issue_time"].values[:, None] + np.arange(1, 31))
     assert_cf_compliant(path)
     k = list(back["method"].values).index("kalman")
     np.testing.assert_allclose(back["rms_2d"].values[k, 9], d["methods"]["kalman"]["rms_2d_mas"]["10"], rtol=1e-12)

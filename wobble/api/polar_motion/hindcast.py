@@ -35,7 +35,7 @@ from wobble.api.units import to_si
 from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected, process_pool
 from wobble.errors import InputError
-from wobble.io.dates import iso_date, to_mjd
+from wobble.io.dates import MJD_UNITS, iso_date, to_mjd
 from wobble.io.json_keys import deprecate
 from wobble.models.polar_motion import forecast as _fc
 from wobble.models.polar_motion import forecast_calibration as _cal
@@ -295,6 +295,18 @@ class PolarMotionHindcast:
             ),
             "issue_time": (("issue",), self.issued_mjd, issue_attrs),
             "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
+            # The valid time of every forecast, as the forecast file's "time": a pipeline had to add the
+            # issue and lead times itself, and cf_xarray found no time axis (ds.cf["T"]).
+            "time": (
+                ("issue", "lead"),
+                self.issued_mjd[:, None] + np.asarray(self.lead.to_value(u.day), dtype=float)[None, :],
+                {
+                    "units": MJD_UNITS,
+                    "calendar": "standard",
+                    "standard_name": "time",
+                    "long_name": "time the forecast is for: issue time plus lead time (UTC)",
+                },
+            ),
         }
         ds = xr.Dataset(data, coords=coords)
         ds.attrs = {
