@@ -157,6 +157,11 @@ def test_inference_data_round_trip_with_arviz_and_xarray(mars, tmp_path):
     assert root["Conventions"] == "CF-1.10" and root["source"].startswith("wobble")
     assert root["title"] == f"wobble inversion: {mars.setup.title}" and "wobble" in root["history"]
     assert "emcee" in root["references"] and "Vehtari" in root["references"]  # the groups' references, at the root too
+    # Every numeric variable has units and a long_name (docs/netcdf.md), ArviZ's index coordinates too.
+    for group in idata.groups():
+        for name, var in getattr(idata, group).variables.items():
+            if var.dtype.kind in "fiu":
+                assert var.attrs.get("units") and var.attrs.get("long_name"), (group, name)
     assert root["inference_data_groups"].split() == list(idata.groups())
     with pytest.raises(FileFormatError, match=r"an inference-data file of wobble invert .* arviz\.from_netcdf"):
         wobble.load(path)

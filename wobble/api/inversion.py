@@ -22,6 +22,7 @@ one is given, as :func:`wobble.run_sweep` does.
 from __future__ import annotations
 
 import math
+import re
 import os
 import sys
 import time
@@ -623,6 +624,14 @@ class Inversion:
             if group == "log_likelihood":
                 for name in ds.data_vars:
                     ds[name].attrs.update({"units": "1", "long_name": f"pointwise Gaussian log-likelihood of {name}"})
+            # ArviZ's index coordinates had neither units nor long_name (docs/netcdf.md: every numeric variable
+            # has both): the chain, the draw, and the position in a quantity's array (<name>_dim_0).
+            for name in ds.coords:
+                label = _INDEX_NAMES.get(name) or (
+                    f"index in {name.rsplit('_dim_', 1)[0]}" if re.fullmatch(r".+_dim_\d+", name) else None
+                )
+                if label is not None and "long_name" not in ds[name].attrs:
+                    ds[name].attrs.update({"units": "1", "long_name": label})
         attrs = {
             "title": self.setup.title,
             "wobble_setup": self.setup.name,
@@ -678,6 +687,10 @@ class Inversion:
 
     def __repr__(self) -> str:
         return f"Inversion({self.setup.name!r}, {self.samples.shape[0]} chains x {self.samples.shape[1]} draws)"
+
+
+#: long_name of ArviZ's index coordinates.
+_INDEX_NAMES = {"chain": "chain (walker) index", "draw": "draw index along the chain (after burn-in and thinning)"}
 
 
 def _median_finite(values) -> float:
