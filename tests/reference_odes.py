@@ -26,6 +26,12 @@ def attitude_angle(q1, q2):
     return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 
+def to_body(q, v):
+    """An inertial vector ``v`` in the body frame of the attitude ``q`` (body -> inertial): q* (x) (0, v) (x) q."""
+    conj = np.asarray(q, dtype=float) * np.array([1.0, -1.0, -1.0, -1.0])
+    return quaternion_product(quaternion_product(conj, np.concatenate([[0.0], v])), q)[1:]
+
+
 def euler_quaternion_rhs(moments, torque=None):
     """Right-hand side f(t, y) of Euler's equations with the quaternion kinematics, y = (omega, q).
 

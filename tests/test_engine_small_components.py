@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from reference_odes import attitude_angle, euler_quaternion_rhs
+from reference_odes import attitude_angle, euler_quaternion_rhs, to_body
 from scipy.integrate import solve_ivp
 
 from wobble.models.engine import COMPONENT_FLOOR, BodyModel, Engine, GravityGradient
@@ -35,20 +35,8 @@ E1, E2 = np.array([1.0, 0.0, 0.0]), np.array([0.0, np.cos(TILT), np.sin(TILT)])
 TIMES = np.linspace(0.0, 5 * 86400.0, 41)
 
 
-def _matrix(q):
-    """Body -> inertial rotation matrix of the unit quaternion (w, x, y, z)."""
-    a, b, c, d = q
-    return np.array(
-        [
-            [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c)],
-            [2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b)],
-            [2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c)],
-        ]
-    )
-
-
 def _tide(t, w, q):
-    u = _matrix(q).T @ (E1 * np.cos(N * t) + E2 * np.sin(N * t))  # towards the Moon, body frame
+    u = to_body(q, E1 * np.cos(N * t) + E2 * np.sin(N * t))  # towards the Moon, body frame
     return 3 * GM / D**3 * np.cross(u, MOMENTS * u)
 
 

@@ -10,7 +10,6 @@ from astropy import units as u
 import wobble
 from wobble.api.sweep import run_sweep
 from wobble.errors import FileFormatError
-from wobble.io.cf import astropy_unit_text
 from wobble.models.free import free_rotation
 from wobble.models.free_ensemble import free_ensemble
 
@@ -38,7 +37,7 @@ def ens():
 
 def _si(var, unit):
     """A drawn value in ``unit``: the sweep writes draws in the unit the file gave (h, deg)."""
-    return (float(var) * u.Unit(astropy_unit_text(var.attrs["units"]))).to_value(unit)
+    return float(wobble.quantity(var).to_value(unit))
 
 
 def _member(ds, j):

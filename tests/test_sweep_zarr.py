@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import sys
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -61,3 +63,12 @@ def test_not_a_wobble_store(tmp_path):
         open_wobble_zarr(tmp_path / "other.zarr")
     with pytest.raises(FileFormatError, match="no such"):
         open_wobble_zarr(tmp_path / "missing.zarr")
+
+
+def test_reading_a_store_without_zarr_names_the_store(tmp_path, monkeypatch):
+    """Without zarr, reading a store (wobble.load reads them now) said "output: got *.zarr", the writer's
+    message; it names the store and how to install zarr."""
+    xr.Dataset({"x": ("n", np.arange(3.0))}).to_zarr(tmp_path / "s.zarr", zarr_format=2, consolidated=True)
+    monkeypatch.setitem(sys.modules, "zarr", None)  # import zarr raises ModuleNotFoundError
+    with pytest.raises(FileFormatError, match=r"s\.zarr.*a Zarr store, which needs zarr: pip install"):
+        wobble.load(tmp_path / "s.zarr")

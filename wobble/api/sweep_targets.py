@@ -64,7 +64,7 @@ class _Resolved:
 
     def shown_grid(self) -> np.ndarray:
         """The grid as the file gave it (not SI and back, which may move a value by a rounding)."""
-        return np.asarray(self.shown_values if self.shown_values else self.values, dtype=float)
+        return np.asarray(self.shown_values, dtype=float)
 
     def shown_draws(self, si: np.ndarray) -> np.ndarray:
         """Drawn values (SI) in the shown unit."""
@@ -209,14 +209,12 @@ def require_unit(spec: SweepSpec, v: Variation, si) -> None:
         )
 
 
-def _resolved(v: Variation, unit_text: str, scale: float, **normal) -> _Resolved:
-    """``v`` in SI (``scale``: SI per unit of the file), remembering the file's unit for the output.
-
-    ``normal`` gives a normal distribution's mean and sd in SI where they are not the file's (a
-    catalogued default)."""
+def _resolved(v: Variation, unit_text: str, scale: float, mean=None, sd=None) -> _Resolved:
+    """``v`` in SI (``scale``: SI per unit of the file), remembering the file's unit for the output;
+    ``mean`` and ``sd`` (SI) replace a normal distribution's where they are the catalogue's."""
     shown = {} if v.unit is None else {"shown": udunits(v.unit), "scale": scale}
     if v.distribution == "normal":
-        mean, sd = normal.get("mean", v.mean * scale if v.mean is not None else None), normal.get("sd")
+        mean = v.mean * scale if mean is None else mean
         sd = v.sd * scale if sd is None else sd
         return _Resolved(v.parameter, "normal", mean=mean, sd=sd, unit=unit_text, **shown)
     if v.distribution == "uniform":

@@ -35,10 +35,13 @@ def is_zarr_path(path) -> bool:
     return str(path).rstrip("/\\").endswith(".zarr")
 
 
-def _zarr():
+def _zarr(path=None):
+    """zarr, or a clear error: for writing (no ``path``), name the output; for reading, the store."""
     try:
         import zarr
     except ModuleNotFoundError:
+        if path is not None:
+            raise FileFormatError(path, None, 'a Zarr store, which needs zarr: pip install "wobble[zarr]"') from None
         raise InputError(
             "output", "*.zarr", 'a .nc file, or install zarr for Zarr output: pip install "wobble[zarr]"'
         ) from None
@@ -111,10 +114,10 @@ def _replace(tmp: Path, path: Path) -> None:
 
 def open_wobble_zarr(path) -> xr.Dataset:
     """Read a Zarr store written by wobble into memory, restoring its label indexes."""
-    _zarr()
     path = Path(path)
     if not path.is_dir():
         raise FileFormatError(path, None, "no such Zarr store")
+    _zarr(path)
     try:
         with xr.open_zarr(path, decode_times=False, decode_timedelta=False) as ds:
             ds = ds.load()

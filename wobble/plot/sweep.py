@@ -132,13 +132,10 @@ def phase_diagram(ds, path=None, fig=None, *, overwrite: bool = False):
 
 
 def _in(coord, unit: str) -> np.ndarray:
-    """A coordinate's values in ``unit``, read from its ``units`` attribute (UDUNITS text)."""
-    from astropy import units as u
+    """A coordinate's values in ``unit``, read from its ``units`` attribute."""
+    from wobble.api.dataset import quantity
 
-    from wobble.io.cf import astropy_unit_text
-
-    given = u.Unit(astropy_unit_text(str(coord.attrs.get("units", "rad"))))
-    return (np.asarray(coord.values, dtype=float) * given).to_value(unit)
+    return quantity(coord).to_value(unit)
 
 
 #: The most members of each mode the ensemble's scatter draws (more only blacken it, and slow it).

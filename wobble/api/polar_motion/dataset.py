@@ -17,7 +17,7 @@ from wobble.api.polar_motion.record import (
     mjd_values,
     series,
 )
-from wobble.io.cf import astropy_unit_text, udunits
+from wobble.io.cf import udunits
 from wobble.io.dates import iso_date
 from wobble.models import polar_motion as _pm
 
@@ -177,13 +177,12 @@ def spectrum_dataset(sp: _pm.Spectrum):
 
 
 def _pole_in_mas(var):
-    """A pole variable in mas (its values converted from its ``units``, which become ``milliarcsecond``)."""
-    unit = u.Unit(astropy_unit_text(str(var.attrs.get("units", "mas"))))
-    if unit == u.mas:
+    """A pole variable in mas (converted from its ``units``, which become ``milliarcsecond``)."""
+    from wobble.api.dataset import quantity
+
+    if var.attrs.get("units") == "milliarcsecond":
         return var
-    return var.copy(data=(np.asarray(var.values, dtype=float) * unit).to_value(u.mas)).assign_attrs(
-        units="milliarcsecond"
-    )
+    return var.copy(data=quantity(var).to_value(u.mas)).assign_attrs(units="milliarcsecond")
 
 
 def analysis_dataset(a):

@@ -113,16 +113,20 @@ def record_attrs(rec: PoleRecord) -> dict:
 
 
 def _in_mas(arcsec: np.ndarray) -> np.ndarray:
-    """File values (arcsec, at most 6 decimals) in mas, as the decimal the file wrote: times 1000 alone can end
-    an ulp off (123.45600000000002); rounding to 1e-6 mas, far below the file's 1e-3, gives the nearest double."""
-    return np.round(np.asarray(arcsec, dtype=float) * 1e3, 6)
+    """File values (arcsec) in mas, as the decimal the file wrote (:func:`observed_mas`)."""
+    return _file_decimals(np.asarray(arcsec, dtype=float) * 1e3)
 
 
 def observed_mas(rad: np.ndarray) -> np.ndarray:
-    """An observed pole coordinate (rad, from a record) in mas as the record's Dataset holds it: rounded to
-    1e-6 mas, the files' decimals (their 1e-3 mas and below), not the ulps the trip through radians adds, so
-    that the excitation's and a hindcast's observed pole equal :func:`load_polar_motion`'s and merge with it."""
-    return np.round(np.asarray(rad, dtype=float) / RAD_PER_MAS, 6)
+    """An observed pole coordinate (rad, from a record) in mas as the record's Dataset holds it, so that the
+    excitation's and a hindcast's observed pole equal :func:`load_polar_motion`'s and merge with it."""
+    return _file_decimals(np.asarray(rad, dtype=float) / RAD_PER_MAS)
+
+
+def _file_decimals(mas: np.ndarray) -> np.ndarray:
+    """Rounded to 1e-6 mas: the IERS files give 1e-3 mas (6 decimals of arcsec), and times 1000 or the trip
+    through radians ends an ulp or two off that decimal (123.45600000000002); rounding gives the nearest double."""
+    return np.round(mas, 6)
 
 
 def record_dataset(rec: PoleRecord):
