@@ -324,6 +324,9 @@ def test_numbers_for_a_parameter_with_a_dimension_need_their_unit():
         r"numbers given \(a unit of length",
     ):
         run_sweep(core)
+    core["vary"]["fluid_core_radius"]["unit"] = "kg"  # said "allowed: a unit of m"
+    with pytest.raises(FileFormatError, match=r"unit: got 'kg'; allowed: a unit of length \(e\.g\. m\)$"):
+        run_sweep(core)
     core["vary"]["fluid_core_radius"]["unit"] = "km"
     drawn = run_sweep(core)["fluid_core_radius"]
     assert drawn.attrs["units"] == "km" and "normal(mean=1800, sd=50) in km" in drawn.attrs["comment"]

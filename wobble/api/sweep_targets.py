@@ -135,7 +135,7 @@ class ChandlerTarget:
             raise FileFormatError(
                 sweep_source(spec),
                 f"{where}.unit",
-                f"got {v.unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}",
+                f"got {v.unit!r}; allowed: {_unit_kind(si)}",
             ) from None
         catalogued = getattr(self.params, v.parameter)
         if v.distribution == "normal":
@@ -223,6 +223,13 @@ def _resolved(v: Variation, unit_text: str, scale: float, mean=None, sd=None) ->
     return _Resolved(v.parameter, "grid", values=values, unit=unit_text, shown_values=tuple(v.values), **shown)
 
 
+def _unit_kind(si) -> str:
+    """What a unit must be, for an error: ``a unit of length (e.g. m)``; it said ``a unit of m``."""
+    if si.physical_type == "dimensionless":
+        return 'a pure number (unit = "" or left out)'
+    return f"a unit of {si.physical_type} (e.g. {si.to_string()})"
+
+
 def _unit_text(key: str) -> str:
     """The UDUNITS-style string of the parameter's SI unit, as the other files write them (``rad s-1``, not
     astropy's ``rad / s``); "1" for a pure number (:func:`wobble.io.cf.udunits`, as the posterior files)."""
@@ -290,9 +297,7 @@ class _BaseTarget:
         try:
             return float((1.0 * u.Unit(unit or u.dimensionless_unscaled)).to_value(si))
         except (ValueError, TypeError, u.UnitConversionError):
-            raise FileFormatError(
-                sweep_source(spec), where, f"got {unit!r}; allowed: a unit of {si.to_string() or 'dimensionless'}"
-            ) from None
+            raise FileFormatError(sweep_source(spec), where, f"got {unit!r}; allowed: {_unit_kind(si)}") from None
 
     def _si(self, spec: SweepSpec, v: Variation) -> _Resolved:
         where = f"vary.{v.parameter}"
