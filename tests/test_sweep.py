@@ -173,7 +173,7 @@ def test_unphysical_members_are_marked_and_the_sweep_goes_on():
         (
             {"vary": {"love_number_k2": {"distribution": "normal", "unit": "m"}}},
             "vary.love_number_k2.unit",
-            "dimensionless",
+            'allowed: a pure number (unit = "" or left out)',  # it said "a unit of dimensionless"
         ),
     ],
 )
