@@ -466,182 +466,256 @@ def _through_anchor(n_pole: Decimal, scale: Decimal, sn0, across: Decimal, along
         return _f(-side * f * Decimal(float(angle)))
 
 
+@dataclass(frozen=True)
+class _Nutation:
+    """A nutating top's constants (decimal, at :data:`DIGITS` digits): the parameter m and 1 - m, the
+    rate lambda and quarter period K of the nutation phase, the complete Pi of the mean rates, and
+    whether the axis passes a pole (followed as a pass through it)."""
+
+    m: Decimal
+    m1: Decimal
+    lam: Decimal
+    kdec: Decimal
+    K: tuple[float, float]  # K as a double-double
+    period: Decimal
+    pi_plus: Decimal
+    pi_minus: Decimal
+    mean_inv_x: Decimal  # mean of 1/x over the nutation
+    mean_inv_y: Decimal
+    mean_phidot: Decimal
+    mean_bound: Decimal  # the rounding of mean_phidot
+    mean_psidot: Decimal
+    top: bool  # the axis passes the upward pole (closer than its own rounding)
+    bottom: bool
+    rho_x: Decimal  # x2 / x1
+    rho_y: Decimal  # y1 / y2
+    b_eff: Decimal  # B, or 0 for a pass through the top
+    c_eff: Decimal
+
+
+def _nutation(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots) -> _Nutation:
+    """The :class:`_Nutation` of a top whose theta oscillates between the roots x2 < x1."""
+    w3, a, thetadot0 = s.omega3, st.a, st.thetadot0
+    x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
+    B, C = cub.B, cub.C
+    width = roots.width  # x1 - x2 with its own digits (the roots alone lose it below 1e-60 of x)
+    m = cub.beta * width / roots.beta_span
+    m1 = roots.beta_gap / roots.beta_span
+    if m1 < Decimal("1e-150"):
+        raise InputError(
+            "thetadot0",
+            _f(thetadot0),
+            f"a state farther from the separatrix: 1 - m = {_f(m1):.3g} is below what float64 "
+            "Carlson integrals resolve (1e-150); the top would creep away from an unstable "
+            "equilibrium for a time of order ln(1/(1 - m)) nutation periods",
+        )
+    lam = roots.beta_span.sqrt() / 2
+    kdec = hp.agm_k(m1)
+    # Mean rates of J_+ = int dt/x and J_- = int dt/y (complete Pi by Bulirsch's cel).
+    kc = m1.sqrt()
+    pi_plus, pi_minus = complete_pi_pair(kc, x2 / x1 if B != 0 else None, y2 / y1 if C != 0 else None)
+    mean_inv_x = pi_plus / (kdec * x1)
+    mean_inv_y = pi_minus / (kdec * y1) if C != 0 else Decimal(0)
+    mean_phidot = (B * mean_inv_x + C * mean_inv_y) / 2
+    # One of B and C zero: a single term, no cancellation; its rounding at the precision of the integrals.
+    mean_bound = abs(mean_phidot) * Decimal(10) ** (-MEAN_RATE_DIGITS)
+    if B != 0 and C != 0:
+        mean_phidot, mean_bound = _mean_phidot(s.v0 * st.s0 - a * roots.d_low, a, width, x1, x2, y1, y2, kc, kdec)
+    # A pass closer to a pole than sqrt(x2/x1) = 1e-16 of theta_max (below the rounding
+    # of theta) is followed as a pass through it (signed theta; the pi jumps of phi
+    # and psi come from the fold): the difference is O(sqrt(x2/x1)) theta_max, and the
+    # floats stay far from overflow.
+    rho_x, rho_y = x2 / x1, y1 / y2
+    top = x2 == 0 or rho_x < _POLE
+    bottom = y1 == 0 or rho_y < _POLE
+    return _Nutation(
+        m=m,
+        m1=m1,
+        lam=lam,
+        kdec=kdec,
+        K=hp.to_dd(kdec),
+        period=2 * kdec / lam,
+        pi_plus=pi_plus,
+        pi_minus=pi_minus,
+        mean_inv_x=mean_inv_x,
+        mean_inv_y=mean_inv_y,
+        mean_phidot=mean_phidot,
+        mean_bound=mean_bound,
+        mean_psidot=w3 - a - (B * mean_inv_x - C * mean_inv_y) / 2,
+        top=bool(top),
+        bottom=bool(bottom),
+        rho_x=rho_x,
+        rho_y=rho_y,
+        b_eff=Decimal(0) if top else B,
+        c_eff=Decimal(0) if bottom else C,
+    )
+
+
+def _start_phase(st: _Start, roots: cubic.TopRoots, nu: _Nutation) -> tuple[Decimal, Decimal, Decimal, Decimal]:
+    """The initial nutation phase w0 in (-K, K] (decimal) with sn w0, cn^2 w0 and dn^2 w0:
+    x0 = x1 cn^2 + x2 sn^2, sn w0 of the sign of -thetadot0."""
+    width = roots.width
+    sn0_2 = min(max(roots.d_high / width, Decimal(0)), Decimal(1))
+    cn0_2 = min(max(roots.d_low / width, Decimal(0)), Decimal(1))
+    dn0_2 = cn0_2 + nu.m1 * sn0_2  # = 1 - m sn0^2 without cancellation next to m = 1
+    sgn = -1 if st.thetadot0 > 0 else 1
+    sn0 = sgn * sn0_2.sqrt()
+    # w0 = sn0 R_F(cn0^2, dn0^2, 1) at DIGITS digits, rounded once: the evaluation takes the double, and
+    # the anchors make up for the rest (w0_dec - r0), which next to a pole turns the whole motion.
+    w0_dec = sgn * nu.kdec if cn0_2 == 0 else sn0 * hp.carlson_rf(cn0_2, dn0_2, Decimal(1), context())
+    return w0_dec, sn0, cn0_2, dn0_2
+
+
+def _anchors(cub: cubic.TopCubic, roots: cubic.TopRoots, nu: _Nutation, start, lam_dd) -> tuple[float, float, float]:
+    """The reduced phase r0 at t = 0 and the anchors of sigma and delta: the periodic parts' offsets
+    P(w0) - P(r0) over the sub-ulp step between the exact start and its double."""
+    w0_dec, sn0, cn0_2, dn0_2 = start
+    w0, K, kdec = _f(w0_dec), nu.K, nu.kdec
+    x1, x2, y1, y2, B, C, lam = roots.x1, roots.x2, roots.y1, roots.y2, cub.B, cub.C, nu.lam
+    # The reduced phase at t = 0. The reduction of lambda t + w0
+    # (wobble.numerics.phase.reduce_phase) forms x = 0 + w0 with no error term and, for
+    # |w0| <= K (x / 2K in [-1/2, 1/2], which rint takes to 0, ties to even), j = 0 and
+    # r = x: it is 0.0 + w0 exactly (the sum turns -0.0 into +0.0, as there). The periodic
+    # parts there are taken by the evaluator when first needed, through the evaluation's own
+    # path, so the attitude at t = 0 is q0 but for the anchors.
+    if abs(w0) <= K[0]:
+        r0, j0 = 0.0 + w0, 0.0
+    else:
+        r_, j_ = reduce_phase(np.zeros(1), lam_dd, (2 * K[0], 2 * K[1]), w0)
+        r0, j0 = float(r_[0]), float(j_[0])
+    # A double r0 past +-K by less than an ulp (K rounded up) is evaluated as the phase mirrored about +-K
+    # (sn and |cn|: Pi(n; am r) takes cn >= 0) with the secular term at r0 itself.
+    r0_dec = Decimal.from_float(r0)
+    r0_seen = r0_dec if abs(r0_dec) <= kdec else (2 * kdec if r0 > 0 else -2 * kdec) - r0_dec
+    w0_red = w0_dec - 2 * kdec * Decimal(j0)
+    h = (w0_red - r0_seen, w0_red - r0_dec)
+    cn0_, dn0_ = cn0_2.sqrt(), dn0_2.sqrt()
+    if nu.top:
+        delta = _through_anchor(B, lam * (x1 * x2 * nu.m1).sqrt(), sn0, cn0_ * x1.sqrt(), x2.sqrt(), True)
+    else:
+        delta = _step_anchor(B / (2 * lam), nu.pi_plus / kdec * nu.b_eff / (2 * lam * x1), x1, x2, sn0, cn0_, dn0_, h)
+    if nu.bottom:
+        sigma = _through_anchor(C, lam * (y1 * y2).sqrt(), sn0, cn0_ * y1.sqrt(), y2.sqrt(), False)
+    else:
+        sigma = _step_anchor(C / (2 * lam), nu.pi_minus / kdec * nu.c_eff / (2 * lam * y1), y1, y2, sn0, cn0_, dn0_, h)
+    return r0, sigma, delta
+
+
+def _evaluator(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots, nu: _Nutation) -> Elliptic:
+    """The :class:`~wobble.models.top_closed_form.Elliptic` evaluator of the motion: Jacobi functions for
+    u(t), Pi(n; am w | m) for phi and psi, the secular phases and the anchors."""
+    w3, a = s.omega3, st.a
+    x1, y1, y2, width = roots.x1, roots.y1, roots.y2, roots.width
+    lam, kdec, b_eff, c_eff, top, bottom = nu.lam, nu.kdec, nu.b_eff, nu.c_eff, nu.top, nu.bottom
+    w3ma = w3 - a
+    sigma_rate = (w3ma + c_eff * nu.mean_inv_y) / 2
+    delta_rate = (b_eff * nu.mean_inv_x - w3ma) / 2
+    start = _start_phase(st, roots, nu)
+    sn0 = start[1]
+    hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
+    # Through the bottom, cos(theta/2) is carried signed, hy2 sn(w): negative at t = 0 when the top
+    # starts towards the bottom (sn w0 < 0). The quaternion (ch cos sigma, sh cos delta, sh sin delta,
+    # ch sin sigma) is then the start's only if sigma carries pi more; without it a top released with
+    # thetadot0 > 0 (a planar pendulum swinging down) started mirrored, R_x(-theta0) for R_x(theta0).
+    # (Through the top sin(theta/2) = hx1 cn(w) needs nothing: cn w0 >= 0 for |w0| <= K.)
+    sigma0 = st.sigma0 + (hp.PI if bottom and sn0 < 0 else 0)
+    lam_dd = hp.to_dd(lam)
+    r0, anchor_sigma, anchor_delta = _anchors(cub, roots, nu, start, lam_dd)
+    return Elliptic(
+        r0=r0,
+        anchor_sigma=anchor_sigma,
+        anchor_delta=anchor_delta,
+        hx1=_f(hx1),
+        hy2=_f(hy2),
+        rho_x=0.0 if top else _f(nu.rho_x),
+        rho_y=0.0 if bottom else _f(nu.rho_y),
+        x1=_f(x1),
+        y2=_f(y2),
+        B=_f(b_eff),
+        C=_f(c_eff),
+        B_x1=_f(b_eff / x1),
+        C_y2=_f(c_eff / y2),
+        Bp=_f(b_eff / x1 * hx1 * hy2),
+        Cp=_f(c_eff / y2 * hx1 * hy2),
+        W=_f(width / (hx1 * hy2)),
+        through_top=top,
+        through_bottom=bottom,
+        a=_f(a),
+        omega3=_f(w3),
+        lam=lam_dd,
+        K=nu.K,
+        w0=_f(start[0]),
+        m=_f(nu.m),
+        m1=_f(nu.m1),
+        n_plus=_f(width / x1),
+        one_minus_n_plus=_f(nu.rho_x),
+        nu_minus=_f(width / y1) if not bottom else 0.0,
+        pi_plus_over_k=_f(nu.pi_plus / kdec),
+        pi_minus_over_k=_f(nu.pi_minus / kdec),
+        k_plus=_f(b_eff / (2 * lam * x1)),
+        k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
+        sigma_sec=secular_phase(sigma_rate, lam, kdec, sigma0),
+        delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
+        phi_sec=secular_phase(
+            nu.mean_phidot if not (top or bottom) else (b_eff * nu.mean_inv_x + c_eff * nu.mean_inv_y) / 2,
+            lam,
+            kdec,
+            sigma0 + st.delta0,
+        ),
+        psi_sec=secular_phase(sigma_rate - delta_rate, lam, kdec, sigma0 - st.delta0),
+        # The fold K - |r| uses the 60-digit K of the reduction, given at construction.
+        levels=ell.landen_levels(_f(nu.m), _f(nu.m1), K=nu.K[0]),
+    )
+
+
+def _elliptic_estimate(roots: cubic.TopRoots, nu: _Nutation, impl: Elliptic, theta_max: float) -> dict:
+    """The error estimate of the elliptic evaluation: theta, the attitude, the turning points, the period and
+    the mean precession rate."""
+    x1, x2, y1, y2, lam = roots.x1, roots.x2, roots.y1, roots.y2, nu.lam
+    kf = float(nu.K[0])
+    swing = abs(_f(nu.b_eff * nu.pi_plus / (lam * x1)))
+    if not nu.bottom:
+        swing += abs(_f(nu.c_eff * nu.pi_minus / (lam * y1)))
+    # psi's secular phase over a period, c (r - w0) with c = (omega3 - a)/(2 lambda) + ...,
+    # is a fast spin's turns per nutation: its rounding (and that of the reduced phase r,
+    # a few ulps of K) grows with c. That is psi's own conditioning in t, |psidot| t eps
+    # for t of a period; phi = sigma + delta has no such term (its own secular phase).
+    spin = 8 * EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
+    # The anchors (the periodic parts' offsets at the exact start) are rounded once from their
+    # closed forms and take an atan2 in float64: a few eps of themselves. A start within a pass followed as
+    # one through a pole takes its turn with dn = 1 across the pass, exact to 2 sqrt(x2 / (x1 m1)) (or
+    # 2 sqrt(y1 / (y2 m1))): below 1e-16 rad unless the motion also lies next to the separatrix.
+    anchor = 4 * EPS * (abs(impl.anchor_sigma) + abs(impl.anchor_delta))
+    if nu.top and x2 != 0:
+        anchor += _f(2 * (x2 / (x1 * nu.m1)).sqrt())
+    if nu.bottom and y1 != 0:
+        anchor += _f(2 * (y1 / (y2 * nu.m1)).sqrt())
+    return {
+        "theta_rad": 32 * EPS * (1 + kf) * max(theta_max, EPS),
+        "attitude_rad": 64 * EPS * (1 + kf) * (1 + swing) + spin + anchor,
+        "turning_points_relative": 4 * EPS,
+        "period_relative": 4 * EPS,
+        # Its rounding to a double, or what the 45 digits of its terms leave when they cancel (loops under
+        # weak gravity): the mean itself, not phi(t), whose secular part it is only to within attitude_rad.
+        "mean_precession_rate_rad_per_s": max(_f(nu.mean_bound), 2 * EPS * abs(_f(nu.mean_phidot))),
+    }
+
+
 def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoots) -> dict:
     """Fields of a nutating top: Jacobi functions for u(t), Pi(n; am w | m) for phi and psi."""
-    w3, a, thetadot0 = s.omega3, st.a, st.thetadot0
     with decimal.localcontext(context()):
-        x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
-        span, gap = roots.beta_span, roots.beta_gap
-        beta = cub.beta
-        B, C = cub.B, cub.C
-        width = roots.width  # x1 - x2 with its own digits (the roots alone lose it below 1e-60 of x)
-        m = beta * width / span
-        m1 = gap / span
-        if m1 < Decimal("1e-150"):
-            raise InputError(
-                "thetadot0",
-                _f(thetadot0),
-                f"a state farther from the separatrix: 1 - m = {_f(m1):.3g} is below what float64 "
-                "Carlson integrals resolve (1e-150); the top would creep away from an unstable "
-                "equilibrium for a time of order ln(1/(1 - m)) nutation periods",
-            )
-        lam = span.sqrt() / 2
-        kdec = hp.agm_k(m1)
-        K = hp.to_dd(kdec)
-        period = 2 * kdec / lam
-        # Mean rates of J_+ = int dt/x and J_- = int dt/y (complete Pi by Bulirsch's cel).
-        kc = m1.sqrt()
-        pi_plus, pi_minus = complete_pi_pair(kc, x2 / x1 if B != 0 else None, y2 / y1 if C != 0 else None)
-        mean_inv_x = pi_plus / (kdec * x1)
-        mean_inv_y = pi_minus / (kdec * y1) if C != 0 else Decimal(0)
-        w3ma = w3 - a
-        mean_phidot = (B * mean_inv_x + C * mean_inv_y) / 2
-        # One of B and C zero: a single term, no cancellation; its rounding at the precision of the integrals.
-        mean_bound = abs(mean_phidot) * Decimal(10) ** (-MEAN_RATE_DIGITS)
-        if B != 0 and C != 0:
-            mean_phidot, mean_bound = _mean_phidot(s.v0 * st.s0 - a * roots.d_low, a, width, x1, x2, y1, y2, kc, kdec)
-        mean_psidot = w3ma - (B * mean_inv_x - C * mean_inv_y) / 2
-        # A pass closer to a pole than sqrt(x2/x1) = 1e-16 of theta_max (below the rounding
-        # of theta) is followed as a pass through it (signed theta; the pi jumps of phi
-        # and psi come from the fold): the difference is O(sqrt(x2/x1)) theta_max, and the
-        # floats stay far from overflow.
-        rho_x = x2 / x1
-        rho_y = y1 / y2
-        top = x2 == 0 or rho_x < _POLE
-        bottom = y1 == 0 or rho_y < _POLE
-        b_eff = Decimal(0) if top else B
-        c_eff = Decimal(0) if bottom else C
-        sigma_rate = (w3ma + c_eff * mean_inv_y) / 2
-        delta_rate = (b_eff * mean_inv_x - w3ma) / 2
-        # Initial nutation phase w0 in (-K, K]: x0 = x1 cn^2 + x2 sn^2, sn w0 of the sign of -thetadot0.
-        sn0_2 = min(max(roots.d_high / width, Decimal(0)), Decimal(1))
-        cn0_2 = min(max(roots.d_low / width, Decimal(0)), Decimal(1))
-        dn0_2 = cn0_2 + m1 * sn0_2  # = 1 - m sn0^2 without cancellation next to m = 1
-        sgn = -1 if thetadot0 > 0 else 1
-        sn0 = sgn * sn0_2.sqrt()
-        # The fold K - |r| uses the 60-digit K of the reduction, given at construction.
-        levels = ell.landen_levels(_f(m), _f(m1), K=K[0])
-        # w0 = sn0 R_F(cn0^2, dn0^2, 1) at DIGITS digits, rounded once: the evaluation takes the double, and
-        # the anchors below make up for the rest (w0_dec - r0), which next to a pole turns the whole motion.
-        w0_dec = sgn * kdec if cn0_2 == 0 else sn0 * hp.carlson_rf(cn0_2, dn0_2, Decimal(1), context())
-        w0 = _f(w0_dec)
-        hx1, hy2 = (x1 / 2).sqrt(), (y2 / 2).sqrt()
-        # Through the bottom, cos(theta/2) is carried signed, hy2 sn(w): negative at t = 0 when the top
-        # starts towards the bottom (sn w0 < 0). The quaternion (ch cos sigma, sh cos delta, sh sin delta,
-        # ch sin sigma) is then the start's only if sigma carries pi more; without it a top released with
-        # thetadot0 > 0 (a planar pendulum swinging down) started mirrored, R_x(-theta0) for R_x(theta0).
-        # (Through the top sin(theta/2) = hx1 cn(w) needs nothing: cn w0 >= 0 for |w0| <= K.)
-        sigma0 = st.sigma0 + (hp.PI if bottom and sn0 < 0 else 0)
-        impl0 = dict(
-            hx1=_f(hx1),
-            hy2=_f(hy2),
-            rho_x=0.0 if top else _f(rho_x),
-            rho_y=0.0 if bottom else _f(rho_y),
-            x1=_f(x1),
-            y2=_f(y2),
-            B=_f(b_eff),
-            C=_f(c_eff),
-            B_x1=_f(b_eff / x1),
-            C_y2=_f(c_eff / y2),
-            Bp=_f(b_eff / x1 * hx1 * hy2),
-            Cp=_f(c_eff / y2 * hx1 * hy2),
-            W=_f(width / (hx1 * hy2)),
-            through_top=bool(top),
-            through_bottom=bool(bottom),
-            a=_f(a),
-            omega3=_f(w3),
-            lam=hp.to_dd(lam),
-            K=K,
-            w0=w0,
-            m=_f(m),
-            m1=_f(m1),
-            n_plus=_f(width / x1),
-            one_minus_n_plus=_f(rho_x),
-            nu_minus=_f(width / y1) if not bottom else 0.0,
-            pi_plus_over_k=_f(pi_plus / kdec),
-            pi_minus_over_k=_f(pi_minus / kdec),
-            k_plus=_f(b_eff / (2 * lam * x1)),
-            k_minus=_f(c_eff / (2 * lam * y1)) if not bottom else 0.0,
-            sigma_sec=secular_phase(sigma_rate, lam, kdec, sigma0),
-            delta_sec=secular_phase(delta_rate, lam, kdec, st.delta0),
-            phi_sec=secular_phase(
-                mean_phidot if not (top or bottom) else (b_eff * mean_inv_x + c_eff * mean_inv_y) / 2,
-                lam,
-                kdec,
-                sigma0 + st.delta0,
-            ),
-            psi_sec=secular_phase(sigma_rate - delta_rate, lam, kdec, sigma0 - st.delta0),
-            levels=levels,
-        )
-        # The reduced phase at t = 0. The reduction of lambda t + w0
-        # (wobble.numerics.phase.reduce_phase) forms x = 0 + w0 with no error term and, for
-        # |w0| <= K (x / 2K in [-1/2, 1/2], which rint takes to 0, ties to even), j = 0 and
-        # r = x: it is 0.0 + w0 exactly (the sum turns -0.0 into +0.0, as there). The periodic
-        # parts there are taken by the evaluator when first needed, through the evaluation's own
-        # path, so the attitude at t = 0 is q0 but for the anchors below.
-        if abs(w0) <= K[0]:
-            r0, j0 = 0.0 + w0, 0.0
-        else:
-            r_, j_ = reduce_phase(np.zeros(1), impl0["lam"], (2 * K[0], 2 * K[1]), w0)
-            r0, j0 = float(r_[0]), float(j_[0])
-        # The periodic parts are anchored at the exact start: P(w0_dec) - P(r0) over the sub-ulp step between them.
-        # A double r0 past +-K by less than an ulp (K rounded up) is evaluated as the phase mirrored about +-K
-        # (sn and |cn|: Pi(n; am r) takes cn >= 0) with the secular term at r0 itself.
-        r0_dec = Decimal.from_float(r0)
-        r0_seen = r0_dec if abs(r0_dec) <= kdec else (2 * kdec if r0 > 0 else -2 * kdec) - r0_dec
-        w0_red = w0_dec - 2 * kdec * Decimal(j0)
-        h = (w0_red - r0_seen, w0_red - r0_dec)
-        sn0_, cn0_, dn0_ = sn0, cn0_2.sqrt(), dn0_2.sqrt()
-        if top:
-            anchor_delta = _through_anchor(B, lam * (x1 * x2 * m1).sqrt(), sn0_, cn0_ * x1.sqrt(), x2.sqrt(), True)
-        else:
-            anchor_delta = _step_anchor(
-                B / (2 * lam), pi_plus / kdec * b_eff / (2 * lam * x1), x1, x2, sn0_, cn0_, dn0_, h
-            )
-        if bottom:
-            anchor_sigma = _through_anchor(C, lam * (y1 * y2).sqrt(), sn0_, cn0_ * y1.sqrt(), y2.sqrt(), False)
-        else:
-            anchor_sigma = _step_anchor(
-                C / (2 * lam), pi_minus / kdec * c_eff / (2 * lam * y1), y1, y2, sn0_, cn0_, dn0_, h
-            )
-        impl = Elliptic(r0=r0, anchor_sigma=anchor_sigma, anchor_delta=anchor_delta, **impl0)
+        nu = _nutation(s, st, cub, roots)
+        impl = _evaluator(s, st, cub, roots, nu)
         u1, u2, u3 = _report_roots(roots)
-        nut = nutation_class(B, a, x1, x2, y1, y2, C)
+        x1, x2, y1, y2 = roots.x1, roots.x2, roots.y1, roots.y2
         if st.s0 != 0:
             phidot0 = s.v0 / st.s0
         else:
             phidot0 = to_decimal(s.phidot0) if st.x0 == 0 else Decimal(0)
-        psidot0 = w3 - st.u0 * phidot0
-        kf = float(K[0])
         theta_max = theta_of(x1, y1)
-        swing = abs(_f(b_eff * pi_plus / (lam * x1))) + (abs(_f(c_eff * pi_minus / (lam * y1))) if not bottom else 0.0)
-        # psi's secular phase over a period, c (r - w0) with c = (omega3 - a)/(2 lambda) + ...,
-        # is a fast spin's turns per nutation: its rounding (and that of the reduced phase r,
-        # a few ulps of K) grows with c. That is psi's own conditioning in t, |psidot| t eps
-        # for t of a period; phi = sigma + delta has no such term (its own secular phase).
-        spin = 8 * EPS * kf * (abs(impl.sigma_sec.c) + abs(impl.delta_sec.c))
-        # The anchors (the periodic parts' offsets at the exact start, above) are rounded once from their
-        # closed forms and take an atan2 in float64: a few eps of themselves. A start within a pass followed as
-        # one through a pole takes its turn with dn = 1 across the pass, exact to 2 sqrt(x2 / (x1 m1)) (or
-        # 2 sqrt(y1 / (y2 m1))): below 1e-16 rad unless the motion also lies next to the separatrix.
-        anchor = 4 * EPS * (abs(anchor_sigma) + abs(anchor_delta))
-        with decimal.localcontext(context()):
-            if top and x2 != 0:
-                anchor += _f(2 * (x2 / (x1 * m1)).sqrt())
-            if bottom and y1 != 0:
-                anchor += _f(2 * (y1 / (y2 * m1)).sqrt())
-        est = {
-            "theta_rad": 32 * EPS * (1 + kf) * max(theta_max, EPS),
-            "attitude_rad": 64 * EPS * (1 + kf) * (1 + swing) + spin + anchor,
-            "turning_points_relative": 4 * EPS,
-            "period_relative": 4 * EPS,
-            # Its rounding to a double, or what the 45 digits of its terms leave when they cancel (loops under
-            # weak gravity): the mean itself, not phi(t), whose secular part it is only to within attitude_rad.
-            "mean_precession_rate_rad_per_s": max(_f(mean_bound), 2 * EPS * abs(_f(mean_phidot))),
-        }
         return dict(
             phidot0=_f(phidot0),
-            psidot0=_f(psidot0),
+            psidot0=_f(s.omega3 - st.u0 * phidot0),
             u1=u1,
             u2=u2,
             u3=u3,
@@ -650,12 +724,12 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
             theta_min=theta_of(x2, y2),
             theta_max=theta_max,
-            nutation=nut,
-            m=_f(m),
-            m1=_f(m1),
-            nutation_period=_f(period),
-            mean_precession_rate=_f(mean_phidot),
-            mean_spin_rate=_f(mean_psidot),
-            error_estimate=est,
+            nutation=nutation_class(cub.B, st.a, x1, x2, y1, y2, cub.C),
+            m=_f(nu.m),
+            m1=_f(nu.m1),
+            nutation_period=_f(nu.period),
+            mean_precession_rate=_f(nu.mean_phidot),
+            mean_spin_rate=_f(nu.mean_psidot),
+            error_estimate=_elliptic_estimate(roots, nu, impl, theta_max),
             _impl=impl,
         )

@@ -190,6 +190,21 @@ def analysis_dataset(a):
     from wobble.api.dataset import xarray
 
     xr = xarray()
+    ds = _record_and_fit(a)
+    # The windowed estimates share names with the whole-span ones (on "method"):
+    # in the file they carry a window_ prefix, so neither hides the other.
+    windows = a.windows.rename({v: f"window_{v}" for v in a.windows.data_vars if not v.startswith("window_")})
+    ds = xr.merge([ds, windows, a.spectrum], combine_attrs="drop_conflicts")
+    ds = _estimates(ds, [a.least_squares, a.spectral], a.caveats)
+    ds = _model_and_published(ds, a)
+    if a.quality_factor is not None:
+        ds = _quality_factor(ds, a.quality_factor)
+    ds.attrs = _analysis_attrs(a)
+    return ds
+
+
+def _record_and_fit(a):
+    """The record's pole on the fitted days, with the least-squares model, its residuals and the mean pole (mas)."""
     mjd, t, z = series(a.data)
     fit = a.least_squares.raw
     model = fit.model(t)
@@ -217,11 +232,11 @@ def analysis_dataset(a):
         x_p_mean_pole=("time", px, attrs("milliarcsecond", "x_p of the fitted mean-pole drift")),
         y_p_mean_pole=("time", py, attrs("milliarcsecond", "y_p of the fitted mean-pole drift")),
     )
-    # The windowed estimates share names with the whole-span ones (on "method"):
-    # in the file they carry a window_ prefix, so neither hides the other.
-    windows = a.windows.rename({v: f"window_{v}" for v in a.windows.data_vars if not v.startswith("window_")})
-    ds = xr.merge([ds, windows, a.spectrum], combine_attrs="drop_conflicts")
-    methods = [a.least_squares, a.spectral]
+    return ds
+
+
+def _estimates(ds, methods, caveats):
+    """The Chandler and annual estimates of each method (least squares, spectrum) on ``method``."""
 
     def per_method(fn):
         return np.array([fn(e) for e in methods], dtype=float)
@@ -290,15 +305,20 @@ def analysis_dataset(a):
             "flag_values": np.array([0, 1], dtype=np.int8),
             "flag_meanings": "not_resolved resolved",
             # The caveats, when there are any (an empty comment is a compliance checker's complaint).
-            **({"comment": "; ".join(a.caveats)} if a.caveats else {}),
+            **({"comment": "; ".join(caveats)} if caveats else {}),
         },
     )
     ds = ds.assign_coords(method=("method", [e.method for e in methods], {"long_name": "estimation method"}))
     ds["epoch"] = (
         (),
-        float(a.least_squares.epoch.mjd),
+        float(methods[0].epoch.mjd),  # the least squares' mid-span
         {"units": MJD_UNITS, "calendar": "standard", "long_name": "epoch of the phases (mid-span)"},
     )
+    return ds
+
+
+def _model_and_published(ds, a):
+    """The Chandler budget's period after each model step beside the observed and published periods."""
     rows = a.comparison()
     model_rows = [r for r in rows if r["kind"] == "model"]
     ds = ds.assign_coords(
@@ -335,18 +355,26 @@ def analysis_dataset(a):
         pub["uncertainty"].to_value(u.day),
         attrs("day", "one-sigma uncertainty of the published Chandler period"),
     )
-    if a.quality_factor is not None:
-        q = a.quality_factor
-        ds["quality_factor"] = (
-            (),
-            q.value,
-            attrs("1", "maximum-likelihood Q of the Chandler line (inf: unresolved)", comment="; ".join(q.caveats)),
-        )
-        ds["quality_factor_low"] = ((), q.low, attrs("1", "lower end of the 68 % interval of Q"))
-        ds["quality_factor_high"] = ((), q.high, attrs("1", "upper end of the 68 % interval of Q (inf: unbounded)"))
-        ds["quality_factor_lower_bound_95"] = ((), q.lower_bound_95, attrs("1", "one-sided 95 % lower bound of Q"))
+    return ds
+
+
+def _quality_factor(ds, q):
+    """The maximum-likelihood Q of the Chandler line and its intervals."""
+    ds["quality_factor"] = (
+        (),
+        q.value,
+        attrs("1", "maximum-likelihood Q of the Chandler line (inf: unresolved)", comment="; ".join(q.caveats)),
+    )
+    ds["quality_factor_low"] = ((), q.low, attrs("1", "lower end of the 68 % interval of Q"))
+    ds["quality_factor_high"] = ((), q.high, attrs("1", "upper end of the 68 % interval of Q (inf: unbounded)"))
+    ds["quality_factor_lower_bound_95"] = ((), q.lower_bound_95, attrs("1", "one-sided 95 % lower bound of Q"))
+    return ds
+
+
+def _analysis_attrs(a) -> dict:
+    """The file's global attributes: title, summary of the estimates, references, source and sign convention."""
     e = a.least_squares
-    ds.attrs = {
+    return {
         "title": "Observed polar motion and the Chandler wobble",
         "summary": (
             f"Chandler period {e.period.value:.1f} +/- {e.period_uncertainty.value:.1f} d and amplitude "
@@ -362,4 +390,3 @@ def analysis_dataset(a):
         + ". Days are days of 86400 s. Windows: "
         + f"{a.windows.attrs['window_years']:g} yr every {a.windows.attrs['step_years']:g} yr.",
     }
-    return ds

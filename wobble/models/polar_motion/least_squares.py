@@ -325,83 +325,101 @@ def fit_least_squares(
         rate = float(vp_rates(t, z[:, None], drift_degree=degree, band=band)[0])
     coeffs, rate, at_edge = _ls_solve(s, z, half, fixed, band, rate, polish=uncertainty if polish is None else polish)
     resid = z - fixed @ coeffs[:-1] - coeffs[-1] * np.exp(1j * rate * s)
-    caveats = span_caveats(t[-1] - t[0], beat)
-    if at_edge:
-        caveats.append(
-            f"the best period lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
-            "no Chandler term is resolved in this span"
-        )
     inflation = 1.0 / max(separation(s, fixed, rate), 1e-300)
-    separable = inflation <= MAX_VARIANCE_INFLATION
-    if not separable:
-        caveats.append(
-            f"over this span a Chandler term of {2 * math.pi / rate / DAY:.0f} d cannot be told from the annual "
-            f"terms: its column is nearly collinear with theirs (variance inflation {inflation:.3g}, above "
-            f"{MAX_VARIANCE_INFLATION:g}), so the Chandler and annual amplitudes are not determined, only their sum"
-        )
-    nan = math.nan
-    sig_rate = sig_amp = sig_phase = nan
-    ann_sig = [(nan, nan), (nan, nan)]
-    pu = au = Uncertainty(nan, nan, nan, nan, nan)
+    caveats = _caveats(t, beat, band, rate, at_edge, inflation)
     details: dict = {
         "solver": "variable projection + scipy.optimize.least_squares (lm)",
         "at_edge": bool(at_edge),
         "band": band,
         "variance_inflation": inflation,
-        "separable": bool(separable),
+        "separable": bool(inflation <= MAX_VARIANCE_INFLATION),
     }
+    nan = math.nan
+    sig_rate = sig_amp = sig_phase = nan
+    ann_sig = [(nan, nan), (nan, nan)]
+    pu = au = Uncertainty(nan, nan, nan, nan, nan)
     if uncertainty:
-        jc = _jacobian_complex(s, half, fixed, coeffs, rate)
-        bread = scaled_inverse((jc.conj().T @ jc).real)
-        npar = jc.shape[1]
-        s2 = float(np.sum(np.abs(resid) ** 2)) / max(2 * s.size - npar, 1)
-        cov_formal = s2 * bread
-        scores = (jc.conj() * resid[:, None]).real
-        lag = min(beat, (t[-1] - t[0]) * HAC_MAX_B)
-        b = lag / (t[-1] - t[0])
-        # Fixed-b bias of the Bartlett estimator, E = (1 - b + b^2/3) x the true
-        # long-run variance (Kiefer & Vogelsang 2005): divided out.
-        cov_hac = bread @ hac_meat(t, scores, lag) @ bread / (1.0 - b + b * b / 3.0)
-        details["hac_bandwidth_days"] = lag / DAY
-        # period sigma from u = rate * half: sigma_P = 2 pi sigma_u / (half rate^2)
-        to_period = 2 * math.pi / (half * rate**2)
-        ic = 2 * (coeffs.size - 1)  # (Re, Im) of the Chandler amplitude
-        p_formal = sqrt_var(cov_formal[-1, -1]) * to_period
-        p_hac = sqrt_var(cov_hac[-1, -1]) * to_period
-        a_formal = amp_phase_sigma(coeffs[-1], cov_formal[ic : ic + 2, ic : ic + 2])[0]
-        a_hac, sig_phase = amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
+        cov = _covariance_sigmas(t, s, half, fixed, degree, coeffs, rate, resid, beat)
+        details["hac_bandwidth_days"] = cov["hac_bandwidth"] / DAY
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
 
             def batch(tm, zs):
                 return vp_tracked(tm, zs, vp_rates(tm, zs, drift_degree=degree, band=band), drift_degree=degree)
 
-            sub, nsub = subspan_scatter(
+            sub, details["subspans"] = subspan_scatter(
                 t, z, fit_least_squares, beat, batch, reference_period=reference_period, band=band, drift_degree=degree
             )
-            details["subspans"] = nsub
         base = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_sig)
         if model_check is None:
             mod = model_sensitivity(t, z, fit_least_squares, degree, base, reference_period=reference_period, band=band)
         else:
             mod = largest_change(base, model_check)
-        p_sub, a_sub, p_mod, a_mod = sub["period"], sub["amplitude"], mod["period"], mod["amplitude"]
         p_exc = math.nan
         if excitation_q is not None:
             batch = functools.partial(vp_periods, drift_degree=degree, band=band)
             p_exc = excitation_scatter(t, base, batch, check_q(excitation_q), draws, seed)
             details["excitation_q"] = float(excitation_q)
-        pu = combine(p_formal, p_hac, p_sub, p_mod, p_exc)
-        au = combine(a_formal, a_hac, a_sub, a_mod)
+        pu = combine(cov["period_formal"], cov["period_hac"], sub["period"], mod["period"], p_exc)
+        au = combine(cov["amplitude_formal"], cov["amplitude_hac"], sub["amplitude"], mod["amplitude"])
         sig_rate = pu.adopted * rate**2 / (2 * math.pi)
         sig_amp = au.adopted
-        ann_auto = [
-            amp_phase_sigma(
-                coeffs[degree + 1 + k],
-                cov_hac[2 * (degree + 1 + k) : 2 * (degree + 2 + k), 2 * (degree + 1 + k) : 2 * (degree + 2 + k)],
-            )
-            for k in (0, 1)
-        ]
-        ann_sig = annual_sigmas(ann_auto, sub, mod)
+        sig_phase = cov["phase_hac"]
+        ann_sig = annual_sigmas(cov["annual_hac"], sub, mod)
     fit = make_fit("least_squares", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
     return with_changes(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
+
+
+def _caveats(t, beat: float, band, rate: float, at_edge: bool, inflation: float) -> list[str]:
+    """What the fit cannot say over this span: a short span, a period at the band's edge, a Chandler
+    column the annual terms cannot be told from."""
+    caveats = span_caveats(t[-1] - t[0], beat)
+    if at_edge:
+        caveats.append(
+            f"the best period lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
+            "no Chandler term is resolved in this span"
+        )
+    if inflation > MAX_VARIANCE_INFLATION:
+        caveats.append(
+            f"over this span a Chandler term of {2 * math.pi / rate / DAY:.0f} d cannot be told from the annual "
+            f"terms: its column is nearly collinear with theirs (variance inflation {inflation:.3g}, above "
+            f"{MAX_VARIANCE_INFLATION:g}), so the Chandler and annual amplitudes are not determined, only their sum"
+        )
+    return caveats
+
+
+def _covariance_sigmas(t, s, half, fixed, degree, coeffs, rate, resid, beat) -> dict:
+    """The formal and heteroscedasticity-and-autocorrelation-consistent (HAC, Bartlett) sigmas of the period,
+    the Chandler amplitude and phase and the annual and semi-annual terms, from the fit's Jacobian; with the
+    HAC bandwidth, s."""
+    jc = _jacobian_complex(s, half, fixed, coeffs, rate)
+    bread = scaled_inverse((jc.conj().T @ jc).real)
+    npar = jc.shape[1]
+    s2 = float(np.sum(np.abs(resid) ** 2)) / max(2 * s.size - npar, 1)
+    cov_formal = s2 * bread
+    scores = (jc.conj() * resid[:, None]).real
+    lag = min(beat, (t[-1] - t[0]) * HAC_MAX_B)
+    b = lag / (t[-1] - t[0])
+    # Fixed-b bias of the Bartlett estimator, E = (1 - b + b^2/3) x the true
+    # long-run variance (Kiefer & Vogelsang 2005): divided out.
+    cov_hac = bread @ hac_meat(t, scores, lag) @ bread / (1.0 - b + b * b / 3.0)
+    # period sigma from u = rate * half: sigma_P = 2 pi sigma_u / (half rate^2)
+    to_period = 2 * math.pi / (half * rate**2)
+    ic = 2 * (coeffs.size - 1)  # (Re, Im) of the Chandler amplitude
+    a_hac, phase_hac = amp_phase_sigma(coeffs[-1], cov_hac[ic : ic + 2, ic : ic + 2])
+    annual = [
+        amp_phase_sigma(
+            coeffs[degree + 1 + k],
+            cov_hac[2 * (degree + 1 + k) : 2 * (degree + 2 + k), 2 * (degree + 1 + k) : 2 * (degree + 2 + k)],
+        )
+        for k in (0, 1)
+    ]
+    return {
+        "hac_bandwidth": lag,
+        "period_formal": sqrt_var(cov_formal[-1, -1]) * to_period,
+        "period_hac": sqrt_var(cov_hac[-1, -1]) * to_period,
+        "amplitude_formal": amp_phase_sigma(coeffs[-1], cov_formal[ic : ic + 2, ic : ic + 2])[0],
+        "amplitude_hac": a_hac,
+        "phase_hac": phase_hac,
+        "annual_hac": annual,
+    }
