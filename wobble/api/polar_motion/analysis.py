@@ -426,37 +426,9 @@ def polar_motion_analysis(
     # A file (or None, the shipped C04 series) is read into plain arrays: the Dataset is built only if
     # the caller asks for it (PolarMotionAnalysis.data), so the JSON and the text never import xarray.
     mjd, t, z, record = resolve_series(data, start, end)
-    # Non-positive and non-finite lengths meet the range checks below (which say what is allowed).
-    window_s = None if window is None else to_si(window, "window", u.s, finite=False, shape=())
-    step_s = to_si(step, "step", u.s, finite=False, shape=())
-    if not math.isfinite(step_s):
-        # 1e400 (inf once read) had been told "at least 1 d", which it is: the fault is that it is not a number.
-        raise InputError(
-            "step", step, f"a finite time (not NaN, inf, or past the largest double of seconds, {HUGE:.4g} s), {_STEP}"
-        )
-    if not step_s >= _pm.DAY * (1 - 1e-9):
-        # Windows moved by less than a sample are the same windows (and 0.001 yr made 64,000 of them).
-        raise InputError("step", step, _STEP)
+    window_s, step_s, default_window = _window_and_step(mjd, t, start, end, window, step)
     q_value = q_arg(excitation_q)
     span = t[-1] - t[0]
-    shortest = _pm.shortest_window(t)
-    if span < shortest:
-        # The least span is the shortest sliding window's: two Julian years of samples in it (730.5 d, which
-        # the message had rounded to 730) and a sample at each end; 731-732 d passed this check and were
-        # refused by the window's.
-        # --start alone is told the latest start, --end alone the earliest end (both named "--start/--end").
-        raise short_span_error(
-            mjd,
-            start,
-            end,
-            shortest / _pm.DAY,
-            f" (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of samples in each sliding window)",
-        )
-    default_window = window_s is None
-    if default_window:  # 8 years, or the span when shorter (a five-year span was refused its default window)
-        window_s = min(DEFAULT_WINDOW, span)
-    if not (math.isfinite(window_s) and shortest <= window_s <= span * (1 + 1e-9)):
-        raise InputError("window", window, _pm.window_allowed(t))
     say("least-squares fit")
     earth = load_planet("earth")  # read once: the reference period here, the budget and the comparison below
     reference = published_chandler_period(earth)["period"].to_value(u.s)
@@ -477,6 +449,67 @@ def polar_motion_analysis(
     wf = _pm.sliding_windows(
         t, z, window_s, step_s, reference_period=reference, drift_degree=drift_degree, progress=window_progress
     )
+    caveats = _analysis_caveats(ls, sp, wf, window_s, default_window, reference)
+    qf = None
+    if quality_factor:
+        if span >= _pm.MIN_Q_SPAN:
+            say("quality factor")
+            chandler_only = z - ls.model(t, terms=("drift", "annual_prograde", "annual_retrograde"))
+            q = _pm.quality_factor(t, chandler_only, ls.chandler.rate)
+            qf = QualityFactorEstimate(q.value, q.low, q.high, q.lower_bound_95, q.resolved, q.caveats)
+        else:
+            caveats.append("no Q estimate: the span is shorter than 20 years")
+    return PolarMotionAnalysis(
+        data=record,
+        least_squares=ChandlerEstimate.from_fit(ls),
+        spectral=ChandlerEstimate.from_fit(sp),
+        windows=wf,
+        spectrum=spectrum,
+        quality_factor=qf,
+        budget=chandler_budget(earth),
+        caveats=caveats,
+    )
+
+
+def _window_and_step(mjd, t, start, end, window, step) -> tuple[float, float, bool]:
+    """The sliding windows' length and spacing (s), checked against the span, and whether the length is the
+    default one."""
+    # Non-positive and non-finite lengths meet the range checks below (which say what is allowed).
+    window_s = None if window is None else to_si(window, "window", u.s, finite=False, shape=())
+    step_s = to_si(step, "step", u.s, finite=False, shape=())
+    if not math.isfinite(step_s):
+        # 1e400 (inf once read) had been told "at least 1 d", which it is: the fault is that it is not a number.
+        raise InputError(
+            "step", step, f"a finite time (not NaN, inf, or past the largest double of seconds, {HUGE:.4g} s), {_STEP}"
+        )
+    if not step_s >= _pm.DAY * (1 - 1e-9):
+        # Windows moved by less than a sample are the same windows (and 0.001 yr made 64,000 of them).
+        raise InputError("step", step, _STEP)
+    span = t[-1] - t[0]
+    shortest = _pm.shortest_window(t)
+    if span < shortest:
+        # The least span is the shortest sliding window's: two Julian years of samples in it (730.5 d, which
+        # the message had rounded to 730) and a sample at each end; 731-732 d passed this check and were
+        # refused by the window's.
+        # --start alone is told the latest start, --end alone the earliest end (both named "--start/--end").
+        raise short_span_error(
+            mjd,
+            start,
+            end,
+            shortest / _pm.DAY,
+            f" (two Julian years, {_pm.MIN_SPAN / _pm.DAY:g} d, of samples in each sliding window)",
+        )
+    default_window = window_s is None
+    if default_window:  # 8 years, or the span when shorter (a five-year span was refused its default window)
+        window_s = min(DEFAULT_WINDOW, span)
+    if not (math.isfinite(window_s) and shortest <= window_s <= span * (1 + 1e-9)):
+        raise InputError("window", window, _pm.window_allowed(t))
+    return window_s, step_s, default_window
+
+
+def _analysis_caveats(ls, sp, wf, window_s: float, default_window: bool, reference: float) -> list[str]:
+    """What the analysis cannot say: the least squares' caveats, the spectrum's band edge, unresolved
+    windows, a default window cut to the span, windows shorter than the Chandler-annual beat."""
     caveats = list(ls.caveats)
     # The spectral estimate's own, where it resolves no peak (its edge caveat had stayed in its JSON alone, while
     # the text compared its band-edge 390 d with the least squares).
@@ -499,22 +532,4 @@ def polar_motion_analysis(
             f"windows of {window_s / _pm.JULIAN_YEAR:.1f} yr are shorter than the 6.4-yr Chandler-annual beat: "
             "the windowed terms are barely separable"
         )
-    qf = None
-    if quality_factor:
-        if span >= _pm.MIN_Q_SPAN:
-            say("quality factor")
-            chandler_only = z - ls.model(t, terms=("drift", "annual_prograde", "annual_retrograde"))
-            q = _pm.quality_factor(t, chandler_only, ls.chandler.rate)
-            qf = QualityFactorEstimate(q.value, q.low, q.high, q.lower_bound_95, q.resolved, q.caveats)
-        else:
-            caveats.append("no Q estimate: the span is shorter than 20 years")
-    return PolarMotionAnalysis(
-        data=record,
-        least_squares=ChandlerEstimate.from_fit(ls),
-        spectral=ChandlerEstimate.from_fit(sp),
-        windows=wf,
-        spectrum=spectrum,
-        quality_factor=qf,
-        budget=chandler_budget(earth),
-        caveats=caveats,
-    )
+    return caveats
