@@ -774,6 +774,34 @@ def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
         for lab in ("CW_terrestrial", "FCN_terrestrial", "FCN_celestial")
         if any(lab in [m.label for m in r.modes] for r in results)
     ]
+    fields, sense = _per_mode(results, labels)
+
+    def var(name, data, **extra):
+        return variable("modes", name, data, **extra)
+
+    refs = "; ".join(f"{k}: {v}" for k, v in MODE_REFERENCES.items())
+    data = {name: var(name, values, comment=DAY_NOTE if "period" in name else None) for name, values in fields.items()}
+    data["sense"] = var("sense", sense, **flag_attrs({-1: "retrograde", 0: "absent", 1: "prograde"}))
+    data.update({name: var(name, values) for name, values in _per_body(results).items()})
+    sources = sorted({m.observed_source for r in results for m in r.modes if m.observed_source})
+    return xr.Dataset(
+        data,
+        coords={
+            "body": ("body", [r.body for r in results], {"long_name": "body identifier"}),
+            "mode": ("mode", labels, {"long_name": "free mode and the frame it is seen in"}),
+        },
+        attrs={
+            "title": "Rotational normal modes: Chandler wobble and free core nutation",
+            "references": refs + ("; observed: " + "; ".join(sources) if sources else ""),
+            "comment": "Periods from physical parameters only; the observed periods are never inputs, and the core "
+            "flattening the observed FCN requires is an output. " + DAY_NOTE,
+        },
+    )
+
+
+def _per_mode(results: list[NormalModes], labels: list[str]) -> tuple[dict, np.ndarray]:
+    """(body, mode) arrays of the modelled and observed periods, rates and Love numbers (NaN where a body
+    lacks the mode), and the sense of each mode (+1 prograde, -1 retrograde, 0 absent)."""
     shape = (len(results), len(labels))
     fields = {
         k: np.full(shape, np.nan)
@@ -798,72 +826,36 @@ def modes_dataset(results: list[NormalModes]) -> xr.Dataset:
             if m.observed is not None:
                 fields["observed_period"][i, j] = m.observed.to_value(u.day)
                 fields["observed_period_uncertainty"][i, j] = m.observed_uncertainty.to_value(u.day)
+    return fields, sense
+
+
+def _per_body(results: list[NormalModes]) -> dict[str, np.ndarray]:
+    """Each body's core flattening (hydrostatic, required by the observed FCN, the excess in per cent), the
+    FCN period required, the Chandler periods of the budget and without core coupling, its hydrostatic
+    figure and spin rate (NaN where a body has no value)."""
 
     def per_body(fn):
         return np.array([np.nan if (v := fn(r)) is None else float(v) for r in results])
 
-    def var(name, data, **extra):
-        return variable("modes", name, data, **extra)
-
     def day(q):
         return None if q is None else q.to_value(u.day)
 
-    refs = "; ".join(f"{k}: {v}" for k, v in MODE_REFERENCES.items())
-    data = {name: var(name, values, comment=DAY_NOTE if "period" in name else None) for name, values in fields.items()}
-    data["sense"] = var("sense", sense, **flag_attrs({-1: "retrograde", 0: "absent", 1: "prograde"}))
-    data.update(
-        {
-            "core_flattening_hydrostatic": var(
-                "core_flattening_hydrostatic", per_body(lambda r: r.core_flattening_hydrostatic)
-            ),
-            "core_flattening_hydrostatic_uncertainty": var(
-                "core_flattening_hydrostatic_uncertainty", per_body(lambda r: r.core_flattening_hydrostatic_uncertainty)
-            ),
-            "core_flattening_required": var("core_flattening_required", per_body(lambda r: r.core_flattening_required)),
-            "core_flattening_required_uncertainty": var(
-                "core_flattening_required_uncertainty", per_body(lambda r: r.core_flattening_required_uncertainty)
-            ),
-            "core_flattening_excess": var(
-                "core_flattening_excess",
-                per_body(lambda r: None if r.core_flattening_excess is None else 100 * r.core_flattening_excess),
-            ),
-            "core_flattening_excess_uncertainty": var(
-                "core_flattening_excess_uncertainty",
-                per_body(
-                    lambda r: (
-                        None
-                        if r.core_flattening_excess_uncertainty is None
-                        else 100 * r.core_flattening_excess_uncertainty
-                    )
-                ),
-            ),
-            "fcn_period_required": var("fcn_period_required", per_body(lambda r: day(r.fcn_period_required))),
-            "chandler_budget_period": var("chandler_budget_period", per_body(lambda r: day(r.chandler_budget_period))),
-            "chandler_period_coupling_off": var(
-                "chandler_period_coupling_off", per_body(lambda r: day(r.chandler_coupling_off))
-            ),
-            "surface_flattening_hydrostatic": var(
-                "surface_flattening_hydrostatic",
-                per_body(lambda r: None if r.figure is None else r.figure.surface_flattening),
-            ),
-            "dynamical_flattening_hydrostatic": var(
-                "dynamical_flattening_hydrostatic",
-                per_body(lambda r: None if r.figure is None else r.figure.dynamical_flattening),
-            ),
-            "spin_rate": var("spin_rate", per_body(lambda r: r.raw.spin_rate)),
-        }
-    )
-    sources = sorted({m.observed_source for r in results for m in r.modes if m.observed_source})
-    return xr.Dataset(
-        data,
-        coords={
-            "body": ("body", [r.body for r in results], {"long_name": "body identifier"}),
-            "mode": ("mode", labels, {"long_name": "free mode and the frame it is seen in"}),
-        },
-        attrs={
-            "title": "Rotational normal modes: Chandler wobble and free core nutation",
-            "references": refs + ("; observed: " + "; ".join(sources) if sources else ""),
-            "comment": "Periods from physical parameters only; the observed periods are never inputs, and the core "
-            "flattening the observed FCN requires is an output. " + DAY_NOTE,
-        },
-    )
+    def percent(x):
+        return None if x is None else 100 * x
+
+    return {
+        "core_flattening_hydrostatic": per_body(lambda r: r.core_flattening_hydrostatic),
+        "core_flattening_hydrostatic_uncertainty": per_body(lambda r: r.core_flattening_hydrostatic_uncertainty),
+        "core_flattening_required": per_body(lambda r: r.core_flattening_required),
+        "core_flattening_required_uncertainty": per_body(lambda r: r.core_flattening_required_uncertainty),
+        "core_flattening_excess": per_body(lambda r: percent(r.core_flattening_excess)),
+        "core_flattening_excess_uncertainty": per_body(lambda r: percent(r.core_flattening_excess_uncertainty)),
+        "fcn_period_required": per_body(lambda r: day(r.fcn_period_required)),
+        "chandler_budget_period": per_body(lambda r: day(r.chandler_budget_period)),
+        "chandler_period_coupling_off": per_body(lambda r: day(r.chandler_coupling_off)),
+        "surface_flattening_hydrostatic": per_body(lambda r: None if r.figure is None else r.figure.surface_flattening),
+        "dynamical_flattening_hydrostatic": per_body(
+            lambda r: None if r.figure is None else r.figure.dynamical_flattening
+        ),
+        "spin_rate": per_body(lambda r: r.raw.spin_rate),
+    }
