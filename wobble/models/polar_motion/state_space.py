@@ -177,8 +177,10 @@ class NoiseParameters:
 #: Order of the excitation's autoregression. Chosen on forecasts issued every four weeks in 2006-2015 (before the
 #: 2016-2020 hindcast, with a latency of one day, each from its own ten years of data, the noise refitted yearly;
 #: ``scripts/excitation_order.py``): the 2-D RMS errors at 1 / 5 / 10 / 30 / 90 / 365 days were
-#: 0.78 / 2.80 / 4.54 / 9.88 / 20.97 / 38.48 mas with p = 1 and 0.67 / 2.54 / 4.18 / 9.68 / 20.86 / 37.93 with
-#: p = 3; p = 2, 4, 5, 6 and 8 did no better at 10 and 90 days (4.19-4.42 and 20.91-22.26 mas). The likelihood
+#: 0.78 / 2.80 / 4.54 / 9.88 / 20.97 / 38.48 mas with p = 1 and 0.67 / 2.54 / 4.18 / 9.68 / 20.88 / 37.90 with
+#: p = 3; p = 2, 4, 5, 6 and 8 gave 4.18-4.42 and 20.83-22.28 mas at 10 and 90 days, the best of them (p = 8,
+#: 4.177 / 20.83) within the 0.9 % these scores move by where the noise fit stops (docs/forecast.md, "Why
+#: order 3"); p = 3 is the smallest of the orders that tie. The likelihood
 #: asks for more lags (on the ten years before 2006: +1694 from p = 1 to 3, +492 more to 6, +125 more to 8): the
 #: C04 series, combined and smoothed, rings over a few days, which the forecasts use little beyond three lags.
 EXCITATION_ORDER = 3
