@@ -67,18 +67,25 @@ def report(args, result, figure: str, show=None) -> int:
     print ``result.to_dict()`` as JSON or the text (``show()``, default: print ``result.summary()``),
     then a ``wrote PATH`` line per file. Returns the exit status, 0."""
     from wobble.cli._output import finish
+    from wobble.cli._stages import Stages
 
     written = []
-    if args.output:
-        from wobble.io.netcdf import write_netcdf
+    stages = Stages()  # building the Dataset and drawing take seconds (xarray, dask, matplotlib on first use)
+    try:
+        if args.output:
+            from wobble.io.netcdf import write_netcdf
 
-        written.append(
-            write_netcdf(result.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
-        )
-    if args.plot:
-        # "module:function", imported only here: matplotlib costs ~0.5 s that a table does not need.
-        module, name = figure.split(":")
-        written.append(getattr(importlib.import_module(module), name)(result, args.plot, overwrite=args.overwrite))
+            stages(f"writing {args.output}")
+            written.append(
+                write_netcdf(result.to_dataset(), args.output, overwrite=args.overwrite, command=args.command_line)
+            )
+        if args.plot:
+            # "module:function", imported only here: matplotlib costs ~0.5 s that a table does not need.
+            module, name = figure.split(":")
+            stages(f"drawing {args.plot}")
+            written.append(getattr(importlib.import_module(module), name)(result, args.plot, overwrite=args.overwrite))
+    finally:
+        stages.done()
     document = result.to_dict() if args.json else None
     return finish(args, document, show or (lambda: print(result.summary())), written)
 

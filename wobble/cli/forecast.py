@@ -176,16 +176,23 @@ def run(args) -> int:
 
         if args.issued is not None and re.match(r"\s*\d{4}[-.\d]*\s*:\s*\d{4}", args.issued):
             raise InputError("--issued", args.issued, "one date (a span of issue dates goes with --hindcast)")
-        with as_typed(options):
-            result = forecast_polar_motion(
-                args.file,
-                issued=args.issued,
-                horizon=horizon.quantity,
-                method=methods[0],
-                latency=latency and latency.quantity,
-                q=q,
-                calibrated=not args.no_calibration,
-                calibration_span=calibration_span,
-            )
+        from wobble.cli._stages import Stages
+
+        stages = Stages()
+        try:
+            with as_typed(options):
+                result = forecast_polar_motion(
+                    args.file,
+                    issued=args.issued,
+                    horizon=horizon.quantity,
+                    method=methods[0],
+                    latency=latency and latency.quantity,
+                    q=q,
+                    calibrated=not args.no_calibration,
+                    calibration_span=calibration_span,
+                    progress=stages,
+                )
+        finally:
+            stages.done()
     figure = "save_hindcast_figure" if hindcast else "save_forecast_figure"
     return report(args, result, f"wobble.plot.forecast:{figure}")

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
-import time
 
 from wobble.cli._record import add_outputs, add_record, report
+from wobble.cli._stages import Stages
 from wobble.cli._types import whole_number
 from wobble.errors import InputError
 
@@ -90,22 +89,6 @@ def _q(text: str) -> float | None:
     return value
 
 
-class Progress:
-    """Stage messages on stderr, only when stderr is a terminal."""
-
-    def __init__(self):
-        self.on = sys.stderr.isatty()
-        self.t0 = time.monotonic()
-
-    def __call__(self, message: str) -> None:
-        if self.on:
-            print(f"\r[{time.monotonic() - self.t0:5.1f} s] {message:<40}", end="", file=sys.stderr, flush=True)
-
-    def done(self) -> None:
-        if self.on:
-            print("\r" + " " * 60 + "\r", end="", file=sys.stderr, flush=True)
-
-
 def run(args) -> int:
     from wobble.api.polar_motion import polar_motion_analysis
     from wobble.cli._output import check_outputs
@@ -121,7 +104,7 @@ def run(args) -> int:
         "step": ("--step", step.shown),
         "start/end": ("--start/--end", None),
     }
-    progress = Progress()
+    progress = Stages()
     try:
         with as_typed(options):
             analysis = polar_motion_analysis(

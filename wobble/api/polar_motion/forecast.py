@@ -469,6 +469,7 @@ def forecast_polar_motion(
     chandler_period: u.Quantity | None = None,
     calibrated: bool = True,
     calibration_span: u.Quantity | None = None,
+    progress=None,
 ) -> PolarMotionForecast:
     """Forecast the pole from the record available at an issue date.
 
@@ -499,6 +500,9 @@ def forecast_polar_motion(
     calibration_span : Quantity
         Span of past issue dates whose errors calibrate each lead time, a forecast a week (default: 6 yr for
         ``kalman``, 2 yr for ``ls_ar``; chosen on the 2006-2015 hindcast, ``docs/forecast.md``).
+    progress : callable, optional
+        ``progress(message)`` is called at each stage (the Chandler period, the noise fit, the past
+        forecasts of the calibration; the CLI shows them on a terminal).
 
     Returns
     -------
@@ -545,7 +549,9 @@ def forecast_polar_motion(
     _fc.information_set(t, z, issued_s, lat, _cal.FITTING_SPAN[method], what)
     if calibrated:
         _cal.check_calibration_span(t, issued_s, lat, horizon_days, method, span)
+    say = progress or (lambda message: None)
     if chandler_period is None:
+        say("Chandler period by least squares")
         period = chandler_period_before(t, z, issued_s - lat)
         used = t[(t <= issued_s - lat + 1e-6) & (t >= issued_s - lat - _PERIOD_SPAN)]
         period_span = (iso_date(MJD_J2000 + used[0] / DAY), iso_date(MJD_J2000 + used[-1] / DAY))
@@ -563,6 +569,7 @@ def forecast_polar_motion(
         latency=lat,
         calibrated=calibrated,
         span=span,
+        progress=say,
     )
     out = PolarMotionForecast(
         raw, lat, attrs.get("source_file", ""), q_value if method == "kalman" else None, period_span=period_span

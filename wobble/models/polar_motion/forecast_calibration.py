@@ -340,6 +340,7 @@ def forecast(
     noise: NoiseParameters | None = None,
     setup: KalmanSetup | None = None,
     past: PastForecasts | None = None,
+    progress=None,
 ) -> Forecast:
     """A forecast of ``method`` issued at ``issued`` with intervals calibrated on its past forecasts (see the module).
 
@@ -347,8 +348,10 @@ def forecast(
     anything else, so neither the forecast nor its calibration can read a
     later sample. ``noise``/``setup`` (Kalman) and ``past`` let a hindcast
     share work between issues; ``calibrated=False`` keeps the model's own
-    Gaussian intervals; ``span`` None is the method's own (:data:`SPANS`).
+    Gaussian intervals; ``span`` None is the method's own (:data:`SPANS`); ``progress(message)``, when given,
+    is told each stage.
     """
+    say = progress or (lambda message: None)
     method = check_method(method)
     span = span_for(method, span)
     t, z = known_at(t, z, issued - latency)
@@ -358,6 +361,7 @@ def forecast(
     loglike = math.nan
     if method == "kalman":
         if setup is None:
+            say("Kalman noise by maximum likelihood")
             setup, loglike = kalman_setup(t, z, issued, latency, chandler_period, q, noise)
         raw = forecast_kalman(
             t, z, issued, horizon_days, chandler_period=chandler_period, q=q, latency=latency, setup=setup
@@ -369,6 +373,7 @@ def forecast(
         return raw
     times = past_issue_times(issued, latency, horizon_days, span)
     if past is None:
+        say(f"{len(times)} past forecasts to calibrate the intervals")
         past = past_forecasts(
             t, z, times, horizon_days, method=method, chandler_period=chandler_period, latency=latency, setup=setup
         )
