@@ -108,3 +108,13 @@ def test_forecast_on_a_terminal_shows_then_clears_its_stages(tmp_path):
     assert "writing f.nc" in text
     assert text.endswith("\r") and text.rstrip("\r").split("\r")[-1].strip() == ""  # the last line cleared
     assert b"wrote f.nc" in out and b"\r" not in out  # the results themselves are untouched
+
+
+def test_leaving_the_with_block_by_an_error_clears_the_line(monkeypatch):
+    err = _Terminal()
+    monkeypatch.setattr(sys, "stderr", err)
+    with pytest.raises(ValueError), Stages() as stages:
+        stages("reading")
+        raise ValueError("bad input")
+    line = err.getvalue().split("\r")
+    assert line[1].endswith("] reading") and line[2] == " " * len(line[1]) and line[3] == ""

@@ -70,8 +70,8 @@ def report(args, result, figure: str, show=None) -> int:
     from wobble.cli._stages import Stages
 
     written = []
-    stages = Stages()  # building the Dataset and drawing take seconds (xarray, dask, matplotlib on first use)
-    try:
+    # Building the Dataset and drawing take seconds (xarray, dask, matplotlib on first use).
+    with Stages() as stages:
         if args.output:
             from wobble.io.netcdf import write_netcdf
 
@@ -84,8 +84,6 @@ def report(args, result, figure: str, show=None) -> int:
             module, name = figure.split(":")
             stages(f"drawing {args.plot}")
             written.append(getattr(importlib.import_module(module), name)(result, args.plot, overwrite=args.overwrite))
-    finally:
-        stages.done()
     document = result.to_dict() if args.json else None
     return finish(args, document, show or (lambda: print(result.summary())), written)
 

@@ -9,7 +9,8 @@ __all__ = ["Stages"]
 
 
 class Stages:
-    """``stages(message)`` redraws ``[  1.2 s] message`` on stderr; ``stages.done()`` clears the line.
+    """``stages(message)`` redraws ``[  1.2 s] message`` on stderr; ``stages.done()`` clears the line, as leaving
+    ``with Stages() as stages:`` does, by an error too (whose one line then starts on a clean line).
 
     Off when stderr is not a terminal (a pipe, a file, a test), so scripts and logs see only results.
     """
@@ -29,3 +30,9 @@ class Stages:
         if self.on and self.width:
             print("\r" + " " * self.width + "\r", end="", file=sys.stderr, flush=True)
             self.width = 0
+
+    def __enter__(self) -> Stages:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.done()

@@ -178,21 +178,17 @@ def run(args) -> int:
             raise InputError("--issued", args.issued, "one date (a span of issue dates goes with --hindcast)")
         from wobble.cli._stages import Stages
 
-        stages = Stages()
-        try:
-            with as_typed(options):
-                result = forecast_polar_motion(
-                    args.file,
-                    issued=args.issued,
-                    horizon=horizon.quantity,
-                    method=methods[0],
-                    latency=latency and latency.quantity,
-                    q=q,
-                    calibrated=not args.no_calibration,
-                    calibration_span=calibration_span,
-                    progress=stages,
-                )
-        finally:
-            stages.done()
+        with Stages() as stages, as_typed(options):
+            result = forecast_polar_motion(
+                args.file,
+                issued=args.issued,
+                horizon=horizon.quantity,
+                method=methods[0],
+                latency=latency and latency.quantity,
+                q=q,
+                calibrated=not args.no_calibration,
+                calibration_span=calibration_span,
+                progress=stages,
+            )
     figure = "save_hindcast_figure" if hindcast else "save_forecast_figure"
     return report(args, result, f"wobble.plot.forecast:{figure}")

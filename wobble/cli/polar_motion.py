@@ -104,22 +104,18 @@ def run(args) -> int:
         "step": ("--step", step.shown),
         "start/end": ("--start/--end", None),
     }
-    progress = Stages()
-    try:
-        with as_typed(options):
-            analysis = polar_motion_analysis(
-                args.file,
-                start=args.start,
-                end=args.end,
-                window=None if args.window is None else window.quantity,  # None: 8 yr, or the span if shorter
-                step=step.quantity,
-                drift_degree=args.drift_degree,
-                excitation_q=excitation_q,
-                quality_factor=not args.no_q,
-                progress=progress,
-            )
-    finally:
-        progress.done()
+    with Stages() as progress, as_typed(options):
+        analysis = polar_motion_analysis(
+            args.file,
+            start=args.start,
+            end=args.end,
+            window=None if args.window is None else window.quantity,  # None: 8 yr, or the span if shorter
+            step=step.quantity,
+            drift_degree=args.drift_degree,
+            excitation_q=excitation_q,
+            quality_factor=not args.no_q,
+            progress=progress,
+        )
 
     def show():
         from wobble.cli._polar_motion_report import report as text
