@@ -828,26 +828,77 @@ def _check_separatrix_distance(name: str, value, m1) -> None:
         )
 
 
-def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
+def _circulation(omega0, I, order):
+    """The frame of the solution and the axis omega circulates about: (frame, signs, exact omega in the frame,
+    D_j = 2 E I_j - L^2, the axes (a, b, c), the regime)."""
     frame, signs = _proper_frame(order)
     w = to_sorted(np.asarray(omega0), frame, signs)
     wf = [Fraction(float(x)) for x in w]
     # D_j = 2 E I_j - L^2 = sum_i I_i w_i^2 (I_j - I_i): exact, no cancellation.
     d = [sum(I[i] * wf[i] ** 2 * (I[j] - I[i]) for i in range(3)) for j in range(3)]
-    if d[1] <= 0:
-        a, b, c = 0, 1, 2  # L^2 >= 2 E I2: omega circulates about the axis of largest moment
-        regime = "major-axis" if d[1] < 0 else "separatrix"
-        if regime == "separatrix" and wf[a] < 0:
-            # On the separatrix omega_a = A_a sech u never changes sign (K is infinite: no u0 = 2K - f
-            # reaches omega_a < 0). The rotation by pi about the intermediate axis, omega -> (-w_a, w_b, -w_c),
-            # maps Euler's equations to themselves and the attitude q to (q_w, R q_xyz): the same motion
-            # is the solution in the model frame with the signs of axes a and c turned (still proper).
-            signs = (-signs[0], signs[1], -signs[2])
-            w = to_sorted(np.asarray(omega0), frame, signs)
-            wf = [Fraction(float(x)) for x in w]
-    else:
-        a, b, c = 2, 1, 0
-        regime = "minor-axis"
+    if d[1] > 0:
+        return frame, signs, wf, d, (2, 1, 0), "minor-axis"
+    # L^2 >= 2 E I2: omega circulates about the axis of largest moment.
+    regime = "major-axis" if d[1] < 0 else "separatrix"
+    if regime == "separatrix" and wf[0] < 0:
+        # On the separatrix omega_a = A_a sech u never changes sign (K is infinite: no u0 = 2K - f
+        # reaches omega_a < 0). The rotation by pi about the intermediate axis, omega -> (-w_a, w_b, -w_c),
+        # maps Euler's equations to themselves and the attitude q to (q_w, R q_xyz): the same motion
+        # is the solution in the model frame with the signs of axes a and c turned (still proper).
+        signs = (-signs[0], signs[1], -signs[2])
+        w = to_sorted(np.asarray(omega0), frame, signs)
+        wf = [Fraction(float(x)) for x in w]
+    return frame, signs, wf, d, (0, 1, 2), regime
+
+
+def _initial_phase(wf, amp, sign_bc: float, axes, K) -> float:
+    """Initial phase u0 from sn, cn, dn at t = 0 (all known from omega0 without cancellation):
+    |u0| <= K via Carlson's R_F, else through 2K - u."""
+    from scipy.special import elliprf
+
+    a, b, c = axes
+    c0 = float(wf[a]) / amp[0]
+    s0 = float(sign_bc * float(wf[b])) / amp[1]
+    d0 = abs(float(wf[c])) / amp[2]
+    c0, s0 = float(np.clip(c0, -1, 1)), float(np.clip(s0, -1, 1))
+    f = s0 * float(elliprf(c0 * c0, d0 * d0, 1.0))
+    return f if c0 >= 0 else (1.0 if s0 >= 0 else -1.0) * 2 * K[0] - f
+
+
+def _mean_rate(omega0, I, axes, amp2, nu, lam, big_l, kdec, m1, u0) -> dict:
+    """The mean rate of the attitude angle, Pi_c / K, the period, the half period and the flip phase
+    (docs/free-rotation.md, "Attitude"); on the separatrix (``kdec`` None) the period is infinite."""
+    ia, ic = I[axes[0]], I[axes[2]]
+    if kdec is None:
+        return dict(
+            mean=big_l / hp.dec(ic),
+            pi_over_k=0.0,
+            period=np.inf,
+            flip=((np.inf, 0.0), hp.to_dd(-hp.dec(u0) / lam)),
+            tbf=None,
+        )
+    pi_c = hp.cel(hp.sqrt(m1), 1 + nu, 1, 1)
+    mean = (
+        big_l / hp.dec(ic)
+        + (
+            hp.dec(ic - ia) * big_l * pi_c / hp.dec(ia * ic)
+            - hp.dec(ic - ia) * hp.sqrt(amp2[2]) * hp.PI / (2 * hp.dec(ia) * hp.sqrt(1 + nu))
+        )
+        / kdec
+    )
+    _check_period(omega0, 4 * kdec / lam)
+    half = 2 * kdec / lam
+    return dict(
+        mean=mean,
+        pi_over_k=float(pi_c / kdec),
+        period=float(4 * kdec / lam),
+        flip=(hp.to_dd(half), hp.to_dd(-hp.dec(u0) / lam)),
+        tbf=float(half),
+    )
+
+
+def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
+    frame, signs, wf, d, (a, b, c), regime = _circulation(omega0, I, order)
     amp2 = (
         d[c] / (I[a] * (I[c] - I[a])),
         d[c] / (I[b] * (I[c] - I[b])),
@@ -867,42 +918,12 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
     K = hp.to_dd(kdec) if kdec is not None else (np.inf, 0.0)
     # The fold K - |r| uses the same K as the reduction of the phase.
     levels = ell.landen_levels(float(m), float(m1), K=K[0] if kdec is not None else None)
-    # Initial phase u0 from sn, cn, dn at t = 0 (all known from omega0 without
-    # cancellation): |u0| <= K via Carlson's R_F, else through 2K - u.
-    c0 = float(wf[a]) / amp[0]
-    s0 = float(sign_bc * float(wf[b])) / amp[1]
-    d0 = abs(float(wf[c])) / amp[2]
-    c0, s0 = float(np.clip(c0, -1, 1)), float(np.clip(s0, -1, 1))
-    from scipy.special import elliprf
-
-    f = s0 * float(elliprf(c0 * c0, d0 * d0, 1.0))
-    u0 = f if c0 >= 0 else (1.0 if s0 >= 0 else -1.0) * 2 * K[0] - f
+    u0 = _initial_phase(wf, amp, sign_bc, (a, b, c), K)
     # Attitude constants (docs/free-rotation.md, "Attitude").
     ic, ia = I[c], I[a]
     c_pi = float(hp.dec(ic - ia) * big_l / (hp.dec(ia * ic) * lam))
     c_g = float(hp.dec(ic - ia) * hp.sqrt(amp2[2]) / (hp.dec(ia) * lam * hp.sqrt(1 + nu)))
-    if kdec is not None:
-        pi_c = hp.cel(hp.sqrt(m1), 1 + nu, 1, 1)
-        mean = (
-            big_l / hp.dec(ic)
-            + (
-                hp.dec(ic - ia) * big_l * pi_c / hp.dec(ia * ic)
-                - hp.dec(ic - ia) * hp.sqrt(amp2[2]) * hp.PI / (2 * hp.dec(ia) * hp.sqrt(1 + nu))
-            )
-            / kdec
-        )
-        pi_over_k = float(pi_c / kdec)
-        _check_period(omega0, 4 * kdec / lam)
-        period = float(4 * kdec / lam)
-        half = 2 * kdec / lam
-        flip = (hp.to_dd(half), hp.to_dd(-hp.dec(u0) / lam))
-        tbf = float(half)
-    else:
-        mean = big_l / hp.dec(ic)
-        pi_over_k = 0.0
-        period = np.inf
-        flip = ((np.inf, 0.0), hp.to_dd(-hp.dec(u0) / lam))
-        tbf = None
+    rates = _mean_rate(omega0, I, (a, b, c), amp2, nu, lam, big_l, kdec, m1, u0)
     impl = _Elliptic(
         a=a,
         b=b,
@@ -919,8 +940,8 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
         nu=float(nu),
         c_pi=c_pi,
         c_g=c_g,
-        pi_over_k=pi_over_k,
-        half_prec_rate=hp.to_dd(mean / 2),
+        pi_over_k=rates["pi_over_k"],
+        half_prec_rate=hp.to_dd(rates["mean"] / 2),
         levels=levels,
         fourier=_nome_series(m, kdec) if (kdec is not None and 0 < m <= _FOURIER_MAX_M) else None,
     )
@@ -932,21 +953,20 @@ def _elliptic_model(moments, omega0, I, order, common, two_e, l2):
     circulation = 0
     if kdec is not None:
         circulation = (1 if regime == "major-axis" else -1) * hp.PI * lam / (2 * kdec)
-    model = FreeRotationModel(
+    return FreeRotationModel(
         regime=regime,
         m=float(m),
         m1=float(m1),
-        period=period,
-        time_between_flips=tbf,
+        period=rates["period"],
+        time_between_flips=rates["tbf"],
         error_estimate=est,
-        precession_rate=float(mean + circulation),
+        precession_rate=float(rates["mean"] + circulation),
         _order=frame,
         _signs=signs,
         _impl=impl,
-        _flip=flip,
+        _flip=rates["flip"],
         **common,
     )
-    return model
 
 
 def symmetric_from_energy(i_perp: float, i_axis: float, energy: float, l2: float) -> tuple[float, float]:
