@@ -200,24 +200,8 @@ def fit_spectrum(
         "edge_caveat": edge_caveat if at_edge else None,
     }
     if uncertainty:
-        fitted = (rate, ANNUAL_RATE, -ANNUAL_RATE)
-        level = _local_level(s, w * resid, w, rate, span, kind, fitted)
-        sw, sw2 = w.sum(), np.sum(w**2)
-        sc = s - np.sum(w * s) / sw
-        amp = abs(f[0])
-        var_rate = level * np.sum(w**2 * sc**2) / (2 * amp**2 * np.sum(w * sc**2) ** 2)
-        var_amp = level * sw2 / (2 * sw**2)
-        to_period = 2 * math.pi / rate**2
-        white = np.mean(np.abs(resid) ** 2)
-        p_formal = math.sqrt(white * np.sum(w**2 * sc**2) / (2 * amp**2 * np.sum(w * sc**2) ** 2)) * to_period
-        a_formal = math.sqrt(white * sw2 / (2 * sw**2))
-        p_auto = math.sqrt(var_rate) * to_period
-        a_auto = math.sqrt(var_amp)
-        sig_phase = a_auto / amp
-        ann_auto = []
-        for k, sign in ((1, 1.0), (2, -1.0)):
-            a_k = math.sqrt(_local_level(s, w * resid, w, sign * ANNUAL_RATE, span, kind, fitted) * sw2 / (2 * sw**2))
-            ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
+        p_formal, a_formal, p_auto, a_auto, ann_auto = _peak_sigmas(s, w, resid, f, rate, span, kind)
+        sig_phase = a_auto / abs(f[0])
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
             batch = functools.partial(
@@ -253,6 +237,28 @@ def fit_spectrum(
         sig_amp = au.adopted
     fit = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
     return with_changes(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
+
+
+def _peak_sigmas(s, w, resid, f, rate: float, span: float, kind: str):
+    """The white-noise ("formal") and coloured-noise ("autocorrelation") sigmas of the Chandler period and
+    amplitude, and the annual terms' (amplitude, phase) sigmas, from the peak-location variance
+    var(sigma) = S sum(w^2 s^2) / (2 |A|^2 (sum w s^2)^2) (Whittle 1952; Hannan 1973)."""
+    fitted = (rate, ANNUAL_RATE, -ANNUAL_RATE)
+    level = _local_level(s, w * resid, w, rate, span, kind, fitted)
+    sw, sw2 = w.sum(), np.sum(w**2)
+    sc = s - np.sum(w * s) / sw
+    amp = abs(f[0])
+    var_rate = level * np.sum(w**2 * sc**2) / (2 * amp**2 * np.sum(w * sc**2) ** 2)
+    var_amp = level * sw2 / (2 * sw**2)
+    to_period = 2 * math.pi / rate**2
+    white = np.mean(np.abs(resid) ** 2)
+    p_formal = math.sqrt(white * np.sum(w**2 * sc**2) / (2 * amp**2 * np.sum(w * sc**2) ** 2)) * to_period
+    a_formal = math.sqrt(white * sw2 / (2 * sw**2))
+    ann_auto = []
+    for k, sign in ((1, 1.0), (2, -1.0)):
+        a_k = math.sqrt(_local_level(s, w * resid, w, sign * ANNUAL_RATE, span, kind, fitted) * sw2 / (2 * sw**2))
+        ann_auto.append((a_k, a_k / max(abs(f[k]), 1e-300)))
+    return p_formal, a_formal, math.sqrt(var_rate) * to_period, math.sqrt(var_amp), ann_auto
 
 
 def _prewhitened_peaks(s, y, w, lo_rate, hi_rate, span):
