@@ -441,6 +441,38 @@ def hindcast_polar_motion(
             )
     if b <= a:
         raise InputError("end", end, f"a date after start ({iso_date(a)})")
+    issues = _issue_times(mjd, t, a, b, step, start, end, methods, lat, horizon_days, calibrated, span)
+    reference = published_chandler_period()["period"].to_value(u.s)
+    blocks = _hc.blocks(
+        issues,
+        horizon_days,
+        ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"),
+        lat,
+        q_value,
+        reference,
+        calibrated=methods if calibrated else (),
+        calibration_span=span,
+    )
+    bar = ProgressBar(sum(len(b.issues) for b in blocks), "issue dates", progress)
+    try:
+        rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers, bar) for row in block]
+    finally:
+        bar.close()
+    order = ["ls_ar"] + [m for m in methods if m != "ls_ar"]
+    lead = DAY * np.arange(1, horizon_days + 1)
+    truth = np.array([_hc.truth_at(t, z, row[0].issued + lead) for row in rows])
+    persistence = np.array([_hc.truth_at(t, z, np.array([row[0].last_data]))[0] for row in rows])
+    ls_only = np.array([row[0].baseline for row in rows])
+    keep = [order.index(m) for m in methods]
+    forecasts = [[row[k] for k in keep] for row in rows]
+    return PolarMotionHindcast(
+        methods, forecasts, truth, persistence, ls_only, lat, q_value, attrs.get("source_file", ""), calibrated, span
+    )
+
+
+def _issue_times(mjd, t, a, b, step, start, end, methods, lat, horizon_days, calibrated, span) -> np.ndarray:
+    """The issue dates (s from J2000), checked against the record: each method's fitting span (and, calibrated,
+    its past forecasts) before the first, the last forecast's horizon within the record."""
     issues = (a - MJD_J2000) * DAY + step * np.arange(math.ceil((b - a) * DAY / step - 1e-9))
     need = max(_cal.FITTING_SPAN[m] for m in set(methods) | {"ls_ar"})
     if issues[0] - lat - t[0] < need - 0.5 * DAY:
@@ -472,29 +504,4 @@ def hindcast_polar_motion(
             f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or "
             f"before {iso_date(mjd[-1])}",
         )
-    reference = published_chandler_period()["period"].to_value(u.s)
-    blocks = _hc.blocks(
-        issues,
-        horizon_days,
-        ("ls_ar",) + tuple(m for m in methods if m != "ls_ar"),
-        lat,
-        q_value,
-        reference,
-        calibrated=methods if calibrated else (),
-        calibration_span=span,
-    )
-    bar = ProgressBar(sum(len(b.issues) for b in blocks), "issue dates", progress)
-    try:
-        rows = [row for block in _run_blocks(t, z, blocks, scheduler, workers, bar) for row in block]
-    finally:
-        bar.close()
-    order = ["ls_ar"] + [m for m in methods if m != "ls_ar"]
-    lead = DAY * np.arange(1, horizon_days + 1)
-    truth = np.array([_hc.truth_at(t, z, row[0].issued + lead) for row in rows])
-    persistence = np.array([_hc.truth_at(t, z, np.array([row[0].last_data]))[0] for row in rows])
-    ls_only = np.array([row[0].baseline for row in rows])
-    keep = [order.index(m) for m in methods]
-    forecasts = [[row[k] for k in keep] for row in rows]
-    return PolarMotionHindcast(
-        methods, forecasts, truth, persistence, ls_only, lat, q_value, attrs.get("source_file", ""), calibrated, span
-    )
+    return issues
