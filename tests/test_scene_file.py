@@ -314,6 +314,27 @@ def test_explicit_times_of_a_linspace_grid_are_kept_as_start_stop_samples():
     assert len(ds.attrs["scene"]) < 1000
     assert json.loads(ds.attrs["scene"])["time"]["samples"] == 2001
     assert np.array_equal(ds["time"].values, t[:2001].value)  # seconds since the epoch, the same bits
-    for given in (np.linspace(0.0, 10.0, 101) * u.min, [0.0, 1.0, 3.0, 7.0] * u.s):
+    for given in (np.geomspace(1.0, 100.0, 50) * u.s, [0.0, 1.0, 3.0, 7.0] * u.s):
         kept = json.loads(wobble.run(wobble.Scene(body=body, omega0=w0, t=given)).attrs["scene"])["time"]
         assert "values" in kept and len(kept["values"]["value"]) == len(given)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_explicit_times_of_a_step_grid_are_kept_as_start_stop_step(seed):
+    """Times made as start + k step (np.arange's way) that linspace does not give exactly (7.25 s + k 0.1 s
+    for 100 samples, and about one in twelve random grids) were copied into the 'scene' attribute; they are
+    now kept as start, stop and step, which the scene reader turns back into the same bits."""
+    body, w0 = [1.0, 2.0, 3.0] * u.kg * u.m**2, [1.0, 0.1, 1.0] * u.rad / u.s
+    t = (7.25 + 0.1 * np.arange(100)) * u.s
+    assert not np.array_equal(np.linspace(7.25, t[-1].value, 100), t.value)  # not linspace's grid
+    ds = wobble.run(wobble.Scene(body=body, omega0=w0, t=t))
+    kept = json.loads(ds.attrs["scene"])["time"]
+    assert set(kept) == {"start", "stop", "step"} and len(ds.attrs["scene"]) < 1000
+    assert np.array_equal(ds["time"].values, t.value)
+    rng = np.random.default_rng(seed)
+    for _ in range(50):
+        start, step, n = rng.uniform(-10, 10), rng.uniform(1e-3, 3), int(rng.integers(3, 3000))
+        grid = (start + step * np.arange(n)) * u.s
+        scene = wobble.Scene(body=body, omega0=w0, t=grid)
+        assert "values" not in scene._scene.mapping["time"], (start, step, n)
+        assert np.array_equal(scene._scene.times, grid.value)

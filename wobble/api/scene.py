@@ -229,10 +229,10 @@ def _block_dataset(scene: _scene.Scene, t, outputs: dict) -> xr.Dataset:
 
 
 def _uniform_grid(t) -> dict | None:
-    """``t`` as start, stop and samples when ``np.linspace`` gives exactly its seconds (the scene file's own
-    grid), else None: the scene is kept in every file's ``scene`` attribute, where 200,001 explicit times
-    took 2 MB. Anything else (a plain float, a grid that is not linspace's) stays as given, and is read
-    and refused or taken as before."""
+    """``t`` as start, stop and samples when ``np.linspace`` gives exactly its seconds, or as start, stop and
+    step when the scene file's step grid does (``np.arange``'s), else None: the scene is kept in every file's
+    ``scene`` attribute, where 200,001 explicit times took 2 MB. Anything else (a plain float, uneven times)
+    stays as given, and is read and refused or taken as before."""
     # A plain Quantity of real numbers only: a Masked one (or complex times) goes to the reader, which refuses
     # it, where to_value would strip the mask.
     if type(t) is not u.Quantity or t.dtype.kind not in "fi" or t.ndim != 1 or t.size < 3:
@@ -243,9 +243,20 @@ def _uniform_grid(t) -> dict | None:
     if not np.all(np.isfinite(seconds)):
         return None
     start, stop = float(seconds[0]), float(seconds[-1])
-    if not np.array_equal(np.linspace(start, stop, seconds.size), seconds):
-        return None
-    return {"start": start * u.s, "stop": stop * u.s, "samples": int(seconds.size)}
+    if np.array_equal(np.linspace(start, stop, seconds.size), seconds):
+        return {"start": start * u.s, "stop": stop * u.s, "samples": int(seconds.size)}
+    # The step that made start + k step is not always seconds[1] - seconds[0] (rounded by the sum): try the
+    # doubles next to the mean step too. Only an exact reproduction is kept.
+    candidates = [float(seconds[1] - seconds[0])]
+    up = down = (stop - start) / (seconds.size - 1)
+    candidates.append(up)
+    for _ in range(4):
+        up, down = float(np.nextafter(up, np.inf)), float(np.nextafter(down, -np.inf))
+        candidates += [up, down]
+    for step in candidates:
+        if step > 0 and np.array_equal(_sf.step_grid(start, stop, step), seconds):
+            return {"start": start * u.s, "stop": stop * u.s, "step": step * u.s}
+    return None
 
 
 def _attributes(scene: _scene.Scene, record: _scene.RunRecord) -> dict:

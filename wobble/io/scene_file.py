@@ -666,11 +666,17 @@ def _times(r: _Reader, data):
         raise r.error("time.step", data["step"], "a positive step (the time grid may not go backwards)")
     ratio = (stop - start) / step * (1 + 1e-12)
     _check_grid_memory(r, "time.step", data["step"], ratio + 1 if math.isfinite(ratio) else math.inf)
-    n = int(math.floor(ratio)) + 1
+    return step_grid(start, stop, step), epoch
+
+
+def step_grid(start: float, stop: float, step: float) -> np.ndarray:
+    """The times of ``time = {start, stop, step}`` (s): start + k step up to stop, and stop itself when the
+    last step falls short of it by more than rounding."""
+    n = int(math.floor((stop - start) / step * (1 + 1e-12))) + 1
     t = start + step * np.arange(n)
     if t[-1] < stop * (1 - 1e-15) - 1e-300 and not math.isclose(t[-1], stop):
         t = np.append(t, stop)
-    return t, epoch
+    return t
 
 
 def _epoch(r: _Reader, raw) -> str:
