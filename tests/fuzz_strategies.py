@@ -39,6 +39,7 @@ import os
 import shlex
 import shutil
 import signal
+import sys
 import tempfile
 import threading
 import time
@@ -128,22 +129,53 @@ class Hang(BaseException):
     """Raised by the watchdog when a run exceeds its bound (a BaseException: nothing in wobble swallows it)."""
 
 
+_ARMED = threading.Event()  # set while a run is watched: an alarm after its end is ignored
+
+
 def _alarm(signum, frame):
-    raise Hang()
+    if _ARMED.is_set():
+        raise Hang()
 
 
-def _watchdog(bound: float) -> threading.Timer:
-    """SIGALRM to the main thread after ``bound`` seconds, by ``pthread_kill``.
+def _ignore_swallowed_hang(previous):
+    """A ``sys.unraisablehook`` that drops a Hang raised inside a weakref or garbage-collection callback
+    (where Python swallows exceptions; the watchdog sends another alarm) and passes anything else on."""
+
+    def hook(unraisable):
+        if not isinstance(unraisable.exc_value, Hang):
+            previous(unraisable)
+
+    return hook
+
+
+class _Watchdog:
+    """SIGALRM to the main thread after ``bound`` seconds, by ``pthread_kill``, then again every second
+    until cancelled.
 
     A process-wide timer (``setitimer``) may have its signal taken by another thread of the process (an
     idle pool thread), and then the main thread's sleep is not interrupted: a run meant to stop at 0.5 s
     went its full 30 s once in CI, and the late handler raised Hang in pytest's teardown. Sent to the
-    main thread, the signal interrupts whatever it waits in.
+    main thread, the signal interrupts whatever it waits in. Once more in CI (2026-11-30) the handler ran
+    inside a WeakKeyDictionary callback of the garbage collector, which swallowed the Hang, and the sleep
+    went on: hence the repeats, and the unraisable hook above.
     """
-    timer = threading.Timer(bound, signal.pthread_kill, (threading.main_thread().ident, signal.SIGALRM))
-    timer.daemon = True
-    timer.start()
-    return timer
+
+    def __init__(self, bound: float):
+        self._stop = threading.Event()
+        _ARMED.set()
+        self._thread = threading.Thread(target=self._run, args=(bound,), daemon=True)
+        self._thread.start()
+
+    def _run(self, bound: float) -> None:
+        wait = bound
+        while not self._stop.wait(wait):
+            signal.pthread_kill(threading.main_thread().ident, signal.SIGALRM)
+            wait = 1.0
+
+    def cancel(self) -> None:
+        _ARMED.clear()  # first: an alarm already on its way finds the handler disarmed
+        self._stop.set()
+        self._thread.join()
 
 
 def output_roles(case: Case) -> dict[str, str]:
@@ -293,6 +325,8 @@ def run_case(
     status = None
     cwd = os.getcwd()
     previous_handler = signal.signal(signal.SIGALRM, _alarm)
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = _ignore_swallowed_hang(previous_hook)
     start = time.perf_counter()
     try:
         os.chdir(folder)
@@ -302,7 +336,7 @@ def run_case(
             warnings.catch_warnings(record=True) as caught,
         ):
             warnings.simplefilter("always")
-            watchdog = _watchdog(bound)
+            watchdog = _Watchdog(bound)
             try:
                 status = main(list(case.argv))
             except SystemExit as exc:  # argparse: --help (0), usage errors (2)
@@ -326,6 +360,7 @@ def run_case(
                 watchdog.cancel()
     finally:
         signal.signal(signal.SIGALRM, previous_handler)
+        sys.unraisablehook = previous_hook
         os.chdir(cwd)
     seconds = time.perf_counter() - start
     stdout, stderr = out.getvalue(), err.getvalue()
