@@ -15,6 +15,7 @@ import pytest
 from astropy import units as u
 
 import wobble
+from wobble.errors import InputError
 from wobble.cli._stages import Stages
 
 
@@ -118,3 +119,18 @@ def test_leaving_the_with_block_by_an_error_clears_the_line(monkeypatch):
         raise ValueError("bad input")
     line = err.getvalue().split("\r")
     assert line[1].endswith("] reading") and line[2] == " " * len(line[1]) and line[3] == ""
+
+
+def test_progress_true_prints_the_stages_and_anything_else_is_refused(capsys):
+    """progress=True (as the hindcast takes it) raised "'bool' object is not callable" in the forecast and
+    the polar-motion analysis; it prints one line per stage now, and a value that is neither a flag nor a
+    function is refused by name."""
+    wobble.forecast_polar_motion(issued="2019-01-01", horizon=30 * u.day, method="ls_ar", progress=True)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0] == "Chandler period by least squares" and lines[-1].endswith(
+        "past forecasts to calibrate the intervals"
+    )
+    with pytest.raises(InputError, match=r"^progress: got yes; allowed: True, False or None, or a function"):
+        wobble.forecast_polar_motion(issued="2019-01-01", horizon=30 * u.day, method="ls_ar", progress="yes")
+    with pytest.raises(InputError, match=r"^progress: got 3"):
+        wobble.polar_motion_analysis(progress=3)

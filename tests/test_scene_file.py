@@ -305,7 +305,7 @@ def test_an_array_of_times_is_not_an_epoch():
 def test_explicit_times_of_a_linspace_grid_are_kept_as_start_stop_samples():
     """A Scene given t = np.linspace(0, 100, 200001) s wrote all 200,001 times into the file's 'scene'
     attribute (2 MB of JSON). linspace's own grid is now kept as start, stop and samples, which give back
-    exactly those times; other explicit times (minutes scaled to s, uneven ones) are kept as given."""
+    exactly those times; uneven times are kept as given (a step grid, start + k step: the next test)."""
     body, w0 = [1.0, 2.0, 3.0] * u.kg * u.m**2, [1.0, 0.1, 1.0] * u.rad / u.s
     t = np.linspace(0.0, 100.0, 200_001) * u.s
     scene = wobble.Scene(body=body, omega0=w0, t=t)

@@ -1,11 +1,14 @@
-"""A one-line progress bar on stderr for long runs (the command line turns it on when stderr is a terminal)."""
+"""Progress for long runs: a one-line bar on stderr (the command line turns it on when stderr is a terminal), and
+the stage messages of the analyses."""
 
 from __future__ import annotations
 
 import sys
 import time
 
-__all__ = ["ProgressBar"]
+from wobble.errors import InputError
+
+__all__ = ["ProgressBar", "stage_messages"]
 
 
 class ProgressBar:
@@ -33,3 +36,15 @@ class ProgressBar:
         if self.enabled:
             sys.stderr.write("\n")
             sys.stderr.flush()
+
+
+def stage_messages(progress):
+    """``progress`` as a function of one message: None or False, nothing; True, a line on stderr per stage
+    (as ``hindcast_polar_motion(progress=True)`` shows its bar); a callable, itself."""
+    if progress is None or progress is False:
+        return lambda message: None
+    if progress is True:
+        return lambda message: print(message, file=sys.stderr, flush=True)
+    if callable(progress):
+        return progress
+    raise InputError("progress", progress, "True, False or None, or a function taking one message (e.g. print)")

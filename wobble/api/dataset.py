@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import os
 import re
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -235,14 +234,10 @@ def load(path: str | os.PathLike) -> xr.Dataset:
     205.6 d model, 206.9 d observed
     >>> folder.cleanup()
     """
-    folder = Path(path)
-    if folder.is_dir() and ((folder / ".zgroup").is_file() or (folder / "zarr.json").is_file()):
-        # A Zarr store of wobble sweep: read it as open_wobble_zarr does (it was refused here, by name).
-        from wobble.io.zarr_store import open_wobble_zarr
+    from wobble.io.zarr_store import is_zarr_store, open_wobble_zarr
 
-        ds = open_wobble_zarr(folder)
-    else:
-        ds = open_wobble(path)
+    # A Zarr store of wobble sweep is read as open_wobble_zarr reads it (it was refused here, by name).
+    ds = open_wobble_zarr(path) if is_zarr_store(path) else open_wobble(path)
     if "Conventions" not in ds.attrs:
         raise FileFormatError(path, "global attribute 'Conventions'", "missing; allowed: a CF file written by wobble")
     return ds

@@ -22,8 +22,8 @@ one is given, as :func:`wobble.run_sweep` does.
 from __future__ import annotations
 
 import math
-import re
 import os
+import re
 import sys
 import time
 import warnings

@@ -23,7 +23,7 @@ from wobble.errors import FileFormatError, InputError, OutputExistsError
 from wobble.io.atomic import interrupts_held, new_temporary_folder
 from wobble.io.netcdf import from_cf, to_cf
 
-__all__ = ["is_zarr_path", "open_wobble_zarr", "write_zarr_blocks"]
+__all__ = ["is_zarr_path", "is_zarr_store", "open_wobble_zarr", "write_zarr_blocks"]
 
 #: Zarr format 2: every reader (zarr-python 2 and 3, xarray, Julia, R) opens it, and it has a
 #: stable representation of the fixed-width label strings CF label variables use.
@@ -33,6 +33,13 @@ ZARR_FORMAT = 2
 def is_zarr_path(path) -> bool:
     """Whether an output path asks for a Zarr store (its name ends in ``.zarr``)."""
     return str(path).rstrip("/\\").endswith(".zarr")
+
+
+def is_zarr_store(path) -> bool:
+    """Whether ``path`` is a Zarr store on disk, whatever its name: a folder with Zarr's format-2 or
+    format-3 metadata (``.zgroup``, ``zarr.json``)."""
+    folder = Path(path)
+    return folder.is_dir() and ((folder / ".zgroup").is_file() or (folder / "zarr.json").is_file())
 
 
 def _zarr(path=None):

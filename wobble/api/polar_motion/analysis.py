@@ -18,6 +18,7 @@ from wobble.api.polar_motion.estimate import (
     q_arg,
 )
 from wobble.api.polar_motion.record import SIGN_NOTE, record_attrs, record_dataset, resolve_series, short_span_error
+from wobble.api._progress import stage_messages
 from wobble.api.units import to_si
 from wobble.errors import InputError
 from wobble.io.dates import iso_date
@@ -413,8 +414,9 @@ def polar_motion_analysis(
         Spacing of the windows (default 1 year; at least 1 d, the sampling).
     quality_factor : bool
         Also estimate Q from the line shape (spans of 20 years or more).
-    progress : callable, optional
-        ``progress(message)`` is called at each stage (the CLI prints it).
+    progress : bool or callable, optional
+        ``progress(message)`` is called at each stage (True prints a line on stderr for each; the CLI shows
+        them on a terminal).
 
     Returns
     -------
@@ -422,7 +424,7 @@ def polar_motion_analysis(
     """
     from wobble.api.chandler import chandler_budget, load_planet
 
-    say = progress or (lambda message: None)
+    say = stage_messages(progress)
     # A file (or None, the shipped C04 series) is read into plain arrays: the Dataset is built only if
     # the caller asks for it (PolarMotionAnalysis.data), so the JSON and the text never import xarray.
     mjd, t, z, record = resolve_series(data, start, end)

@@ -40,6 +40,7 @@ from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
 from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
+from wobble.api._progress import stage_messages
 from wobble.api.units import real_float, to_si
 from wobble.errors import InputError
 from wobble.io.dates import MJD_UNITS, iso_date, mjd_time, to_mjd
@@ -500,9 +501,9 @@ def forecast_polar_motion(
     calibration_span : Quantity
         Span of past issue dates whose errors calibrate each lead time, a forecast a week (default: 6 yr for
         ``kalman``, 2 yr for ``ls_ar``; chosen on the 2006-2015 hindcast, ``docs/forecast.md``).
-    progress : callable, optional
-        ``progress(message)`` is called at each stage (the Chandler period, the noise fit, the past
-        forecasts of the calibration; the CLI shows them on a terminal).
+    progress : bool or callable, optional
+        ``progress(message)`` is called at each stage: the Chandler period, the noise fit, the past
+        forecasts of the calibration (True prints a line on stderr for each; the CLI shows them on a terminal).
 
     Returns
     -------
@@ -549,7 +550,7 @@ def forecast_polar_motion(
     _fc.information_set(t, z, issued_s, lat, _cal.FITTING_SPAN[method], what)
     if calibrated:
         _cal.check_calibration_span(t, issued_s, lat, horizon_days, method, span)
-    say = progress or (lambda message: None)
+    say = stage_messages(progress)
     if chandler_period is None:
         say("Chandler period by least squares")
         period = chandler_period_before(t, z, issued_s - lat)
