@@ -330,8 +330,8 @@ def main(argv=None) -> int:
     lines = [
         "# Inversion: calibration and timing",
         "",
-        f"Written by `python scripts/calibrate_inversion.py{' --quick' if args.quick else ''}"
-        f"{f' --draws {args.draws}' if args.draws != 200 and not args.quick else ''}` on {started}: "
+        # The command as typed (a scheduler or a seed changes how or what was run, so the report names it).
+        f"Written by `{' '.join(['python scripts/calibrate_inversion.py', *typed])}` on {started}: "
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, load average "
         f"{load[0]:.1f} at the start (a shared machine: timings are noisy; re-run on a quiet one). "
         "Do not edit by hand.",
