@@ -69,8 +69,8 @@ def report(a) -> str:
         f'  mean pole at {iso_date(e.epoch)}: x {_fmt(e.mean_pole_x, 3)}", y {_fmt(e.mean_pole_y, 3)}", '
         f"drifting {_fmt(e.drift_rate, 1)} mas/yr toward {_fmt(e.drift_direction, 0)} deg W"
     )
-    if a.quality_factor is not None:
-        q = a.quality_factor
+    if a.quality_factor_estimate is not None:
+        q = a.quality_factor_estimate
         value = "unresolved (inf)" if not math.isfinite(q.value) else f"{q.value:.0f}"
         hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
         lines.append(

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,14 +97,17 @@ class PolarMotionAnalysis:
         The same in SI units (plain arrays).
     spectrum : xarray.Dataset
         Two-sided amplitude spectrum (dimension ``frequency``).
-    quality_factor : QualityFactorEstimate or None
+    quality_factor_estimate : QualityFactorEstimate or None
+        Q from the Chandler line's shape (spans of 20 years or more), with its intervals. Until 2026-11-30
+        this was ``quality_factor``, the name that is the number Q in the excitation, the forecast and the
+        budget; the old name stays one release as a deprecated alias.
     budget : wobble.ChandlerBudget
         The model of ``wobble.chandler_budget("earth")``.
     source_file : str or None
         The file the record was read from.
     """
 
-    def __init__(self, data, least_squares, spectral, windows, spectrum, quality_factor, budget, caveats):
+    def __init__(self, data, least_squares, spectral, windows, spectrum, quality_factor_estimate, budget, caveats):
         """``data`` is the record (a Dataset, or the :class:`~wobble.io.eop.PoleRecord` read from a file),
         ``windows`` the :class:`~wobble.models.polar_motion.WindowedFits` and ``spectrum`` the
         :class:`~wobble.models.polar_motion.Spectrum` of the model layer, or a function of no arguments
@@ -114,10 +118,22 @@ class PolarMotionAnalysis:
         self.spectral = spectral
         self.window_fits = windows
         self._spectrum = spectrum
-        self.quality_factor = quality_factor
+        self.quality_factor_estimate = quality_factor_estimate
         self.budget = budget
         self.method = "least_squares"
         self.caveats = tuple(caveats)
+
+    @property
+    def quality_factor(self) -> QualityFactorEstimate | None:
+        """Deprecated alias of :attr:`quality_factor_estimate` (one release): elsewhere ``quality_factor`` is
+        the number Q, which ``quality_factor_estimate.value`` holds."""
+        warnings.warn(
+            "PolarMotionAnalysis.quality_factor is deprecated; use quality_factor_estimate (its .value is Q), "
+            "as the JSON's key is; the old name goes in the next release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return self.quality_factor_estimate
 
     @functools.cached_property
     def data(self):
@@ -281,7 +297,9 @@ class PolarMotionAnalysis:
             "methods_agree": None if self.methods_agree is None else bool(self.methods_agree),
             "agreement_sigma": num(self.agreement),
             # An object here (with its interval and method), a number in excitation and forecast.
-            "quality_factor_estimate": None if self.quality_factor is None else self.quality_factor.to_dict(),
+            "quality_factor_estimate": None
+            if self.quality_factor_estimate is None
+            else self.quality_factor_estimate.to_dict(),
             "windows": _windows_dict(self.window_columns, self.window_attrs),
             "comparison": [
                 {
@@ -341,8 +359,8 @@ class PolarMotionAnalysis:
         ]
         if not self.comparable:
             lines.append(f"  {self.agreement_text()}")
-        if self.quality_factor is not None:
-            q = self.quality_factor
+        if self.quality_factor_estimate is not None:
+            q = self.quality_factor_estimate
             hi = "inf" if not math.isfinite(q.high) else f"{q.high:.0f}"
             lines.append(
                 f"  Q (line shape): 68 % interval {q.low:.0f} to {hi}, 95 % lower bound {q.lower_bound_95:.0f}"
@@ -467,7 +485,7 @@ def polar_motion_analysis(
         spectral=ChandlerEstimate.from_fit(sp),
         windows=wf,
         spectrum=spectrum,
-        quality_factor=qf,
+        quality_factor_estimate=qf,
         budget=chandler_budget(earth),
         caveats=caveats,
     )

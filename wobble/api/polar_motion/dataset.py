@@ -197,8 +197,8 @@ def analysis_dataset(a):
     ds = xr.merge([ds, windows, a.spectrum], combine_attrs="drop_conflicts")
     ds = _estimates(ds, [a.least_squares, a.spectral], a.caveats)
     ds = _model_and_published(ds, a)
-    if a.quality_factor is not None:
-        ds = _quality_factor(ds, a.quality_factor)
+    if a.quality_factor_estimate is not None:
+        ds = _quality_factor(ds, a.quality_factor_estimate)
     ds.attrs = _analysis_attrs(a)
     return ds
 
