@@ -168,36 +168,26 @@ def analyse(setup: TopSetup) -> dict:
         A state on the separatrix (1 - m = 0) or within 1e-150 of it.
     """
     s = setup
-    sh, ch, thetadot0 = s.sin_half, s.cos_half, s.thetadot0
+    sh, ch = s.sin_half, s.cos_half
     v0, w3 = s.v0, s.omega3
     with decimal.localcontext(context()):
         i1, i3, mg = to_decimal(s.I1), to_decimal(s.I3), to_decimal(s.mgl)
         x0, y0 = 2 * sh * sh, 2 * ch * ch
         s0 = 2 * sh * ch
         u0 = ch * ch - sh * sh
-        # A top started exactly at a pole moving "outwards" across it: the same motion
-        # with (theta, phi, psi) -> (-theta, phi + pi, psi + pi) keeps theta in [0, pi].
-        sigma_shift = Decimal(0)
-        if (x0 == 0 and thetadot0 < 0) or (y0 == 0 and thetadot0 > 0):
-            thetadot0 = -thetadot0
-            sigma_shift = hp.PI
+        thetadot0, sigma_shift = _across_a_pole(x0, y0, s.thetadot0)
         a = i3 * w3 / i1
         beta = 2 * mg / i1
-        b = v0 * s0 + a * u0
         kin = thetadot0 * thetadot0 + v0 * v0  # thetadot^2 + phidot^2 sin^2 theta
-        alpha = kin + beta * u0
         A = kin - beta * x0  # alpha - beta
         B = v0 * s0 - a * x0  # b - a
         C = v0 * s0 + a * y0  # b + a
         g0 = s0 * s0 * thetadot0 * thetadot0
-        energy = i1 * kin / 2 + i3 * w3 * w3 / 2 + mg * u0
-        e_prime = i1 * kin / 2 + mg * u0
         cub = cubic.TopCubic(A=A, B=B, C=C, a=a, beta=beta)
         # g'(x0) without cancellation (A + beta x0 = kin, B + a x0 = v0 s0): the offsets of the turning
         # points from x0 keep their digits however narrow the nutation (M g l -> 0 with a fast spin).
         dg0 = 2 * u0 * kin + beta * x0 * y0 - 2 * a * v0 * s0
         roots = cubic.top_roots(cub, x0, y0, g0, dg0)
-        stable = bool(i3 * i3 * w3 * w3 > 4 * mg * i1)
         start = _Start(
             x0=x0,
             y0=y0,
@@ -209,66 +199,99 @@ def analyse(setup: TopSetup) -> dict:
             sigma0=(s.phi0 + s.psi0) / 2 + sigma_shift,
             delta0=(s.phi0 - s.psi0) / 2,
         )
-        # Uniform motions: at rest on a pole, or regular precession to rounding.
-        e0 = 2 * u0 * v0 * v0 + beta * s0 * s0 - 2 * a * v0 * s0  # g'(x0) when thetadot0 = 0
-        e0_scale = 2 * abs(u0) * v0 * v0 + beta * s0 * s0 + 2 * abs(a * v0 * s0)
-        uniform = None
         # Regular precession to rounding (the bracket of df/du vanishes within the rounding of
         # the inputs): reported as such (u1 = u2 = u0, m = 0), but the motion keeps the
         # exact, tiny nutation of the given floats, so the phases stay exact over long spans.
+        e0 = 2 * u0 * v0 * v0 + beta * s0 * s0 - 2 * a * v0 * s0  # g'(x0) when thetadot0 = 0
+        e0_scale = 2 * abs(u0) * v0 * v0 + beta * s0 * s0 + 2 * abs(a * v0 * s0)
         regular = thetadot0 == 0 and abs(e0) <= 16 * Decimal(EPS) * e0_scale
-        if thetadot0 == 0 and x0 == 0:
-            uniform = "sleeping"
-        elif thetadot0 == 0 and y0 == 0:
-            uniform = "regular"  # hanging straight down, spinning
-        elif roots.width == 0:
-            uniform = "regular"  # no nutation at all (a double root)
-        elif roots.beta_gap <= 0 or roots.beta_span <= 0 or roots.beta_gap < Decimal("1e-150") * roots.beta_span:
-            if regular:  # e.g. at rest without gravity (f vanishes identically): nothing moves
-                uniform = "regular"
-            elif roots.beta_gap <= 0:
-                raise InputError(
-                    "thetadot0",
-                    _f(s.thetadot0),
-                    "an initial state off the separatrix (the motion "
-                    "would approach an unstable equilibrium for ever; 1 - m = 0)",
-                )
-        common = dict(
-            I1=s.I1,
-            I3=s.I3,
-            mgl=s.mgl,
-            theta0=s.theta0,
-            thetadot0=_f(s.thetadot0),  # as given: a start across a pole is analysed with its sign turned
-            phi0=_f(s.phi0),
-            psi0=_f(s.psi0),
-            omega3=_f(w3),
-            a=_f(a),
-            b=_f(b),
-            p_psi=_f(i3 * w3),
-            p_phi=_f(i1 * b),
-            energy=_f(energy),
-            energy_prime=_f(e_prime),
-            alpha=_f(alpha),
-            beta=_f(beta),
-            sleeping_stable=stable,
-        )
+        uniform = _uniform_kind(s, start, roots, regular)
+        common = _common_fields(s, start, i1, i3, mg, kin)
         if uniform is not None:
             return {**common, **_uniform(uniform, s, start, roots)}
         fields = {**common, **_elliptic(s, start, cub, roots)}
         if regular:
-            u_0 = _f(u0) if x0 <= 1 else _f(y0 - 1)
-            fields.update(
-                nutation="regular",
-                u1=u_0,
-                u2=u_0,
-                x1=_f(x0),
-                x2=_f(x0),
-                m=0.0,
-                m1=1.0,
-                theta_min=s.theta0,
-                theta_max=s.theta0,
-            )
+            fields.update(_regular_to_rounding(s, start))
         return fields
+
+
+def _across_a_pole(x0: Decimal, y0: Decimal, thetadot0: Decimal) -> tuple[Decimal, Decimal]:
+    """``(thetadot0, sigma shift)``: a top started exactly at a pole moving "outwards" across it is
+    the same motion with (theta, phi, psi) -> (-theta, phi + pi, psi + pi), which keeps theta in [0, pi]."""
+    if (x0 == 0 and thetadot0 < 0) or (y0 == 0 and thetadot0 > 0):
+        return -thetadot0, hp.PI
+    return thetadot0, Decimal(0)
+
+
+def _uniform_kind(s: TopSetup, st: _Start, roots: cubic.TopRoots, regular: bool) -> str | None:
+    """Which motion with theta constant the state is ("sleeping", "regular"), or None.
+
+    Raises
+    ------
+    wobble.errors.InputError
+        A state on the separatrix (1 - m = 0) or within 1e-150 of it.
+    """
+    if st.thetadot0 == 0 and st.x0 == 0:
+        return "sleeping"
+    if st.thetadot0 == 0 and st.y0 == 0:
+        return "regular"  # hanging straight down, spinning
+    if roots.width == 0:
+        return "regular"  # no nutation at all (a double root)
+    if roots.beta_gap <= 0 or roots.beta_span <= 0 or roots.beta_gap < Decimal("1e-150") * roots.beta_span:
+        if regular:  # e.g. at rest without gravity (f vanishes identically): nothing moves
+            return "regular"
+        if roots.beta_gap <= 0:
+            raise InputError(
+                "thetadot0",
+                _f(s.thetadot0),
+                "an initial state off the separatrix (the motion "
+                "would approach an unstable equilibrium for ever; 1 - m = 0)",
+            )
+    return None
+
+
+def _common_fields(s: TopSetup, st: _Start, i1: Decimal, i3: Decimal, mg: Decimal, kin: Decimal) -> dict:
+    """The fields every kind of motion has: the parameters, the constants of the motion (Goldstein, Poole &
+    Safko 2002, sec. 5.7: a = p_psi/I1, b = p_phi/I1, alpha = 2E'/I1, beta = 2 M g l/I1) and the sleeping top's
+    stability (I3^2 omega3^2 > 4 M g l I1)."""
+    w3, v0 = s.omega3, s.v0
+    b = v0 * st.s0 + st.a * st.u0
+    return dict(
+        I1=s.I1,
+        I3=s.I3,
+        mgl=s.mgl,
+        theta0=s.theta0,
+        thetadot0=_f(s.thetadot0),  # as given: a start across a pole is analysed with its sign turned
+        phi0=_f(s.phi0),
+        psi0=_f(s.psi0),
+        omega3=_f(w3),
+        a=_f(st.a),
+        b=_f(b),
+        p_psi=_f(i3 * w3),
+        p_phi=_f(i1 * b),
+        energy=_f(i1 * kin / 2 + i3 * w3 * w3 / 2 + mg * st.u0),
+        energy_prime=_f(i1 * kin / 2 + mg * st.u0),
+        alpha=_f(kin + st.beta * st.u0),
+        beta=_f(st.beta),
+        sleeping_stable=bool(i3 * i3 * w3 * w3 > 4 * mg * i1),
+    )
+
+
+def _regular_to_rounding(s: TopSetup, st: _Start) -> dict:
+    """The fields reported for regular precession to rounding (u1 = u2 = u0, m = 0); the motion itself
+    keeps the exact nutation of the given floats."""
+    u_0 = _f(st.u0) if st.x0 <= 1 else _f(st.y0 - 1)
+    return dict(
+        nutation="regular",
+        u1=u_0,
+        u2=u_0,
+        x1=_f(st.x0),
+        x2=_f(st.x0),
+        m=0.0,
+        m1=1.0,
+        theta_min=s.theta0,
+        theta_max=s.theta0,
+    )
 
 
 def _report_roots(roots: cubic.TopRoots):
