@@ -55,6 +55,21 @@ _METRIC_KEYS = {
 }
 
 
+#: The scores of every method and lead, in the order of the hindcast's file (the JSON lists them in its own).
+_SCORE_NAMES = (
+    "mae_x",
+    "mae_y",
+    "rms_x",
+    "rms_y",
+    "mae_2d",
+    "rms_2d",
+    "coverage_68",
+    "coverage_95",
+    "skill_persistence",
+    "skill_ls",
+)
+
+
 #: Published results to set beside ours: (label, metric, {lead days: mas}).
 ANCHORS = (
     (
@@ -238,62 +253,63 @@ class PolarMotionHindcast:
     def to_dataset(self):
         """The hindcasts, the outcomes and the scores as a CF Dataset (dimensions method, issue, lead)."""
         from wobble.api.dataset import xarray
-        from wobble.io import cf
 
         xr = xarray()
-        mas = 1.0 / RAD_PER_MAS
-        x = np.array([[f.xy()[0] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
-        y = np.array([[f.xy()[1] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
-        sx = np.array([[f.sigma_x for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
-        sy = np.array([[f.sigma_y for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
+        ds = xr.Dataset({**self._forecast_variables(), **self._score_variables()}, coords=self._coordinates())
+        ds.attrs = self._attributes()
+        return ds
 
-        def half(level, axis):
-            return (
-                np.array([[f.half_widths(level)[axis] for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
-            )
+    def _forecast_variables(self) -> dict:
+        """Every forecast (method, issue, lead) with its sigma and interval half-widths, and the outcomes, in mas."""
+        from wobble.io import cf
+
+        mas = 1.0 / RAD_PER_MAS
+
+        def per_forecast(value):  # (issue, method, lead) as stored -> (method, issue, lead), in mas
+            return np.array([[value(f) for f in row] for row in self.forecasts]).transpose(1, 0, 2) * mas
 
         data = {
-            "x_p_forecast": cf.variable("forecast", "x_p_forecast", x),
-            "y_p_forecast": cf.variable("forecast", "y_p_forecast", y),
-            "x_p_sigma": cf.variable("forecast", "x_p_sigma", sx),
-            "y_p_sigma": cf.variable("forecast", "y_p_sigma", sy),
-            "x_p_half_width_68": cf.variable("forecast", "x_p_half_width_68", half(68, 0)),
-            "y_p_half_width_68": cf.variable("forecast", "y_p_half_width_68", half(68, 1)),
-            "x_p_half_width_95": cf.variable("forecast", "x_p_half_width_95", half(95, 0)),
-            "y_p_half_width_95": cf.variable("forecast", "y_p_half_width_95", half(95, 1)),
-            "x_p_observed": cf.variable("forecast", "x_p_observed", observed_mas(self.truth.real)),
-            "y_p_observed": cf.variable("forecast", "y_p_observed", observed_mas(-self.truth.imag)),
-            "latency": cf.variable("forecast", "latency", float(self.latency.value)),
+            "x_p_forecast": per_forecast(lambda f: f.xy()[0]),
+            "y_p_forecast": per_forecast(lambda f: f.xy()[1]),
+            "x_p_sigma": per_forecast(lambda f: f.sigma_x),
+            "y_p_sigma": per_forecast(lambda f: f.sigma_y),
         }
-        first = self.methods[0]
-        data["rms_2d_persistence"] = cf.variable(
-            "forecast", "rms_2d_persistence", self.scores[first].rms_2d_persistence * mas
-        )
-        data["rms_2d_ls"] = cf.variable("forecast", "rms_2d_ls", self.scores[first].rms_2d_ls * mas)
-        for name in (
-            "mae_x",
-            "mae_y",
-            "rms_x",
-            "rms_y",
-            "mae_2d",
-            "rms_2d",
-            "coverage_68",
-            "coverage_95",
-            "skill_persistence",
-            "skill_ls",
-        ):
+        for level in (68, 95):
+            data[f"x_p_half_width_{level}"] = per_forecast(lambda f: f.half_widths(level)[0])
+            data[f"y_p_half_width_{level}"] = per_forecast(lambda f: f.half_widths(level)[1])
+        data["x_p_observed"] = observed_mas(self.truth.real)
+        data["y_p_observed"] = observed_mas(-self.truth.imag)
+        data["latency"] = float(self.latency.value)
+        return {name: cf.variable("forecast", name, value) for name, value in data.items()}
+
+    def _score_variables(self) -> dict:
+        """The scores per method and lead (mas; coverages and skills as fractions), and the two references'."""
+        from wobble.io import cf
+
+        mas = 1.0 / RAD_PER_MAS
+        first = self.scores[self.methods[0]]
+        data = {
+            "rms_2d_persistence": cf.variable("forecast", "rms_2d_persistence", first.rms_2d_persistence * mas),
+            "rms_2d_ls": cf.variable("forecast", "rms_2d_ls", first.rms_2d_ls * mas),
+        }
+        for name in _SCORE_NAMES:
             scale = 1.0 if name.startswith(("coverage", "skill")) else mas
             data[name] = cf.variable(
                 "forecast", name, np.array([getattr(self.scores[m], name) for m in self.methods]) * scale
             )
-        issue_attrs = cf.attrs("forecast", "issue_time", calendar="standard")
-        coords = {
+        return data
+
+    def _coordinates(self) -> dict:
+        """method, issue_time, lead_time and the valid time of every forecast."""
+        from wobble.io import cf
+
+        return {
             "method": (
                 "method",
                 list(self.methods),
                 {"long_name": "forecast method (ls_ar: least squares + autoregression; kalman: state-space model)"},
             ),
-            "issue_time": (("issue",), self.issued_mjd, issue_attrs),
+            "issue_time": (("issue",), self.issued_mjd, cf.attrs("forecast", "issue_time", calendar="standard")),
             "lead_time": cf.variable("forecast", "lead_time", self.lead.value),
             # The valid time of every forecast, as the forecast file's "time": a pipeline had to add the
             # issue and lead times itself, and cf_xarray found no time axis (ds.cf["T"]).
@@ -308,8 +324,10 @@ class PolarMotionHindcast:
                 },
             ),
         }
-        ds = xr.Dataset(data, coords=coords)
-        ds.attrs = {
+
+    def _attributes(self) -> dict:
+        """The file's global attributes: what was hindcast, how the intervals were made, the calibration spans."""
+        attrs = {
             "title": f"Polar-motion hindcast {iso_date(float(self.issued_mjd[0]))} to "
             f"{iso_date(float(self.issued_mjd[-1]))}",
             "summary": f"{len(self.issued_mjd)} issues x {len(self.lead)} lead days, methods "
@@ -328,8 +346,8 @@ class PolarMotionHindcast:
         }
         if self.calibrated:
             for m, v in self.calibration_spans.items():
-                ds.attrs[f"calibration_span_days_{m}"] = float(v.value)
-        return ds
+                attrs[f"calibration_span_days_{m}"] = float(v.value)
+        return attrs
 
     def __repr__(self) -> str:
         first, last = iso_date(float(self.issued_mjd[0])), iso_date(float(self.issued_mjd[-1]))
