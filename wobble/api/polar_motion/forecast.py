@@ -514,51 +514,15 @@ def forecast_polar_motion(
     q_value = default_q() if q is None else check_q(q)
     mjd, t, z, attrs = series_with_attrs(data, file)  # plain arrays from a file: no xarray for the JSON
     lat = latency_si(latency, attrs)
-    if issued is None:
-        issued_s = t[-1] + lat
-    else:
-        issued_mjd = to_mjd(issued, "issued")
-        if not whole_days(issued_mjd * DAY):
-            raise InputError(
-                "issued",
-                f"{issued} ({mjd_time(issued_mjd).iso[:16]} UTC)",
-                f"a day (0 h UTC), e.g. {iso_date(math.floor(issued_mjd))}: the record is daily",
-            )
-        what = {"ls_ar": "LS+AR", "kalman": "Kalman"}[method]
-        # The first day the method can be issued: its fitting span and the latency after the record's start.
-        first = math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat) / DAY - 1e-9)
-        why = f"after the method's {_cal.FITTING_SPAN[method] / DAY:.0f}-day fitting span, plus the latency"
-        if calibrated and calibration_span is None:
-            # The default calibration is not the user's choice: the date is, so give the first one that works.
-            reach = _cal.calibration_reach(lat, horizon_days, _cal.SPANS[method])
-            first = max(first, math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat + reach) / DAY - 0.5 - 1e-9))
-            why += (
-                f"; with calibrated intervals {horizon_days} d ahead, also the {reach / DAY:.0f} d of past "
-                "forecasts that calibrate them, or choose uncalibrated intervals"
-            )
-        if not (first <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
-            raise InputError(
-                "issued",
-                issued,
-                f"a date from {iso_date(first)} to {iso_date(mjd[-1] + lat / DAY)} for {what} (the record from "
-                f"{iso_date(mjd[0])}, {why})",
-            )
-        issued_s = (issued_mjd - MJD_J2000) * DAY
+    issued_s = _issue_time(issued, mjd, t, lat, method, horizon_days, calibrated and calibration_span is None)
     span = calibration_span_si(calibration_span)
-    what = {"ls_ar": "LS+AR", "kalman": "Kalman"}[method]
+    what = _cal.METHOD_NAMES[method]
     # The issue date's own checks come first (information_set), so a too-early issue date is named as such.
     _fc.information_set(t, z, issued_s, lat, _cal.FITTING_SPAN[method], what)
     if calibrated:
         _cal.check_calibration_span(t, issued_s, lat, horizon_days, method, span)
     say = stage_messages(progress)
-    if chandler_period is None:
-        say("Chandler period by least squares")
-        period = chandler_period_before(t, z, issued_s - lat)
-        used = t[(t <= issued_s - lat + 1e-6) & (t >= issued_s - lat - _PERIOD_SPAN)]
-        period_span = (iso_date(MJD_J2000 + used[0] / DAY), iso_date(MJD_J2000 + used[-1] / DAY))
-    else:
-        period = float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=()))
-        period_span = None
+    period, period_span = _chandler_period(chandler_period, t, z, issued_s - lat, say)
     raw = _cal.forecast(
         t,
         z,
@@ -577,3 +541,49 @@ def forecast_polar_motion(
     )
     out.issued_by_default = issued is None
     return out
+
+
+def _issue_time(issued, mjd, t, lat: float, method: str, horizon_days: int, default_calibration: bool) -> float:
+    """The issue time (s from J2000): the day the record's last value became available, or ``issued`` checked
+    against the first day the method can be issued (its fitting span and the latency after the record's start;
+    with the default calibration also the past forecasts that calibrate it) and the last (the record's end plus
+    the latency)."""
+    if issued is None:
+        return t[-1] + lat
+    issued_mjd = to_mjd(issued, "issued")
+    if not whole_days(issued_mjd * DAY):
+        raise InputError(
+            "issued",
+            f"{issued} ({mjd_time(issued_mjd).iso[:16]} UTC)",
+            f"a day (0 h UTC), e.g. {iso_date(math.floor(issued_mjd))}: the record is daily",
+        )
+    what = _cal.METHOD_NAMES[method]
+    first = math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat) / DAY - 1e-9)
+    why = f"after the method's {_cal.FITTING_SPAN[method] / DAY:.0f}-day fitting span, plus the latency"
+    if default_calibration:
+        # The default calibration is not the user's choice: the date is, so give the first one that works.
+        reach = _cal.calibration_reach(lat, horizon_days, _cal.SPANS[method])
+        first = max(first, math.ceil(mjd[0] + (_cal.FITTING_SPAN[method] + lat + reach) / DAY - 0.5 - 1e-9))
+        why += (
+            f"; with calibrated intervals {horizon_days} d ahead, also the {reach / DAY:.0f} d of past "
+            "forecasts that calibrate them, or choose uncalibrated intervals"
+        )
+    if not (first <= issued_mjd <= mjd[-1] + lat / DAY + 1e-9):
+        raise InputError(
+            "issued",
+            issued,
+            f"a date from {iso_date(first)} to {iso_date(mjd[-1] + lat / DAY)} for {what} (the record from "
+            f"{iso_date(mjd[0])}, {why})",
+        )
+    return (issued_mjd - MJD_J2000) * DAY
+
+
+def _chandler_period(chandler_period, t, z, last_data: float, say) -> tuple[float, tuple[str, str] | None]:
+    """The Chandler period (s) and the first and last days it was measured from: the least-squares estimate
+    from the 30 years of the record before ``last_data``, or the period given (no span)."""
+    if chandler_period is not None:
+        return float(to_si(chandler_period, "chandler_period", u.s, positive=True, shape=())), None
+    say("Chandler period by least squares")
+    period = chandler_period_before(t, z, last_data)
+    used = t[(t <= last_data + 1e-6) & (t >= last_data - _PERIOD_SPAN)]
+    return period, (iso_date(MJD_J2000 + used[0] / DAY), iso_date(MJD_J2000 + used[-1] / DAY))

@@ -88,12 +88,14 @@ __all__ = [
     "kalman_setup",
     "past_forecasts",
     "check_calibration_span",
+    "METHOD_NAMES",
     "forecast",
 ]
 
 #: The span of data each method fits before its issue date.
 FITTING_SPAN = {"ls_ar": LS_SPAN, "kalman": FIT_SPAN}
-_WHAT = {"ls_ar": "LS+AR", "kalman": "Kalman"}
+#: Each method's name in messages.
+METHOD_NAMES = {"ls_ar": "LS+AR", "kalman": "Kalman"}
 
 #: Span of past issue dates whose errors calibrate each lead time (the most recent with known outcomes),
 #: per method (chosen on 2006-2015; see the module).
@@ -314,13 +316,13 @@ def check_calibration_span(
             # Rounded down, so that the span allowed never reads as the span refused (2.0 yr for 1.96).
             f"at most {math.floor(most / JULIAN_YEAR * 100) / 100:.2f} yr for this issue date and horizon "
             "(the oldest past forecast, issued "
-            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / JULIAN_YEAR:.0f}-yr {_WHAT[method]} "
+            f"{(issued - oldest) / DAY:.0f} d before, needs its {need / JULIAN_YEAR:.0f}-yr {METHOD_NAMES[method]} "
             "fitting span in the record)"
             if most >= MIN_COUNT * step
             else "a later issue date: its past forecasts need "
             f"{(issued - oldest + latency + need) / JULIAN_YEAR:.1f} yr of record before it"
         )
-        shown = f"{span / JULIAN_YEAR:g} yr" + (f" (the {_WHAT[method]} default)" if default else "")
+        shown = f"{span / JULIAN_YEAR:g} yr" + (f" (the {METHOD_NAMES[method]} default)" if default else "")
         raise InputError("calibration_span", shown, allowed)
 
 
@@ -355,7 +357,9 @@ def forecast(
     method = check_method(method)
     span = span_for(method, span)
     t, z = known_at(t, z, issued - latency)
-    information_set(t, z, issued, latency, FITTING_SPAN[method], _WHAT[method])  # the issue date's own checks first
+    information_set(
+        t, z, issued, latency, FITTING_SPAN[method], METHOD_NAMES[method]
+    )  # the issue date's own checks first
     if calibrated:
         check_calibration_span(t, issued, latency, horizon_days, method, span)
     loglike = math.nan
