@@ -451,12 +451,7 @@ def measure_precession(
     user_extra = _user_terms(extra)
     fit: PrecessionFit | None = None
     node = None
-    given_node = None
-    if node_rate is None and node_phase is not None:
-        raise InputError("node_phase", node_phase, "a phase only with node_rate, the argument it is the phase of")
-    if node_rate is not None:
-        phase = node_phase if node_phase is not None else 0 * u.rad
-        given_node = (to_si(node_rate, "node_rate", _RATE, shape=()), to_si(phase, "node_phase", u.rad, shape=()))
+    given_node = _given_node(node_rate, node_phase)
     _check_sampling(t, given_node, user_extra)
     for _ in range(2):  # the arguments depend on the equinox's motion, which the first fit measures
         left_out: list[str] = []
@@ -477,24 +472,7 @@ def measure_precession(
         psi0 = _intercept(t, psi, fit)
     arcsec = u.rad.to(u.arcsec)
     have_node = node is not None
-    caveats = []
-    if abs(use_node[0]) * span < 2 * math.pi:
-        period = 2 * math.pi / abs(use_node[0]) / JULIAN_YEAR
-        caveats.append(
-            f"the span ({span / JULIAN_YEAR:.1f} yr) is shorter than the principal term's period ({period:.1f} yr): "
-            "the secular rate and that term are not separated, and both may be off by more than their formal errors"
-        )
-    replaced = [n.removesuffix(_REPLACED) for n in left_out if n.endswith(_REPLACED)]
-    aliased = [n.removesuffix(_ALIASED) for n in left_out if n.endswith(_ALIASED)]
-    apart = [n for n in left_out if not n.endswith((_REPLACED, _ALIASED))]
-    if aliased:
-        caveats.append(
-            f"left out, faster than the samples' Nyquist limit ({_nyquist(t):.3g} rad/s): {', '.join(aliased)}"
-        )
-    if apart:
-        caveats.append(f"left out, the span cannot separate them from the terms fitted: {', '.join(apart)}")
-    if replaced:
-        caveats.append(f"left out, a term of yours has their names: {', '.join(replaced)}")
+    caveats = _caveats(t, use_node[0], left_out)
     nut = None
     if analytic is not None and principal is not None and given_node is None:  # a user's node is not the model's
         nut = dict(analytic.nutation).get(principal.name)
@@ -519,6 +497,41 @@ def measure_precession(
         terms={k: tuple(x * arcsec for x in v) for k, v in _fitted_terms(fit, stand_in).items()},
         caveats=caveats,
     )
+
+
+def _given_node(node_rate, node_phase) -> tuple[float, float] | None:
+    """The user's principal argument, (rate rad/s, phase rad), or None; a phase needs its rate."""
+    if node_rate is None and node_phase is not None:
+        raise InputError("node_phase", node_phase, "a phase only with node_rate, the argument it is the phase of")
+    if node_rate is None:
+        return None
+    phase = node_phase if node_phase is not None else 0 * u.rad
+    return to_si(node_rate, "node_rate", _RATE, shape=()), to_si(phase, "node_phase", u.rad, shape=())
+
+
+def _caveats(t, principal_rate: float, left_out: list[str]) -> list[str]:
+    """What limits the measurement: a span shorter than the principal term's period, and the perturbers' terms
+    left out (faster than the samples' Nyquist limit, inseparable over the span, or named by a term of yours)."""
+    span = float(t[-1] - t[0])
+    caveats = []
+    if abs(principal_rate) * span < 2 * math.pi:
+        period = 2 * math.pi / abs(principal_rate) / JULIAN_YEAR
+        caveats.append(
+            f"the span ({span / JULIAN_YEAR:.1f} yr) is shorter than the principal term's period ({period:.1f} yr): "
+            "the secular rate and that term are not separated, and both may be off by more than their formal errors"
+        )
+    replaced = [n.removesuffix(_REPLACED) for n in left_out if n.endswith(_REPLACED)]
+    aliased = [n.removesuffix(_ALIASED) for n in left_out if n.endswith(_ALIASED)]
+    apart = [n for n in left_out if not n.endswith((_REPLACED, _ALIASED))]
+    if aliased:
+        caveats.append(
+            f"left out, faster than the samples' Nyquist limit ({_nyquist(t):.3g} rad/s): {', '.join(aliased)}"
+        )
+    if apart:
+        caveats.append(f"left out, the span cannot separate them from the terms fitted: {', '.join(apart)}")
+    if replaced:
+        caveats.append(f"left out, a term of yours has their names: {', '.join(replaced)}")
+    return caveats
 
 
 #: How a perturber's term left out for a user's term of the same name is listed in ``left_out``.
