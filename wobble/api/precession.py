@@ -764,6 +764,23 @@ def _mas_per_year(rate, sigma) -> str:
 
 
 def _summary(b: PrecessionBudget) -> str:
+    lines = _budget_lines(b)
+    if b.iau is not None:
+        lines += _iau_lines(b)
+    for n in b.nutation:
+        lines += _nutation_lines(n)
+    if not b.includes_geodesic:
+        lines.append("  note: the observed rate excludes geodesic precession (relativistic terms modelled separately),")
+        lines.append(
+            f"  so the comparison uses the tidal rate; with geodesic precession the model is {_fmt(b.inertial_rate)}."
+        )
+    for note in b.notes:
+        lines.append(f"  note: {note}")
+    return "\n".join(lines)
+
+
+def _budget_lines(b: PrecessionBudget) -> list[str]:
+    """The terms, the first order, the model with its uncertainty, and the observed rate and residual."""
     lines = [f"{b.planet.title}: forced precession of the spin axis (arcsec per Julian century; negative = retrograde)"]
     lines.append(f"  {'term':<26}{'rate':>14}   physics (references)")
     for t in b.terms:
@@ -788,62 +805,58 @@ def _summary(b: PrecessionBudget) -> str:
             f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed "
             f"uncertainties{why})"
         )
-    if b.iau is not None:
-        lines.append(
-            "  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its"
-        )
-        lines.append('  psi_A = +5038.48"/cy is -5038.48 here):')
-        lines.append(
-            f'    {"first order (model)":<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
-            f"{_fmt(b.iau['first_order'])}"
-        )
-        for s in b.literature_steps:
-            lines.append(f"    + {s.name:<22}{_fmt(s.change, 6):>14}  -> {_fmt(s.value)}   {s.description}")
-            if s.name == "nonlinear_term":
-                lines.append(
-                    f"    {'= psi_A (model)':<24}{_fmt(s.value):>14}   IAU 2006 psi_A: {_fmt(b.iau['psi_rate'])}"
-                    f"  (difference {_fmt(s.value - b.iau['psi_rate'], 4)})"
-                )
-        last = b.literature_steps[-1].value
-        lines.append(
-            f"    {'= p_A (model)':<24}{_fmt(last):>14}   IAU 2006 p_A: {_fmt(b.iau['general_precession'])}"
-            f"  (difference {_fmt(last - b.iau['general_precession'], 4)})"
-        )
-    for n in b.nutation:
-        lines.append(
-            f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), "
-            "rigid body, first order:"
-        )
-        line = (
-            f'    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}" sin(Omega), Delta eps = '
-            f'{n.obliquity.to_value(u.arcsec):+.4f}" cos(Omega)'
-        )
-        lines.append(line)
-        if n.rigid is not None:
-            r = n.rigid
-            dl, de = n.rigid_difference
+    return lines
+
+
+def _iau_lines(b: PrecessionBudget) -> list[str]:
+    """The steps from the model's first order to IAU 2006's psi_A and p_A, with the differences."""
+    lines = [
+        "  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its",
+        '  psi_A = +5038.48"/cy is -5038.48 here):',
+        f'    {"first order (model)":<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
+        f"{_fmt(b.iau['first_order'])}",
+    ]
+    for s in b.literature_steps:
+        lines.append(f"    + {s.name:<22}{_fmt(s.change, 6):>14}  -> {_fmt(s.value)}   {s.description}")
+        if s.name == "nonlinear_term":
             lines.append(
-                f"    rigid Earth, {r.name} (Souchay et al. 1999; H = {r.dynamical_flattening:.8g}): "
-                f'{r.longitude.to_value(u.arcsec):+.4f}", {r.obliquity.to_value(u.arcsec):+.4f}"; '
-                f"at the catalogue's H (x {r.scale:.7f}): {r.scaled_longitude.to_value(u.arcsec):+.4f}\", "
-                f'{r.scaled_obliquity.to_value(u.arcsec):+.4f}"'
+                f"    {'= psi_A (model)':<24}{_fmt(s.value):>14}   IAU 2006 psi_A: {_fmt(b.iau['psi_rate'])}"
+                f"  (difference {_fmt(s.value - b.iau['psi_rate'], 4)})"
             )
-            lines.append(
-                f"    model - {r.name}: {100 * dl:+.3f} %, {100 * de:+.3f} % (the series adds the second-order and "
-                "planetary-tilt terms a first-order model leaves out)"
-            )
-        if n.reference_longitude is not None:
-            dl = 100 * float(n.longitude / n.reference_longitude - 1)
-            de = 100 * float(n.obliquity / n.reference_obliquity - 1)
-            lines.append(
-                f'    IAU 2000A (non-rigid Earth): {n.reference_longitude.to_value(u.arcsec):+.4f}", '
-                f'{n.reference_obliquity.to_value(u.arcsec):+.4f}"; model - IAU 2000A: {dl:+.2f} %, {de:+.2f} %'
-            )
-    if not b.includes_geodesic:
-        lines.append("  note: the observed rate excludes geodesic precession (relativistic terms modelled separately),")
+    last = b.literature_steps[-1].value
+    lines.append(
+        f"    {'= p_A (model)':<24}{_fmt(last):>14}   IAU 2006 p_A: {_fmt(b.iau['general_precession'])}"
+        f"  (difference {_fmt(last - b.iau['general_precession'], 4)})"
+    )
+    return lines
+
+
+def _nutation_lines(n) -> list[str]:
+    """One principal nutation: the model's amplitudes, beside the rigid-Earth series and IAU 2000A."""
+    lines = [
+        f"  principal nutation from the {n.perturber.capitalize()}'s node ({n.period.to_value(u.yr):.2f} yr), "
+        "rigid body, first order:",
+        f'    Delta psi = {n.longitude.to_value(u.arcsec):+.4f}" sin(Omega), Delta eps = '
+        f'{n.obliquity.to_value(u.arcsec):+.4f}" cos(Omega)',
+    ]
+    if n.rigid is not None:
+        r = n.rigid
+        dl, de = n.rigid_difference
         lines.append(
-            f"  so the comparison uses the tidal rate; with geodesic precession the model is {_fmt(b.inertial_rate)}."
+            f"    rigid Earth, {r.name} (Souchay et al. 1999; H = {r.dynamical_flattening:.8g}): "
+            f'{r.longitude.to_value(u.arcsec):+.4f}", {r.obliquity.to_value(u.arcsec):+.4f}"; '
+            f"at the catalogue's H (x {r.scale:.7f}): {r.scaled_longitude.to_value(u.arcsec):+.4f}\", "
+            f'{r.scaled_obliquity.to_value(u.arcsec):+.4f}"'
         )
-    for note in b.notes:
-        lines.append(f"  note: {note}")
-    return "\n".join(lines)
+        lines.append(
+            f"    model - {r.name}: {100 * dl:+.3f} %, {100 * de:+.3f} % (the series adds the second-order and "
+            "planetary-tilt terms a first-order model leaves out)"
+        )
+    if n.reference_longitude is not None:
+        dl = 100 * float(n.longitude / n.reference_longitude - 1)
+        de = 100 * float(n.obliquity / n.reference_obliquity - 1)
+        lines.append(
+            f'    IAU 2000A (non-rigid Earth): {n.reference_longitude.to_value(u.arcsec):+.4f}", '
+            f'{n.reference_obliquity.to_value(u.arcsec):+.4f}"; model - IAU 2000A: {dl:+.2f} %, {de:+.2f} %'
+        )
+    return lines
