@@ -446,6 +446,17 @@ def _padded(lo: float, hi: float) -> tuple[float, float]:
 
 def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
     """The hydrostatic core of the setup's body (FixedCoreFigure or LinearMantleCoreFigure)."""
+    prof, pf = _core_profile(where, raw_profile, planet)
+    construction = pf.extra.get("construction")
+    if construction is None:
+        return _fixed_core(where, prof, planet)
+    if construction != "core_under_linear_mantle":
+        raise FileFormatError(pf.path, "construction", f"got {construction!r}; allowed: core_under_linear_mantle")
+    return _core_under_linear_mantle(where, prof, planet, parameters)
+
+
+def _core_profile(where, raw_profile, planet: PlanetParameters):
+    """The density profile the setup names (default: the body's shipped one), which must have a liquid core."""
     name = _string(where, "profile", raw_profile) or profile_for_body(planet.name)
     if not name:
         raise FileFormatError(
@@ -463,34 +474,44 @@ def _core_figure(where, raw_profile, planet: PlanetParameters, parameters):
             "profile",
             f"{prof.name} has no liquid core; allowed: a profile with a liquid core (the FCN needs one)",
         )
-    construction = pf.extra.get("construction")
-    if construction is None:
-        # A fixed profile must be this body's: its mass within 1e-3 of GM/G (as wobble modes asks).
-        if planet.gm is not None:
-            mass = planet.gm.value / planet.gravitational_constant.value
-            if abs(prof.mass() / mass - 1.0) > 1e-3:
-                raise FileFormatError(
-                    where,
-                    "profile",
-                    f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = "
-                    f"{mass:.6g} kg)",
-                )
-        fig = _hydro.hydrostatic_figure(prof, planet.rotation_rate.value, planet.gravitational_constant.value)
-        return FixedCoreFigure(prof.name, float(fig.core_dynamical_ellipticity))
-    if construction != "core_under_linear_mantle":
-        raise FileFormatError(pf.path, "construction", f"got {construction!r}; allowed: core_under_linear_mantle")
+    return prof, pf
+
+
+def _fixed_core(where, prof, planet: PlanetParameters) -> FixedCoreFigure:
+    """A fixed profile's core ellipticity (Clairaut's equation once); the profile must be this body's: its mass
+    within 1e-3 of GM/G (as wobble modes asks)."""
+    if planet.gm is not None:
+        mass = planet.gm.value / planet.gravitational_constant.value
+        if abs(prof.mass() / mass - 1.0) > 1e-3:
+            raise FileFormatError(
+                where,
+                "profile",
+                f"{prof.name} has a mass of {prof.mass():.6g} kg; allowed: a profile of {planet.name} (GM/G = "
+                f"{mass:.6g} kg)",
+            )
+    fig = _hydro.hydrostatic_figure(prof, planet.rotation_rate.value, planet.gravitational_constant.value)
+    return FixedCoreFigure(prof.name, float(fig.core_dynamical_ellipticity))
+
+
+#: The parameters a core under a linear mantle is built from (the last four give C/(MR^2) one way or the other).
+_LINEAR_MANTLE_KEYS = (
+    "fluid_core_radius",
+    "fluid_core_density",
+    "gm",
+    "gravitational_constant",
+    "equatorial_radius",
+    "polar_moment_factor",
+    "j2",
+    "dynamical_flattening",
+)
+
+
+def _core_under_linear_mantle(where, prof, planet: PlanetParameters, parameters) -> LinearMantleCoreFigure:
+    """A core rebuilt for every draw: its table over the box the priors (or the catalogued values) span, in
+    x = core radius/R, y = core density/mean density and c = C/(MR^2)."""
     values = planet.values()
     ranges = {}
-    for key in (
-        "fluid_core_radius",
-        "fluid_core_density",
-        "gm",
-        "gravitational_constant",
-        "equatorial_radius",
-        "polar_moment_factor",
-        "j2",
-        "dynamical_flattening",
-    ):
+    for key in _LINEAR_MANTLE_KEYS:
         found = _prior_range(parameters, key, values.get(key))
         if found is not None:
             ranges[key] = found
