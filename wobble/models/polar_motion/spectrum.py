@@ -181,11 +181,8 @@ def fit_spectrum(
         caveats.append(
             "span under one beat period: no taper, so the side lobes of other terms leak into the Chandler peak"
         )
-    at_edge = not (lo_rate + 0.5 * d < rate < hi_rate - 0.5 * d)
-    edge_caveat = (
-        f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
-        "no Chandler peak is resolved in this span"
-    )
+    edge_caveat = _edge_caveat(rate, lo_rate, hi_rate, d, band)
+    at_edge = edge_caveat is not None
     if at_edge:
         caveats.append(edge_caveat)
     nan = math.nan
@@ -197,28 +194,14 @@ def fit_spectrum(
         "taper": kind,
         "at_edge": bool(at_edge),
         "band": band,
-        "edge_caveat": edge_caveat if at_edge else None,
+        "edge_caveat": edge_caveat,
     }
     if uncertainty:
         p_formal, a_formal, p_auto, a_auto, ann_auto = _peak_sigmas(s, w, resid, f, rate, span, kind)
         sig_phase = a_auto / abs(f[0])
         sub = dict.fromkeys(TRACKED, nan)
         if subspans:
-            batch = functools.partial(
-                spectrum_tracked, reference_period=reference_period, drift_degree=degree, band=band, taper=kind
-            )
-            sub, nsub = subspan_scatter(
-                t,
-                z,
-                fit_spectrum,
-                beat,
-                batch,
-                reference_period=reference_period,
-                band=band,
-                drift_degree=degree,
-                taper=kind,
-            )
-            details["subspans"] = nsub
+            sub, details["subspans"] = _subspans(t, z, reference_period, degree, band, kind, beat)
         base = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, 0, 0, 0, ann_auto)
         # What fit_spectrum(t, z, drift_degree=k, uncertainty=False) gives for the model check's degrees.
         mod = largest_change(base, tracked_columns(rates[1:], chandlers[1:], anns[0, 1:], anns[1, 1:]))
@@ -237,6 +220,28 @@ def fit_spectrum(
         sig_amp = au.adopted
     fit = make_fit("spectrum", t, epoch, half, degree, coeffs, rate, resid, sig_rate, sig_amp, sig_phase, ann_sig)
     return with_changes(fit, period_uncertainty=pu, amplitude_uncertainty=au, caveats=tuple(caveats), details=details)
+
+
+def _edge_caveat(rate: float, lo_rate: float, hi_rate: float, step: float, band) -> str | None:
+    """The caveat of a peak within half a grid step of the search band's edge (no Chandler peak resolved), or
+    None."""
+    if lo_rate + 0.5 * step < rate < hi_rate - 0.5 * step:
+        return None
+    return (
+        f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
+        "no Chandler peak is resolved in this span"
+    )
+
+
+def _subspans(t, z, reference_period: float, degree: int, band, kind: str, beat: float):
+    """The scatter of the tracked quantities over sub-spans (:func:`subspan_scatter`, this estimator with the same
+    settings), and how many sub-spans there were."""
+    batch = functools.partial(
+        spectrum_tracked, reference_period=reference_period, drift_degree=degree, band=band, taper=kind
+    )
+    return subspan_scatter(
+        t, z, fit_spectrum, beat, batch, reference_period=reference_period, band=band, drift_degree=degree, taper=kind
+    )
 
 
 def _peak_sigmas(s, w, resid, f, rate: float, span: float, kind: str):
