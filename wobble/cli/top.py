@@ -47,7 +47,7 @@ def register(subparsers) -> None:
     p.add_argument("--phidot0", default="0", help="initial precession rate (rad/s; default 0)")
     spin = p.add_mutually_exclusive_group(required=True)
     spin.add_argument("--omega3", help="spin about the symmetry axis (rad/s)")
-    spin.add_argument("--psidot0", help="initial spin rate dpsi/dt (rad/s)")
+    spin.add_argument("--psidot0", help="initial spin-angle rate dpsi/dt (rad/s; the axial spin is --omega3)")
     p.add_argument("--phi0", default="0", help="initial precession angle (degrees unless a unit is given; default 0)")
     p.add_argument("--psi0", default="0", help="initial spin angle (degrees unless a unit is given; default 0)")
     p.add_argument(

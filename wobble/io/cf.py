@@ -177,7 +177,9 @@ TOP: dict[str, Spec] = {
     "psi": Spec(("time",), "rad", "spin angle psi (wrapped to [-pi, pi])"),
     "thetadot": Spec(("time",), "rad s-1", "nutation rate dtheta/dt"),
     "phidot": Spec(("time",), "rad s-1", "precession rate dphi/dt"),
-    "psidot": Spec(("time",), "rad s-1", "spin rate dpsi/dt"),
+    "psidot": Spec(
+        ("time",), "rad s-1", "spin-angle rate dpsi/dt (the axial spin is omega3 = dpsi/dt + dphi/dt cos theta)"
+    ),
     "omega": Spec(("time", "axis"), "rad s-1", "angular velocity in the body frame (axis 3 = symmetry axis)"),
     "attitude": Spec(
         ("time", "component"), "1", "unit quaternion (w, x, y, z) rotating body vectors into the inertial frame"
