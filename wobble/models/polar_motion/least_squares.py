@@ -29,7 +29,7 @@ from wobble.models.polar_motion.record import (
     check_q,
     span_caveats,
 )
-from wobble.models.polar_motion.search import band_grid, refine_peaks
+from wobble.models.polar_motion.search import at_band_edge, band_grid, refine_peaks
 from wobble.models.polar_motion.uncertainty import (
     HAC_MAX_B,
     TRACKED,
@@ -158,8 +158,7 @@ def _ls_solve(s, z, half, fixed, band, rate, polish=True):
         # same size). The period searched for lies in the band; outside it, the search's own optimum stands.
         if lo_rate <= polished_rate <= hi_rate:
             coeffs, rate = polished, polished_rate
-    at_edge = not (lo_rate + 0.5 * step < rate < hi_rate - 0.5 * step)
-    return coeffs, rate, at_edge
+    return coeffs, rate, at_band_edge(rate, lo_rate, hi_rate, step)
 
 
 def separation(s, fixed, rate) -> float:

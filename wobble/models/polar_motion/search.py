@@ -15,7 +15,7 @@ from scipy import optimize
 
 from wobble.numerics.bounded_brent import minimize_bounded
 
-__all__ = ["OVERSAMPLE", "band_grid", "refine_peak", "refine_peaks"]
+__all__ = ["OVERSAMPLE", "at_band_edge", "band_grid", "refine_peak", "refine_peaks"]
 
 #: Grid points per Rayleigh resolution 2 pi / T.
 OVERSAMPLE = 8
@@ -26,6 +26,12 @@ def band_grid(lo_rate, hi_rate, span):
     count = int(math.ceil((hi_rate - lo_rate) * OVERSAMPLE * span / (2 * math.pi))) + 1
     d = (hi_rate - lo_rate) / (count - 1)
     return lo_rate + d * np.arange(count), d
+
+
+def at_band_edge(rate: float, lo_rate: float, hi_rate: float, step: float) -> bool:
+    """Whether a best rate lies within half a grid step of the search band's edge (or is NaN): then no peak
+    inside the band was resolved, only the band's own limit."""
+    return not (lo_rate + 0.5 * step < rate < hi_rate - 0.5 * step)
 
 
 def refine_peak(fun, rates, values, step, lo, hi) -> float:

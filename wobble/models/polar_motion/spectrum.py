@@ -27,7 +27,7 @@ from wobble.models.polar_motion.record import (
     check_q,
     span_caveats,
 )
-from wobble.models.polar_motion.search import band_grid, refine_peaks
+from wobble.models.polar_motion.search import at_band_edge, band_grid, refine_peaks
 from wobble.models.polar_motion.uncertainty import (
     TRACKED,
     annual_sigmas,
@@ -225,7 +225,7 @@ def fit_spectrum(
 def _edge_caveat(rate: float, lo_rate: float, hi_rate: float, step: float, band) -> str | None:
     """The caveat of a peak within half a grid step of the search band's edge (no Chandler peak resolved), or
     None."""
-    if lo_rate + 0.5 * step < rate < hi_rate - 0.5 * step:
+    if not at_band_edge(rate, lo_rate, hi_rate, step):
         return None
     return (
         f"the spectral peak lies at the edge of the search band {band[0] / DAY:.0f}-{band[1] / DAY:.0f} d: "
