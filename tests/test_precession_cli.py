@@ -243,8 +243,8 @@ def test_a_perturber_path_that_is_not_a_file_says_why(tmp_path, monkeypatch, cap
     status, out, err = _run(capsys, "precession", "earth", "--perturber", typed, "-o", "out.nc")
     assert status == 2 and out == "" and err.count("\n") == 1
     assert err == (
-        f"wobble precession: error: --perturber: got {typed}; allowed: one of moon, sun, or the path of a perturber "
-        f"file ({why})\n"
+        f"wobble precession: error: --perturber: got {typed}; allowed: one of deimos, moon, phobos, sun, or the path "
+        f"of a perturber file ({why})\n"
     )
     assert not (tmp_path / "out.nc").exists()
 

@@ -32,6 +32,7 @@ from wobble.io.perturbers import (
     PERTURBER_UNITS,
     REFERENCE_UNITS,
     load_nutation_reference,
+    is_ring,
     load_perturber,
     load_precession_reference,
     measured,
@@ -80,7 +81,8 @@ class PrecessionTerm:
     Attributes
     ----------
     name : str
-        ``sun``, ``sun_eccentricity``, ``moon``, ``moon_inclination``, ``geodesic``, ...
+        ``sun``, ``sun_eccentricity``, ``moon``, ``moon_inclination``, ``phobos`` (a ring satellite),
+        ``geodesic``, ...
     rate : Quantity
         Its contribution, arcsec per Julian century (negative: retrograde).
     description : str
@@ -253,7 +255,7 @@ class PrecessionBudget:
 
     @property
     def first_order(self) -> u.Quantity:
-        """First-order tidal precession from every perturber (no relativity), arcsec/century."""
+        """First-order tidal precession from every perturber and ring satellite (no relativity), arcsec/century."""
         return _arcsec_cy(self.raw.torque_rate)
 
     @property
@@ -393,7 +395,7 @@ def _planet_values(planet: Planet):
     for key in ("rotation_rate", "obliquity", "orbit_semi_major_axis", "orbit_eccentricity"):
         m = _require(planet, key)
         values[key], sigmas[key] = m.value, m.sigma
-    for key in ("dynamical_flattening", "j2", "polar_moment_factor"):
+    for key in ("dynamical_flattening", "j2", "polar_moment_factor", "gm", "equatorial_radius"):
         m = getattr(p, key)
         if m is not None:
             values[key], sigmas[key] = m.value, m.sigma
@@ -427,7 +429,7 @@ def _flattening(values) -> float:
     return values["j2"] / values["polar_moment_factor"]
 
 
-def _orbit(name: str, values) -> _model.PerturberOrbit:
+def _orbit(name: str, values, ring: bool = False) -> _model.PerturberOrbit:
     def get(key, default=None):
         return values.get(f"{name}.{key}", default)
 
@@ -439,10 +441,22 @@ def _orbit(name: str, values) -> _model.PerturberOrbit:
         inclination=get("inclination", 0.0),
         perturbation_factor=get("solar_perturbation_factor", 1.0),
         node_rate=get("node_rate"),
+        ring=ring,
     )
 
 
-def _prepare(satellites: list[str]):
+def _polar_moment_factor(values) -> float | None:
+    """C/(M R^2): catalogued, else J2/H (the ring satellites need it)."""
+    if "polar_moment_factor" in values:
+        return values["polar_moment_factor"]
+    if "j2" in values and "dynamical_flattening" in values:
+        return values["j2"] / values["dynamical_flattening"]
+    return None
+
+
+def _prepare(satellites: list[ParameterFile]):
+    names = [(pf.name, is_ring(pf)) for pf in satellites]
+
     def prepare(values) -> _model.Inputs:
         sun = _model.PerturberOrbit(
             "sun",
@@ -450,8 +464,17 @@ def _prepare(satellites: list[str]):
             values["orbit_semi_major_axis"],
             values["orbit_eccentricity"],
         )
-        orbits = (sun, *(_orbit(name, values) for name in satellites))
-        return _model.Inputs(_flattening(values), values["rotation_rate"], values["obliquity"], orbits, sun)
+        orbits = (sun, *(_orbit(name, values, ring) for name, ring in names))
+        return _model.Inputs(
+            _flattening(values),
+            values["rotation_rate"],
+            values["obliquity"],
+            orbits,
+            sun,
+            _polar_moment_factor(values),
+            values.get("gm"),
+            values.get("equatorial_radius"),
+        )
 
     return prepare
 
@@ -493,7 +516,7 @@ def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
     radius = planet.parameters.equatorial_radius
     for pf in files:
         try:
-            orbit = _orbit(pf.name, values)
+            orbit = _orbit(pf.name, values, is_ring(pf))
             _model.check_inside(orbit, None if radius is None else radius.value)
         except InputError as exc:
             raise FileFormatError(
@@ -594,7 +617,7 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     >>> import wobble
     >>> mars = wobble.precession_rate("mars")
     >>> print(f"{mars.rate.to('mas / yr'):.1f}")   # observed: -7608.3 +- 2.1 mas/yr
-    -7603.2 mas / yr
+    -7603.7 mas / yr
     """
     planet = load_planet(body)
     values, sigmas = _planet_values(planet)
@@ -605,12 +628,12 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
         _perturber_values(pf, values, sigmas)
     _check_orbits(planet, satellites, values)
     try:
-        raw = _model.precession_budget(planet.name, values, _prepare([pf.name for pf in satellites]), sigmas)
+        raw = _model.precession_budget(planet.name, values, _prepare(satellites), sigmas)
     except InputError as exc:
         raise FileFormatError(
             planet.file.path or planet.name, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
         ) from None
-    inputs = _prepare([pf.name for pf in satellites])(values)
+    inputs = _prepare(satellites)(values)
     nutation = []
     refs = None
     rigid = None

@@ -18,7 +18,8 @@ Rates are of the node longitude of the equator on the orbit plane, in arcsec per
 Julian century, negative when retrograde (IAU's psi_A and p_A count the other way:
 Earth's -5040.69 here is IAU's +5040.69). The Sun perturbs every planet on the
 planet's own orbit (obliquity, orbit_semi_major_axis, orbit_eccentricity in the
-planet file); satellites come from the perturber catalogue (the Moon for Earth).
+planet file); satellites come from the perturber catalogue (the Moon for Earth;
+Phobos and Deimos for Mars, as rings that precess with the planet).
 The observed rate is never an input; it is shown for comparison.
 """
 
@@ -29,9 +30,9 @@ def register(sub) -> None:
         help="forced precession of the spin axis by the Sun and moons, term by term",
         description="The precession rate of a planet's spin axis from its dynamical flattening, spin, obliquity "
         "and its perturbers' orbits, each term shown (Sun, Moon, eccentricity, inclination, the Sun's perturbation "
-        "of the lunar orbit, geodesic precession), the published steps to IAU 2006 for Earth, and the rigid-body "
-        "principal nutation from the Moon's node beside the rigid-Earth series REN-2000 (Souchay et al. 1999) and "
-        "the non-rigid IAU 2000A.",
+        "of the lunar orbit, Mars' moons as rings, geodesic precession), the published steps to IAU 2006 for "
+        "Earth, and the rigid-body principal nutation from the Moon's node beside the rigid-Earth series REN-2000 "
+        "(Souchay et al. 1999) and the non-rigid IAU 2000A.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

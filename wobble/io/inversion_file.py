@@ -78,7 +78,7 @@ from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS, load_planet
 from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile, read_toml
-from wobble.io.perturbers import PERTURBER_UNITS, load_perturber, measured, perturbers_of
+from wobble.io.perturbers import PERTURBER_UNITS, is_ring, load_perturber, measured, perturbers_of
 from wobble.models import hydrostatic as _hydro
 from wobble.models import precession as _precession
 from wobble.models.inversion.context import FixedCoreFigure, ForwardContext, LinearMantleCoreFigure, box_corners
@@ -584,6 +584,7 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
                 get("inclination", 0.0),
                 get("solar_perturbation_factor", 1.0),
                 get("node_rate"),
+                is_ring(pf),
             )
         )
     flag = planet.observed_precession_includes_geodesic

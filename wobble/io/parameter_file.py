@@ -50,7 +50,7 @@ STATUSES = ("read", "secondary", "derived", "assumed")
 _REQUIRED_TOP = ("schema", "kind", "name")
 _REQUIRED_ENTRY = ("value", "uncertainty", "unit", "source", "status")
 #: Top-level keys a kind of file may carry besides schema, kind, name, title, description and parameters.
-_EXTRA_TOP = {"density_profile": ("body", "construction"), "perturber": ("primary",)}
+_EXTRA_TOP = {"density_profile": ("body", "construction"), "perturber": ("primary", "coupling")}
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,13 @@ planet is that planet's own heliocentric orbit, catalogued in
 ``data/bodies/<planet>.toml``). The Sun is always a perturber of a planet;
 other perturbers are those whose ``primary`` is the planet's name.
 
+The top-level key ``coupling`` says how a satellite acts: ``"tidal"`` (the
+default; the Moon) is a point mass on an orbit whose plane the Sun holds,
+whose torque on the bulge is averaged over the orbit; ``"ring"`` (Phobos,
+Deimos) is a satellite close enough for the planet's J2 to hold its orbit
+near the equator, a ring in its Laplace plane that precesses with the planet
+(:mod:`wobble.models.precession`, equations (5) and (6)).
+
 ``data/precession/iau2006.toml`` (``kind = "precession_reference"``) holds
 the published steps from the first-order lunisolar rate to IAU 2006's psi_A
 and p_A, shown next to Earth's budget.
@@ -41,6 +48,8 @@ __all__ = [
     "NUTATION_REFERENCE_UNITS",
     "load_nutation_reference",
     "measured",
+    "COUPLINGS",
+    "is_ring",
 ]
 
 _ONE = u.dimensionless_unscaled
@@ -77,6 +86,15 @@ NUTATION_REFERENCE_UNITS: dict[str, u.UnitBase] = {
     "dynamical_flattening": _ONE,
     "general_precession": u.rad / u.s,
 }
+
+
+#: The values of a perturber file's ``coupling`` key (the first is the default).
+COUPLINGS = ("tidal", "ring")
+
+
+def is_ring(pf: ParameterFile) -> bool:
+    """True when the perturber file is a ring satellite (``coupling = "ring"``)."""
+    return pf.extra.get("coupling", COUPLINGS[0]) == "ring"
 
 
 def _dir():
@@ -148,6 +166,19 @@ def _check(pf: ParameterFile) -> ParameterFile:
     if not isinstance(pf.extra.get("primary", ""), str) or not pf.extra.get("primary"):
         raise FileFormatError(
             pf.path, "primary", 'missing; the name of the body this perturber orbits (or "*" for every planet)'
+        )
+    coupling = pf.extra.get("coupling", COUPLINGS[0])
+    if coupling not in COUPLINGS:
+        raise FileFormatError(
+            pf.path, "coupling", f"got {coupling!r}; allowed: {' or '.join(repr(c) for c in COUPLINGS)}"
+        )
+    if coupling == "ring" and pf.extra.get("primary") == "*":
+        raise FileFormatError(pf.path, "coupling", "got 'ring' for a perturber of every planet; allowed: 'tidal'")
+    if coupling == "ring" and pf.get("node_rate") is not None:
+        raise FileFormatError(
+            pf.path,
+            "parameters.node_rate",
+            "given for a ring satellite; allowed: none (its node turns about its Laplace plane, not the orbit plane)",
         )
     return pf
 

@@ -35,6 +35,31 @@ the orbit normal, is
 with n the orbital mean motion (e.g. Soffel 1989, *Relativity in Astrometry,
 Celestial Mechanics and Geodesy*, sec. 9; for Earth 1.92"/cy).
 
+A satellite close to its planet (Phobos and Deimos) is not a perturber of
+that kind: the planet's J2 turns its orbit's node in years about the local
+Laplace plane, which lies between the equator and the orbit plane at the tilt
+phi from the equator given by
+
+    tan 2 phi = sin 2 eps / (cos 2 eps + 2 (r_L/a)^5),                      (5)
+
+r_L^5 = J2 R^2 a_p^3 (1 - e_p^2)^(3/2) M/M_sun the Laplace radius (Tremaine,
+Touma & Namouni 2009, AJ 137, 3706; the factor 2 makes (5) the balance of the
+planet's and the Sun's torques on the orbit). Averaged over its node the
+satellite is a ring in that plane, and the plane precesses with the equator.
+The Sun torques the ring as it torques the bulge, and the planet and its
+rings precess as one: with Q = G m <r^2> P2(cos i)/2 each ring's C - A
+(<r^2> = a^2 (1 + 3 e^2/2) on a Kepler ellipse, i its inclination to the
+Laplace plane) and L = G m a^2 n sqrt(1 - e^2) its orbital angular momentum,
+
+    dpsi/dt = (3) x (1 + sum Q sin 2(eps - phi) / (G (C - A) sin 2 eps))
+                   / (1 + sum L sin(eps - phi) / (G C omega sin eps)).      (6)
+
+For phi = 0 this is the precession constant (3 n^2 / 2 omega) (J2 + q) /
+(lambda + l) of a planet with close satellites (Tremaine 1991, Icarus 89, 85;
+Ward & Hamilton 2004, AJ 128, 2501), q = sum (m/M)(a/R)^2/2 and
+l = sum (m/M)(a/R)^2 (n/omega); by (5), sin 2(eps - phi)/sin 2 eps = 2 rho/D,
+rho = (r_L/a)^5, D = sqrt(1 + 4 rho cos 2 eps + 4 rho^2).
+
 Everything here is SI (kg, m, s, rad); the sign convention is that of the
 node longitude psi (eastward positive), so a retrograde precession is
 negative. IAU's precession in longitude psi_A has the opposite sign.
@@ -66,6 +91,11 @@ __all__ = [
     "budget_terms",
     "precession_budget",
     "check_inside",
+    "ring_moment",
+    "ring_angular_momentum",
+    "laplace_radius",
+    "laplace_tilt",
+    "ring_factor",
 ]
 
 SPEED_OF_LIGHT = 299_792_458.0  # m/s, exact (SI definition)
@@ -94,6 +124,11 @@ class PerturberOrbit:
         Keplerian one (1 for a Keplerian orbit).
     node_rate : float or None
         Rate of the orbit's node on the reference plane, rad/s (for nutation).
+    ring : bool
+        True for a satellite whose orbit the planet's J2 holds near its
+        equator (Phobos, Deimos): a ring in its Laplace plane that precesses
+        with the planet, equations (5) and (6), ``inclination`` measured from
+        that plane. False (default): a perturber whose torque is equation (3).
     """
 
     name: str
@@ -103,6 +138,7 @@ class PerturberOrbit:
     inclination: float = 0.0
     perturbation_factor: float = 1.0
     node_rate: float | None = None
+    ring: bool = False
 
     def __post_init__(self):
         if not (math.isfinite(self.gm) and self.gm > 0):
@@ -121,6 +157,13 @@ class PerturberOrbit:
             )
         if not (math.isfinite(self.perturbation_factor) and self.perturbation_factor > 0):
             raise InputError(f"{self.name}.perturbation_factor", self.perturbation_factor, "a positive factor near 1")
+        if self.ring and self.node_rate is not None:
+            # Its node turns about its Laplace plane, which moves with the equator: no nodal nutation of (3)'s kind.
+            raise InputError(
+                f"{self.name}.node_rate",
+                self.node_rate,
+                "none for a ring satellite (its node turns about its Laplace plane)",
+            )
 
     @property
     def periapsis(self) -> float:
@@ -153,6 +196,68 @@ def check_inside(orbit: PerturberOrbit, radius: float | None) -> None:
             f"periapsis a(1 - e) = {orbit.periapsis:.6g} m",
             f"an orbit outside the body (periapsis above its radius {radius:.6g} m)",
         )
+
+
+def laplace_radius(j2: float, radius: float, gm: float, sun: PerturberOrbit) -> float:
+    """r_L = (J2 R^2 a_p^3 (1 - e_p^2)^(3/2) G M / G M_sun)^(1/5), m: the distance inside which the planet's J2,
+    and outside which the Sun, sets the plane a satellite's orbit precesses about (Tremaine, Touma & Namouni 2009).
+    Works on arrays of ``j2``, ``radius`` and ``gm``."""
+    return (j2 * radius**2 * sun.semi_major_axis**3 * (1.0 - sun.eccentricity**2) ** 1.5 * gm / sun.gm) ** 0.2
+
+
+def laplace_tilt(semi_major_axis, r_laplace, obliquity):
+    """phi of equation (5), rad: the Laplace plane's tilt from the equator towards the orbit plane (arrays work).
+
+    0 close in, eps far out; atan2 keeps the branch that starts at 0 close in for any obliquity in [0, pi].
+    """
+    rho = (r_laplace / semi_major_axis) ** 5
+    return 0.5 * np.arctan2(np.sin(2.0 * obliquity), np.cos(2.0 * obliquity) + 2.0 * rho)
+
+
+def ring_moment(orbit: PerturberOrbit) -> float:
+    """G Q = G m <r^2> P2(cos i)/2 of a ring satellite, m^5/s^2: the C - A of its orbit averaged over the orbit
+    and over its node (a ring's C - A is half its moment m <r^2>; <r^2> = a^2 (1 + 3 e^2/2) on a Kepler ellipse)."""
+    return 0.5 * orbit.gm * orbit.semi_major_axis**2 * (1.0 + 1.5 * orbit.eccentricity**2) * orbit.inclination_factor
+
+
+def ring_angular_momentum(orbit: PerturberOrbit, gm_planet: float) -> float:
+    """G L = G m a^2 n sqrt(1 - e^2) of a ring satellite, m^5/s^3, n from Kepler's third law: its orbital
+    angular momentum, which precesses with the spin's."""
+    n = np.sqrt((gm_planet + orbit.gm) / orbit.semi_major_axis**3)
+    return orbit.gm * orbit.semi_major_axis**2 * n * math.sqrt(1.0 - orbit.eccentricity**2)
+
+
+def ring_factor(
+    rings: Sequence[PerturberOrbit],
+    flattening,
+    polar_moment_factor,
+    gm,
+    radius,
+    spin_rate,
+    obliquity,
+    sun: PerturberOrbit,
+):
+    """The factor of equation (6) by which ring satellites multiply the tidal rate (1 without rings; arrays work).
+
+    ``flattening`` H and ``polar_moment_factor`` C/(M R^2) give G (C - A) = H (C/(M R^2)) G M R^2 and G C omega;
+    J2 = H C/(M R^2) sets the Laplace radius; ``sun`` is the planet's orbit about the Sun.
+    """
+    moment = polar_moment_factor * gm * radius**2  # G C
+    r_laplace = laplace_radius(flattening * polar_moment_factor, radius, gm, sun)
+    two_eps = 2.0 * obliquity
+    torque, momentum = 0.0, 0.0
+    for ring in rings:
+        rho = (r_laplace / ring.semi_major_axis) ** 5
+        # sin 2(eps - phi) / sin 2 eps = 2 rho / D by equation (5): no 0/0 at eps = 0 or 90 deg.
+        torque = torque + ring_moment(ring) * 2.0 * rho / np.sqrt(1.0 + 4.0 * rho * np.cos(two_eps) + 4.0 * rho**2)
+        eps_phi = obliquity - laplace_tilt(ring.semi_major_axis, r_laplace, obliquity)
+        sin_eps = np.sin(obliquity)
+        # sin(eps - phi)/sin eps, whose limit at eps = 0 is 2 rho/(1 + 2 rho).
+        share = np.where(
+            np.abs(sin_eps) > 1e-12, np.sin(eps_phi) / np.where(sin_eps == 0, 1.0, sin_eps), 2 * rho / (1 + 2 * rho)
+        )
+        momentum = momentum + ring_angular_momentum(ring, gm) * share
+    return (1.0 + torque / (flattening * moment)) / (1.0 + momentum / (moment * spin_rate))
 
 
 def tidal_torque(gm: float, c_minus_a: float, axis, position) -> np.ndarray:
@@ -228,6 +333,9 @@ def precession_rate(
     check_obliquity(obliquity)
     if spin_rate == 0:
         raise InputError("rotation_rate", 0.0, "a non-zero spin rate")
+    rings = [o.name for o in orbits if o.ring]
+    if rings:
+        raise InputError("orbits", ", ".join(rings), "tidal perturbers (a ring satellite needs the planet's figure)")
     total = sum(torque_strength(o) for o in orbits)
     return -1.5 * total * dynamical_flattening / spin_rate * math.cos(obliquity)
 
@@ -330,15 +438,47 @@ _REFS = {
 }
 
 
+def _ring_terms(inputs: Inputs, rings: list[PerturberOrbit], tidal: float) -> list[Term]:
+    """Equation (6), one term per ring: the rate with the rings up to it less the rate without it."""
+    # Named as planet files name them.
+    for attr, key in (("polar_moment_factor", "polar_moment_factor"), ("gm", "gm"), ("radius", "equatorial_radius")):
+        if getattr(inputs, attr) is None:
+            raise InputError(
+                key, "missing", f"the planet's {key} for its ring satellites ({', '.join(o.name for o in rings)})"
+            )
+    if inputs.sun is None:
+        raise InputError("sun", None, "the planet's orbit about the Sun (it sets the rings' Laplace planes)")
+    figure = (inputs.dynamical_flattening, inputs.polar_moment_factor, inputs.gm, inputs.radius, inputs.spin_rate)
+    rings = sorted(rings, key=lambda o: o.semi_major_axis)  # inside out: Phobos, then Deimos
+    out, before = [], tidal
+    for k, ring in enumerate(rings):
+        after = tidal * float(ring_factor(rings[: k + 1], *figure, inputs.obliquity, inputs.sun))
+        out.append(
+            Term(
+                ring.name,
+                after - before,
+                f"{ring.name.capitalize()}: its orbit, held by the planet's J2 near the equator, a ring the Sun "
+                "torques with the bulge (Tremaine 1991; Ward & Hamilton 2004; Laplace plane: Tremaine, Touma & "
+                "Namouni 2009)",
+            )
+        )
+        before = after
+    return out
+
+
 @dataclass(frozen=True)
 class Inputs:
-    """What equation (3) needs, SI: H, omega (rad/s), eps (rad), the orbits, the Sun's orbit or None."""
+    """What equations (3) and (6) need, SI: H, omega (rad/s), eps (rad), the orbits, the Sun's orbit or None;
+    with ring satellites also the planet's C/(M R^2), G M (m^3/s^2) and the radius R (m) of both."""
 
     dynamical_flattening: float
     spin_rate: float
     obliquity: float
     orbits: tuple[PerturberOrbit, ...]
     sun: PerturberOrbit | None = None
+    polar_moment_factor: float | None = None
+    gm: float | None = None
+    radius: float | None = None
 
 
 def budget_terms(inputs: Inputs) -> list[Term]:
@@ -349,7 +489,11 @@ def budget_terms(inputs: Inputs) -> list[Term]:
     scale = -1.5 * inputs.dynamical_flattening / inputs.spin_rate * math.cos(inputs.obliquity)
     terms: list[Term] = []
     for o in inputs.orbits:
-        terms += _factor_terms(o, scale, o.name.capitalize(), _REFS)
+        if not o.ring:
+            terms += _factor_terms(o, scale, o.name.capitalize(), _REFS)
+    rings = [o for o in inputs.orbits if o.ring]
+    if rings:
+        terms += _ring_terms(inputs, rings, sum(t.rate for t in terms))
     if inputs.sun is not None:
         sun = inputs.sun
         terms.append(

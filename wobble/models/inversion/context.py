@@ -281,6 +281,11 @@ class ForwardContext:
 
     @property
     def torque_strength(self) -> float:
-        """Sum over perturbers of G M <(a/r)^3> P2(cos i) f / a^3, s^-2
+        """Sum over the tidal perturbers of G M <(a/r)^3> P2(cos i) f / a^3, s^-2
         (:func:`wobble.models.precession.torque_strength`)."""
-        return float(sum(torque_strength(o) for o in self.perturbers))
+        return float(sum(torque_strength(o) for o in self.perturbers if not o.ring))
+
+    @property
+    def rings(self) -> tuple[PerturberOrbit, ...]:
+        """The ring satellites among the perturbers (:func:`wobble.models.precession.ring_factor`)."""
+        return tuple(o for o in self.perturbers if o.ring)

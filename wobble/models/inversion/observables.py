@@ -44,6 +44,7 @@ from wobble.models import chandler as _chandler
 from wobble.models import modes as _modes
 from wobble.models.inversion.context import ForwardContext
 from wobble.models.planet import PlanetParameters
+from wobble.models.precession import ring_factor
 
 __all__ = ["Batch", "ObservableModel", "REGISTRY", "register_observable", "observable_model"]
 
@@ -365,8 +366,9 @@ def precession_rate(batch: Batch) -> np.ndarray:
 
     H = (C - (A + B)/2)/C of each member (the catalogue's H, or else J2/(C/(M a^2)),
     so that a sampled polar moment moves it), omega the spin, eps the obliquity, k_k each
-    perturber's torque strength (:func:`wobble.models.precession.torque_strength`);
-    the same equation as :func:`wobble.models.precession.precession_rate`.
+    perturber's torque strength (:func:`wobble.models.precession.torque_strength`),
+    times equation (6)'s factor for ring satellites (Phobos and Deimos) at each member's
+    H and C/(M a^2); the same equations as the precession budget.
     """
     ctx = batch.context
     if not ctx.perturbers:
@@ -381,4 +383,20 @@ def precession_rate(batch: Batch) -> np.ndarray:
     else:
         h = batch["j2"] / batch["polar_moment_factor"]
     tidal = -1.5 * ctx.torque_strength * h / batch["rotation_rate"] * np.cos(batch["obliquity"])
+    if ctx.rings:
+        sun = ctx.perturbers[0]
+        try:
+            lam = batch["polar_moment_factor"]
+        except InputError:  # a planet given by H and J2
+            lam = batch["j2"] / h
+        tidal = tidal * ring_factor(
+            ctx.rings,
+            h,
+            lam,
+            batch["gm"],
+            batch["equatorial_radius"],
+            batch["rotation_rate"],
+            batch["obliquity"],
+            sun,
+        )
     return tidal + ctx.geodesic_rate
