@@ -224,57 +224,33 @@ def test_bad_ring_files_exit_2_one_line_nothing_written(tmp_path, capsys, primar
     assert not out.exists()
 
 
-_PLANET = """schema = "wobble/1"
-kind = "planet"
-name = "blob"
-{figure}
-[parameters.rotation_rate]
-value = 7e-5
-uncertainty = 0
-unit = "rad s-1"
-source = "test"
-status = "assumed"
-[parameters.equatorial_radius]
-value = 3.4e6
-uncertainty = 0
-unit = "m"
-source = "test"
-status = "assumed"
-[parameters.obliquity]
-value = 25.0
-uncertainty = 0
-unit = "deg"
-source = "test"
-status = "assumed"
-[parameters.orbit_semi_major_axis]
-value = 1.5
-uncertainty = 0
-unit = "AU"
-source = "test"
-status = "assumed"
-[parameters.orbit_eccentricity]
-value = 0.09
-uncertainty = 0
-unit = ""
-source = "test"
-status = "assumed"
-"""
-
-
 def _entry(key, value, unit=""):
     return f'[parameters.{key}]\nvalue = {value}\nuncertainty = 0\nunit = "{unit}"\nsource = "test"\nstatus = "assumed"'
+
+
+def _planet(*figure: str) -> str:
+    """A planet file 'blob' with spin, radius, obliquity and orbit, and the figure entries given."""
+    entries = [
+        _entry("rotation_rate", 7e-5, "rad s-1"),
+        _entry("equatorial_radius", 3.4e6, "m"),
+        _entry("obliquity", 25.0, "deg"),
+        _entry("orbit_semi_major_axis", 1.5, "AU"),
+        _entry("orbit_eccentricity", 0.09),
+        *figure,
+    ]
+    return 'schema = "wobble/1"\nkind = "planet"\nname = "blob"\n' + "\n".join(entries) + "\n"
 
 
 @pytest.mark.parametrize(
     ("figure", "missing"),
     [
-        (_entry("dynamical_flattening", 0.005), "polar_moment_factor"),
-        (_entry("j2", 0.00196) + "\n" + _entry("polar_moment_factor", 0.364), "gm"),
+        ((_entry("dynamical_flattening", 0.005),), "polar_moment_factor"),
+        ((_entry("j2", 0.00196), _entry("polar_moment_factor", 0.364)), "gm"),
     ],
 )
 def test_a_ring_about_a_planet_without_what_it_needs_is_refused_by_name(tmp_path, capsys, figure, missing):
     body = tmp_path / "blob.toml"
-    body.write_text(_PLANET.format(figure=figure))
+    body.write_text(_planet(*figure))
     ring = tmp_path / "pebble.toml"
     ring.write_text(_RING.format(primary="blob", coupling="ring", extra=""))
     status = main(["precession", "--body-file", str(body), "--perturber", str(ring)])
@@ -283,9 +259,10 @@ def test_a_ring_about_a_planet_without_what_it_needs_is_refused_by_name(tmp_path
 
 
 def test_a_ring_about_a_planet_given_by_its_figure_runs(tmp_path, capsys):
-    figure = "\n".join([_entry("j2", 0.00196), _entry("polar_moment_factor", 0.364), _entry("gm", 4.28e13, "m3 s-2")])
     body = tmp_path / "blob.toml"
-    body.write_text(_PLANET.format(figure=figure))
+    body.write_text(
+        _planet(_entry("j2", 0.00196), _entry("polar_moment_factor", 0.364), _entry("gm", 4.28e13, "m3 s-2"))
+    )
     ring = tmp_path / "pebble.toml"
     ring.write_text(_RING.format(primary="blob", coupling="ring", extra=""))
     status = main(["precession", "--body-file", str(body), "--perturber", str(ring), "--json"])
