@@ -15,6 +15,7 @@ References, independent of the code path under test:
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -268,7 +269,5 @@ def test_a_ring_about_a_planet_given_by_its_figure_runs(tmp_path, capsys):
     status = main(["precession", "--body-file", str(body), "--perturber", str(ring), "--json"])
     out, err = capsys.readouterr()
     assert status == 0 and not err
-    import json
-
     names = [t["name"] for t in json.loads(out)[0]["terms"]]
     assert names == ["sun", "sun_eccentricity", "pebble", "geodesic"]
