@@ -58,7 +58,10 @@ For phi = 0 this is the precession constant (3 n^2 / 2 omega) (J2 + q) /
 (lambda + l) of a planet with close satellites (Tremaine 1991, Icarus 89, 85;
 Ward & Hamilton 2004, AJ 128, 2501), q = sum (m/M)(a/R)^2/2 and
 l = sum (m/M)(a/R)^2 (n/omega); by (5), sin 2(eps - phi)/sin 2 eps = 2 rho/D,
-rho = (r_L/a)^5, D = sqrt(1 + 4 rho cos 2 eps + 4 rho^2).
+rho = (r_L/a)^5, D = sqrt(1 + 4 rho cos 2 eps + 4 rho^2). The factor multiplies every
+tidal perturber's rate (each torques the rings as it torques the bulge), while
+the Laplace planes are the Sun's: a planet with a large moon as well as close
+satellites would need that moon in (5) too (Mars has none).
 
 Everything here is SI (kg, m, s, rad); the sign convention is that of the
 node longitude psi (eastward positive), so a retrograde precession is
