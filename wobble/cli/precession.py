@@ -43,7 +43,8 @@ def register(sub) -> None:
         default=None,
         metavar="NAME_OR_FILE",
         help="a satellite of the body to include (catalogue name or perturber file; repeatable); the ones given "
-        "replace the default, the catalogue's satellites of the body (the Moon for Earth), and the output names those "
+        "replace the default, the catalogue's satellites of the body (the Moon for Earth, Phobos and Deimos for Mars), "
+        "and the output names those "
         "left out; the Sun is always included (--perturber sun alone: the Sun only)",
     )
     add_outputs(p, "draw each budget, term by term, against the observed rate")
