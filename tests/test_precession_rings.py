@@ -165,7 +165,11 @@ def test_mars_budget_adds_phobos_and_deimos_inside_out():
     assert terms["deimos"] == pytest.approx(-0.204, abs=0.001)
     tidal = sum(v for k, v in terms.items() if k != "geodesic")
     assert mars.rate.to_value(u.mas / u.yr) == pytest.approx(tidal, rel=1e-15)
-    assert "deimos.gm" in mars.uncertainty_contributions
+    # Each ring's term is linear in its mass (to 1e-5, its share of the rate): +1 sigma of G m moves the rate by
+    # the term times sigma/G m.
+    for name, gm, sigma in (("phobos", 7.104e-4, 0.006e-4), ("deimos", 0.98e-4, 0.02e-4)):
+        moved = mars.uncertainty_contributions[f"{name}.gm"].to_value(u.mas / u.yr)
+        assert moved == pytest.approx(terms[name] * sigma / gm, rel=1e-3)
 
 
 def test_precession_rate_alone_refuses_a_ring():
