@@ -10,7 +10,10 @@ References, independent of the code path under test:
   catalogued J2, radius, GM, orbit and obliquity;
 * the precession constant (3 n^2/2 omega)(J2 + q)/(lambda + l) of a planet with
   close satellites (Tremaine 1991; Ward & Hamilton 2004) where the tilt vanishes;
-* the inversion's forward model against the budget at the catalogue's values.
+* Mars' two terms from that constant with Jacobson's (2010) masses, JPL's mean elements and
+  JPL's own Laplace-plane tilts (the inversion's forward model is checked against the budget in
+  tests/test_inversion_forward.py);
+* the orbit's angular momentum averaged over its node, L cos i, for a retrograde ring.
 """
 
 from __future__ import annotations
@@ -157,19 +160,63 @@ def test_far_outside_the_laplace_radius_a_ring_is_a_tidal_perturber(obliquity_de
     assert ring_term == pytest.approx(tidal * (1 - 2 * n / omega * h * math.cos(eps)), rel=5 * rho)
 
 
+# Published inputs, typed here so that a wrong number in data/precession would fail: G m (km^3/s^2, Jacobson 2010),
+# a (km), e, i to the Laplace plane (deg) and the Laplace plane's tilt from Mars' equator (deg), JPL SSD (MAR080).
+MOONS = {"phobos": (7.104e-4, 9376.0, 0.0151, 1.075, 0.009), "deimos": (0.98e-4, 23458.0, 0.0002, 1.788, 0.889)}
+
+
 def test_mars_budget_adds_phobos_and_deimos_inside_out():
+    # Ward & Hamilton's (J2 + q)/(lambda + l) from the published masses and elements, each ring's share turned by
+    # JPL's own Laplace-plane tilt phi (sin 2(eps - phi)/sin 2 eps; sin(eps - phi)/sin eps for its angular
+    # momentum), on the budget's Sun terms; Phobos first, then both. JPL's tilts differ from the model's by
+    # 0.0004 and 0.008 deg, which moves Deimos' term by 2e-4 of itself.
     mars = wobble.precession_rate("mars")
     terms = {t.name: t.rate.to_value(u.mas / u.yr) for t in mars.terms}
-    # Phobos: q/J2 = 3.2e-5 of the Sun's -7603.2 mas/yr; Deimos 2.8e-5, less 2.6 % for its Laplace plane's tilt.
-    assert terms["phobos"] == pytest.approx(-0.237, abs=0.001)
-    assert terms["deimos"] == pytest.approx(-0.204, abs=0.001)
+    assert list(terms) == ["sun", "sun_eccentricity", "phobos", "deimos", "geodesic"]
+    p = load_planet("mars").parameters
+    gm, radius, omega, eps = p.gm.value / 1e9, p.equatorial_radius.value / 1e3, p.rotation_rate.value, p.obliquity.value
+    j2, lam = p.j2.value, p.polar_moment_factor.value
+    sun = terms["sun"] + terms["sun_eccentricity"]
+    q = l_ = 0.0
+    expected = {}
+    before = sun
+    for name, (gm_s, a, e, inc, tilt_deg) in MOONS.items():
+        tilt, i = math.radians(tilt_deg), math.radians(inc)
+        share = gm_s / gm * (a / radius) ** 2
+        q += (
+            0.5
+            * share
+            * (1 + 1.5 * e * e)
+            * (1 - 1.5 * math.sin(i) ** 2)
+            * math.sin(2 * (eps - tilt))
+            / math.sin(2 * eps)
+        )
+        n = math.sqrt((gm + gm_s) / a**3)
+        l_ += share * n / omega * math.sqrt(1 - e * e) * math.cos(i) * math.sin(eps - tilt) / math.sin(eps)
+        after = sun * (1 + q / j2) / (1 + l_ / lam)
+        expected[name], before = after - before, after
+    assert terms["phobos"] == pytest.approx(expected["phobos"], rel=1e-4)
+    assert terms["deimos"] == pytest.approx(expected["deimos"], rel=1e-3)
+    assert -0.24 < terms["phobos"] < -0.23 and -0.21 < terms["deimos"] < -0.20
     tidal = sum(v for k, v in terms.items() if k != "geodesic")
     assert mars.rate.to_value(u.mas / u.yr) == pytest.approx(tidal, rel=1e-15)
     # Each ring's term is linear in its mass (to 1e-5, its share of the rate): +1 sigma of G m moves the rate by
     # the term times sigma/G m.
-    for name, gm, sigma in (("phobos", 7.104e-4, 0.006e-4), ("deimos", 0.98e-4, 0.02e-4)):
+    for name, gm_s, sigma in (("phobos", 7.104e-4, 0.006e-4), ("deimos", 0.98e-4, 0.02e-4)):
         moved = mars.uncertainty_contributions[f"{name}.gm"].to_value(u.mas / u.yr)
-        assert moved == pytest.approx(terms[name] * sigma / gm, rel=1e-3)
+        assert moved == pytest.approx(terms[name] * sigma / gm_s, rel=1e-3)
+
+
+def test_a_retrograde_ring_carries_the_opposite_angular_momentum():
+    # The orbit's angular momentum averaged over its node is L cos i along the Laplace plane's normal: a ring at
+    # i and one at 180 deg - i have the same C - A (P2 is even in cos i) and opposite momenta.
+    pro = model.PerturberOrbit("x", 7.1e5, 9.4e6, 0.01, math.radians(20.0), ring=True)
+    retro = model.PerturberOrbit("x", 7.1e5, 9.4e6, 0.01, math.radians(160.0), ring=True)
+    gm = 4.28e13
+    full = 7.1e5 * 9.4e6**2 * math.sqrt((gm + 7.1e5) / 9.4e6**3) * math.sqrt(1 - 0.01**2)
+    assert model.ring_angular_momentum(pro, gm) == pytest.approx(full * math.cos(math.radians(20.0)), rel=1e-15)
+    assert model.ring_angular_momentum(retro, gm) == pytest.approx(-model.ring_angular_momentum(pro, gm), rel=1e-15)
+    assert model.ring_moment(retro) == pytest.approx(model.ring_moment(pro), rel=1e-15)
 
 
 def test_precession_rate_alone_refuses_a_ring():

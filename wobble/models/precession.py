@@ -49,7 +49,8 @@ satellite is a ring in that plane, and the plane precesses with the equator.
 The Sun torques the ring as it torques the bulge, and the planet and its
 rings precess as one: with Q = G m <r^2> P2(cos i)/2 each ring's C - A
 (<r^2> = a^2 (1 + 3 e^2/2) on a Kepler ellipse, i its inclination to the
-Laplace plane) and L = G m a^2 n sqrt(1 - e^2) its orbital angular momentum,
+Laplace plane) and L = G m a^2 n sqrt(1 - e^2) cos i its orbital angular momentum
+averaged over the node,
 
     dpsi/dt = (3) x (1 + sum Q sin 2(eps - phi) / (G (C - A) sin 2 eps))
                    / (1 + sum L sin(eps - phi) / (G C omega sin eps)).      (6)
@@ -224,10 +225,13 @@ def ring_moment(orbit: PerturberOrbit) -> float:
 
 
 def ring_angular_momentum(orbit: PerturberOrbit, gm_planet: float) -> float:
-    """G L = G m a^2 n sqrt(1 - e^2) of a ring satellite, m^5/s^3, n from Kepler's third law: its orbital
-    angular momentum, which precesses with the spin's."""
+    """G L cos i = G m a^2 n sqrt(1 - e^2) cos i of a ring satellite, m^5/s^3, n from Kepler's third law: its
+    orbital angular momentum averaged over the node, along the Laplace plane's normal (negative for a
+    retrograde orbit), which precesses with the spin's."""
     n = np.sqrt((gm_planet + orbit.gm) / orbit.semi_major_axis**3)
-    return orbit.gm * orbit.semi_major_axis**2 * n * math.sqrt(1.0 - orbit.eccentricity**2)
+    return (
+        orbit.gm * orbit.semi_major_axis**2 * n * math.sqrt(1.0 - orbit.eccentricity**2) * math.cos(orbit.inclination)
+    )
 
 
 def ring_factor(

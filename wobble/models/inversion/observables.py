@@ -377,22 +377,20 @@ def precession_rate(batch: Batch) -> np.ndarray:
             "none",
             "the perturbers' orbits (a setup read from a file provides the Sun and the catalogued satellites)",
         )
-    # H as the Chandler model and the precession budget take it: the catalogue's H, else J2/(C/(M a^2)).
-    if batch.planet.dynamical_flattening is not None or "dynamical_flattening" in batch.values:
-        h = batch["dynamical_flattening"]
-    else:
-        h = batch["j2"] / batch["polar_moment_factor"]
+    # H and C/(M a^2) as the Chandler model and the precession budget take them: the catalogue's, else from J2.
+    figure = batch.arrays()
+    h = figure.flattening
     tidal = -1.5 * ctx.torque_strength * h / batch["rotation_rate"] * np.cos(batch["obliquity"])
     if ctx.rings:
+        if figure.c_factor is None:
+            raise InputError(
+                "polar_moment_factor", "missing", "C/(M a^2), or J2 beside H, for the ring satellites' precession"
+            )
         sun = ctx.perturbers[0]
-        try:
-            lam = batch["polar_moment_factor"]
-        except InputError:  # a planet given by H and J2
-            lam = batch["j2"] / h
         tidal = tidal * ring_factor(
             ctx.rings,
             h,
-            lam,
+            figure.c_factor,
             batch["gm"],
             batch["equatorial_radius"],
             batch["rotation_rate"],
