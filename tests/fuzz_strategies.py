@@ -1176,12 +1176,15 @@ def chandler_cases(draw, command="chandler"):
         spec.update(
             {
                 "--perturber": st.sampled_from(
-                    ["moon", "sun", "phobos", "perturber.toml"] + (["deimos", "", "iau2006"] if mode == "wild" else [])
+                    ["moon", "sun", "phobos", "jupiter", "venus", "perturber.toml"]
+                    + (["deimos", "", "iau2006", "mars", "earth"] if mode == "wild" else [])
                 )
             }
         )
         if draw(st.booleans()):
-            files["perturber.toml"] = draw(toml_files("precession", ["moon.toml", "sun.toml", "phobos.toml"], mode))
+            files["perturber.toml"] = draw(
+                toml_files("precession", ["moon.toml", "sun.toml", "phobos.toml", "jupiter.toml"], mode)
+            )
     argv += draw(_options(spec))
     return draw(_finish(command, argv, files, mode))
 

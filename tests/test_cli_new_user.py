@@ -320,8 +320,8 @@ def test_precession_takes_only_the_body_s_own_satellites_once(capsys):
     # Was: the Moon about Mars (-5780"/cy, residual -2905 sigma), the Moon counted twice, and
     # "the published higher-order terms below account for it" under a residual of 3445"/cy.
     for argv, allowed in (
-        (["mars", "--perturber", "moon"], "a satellite of mars (this one orbits earth)"),
-        (["earth", "--perturber", "moon", "--perturber", "moon"], "each satellite once (it is already included)"),
+        (["mars", "--perturber", "moon"], "a satellite of mars, or a planet (this one orbits earth)"),
+        (["earth", "--perturber", "moon", "--perturber", "moon"], "each perturber once (it is already included)"),
     ):
         code, out, err = _run(["precession", *argv], capsys)
         assert code == 2 and err == f"wobble precession: error: --perturber: got moon; allowed: {allowed}\n"

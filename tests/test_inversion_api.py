@@ -426,14 +426,16 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys, mars):
     own = wobble.invert("mars", body=path, seed=5, **SHORT).to_dict()
     assert own["body"] == shipped["body"] == "mars"
     # Renamed, the file is another body: its name is the output's, and Mars' satellites (found by the name
-    # "mars") are not its own, so only the Sun precesses it.
+    # "mars") are not its own, so the Sun and the planets precess it; Mars' planet file lies on its orbit
+    # and is left out (equation (7) needs two orbits apart).
     from wobble.io.inversion_file import resolve_setup
     from wobble.io.parameter_file import read_toml
 
     ares = tmp_path / "ares.toml"
     ares.write_text(catalogue_file("mars").read_text().replace('name = "mars"', 'name = "ares"', 1))
     setup = wobble.load_inversion_setup({**read_toml(resolve_setup("mars")), "body": str(ares)})
-    assert setup.planet.name == "ares" and [o.name for o in setup.context.perturbers] == ["sun"]
+    planets = ["mercury", "venus", "earth", "jupiter", "saturn", "uranus", "neptune"]
+    assert setup.planet.name == "ares" and [o.name for o in setup.context.perturbers] == ["sun", *planets]
     for mine, theirs in zip(own["parameters"], shipped["parameters"]):
         assert mine["name"] == theirs["name"] and mine["median"] == theirs["median"]
     code = main(["invert", "mars", "--body-file", str(tmp_path / "missing.toml"), "--steps", "10"])

@@ -328,11 +328,15 @@ def test_precession_observable_is_equation_3_and_the_budgets_rate(mars_setup):
     strength = gm_sun / p.orbit_semi_major_axis.value**3 / (1 - p.orbit_eccentricity.value**2) ** 1.5
     h = p.j2.value / p.polar_moment_factor.value
     by_hand = -1.5 * strength * h / p.rotation_rate.value * math.cos(p.obliquity.value)
-    # Phobos' and Deimos' rings multiply it by 1 + 5.8e-5, as in the budget (tests/test_precession_rings.py).
-    terms = {t.name: t.rate.value for t in wobble.precession_rate("mars").terms}
-    rings = (terms["phobos"] + terms["deimos"]) / (terms["sun"] + terms["sun_eccentricity"])
-    assert 5.7e-5 < rings < 5.9e-5
-    assert rate == pytest.approx(by_hand * (1 + rings), rel=1e-12)
+    # The planets add 4.5e-5 of it (tests/test_precession_planets.py), and Phobos' and Deimos' rings multiply the
+    # sum by 1 + 5.8e-5, as in the budget (tests/test_precession_rings.py).
+    budget = wobble.precession_rate("mars")
+    terms = {t.name: t.rate.value for t in budget.terms}
+    sun = terms["sun"] + terms["sun_eccentricity"]
+    planets = budget.planetary.value / sun
+    rings = (terms["phobos"] + terms["deimos"]) / (sun + budget.planetary.value)
+    assert 4.4e-5 < planets < 4.6e-5 and 5.7e-5 < rings < 5.9e-5
+    assert rate == pytest.approx(by_hand * (1 + planets) * (1 + rings), rel=1e-12)
     # The sampled polar moment moves it as 1/C (the rings' angular momentum, 1.4e-6 of C omega, adds 1.4e-9).
     i = post.names.index("polar_moment_factor")
     moved = theta.copy()
@@ -350,7 +354,8 @@ def test_earth_precession_observable_includes_geodesic_and_the_moon():
             "observables": {"precession_rate": {}},
         }
     )
-    assert [o.name for o in setup.context.perturbers] == ["sun", "moon"] and setup.context.geodesic_rate > 0
+    planets = ["mercury", "venus", "mars", "jupiter", "saturn", "uranus", "neptune"]
+    assert [o.name for o in setup.context.perturbers] == ["sun", "moon", *planets] and setup.context.geodesic_rate > 0
     post, theta = _nominal(setup)
     rate = post.predict(theta, ["precession_rate"])["precession_rate"][0]
     assert rate == pytest.approx(wobble.precession_rate("earth").rate.to_value(u.rad / u.s), rel=1e-12)

@@ -32,6 +32,7 @@ CENTURY = 36525 * 86400.0
 IAU_FIRST_ORDER = 5494.062986 * math.cos(84381.406 * ARCSEC)  # "/cy, Capitaine et al. 2003
 IAU_PSI_RATE = 5038.481507
 IAU_P_A = 5028.796195
+IAU_PLANETARY = 0.031367  # "/cy, Capitaine et al. 2003 Table 3 (Williams 1994): planets' torque, first order
 
 
 def _unit(v):
@@ -105,7 +106,7 @@ def test_average_over_a_regressing_node_gives_the_p2_factor(inclination_deg):
 
 def test_earth_first_order_lunisolar_rate_is_iau_2006s(earth):
     # IAU sign: positive westward, the opposite of the node longitude.
-    first = -earth.first_order.to_value(ARCSEC_PER_CENTURY)
+    first = -earth.lunisolar.to_value(ARCSEC_PER_CENTURY)
     assert first == pytest.approx(IAU_FIRST_ORDER, abs=0.05)
     assert abs(first - 5040.70) < 0.05
 
@@ -128,16 +129,29 @@ def test_earth_steps_reach_psi_a_and_p_a(earth):
     steps = {s.name: s for s in earth.literature_steps}
     psi = -steps["nonlinear_term"].value.to_value(ARCSEC_PER_CENTURY)
     p_a = -steps["ecliptic_motion"].value.to_value(ARCSEC_PER_CENTURY)
-    # What is left is the first-order difference (0.015"/cy) and geodesic (0.0005"/cy).
+    # What is left is the first-order lunisolar difference (0.015"/cy), geodesic (0.0005"/cy) and the planets'
+    # torque computed here against Williams' (0.0013"/cy).
     assert psi == pytest.approx(IAU_PSI_RATE, abs=0.02)
     assert p_a == pytest.approx(IAU_P_A, abs=0.02)
+    assert "planetary_first_order" not in steps  # computed, not taken from the list
     residual = psi - IAU_PSI_RATE
-    first = -earth.first_order.to_value(ARCSEC_PER_CENTURY) - IAU_FIRST_ORDER
+    first = -earth.lunisolar.to_value(ARCSEC_PER_CENTURY) - IAU_FIRST_ORDER
     geodesic_gap = (-1.919883) - (
         -[t for t in earth.terms if t.name == "geodesic"][0].rate.to_value(ARCSEC_PER_CENTURY)
     )
+    planets_gap = -steps["planets"].change.to_value(ARCSEC_PER_CENTURY) - IAU_PLANETARY
     # ...up to the rounding of the published numbers (P03 Table 3 sums to 1 uas/cy).
-    assert residual == pytest.approx(first - geodesic_gap, abs=1e-6)
+    assert residual == pytest.approx(first - geodesic_gap + planets_gap, abs=1e-6)
+
+
+def test_earth_lunisolar_and_planetary_shares_make_the_first_order(earth):
+    planets = {"mercury", "venus", "mars", "jupiter", "saturn", "uranus", "neptune"}
+    terms = {t.name: t.rate.to_value(ARCSEC_PER_CENTURY) for t in earth.terms}
+    assert planets <= set(terms) and "earth" not in terms  # Earth's own planet file is the Earth-Moon system
+    assert earth.planetary.to_value(ARCSEC_PER_CENTURY) == pytest.approx(sum(terms[k] for k in planets), rel=1e-14)
+    assert (earth.lunisolar + earth.planetary).to_value(ARCSEC_PER_CENTURY) == pytest.approx(
+        earth.first_order.to_value(ARCSEC_PER_CENTURY), rel=1e-15
+    )
 
 
 def test_earth_uses_the_catalogue_h_not_iau_2006s(earth):
@@ -159,10 +173,12 @@ def test_mars_rate_is_the_textbook_formula_from_the_catalogue(mars):
     )
     n2 = 1.32712440041e20 / a**3
     expected = -1.5 * n2 * (1 - e**2) ** -1.5 * h / omega * math.cos(eps)
-    # The Sun's terms; Phobos' and Deimos' rings add 6e-5 of it (tests/test_precession_rings.py).
+    # The Sun's terms; the planets add 4.5e-5 of it (tests/test_precession_planets.py), Phobos' and Deimos' rings
+    # 6e-5 (tests/test_precession_rings.py).
     sun = sum(t.rate for t in mars.terms if t.name.startswith("sun"))
     assert sun.to_value(u.rad / u.s) == pytest.approx(expected, rel=1e-13)
-    assert [t.name for t in mars.terms] == ["sun", "sun_eccentricity", "phobos", "deimos", "geodesic"]
+    planets = ["mercury", "venus", "earth", "jupiter", "saturn", "uranus", "neptune"]
+    assert [t.name for t in mars.terms] == ["sun", "sun_eccentricity", *planets, "phobos", "deimos", "geodesic"]
 
 
 def test_mars_agrees_with_the_measured_precession_and_says_it_is_circular(mars):

@@ -122,9 +122,11 @@ def test_the_figure_says_what_the_text_says():
         assert text in texts and text.replace("±", "+/-") in summary
     labels = [t.get_text() for t in ax_m.get_yticklabels()]
     assert not mars.includes_geodesic and "geodesic (not in the model)" in labels and "model (tidal)" in labels
-    # The tidal terms' bars end where the model bar does.
+    # The planets' seven terms are one bar, as in the text; the tidal terms' bars end where the model bar does.
+    assert labels.count("planets") == 1 and not {"jupiter", "venus"} & set(labels)
+    bars = len(mars.terms) - len(mars.planet_terms) + 1
     tidal = sum(t.rate.to_value(u.arcsec / (100 * u.yr)) for t in mars.terms if t.name != "geodesic")
-    ends = [p.get_x() + p.get_width() for p in ax_m.patches[: len(mars.terms)] if p.get_facecolor()[3] > 0]
+    ends = [p.get_x() + p.get_width() for p in ax_m.patches[:bars] if p.get_facecolor()[3] > 0]
     assert min(ends) == pytest.approx(tidal) == pytest.approx(mars.rate.to_value(u.arcsec / (100 * u.yr)))
 
 
@@ -243,8 +245,8 @@ def test_a_perturber_path_that_is_not_a_file_says_why(tmp_path, monkeypatch, cap
     status, out, err = _run(capsys, "precession", "earth", "--perturber", typed, "-o", "out.nc")
     assert status == 2 and out == "" and err.count("\n") == 1
     assert err == (
-        f"wobble precession: error: --perturber: got {typed}; allowed: one of deimos, moon, phobos, sun, or the path "
-        f"of a perturber file ({why})\n"
+        f"wobble precession: error: --perturber: got {typed}; allowed: one of deimos, earth, jupiter, mars, mercury, "
+        f"moon, neptune, phobos, saturn, sun, uranus, venus, or the path of a perturber file ({why})\n"
     )
     assert not (tmp_path / "out.nc").exists()
 
@@ -260,8 +262,12 @@ def test_perturbers_given_say_which_catalogued_satellites_they_leave_out(capsys)
     status, out, _ = _run(capsys, "precession", "--perturber", "sun", "earth", "--json")
     (earth,) = json.loads(out)
     assert status == 0 and [t["name"] for t in earth["terms"] if t["name"].startswith("moon")] == []
-    assert "left out: moon (the catalogue's satellites of Earth; the perturbers given replace them)" in earth["notes"]
-    status, out, _ = _run(capsys, "precession", "--perturber", "moon", "earth", "--json")
+    assert (
+        "left out: moon, mercury, venus, mars, jupiter, saturn, uranus, neptune (the catalogue's perturbers of Earth; "
+        "the perturbers given replace them)"
+    ) in earth["notes"]
+    everything = ["moon", "mercury", "venus", "mars", "jupiter", "saturn", "uranus", "neptune"]
+    status, out, _ = _run(capsys, "precession", *(f"--perturber={p}" for p in everything), "earth", "--json")
     assert not any(n.startswith("left out") for n in json.loads(out)[0]["notes"])
     status, out, _ = _run(capsys, "precession", "earth", "--json")  # the default: nothing left out
     assert not any(n.startswith("left out") for n in json.loads(out)[0]["notes"])

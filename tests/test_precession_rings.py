@@ -172,11 +172,13 @@ def test_mars_budget_adds_phobos_and_deimos_inside_out():
     # 0.0004 and 0.008 deg, which moves Deimos' term by 2e-4 of itself.
     mars = wobble.precession_rate("mars")
     terms = {t.name: t.rate.to_value(u.mas / u.yr) for t in mars.terms}
-    assert list(terms) == ["sun", "sun_eccentricity", "phobos", "deimos", "geodesic"]
+    planets = ["mercury", "venus", "earth", "jupiter", "saturn", "uranus", "neptune"]
+    assert list(terms) == ["sun", "sun_eccentricity", *planets, "phobos", "deimos", "geodesic"]
     p = load_planet("mars").parameters
     gm, radius, omega, eps = p.gm.value / 1e9, p.equatorial_radius.value / 1e3, p.rotation_rate.value, p.obliquity.value
     j2, lam = p.j2.value, p.polar_moment_factor.value
-    sun = terms["sun"] + terms["sun_eccentricity"]
+    # The rings multiply every tidal term: the Sun's and the planets' (which torque the rings as the bulge).
+    sun = terms["sun"] + terms["sun_eccentricity"] + sum(terms[k] for k in planets)
     q = l_ = 0.0
     expected = {}
     before = sun

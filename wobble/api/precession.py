@@ -4,12 +4,12 @@
 >>> budget = wobble.precession_rate("earth")
 >>> [t.name for t in budget.terms][:3]
 ['sun', 'sun_eccentricity', 'moon']
->>> print(f"{-budget.first_order:.2f}")      # IAU sign: 5494.062986" cos(eps_0) = 5040.70"/cy
+>>> print(f"{-budget.lunisolar:.2f}")      # the Sun and Moon; IAU: 5494.062986" cos(eps_0) = 5040.70"/cy
 5040.69 arcsec / century
 
 Rates follow the sign of the node longitude of the equator (eastward; negative is
 retrograde, as the Mars literature writes it). IAU's psi_A and p_A count the other
-way, so Earth's -5040.69"/cy here is IAU's +5040.69"/cy. The physics is in
+way, so Earth's lunisolar -5040.69"/cy here is IAU's +5040.69"/cy. The physics is in
 :mod:`wobble.models.precession` and ``docs/precession.md``.
 """
 
@@ -31,12 +31,14 @@ from wobble.io.perturbers import (
     NUTATION_REFERENCE_UNITS,
     PERTURBER_UNITS,
     REFERENCE_UNITS,
+    crosses,
+    default_perturbers,
+    is_planet,
     is_ring,
     load_nutation_reference,
     load_perturber,
     load_precession_reference,
     measured,
-    perturbers_of,
 )
 from wobble.models import nutation as _nutation
 from wobble.models import precession as _model
@@ -239,8 +241,11 @@ class PrecessionBudget:
         steps: list[LiteratureStep],
         notes: list[str],
         iau: dict[str, u.Quantity] | None = None,
+        planets: set[str] | frozenset[str] = frozenset(),
     ):
         self.planet = planet
+        #: Names of the terms that are planets' torques (equation (7) of wobble.models.precession).
+        self.planet_terms = frozenset(planets)
         #: IAU 2006/2000A values to compare with (Earth only): first_order, psi_rate, general_precession.
         self.iau = iau
         self.raw = raw
@@ -257,6 +262,18 @@ class PrecessionBudget:
     def first_order(self) -> u.Quantity:
         """First-order tidal precession from every perturber and ring satellite (no relativity), arcsec/century."""
         return _arcsec_cy(self.raw.torque_rate)
+
+    @property
+    def planetary(self) -> u.Quantity | None:
+        """The planets' direct torque on the bulge, summed over the planets in the budget (None without any)."""
+        if not self.planet_terms:
+            return None
+        return _arcsec_cy(sum(t.rate for t in self.raw.terms if t.name in self.planet_terms))
+
+    @property
+    def lunisolar(self) -> u.Quantity:
+        """The first order less the planets' torque: the Sun's, the satellites' and the rings' share."""
+        return self.first_order - (0 if self.planetary is None else self.planetary)
 
     @property
     def includes_geodesic(self) -> bool:
@@ -329,6 +346,7 @@ class PrecessionBudget:
             "rate_arcsec_per_century": num(self.rate),
             "rate_uncertainty_arcsec_per_century": num(self.rate_uncertainty),
             "first_order_arcsec_per_century": num(self.first_order),
+            "planetary_arcsec_per_century": num(self.planetary),
             "with_geodesic_arcsec_per_century": num(self.inertial_rate),
             "observed_includes_geodesic": self.includes_geodesic,
             "rate_mas_per_year": float(self.rate.to_value(u.mas / u.yr)),
@@ -429,7 +447,7 @@ def _flattening(values) -> float:
     return values["j2"] / values["polar_moment_factor"]
 
 
-def _orbit(name: str, values, ring: bool = False) -> _model.PerturberOrbit:
+def _orbit(name: str, values, ring: bool = False, planet: bool = False) -> _model.PerturberOrbit:
     def get(key, default=None):
         return values.get(f"{name}.{key}", default)
 
@@ -442,6 +460,7 @@ def _orbit(name: str, values, ring: bool = False) -> _model.PerturberOrbit:
         perturbation_factor=get("solar_perturbation_factor", 1.0),
         node_rate=get("node_rate"),
         ring=ring,
+        body_semi_major_axis=values["orbit_semi_major_axis"] if planet else None,
     )
 
 
@@ -454,8 +473,8 @@ def _polar_moment_factor(values) -> float | None:
     return None
 
 
-def _prepare(satellites: list[ParameterFile]):
-    names = [(pf.name, is_ring(pf)) for pf in satellites]
+def _prepare(perturbers: list[ParameterFile]):
+    names = [(pf.name, is_ring(pf), is_planet(pf)) for pf in perturbers]
 
     def prepare(values) -> _model.Inputs:
         sun = _model.PerturberOrbit(
@@ -464,7 +483,7 @@ def _prepare(satellites: list[ParameterFile]):
             values["orbit_semi_major_axis"],
             values["orbit_eccentricity"],
         )
-        orbits = (sun, *(_orbit(name, values, ring) for name, ring in names))
+        orbits = (sun, *(_orbit(name, values, ring, planet) for name, ring, planet in names))
         return _model.Inputs(
             _flattening(values),
             values["rotation_rate"],
@@ -489,50 +508,96 @@ def _steps_explain(b) -> bool:
     return abs((psi - b.observed).to_value(b.observed.unit)) <= 3 * total
 
 
-def _satellite_files(planet: Planet, perturbers) -> list[ParameterFile]:
+def _orbit_range(planet: Planet) -> tuple[float, float]:
+    return planet.parameters.orbit_semi_major_axis.value, planet.parameters.orbit_eccentricity.value
+
+
+def _default_perturbers(planet: Planet) -> tuple[list[ParameterFile], list[str]]:
+    """The catalogue's satellites of the body, then the planets apart from its own orbit; and what was left out."""
+    files, crossing = default_perturbers(planet.name, *_orbit_range(planet))
+    notes = []
+    if crossing:
+        notes.append(
+            f"left out: {', '.join(crossing)} (a planet whose orbit lies within the body's range of distance "
+            "from the Sun, where the torque averaged over both orbits does not hold)"
+        )
+    return files, notes
+
+
+def _perturber_files(planet: Planet, perturbers) -> tuple[list[ParameterFile], list[str]]:
+    """The perturbers besides the Sun: the catalogue's (satellites and planets) or those given; notes of omissions."""
     if perturbers is None:
-        return perturbers_of(planet.name)
+        return _default_perturbers(planet)
     if isinstance(perturbers, (str, os.PathLike)):  # one perturber: "moon" is ["moon"], not its letters
         perturbers = [perturbers]
     files = [load_perturber(p) for p in perturbers]
     seen = set()
+    body = planet.name.strip().lower()
     for given, pf in zip(perturbers, files):
         primary = str(pf.extra.get("primary", "")).strip().lower()
         if pf.name == "sun":
             continue  # the Sun is always there, on the planet's own orbit
-        if primary != planet.name.strip().lower():
+        if is_planet(pf):
+            if pf.name == body or crosses(pf, *_orbit_range(planet)):
+                raise InputError(
+                    "perturber",
+                    str(given),
+                    f"a planet apart from {planet.title}'s orbit (this one is "
+                    f"{'the body itself' if pf.name == body else 'within its range of distance from the Sun'})",
+                )
+        elif primary != body:
             # A satellite's orbit (its semi-major axis about its primary) means nothing about
             # another body: the Moon about Mars gave -5780"/cy and a residual of -2905 sigma.
             raise InputError(
-                "perturber", str(given), f"a satellite of {planet.name} (this one orbits {primary or 'nothing named'})"
+                "perturber",
+                str(given),
+                f"a satellite of {planet.name}, or a planet (this one orbits {primary or 'nothing named'})",
             )
         if pf.name in seen:
-            raise InputError("perturber", str(given), "each satellite once (it is already included)")
+            raise InputError("perturber", str(given), "each perturber once (it is already included)")
         seen.add(pf.name)
-    return [pf for pf in files if pf.name != "sun"]
+    files = [pf for pf in files if pf.name != "sun"]
+    # Given perturbers replace the catalogue's: say which were left out (--perturber sun alone,
+    # the Sun only, printed Earth's rate without the Moon and a residual of 3.7 million sigma, silently).
+    given = {pf.name for pf in files}
+    left = [pf.name for pf in _default_perturbers(planet)[0] if pf.name not in given]
+    notes = []
+    if left:
+        notes.append(
+            f"left out: {', '.join(left)} (the catalogue's perturbers of {planet.title}; the perturbers given "
+            "replace them)"
+        )
+    return files, notes
 
 
 def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
     radius = planet.parameters.equatorial_radius
     for pf in files:
         try:
-            orbit = _orbit(pf.name, values, is_ring(pf))
-            _model.check_inside(orbit, None if radius is None else radius.value)
+            orbit = _orbit(pf.name, values, is_ring(pf), is_planet(pf))
+            if not orbit.is_planet:  # a planet's heliocentric orbit: checked against the body's by crosses()
+                _model.check_inside(orbit, None if radius is None else radius.value)
         except InputError as exc:
             raise FileFormatError(
                 pf.path, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
             ) from None
 
 
-def _literature_steps(first_order_si: float, geodesic_si: float) -> tuple[list[LiteratureStep], ParameterFile]:
-    """From this model's first-order rate to psi_A and p_A, with the published terms (wobble's sign)."""
+def _literature_steps(
+    first_order_si: float, geodesic_si: float, planetary_si: float | None
+) -> tuple[list[LiteratureStep], ParameterFile]:
+    """From this model's first-order lunisolar rate to psi_A and p_A, with the published terms (wobble's sign).
+
+    ``first_order_si`` includes the planets' torque when ``planetary_si`` (their sum) is given; it is then shown
+    as a step computed here, and the published planetary step beside it, instead of added.
+    """
     ref = load_precession_reference()
 
     def si(key):
         return measured(ref, key, REFERENCE_UNITS[key]).value
 
     steps = []
-    running = first_order_si
+    running = first_order_si - (planetary_si or 0.0)
 
     def add(name, change_si, description):
         nonlocal running
@@ -541,6 +606,15 @@ def _literature_steps(first_order_si: float, geodesic_si: float) -> tuple[list[L
 
     add("geodesic", geodesic_si, 'geodesic precession, computed here (IAU 2006: -1.919883"/cy in psi_A)')
     others = ("planetary_first_order", "lunisolar_second_order", "j4_term", "j2_planetary_tilt", "nonlinear_term")
+    if planetary_si is not None:
+        published = _arcsec_cy(-si("planetary_first_order")).to_value(ARCSEC_PER_CENTURY)
+        add(
+            "planets",
+            planetary_si,
+            f"the planets' torque on the bulge, computed here (circular orbits; IAU 2006, after Williams 1994: "
+            f'{published:+.6f}"/cy)',
+        )
+        others = others[1:]
     labels = {
         "planetary_first_order": "planets' torque on the bulge, first order",
         "lunisolar_second_order": "lunisolar torque, second order in H",
@@ -617,23 +691,24 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     >>> import wobble
     >>> mars = wobble.precession_rate("mars")
     >>> print(f"{mars.rate.to('mas / yr'):.1f}")   # observed: -7608.3 +- 2.1 mas/yr
-    -7603.7 mas / yr
+    -7604.0 mas / yr
     """
     planet = load_planet(body)
     values, sigmas = _planet_values(planet)
     sun = load_perturber("sun")
     _perturber_values(sun, values, sigmas)
-    satellites = _satellite_files(planet, perturbers)
-    for pf in satellites:
+    files, omitted = _perturber_files(planet, perturbers)
+    for pf in files:
         _perturber_values(pf, values, sigmas)
-    _check_orbits(planet, satellites, values)
+    _check_orbits(planet, files, values)
     try:
-        raw = _model.precession_budget(planet.name, values, _prepare(satellites), sigmas)
+        raw = _model.precession_budget(planet.name, values, _prepare(files), sigmas)
     except InputError as exc:
         raise FileFormatError(
             planet.file.path or planet.name, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
         ) from None
-    inputs = _prepare(satellites)(values)
+    inputs = _prepare(files)(values)
+    planets = {o.name for o in inputs.orbits if o.is_planet}
     nutation = []
     refs = None
     rigid = None
@@ -641,7 +716,8 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     notes = []
     if planet.name == "earth":
         geodesic = next(t.rate for t in raw.terms if t.name == "geodesic")
-        steps, ref_file = _literature_steps(raw.torque_rate, geodesic)
+        planetary = sum(t.rate for t in raw.terms if t.name in planets) if planets else None
+        steps, ref_file = _literature_steps(raw.torque_rate, geodesic, planetary)
         refs = _iau_references(ref_file)
         rigid = _rigid_reference(inputs.dynamical_flattening)
     for orbit in inputs.orbits:
@@ -661,17 +737,8 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     obs = planet.file.get("observed_precession_rate")
     if obs is not None and "circular" in obs.note.lower():
         notes.append(" ".join(obs.note.split()))
-    if perturbers is not None:
-        # Given perturbers replace the catalogue's satellites: say which were left out (--perturber sun alone,
-        # the Sun only, printed Earth's rate without the Moon and a residual of 3.7 million sigma, silently).
-        given = {pf.name for pf in satellites}
-        left = [pf.name for pf in perturbers_of(planet.name) if pf.name not in given]
-        if left:
-            notes.append(
-                f"left out: {', '.join(left)} (the catalogue's satellites of {planet.title}; the perturbers given "
-                "replace them)"
-            )
-    return PrecessionBudget(planet, raw, nutation, steps, notes, refs)
+    notes += omitted
+    return PrecessionBudget(planet, raw, nutation, steps, notes, refs, planets)
 
 
 def principal_nutation(body: str | os.PathLike | Planet = "earth", perturbers=None) -> list[PrincipalNutation]:
@@ -732,6 +799,7 @@ def precession_dataset(budgets: list[PrecessionBudget]) -> xr.Dataset:
         {
             "term_rate": var("term_rate", rate, comment="; ".join(f"{k}: {v}" for k, v in descriptions.items())),
             "first_order_rate": var("first_order_rate", per_body(lambda b: b.first_order)),
+            "planetary_rate": var("planetary_rate", per_body(lambda b: b.planetary)),
             "precession_rate": var("precession_rate", per_body(lambda b: b.rate), comment=_SIGN_NOTE),
             "precession_rate_uncertainty": var("precession_rate_uncertainty", per_body(lambda b: b.rate_uncertainty)),
             "observed_precession_rate": var("observed_precession_rate", per_body(lambda b: b.observed)),
@@ -807,7 +875,10 @@ def _budget_lines(b: PrecessionBudget) -> list[str]:
     lines = [f"{b.planet.title}: forced precession of the spin axis (arcsec per Julian century; negative = retrograde)"]
     lines.append(f"  {'term':<26}{'rate':>14}   physics (references)")
     for t in b.terms:
-        lines.append(f"  {t.name:<26}{_fmt(t.rate):>14}   {t.description}")
+        if t.name not in b.planet_terms:
+            lines.append(f"  {t.name:<26}{_fmt(t.rate):>14}   {t.description}")
+        elif t.name == next(p.name for p in b.terms if p.name in b.planet_terms):
+            lines.append(_planets_line(b))
     lines.append(f"  {'first order (torques)':<26}{_fmt(b.first_order):>14}")
     rate = b.rate.to_value(ARCSEC_PER_CENTURY)
     sigma = b.rate_uncertainty.to_value(ARCSEC_PER_CENTURY)
@@ -831,12 +902,22 @@ def _budget_lines(b: PrecessionBudget) -> list[str]:
     return lines
 
 
+def _planets_line(b: PrecessionBudget) -> str:
+    """The planets' terms as one line (each is in ``terms``, the JSON and the Dataset), largest first."""
+    planets = sorted((t for t in b.terms if t.name in b.planet_terms), key=lambda t: -abs(t.rate.value))
+    shares = ", ".join(f"{t.name} {t.rate.to_value(ARCSEC_PER_CENTURY):+.2g}" for t in planets)
+    return (
+        f"  {'planets':<26}{_fmt(b.planetary):>14}   their direct torques on the bulge, circular orbits in one plane "
+        f"averaged over both (Laplace coefficient b_3/2^(0); Murray & Dermott 1999, sec. 6.4): {shares}"
+    )
+
+
 def _iau_lines(b: PrecessionBudget) -> list[str]:
     """The steps from the model's first order to IAU 2006's psi_A and p_A, with the differences."""
     lines = [
         "  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its",
         '  psi_A = +5038.48"/cy is -5038.48 here):',
-        f'    {"first order (model)":<24}{_fmt(b.first_order):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
+        f'    {"Sun and Moon (model)":<24}{_fmt(b.lunisolar):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
         f"{_fmt(b.iau['first_order'])}",
     ]
     for s in b.literature_steps:

@@ -16,10 +16,12 @@ examples:
 
 Rates are of the node longitude of the equator on the orbit plane, in arcsec per
 Julian century, negative when retrograde (IAU's psi_A and p_A count the other way:
-Earth's -5040.69 here is IAU's +5040.69). The Sun perturbs every planet on the
+Earth's lunisolar -5040.69 here is IAU's +5040.69). The Sun perturbs every planet on the
 planet's own orbit (obliquity, orbit_semi_major_axis, orbit_eccentricity in the
 planet file); satellites come from the perturber catalogue (the Moon for Earth;
-Phobos and Deimos for Mars, as rings that precess with the planet).
+Phobos and Deimos for Mars, as rings that precess with the planet), and so do the
+planets, each on its own orbit about the Sun (a planet whose orbit lies within the
+body's range of distance from the Sun, such as the body's own, is left out).
 The observed rate is never an input; it is shown for comparison.
 """
 
@@ -27,12 +29,12 @@ The observed rate is never an input; it is shown for comparison.
 def register(sub) -> None:
     p = sub.add_parser(
         "precession",
-        help="forced precession of the spin axis by the Sun and moons, term by term",
+        help="forced precession of the spin axis by the Sun, moons and planets, term by term",
         description="The precession rate of a planet's spin axis from its dynamical flattening, spin, obliquity "
         "and its perturbers' orbits, each term shown (Sun, Moon, eccentricity, inclination, the Sun's perturbation "
-        "of the lunar orbit, Mars' moons as rings, geodesic precession), the published steps to IAU 2006 for "
-        "Earth, and the rigid-body principal nutation from the Moon's node beside the rigid-Earth series REN-2000 "
-        "(Souchay et al. 1999) and the non-rigid IAU 2000A.",
+        "of the lunar orbit, the planets, Mars' moons as rings, geodesic precession), the published steps to IAU "
+        "2006 for Earth, and the rigid-body principal nutation from the Moon's node beside the rigid-Earth series "
+        "REN-2000 (Souchay et al. 1999) and the non-rigid IAU 2000A.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -42,10 +44,10 @@ def register(sub) -> None:
         action="append",
         default=None,
         metavar="NAME_OR_FILE",
-        help="a satellite of the body to include (catalogue name or perturber file; repeatable); the ones given "
-        "replace the default, the catalogue's satellites of the body (the Moon for Earth, Phobos and Deimos for Mars), "
-        "and the output names those "
-        "left out; the Sun is always included (--perturber sun alone: the Sun only)",
+        help="a satellite of the body, or a planet, to include (catalogue name or perturber file; repeatable); the "
+        "ones given replace the default, the catalogue's satellites of the body (the Moon for Earth, Phobos and "
+        "Deimos for Mars) and the planets apart from its orbit, and the output names those left out; the Sun is "
+        "always included (--perturber sun alone: the Sun only)",
     )
     add_outputs(p, "draw each budget, term by term, against the observed rate")
     p.set_defaults(func=run)

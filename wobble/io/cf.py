@@ -260,6 +260,7 @@ MODES: dict[str, Spec] = {
 PRECESSION: dict[str, Spec] = {
     "term_rate": Spec(("body", "term"), "rad s-1", "contribution of each term to the precession rate"),
     "first_order_rate": Spec(("body",), "rad s-1", "first-order tidal precession rate of the spin axis"),
+    "planetary_rate": Spec(("body",), "rad s-1", "the planets' share of the first-order rate (their direct torque)"),
     "precession_rate": Spec(("body",), "rad s-1", "modelled precession rate, defined as the observed one"),
     "precession_rate_uncertainty": Spec(
         ("body",), "rad s-1", "one-sigma uncertainty of the modelled precession rate (linear propagation)"

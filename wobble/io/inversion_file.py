@@ -78,7 +78,7 @@ from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS, load_planet
 from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile, read_toml
-from wobble.io.perturbers import PERTURBER_UNITS, is_ring, load_perturber, measured, perturbers_of
+from wobble.io.perturbers import PERTURBER_UNITS, default_perturbers, is_planet, is_ring, load_perturber, measured
 from wobble.models import hydrostatic as _hydro
 from wobble.models import precession as _precession
 from wobble.models.inversion.context import FixedCoreFigure, ForwardContext, LinearMantleCoreFigure, box_corners
@@ -553,7 +553,8 @@ def _core_under_linear_mantle(where, prof, planet: PlanetParameters, parameters)
 
 
 def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precession.PerturberOrbit, ...], float]:
-    """The Sun on the body's orbit and its catalogued satellites; the geodesic rate the observed precession includes."""
+    """The Sun on the body's orbit, its catalogued satellites and the planets apart from its orbit (as the precession
+    budget takes them); the geodesic rate the observed precession includes."""
     missing = [k for k in ("obliquity", "orbit_semi_major_axis", "orbit_eccentricity") if getattr(planet, k) is None]
     if missing:
         raise FileFormatError(
@@ -569,7 +570,8 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
         planet.orbit_eccentricity.value,
     )
     orbits = [sun_orbit]
-    for pf in perturbers_of(planet.name):
+    files, _ = default_perturbers(planet.name, sun_orbit.semi_major_axis, sun_orbit.eccentricity)
+    for pf in files:
 
         def get(key, default=None, pf=pf):
             m = measured(pf, key, PERTURBER_UNITS[key])
@@ -585,6 +587,7 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
                 get("solar_perturbation_factor", 1.0),
                 get("node_rate"),
                 is_ring(pf),
+                sun_orbit.semi_major_axis if is_planet(pf) else None,
             )
         )
     flag = planet.observed_precession_includes_geodesic

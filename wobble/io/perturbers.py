@@ -5,14 +5,19 @@ orbit about the body it perturbs, named by the top-level key ``primary``
 (``"earth"`` for the Moon; ``"*"`` for the Sun, whose orbit relative to each
 planet is that planet's own heliocentric orbit, catalogued in
 ``data/bodies/<planet>.toml``). The Sun is always a perturber of a planet;
-other perturbers are those whose ``primary`` is the planet's name.
+its satellites are the perturbers whose ``primary`` is the planet's name, and
+the planets (below) those apart from its orbit (:func:`default_perturbers`).
 
 The top-level key ``coupling`` says how a satellite acts: ``"tidal"`` (the
 default; the Moon) is a point mass on an orbit whose plane the Sun holds,
 whose torque on the bulge is averaged over the orbit; ``"ring"`` (Phobos,
 Deimos) is a satellite close enough for the planet's J2 to hold its orbit
 near the equator, a ring in its Laplace plane that precesses with the planet
-(:mod:`wobble.models.precession`, equations (5) and (6)).
+(:mod:`wobble.models.precession`, equations (5) and (6)); ``"planet"`` (Venus,
+Jupiter, ...; ``primary = "*"``) is a planet on its own heliocentric orbit,
+``semi_major_axis`` about the Sun, which torques every other planet's bulge
+(equation (7): circular orbits in one plane, so a planet file gives only ``gm``
+and ``semi_major_axis``).
 
 ``data/precession/iau2006.toml`` (``kind = "precession_reference"``) holds
 the published steps from the first-order lunisolar rate to IAU 2006's psi_A
@@ -50,6 +55,10 @@ __all__ = [
     "measured",
     "COUPLINGS",
     "is_ring",
+    "is_planet",
+    "planet_perturbers",
+    "crosses",
+    "default_perturbers",
 ]
 
 _ONE = u.dimensionless_unscaled
@@ -89,12 +98,19 @@ NUTATION_REFERENCE_UNITS: dict[str, u.UnitBase] = {
 
 
 #: The values of a perturber file's ``coupling`` key (the first is the default).
-COUPLINGS = ("tidal", "ring")
+COUPLINGS = ("tidal", "ring", "planet")
+# What equation (7) leaves out: a planet file giving one of these would be silently ignored, so it is refused.
+_NOT_FOR_PLANETS = ("eccentricity", "inclination", "node_rate", "solar_perturbation_factor")
 
 
 def is_ring(pf: ParameterFile) -> bool:
     """True when the perturber file is a ring satellite (``coupling = "ring"``)."""
     return pf.extra.get("coupling", COUPLINGS[0]) == "ring"
+
+
+def is_planet(pf: ParameterFile) -> bool:
+    """True when the perturber file is a planet on its own heliocentric orbit (``coupling = "planet"``)."""
+    return pf.extra.get("coupling", COUPLINGS[0]) == "planet"
 
 
 def _dir():
@@ -174,6 +190,8 @@ def _check(pf: ParameterFile) -> ParameterFile:
         )
     if coupling == "ring" and pf.extra.get("primary") == "*":
         raise FileFormatError(pf.path, "coupling", "got 'ring' for a perturber of every planet; allowed: 'tidal'")
+    if coupling == "planet":
+        _check_planet(pf)
     if coupling == "ring" and pf.get("node_rate") is not None:
         raise FileFormatError(
             pf.path,
@@ -181,6 +199,22 @@ def _check(pf: ParameterFile) -> ParameterFile:
             "given for a ring satellite; allowed: none (its node turns about its Laplace plane, not the orbit plane)",
         )
     return pf
+
+
+def _check_planet(pf: ParameterFile) -> None:
+    if pf.extra.get("primary") != "*":
+        raise FileFormatError(
+            pf.path,
+            "primary",
+            f"got {pf.extra.get('primary')!r} for a planet; allowed: '*' (a planet perturbs every other planet)",
+        )
+    for key in _NOT_FOR_PLANETS:
+        if pf.get(key) is not None:
+            raise FileFormatError(
+                pf.path,
+                f"parameters.{key}",
+                "given for a planet; allowed: none (its term takes circular orbits in the body's orbit plane)",
+            )
 
 
 def load_perturber(name: str | os.PathLike) -> ParameterFile:
@@ -201,13 +235,54 @@ def load_perturber(name: str | os.PathLike) -> ParameterFile:
 
 
 def perturbers_of(body: str) -> list[ParameterFile]:
-    """The catalogued perturbers whose ``primary`` is ``body`` (the Sun's ``*`` excluded), by name."""
+    """The catalogued perturbers whose ``primary`` is ``body`` (the Sun's and the planets' ``*`` excluded), by name."""
     out = []
     for name in perturber_names():
         pf = load_perturber(name)
         if str(pf.extra.get("primary", "")).lower() == body.strip().lower():
             out.append(pf)
     return out
+
+
+def planet_perturbers() -> list[ParameterFile]:
+    """The catalogued planets (``coupling = "planet"``), innermost first."""
+    out = [pf for pf in map(load_perturber, perturber_names()) if is_planet(pf)]
+    return sorted(out, key=lambda pf: measured(pf, "semi_major_axis", u.m).value)
+
+
+def crosses(pf: ParameterFile, semi_major_axis: float, eccentricity: float) -> bool:
+    """Whether a planet's circular orbit lies within a body's range of distance from the Sun, a(1 +- e) (SI), where
+    equation (7)'s average over two separate orbits does not hold (the body itself, or a body on its orbit)."""
+    a_k = measured(pf, "semi_major_axis", u.m).value
+    return semi_major_axis * (1 - eccentricity) <= a_k <= semi_major_axis * (1 + eccentricity)
+
+
+def default_perturbers(body: str, semi_major_axis: float, eccentricity: float):
+    """A body's perturbers besides the Sun: its catalogued satellites, then the planets apart from its orbit.
+
+    Parameters
+    ----------
+    body : str
+        The body's name (its own planet file, Earth's the Earth-Moon system, is left out by name).
+    semi_major_axis, eccentricity : float
+        The body's heliocentric orbit (m; 1).
+
+    Returns
+    -------
+    files : list of ParameterFile
+    crossing : list of str
+        Planets left out because their orbit lies within the body's range of distance (:func:`crosses`).
+    """
+    key = body.strip().lower()
+    files, crossing = perturbers_of(key), []
+    for pf in planet_perturbers():
+        if pf.name == key:
+            continue
+        if crosses(pf, semi_major_axis, eccentricity):
+            crossing.append(pf.name)
+        else:
+            files.append(pf)
+    return files, crossing
 
 
 def load_precession_reference(name: str = "iau2006") -> ParameterFile:

@@ -100,6 +100,7 @@ __all__ = [
     "laplace_radius",
     "laplace_tilt",
     "ring_factor",
+    "mean_inverse_cube_distance",
 ]
 
 SPEED_OF_LIGHT = 299_792_458.0  # m/s, exact (SI definition)
@@ -133,6 +134,11 @@ class PerturberOrbit:
         equator (Phobos, Deimos): a ring in its Laplace plane that precesses
         with the planet, equations (5) and (6), ``inclination`` measured from
         that plane. False (default): a perturber whose torque is equation (3).
+    body_semi_major_axis : float or None
+        For a planet on its own heliocentric orbit (``semi_major_axis`` is then
+        that orbit's): the perturbed body's heliocentric semi-major axis, m. Its
+        strength is G M <1/d^3> over both circular orbits, equation (7). None
+        (default): a perturber orbiting the body.
     """
 
     name: str
@@ -143,6 +149,7 @@ class PerturberOrbit:
     perturbation_factor: float = 1.0
     node_rate: float | None = None
     ring: bool = False
+    body_semi_major_axis: float | None = None
 
     def __post_init__(self):
         if not (math.isfinite(self.gm) and self.gm > 0):
@@ -167,6 +174,34 @@ class PerturberOrbit:
                 f"{self.name}.node_rate",
                 self.node_rate,
                 "none for a ring satellite (its node turns about its Laplace plane)",
+            )
+        if self.is_planet:
+            self._check_planet()
+
+    @property
+    def is_planet(self) -> bool:
+        """True for a planet on its own heliocentric orbit (equation (7))."""
+        return self.body_semi_major_axis is not None
+
+    def _check_planet(self) -> None:
+        r = self.body_semi_major_axis
+        if not (math.isfinite(r) and r > 0):
+            raise InputError(f"{self.name}.body_semi_major_axis", r, "the body's positive heliocentric distance")
+        if self.ring or self.node_rate is not None:
+            raise InputError(self.name, "a ring or a node rate", "neither for a planet (equation (7))")
+        extras = {
+            "eccentricity": (self.eccentricity, 0.0),
+            "inclination": (self.inclination, 0.0),
+            "perturbation_factor": (self.perturbation_factor, 1.0),
+        }
+        for key, (value, flat) in extras.items():
+            if value != flat:
+                raise InputError(
+                    f"{self.name}.{key}", value, f"{flat} for a planet (equation (7) takes circular, coplanar orbits)"
+                )
+        if self.semi_major_axis == r:
+            raise InputError(
+                f"{self.name}.semi_major_axis", self.semi_major_axis, "an orbit apart from the body's (alpha < 1)"
             )
 
     @property
@@ -318,8 +353,31 @@ def orbit_average_torque_numerically(gm, c_minus_a, axis, normal, semi_major_axi
     return (weight[:, None] * tidal_torque(gm, c_minus_a, axis, r)).sum(axis=0)
 
 
+def mean_inverse_cube_distance(r, a):
+    """<1/d^3> between two circular, coplanar orbits of radii ``r`` and ``a``, equation (7), m^-3 (arrays work).
+
+    Averaged over both orbits: (1/2pi) int (r^2 + a^2 - 2 r a cos theta)^(-3/2) dtheta
+    = 2 E(m)/(pi (1 - alpha)^2 (1 + alpha) b^3) with b = max(r, a), alpha = min(r, a)/b,
+    m = 4 alpha/(1 + alpha)^2; 1/b^3 when alpha -> 0, unbounded as alpha -> 1 (the orbits meet).
+    """
+    from scipy.special import ellipe  # the complete integral E(m), parameter m = k^2
+
+    r = np.asarray(r, dtype=float)
+    a = np.asarray(a, dtype=float)
+    b = np.maximum(r, a)
+    alpha = np.minimum(r, a) / b
+    if np.any(alpha >= 1.0):
+        raise InputError("semi_major_axis", "equal to the body's", "two orbits apart (equation (7) diverges)")
+    m = 4.0 * alpha / (1.0 + alpha) ** 2
+    out = 2.0 * ellipe(m) / (math.pi * (1.0 - alpha) ** 2 * (1.0 + alpha) * b**3)
+    return out if out.ndim else float(out)
+
+
 def torque_strength(orbit: PerturberOrbit) -> float:
-    """k = G M <(1/r)^3 P2> / (-1/2) of one perturber: G M/a^3 times its factors, s^-2."""
+    """k = G M <(1/r)^3 P2> / (-1/2) of one perturber: G M/a^3 times its factors, s^-2 (a planet: G M <1/d^3>,
+    equation (7))."""
+    if orbit.is_planet:
+        return orbit.gm * mean_inverse_cube_distance(orbit.body_semi_major_axis, orbit.semi_major_axis)
     return (
         orbit.gm
         / orbit.semi_major_axis**3
@@ -445,6 +503,17 @@ _REFS = {
 }
 
 
+def _planet_term(orbit: PerturberOrbit, scale: float) -> Term:
+    """Equation (3) with a planet's G M <1/d^3> of equation (7)."""
+    return Term(
+        orbit.name,
+        scale * torque_strength(orbit),
+        f"{orbit.name.capitalize()}: its direct torque on the bulge, circular orbits in one plane averaged over "
+        "both (Laplace coefficient b_3/2^(0); Murray & Dermott 1999, sec. 6.4; IAU 2006's planetary term: Williams "
+        "1994)",
+    )
+
+
 def _ring_terms(inputs: Inputs, rings: list[PerturberOrbit], tidal: float) -> list[Term]:
     """Equation (6), one term per ring: the rate with the rings up to it less the rate without it."""
     # Named as planet files name them.
@@ -496,7 +565,9 @@ def budget_terms(inputs: Inputs) -> list[Term]:
     scale = -1.5 * inputs.dynamical_flattening / inputs.spin_rate * math.cos(inputs.obliquity)
     terms: list[Term] = []
     for o in inputs.orbits:
-        if not o.ring:
+        if o.is_planet:
+            terms.append(_planet_term(o, scale))
+        elif not o.ring:
             terms += _factor_terms(o, scale, o.name.capitalize(), _REFS)
     rings = [o for o in inputs.orbits if o.ring]
     if rings:

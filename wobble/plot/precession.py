@@ -15,6 +15,17 @@ def _number(ax, row, text):
     ax.text(0.01, row, text, va="center", ha="left", fontsize=8, transform=ax.get_yaxis_transform())
 
 
+def _rows(b) -> list[tuple[str, float]]:
+    """(name, rate in arcsec/cy) of each bar: the budget's terms, the planets' summed into one (as the text)."""
+    rows = []
+    for t in b.terms:
+        if t.name not in b.planet_terms:
+            rows.append((t.name, t.rate.to_value(ARCSEC_PER_CENTURY)))
+        elif not any(name == "planets" for name, _ in rows):
+            rows.append(("planets", b.planetary.to_value(ARCSEC_PER_CENTURY)))
+    return rows
+
+
 def budget_figure(budgets, path=None, *, overwrite: bool = False):
     """One panel per body: a horizontal waterfall of the terms, then the model and the observed rate.
 
@@ -28,15 +39,13 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = plt.subplots(
-        len(budgets), 1, figsize=(7.2, 0.42 * sum(len(b.terms) + 3 for b in budgets) + 0.8), squeeze=False
-    )
-    for ax, b in zip(axes[:, 0], budgets):
+    rows = [_rows(b) for b in budgets]
+    fig, axes = plt.subplots(len(budgets), 1, figsize=(7.2, 0.42 * sum(len(r) + 3 for r in rows) + 0.8), squeeze=False)
+    for ax, b, terms in zip(axes[:, 0], budgets, rows):
         running = 0.0
         left_out = [] if b.includes_geodesic else ["geodesic"]  # the model compared is the tidal rate
-        for i, t in enumerate(b.terms):
-            value = t.rate.to_value(ARCSEC_PER_CENTURY)
-            if t.name in left_out:  # drawn apart, hatched, and not added: the model bar below leaves it out
+        for i, (name, value) in enumerate(terms):
+            if name in left_out:  # drawn apart, hatched, and not added: the model bar below leaves it out
                 ax.barh(i, value, left=0.0, color="none", edgecolor="0.5", hatch="///", height=0.6)
             else:
                 ax.barh(i, value, left=running, color="C3" if value < 0 else "C0", height=0.6)
@@ -44,11 +53,11 @@ def budget_figure(budgets, path=None, *, overwrite: bool = False):
             _number(ax, i, f"{value:+.3f}")
         model = b.rate.to_value(ARCSEC_PER_CENTURY)
         sigma = b.rate_uncertainty.to_value(ARCSEC_PER_CENTURY)
-        n = len(b.terms)
+        n = len(terms)
         ax.barh(n, model, color="0.35", height=0.6)
         # The digits the text prints (the uncertainty's two significant ones): "+/- 0.001" where it said 0.00080.
         _number(ax, n, pm(model, sigma))
-        labels = [t.name.replace("_", " ") + (" (not in the model)" if t.name in left_out else "") for t in b.terms]
+        labels = [name.replace("_", " ") + (" (not in the model)" if name in left_out else "") for name, _ in terms]
         labels.append("model (with geodesic)" if b.includes_geodesic else "model (tidal)")
         if b.observed is not None:
             obs = b.observed.to_value(ARCSEC_PER_CENTURY)
