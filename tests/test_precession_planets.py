@@ -21,12 +21,13 @@ import mpmath
 import numpy as np
 import pytest
 from astropy import units as u
+from cli_run import run_cli
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_precession_rings import _entry
 
 import wobble
 from wobble.api.precession import ARCSEC_PER_CENTURY
-from wobble.cli import main
 from wobble.errors import InputError
 from wobble.io.catalog import catalogue_file
 from wobble.models import precession as model
@@ -181,9 +182,7 @@ def test_real_orbits_move_the_largest_terms_by_a_few_percent(body, planet, low, 
 
 
 def _run(capsys, *args):
-    status = main(list(args))
-    out, err = capsys.readouterr()
-    return status, out, err
+    return run_cli(args, capsys)
 
 
 def test_a_body_on_a_planets_orbit_leaves_that_planet_out_and_says_so(tmp_path, capsys):
@@ -223,47 +222,30 @@ def test_a_planet_given_alone_is_the_only_planet_and_the_rest_are_named(capsys):
     assert any("deimos, phobos, mercury, venus, earth, saturn" in n for n in mars["notes"])
 
 
-_PLANET_FILE = """schema = "wobble/1"
-kind = "perturber"
-name = "vulcan"
-primary = "{primary}"
-coupling = "planet"
-[parameters.gm]
-value = 1e14
-uncertainty = 0
-unit = "m3 s-2"
-source = "test"
-status = "assumed"
-[parameters.semi_major_axis]
-value = 0.2
-uncertainty = 0
-unit = "AU"
-source = "test"
-status = "assumed"
-{extra}"""
+def _planet_file(primary: str, *extra: str) -> str:
+    """A planet perturber, Vulcan at 0.2 au, with ``primary`` and any further entries."""
+    header = f'schema = "wobble/1"\nkind = "perturber"\nname = "vulcan"\nprimary = "{primary}"\ncoupling = "planet"\n'
+    return header + "\n".join([_entry("gm", 1e14, "m3 s-2"), _entry("semi_major_axis", 0.2, "AU"), *extra]) + "\n"
 
 
 @pytest.mark.parametrize(
     ("primary", "extra", "fragment"),
     [
-        ("mars", "", "primary: got 'mars' for a planet; allowed: '*'"),
-        (
-            "*",
-            '[parameters.eccentricity]\nvalue = 0.2\nuncertainty = 0\nunit = ""\nsource = "t"\nstatus = "assumed"',
-            "parameters.eccentricity: given for a planet",
-        ),
+        ("mars", (), "primary: got 'mars' for a planet; allowed: '*'"),
+        ("*", (_entry("eccentricity", 0.2),), "parameters.eccentricity: given for a planet"),
+        ("*", (_entry("node_rate", 1e-9, "rad s-1"),), "parameters.node_rate: given for a planet"),
     ],
 )
 def test_bad_planet_files_exit_2_one_line(tmp_path, capsys, primary, extra, fragment):
     path = tmp_path / "vulcan.toml"
-    path.write_text(_PLANET_FILE.format(primary=primary, extra=extra))
-    status, _, err = _run(capsys, "precession", "mars", "--perturber", str(path))
+    path.write_text(_planet_file(primary, *extra))
+    status, _, err = run_cli(["precession", "mars", "--perturber", str(path)], capsys)
     assert status == 2 and fragment in err and err.count("\n") == 1 and "Traceback" not in err
 
 
 def test_a_users_planet_file_adds_its_term(tmp_path, capsys):
     path = tmp_path / "vulcan.toml"
-    path.write_text(_PLANET_FILE.format(primary="*", extra=""))
+    path.write_text(_planet_file("*"))
     status, out, _ = _run(capsys, "precession", "mars", "--perturber", str(path), "--json")
     (mars,) = json.loads(out)
     term = next(t for t in mars["terms"] if t["name"] == "vulcan")
