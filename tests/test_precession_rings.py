@@ -13,7 +13,8 @@ References, independent of the code path under test:
 * Mars' two terms from that constant with Jacobson's (2010) masses, JPL's mean elements and
   JPL's own Laplace-plane tilts (the inversion's forward model is checked against the budget in
   tests/test_inversion_forward.py);
-* the orbit's angular momentum averaged over its node, L cos i, for a retrograde ring.
+* the orbit's angular momentum averaged over its node, L cos i, for a retrograde ring;
+* equation (5) for Earth's Moon against IAU 2006's "J2 and planetary tilt" step, of which it is the J2 part.
 """
 
 from __future__ import annotations
@@ -324,3 +325,26 @@ def test_a_ring_about_a_planet_given_by_its_figure_runs(tmp_path, capsys):
     assert status == 0 and not err
     names = [t["name"] for t in json.loads(out)[0]["terms"]]
     assert names == ["sun", "sun_eccentricity", "pebble", "geodesic"]
+
+
+def test_the_moons_laplace_tilt_is_most_of_iau_2006s_j2_and_planetary_tilt_step():
+    # Equation (5) for the Moon: Earth's J2 tilts the Moon's mean plane ~8" from the ecliptic towards the
+    # equator (the lunar theory's latitude term from Earth's oblateness). Averaged about that plane the
+    # Moon's torque changes by sin 2(eps - delta)/sin 2 eps: the J2 part of Capitaine et al. 2003's
+    # "J2 and planetary tilt (a)", -269430 uas/cy (IAU sign), which adds the planets' share.
+    earth = wobble.precession_rate("earth")
+    p = load_planet("earth").parameters
+    sun = model.PerturberOrbit("sun", GM_SUN, p.orbit_semi_major_axis.value, p.orbit_eccentricity.value)
+    moon = load_perturber("moon")
+    a = measured(moon, "semi_major_axis", u.m).value
+    eps = p.obliquity.value
+    r_l = model.laplace_radius(p.j2.value, p.equatorial_radius.value, p.gm.value, sun)
+    delta = eps - float(model.laplace_tilt(a, r_l, eps))
+    assert 7.5 < math.degrees(delta) * 3600 < 8.5  # arcsec
+    moon_rate = sum(t.rate.to_value(u.arcsec / (100 * u.yr)) for t in earth.terms if t.name.startswith("moon"))
+    change = moon_rate * (math.sin(2 * (eps - delta)) / math.sin(2 * eps) - 1)  # "/cy, wobble's sign
+    published = next(s for s in earth.literature_steps if s.name == "j2_planetary_tilt").change.to_value(
+        u.arcsec / (100 * u.yr)
+    )
+    assert published == pytest.approx(0.269430, rel=1e-12)
+    assert 0.9 * published < change < published  # 0.248"/cy: 92 %
