@@ -28,10 +28,10 @@ from wobble.errors import FileFormatError, InputError
 from wobble.io.json_keys import deprecate
 from wobble.io.parameter_file import ParameterFile
 from wobble.io.perturbers import (
+    MIN_SEPARATION,
     NUTATION_REFERENCE_UNITS,
     PERTURBER_UNITS,
     REFERENCE_UNITS,
-    crosses,
     default_perturbers,
     is_planet,
     is_ring,
@@ -39,6 +39,7 @@ from wobble.io.perturbers import (
     load_perturber,
     load_precession_reference,
     measured,
+    too_close,
 )
 from wobble.models import nutation as _nutation
 from wobble.models import precession as _model
@@ -347,6 +348,7 @@ class PrecessionBudget:
             "rate_uncertainty_arcsec_per_century": num(self.rate_uncertainty),
             "first_order_arcsec_per_century": num(self.first_order),
             "planetary_arcsec_per_century": num(self.planetary),
+            "lunisolar_arcsec_per_century": num(self.lunisolar),
             "with_geodesic_arcsec_per_century": num(self.inertial_rate),
             "observed_includes_geodesic": self.includes_geodesic,
             "rate_mas_per_year": float(self.rate.to_value(u.mas / u.yr)),
@@ -514,12 +516,12 @@ def _orbit_range(planet: Planet) -> tuple[float, float]:
 
 def _default_perturbers(planet: Planet) -> tuple[list[ParameterFile], list[str]]:
     """The catalogue's satellites of the body, then the planets apart from its own orbit; and what was left out."""
-    files, crossing = default_perturbers(planet.name, *_orbit_range(planet))
+    files, close = default_perturbers(planet.name, *_orbit_range(planet))
     notes = []
-    if crossing:
+    if close:
         notes.append(
-            f"left out: {', '.join(crossing)} (a planet whose orbit lies within the body's range of distance "
-            "from the Sun, where the torque averaged over both orbits does not hold)"
+            f"left out: {', '.join(close)} (a planet whose orbit comes within {MIN_SEPARATION:.0%} of the body's "
+            "range of distance from the Sun, where the torque averaged over both circular orbits does not hold)"
         )
     return files, notes
 
@@ -538,13 +540,9 @@ def _perturber_files(planet: Planet, perturbers) -> tuple[list[ParameterFile], l
         if pf.name == "sun":
             continue  # the Sun is always there, on the planet's own orbit
         if is_planet(pf):
-            if pf.name == body or crosses(pf, *_orbit_range(planet)):
-                raise InputError(
-                    "perturber",
-                    str(given),
-                    f"a planet apart from {planet.title}'s orbit (this one is "
-                    f"{'the body itself' if pf.name == body else 'within its range of distance from the Sun'})",
-                )
+            if too_close(pf, *_orbit_range(planet)):
+                why = "the body itself" if pf.name == body else f"within {MIN_SEPARATION:.0%} of its orbit"
+                raise InputError("perturber", str(given), f"a planet apart from the body's orbit (this one is {why})")
         elif primary != body:
             # A satellite's orbit (its semi-major axis about its primary) means nothing about
             # another body: the Moon about Mars gave -5780"/cy and a residual of -2905 sigma.
@@ -575,7 +573,7 @@ def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
     for pf in files:
         try:
             orbit = _orbit(pf.name, values, is_ring(pf), is_planet(pf))
-            if not orbit.is_planet:  # a planet's heliocentric orbit: checked against the body's by crosses()
+            if not orbit.is_planet:  # a planet's heliocentric orbit: checked against the body's by too_close()
                 _model.check_inside(orbit, None if radius is None else radius.value)
         except InputError as exc:
             raise FileFormatError(
@@ -584,12 +582,13 @@ def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
 
 
 def _literature_steps(
-    first_order_si: float, geodesic_si: float, planetary_si: float | None
+    first_order_si: float, geodesic_si: float, planetary_si: float | None, only: list[str] | None = None
 ) -> tuple[list[LiteratureStep], ParameterFile]:
     """From this model's first-order lunisolar rate to psi_A and p_A, with the published terms (wobble's sign).
 
     ``first_order_si`` includes the planets' torque when ``planetary_si`` (their sum) is given; it is then shown
-    as a step computed here, and the published planetary step beside it, instead of added.
+    as a step computed here, and the published planetary step beside it, instead of added. ``only`` names the
+    planets when they are not all the catalogue's (``--perturber``): the published value is for all of them.
     """
     ref = load_precession_reference()
 
@@ -608,12 +607,12 @@ def _literature_steps(
     others = ("planetary_first_order", "lunisolar_second_order", "j4_term", "j2_planetary_tilt", "nonlinear_term")
     if planetary_si is not None:
         published = _arcsec_cy(-si("planetary_first_order")).to_value(ARCSEC_PER_CENTURY)
-        add(
-            "planets",
-            planetary_si,
-            f"the planets' torque on the bulge, computed here (circular orbits; IAU 2006, after Williams 1994: "
-            f'{published:+.6f}"/cy)',
-        )
+        if only is None:
+            what, reference = "the planets' torque", f'IAU 2006, after Williams 1994: {published:+.6f}"/cy'
+        else:
+            what = f"the torque of {', '.join(only)} alone"
+            reference = f"IAU 2006's {published:+.6f}\"/cy, after Williams 1994, is for all the planets"
+        add("planets", planetary_si, f"{what} on the bulge, computed here (circular orbits; {reference})")
         others = others[1:]
     labels = {
         "planetary_first_order": "planets' torque on the bulge, first order",
@@ -717,7 +716,9 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     if planet.name == "earth":
         geodesic = next(t.rate for t in raw.terms if t.name == "geodesic")
         planetary = sum(t.rate for t in raw.terms if t.name in planets) if planets else None
-        steps, ref_file = _literature_steps(raw.torque_rate, geodesic, planetary)
+        every = {pf.name for pf in _default_perturbers(planet)[0] if is_planet(pf)}
+        only = None if every <= planets else [o.name for o in inputs.orbits if o.is_planet]
+        steps, ref_file = _literature_steps(raw.torque_rate, geodesic, planetary, only)
         refs = _iau_references(ref_file)
         rigid = _rigid_reference(inputs.dynamical_flattening)
     for orbit in inputs.orbits:
@@ -915,8 +916,8 @@ def _planets_line(b: PrecessionBudget) -> str:
 def _iau_lines(b: PrecessionBudget) -> list[str]:
     """The steps from the model's first order to IAU 2006's psi_A and p_A, with the differences."""
     lines = [
-        "  steps to IAU 2006 (the model's first order, then the published terms; IAU counts westward, so its",
-        '  psi_A = +5038.48"/cy is -5038.48 here):',
+        "  steps to IAU 2006 (the model's first order from the Sun and Moon, then the terms computed here and the",
+        '  published ones; IAU counts westward, so its psi_A = +5038.48"/cy is -5038.48 here):',
         f'    {"Sun and Moon (model)":<24}{_fmt(b.lunisolar):>14}   IAU 2006: 5494.062986" cos(eps_0) = '
         f"{_fmt(b.iau['first_order'])}",
     ]

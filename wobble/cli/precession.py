@@ -20,8 +20,8 @@ Earth's lunisolar -5040.69 here is IAU's +5040.69). The Sun perturbs every plane
 planet's own orbit (obliquity, orbit_semi_major_axis, orbit_eccentricity in the
 planet file); satellites come from the perturber catalogue (the Moon for Earth;
 Phobos and Deimos for Mars, as rings that precess with the planet), and so do the
-planets, each on its own orbit about the Sun (a planet whose orbit lies within the
-body's range of distance from the Sun, such as the body's own, is left out).
+planets, each on its own orbit about the Sun (a planet whose orbit comes within 10 %
+of the body's range of distance from the Sun, such as the body's own, is left out).
 The observed rate is never an input; it is shown for comparison.
 """
 

@@ -31,6 +31,7 @@ principal nutation.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import os
@@ -58,7 +59,8 @@ __all__ = [
     "is_ring",
     "is_planet",
     "planet_perturbers",
-    "crosses",
+    "MIN_SEPARATION",
+    "too_close",
     "default_perturbers",
 ]
 
@@ -142,10 +144,16 @@ def _catalogue_names() -> tuple[str, ...]:
 
 
 @functools.cache
-def _catalogued(key: str) -> ParameterFile:
-    """A shipped perturber file, parsed once (shared: read it, do not change it)."""
+def _parsed(key: str) -> ParameterFile:
     with resources.as_file(_dir() / f"{key}.toml") as path:
         return _check(_read(path, "perturber", PERTURBER_UNITS))
+
+
+def _catalogued(key: str) -> ParameterFile:
+    """A shipped perturber file, parsed once; each caller gets its own dicts, so that a change to one (none is
+    made in wobble) cannot reach the cache. The Parameters in them are frozen."""
+    pf = _parsed(key)
+    return dataclasses.replace(pf, parameters=dict(pf.parameters), extra=dict(pf.extra))
 
 
 def _read_kind(path) -> str:
@@ -265,11 +273,20 @@ def planet_perturbers() -> list[ParameterFile]:
     return sorted(out, key=lambda pf: measured(pf, "semi_major_axis", u.m).value)
 
 
-def crosses(pf: ParameterFile, semi_major_axis: float, eccentricity: float) -> bool:
-    """Whether a planet's circular orbit lies within a body's range of distance from the Sun, a(1 +- e) (SI), where
-    equation (7)'s average over two separate orbits does not hold (the body itself, or a body on its orbit)."""
+#: A planet is kept only while its orbit stays this far, relative, from the body's range of distance from the Sun,
+#: a(1 +- e). Closer, the planets' own eccentricities (up to Mercury's 0.21) and resonances matter, which
+#: equation (7)'s circular orbits leave out, and (7) grows without bound as the orbits meet. The closest
+#: catalogued pair, Venus and the Earth-Moon system, are 28 % apart.
+MIN_SEPARATION = 0.1
+
+
+def too_close(pf: ParameterFile, semi_major_axis: float, eccentricity: float) -> bool:
+    """Whether a planet's orbit comes within :data:`MIN_SEPARATION` of a body's range of distance from the Sun,
+    a(1 +- e) (SI), where equation (7)'s average over two separate circular orbits does not hold (the body's own
+    planet file, or a planet near its orbit)."""
     a_k = measured(pf, "semi_major_axis", u.m).value
-    return semi_major_axis * (1 - eccentricity) <= a_k <= semi_major_axis * (1 + eccentricity)
+    low = semi_major_axis * (1 - eccentricity) * (1 - MIN_SEPARATION)
+    return low < a_k < semi_major_axis * (1 + eccentricity) / (1 - MIN_SEPARATION)
 
 
 def default_perturbers(body: str, semi_major_axis: float, eccentricity: float):
@@ -278,26 +295,25 @@ def default_perturbers(body: str, semi_major_axis: float, eccentricity: float):
     Parameters
     ----------
     body : str
-        The body's name (its own planet file, Earth's the Earth-Moon system, is left out by name).
+        The body's name.
     semi_major_axis, eccentricity : float
         The body's heliocentric orbit (m; 1).
 
     Returns
     -------
     files : list of ParameterFile
-    crossing : list of str
-        Planets left out because their orbit lies within the body's range of distance (:func:`crosses`).
+    too_close_names : list of str
+        Planets left out because their orbit comes too close to the body's (:func:`too_close`), the body's own
+        planet file (its name, near its orbit: Earth's is the Earth-Moon system) excepted, which is no news.
     """
     key = body.strip().lower()
-    files, crossing = perturbers_of(key), []
+    files, close = perturbers_of(key), []
     for pf in planet_perturbers():
-        if pf.name == key:
-            continue
-        if crosses(pf, semi_major_axis, eccentricity):
-            crossing.append(pf.name)
-        else:
+        if not too_close(pf, semi_major_axis, eccentricity):
             files.append(pf)
-    return files, crossing
+        elif pf.name != key:
+            close.append(pf.name)
+    return files, close
 
 
 def load_precession_reference(name: str = "iau2006") -> ParameterFile:

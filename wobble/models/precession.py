@@ -64,6 +64,26 @@ tidal perturber's rate (each torques the rings as it torques the bulge), while
 the Laplace planes are the Sun's: a planet with a large moon as well as close
 satellites would need that moon in (5) too (Mars has none).
 
+A planet k on its own heliocentric orbit torques the body's bulge as the Sun
+does, with G M_k <1/d^3> in place of G M/(a^3 (1 - e^2)^(3/2)) in (3), d the
+distance between the two. For circular orbits in one plane, radii r (the
+body's) and a_k, averaged over both (mean motions not commensurate), every
+relative direction in the plane is equally likely, so the averaged tidal
+tensor is again symmetric about the orbit normal and (3) holds with
+
+    <1/d^3> = (1/2pi) int (r^2 + a_k^2 - 2 r a_k cos theta)^(-3/2) dtheta
+            = 2 E(m) / (pi (1 - alpha)^2 (1 + alpha) b^3),                  (7)
+
+b = max(r, a_k), alpha = min(r, a_k)/b, m = 4 alpha/(1 + alpha)^2 and E the
+complete elliptic integral of the second kind (parameter m): half the Laplace
+coefficient b_{3/2}^(0)(alpha)/b^3 (Murray & Dermott 1999, sec. 6.4). The
+planets torque ring satellites as they torque the bulge, so (6)'s factor
+multiplies their terms too. For Earth the planets' sum is 0.0327"/cy against
+the 0.031367"/cy of Williams (1994) that IAU 2006 adopts; eccentric, inclined
+orbits move it by a few per cent (docs/precession.md, section 2). Orbits close
+together (alpha near 1) are left to the caller to refuse: there the planets'
+own eccentricities and resonances matter, and (7) grows without bound.
+
 Everything here is SI (kg, m, s, rad); the sign convention is that of the
 node longitude psi (eastward positive), so a retrograde precession is
 negative. IAU's precession in longitude psi_A has the opposite sign.
@@ -187,8 +207,10 @@ class PerturberOrbit:
         r = self.body_semi_major_axis
         if not (math.isfinite(r) and r > 0):
             raise InputError(f"{self.name}.body_semi_major_axis", r, "the body's positive heliocentric distance")
-        if self.ring or self.node_rate is not None:
-            raise InputError(self.name, "a ring or a node rate", "neither for a planet (equation (7))")
+        if self.ring:
+            raise InputError(f"{self.name}.ring", True, "False for a planet (equation (7); a ring is a satellite)")
+        if self.node_rate is not None:
+            raise InputError(f"{self.name}.node_rate", self.node_rate, "none for a planet (equation (7))")
         extras = {
             "eccentricity": (self.eccentricity, 0.0),
             "inclination": (self.inclination, 0.0),
@@ -201,7 +223,9 @@ class PerturberOrbit:
                 )
         if self.semi_major_axis == r:
             raise InputError(
-                f"{self.name}.semi_major_axis", self.semi_major_axis, "an orbit apart from the body's (alpha < 1)"
+                f"{self.name}.semi_major_axis",
+                f"{self.semi_major_axis:.6g} m, the body's own",
+                "an orbit apart from the body's (equation (7) diverges as they meet)",
             )
 
     @property
@@ -367,7 +391,10 @@ def mean_inverse_cube_distance(r, a):
     b = np.maximum(r, a)
     alpha = np.minimum(r, a) / b
     if np.any(alpha >= 1.0):
-        raise InputError("semi_major_axis", "equal to the body's", "two orbits apart (equation (7) diverges)")
+        same = r[alpha >= 1.0] if r.ndim else r
+        raise InputError(
+            "semi_major_axis", f"{np.ravel(same)[0]:.6g} m for both orbits", "two orbits apart (equation (7) diverges)"
+        )
     m = 4.0 * alpha / (1.0 + alpha) ** 2
     out = 2.0 * ellipe(m) / (math.pi * (1.0 - alpha) ** 2 * (1.0 + alpha) * b**3)
     return out if out.ndim else float(out)
@@ -534,8 +561,8 @@ def _ring_terms(inputs: Inputs, rings: list[PerturberOrbit], tidal: float) -> li
                 ring.name,
                 after - before,
                 f"{ring.name.capitalize()}: its orbit, held by the planet's J2 near the equator, a ring the Sun "
-                "torques with the bulge (Tremaine 1991; Ward & Hamilton 2004; Laplace plane: Tremaine, Touma & "
-                "Namouni 2009)",
+                "(and the planets) torque with the bulge (Tremaine 1991; Ward & Hamilton 2004; Laplace plane: "
+                "Tremaine, Touma & Namouni 2009)",
             )
         )
         before = after
