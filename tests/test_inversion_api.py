@@ -436,6 +436,10 @@ def test_a_planet_file_in_place_of_the_setups_body(tmp_path, capsys, mars):
     setup = wobble.load_inversion_setup({**read_toml(resolve_setup("mars")), "body": str(ares)})
     planets = ["mercury", "venus", "earth", "jupiter", "saturn", "uranus", "neptune"]
     assert setup.planet.name == "ares" and [o.name for o in setup.context.perturbers] == ["sun", *planets]
+    # ...and says so, as the precession budget does (the JSON's "notes", the text's "note:" lines, netCDF attrs).
+    assert setup.notes == (f"precession: {wobble.precession_rate(ares).notes[-1]}",)
+    assert setup.notes[0].startswith("precession: left out: mars (a planet whose orbit comes within 10%")
+    assert own["notes"] == shipped["notes"] == []
     for mine, theirs in zip(own["parameters"], shipped["parameters"]):
         assert mine["name"] == theirs["name"] and mine["median"] == theirs["median"]
     code = main(["invert", "mars", "--body-file", str(tmp_path / "missing.toml"), "--steps", "10"])

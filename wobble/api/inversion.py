@@ -465,6 +465,7 @@ class Inversion:
                 DIAGNOSTICS_RENAMES,
             ),
             "warnings": list(self.warnings),
+            "notes": list(self.setup.notes),
             "references": _REFERENCES,
         }
         # The root lists the renames of the object it holds too (as every command's root does, README "Commands").
@@ -547,6 +548,8 @@ class Inversion:
         )
         for w in self.warnings:
             lines.append(f"  WARNING: {w}")
+        for note in self.setup.notes:
+            lines.append(f"  note: {note}")
         return "\n".join(lines)
 
     def to_inference_data(self) -> arviz.InferenceData:
@@ -643,6 +646,7 @@ class Inversion:
             "seed": int(self.seed),
             "prior_only": int(self.prior_only),
             "warnings": " | ".join(self.warnings) if self.warnings else "none",
+            "notes": " | ".join(self.setup.notes) if self.setup.notes else "none",
             "references": _REFERENCES,
             "source": f"wobble {_version('wobble')}",
         }

@@ -40,6 +40,7 @@ from wobble.io.perturbers import (
     load_precession_reference,
     measured,
     too_close,
+    too_close_note,
 )
 from wobble.models import nutation as _nutation
 from wobble.models import precession as _model
@@ -517,13 +518,7 @@ def _orbit_range(planet: Planet) -> tuple[float, float]:
 def _default_perturbers(planet: Planet) -> tuple[list[ParameterFile], list[str]]:
     """The catalogue's satellites of the body, then the planets apart from its own orbit; and what was left out."""
     files, close = default_perturbers(planet.name, *_orbit_range(planet))
-    notes = []
-    if close:
-        notes.append(
-            f"left out: {', '.join(close)} (a planet whose orbit comes within {MIN_SEPARATION:.0%} of the body's "
-            "range of distance from the Sun, where the torque averaged over both circular orbits does not hold)"
-        )
-    return files, notes
+    return files, [too_close_note(close)] if close else []
 
 
 def _perturber_files(planet: Planet, perturbers) -> tuple[list[ParameterFile], list[str]]:

@@ -78,7 +78,15 @@ from wobble.errors import FileFormatError, InputError
 from wobble.io.catalog import PLANET_UNITS, load_planet
 from wobble.io.density_profile import load_profile, profile_for_body
 from wobble.io.parameter_file import ParameterFile, read_toml
-from wobble.io.perturbers import PERTURBER_UNITS, default_perturbers, is_planet, is_ring, load_perturber, measured
+from wobble.io.perturbers import (
+    PERTURBER_UNITS,
+    default_perturbers,
+    is_planet,
+    is_ring,
+    load_perturber,
+    measured,
+    too_close_note,
+)
 from wobble.models import hydrostatic as _hydro
 from wobble.models import precession as _precession
 from wobble.models.inversion.context import FixedCoreFigure, ForwardContext, LinearMantleCoreFigure, box_corners
@@ -161,6 +169,8 @@ class InversionSetup:
     path: str | None = None
     extra: dict = field(default_factory=dict)
     context: ForwardContext = field(default_factory=ForwardContext)
+    #: What the forward models leave out and say so (a planet too close to the body's orbit).
+    notes: tuple[str, ...] = ()
 
     def posterior(self, prior_only: bool = False) -> Posterior:
         return Posterior(
@@ -552,9 +562,9 @@ def _core_under_linear_mantle(where, prof, planet: PlanetParameters, parameters)
         raise FileFormatError(where, "parameters", f"{exc.value}; allowed: {exc.allowed}") from None
 
 
-def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precession.PerturberOrbit, ...], float]:
+def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precession.PerturberOrbit, ...], float, list]:
     """The Sun on the body's orbit, its catalogued satellites and the planets apart from its orbit (as the precession
-    budget takes them); the geodesic rate the observed precession includes."""
+    budget takes them); the geodesic rate the observed precession includes; the notes of planets left out."""
     missing = [k for k in ("obliquity", "orbit_semi_major_axis", "orbit_eccentricity") if getattr(planet, k) is None]
     if missing:
         raise FileFormatError(
@@ -570,7 +580,7 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
         planet.orbit_eccentricity.value,
     )
     orbits = [sun_orbit]
-    files, _ = default_perturbers(planet.name, sun_orbit.semi_major_axis, sun_orbit.eccentricity)
+    files, close = default_perturbers(planet.name, sun_orbit.semi_major_axis, sun_orbit.eccentricity)
     for pf in files:
 
         def get(key, default=None, pf=pf):
@@ -597,7 +607,7 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
         if includes
         else 0.0
     )
-    return tuple(orbits), geodesic
+    return tuple(orbits), geodesic, [f"precession: {too_close_note(close)}"] if close else []
 
 
 def setup_from_dict(data: dict, path: str | os.PathLike | None = None) -> InversionSetup:
@@ -644,7 +654,7 @@ def setup_from_dict(data: dict, path: str | os.PathLike | None = None) -> Invers
         raise FileFormatError(where, "derived", f"{sorted(clash)[0]} is also an observable; list it once")
     names = {m.name for m in (*measurements, *derived)}
     core_figure = _core_figure(where, data.get("profile"), planet, parameters) if names & _NEEDS_CORE else None
-    perturbers, geodesic = _perturber_orbits(where, planet) if names & _NEEDS_PERTURBERS else ((), 0.0)
+    perturbers, geodesic, notes = _perturber_orbits(where, planet) if names & _NEEDS_PERTURBERS else ((), 0.0, [])
     context = ForwardContext(core_figure, perturbers, geodesic)
     units = {p.name: _si_unit(PLANET_UNITS[p.name].to_string()) for p in parameters}
     units.update({m.name: _si_unit(REGISTRY[m.name].unit) for m in (*measurements, *derived)})
@@ -664,6 +674,7 @@ def setup_from_dict(data: dict, path: str | os.PathLike | None = None) -> Invers
         comparisons=comparisons,
         path=None if path is None else str(path),
         context=context,
+        notes=tuple(notes),
     )
     try:
         posterior = setup.posterior()

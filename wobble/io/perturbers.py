@@ -62,6 +62,7 @@ __all__ = [
     "MIN_SEPARATION",
     "too_close",
     "default_perturbers",
+    "too_close_note",
 ]
 
 _ONE = u.dimensionless_unscaled
@@ -314,6 +315,14 @@ def default_perturbers(body: str, semi_major_axis: float, eccentricity: float):
         elif pf.name != key:
             close.append(pf.name)
     return files, close
+
+
+def too_close_note(names: list[str]) -> str:
+    """The note that names the planets :func:`default_perturbers` left out for coming too close."""
+    return (
+        f"left out: {', '.join(names)} (a planet whose orbit comes within {MIN_SEPARATION:.0%} of the body's range "
+        "of distance from the Sun, where the torque averaged over both circular orbits does not hold)"
+    )
 
 
 def load_precession_reference(name: str = "iau2006") -> ParameterFile:
