@@ -117,12 +117,12 @@ def test_averaged_equations_integrated_give_the_first_order_amplitudes():
     budget = wobble.precession_rate("earth")
     p = budget.planet.parameters
     h, w, eps = p.dynamical_flattening.value, p.rotation_rate.value, p.obliquity.value
-    moon_pf = wobble.api.precession.load_perturber("moon")
-    from wobble.api.precession import _orbit, _perturber_values
+    from wobble.io.perturbers import load_perturber, perturber_orbit, perturber_values
 
-    values, sigmas = {}, {}
-    _perturber_values(moon_pf, values, sigmas)
-    moon = _orbit("moon", values)
+    moon_pf = load_perturber("moon")
+    values = {}
+    perturber_values(moon_pf, values)
+    moon = perturber_orbit(moon_pf, values, p.orbit_semi_major_axis.value)
     sun = PerturberOrbit("sun", 1.32712440041e20, p.orbit_semi_major_axis.value, p.orbit_eccentricity.value)
     ps = perturber_precession_constant(h, w, sun)
     pm = perturber_precession_constant(h, w, moon)
@@ -179,11 +179,12 @@ def test_first_order_amplitudes_from_the_series_h_are_ren_2000s():
     lon_ren = measured(ref, "nutation_longitude", NUTATION_REFERENCE_UNITS["nutation_longitude"]).value
     obl_ren = measured(ref, "nutation_obliquity", NUTATION_REFERENCE_UNITS["nutation_obliquity"]).value
     p = wobble.load_planet("earth").parameters
-    values, sigmas = {}, {}
-    from wobble.api.precession import _orbit, _perturber_values
+    from wobble.io.perturbers import load_perturber, perturber_orbit, perturber_values
 
-    _perturber_values(wobble.api.precession.load_perturber("moon"), values, sigmas)
-    n = nodal_nutation(h_ren, p.rotation_rate.value, p.obliquity.value, _orbit("moon", values))
+    moon_pf, values = load_perturber("moon"), {}
+    perturber_values(moon_pf, values)
+    moon = perturber_orbit(moon_pf, values, p.orbit_semi_major_axis.value)
+    n = nodal_nutation(h_ren, p.rotation_rate.value, p.obliquity.value, moon)
     assert n.longitude == pytest.approx(lon_ren, rel=1e-3)
     assert n.obliquity == pytest.approx(obl_ren, rel=1e-3)
     assert abs(n.longitude / lon_ren - 1) < 0.01 and abs(n.obliquity / obl_ren - 1) < 0.01  # the criterion

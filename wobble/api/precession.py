@@ -30,15 +30,15 @@ from wobble.io.parameter_file import ParameterFile
 from wobble.io.perturbers import (
     MIN_SEPARATION,
     NUTATION_REFERENCE_UNITS,
-    PERTURBER_UNITS,
     REFERENCE_UNITS,
     default_perturbers,
     is_planet,
-    is_ring,
     load_nutation_reference,
     load_perturber,
     load_precession_reference,
     measured,
+    perturber_orbit,
+    perturber_values,
     too_close,
     too_close_note,
 )
@@ -437,34 +437,10 @@ def _planet_values(planet: Planet):
     return values, sigmas
 
 
-def _perturber_values(pf: ParameterFile, values: dict, sigmas: dict) -> None:
-    for key, unit in PERTURBER_UNITS.items():
-        m = measured(pf, key, unit)
-        if m is not None:
-            values[f"{pf.name}.{key}"], sigmas[f"{pf.name}.{key}"] = m.value, m.sigma
-
-
 def _flattening(values) -> float:
     if "dynamical_flattening" in values:
         return values["dynamical_flattening"]
     return values["j2"] / values["polar_moment_factor"]
-
-
-def _orbit(name: str, values, ring: bool = False, planet: bool = False) -> _model.PerturberOrbit:
-    def get(key, default=None):
-        return values.get(f"{name}.{key}", default)
-
-    return _model.PerturberOrbit(
-        name=name,
-        gm=get("gm"),
-        semi_major_axis=get("semi_major_axis"),
-        eccentricity=get("eccentricity", 0.0),
-        inclination=get("inclination", 0.0),
-        perturbation_factor=get("solar_perturbation_factor", 1.0),
-        node_rate=get("node_rate"),
-        ring=ring,
-        body_semi_major_axis=values["orbit_semi_major_axis"] if planet else None,
-    )
 
 
 def _polar_moment_factor(values) -> float | None:
@@ -477,8 +453,6 @@ def _polar_moment_factor(values) -> float | None:
 
 
 def _prepare(perturbers: list[ParameterFile]):
-    names = [(pf.name, is_ring(pf), is_planet(pf)) for pf in perturbers]
-
     def prepare(values) -> _model.Inputs:
         sun = _model.PerturberOrbit(
             "sun",
@@ -486,7 +460,7 @@ def _prepare(perturbers: list[ParameterFile]):
             values["orbit_semi_major_axis"],
             values["orbit_eccentricity"],
         )
-        orbits = (sun, *(_orbit(name, values, ring, planet) for name, ring, planet in names))
+        orbits = (sun, *(perturber_orbit(pf, values, values["orbit_semi_major_axis"]) for pf in perturbers))
         return _model.Inputs(
             _flattening(values),
             values["rotation_rate"],
@@ -567,7 +541,7 @@ def _check_orbits(planet: Planet, files: list[ParameterFile], values) -> None:
     radius = planet.parameters.equatorial_radius
     for pf in files:
         try:
-            orbit = _orbit(pf.name, values, is_ring(pf), is_planet(pf))
+            orbit = perturber_orbit(pf, values, values["orbit_semi_major_axis"])
             if not orbit.is_planet:  # a planet's heliocentric orbit: checked against the body's by too_close()
                 _model.check_inside(orbit, None if radius is None else radius.value)
         except InputError as exc:
@@ -690,10 +664,10 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     planet = load_planet(body)
     values, sigmas = _planet_values(planet)
     sun = load_perturber("sun")
-    _perturber_values(sun, values, sigmas)
+    perturber_values(sun, values, sigmas)
     files, omitted = _perturber_files(planet, perturbers)
     for pf in files:
-        _perturber_values(pf, values, sigmas)
+        perturber_values(pf, values, sigmas)
     _check_orbits(planet, files, values)
     try:
         raw = _model.precession_budget(planet.name, values, _prepare(files), sigmas)

@@ -81,10 +81,10 @@ from wobble.io.parameter_file import ParameterFile, read_toml
 from wobble.io.perturbers import (
     PERTURBER_UNITS,
     default_perturbers,
-    is_planet,
-    is_ring,
     load_perturber,
     measured,
+    perturber_orbit,
+    perturber_values,
     too_close_note,
 )
 from wobble.models import hydrostatic as _hydro
@@ -579,27 +579,11 @@ def _perturber_orbits(where, planet: PlanetParameters) -> tuple[tuple[_precessio
         planet.orbit_semi_major_axis.value,
         planet.orbit_eccentricity.value,
     )
-    orbits = [sun_orbit]
     files, close = default_perturbers(planet.name, sun_orbit.semi_major_axis, sun_orbit.eccentricity)
+    values: dict[str, float] = {}
     for pf in files:
-
-        def get(key, default=None, pf=pf):
-            m = measured(pf, key, PERTURBER_UNITS[key])
-            return default if m is None else m.value
-
-        orbits.append(
-            _precession.PerturberOrbit(
-                pf.name,
-                get("gm"),
-                get("semi_major_axis"),
-                get("eccentricity", 0.0),
-                get("inclination", 0.0),
-                get("solar_perturbation_factor", 1.0),
-                get("node_rate"),
-                is_ring(pf),
-                sun_orbit.semi_major_axis if is_planet(pf) else None,
-            )
-        )
+        perturber_values(pf, values)
+    orbits = [sun_orbit, *(perturber_orbit(pf, values, sun_orbit.semi_major_axis) for pf in files)]
     flag = planet.observed_precession_includes_geodesic
     includes = flag is None or flag.value != 0
     geodesic = (

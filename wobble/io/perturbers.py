@@ -44,6 +44,7 @@ from wobble.errors import FileFormatError, InputError
 from wobble.io.parameter_file import ParameterFile, read_parameter_file, wrong_unit
 from wobble.io.shipped import not_a_file
 from wobble.models.planet import Measured
+from wobble.models.precession import PerturberOrbit
 
 __all__ = [
     "PERTURBER_UNITS",
@@ -63,6 +64,8 @@ __all__ = [
     "too_close",
     "default_perturbers",
     "too_close_note",
+    "perturber_values",
+    "perturber_orbit",
 ]
 
 _ONE = u.dimensionless_unscaled
@@ -227,6 +230,7 @@ def _check(pf: ParameterFile) -> ParameterFile:
 
 
 def _check_planet(pf: ParameterFile) -> None:
+    pf.require("semi_major_axis", "a planet's distance from the Sun (equation (7))")
     if pf.extra.get("primary") != "*":
         raise FileFormatError(
             pf.path,
@@ -315,6 +319,38 @@ def default_perturbers(body: str, semi_major_axis: float, eccentricity: float):
         elif pf.name != key:
             close.append(pf.name)
     return files, close
+
+
+def perturber_values(pf: ParameterFile, values: dict, sigmas: dict | None = None) -> None:
+    """Put the file's orbit and mass into ``values`` (and their sigmas into ``sigmas``), SI, as ``"<name>.<key>"``:
+    the scalars an uncertainty budget perturbs one at a time before :func:`perturber_orbit` reads them."""
+    for key, unit in PERTURBER_UNITS.items():
+        m = measured(pf, key, unit)
+        if m is not None:
+            values[f"{pf.name}.{key}"] = m.value
+            if sigmas is not None:
+                sigmas[f"{pf.name}.{key}"] = m.sigma
+
+
+def perturber_orbit(pf: ParameterFile, values, body_semi_major_axis: float) -> PerturberOrbit:
+    """The model's orbit of perturber ``pf`` from the scalars :func:`perturber_values` put in ``values``: a ring
+    satellite or a planet as its ``coupling`` says (a planet's strength needs the body's heliocentric
+    ``body_semi_major_axis``, m); the file's keys with their defaults (e = i = 0, no solar perturbation)."""
+
+    def get(key, default=None):
+        return values.get(f"{pf.name}.{key}", default)
+
+    return PerturberOrbit(
+        name=pf.name,
+        gm=get("gm"),
+        semi_major_axis=get("semi_major_axis"),
+        eccentricity=get("eccentricity", 0.0),
+        inclination=get("inclination", 0.0),
+        perturbation_factor=get("solar_perturbation_factor", 1.0),
+        node_rate=get("node_rate"),
+        ring=is_ring(pf),
+        body_semi_major_axis=body_semi_major_axis if is_planet(pf) else None,
+    )
 
 
 def too_close_note(names: list[str]) -> str:
