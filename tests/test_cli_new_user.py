@@ -237,6 +237,15 @@ def test_shipped_names_are_listed_as_typed(capsys):
     assert all(f"  {name} " in out for name in names)
 
 
+def test_bare_example_lists_what_list_lists(capsys):
+    # Was: 'wobble example' alone was an error (NAME: missing), the first thing a newcomer types.
+    bare = _run(["example"], capsys)
+    listed = _run(["example", "--list"], capsys)
+    assert bare == listed and bare[0] == 0 and "bodies/earth.toml" in bare[1]
+    code, out, err = _run(["example", ""], capsys)
+    assert code == 2 and "NAME: got ''" in err
+
+
 def test_a_scene_unit_example_reads_as_people_write_it(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert _run(["example", "tennis_racket", "s.toml"], capsys)[0] == 0

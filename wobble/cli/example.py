@@ -22,7 +22,7 @@ def register(sub) -> None:
         "example",
         help="list the shipped example files, or copy one to start from",
         description="The files wobble ships (planet catalogue, example inputs, scenes, sweeps): "
-        "list them, or copy one into your folder to edit.",
+        "list them (without NAME, or with --list), or copy one into your folder to edit.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -39,9 +39,7 @@ def run(args) -> int:
     from wobble.errors import InputError
     from wobble.io.shipped import KINDS, copy_shipped, shipped_files, shown_names
 
-    if args.list or not args.name:
-        if not args.list:
-            raise InputError.missing("NAME", "a shipped file to copy, or --list to see them")
+    if args.list or args.name is None:  # bare 'wobble example' lists: what a newcomer typing it wants
         files = shipped_files()
         if args.json:
             print_json(
