@@ -240,6 +240,53 @@ def test_an_fcn_period_out_of_reach_is_one_line_from_the_command_line(tmp_path, 
     assert all(f in err for f in ("slow_earth.toml", "observed_fcn_period", "it reaches", "1e-12 rad/s")), err
 
 
+@pytest.mark.parametrize(
+    ("key", "value", "says"),
+    [
+        # 0 ended in ZeroDivisionError, -1e300 d in OverflowError (exit 1, a traceback).
+        ("observed_fcn_period", "0.0", "parameters.observed_fcn_period.value: got 0 sday; allowed: a non-zero"),
+        ("observed_fcn_period", "-1e300", "(observed_fcn_period): 2 pi / T_FCN = -7.29e-305"),
+        # A negative compliance made the refusal blame the observed FCN period.
+        ("core_compliance_beta", "-1.0", "parameters.core_compliance_beta.value: got -1; allowed: at least 0"),
+        ("core_compliance_gamma", "-1e-3", "parameters.core_compliance_gamma.value: got -0.001; allowed: at least 0"),
+    ],
+)
+def test_impossible_fcn_inputs_are_one_line(tmp_path, capsys, key, value, says):
+    import re
+
+    from wobble.cli import main
+    from wobble.io.catalog import catalogue_file
+
+    path = tmp_path / "e.toml"
+    text = catalogue_file("earth").read_text()
+    edited = re.sub(rf"(\[parameters\.{key}\]\nvalue = )[^\n]*", rf"\g<1>{value}", text)
+    assert edited != text
+    path.write_text(edited)
+    assert main(["modes", "--body-file", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err and says in err, err
+
+
+def test_an_fcn_period_beyond_a_change_of_sense_says_so():
+    """Near the sidereal day the reachable FCN rates straddle 0: the periods reached are the two long ends,
+    prograde and retrograde, not an interval between them ('8270.2 d to -73.0783 d' read as if 0 d were in it).
+    The ends against the SOS determinant's root (mpmath, 40 digits), as above."""
+    import re
+
+    p = _symmetric_elastic("earth")
+    sidereal = 2 * math.pi / p.rotation_rate.value
+    guess = 2.5e-3
+    with pytest.raises(InputError, match="observed_fcn_period") as info:
+        required_core_ellipticity(p, 2 * math.pi / (0.999 * sidereal), guess)
+    text = str(info.value)
+    found = re.search(r"it reaches periods beyond (\S+) d and beyond (\S+) d there", text)
+    assert found and "changes sense through an infinite period" in text, text
+    exact = [2 * mp.pi / (p.rotation_rate.value * (_sos_roots(p, e)[1] + 1)) / 86400 for e in (0.2 * guess, 5 * guess)]
+    assert float(exact[0]) * float(exact[1]) < 0
+    for got, want in zip(map(float, found.groups()), exact):
+        assert got == pytest.approx(float(want), rel=1e-5)
+
+
 def test_mars_fcn_against_rise(mars_modes):
     fcn = mars_modes.mode("FCN", "celestial")
     model, sigma = fcn.period.to_value(u.day), fcn.period_uncertainty.to_value(u.day)

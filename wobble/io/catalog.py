@@ -74,6 +74,15 @@ _AT_MOST = {
     ),
 }
 
+#: Lower bounds set by nature: a compliance is a deformation per unit forcing, which an elastic mantle never gives
+#: with the opposite sign (beta <= -1 left the FCN's e_f - beta and its messages meaningless).
+_AT_LEAST = {
+    "core_compliance_beta": (0.0, "at least 0 (a compliance; Mathews et al. 2002 give 6.16e-4 for Earth)"),
+    "core_compliance_gamma": (0.0, "at least 0 (a compliance; Mathews et al. 2002 give 1.9662e-3 for Earth)"),
+}
+#: Signed values that must not be zero.
+_NON_ZERO = {"observed_fcn_period": "a non-zero period, signed relative to the spin (negative: retrograde)"}
+
 
 def _bodies_dir():
     return resources.files("wobble._data") / "bodies"
@@ -120,6 +129,10 @@ def _si(pf: ParameterFile, key: str) -> Measured | None:
         raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: a positive number")
     if key in _AT_MOST and not value <= _AT_MOST[key][0]:
         raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: {_AT_MOST[key][1]}")
+    if key in _AT_LEAST and not value >= _AT_LEAST[key][0]:
+        raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: {_AT_LEAST[key][1]}")
+    if key in _NON_ZERO and value == 0:
+        raise FileFormatError(pf.path, f"{where}.value", f"got {typed}; allowed: {_NON_ZERO[key]}")
     return Measured(value, sigma)
 
 

@@ -419,8 +419,13 @@ def required_core_ellipticity(p: PlanetParameters, observed_space_rate: float, g
         reach = ""
         if all(math.isfinite(r) for r in rates):
             days = [f"{2 * math.pi / r / 86400:.6g} d" if r != 0 else "an infinite period" for r in rates]
-            span = days[0] if days[0] == days[1] else f"{days[0]} to {days[1]}"
-            reach = f"; it reaches {span} there, with this planet's rotation rate {p.rotation_rate.value:.6g} rad/s"
+            span, turn = (days[0] if days[0] == days[1] else f"{days[0]} to {days[1]}"), ""
+            if rates[0] * rates[1] < 0:  # the rate passes through 0: the periods reached are the two long ends
+                span = f"periods beyond {days[0]} and beyond {days[1]}"
+                turn = " (between the two the mode changes sense through an infinite period)"
+            reach = (
+                f"; it reaches {span} there, with this planet's rotation rate {p.rotation_rate.value:.6g} rad/s{turn}"
+            )
         raise InputError(
             "observed_fcn_period",
             f"{2 * math.pi / observed_space_rate / 86400:.6g} d",
@@ -667,6 +672,12 @@ def _terrestrial(m, spin):
         return None, None
     sign = 1.0 if spin > 0 else -1.0
     rate = sign * 2 * math.pi / m.value - spin
+    if rate == 0:  # a prograde sidereal day in space stands still on the planet
+        raise InputError(
+            "observed_fcn_period",
+            f"{m.value / 86400:.6g} d",
+            "a period other than the planet's sidereal day (that mode would stand still in the planet's frame)",
+        )
     rate_sigma = 2 * math.pi * m.sigma / m.value**2
     return sign * 2 * math.pi / rate, 2 * math.pi * rate_sigma / rate**2
 

@@ -73,6 +73,11 @@ def scales(v):
     r, rho = get("fluid_core_radius"), get("fluid_core_density")
     if r is not None and rho is not None:
         yield ("fluid_core_radius", "fluid_core_density"), "A_f = (8 pi/15) rho R^5", 8 * np.pi / 15 * rho * r**5
+    fcn = get("observed_fcn_period")
+    if fcn is not None:
+        # Compared with the model as a rate, 2 pi / T, and its variance: a period of 0 or 1e300 d ended in
+        # ZeroDivisionError or OverflowError.
+        yield ("observed_fcn_period",), "2 pi / T_FCN", 2 * np.pi / fcn
     orbit = get("orbit_semi_major_axis")
     if orbit is not None:
         yield ("orbit_semi_major_axis",), "a^3 of the orbit", orbit * orbit * orbit
