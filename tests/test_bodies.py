@@ -373,6 +373,13 @@ def test_oblate_planet_from_h_and_from_j2_agree_with_tn36():
     np.testing.assert_allclose(tri.principal_axes, np.eye(3))
 
 
+def test_oblate_planet_at_h_one_half_is_the_flat_disc():
+    """H = 1/2 is the end of the allowed range (A + B = C): with C/(M R^2) = 1/2 it is a uniform thin disc,
+    A = B = M R^2/4 (Goldstein, Poole & Safko 2002, Table of moments)."""
+    disc = RigidBody.oblate_planet(2 * u.kg, 3 * u.m, 0.5, dynamical_flattening=0.5)
+    np.testing.assert_allclose(disc.principal_moments.to_value(KGM2), [4.5, 4.5, 9.0], rtol=1e-15)
+
+
 def test_ratios_keep_precision_when_given_directly():
     """H = 1e-13: (C - A)/A from H directly, where C - C (1 - H) would keep only ~3 digits."""
     h = 1e-13
@@ -614,7 +621,19 @@ BAD = [
     (
         lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.3, dynamical_flattening=1.2),
         "dynamical_flattening",
-        "(0, 1)",
+        "(0, 0.5]",
+    ),
+    # H = 0.7, J2 > c/2 and a J22 that leaves A <= 0 were blamed on polar_moment_factor (the triangle check).
+    (
+        lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.33, dynamical_flattening=0.7),
+        "dynamical_flattening",
+        "A + B >= C",
+    ),
+    (lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.33, j2=0.2), "j2", "(0, C/(2 M R^2) = 0.165]"),
+    (
+        lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.33, dynamical_flattening=0.003, j22=0.2),
+        "j22",
+        "A = (1 - H) C - 2 J22 M R^2 must stay > 0",
     ),
     (
         lambda: RigidBody.oblate_planet(1 * u.kg, 1 * u.m, 0.3, dynamical_flattening=0.1, j2=0.1),

@@ -383,14 +383,31 @@ def test_user_body_file_minimal_and_malformed(tmp_path):
         ({"moments": [np.nan, 2.0] * u.kg * u.m**2}, "moments: .*finite"),
         ({"moments": [1.0, 2.0]}, "moments: .*plain number has no unit"),
         ({"moments": [1.0, 3.0] * u.kg * u.m**2}, "triangle"),
-        ({"dynamical_flattening": 1.5}, r"dynamical_flattening: got 1\.5; allowed: a number in \(-1, 1\)"),
-        ({"inertia_ratio": -1.0}, r"inertia_ratio: got -1\.0; allowed: a number in \(-1, 1\)"),
+        ({"dynamical_flattening": 1.5}, r"dynamical_flattening: got 1\.5; allowed: a number in \(-inf, 0\.5\]"),
+        ({"inertia_ratio": -1.0}, r"inertia_ratio: got -1\.0; allowed: a number in \(-1, 1\]"),
+        ({"inertia_ratio": 1.01}, r"inertia_ratio: got 1\.01; allowed: a number in \(-1, 1\]"),
         ({"dynamical_flattening": 0.7}, "triangle"),
+        ({"dynamical_flattening": np.inf}, "dynamical_flattening: got inf; allowed: a finite number"),
     ],
 )
 def test_bad_rigid_inputs_name_the_parameter(kwargs, message):
     with pytest.raises(InputError, match=message):
         wobble.rigid_wobble(spin=1 * u.day, **kwargs)
+
+
+def test_a_prolate_body_given_by_h_wobbles_as_given_by_its_moments():
+    """A uniform cylinder of radius R and height 5R spun about its axis: C = M R^2/2, A = M (3 R^2 + 25 R^2)/12
+    = 7/3 M R^2, so H = (C - A)/C = -11/3 and (C - A)/A = -11/14 (Goldstein, Poole & Safko 2002 sec. 5.6:
+    Omega = (C - A)/A omega). H was refused below -1, though every H up to 1/2 is a body."""
+    spin = 1 * u.rad / u.s
+    want = -11.0 / 14.0
+    by_h = wobble.rigid_wobble(dynamical_flattening=-11.0 / 3.0, spin=spin)
+    by_moments = wobble.rigid_wobble([7.0 / 3.0, 0.5] * u.kg * u.m**2, spin=spin)
+    for got in (by_h, by_moments, wobble.rigid_wobble(inertia_ratio=want, spin=spin)):
+        assert got.rate.to_value(u.rad / u.s) == pytest.approx(want, rel=1e-15) and got.sense == "retrograde"
+    # The flat disc, (C - A)/A = 1 and H = 1/2, is the other end: both spellings accepted, Omega = omega.
+    for kwargs in ({"inertia_ratio": 1.0}, {"dynamical_flattening": 0.5}):
+        assert wobble.rigid_wobble(spin=spin, **kwargs).rate.to_value(u.rad / u.s) == pytest.approx(1.0, rel=1e-15)
 
 
 def test_spin_in_metres_is_refused():

@@ -413,12 +413,9 @@ class RigidBody:
         so :meth:`moment_ratio` ``(3, 1)`` = (C - A)/A keeps full precision.
         """
         c = dimensionless(polar_moment_factor, "polar_moment_factor", low=0.0, high=1.0)
-        hh = (
-            None
-            if dynamical_flattening is None
-            else dimensionless(dynamical_flattening, "dynamical_flattening", low=0.0, high=1.0)
-        )
-        jj = None if j2 is None else dimensionless(j2, "j2", low=0.0)
+        # Their ranges depend on each other (J2 <= c/2, J22 against H): the model checks them.
+        hh = None if dynamical_flattening is None else dimensionless(dynamical_flattening, "dynamical_flattening")
+        jj = None if j2 is None else dimensionless(j2, "j2")
         q = dimensionless(j22, "j22", low=0.0, open_interval=False)
         body = _solids.oblate_planet(_mass(mass), _length(radius, "radius"), c, dynamical_flattening=hh, j2=jj, j22=q)
         return cls(body, name)

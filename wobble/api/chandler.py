@@ -610,9 +610,9 @@ def rigid_wobble(
         omega3 (e.g. ``7.292115e-5 * u.rad / u.s``) or the rotation period
         (e.g. ``1 * u.sday``; a sidereal day, not a solar one, for a planet).
     dynamical_flattening : float, optional
-        H = (C - A)/C in (-1, 1), with C <= 2A.
+        H = (C - A)/C in (-inf, 1/2]: C <= 2A (the triangle inequality); negative for a prolate body.
     inertia_ratio : float, optional
-        (C - A)/A in (-1, 1).
+        (C - A)/A in (-1, 1].
 
     Returns
     -------
@@ -638,14 +638,23 @@ def rigid_wobble(
     if moments is not None:
         ca, cb = _ratios_from_moments(moments)
     elif dynamical_flattening is not None:
-        h = dimensionless(dynamical_flattening, "dynamical_flattening", low=-1, high=1)
-        if h > 0.5:
+        # H = 1 - A/C reaches every value below 1/2: a thin rod spun about its own axis has A/C -> inf.
+        h = dimensionless(dynamical_flattening, "dynamical_flattening")
+        if not h <= 0.5:
             raise InputError(
-                "dynamical_flattening", dynamical_flattening, "H <= 0.5 (C <= 2A: the triangle inequality)"
+                "dynamical_flattening",
+                dynamical_flattening,
+                "a number in (-inf, 0.5]: H = (C - A)/C, at most 1/2 as C <= 2A (the triangle inequality)",
             )
         ca = cb = h
     else:
-        e = dimensionless(inertia_ratio, "inertia_ratio", low=-1, high=1)
+        e = dimensionless(inertia_ratio, "inertia_ratio")
+        if not -1 < e <= 1:
+            raise InputError(
+                "inertia_ratio",
+                inertia_ratio,
+                "a number in (-1, 1]: (C - A)/A, at most 1 as C <= 2A (a flat disc), above -1 as C > 0",
+            )
         ca = cb = e / (1.0 + e)  # (C-A)/C from (C-A)/A
     rate = _model.free_wobble_rate(omega, ca, cb)
     if rate == 0 and omega == 0:

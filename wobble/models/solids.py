@@ -223,9 +223,9 @@ def oblate_planet(
     polar_moment_factor : float
         C/(M R^2), in (0, 1).
     dynamical_flattening, j2 : float
-        Exactly one: H in (0, 1) or J2 > 0.
+        Exactly one: H in (0, 1/2] or J2 in (0, c/2] (A + B >= C, the moments' triangle inequality).
     j22 : float
-        Unnormalised degree-2 order-2 coefficient magnitude, >= 0.
+        Unnormalised degree-2 order-2 coefficient magnitude, >= 0, below (1 - H) c / 2 so that A > 0.
     """
     m, r = positive_number(mass, "mass"), positive_number(radius, "radius")
     c = float(polar_moment_factor)
@@ -237,19 +237,28 @@ def oblate_planet(
     big_c = c * mr2
     if dynamical_flattening is not None:
         hh = float(dynamical_flattening)
-        if not (0.0 < hh < 1.0):
-            raise InputError("dynamical_flattening", dynamical_flattening, "H = (C - A)/C in (0, 1)")
+        if not (0.0 < hh <= 0.5):
+            raise InputError(
+                "dynamical_flattening",
+                dynamical_flattening,
+                "H = (C - A)/C in (0, 0.5]: positive for an oblate planet, at most 1/2 as A + B >= C",
+            )
         c_minus_a = hh * big_c
     else:
         jj = float(j2)
-        if not (0.0 < jj < c):
-            raise InputError("j2", j2, f"J2 in (0, C/(M R^2) = {c:g})")
+        if not (0.0 < jj <= 0.5 * c):
+            raise InputError("j2", j2, f"J2 in (0, C/(2 M R^2) = {0.5 * c:g}]: positive, and A + B >= C")
         c_minus_a = jj * mr2
     q = float(j22)
     if not (math.isfinite(q) and q >= 0):
         raise InputError("j22", j22, "a non-negative, finite J22")
     half_split = 2.0 * q * mr2  # (B - A)/2
     mean_a = big_c - c_minus_a
+    if not half_split < mean_a:
+        # The triangle inequality holds by H <= 1/2 (A + B = 2 mean A >= C); only A > 0 is left to J22.
+        raise InputError(
+            "j22", j22, f"J22 below (1 - H) c / 2 = {mean_a / (2.0 * mr2):g}: A = (1 - H) C - 2 J22 M R^2 must stay > 0"
+        )
     moments = np.array([mean_a - half_split, mean_a + half_split, big_c])
     # D[i, j] = I_i - I_j from the small quantities, never by subtracting the large moments.
     cma, cmb, bma = c_minus_a + half_split, c_minus_a - half_split, 2.0 * half_split
