@@ -196,3 +196,24 @@ def test_sources_give_values_as_the_file_does(capsys):
 def main_text(argv, capsys) -> str:
     assert main(argv) == 0
     return capsys.readouterr().out
+
+
+def test_exact_inputs_print_the_period_to_seven_digits(tmp_path, capsys):
+    """A body given by an exact H and spin: the budget's sigma is 0, and the period printed to two fixed places
+    read 0.02 d for a fast body. Now seven significant digits, against Euler's 2 pi (1 - H)/(H Omega)
+    (Goldstein, Poole & Safko 2002 sec. 5.6), in `chandler` and `modes` alike."""
+    import math
+
+    entry = 'value = {}\nuncertainty = 0\nunit = "{}"\nsource = "test"\nstatus = "assumed"\n'
+    path = tmp_path / "fast.toml"
+    path.write_text(
+        'schema = "wobble/1"\nkind = "planet"\nname = "fast"\ntitle = "Fast"\n\n'
+        "[parameters.dynamical_flattening]\n" + entry.format(0.003, "") + "\n"
+        "[parameters.rotation_rate]\n" + entry.format(1, "rad/s")
+    )
+    want = f"{2 * math.pi * (1 - 0.003) / 0.003 / 86400:.7g}"
+    assert want == "0.02416796"
+    status, out, err = _run(capsys, "chandler", "--body-file", str(path))
+    assert status == 0 and f"model            {want} +/- 0 (prograde wobble)" in out, out
+    status, out, err = _run(capsys, "modes", "--body-file", str(path))
+    assert status == 0 and f"{want} +/- 0  prograde" in out and "Chandler wobble 0.02417 d" in out, out

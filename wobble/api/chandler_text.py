@@ -73,7 +73,7 @@ def budget_text(b, sources: bool = False, hint: str | None = None) -> str:
     from wobble.models.chandler import STEP_LABELS
 
     sigma = b.period_uncertainty.to_value(u.day)
-    d = decimals_for(sigma)
+    d = decimals_for(sigma, value=b.period.to_value(u.day))
     lines = [f"{b.planet.title}: Chandler wobble budget (model '{b.model}'; days of 86400 s)"]
     lines.append(f"  {'step':<16}{'period [d]':>11}{'change [d]':>12}{'k2':>8}   physics (references)")
     for s in b.steps:

@@ -541,12 +541,15 @@ class NormalModes:
                 )
         if "CW" in self.shown:
             cw = self.mode("CW")
+            days = cw.period.to_value(u.day)
+            # Two places for planets' hundreds of days; four significant digits for a fast body's fraction of one.
+            d = max(2, 3 - math.floor(math.log10(abs(days)))) if math.isfinite(days) and days != 0 else 2
             lines.append(
-                f"  Chandler wobble {cw.period.to_value(u.day):.2f} d; coupling off "
-                f"{self.chandler_coupling_off.to_value(u.day):.2f} d "
-                f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.2f} d (FCN effect "
-                f"{self.fcn_effect_on_chandler.to_value(u.day):+.2f} d; the classic first-order formula would give "
-                f"{self.chandler_first_order.to_value(u.day):.2f} d)"
+                f"  Chandler wobble {days:.{d}f} d; coupling off "
+                f"{self.chandler_coupling_off.to_value(u.day):.{d}f} d "
+                f"= the Chandler budget {self.chandler_budget_period.to_value(u.day):.{d}f} d (FCN effect "
+                f"{self.fcn_effect_on_chandler.to_value(u.day):+.{d}f} d; the classic first-order formula would give "
+                f"{self.chandler_first_order.to_value(u.day):.{d}f} d)"
             )
         if self.figure is not None:
             lines.append("  " + self.figure.summary().replace("\n", "\n  "))

@@ -86,9 +86,15 @@ def number(x, digits: int = TEXT_DIGITS) -> str:
     return f"{x:.{digits}g}"
 
 
-def decimals_for(sigma: float, significant: int = 2) -> int:
-    """Decimal places that show ``sigma`` to ``significant`` significant digits (>= 0)."""
+def decimals_for(sigma: float, significant: int = 2, value: float | None = None) -> int:
+    """Decimal places that show ``sigma`` to ``significant`` significant digits (>= 0).
+
+    Without a usable ``sigma`` (0: every input exact; nan) the places show ``value``, when given, to
+    ``TEXT_DIGITS`` significant digits (a period of 0.02424 d printed as 0.02 with two fixed places); else 2.
+    """
     if not (math.isfinite(sigma) and sigma > 0):
+        if value is not None and math.isfinite(value) and value != 0:
+            return max(0, TEXT_DIGITS - 1 - math.floor(math.log10(abs(value))))
         return 2
     return max(0, significant - 1 - math.floor(math.log10(sigma)))
 
@@ -103,6 +109,8 @@ def with_uncertainty(value: float, sigma: float | None, *, sign: bool = False) -
     """
     if sigma is None or not math.isfinite(value):
         return number(value)
+    if sigma == 0:  # exact inputs: the value to TEXT_DIGITS, not to the two places of a zero uncertainty
+        return f"{number(value) if not sign else f'{value:+.{TEXT_DIGITS}g}'} +/- 0"
     d = decimals_for(sigma)
     fmt = f"{{:{'+' if sign else ''}.{d}f}}"
     return f"{fmt.format(value)} +/- {sigma:.{d}f}"
