@@ -249,6 +249,7 @@ def _prem_text():
 
 _CORE = "[parameters.fluid_core_outer_radius]\nvalue = 3480.0"
 _INNER = "[parameters.fluid_core_inner_radius]\nvalue = 1221.5"
+_TOLERANCE = "[parameters.mass_tolerance]\nvalue = 1e-3"
 
 
 @pytest.mark.parametrize(
@@ -264,6 +265,8 @@ _INNER = "[parameters.fluid_core_inner_radius]\nvalue = 1221.5"
         (("[2.900, 0.0, 0.0, 0.0]", "[nan, 0.0, 0.0, 0.0]"), ("density_coefficients", "nan", "finite numbers")),
         (("6368.0, 6371.0]", "6368.0, nan]"), ("layer_top_radius", "nan", "finite numbers")),
         ((_CORE, _CORE.replace("3480.0", "nan")), ("fluid_core_outer_radius", "nan", "finite numbers")),
+        # Read, then printed as the limit: "allowed: within -0.001".
+        ((_TOLERANCE, _TOLERANCE.replace("1e-3", "-1e-3")), ("mass_tolerance", "got -0.001", "positive relative")),
     ],
 )
 def test_bad_profile_file_is_one_line_naming_file_parameter_value_and_rule(tmp_path, capsys, edit, fragments):

@@ -213,6 +213,14 @@ def test_bad_profiles_name_the_parameter(profile, parameter, fragment):
     assert info.value.parameter == parameter
 
 
+def test_a_bare_gravitational_constant_is_refused_in_words():
+    """astropy names the physical type of m3 / (kg s2) 'unknown': the refusal read 'units of unknown'."""
+    with pytest.raises(InputError) as info:
+        wobble.hydrostatic_figure("mars_layered", spin=1 * u.sday, gravitational_constant=6.674e-11)
+    text = str(info.value)
+    assert "unknown" not in text and "units of the gravitational constant (e.g. 6.6743e-11 m3 / (kg s2))" in text
+
+
 def test_profile_mass_must_match_the_body():
     with pytest.raises(InputError, match="density profile mass"):
         wobble.normal_modes("mars", profile="prem")

@@ -44,6 +44,7 @@ _EXAMPLES = {
     "acceleration": "9.81 m / s2",
     "gravitational parameter": "3.986004418e14 m3 / s2",
     "torque": "1 N m",
+    "the gravitational constant": "6.6743e-11 m3 / (kg s2)",
 }
 
 
@@ -56,6 +57,10 @@ def describe_unit(unit: u.UnitBase) -> str:
         kind = "angular speed"
     if unit.is_equivalent(u.kg * u.m**2, equivalencies=None):
         kind = "moment of inertia"
+    if unit.is_equivalent(u.m**3 / u.kg / u.s**2, equivalencies=None):
+        kind = "the gravitational constant"  # astropy has no name for it ("unknown")
+    if kind == "unknown":
+        kind = unit.to_string()
     example = _EXAMPLES.get(kind, f"1 {unit.to_string()}")
     return f"a Quantity with units of {kind} (e.g. {example})"
 

@@ -35,7 +35,9 @@ dumbbell.csv and planet.nc are shipped examples, found by name from any folder
 --points FILE.csv has columns m, x, y, z; units may follow the names in the header
 (e.g. "m [g], x [cm], y [cm], z [cm]"), otherwise --mass-unit/--length-unit or SI.
 --density FILE.nc needs a variable on x, y, z with mass/volume units and length
-coordinates. Numbers without units are SI (kg, m), or the --mass-unit/--length-unit.
+coordinates. Numbers without units are SI (kg, m), or the --mass-unit/--length-unit;
+a unit on the first of three values applies to the other two when they are bare
+numbers (--about "1 cm" 2 3 is (1, 2, 3) cm), otherwise each value has its own.
 --about com (default: the centre of mass), origin, or X Y Z.
 Solids (centre of mass at the origin, symmetry axis along z):
   sphere (--mass --radius)        hollow-sphere (--mass --radius [--inner-radius])

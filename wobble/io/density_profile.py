@@ -17,6 +17,8 @@ belongs to (``prem`` is Earth's). Conversion to SI happens here, once.
 
 from __future__ import annotations
 
+import math
+
 import os
 from importlib import resources
 from pathlib import Path
@@ -83,6 +85,15 @@ def profile_from_file(pf: ParameterFile) -> DensityProfile:
     scale = float(_si(pf, "normalising_radius"))
     if not scale > 0:
         raise FileFormatError(pf.path, "parameters.normalising_radius.value", "must be positive")
+    tolerance = _si(pf, "mass_tolerance")
+    if tolerance is not None and not (tolerance.size == 1 and 0 < float(tolerance) < math.inf):
+        # A negative one was read and then printed as the limit ("allowed: within -0.001").
+        got = ", ".join(f"{x:g}" for x in tolerance.ravel())
+        raise FileFormatError(
+            pf.path,
+            "parameters.mass_tolerance.value",
+            f"got {got}; allowed: one positive relative tolerance (1e-3 when not given)",
+        )
     inner, outer = _si(pf, "fluid_core_inner_radius"), _si(pf, "fluid_core_outer_radius")
     if (inner is None) != (outer is None):
         raise FileFormatError(
