@@ -280,6 +280,11 @@ class _Elliptic:
 
     def _periodic(self, r, sn, cn, dn):
         """P(r): the 2K-periodic part of psi, from sn, cn, dn of |r| <= K."""
+        # r may lie past the true K by the rounding of K (a start with omega_a = 0: cn = -3.5e-17). The Carlson
+        # form's R_C term is odd in cn, its other terms even in it: past 0 it is not Pi's continuation, and c_pi
+        # (1e7 for I2 - I1 = 2e-15 I1) made that an attitude error of 2e-9 rad. Pi at the quarter period instead
+        # errs by the distance times Pi's slope there, 1/((1 + nu) sqrt(m1)).
+        cn = np.maximum(cn, 0.0)
         pi_inc = ell.pi_negative_scd(self.nu, sn, cn, dn * dn, self.m1)
         g = np.arctan2(np.sqrt(1.0 + self.nu) * sn, cn)
         k = self.K[0]
