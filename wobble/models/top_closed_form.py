@@ -185,6 +185,9 @@ class Elliptic:
     # pole these parts turn by pi over a phase of the tilt, so the ulp of w0 turned the whole motion.
     anchor_sigma: float
     anchor_delta: float
+    # sn, cn, dn of the exact w0 (from its 60-digit value, so cn keeps its relative digits next to a pole):
+    # the rates at phases that round to r0, which the anchors put at w0 (see :meth:`core`).
+    start_scd: tuple[float, float, float]
     sigma_sec: Secular
     delta_sec: Secular
     # phi = sigma + delta has its own secular phase: its rate (B <1/x> + C <1/y>)/2 has no
@@ -264,11 +267,8 @@ class Elliptic:
         rows = (theta, self.k_minus * p_minus, self.k_plus * p_plus, -self.W * sn * cn * dn / (sx * sy), sh, ch)
         return rows, (p_plus, p_minus)
 
-    def core(self, t):
-        r, j = self.phase(t)
-        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
-        odd = np.floor(0.5 * j) != 0.5 * j
-        par = np.where(odd, -1.0, 1.0)  # sn(w) = par sn(r), cn(w) = par cn(r)
+    def _rates(self, sn, cn, dn, par):
+        """sx, sy, thetadot, B/x and C/y of :meth:`core` from sn, cn, dn of the reduced phase and its parity."""
         sx, sy = self._scaled(sn, cn)
         lam = self.lam[0]
         scd = sn * cn * dn
@@ -290,6 +290,27 @@ class Elliptic:
             cy = self.C_y2 / (sy * sy) if self.C_y2 != 0.0 else zero
             b_term = self.Bp * sy / sx if self.Bp != 0.0 else zero
             c_term = self.Cp * sx / sy if self.Cp != 0.0 else zero
+        return sx, sy, thetadot, bx, cy, b_term + c_term
+
+    @cached_property
+    def _start_rates(self) -> tuple[float, float]:
+        """thetadot and phidot sin(theta) at the exact w0 (|w0| <= K, cn >= 0), for a motion off the poles."""
+        sn0, cn0, dn0 = (np.array([x]) for x in self.start_scd)
+        _, _, thetadot, _, _, phidot_sin = self._rates(sn0, cn0, dn0, np.ones(1))
+        return float(thetadot[0]), float(phidot_sin[0])
+
+    def core(self, t):
+        r, j = self.phase(t)
+        sn, cn, dn = ell.jacobi_reduced(r, self.levels, self.K[1])
+        # A phase past the true K by K's rounding (cn < 0, below an ulp of phase) is taken mirrored about K,
+        # as the anchors take r0 (wobble.models.top_setup._anchors): the rates, sigma and delta then describe
+        # one point. The Pi of delta is even in cn and mirrored anyway; sigma's R_C term and the rates were not,
+        # so next to a pole omega at such a phase (t = T for a top started 2e-9 rad from the vertical) was
+        # off by 4e-8 rad/s.
+        cn = np.abs(cn)
+        odd = np.floor(0.5 * j) != 0.5 * j
+        par = np.where(odd, -1.0, 1.0)  # sn(w) = par sn(r), cn(w) = par cn(r)
+        sx, sy, thetadot, bx, cy, phidot_sin = self._rates(sn, cn, dn, par)
         sh = self.hx1 * sx
         ch = self.hy2 * sy
         phidot = 0.5 * (bx + cy)
@@ -297,6 +318,20 @@ class Elliptic:
         p_plus, p_minus = self.periodic_parts(r, sn, cn, dn)
         per_minus = self.k_minus * (p_minus - self.p_minus0) - self.anchor_sigma
         per_plus = self.k_plus * (p_plus - self.p_plus0) - self.anchor_delta
+        start = r == self.r0
+        if start.any() and not (self.through_top or self.through_bottom):
+            # A phase that rounds to r0 (t = 0, and t = k T) stands for the exact w0 (+ 2K k), where the
+            # periodic parts are back at their start and the rates are the start's. Evaluated at the double
+            # r0 instead, an ulp of phase off, next to a pole (where sigma, delta and the frame of the rates
+            # turn by pi over a phase of the tilt) the angles came out at the phase mirrored about the turning
+            # point and the rates at r0 itself: omega(0) was off by up to 0.13 rad/s (a top started 2.3e-15
+            # rad from the vertical), though the quaternion, which sin(theta/2) damps there, was q0. (A pass
+            # followed through a pole has anchors of another kind, the part of its turn already made: kept.)
+            td0, ps0 = self._start_rates
+            thetadot = np.where(start, td0, thetadot)
+            phidot_sin = np.where(start, ps0, phidot_sin)
+            per_minus = np.where(start, 0.0, per_minus)
+            per_plus = np.where(start, 0.0, per_plus)
         sig = self.sigma_sec(j, r, self.w0) + per_minus
         dlt = self.delta_sec(j, r, self.w0) + per_plus
         phi = self.phi_sec(j, r, self.w0) + (per_minus + per_plus)
@@ -313,5 +348,5 @@ class Elliptic:
             phidot=phidot,
             psidot=psidot,
             u=u,
-            phidot_sin=b_term + c_term,
+            phidot_sin=phidot_sin,
         )

@@ -648,6 +648,7 @@ def _evaluator(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoo
         r0=r0,
         anchor_sigma=anchor_sigma,
         anchor_delta=anchor_delta,
+        start_scd=(_f(sn0), _f(start[2].sqrt()), _f(start[3].sqrt())),
         hx1=_f(hx1),
         hy2=_f(hy2),
         rho_x=0.0 if top else _f(nu.rho_x),
