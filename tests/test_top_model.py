@@ -137,6 +137,46 @@ def test_regular_precession_rates_and_class():
         np.testing.assert_allclose(np.unwrap(ph), (slow, fast)[which] * t, atol=1e-12)
 
 
+def _phidot_at_turning_points(I1, I3, mgl, theta0, thetadot0, phidot0, omega3):
+    """phidot = (b - a u)/(1 - u^2) at both turning points from the cubic of the notes (p. 72), mpmath at 60
+    digits: f(u) = (1 - u^2)(alpha - beta u) - (b - a u)^2 with a = I3 w3 / I1, b = phidot0 sin^2 + a u0,
+    beta = 2 M g l / I1 and alpha from f(u0) = sin^2 theta0 thetadot0^2."""
+    import mpmath as mp
+
+    with mp.workdps(60):
+        I1, I3, mgl, th, td, pd, w3 = (mp.mpf(float(v)) for v in (I1, I3, mgl, theta0, thetadot0, phidot0, omega3))
+        u0, a, beta = mp.cos(th), I3 * w3 / I1, 2 * mgl / I1
+        b = pd * mp.sin(th) ** 2 + a * u0
+        alpha = (mp.sin(th) ** 2 * td**2 + (b - a * u0) ** 2) / (1 - u0**2) + beta * u0
+        coefficients = [alpha - b * b, 2 * a * b - beta, -(alpha + a * a), beta]  # f(u), ascending powers
+        roots = mp.polyroots(coefficients, maxsteps=200, extraprec=200, asc=True)
+        inside = sorted(mp.re(r) for r in roots if abs(mp.im(r)) < mp.mpf(10) ** -40 and -1 <= mp.re(r) <= 1)
+        # Zero (a cusp) within the roots' 1e-40 of a u: the root at u0 is found to about 1e-60, not exactly.
+        return [0 if abs(b - a * u) < mp.mpf(10) ** -40 * abs(a) else (b - a * u) / (1 - u * u) for u in inside[-2:]]
+
+
+@pytest.mark.parametrize(
+    ("args", "expected"),
+    [
+        # Loops 1e-12 rad wide: phidot -1e-10 at the start, +3e-10 at the other turning point. Called cusps:
+        # b - a u was zero within 64 eps of its terms, a u being 1e4 there.
+        ((1.0, 0.5, 1e-6, math.pi / 3, 0.0, -1e-10, 2e4), "loops"),
+        ((1.0, 0.5, 1.0, math.pi / 3, 0.0, -1e-6, 2e8), "loops"),
+        ((1.0, 0.5, 1e-6, math.pi / 3, 0.0, 1.5e-10, 2e4), "undulating"),
+        ((1.0, 0.5, 1e-6, math.pi / 3, 0.0, 3e-10, 2e4), "loops"),
+        ((1.0, 0.5, 1.0, math.pi / 3, 0.0, 0.0, 20.0), "cusps"),
+        ((1.0, 0.5, 1.0, math.pi / 3, 0.1, 0.0, 20.0), "loops"),
+    ],
+)
+def test_the_nutation_class_is_the_sign_of_phidot_at_the_turning_points(args, expected):
+    """The class against phidot at both turning points from the cubic at 60 digits (mpmath, written here)."""
+    signs = [int((v > 0) - (v < 0)) for v in _phidot_at_turning_points(*args)]
+    want = "cusps" if 0 in signs else "undulating" if signs[0] == signs[1] else "loops"
+    assert want == expected
+    I1, I3, mgl, theta0, thetadot0, phidot0, omega3 = args
+    assert heavy_top(I1, I3, mgl, theta0, thetadot0, phidot0, omega3=omega3).nutation == expected
+
+
 def test_sleeping_top_small_nutation_period():
     """theta0 = 0 exactly: sleeping; stable iff I3^2 w3^2 > 4 I1 M g l; the period of small nutations
     about it is 2 pi / sqrt(a^2 - 2 beta) (the limit of 4K/sqrt(beta(u3 - u1)))."""

@@ -371,25 +371,30 @@ def _uniform(kind: str, s: TopSetup, st: _Start, roots: cubic.TopRoots) -> dict:
         )
 
 
-def nutation_class(B, a, x1, x2, y1, y2, C) -> str:
-    """'undulating', 'cusps' or 'loops' from the sign of phidot at the two turning points (notes p. 72)."""
+def nutation_class(B, a, x1, x2, C, v0s0, d_low, d_high) -> str:
+    """'undulating', 'cusps' or 'loops' from the sign of phidot at the two turning points (notes p. 72).
 
-    def sign_at(x, y):
+    phidot = (b - a u)/(1 - u^2), and b - a u at a turning point is v0 s0 + a (x - x0) (B + a x0 = v0 s0 =
+    phidot0 sin^2 theta0): v0 s0 - a d_low at x2 and v0 s0 + a d_high at x1, from the roots' own offsets
+    (:class:`wobble.numerics.cubic.TopRoots`), so no 60-digit x cancels into it. It is zero (a cusp) only
+    within the set-up's digits; a zero within 64 eps of its terms, as before, called loops 1e-12 rad wide
+    cusps (a fast top with phidot0 = -1e-10 rad/s). At a pole passed through, phidot is +-a/2.
+    """
+    zero = Decimal(10) ** (15 - DIGITS)
+
+    def sign_at(x, offset):
         if x == 0 and B == 0:  # through the vertical: phidot = a/(1 + u) = a/2
             n, scale = a, abs(a)
-        elif y == 0 and C == 0:  # through the bottom: phidot = -a/(1 - u) = -a/2
+        elif 2 - x == 0 and C == 0:  # through the bottom: phidot = -a/(1 - u) = -a/2
             n, scale = -a, abs(a)
-        elif x <= 1:  # b - a u in the form without cancellation next to u = +1 ...
-            n = B + a * x
-            scale = abs(B) + abs(a * x)
-        else:  # ... and next to u = -1
-            n = C - a * y
-            scale = abs(C) + abs(a * y)
-        if abs(n) <= 64 * Decimal(EPS) * scale:
+        else:
+            with decimal.localcontext(context()):
+                n, scale = v0s0 + a * offset, abs(v0s0) + abs(a * offset)
+        if abs(n) <= zero * scale:
             return 0
         return 1 if n > 0 else -1
 
-    s1, s2 = sign_at(x1, y1), sign_at(x2, y2)
+    s1, s2 = sign_at(x1, d_high), sign_at(x2, -d_low)
     if s1 == 0 or s2 == 0:
         return "cusps"
     return "undulating" if s1 == s2 else "loops"
@@ -748,7 +753,7 @@ def _elliptic(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
             x3=-float("inf") if roots.x3.is_infinite() else _f(roots.x3),
             theta_min=theta_of(x2, y2),
             theta_max=theta_max,
-            nutation=nutation_class(cub.B, st.a, x1, x2, y1, y2, cub.C),
+            nutation=nutation_class(cub.B, st.a, x1, x2, cub.C, s.v0 * st.s0, roots.d_low, roots.d_high),
             m=_f(nu.m),
             m1=_f(nu.m1),
             nutation_period=_f(nu.period),
