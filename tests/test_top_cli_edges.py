@@ -155,3 +155,23 @@ def test_a_horizontal_top_has_one_steady_precession_rate(capsys):
     code, out, err = run_cli([*TOP, "--theta0", "90", "--json"], capsys)
     reg = json.loads(out)["regular_precession_at_theta0"]
     assert reg == {"slow_rad_per_s": 0.2, "fast_rad_per_s": None}
+
+
+@pytest.mark.parametrize("tilt", [1e-90, 1e-100, 1e-300])
+def test_an_upright_top_too_near_its_separatrix_names_the_tilt(tilt, capsys):
+    """Below the sleeping spin (omega3 = 3 < 2 sqrt(M g l I1)/I3 = 4) and released 1e-100 rad from upright, the
+    top lies 1 - m ~ theta0^2 from its separatrix, past what the Carlson integrals resolve. The refusal named
+    --thetadot0, which the user had not given, and printed 1 - m = 0 once it underflowed (1e-300 rad)."""
+    code, out, err = run_cli(
+        ["top", "--I1", "1", "--I3", "0.5", "--mgl", "1", "--theta0", f"{tilt:g} rad", "--omega3", "3"], capsys
+    )
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err, err
+    assert err.startswith(f"wobble top: error: --theta0, --omega3: got {tilt:g} rad, 3"), err
+    # Released at rest, f(u) = (u0 - u)[beta (1 - u^2) - a^2 (u0 - u)] (notes p. 72; a = 1.5/s, beta = 2/s^2):
+    # u1 = (a^2 - beta)/beta = 1/8 and u3 = 1 + a^2/(2 beta - a^2) x0 = 1 + (9/7) x0 to first order in
+    # x0 = theta0^2/2, so 1 - m = (u3 - u0)/(u3 - u1) = (16/7)(8/7) x0 = (64/49) theta0^2. In decimal: 1e-600
+    # for 1e-300 rad is below the doubles. The message gives three digits.
+    from decimal import Decimal
+
+    gap = Decimal(err.split("1 - m = ")[1].split(" ")[0])
+    assert float(gap / Decimal(tilt) ** 2) == pytest.approx(64 / 49, rel=5e-3)

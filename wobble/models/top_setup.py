@@ -530,10 +530,12 @@ def _nutation(s: TopSetup, st: _Start, cub: cubic.TopCubic, roots: cubic.TopRoot
     m = cub.beta * width / roots.beta_span
     m1 = roots.beta_gap / roots.beta_span
     if m1 < Decimal("1e-150"):
+        # The whole initial state sets 1 - m (theta0 = 1e-100 rad below the sleeping spin gives 1e-200): it
+        # blamed thetadot0 alone, which the user may not have given.
         raise InputError(
-            "thetadot0",
-            _f(thetadot0),
-            f"a state farther from the separatrix: 1 - m = {_f(m1):.3g} is below what float64 "
+            "theta0, thetadot0, phidot0, omega3",
+            (s.theta0, _f(thetadot0), s.phidot0, _f(w3)),
+            f"a state farther from the separatrix: 1 - m = {m1:.3g} is below what float64 "
             "Carlson integrals resolve (1e-150); the top would creep away from an unstable "
             "equilibrium for a time of order ln(1/(1 - m)) nutation periods",
         )
