@@ -296,3 +296,72 @@ def test_the_hindcast_s_repr_says_what_it_holds():
         start="2016-01-01", end="2016-03-01", horizon=30 * u.day, latency=1 * u.day, calibrated=False, workers=1
     )
     assert repr(h) == "PolarMotionHindcast(ls_ar, kalman, 9 issues 2016-01-01 to 2016-02-26, latency=1 d)"
+
+
+@pytest.fixture(scope="module")
+def gap_file(tmp_path_factory):
+    """The shipped C04 record without 2015-03-10 (MJD 57091)."""
+    from wobble.io.eop import default_c04_path
+
+    lines = default_c04_path().read_text().splitlines(keepends=True)
+    kept = [line for line in lines if not (line[:4] == "2015" and line.split()[:3] == ["2015", "3", "10"])]
+    assert len(kept) == len(lines) - 1
+    path = tmp_path_factory.mktemp("gap") / "c04_gap.txt"
+    path.write_text("".join(kept))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        # The gap lies only where the calibration's past forecasts read: it was "1 gaps in the Kalman fitting
+        # span", which had none, and nothing said that --no-calibration runs. The stretch: the cut-off is the
+        # issue date less C04's 30-d latency; the oldest past forecast is issued 7 (ceil(60/7) + 313 - 1) d
+        # earlier (weekly, 313 a lead in 6 yr, the newest whose 30-d outcome is known), and reads 10 yr before.
+        (
+            ["--issued", "2026-01-01", "--horizon", "30"],
+            "data: got 1 day missing (2015-03-10) from the record the past forecasts that calibrate the intervals "
+            "read (each with its fitting span), 2009-10-07 to 2025-12-02; allowed: a daily record without gaps "
+            "there; or the models' own Gaussian intervals",
+        ),
+        (
+            ["--issued", "2022-01-01", "--horizon", "30", "--method", "ls_ar"],
+            "1 day missing (2015-03-10) from the record the past forecasts that calibrate",
+        ),
+        (
+            ["--issued", "2016-01-01", "--horizon", "30", "--no-calibration"],
+            "1 day missing (2015-03-10) from the Kalman fitting span, 2005-12-01 to 2015-12-02; allowed: a daily "
+            "record without gaps there\n",
+        ),
+        (
+            ["--hindcast", "2019-01-01:2019-03-01", "--every", "7d", "--horizon", "30"],
+            "1 day missing (2015-03-10) from the record the hindcast reads",
+        ),
+    ],
+)
+def test_a_missing_day_is_refused_by_date_where_it_is_read(gap_file, args, fragment, tmp_path, capsys):
+    out_file = tmp_path / "f.nc"
+    assert main(["forecast", "--file", str(gap_file), *args, "-o", str(out_file)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and fragment in err, err
+    assert not out_file.exists()
+
+
+def test_uncalibrated_intervals_do_not_read_a_gap_years_before(gap_file, capsys):
+    assert (
+        main(
+            [
+                "forecast",
+                "--file",
+                str(gap_file),
+                "--issued",
+                "2026-01-01",
+                "--horizon",
+                "30",
+                "--no-calibration",
+                "--json",
+            ]
+        )
+        == 0
+    )
+    assert json.loads(capsys.readouterr().out)["issued"] == "2026-01-01"

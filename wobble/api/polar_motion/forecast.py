@@ -39,7 +39,7 @@ import numpy as np
 from astropy import units as u
 
 from wobble.api.polar_motion.estimate import published_chandler_period
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, series_with_attrs
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, check_daily, series_with_attrs
 from wobble.api._progress import stage_messages
 from wobble.api.units import real_float, to_si
 from wobble.errors import InputError
@@ -521,6 +521,7 @@ def forecast_polar_motion(
     _fc.information_set(t, z, issued_s, lat, _cal.FITTING_SPAN[method], what)
     if calibrated:
         _cal.check_calibration_span(t, issued_s, lat, horizon_days, method, span)
+    _check_gaps(mjd, issued_s, lat, horizon_days, method, calibrated, span)
     say = stage_messages(progress)
     period, period_span = _chandler_period(chandler_period, t, z, issued_s - lat, say)
     raw = _cal.forecast(
@@ -541,6 +542,23 @@ def forecast_polar_motion(
     )
     out.issued_by_default = issued is None
     return out
+
+
+def _check_gaps(mjd, issued_s: float, lat: float, horizon_days: int, method: str, calibrated: bool, span) -> None:
+    """Days missing from what the forecast reads: its fitting span, and calibrated, its past forecasts' spans."""
+    cutoff = MJD_J2000 + (issued_s - lat) / DAY
+    need = _cal.FITTING_SPAN[method] / DAY
+    check_daily(mjd, cutoff - need, cutoff, f"the {_cal.METHOD_NAMES[method]} fitting span")
+    if calibrated:
+        oldest = _cal.past_issue_times(issued_s, lat, horizon_days, _cal.span_for(method, span))[0]
+        check_daily(
+            mjd,
+            MJD_J2000 + (oldest - lat) / DAY - need,
+            cutoff,
+            "the record the past forecasts that calibrate the intervals read (each with its fitting span)",
+            "or the models' own Gaussian intervals, which read the fitting span only (--no-calibration; "
+            "calibrated=False in Python)",
+        )
 
 
 def _issue_time(issued, mjd, t, lat: float, method: str, horizon_days: int, default_calibration: bool) -> float:

@@ -30,7 +30,7 @@ from wobble.api.polar_motion.forecast import (
     latency_si,
     whole_days,
 )
-from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, observed_mas, series_with_attrs
+from wobble.api.polar_motion.record import MJD_J2000, RAD_PER_MAS, check_daily, observed_mas, series_with_attrs
 from wobble.api.units import to_si
 from wobble.api._progress import ProgressBar
 from wobble.api._scheduler import LOCAL, check_scheduler, connected, process_pool
@@ -522,4 +522,23 @@ def _issue_times(mjd, t, a, b, step, start, end, methods, lat, horizon_days, cal
             f"an end whose forecasts end within the record: the last issue plus {horizon_days} d must be on or "
             f"before {iso_date(mjd[-1])}",
         )
+    # Every day read: the first issue's fitting span (calibrated, its past forecasts' too) to the last outcome.
+    first = min(
+        issues[0]
+        - lat
+        - _cal.FITTING_SPAN[m]
+        - (_cal.calibration_reach(lat, horizon_days, _cal.span_for(m, span)) if calibrated else 0.0)
+        for m in methods
+    )
+    check_daily(
+        mjd,
+        MJD_J2000 + first / DAY,
+        MJD_J2000 + last_needed / DAY,
+        "the record the hindcast reads (fitting spans"
+        + (", the calibration's past forecasts" if calibrated else "")
+        + " and outcomes)",
+        "or uncalibrated intervals, which read less (--no-calibration; calibrated=False in Python)"
+        if calibrated
+        else "",
+    )
     return issues

@@ -45,6 +45,7 @@ __all__ = [
     "mjd_values",
     "resolve_data",
     "short_span_error",
+    "check_daily",
 ]
 
 #: MJD of 2000-01-01 12:00; the origin of the models' seconds.
@@ -305,3 +306,31 @@ def short_span_error(mjd, start, end, need_days: float, why: str, *, name: str =
         )
     span = f"{iso_date(mjd[0])} to {iso_date(mjd[-1])} ({float(mjd[-1] - mjd[0]):g} d)" if mjd.size else "no data"
     return InputError(name, span, f"a span of {least}")
+
+
+def check_daily(mjd, first: float, last: float, where: str, remedy: str = "") -> None:
+    """Refuse days missing from the daily record ``mjd`` between ``first`` and ``last`` (MJD), naming them.
+
+    The forecasts step by days, and each past forecast that calibrates a forecast's intervals reads its own
+    fitting span: a day missing years before the issue date was refused as "gaps in the Kalman fitting span"
+    (the forecast's own span had none), without the date or the way round it. ``where`` says which stretch
+    the days are read for; ``remedy``, when given, what else the user can do.
+    """
+    mjd = np.asarray(mjd, dtype=float)
+    inside = mjd[(mjd >= first - 0.5) & (mjd <= last + 0.5)]
+    steps = np.diff(inside)
+    gaps = np.flatnonzero(~np.isclose(steps, 1.0, rtol=0, atol=1e-6))
+    if gaps.size == 0:
+        return
+    missing = int(np.sum(np.round(steps[gaps]) - 1))
+    shown = []
+    for k in gaps[:3]:
+        a, b = inside[k] + 1, inside[k + 1] - 1
+        shown.append(iso_date(a) if b <= a else f"{iso_date(a)} to {iso_date(b)}")
+    more = f" and {gaps.size - 3} more gaps" if gaps.size > 3 else ""
+    raise InputError(
+        "data",
+        f"{missing} day{'s' if missing != 1 else ''} missing ({', '.join(shown)}{more}) from {where}, "
+        f"{iso_date(first)} to {iso_date(last)}",
+        "a daily record without gaps there" + (f"; {remedy}" if remedy else ""),
+    )
