@@ -337,6 +337,11 @@ def test_precession_takes_only_the_body_s_own_satellites_once(capsys):
     code, out, err = _run(["precession", "earth", "--perturber", "sun"], capsys)
     residual = next(line for line in out.splitlines() if line.strip().startswith("residual"))
     assert code == 0 and "account for it" not in residual
+    # Nor is it counted in sigma ("+3678486.5 sigma"), nor are there steps to IAU 2006 from a "Sun and Moon
+    # (model)" that is the Sun's alone (a review finding).
+    assert "sigma" not in residual and "not a test of the model: the observed rate holds the torque of moon" in residual
+    assert "  steps to IAU 2006 (" not in out and "Sun and Moon (model)" not in out
+    assert "note: no steps to IAU 2006: its rates hold the torque of moon, left out here" in out
     code, out, err = _run(["precession", "earth"], capsys)
     residual = next(line for line in out.splitlines() if line.strip().startswith("residual"))
     assert "the published higher-order terms below account for it" in residual

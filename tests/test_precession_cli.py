@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 import re
 
 import numpy as np
@@ -235,6 +236,25 @@ def test_bad_input_exit_2_one_line_nothing_written(tmp_path, capsys, planet, moo
     status, out, err = _run(capsys, *args)
     assert status == 2 and fragment in err and err.count("\n") == 1 and "Traceback" not in err
     assert not (tmp_path / "out.nc").exists() and not (tmp_path / "out.png").exists()
+
+
+def test_an_uncertainty_past_its_value_names_the_perturber_file(tmp_path, capsys):
+    """The Moon's distance given in AU with its uncertainty left at 0.1 (it was km): the +-1 sigma propagation
+    evaluated the model at a negative distance, and the refusal named the body's catalogue file and that
+    negative distance, which nobody typed (a review finding)."""
+    from wobble.io.perturbers import load_perturber
+
+    text = Path(load_perturber("moon").path).read_text()
+    old = 'value = 384399.0\nuncertainty = 0.1\nunit = "km"'
+    assert old in text
+    path = tmp_path / "moonau.toml"
+    path.write_text(
+        text.replace(old, 'value = 0.0025695553\nuncertainty = 0.1\nunit = "AU"').replace('"moon"', '"moonau"')
+    )
+    status, out, err = _run(capsys, "precession", "earth", "--perturber", str(path))
+    assert status == 2 and err.count("\n") == 1, err
+    assert "moonau.toml, parameters.semi_major_axis: 3.844e+08 +/- 1.49598e+10 (SI)" in err, err
+    assert "keeps value - sigma and value + sigma physical" in err and "earth.toml" not in err
 
 
 @pytest.mark.parametrize(("typed", "why"), [("./missing.toml", "there is no such file"), (".", "it is a folder")])

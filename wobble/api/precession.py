@@ -244,8 +244,11 @@ class PrecessionBudget:
         notes: list[str],
         iau: dict[str, u.Quantity] | None = None,
         planets: set[str] | frozenset[str] = frozenset(),
+        left_out: tuple[str, ...] = (),
     ):
         self.planet = planet
+        #: The catalogue's satellites of the body that the perturbers given left out (the observed rate holds them).
+        self.left_out = tuple(left_out)
         #: Names of the terms that are planets' torques (equation (7) of wobble.models.precession).
         self.planet_terms = frozenset(planets)
         #: IAU 2006/2000A values to compare with (Earth only): first_order, psi_rate, general_precession.
@@ -666,14 +669,22 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     sun = load_perturber("sun")
     perturber_values(sun, values, sigmas)
     files, omitted = _perturber_files(planet, perturbers)
+    # Satellites of the catalogue left out by --perturber: the observed rate holds their torque, so neither the
+    # residual nor the steps to IAU 2006 test the model (--perturber sun alone: "+3678486.5 sigma").
+    given = {pf.name for pf in files}
+    missing = tuple(pf.name for pf in _default_perturbers(planet)[0] if not is_planet(pf) and pf.name not in given)
     for pf in files:
         perturber_values(pf, values, sigmas)
     _check_orbits(planet, files, values)
     try:
         raw = _model.precession_budget(planet.name, values, _prepare(files), sigmas)
     except InputError as exc:
+        # A perturber's value ("moon.semi_major_axis") is its own file's, not the body's.
+        owner, _, key = exc.parameter.partition(".")
+        pf = next((f for f in (sun, *files) if key and f.name == owner), None)
+        path, where = (pf.path or pf.name, f"parameters.{key}") if pf is not None else (planet.file.path, None)
         raise FileFormatError(
-            planet.file.path or planet.name, f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
+            path or planet.name, where or f"parameters ({exc.parameter})", f"{exc.value}; needs {exc.allowed}"
         ) from None
     inputs = _prepare(files)(values)
     planets = {o.name for o in inputs.orbits if o.is_planet}
@@ -682,7 +693,7 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     rigid = None
     steps: list[LiteratureStep] = []
     notes = []
-    if planet.name == "earth":
+    if planet.name == "earth" and not missing:
         geodesic = next(t.rate for t in raw.terms if t.name == "geodesic")
         planetary = sum(t.rate for t in raw.terms if t.name in planets) if planets else None
         every = {pf.name for pf in _default_perturbers(planet)[0] if is_planet(pf)}
@@ -708,7 +719,9 @@ def precession_rate(body: str | os.PathLike | Planet, perturbers=None) -> Preces
     if obs is not None and "circular" in obs.note.lower():
         notes.append(" ".join(obs.note.split()))
     notes += omitted
-    return PrecessionBudget(planet, raw, nutation, steps, notes, refs, planets)
+    if missing and planet.name == "earth":
+        notes.append(f"no steps to IAU 2006: its rates hold the torque of {', '.join(missing)}, left out here")
+    return PrecessionBudget(planet, raw, nutation, steps, notes, refs, planets, left_out=missing)
 
 
 def principal_nutation(body: str | os.PathLike | Planet = "earth", perturbers=None) -> list[PrincipalNutation]:
@@ -865,10 +878,16 @@ def _budget_lines(b: PrecessionBudget) -> list[str]:
             f"   = {_mas_per_year(b.observed, b.observed_uncertainty)}; {b.observed_source}"
         )
         why = "; the published higher-order terms below account for it" if _steps_explain(b) else ""
-        lines.append(
-            f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and observed "
-            f"uncertainties{why})"
-        )
+        if b.left_out:
+            lines.append(
+                f"  {'residual':<26}{_fmt(b.residual):>14}   (not a test of the model: the observed rate holds the "
+                f"torque of {', '.join(b.left_out)}, left out here)"
+            )
+        else:
+            lines.append(
+                f"  {'residual':<26}{_fmt(b.residual):>14}   ({b.residual_sigma:+.1f} sigma of the model and "
+                f"observed uncertainties{why})"
+            )
     return lines
 
 

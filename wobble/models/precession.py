@@ -656,7 +656,17 @@ def precession_budget(
             continue
         up = dict(values, **{key: values[key] + sigma})
         down = dict(values, **{key: values[key] - sigma})
-        delta = 0.5 * (evaluate(up)[2] - evaluate(down)[2])
+        try:
+            delta = 0.5 * (evaluate(up)[2] - evaluate(down)[2])
+        except InputError:
+            # The value is physical (evaluated above) but value -+ sigma is not: an uncertainty as large as a
+            # positive value (one left in AU after the value was given in metres), named as such.
+            raise InputError(
+                key,
+                f"{values[key]:.6g} +/- {sigma:.6g} (SI)",
+                "an uncertainty that keeps value - sigma and value + sigma physical: the +-1 sigma propagation "
+                "evaluates the model there",
+            ) from None
         if delta != 0 and math.isfinite(delta):
             contributions[key] = delta
     sigma_total = math.sqrt(sum(v * v for v in contributions.values()))
