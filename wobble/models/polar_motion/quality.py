@@ -134,7 +134,7 @@ def quality_factor(t, y, rate: float) -> QualityFactor:
     high = _crossing(logq, dev, i, 0.5, +1)
     lower95 = _crossing(logq, dev, i, 1.3528, -1)
     sigma0 = rate + profile[i][1] * 2 * math.pi / span
-    value = float(_Q_GRID[i]) if i < len(_Q_GRID) - 2 else math.inf
+    value = _vertex(logq, dev, i) if i < len(_Q_GRID) - 2 else math.inf
     resolved = math.isfinite(value) and math.isfinite(high)
     caveats = [
         "assumes a flat excitation spectrum near the Chandler frequency and a stationary process "
@@ -224,6 +224,22 @@ def _lag_sum(n: int, a: np.ndarray) -> np.ndarray:
         l = np.arange(n)
         out[~far] = np.exp(np.multiply.outer(a[~far], l)) @ (n - l).astype(float)
     return out
+
+
+def _vertex(logq, dev, i) -> float:
+    """Q at the vertex of the parabola in log Q through the profile's least deviance and its two neighbours.
+
+    The grid's points are a factor 1.64 apart, so the least one alone put the maximum-likelihood Q up to 28 %
+    off (and printed a grid value to every digit, 439.397056076079); the crossings of the intervals were
+    already interpolated. With dev[i] the least of the three the vertex lies within half a step of it.
+    """
+    if i == 0:
+        return float(10 ** logq[0])
+    a, b, c = dev[i - 1], dev[i], dev[i + 1]
+    curvature = a - 2.0 * b + c
+    shift = 0.5 * (a - c) / curvature if curvature > 0 else 0.0
+    step = logq[i + 1] - logq[i]
+    return float(10 ** (logq[i] + min(max(shift, -0.5), 0.5) * step))
 
 
 def _crossing(logq, dev, i, level, direction) -> float:
