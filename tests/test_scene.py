@@ -342,3 +342,12 @@ def test_a_gravity_gradient_needs_exactly_one_direction(kwargs, given):
     """Without a direction the refusal showed the mapping's keys as the value: got ['distance', 'gm', ...]."""
     with pytest.raises(InputError, match=rf"^direction: got {given}; allowed: exactly one of direction"):
         wobble.Torque.gravity_gradient(3.986e14 * u.m**3 / u.s**2, 7e6 * u.m, **kwargs)
+
+
+def test_a_span_of_zero_takes_one_sample():
+    """t_end = t_start with several samples repeated one time ([0, 0, 0]); the CF checker refuses a time
+    coordinate that does not increase strictly (a review finding). One sample is the instant itself."""
+    scene = dict(body=[1, 2, 3] * u.kg * u.m**2, omega0=[0.1, 1, 0.1] * u.rad / u.s, t_end=0 * u.s)
+    with pytest.raises(InputError, match=r"samples: got 3; allowed: a whole number >= 2 \(1 when t_end = t_start\)"):
+        wobble.run(wobble.Scene(**scene, samples=3))
+    assert wobble.run(wobble.Scene(**scene, samples=1)).time.values.tolist() == [0.0]

@@ -657,8 +657,9 @@ def _times(r: _Reader, data):
         raise r.error("time", sorted(data), "exactly one of samples and step with start/stop")
     if "samples" in data:
         n = data["samples"]
-        if isinstance(n, bool) or not isinstance(n, int) or n < 1 or (n == 1 and stop != start):
-            raise r.error("time.samples", n, "a whole number >= 2 (>= 1 when stop = start)")
+        # stop = start with several samples repeated one time, which CF refuses (time must increase strictly).
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1 or (n == 1) != (stop == start):
+            raise r.error("time.samples", n, "a whole number >= 2 (1 when stop = start)")
         _check_grid_memory(r, "time.samples", n, n)
         return np.linspace(start, stop, n), epoch
     step = float(r.quantity(data["step"], "time.step", u.s, ndim=(0,)))
