@@ -12,10 +12,12 @@ the tests check the counted calls, the cost model's arithmetic and the reason's 
 from __future__ import annotations
 
 import astropy.units as u
+import numpy as np
 import pytest
 
 import wobble
 from wobble.api.scene import _as_scene
+from wobble.errors import InputError
 from wobble.models import engine as eng
 from wobble.models import scene as S
 from wobble.numerics import compiled
@@ -167,3 +169,56 @@ def test_when_the_cheaper_integrator_misses_the_accuracy_the_other_one_runs():
     assert "first choice: adaptive Dormand-Prince 8(5,3) on Euler's equations (pilot run predicts" in reason
     with pytest.raises(wobble.InputError, match="accuracy.*with dop853"):
         wobble.run(scene, model="dop853")
+
+
+def _spy_pilots(monkeypatch):
+    calls = []
+    pilot = S._pilot
+
+    def spy(scene, method, settings):
+        calls.append((method, settings.get("step_s")))
+        return pilot(scene, method, settings)
+
+    monkeypatch.setattr(S, "_pilot", spy)
+    return calls
+
+
+def test_no_splitting_pilot_dearer_than_the_dop853_run(monkeypatch):
+    """A gravity-gradient scene (0-5 s, 101 outputs, 1e-9): DOP853 is predicted at 0.011 s, and the splitting's
+    first guess of about 1e-4 s made pilots that each cost more than that, doubled pilot by pilot: 10 s under
+    auto where the DOP853 it then chose took 0.6 s (a review finding). No such pilot runs now (predicted costs
+    from the calibrated call costs, so the count does not depend on the machine)."""
+    calls = _spy_pilots(monkeypatch)
+    q0 = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
+    d = np.array([0.3, 0.4, 0.5]) / np.linalg.norm([0.3, 0.4, 0.5])
+    scene = wobble.Scene(
+        body=[1.0, 2.0, 3.0] * KGM2,
+        omega0=[0.4, -0.7, 1.1] * RAD_S,
+        attitude0=q0,
+        torques=[wobble.Torque.gravity_gradient(1e4 * 7e6**3 / 3 * u.m**3 / u.s**2, 7e6 * u.m, direction=d)],
+        t=np.linspace(0.0, 5.0, 101) * u.s,
+        accuracy=1e-9,
+    )
+    ds = wobble.run(scene)
+    assert ds.attrs["model"] == "dop853" and ds.attrs["error_estimate"] <= 1e-9
+    assert [c for c in calls if c[0] == "splitting"] == []
+
+
+def test_an_accuracy_out_of_dop853_s_reach_is_refused_without_endless_splitting_pilots(monkeypatch):
+    """A small magnet tumbling in a lab field, 1e-6 asked: DOP853 reaches 4.1e-5 at its tolerance floor. The
+    splitting tried next was piloted without a bound, at ever shorter steps, for over ten minutes. It is now
+    piloted under ten times DOP853's predicted seconds (at least 1 s), and the refusal is DOP853's own."""
+    calls = _spy_pilots(monkeypatch)
+    scene = wobble.Scene(
+        body=[1.0e-7, 2.0e-7, 2.5e-7] * KGM2,
+        omega0=[10.0, 20.0, 30.0] * RAD_S,
+        torques=[wobble.Torque.magnetic([0.1, 0, 0] * u.A * u.m**2, [0, 0, 0.01] * u.T)],
+        t_end=2 * u.s,
+        samples=11,
+        accuracy=1e-6,
+    )
+    with pytest.raises(
+        InputError, match=r"accuracy: got 1e-06; allowed: at least 4\.1\de-05 for this scene with dop853"
+    ):
+        wobble.run(scene)
+    assert len([c for c in calls if c[0] == "splitting"]) <= 12

@@ -193,7 +193,7 @@ def test_unreachable_accuracy_names_the_field():
         (dict(t_end=-1 * u.s), "t_end", "a time after t_start (0.0 s)"),
         (dict(t_start=1.0), "t_start", "unit of time"),
         (dict(t_end=None, samples=None, t=[0, 1, 2] * u.m), "t", "unit of time"),
-        (dict(samples=0), "samples", "(>= 1 when t_end = t_start)"),
+        (dict(samples=0), "samples", "(1 when t_end = t_start)"),
         (dict(omega0=[0, 0, 1] * u.Hz), "omega0", "angular speed"),
         (dict(attitude0=[1, 1, 0]), "attitude0", "4 components"),
         (dict(epoch="yesterday"), "epoch", "ISO 8601"),

@@ -46,6 +46,7 @@ run whose output exceeds memory never holds it all.
 from __future__ import annotations
 
 import functools
+import math
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -791,6 +792,9 @@ def _plan_splitting(scene, budget: float | None = None) -> _Plan:
         calls = 2.5 * _split_steps(scene, h) * stages
         return calls * per_call, calls
 
+    def pilot_cost(h):  # a pilot over tp with its companion (no rounding twins)
+        return 1.5 * math.ceil(tp / h) * stages * per_call
+
     complete = True
     if nu <= 0 or span <= 0:
         h = max(span, 1.0)
@@ -806,6 +810,12 @@ def _plan_splitting(scene, budget: float | None = None) -> _Plan:
         # it (at least halving, so that a step that resonates with the spin is left
         # behind) until it passes.
         for _ in range(12):
+            if budget is not None and pilot_cost(h) > budget:
+                # One pilot at this step would cost more than the whole run by the other integrator: a first guess
+                # of 1e-4 s, doubled pilot by pilot, took 10 s where DOP853 took 0.6 (review finding). The pilots
+                # shrinking the step cost more each time, so their sum stays below about twice the budget.
+                complete = False
+                break
             e, _ = _pilot(scene, "splitting", {"order": order, "step_s": h})
             if e <= goal:
                 h_ok, err = h, e
@@ -1230,7 +1240,15 @@ def _other_integrator(scene, choice, why: str) -> Choice | None:
         return None
     if scene.accuracy < cand.floor(scene):
         return None
-    run = cand.build(scene)
+    if name == "splitting":
+        # Piloted under a budget: ten times DOP853's predicted run (at least 1 s). Unbounded, the pilots of a scene
+        # whose accuracy DOP853 had shown out of reach ran past ten minutes (review finding).
+        plan = _plan_splitting(scene, max(10.0 * _plans(scene, "dop853")["dop853"].seconds, 1.0))
+        if not plan.complete:
+            return None
+        run = _build_splitting(scene, plan.settings)
+    else:
+        run = cand.build(scene)
     reason = (
         f"{cand.summary}, after {choice.run.name} did not reach the accuracy asked ({scene.accuracy:.3g}: {why}); "
         f"first choice: {choice.reason}"
