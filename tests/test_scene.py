@@ -351,3 +351,28 @@ def test_a_span_of_zero_takes_one_sample():
     with pytest.raises(InputError, match=r"samples: got 3; allowed: a whole number >= 2 \(1 when t_end = t_start\)"):
         wobble.run(wobble.Scene(**scene, samples=3))
     assert wobble.run(wobble.Scene(**scene, samples=1)).time.values.tolist() == [0.0]
+
+
+def test_a_python_scene_runs_again_from_its_record():
+    """The ``scene`` attribute of a run built in Python held each torque as {"kind", "python"} only, and running
+    it again was refused (torques[0].python); it holds the torque's arguments now, and gives the same motion."""
+    import json
+
+    q0 = np.array([0.99, 0.1, 0.0, 0.0]) / np.linalg.norm([0.99, 0.1])
+    scene = wobble.Scene(
+        body=[1.0, 1.0, 0.5] * u.kg * u.m**2,
+        omega0=[0.1, 0.2, 20.0] * u.rad / u.s,
+        attitude0=q0,
+        torques=[
+            wobble.Torque.gravity(0.5 * u.kg, [0, 0, 0.2] * u.m),
+            wobble.Torque.damping(1e-3 * u.kg * u.m**2 / u.s),
+        ],
+        t_end=2 * u.s,
+        samples=5,
+    )
+    first = wobble.run(scene)
+    record = json.loads(first.attrs["scene"])
+    assert record["torques"][1] == {"kind": "damping", "coefficient": {"value": 0.001, "unit": "m2 kg / s"}}
+    again = wobble.run(record)
+    assert again.attrs["model"] == first.attrs["model"]
+    np.testing.assert_array_equal(again.omega.values, first.omega.values)

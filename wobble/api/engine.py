@@ -75,6 +75,11 @@ class Torque:
         """The torque's kind."""
         return self.spec.kind
 
+    def as_mapping(self) -> dict | None:
+        """The torque as a scene file's ``[[torques]]`` table (``kind`` and the arguments as given), or None for a
+        custom torque, whose function no file can hold. A run's ``scene`` attribute writes it."""
+        return None if self._given is None else {"kind": self.kind, **self._given}
+
     def __repr__(self) -> str:
         """The constructor call with the values as given: ``Torque.damping(coefficient=0.001 kg m2 / s)``."""
         if self._given is None:  # a custom torque: its function is named, not shown

@@ -76,8 +76,9 @@ class Scene:
         Principal moments along the body axes (``[1, 2, 3] * u.kg * u.m**2``,
         or (N, 3) for N bodies); or a mapping ``{"tensor": ...}``,
         ``{"planet": "earth"}``, ``{"moments": ..., "mass": ...}``; or an
-        object with ``tensor`` (and optionally ``mass`` and
-        ``center_of_mass_offset``) such as the rigid-bodies library's bodies.
+        object with ``tensor`` (and optionally ``mass``) such as a
+        :class:`wobble.RigidBody`. Its centre of mass is not read: a gravity
+        torque takes ``center_of_mass`` itself.
     omega0 : Quantity
         Initial angular velocity, body frame, (3,) or (N, 3).
     attitude0 : array_like, optional
@@ -137,6 +138,12 @@ class Scene:
             self._scene = _sf.scene_from_mapping(mapping)
         except InputError as exc:
             raise _in_python_names(exc) from None
+        # The record of the scene (a run's ``scene`` attribute) holds each torque's table as given, so that the
+        # scene runs again from it; the specs the model takes kept only the kind ({"kind": "gravity", "python":
+        # "UniformGravity"}). A custom torque's function no file can hold: it stays named.
+        plain = [tq.as_mapping() if isinstance(tq, Torque) else None for tq in torques]
+        record = [_sf.to_plain(p) if p is not None else r for p, r in zip(plain, self._scene.mapping["torques"])]
+        self._scene.mapping["torques"] = record
 
     @property
     def model(self) -> _scene.Scene:

@@ -22,7 +22,9 @@ examples:
 
 Members are computed chunk by chunk with the vectorised models and streamed to
 the netCDF file as they finish (bounded memory). The same seed gives the same
-numbers whatever the chunking and the number of workers. A progress bar is shown
+draws whatever the chunking and the number of workers, and the same results to
+the last digit or one unit in it (SIMD loops over chunks of other sizes may round
+a last bit differently). A progress bar is shown
 on a terminal unless --quiet. The Chandler sweeps draw every catalogued uncertainty,
 as 'wobble chandler' does for its +/-, so the two sds agree within sampling error; the
 centres differ a little: the sweep's mean and median are of the draws, 'wobble chandler'
