@@ -282,11 +282,9 @@ def test_bad_profile_file_is_one_line_naming_file_parameter_value_and_rule(tmp_p
 
 
 def test_zero_rotation_is_one_line(tmp_path, capsys):
-    import re
+    from catalogue_edit import catalogue_with
 
-    path = tmp_path / "still.toml"
-    text = Path(str(catalogue_file("earth"))).read_text()
-    path.write_text(re.sub(r"(\[parameters\.rotation_rate\]\nvalue = )[^\n]*", r"\g<1>0.0", text))
+    path = catalogue_with(tmp_path, "earth", "rotation_rate", "0.0", "still.toml")
     status, _, err = _run(capsys, "modes", "--body-file", str(path), "--profile", "prem")
     assert status == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert "still.toml" in err and "rotation_rate" in err and "0.0" in err and "non-zero" in err

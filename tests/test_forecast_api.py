@@ -365,3 +365,16 @@ def test_uncalibrated_intervals_do_not_read_a_gap_years_before(gap_file, capsys)
         == 0
     )
     assert json.loads(capsys.readouterr().out)["issued"] == "2026-01-01"
+
+
+def test_check_daily_names_missing_days_and_refuses_other_sampling():
+    """MJD 51544 is 2000-01-01. Days 51547 and 51548 missing are one gap of two days; samples half a day apart
+    are no whole number of missing days (the count had come out -1)."""
+    from wobble.api.polar_motion.record import check_daily
+
+    check_daily(np.arange(51544.0, 51560.0), 51544, 51559, "x")  # daily: nothing to say
+    mjd = np.concatenate([np.arange(51544.0, 51547.0), np.arange(51549.0, 51560.0)])
+    with pytest.raises(InputError, match=r"got 2 days missing \(2000-01-04 to 2000-01-05\) from x, 2000-01-01 to"):
+        check_daily(mjd, 51544, 51559, "x")
+    with pytest.raises(InputError, match=r"got samples 0\.5 d apart after 2000-01-02 in x; allowed: a daily record"):
+        check_daily(np.array([51544.0, 51545.0, 51545.5, 51546.0]), 51544, 51546, "x")

@@ -226,14 +226,11 @@ def test_an_fcn_period_out_of_reach_names_the_periods_the_planet_reaches(rotatio
 def test_an_fcn_period_out_of_reach_is_one_line_from_the_command_line(tmp_path, capsys):
     """The same refusal through `wobble modes --body-file`: exit 2, one line naming the file, the parameter and
     what the model reaches, no traceback."""
-    import re
+    from catalogue_edit import catalogue_with
 
     from wobble.cli import main
-    from wobble.io.catalog import catalogue_file
 
-    path = tmp_path / "slow_earth.toml"
-    text = catalogue_file("earth").read_text()
-    path.write_text(re.sub(r"(\[parameters\.rotation_rate\]\nvalue = )[^\n]*", r"\g<1>1e-12", text))
+    path = catalogue_with(tmp_path, "earth", "rotation_rate", "1e-12", "slow_earth.toml")
     assert main(["modes", "--body-file", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err, err
@@ -252,16 +249,11 @@ def test_an_fcn_period_out_of_reach_is_one_line_from_the_command_line(tmp_path, 
     ],
 )
 def test_impossible_fcn_inputs_are_one_line(tmp_path, capsys, key, value, says):
-    import re
+    from catalogue_edit import catalogue_with
 
     from wobble.cli import main
-    from wobble.io.catalog import catalogue_file
 
-    path = tmp_path / "e.toml"
-    text = catalogue_file("earth").read_text()
-    edited = re.sub(rf"(\[parameters\.{key}\]\nvalue = )[^\n]*", rf"\g<1>{value}", text)
-    assert edited != text
-    path.write_text(edited)
+    path = catalogue_with(tmp_path, "earth", key, value, "e.toml")
     assert main(["modes", "--body-file", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err and says in err, err

@@ -376,3 +376,7 @@ def test_a_python_scene_runs_again_from_its_record():
     again = wobble.run(record)
     assert again.attrs["model"] == first.attrs["model"]
     np.testing.assert_array_equal(again.omega.values, first.omega.values)
+    # Torques given as a generator are read once: the record still holds them.
+    kwargs = dict(body=[1.0, 1.0, 0.5] * u.kg * u.m**2, omega0=[0.1, 0.2, 20.0] * u.rad / u.s, t_end=2 * u.s, samples=5)
+    lazy = wobble.Scene(**kwargs, torques=(t for t in [wobble.Torque.damping(1e-3 * u.kg * u.m**2 / u.s)]))
+    assert [t["kind"] for t in lazy.model.mapping["torques"]] == ["damping"]

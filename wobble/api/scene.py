@@ -122,6 +122,7 @@ class Scene:
         if attitude0 is not None:
             initial["attitude"] = plain_array(attitude0, "attitude0", "unit quaternions (w, x, y, z), plain numbers")
         mapping["initial"] = initial
+        torques = list(torques)  # read twice below: a generator would leave the record without its torques
         mapping["torques"] = [_torque_spec(tq, i) for i, tq in enumerate(torques)]
         if (t is None) == (t_end is None):
             raise InputError("t, t_end", (t, t_end), "either times t or t_end with samples")

@@ -322,6 +322,13 @@ def check_daily(mjd, first: float, last: float, where: str, remedy: str = "") ->
     gaps = np.flatnonzero(~np.isclose(steps, 1.0, rtol=0, atol=1e-6))
     if gaps.size == 0:
         return
+    odd = gaps[~np.isclose(steps[gaps], np.round(steps[gaps]), rtol=0, atol=1e-6)]
+    if odd.size:  # a Dataset sampled other than daily: no whole number of days is missing
+        raise InputError(
+            "data",
+            f"samples {steps[odd[0]]:g} d apart after {iso_date(inside[odd[0]])} in {where}",
+            "a daily record (one sample a day, at the same time of day)",
+        )
     missing = int(np.sum(np.round(steps[gaps]) - 1))
     shown = []
     for k in gaps[:3]:
